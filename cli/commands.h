@@ -1,0 +1,20 @@
+/* cli/commands.h — the subcommands of the `tessera` program. Each lives in
+ * its own cli/cmd_NAME.c and returns the process exit code:
+ * 0 ok, 1 runtime failure, 2 usage error or bad input. */
+#ifndef TSR_CLI_COMMANDS_H
+#define TSR_CLI_COMMANDS_H
+
+#define TSR_EXIT_OK 0
+#define TSR_EXIT_FAIL 1
+#define TSR_EXIT_USAGE 2
+
+typedef struct tsr_cli_command {
+    const char *name;
+    const char *summary;                 /* one line for `tessera --help` */
+    int (*run)(int argc, char **argv);   /* argv[0] is the subcommand name */
+} tsr_cli_command;
+
+int cmd_imgdiff(int argc, char **argv);
+int cmd_spus(int argc, char **argv);
+
+#endif

@@ -1,0 +1,44 @@
+/* cli/main.c — `tessera`: one program, one subcommand per task. Owns
+ * argument dispatch and the top-level --help/--version; each subcommand
+ * parses its own options. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+
+static const tsr_cli_command commands[] = {
+    {"spus", "list installed SPUs with their options, types, defaults and help", cmd_spus},
+    {"imgdiff", "compare two PNG images: differing pixels, max channel error, PSNR", cmd_imgdiff},
+};
+
+static void print_usage(FILE *out) {
+    fprintf(out,
+            "usage: tessera COMMAND [ARGS...]\n"
+            "       tessera --help | --version\n\n"
+            "Streams OpenGL command streams through chains of stream processing units.\n\n"
+            "commands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\nRun `tessera COMMAND --help` for a command's options.\n"
+                 "Exit codes: 0 ok, 1 runtime failure, 2 usage error or bad input.\n");
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        print_usage(stderr);
+        return TSR_EXIT_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        print_usage(stdout);
+        return TSR_EXIT_OK;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("tessera %s\n", TESSERA_VERSION);
+        return TSR_EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (!strcmp(argv[1], commands[i].name))
+            return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "tessera: unknown command '%s' (see tessera --help)\n", argv[1]);
+    return TSR_EXIT_USAGE;
+}

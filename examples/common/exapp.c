@@ -1,0 +1,242 @@
+/* examples/common/exapp.c — the example harness: command line, GL context,
+ * frame output. Compiled twice: with EXAPP_NATIVE (OSMesa context, PNGs
+ * written here: the reference) and without (GL calls enter a tessera chain
+ * through libtessera_gl). Owns the context/chain; never draws. */
+#include "exapp.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <GL/gl.h>
+
+#include "tessera/error.h"
+#include "tessera/image.h"
+
+#ifdef EXAPP_NATIVE
+#include <GL/osmesa.h>
+#else
+#include "tessera/chain.h"
+#include "tessera/glapi.h"
+#include "tessera/gltsr_gen.h" /* glWindowCreateTSR, glSwapBuffersTSR, ... */
+#endif
+
+#define EXAPP_DEFAULT_FRAMES 4
+
+struct exapp_backend {
+    char default_pattern[256];   /* "out/NAME-%04d.png" */
+    const char *out_pattern;     /* --out, or default_pattern */
+#ifdef EXAPP_NATIVE
+    OSMesaContext context;
+    unsigned char *buffer;       /* width * height RGBA, bottom row first */
+#else
+    const char *chain_text;      /* --chain, $TESSERA_CHAIN or built default */
+    char default_chain[400];
+    tsr_chain *chain;
+#endif
+};
+
+static void exapp_usage(const exapp *app, FILE *out) {
+    fprintf(out,
+            "usage: %s [--frames N] [--size WxH] [--out PATTERN]"
+#ifndef EXAPP_NATIVE
+            " [--chain \"SPU CHAIN\"]"
+#endif
+            "\n\n"
+            "Tessera example '%s': draws N animated frames with OpenGL 1.x.\n\n"
+            "options:\n"
+            "  --frames N      frames to draw (default %d)\n"
+            "  --size WxH      window size (default %dx%d)\n"
+            "  --out PATTERN   frame files, one %%d for the frame number\n"
+            "                  (default out/%s-%%04d.png; out/ is created)\n"
+#ifndef EXAPP_NATIVE
+            "  --chain TEXT    SPU chain the GL calls enter (default: $TESSERA_CHAIN,\n"
+            "                  else \"render output=PATTERN\")\n"
+#else
+            "                  This is the native build: OSMesa renders directly.\n"
+#endif
+            "  -h, --help      show this help\n",
+            app->name, app->name, EXAPP_DEFAULT_FRAMES, app->width, app->height, app->name);
+}
+
+static bool parse_int(const char *text, int min, int max, int *out) {
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (errno || end == text || *end || v < min || v > max)
+        return false;
+    *out = (int)v;
+    return true;
+}
+
+static bool parse_size(const char *text, int *w, int *h) {
+    char buf[64];
+    const char *x = strchr(text, 'x');
+    if (!x || (size_t)(x - text) >= sizeof buf)
+        return false;
+    memcpy(buf, text, (size_t)(x - text));
+    buf[x - text] = '\0';
+    return parse_int(buf, 1, 8192, w) && parse_int(x + 1, 1, 8192, h);
+}
+
+static bool fail(exapp *app, int code, const char *msg, const char *detail) {
+    fprintf(stderr, "%s: %s%s%s\n", app->name, msg, detail ? ": " : "", detail ? detail : "");
+    app->exit_code = code;
+    return false;
+}
+
+static bool backend_start(exapp *app);
+
+bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width,
+                int default_height) {
+    memset(app, 0, sizeof *app);
+    app->name = name;
+    app->width = default_width;
+    app->height = default_height;
+    app->frames = EXAPP_DEFAULT_FRAMES;
+    app->backend = calloc(1, sizeof *app->backend);
+    if (!app->backend)
+        return fail(app, 1, "out of memory", NULL);
+    exapp_backend *b = app->backend;
+    snprintf(b->default_pattern, sizeof b->default_pattern, "out/%s-%%04d.png", name);
+    b->out_pattern = b->default_pattern;
+#ifndef EXAPP_NATIVE
+    const char *chain_option = NULL;
+#endif
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
+            exapp_usage(app, stdout);
+            app->exit_code = 0;
+            return false;
+        }
+        bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out");
+#ifndef EXAPP_NATIVE
+        known = known || !strcmp(arg, "--chain");
+#endif
+        if (!known)
+            return fail(app, 2, "unknown option (see --help)", arg);
+        if (i + 1 >= argc)
+            return fail(app, 2, "option needs a value", arg);
+        const char *value = argv[++i];
+        if (!strcmp(arg, "--frames")) {
+            if (!parse_int(value, 0, 1000000, &app->frames))
+                return fail(app, 2, "bad --frames (expected 0..1000000)", value);
+        } else if (!strcmp(arg, "--size")) {
+            if (!parse_size(value, &app->width, &app->height))
+                return fail(app, 2, "bad --size (expected WxH, 1..8192 each)", value);
+        } else if (!strcmp(arg, "--out")) {
+            b->out_pattern = value;
+        }
+#ifndef EXAPP_NATIVE
+        else {
+            chain_option = value;
+        }
+#endif
+    }
+    char probe[PATH_MAX];
+    tsr_error err = {0};
+    if (b->out_pattern[0] &&
+        tsr_image_frame_path(probe, sizeof probe, b->out_pattern, 0, &err) != TSR_OK)
+        return fail(app, 2, err.message, NULL);
+    bool writes_default_output = b->out_pattern == b->default_pattern;
+#ifndef EXAPP_NATIVE
+    if (chain_option) {
+        b->chain_text = chain_option;
+        writes_default_output = false;
+    } else if (getenv("TESSERA_CHAIN") && getenv("TESSERA_CHAIN")[0]) {
+        b->chain_text = getenv("TESSERA_CHAIN");
+        writes_default_output = false;
+    } else {
+        if (strchr(b->out_pattern, '"'))
+            return fail(app, 2, "--out must not contain '\"'", b->out_pattern);
+        snprintf(b->default_chain, sizeof b->default_chain, "render output=\"%s\"",
+                 b->out_pattern);
+        b->chain_text = b->default_chain;
+    }
+#endif
+    if (writes_default_output && mkdir("out", 0777) != 0 && errno != EEXIST)
+        return fail(app, 1, "cannot create directory out", strerror(errno));
+    return backend_start(app);
+}
+
+#ifdef EXAPP_NATIVE
+
+static bool backend_start(exapp *app) {
+    exapp_backend *b = app->backend;
+    /* Same attributes as spus/render: RGBA, depth 24, stencil 8, accum 0. */
+    b->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    if (!b->context)
+        return fail(app, 1, "OSMesaCreateContextExt failed", NULL);
+    b->buffer = calloc((size_t)app->width * (size_t)app->height, 4);
+    if (!b->buffer)
+        return fail(app, 1, "out of memory for the framebuffer", NULL);
+    if (!OSMesaMakeCurrent(b->context, b->buffer, GL_UNSIGNED_BYTE, app->width, app->height))
+        return fail(app, 1, "OSMesaMakeCurrent failed", NULL);
+    return true;
+}
+
+bool exapp_swap(exapp *app) {
+    exapp_backend *b = app->backend;
+    glFinish();
+    int frame = app->frame++;
+    if (!b->out_pattern[0])
+        return true;
+    char path[PATH_MAX];
+    tsr_error err = {0};
+    if (tsr_image_frame_path(path, sizeof path, b->out_pattern, frame, &err) != TSR_OK ||
+        tsr_image_write_png_rgba(b->buffer, app->width, app->height, (size_t)app->width * 4,
+                                 true, path, &err) != TSR_OK)
+        return fail(app, 1, err.message, NULL);
+    return true;
+}
+
+int exapp_finish(exapp *app) {
+    exapp_backend *b = app->backend;
+    if (b) {
+        if (b->context)
+            OSMesaDestroyContext(b->context);
+        free(b->buffer);
+        free(b);
+        app->backend = NULL;
+    }
+    return app->exit_code;
+}
+
+#else /* tessera build */
+
+static bool backend_start(exapp *app) {
+    exapp_backend *b = app->backend;
+    tsr_error err = {0};
+    b->chain = tsr_chain_create(b->chain_text, &err);
+    if (!b->chain)
+        return fail(app, 1, err.message, NULL);
+    tsr_gl_make_current(tsr_chain_head(b->chain));
+    glWindowCreateTSR(0, app->width, app->height);
+    return true;
+}
+
+bool exapp_swap(exapp *app) {
+    glSwapBuffersTSR(0, 0);
+    app->frame++;
+    return true;
+}
+
+int exapp_finish(exapp *app) {
+    exapp_backend *b = app->backend;
+    if (b) {
+        if (b->chain) {
+            glWindowDestroyTSR(0);
+            tsr_gl_make_current(NULL);
+            tsr_chain_destroy(b->chain);
+        }
+        free(b);
+        app->backend = NULL;
+    }
+    return app->exit_code;
+}
+
+#endif

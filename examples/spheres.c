@@ -1,0 +1,137 @@
+/* examples/spheres.c — lit spheres from display lists: a ring of spheres
+ * with different materials under three coloured lights, rotating a little
+ * every frame. Ordinary GL 1.x code; owns only its drawing (the harness in
+ * common/exapp.c owns the context and output). Deterministic per frame. */
+#include <math.h>
+
+#include <GL/gl.h>
+
+#include "common/exapp.h"
+
+#define SPHERE_COUNT 7
+#define PI_F 3.14159265358979f
+
+/* A unit sphere as latitude quad strips with per-vertex normals. */
+static void emit_sphere(int slices, int stacks) {
+    for (int i = 0; i < stacks; i++) {
+        float lat0 = PI_F * (-0.5f + (float)i / (float)stacks);
+        float lat1 = PI_F * (-0.5f + (float)(i + 1) / (float)stacks);
+        glBegin(GL_QUAD_STRIP);
+        for (int j = 0; j <= slices; j++) {
+            float lon = 2.0f * PI_F * (float)j / (float)slices;
+            float cx = cosf(lon), sy = sinf(lon);
+            float x0 = cosf(lat0) * cx, y0 = cosf(lat0) * sy, z0 = sinf(lat0);
+            float x1 = cosf(lat1) * cx, y1 = cosf(lat1) * sy, z1 = sinf(lat1);
+            glNormal3f(x1, y1, z1);
+            glVertex3f(x1, y1, z1);
+            glNormal3f(x0, y0, z0);
+            glVertex3f(x0, y0, z0);
+        }
+        glEnd();
+    }
+}
+
+static void set_material(int i) {
+    static const GLfloat diffuse[SPHERE_COUNT][4] = {
+        {0.9f, 0.2f, 0.2f, 1}, {0.2f, 0.8f, 0.3f, 1}, {0.2f, 0.3f, 0.9f, 1},
+        {0.9f, 0.8f, 0.2f, 1}, {0.8f, 0.3f, 0.8f, 1}, {0.2f, 0.8f, 0.8f, 1},
+        {0.85f, 0.85f, 0.85f, 1}};
+    GLfloat ambient[4] = {diffuse[i][0] * 0.2f, diffuse[i][1] * 0.2f, diffuse[i][2] * 0.2f, 1};
+    GLfloat specular[4] = {0.9f, 0.9f, 0.9f, 1};
+    glMaterialfv(GL_FRONT, GL_AMBIENT, ambient);
+    glMaterialfv(GL_FRONT, GL_DIFFUSE, diffuse[i]);
+    glMaterialfv(GL_FRONT, GL_SPECULAR, specular);
+    glMaterialf(GL_FRONT, GL_SHININESS, 8.0f + 16.0f * (float)i);
+}
+
+static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list) {
+    glViewport(0, 0, app->width, app->height);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    double aspect = (double)app->width / (double)app->height;
+    glFrustum(-0.5 * aspect, 0.5 * aspect, -0.5, 0.5, 1.0, 30.0);
+    glMatrixMode(GL_MODELVIEW);
+
+    glClearColor(0.05f, 0.05f, 0.12f, 1.0f);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glEnable(GL_NORMALIZE);
+    glEnable(GL_LIGHTING);
+    GLfloat global_ambient[4] = {0.15f, 0.15f, 0.15f, 1};
+    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global_ambient);
+
+    static const GLfloat light_color[3][4] = {
+        {1.0f, 0.95f, 0.9f, 1}, {0.4f, 0.5f, 1.0f, 1}, {1.0f, 0.5f, 0.3f, 1}};
+    for (int i = 0; i < 3; i++) {
+        glLightfv(GL_LIGHT0 + i, GL_DIFFUSE, light_color[i]);
+        glLightfv(GL_LIGHT0 + i, GL_SPECULAR, light_color[i]);
+        glEnable(GL_LIGHT0 + i);
+    }
+    glLightf(GL_LIGHT2, GL_CONSTANT_ATTENUATION, 0.5f);
+    glLightf(GL_LIGHT2, GL_LINEAR_ATTENUATION, 0.1f);
+
+    *sphere_list = glGenLists(2);
+    *ring_list = *sphere_list + 1;
+    glNewList(*sphere_list, GL_COMPILE);
+    emit_sphere(32, 20);
+    glEndList();
+
+    /* The ring nests the sphere list: display lists calling lists. */
+    glNewList(*ring_list, GL_COMPILE);
+    for (int i = 0; i < SPHERE_COUNT; i++) {
+        float angle = 360.0f * (float)i / (float)SPHERE_COUNT;
+        glPushMatrix();
+        glRotatef(angle, 0, 1, 0);
+        glTranslatef(2.2f, 0.35f * (float)(i % 3) - 0.35f, 0);
+        glScalef(0.55f, 0.55f, 0.55f);
+        set_material(i);
+        glCallList(*sphere_list);
+        glPopMatrix();
+    }
+    glEndList();
+}
+
+static void draw(GLuint sphere_list, GLuint ring_list, int frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glLoadIdentity();
+
+    /* Lights in eye space, one of them orbiting with the frame number. */
+    GLfloat key[4] = {-4, 5, 3, 0};
+    GLfloat fill[4] = {5, -2, 2, 0};
+    float t = 0.4f * (float)frame;
+    GLfloat orbit[4] = {3.0f * cosf(t), 1.0f, -6.0f + 3.0f * sinf(t), 1};
+    glLightfv(GL_LIGHT0, GL_POSITION, key);
+    glLightfv(GL_LIGHT1, GL_POSITION, fill);
+    glLightfv(GL_LIGHT2, GL_POSITION, orbit);
+
+    glTranslatef(0, 0, -7.5f);
+    glRotatef(20.0f, 1, 0, 0);
+    glRotatef(12.0f * (float)frame, 0, 1, 0);
+    glCallList(ring_list);
+
+    /* A big centre sphere, drawn straight from the list with its own material. */
+    glPushMatrix();
+    glRotatef(-30.0f * (float)frame, 0, 0, 1);
+    glScalef(1.1f, 1.1f, 1.1f);
+    set_material(SPHERE_COUNT - 1);
+    glCallList(sphere_list);
+    glPopMatrix();
+}
+
+int main(int argc, char **argv) {
+    exapp app;
+    if (!exapp_init(&app, "spheres", argc, argv, 640, 480))
+        return exapp_finish(&app);
+    GLuint sphere_list, ring_list;
+    setup(&app, &sphere_list, &ring_list);
+    for (int f = 0; f < app.frames; f++) {
+        draw(sphere_list, ring_list, f);
+        if (!exapp_swap(&app))
+            break;
+    }
+    glDeleteLists(sphere_list, 2);
+    return exapp_finish(&app);
+}

@@ -1,0 +1,82 @@
+/* tessera/image.h — RGBA8 images: PNG read/write (libpng), pixel compare
+ * (differing pixels, max channel error, PSNR) and row flipping.
+ * Owns image memory it allocates; never exits or prints on bad input:
+ * every failure is a tsr_error naming the file and the problem.
+ *
+ * Pixels are 8-bit RGBA, rows top to bottom, `stride` bytes apart (always
+ * width * 4 for images made here). OpenGL reads framebuffers bottom row
+ * first: flip with tsr_image_flip_rows, or write such a buffer straight to
+ * PNG with tsr_image_write_png_rgba(..., bottom_up = true). */
+#ifndef TESSERA_IMAGE_H
+#define TESSERA_IMAGE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "tessera/error.h"
+#include "tessera/export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest width or height accepted (reading and allocating). */
+#define TSR_IMAGE_MAX_SIDE 32768
+
+typedef struct tsr_image {
+    int width;
+    int height;
+    size_t stride;     /* bytes from one row to the next: width * 4 */
+    uint8_t *pixels;   /* RGBA8, top row first; owned (tsr_image_free) */
+} tsr_image;
+
+/* Result of comparing two images of the same size. */
+typedef struct tsr_image_diff {
+    uint64_t differing_pixels; /* pixels with any channel off by more than the tolerance */
+    int max_channel_error;     /* largest |a - b| over all channels (0..255) */
+    double psnr_db;            /* over R, G, B and A; INFINITY when identical */
+} tsr_image_diff;
+
+/* Allocates a zeroed width x height image (1..TSR_IMAGE_MAX_SIDE each). */
+TSR_API int tsr_image_alloc(tsr_image *img, int width, int height, tsr_error *err);
+/* Frees the pixels and zeroes the struct; safe on a zeroed struct. */
+TSR_API void tsr_image_free(tsr_image *img);
+
+/* Reads a PNG file into `img` (allocated here; free with tsr_image_free).
+ * Grey, grey+alpha, RGB, palette, 1/2/4/16-bit and interlaced files are
+ * converted to RGBA8 (16-bit channels keep their high byte; missing alpha
+ * becomes 255). On failure `img` is left zeroed. */
+TSR_API int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err);
+
+/* Writes `img` as an 8-bit RGBA PNG (overwriting `path`). The directory
+ * must exist. A half-written file is removed on failure. */
+TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err);
+
+/* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
+ * first row in memory is the bottom row of the picture (glReadPixels,
+ * OSMesa buffers); the file is written top row first either way. */
+TSR_API int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height,
+                                     size_t stride, bool bottom_up, const char *path,
+                                     tsr_error *err);
+
+/* Compares `a` and `b` channel by channel. A pixel differs when any of its
+ * four channels differs by more than `tolerance` (0 = exact). Images of
+ * different sizes are an error (TSR_EINVAL) naming both sizes. */
+TSR_API int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance,
+                              tsr_image_diff *out, tsr_error *err);
+
+/* Formats a frame file name from a printf-style `pattern` holding at most
+ * one integer conversion (%d or %i with optional flags 0-+ and a width up
+ * to 2 digits, e.g. "out/frame-%04d.png"); "%%" is a literal '%'. Any
+ * other '%' use is an error (TSR_EINVAL) naming the pattern, so a user's
+ * pattern is never handed to printf unchecked. */
+TSR_API int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
+                                 tsr_error *err);
+
+/* Reverses the order of `height` rows of `stride` bytes in place. */
+TSR_API void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

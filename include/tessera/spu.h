@@ -1,0 +1,101 @@
+/* tessera/spu.h — writing a stream processing unit (SPU).
+ *
+ * An SPU is a shared library exporting one function, tsr_spu_describe(),
+ * that returns a static tsr_spu_class: name, optional super SPU, typed
+ * options, and create/destroy. Everything an instance needs arrives in
+ * tsr_spu_init; the SPU keeps it in the instance it returns. No globals:
+ * two instances of the same SPU in one process must work.
+ *
+ * Building a chain "a ! b ! c" (calls enter a, flow to c):
+ *   c is created first; its child is a table of no-ops. Then b with child =
+ *   c's resolved table, then a. An SPU with a super gets a super instance
+ *   created first (same child, its own options from the same set). Slots
+ *   the SPU leaves empty in `table` are taken from the super's table, else
+ *   from the child's, so an SPU implements only what it changes.
+ *
+ * Minimal SPU:
+ *
+ *   static void my_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
+ *       struct my *m = self; m->count++;
+ *       tsr_call_Vertex3f(m->child, x, y, z);
+ *   }
+ *   static void *my_create(const tsr_spu_init *init, tsr_error *err) {
+ *       struct my *m = calloc(1, sizeof *m);
+ *       if (!m) { tsr_error_set(err, TSR_ENOMEM, "my: out of memory"); return NULL; }
+ *       m->child = init->child;
+ *       tsr_set_Vertex3f(init->table, my_Vertex3f, m);
+ *       return m;
+ *   }
+ *   static void my_destroy(void *self) { free(self); }
+ *   static const tsr_spu_class my_class = {
+ *       .abi = TSR_SPU_ABI, .name = "my", .summary = "counts vertices",
+ *       .create = my_create, .destroy = my_destroy };
+ *   TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &my_class; }
+ */
+#ifndef TESSERA_SPU_H
+#define TESSERA_SPU_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "tessera/dispatch.h"
+#include "tessera/error.h"
+#include "tessera/export.h"
+#include "tessera/options.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Bumped whenever tsr_spu_class or tsr_spu_init change incompatibly or the
+ * dispatch table layout changes (the spec's command list is part of the ABI:
+ * the loader also compares TSR_DISPATCH_COUNT). */
+#define TSR_SPU_ABI 1u
+
+#define TSR_SPU_EXPORT __attribute__((visibility("default")))
+#define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
+
+typedef struct tsr_spu_init {
+    const char *instance_name;    /* "render#2": use it in messages */
+    const tsr_options *options;   /* validated; valid until destroy */
+    const tsr_dispatch *child;    /* next SPU's resolved table (or no-ops) */
+    const tsr_dispatch *super;    /* super instance's resolved table, or NULL */
+    tsr_dispatch *table;          /* set the slots this SPU implements */
+} tsr_spu_init;
+
+typedef struct tsr_spu_class {
+    uint32_t abi;                   /* TSR_SPU_ABI */
+    uint32_t dispatch_count;        /* TSR_DISPATCH_COUNT (0 = not checked) */
+    const char *name;               /* [a-z0-9_]+ */
+    const char *super;              /* name of the SPU inherited from, or NULL */
+    const char *summary;            /* one line for `tessera spus` */
+    const tsr_option_spec *options; /* may be NULL */
+    size_t option_count;
+    /* Returns the instance (passed as `self` to every slot it sets) or NULL
+     * with `err` filled. */
+    void *(*create)(const tsr_spu_init *init, tsr_error *err);
+    void (*destroy)(void *instance);
+} tsr_spu_class;
+
+typedef const tsr_spu_class *(*tsr_spu_describe_fn)(void);
+
+/* --- Finding SPU classes -------------------------------------------------
+ * Plugins are files named <name>_spu.so, looked up in this order:
+ * TESSERA_SPU_PATH (colon-separated), the build tree's spus directory (for
+ * uninstalled builds), then the install prefix's lib/tessera/spus. Classes
+ * registered in-process win over files of the same name. */
+
+/* Makes `cls` findable by name in this process (tests, embedded SPUs). The
+ * class must outlive every chain that uses it. */
+TSR_API int tsr_spu_register(const tsr_spu_class *cls, tsr_error *err);
+/* Finds (loading if needed) the class called `name`. */
+TSR_API const tsr_spu_class *tsr_spu_find(const char *name, tsr_error *err);
+/* Lists every findable class (registered and on the search path) into
+ * `out` (up to `max`); returns how many exist. Sorted by name. */
+TSR_API size_t tsr_spu_list(const tsr_spu_class **out, size_t max);
+/* The directories searched, in order, joined by ':' into `buf`. */
+TSR_API const char *tsr_spu_search_path(char *buf, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,129 @@
+# tests/render.cmake — images, imgdiff, the render SPU and the examples'
+# accuracy: every example rendered through a chain must be bit-identical
+# to the same program drawn by OSMesa directly.
+get_property(RENDER_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(RENDER_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/render)
+set(RENDER_OUT ${CMAKE_BINARY_DIR}/test-out/render)
+set(TESSERA_BIN $<TARGET_FILE:tessera_cli>)
+file(MAKE_DIRECTORY ${RENDER_OUT})
+
+# --- tsr_image ----------------------------------------------------------------
+add_executable(image_test ${RENDER_TEST_DIR}/image_test.c)
+target_link_libraries(image_test PRIVATE tessera PkgConfig::PNG m)
+set(IMAGE_OUT ${RENDER_OUT}/image)
+file(MAKE_DIRECTORY ${IMAGE_OUT})
+add_test(NAME image_png_roundtrip_keeps_rgba_and_bottom_up_rows
+         COMMAND image_test roundtrip ${IMAGE_OUT})
+add_test(NAME image_reads_grey_palette_16bit_alpha_as_rgba8
+         COMMAND image_test convert ${IMAGE_OUT})
+add_test(NAME image_compare_counts_pixels_beyond_tolerance_and_psnr
+         COMMAND image_test compare)
+add_test(NAME image_flip_rows_mirrors_wide_rows COMMAND image_test flip)
+add_test(NAME image_errors_name_the_file_and_libpng_problem
+         COMMAND image_test errors ${IMAGE_OUT})
+add_test(NAME image_frame_pattern_allows_only_one_int_conversion
+         COMMAND image_test frame-path)
+
+# --- tessera imgdiff ----------------------------------------------------------
+set(IMGDIFF_OUT ${RENDER_OUT}/imgdiff)
+file(MAKE_DIRECTORY ${IMGDIFF_OUT})
+add_test(NAME imgdiff_fixtures COMMAND image_test fixtures ${IMGDIFF_OUT})
+set_tests_properties(imgdiff_fixtures PROPERTIES FIXTURES_SETUP imgdiff_pngs)
+set(EXPECT ${RENDER_TEST_DIR}/expect.sh)
+macro(imgdiff_test name rc out_re err_re)
+  add_test(NAME ${name} COMMAND ${EXPECT} ${rc} "${out_re}" "${err_re}"
+           ${TESSERA_BIN} imgdiff ${ARGN})
+  set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED imgdiff_pngs)
+endmacro()
+imgdiff_test(imgdiff_identical_images_exit_0 0
+  "^differing_pixels: 0$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/base_copy.png)
+imgdiff_test(imgdiff_identical_images_report_psnr_inf 0 "^psnr_db: inf$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/base_copy.png)
+imgdiff_test(imgdiff_one_pixel_off_exit_1 1 "^differing_pixels: 1$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/one_pixel_off.png)
+imgdiff_test(imgdiff_one_pixel_off_reports_max_channel_error_3 1 "^max_channel_error: 3$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/one_pixel_off.png)
+imgdiff_test(imgdiff_within_tolerance_exit_0 0 "^differing_pixels: 0$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/one_pixel_off.png --tolerance 3)
+imgdiff_test(imgdiff_just_beyond_tolerance_exit_1 1 "^differing_pixels: 1$" ""
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/one_pixel_off.png --tolerance 2)
+imgdiff_test(imgdiff_size_mismatch_exit_2_names_files 2 ""
+  "size mismatch: .*base.png is 48x32, .*small.png is 48x31"
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/small.png)
+imgdiff_test(imgdiff_missing_file_exit_2_names_file 2 "" "no-such-file.png: No such file"
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/no-such-file.png)
+imgdiff_test(imgdiff_not_png_exit_2_names_file 2 "" "not_png.png: not a PNG file"
+  ${IMGDIFF_OUT}/not_png.png ${IMGDIFF_OUT}/base.png)
+imgdiff_test(imgdiff_bad_tolerance_exit_2 2 "" "bad --tolerance '256'"
+  ${IMGDIFF_OUT}/base.png ${IMGDIFF_OUT}/base.png --tolerance 256)
+imgdiff_test(imgdiff_one_file_is_usage_error 2 "" "expected two PNG files"
+  ${IMGDIFF_OUT}/base.png)
+imgdiff_test(imgdiff_help_exit_0 0 "usage: tessera imgdiff A.png B.png \\[--tolerance N\\]" ""
+  --help)
+
+# --- the render SPU -----------------------------------------------------------
+add_test(NAME render_spu_has_no_gl_imports
+         COMMAND ${RENDER_TEST_DIR}/no_gl_imports.sh $<TARGET_FILE:spu_render>)
+
+set(SPHERES_BIN $<TARGET_FILE:spheres>)
+macro(render_rejects name err_re chain)
+  add_test(NAME ${name} COMMAND ${EXPECT} 1 "" "${err_re}"
+           ${SPHERES_BIN} --frames 1 --chain "${chain}")
+endmacro()
+render_rejects(render_rejects_missing_output_directory
+  "render.*no/such/dir.*No such file or directory"
+  "render output=${RENDER_OUT}/no/such/dir/f-%d.png")
+render_rejects(render_rejects_output_directory_that_is_a_file
+  "render.*is not a directory"
+  "render output=${RENDER_TEST_DIR}/expect.sh/f-%d.png")
+render_rejects(render_rejects_output_pattern_with_string_conversion
+  "render.*bad file pattern 'f-%s.png'"
+  "render output=f-%s.png")
+render_rejects(render_rejects_negative_width "width" "render width=-4 height=10")
+render_rejects(render_rejects_width_without_height "render.*width=64 and height=0"
+  "render width=64")
+render_rejects(render_rejects_unknown_option "colour" "render colour=red")
+
+add_test(NAME render_fixed_size_option_overrides_window_size
+  COMMAND ${RENDER_TEST_DIR}/render_options.sh fixed-size ${SPHERES_BIN}
+          $<TARGET_FILE:image_test> ${RENDER_OUT}/fixed-size)
+add_test(NAME render_window_option_ignores_other_windows_swaps
+  COMMAND ${RENDER_TEST_DIR}/render_options.sh other-window ${SPHERES_BIN}
+          ${RENDER_OUT}/other-window)
+
+add_executable(render_driver ${RENDER_TEST_DIR}/render_driver.c)
+target_link_libraries(render_driver PRIVATE tessera_gl tessera Threads::Threads)
+add_test(NAME render_two_instances_on_two_threads_render_independently
+  COMMAND ${RENDER_TEST_DIR}/two_chains.sh $<TARGET_FILE:render_driver> ${TESSERA_BIN}
+          ${RENDER_OUT}/two_chains 3)
+add_test(NAME render_without_window_commands_draws_512_square
+  COMMAND sh -c "rm -f \"$2\" && \"$0\" no-window \"$1\" && \"$3\" expect-size \"$2\" 512 512"
+          $<TARGET_FILE:render_driver> ${RENDER_OUT}/no-window-%d.png
+          ${RENDER_OUT}/no-window-0.png $<TARGET_FILE:image_test>)
+
+# --- accuracy: examples through chains vs OSMesa directly -----------------------
+# Frames per run: enough to exercise animation, small enough to stay fast.
+set(ACCURACY_FRAMES 4)
+foreach(example ${TESSERA_EXAMPLES})
+  foreach(kind render print loopback)
+    add_test(NAME accuracy_${example}_${kind}_bit_exact_vs_osmesa
+      COMMAND ${RENDER_TEST_DIR}/accuracy.sh ${CMAKE_BINARY_DIR}/bin ${example}
+              ${RENDER_OUT}/accuracy/${example}-${kind} ${ACCURACY_FRAMES} ${kind})
+  endforeach()
+endforeach()
+# An odd window size catches row-stride and flip mistakes.
+add_test(NAME accuracy_texquads_odd_size_render_bit_exact_vs_osmesa
+  COMMAND ${RENDER_TEST_DIR}/accuracy.sh ${CMAKE_BINARY_DIR}/bin texquads
+          ${RENDER_OUT}/accuracy/texquads-odd 2 render 333x217)
+
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
+# LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.
+if(TESSERA_SANITIZE)
+  get_property(RENDER_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+  if(RENDER_TESTS_BEFORE)
+    list(REMOVE_ITEM RENDER_TESTS_AFTER ${RENDER_TESTS_BEFORE})
+  endif()
+  set_tests_properties(${RENDER_TESTS_AFTER} PROPERTIES ENVIRONMENT
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()

@@ -1,0 +1,63 @@
+/* tests/spec/spec_opcodes_frozen.c — test spec_opcodes_frozen: every
+ * "Name opcode" line of tests/data/opcodes.txt still holds in the spec.
+ * Adding commands is fine; renumbering or removing one breaks the wire
+ * protocol for every peer built before the change.
+ * Usage: spec_opcodes_frozen SPEC.yaml opcodes.txt */
+#include "spec.h"
+
+#include <stdio.h>
+#include <string.h>
+
+int main(int argc, char **argv)
+{
+    if (argc != 3) {
+        fprintf(stderr, "usage: %s SPEC.yaml opcodes.txt\n", argv[0]);
+        return 2;
+    }
+    char err[1024];
+    spec s;
+    if (spec_load(argv[1], &s, err, sizeof err)) {
+        fprintf(stderr, "FAIL: %s\n", err);
+        return 1;
+    }
+    FILE *f = fopen(argv[2], "r");
+    if (!f) {
+        perror(argv[2]);
+        spec_free(&s);
+        return 1;
+    }
+    char line[256];
+    int lineno = 0, failures = 0, frozen = 0;
+    while (fgets(line, sizeof line, f)) {
+        lineno++;
+        char name[200];
+        int opcode;
+        char extra;
+        if (line[0] == '#' || line[strspn(line, " \t\r\n")] == 0)
+            continue;
+        if (sscanf(line, "%199s %d %c", name, &opcode, &extra) != 2) {
+            fprintf(stderr, "FAIL: %s:%d: expected 'Name opcode'\n", argv[2], lineno);
+            failures++;
+            continue;
+        }
+        frozen++;
+        const spec_command *c = spec_find(&s, name);
+        if (!c) {
+            fprintf(stderr, "FAIL: %s:%d: %s (opcode %d) was removed from the spec\n", argv[2], lineno, name,
+                    opcode);
+            failures++;
+        } else if (c->opcode != opcode) {
+            fprintf(stderr, "FAIL: %s:%d: %s was renumbered from %d to %d (spec line %d)\n", argv[2], lineno,
+                    name, opcode, c->opcode, c->line);
+            failures++;
+        }
+    }
+    fclose(f);
+    printf("%d frozen opcodes, %d broken, %zu commands in the spec\n", frozen, failures, s.ncmds);
+    if (frozen == 0) {
+        fprintf(stderr, "FAIL: %s freezes nothing\n", argv[2]);
+        failures++;
+    }
+    spec_free(&s);
+    return failures ? 1 : 0;
+}

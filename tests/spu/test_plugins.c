@@ -1,0 +1,42 @@
+/* tests/spu/test_plugins.c — plugin files the loader tests load for real,
+ * one variant per build (TEST_PLUGIN_*): a second `passthrough` placed on
+ * TESSERA_SPU_PATH, a library without the entry point, one built for
+ * another ABI, and one whose class name does not match its file name.
+ * Owns nothing. Never: used outside tests. */
+#include <stdlib.h>
+
+#include "tessera/spu.h"
+
+#ifndef TEST_PLUGIN_NO_ENTRY
+static void *plugin_create(const tsr_spu_init *init, tsr_error *err) {
+    (void)init;
+    void *instance = malloc(1);
+    if (!instance)
+        tsr_error_set(err, TSR_ENOMEM, "out of memory");
+    return instance;
+}
+
+static void plugin_destroy(void *instance) { free(instance); }
+
+static const tsr_spu_class plugin_class = {
+#ifdef TEST_PLUGIN_OLD_ABI
+    .abi = TSR_SPU_ABI + 1000,
+    .name = "oldabi",
+#elif defined TEST_PLUGIN_MISNAMED
+    .abi = TSR_SPU_ABI,
+    .name = "othername",
+#else /* TEST_PLUGIN_SHADOW */
+    .abi = TSR_SPU_ABI,
+    .name = "passthrough",
+#endif
+    .dispatch_count = TSR_DISPATCH_COUNT,
+    .summary = "test copy found first on TESSERA_SPU_PATH",
+    .create = plugin_create,
+    .destroy = plugin_destroy,
+};
+
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &plugin_class; }
+#else
+/* Exports something, just not the entry point. */
+TSR_SPU_EXPORT int tsr_spu_not_the_entry_point(void) { return 42; }
+#endif
