@@ -11,7 +11,7 @@ int bench_parse_args(int argc, char **argv, bench_args *args, const char *usage_
 {
     args->quick = 0;
     args->csv_path = NULL;
-    args->repeats = 5;
+    args->repeats = 7;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--quick") == 0) {
             args->quick = 1;
@@ -37,7 +37,7 @@ int bench_parse_args(int argc, char **argv, bench_args *args, const char *usage_
 double bench_now(void)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 

@@ -18,7 +18,10 @@ typedef struct bench_args {
  * anything else. */
 int bench_parse_args(int argc, char **argv, bench_args *args, const char *usage_extra);
 
-/* Seconds from an arbitrary fixed point (CLOCK_MONOTONIC). */
+/* Seconds of CPU time the calling thread has used (CLOCK_THREAD_CPUTIME_ID).
+ * The micro benchmarks are single-threaded and never sleep, so this equals
+ * their wall time on an idle core, and on a shared machine the time the
+ * thread spent descheduled does not count against the code measured. */
 double bench_now(void);
 
 /* Prints "name: value" with `decimals` digits after the point, flushed. */

@@ -146,17 +146,24 @@ int cmd_spus(int argc, char **argv) {
 
     char path[8192];
     printf("search path: %s\n", tsr_spu_search_path(path, sizeof path));
-    size_t count = tsr_spu_list(NULL, 0);
-    const tsr_spu_class **classes = count ? calloc(count, sizeof *classes) : NULL;
-    if (count && !classes) {
+    /* One listing normally suffices (each call loads and checks every
+     * plugin on the path); ask again only if there were more than room. */
+    size_t room = 256;
+    const tsr_spu_class **classes = calloc(room, sizeof *classes);
+    size_t listed = classes ? tsr_spu_list(classes, room) : 0;
+    if (classes && listed > room) {
+        room = listed;
+        const tsr_spu_class **grown = realloc(classes, room * sizeof *grown);
+        if (grown)
+            classes = grown;
+        listed = grown ? tsr_spu_list(classes, room) : room;
+        if (listed > room)
+            listed = room; /* registered meanwhile: print what fits */
+    }
+    if (!classes) {
         fprintf(stderr, "tessera spus: out of memory\n");
         return TSR_EXIT_FAIL;
     }
-    /* The list can grow between the two calls (another thread registering);
-     * print what fits. */
-    size_t listed = tsr_spu_list(classes, count);
-    if (listed > count)
-        listed = count;
     if (listed == 0)
         printf("no SPUs found\n");
     for (size_t i = 0; i < listed; i++) {

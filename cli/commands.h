@@ -16,5 +16,7 @@ typedef struct tsr_cli_command {
 
 int cmd_imgdiff(int argc, char **argv);
 int cmd_spus(int argc, char **argv);
+int cmd_check(int argc, char **argv);
+int cmd_dot(int argc, char **argv);
 
 #endif

@@ -40,6 +40,7 @@ typedef struct tsr_pack_sink {
 } tsr_pack_sink;
 
 #define TSR_PACK_MIN_BUFFER 256u
+#define TSR_PACK_MAX_FIXED 256u  /* largest fixed-size command (generator checks) */
 #define TSR_PACK_TEXUNITS 8
 #define TSR_PACK_ATTRIBS 16
 #define TSR_PACK_STACK 16
@@ -67,7 +68,8 @@ typedef struct tsr_packer {
     uint8_t *op_limit;    /* lowest opcode address of this buffer */
     uint8_t *data;        /* next data byte */
     uint8_t *data_end;    /* end of the data area (8-aligned) */
-    float bbox_min[4], bbox_max[4];
+    float bbox_min[4] __attribute__((aligned(16)));
+    float bbox_max[4] __attribute__((aligned(16)));
     uint8_t *mid;         /* data start (8-aligned) */
     uint8_t *mem;         /* normal buffer memory */
     size_t mem_size;
@@ -83,12 +85,11 @@ typedef struct tsr_packer {
     } stack[TSR_PACK_STACK];
     uint32_t stack_depth;
     uint32_t next_request;
-    uint8_t *scratch;     /* compaction space for client arrays */
-    size_t scratch_size;
     char **strings;       /* GetString results, owned; freed on destroy */
     size_t nstrings;
     tsr_error error;      /* first error (sticky until tsr_packer_clear_error) */
     uint64_t buffers_sent, bytes_sent, commands_dropped;
+    uint8_t discard[TSR_PACK_MAX_FIXED] __attribute__((aligned(16)));
 } tsr_packer;
 
 /* buffer_size: bytes of a buffer including header and opcodes (at least
@@ -115,8 +116,9 @@ TSR_API void tsr_packer_clear_error(tsr_packer *p);
 
 /* --- for generated code --------------------------------------------------- */
 
-/* Slow path of tsr_packer_cmd: flushes, or places an oversized command in a
- * buffer of its own. Returns NULL (error recorded) when out of memory. */
+/* Slow path of tsr_packer_cmd (fixed-size commands, at most
+ * TSR_PACK_MAX_FIXED bytes): flushes and places the command. Never NULL:
+ * if memory runs out the command goes to a discard area (error recorded). */
 TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
 /* Reserves `size` data bytes (aligned) for opcode and records the opcode;
  * the caller fills the bytes. Handles extended opcodes and any size. */
@@ -135,6 +137,11 @@ TSR_API const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, u
 /* Element count of an enum-dependent vector (spec pname_counts); -1 when
  * the enum is unknown. Generated. */
 TSR_API int tsr_wire_pname_count(GLenum pname);
+/* Values per control point of an evaluator target (spec map_components);
+ * -1 when unknown. Generated. */
+TSR_API int tsr_wire_map_components(GLenum target);
+/* Opcode of a dispatch slot, -1 when out of range. Generated. */
+TSR_API int tsr_wire_slot_opcode(int slot);
 /* Name of an opcode ("Vertex3f"), NULL when unknown. Generated. */
 TSR_API const char *tsr_wire_opcode_name(uint32_t opcode);
 
@@ -148,6 +155,17 @@ static inline uint8_t *tsr_packer_cmd(tsr_packer *p, uint8_t opcode, size_t size
     return d;
 }
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+/* One min and one max on 4 lanes (x, y, z, z). A NaN component is ignored
+ * (minps returns the second operand). */
+static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
+{
+    __m128 v = _mm_setr_ps(x, y, z, z);
+    _mm_store_ps(p->bbox_min, _mm_min_ps(v, _mm_load_ps(p->bbox_min)));
+    _mm_store_ps(p->bbox_max, _mm_max_ps(v, _mm_load_ps(p->bbox_max)));
+}
+#else
 static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
 {
     p->bbox_min[0] = x < p->bbox_min[0] ? x : p->bbox_min[0];
@@ -157,6 +175,7 @@ static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
     p->bbox_max[1] = y > p->bbox_max[1] ? y : p->bbox_max[1];
     p->bbox_max[2] = z > p->bbox_max[2] ? z : p->bbox_max[2];
 }
+#endif
 
 TSR_API void tsr_packer_bbox_infinite(tsr_packer *p);
 

@@ -322,11 +322,11 @@ static void draw(const mc_case table[256], int frame) {
         mb.radii[i] = 0.2f + 0.03f * (float)i;
     }
     mesh balls = {0};
-    polygonise(table, metaball_field, &mb, -1.0f, 56, -1.2f, 1.2f, &balls);
+    polygonise(table, metaball_field, &mb, -1.0f, 80, -1.2f, 1.2f, &balls);
 
     float gyroid_scale = 6.0f;
     mesh gyroid = {0};
-    polygonise(table, gyroid_field, &gyroid_scale, 1.0f, 40, -1.0f, 1.0f, &gyroid);
+    polygonise(table, gyroid_field, &gyroid_scale, 1.0f, 64, -1.0f, 1.0f, &gyroid);
     /* Flatten the gyroid into a plain triangle list with per-vertex colour,
      * to be drawn with glDrawArrays. */
     size_t flat_count = gyroid.index_count;

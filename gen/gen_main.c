@@ -317,6 +317,15 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    for (size_t i = 0; i < s.nmap_components; i++) {
+        int found = 0;
+        gen_enum_value(&g.enums, s.map_components[i].name, &found);
+        if (!found) {
+            fprintf(stderr, "tsr-gen: map_components: %s is not a GL enum in %s\n", s.map_components[i].name,
+                    argv[2]);
+            return 1;
+        }
+    }
     gen_emit_dispatch(&g);
     gen_emit_wire(&g);
     gen_emit_trace(&g);

@@ -24,6 +24,10 @@ static const struct {
      "tsr_pixel_store_set(&u->pixels, pname, (double)param);"},
     {"BindBuffer", "tsr_packer_mirror_BindBuffer(tsr_p, target, buffer);", NULL},
     {"DeleteBuffers", "tsr_packer_mirror_DeleteBuffers(tsr_p, n, buffers);", NULL},
+    /* Commands that must reach the receiver now, not when the buffer fills. */
+    {"Flush", "tsr_packer_flush(tsr_p);", NULL},
+    {"Finish", "tsr_packer_flush(tsr_p);", NULL},
+    {"SwapBuffersTSR", "tsr_packer_flush(tsr_p);", NULL},
 };
 
 static const char *pack_hook(const spec_command *c)
@@ -81,7 +85,9 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         fprintf(f, "        tsr_len_%s = %zuu;\n", sp->name, (size_t)k->fixed * gp->elem_size);
         break;
     case SPEC_COUNT_EXPR:
-        fprintf(f, "        uint64_t tsr_c = %zuu;\n", gp->elem_size);
+    case SPEC_COUNT_BYTES:
+        /* A product of parameters and integers: elements, or bytes. */
+        fprintf(f, "        uint64_t tsr_c = %zuu;\n", k->kind == SPEC_COUNT_BYTES ? (size_t)1 : gp->elem_size);
         for (size_t i = 0; i < k->nargs; i++) {
             emit_nonneg(f, c, k->args[i]);
             fprintf(f,
@@ -119,14 +125,10 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
                 "        if (__builtin_mul_overflow((uint64_t)(%s), (uint64_t)tsr_t, &tsr_len_%s)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
                 k->args[1], sp->name, k->args[0], sp->name, sp->name);
         break;
-    case SPEC_COUNT_BYTES:
-        emit_nonneg(f, c, k->args[0]);
-        fprintf(f, "        tsr_len_%s = (uint64_t)(%s);\n", sp->name, k->args[0]);
-        break;
     case SPEC_COUNT_MAP: {
         /* ((order-1)*stride [+ (vorder-1)*vstride] + pname_counts[target]) elements */
         fprintf(f,
-                "        int tsr_k = tsr_wire_pname_count((GLenum)%s);\n"
+                "        int tsr_k = tsr_wire_map_components((GLenum)%s);\n"
                 "        if (tsr_k < 0) { tsr_why = \"unknown map target\"; goto tsr_invalid; }\n"
                 "        uint64_t tsr_c = (uint64_t)tsr_k, tsr_t;\n",
                 k->args[0]);
@@ -193,9 +195,11 @@ static void emit_bbox(FILE *f, const gen_cmd *gc)
         fprintf(f, "    tsr_packer_bbox4(tsr_p, %s, %s, %s, %s);\n", comp[0], comp[1], comp[2], comp[3]);
 }
 
+/* Fixed-size commands pack inline; their slow path never fails (core/pack.h
+ * TSR_PACK_MAX_FIXED), so the inline code has no NULL check. */
 static int is_inline_pack(const gen_cmd *gc)
 {
-    return gc->packable && !gc->is_reply && !gc->nvar && gc->sc->opcode < 255;
+    return gc->packable && !gc->is_reply && !gc->nvar && gc->sc->opcode < 255 && gc->fixed_size <= 256;
 }
 
 static void emit_pack_signature(FILE *f, const gen_cmd *gc, const char *prefix)
@@ -225,7 +229,6 @@ static void emit_inline_pack(FILE *f, const gen_cmd *gc)
     emit_pack_signature(f, gc, "static inline ");
     fprintf(f, "\n{\n    uint8_t *tsr_a = tsr_packer_cmd(tsr_p, %d, %zu, %zu);\n", c->opcode, gc->fixed_size,
             gc->align);
-    fprintf(f, "    if (TSR_UNLIKELY(!tsr_a))\n        return;\n");
     emit_put_fixed(f, gc);
     if (!gc->fixed_size)
         fprintf(f, "    (void)tsr_a;\n");
@@ -248,8 +251,11 @@ static void emit_return_zero(FILE *f, const gen_cmd *gc)
 static void emit_outline_pack(FILE *f, const gen_cmd *gc)
 {
     const spec_command *c = gc->sc;
+    int uses_invalid = gc->nvar || gc->nout || (!gc->is_void && !gc->ret_is_string);
     emit_pack_signature(f, gc, "");
-    fprintf(f, "\n{\n    const char *tsr_why = NULL;\n");
+    fprintf(f, "\n{\n");
+    if (uses_invalid)
+        fprintf(f, "    const char *tsr_why = NULL;\n");
     if (!gc->is_void)
         fprintf(f, "    %s tsr_ret = (%s)0;\n", c->ret, c->ret);
     declare_layouts(f, gc, 1);
@@ -358,9 +364,12 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
         fprintf(f, "    return;\n");
     else
         fprintf(f, "    return tsr_ret;\n");
-    fprintf(f, "tsr_invalid:\n    tsr_packer_drop(tsr_p, \"%s\", tsr_why);\n    ", c->name);
-    emit_return_zero(f, gc);
-    fprintf(f, "\n}\n\n");
+    if (uses_invalid) {
+        fprintf(f, "tsr_invalid:\n    tsr_packer_drop(tsr_p, \"%s\", tsr_why);\n    ", c->name);
+        emit_return_zero(f, gc);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "}\n\n");
 }
 
 static void emit_local_custom_protos(FILE *f, const gen_cmd *gc)
@@ -500,6 +509,7 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
             "static int up_%s(tsr_unpacker *u, const tsr_dispatch *tsr_d, const uint8_t *tsr_b, size_t tsr_len,\n"
             "                 size_t *tsr_pos, tsr_error *err)\n{\n"
             "    const char *tsr_why = NULL;\n"
+            "    (void)u;\n"
             "    size_t tsr_at = (*tsr_pos + %zuu) & ~(size_t)%zuu;\n"
             "    if (tsr_at + %zuu > tsr_len) { tsr_why = \"truncated\"; goto tsr_invalid; }\n"
             "    const uint8_t *tsr_a = tsr_b + tsr_at;\n    (void)tsr_a;\n",
@@ -709,6 +719,13 @@ static void emit_tables(const gen *g)
             fprintf(f, "    case 0x%llx: return %d; /* %s */\n", v, g->s->pnames[i].count, g->s->pnames[i].name);
     }
     fprintf(f, "    default: return -1;\n    }\n}\n\n");
+    fprintf(f, "int tsr_wire_map_components(GLenum target)\n{\n    switch (target) {\n");
+    for (size_t i = 0; i < g->s->nmap_components; i++) {
+        int found;
+        unsigned long long v = gen_enum_value(&g->enums, g->s->map_components[i].name, &found);
+        fprintf(f, "    case 0x%llx: return %d; /* %s */\n", v, g->s->map_components[i].count, g->s->map_components[i].name);
+    }
+    fprintf(f, "    default: return -1;\n    }\n}\n\n");
     const gen_cmd **v = malloc((g->ncmds ? g->ncmds : 1) * sizeof *v);
     for (size_t i = 0; i < g->ncmds; i++)
         v[i] = &g->cmds[i];
@@ -724,7 +741,12 @@ static void emit_tables(const gen *g)
             "    while (lo < hi) {\n        size_t mid = (lo + hi) / 2;\n"
             "        if (names[mid].opcode == opcode)\n            return names[mid].name;\n"
             "        if (names[mid].opcode < opcode)\n            lo = mid + 1;\n        else\n            hi = mid;\n    }\n"
-            "    return NULL;\n}\n");
+            "    return NULL;\n}\n\n");
+    fprintf(f, "static const unsigned short slot_opcodes[TSR_DISPATCH_COUNT] = {\n");
+    for (size_t i = 0; i < g->ncmds; i++)
+        fprintf(f, "    %d, /* %s */\n", g->cmds[i].sc->opcode, g->cmds[i].sc->name);
+    fprintf(f, "};\n\nint tsr_wire_slot_opcode(int slot)\n{\n"
+               "    return slot >= 0 && slot < TSR_DISPATCH_COUNT ? (int)slot_opcodes[slot] : -1;\n}\n");
     gen_close(f);
 }
 

@@ -80,10 +80,10 @@ render_rejects(render_rejects_output_directory_that_is_a_file
 render_rejects(render_rejects_output_pattern_with_string_conversion
   "render.*bad file pattern 'f-%s.png'"
   "render output=f-%s.png")
-render_rejects(render_rejects_negative_width "width" "render width=-4 height=10")
+render_rejects(render_rejects_negative_width "render.*width.*-4" "render width=-4 height=10")
 render_rejects(render_rejects_width_without_height "render.*width=64 and height=0"
   "render width=64")
-render_rejects(render_rejects_unknown_option "colour" "render colour=red")
+render_rejects(render_rejects_unknown_option "render.*colour" "render colour=red")
 
 add_test(NAME render_fixed_size_option_overrides_window_size
   COMMAND ${RENDER_TEST_DIR}/render_options.sh fixed-size ${SPHERES_BIN}
@@ -91,6 +91,22 @@ add_test(NAME render_fixed_size_option_overrides_window_size
 add_test(NAME render_window_option_ignores_other_windows_swaps
   COMMAND ${RENDER_TEST_DIR}/render_options.sh other-window ${SPHERES_BIN}
           ${RENDER_OUT}/other-window)
+
+add_test(NAME examples_take_chain_from_TESSERA_CHAIN_unless_chain_option
+  COMMAND ${RENDER_TEST_DIR}/render_options.sh env-chain ${SPHERES_BIN}
+          ${RENDER_OUT}/env-chain)
+add_test(NAME examples_default_chain_renders_into_out_dir
+  COMMAND ${RENDER_TEST_DIR}/render_options.sh default-chain ${SPHERES_BIN}
+          ${RENDER_OUT}/default-chain)
+
+add_test(NAME examples_reject_unknown_option_exit_2
+  COMMAND ${EXPECT} 2 "" "spheres: unknown option .*--bogus" ${SPHERES_BIN} --bogus)
+add_test(NAME examples_native_reject_bad_size_exit_2
+  COMMAND ${EXPECT} 2 "" "isosurface: bad --size .*10by10"
+          $<TARGET_FILE:isosurface-native> --size 10by10)
+add_test(NAME examples_reject_bad_out_pattern_exit_2
+  COMMAND ${EXPECT} 2 "" "bad file pattern 'x-%s.png'"
+          $<TARGET_FILE:texquads-native> --out x-%s.png)
 
 add_executable(render_driver ${RENDER_TEST_DIR}/render_driver.c)
 target_link_libraries(render_driver PRIVATE tessera_gl tessera Threads::Threads)
@@ -116,6 +132,13 @@ endforeach()
 add_test(NAME accuracy_texquads_odd_size_render_bit_exact_vs_osmesa
   COMMAND ${RENDER_TEST_DIR}/accuracy.sh ${CMAKE_BINARY_DIR}/bin texquads
           ${RENDER_OUT}/accuracy/texquads-odd 2 render 333x217)
+# llvmpipe bins triangles into tiles rasterized by LP_NUM_THREADS threads;
+# the result must not depend on how many (measured: 0, 1, 3, 4, 8 agree).
+add_test(NAME accuracy_isosurface_same_with_0_and_4_llvmpipe_threads
+  COMMAND ${RENDER_TEST_DIR}/accuracy.sh ${CMAKE_BINARY_DIR}/bin isosurface
+          ${RENDER_OUT}/accuracy/isosurface-threads 2 render)
+set_tests_properties(accuracy_isosurface_same_with_0_and_4_llvmpipe_threads PROPERTIES
+  ENVIRONMENT "ACCURACY_NATIVE_THREADS=0;ACCURACY_CHAIN_THREADS=4")
 
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
 # LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.

@@ -62,6 +62,8 @@ foreach(t inheritance super_options_accepted rejects_unknown_option rejects_wron
   add_test(NAME spu_chain_${t} COMMAND spu_chain_test spu_chain_${t})
   set_tests_properties(spu_chain_${t} PROPERTIES ENVIRONMENT "TESSERA_SPU_PATH=")
 endforeach()
+add_test(NAME spu_passthrough_verbose_option COMMAND spu_chain_test spu_passthrough_verbose_option)
+set_tests_properties(spu_passthrough_verbose_option PROPERTIES ENVIRONMENT "TESSERA_LOG=")
 
 add_executable(spu_two_instances_test ${SPU_TEST_SRC}/two_instances_test.c)
 target_link_libraries(spu_two_instances_test PRIVATE tessera)
@@ -103,3 +105,16 @@ add_test(NAME spu_template_out_of_tree
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/spu_out_of_tree ${CMAKE_C_COMPILER}
           "${SPU_TEST_EXTRA_CFLAGS}")
 set_tests_properties(spu_template_out_of_tree PROPERTIES TIMEOUT 300)
+
+# Logging levels and error values (core/log.c, core/error.c compiled in).
+add_executable(spu_log_test ${SPU_TEST_SRC}/log_test.c ${CMAKE_SOURCE_DIR}/core/log.c
+  ${CMAKE_SOURCE_DIR}/core/error.c)
+target_include_directories(spu_log_test PRIVATE ${CMAKE_SOURCE_DIR}/include)
+target_link_libraries(spu_log_test PRIVATE Threads::Threads)
+add_test(NAME spu_log_default_level_is_warn COMMAND spu_log_test spu_log_level_filter warn)
+set_tests_properties(spu_log_default_level_is_warn PROPERTIES ENVIRONMENT "TESSERA_LOG=")
+foreach(level debug info error)
+  add_test(NAME spu_log_level_${level}_from_env COMMAND spu_log_test spu_log_level_filter ${level})
+  set_tests_properties(spu_log_level_${level}_from_env PROPERTIES ENVIRONMENT "TESSERA_LOG=${level}")
+endforeach()
+add_test(NAME spu_error_values COMMAND spu_log_test spu_error_values)

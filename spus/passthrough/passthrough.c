@@ -20,7 +20,9 @@ static void *passthrough_create(const tsr_spu_init *init, tsr_error *err) {
     }
     snprintf(p->name, sizeof p->name, "%s", init->instance_name);
     p->verbose = tsr_options_bool(init->options, "verbose");
-    /* No slot is set: the loader fills every one from the child. */
+    /* No slot is set: the loader fills every one from the child. The
+     * verbose lines use the warn level because the user asked for them;
+     * they must show without TESSERA_LOG. */
     if (p->verbose)
         tsr_log(TSR_LOG_WARN, "%s: created; every call goes straight to the next SPU", p->name);
     return p;

@@ -14,6 +14,8 @@
  * or WindowSizeTSR for this SPU's `window`, and 512x512 until one arrives.
  * The first window command resets viewport and scissor to the window, as a
  * window system does when a context is first made current on a window.
+ * WindowDestroyTSR changes nothing here (it passes on to the child); the
+ * framebuffer lives as long as the instance.
  *
  * Output: `output` is a pattern with one %d for the frame number (frames
  * count swaps of `window` from 0); empty = write nothing. Its directory
@@ -23,8 +25,10 @@
  * Threads: OSMesa's current context is per thread. The context is made
  * current on the creating thread, and again by every window or swap
  * command that finds another context current on the calling thread. GL
- * calls go straight to OSMesa, so a thread that switches between two
- * render instances must send one of those commands first (see report). */
+ * calls go straight to OSMesa (no per-call check), so they reach the
+ * context current on the calling thread: a thread that switches between
+ * two render instances' tables must send one of those commands to the
+ * instance it switches to before drawing. */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -213,13 +217,6 @@ static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsize
     tsr_call_WindowSizeTSR(r->child, window, width, height);
 }
 
-static void render_WindowDestroyTSR(void *self, GLint window) {
-    render_spu *r = self;
-    if (window == r->window)
-        r->window_seen = false;
-    tsr_call_WindowDestroyTSR(r->child, window);
-}
-
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     render_spu *r = self;
     if (window == r->window) {
@@ -298,7 +295,6 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     tsr_gl_procs_fill_dispatch(&r->gl, init->table);
     tsr_set_WindowCreateTSR(init->table, render_WindowCreateTSR, r);
     tsr_set_WindowSizeTSR(init->table, render_WindowSizeTSR, r);
-    tsr_set_WindowDestroyTSR(init->table, render_WindowDestroyTSR, r);
     tsr_set_SwapBuffersTSR(init->table, render_SwapBuffersTSR, r);
     return r;
 fail:

@@ -2,8 +2,10 @@
  * same entry point the libFuzzer target uses, without libFuzzer, so any
  * compiler (and the ASan build) replays the corpus in the normal suite.
  * Owns only its file reading; never skips a file it cannot read (that is a
- * failure), and never judges a stream: the entry point must simply return.
- * Usage: fuzz_corpus_replay DIR|FILE...  (exit 0 when every input ran) */
+ * failure). Seeds named ok-* (valid packed streams) must decode and bad-*
+ * (known malformations) must be rejected; any other file (inputs libFuzzer
+ * found) only has to return without a crash or sanitizer report.
+ * Usage: fuzz_corpus_replay DIR|FILE...  (exit 0 when every input behaved) */
 #include "fuzz_unpack.h"
 
 #include <dirent.h>
@@ -61,9 +63,20 @@ static int replay_file(const char *path, size_t *count)
     }
     memcpy(exact, data, size);
     free(data);
-    fuzz_unpack_one(exact, size);
+    char why[512] = "";
+    int rc = fuzz_unpack_explain(exact, size, why, sizeof why);
     free(exact);
     (*count)++;
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    if (strncmp(base, "ok-", 3) == 0 && rc != 0) {
+        fprintf(stderr, "fuzz_corpus_replay: %s: a valid stream was rejected: %s\n", path, why);
+        return -1;
+    }
+    if (strncmp(base, "bad-", 4) == 0 && rc == 0) {
+        fprintf(stderr, "fuzz_corpus_replay: %s: a malformed stream was accepted\n", path);
+        return -1;
+    }
     return 0;
 }
 

@@ -4,6 +4,8 @@
 # `tessera imgdiff`; fails unless all frames are bit-identical.
 # usage: accuracy.sh BIN_DIR EXAMPLE OUT_DIR FRAMES KIND [SIZE]
 #   KIND: render | print | loopback   (chain: [KIND !] render)
+# ACCURACY_NATIVE_THREADS / ACCURACY_CHAIN_THREADS, when set, become
+# LP_NUM_THREADS (llvmpipe's rasterizer threads) of the two runs.
 set -u
 bin=$1 example=$2 out=$3 frames=$4 kind=$5 size=${6:-640x480}
 rm -rf "$out" && mkdir -p "$out/native" "$out/chain" || exit 1
@@ -15,9 +17,14 @@ case $kind in
   *) echo "accuracy.sh: unknown kind '$kind'" >&2; exit 2 ;;
 esac
 
-"$bin/$example-native" --frames "$frames" --size "$size" --out "$out/native/f-%04d.png" \
+run_with_threads() { # THREADS COMMAND...: LP_NUM_THREADS=THREADS unless empty
+  t=$1; shift
+  if [ -n "$t" ]; then LP_NUM_THREADS=$t "$@"; else "$@"; fi
+}
+run_with_threads "${ACCURACY_NATIVE_THREADS:-}" "$bin/$example-native" --frames "$frames" --size "$size" --out "$out/native/f-%04d.png" \
   || { echo "FAIL: $example-native exited $?" >&2; exit 1; }
-"$bin/$example" --frames "$frames" --size "$size" --chain "$chain" \
+run_with_threads "${ACCURACY_CHAIN_THREADS:-}" \
+  "$bin/$example" --frames "$frames" --size "$size" --chain "$chain" \
   || { echo "FAIL: $example --chain '$chain' exited $?" >&2; exit 1; }
 
 status=0

@@ -7,6 +7,7 @@
  * can show the behaviour. */
 #include <stdarg.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "spu_test.h"
 #include "tessera/chain.h"
@@ -421,6 +422,34 @@ static void test_unset_slots_reach_child(void) {
     tsr_chain_destroy(chain);
 }
 
+/* Creates and destroys `text` with stderr captured; returns what was said. */
+static const char *chain_stderr(const char *text) {
+    static char said[2048];
+    char path[] = "/tmp/tessera_chain_test_XXXXXX";
+    int fd = mkstemp(path);
+    REQUIRE(fd >= 0);
+    fflush(stderr);
+    int saved = dup(STDERR_FILENO);
+    REQUIRE(saved >= 0 && dup2(fd, STDERR_FILENO) >= 0);
+    tsr_chain_destroy(chain_ok(text));
+    fflush(stderr);
+    dup2(saved, STDERR_FILENO);
+    close(saved);
+    ssize_t n = pread(fd, said, sizeof said - 1, 0);
+    said[n > 0 ? n : 0] = '\0';
+    close(fd);
+    unlink(path);
+    return said;
+}
+
+static void test_passthrough_verbose_option(void) {
+    unsetenv("TESSERA_SPU_PATH");
+    CHECK_STR(chain_stderr("passthrough verbose=yes ! passthrough"),
+              "tessera: passthrough#1: created; every call goes straight to the next SPU\n"
+              "tessera: passthrough#1: destroyed\n");
+    CHECK_STR(chain_stderr("passthrough ! passthrough verbose=false"), "");
+}
+
 static const spu_test_case tests[] = {
     {"spu_chain_inheritance", test_inheritance},
     {"spu_chain_super_options_accepted", test_super_options_accepted},
@@ -433,6 +462,7 @@ static const spu_test_case tests[] = {
     {"spu_chain_parse_quoted_values", test_parse_quoted_values},
     {"spu_chain_create_failure_cleans_up", test_create_failure_cleans_up},
     {"spu_chain_unset_slots_reach_child", test_unset_slots_reach_child},
+    {"spu_passthrough_verbose_option", test_passthrough_verbose_option},
 };
 
 SPU_TEST_MAIN(tests)

@@ -1,0 +1,551 @@
+/* netlib/conn.c — the connection API application threads call: listen,
+ * accept, connect, send, receive, release, close (net.h).
+ * Owns: the blocking waits with their time-outs, credit accounting on the
+ * application side, and the lifetime of connection and listener objects.
+ * Never: touches a libuv handle (the I/O thread does, see socket.c) or
+ * waits on anything without the caller's time-out or a failure to end it. */
+#include <netdb.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "net_internal.h"
+#include "tessera/log.h"
+
+uint16_t net_version(const tsr_net *net) { return net->config.protocol_version; }
+
+void net_msg_free(net_msg *m) {
+    if (!m)
+        return;
+    if (m->release)
+        m->release(m->data, m->release_ctx);
+    else
+        free(m->data);
+    free(m);
+}
+
+static void free_msg_list(net_msg **head, net_msg **tail) {
+    while (*head) {
+        net_msg *m = *head;
+        *head = m->next;
+        net_msg_free(m);
+    }
+    if (tail)
+        *tail = NULL;
+}
+
+tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
+                           const char *address) {
+    tsr_net_conn *c = calloc(1, sizeof *c);
+    if (!c)
+        return NULL;
+    c->net = net;
+    c->transport = t;
+    c->is_server = is_server;
+    snprintf(c->address, sizeof c->address, "%s", address);
+    strcpy(c->peer_name, "?");
+    net_cond_init(&c->cond);
+    c->state = is_server ? NET_HANDSHAKE : NET_CONNECTING;
+    c->io_ref = t != NET_INPROC;
+    c->next_all = net->conns;
+    if (net->conns)
+        net->conns->prev_all = c;
+    net->conns = c;
+    return c;
+}
+
+void net_conn_maybe_free(tsr_net_conn *c) {
+    if (c->app_ref || c->io_ref || c->held)
+        return;
+    tsr_net *net = c->net;
+    if (c->dirty) { /* still queued for the I/O thread: unqueue it */
+        tsr_net_conn **p = &net->dirty_head;
+        while (*p && *p != c)
+            p = &(*p)->next_dirty;
+        if (*p)
+            *p = c->next_dirty;
+        c->dirty = false;
+    }
+    if (c->prev_all)
+        c->prev_all->next_all = c->next_all;
+    else
+        net->conns = c->next_all;
+    if (c->next_all)
+        c->next_all->prev_all = c->prev_all;
+    free_msg_list(&c->inbox_head, &c->inbox_tail);
+    free_msg_list(&c->outbox_head, &c->outbox_tail);
+    if (c->partial)
+        net_msg_free(c->partial);
+    free(c->staging);
+    pthread_cond_destroy(&c->cond);
+    free(c);
+}
+
+void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...) {
+    if (c->state == NET_FAILED)
+        return;
+    c->state = NET_FAILED;
+    c->error.code = code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->error.message, sizeof c->error.message, fmt, ap);
+    va_end(ap);
+    pthread_cond_broadcast(&c->cond);
+    tsr_log(TSR_LOG_INFO, "%s", c->error.message);
+}
+
+/* Waits on `cond` until `deadline` (NULL: no deadline). 1 = timed out. */
+static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct timespec *dl) {
+    if (!dl) {
+        pthread_cond_wait(cond, lock);
+        return 0;
+    }
+    return pthread_cond_timedwait(cond, lock, dl) != 0;
+}
+
+static int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err) {
+    if (c->state == NET_FAILED)
+        return tsr_error_set(err, c->error.code, "%s", c->error.message);
+    if (c->state == NET_ENDED)
+        return tsr_error_set(err, TSR_EIO, "net: cannot %s: peer '%s' at %s closed the connection",
+                             verb, c->peer_name, c->address);
+    return tsr_error_set(err, TSR_ESTATE, "net: cannot %s: connection to %s is not open", verb,
+                         c->address);
+}
+
+/* ---- listeners ------------------------------------------------------------ */
+
+void net_listener_unlink(tsr_net_listener *l) {
+    tsr_net_listener **p = &l->net->listeners;
+    while (*p && *p != l)
+        p = &(*p)->next;
+    if (*p)
+        *p = l->next;
+    l->next = NULL;
+}
+
+void net_listener_maybe_free(tsr_net_listener *l) {
+    if (l->app_ref || l->io_ref)
+        return;
+    net_listener_unlink(l);
+    pthread_cond_destroy(&l->cond);
+    free(l);
+}
+
+/* Resolves a tcp address in the calling thread (bounded by the system
+ * resolver's own time-outs). An empty host means loopback. */
+static int resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text,
+                   const char *verb, tsr_error *err) {
+    const char *host = a->host[0] ? a->host : "127.0.0.1";
+    char port[8];
+    snprintf(port, sizeof port, "%u", a->port);
+    struct addrinfo hints = {0};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_NUMERICSERV | (passive ? AI_PASSIVE : 0);
+    *out = NULL;
+    int rc = getaddrinfo(host, port, &hints, out);
+    if (rc || !*out)
+        return tsr_error_set(err, TSR_ENOENT, "net: cannot %s %s: host '%s' not found (%s)",
+                             verb, text, host, gai_strerror(rc));
+    return TSR_OK;
+}
+
+tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err) {
+    net_address a;
+    if (net_address_parse(address, &a, err))
+        return NULL;
+    tsr_net_listener *l = calloc(1, sizeof *l);
+    if (!l) {
+        tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
+        return NULL;
+    }
+    l->net = net;
+    l->transport = a.transport;
+    l->app_ref = true;
+    net_cond_init(&l->cond);
+    snprintf(l->address, sizeof l->address, "%s", address);
+    net_op op = {.kind = NET_OP_LISTEN, .target = l, .address = &a};
+    if (a.transport == NET_TCP) {
+        struct addrinfo *ai;
+        if (resolve(&a, true, &ai, address, "listen on", err)) {
+            pthread_cond_destroy(&l->cond);
+            free(l);
+            return NULL;
+        }
+        memcpy(&op.sockaddr, ai->ai_addr, ai->ai_addrlen);
+        freeaddrinfo(ai);
+    }
+    pthread_mutex_lock(&net->lock);
+    int rc;
+    if (a.transport == NET_INPROC) {
+        rc = net_inproc_listen(net, &a, l, err);
+    } else {
+        l->io_ref = true;
+        l->next = net->listeners;
+        net->listeners = l;
+        rc = net_submit_op(net, &op);
+        if (rc)
+            tsr_error_set(err, op.err.code, "%s", op.err.message);
+    }
+    if (rc) {
+        l->app_ref = false;
+        net_listener_maybe_free(l);
+        l = NULL;
+    }
+    pthread_mutex_unlock(&net->lock);
+    return l;
+}
+
+const char *tsr_net_listener_address(const tsr_net_listener *l) { return l->address; }
+
+tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err) {
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    tsr_net *net = l->net;
+    pthread_mutex_lock(&net->lock);
+    while (!l->ready_head && !l->closing && !net->stopping)
+        if (wait_until(&l->cond, &net->lock, dl))
+            break;
+    tsr_net_conn *c = l->ready_head;
+    if (c) {
+        l->ready_head = c->next_ready;
+        if (!l->ready_head)
+            l->ready_tail = NULL;
+        c->next_ready = NULL;
+        c->listener = NULL;
+        c->ready = false;
+        l->pending--;
+    } else if (l->closing || net->stopping) {
+        tsr_error_set(err, TSR_ESTATE, "net: %s is closed", l->address);
+    } else {
+        tsr_error_set(err, TSR_ETIMEDOUT, "net: no connection on %s within %d ms", l->address,
+                      timeout_ms);
+    }
+    pthread_mutex_unlock(&net->lock);
+    return c;
+}
+
+unsigned tsr_net_listener_refusals(tsr_net_listener *l, tsr_error *last) {
+    pthread_mutex_lock(&l->net->lock);
+    unsigned n = l->refusals;
+    if (last)
+        *last = l->last_refusal;
+    pthread_mutex_unlock(&l->net->lock);
+    return n;
+}
+
+void tsr_net_listener_close(tsr_net_listener *l) {
+    if (!l)
+        return;
+    tsr_net *net = l->net;
+    pthread_mutex_lock(&net->lock);
+    l->closing = true;
+    pthread_cond_broadcast(&l->cond);
+    /* Connections nobody accepted are closed with it. */
+    while (l->ready_head) {
+        tsr_net_conn *c = l->ready_head;
+        l->ready_head = c->next_ready;
+        c->next_ready = NULL;
+        c->listener = NULL;
+        c->ready = false;
+        l->pending--;
+        if (c->transport == NET_INPROC) {
+            net_inproc_close(c);
+        } else {
+            c->app_ref = false;
+            c->close_requested = true;
+            net_mark_dirty(c);
+        }
+    }
+    l->ready_tail = NULL;
+    l->app_ref = false;
+    if (l->transport == NET_INPROC) {
+        net_listener_maybe_free(l);
+    } else if (!net->stopping) {
+        net_op op = {.kind = NET_OP_CLOSE_LISTENER, .target = l};
+        net_submit_op(net, &op);
+    }
+    pthread_mutex_unlock(&net->lock);
+}
+
+/* ---- connections ---------------------------------------------------------- */
+
+/* One connection attempt to one resolved address (NULL for unix). Sets
+ * *reached when the socket connected (so a later failure was the peer's
+ * answer, not an unreachable address worth trying the next one for). */
+static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char *address,
+                                  const struct addrinfo *ai, bool *reached, tsr_error *err) {
+    net_op op = {.kind = NET_OP_CONNECT, .address = a};
+    if (ai)
+        memcpy(&op.sockaddr, ai->ai_addr, ai->ai_addrlen);
+    *reached = false;
+    pthread_mutex_lock(&net->lock);
+    if (net->stopping) {
+        pthread_mutex_unlock(&net->lock);
+        tsr_error_set(err, TSR_ESTATE, "net: cannot connect to %s: shutting down", address);
+        return NULL;
+    }
+    tsr_net_conn *c = net_conn_new(net, a->transport, false, address);
+    if (!c) {
+        pthread_mutex_unlock(&net->lock);
+        tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
+        return NULL;
+    }
+    c->app_ref = true;
+    op.target = c;
+    net_submit_op(net, &op);
+    /* The I/O thread enforces both time-outs; this bound only guards it. */
+    struct timespec ts;
+    net_deadline(&ts, (int)(net->config.connect_timeout_ms + net->config.handshake_timeout_ms +
+                            2000));
+    bool guard_expired = false;
+    while (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
+        if (wait_until(&c->cond, &net->lock, &ts)) {
+            guard_expired = true;
+            break;
+        }
+    *reached = c->socket_connected;
+    if (c->state != NET_OPEN) {
+        if (guard_expired)
+            tsr_error_set(err, TSR_ETIMEDOUT, "net: connecting to %s timed out", address);
+        else
+            conn_unusable(c, "connect", err);
+        c->app_ref = false;
+        c->close_requested = true;
+        net_mark_dirty(c);
+        net_conn_maybe_free(c);
+        c = NULL;
+    }
+    pthread_mutex_unlock(&net->lock);
+    return c;
+}
+
+tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err) {
+    net_address a;
+    if (net_address_parse(address, &a, err))
+        return NULL;
+    if (a.transport == NET_INPROC) {
+        pthread_mutex_lock(&net->lock);
+        tsr_net_conn *c = net_inproc_connect(net, &a, err);
+        pthread_mutex_unlock(&net->lock);
+        return c;
+    }
+    bool reached;
+    if (a.transport == NET_UNIX)
+        return connect_once(net, &a, address, NULL, &reached, err);
+    if (!a.host[0]) {
+        tsr_error_set(err, TSR_EINVAL, "net: cannot connect to %s: no host given", address);
+        return NULL;
+    }
+    struct addrinfo *list;
+    if (resolve(&a, false, &list, address, "connect to", err))
+        return NULL;
+    /* A name may resolve to several addresses ("localhost": ::1 and
+     * 127.0.0.1); try each until one answers. */
+    tsr_net_conn *c = NULL;
+    for (struct addrinfo *ai = list; ai && !c; ai = ai->ai_next) {
+        c = connect_once(net, &a, address, ai, &reached, err);
+        if (reached)
+            break;
+    }
+    freeaddrinfo(list);
+    return c;
+}
+
+static uint64_t elapsed_ns(const struct timespec *since) {
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (uint64_t)(now.tv_sec - since->tv_sec) * 1000000000u +
+           (uint64_t)(now.tv_nsec - since->tv_nsec);
+}
+
+int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
+                       void (*release)(void *, void *), void *ctx, int timeout_ms,
+                       tsr_error *err) {
+    if (kind < TSR_NET_KIND_FIRST_USER || kind > 255)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "net: message kind %u is outside the application range %d..255",
+                             kind, TSR_NET_KIND_FIRST_USER);
+    if (!data && len)
+        return tsr_error_set(err, TSR_EINVAL, "net: NULL data with length %llu",
+                             (unsigned long long)len);
+    tsr_net *net = c->net;
+    struct timespec ts, started;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&net->lock);
+    int rc = TSR_OK;
+    if (c->state != NET_OPEN || c->close_requested) {
+        rc = conn_unusable(c, "send", err);
+        goto out;
+    }
+    if (len > c->peer_max_message) {
+        rc = tsr_error_set(err, TSR_EINVAL,
+                           "net: a %llu-byte message is over the %llu-byte limit of peer '%s' "
+                           "at %s (its max_message_bytes)",
+                           (unsigned long long)len, (unsigned long long)c->peer_max_message,
+                           c->peer_name, c->address);
+        goto out;
+    }
+    if (c->send_credits == 0) {
+        clock_gettime(CLOCK_MONOTONIC, &started);
+        c->send_waiters++;
+        net_mark_dirty(c); /* the I/O thread must read, to see the peer's credits */
+        while (c->send_credits == 0 && c->state == NET_OPEN)
+            if (wait_until(&c->cond, &net->lock, dl))
+                break;
+        c->send_waiters--;
+        c->stats.blocked_on_credits_ns += elapsed_ns(&started);
+        if (c->state != NET_OPEN) {
+            rc = conn_unusable(c, "send", err);
+            goto out;
+        }
+        if (c->send_credits == 0) {
+            rc = tsr_error_set(err, TSR_ETIMEDOUT,
+                               "net: peer '%s' at %s granted no credit within %d ms",
+                               c->peer_name, c->address, timeout_ms);
+            goto out;
+        }
+    }
+    net_msg *m = calloc(1, sizeof *m);
+    if (!m) {
+        rc = tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
+        goto out;
+    }
+    m->conn = c;
+    m->type = (uint8_t)kind;
+    m->len = len;
+    m->data = data;
+    m->release = release;
+    m->release_ctx = ctx;
+    c->send_credits--;
+    c->stats.messages_sent++;
+    c->stats.bytes_sent += len;
+    if (c->transport == NET_INPROC) {
+        net_inproc_deliver(c, m);
+    } else {
+        if (c->outbox_tail)
+            c->outbox_tail->next = m;
+        else
+            c->outbox_head = m;
+        c->outbox_tail = m;
+        net_mark_dirty(c);
+    }
+out:
+    pthread_mutex_unlock(&net->lock);
+    return rc;
+}
+
+int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len, int timeout_ms,
+                 tsr_error *err) {
+    /* A closed connection or an oversize message fails without copying
+     * (a connection never reopens, and the peer's limit never changes). */
+    pthread_mutex_lock(&c->net->lock);
+    bool fails = c->state != NET_OPEN || len > c->peer_max_message || len >= SIZE_MAX;
+    pthread_mutex_unlock(&c->net->lock);
+    if (fails)
+        return tsr_net_send_owned(c, kind, (void *)data, len, NULL, NULL, timeout_ms, err);
+    void *copy = malloc(len ? (size_t)len : 1);
+    if (!copy)
+        return tsr_error_set(err, TSR_ENOMEM, "net: out of memory copying a %llu-byte message",
+                             (unsigned long long)len);
+    if (len)
+        memcpy(copy, data, (size_t)len);
+    int rc = tsr_net_send_owned(c, kind, copy, len, NULL, NULL, timeout_ms, err);
+    if (rc)
+        free(copy);
+    return rc;
+}
+
+int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
+    memset(msg, 0, sizeof *msg);
+    tsr_net *net = c->net;
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&net->lock);
+    int rc;
+    while (!c->inbox_head && c->state == NET_OPEN && !c->close_requested)
+        if (wait_until(&c->cond, &net->lock, dl))
+            break;
+    net_msg *m = c->inbox_head;
+    if (m) {
+        c->inbox_head = m->next;
+        if (!c->inbox_head)
+            c->inbox_tail = NULL;
+        m->next = NULL;
+        c->inbox_count--;
+        c->held++;
+        msg->kind = m->type;
+        msg->data = m->data;
+        msg->len = m->len;
+        msg->internal = m;
+        rc = 1;
+    } else if (c->state == NET_ENDED) {
+        rc = 0;
+    } else if (c->state != NET_OPEN || c->close_requested) {
+        rc = conn_unusable(c, "receive", err);
+    } else {
+        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from peer '%s' at %s within %d ms",
+                           c->peer_name, c->address, timeout_ms);
+    }
+    pthread_mutex_unlock(&net->lock);
+    return rc;
+}
+
+void tsr_net_msg_release(tsr_net_msg *msg) {
+    net_msg *m = msg ? msg->internal : NULL;
+    if (!m)
+        return;
+    msg->internal = NULL;
+    msg->data = NULL;
+    tsr_net_conn *c = m->conn;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    c->held--;
+    if (!c->close_requested && c->state == NET_OPEN) {
+        c->credits_to_return++;
+        if (c->transport == NET_INPROC)
+            net_inproc_return_credits(c);
+        else
+            net_mark_dirty(c);
+    }
+    net_conn_maybe_free(c);
+    pthread_mutex_unlock(&net->lock);
+    net_msg_free(m);
+}
+
+const char *tsr_net_conn_peer_name(const tsr_net_conn *c) { return c->peer_name; }
+const char *tsr_net_conn_address(const tsr_net_conn *c) { return c->address; }
+
+void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats) {
+    pthread_mutex_lock(&c->net->lock);
+    *stats = c->stats;
+    pthread_mutex_unlock(&c->net->lock);
+}
+
+void tsr_net_conn_close(tsr_net_conn *c) {
+    if (!c)
+        return;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    if (c->transport == NET_INPROC) {
+        net_inproc_close(c);
+    } else {
+        c->close_requested = true;
+        c->app_ref = false;
+        /* Messages the application never received are dropped now. */
+        while (c->inbox_head) {
+            net_msg *m = c->inbox_head;
+            c->inbox_head = m->next;
+            net_msg_free(m);
+        }
+        c->inbox_tail = NULL;
+        c->inbox_count = 0;
+        pthread_cond_broadcast(&c->cond);
+        net_mark_dirty(c);
+        net_conn_maybe_free(c);
+    }
+    pthread_mutex_unlock(&net->lock);
+}

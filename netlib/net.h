@@ -1,0 +1,188 @@
+/* netlib/net.h — message connections over TCP, Unix-domain sockets and an
+ * in-process transport, with a handshake and credit-based flow control.
+ * Owns: the connection API, the netlib wire protocol (specified below) and
+ * the I/O thread that runs one libuv loop per tsr_net. Internal for now
+ * (the pack SPU and the node are its first users); symbols are tsr_net_*.
+ * Never: exits or aborts on bad input or a bad peer, allocates what a peer
+ * announces before checking it against the limit, or blocks without a bound
+ * the caller chose.
+ *
+ * THREADS. tsr_net_create() starts one I/O thread running one libuv loop;
+ * every socket lives on it. Any other thread may call the functions below
+ * (one thread per connection at a time for send, one for receive); they
+ * exchange messages with the I/O thread through bounded queues guarded by
+ * one mutex and wake it with uv_async. Blocking calls take a time-out in
+ * milliseconds: 0 = poll, > 0 = at most that long, TSR_NET_WAIT_FOREVER =
+ * until the call can complete or the connection fails (a dead or silent
+ * peer is caught by idle_timeout_ms, so set it when waiting forever).
+ *
+ * ADDRESSES are text:
+ *   tcp://127.0.0.1:7000   tcp://[::1]:7000   tcp://host.example:7000
+ *   tcp://:7000            (listen: loopback 127.0.0.1; port 0 = any free)
+ *   tcp://0.0.0.0:7000     (listen on every IPv4 interface, only when asked)
+ *   unix:/tmp/x.sock       (same host; a stale socket file is replaced)
+ *   inproc:name            (same tsr_net; no sockets, same API)
+ *
+ * WIRE (every integer little-endian). Each message is a 16-byte header
+ * followed by `length` payload bytes:
+ *   offset 0  u32 magic   0x314E5354 ("TSN1" in memory order)
+ *   offset 4  u16 version TSR_NET_PROTOCOL_VERSION
+ *   offset 6  u8  type    0x01 HELLO, 0x02 WELCOME, 0x03 REFUSE, 0x04 CREDIT,
+ *                         0x05 PING, 0x06 BYE; 0x10..0xff application messages
+ *   offset 7  u8  flags   0 (receivers reject anything else)
+ *   offset 8  u64 length  payload bytes; a data message longer than the
+ *                         receiver's max_message_bytes (or a control
+ *                         message longer than 4 KiB) fails that connection
+ *                         before any allocation.
+ * Handshake: the connecting side sends HELLO; the accepting side answers
+ * WELCOME or REFUSE. HELLO/WELCOME payload: u32 credits granted to the
+ * peer, u64 max_message_bytes accepted, u16 name length + node name bytes,
+ * u16 token length + token bytes (WELCOME sends no token). CREDIT payload:
+ * u32 count of credits returned; PING and BYE are empty. REFUSE payload:
+ * a one-line reason (UTF-8, no terminator), after which the refusing side
+ * closes. A version mismatch, a wrong or missing token, or a malformed
+ * HELLO is refused; both sides report one line naming the other.
+ *
+ * FLOW CONTROL counts MESSAGES. Each side grants its peer `credits`
+ * messages at the handshake. Sending a data message costs one credit; a
+ * sender with none blocks in tsr_net_send(). A credit returns (CREDIT
+ * message, u32 count, batched) when the receiving APPLICATION releases a
+ * message with tsr_net_msg_release(), not when the socket reads it. A peer
+ * that sends beyond its credits fails its connection. The I/O thread stops
+ * reading a socket (uv_read_stop) while the application holds `credits`
+ * unreleased messages. So per connection and direction, memory is bounded
+ * by credits x max message size on each side, plus a 64 KiB read buffer.
+ * Messages are delivered in order, exactly once, per connection.
+ *
+ * CLOSING. tsr_net_conn_close() hands the connection to the I/O thread,
+ * which writes what was already sent, then BYE (empty), shuts down its
+ * write side, waits (at most close_timeout_ms) for the peer's end of
+ * stream, and closes. A peer's end of stream after BYE is a clean end
+ * (tsr_net_recv returns 0 once the queue is empty); without BYE it is an
+ * error naming the peer (it crashed, was killed, or was cut off).
+ * tsr_net_destroy() closes everything left, then joins the I/O thread.
+ */
+#ifndef TESSERA_NETLIB_NET_H
+#define TESSERA_NETLIB_NET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "tessera/error.h"
+#include "tessera/export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TSR_NET_PROTOCOL_VERSION 1
+#define TSR_NET_HEADER_BYTES 16
+#define TSR_NET_MAGIC 0x314E5354u
+#define TSR_NET_KIND_FIRST_USER 0x10 /* message kinds 0x10..0xff are the caller's */
+#define TSR_NET_WAIT_FOREVER (-1)
+#define TSR_NET_NAME_MAX 64          /* node name bytes */
+#define TSR_NET_TOKEN_MAX 256        /* shared token bytes */
+#define TSR_NET_ADDRESS_MAX 160
+
+typedef struct tsr_net tsr_net;                   /* I/O thread + loop */
+typedef struct tsr_net_conn tsr_net_conn;         /* one connection */
+typedef struct tsr_net_listener tsr_net_listener; /* one listening address */
+
+typedef struct tsr_net_config {
+    const char *node_name;         /* sent in the handshake; default "node" */
+    const char *token;             /* shared token; NULL/"" = none required */
+    uint32_t credits;              /* messages a peer may have in flight; default 8 */
+    uint64_t max_message_bytes;    /* largest message accepted; default 64 MiB */
+    uint32_t connect_timeout_ms;   /* socket connect; default 5000 */
+    uint32_t handshake_timeout_ms; /* HELLO..WELCOME; default 5000 */
+    uint32_t idle_timeout_ms;      /* peer silent this long = dead; 0 = off (default).
+                                      Each side pings every third of it. */
+    uint32_t close_timeout_ms;     /* wait for the peer's end of stream; default 5000 */
+    uint16_t protocol_version;     /* announced version; 0 = TSR_NET_PROTOCOL_VERSION.
+                                      Only tests and compatibility shims set it. */
+} tsr_net_config;
+
+/* A received message. `data` stays valid (and writable) until released. */
+typedef struct tsr_net_msg {
+    unsigned kind;  /* TSR_NET_KIND_FIRST_USER..255 */
+    void *data;
+    uint64_t len;
+    void *internal; /* netlib's; do not touch */
+} tsr_net_msg;
+
+typedef struct tsr_net_stats {
+    uint64_t messages_sent, bytes_sent;         /* payload bytes */
+    uint64_t messages_received, bytes_received; /* payload bytes */
+    uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
+} tsr_net_stats;
+
+TSR_API void tsr_net_config_defaults(tsr_net_config *config);
+
+/* Starts the I/O thread. `config` may be NULL (defaults); its strings are
+ * copied. Returns NULL and fills `err` on failure. */
+TSR_API tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err);
+/* Closes every listener and connection still open (see CLOSING), joins the
+ * I/O thread and frees everything, including connections not yet closed. */
+TSR_API void tsr_net_destroy(tsr_net *net);
+
+/* Listens on `address`. Errors name the address ("address already in use"). */
+TSR_API tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err);
+/* The address actually bound, e.g. "tcp://127.0.0.1:41234" for port 0. */
+TSR_API const char *tsr_net_listener_address(const tsr_net_listener *listener);
+/* Waits for a connection whose handshake succeeded. Returns NULL with
+ * TSR_ETIMEDOUT when none came in time. */
+TSR_API tsr_net_conn *tsr_net_accept(tsr_net_listener *listener, int timeout_ms, tsr_error *err);
+/* How many peers this listener refused, and the last reason (may be NULL). */
+TSR_API unsigned tsr_net_listener_refusals(tsr_net_listener *listener, tsr_error *last);
+/* Stops listening; connections not yet accepted are closed. */
+TSR_API void tsr_net_listener_close(tsr_net_listener *listener);
+
+/* Connects and handshakes, waiting at most connect + handshake time-outs.
+ * Errors name the address and, when the peer refused, the peer's reason. */
+TSR_API tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err);
+
+/* Sends a copy of `data`. Blocks while the peer grants no credit.
+ * Returns TSR_OK, TSR_ETIMEDOUT (nothing sent), TSR_EINVAL (kind out of
+ * range, or len above the peer's max_message_bytes: nothing allocated), or
+ * the connection's error once it failed or closed. */
+TSR_API int tsr_net_send(tsr_net_conn *conn, unsigned kind, const void *data, uint64_t len,
+                         int timeout_ms, tsr_error *err);
+/* Like tsr_net_send, but takes ownership of `data` instead of copying: it
+ * calls release(data, ctx) once written or dropped (release NULL = free()).
+ * On an error return, `data` was not taken and is still the caller's. */
+TSR_API int tsr_net_send_owned(tsr_net_conn *conn, unsigned kind, void *data, uint64_t len,
+                               void (*release)(void *data, void *ctx), void *ctx,
+                               int timeout_ms, tsr_error *err);
+/* Receives the next message. Returns 1 with *msg filled, 0 when the peer
+ * closed cleanly and every message was received, TSR_ETIMEDOUT, or the
+ * connection's error. Release every message (this returns its credit). */
+TSR_API int tsr_net_recv(tsr_net_conn *conn, tsr_net_msg *msg, int timeout_ms, tsr_error *err);
+TSR_API void tsr_net_msg_release(tsr_net_msg *msg);
+
+/* The peer's node name (from its handshake) and address. */
+TSR_API const char *tsr_net_conn_peer_name(const tsr_net_conn *conn);
+TSR_API const char *tsr_net_conn_address(const tsr_net_conn *conn);
+TSR_API void tsr_net_conn_stats(tsr_net_conn *conn, tsr_net_stats *stats);
+/* Closes gracefully (see CLOSING); `conn` must not be used afterwards.
+ * Messages still held by the application may be released later. */
+TSR_API void tsr_net_conn_close(tsr_net_conn *conn);
+
+/* Streaming helpers (tests, benchmarks): send `total_bytes` as messages of
+ * `message_bytes` (the last may be shorter) of kind `kind`, filled with
+ * tsr_net_pattern_fill(seed 0) by stream position; and receive such a
+ * stream until `total_bytes` arrived, verifying every byte. Both return TSR_OK
+ * or an error naming the connection and, for a mismatch, the offset. */
+TSR_API int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes,
+                                size_t message_bytes, int timeout_ms, tsr_error *err);
+TSR_API int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms,
+                                tsr_error *err);
+/* Deterministic bytes for stream position [offset, offset+len) of `seed`. */
+TSR_API void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed);
+/* FNV-1a 64 over `len` bytes, continuing from `hash` (start: TSR_NET_FNV_START). */
+#define TSR_NET_FNV_START 0xcbf29ce484222325ull
+TSR_API uint64_t tsr_net_fnv1a(uint64_t hash, const void *data, size_t len);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,261 @@
+/* netlib/net_internal.h — structures shared by netlib's files.
+ * Owns: the layout of tsr_net, connections, listeners and queued messages,
+ * and the locking rule: every field marked (L) is read and written only
+ * with net->lock held; fields marked (IO) only on the I/O thread.
+ * Never: included outside netlib/. */
+#ifndef TESSERA_NETLIB_NET_INTERNAL_H
+#define TESSERA_NETLIB_NET_INTERNAL_H
+
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <uv.h>
+
+#include "net.h"
+
+#define NET_CONTROL_MAX 4096      /* largest control payload accepted */
+#define NET_STAGING_BYTES 65536   /* per-connection socket read buffer */
+#define NET_PENDING_ACCEPT_MAX 64 /* handshaking + unaccepted per listener */
+
+enum net_wire_type {
+    NET_HELLO = 0x01,
+    NET_WELCOME = 0x02,
+    NET_REFUSE = 0x03,
+    NET_CREDIT = 0x04,
+    NET_PING = 0x05,
+    NET_BYE = 0x06,
+};
+
+enum net_transport { NET_TCP, NET_UNIX, NET_INPROC };
+
+/* A parsed address. `host` is empty for "tcp://:PORT". */
+typedef struct net_address {
+    enum net_transport transport;
+    char host[TSR_NET_ADDRESS_MAX];
+    unsigned port;
+    char path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* unix */
+    char name[TSR_NET_ADDRESS_MAX - 8];                      /* inproc */
+} net_address;
+
+/* One message in an outbox (to write) or an inbox (received). */
+typedef struct net_msg {
+    struct net_msg *next;
+    struct tsr_net_conn *conn; /* for release: whose credit it is */
+    uint8_t type;
+    uint64_t len;
+    uint8_t *data;
+    void (*release)(void *data, void *ctx); /* NULL = free() */
+    void *release_ctx;
+    uint8_t header[TSR_NET_HEADER_BYTES];
+    uv_write_t write_req;
+} net_msg;
+
+typedef enum net_conn_state {
+    NET_CONNECTING, /* socket connect in progress (client) */
+    NET_HANDSHAKE,  /* waiting for HELLO (server) or WELCOME (client) */
+    NET_OPEN,
+    NET_FAILED,     /* error recorded; no more traffic */
+    NET_ENDED,      /* peer closed cleanly */
+} net_conn_state;
+
+struct tsr_net_conn {
+    tsr_net *net;
+    enum net_transport transport;
+    bool is_server;
+    char address[TSR_NET_ADDRESS_MAX]; /* the peer's address, for messages */
+    char peer_name[TSR_NET_NAME_MAX + 1];
+    pthread_cond_t cond; /* (L) any change an app thread may wait for */
+
+    /* lifetime (L): freed when nobody holds it */
+    bool app_ref;        /* the application (or a listener's queue) holds it */
+    bool io_ref;         /* the I/O thread still has handles open */
+    unsigned held;       /* received messages not yet released */
+
+    net_conn_state state; /* (L) */
+    tsr_error error;      /* (L) set once state is NET_FAILED */
+    bool close_requested; /* (L) app closed; I/O thread winds down */
+    bool socket_connected; /* (L) the transport connected (handshake may still fail) */
+
+    /* send side (L) */
+    uint32_t send_credits;
+    uint64_t peer_max_message;
+    net_msg *outbox_head, *outbox_tail; /* accepted, not yet given to libuv */
+    uint32_t writes_in_flight;          /* given to libuv, not completed */
+    uint32_t send_waiters;              /* threads blocked for credits */
+
+    /* receive side (L) */
+    net_msg *inbox_head, *inbox_tail;
+    uint32_t inbox_count;
+    uint32_t credits_to_return; /* released by the app, not yet granted */
+
+    tsr_net_stats stats; /* (L) */
+
+    /* I/O-thread bookkeeping (L: the dirty list links) */
+    bool dirty;
+    struct tsr_net_conn *next_dirty;
+    struct tsr_net_conn *next_all, *prev_all;
+    struct tsr_net_listener *listener; /* server side until accepted */
+    struct tsr_net_conn *next_ready;
+    bool ready;             /* (L) in listener->ready queue */
+    uint16_t hello_version; /* (IO) version of the peer's HELLO header */
+    struct tsr_net_conn *inproc_peer; /* (L) */
+
+    /* (IO) socket state */
+    union {
+        uv_handle_t handle;
+        uv_stream_t stream;
+        uv_tcp_t tcp;
+        uv_pipe_t pipe;
+    } h;
+    uv_timer_t timer;      /* connect/handshake deadline, then idle pings */
+    unsigned handles_open; /* handles whose close callback has not run */
+    bool handles_closing, reading, shutting_down, write_side_shut, saw_eof, peer_said_bye;
+    uv_connect_t connect_req;
+    uv_shutdown_t shutdown_req;
+    uint64_t last_heard_ms, last_written_ms, close_started_ms;
+    uint8_t hdr[TSR_NET_HEADER_BYTES];
+    size_t hdr_fill;
+    net_msg *partial; /* message whose payload is being read */
+    uint64_t partial_fill;
+    uint8_t *staging;
+};
+
+struct tsr_net_listener {
+    tsr_net *net;
+    enum net_transport transport;
+    char address[TSR_NET_ADDRESS_MAX];
+    char unix_path[sizeof(((struct sockaddr_un *)0)->sun_path)];
+    char inproc_name[TSR_NET_ADDRESS_MAX - 8];
+    pthread_cond_t cond;                  /* (L) accept waits on it */
+    tsr_net_conn *ready_head, *ready_tail; /* (L) handshaken, not accepted */
+    unsigned pending;                     /* (L) handshaking + ready */
+    unsigned refusals;                    /* (L) */
+    tsr_error last_refusal;               /* (L) */
+    bool app_ref, io_ref, closing;        /* (L) */
+    struct tsr_net_listener *next;        /* (L) net->listeners */
+    union {
+        uv_handle_t handle;
+        uv_stream_t stream;
+        uv_tcp_t tcp;
+        uv_pipe_t pipe;
+    } h; /* (IO) */
+};
+
+/* Work an application thread hands to the I/O thread and waits for. */
+typedef enum net_op_kind { NET_OP_LISTEN, NET_OP_CONNECT, NET_OP_CLOSE_LISTENER } net_op_kind;
+typedef struct net_op {
+    net_op_kind kind;
+    void *target;
+    const net_address *address;
+    struct sockaddr_storage sockaddr; /* resolved tcp address */
+    bool done;
+    int rc;
+    tsr_error err;
+    struct net_op *next;
+} net_op;
+
+struct tsr_net {
+    tsr_net_config config;
+    char node_name[TSR_NET_NAME_MAX + 1];
+    char token[TSR_NET_TOKEN_MAX + 1];
+    pthread_mutex_t lock;
+    pthread_cond_t op_cond; /* (L) op completion */
+    uv_loop_t loop;
+    uv_async_t wakeup;
+    pthread_t thread;
+    bool stopping;          /* (L) destroy called */
+    net_op *ops_head, *ops_tail;          /* (L) */
+    tsr_net_conn *dirty_head;             /* (L) */
+    tsr_net_conn *conns;                  /* (L) every live connection */
+    tsr_net_listener *listeners;          /* (L) */
+};
+
+/* address.c */
+int net_address_parse(const char *text, net_address *out, tsr_error *err);
+void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out,
+                                 size_t size);
+
+/* frame.c: header and handshake encoding */
+void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type,
+                       uint64_t len);
+typedef struct net_header {
+    uint32_t magic;
+    uint16_t version;
+    uint8_t type, flags;
+    uint64_t len;
+} net_header;
+void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out);
+typedef struct net_hello {
+    uint32_t credits;
+    uint64_t max_message_bytes;
+    char name[TSR_NET_NAME_MAX + 1];
+    char token[TSR_NET_TOKEN_MAX + 1];
+    size_t token_len;
+} net_hello;
+/* Returns the payload size written into out (at most NET_CONTROL_MAX). */
+size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes,
+                        const char *name, const char *token);
+int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err);
+static inline void net_put_u16(uint8_t *p, uint16_t v) {
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+}
+static inline void net_put_u32(uint8_t *p, uint32_t v) {
+    for (int i = 0; i < 4; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+static inline void net_put_u64(uint8_t *p, uint64_t v) {
+    for (int i = 0; i < 8; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+static inline uint16_t net_get_u16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
+static inline uint32_t net_get_u32(const uint8_t *p) {
+    uint32_t v = 0;
+    for (int i = 3; i >= 0; i--)
+        v = v << 8 | p[i];
+    return v;
+}
+static inline uint64_t net_get_u64(const uint8_t *p) {
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; i--)
+        v = v << 8 | p[i];
+    return v;
+}
+
+/* loop.c */
+void net_wake(tsr_net *net);                      /* (L) nudge the I/O thread */
+void net_mark_dirty(tsr_net_conn *conn);          /* (L) + wake */
+int net_submit_op(tsr_net *net, net_op *op);      /* (L held) waits for completion */
+uint64_t net_now_ms(void);
+void net_cond_init(pthread_cond_t *cond);         /* waits use CLOCK_MONOTONIC */
+void net_io_maybe_finish(tsr_net *net);           /* (IO, L) close the loop when idle */
+int net_deadline(struct timespec *ts, int timeout_ms); /* 0 = no deadline */
+
+/* conn.c */
+tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
+                           const char *address);
+void net_conn_maybe_free(tsr_net_conn *conn); /* (L) */
+void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4))); /* (L) */
+void net_msg_free(net_msg *m);
+uint16_t net_version(const tsr_net *net);
+
+/* socket.c: runs on the I/O thread, net->lock held */
+void net_io_listen(tsr_net *net, net_op *op);
+void net_io_connect(tsr_net *net, net_op *op);
+void net_io_close_listener(tsr_net_listener *l);
+void net_io_service(tsr_net_conn *conn); /* act on dirty state */
+void net_io_stop(tsr_net *net);          /* destroy: close everything */
+
+/* inproc.c: application threads, net->lock held */
+int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err);
+tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *err);
+void net_inproc_deliver(tsr_net_conn *from, net_msg *m); /* send: move to peer inbox */
+void net_inproc_return_credits(tsr_net_conn *conn);
+void net_inproc_close(tsr_net_conn *conn);
+void net_listener_maybe_free(tsr_net_listener *l);
+void net_listener_unlink(tsr_net_listener *l);
+
+#endif

@@ -1,0 +1,844 @@
+/* netlib/socket.c — TCP and Unix-domain connections on the I/O thread:
+ * listening, connecting, the handshake, framing, credits and time-outs.
+ * Owns: every libuv handle of connections and listeners, and the read
+ * parser. Runs only on the I/O thread, always with net->lock held (each
+ * libuv callback takes it first). Never: allocates a message before its
+ * announced length passed the limit, reads while the application holds a
+ * full window of messages, or leaves a handle open at shutdown. */
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "net_internal.h"
+#include "tessera/log.h"
+
+static void close_handles(tsr_net_conn *c);
+static void arm_timer(tsr_net_conn *c);
+static void start_reading(tsr_net_conn *c);
+static void update_reading(tsr_net_conn *c);
+
+/* ---- writing -------------------------------------------------------------- */
+
+static void on_write(uv_write_t *req, int status) {
+    net_msg *m = req->data;
+    tsr_net_conn *c = m->conn;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    c->writes_in_flight--;
+    if (status < 0 && status != UV_ECANCELED && !c->handles_closing) {
+        net_conn_fail(c, TSR_EIO, "net: writing to peer '%s' at %s failed: %s", c->peer_name,
+                      c->address, uv_strerror(status));
+        close_handles(c);
+    }
+    pthread_mutex_unlock(&net->lock);
+    net_msg_free(m); /* outside the lock: a caller's release() may take its own */
+}
+
+/* Hands one message (header + payload) to libuv. */
+static void write_msg(tsr_net_conn *c, net_msg *m) {
+    net_header_encode(m->header, net_version(c->net), m->type, m->len);
+    /* Set .len directly: uv_buf_init() takes an unsigned int, and a
+     * message may be longer than 4 GiB (uv_buf_t.len is a size_t here). */
+    uv_buf_t bufs[2] = {uv_buf_init((char *)m->header, TSR_NET_HEADER_BYTES),
+                        uv_buf_init((char *)m->data, 0)};
+    bufs[1].len = (size_t)m->len;
+    m->conn = c;
+    m->write_req.data = m;
+    int rc = uv_write(&m->write_req, &c->h.stream, bufs, m->len ? 2 : 1, on_write);
+    if (rc) {
+        net_conn_fail(c, TSR_EIO, "net: writing to %s failed: %s", c->address, uv_strerror(rc));
+        net_msg_free(m);
+        close_handles(c);
+        return;
+    }
+    c->writes_in_flight++;
+    c->last_written_ms = net_now_ms();
+}
+
+static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, size_t len) {
+    net_msg *m = calloc(1, sizeof *m);
+    uint8_t *data = len ? malloc(len) : NULL;
+    if (!m || (len && !data)) {
+        free(m);
+        free(data);
+        net_conn_fail(c, TSR_ENOMEM, "net: out of memory writing to %s", c->address);
+        close_handles(c);
+        return;
+    }
+    if (len)
+        memcpy(data, payload, len);
+    m->type = type;
+    m->data = data;
+    m->len = len;
+    write_msg(c, m);
+}
+
+static void send_hello(tsr_net_conn *c, uint8_t type, bool with_token) {
+    tsr_net *net = c->net;
+    uint8_t payload[NET_CONTROL_MAX];
+    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes,
+                                net->node_name, with_token ? net->token : NULL);
+    write_control(c, type, payload, n);
+}
+
+static void flush_outbox(tsr_net_conn *c) {
+    while (c->outbox_head && !c->handles_closing) {
+        net_msg *m = c->outbox_head;
+        c->outbox_head = m->next;
+        if (!c->outbox_head)
+            c->outbox_tail = NULL;
+        m->next = NULL;
+        write_msg(c, m);
+    }
+}
+
+/* ---- closing -------------------------------------------------------------- */
+
+static void on_handle_closed(uv_handle_t *h) {
+    tsr_net_conn *c = h->data;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    if (--c->handles_open == 0) {
+        c->io_ref = false;
+        if (c->listener && !c->ready) {
+            c->listener->pending--; /* never reached the ready queue */
+            c->listener = NULL;
+        }
+        pthread_cond_broadcast(&c->cond);
+        net_conn_maybe_free(c);
+        net_io_maybe_finish(net);
+    }
+    pthread_mutex_unlock(&net->lock);
+}
+
+static void close_handles(tsr_net_conn *c) {
+    if (c->handles_closing)
+        return;
+    c->handles_closing = true;
+    c->reading = false;
+    if (c->state == NET_OPEN) /* nothing more can come or go */
+        c->state = NET_ENDED;
+    pthread_cond_broadcast(&c->cond);
+    uv_close(&c->h.handle, on_handle_closed);
+    uv_close((uv_handle_t *)&c->timer, on_handle_closed);
+}
+
+static void on_shutdown(uv_shutdown_t *req, int status) {
+    tsr_net_conn *c = req->data;
+    pthread_mutex_lock(&c->net->lock);
+    (void)status;
+    c->write_side_shut = true;
+    if (c->saw_eof || c->state == NET_FAILED)
+        close_handles(c);
+    pthread_mutex_unlock(&c->net->lock);
+}
+
+/* Graceful end: what was sent is written, the write side shuts down, and
+ * the handles close once the peer's end of stream arrives (or the close
+ * time-out passes). Closing without this could make the peer's kernel
+ * answer a late write with a reset that discards data still unread. */
+static void begin_shutdown(tsr_net_conn *c) {
+    if (c->shutting_down || c->handles_closing)
+        return;
+    if (c->state != NET_OPEN && c->state != NET_ENDED) {
+        close_handles(c);
+        return;
+    }
+    flush_outbox(c);
+    if (c->handles_closing)
+        return;
+    write_control(c, NET_BYE, NULL, 0); /* tells a clean end from a crash */
+    if (c->handles_closing)
+        return;
+    c->shutting_down = true;
+    c->close_started_ms = net_now_ms();
+    c->shutdown_req.data = c;
+    if (uv_shutdown(&c->shutdown_req, &c->h.stream, on_shutdown)) {
+        close_handles(c);
+        return;
+    }
+    if (!c->saw_eof)
+        start_reading(c); /* to see the peer's end of stream */
+    arm_timer(c);
+}
+
+/* ---- timers --------------------------------------------------------------- */
+
+static void on_timer(uv_timer_t *t) {
+    tsr_net_conn *c = t->data;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    uint64_t now = net_now_ms();
+    if (c->handles_closing) {
+        /* nothing */
+    } else if (c->shutting_down) {
+        close_handles(c); /* the peer did not end its stream in time */
+    } else if (c->state == NET_CONNECTING) {
+        net_conn_fail(c, TSR_ETIMEDOUT, "net: cannot connect to %s: timed out after %u ms",
+                      c->address, net->config.connect_timeout_ms);
+        close_handles(c);
+    } else if (c->state == NET_HANDSHAKE) {
+        net_conn_fail(c, TSR_ETIMEDOUT,
+                      "net: handshake with %s timed out after %u ms (is it a tessera node?)",
+                      c->address, net->config.handshake_timeout_ms);
+        if (c->is_server)
+            tsr_log(TSR_LOG_WARN, "%s", c->error.message);
+        close_handles(c);
+    } else if (c->state == NET_OPEN && net->config.idle_timeout_ms) {
+        if (!c->reading)
+            c->last_heard_ms = now; /* we stopped listening; the peer is not silent */
+        if (now - c->last_heard_ms >= net->config.idle_timeout_ms) {
+            net_conn_fail(c, TSR_ETIMEDOUT,
+                          "net: peer '%s' at %s sent nothing for %u ms (idle_timeout_ms): "
+                          "considered dead",
+                          c->peer_name, c->address, net->config.idle_timeout_ms);
+            close_handles(c);
+        } else if (now - c->last_written_ms >= net->config.idle_timeout_ms / 3) {
+            write_control(c, NET_PING, NULL, 0);
+        }
+    }
+    pthread_mutex_unlock(&net->lock);
+}
+
+static void arm_timer(tsr_net_conn *c) {
+    const tsr_net_config *cfg = &c->net->config;
+    uv_timer_stop(&c->timer);
+    if (c->handles_closing)
+        return;
+    if (c->shutting_down)
+        uv_timer_start(&c->timer, on_timer, cfg->close_timeout_ms, 0);
+    else if (c->state == NET_CONNECTING)
+        uv_timer_start(&c->timer, on_timer, cfg->connect_timeout_ms, 0);
+    else if (c->state == NET_HANDSHAKE)
+        uv_timer_start(&c->timer, on_timer, cfg->handshake_timeout_ms, 0);
+    else if (c->state == NET_OPEN && cfg->idle_timeout_ms) {
+        uint64_t tick = cfg->idle_timeout_ms / 6 ? cfg->idle_timeout_ms / 6 : 1;
+        c->last_heard_ms = net_now_ms();
+        uv_timer_start(&c->timer, on_timer, tick, tick);
+    }
+}
+
+/* ---- reading -------------------------------------------------------------- */
+
+static void on_alloc(uv_handle_t *h, size_t suggested, uv_buf_t *buf) {
+    tsr_net_conn *c = h->data;
+    (void)suggested;
+    /* The rest of a large payload is read straight into the message. */
+    if (c->partial && c->partial->len - c->partial_fill >= NET_STAGING_BYTES) {
+        uint64_t left = c->partial->len - c->partial_fill;
+        *buf = uv_buf_init((char *)c->partial->data + c->partial_fill,
+                           (unsigned)(left < (1u << 30) ? left : (1u << 30)));
+        return;
+    }
+    if (!c->staging)
+        c->staging = malloc(NET_STAGING_BYTES);
+    *buf = uv_buf_init((char *)c->staging, c->staging ? NET_STAGING_BYTES : 0);
+}
+
+static uint32_t unreturned(const tsr_net_conn *c) {
+    return c->inbox_count + c->held + c->credits_to_return;
+}
+
+static void stop_reading(tsr_net_conn *c) {
+    if (c->reading) {
+        uv_read_stop(&c->h.stream);
+        c->reading = false;
+    }
+}
+
+static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...) {
+    char reason[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    tsr_net_listener *l = c->listener;
+    net_conn_fail(c, TSR_EPROTO, "net: refused peer '%s' from %s on %s: %s", peer_name,
+                  c->address, l ? l->address : "?", reason);
+    tsr_log(TSR_LOG_WARN, "%s", c->error.message);
+    if (l) {
+        l->refusals++;
+        l->last_refusal = c->error;
+    }
+    write_control(c, NET_REFUSE, reason, strlen(reason));
+    stop_reading(c);
+    /* Let the reason reach the peer, then close (bounded by the close
+     * time-out: shutting_down arms it). */
+    c->shutting_down = true;
+    c->shutdown_req.data = c;
+    if (c->handles_closing || uv_shutdown(&c->shutdown_req, &c->h.stream, on_shutdown))
+        close_handles(c);
+    else
+        arm_timer(c);
+}
+
+static void handshake_done(tsr_net_conn *c, const net_hello *h) {
+    snprintf(c->peer_name, sizeof c->peer_name, "%s", h->name);
+    c->send_credits = h->credits;
+    c->peer_max_message = h->max_message_bytes;
+    c->state = NET_OPEN;
+    arm_timer(c);
+    pthread_cond_broadcast(&c->cond);
+}
+
+static void deliver_hello(tsr_net_conn *c, net_msg *m) {
+    tsr_net *net = c->net;
+    net_hello h;
+    tsr_error e;
+    int bad = net_hello_decode(m->data, m->len, &h, &e);
+    if (c->hello_version != net_version(net)) {
+        refuse(c, bad ? "?" : h.name, "protocol version %u, this node speaks version %u",
+               c->hello_version, net_version(net));
+        return;
+    }
+    if (bad) {
+        refuse(c, "?", "malformed handshake: %s", e.message);
+        return;
+    }
+    size_t want = strlen(net->token);
+    if (want && (h.token_len != want || memcmp(h.token, net->token, want))) {
+        refuse(c, h.name, "%s", h.token_len ? "token mismatch" : "a token is required");
+        return;
+    }
+    tsr_net_listener *l = c->listener;
+    if (!l || l->closing) {
+        net_conn_fail(c, TSR_ESTATE, "net: %s: listener closed during the handshake", c->address);
+        close_handles(c);
+        return;
+    }
+    send_hello(c, NET_WELCOME, false);
+    handshake_done(c, &h);
+    c->app_ref = true; /* held by the ready queue until accepted */
+    c->ready = true;
+    if (l->ready_tail)
+        l->ready_tail->next_ready = c;
+    else
+        l->ready_head = c;
+    l->ready_tail = c;
+    pthread_cond_broadcast(&l->cond);
+    tsr_log(TSR_LOG_INFO, "net: accepted peer '%s' from %s on %s", c->peer_name, c->address,
+            l->address);
+}
+
+/* A complete message arrived. Takes ownership of m. */
+static void deliver(tsr_net_conn *c, net_msg *m) {
+    tsr_net *net = c->net;
+    switch (m->type) {
+    case NET_HELLO:
+        deliver_hello(c, m);
+        net_msg_free(m);
+        return;
+    case NET_WELCOME: {
+        net_hello h;
+        tsr_error e;
+        if (net_hello_decode(m->data, m->len, &h, &e)) {
+            net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: %s",
+                          c->address, e.message);
+            close_handles(c);
+        } else {
+            handshake_done(c, &h);
+        }
+        net_msg_free(m);
+        return;
+    }
+    case NET_REFUSE: {
+        char reason[400];
+        size_t n = m->len < sizeof reason - 1 ? (size_t)m->len : sizeof reason - 1;
+        memcpy(reason, m->data, n);
+        reason[n] = '\0';
+        for (size_t i = 0; i < n; i++)
+            if ((unsigned char)reason[i] < 0x20)
+                reason[i] = ' ';
+        net_conn_fail(c, TSR_EPROTO, "net: %s refused this node ('%s'): %s", c->address,
+                      net->node_name, reason);
+        close_handles(c);
+        net_msg_free(m);
+        return;
+    }
+    case NET_CREDIT: {
+        uint32_t n = net_get_u32(m->data);
+        net_msg_free(m);
+        if ((uint64_t)c->send_credits + n > UINT32_MAX) {
+            net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s returned impossible credits",
+                          c->peer_name, c->address);
+            close_handles(c);
+            return;
+        }
+        c->send_credits += n;
+        pthread_cond_broadcast(&c->cond);
+        update_reading(c);
+        return;
+    }
+    case NET_PING:
+        net_msg_free(m);
+        return;
+    case NET_BYE:
+        c->peer_said_bye = true;
+        net_msg_free(m);
+        return;
+    default:
+        break;
+    }
+    if (c->close_requested) { /* the application is gone: drop */
+        net_msg_free(m);
+        return;
+    }
+    m->conn = c;
+    if (c->inbox_tail)
+        c->inbox_tail->next = m;
+    else
+        c->inbox_head = m;
+    c->inbox_tail = m;
+    c->inbox_count++;
+    c->stats.messages_received++;
+    c->stats.bytes_received += m->len;
+    pthread_cond_broadcast(&c->cond);
+    update_reading(c);
+}
+
+/* Validates a complete header; returns the message to fill, or NULL after
+ * failing the connection (or for a zero-length message, delivered here). */
+static void handle_header(tsr_net_conn *c) {
+    tsr_net *net = c->net;
+    net_header h;
+    net_header_decode(c->hdr, &h);
+    c->hdr_fill = 0;
+    const char *who = c->peer_name;
+    if (h.magic != TSR_NET_MAGIC) {
+        net_conn_fail(c, TSR_EPROTO,
+                      "net: %s is not speaking the tessera protocol (magic 0x%08x)", c->address,
+                      h.magic);
+        if (c->is_server)
+            tsr_log(TSR_LOG_WARN, "%s", c->error.message);
+        close_handles(c);
+        return;
+    }
+    bool handshaking = c->state == NET_HANDSHAKE;
+    /* A HELLO of another version is still read (within the control limit),
+     * so the refusal can name the peer when its payload parses; a REFUSE is
+     * read whatever its version, so the reason reaches this side. */
+    bool other_version_hello = handshaking && c->is_server && h.type == NET_HELLO;
+    bool refusal = handshaking && !c->is_server && h.type == NET_REFUSE;
+    if (other_version_hello)
+        c->hello_version = h.version;
+    if (h.version != net_version(net) && !refusal && !other_version_hello) {
+        net_conn_fail(c, TSR_EPROTO,
+                      "net: %s speaks protocol version %u, this node speaks version %u",
+                      c->address, h.version, net_version(net));
+        close_handles(c);
+        return;
+    }
+    if (h.flags) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent unknown flags 0x%02x", who,
+                      c->address, h.flags);
+        close_handles(c);
+        return;
+    }
+    bool expected;
+    uint64_t limit = NET_CONTROL_MAX;
+    switch (h.type) {
+    case NET_HELLO: expected = handshaking && c->is_server; break;
+    case NET_WELCOME:
+    case NET_REFUSE: expected = handshaking && !c->is_server; break;
+    case NET_CREDIT: expected = c->state == NET_OPEN; limit = 4; break;
+    case NET_PING:
+    case NET_BYE: expected = c->state == NET_OPEN; limit = 0; break;
+    default:
+        expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN;
+        limit = net->config.max_message_bytes;
+        break;
+    }
+    if (!expected) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent message type 0x%02x %s", who,
+                      c->address, h.type,
+                      handshaking ? "before completing the handshake" : "out of place");
+        close_handles(c);
+        return;
+    }
+    if (h.len > limit || (h.type == NET_CREDIT && h.len != 4)) {
+        net_conn_fail(c, TSR_EPROTO,
+                      "net: peer '%s' at %s announced a %llu-byte message (type 0x%02x), over "
+                      "this node's limit of %llu bytes%s",
+                      who, c->address, (unsigned long long)h.len, h.type,
+                      (unsigned long long)limit,
+                      h.type >= TSR_NET_KIND_FIRST_USER ? " (max_message_bytes)" : "");
+        close_handles(c);
+        return;
+    }
+    if (h.type >= TSR_NET_KIND_FIRST_USER && !c->close_requested &&
+        unreturned(c) >= net->config.credits) {
+        net_conn_fail(c, TSR_EPROTO,
+                      "net: peer '%s' at %s sent more messages than the %u credits granted",
+                      who, c->address, net->config.credits);
+        close_handles(c);
+        return;
+    }
+    net_msg *m = calloc(1, sizeof *m);
+    uint8_t *data = malloc(h.len ? (size_t)h.len : 1);
+    if (!m || !data) {
+        free(m);
+        free(data);
+        net_conn_fail(c, TSR_ENOMEM, "net: out of memory for a %llu-byte message from %s",
+                      (unsigned long long)h.len, c->address);
+        close_handles(c);
+        return;
+    }
+    m->type = h.type;
+    m->len = h.len;
+    m->data = data;
+    m->conn = c;
+    if (h.len == 0) {
+        deliver(c, m);
+        return;
+    }
+    c->partial = m;
+    c->partial_fill = 0;
+}
+
+static void parse_bytes(tsr_net_conn *c, const uint8_t *p, size_t n) {
+    while (n && !c->handles_closing && c->state != NET_FAILED) {
+        if (c->partial) {
+            uint64_t left = c->partial->len - c->partial_fill;
+            size_t take = left < n ? (size_t)left : n;
+            memcpy(c->partial->data + c->partial_fill, p, take);
+            c->partial_fill += take;
+            p += take;
+            n -= take;
+            if (c->partial_fill == c->partial->len) {
+                net_msg *m = c->partial;
+                c->partial = NULL;
+                deliver(c, m);
+            }
+            continue;
+        }
+        size_t take = TSR_NET_HEADER_BYTES - c->hdr_fill;
+        if (take > n)
+            take = n;
+        memcpy(c->hdr + c->hdr_fill, p, take);
+        c->hdr_fill += take;
+        p += take;
+        n -= take;
+        if (c->hdr_fill == TSR_NET_HEADER_BYTES)
+            handle_header(c);
+    }
+}
+
+static void on_peer_eof(tsr_net_conn *c) {
+    c->saw_eof = true;
+    stop_reading(c);
+    if (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE) {
+        net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake",
+                      c->address);
+        close_handles(c);
+        return;
+    }
+    if (c->partial || c->hdr_fill) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s ended its stream inside a message",
+                      c->peer_name, c->address);
+        close_handles(c);
+        return;
+    }
+    if (c->state == NET_OPEN && !c->peer_said_bye) {
+        net_conn_fail(c, TSR_EIO,
+                      "net: peer '%s' at %s went away without closing the connection "
+                      "(crashed, killed or cut off)",
+                      c->peer_name, c->address);
+        close_handles(c);
+        return;
+    }
+    if (c->state == NET_OPEN) {
+        c->state = NET_ENDED; /* queued messages stay readable */
+        pthread_cond_broadcast(&c->cond);
+    }
+    if (c->write_side_shut || c->state == NET_FAILED)
+        close_handles(c);
+    else
+        begin_shutdown(c); /* answer with our own end of stream */
+}
+
+static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf) {
+    tsr_net_conn *c = s->data;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    if (nread > 0 && !c->handles_closing) {
+        c->last_heard_ms = net_now_ms();
+        if (c->partial && buf->base == (char *)c->partial->data + c->partial_fill) {
+            c->partial_fill += (uint64_t)nread;
+            if (c->partial_fill == c->partial->len) {
+                net_msg *m = c->partial;
+                c->partial = NULL;
+                deliver(c, m);
+            }
+        } else {
+            parse_bytes(c, (const uint8_t *)buf->base, (size_t)nread);
+        }
+    } else if (nread == UV_EOF) {
+        on_peer_eof(c);
+    } else if (nread < 0 && !c->handles_closing) {
+        if (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
+            net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake (%s)",
+                          c->address, uv_strerror((int)nread));
+        else
+            net_conn_fail(c, TSR_EIO, "net: connection to peer '%s' at %s lost: %s",
+                          c->peer_name, c->address, uv_strerror((int)nread));
+        close_handles(c);
+    }
+    pthread_mutex_unlock(&net->lock);
+}
+
+static void start_reading(tsr_net_conn *c) {
+    if (c->reading || c->handles_closing || c->saw_eof)
+        return;
+    int rc = uv_read_start(&c->h.stream, on_alloc, on_read);
+    if (rc) {
+        net_conn_fail(c, TSR_EIO, "net: cannot read from %s: %s", c->address, uv_strerror(rc));
+        close_handles(c);
+        return;
+    }
+    c->reading = true;
+    c->last_heard_ms = net_now_ms();
+}
+
+/* Reading stops while the application holds a full window of messages
+ * (inbox + held = credits): the peer has no credit left, so nothing but
+ * control messages can legally arrive, and the kernel's buffers absorb
+ * those. One exception keeps two peers that both send from deadlocking: while
+ * an application thread waits for credits on this connection, the socket is
+ * read, because the peer's CREDIT messages queue behind its data. Memory
+ * stays bounded then too: a data message beyond the credits fails the
+ * connection when its header arrives, before any allocation. */
+static void update_reading(tsr_net_conn *c) {
+    if (c->handles_closing || c->saw_eof)
+        return;
+    bool window_open = c->inbox_count + c->held < c->net->config.credits;
+    bool want = c->shutting_down || c->state == NET_HANDSHAKE ||
+                (c->state == NET_OPEN && (window_open || c->send_waiters > 0));
+    if (want)
+        start_reading(c);
+    else
+        stop_reading(c);
+}
+
+/* ---- servicing requests from application threads -------------------------- */
+
+void net_io_service(tsr_net_conn *c) {
+    if (!c->io_ref || c->handles_closing) {
+        net_conn_maybe_free(c);
+        return;
+    }
+    if (c->state == NET_OPEN && !c->shutting_down)
+        flush_outbox(c);
+    if (c->credits_to_return && c->state == NET_OPEN && !c->handles_closing &&
+        !c->shutting_down) {
+        uint8_t payload[4];
+        net_put_u32(payload, c->credits_to_return);
+        c->credits_to_return = 0;
+        write_control(c, NET_CREDIT, payload, sizeof payload);
+    }
+    update_reading(c);
+    if (c->close_requested)
+        begin_shutdown(c);
+}
+
+void net_io_stop(tsr_net *net) {
+    for (tsr_net_listener *l = net->listeners; l; l = l->next)
+        if (l->transport != NET_INPROC && l->io_ref && !uv_is_closing(&l->h.handle))
+            net_io_close_listener(l);
+    for (tsr_net_conn *c = net->conns; c; c = c->next_all)
+        if (c->io_ref && !c->handles_closing) {
+            c->close_requested = true;
+            begin_shutdown(c);
+        }
+}
+
+/* ---- connecting ----------------------------------------------------------- */
+
+static void on_connect(uv_connect_t *req, int status) {
+    tsr_net_conn *c = req->data;
+    tsr_net *net = c->net;
+    pthread_mutex_lock(&net->lock);
+    if (c->handles_closing) {
+        /* closed meanwhile (time-out or shutdown) */
+    } else if (status < 0) {
+        net_conn_fail(c, TSR_EIO, "net: cannot connect to %s: %s", c->address,
+                      uv_strerror(status));
+        close_handles(c);
+    } else {
+        c->socket_connected = true;
+        c->state = NET_HANDSHAKE;
+        arm_timer(c);
+        send_hello(c, NET_HELLO, true);
+        start_reading(c);
+    }
+    pthread_mutex_unlock(&net->lock);
+}
+
+static int init_stream(tsr_net *net, tsr_net_conn *c) {
+    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp)
+                                     : uv_pipe_init(&net->loop, &c->h.pipe, 0);
+    if (rc)
+        return rc;
+    c->h.handle.data = c;
+    uv_timer_init(&net->loop, &c->timer);
+    c->timer.data = c;
+    c->handles_open = 2;
+    return 0;
+}
+
+void net_io_connect(tsr_net *net, net_op *op) {
+    tsr_net_conn *c = op->target;
+    op->rc = TSR_OK;
+    int rc = init_stream(net, c);
+    if (rc) {
+        net_conn_fail(c, TSR_EIO, "net: cannot connect to %s: %s", c->address, uv_strerror(rc));
+        c->io_ref = false;
+        return;
+    }
+    arm_timer(c);
+    c->connect_req.data = c;
+    if (c->transport == NET_TCP) {
+        uv_tcp_nodelay(&c->h.tcp, 1);
+        rc = uv_tcp_connect(&c->connect_req, &c->h.tcp, (const struct sockaddr *)&op->sockaddr,
+                            on_connect);
+    } else {
+        uv_pipe_connect(&c->connect_req, &c->h.pipe, op->address->path, on_connect);
+    }
+    if (rc) {
+        net_conn_fail(c, TSR_EIO, "net: cannot connect to %s: %s", c->address, uv_strerror(rc));
+        close_handles(c);
+    }
+}
+
+/* ---- listening ------------------------------------------------------------ */
+
+static void on_connection(uv_stream_t *server, int status) {
+    tsr_net_listener *l = server->data;
+    tsr_net *net = l->net;
+    pthread_mutex_lock(&net->lock);
+    if (status < 0) {
+        tsr_log(TSR_LOG_WARN, "net: accepting on %s failed: %s", l->address,
+                uv_strerror(status));
+        goto out;
+    }
+    tsr_net_conn *c = net_conn_new(net, l->transport, true, l->address);
+    if (!c) {
+        tsr_log(TSR_LOG_ERROR, "net: out of memory accepting on %s", l->address);
+        goto out;
+    }
+    if (init_stream(net, c)) {
+        c->io_ref = false;
+        net_conn_maybe_free(c);
+        goto out;
+    }
+    int rc = uv_accept(server, &c->h.stream);
+    if (!rc && l->transport == NET_TCP) {
+        struct sockaddr_storage peer;
+        int len = sizeof peer;
+        if (!uv_tcp_getpeername(&c->h.tcp, (struct sockaddr *)&peer, &len))
+            net_address_format_sockaddr((struct sockaddr *)&peer, NET_TCP, c->address,
+                                        sizeof c->address);
+        uv_tcp_nodelay(&c->h.tcp, 1);
+    } /* a Unix-domain peer has no address of its own: it keeps the listener's */
+    c->listener = l;
+    l->pending++;
+    if (rc || l->closing || l->pending > NET_PENDING_ACCEPT_MAX) {
+        if (!rc)
+            tsr_log(TSR_LOG_WARN, "net: %s: %u connections wait to be accepted; closing %s",
+                    l->address, l->pending - 1, c->address);
+        net_conn_fail(c, TSR_EIO, "net: not accepted");
+        close_handles(c);
+        goto out;
+    }
+    arm_timer(c); /* handshake time-out */
+    start_reading(c);
+out:
+    pthread_mutex_unlock(&net->lock);
+}
+
+static void on_listener_closed(uv_handle_t *h) {
+    tsr_net_listener *l = h->data;
+    tsr_net *net = l->net;
+    pthread_mutex_lock(&net->lock);
+    if (l->unix_path[0])
+        unlink(l->unix_path);
+    l->io_ref = false;
+    net_listener_maybe_free(l);
+    net_io_maybe_finish(net);
+    pthread_mutex_unlock(&net->lock);
+}
+
+void net_io_close_listener(tsr_net_listener *l) {
+    l->closing = true;
+    /* Connections still in their handshake lose their listener. */
+    for (tsr_net_conn *c = l->net->conns; c; c = c->next_all)
+        if (c->listener == l && c->state == NET_HANDSHAKE) {
+            c->listener = NULL;
+            l->pending--;
+        }
+    if (!uv_is_closing(&l->h.handle))
+        uv_close(&l->h.handle, on_listener_closed);
+}
+
+/* A socket file exists at `path`: is anyone listening on it? */
+static bool unix_socket_is_live(const char *path) {
+    int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0)
+        return true;
+    struct sockaddr_un sa = {.sun_family = AF_UNIX};
+    snprintf(sa.sun_path, sizeof sa.sun_path, "%s", path);
+    bool live = connect(fd, (struct sockaddr *)&sa, sizeof sa) == 0 || errno != ECONNREFUSED;
+    close(fd);
+    return live;
+}
+
+void net_io_listen(tsr_net *net, net_op *op) {
+    tsr_net_listener *l = op->target;
+    const net_address *a = op->address;
+    const char *text = l->address;
+    int rc = l->transport == NET_TCP ? uv_tcp_init(&net->loop, &l->h.tcp)
+                                     : uv_pipe_init(&net->loop, &l->h.pipe, 0);
+    if (rc) {
+        l->io_ref = false;
+        op->rc = tsr_error_set(&op->err, TSR_EIO, "net: cannot listen on %s: %s", text,
+                               uv_strerror(rc));
+        return;
+    }
+    l->h.handle.data = l;
+    if (l->transport == NET_TCP) {
+        rc = uv_tcp_bind(&l->h.tcp, (const struct sockaddr *)&op->sockaddr, 0);
+    } else {
+        rc = uv_pipe_bind(&l->h.pipe, a->path);
+        if (rc == UV_EADDRINUSE && !unix_socket_is_live(a->path)) {
+            unlink(a->path); /* stale file of a process that died */
+            rc = uv_pipe_bind(&l->h.pipe, a->path);
+        }
+        if (!rc)
+            snprintf(l->unix_path, sizeof l->unix_path, "%s", a->path);
+    }
+    if (!rc)
+        rc = uv_listen(&l->h.stream, 128, on_connection);
+    if (rc) {
+        op->rc = tsr_error_set(&op->err, rc == UV_EADDRINUSE ? TSR_EINVAL : TSR_EIO,
+                               "net: cannot listen on %s: %s%s", text, uv_strerror(rc),
+                               rc == UV_EADDRINUSE ? " (another listener has it)" : "");
+        l->closing = true;
+        uv_close(&l->h.handle, on_listener_closed);
+        return;
+    }
+    if (l->transport == NET_TCP) {
+        struct sockaddr_storage sa;
+        int len = sizeof sa;
+        if (!uv_tcp_getsockname(&l->h.tcp, (struct sockaddr *)&sa, &len))
+            net_address_format_sockaddr((struct sockaddr *)&sa, NET_TCP, l->address,
+                                        sizeof l->address);
+    } else {
+        snprintf(l->address, sizeof l->address, "unix:%s", a->path);
+    }
+    op->rc = TSR_OK;
+}

@@ -1,0 +1,63 @@
+# tests/fuzz.cmake — fuzzing the unpacker.
+#  * fuzz_corpus_replay (every build, any compiler): runs each file of
+#    tests/fuzz/corpus through the fuzz entry point; under
+#    -DTESSERA_SANITIZE=ON that is a sanitizer run of the whole corpus.
+#  * fuzz_seed_writer: regenerates the valid seeds with the real packer.
+#  * fuzz_unpack (only -DTESSERA_FUZZ=ON, clang): the libFuzzer target.
+set(TSR_FUZZ_DIR ${CMAKE_CURRENT_SOURCE_DIR}/fuzz)
+
+# The harness decodes into the generated recording table (wire_test_gen.c).
+add_executable(fuzz_corpus_replay ${TSR_FUZZ_DIR}/replay.c ${TSR_FUZZ_DIR}/fuzz_unpack_one.c
+  ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(fuzz_corpus_replay tessera_generated)
+target_include_directories(fuzz_corpus_replay PRIVATE ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/core
+  ${TESSERA_GEN_DIR}/src)
+target_link_libraries(fuzz_corpus_replay PRIVATE tessera)
+add_test(NAME fuzz_corpus_replay COMMAND fuzz_corpus_replay ${TSR_FUZZ_DIR}/corpus)
+set_tests_properties(fuzz_corpus_replay PROPERTIES TIMEOUT 300)
+
+# The seed writer packs each scenario with the real packer and checks every
+# seed through the fuzz entry point before writing it (valid streams must
+# decode, the malformed ones must be rejected). As a test it writes into the
+# build tree; `fuzz_seed_writer tests/fuzz/corpus` refreshes the corpus.
+add_executable(fuzz_seed_writer ${TSR_FUZZ_DIR}/seed_writer.c ${TSR_FUZZ_DIR}/fuzz_unpack_one.c
+  ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(fuzz_seed_writer tessera_generated)
+target_include_directories(fuzz_seed_writer PRIVATE ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/core
+  ${TESSERA_GEN_DIR}/src)
+target_link_libraries(fuzz_seed_writer PRIVATE tessera)
+set(tsr_fuzz_seed_out ${CMAKE_CURRENT_BINARY_DIR}/fuzz_seeds)
+file(MAKE_DIRECTORY ${tsr_fuzz_seed_out})
+add_test(NAME fuzz_seeds_pack_decode_and_malformed_rejected
+  COMMAND fuzz_seed_writer ${tsr_fuzz_seed_out})
+
+if(TESSERA_FUZZ)
+  if(NOT CMAKE_C_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "TESSERA_FUZZ needs clang (libFuzzer): configure with CC=clang")
+  endif()
+  # libFuzzer is guided by coverage of the code under test, so the target
+  # compiles the unpacker's own sources (runtime + generated decoder, and
+  # what they call) with the fuzzer instrumentation; the shared libtessera
+  # stays as it is and no global flag is needed. Only these files: coverage
+  # then measures the decoder, not the rest of the library.
+  set(tsr_fuzz_core_sources
+    ${CMAKE_SOURCE_DIR}/core/unpack.c ${CMAKE_SOURCE_DIR}/core/pixel.c
+    ${CMAKE_SOURCE_DIR}/core/error.c ${CMAKE_SOURCE_DIR}/core/log.c
+    ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c
+    ${TESSERA_GEN_DIR}/src/dispatch_gen.c ${TESSERA_GEN_TEST_SOURCES})
+  add_executable(fuzz_unpack ${TSR_FUZZ_DIR}/fuzz_unpack.c ${TSR_FUZZ_DIR}/fuzz_unpack_one.c
+    ${tsr_fuzz_core_sources})
+  add_dependencies(fuzz_unpack tessera_generated)
+  target_include_directories(fuzz_unpack PRIVATE ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/core
+    ${CMAKE_SOURCE_DIR}/include ${TESSERA_GEN_DIR}/include ${TESSERA_GEN_DIR}/src)
+  target_compile_options(fuzz_unpack PRIVATE -fsanitize=fuzzer,address,undefined
+    -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(fuzz_unpack PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fuzz_unpack PRIVATE m)
+
+  # A short run in the suite proves the target starts and survives the
+  # corpus (the long run is manual: see tests/fuzz/README.md).
+  add_test(NAME fuzz_unpack_runs_corpus
+    COMMAND fuzz_unpack -runs=0 ${TSR_FUZZ_DIR}/corpus)
+  set_tests_properties(fuzz_unpack_runs_corpus PROPERTIES TIMEOUT 300)
+endif()

@@ -1,0 +1,285 @@
+/* tests/graph/graph_model_test.c — the graph model as a program using
+ * tessera/graph.h sees it: fields, defaults, edges both ways, start order,
+ * exec splitting, option text, chains built from the model, and that every
+ * truncation of a valid file fails cleanly. Owns nothing shared.
+ * Never: checks error wording (tests/graph/bad/ does, through the CLI). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tessera/chain.h"
+#include "tessera/graph.h"
+
+static int failures;
+
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);               \
+            failures++;                                                                            \
+        }                                                                                          \
+    } while (0)
+
+static tsr_graph *parse(const char *text, unsigned flags) {
+    tsr_error err;
+    tsr_error_clear(&err);
+    tsr_graph *g = tsr_graph_parse(text, strlen(text), "test.yaml", flags, &err);
+    if (!g)
+        fprintf(stderr, "unexpected error: %s\n", err.message);
+    return g;
+}
+
+static const char *option(const tsr_chain_link *link, const char *key) {
+    for (size_t i = 0; i < link->option_count; i++)
+        if (!strcmp(link->keys[i], key))
+            return link->values[i];
+    return NULL;
+}
+
+static void reads_nodes_chain_options_edges(void) {
+    tsr_graph *g = parse("version: 1\n"
+                         "window: {width: 640, height: 480}\n"
+                         "nodes:\n"
+                         "  app:\n"
+                         "    exec: [bin/spheres, --frames, '3']\n"
+                         "    chain:\n"
+                         "      - passthrough: {verbose: yes}\n"
+                         "      - render: {output: out/f-%04d.png, width: 64}\n",
+                         0);
+    CHECK(g);
+    if (!g)
+        return;
+    CHECK(tsr_graph_width(g) == 640 && tsr_graph_height(g) == 480);
+    CHECK(!strcmp(tsr_graph_file(g), "test.yaml"));
+    CHECK(tsr_graph_node_count(g) == 1 && tsr_graph_edge_count(g) == 0);
+    const tsr_graph_node *app = tsr_graph_find(g, "app");
+    CHECK(app && app == tsr_graph_node_at(g, 0));
+    CHECK(tsr_graph_node_at(g, 1) == NULL && tsr_graph_find(g, "nobody") == NULL);
+    if (app) {
+        CHECK(app->exec_argc == 3 && !strcmp(app->exec[0], "bin/spheres") &&
+              !strcmp(app->exec[2], "3") && app->exec[3] == NULL);
+        CHECK(app->chain_length == 2);
+        CHECK(!strcmp(app->chain[0].spu, "passthrough") && !strcmp(app->chain[1].spu, "render"));
+        CHECK(option(&app->chain[0], "verbose") &&
+              !strcmp(option(&app->chain[0], "verbose"), "yes"));
+        CHECK(option(&app->chain[1], "output") &&
+              !strcmp(option(&app->chain[1], "output"), "out/f-%04d.png"));
+        CHECK(option(&app->chain[1], "width") && !strcmp(option(&app->chain[1], "width"), "64"));
+        CHECK(!strcmp(app->host, TSR_GRAPH_DEFAULT_HOST));
+        CHECK(app->mark.line == 4 && app->mark.column == 3);
+        CHECK(app->to_count == 0 && app->from_count == 0 && app->tile_count == 0);
+    }
+    tsr_graph_free(g);
+}
+
+static void defaults_apply_and_nodes_override(void) {
+    tsr_graph *g = parse("version: 1\n"
+                         "defaults: {host: alpha, transport: unix}\n"
+                         "nodes:\n"
+                         "  app: {exec: x, chain: [pack], to: [near, far]}\n"
+                         "  near: {chain: [render], listen: /tmp/near.sock}\n"
+                         "  far: {chain: [render], host: beta, transport: tcp, listen: '7000',\n"
+                         "        tiles: [[0, 0, 10, 20], [10, 0, 5, 5]]}\n",
+                         TSR_GRAPH_NO_SPU_CHECK);
+    CHECK(g);
+    if (!g)
+        return;
+    CHECK(tsr_graph_width(g) == TSR_GRAPH_DEFAULT_WIDTH &&
+          tsr_graph_height(g) == TSR_GRAPH_DEFAULT_HEIGHT);
+    const tsr_graph_node *app = tsr_graph_find(g, "app"), *near = tsr_graph_find(g, "near"),
+                         *far = tsr_graph_find(g, "far");
+    CHECK(app && near && far);
+    if (app && near && far) {
+        CHECK(!strcmp(app->host, "alpha") && !strcmp(near->host, "alpha"));
+        CHECK(!strcmp(far->host, "beta"));
+        CHECK(near->transport == TSR_TRANSPORT_UNIX && far->transport == TSR_TRANSPORT_TCP);
+        CHECK(!strcmp(near->listen, "/tmp/near.sock") && !strcmp(far->listen, "7000"));
+        CHECK(far->tile_count == 2 && far->tiles[1].x == 10 && far->tiles[1].width == 5 &&
+              far->tiles[0].height == 20);
+        CHECK(app->exec_argc == 1 && !strcmp(app->exec[0], "x"));
+        CHECK(near->exec == NULL);
+        CHECK(!strcmp(tsr_transport_name(near->transport), "unix"));
+    }
+    tsr_graph_free(g);
+}
+
+/* Every edge appears as `to` on its client and `from` on its server, and
+ * the start order puts each server before its clients. */
+static void edges_both_ways_and_start_order(void) {
+    tsr_graph *g = parse("version: 1\n"
+                         "nodes:\n"
+                         "  app0: {exec: x, chain: [replicate], to: [relay, s1]}\n"
+                         "  app1: {exec: x, chain: [pack], to: relay}\n"
+                         "  relay: {chain: [passthrough, pack], to: [s2]}\n"
+                         "  s1: {chain: [render]}\n"
+                         "  s2: {chain: [render]}\n",
+                         TSR_GRAPH_NO_SPU_CHECK);
+    CHECK(g);
+    if (!g)
+        return;
+    size_t n = tsr_graph_node_count(g), edges = 0, from_total = 0;
+    const size_t *order = tsr_graph_start_order(g);
+    size_t *position = calloc(n, sizeof *position);
+    size_t *seen = calloc(n, sizeof *seen);
+    CHECK(order && position && seen);
+    for (size_t i = 0; order && position && seen && i < n; i++) {
+        CHECK(order[i] < n);
+        if (order[i] < n) {
+            position[order[i]] = i;
+            seen[order[i]]++;
+        }
+    }
+    for (size_t i = 0; position && seen && i < n; i++) {
+        const tsr_graph_node *node = tsr_graph_node_at(g, i);
+        CHECK(seen[i] == 1);
+        edges += node->to_count;
+        from_total += node->from_count;
+        for (size_t e = 0; e < node->to_count; e++) {
+            const tsr_graph_node *server = tsr_graph_node_at(g, node->to[e]);
+            bool listed = false;
+            for (size_t f = 0; f < server->from_count; f++)
+                listed |= server->from[f] == i;
+            CHECK(listed);
+            CHECK(position[node->to[e]] < position[i]);
+        }
+    }
+    CHECK(edges == tsr_graph_edge_count(g) && from_total == edges && edges == 4);
+    const tsr_graph_node *relay = tsr_graph_find(g, "relay");
+    CHECK(relay && relay->from_count == 2 && relay->to_count == 1);
+    free(position);
+    free(seen);
+    tsr_graph_free(g);
+}
+
+static void exec_string_is_split_like_a_shell(void) {
+    tsr_graph *g = parse("version: 1\n"
+                         "nodes:\n"
+                         "  app:\n"
+                         "    exec: >-\n"
+                         "      bin/x --out 'a b' \"c d\" e\\ f g\"h i\"\n"
+                         "    chain: [render]\n",
+                         0);
+    CHECK(g);
+    if (!g)
+        return;
+    const tsr_graph_node *app = tsr_graph_node_at(g, 0);
+    const char *want[] = {"bin/x", "--out", "a b", "c d", "e f", "gh i"};
+    CHECK(app->exec_argc == 6);
+    for (size_t i = 0; i < 6 && i < app->exec_argc; i++)
+        CHECK(!strcmp(app->exec[i], want[i]));
+    CHECK(app->exec[app->exec_argc] == NULL);
+    tsr_graph_free(g);
+}
+
+static void list_option_values_use_chain_text(void) {
+    tsr_graph *g =
+        parse("version: 1\n"
+              "nodes:\n"
+              "  app: {exec: x, chain: [{someday: {sizes: [1, 2, 3], name: '', on: }}]}\n",
+              TSR_GRAPH_NO_SPU_CHECK);
+    CHECK(g);
+    if (!g)
+        return;
+    const tsr_chain_link *link = &tsr_graph_node_at(g, 0)->chain[0];
+    CHECK(!strcmp(link->spu, "someday") && link->option_count == 3);
+    CHECK(option(link, "sizes") && !strcmp(option(link, "sizes"), "1,2,3"));
+    CHECK(option(link, "name") && !strcmp(option(link, "name"), ""));
+    CHECK(option(link, "on") && !strcmp(option(link, "on"), ""));
+    tsr_graph_free(g);
+}
+
+/* The model's links are what tsr_chain_create_links takes. */
+static void chain_builds_from_the_model(void) {
+    tsr_graph *g = parse("version: 1\n"
+                         "nodes:\n"
+                         "  app:\n"
+                         "    exec: x\n"
+                         "    chain: [passthrough, {passthrough: {verbose: false}}]\n",
+                         0);
+    CHECK(g);
+    if (!g)
+        return;
+    const tsr_graph_node *app = tsr_graph_node_at(g, 0);
+    tsr_error err;
+    tsr_error_clear(&err);
+    tsr_chain *chain = tsr_chain_create_links(app->chain, app->chain_length, &err);
+    if (!chain)
+        fprintf(stderr, "chain: %s\n", err.message);
+    CHECK(chain && tsr_chain_head(chain));
+    tsr_chain_destroy(chain);
+    tsr_graph_free(g);
+}
+
+/* Cutting a valid file anywhere gives a graph or an error that starts with
+ * the file name and a position — never a crash or an unplaced message. */
+static void every_truncation_fails_cleanly(void) {
+    static const char text[] = "version: 1\n"
+                               "window: {width: 1024, height: 768}\n"
+                               "defaults: {host: localhost, transport: tcp}\n"
+                               "nodes:\n"
+                               "  app:\n"
+                               "    exec: \"bin/spheres --frames 2\"\n"
+                               "    chain:\n"
+                               "      - tilesort: {bucket: grid}\n"
+                               "    to: [left, right]\n"
+                               "  left:\n"
+                               "    tiles: [[0, 0, 512, 768]]\n"
+                               "    listen: 127.0.0.1:0\n"
+                               "    chain: [render]\n"
+                               "  right:\n"
+                               "    tiles: [[512, 0, 512, 768]]\n"
+                               "    chain: [{render: {output: 'out/r-%04d.png'}}]\n";
+    size_t ok = 0;
+    for (size_t len = 0; len <= sizeof text - 1; len++) {
+        tsr_error err;
+        tsr_error_clear(&err);
+        tsr_graph *g = tsr_graph_parse(text, len, "cut.yaml", TSR_GRAPH_NO_SPU_CHECK, &err);
+        if (g) {
+            ok++;
+            tsr_graph_free(g);
+            continue;
+        }
+        int line = 0, column = 0;
+        CHECK(sscanf(err.message, "cut.yaml:%d:%d: ", &line, &column) == 2 && line >= 1 &&
+              column >= 1);
+        CHECK(err.code != TSR_OK && !strchr(err.message, '\n'));
+    }
+    CHECK(ok >= 1); /* at least the whole text */
+}
+
+static void network_spus_are_known(void) {
+    const char *network[] = {"pack", "replicate", "tilesort", "binaryswap", "readback"};
+    for (size_t i = 0; i < 5; i++)
+        CHECK(tsr_spu_is_network(network[i]));
+    CHECK(!tsr_spu_is_network("render") && !tsr_spu_is_network("passthrough") &&
+          !tsr_spu_is_network(NULL));
+}
+
+int main(int argc, char **argv) {
+    static const struct {
+        const char *name;
+        void (*run)(void);
+    } tests[] = {
+        {"reads_nodes_chain_options_edges", reads_nodes_chain_options_edges},
+        {"defaults_apply_and_nodes_override", defaults_apply_and_nodes_override},
+        {"edges_both_ways_and_start_order", edges_both_ways_and_start_order},
+        {"exec_string_is_split_like_a_shell", exec_string_is_split_like_a_shell},
+        {"list_option_values_use_chain_text", list_option_values_use_chain_text},
+        {"chain_builds_from_the_model", chain_builds_from_the_model},
+        {"every_truncation_fails_cleanly", every_truncation_fails_cleanly},
+        {"network_spus_are_known", network_spus_are_known},
+    };
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s TEST\n", argv[0]);
+        return 2;
+    }
+    for (size_t i = 0; i < sizeof tests / sizeof tests[0]; i++)
+        if (!strcmp(argv[1], tests[i].name)) {
+            tests[i].run();
+            if (failures)
+                fprintf(stderr, "%s: %d checks failed\n", argv[1], failures);
+            return failures ? 1 : 0;
+        }
+    fprintf(stderr, "unknown test '%s'\n", argv[1]);
+    return 2;
+}

@@ -1,0 +1,38 @@
+# tests/net.cmake — netlib (netlib/net.h) over real sockets, threads and
+# processes. Included by tests/CMakeLists.txt.
+set(NET_TEST_SRC ${CMAKE_CURRENT_SOURCE_DIR}/net)
+add_executable(net_test ${NET_TEST_SRC}/net_test.c)
+add_executable(net_flow_test ${NET_TEST_SRC}/net_flow_test.c)
+add_executable(net_stall_server ${NET_TEST_SRC}/net_stall_server.c)
+foreach(t net_test net_flow_test net_stall_server)
+  target_link_libraries(${t} PRIVATE tessera_net Threads::Threads)
+endforeach()
+
+foreach(pair
+    "net_tcp_roundtrip_ipv4:tcp_roundtrip_ipv4"
+    "net_tcp_roundtrip_ipv6:tcp_roundtrip_ipv6"
+    "net_unix_roundtrip:unix_roundtrip"
+    "net_inproc_roundtrip:inproc_roundtrip"
+    "net_large_message_64bit_length_rejected_over_max:large_message_rejected"
+    "net_handshake_version_mismatch_refused_both_sides:version_mismatch"
+    "net_handshake_bad_token_refused:bad_token"
+    "net_port_in_use_clear_error:port_in_use"
+    "net_connect_refused_clear_error:connect_refused"
+    "net_handshake_timeout_silent_peer:handshake_timeout"
+    "net_idle_timeout_detects_silent_peer:idle_timeout"
+    "net_many_clients_one_server:many_clients"
+    "net_destroy_with_open_connections_is_bounded_and_clean:destroy_open_connections")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 sub)
+  add_test(NAME ${name} COMMAND net_test ${sub})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 30 LABELS net)
+endforeach()
+set_tests_properties(net_tcp_roundtrip_ipv6 PROPERTIES SKIP_RETURN_CODE 77)
+
+add_test(NAME net_flow_control_stalled_receiver
+         COMMAND net_flow_test stall $<TARGET_FILE:net_stall_server>)
+add_test(NAME net_receiver_killed_while_sender_blocked_fails_send
+         COMMAND net_flow_test kill $<TARGET_FILE:net_stall_server>)
+set_tests_properties(net_flow_control_stalled_receiver
+  net_receiver_killed_while_sender_blocked_fails_send PROPERTIES TIMEOUT 60 LABELS net)

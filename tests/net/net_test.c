@@ -1,0 +1,781 @@
+/* tests/net/net_test.c — netlib behaviour over real sockets and threads:
+ * round trips on every transport, the size limit, handshake refusals,
+ * address errors, time-outs and many clients. One test per subcommand.
+ * Never: mocks a netlib part; expected bytes come from the pattern, not
+ * from constants copied out of a run. */
+#include <pthread.h>
+#include <sys/un.h>
+
+#include "net_test_util.h"
+
+#define SKIP 77
+
+static tsr_net *make_net(const char *name, const char *token, uint32_t credits) {
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = name;
+    cfg.token = token;
+    cfg.credits = credits;
+    cfg.max_message_bytes = 4u << 20;
+    cfg.connect_timeout_ms = 2000;
+    cfg.handshake_timeout_ms = 2000;
+    cfg.close_timeout_ms = 2000;
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(&cfg, &err);
+    CHECK(net, "tsr_net_create(%s): %s", name, err.message);
+    return net;
+}
+
+/* ---- round trip: a client streams messages of awkward sizes, the server
+ * echoes each one, the client checks kind, length, bytes and order. ------ */
+
+static const size_t roundtrip_sizes[] = {0, 1, 7, 8, 15, 4095, 65535, 65536, 65537,
+                                         200000, 1048576 + 3, 3, 0, 123457};
+enum { ROUNDTRIP_REPEATS = 6 };
+#define ROUNDTRIP_COUNT (sizeof roundtrip_sizes / sizeof roundtrip_sizes[0] * ROUNDTRIP_REPEATS)
+
+static size_t roundtrip_size(size_t i) {
+    return roundtrip_sizes[i % (sizeof roundtrip_sizes / sizeof roundtrip_sizes[0])];
+}
+
+typedef struct echo_server {
+    tsr_net_listener *listener;
+    uint64_t messages, bytes;
+    char peer_name[80];
+    int failed;
+} echo_server;
+
+static void *echo_main(void *arg) {
+    echo_server *s = arg;
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_accept(s->listener, 5000, &err);
+    if (!c) {
+        fprintf(stderr, "echo: accept: %s\n", err.message);
+        s->failed = 1;
+        return NULL;
+    }
+    snprintf(s->peer_name, sizeof s->peer_name, "%s", tsr_net_conn_peer_name(c));
+    for (;;) {
+        tsr_net_msg m;
+        int got = tsr_net_recv(c, &m, 5000, &err);
+        if (got == 0)
+            break;
+        if (got < 0) {
+            fprintf(stderr, "echo: recv: %s\n", err.message);
+            s->failed = 1;
+            break;
+        }
+        s->messages++;
+        s->bytes += m.len;
+        int rc = tsr_net_send(c, m.kind, m.data, m.len, 5000, &err);
+        tsr_net_msg_release(&m);
+        if (rc) {
+            fprintf(stderr, "echo: send: %s\n", err.message);
+            s->failed = 1;
+            break;
+        }
+    }
+    tsr_net_conn_close(c);
+    return NULL;
+}
+
+typedef struct roundtrip_sender {
+    tsr_net_conn *conn;
+    int failed;
+} roundtrip_sender;
+
+static void *roundtrip_send_main(void *arg) {
+    roundtrip_sender *s = arg;
+    tsr_error err = {0};
+    for (size_t i = 0; i < ROUNDTRIP_COUNT; i++) {
+        size_t n = roundtrip_size(i);
+        uint8_t *buf = malloc(n ? n : 1);
+        tsr_net_pattern_fill(buf, 0, n, i);
+        int rc = tsr_net_send(s->conn, TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), buf, n,
+                              5000, &err);
+        free(buf);
+        if (rc) {
+            fprintf(stderr, "client: send %zu: %s\n", i, err.message);
+            s->failed = 1;
+            return NULL;
+        }
+    }
+    return NULL;
+}
+
+static int roundtrip(const char *address, int same_net) {
+    tsr_net *server_net = make_net("echo-server", NULL, 4);
+    tsr_net *client_net = same_net ? server_net : make_net("roundtrip-client", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, address, &err);
+    CHECK(l, "listen %s: %s", address, err.message);
+    const char *bound = tsr_net_listener_address(l);
+    printf("listening on %s\n", bound);
+    echo_server server = {.listener = l};
+    pthread_t echo_thread;
+    pthread_create(&echo_thread, NULL, echo_main, &server);
+
+    tsr_net_conn *c = tsr_net_connect(client_net, bound, &err);
+    CHECK(c, "connect %s: %s", bound, err.message);
+    CHECK(!strcmp(tsr_net_conn_peer_name(c), same_net ? "echo-server" : "echo-server"),
+          "peer name '%s'", tsr_net_conn_peer_name(c));
+    roundtrip_sender sender = {.conn = c};
+    pthread_t send_thread;
+    pthread_create(&send_thread, NULL, roundtrip_send_main, &sender);
+
+    uint64_t bytes = 0;
+    for (size_t i = 0; i < ROUNDTRIP_COUNT; i++) {
+        tsr_net_msg m;
+        int got = tsr_net_recv(c, &m, 5000, &err);
+        CHECK(got == 1, "echo %zu of %zu: %d %s", i, (size_t)ROUNDTRIP_COUNT, got, err.message);
+        size_t n = roundtrip_size(i);
+        CHECK(m.kind == TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), "message %zu kind %u", i,
+              m.kind);
+        CHECK(m.len == n, "message %zu: %llu bytes, sent %zu", i, (unsigned long long)m.len, n);
+        uint8_t *expect = malloc(n ? n : 1);
+        tsr_net_pattern_fill(expect, 0, n, i);
+        CHECK(!n || !memcmp(expect, m.data, n), "message %zu: bytes differ", i);
+        free(expect);
+        bytes += n;
+        tsr_net_msg_release(&m);
+    }
+    pthread_join(send_thread, NULL);
+    CHECK(!sender.failed, "sender failed");
+    tsr_net_stats st;
+    tsr_net_conn_stats(c, &st);
+    CHECK(st.bytes_sent == bytes && st.bytes_received == bytes &&
+              st.messages_sent == ROUNDTRIP_COUNT && st.messages_received == ROUNDTRIP_COUNT,
+          "stats: sent %llu B/%llu msgs, received %llu B/%llu msgs, expected %llu B",
+          (unsigned long long)st.bytes_sent, (unsigned long long)st.messages_sent,
+          (unsigned long long)st.bytes_received, (unsigned long long)st.messages_received,
+          (unsigned long long)bytes);
+    tsr_net_conn_close(c);
+    pthread_join(echo_thread, NULL);
+    CHECK(!server.failed, "echo server failed");
+    CHECK(server.messages == ROUNDTRIP_COUNT && server.bytes == bytes,
+          "server echoed %llu messages / %llu bytes of %zu / %llu",
+          (unsigned long long)server.messages, (unsigned long long)server.bytes,
+          (size_t)ROUNDTRIP_COUNT, (unsigned long long)bytes);
+    CHECK(!strcmp(server.peer_name, same_net ? "echo-server" : "roundtrip-client"),
+          "server saw peer '%s'", server.peer_name);
+    printf("%zu messages, %llu bytes each way through %s, order and bytes exact\n",
+           (size_t)ROUNDTRIP_COUNT, (unsigned long long)bytes, bound);
+    tsr_net_listener_close(l);
+    if (!same_net)
+        tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+static int test_tcp_roundtrip_ipv4(void) { return roundtrip("tcp://127.0.0.1:0", 0); }
+
+static int test_tcp_roundtrip_ipv6(void) {
+    int fd = socket(AF_INET6, SOCK_STREAM, 0);
+    struct sockaddr_in6 sa = {.sin6_family = AF_INET6, .sin6_addr = IN6ADDR_LOOPBACK_INIT};
+    if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
+        printf("SKIP: this machine has no usable ::1 (%s)\n", strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return SKIP;
+    }
+    close(fd);
+    return roundtrip("tcp://[::1]:0", 0);
+}
+
+static int test_unix_roundtrip(void) {
+    char address[128];
+    snprintf(address, sizeof address, "unix:/tmp/tsr-net-test-%d.sock", (int)getpid());
+    int rc = roundtrip(address, 0);
+    CHECK(access(address + 5, F_OK) != 0, "socket file %s left behind after close", address + 5);
+    return rc;
+}
+
+static int test_inproc_roundtrip(void) { return roundtrip("inproc:echo", 1); }
+
+/* ---- limits ------------------------------------------------------------- */
+
+static int test_large_message_rejected(void) {
+    tsr_net *server_net = make_net("limit-server", NULL, 4); /* max 4 MiB */
+    tsr_net *client_net = make_net("limit-client", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    unsigned port = address_port(tsr_net_listener_address(l));
+
+    /* 1. A raw peer announces 4 GiB + 5 bytes: a length that needs all 64
+     * bits (truncated to 32 it would read as 5). */
+    int fd = raw_connect_loopback(port);
+    CHECK(raw_handshake(fd, "raw-liar", NULL, 4) == 0x02, "handshake not welcomed");
+    tsr_net_conn *liar = tsr_net_accept(l, 5000, &err);
+    CHECK(liar, "accept: %s", err.message);
+    uint64_t announced = (4ull << 30) + 5;
+    uint8_t h[16 + 5];
+    raw_header(h, TSR_NET_PROTOCOL_VERSION, TSR_NET_KIND_FIRST_USER, announced);
+    memcpy(h + 16, "hello", 5);
+    long rss_before = rss_kb(0);
+    raw_write_all(fd, h, sizeof h);
+    tsr_net_msg m;
+    int got = tsr_net_recv(liar, &m, 5000, &err);
+    long rss_after = rss_kb(0);
+    printf("server error: %s\n", err.message);
+    CHECK(got < 0 && got != TSR_ETIMEDOUT, "recv returned %d", got);
+    char number[32];
+    snprintf(number, sizeof number, "%llu", (unsigned long long)announced);
+    CHECK(contains(err.message, number) && contains(err.message, "max_message_bytes") &&
+              contains(err.message, "raw-liar"),
+          "error does not name the length, the limit and the peer: %s", err.message);
+    CHECK(rss_after - rss_before < 64 * 1024, "RSS grew by %ld KiB on a lying length",
+          rss_after - rss_before);
+    uint8_t byte;
+    CHECK(raw_read_exact(fd, &byte, 1, 3000) == -1, "server kept the lying connection open");
+    close(fd);
+    tsr_net_conn_close(liar);
+
+    /* 2. The sender side refuses to send over the peer's limit, without
+     * reading the (absent) bytes, and the connection stays usable. */
+    tsr_net_conn *c = tsr_net_connect(client_net, tsr_net_listener_address(l), &err);
+    CHECK(c, "connect: %s", err.message);
+    tsr_net_conn *s = tsr_net_accept(l, 5000, &err);
+    CHECK(s, "accept: %s", err.message);
+    static const uint8_t small[16];
+    int rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, small, 1ull << 40, 1000, &err);
+    printf("sender error: %s\n", err.message);
+    CHECK(rc == TSR_EINVAL && contains(err.message, "1099511627776") &&
+              contains(err.message, "limit-server"),
+          "oversize send: %s %s", tsr_error_name(rc), err.message);
+    uint64_t limit = 4u << 20;
+    uint8_t *big = malloc(limit + 1);
+    tsr_net_pattern_fill(big, 0, limit + 1, 7);
+    rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, big, limit + 1, 1000, &err);
+    CHECK(rc == TSR_EINVAL, "limit+1 bytes accepted: %s", tsr_error_name(rc));
+    CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER + 1, big, limit, 5000, &err), err);
+    got = tsr_net_recv(s, &m, 5000, &err);
+    CHECK(got == 1 && m.len == limit && m.kind == TSR_NET_KIND_FIRST_USER + 1 &&
+              !memcmp(m.data, big, limit),
+          "a message of exactly max_message_bytes did not arrive intact: %d %s", got,
+          err.message);
+    tsr_net_msg_release(&m);
+    free(big);
+    tsr_net_conn_close(c);
+    tsr_net_conn_close(s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+/* ---- handshake ------------------------------------------------------------ */
+
+static tsr_net *make_net_version(const char *name, const char *token, uint16_t version) {
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = name;
+    cfg.token = token;
+    cfg.protocol_version = version;
+    cfg.handshake_timeout_ms = 2000;
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(&cfg, &err);
+    CHECK(net, "create: %s", err.message);
+    return net;
+}
+
+/* An established connection survives a refusal next to it. */
+static void check_still_works(tsr_net_conn *a, tsr_net_conn *b, const char *when) {
+    tsr_error err = {0};
+    CHECK_OK(tsr_net_send(a, TSR_NET_KIND_FIRST_USER, "ping", 4, 2000, &err), err);
+    tsr_net_msg m;
+    int got = tsr_net_recv(b, &m, 2000, &err);
+    CHECK(got == 1 && m.len == 4 && !memcmp(m.data, "ping", 4), "%s: open connection broke: %s",
+          when, err.message);
+    tsr_net_msg_release(&m);
+}
+
+static int test_version_mismatch(void) {
+    tsr_net *server_net = make_net_version("render-server", NULL, 0);
+    tsr_net *good_net = make_net_version("good-client", NULL, 0);
+    tsr_net *future_net = make_net_version("future-client", NULL, TSR_NET_PROTOCOL_VERSION + 1);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    const char *address = tsr_net_listener_address(l);
+    tsr_net_conn *good = tsr_net_connect(good_net, address, &err);
+    CHECK(good, "good client refused: %s", err.message);
+    tsr_net_conn *good_s = tsr_net_accept(l, 2000, &err);
+    CHECK(good_s, "accept: %s", err.message);
+
+    uint64_t t0 = test_now_ms();
+    tsr_net_conn *bad = tsr_net_connect(future_net, address, &err);
+    uint64_t took = test_now_ms() - t0;
+    printf("client side: %s\n", err.message);
+    CHECK(!bad, "a client speaking version %d was accepted", TSR_NET_PROTOCOL_VERSION + 1);
+    char theirs[64], ours[64];
+    snprintf(theirs, sizeof theirs, "protocol version %d", TSR_NET_PROTOCOL_VERSION + 1);
+    snprintf(ours, sizeof ours, "speaks version %d", TSR_NET_PROTOCOL_VERSION);
+    CHECK(err.code == TSR_EPROTO && contains(err.message, "refused") &&
+              contains(err.message, theirs) && contains(err.message, ours) &&
+              contains(err.message, address) && !strchr(err.message, '\n'),
+          "client error is not one clear line: %s", err.message);
+    CHECK(took < 2000, "refusal took %llu ms", (unsigned long long)took);
+    tsr_error refusal = {0};
+    unsigned refusals = 0;
+    for (int i = 0; i < 200 && refusals == 0; i++, usleep(10000))
+        refusals = tsr_net_listener_refusals(l, &refusal);
+    printf("server side: %s\n", refusal.message);
+    CHECK(refusals == 1, "server counted %u refusals", refusals);
+    CHECK(contains(refusal.message, "future-client") && contains(refusal.message, theirs),
+          "server's line does not name the peer and the version: %s", refusal.message);
+    CHECK(!tsr_net_accept(l, 200, &err) && err.code == TSR_ETIMEDOUT,
+          "the refused peer reached accept");
+    check_still_works(good, good_s, "after a version refusal");
+    check_still_works(good_s, good, "after a version refusal (reply)");
+    tsr_net_conn_close(good);
+    tsr_net_conn_close(good_s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(future_net);
+    tsr_net_destroy(good_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+static int test_bad_token(void) {
+    tsr_net *server_net = make_net_version("secure-server", "s3cret-token", 0);
+    tsr_net *wrong_net = make_net_version("wrong-token-client", "guess", 0);
+    tsr_net *none_net = make_net_version("no-token-client", NULL, 0);
+    tsr_net *right_net = make_net_version("right-token-client", "s3cret-token", 0);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    const char *address = tsr_net_listener_address(l);
+    tsr_net_conn *right = tsr_net_connect(right_net, address, &err);
+    CHECK(right, "right token refused: %s", err.message);
+    tsr_net_conn *right_s = tsr_net_accept(l, 2000, &err);
+    CHECK(right_s && !strcmp(tsr_net_conn_peer_name(right_s), "right-token-client"),
+          "accept: %s", err.message);
+
+    CHECK(!tsr_net_connect(wrong_net, address, &err), "wrong token accepted");
+    printf("wrong token, client side: %s\n", err.message);
+    CHECK(contains(err.message, "refused") && contains(err.message, "token mismatch") &&
+              contains(err.message, address) && !contains(err.message, "s3cret"),
+          "unclear or leaking error: %s", err.message);
+    CHECK(!tsr_net_connect(none_net, address, &err), "missing token accepted");
+    printf("no token, client side: %s\n", err.message);
+    CHECK(contains(err.message, "token is required"), "unclear error: %s", err.message);
+
+    tsr_error last = {0};
+    unsigned refusals = 0;
+    for (int i = 0; i < 200 && refusals < 2; i++, usleep(10000))
+        refusals = tsr_net_listener_refusals(l, &last);
+    printf("server side (last): %s\n", last.message);
+    CHECK(refusals == 2, "server counted %u refusals, expected 2", refusals);
+    CHECK(contains(last.message, "no-token-client") && !contains(last.message, "s3cret"),
+          "server line: %s", last.message);
+    check_still_works(right, right_s, "after token refusals");
+    tsr_net_conn *again = tsr_net_connect(right_net, address, &err);
+    CHECK(again, "a second right-token client was refused: %s", err.message);
+    tsr_net_conn_close(again);
+    tsr_net_conn_close(right);
+    tsr_net_conn_close(right_s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(right_net);
+    tsr_net_destroy(none_net);
+    tsr_net_destroy(wrong_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+/* ---- address errors --------------------------------------------------------- */
+
+static int test_port_in_use(void) {
+    tsr_net *net = make_net("port-test", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *first = tsr_net_listen(net, "tcp://127.0.0.1:0", &err);
+    CHECK(first, "listen: %s", err.message);
+    char address[TSR_NET_ADDRESS_MAX];
+    snprintf(address, sizeof address, "%s", tsr_net_listener_address(first));
+    CHECK(!tsr_net_listen(net, address, &err), "second listener on %s accepted", address);
+    printf("tcp: %s\n", err.message);
+    CHECK(contains(err.message, address) && contains(err.message, "address already in use"),
+          "unclear: %s", err.message);
+    /* A default listener binds loopback only. */
+    char loopback_default[64];
+    snprintf(loopback_default, sizeof loopback_default, "tcp://:%u", address_port(address));
+    CHECK(!tsr_net_listen(net, loopback_default, &err) &&
+              contains(err.message, "address already in use"),
+          "tcp://:PORT did not bind 127.0.0.1: %s", err.message);
+
+    char path[96], unix_address[128];
+    snprintf(path, sizeof path, "/tmp/tsr-net-inuse-%d.sock", (int)getpid());
+    snprintf(unix_address, sizeof unix_address, "unix:%s", path);
+    /* A stale socket file (its process died) is replaced... */
+    int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+    struct sockaddr_un sa = {.sun_family = AF_UNIX};
+    snprintf(sa.sun_path, sizeof sa.sun_path, "%s", path);
+    CHECK(bind(fd, (struct sockaddr *)&sa, sizeof sa) == 0, "bind stale: %s", strerror(errno));
+    close(fd);
+    tsr_net_listener *u = tsr_net_listen(net, unix_address, &err);
+    CHECK(u, "stale socket file not replaced: %s", err.message);
+    /* ...but a live one is not. */
+    CHECK(!tsr_net_listen(net, unix_address, &err), "second unix listener accepted");
+    printf("unix: %s\n", err.message);
+    CHECK(contains(err.message, unix_address) && contains(err.message, "in use"), "unclear: %s",
+          err.message);
+    tsr_net_listener_close(u);
+    CHECK(access(path, F_OK) != 0, "%s left behind", path);
+
+    tsr_net_listener *a = tsr_net_listen(net, "inproc:render", &err);
+    CHECK(a, "inproc listen: %s", err.message);
+    CHECK(!tsr_net_listen(net, "inproc:render", &err), "second inproc listener accepted");
+    printf("inproc: %s\n", err.message);
+    CHECK(contains(err.message, "inproc:render") && contains(err.message, "in use"),
+          "unclear: %s", err.message);
+    tsr_net_listener_close(a);
+    tsr_net_listener_close(first);
+    tsr_net_destroy(net);
+    return 0;
+}
+
+static int test_connect_refused(void) {
+    tsr_net *net = make_net("refused-test", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    char address[TSR_NET_ADDRESS_MAX];
+    snprintf(address, sizeof address, "%s", tsr_net_listener_address(l));
+    tsr_net_listener_close(l); /* now nobody listens on that port */
+    uint64_t t0 = test_now_ms();
+    CHECK(!tsr_net_connect(net, address, &err), "connected to a closed port");
+    printf("tcp: %s\n", err.message);
+    CHECK(contains(err.message, address) && contains(err.message, "connection refused"),
+          "unclear: %s", err.message);
+    CHECK(test_now_ms() - t0 < 1500, "refusal took %llu ms",
+          (unsigned long long)(test_now_ms() - t0));
+
+    char unix_address[128];
+    snprintf(unix_address, sizeof unix_address, "unix:/tmp/tsr-net-nobody-%d.sock", (int)getpid());
+    CHECK(!tsr_net_connect(net, unix_address, &err), "connected to a missing socket");
+    printf("unix: %s\n", err.message);
+    CHECK(contains(err.message, unix_address) && contains(err.message, "no such file"),
+          "unclear: %s", err.message);
+    CHECK(!tsr_net_connect(net, "inproc:nobody", &err), "connected to a missing inproc name");
+    printf("inproc: %s\n", err.message);
+    CHECK(contains(err.message, "inproc:nobody") && contains(err.message, "refused"),
+          "unclear: %s", err.message);
+
+    static const char *const bad[] = {"tcp://127.0.0.1",     "tcp://::1:7000",
+                                      "tcp://127.0.0.1:70000", "tcp://[::1:7000",
+                                      "udp://127.0.0.1:7000", "unix:",
+                                      "inproc:",             "tcp://localhost:7x"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        CHECK(!tsr_net_connect(net, bad[i], &err), "'%s' accepted", bad[i]);
+        printf("syntax: %s\n", err.message);
+        CHECK(err.code == TSR_EINVAL && contains(err.message, bad[i]) &&
+                  contains(err.message, "bad address"),
+              "unclear: %s", err.message);
+    }
+    tsr_net_destroy(net);
+    return 0;
+}
+
+/* A peer that accepts the socket but never answers the handshake. */
+static int test_handshake_timeout(void) {
+    int lfd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in sa = {.sin_family = AF_INET};
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 4) == 0, "listen: %s",
+          strerror(errno));
+    socklen_t len = sizeof sa;
+    getsockname(lfd, (struct sockaddr *)&sa, &len);
+    char address[64];
+    snprintf(address, sizeof address, "tcp://127.0.0.1:%u", ntohs(sa.sin_port));
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = "patient-client";
+    cfg.handshake_timeout_ms = 300;
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(&cfg, &err);
+    CHECK(net, "create: %s", err.message);
+    uint64_t t0 = test_now_ms();
+    CHECK(!tsr_net_connect(net, address, &err), "handshake with a mute peer succeeded");
+    uint64_t took = test_now_ms() - t0;
+    printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
+    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) &&
+              contains(err.message, "timed out"),
+          "unclear: %s", err.message);
+    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms",
+          (unsigned long long)took);
+    tsr_net_destroy(net);
+    close(lfd);
+    return 0;
+}
+
+/* A peer that completes the handshake, then goes silent (no pings). */
+static int test_idle_timeout(void) {
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = "watchful-server";
+    cfg.idle_timeout_ms = 400;
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(&cfg, &err);
+    CHECK(net, "create: %s", err.message);
+    tsr_net_listener *l = tsr_net_listen(net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    int fd = raw_connect_loopback(address_port(tsr_net_listener_address(l)));
+    CHECK(raw_handshake(fd, "silent-peer", NULL, 4) == 0x02, "not welcomed");
+    tsr_net_conn *c = tsr_net_accept(l, 2000, &err);
+    CHECK(c, "accept: %s", err.message);
+    /* The server pings a quiet line, so a live peer sees traffic. */
+    uint8_t h[16];
+    CHECK(raw_read_exact(fd, h, 16, 1000) == 0 && h[6] == 0x05 && get_le(h + 8, 8) == 0,
+          "no PING within the idle period");
+    uint64_t t0 = test_now_ms();
+    tsr_net_msg m;
+    int got = tsr_net_recv(c, &m, 5000, &err);
+    uint64_t took = test_now_ms() - t0;
+    printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
+    CHECK(got == TSR_ETIMEDOUT && contains(err.message, "silent-peer") &&
+              contains(err.message, "idle_timeout_ms"),
+          "silent peer not detected: %d %s", got, err.message);
+    CHECK(took < 1500, "detection took %llu ms", (unsigned long long)took);
+    close(fd);
+    tsr_net_conn_close(c);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(net);
+    return 0;
+}
+
+/* ---- many clients ----------------------------------------------------------- */
+
+enum { MANY_CLIENTS = 8, MANY_MESSAGES = 300 };
+
+static size_t many_size(unsigned client, unsigned seq) {
+    return 8 + (client * 7919u + seq * 104729u) % 30000u;
+}
+
+typedef struct many_client {
+    tsr_net *net;
+    const char *address;
+    unsigned id;
+    int failed;
+} many_client;
+
+static void *many_client_main(void *arg) {
+    many_client *mc = arg;
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_connect(mc->net, mc->address, &err);
+    if (!c) {
+        fprintf(stderr, "client %u: %s\n", mc->id, err.message);
+        mc->failed = 1;
+        return NULL;
+    }
+    for (unsigned seq = 0; seq < MANY_MESSAGES; seq++) {
+        size_t n = many_size(mc->id, seq);
+        uint8_t *buf = malloc(n);
+        tsr_net_pattern_fill(buf, 0, n, (uint64_t)mc->id << 32 | seq);
+        put_le(buf, mc->id, 4);
+        put_le(buf + 4, seq, 4);
+        if (tsr_net_send_owned(c, TSR_NET_KIND_FIRST_USER, buf, n, NULL, NULL, 5000, &err)) {
+            fprintf(stderr, "client %u message %u: %s\n", mc->id, seq, err.message);
+            free(buf);
+            mc->failed = 1;
+            break;
+        }
+    }
+    tsr_net_conn_close(c);
+    return NULL;
+}
+
+typedef struct many_receiver {
+    tsr_net_conn *conn;
+    int client; /* learned from the first message */
+    uint64_t bytes;
+    unsigned messages;
+    int failed;
+} many_receiver;
+
+static void *many_receiver_main(void *arg) {
+    many_receiver *r = arg;
+    tsr_error err = {0};
+    r->client = -1;
+    for (;;) {
+        tsr_net_msg m;
+        int got = tsr_net_recv(r->conn, &m, 5000, &err);
+        if (got == 0)
+            break;
+        if (got < 0) {
+            fprintf(stderr, "receiver: %s\n", err.message);
+            r->failed = 1;
+            break;
+        }
+        unsigned id = (unsigned)get_le(m.data, 4), seq = (unsigned)get_le((uint8_t *)m.data + 4, 4);
+        if (r->client < 0)
+            r->client = (int)id;
+        size_t n = m.len >= 8 ? many_size(id, seq) : 0;
+        int ok = (int)id == r->client && id < MANY_CLIENTS && seq == r->messages && m.len == n;
+        if (ok) {
+            uint8_t *expect = malloc(n);
+            tsr_net_pattern_fill(expect, 0, n, (uint64_t)id << 32 | seq);
+            ok = !memcmp(expect + 8, (uint8_t *)m.data + 8, n - 8);
+            free(expect);
+        }
+        if (!ok) {
+            fprintf(stderr, "receiver for client %d: message %u (id %u seq %u, %llu bytes) wrong\n",
+                    r->client, r->messages, id, seq, (unsigned long long)m.len);
+            r->failed = 1;
+        }
+        r->messages++;
+        r->bytes += m.len;
+        tsr_net_msg_release(&m);
+    }
+    tsr_net_conn_close(r->conn);
+    return NULL;
+}
+
+static int test_many_clients(void) {
+    tsr_net *server_net = make_net("many-server", NULL, 4);
+    tsr_net *client_net = make_net("many-clients", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    many_client clients[MANY_CLIENTS];
+    pthread_t client_threads[MANY_CLIENTS], receiver_threads[MANY_CLIENTS];
+    many_receiver receivers[MANY_CLIENTS];
+    for (unsigned i = 0; i < MANY_CLIENTS; i++) {
+        clients[i] = (many_client){client_net, tsr_net_listener_address(l), i, 0};
+        pthread_create(&client_threads[i], NULL, many_client_main, &clients[i]);
+    }
+    for (unsigned i = 0; i < MANY_CLIENTS; i++) {
+        receivers[i] = (many_receiver){0};
+        receivers[i].conn = tsr_net_accept(l, 5000, &err);
+        CHECK(receivers[i].conn, "accept %u of %d: %s", i, MANY_CLIENTS, err.message);
+        pthread_create(&receiver_threads[i], NULL, many_receiver_main, &receivers[i]);
+    }
+    int seen[MANY_CLIENTS] = {0};
+    uint64_t total = 0;
+    for (unsigned i = 0; i < MANY_CLIENTS; i++) {
+        pthread_join(client_threads[i], NULL);
+        CHECK(!clients[i].failed, "client %u failed", i);
+    }
+    for (unsigned i = 0; i < MANY_CLIENTS; i++) {
+        pthread_join(receiver_threads[i], NULL);
+        many_receiver *r = &receivers[i];
+        CHECK(!r->failed && r->client >= 0, "receiver %u failed", i);
+        uint64_t expect = 0;
+        for (unsigned seq = 0; seq < MANY_MESSAGES; seq++)
+            expect += many_size((unsigned)r->client, seq);
+        CHECK(r->messages == MANY_MESSAGES && r->bytes == expect,
+              "client %d: %u messages / %llu bytes arrived, sent %d / %llu", r->client,
+              r->messages, (unsigned long long)r->bytes, MANY_MESSAGES,
+              (unsigned long long)expect);
+        seen[r->client]++;
+        total += r->bytes;
+    }
+    for (unsigned i = 0; i < MANY_CLIENTS; i++)
+        CHECK(seen[i] == 1, "client %u arrived on %d connections", i, seen[i]);
+    printf("%d clients x %d messages, %llu bytes, all in order and exact\n", MANY_CLIENTS,
+           MANY_MESSAGES, (unsigned long long)total);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+/* ---- shutdown ----------------------------------------------------------------- */
+
+/* tsr_net_destroy with connections and a listener the application never
+ * closed: a responsive peer sees a clean end after every message; a peer
+ * that stopped reading delays destroy by at most close_timeout_ms. */
+static int test_destroy_open_connections(void) {
+    tsr_net *server_net = make_net("destroy-server", NULL, 4);
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = "destroy-client";
+    cfg.close_timeout_ms = 500;
+    tsr_error err = {0};
+    tsr_net *client_net = tsr_net_create(&cfg, &err);
+    CHECK(client_net, "create: %s", err.message);
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    enum { N = 3 };
+    tsr_net_conn *client[N], *server[N];
+    for (int i = 0; i < N; i++) {
+        client[i] = tsr_net_connect(client_net, tsr_net_listener_address(l), &err);
+        CHECK(client[i], "connect %d: %s", i, err.message);
+        server[i] = tsr_net_accept(l, 2000, &err);
+        CHECK(server[i], "accept %d: %s", i, err.message);
+        CHECK_OK(tsr_net_send(client[i], TSR_NET_KIND_FIRST_USER, "one", 3, 2000, &err), err);
+        CHECK_OK(tsr_net_send(client[i], TSR_NET_KIND_FIRST_USER, "two", 3, 2000, &err), err);
+    }
+    uint64_t t0 = test_now_ms();
+    tsr_net_destroy(client_net); /* the server reads: the peers answer the goodbye */
+    uint64_t took = test_now_ms() - t0;
+    printf("client destroy with %d open connections took %llu ms\n", N, (unsigned long long)took);
+    CHECK(took < 400, "destroy waited %llu ms for responsive peers", (unsigned long long)took);
+    for (int i = 0; i < N; i++) {
+        tsr_net_msg m;
+        for (int k = 0; k < 2; k++) {
+            CHECK(tsr_net_recv(server[i], &m, 2000, &err) == 1 && m.len == 3 &&
+                      !memcmp(m.data, k ? "two" : "one", 3),
+                  "connection %d lost message %d at destroy: %s", i, k, err.message);
+            tsr_net_msg_release(&m);
+        }
+        int got = tsr_net_recv(server[i], &m, 2000, &err);
+        CHECK(got == 0, "connection %d: expected a clean end, got %d %s", i, got, err.message);
+    }
+
+    /* A peer whose window is full stops reading, so it never sees the
+     * goodbye: destroy gives up after close_timeout_ms. */
+    client_net = tsr_net_create(&cfg, &err);
+    CHECK(client_net, "create: %s", err.message);
+    tsr_net_conn *c = tsr_net_connect(client_net, tsr_net_listener_address(l), &err);
+    CHECK(c, "connect: %s", err.message);
+    tsr_net_conn *s = tsr_net_accept(l, 2000, &err);
+    CHECK(s, "accept: %s", err.message);
+    for (int k = 0; k < 4; k++) /* credits = 4: the server's window is now full */
+        CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "full", 4, 2000, &err), err);
+    CHECK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "more", 4, 100, &err) == TSR_ETIMEDOUT,
+          "a fifth message got a credit: %s", err.message);
+    t0 = test_now_ms();
+    tsr_net_destroy(client_net);
+    took = test_now_ms() - t0;
+    printf("client destroy with a stalled peer took %llu ms (close_timeout_ms 500)\n",
+           (unsigned long long)took);
+    CHECK(took >= 400 && took < 1500, "destroy took %llu ms", (unsigned long long)took);
+    /* What was sent before the forced close still arrives, in order. */
+    for (int k = 0; k < 4; k++) {
+        tsr_net_msg m;
+        CHECK(tsr_net_recv(s, &m, 2000, &err) == 1 && m.len == 4 && !memcmp(m.data, "full", 4),
+              "message %d lost: %s", k, err.message);
+        tsr_net_msg_release(&m);
+    }
+    t0 = test_now_ms();
+    tsr_net_destroy(server_net); /* listener and connections never closed */
+    printf("server destroy took %llu ms\n", (unsigned long long)(test_now_ms() - t0));
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    static const struct {
+        const char *name;
+        int (*run)(void);
+    } tests[] = {
+        {"tcp_roundtrip_ipv4", test_tcp_roundtrip_ipv4},
+        {"tcp_roundtrip_ipv6", test_tcp_roundtrip_ipv6},
+        {"unix_roundtrip", test_unix_roundtrip},
+        {"inproc_roundtrip", test_inproc_roundtrip},
+        {"large_message_rejected", test_large_message_rejected},
+        {"version_mismatch", test_version_mismatch},
+        {"bad_token", test_bad_token},
+        {"port_in_use", test_port_in_use},
+        {"connect_refused", test_connect_refused},
+        {"handshake_timeout", test_handshake_timeout},
+        {"idle_timeout", test_idle_timeout},
+        {"many_clients", test_many_clients},
+        {"destroy_open_connections", test_destroy_open_connections},
+    };
+    setvbuf(stdout, NULL, _IOLBF, 0);
+    for (size_t i = 0; argc == 2 && i < sizeof tests / sizeof tests[0]; i++)
+        if (!strcmp(argv[1], tests[i].name))
+            return tests[i].run();
+    fprintf(stderr, "usage: net_test TEST\n");
+    return 2;
+}

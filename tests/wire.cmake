@@ -1,0 +1,43 @@
+# Wire format tests (engineer H2): one runner, one ctest per behaviour.
+add_executable(wire_tests ${CMAKE_CURRENT_SOURCE_DIR}/wire/wire_tests.c ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(wire_tests tessera_generated spu_print spu_loopback)
+target_include_directories(wire_tests PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src
+                                              ${CMAKE_CURRENT_SOURCE_DIR}/wire)
+target_link_libraries(wire_tests PRIVATE tessera tessera_gl)
+
+foreach(t
+    wire_roundtrip_all_commands
+    wire_vertex3f_is_13_bytes
+    wire_extended_opcode_roundtrip
+    wire_commands_exactly_fill_a_buffer
+    wire_large_command_gets_its_own_buffer
+    wire_begin_end_split_across_buffers
+    wire_client_arrays_draw_arrays_rebuild
+    wire_client_arrays_draw_elements_rebuild
+    wire_shader_source_roundtrip
+    wire_pixel_store_shapes_image_payloads
+    wire_unpack_rejects_unknown_opcode
+    wire_unpack_rejects_truncated_command
+    wire_unpack_rejects_length_beyond_buffer
+    wire_unpack_rejects_count_overflow
+    wire_unpack_rejects_negative_size
+    wire_unpack_rejects_bad_header
+    wire_unpack_survives_mutations
+    wire_print_spu_traces_calls)
+  add_test(NAME ${t} COMMAND wire_tests ${t} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+endforeach()
+
+# Seed corpus for the unpacker fuzzer (tests/fuzz): real buffers, each
+# checked to decode. `wire_make_seeds DIR` writes them anywhere.
+add_executable(wire_make_seeds ${CMAKE_CURRENT_SOURCE_DIR}/wire/make_seeds.c ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(wire_make_seeds tessera_generated)
+target_include_directories(wire_make_seeds PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
+target_link_libraries(wire_make_seeds PRIVATE tessera)
+add_test(NAME wire_seed_corpus_decodes COMMAND wire_make_seeds ${CMAKE_CURRENT_BINARY_DIR}/wire_seeds)
+
+# Pixel-store extents against real GL (links OSMesa, not libtessera_gl).
+add_executable(wire_pixel_osmesa ${CMAKE_CURRENT_SOURCE_DIR}/wire/pixel_osmesa.c)
+target_include_directories(wire_pixel_osmesa PRIVATE ${CMAKE_SOURCE_DIR}/core)
+target_link_libraries(wire_pixel_osmesa PRIVATE tessera PkgConfig::OSMESA)
+add_test(NAME wire_pixel_extents_match_osmesa COMMAND wire_pixel_osmesa)
+add_test(NAME wire_glprocs_resolve_in_osmesa COMMAND wire_pixel_osmesa glprocs)
