@@ -18,5 +18,6 @@ int cmd_imgdiff(int argc, char **argv);
 int cmd_spus(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_dot(int argc, char **argv);
+int cmd_node(int argc, char **argv);
 
 #endif

@@ -374,6 +374,15 @@ static tsr_client_array *array_of(tsr_packer *p, GLenum array)
     }
 }
 
+int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
+{
+    const tsr_client_array *a = array_of(p, cap);
+    if (!a && cap != GL_TEXTURE_COORD_ARRAY)
+        return 0;
+    *out = a && a->enabled ? GL_TRUE : GL_FALSE;
+    return 1;
+}
+
 void tsr_packer_local_EnableClientState(tsr_packer *p, GLenum array)
 {
     tsr_client_array *a = array_of(p, array);
@@ -654,6 +663,38 @@ static void write_arrays(const tsr_packer *p, uint8_t *out, const draw_array *v,
     }
 }
 
+/* Feeds the positions of the vertex array, elements [lo, hi], into the
+ * bounding box (a superset for DrawElements); arrays in buffer objects
+ * make it infinite (their data never passes through the packer). */
+static void bbox_of_vertex_array(tsr_packer *p, const draw_array *v, int n, uint64_t lo, uint64_t hi)
+{
+    for (int i = 0; i < n; i++) {
+        if (v[i].kind != TSR_WIRE_ARRAY_VERTEX)
+            continue;
+        const tsr_client_array *a = v[i].a;
+        if (a->buffer || (a->type != GL_FLOAT && a->type != GL_DOUBLE && a->type != GL_INT && a->type != GL_SHORT)) {
+            tsr_packer_bbox_infinite(p);
+            return;
+        }
+        uint64_t stride = a->stride ? (uint64_t)a->stride : v[i].elem;
+        const uint8_t *base = (const uint8_t *)a->pointer;
+        for (uint64_t k = lo; k <= hi; k++) {
+            const uint8_t *e = base + k * stride;
+            float c[4] = {0, 0, 0, 1};
+            for (int j = 0; j < a->size && j < 4; j++) {
+                switch (a->type) {
+                case GL_FLOAT: { float f; memcpy(&f, e + 4 * j, 4); c[j] = f; break; }
+                case GL_DOUBLE: { double d; memcpy(&d, e + 8 * j, 8); c[j] = (float)d; break; }
+                case GL_INT: { GLint x; memcpy(&x, e + 4 * j, 4); c[j] = (float)x; break; }
+                default: { GLshort x; memcpy(&x, e + 2 * j, 2); c[j] = (float)x; break; }
+                }
+            }
+            tsr_packer_bbox4(p, c[0], c[1], c[2], c[3]);
+        }
+        return;
+    }
+}
+
 void tsr_packer_custom_DrawArrays(tsr_packer *p, GLenum mode, GLint first, GLsizei count)
 {
     if (first < 0 || count < 0) {
@@ -678,6 +719,7 @@ void tsr_packer_custom_DrawArrays(tsr_packer *p, GLenum mode, GLint first, GLsiz
     tsr_wire_put_u32(d + 12, 0);
     tsr_wire_put_u64(d + 16, asize);
     write_arrays(p, d + 24, v, n, lo, hi);
+    bbox_of_vertex_array(p, v, n, lo, hi);
 }
 
 void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices)
@@ -735,6 +777,7 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
     uint64_t q = 32 + tsr_wire_align8(ilen);
     tsr_wire_put_u64(d + q, asize);
     write_arrays(p, d + q + 8, v, n, lo, hi);
+    bbox_of_vertex_array(p, v, n, lo, hi);
 }
 
 static uint64_t source_length(const GLchar *s, const GLint *length, GLsizei i)

@@ -105,8 +105,13 @@ TSR_API size_t tsr_packer_pending(const tsr_packer *p);
 TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
 /* Object-space box of the vertex positions packed since the last flush (or
  * reset); returns 0 when no vertex was packed. The box is reset after each
- * flush, once the sink returned (so a sink may read it). A homogeneous
- * vertex with w <= 0 makes the box infinite. */
+ * flush, once the sink returned (so a sink may read it). Fed by the spec's
+ * `vertex: position` commands and by DrawArrays/DrawElements with client
+ * vertex arrays (all elements of the index range sent). A homogeneous
+ * vertex with w <= 0, or vertex data the packer never sees (arrays or
+ * indices in buffer objects), makes the box infinite. Other geometry
+ * (Rect*, Eval*, CallList*, Bitmap, ...) does not touch it: a box-keeping
+ * SPU treats those as unknown itself. NaN coordinates are ignored. */
 TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
 TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
 /* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
@@ -119,7 +124,8 @@ TSR_API void tsr_packer_clear_error(tsr_packer *p);
 /* Slow path of tsr_packer_cmd (fixed-size commands, at most
  * TSR_PACK_MAX_FIXED bytes): flushes and places the command. Never NULL:
  * if memory runs out the command goes to a discard area (error recorded). */
-TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
+TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
+    __attribute__((cold));
 /* Reserves `size` data bytes (aligned) for opcode and records the opcode;
  * the caller fills the bytes. Handles extended opcodes and any size. */
 TSR_API uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
@@ -193,6 +199,9 @@ static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, fl
 TSR_API void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value);
 TSR_API void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer);
 TSR_API void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers);
+/* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
+ * mirror (returns 1); other caps go to the receiver (returns 0). */
+TSR_API int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
 
 #ifdef __cplusplus
 }

@@ -30,6 +30,24 @@ static const struct {
     {"SwapBuffersTSR", "tsr_packer_flush(tsr_p);", NULL},
 };
 
+/* Queries the packer answers itself because the receiver never sees the
+ * state they ask about (client arrays are `local`): code run before
+ * packing that may return early. */
+static const struct {
+    const char *name;
+    const char *pre;
+} pack_answers[] = {
+    {"IsEnabled", "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
+};
+
+static const char *pack_answer(const spec_command *c)
+{
+    for (size_t i = 0; i < sizeof pack_answers / sizeof pack_answers[0]; i++)
+        if (!strcmp(pack_answers[i].name, c->name))
+            return pack_answers[i].pre;
+    return NULL;
+}
+
 static const char *pack_hook(const spec_command *c)
 {
     for (size_t i = 0; i < sizeof hooks / sizeof hooks[0]; i++)
@@ -256,6 +274,8 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
     fprintf(f, "\n{\n");
     if (uses_invalid)
         fprintf(f, "    const char *tsr_why = NULL;\n");
+    if (pack_answer(c))
+        fprintf(f, "    %s\n", pack_answer(c));
     if (!gc->is_void)
         fprintf(f, "    %s tsr_ret = (%s)0;\n", c->ret, c->ret);
     declare_layouts(f, gc, 1);

@@ -83,6 +83,12 @@ void net_conn_maybe_free(tsr_net_conn *c) {
     free(c);
 }
 
+void net_conn_signal(tsr_net_conn *c) {
+    pthread_cond_broadcast(&c->cond);
+    if (c->net->any_waiters)
+        pthread_cond_broadcast(&c->net->any_cond);
+}
+
 void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...) {
     if (c->state == NET_FAILED)
         return;
@@ -92,7 +98,7 @@ void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(c->error.message, sizeof c->error.message, fmt, ap);
     va_end(ap);
-    pthread_cond_broadcast(&c->cond);
+    net_conn_signal(c);
     tsr_log(TSR_LOG_INFO, "%s", c->error.message);
 }
 
@@ -459,16 +465,13 @@ int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len,
     return rc;
 }
 
-int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
-    memset(msg, 0, sizeof *msg);
-    tsr_net *net = c->net;
-    struct timespec ts;
-    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
-    pthread_mutex_lock(&net->lock);
-    int rc;
-    while (!c->inbox_head && c->state == NET_OPEN && !c->close_requested)
-        if (wait_until(&c->cond, &net->lock, dl))
-            break;
+/* (L) Whether tsr_net_recv on c would return now. */
+static bool recv_ready(const tsr_net_conn *c) {
+    return c->inbox_head || c->state != NET_OPEN || c->close_requested;
+}
+
+/* (L) What tsr_net_recv returns once recv_ready(c) (or on time-out). */
+static int recv_take(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
     net_msg *m = c->inbox_head;
     if (m) {
         c->inbox_head = m->next;
@@ -481,14 +484,64 @@ int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *e
         msg->data = m->data;
         msg->len = m->len;
         msg->internal = m;
-        rc = 1;
-    } else if (c->state == NET_ENDED) {
-        rc = 0;
-    } else if (c->state != NET_OPEN || c->close_requested) {
-        rc = conn_unusable(c, "receive", err);
+        return 1;
+    }
+    if (c->state == NET_ENDED)
+        return 0;
+    if (c->state != NET_OPEN || c->close_requested)
+        return conn_unusable(c, "receive", err);
+    return tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from peer '%s' at %s within %d ms",
+                         c->peer_name, c->address, timeout_ms);
+}
+
+int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
+    memset(msg, 0, sizeof *msg);
+    tsr_net *net = c->net;
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&net->lock);
+    while (!recv_ready(c))
+        if (wait_until(&c->cond, &net->lock, dl))
+            break;
+    int rc = recv_take(c, msg, timeout_ms, err);
+    pthread_mutex_unlock(&net->lock);
+    return rc;
+}
+
+int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, tsr_net_msg *msg,
+                     int timeout_ms, tsr_error *err) {
+    memset(msg, 0, sizeof *msg);
+    if (count == 0 || !which)
+        return tsr_error_set(err, TSR_EINVAL, "net: tsr_net_recv_any needs connections");
+    tsr_net *net = conns[0]->net;
+    for (size_t i = 1; i < count; i++)
+        if (conns[i]->net != net)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "net: tsr_net_recv_any: %s belongs to another tsr_net",
+                                 conns[i]->address);
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    size_t start = *which < count ? *which + 1 : 0; /* round-robin after the last one */
+    pthread_mutex_lock(&net->lock);
+    net->any_waiters++;
+    size_t found = count;
+    for (;;) {
+        for (size_t k = 0; k < count && found == count; k++) {
+            size_t i = (start + k) % count;
+            if (recv_ready(conns[i]))
+                found = i;
+        }
+        if (found < count || wait_until(&net->any_cond, &net->lock, dl))
+            break;
+    }
+    net->any_waiters--;
+    int rc;
+    if (found < count) {
+        *which = found;
+        rc = recv_take(conns[found], msg, timeout_ms, err);
     } else {
-        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from peer '%s' at %s within %d ms",
-                           c->peer_name, c->address, timeout_ms);
+        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from %zu connections within %d ms",
+                           count, timeout_ms);
     }
     pthread_mutex_unlock(&net->lock);
     return rc;
@@ -543,7 +596,7 @@ void tsr_net_conn_close(tsr_net_conn *c) {
         }
         c->inbox_tail = NULL;
         c->inbox_count = 0;
-        pthread_cond_broadcast(&c->cond);
+        net_conn_signal(c);
         net_mark_dirty(c);
         net_conn_maybe_free(c);
     }

@@ -32,6 +32,7 @@ static void open_side(tsr_net_conn *c, tsr_net_conn *peer) {
     c->app_ref = true;
     c->inproc_peer = peer;
     c->send_credits = net->config.credits;
+    c->peer_window = net->config.credits;
     c->peer_max_message = net->config.max_message_bytes;
     snprintf(c->peer_name, sizeof c->peer_name, "%s", net->node_name);
 }
@@ -91,14 +92,14 @@ void net_inproc_deliver(tsr_net_conn *from, net_msg *m) {
     to->inbox_count++;
     to->stats.messages_received++;
     to->stats.bytes_received += m->len;
-    pthread_cond_broadcast(&to->cond);
+    net_conn_signal(to);
 }
 
 void net_inproc_return_credits(tsr_net_conn *c) {
     tsr_net_conn *peer = c->inproc_peer;
     if (peer) {
         peer->send_credits += c->credits_to_return;
-        pthread_cond_broadcast(&peer->cond);
+        net_conn_signal(peer);
     }
     c->credits_to_return = 0;
 }
@@ -109,7 +110,7 @@ void net_inproc_close(tsr_net_conn *c) {
         peer->inproc_peer = NULL;
         if (peer->state == NET_OPEN)
             peer->state = NET_ENDED;
-        pthread_cond_broadcast(&peer->cond);
+        net_conn_signal(peer);
     }
     c->inproc_peer = NULL;
     c->close_requested = true;
@@ -121,6 +122,6 @@ void net_inproc_close(tsr_net_conn *c) {
     }
     c->inbox_tail = NULL;
     c->inbox_count = 0;
-    pthread_cond_broadcast(&c->cond);
+    net_conn_signal(c);
     net_conn_maybe_free(c);
 }

@@ -166,6 +166,7 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err) {
 #undef DEFAULT_IF_ZERO
     pthread_mutex_init(&net->lock, NULL);
     init_monotonic_cond(&net->op_cond);
+    init_monotonic_cond(&net->any_cond);
     int rc = uv_loop_init(&net->loop);
     if (rc == 0) {
         rc = uv_async_init(&net->loop, &net->wakeup, on_wakeup);
@@ -175,6 +176,7 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err) {
     if (rc) {
         tsr_error_set(err, TSR_EIO, "net: cannot start the I/O loop: %s", uv_strerror(rc));
         pthread_cond_destroy(&net->op_cond);
+        pthread_cond_destroy(&net->any_cond);
         pthread_mutex_destroy(&net->lock);
         free(net);
         return NULL;
@@ -195,6 +197,7 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err) {
         uv_run(&net->loop, UV_RUN_DEFAULT);
         uv_loop_close(&net->loop);
         pthread_cond_destroy(&net->op_cond);
+        pthread_cond_destroy(&net->any_cond);
         pthread_mutex_destroy(&net->lock);
         free(net);
         return NULL;
@@ -230,6 +233,7 @@ void tsr_net_destroy(tsr_net *net) {
         net_listener_maybe_free(l);
     }
     pthread_cond_destroy(&net->op_cond);
+    pthread_cond_destroy(&net->any_cond);
     pthread_mutex_destroy(&net->lock);
     free(net);
 }

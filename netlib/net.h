@@ -48,11 +48,17 @@
  * sender with none blocks in tsr_net_send(). A credit returns (CREDIT
  * message, u32 count, batched) when the receiving APPLICATION releases a
  * message with tsr_net_msg_release(), not when the socket reads it. A peer
- * that sends beyond its credits fails its connection. The I/O thread stops
- * reading a socket (uv_read_stop) while the application holds `credits`
- * unreleased messages. So per connection and direction, memory is bounded
- * by credits x max message size on each side, plus a 64 KiB read buffer.
- * Messages are delivered in order, exactly once, per connection.
+ * that sends beyond its credits fails its connection when that message's
+ * header arrives, before anything is allocated for it. The I/O thread
+ * stops reading a socket (uv_read_stop) while the application holds
+ * `credits` unreceived or unreleased messages, and reads again when one is
+ * released — except while an application thread of this side waits for
+ * send credits on that connection: then it keeps reading, because the
+ * peer's CREDIT messages queue behind its data (two peers that both send
+ * would otherwise deadlock). So per connection and direction, memory is
+ * bounded by credits x max_message_bytes on each side (the sender's queue
+ * and the receiver's window), plus a 64 KiB read buffer. Messages are
+ * delivered in order, exactly once, per connection.
  *
  * CLOSING. tsr_net_conn_close() hands the connection to the I/O thread,
  * which writes what was already sent, then BYE (empty), shuts down its
@@ -137,8 +143,11 @@ TSR_API unsigned tsr_net_listener_refusals(tsr_net_listener *listener, tsr_error
 /* Stops listening; connections not yet accepted are closed. */
 TSR_API void tsr_net_listener_close(tsr_net_listener *listener);
 
-/* Connects and handshakes, waiting at most connect + handshake time-outs.
- * Errors name the address and, when the peer refused, the peer's reason. */
+/* Connects and handshakes, waiting at most connect + handshake time-outs
+ * per address. A host name is resolved by the calling thread (bounded by
+ * the system resolver's time-outs) and every address it resolves to is
+ * tried until one answers. Errors name the address and, when the peer
+ * refused, the peer's reason. */
 TSR_API tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err);
 
 /* Sends a copy of `data`. Blocks while the peer grants no credit.
@@ -149,6 +158,8 @@ TSR_API int tsr_net_send(tsr_net_conn *conn, unsigned kind, const void *data, ui
                          int timeout_ms, tsr_error *err);
 /* Like tsr_net_send, but takes ownership of `data` instead of copying: it
  * calls release(data, ctx) once written or dropped (release NULL = free()).
+ * release runs on the I/O thread or inside a netlib call, possibly with
+ * netlib's lock held: it must not call netlib (return the buffer to a pool).
  * On an error return, `data` was not taken and is still the caller's. */
 TSR_API int tsr_net_send_owned(tsr_net_conn *conn, unsigned kind, void *data, uint64_t len,
                                void (*release)(void *data, void *ctx), void *ctx,
@@ -157,6 +168,16 @@ TSR_API int tsr_net_send_owned(tsr_net_conn *conn, unsigned kind, void *data, ui
  * closed cleanly and every message was received, TSR_ETIMEDOUT, or the
  * connection's error. Release every message (this returns its credit). */
 TSR_API int tsr_net_recv(tsr_net_conn *conn, tsr_net_msg *msg, int timeout_ms, tsr_error *err);
+/* Receives from whichever of `count` connections (all of one tsr_net) has
+ * something first. Scanning starts after *which (the previous result; set
+ * it to count the first time), so a busy connection cannot starve the
+ * others: connections with messages waiting are served round-robin. Sets
+ * *which to the connection the result is about and returns what
+ * tsr_net_recv would for it — 1 (message), 0 (that peer closed cleanly) or
+ * its error — so the caller can drop ended connections from its array; or
+ * TSR_ETIMEDOUT (*which unchanged) when none had anything in time. */
+TSR_API int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which,
+                             tsr_net_msg *msg, int timeout_ms, tsr_error *err);
 TSR_API void tsr_net_msg_release(tsr_net_msg *msg);
 
 /* The peer's node name (from its handshake) and address. */

@@ -80,6 +80,7 @@ struct tsr_net_conn {
 
     /* send side (L) */
     uint32_t send_credits;
+    uint32_t peer_window;               /* credits the peer granted in its handshake */
     uint64_t peer_max_message;
     net_msg *outbox_head, *outbox_tail; /* accepted, not yet given to libuv */
     uint32_t writes_in_flight;          /* given to libuv, not completed */
@@ -114,7 +115,7 @@ struct tsr_net_conn {
     bool handles_closing, reading, shutting_down, write_side_shut, saw_eof, peer_said_bye;
     uv_connect_t connect_req;
     uv_shutdown_t shutdown_req;
-    uint64_t last_heard_ms, last_written_ms, close_started_ms;
+    uint64_t last_heard_ms, last_written_ms;
     uint8_t hdr[TSR_NET_HEADER_BYTES];
     size_t hdr_fill;
     net_msg *partial; /* message whose payload is being read */
@@ -162,6 +163,8 @@ struct tsr_net {
     char token[TSR_NET_TOKEN_MAX + 1];
     pthread_mutex_t lock;
     pthread_cond_t op_cond; /* (L) op completion */
+    pthread_cond_t any_cond; /* (L) some connection changed (tsr_net_recv_any) */
+    unsigned any_waiters;    /* (L) threads in tsr_net_recv_any */
     uv_loop_t loop;
     uv_async_t wakeup;
     pthread_t thread;
@@ -237,6 +240,7 @@ int net_deadline(struct timespec *ts, int timeout_ms); /* 0 = no deadline */
 tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
                            const char *address);
 void net_conn_maybe_free(tsr_net_conn *conn); /* (L) */
+void net_conn_signal(tsr_net_conn *conn);     /* (L) wake its waiters */
 void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4))); /* (L) */
 void net_msg_free(net_msg *m);

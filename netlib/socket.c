@@ -108,7 +108,7 @@ static void on_handle_closed(uv_handle_t *h) {
             c->listener->pending--; /* never reached the ready queue */
             c->listener = NULL;
         }
-        pthread_cond_broadcast(&c->cond);
+        net_conn_signal(c);
         net_conn_maybe_free(c);
         net_io_maybe_finish(net);
     }
@@ -122,7 +122,7 @@ static void close_handles(tsr_net_conn *c) {
     c->reading = false;
     if (c->state == NET_OPEN) /* nothing more can come or go */
         c->state = NET_ENDED;
-    pthread_cond_broadcast(&c->cond);
+    net_conn_signal(c);
     uv_close(&c->h.handle, on_handle_closed);
     uv_close((uv_handle_t *)&c->timer, on_handle_closed);
 }
@@ -155,7 +155,6 @@ static void begin_shutdown(tsr_net_conn *c) {
     if (c->handles_closing)
         return;
     c->shutting_down = true;
-    c->close_started_ms = net_now_ms();
     c->shutdown_req.data = c;
     if (uv_shutdown(&c->shutdown_req, &c->h.stream, on_shutdown)) {
         close_handles(c);
@@ -197,7 +196,10 @@ static void on_timer(uv_timer_t *t) {
                           "considered dead",
                           c->peer_name, c->address, net->config.idle_timeout_ms);
             close_handles(c);
-        } else if (now - c->last_written_ms >= net->config.idle_timeout_ms / 3) {
+        } else if (now - c->last_written_ms >= net->config.idle_timeout_ms / 3 &&
+                   c->writes_in_flight == 0) {
+            /* (With writes still pending the peer is not reading; more
+             * pings would only pile up.) */
             write_control(c, NET_PING, NULL, 0);
         }
     }
@@ -281,10 +283,11 @@ static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
 static void handshake_done(tsr_net_conn *c, const net_hello *h) {
     snprintf(c->peer_name, sizeof c->peer_name, "%s", h->name);
     c->send_credits = h->credits;
+    c->peer_window = h->credits;
     c->peer_max_message = h->max_message_bytes;
     c->state = NET_OPEN;
     arm_timer(c);
-    pthread_cond_broadcast(&c->cond);
+    net_conn_signal(c);
 }
 
 static void deliver_hello(tsr_net_conn *c, net_msg *m) {
@@ -364,14 +367,15 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
     case NET_CREDIT: {
         uint32_t n = net_get_u32(m->data);
         net_msg_free(m);
-        if ((uint64_t)c->send_credits + n > UINT32_MAX) {
-            net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s returned impossible credits",
-                          c->peer_name, c->address);
+        if ((uint64_t)c->send_credits + n > c->peer_window) {
+            net_conn_fail(c, TSR_EPROTO,
+                          "net: peer '%s' at %s returned more credits than it granted (%u)",
+                          c->peer_name, c->address, c->peer_window);
             close_handles(c);
             return;
         }
         c->send_credits += n;
-        pthread_cond_broadcast(&c->cond);
+        net_conn_signal(c);
         update_reading(c);
         return;
     }
@@ -398,12 +402,13 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
     c->inbox_count++;
     c->stats.messages_received++;
     c->stats.bytes_received += m->len;
-    pthread_cond_broadcast(&c->cond);
+    net_conn_signal(c);
     update_reading(c);
 }
 
-/* Validates a complete header; returns the message to fill, or NULL after
- * failing the connection (or for a zero-length message, delivered here). */
+/* Validates a complete header, then either starts reading its payload into
+ * a new message, delivers a zero-length message at once, or fails the
+ * connection (naming the peer) without allocating anything. */
 static void handle_header(tsr_net_conn *c) {
     tsr_net *net = c->net;
     net_header h;
@@ -412,8 +417,8 @@ static void handle_header(tsr_net_conn *c) {
     const char *who = c->peer_name;
     if (h.magic != TSR_NET_MAGIC) {
         net_conn_fail(c, TSR_EPROTO,
-                      "net: %s is not speaking the tessera protocol (magic 0x%08x)", c->address,
-                      h.magic);
+                      "net: peer '%s' at %s is not speaking the tessera protocol (magic 0x%08x)",
+                      who, c->address, h.magic);
         if (c->is_server)
             tsr_log(TSR_LOG_WARN, "%s", c->error.message);
         close_handles(c);
@@ -429,8 +434,9 @@ static void handle_header(tsr_net_conn *c) {
         c->hello_version = h.version;
     if (h.version != net_version(net) && !refusal && !other_version_hello) {
         net_conn_fail(c, TSR_EPROTO,
-                      "net: %s speaks protocol version %u, this node speaks version %u",
-                      c->address, h.version, net_version(net));
+                      "net: peer '%s' at %s speaks protocol version %u, this node speaks "
+                      "version %u",
+                      who, c->address, h.version, net_version(net));
         close_handles(c);
         return;
     }
@@ -450,7 +456,8 @@ static void handle_header(tsr_net_conn *c) {
     case NET_PING:
     case NET_BYE: expected = c->state == NET_OPEN; limit = 0; break;
     default:
-        expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN;
+        expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN &&
+                   !c->peer_said_bye;
         limit = net->config.max_message_bytes;
         break;
     }
@@ -461,7 +468,13 @@ static void handle_header(tsr_net_conn *c) {
         close_handles(c);
         return;
     }
-    if (h.len > limit || (h.type == NET_CREDIT && h.len != 4)) {
+    if (h.type == NET_CREDIT && h.len != 4) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a CREDIT of %llu bytes (not 4)",
+                      who, c->address, (unsigned long long)h.len);
+        close_handles(c);
+        return;
+    }
+    if (h.len > limit) {
         net_conn_fail(c, TSR_EPROTO,
                       "net: peer '%s' at %s announced a %llu-byte message (type 0x%02x), over "
                       "this node's limit of %llu bytes%s",
@@ -554,7 +567,7 @@ static void on_peer_eof(tsr_net_conn *c) {
     }
     if (c->state == NET_OPEN) {
         c->state = NET_ENDED; /* queued messages stay readable */
-        pthread_cond_broadcast(&c->cond);
+        net_conn_signal(c);
     }
     if (c->write_side_shut || c->state == NET_FAILED)
         close_handles(c);

@@ -397,7 +397,8 @@ static void scenario_extended(const tsr_dispatch *gl)
 
 static void scenario_pixels_shaders(const tsr_dispatch *gl)
 {
-    GLubyte stipple[128], bitmap[2 * 16], pixels[4 * 4 * 4];
+    /* 16x16 bitmap rows are 2 bytes padded to the unpack alignment (4): GL reads 62 */
+    GLubyte stipple[128], bitmap[4 * 16], pixels[4 * 4 * 4];
     for (unsigned i = 0; i < sizeof stipple; i++)
         stipple[i] = (GLubyte)(i & 1 ? 0xaa : 0x55);
     for (unsigned i = 0; i < sizeof bitmap; i++)

@@ -10,6 +10,8 @@
 
 #define SKIP 77
 
+static void check_still_works(tsr_net_conn *a, tsr_net_conn *b, const char *when);
+
 static tsr_net *make_net(const char *name, const char *token, uint32_t credits) {
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
@@ -192,6 +194,72 @@ static int test_unix_roundtrip(void) {
 
 static int test_inproc_roundtrip(void) { return roundtrip("inproc:echo", 1); }
 
+/* "localhost" may resolve to ::1 first; a loopback IPv4 listener must
+ * still be reached (every resolved address is tried). */
+static int test_connect_by_host_name(void) {
+    tsr_net *net = make_net("named-host", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(net, "tcp://:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    CHECK(!strncmp(tsr_net_listener_address(l), "tcp://127.0.0.1:", 16),
+          "default listener bound %s, not loopback", tsr_net_listener_address(l));
+    char address[64];
+    snprintf(address, sizeof address, "tcp://localhost:%u",
+             address_port(tsr_net_listener_address(l)));
+    tsr_net_conn *c = tsr_net_connect(net, address, &err);
+    CHECK(c, "connect %s: %s", address, err.message);
+    tsr_net_conn *s = tsr_net_accept(l, 2000, &err);
+    CHECK(s, "accept: %s", err.message);
+    check_still_works(c, s, address);
+    printf("%s reached %s\n", address, tsr_net_listener_address(l));
+    tsr_net_conn_close(c);
+    tsr_net_conn_close(s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(net);
+    return 0;
+}
+
+/* The in-process transport keeps the credit rules of the sockets. */
+static int test_inproc_credits(void) {
+    tsr_net *net = make_net("inproc-node", NULL, 3);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(net, "inproc:window", &err);
+    CHECK(l, "listen: %s", err.message);
+    tsr_net_conn *c = tsr_net_connect(net, "inproc:window", &err);
+    CHECK(c, "connect: %s", err.message);
+    tsr_net_conn *s = tsr_net_accept(l, 1000, &err);
+    CHECK(s, "accept: %s", err.message);
+    for (int k = 0; k < 3; k++)
+        CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, &k, sizeof k, 1000, &err), err);
+    uint64_t t0 = test_now_ms();
+    int rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "x", 1, 200, &err);
+    CHECK(rc == TSR_ETIMEDOUT && test_now_ms() - t0 >= 150,
+          "a 4th message on 3 credits: %s after %llu ms", tsr_error_name(rc),
+          (unsigned long long)(test_now_ms() - t0));
+    tsr_net_msg m;
+    CHECK(tsr_net_recv(s, &m, 1000, &err) == 1, "recv: %s", err.message);
+    /* Received but not released: the credit is still out. */
+    CHECK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "x", 1, 100, &err) == TSR_ETIMEDOUT,
+          "a credit came back before the message was released");
+    tsr_net_msg_release(&m);
+    CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "x", 1, 1000, &err), err);
+    CHECK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, (void *)&err, 1ull << 40, 1000, &err) ==
+              TSR_EINVAL,
+          "oversize inproc message accepted");
+    tsr_net_conn_close(c);
+    int got, n = 0;
+    while ((got = tsr_net_recv(s, &m, 1000, &err)) == 1) {
+        n++;
+        tsr_net_msg_release(&m);
+    }
+    CHECK(got == 0 && n == 3, "after close: %d messages then %d (%s)", n, got, err.message);
+    printf("inproc: 3 credits, 4th send blocked until a release; clean end after 3 more\n");
+    tsr_net_conn_close(s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(net);
+    return 0;
+}
+
 /* ---- limits ------------------------------------------------------------- */
 
 static int test_large_message_rejected(void) {
@@ -260,6 +328,81 @@ static int test_large_message_rejected(void) {
     tsr_net_conn_close(s);
     tsr_net_listener_close(l);
     tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+/* Hand-made bad frames: each fails only its own connection, with a line
+ * naming the problem, and the server goes on serving a good client. */
+static int test_malformed_frames(void) {
+    tsr_net *server_net = make_net("strict-server", NULL, 2);
+    tsr_net *good_net = make_net("good-client", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    unsigned port = address_port(tsr_net_listener_address(l));
+    tsr_net_conn *good = tsr_net_connect(good_net, tsr_net_listener_address(l), &err);
+    CHECK(good, "connect: %s", err.message);
+    tsr_net_conn *good_s = tsr_net_accept(l, 2000, &err);
+    CHECK(good_s, "accept: %s", err.message);
+
+    static const struct {
+        const char *what, *expect;
+        unsigned version, type, flags;
+        uint64_t len;
+        int count; /* how many such frames */
+    } cases[] = {
+        {"bad magic", "not speaking the tessera protocol", 1, 0x10, 0, 0, 1},
+        {"unknown flags", "unknown flags 0x80", 1, 0x10, 0x80, 0, 1},
+        {"reserved type", "type 0x09", 1, 0x09, 0, 0, 1},
+        {"second HELLO", "type 0x01", 1, 0x01, 0, 16, 1},
+        {"CREDIT of 3 bytes", "CREDIT of 3 bytes", 1, 0x04, 0, 3, 1},
+        {"credits returned that were never granted", "more credits than it granted", 1, 0x04,
+         0, 4, 1},
+        {"wrong version after the handshake", "protocol version 9", 9, 0x10, 0, 0, 1},
+        {"three messages on two credits", "more messages than the 2 credits", 1, 0x10, 0, 1, 3},
+        {"end of stream inside a message", "inside a message", 1, 0x10, 0, 100, 1},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int fd = raw_connect_loopback(port);
+        CHECK(raw_handshake(fd, "raw-peer", NULL, 4) == 0x02, "%s: not welcomed", cases[i].what);
+        tsr_net_conn *c = tsr_net_accept(l, 2000, &err);
+        CHECK(c, "%s: accept: %s", cases[i].what, err.message);
+        /* All frames in one write, so the server parses them in one read
+         * (a later read could legitimately follow a returned credit). */
+        uint8_t frames[4 * 32] = {0};
+        size_t n = 0;
+        for (int k = 0; k < cases[i].count; k++) {
+            uint8_t *frame = frames + n;
+            raw_header(frame, cases[i].version, cases[i].type, cases[i].len);
+            if (i == 0)
+                frame[0] ^= 0xff;
+            frame[7] = (uint8_t)cases[i].flags;
+            if (cases[i].type == 0x04 && cases[i].len == 4)
+                put_le(frame + 16, 1000, 4); /* 1000 credits back, 4 were granted */
+            n += 16 + (cases[i].len <= 16 ? (size_t)cases[i].len : 10);
+        }
+        raw_write_all(fd, frames, n);
+        if (cases[i].len == 100)
+            shutdown(fd, SHUT_WR);
+        /* Messages that were valid are still delivered; then the error. */
+        tsr_net_msg m;
+        int got;
+        while ((got = tsr_net_recv(c, &m, 2000, &err)) == 1)
+            tsr_net_msg_release(&m);
+        printf("%s: %s\n", cases[i].what, err.message);
+        CHECK(got < 0 && got != TSR_ETIMEDOUT && contains(err.message, cases[i].expect) &&
+                  !strchr(err.message, '\n'),
+              "%s: got %d, error '%s' lacks '%s'", cases[i].what, got, err.message,
+              cases[i].expect);
+        tsr_net_conn_close(c);
+        close(fd);
+        check_still_works(good, good_s, cases[i].what);
+    }
+    tsr_net_conn_close(good);
+    tsr_net_conn_close(good_s);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(good_net);
     tsr_net_destroy(server_net);
     return 0;
 }
@@ -508,6 +651,57 @@ static int test_handshake_timeout(void) {
     return 0;
 }
 
+/* A listener whose accept queue is full drops new SYNs, so the socket
+ * connect itself never completes: the connect time-out must end it. */
+static int test_connect_timeout(void) {
+    int lfd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in sa = {.sin_family = AF_INET};
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 0) == 0, "listen: %s",
+          strerror(errno));
+    socklen_t len = sizeof sa;
+    getsockname(lfd, (struct sockaddr *)&sa, &len);
+    /* Fill the accept queue (never accepted) until a connect stalls. */
+    int fillers[8], nfill = 0, stalled = 0;
+    while (nfill < 8 && !stalled) {
+        int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+        int rc = connect(fd, (struct sockaddr *)&sa, sizeof sa);
+        struct pollfd pfd = {.fd = fd, .events = POLLOUT};
+        if (rc != 0 && (errno != EINPROGRESS || poll(&pfd, 1, 200) == 0))
+            stalled = 1;
+        fillers[nfill++] = fd;
+    }
+    if (!stalled) {
+        printf("SKIP: this kernel completed every connect to a full accept queue\n");
+        for (int i = 0; i < nfill; i++)
+            close(fillers[i]);
+        close(lfd);
+        return SKIP;
+    }
+    char address[64];
+    snprintf(address, sizeof address, "tcp://127.0.0.1:%u", ntohs(sa.sin_port));
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.connect_timeout_ms = 300;
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(&cfg, &err);
+    CHECK(net, "create: %s", err.message);
+    uint64_t t0 = test_now_ms();
+    CHECK(!tsr_net_connect(net, address, &err), "connected through a full accept queue");
+    uint64_t took = test_now_ms() - t0;
+    printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
+    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) &&
+              contains(err.message, "timed out"),
+          "unclear: %s", err.message);
+    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms",
+          (unsigned long long)took);
+    tsr_net_destroy(net);
+    for (int i = 0; i < nfill; i++)
+        close(fillers[i]);
+    close(lfd);
+    return 0;
+}
+
 /* A peer that completes the handshake, then goes silent (no pings). */
 static int test_idle_timeout(void) {
     tsr_net_config cfg;
@@ -679,6 +873,117 @@ static int test_many_clients(void) {
     return 0;
 }
 
+/* One server thread multiplexes several clients with tsr_net_recv_any:
+ * while every client has messages waiting they are served strictly in
+ * turn, each client's order is kept, and ended clients are reported. */
+enum { ANY_CLIENTS = 4, ANY_MESSAGES = 40, ANY_CREDITS = 8 };
+
+typedef struct any_client {
+    tsr_net *net;
+    const char *address;
+    unsigned id;
+    int failed;
+} any_client;
+
+static void *any_client_main(void *arg) {
+    any_client *a = arg;
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_connect(a->net, a->address, &err);
+    if (!c) {
+        fprintf(stderr, "client %u: %s\n", a->id, err.message);
+        a->failed = 1;
+        return NULL;
+    }
+    for (unsigned seq = 0; seq < ANY_MESSAGES && !a->failed; seq++) {
+        uint8_t msg[8];
+        put_le(msg, a->id, 4);
+        put_le(msg + 4, seq, 4);
+        if (tsr_net_send(c, TSR_NET_KIND_FIRST_USER, msg, sizeof msg, 5000, &err)) {
+            fprintf(stderr, "client %u: %s\n", a->id, err.message);
+            a->failed = 1;
+        }
+    }
+    tsr_net_conn_close(c);
+    return NULL;
+}
+
+static int test_recv_any_round_robin(void) {
+    tsr_net *server_net = make_net("multiplexing-server", NULL, ANY_CREDITS);
+    tsr_net *client_net = make_net("any-clients", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    any_client clients[ANY_CLIENTS];
+    pthread_t threads[ANY_CLIENTS];
+    tsr_net_conn *conns[ANY_CLIENTS];
+    int client_of[ANY_CLIENTS];
+    for (unsigned i = 0; i < ANY_CLIENTS; i++) {
+        clients[i] = (any_client){client_net, tsr_net_listener_address(l), i, 0};
+        pthread_create(&threads[i], NULL, any_client_main, &clients[i]);
+        conns[i] = tsr_net_accept(l, 5000, &err);
+        CHECK(conns[i], "accept: %s", err.message);
+        client_of[i] = -1;
+    }
+    /* Wait until every client has filled its window of ANY_CREDITS messages. */
+    for (int tries = 0, full = 0; !full; tries++) {
+        CHECK(tries < 500, "clients did not fill their windows within 5 s");
+        full = 1;
+        for (unsigned i = 0; i < ANY_CLIENTS; i++) {
+            tsr_net_stats st;
+            tsr_net_conn_stats(conns[i], &st);
+            full &= st.messages_received >= ANY_CREDITS;
+        }
+        usleep(10000);
+    }
+    unsigned next_seq[ANY_CLIENTS] = {0}, received = 0, ended = 0;
+    size_t count = ANY_CLIENTS, which = count, previous = count;
+    while (count) {
+        tsr_net_msg m;
+        int got = tsr_net_recv_any(conns, count, &which, &m, 5000, &err);
+        CHECK(got >= 0, "recv_any: %s", err.message);
+        if (got == 0) { /* that client ended: drop it */
+            ended++;
+            tsr_net_conn_close(conns[which]);
+            conns[which] = conns[count - 1];
+            client_of[which] = client_of[count - 1];
+            count--;
+            which = count;
+            continue;
+        }
+        unsigned id = (unsigned)get_le(m.data, 4), seq = (unsigned)get_le((uint8_t *)m.data + 4, 4);
+        tsr_net_msg_release(&m);
+        if (client_of[which] < 0)
+            client_of[which] = (int)id;
+        CHECK(client_of[which] == (int)id && id < ANY_CLIENTS && seq == next_seq[id],
+              "connection %zu: client %u message %u, expected client %d message %u", which, id,
+              seq, client_of[which], id < ANY_CLIENTS ? next_seq[id] : 0);
+        next_seq[id]++;
+        /* The first ANY_CLIENTS x ANY_CREDITS messages were all waiting. */
+        if (received > 0 && received < ANY_CLIENTS * ANY_CREDITS)
+            CHECK(which == (previous + 1) % ANY_CLIENTS,
+                  "receive %u served connection %zu after %zu: not round-robin", received, which,
+                  previous);
+        previous = which;
+        received++;
+    }
+    for (unsigned i = 0; i < ANY_CLIENTS; i++) {
+        pthread_join(threads[i], NULL);
+        CHECK(!clients[i].failed, "client %u failed", i);
+        CHECK(next_seq[i] == ANY_MESSAGES, "client %u: %u of %d messages", i, next_seq[i],
+              ANY_MESSAGES);
+    }
+    CHECK(ended == ANY_CLIENTS, "%u of %d ends reported", ended, ANY_CLIENTS);
+    tsr_net_msg m;
+    which = 0;
+    CHECK(tsr_net_recv_any(conns, 0, &which, &m, 0, &err) == TSR_EINVAL, "empty set accepted");
+    printf("%u messages from %d clients, first %d strictly round-robin, %u ends reported\n",
+           received, ANY_CLIENTS, ANY_CLIENTS * ANY_CREDITS, ended);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
 /* ---- shutdown ----------------------------------------------------------------- */
 
 /* tsr_net_destroy with connections and a listener the application never
@@ -761,15 +1066,20 @@ int main(int argc, char **argv) {
         {"tcp_roundtrip_ipv4", test_tcp_roundtrip_ipv4},
         {"tcp_roundtrip_ipv6", test_tcp_roundtrip_ipv6},
         {"unix_roundtrip", test_unix_roundtrip},
+        {"connect_by_host_name", test_connect_by_host_name},
         {"inproc_roundtrip", test_inproc_roundtrip},
+        {"inproc_credits", test_inproc_credits},
         {"large_message_rejected", test_large_message_rejected},
+        {"malformed_frames", test_malformed_frames},
         {"version_mismatch", test_version_mismatch},
         {"bad_token", test_bad_token},
         {"port_in_use", test_port_in_use},
         {"connect_refused", test_connect_refused},
         {"handshake_timeout", test_handshake_timeout},
+        {"connect_timeout", test_connect_timeout},
         {"idle_timeout", test_idle_timeout},
         {"many_clients", test_many_clients},
+        {"recv_any_round_robin", test_recv_any_round_robin},
         {"destroy_open_connections", test_destroy_open_connections},
     };
     setvbuf(stdout, NULL, _IOLBF, 0);

@@ -265,6 +265,15 @@ static int wire_client_arrays_draw_arrays_rebuild(void)
     const GLint first = 5;
     const GLsizei count = 9;
     tsr_call_DrawArrays(t, GL_TRIANGLES, first, count);
+    float mn[3], mx[3], wmn[3] = {1e30f, 1e30f, 1e30f}, wmx[3] = {-1e30f, -1e30f, -1e30f};
+    for (int i = first; i < first + count; i++)
+        for (int k = 0; k < 3; k++) {
+            wmn[k] = v[i].pos[k] < wmn[k] ? v[i].pos[k] : wmn[k];
+            wmx[k] = v[i].pos[k] > wmx[k] ? v[i].pos[k] : wmx[k];
+        }
+    CHECK(tsr_packer_bbox(rt.packer, mn, mx) && !memcmp(mn, wmn, sizeof mn) && !memcmp(mx, wmx, sizeof mx),
+          "the box covers the drawn client-array vertices: (%g %g %g)-(%g %g %g)", mn[0], mn[1], mn[2], mx[0], mx[1],
+          mx[2]);
     tsr_packer_flush(rt.packer);
     CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
     /* What the receiver sees: BindBuffer(ARRAY_BUFFER, 0) from the client,
@@ -314,6 +323,9 @@ static int wire_client_arrays_draw_elements_rebuild(void)
     const tsr_dispatch *t = &rt.pack_table;
     tsr_call_VertexPointer(t, 2, GL_FLOAT, 0, pos);
     tsr_call_EnableClientState(t, GL_VERTEX_ARRAY);
+    CHECK(tsr_call_IsEnabled(t, GL_VERTEX_ARRAY) == GL_TRUE && tsr_call_IsEnabled(t, GL_COLOR_ARRAY) == GL_FALSE &&
+              rt.nbufs == 0,
+          "client-array queries are answered by the packer, without a round trip");
     tsr_call_DrawElements(t, GL_LINES, count, GL_UNSIGNED_SHORT, idx);
     /* All arrays and indices in buffer objects: offsets pass through. */
     tsr_call_BindBuffer(t, GL_ARRAY_BUFFER, 5);
@@ -564,6 +576,22 @@ static int wire_unpack_survives_mutations(void)
     char msg[512];
     for (int s = 0; s < TSR_DISPATCH_COUNT; s++)
         tsr_wire_test_call(s, &rt.expect_table, &rt.pack_table, &rng, msg, sizeof msg);
+    /* The hand-written (custom) formats too. */
+    static float pos[16][4];
+    static GLubyte col[16][4];
+    static const GLubyte idx[] = {0, 15, 3, 9};
+    const GLchar *src[] = {"a", "bc", "def"};
+    const GLint len[] = {1, -1, 2};
+    const tsr_dispatch *t = &rt.pack_table;
+    tsr_call_VertexPointer(t, 4, GL_FLOAT, 0, pos);
+    tsr_call_ColorPointer(t, 4, GL_UNSIGNED_BYTE, 0, col);
+    tsr_call_EnableClientState(t, GL_VERTEX_ARRAY);
+    tsr_call_EnableClientState(t, GL_COLOR_ARRAY);
+    tsr_call_DrawArrays(t, GL_POINTS, 2, 12);
+    tsr_packer_flush(rt.packer);
+    tsr_call_DrawElements(t, GL_LINES, 4, GL_UNSIGNED_BYTE, idx);
+    tsr_packer_flush(rt.packer);
+    tsr_call_ShaderSource(t, 1, 3, src, len);
     tsr_packer_flush(rt.packer);
     CHECK(rt.nbufs > 5, "buffers");
     int ok = 0, rejected = 0;

@@ -1,0 +1,292 @@
+/* node/node.c — the server node (node/node.h): listener, accept loop and
+ * one session thread per client (chain + unpacker + reply channel).
+ * Owns: the netlib instance, the listener, every session and its chain.
+ * Never touches a session's chain from another thread (OSMesa contexts
+ * are current per thread), never exits on a client's bad input. */
+#include "node.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "net.h"
+#include "protocol.h"
+#include "tessera/chain.h"
+#include "tessera/log.h"
+#include "unpack.h"
+#include "wire.h"
+
+typedef struct node_session {
+    struct tsr_node *node;
+    unsigned index;            /* client number, in connection order */
+    tsr_net_conn *conn;
+    char who[TSR_NET_NAME_MAX + TSR_NET_ADDRESS_MAX + 32]; /* "client 0 'pack-pid1' at tcp://..." */
+    pthread_t thread;
+    int started;
+    uint8_t *reply;            /* TSR_NODE_MSG_REPLY being sent */
+    size_t reply_cap;
+    tsr_error error;           /* why this session failed; TSR_OK when it ended cleanly */
+} node_session;
+
+struct tsr_node {
+    char *chain_text;
+    uint32_t timeout_ms;
+    unsigned clients;
+    tsr_net *net;
+    tsr_net_listener *listener;
+    node_session *sessions;    /* `clients` entries */
+    unsigned accepted;
+    int ran;
+};
+
+/* The chain text with every "{client}" replaced by `index`; NULL when out
+ * of memory. */
+static char *chain_text_for(const char *text, unsigned index)
+{
+    static const char marker[] = "{client}";
+    char number[16];
+    int digits = snprintf(number, sizeof number, "%u", index);
+    size_t count = 0;
+    for (const char *p = strstr(text, marker); p; p = strstr(p + 1, marker))
+        count++;
+    size_t size = strlen(text) + count * (size_t)digits + 1;
+    char *out = malloc(size);
+    if (!out)
+        return NULL;
+    char *o = out;
+    for (const char *p = text;;) {
+        const char *m = strstr(p, marker);
+        size_t n = m ? (size_t)(m - p) : strlen(p);
+        memcpy(o, p, n);
+        o += n;
+        if (!m)
+            break;
+        memcpy(o, number, (size_t)digits);
+        o += digits;
+        p = m + sizeof marker - 1;
+    }
+    *o = '\0';
+    return out;
+}
+
+static tsr_chain *create_client_chain(const tsr_node *node, unsigned index, tsr_error *err)
+{
+    char *text = chain_text_for(node->chain_text, index);
+    if (!text) {
+        tsr_error_set(err, TSR_ENOMEM, "node: out of memory for the chain text");
+        return NULL;
+    }
+    tsr_chain *chain = tsr_chain_create(text, err);
+    free(text);
+    return chain;
+}
+
+/* --- one client ---------------------------------------------------------- */
+
+static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
+{
+    node_session *s = ctx;
+    size_t total = TSR_NODE_REPLY_HEADER + size;
+    if (total > s->reply_cap) {
+        uint8_t *r = realloc(s->reply, total);
+        if (!r)
+            return tsr_error_set(err, TSR_ENOMEM, "node: %s: out of memory for a %zu-byte reply", s->who,
+                                 size);
+        s->reply = r;
+        s->reply_cap = total;
+    }
+    tsr_wire_put_u32(s->reply, id);
+    tsr_wire_put_u32(s->reply + 4, 0);
+    if (size)
+        memcpy(s->reply + TSR_NODE_REPLY_HEADER, data, size);
+    tsr_error cause = {0};
+    if (tsr_net_send(s->conn, TSR_NODE_MSG_REPLY, s->reply, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
+        return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id,
+                             cause.message);
+    return TSR_OK;
+}
+
+/* Receives and runs buffers until the client ends. Returns TSR_OK on a
+ * clean end, else the failure (in s->error). */
+static int serve_client(node_session *s, tsr_unpacker *unpacker)
+{
+    for (;;) {
+        tsr_net_msg m;
+        tsr_error cause = {0};
+        int got = tsr_net_recv(s->conn, &m, TSR_NET_WAIT_FOREVER, &cause);
+        if (got == 0)
+            return TSR_OK;
+        if (got < 0)
+            return tsr_error_set(&s->error, got, "%s", cause.message);
+        int rc;
+        if (m.kind != TSR_NODE_MSG_BUFFER)
+            rc = tsr_error_set(&cause, TSR_EPROTO, "unexpected message kind 0x%02x (%llu bytes)", m.kind,
+                               (unsigned long long)m.len);
+        else
+            rc = tsr_unpacker_run(unpacker, m.data, (size_t)m.len, &cause);
+        tsr_net_msg_release(&m);
+        if (rc != TSR_OK) {
+            tsr_error_set(&s->error, rc, "%s", cause.message);
+            /* Tell the client why before closing; it may be gone already. */
+            tsr_error ignored = {0};
+            tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000,
+                         &ignored);
+            return rc;
+        }
+    }
+}
+
+static void *session_main(void *arg)
+{
+    node_session *s = arg;
+    tsr_error err = {0};
+    /* The chain is created on this thread: its GL context is current here
+     * and nowhere else. */
+    tsr_chain *chain = create_client_chain(s->node, s->index, &err);
+    tsr_unpacker *unpacker = NULL;
+    if (chain)
+        unpacker = tsr_unpacker_create(tsr_chain_head(chain), send_reply, s, &err);
+    if (!unpacker) {
+        tsr_error_set(&s->error, err.code, "%s", err.message);
+        tsr_error ignored = {0};
+        tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000, &ignored);
+    } else if (serve_client(s, unpacker) == TSR_OK) {
+        tsr_log(TSR_LOG_INFO, "node: %s ended: %llu buffers, %llu commands", s->who,
+                (unsigned long long)unpacker->buffers, (unsigned long long)unpacker->commands);
+    }
+    if (s->error.code)
+        tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
+    tsr_unpacker_destroy(unpacker);
+    tsr_chain_destroy(chain);
+    tsr_net_conn_close(s->conn);
+    s->conn = NULL;
+    free(s->reply);
+    s->reply = NULL;
+    return NULL;
+}
+
+/* --- the node ------------------------------------------------------------ */
+
+tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
+{
+    if (!config->listen || !config->listen[0])
+        return tsr_error_set(err, TSR_EINVAL, "node: no listen address"), NULL;
+    if (!config->chain || !config->chain[0])
+        return tsr_error_set(err, TSR_EINVAL, "node: no chain"), NULL;
+    if (config->clients < 1)
+        return tsr_error_set(err, TSR_EINVAL, "node: clients must be at least 1"), NULL;
+    tsr_node *node = calloc(1, sizeof *node);
+    if (node) {
+        node->chain_text = strdup(config->chain);
+        node->sessions = calloc(config->clients, sizeof *node->sessions);
+    }
+    if (!node || !node->chain_text || !node->sessions) {
+        tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    node->clients = config->clients;
+    node->timeout_ms = config->timeout_ms;
+
+    /* A bad chain fails now, once, instead of once per client. */
+    tsr_error chain_err = {0};
+    tsr_chain *probe = create_client_chain(node, 0, &chain_err);
+    if (!probe) {
+        tsr_error_set(err, chain_err.code == TSR_ENOMEM ? TSR_ENOMEM : TSR_EINVAL, "node: chain: %s",
+                      chain_err.message);
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    tsr_chain_destroy(probe);
+
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = config->name && config->name[0] ? config->name : "node";
+    cfg.token = config->token;
+    cfg.idle_timeout_ms = config->timeout_ms;
+    node->net = tsr_net_create(&cfg, err);
+    if (node->net)
+        node->listener = tsr_net_listen(node->net, config->listen, err);
+    if (!node->listener) {
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    return node;
+}
+
+const char *tsr_node_address(const tsr_node *node)
+{
+    return tsr_net_listener_address(node->listener);
+}
+
+int tsr_node_run(tsr_node *node, tsr_error *err)
+{
+    if (node->ran)
+        return tsr_error_set(err, TSR_ESTATE, "node: already ran");
+    node->ran = 1;
+    tsr_error failure = {0};
+    int timeout = node->timeout_ms ? (int)node->timeout_ms : TSR_NET_WAIT_FOREVER;
+    while (node->accepted < node->clients) {
+        tsr_error accept_err = {0};
+        tsr_net_conn *conn = tsr_net_accept(node->listener, timeout, &accept_err);
+        if (!conn) {
+            tsr_error last = {0};
+            unsigned refused = tsr_net_listener_refusals(node->listener, &last);
+            if (accept_err.code == TSR_ETIMEDOUT)
+                tsr_error_set(&failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s",
+                              node->accepted, node->clients, tsr_node_address(node), node->timeout_ms,
+                              refused ? "; refused one: " : "", refused ? last.message : "");
+            else
+                tsr_error_set(&failure, accept_err.code, "node: accepting on %s: %s", tsr_node_address(node),
+                              accept_err.message);
+            break;
+        }
+        node_session *s = &node->sessions[node->accepted];
+        s->node = node;
+        s->index = node->accepted++;
+        s->conn = conn;
+        snprintf(s->who, sizeof s->who, "client %u '%s' at %s", s->index, tsr_net_conn_peer_name(conn),
+                 tsr_net_conn_address(conn));
+        tsr_log(TSR_LOG_INFO, "node: %s connected", s->who);
+        int rc = pthread_create(&s->thread, NULL, session_main, s);
+        if (rc) {
+            tsr_error_set(&failure, TSR_EIO, "node: cannot start a thread for %s: %s", s->who, strerror(rc));
+            tsr_net_conn_close(conn);
+            s->conn = NULL;
+            break;
+        }
+        s->started = 1;
+    }
+    unsigned failed = 0;
+    for (unsigned i = 0; i < node->accepted; i++) {
+        node_session *s = &node->sessions[i];
+        if (s->started)
+            pthread_join(s->thread, NULL);
+        s->started = 0;
+        if (s->error.code) {
+            failed++;
+            if (!failure.code)
+                tsr_error_set(&failure, s->error.code, "node: %s dropped: %s", s->who, s->error.message);
+        }
+    }
+    if (!failure.code)
+        return TSR_OK;
+    if (failed > 1)
+        return tsr_error_set(err, failure.code, "%s (and %u more clients failed)", failure.message, failed - 1);
+    return tsr_error_set(err, failure.code, "%s", failure.message);
+}
+
+void tsr_node_destroy(tsr_node *node)
+{
+    if (!node)
+        return;
+    /* tsr_node_run joins every session; a node destroyed without running
+     * has none. */
+    if (node->listener)
+        tsr_net_listener_close(node->listener);
+    tsr_net_destroy(node->net);
+    free(node->sessions);
+    free(node->chain_text);
+    free(node);
+}

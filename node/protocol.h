@@ -1,0 +1,31 @@
+/* node/protocol.h — the messages a stream client (the pack SPU, later
+ * replicate) and a server node exchange over one netlib connection.
+ * Owns: the message kinds and the reply layout (this comment specifies
+ * them). Never: depends on netlib internals; the connection, handshake and
+ * flow control are netlib's (netlib/net.h).
+ *
+ * Client to server:
+ *   TSR_NODE_MSG_BUFFER  one complete wire buffer (core/wire.h section 1),
+ *                        exactly as the packer flushed it.
+ * Server to client:
+ *   TSR_NODE_MSG_REPLY   u32 request id, u32 0, then the reply bytes
+ *                        (core/wire.h section 5). Requests are answered in
+ *                        the order they were sent; the id is how the client
+ *                        checks it.
+ *   TSR_NODE_MSG_ERROR   one line (UTF-8, no terminator): why the server
+ *                        dropped this client (malformed buffer, chain
+ *                        failure). The server closes right after it.
+ * A clean end is netlib's BYE: the client closes its connection after its
+ * last buffer; the server then destroys that client's chain. */
+#ifndef TSR_NODE_PROTOCOL_H
+#define TSR_NODE_PROTOCOL_H
+
+#define TSR_NODE_MSG_BUFFER 0x10u
+#define TSR_NODE_MSG_REPLY 0x11u
+#define TSR_NODE_MSG_ERROR 0x12u
+
+/* Bytes before the reply data in a TSR_NODE_MSG_REPLY (keeps the data
+ * 8-aligned in the receiver's message memory). */
+#define TSR_NODE_REPLY_HEADER 8u
+
+#endif
