@@ -1,4 +1,4 @@
-/* bench/bench_common.h — what every benchmark program shares: a monotonic
+/* bench/bench_common.h — what every benchmark program shares: a CPU-time
  * clock, the `figure: value` output line, the CSV writer and the common
  * command line (--quick, --csv PATH). Benchmarks only report numbers; they
  * never decide pass or fail, and they never touch global process state. */

@@ -23,37 +23,11 @@ static void print_usage(FILE *out) {
 }
 
 int cmd_check(int argc, char **argv) {
-    unsigned flags = 0;
-    const char *path = NULL;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            print_usage(stdout);
-            return TSR_EXIT_OK;
-        }
-        if (!strcmp(argv[i], "--no-spu-check")) {
-            flags |= TSR_GRAPH_NO_SPU_CHECK;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "tessera check: unknown option '%s' (see tessera check --help)\n",
-                    argv[i]);
-            return TSR_EXIT_USAGE;
-        } else if (path) {
-            fprintf(stderr, "tessera check: one GRAPH at a time ('%s' and '%s')\n", path, argv[i]);
-            return TSR_EXIT_USAGE;
-        } else {
-            path = argv[i];
-        }
-    }
-    if (!path) {
-        print_usage(stderr);
-        return TSR_EXIT_USAGE;
-    }
-    tsr_error err;
-    tsr_error_clear(&err);
-    tsr_graph *graph = tsr_graph_load(path, flags, &err);
-    if (!graph) {
-        fprintf(stderr, "%s\n", err.message);
-        return err.code == TSR_ENOMEM ? TSR_EXIT_FAIL : TSR_EXIT_USAGE;
-    }
+    tsr_graph *graph;
+    unsigned flags;
+    int rc = tsr_cli_load_graph(argc, argv, "check", print_usage, &graph, &flags);
+    if (!graph)
+        return rc;
     size_t nodes = tsr_graph_node_count(graph), edges = tsr_graph_edge_count(graph);
     printf("ok: %zu node%s, %zu edge%s, window %dx%d%s\n", nodes, nodes == 1 ? "" : "s", edges,
            edges == 1 ? "" : "s", tsr_graph_width(graph), tsr_graph_height(graph),

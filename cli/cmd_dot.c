@@ -131,36 +131,12 @@ static void put_graph(FILE *out, const tsr_graph *graph) {
 }
 
 int cmd_dot(int argc, char **argv) {
-    unsigned flags = 0;
-    const char *path = NULL;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            print_usage(stdout);
-            return TSR_EXIT_OK;
-        }
-        if (!strcmp(argv[i], "--no-spu-check")) {
-            flags |= TSR_GRAPH_NO_SPU_CHECK;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "tessera dot: unknown option '%s' (see tessera dot --help)\n", argv[i]);
-            return TSR_EXIT_USAGE;
-        } else if (path) {
-            fprintf(stderr, "tessera dot: one GRAPH at a time ('%s' and '%s')\n", path, argv[i]);
-            return TSR_EXIT_USAGE;
-        } else {
-            path = argv[i];
-        }
-    }
-    if (!path) {
-        print_usage(stderr);
-        return TSR_EXIT_USAGE;
-    }
-    tsr_error err;
-    tsr_error_clear(&err);
-    tsr_graph *graph = tsr_graph_load(path, flags, &err);
-    if (!graph) {
-        fprintf(stderr, "%s\n", err.message);
-        return err.code == TSR_ENOMEM ? TSR_EXIT_FAIL : TSR_EXIT_USAGE;
-    }
+    tsr_graph *graph;
+    unsigned flags;
+    int rc = tsr_cli_load_graph(argc, argv, "dot", print_usage, &graph, &flags);
+    if (!graph)
+        return rc;
+    (void)flags;
     put_graph(stdout, graph);
     tsr_graph_free(graph);
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -46,6 +46,12 @@ static int parse_count(const char *text, long min, long max, long *out)
     return 0;
 }
 
+/* Node errors start with "node: "; after "tessera node: " that is noise. */
+static const char *without_prefix(const char *message)
+{
+    return strncmp(message, "node: ", 6) ? message : message + 6;
+}
+
 int cmd_node(int argc, char **argv)
 {
     tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000};
@@ -96,14 +102,14 @@ int cmd_node(int argc, char **argv)
     tsr_error err = {0};
     tsr_node *node = tsr_node_create(&cfg, &err);
     if (!node) {
-        fprintf(stderr, "tessera node: %s\n", err.message);
+        fprintf(stderr, "tessera node: %s\n", without_prefix(err.message));
         return err.code == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
     }
     printf("listening on %s\n", tsr_node_address(node));
     fflush(stdout);
     int rc = tsr_node_run(node, &err);
     if (rc != TSR_OK)
-        fprintf(stderr, "tessera node: %s\n", err.message);
+        fprintf(stderr, "tessera node: %s\n", without_prefix(err.message));
     tsr_node_destroy(node);
     return rc == TSR_OK ? TSR_EXIT_OK : TSR_EXIT_FAIL;
 }

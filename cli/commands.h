@@ -20,4 +20,15 @@ int cmd_check(int argc, char **argv);
 int cmd_dot(int argc, char **argv);
 int cmd_node(int argc, char **argv);
 
+
+#include <stdio.h>
+#include "tessera/graph.h"
+
+/* For subcommands taking one GRAPH (check, dot): parses --help,
+ * --no-spu-check and the path, loads the graph into *out (with the
+ * TSR_GRAPH_* flags asked for in *flags). Returns the exit
+ * code to use when *out is NULL (0 after --help, 2 for bad input). */
+int tsr_cli_load_graph(int argc, char **argv, const char *command,
+                       void (*print_usage)(FILE *out), tsr_graph **out, unsigned *flags);
+
 #endif

@@ -120,7 +120,9 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
         if (got < 0)
             return tsr_error_set(&s->error, got, "%s", cause.message);
         int rc;
-        if (m.kind != TSR_NODE_MSG_BUFFER)
+        if (m.kind == TSR_NODE_MSG_FINISH)
+            rc = tsr_net_send(s->conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause);
+        else if (m.kind != TSR_NODE_MSG_BUFFER)
             rc = tsr_error_set(&cause, TSR_EPROTO, "unexpected message kind 0x%02x (%llu bytes)", m.kind,
                                (unsigned long long)m.len);
         else

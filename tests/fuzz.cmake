@@ -2,7 +2,7 @@
 #  * fuzz_corpus_replay (every build, any compiler): runs each file of
 #    tests/fuzz/corpus through the fuzz entry point; under
 #    -DTESSERA_SANITIZE=ON that is a sanitizer run of the whole corpus.
-#  * fuzz_seed_writer: regenerates the valid seeds with the real packer.
+#  * fuzz_seed_writer: writes the ok-*/bad-* seeds with the real packer.
 #  * fuzz_unpack (only -DTESSERA_FUZZ=ON, clang): the libFuzzer target.
 set(TSR_FUZZ_DIR ${CMAKE_CURRENT_SOURCE_DIR}/fuzz)
 

@@ -1,7 +1,8 @@
 /* spus/pack/pack.c — the "pack" SPU: packs every call with the real packer
  * (core/pack.h) and sends each flushed buffer to one server node over
  * netlib (messages of node/protocol.h); replies to gets, ReadPixels and
- * Gen*/Create* come back on the same connection, matched by request id.
+ * the Gen and Create calls come back on the same connection, matched by
+ * request id.
  * Owns, per instance: its netlib instance (I/O thread), the connection,
  * the packer and the reply message it is holding. Never calls its child:
  * the stream goes to the server, unchanged.
@@ -14,7 +15,10 @@
  * success for frames that were never drawn. on_error=drop keeps the
  * application running and drops every further call (the packer's error
  * stays recorded). Failing to connect at all is reported by create(),
- * so chain creation fails with the address in the message. */
+ * so chain creation fails with the address in the message. destroy()
+ * sends FINISH and waits for the server's confirmation that every buffer
+ * ran, so an application that ends normally knows its stream was drawn
+ * (a server that dropped it mid-way is caught there at the latest). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,11 +53,34 @@ static void release_reply(pack_spu *s)
     }
 }
 
+/* When the server dropped us it said why (TSR_NODE_MSG_ERROR) before
+ * closing; that reason beats netlib's "peer closed". Takes a queued
+ * message without waiting; returns 1 and fills `why` when it was one. */
+static int server_reason(pack_spu *s, tsr_error *why)
+{
+    tsr_net_msg m;
+    tsr_error ignored = {0};
+    int found = 0;
+    while (!found && tsr_net_recv(s->conn, &m, 0, &ignored) == 1) {
+        if (m.kind == TSR_NODE_MSG_ERROR) {
+            tsr_error_set(why, TSR_EPROTO, "the server dropped this client: %.*s",
+                          (int)(m.len < 400 ? m.len : 400), (const char *)m.data);
+            found = 1;
+        }
+        tsr_net_msg_release(&m);
+    }
+    return found;
+}
+
 /* The connection is unusable: one line naming the server, then the
  * on_error policy. Returns the error code for the packer. */
 static int connection_failed(pack_spu *s, tsr_error *err, const char *what, const tsr_error *cause)
 {
     s->failed = 1;
+    release_reply(s);
+    tsr_error reason = {0};
+    if (cause->code != TSR_EPROTO && server_reason(s, &reason))
+        cause = &reason;
     tsr_error_set(err, cause->code ? cause->code : TSR_EIO, "%s: server %s: %s: %s", s->name,
                   s->server, what, cause->message);
     tsr_log(TSR_LOG_ERROR, "%s", err->message);
@@ -99,7 +126,7 @@ static int pack_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size
     if (got < 0)
         return connection_failed(s, err, "waiting for a reply", &cause);
     if (m.kind == TSR_NODE_MSG_ERROR) {
-        tsr_error_set(&cause, TSR_EPROTO, "dropped this client: %.*s",
+        tsr_error_set(&cause, TSR_EPROTO, "the server dropped this client: %.*s",
                       (int)(m.len < 400 ? m.len : 400), (const char *)m.data);
         tsr_net_msg_release(&m);
         return connection_failed(s, err, "waiting for a reply", &cause);
@@ -121,13 +148,45 @@ static int pack_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size
     return TSR_OK;
 }
 
+/* Sends what is left and FINISH, and waits until the server confirmed that
+ * every buffer ran (or says why not). */
+static void finish_stream(pack_spu *s)
+{
+    tsr_error err = {0}, cause = {0};
+    if (tsr_packer_flush(s->packer) != TSR_OK || s->failed)
+        return;
+    release_reply(s);
+    if (tsr_net_send(s->conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK) {
+        connection_failed(s, &err, "finishing the stream", &cause);
+        return;
+    }
+    tsr_net_msg m;
+    int got = tsr_net_recv(s->conn, &m, TSR_NET_WAIT_FOREVER, &cause);
+    if (got == 1 && m.kind == TSR_NODE_MSG_FINISH) {
+        tsr_net_msg_release(&m);
+        return;
+    }
+    if (got == 1) {
+        if (m.kind == TSR_NODE_MSG_ERROR)
+            tsr_error_set(&cause, TSR_EPROTO, "the server dropped this client: %.*s",
+                          (int)(m.len < 400 ? m.len : 400), (const char *)m.data);
+        else
+            tsr_error_set(&cause, TSR_EPROTO, "expected the end of stream confirmation, got a message of "
+                          "kind 0x%02x", m.kind);
+        tsr_net_msg_release(&m);
+    } else if (got == 0) {
+        tsr_error_set(&cause, TSR_EIO, "closed the connection before confirming the end of stream");
+    }
+    connection_failed(s, &err, "finishing the stream", &cause);
+}
+
 static void pack_destroy(void *instance)
 {
     pack_spu *s = instance;
     if (!s)
         return;
     if (s->packer && s->conn && !s->failed)
-        tsr_packer_flush(s->packer);
+        finish_stream(s);
     release_reply(s);
     if (s->conn)
         tsr_net_conn_close(s->conn); /* BYE: the server ends this client cleanly */
@@ -197,7 +256,7 @@ fail:
 
 static const tsr_option_spec pack_options[] = {
     {.name = "server", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
-     .help = "server node address: tcp://HOST:PORT, unix:PATH or inproc:NAME (required)"},
+     .help = "server node address: tcp://HOST:PORT or unix:PATH (required)"},
     {.name = "token", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
      .help = "shared token the server requires (empty: none)"},
     {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "1048576", .min = TSR_PACK_MIN_BUFFER,

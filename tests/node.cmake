@@ -1,0 +1,68 @@
+# tests/node.cmake — the pack SPU and `tessera node` with real processes
+# over real loopback sockets: accuracy of every example through
+# app -> pack -> TCP/Unix -> node render, replies, and failures (bad token,
+# no server, garbage client, node killed). Every test is bounded in time.
+# Included by tests/CMakeLists.txt.
+get_property(NODE_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(NODE_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/node)
+set(NODE_OUT ${CMAKE_BINARY_DIR}/test-out/node)
+set(NODE_BIN ${CMAKE_BINARY_DIR}/bin)
+file(MAKE_DIRECTORY ${NODE_OUT})
+
+add_executable(node_driver ${NODE_TEST_DIR}/node_driver.c)
+target_include_directories(node_driver PRIVATE ${CMAKE_SOURCE_DIR}/node ${CMAKE_SOURCE_DIR}/core)
+target_link_libraries(node_driver PRIVATE tessera_gl tessera tessera_net)
+
+set(NODE_FRAMES 3)
+foreach(example ${TESSERA_EXAMPLES})
+  add_test(NAME node_pack_tcp_accuracy_${example}
+    COMMAND ${NODE_TEST_DIR}/accuracy.sh ${NODE_BIN} ${example} ${NODE_OUT}/tcp-${example}
+            ${NODE_FRAMES} tcp)
+endforeach()
+add_test(NAME node_pack_unix_accuracy_spheres
+  COMMAND ${NODE_TEST_DIR}/accuracy.sh ${NODE_BIN} spheres ${NODE_OUT}/unix-spheres ${NODE_FRAMES} unix)
+add_test(NAME node_two_concurrent_clients_each_exact
+  COMMAND ${NODE_TEST_DIR}/two_clients.sh ${NODE_BIN} ${NODE_OUT}/two-clients 6)
+add_test(NAME node_pack_replies_roundtrip
+  COMMAND ${NODE_TEST_DIR}/replies.sh ${NODE_BIN} ${NODE_OUT}/replies $<TARGET_FILE:node_driver>)
+add_test(NAME node_pack_refused_bad_token
+  COMMAND ${NODE_TEST_DIR}/failures.sh bad-token ${NODE_BIN} ${NODE_OUT}/bad-token)
+add_test(NAME node_pack_server_missing_clear_error
+  COMMAND ${NODE_TEST_DIR}/failures.sh server-missing ${NODE_BIN} ${NODE_OUT}/server-missing)
+add_test(NAME node_server_survives_garbage_client
+  COMMAND ${NODE_TEST_DIR}/failures.sh garbage-client ${NODE_BIN} ${NODE_OUT}/garbage
+          $<TARGET_FILE:node_driver>)
+add_test(NAME node_server_killed_app_exits_nonzero
+  COMMAND ${NODE_TEST_DIR}/failures.sh node-killed ${NODE_BIN} ${NODE_OUT}/killed)
+add_test(NAME node_client_chain_failure_reaches_the_app
+  COMMAND ${NODE_TEST_DIR}/failures.sh client-chain-fails ${NODE_BIN} ${NODE_OUT}/chain-fails)
+add_test(NAME node_server_stopped_app_exits_nonzero_after_timeout
+  COMMAND ${NODE_TEST_DIR}/failures.sh node-stopped ${NODE_BIN} ${NODE_OUT}/stopped)
+
+# `tessera node` itself: help, usage errors, a bad chain, nobody coming.
+set(NODE_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+macro(node_cli_test name rc out_re err_re)
+  add_test(NAME ${name} COMMAND ${NODE_EXPECT} ${rc} "${out_re}" "${err_re}" $<TARGET_FILE:tessera_cli> node ${ARGN})
+endmacro()
+node_cli_test(node_cli_help_exit_0 0 "usage: tessera node --listen ADDR --chain" "" --help)
+node_cli_test(node_cli_without_listen_is_usage_error_exit_2 2 "" "--listen and --chain are required"
+  --chain render)
+node_cli_test(node_cli_bad_clients_is_usage_error_exit_2 2 "" "bad --clients '0'"
+  --listen tcp://127.0.0.1:0 --chain render --clients 0)
+node_cli_test(node_cli_unknown_spu_in_chain_exit_2 2 "" "chain: unknown SPU .rendr."
+  --listen tcp://127.0.0.1:0 --chain rendr)
+node_cli_test(node_cli_no_client_in_time_exit_1 1 "^listening on tcp://127.0.0.1:[1-9]"
+  "0 of 1 clients connected to tcp://127.0.0.1:[0-9]+ within 300 ms"
+  --listen tcp://127.0.0.1:0 --chain render --timeout-ms 300)
+
+get_property(NODE_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(NODE_TESTS_BEFORE)
+  list(REMOVE_ITEM NODE_TESTS_AFTER ${NODE_TESTS_BEFORE})
+endif()
+set(NODE_ENV "")
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
+# LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.
+if(TESSERA_SANITIZE)
+  set(NODE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${NODE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS node ENVIRONMENT "${NODE_ENV}")
