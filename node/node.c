@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "net.h"
 #include "protocol.h"
@@ -27,6 +28,8 @@ typedef struct node_session {
     uint8_t *reply;            /* TSR_NODE_MSG_REPLY being sent */
     size_t reply_cap;
     tsr_error error;           /* why this session failed; TSR_OK when it ended cleanly */
+    tsr_dispatch head;         /* the chain's head with SwapBuffersTSR counted */
+    tsr_entry chain_swap;      /* the chain's own SwapBuffersTSR */
 } node_session;
 
 struct tsr_node {
@@ -38,7 +41,50 @@ struct tsr_node {
     node_session *sessions;    /* `clients` entries */
     unsigned accepted;
     int ran;
+    int stats_lock_ready;
+    pthread_mutex_t stats_lock;
+    tsr_node_stats stats;
 };
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Adds to the node's totals under its lock (sessions run on their own
+ * threads; tsr_node_get_stats may be called from any). */
+static void stats_add(tsr_node *node, const tsr_node_stats *delta)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    tsr_node_stats *t = &node->stats;
+    t->frames += delta->frames;
+    t->buffers += delta->buffers;
+    t->commands += delta->commands;
+    t->bytes_in += delta->bytes_in;
+    t->bytes_out += delta->bytes_out;
+    t->busy_seconds += delta->busy_seconds;
+    t->clients_connected += delta->clients_connected;
+    t->clients_ended += delta->clients_ended;
+    t->clients_failed += delta->clients_failed;
+    pthread_mutex_unlock(&node->stats_lock);
+}
+
+void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    *out = node->stats;
+    pthread_mutex_unlock(&node->stats_lock);
+}
+
+static void count_swap(void *self, GLint window, GLbitfield flags)
+{
+    node_session *s = self;
+    ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags);
+    tsr_node_stats delta = {.frames = 1};
+    stats_add(s->node, &delta);
+}
 
 /* The chain text with every "{client}" replaced by `index`; NULL when out
  * of memory. */
@@ -104,6 +150,8 @@ static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, 
     if (tsr_net_send(s->conn, TSR_NODE_MSG_REPLY, s->reply, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
         return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id,
                              cause.message);
+    tsr_node_stats delta = {.bytes_out = total};
+    stats_add(s->node, &delta);
     return TSR_OK;
 }
 
@@ -125,8 +173,16 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
         else if (m.kind != TSR_NODE_MSG_BUFFER)
             rc = tsr_error_set(&cause, TSR_EPROTO, "unexpected message kind 0x%02x (%llu bytes)", m.kind,
                                (unsigned long long)m.len);
-        else
+        else {
+            uint64_t commands_before = unpacker->commands;
+            double start = now_seconds();
             rc = tsr_unpacker_run(unpacker, m.data, (size_t)m.len, &cause);
+            tsr_node_stats delta = {.buffers = 1,
+                                    .commands = unpacker->commands - commands_before,
+                                    .bytes_in = m.len,
+                                    .busy_seconds = now_seconds() - start};
+            stats_add(s->node, &delta);
+        }
         tsr_net_msg_release(&m);
         if (rc != TSR_OK) {
             tsr_error_set(&s->error, rc, "%s", cause.message);
@@ -147,8 +203,12 @@ static void *session_main(void *arg)
      * and nowhere else. */
     tsr_chain *chain = create_client_chain(s->node, s->index, &err);
     tsr_unpacker *unpacker = NULL;
-    if (chain)
-        unpacker = tsr_unpacker_create(tsr_chain_head(chain), send_reply, s, &err);
+    if (chain) {
+        s->head = *tsr_chain_head(chain);
+        s->chain_swap = s->head.SwapBuffersTSR;
+        tsr_set_SwapBuffersTSR(&s->head, count_swap, s);
+        unpacker = tsr_unpacker_create(&s->head, send_reply, s, &err);
+    }
     if (!unpacker) {
         tsr_error_set(&s->error, err.code, "%s", err.message);
         tsr_error ignored = {0};
@@ -159,6 +219,8 @@ static void *session_main(void *arg)
     }
     if (s->error.code)
         tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
+    tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1, .clients_failed = s->error.code ? 1 : 0};
+    stats_add(s->node, &ended);
     tsr_unpacker_destroy(unpacker);
     tsr_chain_destroy(chain);
     tsr_net_conn_close(s->conn);
@@ -190,6 +252,8 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     }
     node->clients = config->clients;
     node->timeout_ms = config->timeout_ms;
+    pthread_mutex_init(&node->stats_lock, NULL);
+    node->stats_lock_ready = 1;
 
     /* A bad chain fails now, once, instead of once per client. */
     tsr_error chain_err = {0};
@@ -251,6 +315,8 @@ int tsr_node_run(tsr_node *node, tsr_error *err)
         snprintf(s->who, sizeof s->who, "client %u '%s' at %s", s->index, tsr_net_conn_peer_name(conn),
                  tsr_net_conn_address(conn));
         tsr_log(TSR_LOG_INFO, "node: %s connected", s->who);
+        tsr_node_stats connected = {.clients_connected = 1};
+        stats_add(node, &connected);
         int rc = pthread_create(&s->thread, NULL, session_main, s);
         if (rc) {
             tsr_error_set(&failure, TSR_EIO, "node: cannot start a thread for %s: %s", s->who, strerror(rc));
@@ -290,5 +356,7 @@ void tsr_node_destroy(tsr_node *node)
     tsr_net_destroy(node->net);
     free(node->sessions);
     free(node->chain_text);
+    if (node->stats_lock_ready)
+        pthread_mutex_destroy(&node->stats_lock);
     free(node);
 }

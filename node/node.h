@@ -55,6 +55,22 @@ const char *tsr_node_address(const tsr_node *node);
 int tsr_node_run(tsr_node *node, tsr_error *err);
 void tsr_node_destroy(tsr_node *node);
 
+/* Running totals over every client so far, for progress lines and the
+ * mothership's statistics. Safe to call from any thread while
+ * tsr_node_run runs. */
+typedef struct tsr_node_stats {
+    uint64_t frames;          /* SwapBuffers that reached the node's chain */
+    uint64_t buffers;         /* wire buffers run */
+    uint64_t commands;        /* commands decoded */
+    uint64_t bytes_in;        /* payload bytes received from clients */
+    uint64_t bytes_out;       /* reply bytes sent to clients */
+    double busy_seconds;      /* time spent running buffers through the chain (render time) */
+    unsigned clients_connected;
+    unsigned clients_ended;   /* ended cleanly */
+    unsigned clients_failed;  /* dropped */
+} tsr_node_stats;
+void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out);
+
 #ifdef __cplusplus
 }
 #endif
