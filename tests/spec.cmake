@@ -5,8 +5,9 @@ set(TSR_SPEC_DATA ${CMAKE_CURRENT_LIST_DIR}/data)
 set(TESSERA_GL_XML /usr/share/khronos-api/gl.xml CACHE FILEPATH
     "Khronos gl.xml registry (package khronos-api), for spec_matches_khronos")
 
-add_library(tsr_test_glxml STATIC ${CMAKE_CURRENT_LIST_DIR}/spec/glxml.c)
+add_library(tsr_test_glxml STATIC ${CMAKE_CURRENT_LIST_DIR}/spec/glxml.c ${CMAKE_CURRENT_LIST_DIR}/spec/spec_test_setup.c)
 target_include_directories(tsr_test_glxml PUBLIC ${CMAKE_CURRENT_LIST_DIR}/spec)
+target_link_libraries(tsr_test_glxml PUBLIC tsr_spec)
 
 foreach(t spec_matches_khronos spec_enums_are_gl_enums spec_pname_counts_cover_gl21
           spec_covers_imports spec_opcodes_frozen spec_loader_rejects_bad_specs)

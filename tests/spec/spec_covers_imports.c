@@ -2,29 +2,18 @@
  * function in tests/data/gl_imports.txt (what glxgears, xscreensaver-gl and
  * libGLU import from libGL) is a spec command, so the faker exports it.
  * Usage: spec_covers_imports SPEC.yaml gl_imports.txt */
-#include "spec.h"
+#include "spec_test_setup.h"
 
 #include <stdio.h>
 #include <string.h>
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s SPEC.yaml gl_imports.txt\n", argv[0]);
-        return 2;
-    }
-    char err[1024];
     spec s;
-    if (spec_load(argv[1], &s, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        return 1;
-    }
-    FILE *f = fopen(argv[2], "r");
-    if (!f) {
-        perror(argv[2]);
-        spec_free(&s);
-        return 1;
-    }
+    FILE *f;
+    int setup = spec_test_load_with_file(argc, argv, "gl_imports.txt", &s, &f);
+    if (setup)
+        return setup;
     char line[256];
     int lineno = 0, failures = 0, names = 0;
     while (fgets(line, sizeof line, f)) {

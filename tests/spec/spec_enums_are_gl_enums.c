@@ -4,12 +4,10 @@
  * the values, so an alias twice would be a duplicate case label, and two
  * different counts for one value would be a lie).
  * Usage: spec_enums_are_gl_enums SPEC.yaml GL.xml */
-#include "glxml.h"
-#include "spec.h"
+#include "spec_test_setup.h"
 
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 static int check_table(const char *spec_path, const char *what, const spec_pname_count *t, size_t n,
                        const glxml *x)
@@ -36,27 +34,11 @@ static int check_table(const char *spec_path, const char *what, const spec_pname
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s SPEC.yaml GL.xml\n", argv[0]);
-        return 2;
-    }
-    if (access(argv[2], R_OK) != 0) {
-        fprintf(stderr, "FAIL: %s is missing: install the Khronos registry (apt-get install khronos-api)\n",
-                argv[2]);
-        return 1;
-    }
-    char err[1024];
     spec s;
-    if (spec_load(argv[1], &s, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        return 1;
-    }
     glxml x;
-    if (glxml_load(argv[2], &x, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        spec_free(&s);
-        return 1;
-    }
+    int setup = spec_test_load_with_glxml(argc, argv, &s, &x);
+    if (setup)
+        return setup;
     int failures = 0;
     if (s.npnames == 0) {
         fprintf(stderr, "FAIL: %s has no pname_counts\n", argv[1]);

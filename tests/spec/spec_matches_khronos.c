@@ -3,36 +3,18 @@
  * type, parameter count and parameter types (normalised C spelling).
  * Usage: spec_matches_khronos SPEC.yaml GL.xml. Fails, naming the command,
  * on any mismatch; fails (never skips) when gl.xml is missing. */
-#include "glxml.h"
-#include "spec.h"
+#include "spec_test_setup.h"
 
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s SPEC.yaml GL.xml\n", argv[0]);
-        return 2;
-    }
-    if (access(argv[2], R_OK) != 0) {
-        fprintf(stderr, "FAIL: %s is missing: install the Khronos registry (apt-get install khronos-api)\n",
-                argv[2]);
-        return 1;
-    }
-    char err[1024];
     spec s;
-    if (spec_load(argv[1], &s, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        return 1;
-    }
     glxml x;
-    if (glxml_load(argv[2], &x, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        spec_free(&s);
-        return 1;
-    }
+    int setup = spec_test_load_with_glxml(argc, argv, &s, &x);
+    if (setup)
+        return setup;
 
     int failures = 0;
     size_t checked = 0;

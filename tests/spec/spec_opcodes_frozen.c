@@ -3,29 +3,18 @@
  * Adding commands is fine; renumbering or removing one breaks the wire
  * protocol for every peer built before the change.
  * Usage: spec_opcodes_frozen SPEC.yaml opcodes.txt */
-#include "spec.h"
+#include "spec_test_setup.h"
 
 #include <stdio.h>
 #include <string.h>
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s SPEC.yaml opcodes.txt\n", argv[0]);
-        return 2;
-    }
-    char err[1024];
     spec s;
-    if (spec_load(argv[1], &s, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        return 1;
-    }
-    FILE *f = fopen(argv[2], "r");
-    if (!f) {
-        perror(argv[2]);
-        spec_free(&s);
-        return 1;
-    }
+    FILE *f;
+    int setup = spec_test_load_with_file(argc, argv, "opcodes.txt", &s, &f);
+    if (setup)
+        return setup;
     char line[256];
     int lineno = 0, failures = 0, frozen = 0;
     while (fgets(line, sizeof line, f)) {

@@ -6,12 +6,10 @@
  * error for the stream. gl.xml's groups are not complete, so this is a
  * floor, not the whole table.
  * Usage: spec_pname_counts_cover_gl21 SPEC.yaml GL.xml */
-#include "glxml.h"
-#include "spec.h"
+#include "spec_test_setup.h"
 
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 /* Legal GL 2.1 query enums whose result length is not fixed (it is the
  * value of another query), so no pname_counts entry can describe them. */
@@ -40,27 +38,11 @@ static int listed(const spec *s, const glxml *x, const glxml_enum *e)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s SPEC.yaml GL.xml\n", argv[0]);
-        return 2;
-    }
-    if (access(argv[2], R_OK) != 0) {
-        fprintf(stderr, "FAIL: %s is missing: install the Khronos registry (apt-get install khronos-api)\n",
-                argv[2]);
-        return 1;
-    }
-    char err[1024];
     spec s;
-    if (spec_load(argv[1], &s, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        return 1;
-    }
     glxml x;
-    if (glxml_load(argv[2], &x, err, sizeof err)) {
-        fprintf(stderr, "FAIL: %s\n", err);
-        spec_free(&s);
-        return 1;
-    }
+    int setup = spec_test_load_with_glxml(argc, argv, &s, &x);
+    if (setup)
+        return setup;
 
     int failures = 0;
     size_t commands = 0, checked = 0;
