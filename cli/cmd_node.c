@@ -1,29 +1,44 @@
-/* cli/cmd_node.c — `tessera node`: runs one server node (node/node.h) on a
- * listen address until the given number of clients connected and ended.
+/* cli/cmd_node.c — `tessera node`: either a standalone server node
+ * (node/node.h) on a listen address until the given number of clients
+ * connected and ended, or, with --mothership, a node of a graph run that
+ * takes its role from the mothership (mothership/mothership.h).
  * Owns only argument parsing and the exit code; the node does the work.
- * Prints "listening on ADDR" (the real port for tcp://...:0) on stdout once
- * clients may connect, so scripts can wait for that line. */
+ * Standalone, prints "listening on ADDR" (the real port for tcp://...:0) on
+ * stdout once clients may connect, so scripts can wait for that line. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
+#include "mothership.h"
+#include "control.h"
 #include "node.h"
 
 static void node_usage(FILE *out)
 {
     fprintf(out,
             "usage: tessera node --listen ADDR --chain \"SPU CHAIN\" [--token T] [--clients N]\n"
-            "                    [--timeout-ms MS] [--name NAME]\n\n"
+            "                    [--timeout-ms MS] [--name NAME] [--independent]\n"
+            "       tessera node --mothership HOST:PORT [--name NAME | --rank N] [--token T]\n"
+            "                    [--bind HOST] [--timeout-ms MS] [--connect-timeout-ms MS]\n\n"
             "Runs a server node: accepts stream clients (the pack SPU) on ADDR and feeds\n"
-            "each client's stream through its own instance of the SPU chain; replies go back.\n"
-            "Ends when N clients have connected and disconnected.\n\n"
+            "their streams through the SPU chain; replies go back. Ends when N clients have\n"
+            "connected and disconnected.\n\n"
+            "By default the N clients draw ONE picture, like the processes of a parallel\n"
+            "program: one thread runs one chain with a GL context per client (render: one\n"
+            "shared window), scheduling clients round-robin a buffer at a time. Barriers\n"
+            "and semaphores (glBarrierCreateTSR/ExecTSR, glSemaphoreCreateTSR/PTSR/VTSR)\n"
+            "block and release clients' streams; the first client to swap is the one whose\n"
+            "swaps end frames (the others' are ignored). If every client is blocked, the\n"
+            "node fails naming the barrier or semaphore and the clients waiting (exit 1).\n\n"
             "options:\n"
             "  --listen ADDR     tcp://127.0.0.1:PORT (port 0: any free port), tcp://[::1]:PORT,\n"
             "                    tcp://0.0.0.0:PORT (every interface, only when asked), unix:PATH\n"
-            "  --chain TEXT      SPU chain per client, e.g. \"render output=out/f-%%04d.png\";\n"
-            "                    {client} becomes the client's number (0, 1, ...)\n"
+            "  --chain TEXT      SPU chain, e.g. \"render output=out/f-%%04d.png\"\n"
+            "  --independent     one chain and thread per client instead: unrelated apps, each\n"
+            "                    swapping on its own; {client} in the chain text becomes the\n"
+            "                    client's number (0, 1, ...), e.g. output=out/c{client}-%%04d.png\n"
             "  --token T         shared token clients must present (default: none)\n"
             "  --clients N       clients to serve before ending (default 1)\n"
             "  --timeout-ms MS   longest wait for the next client, and longest silence of a\n"
@@ -32,7 +47,25 @@ static void node_usage(FILE *out)
             "  -h, --help        show this help\n\n"
             "Prints \"listening on ADDR\" once ready. Exit codes: 0 every client ended cleanly,\n"
             "1 runtime failure (a client dropped, none came in time, address in use),\n"
-            "2 usage error or bad chain.\n");
+            "2 usage error or bad chain.\n\n"
+            "With --mothership, the node joins a graph run instead (tessera mothership --help):\n"
+            "the mothership says whether it is a server or runs an application, and with which\n"
+            "chain. It joins by --name, or by --rank N (the N-th node of the graph in file\n"
+            "order, from 0); without either, the rank comes from OMPI_COMM_WORLD_RANK,\n"
+            "PMI_RANK or SLURM_PROCID (mpirun, srun).\n"
+            "  --mothership ADDR       HOST:PORT, tcp://HOST:PORT or unix:PATH\n"
+            "  --rank N                join as the N-th node of the graph\n"
+            "  --token T               the run's token (default: $TESSERA_TOKEN)\n"
+            "  --bind HOST             as a server whose graph entry names no listen host,\n"
+            "                          listen on HOST (an address its clients reach; default\n"
+            "                          127.0.0.1, loopback only)\n"
+            "  --timeout-ms MS         give the mothership's --timeout-ms (default %u); a\n"
+            "                          mothership silent for 3 x MS counts as lost\n"
+            "  --connect-timeout-ms MS keep trying to reach the mothership this long\n"
+            "                          (default 10000)\n"
+            "Exit codes: 0 ok, 1 failure (the line says why; also when the mothership stops\n"
+            "the run or is lost), 2 usage error or refused by the mothership.\n",
+            TSR_MS_DEFAULT_TIMEOUT_MS);
 }
 
 static int parse_count(const char *text, long min, long max, long *out)
@@ -52,17 +85,83 @@ static const char *without_prefix(const char *message)
     return strncmp(message, "node: ", 6) ? message : message + 6;
 }
 
+/* The launcher's rank: mpirun (Open MPI, MPICH/PMI) or srun. */
+static const char *rank_from_env(const char **var)
+{
+    static const char *const vars[] = {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "SLURM_PROCID"};
+    for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++) {
+        const char *v = getenv(vars[i]);
+        if (v && *v) {
+            *var = vars[i];
+            return v;
+        }
+    }
+    return NULL;
+}
+
+static int node_with_mothership(const char *mothership, const char *name, const char *rank_text,
+                                const char *token, long timeout_ms, long connect_timeout_ms,
+                                const char *bind)
+{
+    tsr_agent_config cfg = {.name = name, .rank = -1, .token = token, .bind = bind};
+    char address[256];
+    tsr_ms_address(mothership, address, sizeof address);
+    cfg.mothership = address;
+    if (name && rank_text) {
+        fprintf(stderr, "tessera node: --name and --rank exclude each other\n");
+        return TSR_EXIT_USAGE;
+    }
+    const char *source = "--rank";
+    if (!name && !rank_text)
+        rank_text = rank_from_env(&source);
+    if (!name) {
+        long r;
+        if (!rank_text) {
+            fprintf(stderr, "tessera node: --mothership needs --name NAME or --rank N (or one of "
+                            "OMPI_COMM_WORLD_RANK, PMI_RANK, SLURM_PROCID)\n");
+            return TSR_EXIT_USAGE;
+        }
+        if (parse_count(rank_text, 0, 1000000, &r)) {
+            fprintf(stderr, "tessera node: bad rank '%s' from %s (expected 0, 1, ...)\n", rank_text,
+                    source);
+            return TSR_EXIT_USAGE;
+        }
+        cfg.rank = (int)r;
+    }
+    if (!cfg.token || !*cfg.token)
+        cfg.token = getenv("TESSERA_TOKEN");
+    cfg.timeout_ms = timeout_ms < 0 ? TSR_MS_DEFAULT_TIMEOUT_MS : (uint32_t)timeout_ms;
+    cfg.connect_timeout_ms = connect_timeout_ms < 0 ? 10000 : (uint32_t)connect_timeout_ms;
+    tsr_error err = {0};
+    int code = tsr_agent_run(&cfg, &err);
+    if (code)
+        fprintf(stderr, "tessera node: %s%s%s: %s\n", name ? "" : "rank ", name ? name : rank_text,
+                "", err.message);
+    /* A server thread or the I/O thread may still run after a STOP: end
+     * here, without running exit handlers under their feet. */
+    fflush(NULL);
+    _exit(code);
+}
+
 int cmd_node(int argc, char **argv)
 {
     tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000};
+    const char *mothership = NULL, *rank = NULL, *bind = NULL;
+    long timeout_given = -1, connect_timeout = -1;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
             node_usage(stdout);
             return TSR_EXIT_OK;
         }
+        if (!strcmp(arg, "--independent")) {
+            cfg.mode = TSR_NODE_INDEPENDENT;
+            continue;
+        }
         int known = !strcmp(arg, "--listen") || !strcmp(arg, "--chain") || !strcmp(arg, "--token") ||
-                    !strcmp(arg, "--clients") || !strcmp(arg, "--timeout-ms") || !strcmp(arg, "--name");
+                    !strcmp(arg, "--clients") || !strcmp(arg, "--timeout-ms") || !strcmp(arg, "--name") ||
+                    !strcmp(arg, "--mothership") || !strcmp(arg, "--rank") || !strcmp(arg, "--bind") ||
+                    !strcmp(arg, "--connect-timeout-ms");
         if (!known) {
             fprintf(stderr, "tessera node: unknown option '%s' (see tessera node --help)\n", arg);
             return TSR_EXIT_USAGE;
@@ -81,6 +180,19 @@ int cmd_node(int argc, char **argv)
             cfg.token = value;
         else if (!strcmp(arg, "--name"))
             cfg.name = value;
+        else if (!strcmp(arg, "--mothership"))
+            mothership = value;
+        else if (!strcmp(arg, "--rank"))
+            rank = value;
+        else if (!strcmp(arg, "--bind"))
+            bind = value;
+        else if (!strcmp(arg, "--connect-timeout-ms")) {
+            if (parse_count(value, 0, 86400000, &n)) {
+                fprintf(stderr, "tessera node: bad --connect-timeout-ms '%s' (expected 0..86400000)\n", value);
+                return TSR_EXIT_USAGE;
+            }
+            connect_timeout = n;
+        }
         else if (!strcmp(arg, "--clients")) {
             if (parse_count(value, 1, 100000, &n)) {
                 fprintf(stderr, "tessera node: bad --clients '%s' (expected 1..100000)\n", value);
@@ -93,7 +205,20 @@ int cmd_node(int argc, char **argv)
                 return TSR_EXIT_USAGE;
             }
             cfg.timeout_ms = (uint32_t)n;
+            timeout_given = n;
         }
+    }
+    if (mothership) {
+        if (cfg.listen || cfg.chain) {
+            fprintf(stderr, "tessera node: --mothership gives the node its role: no --listen or --chain\n");
+            return TSR_EXIT_USAGE;
+        }
+        return node_with_mothership(mothership, cfg.name, rank, cfg.token, timeout_given, connect_timeout,
+                                    bind);
+    }
+    if (rank || bind || connect_timeout >= 0) {
+        fprintf(stderr, "tessera node: --rank, --bind and --connect-timeout-ms need --mothership\n");
+        return TSR_EXIT_USAGE;
     }
     if (!cfg.listen || !cfg.chain) {
         fprintf(stderr, "tessera node: --listen and --chain are required (see tessera node --help)\n");

@@ -19,6 +19,10 @@ int cmd_spus(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_dot(int argc, char **argv);
 int cmd_node(int argc, char **argv);
+int cmd_run(int argc, char **argv);
+int cmd_mothership(int argc, char **argv);
+/* `tessera run` (launch = 1) and `tessera mothership` (0): cli/cmd_run.c. */
+int tsr_cli_run_graph(int argc, char **argv, int launch);
 
 
 #include <stdio.h>

@@ -10,6 +10,8 @@ static const tsr_cli_command commands[] = {
     {"spus", "list installed SPUs with their options, types, defaults and help", cmd_spus},
     {"check", "validate a graph file: keys, SPUs, options, edges, cycles, tiles", cmd_check},
     {"dot", "print a graph file as Graphviz DOT (tessera dot G | dot -Tpng)", cmd_dot},
+    {"run", "run a graph: the mothership plus every local node as a child process", cmd_run},
+    {"mothership", "coordinate a graph whose nodes are started elsewhere (ssh, mpirun, srun)", cmd_mothership},
     {"node", "run a server node: accept pack clients, feed each through its own SPU chain", cmd_node},
     {"imgdiff", "compare two PNG images: differing pixels, max channel error, PSNR", cmd_imgdiff},
 };

@@ -103,7 +103,30 @@ int tsr_unpacker_run(tsr_unpacker *u, const void *buf, size_t size, tsr_error *e
     const uint8_t *data = b + TSR_WIRE_HEADER_SIZE + tsr_wire_align8(nops);
     u->buffers++;
     u->commands += nops;
-    return tsr_unpack_commands(u, u->target, data, nops, (size_t)len, err);
+    u->yield = 0;
+    u->resume_command = 0;
+    u->resume_pos = 0;
+    u->paused_data = data;
+    u->paused_nops = nops;
+    u->paused_len = (size_t)len;
+    return tsr_unpacker_resume(u, err);
+}
+
+int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err)
+{
+    tsr_error local;
+    if (!err)
+        err = &local;
+    if (!u->paused_data)
+        return tsr_error_set(err, TSR_ESTATE, "unpacker: no paused buffer to resume");
+    int rc = tsr_unpack_commands(u, u->target, u->paused_data, u->paused_nops, u->paused_len, err);
+    if (rc != TSR_UNPACK_YIELDED) {
+        /* Finished or failed: nothing left to resume. */
+        u->paused_data = NULL;
+        u->resume_command = 0;
+        u->resume_pos = 0;
+    }
+    return rc;
 }
 
 int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs)

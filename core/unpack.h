@@ -40,7 +40,19 @@ typedef struct tsr_unpacker {
     void **ptrs;              /* pointer arrays of custom commands */
     size_t ptrs_cap;
     uint64_t commands, buffers;
+    /* Yielding (see tsr_unpacker_yield): the paused buffer's commands and
+     * where the next one starts. resume_* are 0 while no buffer is paused. */
+    int yield;
+    uint32_t resume_command;
+    size_t resume_pos;
+    const uint8_t *paused_data;  /* NULL: nothing paused */
+    uint32_t paused_nops;
+    size_t paused_len;
 } tsr_unpacker;
+
+/* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when
+ * a command handler asked to stop after its command. */
+#define TSR_UNPACK_YIELDED 1
 
 /* `target` receives every decoded call; `reply` may be NULL (replies are
  * then dropped after the call ran). */
@@ -49,9 +61,23 @@ TSR_API tsr_unpacker *tsr_unpacker_create(const tsr_dispatch *target, tsr_reply_
 TSR_API void tsr_unpacker_destroy(tsr_unpacker *u);
 /* Decodes one buffer (header + opcodes + data, any alignment) and
  * dispatches its commands in order. Commands before a malformed one have
- * been dispatched; the rest of the buffer is dropped. Returns 0 or
- * TSR_EPROTO / TSR_ENOMEM with `err` filled. */
+ * been dispatched; the rest of the buffer is dropped. Returns 0,
+ * TSR_UNPACK_YIELDED (a handler yielded: see below), or TSR_EPROTO /
+ * TSR_ENOMEM with `err` filled. */
 TSR_API int tsr_unpacker_run(tsr_unpacker *u, const void *buf, size_t size, tsr_error *err);
+/* Called by a command handler (while run or resume dispatches it): the
+ * unpacker stops right after this command and returns TSR_UNPACK_YIELDED;
+ * tsr_unpacker_resume continues with the next command. The buffer handed
+ * to run must stay valid and unchanged until the buffer is finished (a
+ * server node uses this to block a client's stream at a barrier). Running
+ * a new buffer abandons a paused one. */
+static inline void tsr_unpacker_yield(tsr_unpacker *u) { u->yield = 1; }
+/* True while a buffer is paused after a yield. */
+static inline int tsr_unpacker_paused(const tsr_unpacker *u) { return u->paused_data != NULL; }
+/* Continues the paused buffer: 0 when it is finished, TSR_UNPACK_YIELDED
+ * when a handler yielded again, or an error as tsr_unpacker_run.
+ * TSR_ESTATE when nothing is paused. */
+TSR_API int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err);
 /* Checks a buffer's header: returns its total size, or 0 when `size` bytes
  * do not start a valid header (`err` filled). */
 TSR_API size_t tsr_wire_buffer_size(const void *buf, size_t size, tsr_error *err);

@@ -101,5 +101,6 @@ void gen_emit_dispatch(const gen *g);
 void gen_emit_wire(const gen *g);
 void gen_emit_trace(const gen *g);
 void gen_emit_test_support(const gen *g);
+void gen_emit_state(const gen *g);
 
 #endif

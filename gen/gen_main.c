@@ -1,6 +1,7 @@
 /* gen/gen_main.c — tsr-gen: turns spec/gl.yaml into the generated sources
  * (dispatch table, GL procs, entry points, opcodes, packers, unpackers,
- * tracing, test support). Owns: argument handling, the type and enum
+ * tracing, test support, the state tracker's attribute entry points and
+ * coverage list: gen_state.c). Owns: argument handling, the type and enum
  * tables and the wire layout of every command. Host tool only: it may
  * exit on bad input, the runtime never does. Usage:
  *   tsr-gen SPEC.yaml GL_HEADER_DIR OUTDIR */
@@ -330,6 +331,7 @@ int main(int argc, char **argv)
     gen_emit_wire(&g);
     gen_emit_trace(&g);
     gen_emit_test_support(&g);
+    gen_emit_state(&g);
     spec_free(&s);
     return 0;
 }

@@ -26,6 +26,53 @@ void net_msg_free(net_msg *m) {
     free(m);
 }
 
+uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
+    /* Newest first: the most recently released buffer is the likeliest
+     * to be in cache. */
+    if (len >= NET_STAGING_BYTES)
+        for (unsigned i = c->spares; i-- > 0;)
+            if (c->spare_cap[i] >= len && c->spare_cap[i] / 2 <= len) {
+                uint8_t *p = c->spare[i];
+                *cap = c->spare_cap[i];
+                c->spares--;
+                memmove(&c->spare[i], &c->spare[i + 1], (c->spares - i) * sizeof c->spare[0]);
+                memmove(&c->spare_cap[i], &c->spare_cap[i + 1],
+                        (c->spares - i) * sizeof c->spare_cap[0]);
+                return p;
+            }
+    *cap = len ? len : 1;
+    return malloc((size_t)*cap);
+}
+
+/* (L) Keeps the payload of a released large message for reuse; returns 1
+ * when it took it. Spares plus messages in use stay within the credit
+ * window, so the memory bound of net.h (credits x max_message_bytes per
+ * connection and direction) still holds. */
+static int keep_spare(tsr_net_conn *c, net_msg *m) {
+    if (m->release || m->cap < NET_STAGING_BYTES || c->close_requested || c->state != NET_OPEN)
+        return 0;
+    if (c->spares + c->inbox_count + c->held + (c->partial != NULL) >= c->net->config.credits)
+        return 0;
+    if (c->spares == NET_SPARE_MAX) { /* replace the smallest: sizes drift upwards */
+        unsigned small = 0;
+        for (unsigned i = 1; i < c->spares; i++)
+            if (c->spare_cap[i] < c->spare_cap[small])
+                small = i;
+        if (c->spare_cap[small] >= m->cap)
+            return 0;
+        free(c->spare[small]);
+        c->spares--;
+        memmove(&c->spare[small], &c->spare[small + 1], (c->spares - small) * sizeof c->spare[0]);
+        memmove(&c->spare_cap[small], &c->spare_cap[small + 1],
+                (c->spares - small) * sizeof c->spare_cap[0]);
+    }
+    c->spare[c->spares] = m->data;
+    c->spare_cap[c->spares] = m->cap;
+    c->spares++;
+    m->data = NULL;
+    return 1;
+}
+
 static void free_msg_list(net_msg **head, net_msg **tail) {
     while (*head) {
         net_msg *m = *head;
@@ -78,6 +125,8 @@ void net_conn_maybe_free(tsr_net_conn *c) {
     free_msg_list(&c->outbox_head, &c->outbox_tail);
     if (c->partial)
         net_msg_free(c->partial);
+    while (c->spares)
+        free(c->spare[--c->spares]);
     free(c->staging);
     pthread_cond_destroy(&c->cond);
     free(c);
@@ -314,7 +363,12 @@ static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char
             break;
         }
     *reached = c->socket_connected;
-    if (c->state != NET_OPEN) {
+    /* A peer may answer WELCOME and at once say something and close (a
+     * server dropping a client it cannot serve says why first). Once the
+     * handshake succeeded the connection is the caller's even if it
+     * already ended or failed: what the peer said stays receivable, and
+     * the next send or receive reports the end. */
+    if (c->state != NET_OPEN && !c->handshaken) {
         if (guard_expired)
             tsr_error_set(err, TSR_ETIMEDOUT, "net: connecting to %s timed out", address);
         else
@@ -564,6 +618,8 @@ void tsr_net_msg_release(tsr_net_msg *msg) {
         else
             net_mark_dirty(c);
     }
+    if (c->transport != NET_INPROC)
+        keep_spare(c, m); /* before maybe_free, which frees the spares with c */
     net_conn_maybe_free(c);
     pthread_mutex_unlock(&net->lock);
     net_msg_free(m);

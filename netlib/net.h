@@ -38,7 +38,10 @@
  * WELCOME or REFUSE. HELLO/WELCOME payload: u32 credits granted to the
  * peer, u64 max_message_bytes accepted, u16 name length + node name bytes,
  * u16 token length + token bytes (WELCOME sends no token). CREDIT payload:
- * u32 count of credits returned; PING and BYE are empty. REFUSE payload:
+ * u32 count of credits returned. PING: empty asks the peer to answer with
+ * a PING of one byte 0x01 (an answer is never answered), so a side hears
+ * from an idle peer within its own idle_timeout_ms whatever the peer's
+ * setting; BYE is empty. REFUSE payload:
  * a one-line reason (UTF-8, no terminator), after which the refusing side
  * closes. A version mismatch, a wrong or missing token, or a malformed
  * HELLO is refused; both sides report one line naming the other.
@@ -57,8 +60,10 @@
  * peer's CREDIT messages queue behind its data (two peers that both send
  * would otherwise deadlock). So per connection and direction, memory is
  * bounded by credits x max_message_bytes on each side (the sender's queue
- * and the receiver's window), plus a 64 KiB read buffer. Messages are
- * delivered in order, exactly once, per connection.
+ * and the receiver's window), plus a 64 KiB read buffer. Payload buffers
+ * of released large messages are kept (within that window) and reused for
+ * the next ones, so a stream does not fault in fresh pages per message.
+ * Messages are delivered in order, exactly once, per connection.
  *
  * CLOSING. tsr_net_conn_close() hands the connection to the I/O thread,
  * which writes what was already sent, then BYE (empty), shuts down its
@@ -147,7 +152,9 @@ TSR_API void tsr_net_listener_close(tsr_net_listener *listener);
  * per address. A host name is resolved by the calling thread (bounded by
  * the system resolver's time-outs) and every address it resolves to is
  * tried until one answers. Errors name the address and, when the peer
- * refused, the peer's reason. */
+ * refused, the peer's reason. Once the handshake succeeded the connection
+ * is returned even if the peer closed (or it failed) right after: messages
+ * the peer sent before stay receivable, then send/recv report the end. */
 TSR_API tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err);
 
 /* Sends a copy of `data`. Blocks while the peer grants no credit.

@@ -18,6 +18,7 @@
 #define NET_CONTROL_MAX 4096      /* largest control payload accepted */
 #define NET_STAGING_BYTES 65536   /* per-connection socket read buffer */
 #define NET_PENDING_ACCEPT_MAX 64 /* handshaking + unaccepted per listener */
+#define NET_SPARE_MAX 8           /* released receive buffers kept per connection */
 
 enum net_wire_type {
     NET_HELLO = 0x01,
@@ -46,6 +47,7 @@ typedef struct net_msg {
     uint8_t type;
     uint64_t len;
     uint8_t *data;
+    uint64_t cap;              /* bytes allocated at data (received messages) */
     void (*release)(void *data, void *ctx); /* NULL = free() */
     void *release_ctx;
     uint8_t header[TSR_NET_HEADER_BYTES];
@@ -77,6 +79,7 @@ struct tsr_net_conn {
     tsr_error error;      /* (L) set once state is NET_FAILED */
     bool close_requested; /* (L) app closed; I/O thread winds down */
     bool socket_connected; /* (L) the transport connected (handshake may still fail) */
+    bool handshaken;      /* (L) the handshake succeeded (the state may have moved on) */
 
     /* send side (L) */
     uint32_t send_credits;
@@ -90,6 +93,13 @@ struct tsr_net_conn {
     net_msg *inbox_head, *inbox_tail;
     uint32_t inbox_count;
     uint32_t credits_to_return; /* released by the app, not yet granted */
+    /* Payload buffers of released large messages, reused for the next ones
+     * (L): fresh multi-megabyte allocations come from mmap and cost a page
+     * fault per 4 KiB on first touch, which halved stream throughput. At
+     * most NET_SPARE_MAX, so memory stays within the credit bound. */
+    uint8_t *spare[NET_SPARE_MAX];
+    uint64_t spare_cap[NET_SPARE_MAX];
+    unsigned spares;
 
     tsr_net_stats stats; /* (L) */
 
@@ -244,6 +254,10 @@ void net_conn_signal(tsr_net_conn *conn);     /* (L) wake its waiters */
 void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4))); /* (L) */
 void net_msg_free(net_msg *m);
+/* (L) A payload buffer of at least `len` bytes for a message from `c`: a
+ * spare one when it fits (and is not more than twice too big), else a new
+ * one; sets *cap to its size. NULL when out of memory. */
+uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap);
 uint16_t net_version(const tsr_net *net);
 
 /* socket.c: runs on the I/O thread, net->lock held */

@@ -48,7 +48,19 @@ static void write_msg(tsr_net_conn *c, net_msg *m) {
     bufs[1].len = (size_t)m->len;
     m->conn = c;
     m->write_req.data = m;
+    /* uv_write writes what the socket takes at once: for a large message
+     * that is a long kernel copy. Application threads must not wait for it
+     * to queue their next message (the sender would stall on the lock while
+     * its previous buffer is copied), so the lock is dropped around it.
+     * Safe: only this thread touches libuv handles or frees `c` while it
+     * holds io_ref, libuv never runs the write callback from inside
+     * uv_write, and `m` is no longer in any list other threads see. */
+    bool unlock = m->len >= NET_STAGING_BYTES;
+    if (unlock)
+        pthread_mutex_unlock(&c->net->lock);
     int rc = uv_write(&m->write_req, &c->h.stream, bufs, m->len ? 2 : 1, on_write);
+    if (unlock)
+        pthread_mutex_lock(&c->net->lock);
     if (rc) {
         net_conn_fail(c, TSR_EIO, "net: writing to %s failed: %s", c->address, uv_strerror(rc));
         net_msg_free(m);
@@ -286,6 +298,7 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h) {
     c->peer_window = h->credits;
     c->peer_max_message = h->max_message_bytes;
     c->state = NET_OPEN;
+    c->handshaken = true;
     arm_timer(c);
     net_conn_signal(c);
 }
@@ -380,6 +393,13 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         return;
     }
     case NET_PING:
+        /* An empty PING asks for an answer (a PING of one byte, never
+         * answered itself): a side whose idle_timeout_ms is shorter than
+         * its peer's still hears from an idle peer in time. */
+        if (m->len == 0 && c->state == NET_OPEN && !c->shutting_down && !c->handles_closing) {
+            static const uint8_t answer = 1;
+            write_control(c, NET_PING, &answer, 1);
+        }
         net_msg_free(m);
         return;
     case NET_BYE:
@@ -453,7 +473,7 @@ static void handle_header(tsr_net_conn *c) {
     case NET_WELCOME:
     case NET_REFUSE: expected = handshaking && !c->is_server; break;
     case NET_CREDIT: expected = c->state == NET_OPEN; limit = 4; break;
-    case NET_PING:
+    case NET_PING: expected = c->state == NET_OPEN; limit = 1; break;
     case NET_BYE: expected = c->state == NET_OPEN; limit = 0; break;
     default:
         expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN &&
@@ -493,7 +513,8 @@ static void handle_header(tsr_net_conn *c) {
         return;
     }
     net_msg *m = calloc(1, sizeof *m);
-    uint8_t *data = malloc(h.len ? (size_t)h.len : 1);
+    uint64_t cap = 0;
+    uint8_t *data = m ? net_payload_alloc(c, h.len, &cap) : NULL;
     if (!m || !data) {
         free(m);
         free(data);
@@ -505,6 +526,7 @@ static void handle_header(tsr_net_conn *c) {
     m->type = h.type;
     m->len = h.len;
     m->data = data;
+    m->cap = cap;
     m->conn = c;
     if (h.len == 0) {
         deliver(c, m);

@@ -1,9 +1,11 @@
-/* node/node.c — the server node (node/node.h): listener, accept loop and
- * one session thread per client (chain + unpacker + reply channel).
+/* node/node.c — the server node (node/node.h): configuration, listener,
+ * statistics, and independent mode (one session thread per client: chain
+ * + unpacker + reply channel). Shared mode is in schedule.c.
  * Owns: the netlib instance, the listener, every session and its chain.
  * Never touches a session's chain from another thread (OSMesa contexts
  * are current per thread), never exits on a client's bad input. */
 #include "node.h"
+#include "node_internal.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -32,20 +34,6 @@ typedef struct node_session {
     tsr_entry chain_swap;      /* the chain's own SwapBuffersTSR */
 } node_session;
 
-struct tsr_node {
-    char *chain_text;
-    uint32_t timeout_ms;
-    unsigned clients;
-    tsr_net *net;
-    tsr_net_listener *listener;
-    node_session *sessions;    /* `clients` entries */
-    unsigned accepted;
-    int ran;
-    int stats_lock_ready;
-    pthread_mutex_t stats_lock;
-    tsr_node_stats stats;
-};
-
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -55,7 +43,7 @@ static double now_seconds(void)
 
 /* Adds to the node's totals under its lock (sessions run on their own
  * threads; tsr_node_get_stats may be called from any). */
-static void stats_add(tsr_node *node, const tsr_node_stats *delta)
+void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta)
 {
     pthread_mutex_lock(&node->stats_lock);
     tsr_node_stats *t = &node->stats;
@@ -68,6 +56,8 @@ static void stats_add(tsr_node *node, const tsr_node_stats *delta)
     t->clients_connected += delta->clients_connected;
     t->clients_ended += delta->clients_ended;
     t->clients_failed += delta->clients_failed;
+    t->swaps_ignored += delta->swaps_ignored;
+    t->blocks += delta->blocks;
     pthread_mutex_unlock(&node->stats_lock);
 }
 
@@ -83,7 +73,7 @@ static void count_swap(void *self, GLint window, GLbitfield flags)
     node_session *s = self;
     ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags);
     tsr_node_stats delta = {.frames = 1};
-    stats_add(s->node, &delta);
+    tsr_node_stats_add(s->node, &delta);
 }
 
 /* The chain text with every "{client}" replaced by `index`; NULL when out
@@ -116,7 +106,7 @@ static char *chain_text_for(const char *text, unsigned index)
     return out;
 }
 
-static tsr_chain *create_client_chain(const tsr_node *node, unsigned index, tsr_error *err)
+tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err)
 {
     char *text = chain_text_for(node->chain_text, index);
     if (!text) {
@@ -130,29 +120,37 @@ static tsr_chain *create_client_chain(const tsr_node *node, unsigned index, tsr_
 
 /* --- one client ---------------------------------------------------------- */
 
-static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
+int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_t *cap, uint32_t id,
+                        const uint8_t *data, size_t size, tsr_error *err)
 {
-    node_session *s = ctx;
     size_t total = TSR_NODE_REPLY_HEADER + size;
-    if (total > s->reply_cap) {
-        uint8_t *r = realloc(s->reply, total);
+    if (total > *cap) {
+        uint8_t *r = realloc(*buf, total);
         if (!r)
-            return tsr_error_set(err, TSR_ENOMEM, "node: %s: out of memory for a %zu-byte reply", s->who,
-                                 size);
-        s->reply = r;
-        s->reply_cap = total;
+            return tsr_error_set(err, TSR_ENOMEM, "node: out of memory for a %zu-byte reply", size);
+        *buf = r;
+        *cap = total;
     }
-    tsr_wire_put_u32(s->reply, id);
-    tsr_wire_put_u32(s->reply + 4, 0);
+    tsr_wire_put_u32(*buf, id);
+    tsr_wire_put_u32(*buf + 4, 0);
     if (size)
-        memcpy(s->reply + TSR_NODE_REPLY_HEADER, data, size);
+        memcpy(*buf + TSR_NODE_REPLY_HEADER, data, size);
     tsr_error cause = {0};
-    if (tsr_net_send(s->conn, TSR_NODE_MSG_REPLY, s->reply, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
+    if (tsr_net_send(conn, TSR_NODE_MSG_REPLY, *buf, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
         return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id,
                              cause.message);
     tsr_node_stats delta = {.bytes_out = total};
-    stats_add(s->node, &delta);
+    tsr_node_stats_add(node, &delta);
     return TSR_OK;
+}
+
+static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
+{
+    node_session *s = ctx;
+    int rc = tsr_node_send_reply(s->node, s->conn, &s->reply, &s->reply_cap, id, data, size, err);
+    if (rc == TSR_ENOMEM)
+        tsr_error_set(err, rc, "node: %s: out of memory for a %zu-byte reply", s->who, size);
+    return rc;
 }
 
 /* Receives and runs buffers until the client ends. Returns TSR_OK on a
@@ -181,7 +179,7 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
                                     .commands = unpacker->commands - commands_before,
                                     .bytes_in = m.len,
                                     .busy_seconds = now_seconds() - start};
-            stats_add(s->node, &delta);
+            tsr_node_stats_add(s->node, &delta);
         }
         tsr_net_msg_release(&m);
         if (rc != TSR_OK) {
@@ -201,7 +199,7 @@ static void *session_main(void *arg)
     tsr_error err = {0};
     /* The chain is created on this thread: its GL context is current here
      * and nowhere else. */
-    tsr_chain *chain = create_client_chain(s->node, s->index, &err);
+    tsr_chain *chain = tsr_node_create_chain(s->node, s->index, &err);
     tsr_unpacker *unpacker = NULL;
     if (chain) {
         s->head = *tsr_chain_head(chain);
@@ -220,7 +218,7 @@ static void *session_main(void *arg)
     if (s->error.code)
         tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
     tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1, .clients_failed = s->error.code ? 1 : 0};
-    stats_add(s->node, &ended);
+    tsr_node_stats_add(s->node, &ended);
     tsr_unpacker_destroy(unpacker);
     tsr_chain_destroy(chain);
     tsr_net_conn_close(s->conn);
@@ -240,6 +238,13 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
         return tsr_error_set(err, TSR_EINVAL, "node: no chain"), NULL;
     if (config->clients < 1)
         return tsr_error_set(err, TSR_EINVAL, "node: clients must be at least 1"), NULL;
+    if (config->mode != TSR_NODE_SHARED && config->mode != TSR_NODE_INDEPENDENT)
+        return tsr_error_set(err, TSR_EINVAL, "node: unknown mode %d", (int)config->mode), NULL;
+    if (config->mode == TSR_NODE_SHARED && strstr(config->chain, "{client}"))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "node: chain: {client} needs independent mode (--independent): in shared mode "
+                             "every client draws into the one chain"),
+               NULL;
     tsr_node *node = calloc(1, sizeof *node);
     if (node) {
         node->chain_text = strdup(config->chain);
@@ -252,12 +257,13 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     }
     node->clients = config->clients;
     node->timeout_ms = config->timeout_ms;
+    node->mode = config->mode;
     pthread_mutex_init(&node->stats_lock, NULL);
     node->stats_lock_ready = 1;
 
     /* A bad chain fails now, once, instead of once per client. */
     tsr_error chain_err = {0};
-    tsr_chain *probe = create_client_chain(node, 0, &chain_err);
+    tsr_chain *probe = tsr_node_create_chain(node, 0, &chain_err);
     if (!probe) {
         tsr_error_set(err, chain_err.code == TSR_ENOMEM ? TSR_ENOMEM : TSR_EINVAL, "node: chain: %s",
                       chain_err.message);
@@ -286,28 +292,37 @@ const char *tsr_node_address(const tsr_node *node)
     return tsr_net_listener_address(node->listener);
 }
 
+tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure)
+{
+    tsr_error accept_err = {0};
+    tsr_net_conn *conn = tsr_net_accept(node->listener, timeout_ms, &accept_err);
+    if (conn)
+        return conn;
+    tsr_error last = {0};
+    unsigned refused = tsr_net_listener_refusals(node->listener, &last);
+    if (accept_err.code == TSR_ETIMEDOUT)
+        tsr_error_set(failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s",
+                      node->accepted, node->clients, tsr_node_address(node), node->timeout_ms,
+                      refused ? "; refused one: " : "", refused ? last.message : "");
+    else
+        tsr_error_set(failure, accept_err.code, "node: accepting on %s: %s", tsr_node_address(node),
+                      accept_err.message);
+    return NULL;
+}
+
 int tsr_node_run(tsr_node *node, tsr_error *err)
 {
     if (node->ran)
         return tsr_error_set(err, TSR_ESTATE, "node: already ran");
     node->ran = 1;
+    if (node->mode == TSR_NODE_SHARED)
+        return tsr_node_run_shared(node, err);
     tsr_error failure = {0};
     int timeout = node->timeout_ms ? (int)node->timeout_ms : TSR_NET_WAIT_FOREVER;
     while (node->accepted < node->clients) {
-        tsr_error accept_err = {0};
-        tsr_net_conn *conn = tsr_net_accept(node->listener, timeout, &accept_err);
-        if (!conn) {
-            tsr_error last = {0};
-            unsigned refused = tsr_net_listener_refusals(node->listener, &last);
-            if (accept_err.code == TSR_ETIMEDOUT)
-                tsr_error_set(&failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s",
-                              node->accepted, node->clients, tsr_node_address(node), node->timeout_ms,
-                              refused ? "; refused one: " : "", refused ? last.message : "");
-            else
-                tsr_error_set(&failure, accept_err.code, "node: accepting on %s: %s", tsr_node_address(node),
-                              accept_err.message);
+        tsr_net_conn *conn = tsr_node_accept(node, timeout, &failure);
+        if (!conn)
             break;
-        }
         node_session *s = &node->sessions[node->accepted];
         s->node = node;
         s->index = node->accepted++;
@@ -316,7 +331,7 @@ int tsr_node_run(tsr_node *node, tsr_error *err)
                  tsr_net_conn_address(conn));
         tsr_log(TSR_LOG_INFO, "node: %s connected", s->who);
         tsr_node_stats connected = {.clients_connected = 1};
-        stats_add(node, &connected);
+        tsr_node_stats_add(node, &connected);
         int rc = pthread_create(&s->thread, NULL, session_main, s);
         if (rc) {
             tsr_error_set(&failure, TSR_EIO, "node: cannot start a thread for %s: %s", s->who, strerror(rc));

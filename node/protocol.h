@@ -18,7 +18,9 @@
  *                        checks it.
  *   TSR_NODE_MSG_ERROR   one line (UTF-8, no terminator): why the server
  *                        dropped this client (malformed buffer, chain
- *                        failure). The server closes right after it.
+ *                        failure, a wrong parallel-API command, or, in
+ *                        shared mode, a deadlock that stopped the node).
+ *                        The server closes right after it.
  * A clean end: FINISH both ways, then netlib's BYE (the client closes its
  * connection); the server then destroys that client's chain. */
 #ifndef TSR_NODE_PROTOCOL_H

@@ -28,7 +28,38 @@
  * calls go straight to OSMesa (no per-call check), so they reach the
  * context current on the calling thread: a thread that switches between
  * two render instances' tables must send one of those commands to the
- * instance it switches to before drawing. */
+ * instance it switches to before drawing.
+ *
+ * Several contexts, one window (a server node with many clients,
+ * node/node.h): ContextCreateTSR(id) adds a context, MakeCurrentTSR(window,
+ * id) directs the commands that follow to it, ContextDestroyTSR(id) drops
+ * it; id 0 is the instance's own context. Every context draws into ONE
+ * shared framebuffer, so N clients build one picture. What OSMesa does and
+ * does not share, measured with Mesa 22.3 (llvmpipe, Debian 12): contexts
+ * with the same formats made current on the same user buffer share
+ * NOTHING — each context renders into its own colour and depth/stencil
+ * resources and only copies its colour into the user buffer at
+ * glFlush/glFinish, overwriting it (a context made current on a buffer
+ * another context drew into reads black and depth 0). Copying the
+ * framebuffer between contexts at every switch is slow and not exact
+ * (glDrawPixels or glBlitFramebuffer of depth, which go through float,
+ * changed 25% of the depth values of a 1024x768 scene; glDrawPixels of it
+ * took 160 ms). So the first ContextCreateTSR
+ * switches the instance to shared mode: the contexts form one share group
+ * (OSMesaCreateContextExt's sharelist) and each draws through its own
+ * framebuffer object into the same two renderbuffers (RGBA8 and
+ * DEPTH24_STENCIL8, the native window's formats). A plain FBO rasterises
+ * with the opposite y orientation to the window (gallium draws window
+ * buffers upside down) and differed from it in 1 of 59,297 pixels (301x197)
+ * and 2 of 786,432 (1024x768) on a soup of 3,000 triangles, wide lines and
+ * points; with GL_MESA_framebuffer_flip_y set on the FBO both were
+ * bit-identical, so the FBOs set it.
+ * Consequences: the clients share one object namespace (display lists,
+ * textures, buffers, programs: names from glGen* never collide, made-up
+ * names may); GL_FRONT/GL_LEFT/GL_FRONT_AND_BACK in DrawBuffer/ReadBuffer
+ * mean the shared colour buffer; the frame is read back (by context 0) at
+ * each swap. Switching contexts finishes the outgoing context first, so
+ * the next one sees everything it drew. */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -60,6 +91,35 @@ typedef struct osmesa_api {
     OSMESAproc (*GetProcAddress)(const char *name);
 } osmesa_api;
 
+/* Framebuffer-object entries for shared mode; not in the spec (clients
+ * never send them), so resolved here. */
+typedef struct fbo_api {
+    void (GLAPIENTRY *GenRenderbuffers)(GLsizei n, GLuint *ids);
+    void (GLAPIENTRY *DeleteRenderbuffers)(GLsizei n, const GLuint *ids);
+    void (GLAPIENTRY *BindRenderbuffer)(GLenum target, GLuint id);
+    void (GLAPIENTRY *RenderbufferStorage)(GLenum target, GLenum format, GLsizei w, GLsizei h);
+    void (GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
+    void (GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
+    void (GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
+    void (GLAPIENTRY *FramebufferRenderbuffer)(GLenum target, GLenum attachment, GLenum rbtarget,
+                                               GLuint rb);
+    void (GLAPIENTRY *FramebufferParameteri)(GLenum target, GLenum pname, GLint value);
+    GLenum (GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
+} fbo_api;
+
+#ifndef GL_FRAMEBUFFER_FLIP_Y_MESA
+#define GL_FRAMEBUFFER_FLIP_Y_MESA 0x8BBB
+#endif
+
+/* One context of shared mode; contexts[0] is the instance's own. */
+typedef struct render_context {
+    int id;
+    OSMesaContext osmesa;
+    GLuint fbo;                /* this context's FBO on the shared renderbuffers */
+    unsigned attached;         /* renderbuffer generation the FBO was attached at */
+    bool window_seen;          /* its first window command reset viewport/scissor */
+} render_context;
+
 typedef struct render_spu {
     char name[96];
     void *library;             /* dlopen handle of libOSMesa */
@@ -76,6 +136,16 @@ typedef struct render_spu {
     unsigned char *buffer;     /* width * height RGBA, bottom row first */
     int width, height;
     int frame;                 /* number of the next frame written */
+
+    /* Shared mode (header comment): entered by the first ContextCreateTSR. */
+    bool shared;
+    fbo_api fbo;
+    render_context *contexts;  /* [0] = `context` */
+    size_t ncontexts, contexts_cap;
+    size_t current;            /* index into contexts */
+    GLuint color_rb, depth_rb; /* the window: shared by every context */
+    unsigned generation;       /* bumped when the renderbuffers are resized */
+    unsigned char dummy[4];    /* 1x1 drawable: contexts draw through FBOs */
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6",
@@ -138,10 +208,137 @@ static int bind_framebuffer(render_spu *r, int width, int height, tsr_error *err
     return TSR_OK;
 }
 
+/* --- shared mode ----------------------------------------------------------- */
+
+/* Makes contexts[index] current on this thread with its FBO attached to
+ * the current renderbuffers. */
+static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
+    render_context *c = &r->contexts[index];
+    if (r->osmesa.GetCurrentContext() != c->osmesa &&
+        !r->osmesa.MakeCurrent(c->osmesa, r->dummy, GL_UNSIGNED_BYTE, 1, 1))
+        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for context %d", r->name,
+                             c->id);
+    r->current = index;
+    if (!c->fbo) {
+        r->fbo.GenFramebuffers(1, &c->fbo);
+        r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+        r->fbo.FramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_FLIP_Y_MESA, GL_TRUE);
+        c->attached = r->generation - 1;
+    }
+    if (c->attached != r->generation) {
+        r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                       r->color_rb);
+        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
+                                       GL_RENDERBUFFER, r->depth_rb);
+        GLenum status = r->fbo.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE)
+            return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer incomplete (0x%x)",
+                                 r->name, c->id, status);
+        c->attached = r->generation;
+    }
+    return TSR_OK;
+}
+
+/* Finishes the current context (so a context switched to next sees all
+ * it drew: llvmpipe contexts rasterise independently) and makes
+ * contexts[index] current. */
+static int shared_switch(render_spu *r, size_t index, tsr_error *err) {
+    if (r->osmesa.GetCurrentContext() == r->contexts[index].osmesa && r->current == index)
+        return TSR_OK;
+    if (r->osmesa.GetCurrentContext())
+        r->gl.Finish();
+    return shared_make_current(r, index, err);
+}
+
+/* (Re)allocates the shared renderbuffers at width x height, in context 0
+ * (renderbuffers belong to the share group), and the readback buffer;
+ * then makes the current context current again. */
+static int shared_resize(render_spu *r, int width, int height, tsr_error *err) {
+    if (width == r->width && height == r->height)
+        return TSR_OK;
+    unsigned char *buffer = calloc((size_t)width * (size_t)height, 4);
+    if (!buffer)
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %dx%d framebuffer", r->name,
+                             width, height);
+    free(r->buffer);
+    r->buffer = buffer;
+    r->width = width;
+    r->height = height;
+    size_t back = r->current;
+    if (shared_switch(r, 0, err) != TSR_OK)
+        return err->code;
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->color_rb);
+    r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
+    r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    r->generation++;
+    if (shared_make_current(r, 0, err) != TSR_OK)
+        return err->code;
+    return shared_switch(r, back, err);
+}
+
+/* Enters shared mode: resolves the FBO entries, puts context 0 on the
+ * shared renderbuffers at the current size. */
+static int shared_enter(render_spu *r, tsr_error *err) {
+    struct {
+        const char *symbol;
+        void **slot;
+    } wanted[] = {
+        {"glGenRenderbuffers", (void **)&r->fbo.GenRenderbuffers},
+        {"glDeleteRenderbuffers", (void **)&r->fbo.DeleteRenderbuffers},
+        {"glBindRenderbuffer", (void **)&r->fbo.BindRenderbuffer},
+        {"glRenderbufferStorage", (void **)&r->fbo.RenderbufferStorage},
+        {"glGenFramebuffers", (void **)&r->fbo.GenFramebuffers},
+        {"glDeleteFramebuffers", (void **)&r->fbo.DeleteFramebuffers},
+        {"glBindFramebuffer", (void **)&r->fbo.BindFramebuffer},
+        {"glFramebufferRenderbuffer", (void **)&r->fbo.FramebufferRenderbuffer},
+        {"glFramebufferParameteri", (void **)&r->fbo.FramebufferParameteri},
+        {"glCheckFramebufferStatus", (void **)&r->fbo.CheckFramebufferStatus},
+    };
+    for (size_t i = 0; i < sizeof wanted / sizeof wanted[0]; i++) {
+        *wanted[i].slot = (void *)r->osmesa.GetProcAddress(wanted[i].symbol);
+        if (!*wanted[i].slot)
+            return tsr_error_set(err, TSR_ENOENT, "%s: OSMesa has no %s (needed for several contexts)",
+                                 r->name, wanted[i].symbol);
+    }
+    r->contexts = calloc(4, sizeof *r->contexts);
+    if (!r->contexts)
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", r->name);
+    r->contexts_cap = 4;
+    r->ncontexts = 1;
+    r->contexts[0] = (render_context){.id = 0, .osmesa = r->context, .window_seen = r->window_seen};
+    r->current = 0;
+    r->shared = true;
+    /* Context 0 leaves the window-sized user buffer (shared_resize frees
+     * and replaces it; OSMesa would copy into it at every glFinish). */
+    if (!r->osmesa.MakeCurrent(r->context, r->dummy, GL_UNSIGNED_BYTE, 1, 1))
+        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for context 0", r->name);
+    r->fbo.GenRenderbuffers(1, &r->color_rb);
+    r->fbo.GenRenderbuffers(1, &r->depth_rb);
+    int width = r->width, height = r->height;
+    r->width = r->height = 0; /* force the allocation */
+    return shared_resize(r, width, height, err);
+}
+
+static size_t find_context(const render_spu *r, GLint id) {
+    for (size_t i = 0; i < r->ncontexts; i++)
+        if (r->contexts[i].id == id)
+            return i;
+    return SIZE_MAX;
+}
+
 static void ensure_current(render_spu *r) {
+    tsr_error err = {0};
+    if (r->shared) {
+        if (r->osmesa.GetCurrentContext() != r->contexts[r->current].osmesa &&
+            shared_make_current(r, r->current, &err) != TSR_OK)
+            tsr_log(TSR_LOG_ERROR, "%s", err.message);
+        return;
+    }
     if (r->osmesa.GetCurrentContext() == r->context)
         return;
-    tsr_error err = {0};
     if (bind_framebuffer(r, r->width, r->height, &err) != TSR_OK)
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
 }
@@ -179,10 +376,15 @@ static int check_output(render_spu *r, tsr_error *err) {
 
 /* --- the commands this SPU implements itself ------------------------------ */
 
+/* Where "the first window command of this context" is remembered. */
+static bool *window_seen_flag(render_spu *r) {
+    return r->shared ? &r->contexts[r->current].window_seen : &r->window_seen;
+}
+
 static void resize_window(render_spu *r, GLsizei width, GLsizei height, const char *command) {
     if (r->fixed_width) {
         ensure_current(r);
-        r->window_seen = true;
+        *window_seen_flag(r) = true;
         return;
     }
     if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE) {
@@ -192,14 +394,16 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
         return;
     }
     tsr_error err = {0};
-    if (bind_framebuffer(r, width, height, &err) != TSR_OK) {
+    if ((r->shared ? shared_resize(r, width, height, &err) : bind_framebuffer(r, width, height, &err)) !=
+        TSR_OK) {
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
         return;
     }
-    if (!r->window_seen) {
+    bool *seen = window_seen_flag(r);
+    if (!*seen) {
         r->gl.Viewport(0, 0, width, height);
         r->gl.Scissor(0, 0, width, height);
-        r->window_seen = true;
+        *seen = true;
     }
 }
 
@@ -217,11 +421,24 @@ static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsize
     tsr_call_WindowSizeTSR(r->child, window, width, height);
 }
 
+/* Shared mode: reads the shared colour buffer into r->buffer through
+ * context 0 (its pack state is never changed, unlike a client's). */
+static void shared_read_frame(render_spu *r) {
+    tsr_error err = {0};
+    size_t back = r->current;
+    if (shared_switch(r, 0, &err) != TSR_OK || (r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA,
+                                                                   GL_UNSIGNED_BYTE, r->buffer),
+                                                shared_switch(r, back, &err)) != TSR_OK)
+        tsr_log(TSR_LOG_ERROR, "%s", err.message);
+}
+
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     render_spu *r = self;
     if (window == r->window) {
         ensure_current(r);
         r->gl.Finish();
+        if (r->shared)
+            shared_read_frame(r);
         int frame = r->frame++;
         if (r->output[0]) {
             char path[PATH_MAX];
@@ -235,12 +452,132 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     tsr_call_SwapBuffersTSR(r->child, window, flags);
 }
 
+/* Room for one more context; false when out of memory. */
+static bool grow_contexts(render_spu *r) {
+    if (r->ncontexts < r->contexts_cap)
+        return true;
+    render_context *c = realloc(r->contexts, 2 * r->contexts_cap * sizeof *c);
+    if (!c)
+        return false;
+    r->contexts = c;
+    r->contexts_cap *= 2;
+    return true;
+}
+
+static void render_ContextCreateTSR(void *self, GLint context) {
+    render_spu *r = self;
+    tsr_error err = {0};
+    if (context <= 0 || (r->shared && find_context(r, context) != SIZE_MAX)) {
+        tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): %s, ignored", r->name, (int)context,
+                context <= 0 ? "ids start at 1" : "context exists");
+    } else if (!r->shared && shared_enter(r, &err) != TSR_OK) {
+        tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): %s", r->name, (int)context, err.message);
+    } else if (!grow_contexts(r)) {
+        tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): out of memory", r->name, (int)context);
+    } else {
+        /* Same attributes as context 0, in its share group. */
+        OSMesaContext c = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
+        if (!c) {
+            tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): OSMesaCreateContextExt failed", r->name,
+                    (int)context);
+        } else {
+            size_t back = r->current, index = r->ncontexts++;
+            r->contexts[index] = (render_context){.id = context, .osmesa = c};
+            /* A window system sets viewport and scissor to the window when a
+             * context is first made current on it. */
+            if (shared_switch(r, index, &err) != TSR_OK)
+                tsr_log(TSR_LOG_ERROR, "%s", err.message);
+            r->gl.Viewport(0, 0, r->width, r->height);
+            r->gl.Scissor(0, 0, r->width, r->height);
+            if (shared_switch(r, back, &err) != TSR_OK)
+                tsr_log(TSR_LOG_ERROR, "%s", err.message);
+        }
+    }
+    tsr_call_ContextCreateTSR(r->child, context);
+}
+
+static void render_MakeCurrentTSR(void *self, GLint window, GLint context) {
+    render_spu *r = self;
+    size_t index = r->shared ? find_context(r, context) : (context == 0 ? 0 : SIZE_MAX);
+    tsr_error err = {0};
+    if (index == SIZE_MAX)
+        tsr_log(TSR_LOG_ERROR, "%s: MakeCurrentTSR(%d, %d): no such context, ignored", r->name, (int)window,
+                (int)context);
+    else if (r->shared && shared_switch(r, index, &err) != TSR_OK)
+        tsr_log(TSR_LOG_ERROR, "%s", err.message);
+    else if (!r->shared)
+        ensure_current(r);
+    tsr_call_MakeCurrentTSR(r->child, window, context);
+}
+
+static void destroy_context(render_spu *r, size_t index) {
+    render_context *c = &r->contexts[index];
+    if (c->fbo) {
+        tsr_error err = {0};
+        if (shared_make_current(r, index, &err) == TSR_OK)
+            r->fbo.DeleteFramebuffers(1, &c->fbo);
+    }
+    if (r->osmesa.GetCurrentContext() == c->osmesa)
+        r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);
+    r->osmesa.DestroyContext(c->osmesa);
+}
+
+static void render_ContextDestroyTSR(void *self, GLint context) {
+    render_spu *r = self;
+    size_t index = r->shared && context > 0 ? find_context(r, context) : SIZE_MAX;
+    if (index == SIZE_MAX) {
+        tsr_log(TSR_LOG_ERROR, "%s: ContextDestroyTSR(%d): no such context, ignored", r->name, (int)context);
+    } else {
+        GLint current_id = r->contexts[r->current].id;
+        tsr_error err = {0};
+        if (shared_switch(r, index, &err) == TSR_OK)
+            r->gl.Finish();
+        destroy_context(r, index);
+        r->contexts[index] = r->contexts[--r->ncontexts];
+        /* Back to the context that was current, or to context 0. */
+        size_t back = find_context(r, current_id);
+        if (shared_make_current(r, back == SIZE_MAX ? 0 : back, &err) != TSR_OK)
+            tsr_log(TSR_LOG_ERROR, "%s", err.message);
+    }
+    tsr_call_ContextDestroyTSR(r->child, context);
+}
+
+/* Shared mode draws into FBO colour attachment 0: the window buffer names
+ * a single-buffered OSMesa window accepts mean that attachment. */
+static GLenum shared_buffer_name(const render_spu *r, GLenum buf) {
+    if (r->shared && (buf == GL_FRONT || buf == GL_FRONT_LEFT || buf == GL_LEFT || buf == GL_FRONT_AND_BACK))
+        return GL_COLOR_ATTACHMENT0;
+    return buf;
+}
+
+static void render_DrawBuffer(void *self, GLenum buf) {
+    render_spu *r = self;
+    r->gl.DrawBuffer(shared_buffer_name(r, buf));
+}
+
+static void render_ReadBuffer(void *self, GLenum buf) {
+    render_spu *r = self;
+    r->gl.ReadBuffer(shared_buffer_name(r, buf));
+}
+
 /* --- life cycle ---------------------------------------------------------- */
 
 static void render_destroy(void *self) {
     render_spu *r = self;
     if (!r)
         return;
+    if (r->shared) {
+        for (size_t i = r->ncontexts; i-- > 1;)
+            destroy_context(r, i);
+        tsr_error err = {0};
+        if (shared_make_current(r, 0, &err) == TSR_OK) {
+            if (r->contexts[0].fbo)
+                r->fbo.DeleteFramebuffers(1, &r->contexts[0].fbo);
+            GLuint rbs[2] = {r->color_rb, r->depth_rb};
+            r->fbo.DeleteRenderbuffers(2, rbs);
+        }
+        free(r->contexts);
+    }
     if (r->context) {
         /* Leave no thread pointing at a context about to be freed. */
         if (r->osmesa.GetCurrentContext() == r->context)
@@ -296,6 +633,11 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     tsr_set_WindowCreateTSR(init->table, render_WindowCreateTSR, r);
     tsr_set_WindowSizeTSR(init->table, render_WindowSizeTSR, r);
     tsr_set_SwapBuffersTSR(init->table, render_SwapBuffersTSR, r);
+    tsr_set_ContextCreateTSR(init->table, render_ContextCreateTSR, r);
+    tsr_set_ContextDestroyTSR(init->table, render_ContextDestroyTSR, r);
+    tsr_set_MakeCurrentTSR(init->table, render_MakeCurrentTSR, r);
+    tsr_set_DrawBuffer(init->table, render_DrawBuffer, r);
+    tsr_set_ReadBuffer(init->table, render_ReadBuffer, r);
     return r;
 fail:
     render_destroy(r);

@@ -65,7 +65,7 @@ garbage-client)
   "$bin/spheres-native" --frames $frames --out "$out/native/f-%04d.png" || exit 1
   # Info logging makes the node print "client N ... connected", so the good
   # client is known to be client 0 and mid-stream when the garbage arrives.
-  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 \
+  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 --independent \
     --chain "render output=\"$out/chain/c{client}-f-%04d.png\"" || exit 1
   "$bin/spheres" --frames $frames --chain "pack server=$NODE_ADDR" 2>"$out/app.err" &
   app=$!
@@ -116,7 +116,7 @@ client-chain-fails)
   # (the node's start-up check builds client 0's). The app must not exit 0
   # as if its frames were drawn.
   mkdir -p "$out/c0"
-  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 \
+  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 --independent \
     --chain "render output=\"$out/c{client}/f-%04d.png\"" || exit 1
   timeout 30 "$bin/spheres" --frames 2 --chain "pack server=$NODE_ADDR" || fail "client 0 exited $?"
   timeout 30 "$bin/spheres" --frames 2 --chain "pack server=$NODE_ADDR" 2>"$out/app.err"

@@ -6,6 +6,8 @@
  *                  IsEnabled(DEPTH_TEST), GetString(VENDOR,
  *                  RENDERER, VERSION), GetFloatv(COLOR_CLEAR_VALUE),
  *                  ReadPixels) and fails unless every answer is equal
+ *   replies-chain CHAIN   the same with CHAIN (e.g. "replicate servers=A,B")
+ *                  as the remote chain
  *   garbage ADDR   connects as 'garbage-client' and sends a buffer whose
  *                  header lies about its length; succeeds when the server
  *                  answers with an error message and closes
@@ -91,11 +93,9 @@ static int run_chain(const char *text, answers *a)
     return 0;
 }
 
-static int replies(const char *address)
+static int replies(const char *text)
 {
     static answers remote, local;
-    char text[400];
-    snprintf(text, sizeof text, "pack server=\"%s\" on_error=drop", address);
     if (run_chain(text, &remote) || run_chain("render", &local))
         return 1;
     int bad = 0;
@@ -207,10 +207,15 @@ static int garbage(const char *address)
 
 int main(int argc, char **argv)
 {
-    if (argc == 3 && !strcmp(argv[1], "replies"))
+    if (argc == 3 && !strcmp(argv[1], "replies")) {
+        char text[400];
+        snprintf(text, sizeof text, "pack server=\"%s\" on_error=drop", argv[2]);
+        return replies(text);
+    }
+    if (argc == 3 && !strcmp(argv[1], "replies-chain"))
         return replies(argv[2]);
     if (argc == 3 && !strcmp(argv[1], "garbage"))
         return garbage(argv[2]);
-    fprintf(stderr, "usage: node_driver replies|garbage ADDRESS\n");
+    fprintf(stderr, "usage: node_driver replies|garbage ADDRESS | replies-chain CHAIN\n");
     return 2;
 }

@@ -13,7 +13,7 @@ rm -rf "$out" && mkdir -p "$out/spheres-native" "$out/texquads-native" "$out/sph
 "$bin/spheres-native" --frames "$frames" --out "$out/spheres-native/f-%04d.png" || exit 1
 "$bin/texquads-native" --frames "$frames" --out "$out/texquads-native/f-%04d.png" || exit 1
 
-TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 \
+TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 10000 --independent \
   --chain "render output=\"$out/c{client}-f-%04d.png\"" || exit 1
 "$bin/spheres" --frames "$frames" --chain "pack server=$NODE_ADDR" &
 first=$!

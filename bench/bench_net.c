@@ -1,0 +1,310 @@
+/* bench/bench_net.c — how fast a GL stream crosses a real socket: glVertex3f
+ * calls packed by the real stream client of the pack SPU (node/client.h:
+ * packer, shared buffer, netlib connection with credits) over TCP loopback
+ * or a Unix socket to a receiving thread that runs the real unpacker into a
+ * table of no-ops, next to a plain blocking socket pair moving the same
+ * number of bytes in buffer-sized writes, measured in the same run.
+ * Owns only its threads, sockets and buffers; reports, never pass/fail.
+ * Figures: tcp_stream_mbytes, tcp_raw_mbytes, tcp_stream_mverts,
+ * unix_stream_mbytes, unix_raw_mbytes, unix_stream_mverts (MB = 10^6 bytes
+ * of wire buffers per second of wall time; mverts = 10^6 glVertex3f/s),
+ * and tcp_stream_vs_raw / unix_stream_vs_raw (target >= 0.8). */
+#include "bench_common.h"
+
+#include <errno.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <GL/gl.h>
+
+#include "client.h"
+#include "net.h"
+#include "protocol.h"
+#include "tessera/dispatch.h"
+#include "unpack.h"
+
+#define BUFFER_SIZE (1u << 20) /* the pack SPU's default buffer_size */
+#define BATCH 4096             /* vertices between Begin and End */
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* ---- the stream: client -> netlib -> receiver thread -> unpacker -------- */
+
+typedef struct receiver {
+    tsr_net_listener *listener;
+    int rc;
+    tsr_error err;
+    uint64_t buffers, bytes;
+} receiver;
+
+/* The server side of node/protocol.h, reduced to what the benchmark
+ * sends: BUFFER (unpacked into no-ops) and FINISH (confirmed). */
+static void *receive_main(void *arg)
+{
+    receiver *r = arg;
+    tsr_net_conn *conn = tsr_net_accept(r->listener, 10000, &r->err);
+    if (!conn) {
+        r->rc = r->err.code;
+        return NULL;
+    }
+    static tsr_dispatch nop; /* read-only after the fill; one receiver at a time */
+    tsr_dispatch_fill_nop(&nop);
+    tsr_unpacker *u = tsr_unpacker_create(&nop, NULL, NULL, &r->err);
+    r->rc = u ? TSR_OK : r->err.code;
+    while (r->rc == TSR_OK) {
+        tsr_net_msg m;
+        int got = tsr_net_recv(conn, &m, 30000, &r->err);
+        if (got <= 0) {
+            r->rc = got;
+            break;
+        }
+        if (m.kind == TSR_NODE_MSG_BUFFER) {
+            r->rc = tsr_unpacker_run(u, m.data, (size_t)m.len, &r->err);
+            r->buffers++;
+            r->bytes += m.len;
+        } else if (m.kind == TSR_NODE_MSG_FINISH) {
+            r->rc = tsr_net_send(conn, TSR_NODE_MSG_FINISH, "", 0, 10000, &r->err);
+        }
+        tsr_net_msg_release(&m);
+    }
+    tsr_unpacker_destroy(u);
+    tsr_net_conn_close(conn);
+    return NULL;
+}
+
+typedef struct result {
+    double seconds;
+    uint64_t bytes, verts;
+} result;
+
+static int run_stream(const char *listen_address, uint64_t verts, result *out)
+{
+    tsr_error err = {0};
+    tsr_net *net = tsr_net_create(NULL, &err);
+    if (!net) {
+        fprintf(stderr, "bench_net: %s\n", err.message);
+        return 1;
+    }
+    receiver r = {0};
+    r.listener = tsr_net_listen(net, listen_address, &err);
+    if (!r.listener) {
+        fprintf(stderr, "bench_net: %s\n", err.message);
+        tsr_net_destroy(net);
+        return 1;
+    }
+    const char *address = tsr_net_listener_address(r.listener);
+    pthread_t thread;
+    pthread_create(&thread, NULL, receive_main, &r);
+
+    tsr_dispatch *gl = calloc(1, sizeof *gl);
+    tsr_dispatch_fill_nop(gl);
+    tsr_node_client_config cfg = {.spu = "bench", .name = "bench_net", .servers = &address,
+                                  .server_count = 1, .timeout_ms = 30000,
+                                  .buffer_size = BUFFER_SIZE, .exit_on_error = 0};
+    tsr_node_client *client = tsr_node_client_create(&cfg, gl, &err);
+    int status = 0;
+    if (!client) {
+        fprintf(stderr, "bench_net: %s\n", err.message);
+        status = 1;
+    } else {
+        double t0 = wall_now();
+        float x = 0.0f;
+        for (uint64_t done = 0; done < verts; done += BATCH) {
+            tsr_call_Begin(gl, GL_POINTS);
+            for (int i = 0; i < BATCH; i++, x += 1.0f)
+                tsr_call_Vertex3f(gl, x, 0.5f, -x);
+            tsr_call_End(gl);
+        }
+        tsr_node_client_destroy(client); /* FINISH: every buffer was unpacked */
+        out->seconds = wall_now() - t0;
+        out->verts = (verts + BATCH - 1) / BATCH * BATCH;
+    }
+    pthread_join(thread, NULL);
+    out->bytes = r.bytes;
+    if (status == 0 && r.rc != TSR_OK) {
+        fprintf(stderr, "bench_net: receiver: %s\n", r.err.message);
+        status = 1;
+    }
+    tsr_net_listener_close(r.listener);
+    tsr_net_destroy(net);
+    free(gl);
+    return status;
+}
+
+/* ---- raw: a plain blocking socket pair, same bytes ------------------------ */
+
+typedef struct raw_peer {
+    int fd;
+    uint64_t bytes;
+    int failed;
+} raw_peer;
+
+static void *raw_read_main(void *arg)
+{
+    raw_peer *p = arg;
+    uint8_t *buf = malloc(BUFFER_SIZE);
+    uint64_t got = 0;
+    while (buf && got < p->bytes) {
+        ssize_t n = read(p->fd, buf, BUFFER_SIZE);
+        if (n <= 0) {
+            if (n < 0 && errno == EINTR)
+                continue;
+            break;
+        }
+        got += (uint64_t)n;
+    }
+    p->failed = got != p->bytes;
+    free(buf);
+    return NULL;
+}
+
+/* Connected stream sockets: TCP over 127.0.0.1 or a Unix socket at `path`. */
+static int raw_pair(int unix_socket, const char *path, int fds[2])
+{
+    int l = socket(unix_socket ? AF_UNIX : AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_storage ss = {0};
+    socklen_t len;
+    if (unix_socket) {
+        struct sockaddr_un *un = (struct sockaddr_un *)&ss;
+        un->sun_family = AF_UNIX;
+        snprintf(un->sun_path, sizeof un->sun_path, "%s", path);
+        unlink(path);
+        len = sizeof *un;
+    } else {
+        struct sockaddr_in *in = (struct sockaddr_in *)&ss;
+        in->sin_family = AF_INET;
+        in->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        len = sizeof *in;
+    }
+    if (l < 0 || bind(l, (struct sockaddr *)&ss, len) || listen(l, 1) ||
+        getsockname(l, (struct sockaddr *)&ss, &len))
+        goto fail;
+    fds[0] = socket(unix_socket ? AF_UNIX : AF_INET, SOCK_STREAM, 0);
+    if (fds[0] < 0 || connect(fds[0], (struct sockaddr *)&ss, len))
+        goto fail;
+    fds[1] = accept(l, NULL, NULL);
+    if (fds[1] < 0)
+        goto fail;
+    close(l);
+    if (unix_socket)
+        unlink(path);
+    return 0;
+fail:
+    perror("bench_net: raw socket pair");
+    if (l >= 0)
+        close(l);
+    return 1;
+}
+
+static int run_raw(int unix_socket, const char *path, uint64_t bytes, result *out)
+{
+    int fds[2];
+    if (raw_pair(unix_socket, path, fds))
+        return 1;
+    raw_peer reader = {.fd = fds[1], .bytes = bytes};
+    uint8_t *buf = malloc(BUFFER_SIZE);
+    memset(buf, 0x5a, BUFFER_SIZE);
+    pthread_t thread;
+    double t0 = wall_now();
+    pthread_create(&thread, NULL, raw_read_main, &reader);
+    uint64_t sent = 0;
+    while (sent < bytes) {
+        size_t chunk = bytes - sent < BUFFER_SIZE ? (size_t)(bytes - sent) : BUFFER_SIZE;
+        ssize_t n = write(fds[0], buf, chunk);
+        if (n <= 0) {
+            if (n < 0 && errno == EINTR)
+                continue;
+            break;
+        }
+        sent += (uint64_t)n;
+    }
+    pthread_join(thread, NULL);
+    out->seconds = wall_now() - t0;
+    out->bytes = bytes;
+    out->verts = 0;
+    close(fds[0]);
+    close(fds[1]);
+    free(buf);
+    if (sent != bytes || reader.failed) {
+        fprintf(stderr, "bench_net: raw %s transfer stopped early\n", unix_socket ? "unix" : "tcp");
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- main ----------------------------------------------------------------- */
+
+static FILE *csv;
+
+/* Best (shortest) of `repeats` alternating stream and raw runs for one
+ * transport; prints the figures. */
+static int measure(const char *transport, const bench_args *args, uint64_t verts)
+{
+    int unix_socket = !strcmp(transport, "unix");
+    char path[108], listen_address[160];
+    snprintf(path, sizeof path, "/tmp/tsr-bench-net-%ld.sock", (long)getpid());
+    if (unix_socket)
+        snprintf(listen_address, sizeof listen_address, "unix:%s", path);
+    else
+        snprintf(listen_address, sizeof listen_address, "tcp://127.0.0.1:0");
+    double best_stream = 0, best_raw = 0;
+    uint64_t stream_bytes = 0, stream_verts = 0;
+    for (int rep = 0; rep < args->repeats; rep++) {
+        result s = {0}, r = {0};
+        if (run_stream(listen_address, verts, &s))
+            return 1;
+        if (run_raw(unix_socket, path, s.bytes, &r))
+            return 1;
+        double s_mb = (double)s.bytes / s.seconds / 1e6, r_mb = (double)r.bytes / r.seconds / 1e6;
+        if (csv)
+            fprintf(csv, "%s,%d,%llu,%llu,%.6f,%.1f,%.6f,%.1f\n", transport, rep,
+                    (unsigned long long)s.verts, (unsigned long long)s.bytes, s.seconds, s_mb, r.seconds,
+                    r_mb);
+        if (s_mb > best_stream) {
+            best_stream = s_mb;
+            stream_bytes = s.bytes;
+            stream_verts = s.verts;
+        }
+        if (r_mb > best_raw)
+            best_raw = r_mb;
+    }
+    char name[64];
+    snprintf(name, sizeof name, "%s_stream_mbytes", transport);
+    bench_figure(name, best_stream, 1);
+    snprintf(name, sizeof name, "%s_raw_mbytes", transport);
+    bench_figure(name, best_raw, 1);
+    snprintf(name, sizeof name, "%s_stream_mverts", transport);
+    bench_figure(name, best_stream * 1e6 / ((double)stream_bytes / (double)stream_verts) / 1e6, 1);
+    snprintf(name, sizeof name, "%s_stream_vs_raw", transport);
+    bench_figure(name, best_stream / best_raw, 3);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    bench_args args;
+    if (bench_parse_args(argc, argv, &args, NULL))
+        return 2;
+    if (args.repeats == 7 && !args.quick)
+        args.repeats = 5;
+    /* About 512 MB of wire bytes per run (13 bytes per glVertex3f). */
+    uint64_t verts = args.quick ? (1u << 16) : (40u << 20);
+    csv = bench_csv_open(args.csv_path,
+                         "transport,run,verts,bytes,stream_s,stream_mbytes,raw_s,raw_mbytes");
+    int status = measure("tcp", &args, verts) || measure("unix", &args, verts);
+    if (csv)
+        fclose(csv);
+    return status;
+}

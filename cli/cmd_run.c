@@ -1,0 +1,257 @@
+/* cli/cmd_run.c — `tessera run GRAPH` (the mothership plus every local node
+ * as a child process) and the shared option handling of `tessera
+ * mothership` (cli/cmd_mothership.c). Owns argument parsing, the run's
+ * token, signal handling and the exit code; mothership/ does the work. */
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "mothership.h"
+#include "control.h"
+#include "util.h"
+
+
+static void run_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: tessera run GRAPH [--out DIR] [--stats FILE] [--timeout-ms MS] [--listen ADDR]\n"
+            "                   [--token T] [--join-timeout-ms MS] [--progress | --no-progress]\n\n"
+            "Runs a graph file: starts the mothership and every node on this host as a child\n"
+            "process (`tessera node --mothership ...`, each in its own process group), servers\n"
+            "first; app nodes run their `exec` with TESSERA_CHAIN set to their chain, network\n"
+            "SPUs pointed at the servers' real addresses. Nodes on other hosts join over\n"
+            "--listen (see tessera mothership --help).\n\n"
+            "Paths: a relative exec is looked for next to the graph file, then in the build or\n"
+            "install prefix of this program (bin/spheres), then in DIR; outputs (render\n"
+            "output=, print file=) are relative to DIR, their directories are created.\n\n"
+            "options:\n"
+            "  --out DIR            working directory of the nodes (default: the current one)\n"
+            "  --stats FILE         write per-node statistics (frames, bytes in/out, time\n"
+            "                       blocked on credits, render time) as JSON\n"
+            "  --timeout-ms MS      a node silent this long (no heartbeat) fails the run\n"
+            "                       (default %u)\n"
+            "  --join-timeout-ms MS every node must have joined within this (default %u)\n"
+            "  --listen ADDR        control address (default tcp://127.0.0.1:0, loopback)\n"
+            "  --token T            shared token for control and stream connections\n"
+            "                       (default: a random one per run)\n"
+            "  --progress           live progress line on stderr even when not a terminal\n"
+            "  --no-progress        no progress line (default: only on a terminal)\n"
+            "  -h, --help           show this help\n\n"
+            "Ends when every node ended. On a failure (a node exits non-zero, is killed, or\n"
+            "stops answering) it stops every node, kills every process it started, and prints\n"
+            "one line naming the node and what happened.\n"
+            "Exit codes: 0 ok, 1 a node failed, 2 usage error or bad graph (FILE:LINE:COL).\n",
+            TSR_MS_DEFAULT_TIMEOUT_MS, TSR_MS_DEFAULT_JOIN_TIMEOUT_MS);
+}
+
+static void mothership_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: tessera mothership GRAPH --listen ADDR [--token T] [--stats FILE]\n"
+            "                          [--timeout-ms MS] [--join-timeout-ms MS] [--no-progress]\n\n"
+            "Coordinates a graph whose nodes are started by someone else, e.g. on several\n"
+            "machines. Prints \"mothership listening on ADDR\", waits for every node to join,\n"
+            "configures servers first, then the app nodes, and reports like tessera run.\n"
+            "Start each node with\n"
+            "  tessera node --mothership HOST:PORT --name NODE      (by name), or\n"
+            "  tessera node --mothership HOST:PORT --rank N         (rank N = the N-th node of\n"
+            "                                                       the graph, from 0)\n"
+            "  tessera node --mothership HOST:PORT                  (rank from OMPI_COMM_WORLD_RANK,\n"
+            "                                                       PMI_RANK or SLURM_PROCID)\n"
+            "e.g.  ssh hostB tessera node --mothership hostA:7000 --name server\n"
+            "      mpirun -np 3 tessera node --mothership hostA:7000\n"
+            "      srun -n 3 tessera node --mothership hostA:7000\n\n"
+            "options:\n"
+            "  --listen ADDR        control address: HOST:PORT, tcp://HOST:PORT (port 0: any\n"
+            "                       free port; tcp://0.0.0.0:PORT for every interface), unix:PATH\n"
+            "  --token T            shared token nodes must present (also TESSERA_TOKEN);\n"
+            "                       servers then require it from their clients too\n"
+            "  --stats FILE         write per-node statistics as JSON\n"
+            "  --timeout-ms MS      no heartbeat this long fails the run (default %u; give\n"
+            "                       nodes the same --timeout-ms)\n"
+            "  --join-timeout-ms MS every node must have joined within this (default %u)\n"
+            "  --progress, --no-progress   as for tessera run\n"
+            "  -h, --help           show this help\n\n"
+            "Servers listen on loopback unless the graph's listen: says otherwise: give remote\n"
+            "servers a listen address their clients reach. Exit codes as for tessera run.\n",
+            TSR_MS_DEFAULT_TIMEOUT_MS, TSR_MS_DEFAULT_JOIN_TIMEOUT_MS);
+}
+
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int sig)
+{
+    interrupted = sig;
+}
+
+static void print_listening(const char *address, void *ctx)
+{
+    (void)ctx;
+    printf("mothership listening on %s\n", address);
+    fflush(stdout);
+}
+
+static int parse_ms(const char *text, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (errno || end == text || *end || v < 1 || v > 86400000)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int random_token(char *out, size_t size)
+{
+    unsigned char bytes[16];
+    int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    ssize_t n = read(fd, bytes, sizeof bytes);
+    close(fd);
+    if (n != (ssize_t)sizeof bytes || size < 2 * sizeof bytes + 1)
+        return -1;
+    for (size_t i = 0; i < sizeof bytes; i++)
+        snprintf(out + 2 * i, 3, "%02x", bytes[i]);
+    return 0;
+}
+
+int tsr_cli_run_graph(int argc, char **argv, int launch)
+{
+    const char *who = launch ? "tessera run" : "tessera mothership";
+    void (*usage)(FILE *) = launch ? run_usage : mothership_usage;
+    const char *graph_path = NULL, *out_dir = NULL, *stats = NULL, *listen = NULL, *token = NULL;
+    long timeout = TSR_MS_DEFAULT_TIMEOUT_MS, join_timeout = TSR_MS_DEFAULT_JOIN_TIMEOUT_MS;
+    int progress = -1;
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
+            usage(stdout);
+            return TSR_EXIT_OK;
+        }
+        if (!strcmp(arg, "--progress") || !strcmp(arg, "--no-progress")) {
+            progress = !strcmp(arg, "--progress");
+            continue;
+        }
+        if (arg[0] != '-' || !arg[1]) {
+            if (graph_path) {
+                fprintf(stderr, "%s: one GRAPH at a time ('%s' and '%s')\n", who, graph_path, arg);
+                return TSR_EXIT_USAGE;
+            }
+            graph_path = arg;
+            continue;
+        }
+        int known = !strcmp(arg, "--stats") || !strcmp(arg, "--timeout-ms") ||
+                    !strcmp(arg, "--join-timeout-ms") || !strcmp(arg, "--listen") ||
+                    !strcmp(arg, "--token") || (launch && !strcmp(arg, "--out"));
+        if (!known) {
+            fprintf(stderr, "%s: unknown option '%s' (see %s --help)\n", who, arg, who);
+            return TSR_EXIT_USAGE;
+        }
+        if (i + 1 >= argc) {
+            fprintf(stderr, "%s: option %s needs a value\n", who, arg);
+            return TSR_EXIT_USAGE;
+        }
+        const char *value = argv[++i];
+        if (!strcmp(arg, "--stats"))
+            stats = value;
+        else if (!strcmp(arg, "--listen"))
+            listen = value;
+        else if (!strcmp(arg, "--token"))
+            token = value;
+        else if (!strcmp(arg, "--out"))
+            out_dir = value;
+        else if (parse_ms(value, !strcmp(arg, "--timeout-ms") ? &timeout : &join_timeout)) {
+            fprintf(stderr, "%s: bad %s '%s' (expected 1..86400000)\n", who, arg, value);
+            return TSR_EXIT_USAGE;
+        }
+    }
+    if (!graph_path) {
+        usage(stderr);
+        return TSR_EXIT_USAGE;
+    }
+    if (!launch && !listen) {
+        fprintf(stderr, "%s: --listen ADDR is required (see %s --help)\n", who, who);
+        return TSR_EXIT_USAGE;
+    }
+    tsr_error err = {0};
+    tsr_graph *graph = tsr_graph_load(graph_path, 0, &err);
+    if (!graph) {
+        fprintf(stderr, "%s\n", err.message);
+        return err.code == TSR_ENOMEM ? TSR_EXIT_FAIL : TSR_EXIT_USAGE;
+    }
+    char self[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) {
+        fprintf(stderr, "%s: cannot find this program (/proc/self/exe): %s\n", who, strerror(errno));
+        tsr_graph_free(graph);
+        return TSR_EXIT_FAIL;
+    }
+    self[n] = '\0';
+    char out_abs[PATH_MAX];
+    if (out_dir) {
+        if (tsr_ms_mkdirs(out_dir) || !realpath(out_dir, out_abs)) {
+            fprintf(stderr, "%s: --out %s: %s\n", who, out_dir, strerror(errno));
+            tsr_graph_free(graph);
+            return TSR_EXIT_USAGE;
+        }
+        out_dir = out_abs;
+    }
+    char run_token[40];
+    char listen_buf[256];
+    if (!token || !*token)
+        token = getenv("TESSERA_TOKEN");
+    if ((!token || !*token) && launch) {
+        if (random_token(run_token, sizeof run_token)) {
+            fprintf(stderr, "%s: cannot read /dev/urandom for the run's token\n", who);
+            tsr_graph_free(graph);
+            return TSR_EXIT_FAIL;
+        }
+        token = run_token;
+    }
+    if (listen) {
+        tsr_ms_address(listen, listen_buf, sizeof listen_buf);
+        listen = listen_buf;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    tsr_ms_config cfg = {
+        .listen = listen,
+        .token = token,
+        .launch_local = launch,
+        .self_exe = self,
+        .out_dir = out_dir,
+        .stats_path = stats,
+        .timeout_ms = (uint32_t)timeout,
+        .join_timeout_ms = (uint32_t)join_timeout,
+        .progress = progress == -1 ? isatty(STDERR_FILENO) : progress,
+        .summary = stdout,
+        .who = who,
+        .on_listening = launch ? NULL : print_listening,
+        .interrupted = &interrupted,
+    };
+    int rc = tsr_mothership_run(graph, &cfg, &err);
+    tsr_graph_free(graph);
+    if (rc != TSR_OK) {
+        fprintf(stderr, "%s: %s\n", who, err.message);
+        return rc == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
+    }
+    return TSR_EXIT_OK;
+}
+
+int cmd_run(int argc, char **argv)
+{
+    return tsr_cli_run_graph(argc, argv, 1);
+}

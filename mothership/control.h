@@ -1,0 +1,112 @@
+/* mothership/control.h — the control messages the mothership and its
+ * nodes exchange over one netlib connection per node (netlib/net.h: the
+ * connection, handshake with the run's token, and flow control are
+ * netlib's). Owns: the message kinds and their fields (this comment
+ * specifies them) and the key=value codec (mothership/ctl.c). Never: puts
+ * stream data on the control connection.
+ *
+ * Every payload is UTF-8 text: lines "key=value\n", keys [a-z_]+, values
+ * without newlines; a key may repeat (lists, in order). Unknown keys are
+ * ignored so later versions can add fields; missing required keys are a
+ * protocol error naming the message and the key.
+ *
+ * Node to mothership:
+ *   TSR_MS_MSG_JOIN     name=NODE or rank=N (rank i = the i-th node of the
+ *                       graph in file order, from 0); pid=; host= (the
+ *                       node machine's host name, for messages).
+ *   TSR_MS_MSG_READY    a server listens: address= (the bound address,
+ *                       the real port for port 0). App nodes send it once
+ *                       their application process started.
+ *   TSR_MS_MSG_STATS    the heartbeat, sent every heartbeat_ms from the
+ *                       node's main thread: frames= buffers= bytes_in=
+ *                       bytes_out= busy_seconds= (render time) clients=
+ *                       (servers; running totals) or elapsed= (apps).
+ *   TSR_MS_MSG_DONE     the node ended: status=0|1, message= (one line
+ *                       naming what failed; empty when status=0), signal=
+ *                       (non-zero when the application was killed by a
+ *                       signal), then its final STATS fields and, for app
+ *                       nodes, app_stats=found|missing plus the fields of
+ *                       the application's TESSERA_STATS_FILE (frames,
+ *                       buffers, bytes_out, blocked_seconds).
+ * Mothership to node:
+ *   TSR_MS_MSG_CONFIG   what to run: name=, role=server|app, chain= (the
+ *                       chain text, network SPUs already pointing at their
+ *                       servers), heartbeat_ms=, mkdir= (repeated:
+ *                       directories the chain writes into, relative to the
+ *                       node's working directory), base= (repeated: where a
+ *                       relative exec is looked for, in order).
+ *                       Servers: listen= (netlib address; "unix:" alone =
+ *                       a socket the node places itself) or listen_port=
+ *                       (TCP on the node's --bind host, default
+ *                       127.0.0.1: the graph named no host), clients=,
+ *                       token= (clients must present it), timeout_ms=.
+ *                       Apps: arg= (repeated: the exec argv), token= (put
+ *                       into the chain by the mothership already).
+ *                       Servers get it at once; an app node only once every
+ *                       server it sends to is READY.
+ *   TSR_MS_MSG_STOP     the run is over for a failure elsewhere: reason=.
+ *                       The node kills its application and exits 1.
+ *   TSR_MS_MSG_REFUSE   the JOIN was wrong (unknown name, rank out of
+ *                       range, node already joined): reason=. The node
+ *                       prints it and exits 2.
+ * A clean end: the node sends DONE status=0 and closes the connection
+ * (netlib BYE). Any other end of a connection before DONE is a failure of
+ * that node. */
+#ifndef TSR_MOTHERSHIP_CONTROL_H
+#define TSR_MOTHERSHIP_CONTROL_H
+
+#include <stddef.h>
+
+#include "tessera/error.h"
+
+#define TSR_MS_MSG_JOIN 0x20u
+#define TSR_MS_MSG_READY 0x21u
+#define TSR_MS_MSG_STATS 0x22u
+#define TSR_MS_MSG_DONE 0x23u
+#define TSR_MS_MSG_CONFIG 0x30u
+#define TSR_MS_MSG_STOP 0x31u
+#define TSR_MS_MSG_REFUSE 0x32u
+
+/* Defaults shared by `tessera run`, `tessera mothership` and `tessera node
+ * --mothership`. */
+#define TSR_MS_DEFAULT_TIMEOUT_MS 5000u       /* no heartbeat this long = node lost */
+#define TSR_MS_DEFAULT_JOIN_TIMEOUT_MS 30000u /* every node joined within this */
+
+/* A decoded message: up to TSR_CTL_MAX_FIELDS key/value pairs pointing
+ * into one owned copy of the text. */
+#define TSR_CTL_MAX_FIELDS 256
+typedef struct tsr_ctl {
+    char *text;
+    size_t count;
+    const char *keys[TSR_CTL_MAX_FIELDS];
+    const char *values[TSR_CTL_MAX_FIELDS];
+} tsr_ctl;
+
+/* A message being built (text grows; never fails silently: an error is
+ * remembered and returned by tsr_ctl_out_error). */
+typedef struct tsr_ctl_out {
+    char *text;
+    size_t len, cap;
+    int failed;
+} tsr_ctl_out;
+
+void tsr_ctl_out_init(tsr_ctl_out *out);
+void tsr_ctl_out_free(tsr_ctl_out *out);
+/* Adds key=value; a newline in value becomes a blank. */
+void tsr_ctl_add(tsr_ctl_out *out, const char *key, const char *value);
+void tsr_ctl_addf(tsr_ctl_out *out, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Parses `len` bytes of payload. TSR_EPROTO when a line has no '=' or
+ * there are too many fields. Free with tsr_ctl_free. */
+int tsr_ctl_parse(tsr_ctl *msg, const void *data, size_t len, tsr_error *err);
+void tsr_ctl_free(tsr_ctl *msg);
+/* The first value of `key`, or NULL. */
+const char *tsr_ctl_get(const tsr_ctl *msg, const char *key);
+/* Numeric value of `key`; `fallback` when absent or not a number. */
+double tsr_ctl_number(const tsr_ctl *msg, const char *key, double fallback);
+
+/* Human names of the message kinds, for errors. */
+const char *tsr_ctl_kind_name(unsigned kind);
+
+#endif

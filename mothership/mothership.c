@@ -1,0 +1,964 @@
+/* mothership/mothership.c — the coordinator (mothership.h): plan, launch,
+ * configure in start order, watch heartbeats and children, report, and
+ * stop everything on the first failure.
+ * Owns: the control tsr_net, every control connection, the launched
+ * children (one process group each) and the run's statistics.
+ * Never: blocks longer than POLL_MS in its loop, so a failure anywhere is
+ * seen within timeout_ms + POLL_MS. */
+#include <errno.h>
+#include <ftw.h>
+#include <limits.h>
+#include <libgen.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "mothership.h"
+#include "net.h"
+#include "control.h"
+#include "tessera/spu.h"
+#include "util.h"
+
+#define POLL_MS 20
+#define FAIL_GRACE_S 0.3   /* collect related failures before naming one */
+#define LOST_GRACE_S 1.0   /* a launched node's lost connection: wait this long for its exit status */
+#define STOP_GRACE_S 1.0   /* after STOP, before SIGKILL */
+#define END_GRACE_S 5.0    /* after every DONE, for the processes to exit */
+#define MAX_PENDING 64
+
+
+/* Failure classes, most telling first: a killed or stalled process
+ * explains the exits that follow it (an app whose server died exits 1). A
+ * control connection lost without an exit status to explain it (a node
+ * on another machine) most likely means that node died. */
+enum { FAIL_INTERRUPT, FAIL_SIGNAL, FAIL_HEARTBEAT, FAIL_LOST, FAIL_EXIT, FAIL_OTHER, FAIL_NONE };
+
+typedef enum { N_WAITING, N_JOINED, N_CONFIGURED, N_READY, N_DONE } node_state;
+
+typedef struct ms_node {
+    const tsr_graph_node *g;
+    size_t index;
+    int server;
+    int local;           /* launched by us */
+    pid_t pid;           /* launched child (process group leader); 0 = none */
+    int reaped, wstatus;
+    tsr_net_conn *conn;
+    int conn_ended;
+    double lost_at;      /* control connection failed at; 0 = not */
+    char lost_why[520];
+    node_state state;
+    double last_heard, configured_at, done_at;
+    char address[TSR_NET_ADDRESS_MAX];
+    char host[128];
+    long remote_pid;
+    /* statistics (running totals from STATS / DONE) */
+    double frames, buffers, bytes_in, bytes_out, busy, blocked, elapsed;
+    unsigned clients;
+    int app_stats; /* -1 not an app, 0 missing, 1 found */
+    double rate_t, rate_frames, rate_bytes, fps, mbps;
+    int done_status;
+} ms_node;
+
+typedef struct pending_conn {
+    tsr_net_conn *conn;
+    double since;
+} pending_conn;
+
+typedef struct ms {
+    const tsr_graph *graph;
+    const tsr_ms_config *cfg;
+    size_t count;
+    ms_node *nodes;
+    tsr_net *net;
+    tsr_net_listener *listener;
+    pending_conn pending[MAX_PENDING];
+    size_t pending_count;
+    char graph_dir[PATH_MAX];
+    char run_tmp[PATH_MAX]; /* TMPDIR of launched nodes, removed at the end */
+    double start;
+    int fail_class;
+    double fail_deadline;
+    char fail_message[512];
+    double next_progress;
+    int progress_shown;
+} ms;
+
+static void fail(ms *m, int cls, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void fail(ms *m, int cls, const char *fmt, ...)
+{
+    if (m->fail_class == FAIL_NONE)
+        m->fail_deadline = tsr_ms_now() + (cls == FAIL_INTERRUPT ? 0 : FAIL_GRACE_S);
+    if (cls >= m->fail_class)
+        return;
+    m->fail_class = cls;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(m->fail_message, sizeof m->fail_message, fmt, ap);
+    va_end(ap);
+}
+
+static int is_local_host(const char *host)
+{
+    char self[256] = "";
+    gethostname(self, sizeof self - 1);
+    return !strcmp(host, "localhost") || !strcmp(host, "127.0.0.1") || !strcmp(host, "::1") ||
+           !strcmp(host, self);
+}
+
+/* --- plan ------------------------------------------------------------- */
+
+typedef struct strbuf {
+    char *s;
+    size_t len, cap;
+    int failed;
+} strbuf;
+
+static void sb_add(strbuf *b, const char *s, size_t n)
+{
+    if (b->failed)
+        return;
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = b->cap ? b->cap * 2 : 256;
+        while (cap < b->len + n + 1)
+            cap *= 2;
+        char *p = realloc(b->s, cap);
+        if (!p) {
+            b->failed = 1;
+            return;
+        }
+        b->s = p;
+        b->cap = cap;
+    }
+    memcpy(b->s + b->len, s, n);
+    b->len += n;
+    b->s[b->len] = '\0';
+}
+
+static void sb_str(strbuf *b, const char *s)
+{
+    sb_add(b, s, strlen(s));
+}
+
+/* key="value" with the chain text's escapes (core/chain.c). */
+static void sb_option(strbuf *b, const char *key, const char *value)
+{
+    sb_str(b, " ");
+    sb_str(b, key);
+    sb_str(b, "=\"");
+    for (const char *p = value; *p; p++) {
+        if (*p == '"' || *p == '\\')
+            sb_add(b, "\\", 1);
+        sb_add(b, p, 1);
+    }
+    sb_str(b, "\"");
+}
+
+static int spu_has_option(const tsr_spu_class *cls, const char *name)
+{
+    for (size_t i = 0; cls && i < cls->option_count; i++)
+        if (!strcmp(cls->options[i].name, name))
+            return 1;
+    return 0;
+}
+
+/* The node's chain text, its network SPU pointed at its servers' READY
+ * addresses (and given the run's token). */
+static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
+{
+    const tsr_graph_node *g = n->g;
+    int network_done = 0;
+    for (size_t i = 0; i < g->chain_length; i++) {
+        const tsr_chain_link *l = &g->chain[i];
+        int network = !network_done && tsr_spu_is_network(l->spu);
+        const tsr_spu_class *cls = NULL;
+        const char *addr_key = NULL;
+        int token = 0;
+        if (network) {
+            network_done = 1;
+            tsr_error e = {0};
+            cls = tsr_spu_find(l->spu, &e);
+            if (!cls)
+                return tsr_error_set(err, TSR_EINVAL, "node '%s': %s", g->name, e.message);
+            if (spu_has_option(cls, "servers"))
+                addr_key = "servers";
+            else if (spu_has_option(cls, "server"))
+                addr_key = "server";
+            else
+                return tsr_error_set(err, TSR_EINVAL,
+                                     "node '%s': SPU %s has no 'server' or 'servers' option to "
+                                     "point at its servers",
+                                     g->name, l->spu);
+            if (!strcmp(addr_key, "server") && g->to_count != 1)
+                return tsr_error_set(err, TSR_EINVAL,
+                                     "node '%s': SPU %s sends to one server, but to: names %zu",
+                                     g->name, l->spu, g->to_count);
+            token = m->cfg->token && m->cfg->token[0] && spu_has_option(cls, "token");
+        }
+        if (i)
+            sb_str(b, " ! ");
+        sb_str(b, l->spu);
+        for (size_t k = 0; k < l->option_count; k++) {
+            if (network && (!strcmp(l->keys[k], addr_key) || (token && !strcmp(l->keys[k], "token"))))
+                continue; /* the mothership's address and token win */
+            sb_option(b, l->keys[k], l->values[k]);
+        }
+        if (network) {
+            strbuf list = {0};
+            for (size_t t = 0; t < g->to_count; t++) {
+                if (t)
+                    sb_str(&list, ",");
+                sb_str(&list, m->nodes[g->to[t]].address);
+            }
+            sb_option(b, addr_key, list.s ? list.s : "");
+            free(list.s);
+            if (token)
+                sb_option(b, "token", m->cfg->token);
+        }
+    }
+    if (b->failed)
+        return tsr_error_set(err, TSR_ENOMEM, "node '%s': chain text: out of memory", g->name);
+    return TSR_OK;
+}
+
+/* Where a server listens: listen=ADDR when the graph names a host (or a
+ * unix path), else listen_port=PORT and the node picks the host
+ * (loopback unless its --bind says otherwise). */
+static void add_listen(tsr_ctl_out *out, const tsr_graph_node *g)
+{
+    if (g->transport == TSR_TRANSPORT_UNIX)
+        tsr_ctl_addf(out, "listen", "unix:%s", g->listen ? g->listen : "");
+    else if (!g->listen)
+        tsr_ctl_add(out, "listen_port", "0");
+    else if (!strchr(g->listen, ':'))
+        tsr_ctl_add(out, "listen_port", g->listen);
+    else
+        tsr_ctl_addf(out, "listen", "tcp://%s", g->listen);
+}
+
+static int send_ctl(tsr_net_conn *conn, unsigned kind, tsr_ctl_out *out, tsr_error *err)
+{
+    if (out->failed)
+        return tsr_error_set(err, TSR_ENOMEM, "control message: out of memory");
+    return tsr_net_send(conn, kind, out->text ? out->text : "", out->len, 2000, err);
+}
+
+static uint32_t heartbeat_ms(const ms *m)
+{
+    uint32_t hb = m->cfg->timeout_ms / 5;
+    return hb < 10 ? 10 : hb > 1000 ? 1000 : hb;
+}
+
+static int send_config(ms *m, ms_node *n, tsr_error *err)
+{
+    const tsr_graph_node *g = n->g;
+    strbuf chain = {0};
+    if (chain_text(m, n, &chain, err) != TSR_OK) {
+        free(chain.s);
+        return TSR_EINVAL;
+    }
+    tsr_ctl_out out;
+    tsr_ctl_out_init(&out);
+    tsr_ctl_add(&out, "name", g->name);
+    tsr_ctl_add(&out, "role", n->server ? "server" : "app");
+    tsr_ctl_add(&out, "chain", chain.s);
+    tsr_ctl_addf(&out, "heartbeat_ms", "%u", heartbeat_ms(m));
+    free(chain.s);
+    for (size_t i = 0; i < g->chain_length; i++) {
+        const tsr_chain_link *l = &g->chain[i];
+        for (size_t k = 0; k < l->option_count; k++) {
+            if (strcmp(l->keys[k], "output") && strcmp(l->keys[k], "file"))
+                continue;
+            char dir[PATH_MAX];
+            snprintf(dir, sizeof dir, "%s", l->values[k]);
+            char *slash = strrchr(dir, '/');
+            if (!slash || slash == dir)
+                continue;
+            *slash = '\0';
+            tsr_ctl_add(&out, "mkdir", dir);
+        }
+    }
+    tsr_ctl_add(&out, "base", m->graph_dir);
+    if (m->cfg->token && m->cfg->token[0])
+        tsr_ctl_add(&out, "token", m->cfg->token);
+    if (n->server) {
+        add_listen(&out, g);
+        tsr_ctl_addf(&out, "clients", "%zu", g->from_count);
+        uint32_t wait = m->cfg->join_timeout_ms > 60000 ? m->cfg->join_timeout_ms : 60000;
+        tsr_ctl_addf(&out, "timeout_ms", "%u", wait);
+    } else {
+        for (size_t i = 0; i < g->exec_argc; i++)
+            tsr_ctl_add(&out, "arg", g->exec[i]);
+    }
+    int rc = send_ctl(n->conn, TSR_MS_MSG_CONFIG, &out, err);
+    tsr_ctl_out_free(&out);
+    return rc;
+}
+
+/* --- launching -------------------------------------------------------- */
+
+static int launch(ms *m, ms_node *n, const char *control, tsr_error *err)
+{
+    char timeout[32];
+    snprintf(timeout, sizeof timeout, "%u", m->cfg->timeout_ms);
+    const char *argv[] = {"tessera", "node", "--mothership", control, "--name", n->g->name,
+                          "--timeout-ms", timeout, NULL};
+    /* Everything the child needs is made before fork: this process has
+     * threads, so the child may only make async-signal-safe calls. */
+    char token_var[TSR_NET_TOKEN_MAX + 32];
+    snprintf(token_var, sizeof token_var, "TESSERA_TOKEN=%s", m->cfg->token ? m->cfg->token : "");
+    char tmp_var[PATH_MAX + 8];
+    snprintf(tmp_var, sizeof tmp_var, "TMPDIR=%s", m->run_tmp);
+    const char *changes[] = {m->cfg->token && m->cfg->token[0] ? token_var : "TESSERA_TOKEN",
+                             m->run_tmp[0] ? tmp_var : NULL, NULL};
+    char **env = tsr_ms_environ(changes);
+    char failed[PATH_MAX + 160];
+    snprintf(failed, sizeof failed, "%s: node '%s': cannot start %s in %s\n", m->cfg->who, n->g->name,
+             m->cfg->self_exe, m->cfg->out_dir ? m->cfg->out_dir : ".");
+    if (!env)
+        return tsr_error_set(err, TSR_ENOMEM, "node '%s': out of memory", n->g->name);
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        free(env);
+        return tsr_error_set(err, TSR_EIO, "node '%s': fork: %s", n->g->name, strerror(errno));
+    }
+    if (pid == 0) {
+        setpgid(0, 0);
+        signal(SIGINT, SIG_DFL);
+        signal(SIGTERM, SIG_DFL);
+        signal(SIGPIPE, SIG_DFL);
+        if (!m->cfg->out_dir || chdir(m->cfg->out_dir) == 0)
+            execve(m->cfg->self_exe, (char *const *)argv, env);
+        ssize_t ignored = write(STDERR_FILENO, failed, strlen(failed));
+        (void)ignored;
+        _exit(127);
+    }
+    free(env);
+    setpgid(pid, pid); /* both sides, so no signal can race the child's own call */
+    n->pid = pid;
+    return TSR_OK;
+}
+
+static void describe_status(int wstatus, char *out, size_t size)
+{
+    if (WIFSIGNALED(wstatus))
+        snprintf(out, size, "killed by signal %d (%s)", WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+    else
+        snprintf(out, size, "exited with status %d", WEXITSTATUS(wstatus));
+}
+
+static void reap(ms *m)
+{
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        if (!n->pid || n->reaped)
+            continue;
+        int st;
+        if (waitpid(n->pid, &st, WNOHANG) != n->pid)
+            continue;
+        n->reaped = 1;
+        n->wstatus = st;
+        char what[128];
+        describe_status(st, what, sizeof what);
+        if (WIFSIGNALED(st))
+            fail(m, FAIL_SIGNAL, "node '%s' (pid %ld) %s", n->g->name, (long)n->pid, what);
+        else if (n->state != N_DONE && WEXITSTATUS(st))
+            fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s%s", n->g->name, (long)n->pid, what,
+                 n->state == N_WAITING ? " before joining" : "");
+        else if (n->state != N_DONE)
+            fail(m, FAIL_OTHER, "node '%s' (pid %ld) ended without reporting its end", n->g->name,
+                 (long)n->pid);
+    }
+}
+
+/* --- messages --------------------------------------------------------- */
+
+static void take_stats(ms_node *n, const tsr_ctl *msg)
+{
+    double t = tsr_ms_now();
+    n->frames = tsr_ctl_number(msg, "frames", n->frames);
+    n->buffers = tsr_ctl_number(msg, "buffers", n->buffers);
+    n->bytes_in = tsr_ctl_number(msg, "bytes_in", n->bytes_in);
+    n->bytes_out = tsr_ctl_number(msg, "bytes_out", n->bytes_out);
+    n->busy = tsr_ctl_number(msg, "busy_seconds", n->busy);
+    n->blocked = tsr_ctl_number(msg, "blocked_seconds", n->blocked);
+    n->elapsed = tsr_ctl_number(msg, "elapsed", n->elapsed);
+    n->clients = (unsigned)tsr_ctl_number(msg, "clients", n->clients);
+    const char *app = tsr_ctl_get(msg, "app_stats");
+    if (app)
+        n->app_stats = !strcmp(app, "found");
+    /* Rates over windows of at least half a second, for a steady line. */
+    if (!n->rate_t) {
+        n->rate_t = t;
+    } else if (t - n->rate_t >= 0.5) {
+        double bytes = n->bytes_in + n->bytes_out;
+        n->fps = (n->frames - n->rate_frames) / (t - n->rate_t);
+        n->mbps = (bytes - n->rate_bytes) / (t - n->rate_t) / 1e6;
+        n->rate_t = t;
+        n->rate_frames = n->frames;
+        n->rate_bytes = bytes;
+    }
+}
+
+static void refuse(tsr_net_conn *conn, const char *reason)
+{
+    tsr_ctl_out out;
+    tsr_ctl_out_init(&out);
+    tsr_ctl_add(&out, "reason", reason);
+    tsr_error ignored = {0};
+    send_ctl(conn, TSR_MS_MSG_REFUSE, &out, &ignored);
+    tsr_ctl_out_free(&out);
+    tsr_net_conn_close(conn);
+}
+
+static void handle_join(ms *m, size_t p, const tsr_ctl *msg)
+{
+    tsr_net_conn *conn = m->pending[p].conn;
+    m->pending[p] = m->pending[--m->pending_count];
+    const char *name = tsr_ctl_get(msg, "name");
+    const char *rank = tsr_ctl_get(msg, "rank");
+    const char *host = tsr_ctl_get(msg, "host");
+    char reason[400];
+    ms_node *n = NULL;
+    if (name) {
+        for (size_t i = 0; i < m->count && !n; i++)
+            if (!strcmp(m->nodes[i].g->name, name))
+                n = &m->nodes[i];
+        if (!n)
+            snprintf(reason, sizeof reason, "a node joined as '%.64s', but %s has no such node",
+                     name, tsr_graph_file(m->graph));
+    } else if (rank) {
+        char *end;
+        long r = strtol(rank, &end, 10);
+        if (*end || r < 0 || (size_t)r >= m->count)
+            snprintf(reason, sizeof reason, "a node joined with rank %.20s, but %s has %zu nodes (ranks 0..%zu)",
+                     rank, tsr_graph_file(m->graph), m->count, m->count - 1);
+        else
+            n = &m->nodes[r];
+    } else {
+        snprintf(reason, sizeof reason, "a node joined without a name or rank");
+    }
+    if (n && n->state != N_WAITING) {
+        snprintf(reason, sizeof reason, "node '%s' joined twice (again from host %.64s)", n->g->name,
+                 host ? host : "?");
+        n = NULL;
+    }
+    if (!n) {
+        refuse(conn, reason);
+        fail(m, FAIL_OTHER, "%s", reason);
+        return;
+    }
+    n->conn = conn;
+    n->state = N_JOINED;
+    n->last_heard = tsr_ms_now();
+    n->remote_pid = (long)tsr_ctl_number(msg, "pid", 0);
+    snprintf(n->host, sizeof n->host, "%s", host ? host : "?");
+}
+
+static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
+{
+    n->last_heard = tsr_ms_now();
+    switch (kind) {
+    case TSR_MS_MSG_READY: {
+        const char *addr = tsr_ctl_get(msg, "address");
+        if (n->server) {
+            if (!addr || !*addr) {
+                fail(m, FAIL_OTHER, "node '%s' reported READY without its address", n->g->name);
+                return;
+            }
+            snprintf(n->address, sizeof n->address, "%s", addr);
+        }
+        n->state = N_READY;
+        break;
+    }
+    case TSR_MS_MSG_STATS:
+        take_stats(n, msg);
+        break;
+    case TSR_MS_MSG_DONE: {
+        take_stats(n, msg);
+        n->state = N_DONE;
+        n->done_at = tsr_ms_now();
+        n->done_status = (int)tsr_ctl_number(msg, "status", 1);
+        const char *why = tsr_ctl_get(msg, "message");
+        if (n->done_status)
+            fail(m, tsr_ctl_number(msg, "signal", 0) ? FAIL_SIGNAL : FAIL_EXIT, "node '%s': %s",
+                 n->g->name, why && *why ? why : "failed (no reason given)");
+        break;
+    }
+    default:
+        fail(m, FAIL_OTHER, "node '%s' sent an unexpected %s message", n->g->name,
+             tsr_ctl_kind_name(kind));
+    }
+}
+
+/* One round of receiving: every message already queued, waiting at most
+ * POLL_MS for the first. */
+static void receive(ms *m)
+{
+    tsr_net_conn *conns[MAX_PENDING + 1024];
+    ms_node *owners[MAX_PENDING + 1024];
+    size_t count = 0;
+    for (size_t i = 0; i < m->pending_count; i++) {
+        owners[count] = NULL;
+        conns[count++] = m->pending[i].conn;
+    }
+    for (size_t i = 0; i < m->count && count < sizeof conns / sizeof conns[0]; i++) {
+        ms_node *n = &m->nodes[i];
+        if (n->conn && !n->conn_ended) {
+            owners[count] = n;
+            conns[count++] = n->conn;
+        }
+    }
+    if (!count) {
+        struct timespec ts = {0, POLL_MS * 1000000L};
+        nanosleep(&ts, NULL);
+        return;
+    }
+    size_t which = count;
+    int wait = POLL_MS;
+    for (int round = 0; round < 64; round++) {
+        tsr_net_msg msg;
+        tsr_error e = {0};
+        int rc = tsr_net_recv_any(conns, count, &which, &msg, wait, &e);
+        wait = 0;
+        if (rc == TSR_ETIMEDOUT)
+            return;
+        ms_node *n = owners[which];
+        if (rc != 1) {
+            if (!n) { /* a pending connection went away before joining */
+                for (size_t p = 0; p < m->pending_count; p++)
+                    if (m->pending[p].conn == conns[which]) {
+                        tsr_net_conn_close(conns[which]);
+                        m->pending[p] = m->pending[--m->pending_count];
+                        break;
+                    }
+                return; /* arrays changed */
+            }
+            n->conn_ended = 1;
+            if (n->state != N_DONE) { /* after DONE, its end was reported */
+                if (!n->lost_at) {
+                    n->lost_at = tsr_ms_now();
+                    snprintf(n->lost_why, sizeof n->lost_why, "%s",
+                             rc == 0 ? "closed its control connection before reporting its end"
+                                     : e.message);
+                }
+            }
+            return; /* arrays changed */
+        }
+        tsr_ctl ctl;
+        tsr_error perr = {0};
+        int parsed = tsr_ctl_parse(&ctl, msg.data, msg.len, &perr) == TSR_OK;
+        unsigned kind = msg.kind;
+        tsr_net_msg_release(&msg);
+        if (!parsed) {
+            fail(m, FAIL_OTHER, "node '%s': %s", n ? n->g->name : "(joining)", perr.message);
+            continue;
+        }
+        if (!n) {
+            if (kind == TSR_MS_MSG_JOIN) {
+                for (size_t p = 0; p < m->pending_count; p++)
+                    if (m->pending[p].conn == conns[which]) {
+                        handle_join(m, p, &ctl);
+                        break;
+                    }
+                tsr_ctl_free(&ctl);
+                return; /* arrays changed */
+            }
+            fail(m, FAIL_OTHER, "a connection sent %s before JOIN", tsr_ctl_kind_name(kind));
+        } else {
+            handle_message(m, n, kind, &ctl);
+        }
+        tsr_ctl_free(&ctl);
+    }
+}
+
+/* --- watching --------------------------------------------------------- */
+
+static void check(ms *m)
+{
+    double t = tsr_ms_now();
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        /* Heartbeats count once the node is READY: before, a server is
+         * building its chain (loading OSMesa can take seconds on a loaded
+         * machine) and cannot beat; that phase has the join time-out. */
+        if (n->state == N_CONFIGURED && (t - n->configured_at) * 1000.0 > m->cfg->join_timeout_ms)
+            fail(m, FAIL_HEARTBEAT, "node '%s' was not ready within %u ms of its configuration",
+                 n->g->name, m->cfg->join_timeout_ms);
+        if (n->state == N_READY && !n->lost_at && (t - n->last_heard) * 1000.0 > m->cfg->timeout_ms)
+            fail(m, FAIL_HEARTBEAT, "node '%s' sent no heartbeat for %.0f ms (stopped or hung; --timeout-ms %u)",
+                 n->g->name, (t - n->last_heard) * 1000.0, m->cfg->timeout_ms);
+        if (n->lost_at && !n->reaped && (!n->pid || t - n->lost_at > LOST_GRACE_S))
+            fail(m, FAIL_LOST, "node '%s': control connection lost: %s", n->g->name, n->lost_why);
+        if (n->state == N_WAITING && (t - m->start) * 1000.0 > m->cfg->join_timeout_ms)
+            fail(m, FAIL_OTHER, "node '%s' did not join within %u ms%s", n->g->name,
+                 m->cfg->join_timeout_ms,
+                 n->local ? "" : " (start it with: tessera node --mothership ADDR --name NAME)");
+    }
+    for (size_t p = 0; p < m->pending_count; p++)
+        if (t - m->pending[p].since > 10.0) {
+            tsr_net_conn_close(m->pending[p].conn);
+            m->pending[p--] = m->pending[--m->pending_count];
+        }
+}
+
+/* Configures every joined node whose servers all listen. */
+static int configure(ms *m, tsr_error *err)
+{
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        if (n->state != N_JOINED)
+            continue;
+        int ready = 1;
+        for (size_t t = 0; t < n->g->to_count; t++)
+            ready &= m->nodes[n->g->to[t]].state >= N_READY;
+        if (!ready)
+            continue;
+        tsr_error e = {0};
+        int rc = send_config(m, n, &e);
+        if (rc == TSR_EINVAL)
+            return tsr_error_set(err, rc, "%s", e.message);
+        if (rc != TSR_OK) {
+            fail(m, FAIL_OTHER, "node '%s': cannot send its configuration: %s", n->g->name, e.message);
+            continue;
+        }
+        n->state = N_CONFIGURED;
+        n->configured_at = n->last_heard = tsr_ms_now();
+    }
+    return TSR_OK;
+}
+
+static void progress(ms *m, int final)
+{
+    if (!m->cfg->progress)
+        return;
+    double t = tsr_ms_now();
+    if (!final && t < m->next_progress)
+        return;
+    m->next_progress = t + 0.25;
+    char line[1024];
+    size_t used = (size_t)snprintf(line, sizeof line, "%.1fs", t - m->start);
+    for (size_t i = 0; i < m->count && used < sizeof line; i++) {
+        const ms_node *n = &m->nodes[i];
+        const char *state = n->state == N_WAITING ? "waiting" : n->state < N_READY ? "starting"
+                            : n->state == N_DONE ? "done" : NULL;
+        if (n->server && !state)
+            used += (size_t)snprintf(line + used, sizeof line - used, " | %s %.0f fr %.1f fr/s %.1f MB/s",
+                                     n->g->name, n->frames, n->fps, n->mbps);
+        else
+            used += (size_t)snprintf(line + used, sizeof line - used, " | %s %s", n->g->name,
+                                     state ? state : "running");
+    }
+    fprintf(stderr, "\r\033[K%s", line);
+    if (final)
+        fputc('\n', stderr);
+    fflush(stderr);
+    m->progress_shown = 1;
+}
+
+/* --- ending ----------------------------------------------------------- */
+
+static void stop_all(ms *m, const char *reason)
+{
+    tsr_ctl_out out;
+    tsr_ctl_out_init(&out);
+    tsr_ctl_add(&out, "reason", reason);
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        if (n->conn && !n->conn_ended && n->state != N_DONE) {
+            tsr_error ignored = {0};
+            if (!out.failed)
+                tsr_net_send(n->conn, TSR_MS_MSG_STOP, out.text, out.len, 200, &ignored);
+        }
+    }
+    tsr_ctl_out_free(&out);
+    double until = tsr_ms_now() + STOP_GRACE_S;
+    for (;;) {
+        int running = 0;
+        for (size_t i = 0; i < m->count; i++)
+            running |= m->nodes[i].pid && !m->nodes[i].reaped;
+        if (!running || tsr_ms_now() >= until)
+            break;
+        struct timespec ts = {0, 10 * 1000000L};
+        nanosleep(&ts, NULL);
+        for (size_t i = 0; i < m->count; i++) {
+            ms_node *n = &m->nodes[i];
+            if (n->pid && !n->reaped && waitpid(n->pid, &n->wstatus, WNOHANG) == n->pid)
+                n->reaped = 1;
+        }
+    }
+}
+
+/* Every process group we started is killed, whatever its leader did: an
+ * application whose node died is still in its node's group. */
+static void kill_groups(ms *m)
+{
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        if (!n->pid)
+            continue;
+        killpg(n->pid, SIGKILL);
+        if (!n->reaped && waitpid(n->pid, &n->wstatus, 0) == n->pid)
+            n->reaped = 1;
+    }
+    /* Orphans re-parented to us (we are their subreaper): reap them, so
+     * not even a zombie of the run is left. Bounded: they were killed. */
+    if (!m->cfg->launch_local)
+        return;
+    double until = tsr_ms_now() + 1.0;
+    while (tsr_ms_now() < until) {
+        pid_t w = waitpid(-1, NULL, WNOHANG);
+        if (w < 0)
+            break; /* ECHILD: none left */
+        if (w == 0) {
+            struct timespec ts = {0, 5 * 1000000L};
+            nanosleep(&ts, NULL);
+        }
+    }
+}
+
+static int remove_entry(const char *path, const struct stat *st, int type, struct FTW *ftw)
+{
+    (void)st;
+    (void)type;
+    (void)ftw;
+    remove(path);
+    return 0;
+}
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            fprintf(f, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(f, "\\u%04x", *s);
+        else
+            fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static int write_stats(ms *m, int ok, double wall, tsr_error *err)
+{
+    FILE *f = fopen(m->cfg->stats_path, "w");
+    if (!f)
+        return tsr_error_set(err, TSR_EIO, "--stats %s: %s", m->cfg->stats_path, strerror(errno));
+    fprintf(f, "{\n  \"graph\": ");
+    json_string(f, tsr_graph_file(m->graph));
+    fprintf(f, ",\n  \"status\": \"%s\",\n  \"failure\": ", ok ? "ok" : "failed");
+    if (ok)
+        fprintf(f, "null");
+    else
+        json_string(f, m->fail_message);
+    fprintf(f, ",\n  \"wall_seconds\": %.3f,\n  \"nodes\": [\n", wall);
+    for (size_t i = 0; i < m->count; i++) {
+        const ms_node *n = &m->nodes[i];
+        fprintf(f, "    {\"name\": ");
+        json_string(f, n->g->name);
+        fprintf(f, ", \"role\": \"%s\", \"host\": ", n->server ? "server" : "app");
+        json_string(f, n->host[0] ? n->host : n->g->host);
+        fprintf(f, ", \"state\": \"%s\", \"seconds\": %.3f",
+                n->state == N_DONE ? (n->done_status ? "failed" : "done") : "unfinished", n->elapsed);
+        if (n->server || n->app_stats == 1) {
+            fprintf(f, ", \"frames\": %.0f, \"buffers\": %.0f, \"bytes_in\": %.0f, \"bytes_out\": %.0f",
+                    n->frames, n->buffers, n->bytes_in, n->bytes_out);
+        } else {
+            /* The application's network SPU wrote no TESSERA_STATS_FILE
+             * (not every chain has one): unknown, not zero. */
+            fprintf(f, ", \"frames\": null, \"buffers\": null, \"bytes_in\": null, \"bytes_out\": null");
+        }
+        if (n->server) {
+            fprintf(f, ", \"address\": ");
+            json_string(f, n->address);
+            fprintf(f, ", \"render_seconds\": %.6f, \"blocked_seconds\": null, \"clients\": %u}", n->busy,
+                    n->clients);
+        }
+        else if (n->app_stats == 1)
+            fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": %.6f, \"app_stats\": \"found\"}",
+                    n->blocked);
+        else
+            fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": null, \"app_stats\": \"missing\"}");
+        fprintf(f, "%s\n", i + 1 < m->count ? "," : "");
+    }
+    fprintf(f, "  ]\n}\n");
+    if (fclose(f))
+        return tsr_error_set(err, TSR_EIO, "--stats %s: %s", m->cfg->stats_path, strerror(errno));
+    return TSR_OK;
+}
+
+static void summary(ms *m, double wall)
+{
+    FILE *f = m->cfg->summary;
+    if (!f)
+        return;
+    fprintf(f, "%s: %s in %.2f s\n", m->cfg->who, tsr_graph_file(m->graph), wall);
+    for (size_t i = 0; i < m->count; i++) {
+        const ms_node *n = &m->nodes[i];
+        double secs = n->elapsed > 0 ? n->elapsed : wall;
+        if (n->server)
+            fprintf(f, "  %-12s server: %.0f frames, %.1f frames/s, %.2f MB in (%.1f MB/s), render %.3f s, %u client%s\n",
+                    n->g->name, n->frames, n->frames / secs, n->bytes_in / 1e6, n->bytes_in / 1e6 / secs,
+                    n->busy, n->clients, n->clients == 1 ? "" : "s");
+        else if (n->app_stats == 1)
+            fprintf(f, "  %-12s app:    %.0f frames, %.1f frames/s, %.2f MB out (%.1f MB/s), blocked on credits %.3f s\n",
+                    n->g->name, n->frames, n->frames / secs, n->bytes_out / 1e6, n->bytes_out / 1e6 / secs,
+                    n->blocked);
+        else
+            fprintf(f, "  %-12s app:    ran %.2f s (no network statistics from its chain)\n", n->g->name, secs);
+    }
+    fflush(f);
+}
+
+/* --- the run ---------------------------------------------------------- */
+
+static int prepare(ms *m, tsr_error *err)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s", tsr_graph_file(m->graph));
+    char *dir = dirname(path);
+    if (!realpath(dir, m->graph_dir))
+        snprintf(m->graph_dir, sizeof m->graph_dir, "%s", dir);
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        n->g = tsr_graph_node_at(m->graph, i);
+        n->index = i;
+        n->server = n->g->exec == NULL;
+        n->app_stats = n->server ? -1 : 0;
+        n->local = m->cfg->launch_local && is_local_host(n->g->host);
+        if (n->server && n->g->transport == TSR_TRANSPORT_INPROC)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "%s:%d:%d: node '%s': transport inproc cannot be run as its own "
+                                 "process yet; use tcp or unix",
+                                 tsr_graph_file(m->graph), n->g->mark.line, n->g->mark.column, n->g->name);
+        if (m->cfg->launch_local && !n->local && !m->cfg->listen)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "%s:%d:%d: node '%s' runs on host '%s': give --listen ADDR (an address "
+                                 "that host reaches) and start it there with tessera node --mothership",
+                                 tsr_graph_file(m->graph), n->g->mark.line, n->g->mark.column, n->g->name,
+                                 n->g->host);
+    }
+    return TSR_OK;
+}
+
+static int run(ms *m, tsr_error *err)
+{
+    tsr_net_config nc;
+    tsr_net_config_defaults(&nc);
+    nc.node_name = "mothership";
+    nc.token = m->cfg->token;
+    nc.idle_timeout_ms = 2 * m->cfg->timeout_ms;
+    nc.close_timeout_ms = 1000;
+    m->net = tsr_net_create(&nc, err);
+    if (!m->net)
+        return TSR_EIO;
+    tsr_error e = {0};
+    m->listener = tsr_net_listen(m->net, m->cfg->listen ? m->cfg->listen : "tcp://127.0.0.1:0", &e);
+    if (!m->listener)
+        return tsr_error_set(err, e.code ? e.code : TSR_EIO, "control channel: %s", e.message);
+    const char *control = tsr_net_listener_address(m->listener);
+    if (m->cfg->on_listening)
+        m->cfg->on_listening(control, m->cfg->ctx);
+    m->start = tsr_ms_now();
+    /* An application whose node died is re-parented to us, not to init,
+     * so we can reap it (and a container's init need not). */
+    if (m->cfg->launch_local) {
+        prctl(PR_SET_CHILD_SUBREAPER, 1);
+        const char *base = getenv("TMPDIR");
+        snprintf(m->run_tmp, sizeof m->run_tmp, "%s/tessera-run-XXXXXX", base && *base ? base : "/tmp");
+        if (!mkdtemp(m->run_tmp))
+            m->run_tmp[0] = '\0'; /* nodes then use /tmp themselves */
+    }
+    for (size_t i = 0; i < m->count; i++)
+        if (m->nodes[i].local && launch(m, &m->nodes[i], control, err) != TSR_OK)
+            return TSR_EIO;
+
+    int done = 0;
+    double all_done_at = 0;
+    while (!done) {
+        if (m->cfg->interrupted && *m->cfg->interrupted)
+            fail(m, FAIL_INTERRUPT, "interrupted by signal %d", (int)*m->cfg->interrupted);
+        tsr_net_conn *c;
+        while (m->pending_count < MAX_PENDING && (c = tsr_net_accept(m->listener, 0, &e)) != NULL) {
+            m->pending[m->pending_count].conn = c;
+            m->pending[m->pending_count++].since = tsr_ms_now();
+        }
+        receive(m);
+        reap(m);
+        if (m->fail_class == FAIL_NONE) {
+            check(m);
+            if (configure(m, err) != TSR_OK)
+                fail(m, FAIL_OTHER, "%s", err->message);
+        }
+        if (m->fail_class != FAIL_NONE) {
+            if (tsr_ms_now() >= m->fail_deadline)
+                break;
+            continue;
+        }
+        progress(m, 0);
+        int all = 1, children = 0;
+        for (size_t i = 0; i < m->count; i++) {
+            all &= m->nodes[i].state == N_DONE;
+            children |= m->nodes[i].pid && !m->nodes[i].reaped;
+        }
+        if (all && !all_done_at)
+            all_done_at = tsr_ms_now();
+        if (all && (!children || tsr_ms_now() - all_done_at > END_GRACE_S))
+            done = 1;
+    }
+    return TSR_OK;
+}
+
+int tsr_mothership_run(const tsr_graph *graph, const tsr_ms_config *config, tsr_error *err)
+{
+    ms m;
+    memset(&m, 0, sizeof m);
+    m.graph = graph;
+    m.cfg = config;
+    m.count = tsr_graph_node_count(graph);
+    m.fail_class = FAIL_NONE;
+    m.nodes = calloc(m.count, sizeof *m.nodes);
+    if (!m.nodes)
+        return tsr_error_set(err, TSR_ENOMEM, "out of memory");
+    int rc = prepare(&m, err);
+    if (rc == TSR_OK)
+        rc = run(&m, err);
+    int ok = rc == TSR_OK && m.fail_class == FAIL_NONE;
+    if (m.progress_shown)
+        progress(&m, 1);
+    if (!ok && m.fail_class != FAIL_NONE)
+        stop_all(&m, m.fail_message);
+    kill_groups(&m);
+    if (m.run_tmp[0])
+        nftw(m.run_tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+    double wall = m.start ? tsr_ms_now() - m.start : 0;
+    if (rc == TSR_OK && m.fail_class != FAIL_NONE)
+        rc = tsr_error_set(err, TSR_EIO, "%s", m.fail_message);
+    if (m.start) {
+        if (ok)
+            summary(&m, wall);
+        if (config->stats_path) {
+            tsr_error serr = {0};
+            if (write_stats(&m, ok, wall, &serr) != TSR_OK && rc == TSR_OK)
+                rc = tsr_error_set(err, serr.code, "%s", serr.message);
+        }
+    }
+    for (size_t i = 0; i < m.pending_count; i++)
+        tsr_net_conn_close(m.pending[i].conn);
+    for (size_t i = 0; i < m.count; i++)
+        if (m.nodes[i].conn)
+            tsr_net_conn_close(m.nodes[i].conn);
+    if (m.listener)
+        tsr_net_listener_close(m.listener);
+    if (m.net)
+        tsr_net_destroy(m.net);
+    free(m.nodes);
+    return rc;
+}

@@ -1,0 +1,138 @@
+/* node/client.h — the stream client of node/protocol.h: what every SPU that
+ * sends its GL stream, unchanged, to server nodes shares (pack: one server,
+ * replicate: several). Owns: one netlib instance (one I/O thread) with one
+ * connection per server, the packer whose buffers go to all of them, the
+ * reply the packer is holding, the failure policy and the statistics.
+ * Never: packs a call twice or copies a buffer once per server (each
+ * flushed buffer is copied once and that copy is handed to every
+ * connection), or waits on a server without a bound its silence can end
+ * (timeout_ms).
+ *
+ * Replies (gets, ReadPixels, the Gen and Create calls) come from the FIRST
+ * live server. Every other live server answers the same request too; its
+ * reply is read (so the stream stays in step and its credit returns) and
+ * its request id checked, and its bytes are dropped, not compared: servers
+ * on different hosts may legitimately answer differently (GL_RENDERER,
+ * GL_VERSION), while their drawing is what the tests compare.
+ *
+ * Failure policy (GL calls cannot return errors). A server that fails
+ * mid-stream (killed, silent beyond timeout_ms, dropped us) is reported in
+ * one line naming its address; with exit_on_error the process then ends
+ * with status 1 (the application would otherwise report success for frames
+ * that were never drawn); otherwise that server is dropped and the stream
+ * goes on to the others (replies from the next live one); with no server
+ * left every further call is dropped. Failing to connect to any server is
+ * an error of tsr_node_client_create(), naming that server. Destroying the
+ * client sends FINISH to every server and waits for each one's
+ * confirmation that every buffer ran.
+ *
+ * Statistics. The client counts wire buffers and their bytes (the stream,
+ * packed once), frames (SwapBuffersTSR calls), and per server the payload
+ * bytes and messages sent and the time the application thread was blocked
+ * waiting for that server's send credits. When the environment variable
+ * TESSERA_STATS_FILE names a file, destroy (or a failure that ends the
+ * process) replaces that file with one JSON object:
+ *   {"spu":"pack","name":"pack#0","bytes_out":N,"stream_bytes":N,
+ *    "buffers":N,"frames":N,"blocked_seconds":X,
+ *    "servers":[{"address":"tcp://...","bytes_out":N,"messages":N,
+ *                "blocked_seconds":X,"failed":false}],
+ *    "error":null}
+ * bytes_out is what left this process (the sum over servers: replicate to
+ * three servers sends the stream three times); stream_bytes is the stream
+ * once; blocked_seconds sums the servers' (sends are sequential on the
+ * application thread, so it is wall time); error is the first failure's
+ * message or null. One file per process: a second client in the same
+ * process replaces the first one's file (the mothership gives each node its
+ * own). The file is written whole to a temporary name and renamed, so a
+ * reader never sees half of it. */
+#ifndef TSR_NODE_CLIENT_H
+#define TSR_NODE_CLIENT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "tessera/dispatch.h"
+#include "tessera/error.h"
+#include "tessera/options.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TSR_NODE_CLIENT_STATS_ENV "TESSERA_STATS_FILE"
+#define TSR_NODE_CLIENT_EXIT_STATUS 1
+
+typedef struct tsr_node_client tsr_node_client;
+
+typedef struct tsr_node_client_config {
+    const char *spu;                 /* the SPU's class name, for the statistics ("pack") */
+    const char *name;                /* instance name, first word of every message ("pack#0") */
+    const char *const *servers;      /* netlib addresses (netlib/net.h) */
+    size_t server_count;             /* >= 1 */
+    const char *token;               /* shared token; NULL/"" = none */
+    uint32_t timeout_ms;             /* connect/handshake limit and longest silence of a
+                                        server; 0 = netlib defaults, no silence limit */
+    size_t buffer_size;              /* bytes of one wire buffer */
+    int exit_on_error;               /* see the failure policy above */
+} tsr_node_client_config;
+
+/* The options every stream client SPU shares, as tsr_option_spec
+ * initialisers to put in the SPU's own option array (after its own way of
+ * naming servers), and the call that reads them into a config. */
+#define TSR_NODE_CLIENT_OPTION_SPECS                                                               \
+    {.name = "token", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,            \
+     .help = "shared token the servers require (empty: none)"},                                   \
+    {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "1048576", .min = 256,          \
+     .max = 67108864.0, .help = "bytes of one wire buffer (header, opcodes and data)"},           \
+    {.name = "timeout_ms", .type = TSR_OPT_INT, .default_value = "10000", .min = 0,               \
+     .max = 3600000.0,                                                                             \
+     .help = "connect/handshake limit, and how long a server may stay silent before it counts "   \
+             "as dead (0: netlib defaults, no silence limit)"},                                    \
+    {.name = "on_error", .type = TSR_OPT_ENUM, .default_value = "exit", .choices = "exit|drop",   \
+     .min = 1, .max = 0,                                                                           \
+     .help = "when a server fails mid-stream: exit ends the application with status 1, drop "     \
+             "goes on without that server (every call is dropped once none is left)"}
+
+/* Fills token, timeout_ms, buffer_size and exit_on_error from options
+ * declared with TSR_NODE_CLIENT_OPTION_SPECS. */
+void tsr_node_client_config_from_options(tsr_node_client_config *config, const tsr_options *options);
+
+/* Connects to every server (in order; the first that cannot be reached or
+ * refuses fails the call, naming it), creates the packer and points every
+ * slot of `table` at it (SwapBuffersTSR also counts the frame). Strings of
+ * `config` are copied. */
+tsr_node_client *tsr_node_client_create(const tsr_node_client_config *config, tsr_dispatch *table,
+                                        tsr_error *err);
+/* Sends what is packed and FINISH, waits for every server's confirmation,
+ * closes, writes the statistics file (TESSERA_STATS_FILE) and frees. */
+void tsr_node_client_destroy(tsr_node_client *client);
+
+typedef struct tsr_node_client_server_stats {
+    const char *address;     /* valid while the client lives */
+    uint64_t bytes_out;      /* payload bytes sent */
+    uint64_t messages;       /* messages sent (buffers + FINISH) */
+    double blocked_seconds;  /* waiting for this server's send credits */
+    int failed;
+} tsr_node_client_server_stats;
+
+typedef struct tsr_node_client_stats {
+    uint64_t bytes_out;      /* sum over servers */
+    uint64_t stream_bytes;   /* wire buffer bytes, counted once */
+    uint64_t buffers;        /* wire buffers flushed */
+    uint64_t frames;         /* SwapBuffersTSR calls */
+    double blocked_seconds;  /* sum over servers */
+    size_t server_count;
+} tsr_node_client_stats;
+
+/* Running totals (the application thread's view); `servers` may be NULL,
+ * else it receives min(capacity, server count) entries. */
+void tsr_node_client_get_stats(tsr_node_client *client, tsr_node_client_stats *out,
+                               tsr_node_client_server_stats *servers, size_t capacity);
+/* Writes the statistics JSON object (above) to `path` (temporary file +
+ * rename). */
+int tsr_node_client_write_stats(tsr_node_client *client, const char *path, tsr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

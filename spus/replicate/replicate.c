@@ -1,0 +1,67 @@
+/* spus/replicate/replicate.c — the "replicate" SPU: sends the same stream,
+ * unchanged, to every listed server node, so each renders the same frames.
+ * The stream is packed once and each flushed buffer is copied once and
+ * handed to every connection (no per-server packing or copying). Replies
+ * come from the first live server; the others' replies are read, their
+ * request ids checked, and dropped (node/client.h says why).
+ * Owns, per instance: one stream client (node/client.h) with one
+ * connection per server, the failure policy (on_error: exit, or go on
+ * without the failed server) and the statistics (TESSERA_STATS_FILE).
+ * Never calls its child. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "client.h"
+#include "tessera/spu.h"
+
+static void replicate_destroy(void *instance)
+{
+    tsr_node_client_destroy(instance);
+}
+
+static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
+{
+    size_t count = tsr_options_count(init->options, "servers");
+    if (count == 0) {
+        tsr_error_set(err, TSR_EINVAL,
+                      "%s: option servers is required (e.g. servers=tcp://127.0.0.1:7000,unix:/tmp/s.sock)",
+                      init->instance_name);
+        return NULL;
+    }
+    const char **servers = calloc(count, sizeof *servers);
+    if (!servers) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
+        return NULL;
+    }
+    for (size_t i = 0; i < count; i++)
+        servers[i] = tsr_options_string_at(init->options, "servers", i);
+    tsr_node_client_config cfg = {.spu = "replicate", .name = init->instance_name,
+                                  .servers = servers, .server_count = count};
+    tsr_node_client_config_from_options(&cfg, init->options);
+    void *client = tsr_node_client_create(&cfg, init->table, err);
+    free(servers); /* the client copied the addresses */
+    return client;
+}
+
+static const tsr_option_spec replicate_options[] = {
+    {.name = "servers", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+     .help = "server node addresses, comma-separated: tcp://HOST:PORT or unix:PATH (required; "
+             "every one receives the whole stream, replies come from the first)"},
+    TSR_NODE_CLIENT_OPTION_SPECS,
+};
+
+static const tsr_spu_class replicate_class = {
+    .abi = TSR_SPU_ABI,
+    .dispatch_count = TSR_DISPATCH_COUNT,
+    .name = "replicate",
+    .summary = "sends the same stream to every listed server node; replies come from the first",
+    .options = replicate_options,
+    .option_count = sizeof replicate_options / sizeof replicate_options[0],
+    .create = replicate_create,
+    .destroy = replicate_destroy,
+};
+
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
+{
+    return &replicate_class;
+}

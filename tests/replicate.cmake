@@ -1,0 +1,56 @@
+# tests/replicate.cmake — the replicate SPU (spus/replicate) sending one
+# stream to three real `tessera node` servers (two TCP, one Unix socket):
+# accuracy of every server's frames, replies, refused / absent / killed
+# servers; and the statistics file of the stream clients (pack,
+# replicate). Real processes and sockets; every test bounded in time.
+# Included by tests/CMakeLists.txt (after node.cmake: uses node_driver).
+get_property(REPLICATE_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(REPLICATE_SH ${CMAKE_CURRENT_SOURCE_DIR}/replicate/replicate.sh)
+set(REPLICATE_OUT ${CMAKE_BINARY_DIR}/test-out/replicate)
+set(REPLICATE_BIN ${CMAKE_BINARY_DIR}/bin)
+
+foreach(example spheres texquads)
+  add_test(NAME replicate_three_servers_tcp_unix_exact_${example}
+    COMMAND ${REPLICATE_SH} accuracy ${REPLICATE_BIN} ${REPLICATE_OUT}/accuracy-${example} ${example})
+endforeach()
+add_test(NAME replicate_server_bad_token_refused_names_it
+  COMMAND ${REPLICATE_SH} refused ${REPLICATE_BIN} ${REPLICATE_OUT}/refused)
+add_test(NAME replicate_server_absent_names_it
+  COMMAND ${REPLICATE_SH} absent ${REPLICATE_BIN} ${REPLICATE_OUT}/absent)
+add_test(NAME replicate_server_killed_app_exits_nonzero_naming_it
+  COMMAND ${REPLICATE_SH} killed ${REPLICATE_BIN} ${REPLICATE_OUT}/killed)
+add_test(NAME replicate_drop_goes_on_without_stopped_server
+  COMMAND ${REPLICATE_SH} stopped-drop ${REPLICATE_BIN} ${REPLICATE_OUT}/stopped-drop)
+if(TARGET node_driver)
+  add_test(NAME replicate_replies_roundtrip_from_first_server
+    COMMAND ${REPLICATE_SH} replies ${REPLICATE_BIN} ${REPLICATE_OUT}/replies $<TARGET_FILE:node_driver>)
+endif()
+# Option mistakes: one line naming the SPU instance and the problem.
+set(REPLICATE_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+add_test(NAME replicate_without_servers_is_a_clear_error
+  COMMAND ${REPLICATE_EXPECT} 1 "" "replicate#1: option servers is required"
+          ${REPLICATE_BIN}/spheres --frames 1 --chain replicate)
+add_test(NAME replicate_same_server_twice_is_a_clear_error
+  COMMAND ${REPLICATE_EXPECT} 1 "" "server tcp://127.0.0.1:1 is listed twice"
+          ${REPLICATE_BIN}/spheres --frames 1 --chain "replicate servers=tcp://127.0.0.1:1,tcp://127.0.0.1:1")
+
+# examples/graphs/replicate.yaml checks in full now that the SPU exists (the
+# mothership fills its `servers` option with the servers' addresses).
+add_test(NAME replicate_example_graph_checks_against_the_plugin
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/graph/check_ok.sh $<TARGET_FILE:tessera_cli>
+          ${CMAKE_SOURCE_DIR}/examples/graphs/replicate.yaml)
+add_test(NAME pack_stats_file_counts_frames_bytes_and_blocked_time
+  COMMAND ${REPLICATE_SH} pack-blocked ${REPLICATE_BIN} ${REPLICATE_OUT}/pack-blocked)
+
+get_property(REPLICATE_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(REPLICATE_TESTS_BEFORE)
+  list(REMOVE_ITEM REPLICATE_TESTS_AFTER ${REPLICATE_TESTS_BEFORE})
+endif()
+set(REPLICATE_ENV "")
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
+# LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.
+if(TESSERA_SANITIZE)
+  set(REPLICATE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${REPLICATE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS replicate
+  ENVIRONMENT "${REPLICATE_ENV}")

@@ -1,0 +1,95 @@
+# tests/run.cmake — `tessera run`, `tessera mothership` and
+# `tessera node --mothership` with real processes and sockets: example
+# graphs compared frame by frame with the native reference, failures
+# (kill -9 / SIGSTOP mid-stream) ending the run with the node named and no
+# process left, several "machines" on one host, a run across network
+# namespaces, and the CLI's errors. Every test is bounded in time.
+# Included by tests/CMakeLists.txt.
+get_property(RUN_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(RUN_DIR ${CMAKE_CURRENT_SOURCE_DIR}/run)
+set(RUN_OUT ${CMAKE_BINARY_DIR}/test-out/run)
+set(RUN_BIN ${CMAKE_BINARY_DIR}/bin)
+set(RUN_GRAPHS ${CMAKE_SOURCE_DIR}/examples/graphs)
+file(MAKE_DIRECTORY ${RUN_OUT})
+
+# One line per graph: run_graph.sh BIN GRAPH OUT FRAMES REFERENCE [ARGS...]
+# compares every output the graph names with the reference, frame by frame.
+macro(run_graph_test name graph frames)
+  add_test(NAME ${name} COMMAND ${RUN_DIR}/run_graph.sh ${RUN_BIN} ${graph} ${RUN_OUT}/${name}
+           ${frames} ${ARGN})
+endmacro()
+run_graph_test(run_graph_local_exact ${RUN_GRAPHS}/local.yaml 20 spheres-native --size 1024x768)
+run_graph_test(run_graph_trace_exact ${RUN_GRAPHS}/trace.yaml 10 isosurface-native --size 1024x768)
+run_graph_test(run_graph_tcp_exact ${RUN_GRAPHS}/tcp.yaml 20 spheres-native --size 1024x768)
+run_graph_test(run_graph_unix_exact ${RUN_GRAPHS}/unix.yaml 20 spheres-native --size 1024x768)
+if(TARGET spu_replicate)
+  run_graph_test(run_graph_replicate_three_servers_exact ${RUN_GRAPHS}/replicate.yaml 20
+                 spheres-native --size 1024x768)
+endif()
+
+add_test(NAME run_progress_summary_and_stats_json_agree
+  COMMAND ${RUN_DIR}/stats.sh ${RUN_BIN} ${RUN_OUT}/stats ${RUN_GRAPHS}/tcp.yaml 20)
+if(TARGET psubmit-native)
+  run_graph_test(run_graph_psubmit_four_apps_exact ${RUN_GRAPHS}/psubmit.yaml 10
+                 psubmit-native --size 1024x768)
+endif()
+
+foreach(c kill-server kill-app stop-server stop-app-node interrupt kill-mothership)
+  string(REPLACE "-" "_" c_ ${c})
+  add_test(NAME run_failure_${c_}_ends_run_names_node_leaves_nothing
+    COMMAND ${RUN_DIR}/failures.sh ${c} ${RUN_BIN} ${RUN_OUT}/failure-${c})
+endforeach()
+
+foreach(c name env unknown-name)
+  string(REPLACE "-" "_" c_ ${c})
+  add_test(NAME run_mothership_separate_nodes_${c_}
+    COMMAND ${RUN_DIR}/multi.sh ${c} ${RUN_BIN} ${RUN_OUT}/multi-${c} ${RUN_GRAPHS}/tcp.yaml)
+endforeach()
+
+add_test(NAME run_mothership_separate_nodes_server_killed_names_it
+  COMMAND ${RUN_DIR}/multi.sh kill-server ${RUN_BIN} ${RUN_OUT}/multi-kill-server ${RUN_DIR}/long.yaml)
+
+add_test(NAME run_netns_four_hosts_over_tcp
+  COMMAND ${RUN_DIR}/netns.sh ${RUN_BIN} ${RUN_OUT}/netns)
+set_tests_properties(run_netns_four_hosts_over_tcp PROPERTIES SKIP_RETURN_CODE 77)
+
+# The CLI: help, usage errors and bad input, each one clear line.
+set(RUN_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+set(RUN_TESSERA $<TARGET_FILE:tessera_cli>)
+macro(run_cli_test name rc out_re err_re)
+  add_test(NAME ${name} COMMAND ${RUN_EXPECT} ${rc} "${out_re}" "${err_re}" ${ARGN})
+endmacro()
+run_cli_test(run_cli_help_exit_0 0 "usage: tessera run GRAPH" "" ${RUN_TESSERA} run --help)
+run_cli_test(run_cli_mothership_help_exit_0 0 "usage: tessera mothership GRAPH --listen ADDR" ""
+  ${RUN_TESSERA} mothership --help)
+run_cli_test(run_cli_node_help_names_mothership_mode 0 "tessera node --mothership HOST:PORT" ""
+  ${RUN_TESSERA} node --help)
+run_cli_test(run_cli_bad_graph_exit_2_file_line_col 2 "" "bad.yaml:7:5: .*chian"
+  ${RUN_TESSERA} run ${RUN_DIR}/bad.yaml)
+run_cli_test(run_cli_inproc_server_refused_exit_2 2 "" "inproc.yaml:10:3: node 'server': transport inproc"
+  ${RUN_TESSERA} run ${RUN_DIR}/inproc.yaml --out ${RUN_OUT}/inproc)
+run_cli_test(run_cli_missing_exec_names_node_and_program 1 ""
+  "^tessera run: node .app.: exec .bin/no-such-program.: not found .looked in "
+  timeout 60 ${RUN_TESSERA} run ${RUN_DIR}/missing-exec.yaml --out ${RUN_OUT}/missing-exec --no-progress)
+run_cli_test(run_cli_mothership_without_listen_exit_2 2 "" "--listen ADDR is required"
+  ${RUN_TESSERA} mothership ${RUN_GRAPHS}/tcp.yaml)
+run_cli_test(run_cli_node_mothership_nobody_listens_bounded_exit_1 1 ""
+  "cannot reach the mothership at tcp://127.0.0.1:1 within 500 ms"
+  timeout 20 ${RUN_TESSERA} node --mothership 127.0.0.1:1 --name app --connect-timeout-ms 500)
+run_cli_test(run_cli_node_mothership_needs_name_or_rank_exit_2 2 "" "needs --name NAME or --rank N"
+  env -u OMPI_COMM_WORLD_RANK -u PMI_RANK -u SLURM_PROCID ${RUN_TESSERA} node --mothership 127.0.0.1:1)
+run_cli_test(run_cli_node_rank_from_env_is_checked_exit_2 2 "" "bad rank 'x' from OMPI_COMM_WORLD_RANK"
+  env OMPI_COMM_WORLD_RANK=x ${RUN_TESSERA} node --mothership 127.0.0.1:1)
+run_cli_test(run_cli_node_mothership_with_chain_exit_2 2 "" "no --listen or --chain"
+  ${RUN_TESSERA} node --mothership 127.0.0.1:1 --name a --chain render)
+
+get_property(RUN_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(RUN_TESTS_BEFORE)
+  list(REMOVE_ITEM RUN_TESTS_AFTER ${RUN_TESTS_BEFORE})
+endif()
+set(RUN_ENV "")
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations (tests/lsan.supp).
+if(TESSERA_SANITIZE)
+  set(RUN_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${RUN_TESTS_AFTER} PROPERTIES TIMEOUT 180 LABELS run ENVIRONMENT "${RUN_ENV}")

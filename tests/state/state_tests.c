@@ -1,0 +1,1257 @@
+/* tests/state/state_tests.c — the state tracker (core/state.h) against real
+ * GL: OSMesa loaded with dlopen and every GL entry resolved through
+ * OSMesaGetProcAddress, as the render SPU does. One program, one ctest per
+ * behaviour (`state_tests NAME [SEEDS]`):
+ *
+ *  covers_spec           every state/object/client/current-attribute command
+ *                        of the spec is tracked or listed as untracked with a
+ *                        reason, never both
+ *  diff_matches_osmesa   (a)+(e) for random call sequences (every group): the
+ *                        sequence goes to the tracker and, separately, straight
+ *                        to OSMesa context B; the tracker's diff goes into a
+ *                        fresh OSMesa context A (directly, or through the real
+ *                        packer and unpacker on odd seeds). Every get the
+ *                        tracker answers must equal A's answer exactly and B's
+ *                        (matrix-derived values within 1e-5: GL does that
+ *                        arithmetic itself); A and B must agree on texels,
+ *                        buffer contents and every answered pname; a second
+ *                        diff emits nothing (c)
+ *  unchanged_is_zero_bytes (b) through the real packer
+ *  switch_only_differing_groups (d) for one change in each group
+ *  many_renderers        bit vectors grow past 64 and 128 renderers
+ *  lazy_textures         unbound textures are not sent; a changed texture
+ *                        sends only the new image call
+ *  list_compile          glNewList(GL_COMPILE) leaves the state alone
+ *
+ * Debugging a failing seed: STATE_SEED=N starts at seed N; STATE_TRACE=1
+ * prints the calls sent to OSMesa directly, then the diff (direct path).
+ */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <GL/osmesa.h>
+
+#include "pack.h"
+#include "state.h"
+#include "tessera/glprocs_gen.h"
+#include "trace_gen.h"
+#include "unpack.h"
+
+static int failures;
+#define CHECK(cond, ...)                                                                  \
+    do {                                                                                  \
+        if (!(cond)) {                                                                    \
+            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond);     \
+            fprintf(stderr, __VA_ARGS__);                                                 \
+            fputc('\n', stderr);                                                          \
+            failures++;                                                                   \
+        }                                                                                 \
+    } while (0)
+
+/* --- OSMesa through dlopen ------------------------------------------------------ */
+typedef struct osm {
+    void *lib;
+    OSMesaContext (*CreateContextExt)(GLenum, GLint, GLint, GLint, OSMesaContext);
+    GLboolean (*MakeCurrent)(OSMesaContext, void *, GLenum, GLsizei, GLsizei);
+    void (*DestroyContext)(OSMesaContext);
+    OSMESAproc (*GetProcAddress)(const char *);
+} osm;
+
+typedef struct gl_env {
+    OSMesaContext ctx;
+    unsigned char *buf;   /* color buffer: static, see gl_open */
+    tsr_gl_procs gl;
+    tsr_dispatch d;
+    void (*GetVertexAttribfv)(GLuint, GLenum, GLfloat *);
+    void (*GetBufferSubData)(GLenum, GLintptr, GLsizeiptr, void *);
+} gl_env;
+
+static osm M;
+
+static tsr_proc getproc(const char *name, void *ctx)
+{
+    (void)ctx;
+    return (tsr_proc)M.GetProcAddress(name);
+}
+
+static void osm_load(void)
+{
+    M.lib = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+    if (!M.lib) {
+        fprintf(stderr, "state_tests: cannot load libOSMesa.so.8: %s\n", dlerror());
+        exit(1);
+    }
+    *(void **)&M.CreateContextExt = dlsym(M.lib, "OSMesaCreateContextExt");
+    *(void **)&M.MakeCurrent = dlsym(M.lib, "OSMesaMakeCurrent");
+    *(void **)&M.DestroyContext = dlsym(M.lib, "OSMesaDestroyContext");
+    *(void **)&M.GetProcAddress = dlsym(M.lib, "OSMesaGetProcAddress");
+    if (!M.CreateContextExt || !M.MakeCurrent || !M.DestroyContext || !M.GetProcAddress) {
+        fprintf(stderr, "state_tests: OSMesa lacks an entry point\n");
+        exit(1);
+    }
+}
+
+/* Same attributes as the render SPU and the native reference. */
+static gl_env *gl_open(void)
+{
+    gl_env *e = calloc(1, sizeof *e);
+    tsr_error err = {0};
+    /* Mesa (llvmpipe) may still touch a context's color buffer after
+     * OSMesaDestroyContext returns, so the buffers outlive every context
+     * (two in use at a time, rotating over four). */
+    static unsigned char buffers[4][64 * 64 * 4];
+    static unsigned next;
+    e->buf = buffers[next++ % 4];
+    e->ctx = M.CreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    if (!e->ctx || !M.MakeCurrent(e->ctx, e->buf, GL_UNSIGNED_BYTE, 64, 64) ||
+        tsr_gl_procs_load(&e->gl, getproc, NULL, &err) != TSR_OK) {
+        fprintf(stderr, "state_tests: OSMesa context: %s\n", err.message);
+        exit(1);
+    }
+    tsr_dispatch_fill_nop(&e->d);
+    tsr_gl_procs_fill_dispatch(&e->gl, &e->d);
+    *(void **)&e->GetVertexAttribfv = (void *)M.GetProcAddress("glGetVertexAttribfv");
+    *(void **)&e->GetBufferSubData = (void *)M.GetProcAddress("glGetBufferSubData");
+    return e;
+}
+
+static void gl_use(gl_env *e)
+{
+    M.MakeCurrent(e->ctx, e->buf, GL_UNSIGNED_BYTE, 64, 64);
+}
+
+static void gl_close(gl_env *e)
+{
+    M.MakeCurrent(NULL, NULL, 0, 0, 0);
+    M.DestroyContext(e->ctx);
+    free(e);
+}
+
+/* --- random call sequences --------------------------------------------------------- */
+static uint64_t rnd(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+static int ri(uint64_t *s, int n) { return (int)(rnd(s) % (uint64_t)n); }
+/* Values with few bits (exact in float) and some that are not. */
+static GLfloat rf(uint64_t *s) { return ri(s, 2) ? (GLfloat)(ri(s, 33) - 16) / 8.0f : (GLfloat)(rnd(s) % 100000) / 77777.0f; }
+static GLfloat r01(uint64_t *s) { return (GLfloat)ri(s, 1001) / 1000.0f; }
+#define PICK(s, ...) ((const GLenum[]){__VA_ARGS__})[ri(s, (int)(sizeof((const GLenum[]){__VA_ARGS__}) / sizeof(GLenum)))]
+
+static uint8_t scratch[1 << 16];
+/* What the sequence did so far (reset per sequence). Mesa 22.3 departs
+ * from GL in two places the test must step around, both measured:
+ *  - with pixel-transfer operations active, glTexImage ignores
+ *    GL_UNPACK_SKIP_PIXELS (and other uploads come out differently), so
+ *    uploads are made with the transfer modes at identity (the tracker
+ *    itself records and replays the modes of each upload, as GL says);
+ *  - with GL_COLOR_MATERIAL, the stored material follows glColor only at
+ *    draws (rendering uses the color itself), so stored materials are not
+ *    compared once color material was used. Materials are such pending
+ *    immediate-mode values in Mesa too, so neither are they after a
+ *    PopAttrib of GL_LIGHTING_BIT.
+ * (Two more are noted where the calls are made: PushAttrib without
+ * GL_CURRENT_BIT, no GL_GENERATE_MIPMAP on cube maps.)
+ * And Mesa's glPopAttrib restores less than GL 2.1 says in several places
+ * (measured: GL_COLOR_SUM, GL_GENERATE_MIPMAP_HINT, GL_FOG_COORD_SRC, light
+ * enables, the viewport, texture levels made with GL_GENERATE_MIPMAP),
+ * so for sequences with a PopAttrib only the diffed context (a) is held
+ * to the tracker; the direct comparison (e) covers the other sequences. */
+static int seq_transfer_used, seq_color_material_used, seq_popattrib_used;
+
+/* Client arrays need an address that stays valid: scratch. */
+static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, int *client_depth)
+{
+    GLfloat v[16];
+    for (int i = 0; i < 16; i++)
+        v[i] = rf(s);
+    switch (ri(s, 40)) {
+    case 0: case 1: {
+        static const GLenum caps[] = {GL_ALPHA_TEST, GL_AUTO_NORMAL, GL_BLEND, GL_CLIP_PLANE0, GL_CLIP_PLANE5,
+            GL_COLOR_LOGIC_OP, GL_COLOR_MATERIAL, GL_CULL_FACE, GL_DEPTH_TEST, GL_DITHER, GL_FOG, GL_LIGHT0,
+            GL_LIGHT3, GL_LIGHT7, GL_LIGHTING, GL_LINE_SMOOTH, GL_LINE_STIPPLE, GL_NORMALIZE, GL_POINT_SMOOTH,
+            GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE, GL_POLYGON_SMOOTH, GL_POLYGON_STIPPLE,
+            GL_RESCALE_NORMAL, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_MULTISAMPLE, GL_SAMPLE_COVERAGE,
+            GL_POINT_SPRITE, GL_MAP1_VERTEX_3, GL_MAP2_NORMAL, GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D,
+            GL_TEXTURE_CUBE_MAP, GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_Q, GL_COLOR_SUM};
+        GLenum cap = caps[ri(s, sizeof caps / sizeof caps[0])];
+        seq_color_material_used |= cap == GL_COLOR_MATERIAL;
+        if (ri(s, 2))
+            tsr_call_Enable(d, cap);
+        else
+            tsr_call_Disable(d, cap);
+        break;
+    }
+    case 2: /* current attributes in several forms */
+        switch (ri(s, 8)) {
+        case 0: tsr_call_Color4f(d, r01(s), r01(s), r01(s), r01(s)); break;
+        case 1: tsr_call_Color3ub(d, (GLubyte)ri(s, 256), (GLubyte)ri(s, 256), (GLubyte)ri(s, 256)); break;
+        case 2: tsr_call_Color4b(d, (GLbyte)(ri(s, 256) - 128), (GLbyte)(ri(s, 256) - 128), 5, 127); break;
+        case 3: tsr_call_Normal3f(d, v[0], v[1], v[2]); break;
+        case 4: tsr_call_Normal3s(d, (GLshort)(ri(s, 65536) - 32768), 7, -9); break;
+        case 5: tsr_call_TexCoord2f(d, v[0], v[1]); break;
+        case 6: tsr_call_MultiTexCoord4f(d, GL_TEXTURE0 + (GLenum)ri(s, 8), v[0], v[1], v[2], v[3]); break;
+        default: tsr_call_EdgeFlag(d, (GLboolean)ri(s, 2)); break;
+        }
+        break;
+    case 3: tsr_call_VertexAttrib4f(d, 1 + (GLuint)ri(s, 15), v[0], v[1], v[2], v[3]); break;
+    case 4:
+        if (ri(s, 2))
+            tsr_call_Viewport(d, ri(s, 20) - 10, ri(s, 20), 1 + ri(s, 60), 1 + ri(s, 60));
+        else
+            tsr_call_Scissor(d, ri(s, 20), ri(s, 20) - 5, ri(s, 70), ri(s, 70));
+        break;
+    case 5: tsr_call_DepthRange(d, r01(s), r01(s)); break;
+    case 6:
+        switch (ri(s, 5)) {
+        case 0: tsr_call_BlendFunc(d, PICK(s, GL_ONE, GL_SRC_ALPHA, GL_DST_COLOR, GL_ZERO), PICK(s, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA, GL_SRC_COLOR)); break;
+        case 1: tsr_call_BlendFuncSeparate(d, GL_SRC_ALPHA, GL_ONE, PICK(s, GL_ONE, GL_ZERO), GL_DST_ALPHA); break;
+        case 2: tsr_call_BlendEquation(d, PICK(s, GL_FUNC_ADD, GL_FUNC_SUBTRACT, GL_MIN, GL_MAX)); break;
+        case 3: tsr_call_BlendEquationSeparate(d, GL_FUNC_REVERSE_SUBTRACT, PICK(s, GL_FUNC_ADD, GL_MAX)); break;
+        default: tsr_call_BlendColor(d, r01(s), r01(s), r01(s), r01(s)); break;
+        }
+        break;
+    case 7:
+        switch (ri(s, 5)) {
+        case 0: tsr_call_AlphaFunc(d, PICK(s, GL_LESS, GL_GEQUAL, GL_NEVER, GL_ALWAYS), r01(s)); break;
+        case 1: tsr_call_LogicOp(d, PICK(s, GL_XOR, GL_COPY, GL_AND, GL_INVERT)); break;
+        case 2: tsr_call_ColorMask(d, (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2)); break;
+        case 3: tsr_call_ClearColor(d, r01(s), r01(s), r01(s), r01(s)); break;
+        default: tsr_call_ClearAccum(d, r01(s), -r01(s), r01(s), r01(s)); break;
+        }
+        break;
+    case 8:
+        switch (ri(s, 3)) {
+        case 0: tsr_call_DepthFunc(d, PICK(s, GL_LESS, GL_LEQUAL, GL_GREATER, GL_ALWAYS)); break;
+        case 1: tsr_call_DepthMask(d, (GLboolean)ri(s, 2)); break;
+        default: tsr_call_ClearDepth(d, r01(s)); break;
+        }
+        break;
+    case 9:
+        switch (ri(s, 7)) {
+        case 0: tsr_call_StencilFunc(d, PICK(s, GL_EQUAL, GL_LESS, GL_ALWAYS), ri(s, 256), (GLuint)ri(s, 256)); break;
+        case 1: tsr_call_StencilFuncSeparate(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), GL_NOTEQUAL, ri(s, 256), 0xf0); break;
+        case 2: tsr_call_StencilOp(d, PICK(s, GL_KEEP, GL_ZERO, GL_INCR), GL_REPLACE, PICK(s, GL_INVERT, GL_DECR_WRAP)); break;
+        case 3: tsr_call_StencilOpSeparate(d, PICK(s, GL_FRONT, GL_BACK), GL_INCR_WRAP, GL_KEEP, GL_ZERO); break;
+        case 4: tsr_call_StencilMask(d, (GLuint)ri(s, 256)); break;
+        case 5: tsr_call_StencilMaskSeparate(d, PICK(s, GL_FRONT, GL_BACK), (GLuint)ri(s, 256)); break;
+        default: tsr_call_ClearStencil(d, ri(s, 256)); break;
+        }
+        break;
+    case 10:
+        switch (ri(s, 4)) {
+        case 0: tsr_call_Fogi(d, GL_FOG_MODE, (GLint)PICK(s, GL_LINEAR, GL_EXP, GL_EXP2)); break;
+        case 1: tsr_call_Fogf(d, PICK(s, GL_FOG_DENSITY, GL_FOG_START, GL_FOG_END), r01(s) * 10); break;
+        case 2: tsr_call_Fogfv(d, GL_FOG_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)}); break;
+        default: tsr_call_Fogi(d, GL_FOG_COORD_SRC, (GLint)PICK(s, GL_FOG_COORD, GL_FRAGMENT_DEPTH)); break;
+        }
+        break;
+    case 11: case 12: {
+        GLenum l = GL_LIGHT0 + (GLenum)ri(s, 8);
+        switch (ri(s, 5)) {
+        case 0: tsr_call_Lightfv(d, l, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR), v); break;
+        case 1: tsr_call_Lightfv(d, l, PICK(s, GL_POSITION, GL_SPOT_DIRECTION), v); break;
+        case 2: tsr_call_Lightf(d, l, GL_SPOT_EXPONENT, (GLfloat)ri(s, 129)); break;
+        case 3: tsr_call_Lightf(d, l, GL_SPOT_CUTOFF, ri(s, 4) ? (GLfloat)ri(s, 91) : 180.0f); break;
+        default: tsr_call_Lightf(d, l, PICK(s, GL_CONSTANT_ATTENUATION, GL_LINEAR_ATTENUATION, GL_QUADRATIC_ATTENUATION), r01(s) * 3); break;
+        }
+        break;
+    }
+    case 13:
+        switch (ri(s, 4)) {
+        case 0: tsr_call_LightModelfv(d, GL_LIGHT_MODEL_AMBIENT, v); break;
+        case 1: tsr_call_LightModeli(d, PICK(s, GL_LIGHT_MODEL_LOCAL_VIEWER, GL_LIGHT_MODEL_TWO_SIDE), ri(s, 2)); break;
+        case 2: tsr_call_LightModeli(d, GL_LIGHT_MODEL_COLOR_CONTROL, (GLint)PICK(s, GL_SINGLE_COLOR, GL_SEPARATE_SPECULAR_COLOR)); break;
+        default: tsr_call_ShadeModel(d, PICK(s, GL_FLAT, GL_SMOOTH)); break;
+        }
+        break;
+    case 14: {
+        GLenum face = PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK);
+        switch (ri(s, 3)) {
+        case 0: tsr_call_Materialfv(d, face, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE), v); break;
+        case 1: tsr_call_Materialf(d, face, GL_SHININESS, (GLfloat)ri(s, 129)); break;
+        default: tsr_call_ColorMaterial(d, face, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE)); break;
+        }
+        break;
+    }
+    case 15:
+        switch (ri(s, 6)) {
+        case 0: tsr_call_CullFace(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK)); break;
+        case 1: tsr_call_FrontFace(d, PICK(s, GL_CW, GL_CCW)); break;
+        case 2: tsr_call_PolygonMode(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), PICK(s, GL_POINT, GL_LINE, GL_FILL)); break;
+        case 3: tsr_call_PolygonOffset(d, v[0], v[1]); break;
+        case 4: {
+            uint8_t *p = scratch + 1024;
+            for (int i = 0; i < 4096; i++)
+                p[i] = (uint8_t)rnd(s);
+            tsr_call_PolygonStipple(d, p);
+            break;
+        }
+        default: tsr_call_LineStipple(d, 1 + ri(s, 256), (GLushort)ri(s, 65536)); break;
+        }
+        break;
+    case 16:
+        switch (ri(s, 5)) {
+        case 0: tsr_call_LineWidth(d, 1.0f + (GLfloat)ri(s, 16) / 4.0f); break;
+        case 1: tsr_call_PointSize(d, 1.0f + (GLfloat)ri(s, 40) / 4.0f); break;
+        case 2: tsr_call_PointParameterf(d, PICK(s, GL_POINT_SIZE_MIN, GL_POINT_SIZE_MAX, GL_POINT_FADE_THRESHOLD_SIZE), (GLfloat)ri(s, 20)); break;
+        case 3: tsr_call_PointParameterfv(d, GL_POINT_DISTANCE_ATTENUATION, (GLfloat[]){r01(s), r01(s), r01(s)}); break;
+        default: tsr_call_PointParameteri(d, GL_POINT_SPRITE_COORD_ORIGIN, (GLint)PICK(s, GL_LOWER_LEFT, GL_UPPER_LEFT)); break;
+        }
+        break;
+    case 17:
+        tsr_call_Hint(d, PICK(s, GL_PERSPECTIVE_CORRECTION_HINT, GL_POINT_SMOOTH_HINT, GL_LINE_SMOOTH_HINT,
+                              GL_POLYGON_SMOOTH_HINT, GL_FOG_HINT, GL_GENERATE_MIPMAP_HINT),
+                      PICK(s, GL_FASTEST, GL_NICEST, GL_DONT_CARE));
+        break;
+    case 18:
+        switch (ri(s, 4)) {
+        case 0: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_ALIGNMENT, GL_PACK_ALIGNMENT), 1 << ri(s, 4)); break;
+        case 1: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_PACK_ROW_LENGTH, GL_PACK_SKIP_PIXELS), ri(s, 2) ? 0 : ri(s, 12)); break;
+        case 2: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_LSB_FIRST, GL_PACK_LSB_FIRST, GL_UNPACK_SWAP_BYTES), ri(s, 2)); break;
+        default: tsr_call_PixelStoref(d, GL_UNPACK_IMAGE_HEIGHT, (GLfloat)ri(s, 4)); break;
+        }
+        break;
+    case 19:
+        seq_transfer_used = 1;
+        if (ri(s, 2))
+            tsr_call_PixelZoom(d, v[0], v[1]);
+        else if (ri(s, 2))
+            tsr_call_PixelTransferf(d, PICK(s, GL_RED_SCALE, GL_GREEN_BIAS, GL_ALPHA_SCALE, GL_DEPTH_BIAS), v[2]);
+        else
+            tsr_call_PixelTransferi(d, PICK(s, GL_INDEX_SHIFT, GL_INDEX_OFFSET, GL_MAP_COLOR), ri(s, 2));
+        break;
+    case 20: tsr_call_ActiveTexture(d, GL_TEXTURE0 + (GLenum)ri(s, 8)); break;
+    case 21: {
+        static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP};
+        GLenum t = targets[ri(s, 5)];
+        /* names by target so a name never meets two targets */
+        GLuint base = t == GL_TEXTURE_1D ? 10 : t == GL_TEXTURE_2D ? 20 : t == GL_TEXTURE_3D ? 30 : 40;
+        GLuint name = ri(s, 4) ? base + (GLuint)ri(s, 3) : 0;
+        tsr_call_BindTexture(d, t, name);
+        break;
+    }
+    case 22: {
+        GLenum t = PICK(s, GL_TEXTURE_2D, GL_TEXTURE_1D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP);
+        int k = ri(s, 6);
+        switch (k) {
+        case 0: tsr_call_TexParameteri(d, t, GL_TEXTURE_MIN_FILTER, (GLint)PICK(s, GL_NEAREST, GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR)); break;
+        case 1: tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R), (GLint)PICK(s, GL_CLAMP_TO_EDGE, GL_REPEAT, GL_MIRRORED_REPEAT)); break;
+        case 2: tsr_call_TexParameterfv(d, t, GL_TEXTURE_BORDER_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)}); break;
+        case 3: tsr_call_TexParameterf(d, t, PICK(s, GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_PRIORITY), r01(s) * 4); break;
+        case 4: tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_BASE_LEVEL, GL_TEXTURE_MAX_LEVEL), ri(s, 5)); break;
+        default: {
+            /* Not GL_GENERATE_MIPMAP on cube maps: uploading a face of an
+             * incomplete cube with it on crashes Mesa 22.3 (measured). */
+            GLenum p = PICK(s, GL_GENERATE_MIPMAP, GL_TEXTURE_MAG_FILTER);
+            if (t == GL_TEXTURE_CUBE_MAP)
+                p = GL_TEXTURE_MAG_FILTER;
+            tsr_call_TexParameteri(d, t, p, ri(s, 2) ? GL_NEAREST : GL_LINEAR);
+            break;
+        }
+        }
+        break;
+    }
+    case 23: case 24: {
+        GLenum fmt = PICK(s, GL_RGBA, GL_RGB, GL_LUMINANCE);
+        /* One internal format per mipmapped texture (levels of different
+         * formats make an inconsistent texture whose contents are again the
+         * implementation's affair); 3D textures have one level. */
+        GLint ifmt3 = (GLint)PICK(s, GL_RGBA, GL_RGB8, GL_LUMINANCE8, GL_RGBA4), ifmt = GL_RGBA;
+        /* Consistent mipmap chains (8x4 base): what GL returns for an
+         * inconsistent, incomplete texture is the implementation's affair. */
+        int lv = ri(s, 3);
+        GLsizei w = 8 >> lv, h = 4 >> lv > 0 ? 4 >> lv : 1;
+        for (int i = 0; i < 8192; i++)
+            scratch[i] = (uint8_t)rnd(s);
+        int which = ri(s, 6);
+        if (seq_transfer_used) {
+            static const GLenum scales[] = {GL_RED_SCALE, GL_GREEN_SCALE, GL_BLUE_SCALE, GL_ALPHA_SCALE, GL_DEPTH_SCALE};
+            static const GLenum biases[] = {GL_RED_BIAS, GL_GREEN_BIAS, GL_BLUE_BIAS, GL_ALPHA_BIAS, GL_DEPTH_BIAS,
+                                            GL_INDEX_SHIFT, GL_INDEX_OFFSET, GL_MAP_COLOR};
+            for (int i = 0; i < 5; i++)
+                tsr_call_PixelTransferf(d, scales[i], 1.0f);
+            for (int i = 0; i < 8; i++)
+                tsr_call_PixelTransferf(d, biases[i], 0.0f);
+        }
+        if (which == 0)
+            tsr_call_TexImage1D(d, GL_TEXTURE_1D, lv, ifmt, w, 0, fmt, GL_UNSIGNED_BYTE, scratch);
+        else if (which == 1)
+            tsr_call_TexImage3D(d, GL_TEXTURE_3D, 0, ifmt3, 8, 4, 1 + ri(s, 3), 0, fmt, GL_UNSIGNED_BYTE, scratch);
+        else if (which == 2)
+            tsr_call_TexImage2D(d, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)ri(s, 6), 0, ifmt, 4, 4, 0, fmt, GL_UNSIGNED_BYTE, scratch);
+        else if (which == 3)
+            tsr_call_TexSubImage2D(d, GL_TEXTURE_2D, 0, ri(s, 2), ri(s, 2), 1 + ri(s, 2), 1 + ri(s, 2), fmt, GL_UNSIGNED_BYTE, scratch);
+        else if (which == 4 && ri(s, 3) == 0)
+            tsr_call_GenerateMipmap(d, GL_TEXTURE_2D);
+        else {
+            /* NULL pixels leave the contents undefined (they differ freely
+             * between contexts), so a full sub-image defines them after. */
+            tsr_call_TexImage2D(d, GL_TEXTURE_2D, lv, ifmt, w, h, 0, fmt, GL_UNSIGNED_BYTE, ri(s, 8) ? scratch : NULL);
+            tsr_call_TexSubImage2D(d, GL_TEXTURE_2D, lv, 0, 0, w, h, fmt, GL_UNSIGNED_BYTE, scratch + 1);
+        }
+        break;
+    }
+    case 25: {
+        switch (ri(s, 4)) {
+        case 0: tsr_call_TexEnvi(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, (GLint)PICK(s, GL_MODULATE, GL_REPLACE, GL_DECAL, GL_BLEND, GL_ADD, GL_COMBINE)); break;
+        case 1: tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)}); break;
+        case 2: tsr_call_TexEnvi(d, GL_TEXTURE_ENV, PICK(s, GL_COMBINE_RGB, GL_COMBINE_ALPHA), (GLint)PICK(s, GL_REPLACE, GL_ADD, GL_INTERPOLATE, GL_SUBTRACT)); break;
+        default: tsr_call_TexEnvf(d, GL_TEXTURE_ENV, PICK(s, GL_RGB_SCALE, GL_ALPHA_SCALE), (GLfloat)(1 << ri(s, 3))); break;
+        }
+        break;
+    }
+    case 26:
+        switch (ri(s, 3)) {
+        case 0: tsr_call_TexGeni(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_TEXTURE_GEN_MODE, (GLint)PICK(s, GL_OBJECT_LINEAR, GL_EYE_LINEAR)); break;
+        case 1: tsr_call_TexGenfv(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_OBJECT_PLANE, v); break;
+        default: tsr_call_TexGenfv(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_EYE_PLANE, v); break;
+        }
+        break;
+    case 27: tsr_call_MatrixMode(d, PICK(s, GL_MODELVIEW, GL_MODELVIEW, GL_PROJECTION, GL_TEXTURE)); break;
+    case 28: case 29:
+        switch (ri(s, 8)) {
+        case 0: tsr_call_LoadIdentity(d); break;
+        case 1: tsr_call_Translatef(d, v[0], v[1], v[2]); break;
+        case 2: tsr_call_Scalef(d, 1 + r01(s), 1 + r01(s), 1 - r01(s) / 2); break;
+        case 3: tsr_call_Rotatef(d, (GLfloat)ri(s, 360), v[0], v[1], 1.0f); break;
+        case 4: tsr_call_Frustum(d, -1, 1, -1, 1, 1, 10 + ri(s, 90)); break;
+        case 5: tsr_call_Ortho(d, -2, 2, -1.5, 1.5, -1, 1 + ri(s, 9)); break;
+        case 6: tsr_call_MultMatrixf(d, v); break;
+        default: tsr_call_LoadMatrixf(d, v); break;
+        }
+        break;
+    case 30: if (ri(s, 2)) tsr_call_PushMatrix(d); else tsr_call_PopMatrix(d); break;
+    case 31: tsr_call_ClipPlane(d, GL_CLIP_PLANE0 + (GLenum)ri(s, 6), (GLdouble[]){v[0], v[1], v[2], v[3]}); break;
+    case 32:
+        if (ri(s, 2) && *attrib_depth < 8) {
+            /* Never GL_CURRENT_BIT: Mesa 22.3's PopAttrib loses the saved
+             * current values to a glColor/glVertexAttrib made after the push
+             * (measured); the tracker restores them as GL says. */
+            GLbitfield mask = (ri(s, 3) ? (GLbitfield)rnd(s) & ~GL_EVAL_BIT : GL_ALL_ATTRIB_BITS) & ~GL_CURRENT_BIT;
+            seq_color_material_used |= (mask & GL_LIGHTING_BIT) != 0;
+            tsr_call_PushAttrib(d, mask);
+            ++*attrib_depth;
+        } else if (*attrib_depth > 0) {
+            seq_popattrib_used = 1;
+            tsr_call_PopAttrib(d);
+            --*attrib_depth;
+        }
+        break;
+    case 33:
+        if (ri(s, 2)) {
+            tsr_call_ListBase(d, (GLuint)ri(s, 100));
+        } else {
+            tsr_call_SampleCoverage(d, r01(s), (GLboolean)ri(s, 2));
+        }
+        break;
+    case 34: {
+        switch (ri(s, 3)) {
+        case 0: tsr_call_BindBuffer(d, PICK(s, GL_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER), (GLuint)ri(s, 4)); break;
+        case 1:
+            for (int i = 0; i < 256; i++)
+                scratch[8192 + i] = (uint8_t)rnd(s);
+            tsr_call_BufferData(d, GL_ARRAY_BUFFER, 16 + ri(s, 200), scratch + 8192, PICK(s, GL_STATIC_DRAW, GL_STREAM_DRAW));
+            break;
+        default: tsr_call_BufferSubData(d, GL_ARRAY_BUFFER, ri(s, 8), 8, scratch + 8192 + ri(s, 64)); break;
+        }
+        break;
+    }
+    case 35:
+        switch (ri(s, 5)) {
+        case 0: tsr_call_VertexPointer(d, 2 + ri(s, 3), PICK(s, GL_FLOAT, GL_SHORT, GL_DOUBLE), 4 * ri(s, 8), scratch + ri(s, 64)); break;
+        case 1: tsr_call_ColorPointer(d, 3 + ri(s, 2), PICK(s, GL_UNSIGNED_BYTE, GL_FLOAT), 0, scratch + 16); break;
+        case 2: tsr_call_TexCoordPointer(d, 1 + ri(s, 4), GL_FLOAT, 8 * ri(s, 4), scratch + 32); break;
+        case 3: tsr_call_NormalPointer(d, PICK(s, GL_FLOAT, GL_BYTE), 0, scratch); break;
+        default: tsr_call_InterleavedArrays(d, PICK(s, GL_V3F, GL_C4UB_V3F, GL_T2F_N3F_V3F, GL_T4F_C4F_N3F_V4F), 0, scratch + 64); break;
+        }
+        break;
+    case 36:
+        if (ri(s, 3) == 0)
+            tsr_call_ClientActiveTexture(d, GL_TEXTURE0 + (GLenum)ri(s, 8));
+        else if (ri(s, 2))
+            tsr_call_EnableClientState(d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY, GL_TEXTURE_COORD_ARRAY, GL_EDGE_FLAG_ARRAY));
+        else
+            tsr_call_DisableClientState(d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY, GL_TEXTURE_COORD_ARRAY));
+        break;
+    case 37:
+        if (ri(s, 2) && *client_depth < 8) {
+            tsr_call_PushClientAttrib(d, PICK(s, GL_CLIENT_PIXEL_STORE_BIT, GL_CLIENT_VERTEX_ARRAY_BIT, GL_CLIENT_ALL_ATTRIB_BITS));
+            ++*client_depth;
+        } else if (*client_depth > 0) {
+            tsr_call_PopClientAttrib(d);
+            --*client_depth;
+        }
+        break;
+    case 38: {
+        GLuint names[2] = {20 + (GLuint)ri(s, 3), 10 + (GLuint)ri(s, 3)};
+        /* Not under a pushed GL_TEXTURE_BIT: Mesa's PopAttrib rebinds the
+         * saved texture and so revives a deleted name. */
+        if (ri(s, 4) == 0 && !*attrib_depth)
+            tsr_call_DeleteTextures(d, 2, names);
+        else
+            tsr_call_ActiveTexture(d, GL_TEXTURE0);
+        break;
+    }
+    default:
+        if (ri(s, 4) == 0) {
+            /* Not while a client attribute stack could bring the name back
+             * (popping a binding of a deleted buffer: Mesa revives it). */
+            GLuint b = 1 + (GLuint)ri(s, 3);
+            if (!*client_depth)
+                tsr_call_DeleteBuffers(d, 1, &b);
+        } else {
+            tsr_call_TexGeni(d, GL_S, GL_TEXTURE_GEN_MODE, (GLint)PICK(s, GL_SPHERE_MAP, GL_REFLECTION_MAP, GL_NORMAL_MAP));
+        }
+        break;
+    }
+}
+
+/* The same sequence for a seed, into any table. The first call sizes the
+ * window as a window system would (OSMesa did it when made current). */
+static void run_sequence(uint64_t seed, const tsr_dispatch *d, int calls)
+{
+    uint64_t s = seed * 7919 + 1;
+    int ad = 0, cd = 0;
+    seq_transfer_used = seq_color_material_used = seq_popattrib_used = 0;
+    tsr_call_WindowCreateTSR(d, 0, 64, 64);
+    for (int i = 0; i < calls; i++) {
+        random_call(&s, d, &ad, &cd);
+    }
+}
+
+/* --- comparing ------------------------------------------------------------------------- */
+static GLenum answered[4096];
+static size_t nanswered;
+
+/* Every pname the tracker answers, found by asking it about each enum of
+ * the GL ranges that hold state. */
+static void find_answered(void)
+{
+    static const GLenum ranges[][2] = {{0x0B00, 0x0DFF}, {0x0300, 0x0400}, {0x2A00, 0x2A30},
+                                       {0x3000, 0x3010}, {0x4000, 0x4010}, {0x8000, 0x8FFF}};
+    for (size_t r = 0; r < sizeof ranges / sizeof ranges[0]; r++)
+        for (GLenum p = ranges[r][0]; p <= ranges[r][1]; p++)
+            if (tsr_state_get_count(p) > 0 && nanswered < 4096)
+                answered[nanswered++] = p;
+}
+
+static int derived_pname(GLenum p)
+{
+    return p == GL_MODELVIEW_MATRIX || p == GL_PROJECTION_MATRIX || p == GL_TEXTURE_MATRIX ||
+           p == GL_TRANSPOSE_MODELVIEW_MATRIX || p == GL_TRANSPOSE_PROJECTION_MATRIX ||
+           p == GL_TRANSPOSE_TEXTURE_MATRIX;
+}
+
+/* Client-side state a renderer never receives (arrays travel with each
+ * draw, PushAttrib is resolved by the tracker): compared only with the
+ * context that got the calls themselves. */
+static int client_pname(GLenum p)
+{
+    return (p >= GL_VERTEX_ARRAY && p <= GL_EDGE_FLAG_ARRAY_STRIDE) || p == GL_CLIENT_ACTIVE_TEXTURE ||
+           p == GL_ATTRIB_STACK_DEPTH || p == GL_CLIENT_ATTRIB_STACK_DEPTH ||
+           (p >= GL_VERTEX_ARRAY_BUFFER_BINDING && p <= GL_WEIGHT_ARRAY_BUFFER_BINDING);
+}
+
+static int close_enough(double a, double b, int tolerant)
+{
+    if (a == b || (isnan(a) && isnan(b)))
+        return 1;
+    return tolerant && fabs(a - b) <= 1e-5 * (1.0 + fabs(a) + fabs(b));
+}
+
+static int report(const char *what, unsigned p, int i, double want, double got, int *shown)
+{
+    if ((*shown)++ < 12)
+        fprintf(stderr, "  %s 0x%04x[%d]: tracker %.9g, GL %.9g\n", what, p, i, want, got);
+    return 1;
+}
+
+/* Compares every answer of the tracker with GL env e. `tolerant`: values
+ * GL computes itself (matrices, eye-space transforms) within 1e-5. Returns
+ * the number of mismatches; *count gets the number of values compared. */
+static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e, int tolerant, long *count)
+{
+    int bad = 0, shown = 0;
+    gl_use(e);
+    const tsr_state_values *tv = tsr_state_values_of(c);
+    GLuint unit = tv->active_texture;
+    for (GLuint u = 0; u < TSR_STATE_UNITS; u++) {
+        /* Per-unit values are asked with each unit active, on both sides. */
+        tsr_call_ActiveTexture(tracker_table, GL_TEXTURE0 + u);
+        e->gl.ActiveTexture(GL_TEXTURE0 + u);
+        for (size_t k = 0; k < nanswered; k++) {
+            GLenum p = answered[k];
+            GLdouble td[16], gd[16];
+            GLfloat tf[16], gf[16];
+            GLint ti[16], gi[16];
+            GLboolean tb[16], gb[16];
+            if (!tsr_state_get_doublev(c, p, td) || (!tolerant && client_pname(p)))
+                continue;
+            int n = tsr_state_get_count(p);
+            tsr_state_get_floatv(c, p, tf);
+            tsr_state_get_integerv(c, p, ti);
+            tsr_state_get_booleanv(c, p, tb);
+            e->gl.GetDoublev(p, gd);
+            e->gl.GetFloatv(p, gf);
+            e->gl.GetIntegerv(p, gi);
+            e->gl.GetBooleanv(p, gb);
+            int tol = tolerant && derived_pname(p);
+            for (int i = 0; i < n; i++) {
+                ++*count;
+                if (!close_enough(td[i], gd[i], tol))
+                    bad += report("GetDoublev", p, i, td[i], gd[i], &shown);
+                if (!close_enough(tf[i], gf[i], tol))
+                    bad += report("GetFloatv", p, i, tf[i], gf[i], &shown);
+                if (!tol && ti[i] != gi[i])
+                    bad += report("GetIntegerv", p, i, ti[i], gi[i], &shown);
+                if (!tol && tb[i] != gb[i])
+                    bad += report("GetBooleanv", p, i, tb[i], gb[i], &shown);
+            }
+        }
+        static const GLenum envs[] = {GL_TEXTURE_ENV_MODE, GL_TEXTURE_ENV_COLOR, GL_COMBINE_RGB, GL_COMBINE_ALPHA,
+                                      GL_SRC0_RGB, GL_SRC1_ALPHA, GL_OPERAND2_RGB, GL_OPERAND0_ALPHA, GL_RGB_SCALE,
+                                      GL_ALPHA_SCALE};
+        for (size_t k = 0; k < sizeof envs / sizeof envs[0]; k++) {
+            GLfloat t[4] = {0}, g[4] = {0};
+            tsr_state_get_tex_envfv(c, GL_TEXTURE_ENV, envs[k], t);
+            e->gl.GetTexEnvfv(GL_TEXTURE_ENV, envs[k], g);
+            for (int i = 0; i < 4; i++, ++*count)
+                if (t[i] != g[i])
+                    bad += report("GetTexEnvfv", envs[k], i, t[i], g[i], &shown);
+        }
+        for (GLenum coord = GL_S; coord <= GL_Q; coord++) {
+            static const GLenum gens[] = {GL_TEXTURE_GEN_MODE, GL_OBJECT_PLANE, GL_EYE_PLANE};
+            for (int k = 0; k < 3; k++) {
+                GLfloat t[4] = {0}, g[4] = {0};
+                tsr_state_get_tex_genfv(c, coord, gens[k], t);
+                e->gl.GetTexGenfv(coord, gens[k], g);
+                for (int i = 0; i < 4; i++, ++*count)
+                    if (!close_enough(t[i], g[i], tolerant && gens[k] == GL_EYE_PLANE))
+                        bad += report("GetTexGenfv", coord * 16 + (GLenum)k, i, t[i], g[i], &shown);
+            }
+        }
+        static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP};
+        static const GLenum tparams[] = {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER, GL_TEXTURE_WRAP_S,
+            GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R, GL_TEXTURE_BORDER_COLOR, GL_TEXTURE_PRIORITY, GL_TEXTURE_MIN_LOD,
+            GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_BASE_LEVEL, GL_TEXTURE_MAX_LEVEL, GL_GENERATE_MIPMAP};
+        for (int t = 0; t < 4; t++) {
+            for (size_t k = 0; k < sizeof tparams / sizeof tparams[0]; k++) {
+                GLfloat tv4[4] = {0}, gv4[4] = {0};
+                if (!tsr_state_get_tex_parameterfv(c, targets[t], tparams[k], tv4))
+                    continue;
+                e->gl.GetTexParameterfv(targets[t], tparams[k], gv4);
+                for (int i = 0; i < 4; i++, ++*count)
+                    if (tv4[i] != gv4[i])
+                        bad += report("GetTexParameterfv", targets[t] * 16 + (GLenum)k, i, tv4[i], gv4[i], &shown);
+            }
+            GLenum face = targets[t] == GL_TEXTURE_CUBE_MAP ? GL_TEXTURE_CUBE_MAP_POSITIVE_X : targets[t];
+            for (GLint level = 0; level < 3; level++) {
+                static const GLenum lp[] = {GL_TEXTURE_WIDTH, GL_TEXTURE_HEIGHT, GL_TEXTURE_DEPTH, GL_TEXTURE_BORDER};
+                for (int k = 0; k < 4; k++) {
+                    GLint a = -1, b = -2;
+                    if (!tsr_state_get_tex_level_parameteriv(c, face, level, lp[k], &a))
+                        continue;
+                    e->gl.GetTexLevelParameteriv(face, level, lp[k], &b);
+                    ++*count;
+                    if (a != b)
+                        bad += report("GetTexLevelParameteriv", lp[k], level, a, b, &shown);
+                }
+            }
+        }
+    }
+    tsr_call_ActiveTexture(tracker_table, GL_TEXTURE0 + unit);
+    e->gl.ActiveTexture(GL_TEXTURE0 + unit);
+    for (GLenum l = GL_LIGHT0; l < GL_LIGHT0 + 8; l++) {
+        static const GLenum lps[] = {GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_POSITION, GL_SPOT_DIRECTION,
+                                     GL_SPOT_EXPONENT, GL_SPOT_CUTOFF, GL_CONSTANT_ATTENUATION,
+                                     GL_LINEAR_ATTENUATION, GL_QUADRATIC_ATTENUATION};
+        for (size_t k = 0; k < sizeof lps / sizeof lps[0]; k++) {
+            GLfloat t[4] = {0}, g[4] = {0};
+            tsr_state_get_lightfv(c, l, lps[k], t);
+            e->gl.GetLightfv(l, lps[k], g);
+            int tol = tolerant && (lps[k] == GL_POSITION || lps[k] == GL_SPOT_DIRECTION);
+            for (int i = 0; i < 4; i++, ++*count)
+                if (!close_enough(t[i], g[i], tol))
+                    bad += report("GetLightfv", l * 16 + (GLenum)k, i, t[i], g[i], &shown);
+        }
+    }
+    for (int f = 0; f < 2 && !seq_color_material_used; f++) {
+        static const GLenum mps[] = {GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_SHININESS};
+        for (size_t k = 0; k < 5; k++) {
+            GLfloat t[4] = {0}, g[4] = {0};
+            tsr_state_get_materialfv(c, f ? GL_BACK : GL_FRONT, mps[k], t);
+            e->gl.GetMaterialfv(f ? GL_BACK : GL_FRONT, mps[k], g);
+            for (int i = 0; i < 4; i++, ++*count)
+                if (t[i] != g[i])
+                    bad += report("GetMaterialfv", mps[k] + (GLenum)f, i, t[i], g[i], &shown);
+        }
+    }
+    for (GLenum p = GL_CLIP_PLANE0; p < GL_CLIP_PLANE0 + 6; p++) {
+        GLdouble t[4], g[4];
+        tsr_state_get_clip_plane(c, p, t);
+        e->gl.GetClipPlane(p, g);
+        for (int i = 0; i < 4; i++, ++*count)
+            if (!close_enough(t[i], g[i], tolerant))
+                bad += report("GetClipPlane", p, i, t[i], g[i], &shown);
+    }
+    {
+        static GLubyte t[1 << 14], g[1 << 14];
+        memset(t, 0, sizeof t);
+        memset(g, 0, sizeof g);
+        int answered_here = tsr_state_get_polygon_stipple(c, t);
+        e->gl.GetPolygonStipple(g);
+        ++*count;
+        if (answered_here && memcmp(t, g, sizeof t) != 0)
+            bad += report("GetPolygonStipple", 0, 0, 0, 1, &shown);
+    }
+    for (GLuint i = 1; i < TSR_STATE_ATTRIBS; i++) {
+        GLfloat g[4];
+        e->GetVertexAttribfv(i, GL_CURRENT_VERTEX_ATTRIB, g);
+        for (int k = 0; k < 4; k++, ++*count)
+            if (tv->attrib[i][k] != g[k])
+                bad += report("GetVertexAttribfv", i, k, tv->attrib[i][k], g[k], &shown);
+    }
+    {
+        GLint t = -1, g = -2;
+        if (tsr_state_get_buffer_parameteriv(c, GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &t)) {
+            e->gl.GetBufferParameteriv(GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &g);
+            ++*count;
+            if (t != g)
+                bad += report("GetBufferParameteriv", GL_BUFFER_SIZE, 0, t, g, &shown);
+        }
+    }
+    /* Objects reach a renderer lazily (when bound where they are used), so
+     * names only exist everywhere in the context given the calls. */
+    for (GLuint n = 0; n < 50 && tolerant; n++) {
+        ++*count;
+        if (tsr_state_is_texture(c, n) != e->gl.IsTexture(n))
+            bad += report("IsTexture", n, 0, tsr_state_is_texture(c, n), e->gl.IsTexture(n), &shown);
+        if (tsr_state_is_buffer(c, n) != e->gl.IsBuffer(n))
+            bad += report("IsBuffer", n, 0, tsr_state_is_buffer(c, n), e->gl.IsBuffer(n), &shown);
+    }
+    GLenum err = e->gl.GetError();
+    (void)err;   /* the random sequence makes legal-but-rejected calls on purpose */
+    return bad;
+}
+
+/* Texels of every bound texture level and the bound buffer's bytes must be
+ * the same in A (diffed) and B (called directly). */
+static int compare_objects(gl_env *a, gl_env *b)
+{
+    int bad = 0;
+    static uint8_t ta[1 << 16], tb[1 << 16];
+    static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP_POSITIVE_X};
+    static const GLenum bindings[] = {GL_TEXTURE_BINDING_1D, GL_TEXTURE_BINDING_2D, GL_TEXTURE_BINDING_3D,
+                                      GL_TEXTURE_BINDING_CUBE_MAP};
+    for (GLuint u = 0; u < TSR_STATE_UNITS; u++)
+        for (int t = 0; t < 4; t++)
+            for (GLint level = 0; level < 3; level++) {
+                GLint wa = 0, wb = 0, na = 0, nb = 0;
+                gl_env *envs[2] = {a, b};
+                uint8_t *bufs[2] = {ta, tb};
+                GLint *ws[2] = {&wa, &wb}, *ns[2] = {&na, &nb};
+                for (int k = 0; k < 2; k++) {
+                    gl_env *e = envs[k];
+                    gl_use(e);
+                    GLint old;
+                    e->gl.GetIntegerv(GL_ACTIVE_TEXTURE, &old);
+                    e->gl.ActiveTexture(GL_TEXTURE0 + u);
+                    e->gl.GetIntegerv(bindings[t], ns[k]);
+                    e->gl.GetTexLevelParameteriv(targets[t], level, GL_TEXTURE_WIDTH, ws[k]);
+                    memset(bufs[k], 0xcd, sizeof ta);
+                    if (*ws[k] > 0) {
+                        e->gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+                        e->gl.PixelStorei(GL_PACK_ROW_LENGTH, 0);
+                        e->gl.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
+                        e->gl.PixelStorei(GL_PACK_SKIP_ROWS, 0);
+                        e->gl.PixelStorei(GL_PACK_LSB_FIRST, 0);
+                        e->gl.PixelStorei(GL_PACK_SWAP_BYTES, 0);
+                        e->gl.GetTexImage(targets[t], level, GL_RGBA, GL_UNSIGNED_BYTE, bufs[k]);
+                    }
+                    e->gl.ActiveTexture((GLenum)old);
+                }
+                if (na != nb || wa != wb || memcmp(ta, tb, sizeof ta) != 0) {
+                    if (getenv("STATE_TRACE")) {
+                        size_t first = 0;
+                        while (first < sizeof ta && ta[first] == tb[first])
+                            first++;
+                        fprintf(stderr, "  first differing byte %zu: A", first);
+                        for (size_t i = first - first % 4; i < first - first % 4 + 12 && i < sizeof ta; i++)
+                            fprintf(stderr, " %02x", ta[i]);
+                        fprintf(stderr, " / B");
+                        for (size_t i = first - first % 4; i < first - first % 4 + 12 && i < sizeof ta; i++)
+                            fprintf(stderr, " %02x", tb[i]);
+                        fputc('\n', stderr);
+                    }
+                    if (bad++ < 5)
+                        fprintf(stderr, "  texture unit %u target 0x%x level %d: names %d/%d widths %d/%d %s\n", u,
+                                targets[t], level, na, nb, wa, wb, memcmp(ta, tb, sizeof ta) ? "texels differ" : "");
+                }
+            }
+    GLint sa = 0, sb = 0;
+    gl_use(a);
+    a->gl.GetBufferParameteriv(GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &sa);
+    if (sa > 0)
+        a->GetBufferSubData(GL_ARRAY_BUFFER, 0, sa, ta);
+    gl_use(b);
+    b->gl.GetBufferParameteriv(GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &sb);
+    if (sb > 0)
+        b->GetBufferSubData(GL_ARRAY_BUFFER, 0, sb, tb);
+    if (sa != sb || (sa > 0 && memcmp(ta, tb, (size_t)sa) != 0)) {
+        fprintf(stderr, "  array buffer: sizes %d/%d or bytes differ\n", sa, sb);
+        bad++;
+    }
+    return bad;
+}
+
+/* --- a packer whose buffers go straight into an unpacker ------------------------------- */
+typedef struct wire {
+    tsr_packer *p;
+    tsr_unpacker *u;
+    tsr_dispatch table;       /* the packer's table */
+    uint64_t bytes, buffers;
+} wire;
+
+static int wire_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+{
+    wire *w = ctx;
+    w->bytes += size;
+    w->buffers++;
+    if (!w->u)
+        return 0;
+    return tsr_unpacker_run(w->u, buf, size, err) < 0 ? TSR_EPROTO : 0;
+}
+
+static wire *wire_open(const tsr_dispatch *target)
+{
+    wire *w = calloc(1, sizeof *w);
+    tsr_error err = {0};
+    tsr_pack_sink sink = {wire_flush, NULL, w};
+    w->p = tsr_packer_create(1 << 16, &sink, &err);
+    if (target)
+        w->u = tsr_unpacker_create(target, NULL, NULL, &err);
+    if (!w->p || (target && !w->u)) {
+        fprintf(stderr, "state_tests: %s\n", err.message);
+        exit(1);
+    }
+    tsr_dispatch_fill_nop(&w->table);
+    tsr_packer_fill_dispatch(w->p, &w->table);
+    return w;
+}
+
+static void wire_close(wire *w)
+{
+    tsr_packer_destroy(w->p);
+    if (w->u)
+        tsr_unpacker_destroy(w->u);
+    free(w);
+}
+
+/* --- the tests --------------------------------------------------------------------------- */
+static int seeds_arg = 100;
+
+static void test_covers_spec(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    static tsr_dispatch d;
+    memset(&d, 0, sizeof d);
+    tsr_state_fill_dispatch(c, &d);
+    const char *name, *cat;
+    int n = 0, tracked = 0;
+    for (size_t i = 0; tsr_state_spec_command(i, &name, &cat); i++, n++) {
+        int slot = tsr_dispatch_slot(name);
+        CHECK(slot >= 0, "%s is in the generated list but has no slot", name);
+        if (slot < 0)
+            continue;
+        int listed = 0;
+        for (const tsr_state_untracked_cmd *u = tsr_state_untracked; u->name; u++)
+            if (!strcmp(u->name, name)) {
+                listed = 1;
+                CHECK(strlen(u->why) > 20, "%s: the reason must say why", name);
+            }
+        int set = d.slots[slot].fn != NULL;
+        tracked += set;
+        CHECK(set || listed, "%s (%s) is neither tracked nor listed in tsr_state_untracked", name, cat);
+        CHECK(!(set && listed), "%s is tracked and also listed as untracked", name);
+    }
+    for (const tsr_state_untracked_cmd *u = tsr_state_untracked; u->name; u++) {
+        int found = 0;
+        for (size_t i = 0; tsr_state_spec_command(i, &name, &cat); i++)
+            found |= !strcmp(name, u->name);
+        CHECK(found, "untracked %s is not a state/object/client command of the spec", u->name);
+    }
+    printf("%d commands to cover, %d tracked\n", n, tracked);
+    CHECK(n > 250 && tracked > 200, "coverage list looks wrong (%d, %d)", n, tracked);
+    tsr_state_tracker_destroy(t);
+}
+
+static void test_diff_matches_osmesa(void)
+{
+    find_answered();
+    CHECK(nanswered > 150, "tracker answers only %zu pnames", nanswered);
+    long compared = 0, commands = 0;
+    int direct_seeds = 0;
+    int first_seed = getenv("STATE_SEED") ? atoi(getenv("STATE_SEED")) : 0;
+    for (int seed = first_seed; seed < seeds_arg; seed++) {
+        tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+        tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+        tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
+        static tsr_dispatch tt;
+        tsr_dispatch_fill_nop(&tt);
+        tsr_state_fill_dispatch(c, &tt);
+        int calls = 20 + seed % 200;
+        run_sequence((uint64_t)seed, &tt, calls);
+
+        gl_env *b = gl_open();
+        if (getenv("STATE_TRACE")) {
+            static tsr_dispatch traced;
+            tsr_tracer tr = {stderr, &b->d};
+            tsr_trace_fill(&traced, &tr);
+            run_sequence((uint64_t)seed, &traced, calls);
+        } else {
+            run_sequence((uint64_t)seed, &b->d, calls);
+        }
+        b->gl.Finish();
+
+        gl_env *a = gl_open();
+        tsr_state_diff_stats st;
+        uint32_t n;
+        if ((seed & 1) && !getenv("STATE_TRACE")) {   /* through the real wire */
+            wire *w = wire_open(&a->d);
+            n = tsr_state_diff(c, s, &w->table, &st);
+            CHECK(tsr_packer_flush(w->p) == 0, "seed %d: packer flush: %s", seed, tsr_packer_error(w->p)->message);
+            CHECK(tsr_packer_error(w->p)->code == TSR_OK, "seed %d: %s", seed, tsr_packer_error(w->p)->message);
+            wire_close(w);
+        } else if (getenv("STATE_TRACE")) {   /* print what the diff sends */
+            static tsr_dispatch traced;
+            tsr_tracer tr = {stderr, &a->d};
+            tsr_trace_fill(&traced, &tr);
+            n = tsr_state_diff(c, s, &traced, &st);
+        } else {
+            n = tsr_state_diff(c, s, &a->d, &st);
+        }
+        commands += n;
+        a->gl.Finish();
+        /* (c) a second diff has nothing to do */
+        tsr_state_diff_stats st2;
+        CHECK(tsr_state_diff(c, s, &a->d, &st2) == 0 && st2.members_visited == 0,
+              "seed %d: second diff emitted %u commands", seed, st2.commands);
+
+        long before = compared;
+        int bad_a = compare_gets(c, &tt, a, 0, &compared);
+        CHECK(bad_a == 0, "seed %d (%d calls): %d tracker answers differ from the diffed OSMesa context", seed, calls, bad_a);
+        if (!seq_popattrib_used) {
+            direct_seeds++;
+            int bad_b = compare_gets(c, &tt, b, 1, &compared);
+            CHECK(bad_b == 0, "seed %d (%d calls): %d tracker answers differ from OSMesa given the same calls", seed,
+                  calls, bad_b);
+            int bad_o = compare_objects(a, b);
+            CHECK(bad_o == 0, "seed %d: %d texture/buffer contents differ between diffed and direct contexts", seed,
+                  bad_o);
+        }
+        CHECK(compared - before > 1000, "seed %d compared only %ld values", seed, compared - before);
+        gl_close(a);
+        gl_close(b);
+        tsr_state_tracker_destroy(t);
+    }
+    printf("%d seeds, %ld values compared, %ld commands diffed; %d seeds (no PopAttrib) also compared with "
+           "OSMesa given the calls directly\n", seeds_arg, compared, commands, direct_seeds);
+    CHECK(direct_seeds > seeds_arg / 3, "only %d seeds compared directly", direct_seeds);
+}
+
+static void test_unchanged_is_zero_bytes(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *fresh = tsr_state_ctx_create(t, NULL);
+    tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
+    wire *w = wire_open(NULL);
+    /* A context nobody changed against a renderer nobody changed. */
+    CHECK(tsr_state_diff(fresh, s, &w->table, NULL) == 0, "fresh context emits commands");
+    tsr_packer_flush(w->p);
+    CHECK(w->bytes == 0, "fresh context diffed to %llu bytes", (unsigned long long)w->bytes);
+    for (int seed = 0; seed < seeds_arg; seed++) {
+        tsr_state_ctx *c1 = tsr_state_ctx_create(t, NULL), *c2 = tsr_state_ctx_create(t, NULL);
+        tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
+        static tsr_dispatch d1, d2;
+        tsr_dispatch_fill_nop(&d1);
+        tsr_dispatch_fill_nop(&d2);
+        tsr_state_fill_dispatch(c1, &d1);
+        tsr_state_fill_dispatch(c2, &d2);
+        run_sequence((uint64_t)seed, &d1, 150);
+        run_sequence((uint64_t)seed, &d2, 150);
+        /* Each renderer has its own stream: the packer mirrors the pixel
+         * store of the renderer it feeds. */
+        wire_close(w);
+        w = wire_open(NULL);
+        uint64_t b0 = w->bytes;
+        tsr_state_diff(c1, r, &w->table, NULL);
+        tsr_packer_flush(w->p);
+        uint64_t first = w->bytes - b0;
+        CHECK(first > 0, "seed %d: the first diff packed nothing", seed);
+        /* Unchanged: again, and the identical context on the same renderer. */
+        b0 = w->bytes;
+        uint32_t n1 = tsr_state_diff(c1, r, &w->table, NULL);
+        uint32_t n2 = tsr_state_diff(c2, r, &w->table, NULL);
+        uint32_t n3 = tsr_state_diff(c1, r, &w->table, NULL);
+        CHECK(tsr_packer_pending(w->p) == 0, "seed %d: unchanged diffs packed %zu bytes", seed, tsr_packer_pending(w->p));
+        tsr_packer_flush(w->p);
+        CHECK(n1 == 0 && n2 == 0 && n3 == 0 && w->bytes == b0,
+              "seed %d: unchanged state diffed to %u/%u/%u commands, %llu bytes", seed, n1, n2, n3,
+              (unsigned long long)(w->bytes - b0));
+        tsr_state_ctx_destroy(c1);
+        tsr_state_ctx_destroy(c2);
+        tsr_state_shadow_destroy(r);
+    }
+    wire_close(w);
+    tsr_state_tracker_destroy(t);
+}
+
+/* One change per group, made on context B only (values no random
+ * sequence produces, so they always differ). */
+static void change_group(int g, const tsr_dispatch *d, tsr_state_ctx *c)
+{
+    GLboolean on = GL_FALSE;
+    switch (g) {
+    case TSR_SG_ENABLE:
+        tsr_state_is_enabled(c, GL_FOG, &on);
+        if (on)
+            tsr_call_Disable(d, GL_FOG);
+        else
+            tsr_call_Enable(d, GL_FOG);
+        break;
+    case TSR_SG_CURRENT: tsr_call_Color4f(d, 0.0123f, 0.5f, 0.25f, 1.0f); break;
+    case TSR_SG_VIEWPORT: tsr_call_Viewport(d, 3, 5, 61, 59); break;
+    case TSR_SG_COLORBUF: tsr_call_ClearColor(d, 0.0123f, 0.5f, 0.25f, 1.0f); break;
+    case TSR_SG_DEPTH: tsr_call_ClearDepth(d, 0.0123); break;
+    case TSR_SG_STENCIL: tsr_call_ClearStencil(d, 1000); break;
+    case TSR_SG_FOG: tsr_call_Fogf(d, GL_FOG_START, 123.25f); break;
+    case TSR_SG_LIGHTING: tsr_call_Lightf(d, GL_LIGHT2, GL_SPOT_EXPONENT, 127.5f); break;
+    case TSR_SG_RASTER: tsr_call_LineWidth(d, 9.75f); break;
+    case TSR_SG_HINT: {
+        GLint h = 0;
+        tsr_state_get_integerv(c, GL_FOG_HINT, &h);
+        tsr_call_Hint(d, GL_FOG_HINT, h == GL_NICEST ? GL_FASTEST : GL_NICEST);
+        break;
+    }
+    case TSR_SG_TEXTURE: tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){0.0123f, 0, 0, 1}); break;
+    case TSR_SG_BUFFER: tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, 77); break;
+    case TSR_SG_MISC: tsr_call_ListBase(d, 4242); break;
+    case TSR_SG_PIXEL: tsr_call_PixelZoom(d, 3.5f, -2.25f); break;
+    case TSR_SG_TRANSFORM: tsr_call_Translatef(d, 0.0123f, 7, 9); break;
+    default: break;
+    }
+}
+
+static void test_switch_only_differing_groups(void)
+{
+    for (int seed = 0; seed < seeds_arg; seed++)
+        for (int g = -1; g < TSR_SG_COUNT; g++) {
+            tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+            tsr_state_ctx *a = tsr_state_ctx_create(t, NULL), *b = tsr_state_ctx_create(t, NULL);
+            tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
+            static tsr_dispatch da, db, nop;
+            tsr_dispatch_fill_nop(&da);
+            tsr_dispatch_fill_nop(&db);
+            tsr_dispatch_fill_nop(&nop);
+            tsr_state_fill_dispatch(a, &da);
+            tsr_state_fill_dispatch(b, &db);
+            run_sequence((uint64_t)seed, &da, 100);
+            run_sequence((uint64_t)seed, &db, 100);
+            if (g >= 0)
+                change_group(g, &db, b);
+            uint32_t expect = g >= 0 ? 1u << g : 0;
+            tsr_state_diff(a, r, &nop, NULL);   /* r holds A */
+            for (int round = 0; round < 3; round++) {
+                tsr_state_diff_stats sb, sa;
+                uint32_t nb = tsr_state_diff(b, r, &nop, &sb);
+                uint32_t na = tsr_state_diff(a, r, &nop, &sa);
+                CHECK(sb.group_mask == expect && sa.group_mask == expect,
+                      "seed %d group %s round %d: switch A->B emitted groups 0x%x, B->A 0x%x, expected 0x%x", seed,
+                      g >= 0 ? tsr_state_group_name(g) : "(none)", round, sb.group_mask, sa.group_mask, expect);
+                CHECK((g < 0) == (nb == 0) && (g < 0) == (na == 0),
+                      "seed %d group %d: %u and %u commands", seed, g, nb, na);
+                /* Once B has met r, identical contexts look at nothing. */
+                CHECK(g >= 0 || round == 0 || (sb.groups_visited == 0 && sa.groups_visited == 0),
+                      "seed %d: identical contexts visited %u/%u groups", seed, sb.groups_visited,
+                      sa.groups_visited);
+            }
+            tsr_state_tracker_destroy(t);
+        }
+}
+
+static void test_many_renderers(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    static tsr_dispatch d, nop;
+    tsr_dispatch_fill_nop(&d);
+    tsr_dispatch_fill_nop(&nop);
+    tsr_state_fill_dispatch(c, &d);
+    run_sequence(3, &d, 120);
+    enum { N = 300 };
+    tsr_state_shadow *r[N];
+    uint32_t first = 0;
+    for (int i = 0; i < N; i++) {
+        r[i] = tsr_state_shadow_create(t, NULL);
+        CHECK(r[i] && tsr_state_shadow_id(r[i]) == i, "renderer %d", i);
+        uint32_t n = tsr_state_diff(c, r[i], &nop, NULL);
+        if (i == 0)
+            first = n;
+        CHECK(n == first && n > 0, "renderer %d got %u commands, renderer 0 got %u", i, n, first);
+    }
+    /* One change: every renderer sees exactly it, once. */
+    tsr_call_PointSize(&d, 17.5f);
+    for (int i = 0; i < N; i++) {
+        CHECK(tsr_state_is_dirty(c, r[i]), "renderer %d not dirty", i);
+        CHECK(tsr_state_diff(c, r[i], &nop, NULL) == 1, "renderer %d", i);
+        CHECK(tsr_state_diff(c, r[i], &nop, NULL) == 0, "renderer %d twice", i);
+    }
+    /* Ids are reused; a new renderer starts dirty; a new context too. */
+    tsr_state_shadow_destroy(r[70]);
+    r[70] = tsr_state_shadow_create(t, NULL);
+    CHECK(tsr_state_shadow_id(r[70]) == 70, "id reuse gave %d", tsr_state_shadow_id(r[70]));
+    tsr_state_shadow *extra = tsr_state_shadow_create(t, NULL);
+    CHECK(tsr_state_shadow_id(extra) == N, "next id %d", tsr_state_shadow_id(extra));
+    uint32_t fresh = tsr_state_diff(c, extra, &nop, NULL);
+    CHECK(fresh > 0 && tsr_state_diff(c, r[70], &nop, NULL) == fresh, "re-created renderer is not like a new one");
+    tsr_state_ctx *c2 = tsr_state_ctx_create(t, NULL);
+    for (int i = 0; i < N; i++)
+        CHECK(tsr_state_is_dirty(c2, r[i]), "new context clean for %d", i);
+    tsr_state_tracker_destroy(t);
+}
+
+/* Counts the image calls a diff emits. */
+typedef struct counter {
+    int images, subimages, binds;
+} counter;
+static void cnt_TexImage2D(void *self, GLenum t, GLint l, GLint i, GLsizei w, GLsizei h, GLint b, GLenum f, GLenum ty,
+                           const void *p)
+{
+    (void)t, (void)l, (void)i, (void)w, (void)h, (void)b, (void)f, (void)ty, (void)p;
+    ((counter *)self)->images++;
+}
+static void cnt_TexSubImage2D(void *self, GLenum t, GLint l, GLint x, GLint y, GLsizei w, GLsizei h, GLenum f,
+                              GLenum ty, const void *p)
+{
+    (void)t, (void)l, (void)x, (void)y, (void)w, (void)h, (void)f, (void)ty, (void)p;
+    ((counter *)self)->subimages++;
+}
+static void cnt_BindTexture(void *self, GLenum t, GLuint n)
+{
+    (void)t, (void)n;
+    ((counter *)self)->binds++;
+}
+
+static void test_lazy_textures(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
+    static tsr_dispatch d, out;
+    tsr_dispatch_fill_nop(&d);
+    tsr_state_fill_dispatch(c, &d);
+    counter k = {0};
+    tsr_dispatch_fill_nop(&out);
+    tsr_set_TexImage2D(&out, cnt_TexImage2D, &k);
+    tsr_set_TexSubImage2D(&out, cnt_TexSubImage2D, &k);
+    tsr_set_BindTexture(&out, cnt_BindTexture, &k);
+    uint8_t px[4 * 16] = {1, 2, 3};
+    GLuint names[3];
+    tsr_call_GenTextures(&d, 3, names);
+    CHECK(names[0] == 1 && names[1] == 2 && names[2] == 3, "names %u %u %u", names[0], names[1], names[2]);
+    for (int i = 0; i < 3; i++) {
+        tsr_call_BindTexture(&d, GL_TEXTURE_2D, names[i]);
+        tsr_call_TexImage2D(&d, GL_TEXTURE_2D, 0, GL_RGBA, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    }
+    tsr_call_BindTexture(&d, GL_TEXTURE_2D, 0);
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(k.images == 0, "unbound textures were sent (%d images)", k.images);
+    tsr_call_BindTexture(&d, GL_TEXTURE_2D, names[1]);
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(k.images == 1, "binding one texture sent %d images", k.images);
+    tsr_call_TexSubImage2D(&d, GL_TEXTURE_2D, 0, 1, 1, 2, 2, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(k.images == 1 && k.subimages == 1, "a sub-image sent %d images, %d sub-images", k.images, k.subimages);
+    tsr_call_BindTexture(&d, GL_TEXTURE_2D, names[2]);
+    tsr_call_BindTexture(&d, GL_TEXTURE_2D, names[1]);
+    int binds = k.binds;
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(k.images == 1 && k.binds == binds, "rebinding the same texture sent %d images, %d binds", k.images,
+          k.binds - binds);
+    tsr_state_tracker_destroy(t);
+}
+
+/* Inside glNewList(GL_COMPILE) state calls are recorded, not executed:
+ * the tracker must not change (COMPILE_AND_EXECUTE does), while the calls
+ * GL runs at once (pixel store, client state, deletes) still count. */
+static void test_list_compile(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    static tsr_dispatch d;
+    tsr_dispatch_fill_nop(&d);
+    tsr_state_fill_dispatch(c, &d);
+    GLuint base = tsr_call_GenLists(&d, 3);
+    CHECK(base == 1 && tsr_state_is_list(c, 1) && tsr_state_is_list(c, 3) && !tsr_state_is_list(c, 4),
+          "GenLists gave %u", base);
+    GLboolean on = GL_TRUE;
+    GLfloat color[4];
+    GLint v = 0;
+    tsr_call_NewList(&d, base, GL_COMPILE);
+    tsr_call_Enable(&d, GL_FOG);
+    tsr_call_Color4f(&d, 0.5f, 0.25f, 0.125f, 1);
+    tsr_call_PixelStorei(&d, GL_UNPACK_ALIGNMENT, 2);
+    tsr_state_get_integerv(c, GL_LIST_INDEX, &v);
+    CHECK(v == (GLint)base, "GL_LIST_INDEX %d", v);
+    tsr_call_EndList(&d);
+    tsr_state_is_enabled(c, GL_FOG, &on);
+    tsr_state_get_floatv(c, GL_CURRENT_COLOR, color);
+    tsr_state_get_integerv(c, GL_UNPACK_ALIGNMENT, &v);
+    CHECK(!on && color[0] == 1.0f && v == 2, "GL_COMPILE: fog %d color %g alignment %d", on, color[0], v);
+    tsr_call_NewList(&d, base + 1, GL_COMPILE_AND_EXECUTE);
+    tsr_call_Enable(&d, GL_FOG);
+    tsr_call_EndList(&d);
+    tsr_state_is_enabled(c, GL_FOG, &on);
+    CHECK(on, "GL_COMPILE_AND_EXECUTE did not enable fog");
+    tsr_call_DeleteLists(&d, base, 3);
+    CHECK(!tsr_state_is_list(c, base + 1), "list survived DeleteLists");
+    tsr_state_tracker_destroy(t);
+}
+
+int main(int argc, char **argv)
+{
+    static const struct { const char *name; void (*fn)(void); int gl; } tests[] = {
+        {"covers_spec", test_covers_spec, 0},
+        {"diff_matches_osmesa", test_diff_matches_osmesa, 1},
+        {"unchanged_is_zero_bytes", test_unchanged_is_zero_bytes, 0},
+        {"switch_only_differing_groups", test_switch_only_differing_groups, 0},
+        {"many_renderers", test_many_renderers, 0},
+        {"lazy_textures", test_lazy_textures, 0},
+        {"list_compile", test_list_compile, 0},
+    };
+    if (argc < 2 || argc > 3) {
+        fprintf(stderr, "usage: state_tests TEST [SEEDS]\n");
+        return 2;
+    }
+    if (argc == 3)
+        seeds_arg = atoi(argv[2]);
+    for (size_t i = 0; i < sizeof tests / sizeof tests[0]; i++)
+        if (!strcmp(argv[1], tests[i].name)) {
+            if (tests[i].gl)
+                osm_load();
+            tests[i].fn();
+            if (failures)
+                fprintf(stderr, "%s: %d check(s) failed\n", argv[1], failures);
+            return failures ? 1 : 0;
+        }
+    fprintf(stderr, "state_tests: unknown test '%s'\n", argv[1]);
+    return 2;
+}
