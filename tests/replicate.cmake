@@ -34,11 +34,6 @@ add_test(NAME replicate_same_server_twice_is_a_clear_error
   COMMAND ${REPLICATE_EXPECT} 1 "" "server tcp://127.0.0.1:1 is listed twice"
           ${REPLICATE_BIN}/spheres --frames 1 --chain "replicate servers=tcp://127.0.0.1:1,tcp://127.0.0.1:1")
 
-# examples/graphs/replicate.yaml checks in full now that the SPU exists (the
-# mothership fills its `servers` option with the servers' addresses).
-add_test(NAME replicate_example_graph_checks_against_the_plugin
-  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/graph/check_ok.sh $<TARGET_FILE:tessera_cli>
-          ${CMAKE_SOURCE_DIR}/examples/graphs/replicate.yaml)
 add_test(NAME pack_stats_file_counts_frames_bytes_and_blocked_time
   COMMAND ${REPLICATE_SH} pack-blocked ${REPLICATE_BIN} ${REPLICATE_OUT}/pack-blocked)
 
