@@ -26,7 +26,8 @@
 #include "util.h"
 
 #define POLL_MS 20
-#define FAIL_GRACE_S 0.3   /* collect related failures before naming one */
+#define FAIL_GRACE_S 1.0   /* collect related failures before naming one (a loaded
+                              machine may see the root cause after its echo) */
 #define LOST_GRACE_S 1.0   /* a launched node's lost connection: wait this long for its exit status */
 #define STOP_GRACE_S 1.0   /* after STOP, before SIGKILL */
 #define END_GRACE_S 5.0    /* after every DONE, for the processes to exit */
