@@ -1831,17 +1831,6 @@ static void st_PopClientAttrib(void *self)
 }
 
 /* --- client arrays (client state: tracked for gets and push/pop) ---------------- */
-static tsr_state_array *client_array(tsr_state_ctx *c, GLenum array)
-{
-    switch (array) {
-    case GL_VERTEX_ARRAY: return &c->client.vertex;
-    case GL_NORMAL_ARRAY: return &c->client.normal;
-    case GL_COLOR_ARRAY: return &c->client.color;
-    case GL_EDGE_FLAG_ARRAY: return &c->client.edge_flag;
-    case GL_TEXTURE_COORD_ARRAY: return &c->client.texcoord[c->client.client_active_texture];
-    default: return NULL;
-    }
-}
 
 static void set_pointer(tsr_state_ctx *c, tsr_state_array *a, GLint size, GLenum type, GLsizei stride,
                         const void *ptr)
@@ -1869,8 +1858,8 @@ static void st_VertexAttribPointer(void *self, GLuint index, GLint size, GLenum 
     c->client.attrib[index].normalized = normalized ? GL_TRUE : GL_FALSE;
 }
 
-static void st_EnableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = client_array(c, array); if (a) a->enabled = GL_TRUE; }
-static void st_DisableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = client_array(c, array); if (a) a->enabled = GL_FALSE; }
+static void st_EnableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_TRUE; }
+static void st_DisableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_FALSE; }
 static void st_EnableVertexAttribArray(void *self, GLuint i) { CTX_NOW(self); if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_TRUE; }
 static void st_DisableVertexAttribArray(void *self, GLuint i) { CTX_NOW(self); if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_FALSE; }
 

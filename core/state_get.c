@@ -50,17 +50,6 @@ static void put1(answer *a, kind k, double v)
     a->v[0] = v;
 }
 
-static const tsr_state_array *client_array(const tsr_state_ctx *c, GLenum which)
-{
-    switch (which) {
-    case GL_VERTEX_ARRAY: return &c->client.vertex;
-    case GL_NORMAL_ARRAY: return &c->client.normal;
-    case GL_COLOR_ARRAY: return &c->client.color;
-    case GL_EDGE_FLAG_ARRAY: return &c->client.edge_flag;
-    case GL_TEXTURE_COORD_ARRAY: return &c->client.texcoord[c->client.client_active_texture];
-    default: return NULL;
-    }
-}
 
 static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
 {
@@ -239,17 +228,17 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_COLOR_ARRAY_TYPE: puti(a, c->client.color.type); return 1;
     case GL_COLOR_ARRAY_STRIDE: puti(a, c->client.color.stride); return 1;
     case GL_EDGE_FLAG_ARRAY_STRIDE: puti(a, c->client.edge_flag.stride); return 1;
-    case GL_TEXTURE_COORD_ARRAY_SIZE: puti(a, client_array(c, GL_TEXTURE_COORD_ARRAY)->size); return 1;
-    case GL_TEXTURE_COORD_ARRAY_TYPE: puti(a, client_array(c, GL_TEXTURE_COORD_ARRAY)->type); return 1;
-    case GL_TEXTURE_COORD_ARRAY_STRIDE: puti(a, client_array(c, GL_TEXTURE_COORD_ARRAY)->stride); return 1;
+    case GL_TEXTURE_COORD_ARRAY_SIZE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->size); return 1;
+    case GL_TEXTURE_COORD_ARRAY_TYPE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->type); return 1;
+    case GL_TEXTURE_COORD_ARRAY_STRIDE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->stride); return 1;
     case GL_VERTEX_ARRAY_BUFFER_BINDING: puti(a, c->client.vertex.buffer); return 1;
     case GL_NORMAL_ARRAY_BUFFER_BINDING: puti(a, c->client.normal.buffer); return 1;
     case GL_COLOR_ARRAY_BUFFER_BINDING: puti(a, c->client.color.buffer); return 1;
     case GL_EDGE_FLAG_ARRAY_BUFFER_BINDING: puti(a, c->client.edge_flag.buffer); return 1;
-    case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING: puti(a, client_array(c, GL_TEXTURE_COORD_ARRAY)->buffer); return 1;
+    case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->buffer); return 1;
     case GL_VERTEX_ARRAY: case GL_NORMAL_ARRAY: case GL_COLOR_ARRAY: case GL_EDGE_FLAG_ARRAY:
     case GL_TEXTURE_COORD_ARRAY:
-        putb(a, client_array(c, pname)->enabled);
+        putb(a, st_client_array(c, pname)->enabled);
         return 1;
     default: break;
     }
@@ -339,7 +328,7 @@ int tsr_state_get_booleanv(const tsr_state_ctx *c, GLenum pname, GLboolean *out)
 
 int tsr_state_is_enabled(const tsr_state_ctx *c, GLenum cap, GLboolean *out)
 {
-    const tsr_state_array *arr = client_array(c, cap);
+    const tsr_state_array *arr = st_client_array(c, cap);
     if (arr) {
         *out = arr->enabled;
         return 1;

@@ -208,4 +208,20 @@ void st_transfer_of(const tsr_state_values *v, st_transfer *t);
 /* Gets (state_get.c) fill the get slots of the table. */
 void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 
+/* The client array `which` names (GL_VERTEX_ARRAY, ...; texture coordinates
+ * of the client-active unit), or NULL for anything else. Used by the
+ * setters (state.c) and the gets (state_get.c). */
+static inline tsr_state_array *st_client_array(const tsr_state_ctx *c, GLenum which)
+{
+    tsr_state_ctx *m = (tsr_state_ctx *)c; /* the caller decides whether it writes */
+    switch (which) {
+    case GL_VERTEX_ARRAY: return &m->client.vertex;
+    case GL_NORMAL_ARRAY: return &m->client.normal;
+    case GL_COLOR_ARRAY: return &m->client.color;
+    case GL_EDGE_FLAG_ARRAY: return &m->client.edge_flag;
+    case GL_TEXTURE_COORD_ARRAY: return &m->client.texcoord[m->client.client_active_texture];
+    default: return NULL;
+    }
+}
+
 #endif

@@ -303,6 +303,22 @@ static st_upload *push_upload(st_texobj *o)
     return u;
 }
 
+/* Appends `up` (which owns up.data) to o's upload log with the pixel
+ * transfer and mipmap generation in force now; frees the data when out of
+ * memory. */
+static void record_upload(tsr_state_ctx *c, st_texobj *o, st_upload up)
+{
+    st_upload *u = push_upload(o);
+    if (!u) {
+        free(up.data);
+        return;
+    }
+    *u = up;
+    st_transfer_of(&c->v, &u->transfer);
+    u->gen_mipmap = o->params.generate_mipmap;
+    st_tex_changed(c, o);
+}
+
 /* The last full image of (face, level), or NULL. */
 static st_upload *level_image(const st_texobj *o, GLenum face, GLint level)
 {
@@ -347,16 +363,9 @@ static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GL
     if (out != o->nup)
         o->epoch++;
     o->nup = out;
-    st_upload *u = push_upload(o);
-    if (!u) {
-        free(copy);
-        return;
-    }
-    *u = (st_upload){ST_UP_IMAGE, dims, target, level, ifmt, border, 0, 0, 0, w, h, d, format, type,
-                     copy, size, c->v.pixel_store.unpack.swap_bytes, c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}};
-    st_transfer_of(&c->v, &u->transfer);
-    u->gen_mipmap = o->params.generate_mipmap;
-    st_tex_changed(c, o);
+    record_upload(c, o, (st_upload){ST_UP_IMAGE, dims, target, level, ifmt, border, 0, 0, 0, w, h, d, format, type,
+                                    copy, size, c->v.pixel_store.unpack.swap_bytes,
+                                    c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}});
 }
 
 static void st_TexImage1D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLint border,
@@ -422,16 +431,9 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
         st_tex_changed(c, o);
         return;
     }
-    st_upload *u = push_upload(o);
-    if (!u) {
-        free(copy);
-        return;
-    }
-    *u = (st_upload){ST_UP_SUBIMAGE, dims, target, level, 0, 0, x, y, z, w, h, d, format, type,
-                     copy, size, c->v.pixel_store.unpack.swap_bytes, c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}};
-    st_transfer_of(&c->v, &u->transfer);
-    u->gen_mipmap = o->params.generate_mipmap;
-    st_tex_changed(c, o);
+    record_upload(c, o, (st_upload){ST_UP_SUBIMAGE, dims, target, level, 0, 0, x, y, z, w, h, d, format, type,
+                                    copy, size, c->v.pixel_store.unpack.swap_bytes,
+                                    c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}});
 }
 
 static void st_TexSubImage1D(void *self, GLenum target, GLint level, GLint x, GLsizei w, GLenum format,
