@@ -96,19 +96,7 @@ node-killed)
   "$bin/spheres" --frames 100000 --size 320x240 --chain "pack server=$NODE_ADDR" \
     2>"$out/app.err" &
   app=$!
-  i=0
-  while [ ! -e "$out/chain/f-0002.png" ] && [ $i -lt 400 ]; do sleep 0.05; i=$((i + 1)); done
-  [ -e "$out/chain/f-0002.png" ] || fail "the node wrote no frames within 20 s"
-  kill -9 "$NODE_PID"
-  start=$(now_ms)
-  wait_exit "$app" 10
-  took=$(( $(now_ms) - start ))
-  show "$out/app.err"
-  echo "app exit $EXIT_RC, $took ms after the node was killed"
-  [ "$EXIT_RC" != timeout ] || fail "app still running 10 s after the node was killed"
-  [ "$EXIT_RC" != 0 ] && [ "$EXIT_RC" != 124 ] || fail "app exited $EXIT_RC after the node was killed"
-  [ $took -lt 5000 ] || fail "app took $took ms to notice the node was killed"
-  grep -q "$NODE_ADDR" "$out/app.err" || fail "app's message does not name $NODE_ADDR"
+  kill_mid_stream "$out/chain/f-0002.png" "$NODE_PID" "$app" "the node" "$NODE_ADDR" "$out/app.err"
   wait "$NODE_PID" 2>/dev/null
   ;;
 client-chain-fails)

@@ -55,6 +55,25 @@ wait_exit() {
   EXIT_RC=$?
 }
 
+# kill_mid_stream FRAME_FILE VICTIM_PID APP_PID WHO ADDR ERR_FILE: once
+# FRAME_FILE exists (mid-stream), kill -9 VICTIM_PID and expect the app
+# to exit non-zero within 5 s, naming ADDR in ERR_FILE. Calls fail().
+kill_mid_stream() {
+  local frame=$1 victim=$2 app=$3 who=$4 addr=$5 err=$6 waited=0 start took
+  while [ ! -e "$frame" ] && [ $waited -lt 400 ]; do sleep 0.05; waited=$((waited + 1)); done
+  [ -e "$frame" ] || fail "$who wrote no frames within 20 s"
+  kill -9 "$victim"
+  start=$(now_ms)
+  wait_exit "$app" 10
+  took=$(( $(now_ms) - start ))
+  show "$err"
+  echo "app exit $EXIT_RC, $took ms after $who was killed"
+  [ "$EXIT_RC" != timeout ] || fail "app still running 10 s after $who was killed"
+  [ "$EXIT_RC" != 0 ] && [ "$EXIT_RC" != 124 ] || fail "app exited $EXIT_RC after $who was killed"
+  [ $took -lt 5000 ] || fail "app took $took ms to notice $who was killed"
+  grep -q "$addr" "$err" || fail "app's message does not name $who ($addr)"
+}
+
 # compare_frames BIN NATIVE_DIR CHAIN_DIR FRAMES LABEL: 0 differing pixels
 # in every frame, else returns 1.
 compare_frames() {
