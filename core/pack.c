@@ -46,6 +46,7 @@ void tsr_packer_bbox_reset(tsr_packer *p)
         p->bbox_min[i] = INFINITY;
         p->bbox_max[i] = -INFINITY;
     }
+    p->bbox_nan = 0;
 }
 
 void tsr_packer_bbox_infinite(tsr_packer *p)
@@ -58,6 +59,13 @@ void tsr_packer_bbox_infinite(tsr_packer *p)
 
 int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3])
 {
+    if (p->bbox_nan) {
+        for (int i = 0; i < 3; i++) {
+            min[i] = -INFINITY;
+            max[i] = INFINITY;
+        }
+        return 1;
+    }
     for (int i = 0; i < 3; i++) {
         min[i] = p->bbox_min[i];
         max[i] = p->bbox_max[i];

@@ -70,6 +70,7 @@ typedef struct tsr_packer {
     uint8_t *data_end;    /* end of the data area (8-aligned) */
     float bbox_min[4] __attribute__((aligned(16)));
     float bbox_max[4] __attribute__((aligned(16)));
+    uint32_t bbox_nan;    /* non-zero once a NaN coordinate was boxed */
     uint8_t *mid;         /* data start (8-aligned) */
     uint8_t *mem;         /* normal buffer memory */
     size_t mem_size;
@@ -111,7 +112,8 @@ TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
  * vertex with w <= 0, or vertex data the packer never sees (arrays or
  * indices in buffer objects), makes the box infinite. Other geometry
  * (Rect*, Eval*, CallList*, Bitmap, ...) does not touch it: a box-keeping
- * SPU treats those as unknown itself. NaN coordinates are ignored. */
+ * SPU treats those as unknown itself. A NaN coordinate makes the box
+ * infinite too (where such a vertex lands is up to the renderer). */
 TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
 TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
 /* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
@@ -168,12 +170,14 @@ static inline uint8_t *tsr_packer_cmd(tsr_packer *p, uint8_t opcode, size_t size
 static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
 {
     __m128 v = _mm_setr_ps(x, y, z, z);
+    p->bbox_nan |= (uint32_t)_mm_movemask_ps(_mm_cmpunord_ps(v, v));
     _mm_store_ps(p->bbox_min, _mm_min_ps(v, _mm_load_ps(p->bbox_min)));
     _mm_store_ps(p->bbox_max, _mm_max_ps(v, _mm_load_ps(p->bbox_max)));
 }
 #else
 static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
 {
+    p->bbox_nan |= (x != x) | (y != y) | (z != z);
     p->bbox_min[0] = x < p->bbox_min[0] ? x : p->bbox_min[0];
     p->bbox_min[1] = y < p->bbox_min[1] ? y : p->bbox_min[1];
     p->bbox_min[2] = z < p->bbox_min[2] ? z : p->bbox_min[2];
@@ -192,7 +196,7 @@ static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, fl
     else if (w > 0.0f)
         tsr_packer_bbox3(p, x / w, y / w, z / w);
     else
-        tsr_packer_bbox_infinite(p);
+        tsr_packer_bbox_infinite(p); /* also w NaN */
 }
 
 /* Hand-written packers of `local` and `custom` commands (core/pack.c). */

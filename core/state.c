@@ -201,6 +201,42 @@ static void identity(GLfloat m[16])
     m[0] = m[5] = m[10] = m[15] = 1.0f;
 }
 
+/* The classification bits recipe r gives a matrix (Mesa's flags: glScale
+ * is a uniform or a general scale, glOrtho a translation and a general
+ * scale, a loaded matrix general). */
+unsigned st_recipe_bits(const tsr_state_recipe *r)
+{
+    unsigned k = r->sticky | (r->base_is_identity ? 0u : TSR_STICKY_GENERAL);
+    for (unsigned i = 0; i < r->count; i++) {
+        const GLfloat *a = r->arg[i];
+        if (r->kind[i] == TSR_RECIPE_SCALE)
+            k |= fabsf(a[0] - a[1]) < 1e-8f && fabsf(a[0] - a[2]) < 1e-8f ? 1u << TSR_RECIPE_SCALE
+                                                                          : TSR_STICKY_GENERAL_SCALE;
+        else if (r->kind[i] == TSR_RECIPE_ORTHO)
+            k |= TSR_STICKY_GENERAL_SCALE | 1u << TSR_RECIPE_TRANSLATE;
+        else
+            k |= 1u << r->kind[i];
+    }
+    return k;
+}
+
+/* A fresh matrix level: identity, no history. */
+static void recipe_init(tsr_state_recipe *r)
+{
+    identity(r->base);
+    r->base_is_identity = 1;
+    r->sticky = 0;
+    r->count = 0;
+}
+
+/* glLoadIdentity: the values go, the classification stays. */
+static void recipe_identity(tsr_state_recipe *r)
+{
+    uint8_t kinds = (uint8_t)st_recipe_bits(r);
+    recipe_init(r);
+    r->sticky = kinds;
+}
+
 void st_values_init(tsr_state_values *v)
 {
     memset(v, 0, sizeof *v);
@@ -307,9 +343,11 @@ void st_stacks_init(tsr_state_stacks *s)
 {
     identity(s->modelview[0]);
     identity(s->projection[0]);
+    recipe_init(&s->modelview_recipe[0]);
+    recipe_init(&s->projection_recipe[0]);
     s->modelview_depth = s->projection_depth = 1;
     for (int u = 0; u < TSR_STATE_UNITS; u++) {
-        identity(s->texture[u][0]);
+        identity(s->texture[u][0]), recipe_init(&s->texture_recipe[u][0]);
         s->texture_depth[u] = 1;
     }
 }
@@ -594,6 +632,46 @@ GLfloat *st_current_matrix(tsr_state_ctx *c, int *member)
     }
 }
 
+static tsr_state_recipe *current_recipe(tsr_state_ctx *c)
+{
+    switch (c->v.matrix_mode) {
+    case GL_PROJECTION:
+        return &c->s.projection_recipe[c->s.projection_depth - 1];
+    case GL_TEXTURE: {
+        GLuint u = c->v.active_texture;
+        return &c->s.texture_recipe[u][c->s.texture_depth[u] - 1];
+    }
+    default:
+        return &c->s.modelview_recipe[c->s.modelview_depth - 1];
+    }
+}
+
+/* The current matrix was loaded (or multiplied by an arbitrary matrix,
+ * which Mesa also classifies from the values): it is the new base. */
+static void recipe_rebase(tsr_state_ctx *c)
+{
+    int member;
+    tsr_state_recipe *r = current_recipe(c);
+    memcpy(r->base, st_current_matrix(c, &member), sizeof r->base);
+    r->base_is_identity = 0;
+    r->sticky = 0;
+    r->count = 0;
+}
+
+/* Called after the operation was applied to the matrix. */
+static void recipe_add(tsr_state_ctx *c, int kind, const GLfloat *args, int nargs)
+{
+    tsr_state_recipe *r = current_recipe(c);
+    if (r->count == TSR_STATE_RECIPE_OPS) {
+        recipe_rebase(c);
+        return;
+    }
+    r->kind[r->count] = (uint8_t)kind;
+    memset(r->arg[r->count], 0, sizeof r->arg[r->count]);
+    memcpy(r->arg[r->count], args, (size_t)nargs * sizeof *args);
+    r->count++;
+}
+
 /* --- setters ------------------------------------------------------------------- */
 /* Inside glNewList(GL_COMPILE) state calls are recorded into the list, not
  * executed: the tracker ignores them (the list's effects when called are a
@@ -619,25 +697,36 @@ static void st_LoadIdentity(void *self)
     CTX(self);
     int member;
     identity(st_current_matrix(c, &member));
+    recipe_identity(current_recipe(c));
+    st_mark(c, member);
+}
+
+/* Mesa ignores a glLoadMatrix of the values the matrix already holds (it
+ * keeps the matrix's classification too). */
+static void load_matrix(tsr_state_ctx *c, const GLfloat m[16])
+{
+    int member;
+    GLfloat *top = st_current_matrix(c, &member);
+    if (!memcmp(top, m, 16 * sizeof *m))
+        return;
+    memcpy(top, m, 16 * sizeof *m);
+    recipe_rebase(c);
     st_mark(c, member);
 }
 
 static void st_LoadMatrixf(void *self, const GLfloat *m)
 {
     CTX(self);
-    int member;
-    memcpy(st_current_matrix(c, &member), m, 16 * sizeof *m);
-    st_mark(c, member);
+    load_matrix(c, m);
 }
 
 static void st_LoadMatrixd(void *self, const GLdouble *m)
 {
     CTX(self);
-    int member;
-    GLfloat *top = st_current_matrix(c, &member);
+    GLfloat f[16];
     for (int i = 0; i < 16; i++)
-        top[i] = (GLfloat)m[i];
-    st_mark(c, member);
+        f[i] = (GLfloat)m[i];
+    load_matrix(c, f);
 }
 
 static void transpose(GLfloat o[16], const GLfloat m[16])
@@ -650,15 +739,23 @@ static void transpose(GLfloat o[16], const GLfloat m[16])
 static void st_LoadTransposeMatrixf(void *self, const GLfloat *m)
 {
     CTX(self);
-    int member;
-    transpose(st_current_matrix(c, &member), m);
-    st_mark(c, member);
+    GLfloat f[16];
+    transpose(f, m);
+    load_matrix(c, f);
+}
+
+/* Mesa classifies the product of an arbitrary glMultMatrix from its
+ * values, as it does a loaded matrix: the product is the new base. */
+static void mult_matrix(tsr_state_ctx *c, const GLfloat m[16])
+{
+    mat_apply(c, m);
+    recipe_rebase(c);
 }
 
 static void st_MultMatrixf(void *self, const GLfloat *m)
 {
     CTX(self);
-    mat_apply(c, m);
+    mult_matrix(c, m);
 }
 
 static void st_MultMatrixd(void *self, const GLdouble *m)
@@ -667,7 +764,7 @@ static void st_MultMatrixd(void *self, const GLdouble *m)
     GLfloat f[16];
     for (int i = 0; i < 16; i++)
         f[i] = (GLfloat)m[i];
-    mat_apply(c, f);
+    mult_matrix(c, f);
 }
 
 static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
@@ -675,7 +772,7 @@ static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
     CTX(self);
     GLfloat f[16];
     transpose(f, m);
-    mat_apply(c, f);
+    mult_matrix(c, f);
 }
 
 /* Mesa's _math_matrix_translate/scale: only the affected columns change. */
@@ -687,6 +784,7 @@ static void translate(tsr_state_ctx *c, GLfloat x, GLfloat y, GLfloat z)
     m[13] = m[1] * x + m[5] * y + m[9] * z + m[13];
     m[14] = m[2] * x + m[6] * y + m[10] * z + m[14];
     m[15] = m[3] * x + m[7] * y + m[11] * z + m[15];
+    recipe_add(c, TSR_RECIPE_TRANSLATE, (const GLfloat[]){x, y, z}, 3);
     st_mark(c, member);
 }
 
@@ -699,31 +797,58 @@ static void scale(tsr_state_ctx *c, GLfloat x, GLfloat y, GLfloat z)
         m[4 + i] *= y;
         m[8 + i] *= z;
     }
+    recipe_add(c, TSR_RECIPE_SCALE, (const GLfloat[]){x, y, z}, 3);
     st_mark(c, member);
 }
 
+/* As Mesa's _math_matrix_rotate computes it, so a renderer given the
+ * tracker's matrix holds the very bits it would have computed: sine and
+ * cosine of the angle converted in double, rotations about one axis built
+ * from them directly (no normalising, no 1 - cos terms), a near-zero axis
+ * ignored. */
 static void rotate(tsr_state_ctx *c, GLfloat angle, GLfloat x, GLfloat y, GLfloat z)
 {
+    if (angle == 0.0f)
+        return; /* Mesa's glRotate leaves the matrix (and its class) alone */
+    const GLfloat args[4] = {angle, x, y, z};
     GLfloat r[16];
     identity(r);
-    GLfloat len = sqrtf(x * x + y * y + z * z);
-    if (len == 0.0f)
-        return;
-    x /= len;
-    y /= len;
-    z /= len;
-    GLfloat s = sinf(angle * (GLfloat)(M_PI / 180.0)), co = cosf(angle * (GLfloat)(M_PI / 180.0));
-    GLfloat one_c = 1.0f - co;
-    r[0] = x * x * one_c + co;
-    r[4] = x * y * one_c - z * s;
-    r[8] = x * z * one_c + y * s;
-    r[1] = y * x * one_c + z * s;
-    r[5] = y * y * one_c + co;
-    r[9] = y * z * one_c - x * s;
-    r[2] = x * z * one_c - y * s;
-    r[6] = y * z * one_c + x * s;
-    r[10] = z * z * one_c + co;
+    GLfloat s = sinf((GLfloat)(angle * M_PI / 180.0)), co = cosf((GLfloat)(angle * M_PI / 180.0));
+    if (x == 0.0f && y == 0.0f && z != 0.0f) {
+        r[0] = co;
+        r[5] = co;
+        r[4] = z < 0.0f ? s : -s;
+        r[1] = z < 0.0f ? -s : s;
+    } else if (x == 0.0f && z == 0.0f && y != 0.0f) {
+        r[0] = co;
+        r[10] = co;
+        r[8] = y < 0.0f ? -s : s;
+        r[2] = y < 0.0f ? s : -s;
+    } else if (y == 0.0f && z == 0.0f && x != 0.0f) {
+        r[5] = co;
+        r[10] = co;
+        r[9] = x < 0.0f ? s : -s;
+        r[6] = x < 0.0f ? -s : s;
+    } else {
+        GLfloat len = sqrtf(x * x + y * y + z * z);
+        if (len <= 1.0e-4f)
+            return;
+        x /= len;
+        y /= len;
+        z /= len;
+        GLfloat one_c = 1.0f - co;
+        r[0] = x * x * one_c + co;
+        r[4] = x * y * one_c - z * s;
+        r[8] = z * x * one_c + y * s;
+        r[1] = x * y * one_c + z * s;
+        r[5] = y * y * one_c + co;
+        r[9] = y * z * one_c - x * s;
+        r[2] = z * x * one_c - y * s;
+        r[6] = y * z * one_c + x * s;
+        r[10] = z * z * one_c + co;
+    }
     mat_apply(c, r);
+    recipe_add(c, TSR_RECIPE_ROTATE, args, 4);
 }
 
 static void st_Translatef(void *self, GLfloat x, GLfloat y, GLfloat z) { CTX(self); translate(c, x, y, z); }
@@ -733,36 +858,44 @@ static void st_Scaled(void *self, GLdouble x, GLdouble y, GLdouble z) { CTX(self
 static void st_Rotatef(void *self, GLfloat a, GLfloat x, GLfloat y, GLfloat z) { CTX(self); rotate(c, a, x, y, z); }
 static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble z) { CTX(self); rotate(c, (GLfloat)a, (GLfloat)x, (GLfloat)y, (GLfloat)z); }
 
-static void st_Frustum(void *self, GLdouble l, GLdouble r, GLdouble b, GLdouble t, GLdouble n, GLdouble f)
+/* Frustum and Ortho as Mesa builds them: the double arguments converted to
+ * float first and the matrix computed in float (_math_matrix_frustum /
+ * _math_float_ortho), so the tracker holds the renderer's very bits (in
+ * double, 2 / (r - l) can round the other way). */
+static void st_Frustum(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
     CTX(self);
-    if (n <= 0 || f <= 0 || n == f || l == r || b == t)
+    if (nd <= 0 || fd <= 0 || nd == fd || ld == rd || bd == td)
         return;
+    GLfloat l = (GLfloat)ld, r = (GLfloat)rd, b = (GLfloat)bd, t = (GLfloat)td, n = (GLfloat)nd, f = (GLfloat)fd;
     GLfloat m[16] = {0};
-    m[0] = (GLfloat)((2.0 * n) / (r - l));
-    m[5] = (GLfloat)((2.0 * n) / (t - b));
-    m[8] = (GLfloat)((r + l) / (r - l));
-    m[9] = (GLfloat)((t + b) / (t - b));
-    m[10] = (GLfloat)(-(f + n) / (f - n));
+    m[0] = (2.0f * n) / (r - l);
+    m[5] = (2.0f * n) / (t - b);
+    m[8] = (r + l) / (r - l);
+    m[9] = (t + b) / (t - b);
+    m[10] = -(f + n) / (f - n);
     m[11] = -1.0f;
-    m[14] = (GLfloat)(-(2.0 * f * n) / (f - n));
+    m[14] = -(2.0f * f * n) / (f - n);
     mat_apply(c, m);
+    recipe_add(c, TSR_RECIPE_FRUSTUM, (const GLfloat[]){l, r, b, t, n, f}, 6);
 }
 
-static void st_Ortho(void *self, GLdouble l, GLdouble r, GLdouble b, GLdouble t, GLdouble n, GLdouble f)
+static void st_Ortho(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
     CTX(self);
-    if (l == r || b == t || n == f)
+    if (ld == rd || bd == td || nd == fd)
         return;
+    GLfloat l = (GLfloat)ld, r = (GLfloat)rd, b = (GLfloat)bd, t = (GLfloat)td, n = (GLfloat)nd, f = (GLfloat)fd;
     GLfloat m[16] = {0};
-    m[0] = (GLfloat)(2.0 / (r - l));
-    m[5] = (GLfloat)(2.0 / (t - b));
-    m[10] = (GLfloat)(-2.0 / (f - n));
-    m[12] = (GLfloat)(-(r + l) / (r - l));
-    m[13] = (GLfloat)(-(t + b) / (t - b));
-    m[14] = (GLfloat)(-(f + n) / (f - n));
+    m[0] = 2.0f / (r - l);
+    m[5] = 2.0f / (t - b);
+    m[10] = -2.0f / (f - n);
+    m[12] = -(r + l) / (r - l);
+    m[13] = -(t + b) / (t - b);
+    m[14] = -(f + n) / (f - n);
     m[15] = 1.0f;
     mat_apply(c, m);
+    recipe_add(c, TSR_RECIPE_ORTHO, (const GLfloat[]){l, r, b, t, n, f}, 6);
 }
 
 static void st_MatrixMode(void *self, GLenum mode)
@@ -792,7 +925,9 @@ static void st_PushMatrix(void *self)
     if (*depth >= max)
         return;
     memcpy(stack[*depth], stack[*depth - 1], sizeof stack[0]);
+    tsr_state_recipe *below = current_recipe(c);
     (*depth)++;
+    *current_recipe(c) = *below;
     st_mark(c, member);
 }
 

@@ -263,7 +263,34 @@ typedef struct tsr_state_values {
     GLfloat clip_plane[TSR_STATE_CLIP_PLANES][4];  /* eye coordinates */
 } tsr_state_values;
 
+/* How a matrix was built since its last load: what a renderer replays so
+ * it holds not only the same bits but the same matrix *history* (Mesa
+ * classifies a matrix built by glRotate/glTranslate/... from the
+ * operations, and one given by glLoadMatrix from its values; lighting
+ * then takes different, equally valid, rounding paths). A diff emits the
+ * operations the renderer lacks; after more than TSR_STATE_RECIPE_OPS
+ * operations the matrix counts as loaded (`base` = the product). */
+#define TSR_STATE_RECIPE_OPS 16
+enum { TSR_RECIPE_TRANSLATE, TSR_RECIPE_SCALE, TSR_RECIPE_ROTATE, TSR_RECIPE_FRUSTUM, TSR_RECIPE_ORTHO };
+/* Mesa also keeps a matrix's classification across glLoadIdentity: the
+ * kinds of operation applied since the last glLoadMatrix stick to it.
+ * `sticky` holds them (bit 1 << TSR_RECIPE_*, and TSR_STICKY_* below), and
+ * a diff reproduces them on the renderer. */
+#define TSR_STICKY_GENERAL_SCALE (1u << 5)
+#define TSR_STICKY_GENERAL (1u << 6)
+typedef struct tsr_state_recipe {
+    GLfloat base[16];          /* the loaded matrix the operations start from */
+    uint8_t base_is_identity;  /* base came from glLoadIdentity (or the initial state) */
+    uint8_t sticky;            /* classification bits from before the last glLoadIdentity */
+    uint8_t count;             /* operations after the base */
+    uint8_t kind[TSR_STATE_RECIPE_OPS];
+    GLfloat arg[TSR_STATE_RECIPE_OPS][6];
+} tsr_state_recipe;
+
 typedef struct tsr_state_stacks {
+    tsr_state_recipe modelview_recipe[TSR_STATE_MODELVIEW_DEPTH];
+    tsr_state_recipe projection_recipe[TSR_STATE_PROJECTION_DEPTH];
+    tsr_state_recipe texture_recipe[TSR_STATE_UNITS][TSR_STATE_TEXTURE_DEPTH];
     GLfloat modelview[TSR_STATE_MODELVIEW_DEPTH][16];
     GLfloat projection[TSR_STATE_PROJECTION_DEPTH][16];
     GLfloat texture[TSR_STATE_UNITS][TSR_STATE_TEXTURE_DEPTH][16];
@@ -328,6 +355,13 @@ typedef struct tsr_state_diff_stats {
  * may be NULL. Replies are never needed (no get is emitted). */
 TSR_API uint32_t tsr_state_diff(tsr_state_ctx *c, tsr_state_shadow *s, const tsr_dispatch *out,
                                 tsr_state_diff_stats *stats);
+/* Makes renderer s hold texture object `name` of c (target GL_TEXTURE_2D,
+ * ...) as it is now, uploading only what it lacks, and leaves the
+ * renderer's bindings as they were. For objects a diff cannot see: those a
+ * display list binds (its sender calls this before the list runs). Returns
+ * the number of GL calls emitted. */
+TSR_API uint32_t tsr_state_send_texture(tsr_state_ctx *c, tsr_state_shadow *s, GLenum target, GLuint name,
+                                        const tsr_dispatch *out);
 /* Whether a diff of c into s would look at anything (the root bit). */
 TSR_API int tsr_state_is_dirty(const tsr_state_ctx *c, const tsr_state_shadow *s);
 /* The renderer received commands (in a geometry stream) that made the

@@ -26,6 +26,7 @@ typedef struct dctx {
     uint32_t n;
     uint64_t changed[2];   /* members this diff changed on the renderer */
     int member;            /* member being diffed */
+    int eye_pushed;        /* eye_begin saved the modelview with glPushMatrix */
 } dctx;
 
 static inline void emitted(dctx *x)
@@ -129,20 +130,103 @@ static void sel_transfer(dctx *x, const st_transfer *t)
     }
 }
 
+/* Replays recipe r (core/state.h) from operation `from` on: the renderer
+ * then holds the matrix with the same bits and the same history. */
+/* Operations whose only lasting effect, once glLoadIdentity follows, is
+ * classification bit `bit` on the renderer's matrix. */
+static void emit_sticky(dctx *x, unsigned bit)
+{
+    static const GLfloat general[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2};
+    switch (bit) {
+    case 1u << TSR_RECIPE_TRANSLATE: tsr_call_Translatef(x->d, 1, 0, 0); break;
+    case 1u << TSR_RECIPE_SCALE: tsr_call_Scalef(x->d, 2, 2, 2); break;
+    case 1u << TSR_RECIPE_ROTATE: tsr_call_Rotatef(x->d, 90, 0, 0, 1); break;
+    case 1u << TSR_RECIPE_FRUSTUM: tsr_call_Frustum(x->d, -1, 1, -1, 1, 1, 2); break;
+    case TSR_STICKY_GENERAL_SCALE: tsr_call_Scalef(x->d, 1, 2, 3); break;
+    default: tsr_call_MultMatrixf(x->d, general); break;
+    }
+    x->n++;
+}
+
+/* Replays recipe r (core/state.h) on the renderer, whose matrix was built
+ * by recipe `had`, from operation `from` on (0: from the base); the
+ * renderer then holds the same bits with the same classification. */
+static void replay_recipe(dctx *x, const tsr_state_recipe *r, const tsr_state_recipe *had, unsigned from)
+{
+    if (from == 0 && r->base_is_identity) {
+        /* glLoadIdentity keeps the classification the renderer's matrix
+         * has: add the bits r's history has and it lacks. (Bits it has
+         * and r lacks cannot be taken away without a glLoadMatrix.) */
+        unsigned missing = r->sticky & ~st_recipe_bits(had);
+        for (unsigned bit = 1; bit <= TSR_STICKY_GENERAL; bit <<= 1)
+            if (missing & bit)
+                emit_sticky(x, bit);
+        tsr_call_LoadIdentity(x->d);
+        x->n++;
+    } else if (from == 0) {
+        /* glLoadMatrix of the values the matrix holds does nothing in Mesa */
+        tsr_call_Scalef(x->d, 2, 2, 2);
+        tsr_call_LoadMatrixf(x->d, r->base);
+        x->n += 2;
+    }
+    for (unsigned i = from; i < r->count; i++) {
+        const GLfloat *a = r->arg[i];
+        switch (r->kind[i]) {
+        case TSR_RECIPE_TRANSLATE: tsr_call_Translatef(x->d, a[0], a[1], a[2]); break;
+        case TSR_RECIPE_SCALE: tsr_call_Scalef(x->d, a[0], a[1], a[2]); break;
+        case TSR_RECIPE_ROTATE: tsr_call_Rotatef(x->d, a[0], a[1], a[2], a[3]); break;
+        case TSR_RECIPE_FRUSTUM: tsr_call_Frustum(x->d, a[0], a[1], a[2], a[3], a[4], a[5]); break;
+        default: tsr_call_Ortho(x->d, a[0], a[1], a[2], a[3], a[4], a[5]); break;
+        }
+        x->n++;
+    }
+}
+
+/* Operations the renderer's matrix (recipe s) lacks to become recipe c:
+ * the index to replay from when s is a prefix of c, else 0 (replay all,
+ * from the base). */
+static unsigned recipe_from(const tsr_state_recipe *c, const tsr_state_recipe *s)
+{
+    if (s->count > c->count || s->base_is_identity != c->base_is_identity || s->sticky != c->sticky ||
+        (!c->base_is_identity && memcmp(s->base, c->base, sizeof c->base)))
+        return 0;
+    for (unsigned i = 0; i < s->count; i++)
+        if (s->kind[i] != c->kind[i] || memcmp(s->arg[i], c->arg[i], sizeof c->arg[i]))
+            return 0;
+    return s->count;
+}
+
+static int recipe_equal(const tsr_state_recipe *c, const tsr_state_recipe *s)
+{
+    return s->count == c->count && recipe_from(c, s) == c->count;
+}
+
 /* Eye-space values (light positions, spot directions, clip and eye planes)
  * are sent under an identity modelview, so the renderer stores exactly the
- * tracker's eye-space numbers; the shadow's matrix is put back after. */
+ * tracker's eye-space numbers. The renderer's matrix is saved with
+ * glPushMatrix and restored with glPopMatrix (history included); with a
+ * full stack it is rebuilt from its recipe. */
 static void eye_begin(dctx *x)
 {
     sel_mode(x, GL_MODELVIEW);
+    x->eye_pushed = x->s->s.modelview_depth < TSR_STATE_MODELVIEW_DEPTH;
+    if (x->eye_pushed) {
+        tsr_call_PushMatrix(x->d);
+        x->n++;
+    }
     tsr_call_LoadIdentity(x->d);
     x->n++;
 }
 
 static void eye_end(dctx *x)
 {
-    tsr_call_LoadMatrixf(x->d, x->s->s.modelview[x->s->s.modelview_depth - 1]);
-    x->n++;
+    if (x->eye_pushed) {
+        tsr_call_PopMatrix(x->d);
+        x->n++;
+    } else {
+        const tsr_state_recipe *r = &x->s->s.modelview_recipe[x->s->s.modelview_depth - 1];
+        replay_recipe(x, r, r, 0);
+    }
 }
 
 /* --- members -------------------------------------------------------------------- */
@@ -1042,12 +1126,14 @@ static void d_pixel(dctx *x, int m)
 
 /* --- transform ---------------------------------------------------------------------- */
 /* Makes the renderer's stack equal to the context's: pops down to the
- * longest common prefix, then pushes and loads what differs. */
-static void sync_stack(dctx *x, GLenum mode, GLuint unit, const GLfloat (*cm)[16], uint32_t cd, GLfloat (*sm)[16],
-                       uint32_t *sd)
+ * longest common prefix (same bits, same recipe), then pushes and replays
+ * what differs — only the operations the renderer's matrix lacks when its
+ * recipe is a prefix of the context's. */
+static void sync_stack(dctx *x, GLenum mode, GLuint unit, const GLfloat (*cm)[16], const tsr_state_recipe *cr,
+                       uint32_t cd, GLfloat (*sm)[16], tsr_state_recipe *sr, uint32_t *sd)
 {
     uint32_t k = 0, common = cd < *sd ? cd : *sd;
-    while (k < common && memcmp(cm[k], sm[k], sizeof cm[k]) == 0)
+    while (k < common && memcmp(cm[k], sm[k], sizeof cm[k]) == 0 && recipe_equal(&cr[k], &sr[k]))
         k++;
     if (k == cd && k == *sd)
         return;
@@ -1061,19 +1147,22 @@ static void sync_stack(dctx *x, GLenum mode, GLuint unit, const GLfloat (*cm)[16
         emitted(x);
     }
     if (k == 0) {
-        tsr_call_LoadMatrixf(x->d, cm[0]);
+        replay_recipe(x, &cr[0], &sr[0], recipe_from(&cr[0], &sr[0]));
         memcpy(sm[0], cm[0], sizeof sm[0]);
+        sr[0] = cr[0];
         emitted(x);
     }
     while (*sd < cd) {
         uint32_t i = *sd;
         tsr_call_PushMatrix(x->d);
         memcpy(sm[i], sm[i - 1], sizeof sm[i]);
+        sr[i] = sr[i - 1];
         (*sd)++;
         emitted(x);
-        if (memcmp(cm[i], sm[i], sizeof cm[i]) != 0) {
-            tsr_call_LoadMatrixf(x->d, cm[i]);
+        if (memcmp(cm[i], sm[i], sizeof cm[i]) != 0 || !recipe_equal(&cr[i], &sr[i])) {
+            replay_recipe(x, &cr[i], &sr[i], recipe_from(&cr[i], &sr[i]));
             memcpy(sm[i], cm[i], sizeof sm[i]);
+            sr[i] = cr[i];
             emitted(x);
         }
     }
@@ -1083,15 +1172,15 @@ static void d_transform(dctx *x, int m)
 {
     tsr_state_stacks *c = &x->c->s, *s = &x->s->s;
     if (m == TSR_SM_MODELVIEW)
-        sync_stack(x, GL_MODELVIEW, 0, (const GLfloat(*)[16])c->modelview, c->modelview_depth, s->modelview,
-                   &s->modelview_depth);
+        sync_stack(x, GL_MODELVIEW, 0, (const GLfloat(*)[16])c->modelview, c->modelview_recipe, c->modelview_depth,
+                   s->modelview, s->modelview_recipe, &s->modelview_depth);
     else if (m == TSR_SM_PROJECTION)
-        sync_stack(x, GL_PROJECTION, 0, (const GLfloat(*)[16])c->projection, c->projection_depth, s->projection,
-                   &s->projection_depth);
+        sync_stack(x, GL_PROJECTION, 0, (const GLfloat(*)[16])c->projection, c->projection_recipe,
+                   c->projection_depth, s->projection, s->projection_recipe, &s->projection_depth);
     else if (m >= TSR_SM_TEXMAT0 && m < TSR_SM_TEXMAT0 + TSR_STATE_UNITS) {
         GLuint u = (GLuint)(m - TSR_SM_TEXMAT0);
-        sync_stack(x, GL_TEXTURE, u, (const GLfloat(*)[16])c->texture[u], c->texture_depth[u], s->texture[u],
-                   &s->texture_depth[u]);
+        sync_stack(x, GL_TEXTURE, u, (const GLfloat(*)[16])c->texture[u], c->texture_recipe[u], c->texture_depth[u],
+                   s->texture[u], s->texture_recipe[u], &s->texture_depth[u]);
     } else if (m == TSR_SM_CLIP && NEQ(x->c->v.clip_plane, x->s->v.clip_plane)) {
         eye_begin(x);
         for (int i = 0; i < TSR_STATE_CLIP_PLANES; i++)
@@ -1140,6 +1229,20 @@ static void diff_member(dctx *x, int m)
 int tsr_state_is_dirty(const tsr_state_ctx *c, const tsr_state_shadow *s)
 {
     return (int)((c->dirty[(size_t)s->id >> 6] >> (s->id & 63)) & 1u);
+}
+
+uint32_t tsr_state_send_texture(tsr_state_ctx *c, tsr_state_shadow *s, GLenum target, GLuint name,
+                                const tsr_dispatch *out)
+{
+    int ti = st_tex_target_index(target);
+    st_texobj *o = ti < 0 || !name ? NULL : st_tex_lookup(c, name, ti);
+    if (!o)
+        return 0;
+    dctx x = {.c = c, .s = s, .d = out};
+    GLuint u = s->v.active_texture, was = s->v.unit[u].binding[ti];
+    sync_texture(&x, u, ti, o);
+    bind_tex(&x, u, ti, was);
+    return x.n;
 }
 
 uint32_t tsr_state_diff(tsr_state_ctx *c, tsr_state_shadow *s, const tsr_dispatch *out, tsr_state_diff_stats *stats)

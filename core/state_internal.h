@@ -149,6 +149,9 @@ extern const GLenum st_enable_caps[128];   /* cap of each enable index (0: unuse
 
 void st_values_init(tsr_state_values *v);
 void st_stacks_init(tsr_state_stacks *s);
+/* Classification bits (tsr_state_recipe.sticky's kind) recipe r leaves on
+ * a Mesa matrix: its sticky bits, its base, its operations. */
+unsigned st_recipe_bits(const tsr_state_recipe *r);
 void st_texparams_init(st_texparams *p, int target);
 /* Enable index of cap for the active unit (-1: not a tracked cap). */
 int st_enable_index(GLenum cap, GLuint unit);

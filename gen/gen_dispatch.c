@@ -76,6 +76,90 @@ static void emit_nop(FILE *f, const spec_command *c, const char *prefix)
     fprintf(f, "\n}\n");
 }
 
+static const char *category_enum(const char *category)
+{
+    static const char *const names[][2] = {
+        {"geometry", "TSR_CAT_GEOMETRY"}, {"state", "TSR_CAT_STATE"}, {"frame", "TSR_CAT_FRAME"},
+        {"get", "TSR_CAT_GET"},           {"object", "TSR_CAT_OBJECT"}, {"client", "TSR_CAT_CLIENT"},
+        {"special", "TSR_CAT_SPECIAL"},
+    };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strcmp(names[i][0], category))
+            return names[i][1];
+    return "TSR_CAT_SPECIAL"; /* the spec loader rejects unknown categories */
+}
+
+static int has_output(const spec_command *c)
+{
+    if (!gen_is_void(c->ret))
+        return 1;
+    for (size_t k = 0; k < c->nparams; k++)
+        if (c->params[k].dir_out)
+            return 1;
+    return 0;
+}
+
+/* Per-slot category and flags (tessera/dispatch.h). */
+static void emit_slot_info(FILE *f, const gen *g)
+{
+    fprintf(f, "\nstatic const unsigned char slot_categories[TSR_DISPATCH_COUNT] = {\n");
+    for (size_t i = 0; i < g->ncmds; i++)
+        fprintf(f, "    %s, /* %s */\n", category_enum(g->cmds[i].sc->category), g->cmds[i].sc->name);
+    fprintf(f, "};\n\nstatic const unsigned char slot_flags[TSR_DISPATCH_COUNT] = {\n");
+    for (size_t i = 0; i < g->ncmds; i++) {
+        const spec_command *c = g->cmds[i].sc;
+        fprintf(f, "    0%s%s%s,\n", has_output(c) ? " | TSR_CMD_OUTPUT" : "",
+                c->wire == SPEC_WIRE_LOCAL ? " | TSR_CMD_LOCAL" : "", c->vertex ? " | TSR_CMD_POSITION" : "");
+    }
+    fprintf(f, "};\n\n"
+               "int tsr_dispatch_category(int slot)\n{\n"
+               "    return slot < 0 || slot >= TSR_DISPATCH_COUNT ? -1 : (int)slot_categories[slot];\n}\n\n"
+               "unsigned tsr_dispatch_flags(int slot)\n{\n"
+               "    return slot < 0 || slot >= TSR_DISPATCH_COUNT ? 0u : (unsigned)slot_flags[slot];\n}\n");
+}
+
+/* One hook and one tee trampoline per command, each calling typed
+ * function pointers, and the tables that install them by slot. */
+static void emit_wrappers(FILE *f, const gen *g)
+{
+    for (size_t i = 0; i < g->ncmds; i++) {
+        const spec_command *c = g->cmds[i].sc;
+        int value = !gen_is_void(c->ret);
+        fprintf(f, "\nstatic %s hook_%s(", c->ret, c->name);
+        gen_print_params(f, c, 1, 0);
+        fprintf(f, ")\n{\n    tsr_hook *tsr_h_ = self;\n    if (tsr_h_->before)\n        tsr_h_->before(tsr_h_->ctx, %zu);\n    ", i);
+        if (value)
+            fprintf(f, "%s tsr_result_ = ", c->ret);
+        fprintf(f, "((tsr_fn_%s)tsr_h_->next.fn)(tsr_h_->next.self", c->name);
+        gen_print_args(f, c, 1);
+        fprintf(f, ");\n    if (tsr_h_->after)\n        tsr_h_->after(tsr_h_->ctx, %zu);\n", i);
+        if (value)
+            fprintf(f, "    return tsr_result_;\n");
+        fprintf(f, "}\n");
+        fprintf(f, "static %s tee_%s(", c->ret, c->name);
+        gen_print_params(f, c, 1, 0);
+        fprintf(f, ")\n{\n    tsr_tee *tsr_t_ = self;\n    ((tsr_fn_%s)tsr_t_->first.fn)(tsr_t_->first.self", c->name);
+        gen_print_args(f, c, 1);
+        fprintf(f, ");\n    %s((tsr_fn_%s)tsr_t_->second.fn)(tsr_t_->second.self", value ? "return " : "", c->name);
+        gen_print_args(f, c, 1);
+        fprintf(f, ");\n}\n");
+    }
+    fprintf(f, "\nstatic const tsr_proc hook_fns[TSR_DISPATCH_COUNT] = {\n");
+    for (size_t i = 0; i < g->ncmds; i++)
+        fprintf(f, "    (tsr_proc)hook_%s,\n", g->cmds[i].sc->name);
+    fprintf(f, "};\n\nstatic const tsr_proc tee_fns[TSR_DISPATCH_COUNT] = {\n");
+    for (size_t i = 0; i < g->ncmds; i++)
+        fprintf(f, "    (tsr_proc)tee_%s,\n", g->cmds[i].sc->name);
+    fprintf(f, "};\n\n"
+               "void tsr_dispatch_hook(tsr_dispatch *d, int slot, tsr_hook *hook)\n{\n"
+               "    if (slot < 0 || slot >= TSR_DISPATCH_COUNT)\n        return;\n"
+               "    hook->next = d->slots[slot];\n"
+               "    d->slots[slot].fn = hook_fns[slot];\n    d->slots[slot].self = hook;\n}\n\n"
+               "void tsr_dispatch_tee(tsr_dispatch *d, int slot, tsr_tee *tee)\n{\n"
+               "    if (slot < 0 || slot >= TSR_DISPATCH_COUNT)\n        return;\n"
+               "    d->slots[slot].fn = tee_fns[slot];\n    d->slots[slot].self = tee;\n}\n");
+}
+
 static void emit_dispatch_c(const gen *g)
 {
     FILE *f = gen_open(g, "src/dispatch_gen.c");
@@ -112,6 +196,8 @@ static void emit_dispatch_c(const gen *g)
     for (size_t i = 0; i < g->ncmds; i++)
         fprintf(f, "    tsr_set_%s(d, nop_%s, NULL);\n", g->cmds[i].sc->name, g->cmds[i].sc->name);
     fprintf(f, "}\n");
+    emit_slot_info(f, g);
+    emit_wrappers(f, g);
     gen_close(f);
 }
 

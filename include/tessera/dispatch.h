@@ -53,6 +53,36 @@ TSR_API const char *tsr_dispatch_name(int slot);
  * (outputs are left untouched); `self` is ignored. The end of every chain. */
 TSR_API void tsr_dispatch_fill_nop(tsr_dispatch *d);
 
+/* What the spec says of a slot's command: its category, and flags. */
+typedef enum tsr_cmd_category {
+    TSR_CAT_GEOMETRY, TSR_CAT_STATE, TSR_CAT_FRAME, TSR_CAT_GET, TSR_CAT_OBJECT, TSR_CAT_CLIENT,
+    TSR_CAT_SPECIAL
+} tsr_cmd_category;
+#define TSR_CMD_OUTPUT 1u    /* returns a value or writes through a pointer */
+#define TSR_CMD_LOCAL 2u     /* wire: local (client state, never sent) */
+#define TSR_CMD_POSITION 4u  /* vertex: position (glVertex*) */
+/* Category of a slot (tsr_cmd_category), -1 when out of range. */
+TSR_API int tsr_dispatch_category(int slot);
+TSR_API unsigned tsr_dispatch_flags(int slot);
+
+/* Hooks and tees: generic per-slot wrappers for SPUs that must act around
+ * whole classes of commands without writing one function per command.
+ * A hook calls before(ctx, slot), then the slot's previous entry (saved in
+ * `next` by tsr_dispatch_hook), then after(ctx, slot); either may be NULL.
+ * A tee calls `first`, then `second` (whose result it returns). The hook or
+ * tee struct is the slot's `self`: it must outlive the table's use. */
+typedef struct tsr_hook {
+    void (*before)(void *ctx, int slot);
+    void (*after)(void *ctx, int slot);
+    void *ctx;
+    tsr_entry next;
+} tsr_hook;
+TSR_API void tsr_dispatch_hook(tsr_dispatch *d, int slot, tsr_hook *hook);
+typedef struct tsr_tee {
+    tsr_entry first, second;
+} tsr_tee;
+TSR_API void tsr_dispatch_tee(tsr_dispatch *d, int slot, tsr_tee *tee);
+
 #ifdef __cplusplus
 }
 #endif
