@@ -26,20 +26,51 @@ void net_msg_free(net_msg *m) {
     free(m);
 }
 
+/* A kept buffer of at least `len` bytes and not more than twice that,
+ * newest first (the likeliest to be in cache); NULL when none fits. */
+static uint8_t *spares_take(net_spares *s, uint64_t len, uint64_t *cap) {
+    for (unsigned i = s->count; i-- > 0;)
+        if (s->cap[i] >= len && s->cap[i] / 2 <= len) {
+            uint8_t *p = s->buf[i];
+            *cap = s->cap[i];
+            s->count--;
+            memmove(&s->buf[i], &s->buf[i + 1], (s->count - i) * sizeof s->buf[0]);
+            memmove(&s->cap[i], &s->cap[i + 1], (s->count - i) * sizeof s->cap[0]);
+            return p;
+        }
+    return NULL;
+}
+
+/* Keeps buf; when all places are taken it replaces the smallest (sizes
+ * drift upwards), or is refused (0) when it is the smallest itself. */
+static int spares_put(net_spares *s, uint8_t *buf, uint64_t cap) {
+    if (s->count == NET_SPARE_MAX) {
+        unsigned small = 0;
+        for (unsigned i = 1; i < s->count; i++)
+            if (s->cap[i] < s->cap[small])
+                small = i;
+        if (s->cap[small] >= cap)
+            return 0;
+        free(s->buf[small]);
+        s->count--;
+        memmove(&s->buf[small], &s->buf[small + 1], (s->count - small) * sizeof s->buf[0]);
+        memmove(&s->cap[small], &s->cap[small + 1], (s->count - small) * sizeof s->cap[0]);
+    }
+    s->buf[s->count] = buf;
+    s->cap[s->count] = cap;
+    s->count++;
+    return 1;
+}
+
+static void spares_free(net_spares *s) {
+    while (s->count)
+        free(s->buf[--s->count]);
+}
+
 uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
-    /* Newest first: the most recently released buffer is the likeliest
-     * to be in cache. */
-    if (len >= NET_STAGING_BYTES)
-        for (unsigned i = c->spares; i-- > 0;)
-            if (c->spare_cap[i] >= len && c->spare_cap[i] / 2 <= len) {
-                uint8_t *p = c->spare[i];
-                *cap = c->spare_cap[i];
-                c->spares--;
-                memmove(&c->spare[i], &c->spare[i + 1], (c->spares - i) * sizeof c->spare[0]);
-                memmove(&c->spare_cap[i], &c->spare_cap[i + 1],
-                        (c->spares - i) * sizeof c->spare_cap[0]);
-                return p;
-            }
+    uint8_t *p = len >= NET_STAGING_BYTES ? spares_take(&c->spares, len, cap) : NULL;
+    if (p)
+        return p;
     *cap = len ? len : 1;
     return malloc((size_t)*cap);
 }
@@ -51,26 +82,34 @@ uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
 static int keep_spare(tsr_net_conn *c, net_msg *m) {
     if (m->release || m->cap < NET_STAGING_BYTES || c->close_requested || c->state != NET_OPEN)
         return 0;
-    if (c->spares + c->inbox_count + c->held + (c->partial != NULL) >= c->net->config.credits)
+    if (c->spares.count + c->inbox_count + c->held + (c->partial != NULL) >= c->net->config.credits)
         return 0;
-    if (c->spares == NET_SPARE_MAX) { /* replace the smallest: sizes drift upwards */
-        unsigned small = 0;
-        for (unsigned i = 1; i < c->spares; i++)
-            if (c->spare_cap[i] < c->spare_cap[small])
-                small = i;
-        if (c->spare_cap[small] >= m->cap)
-            return 0;
-        free(c->spare[small]);
-        c->spares--;
-        memmove(&c->spare[small], &c->spare[small + 1], (c->spares - small) * sizeof c->spare[0]);
-        memmove(&c->spare_cap[small], &c->spare_cap[small + 1],
-                (c->spares - small) * sizeof c->spare_cap[0]);
-    }
-    c->spare[c->spares] = m->data;
-    c->spare_cap[c->spares] = m->cap;
-    c->spares++;
+    if (!spares_put(&c->spares, m->data, m->cap))
+        return 0;
     m->data = NULL;
     return 1;
+}
+
+uint8_t *net_send_copy_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
+    c->send_copies++;
+    uint8_t *p = len >= NET_STAGING_BYTES ? spares_take(&c->send_spares, len, cap) : NULL;
+    if (p)
+        return p;
+    *cap = len ? len : 1;
+    return malloc((size_t)*cap);
+}
+
+void net_send_copy_done(tsr_net_conn *c, net_msg *m) {
+    if (!m->copy)
+        return;
+    m->copy = false;
+    c->send_copies--;
+    /* Copies queued plus kept stay within the peer's window: the sender's
+     * side of the memory bound in net.h. */
+    if (m->data && m->cap >= NET_STAGING_BYTES && !c->close_requested && c->state == NET_OPEN &&
+        c->send_spares.count + c->send_copies < c->peer_window &&
+        spares_put(&c->send_spares, m->data, m->cap))
+        m->data = NULL;
 }
 
 static void free_msg_list(net_msg **head, net_msg **tail) {
@@ -94,6 +133,7 @@ tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
     snprintf(c->address, sizeof c->address, "%s", address);
     strcpy(c->peer_name, "?");
     net_cond_init(&c->cond);
+    c->fd = -1;
     c->state = is_server ? NET_HANDSHAKE : NET_CONNECTING;
     c->io_ref = t != NET_INPROC;
     c->next_all = net->conns;
@@ -123,10 +163,11 @@ void net_conn_maybe_free(tsr_net_conn *c) {
         c->next_all->prev_all = c->prev_all;
     free_msg_list(&c->inbox_head, &c->inbox_tail);
     free_msg_list(&c->outbox_head, &c->outbox_tail);
+    net_msg_free(c->direct_rest);
     if (c->partial)
         net_msg_free(c->partial);
-    while (c->spares)
-        free(c->spare[--c->spares]);
+    spares_free(&c->spares);
+    spares_free(&c->send_spares);
     free(c->staging);
     pthread_cond_destroy(&c->cond);
     free(c);
@@ -422,9 +463,17 @@ static uint64_t elapsed_ns(const struct timespec *since) {
            (uint64_t)(now.tv_nsec - since->tv_nsec);
 }
 
-int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
-                       void (*release)(void *, void *), void *ctx, int timeout_ms,
-                       tsr_error *err) {
+static void release_nothing(void *data, void *ctx) {
+    (void)data;
+    (void)ctx;
+}
+
+/* tsr_net_send_owned, or with `borrowed` tsr_net_send: the caller's `data`
+ * is written directly when the connection's write side is idle (no copy
+ * at all), and copied only when it must wait in a queue. */
+static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
+                    void (*release)(void *, void *), void *ctx, bool borrowed, int timeout_ms,
+                    tsr_error *err) {
     if (kind < TSR_NET_KIND_FIRST_USER || kind > 255)
         return tsr_error_set(err, TSR_EINVAL,
                              "net: message kind %u is outside the application range %d..255",
@@ -435,6 +484,7 @@ int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
     tsr_net *net = c->net;
     struct timespec ts, started;
     const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    net_msg *written = NULL;
     pthread_mutex_lock(&net->lock);
     int rc = TSR_OK;
     if (c->state != NET_OPEN || c->close_requested) {
@@ -480,11 +530,39 @@ int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
     m->data = data;
     m->release = release;
     m->release_ctx = ctx;
+    if (borrowed && !net_direct_possible(c)) { /* it waits in a queue: copy it */
+        bool pooled = c->transport != NET_INPROC; /* an inproc copy becomes the peer's */
+        m->data = pooled ? net_send_copy_alloc(c, len, &m->cap) : malloc(len ? (size_t)len : 1);
+        m->copy = pooled;
+        m->release = NULL; /* free() */
+        if (!m->data) {
+            net_send_copy_done(c, m);
+            free(m);
+            rc = tsr_error_set(err, TSR_ENOMEM, "net: out of memory copying a %llu-byte message",
+                               (unsigned long long)len);
+            goto out;
+        }
+        pthread_mutex_unlock(&net->lock); /* the copy may be long: others go on */
+        if (len)
+            memcpy(m->data, data, (size_t)len);
+        pthread_mutex_lock(&net->lock);
+        if (c->state != NET_OPEN || c->close_requested) { /* changed while copying */
+            net_send_copy_done(c, m);
+            net_msg_free(m);
+            rc = conn_unusable(c, "send", err);
+            goto out;
+        }
+    } else if (borrowed) {
+        m->release = release_nothing; /* the caller's memory; a rest is copied (direct.c) */
+        m->borrowed = true;
+    }
     c->send_credits--;
     c->stats.messages_sent++;
     c->stats.bytes_sent += len;
     if (c->transport == NET_INPROC) {
         net_inproc_deliver(c, m);
+    } else if (net_direct_possible(c)) {
+        written = net_direct_write(c, m); /* no hand-over to the I/O thread */
     } else {
         if (c->outbox_tail)
             c->outbox_tail->next = m;
@@ -495,28 +573,22 @@ int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
     }
 out:
     pthread_mutex_unlock(&net->lock);
+    net_msg_free(written); /* outside the lock: a caller's release() may take its own */
     return rc;
+}
+
+int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
+                       void (*release)(void *, void *), void *ctx, int timeout_ms,
+                       tsr_error *err) {
+    return send_msg(c, kind, data, len, release, ctx, false, timeout_ms, err);
 }
 
 int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len, int timeout_ms,
                  tsr_error *err) {
-    /* A closed connection or an oversize message fails without copying
-     * (a connection never reopens, and the peer's limit never changes). */
-    pthread_mutex_lock(&c->net->lock);
-    bool fails = c->state != NET_OPEN || len > c->peer_max_message || len >= SIZE_MAX;
-    pthread_mutex_unlock(&c->net->lock);
-    if (fails)
-        return tsr_net_send_owned(c, kind, (void *)data, len, NULL, NULL, timeout_ms, err);
-    void *copy = malloc(len ? (size_t)len : 1);
-    if (!copy)
-        return tsr_error_set(err, TSR_ENOMEM, "net: out of memory copying a %llu-byte message",
+    if (len >= SIZE_MAX)
+        return tsr_error_set(err, TSR_EINVAL, "net: a %llu-byte message cannot be copied",
                              (unsigned long long)len);
-    if (len)
-        memcpy(copy, data, (size_t)len);
-    int rc = tsr_net_send_owned(c, kind, copy, len, NULL, NULL, timeout_ms, err);
-    if (rc)
-        free(copy);
-    return rc;
+    return send_msg(c, kind, (void *)data, len, NULL, NULL, true, timeout_ms, err);
 }
 
 /* (L) Whether tsr_net_recv on c would return now. */
@@ -601,6 +673,32 @@ int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, ts
     return rc;
 }
 
+/* (L) Returns the released credits with a CREDIT the calling thread writes
+ * itself (direct.c), sparing the I/O thread a wake-up per message; false
+ * when the I/O thread must do it. *written gets the message to free after
+ * unlocking. While the application held a full window the I/O thread
+ * stopped reading; it is woken then to read again. */
+static bool return_credits_direct(tsr_net_conn *c, net_msg **written) {
+    if (!net_direct_possible(c))
+        return false;
+    net_msg *m = calloc(1, sizeof *m);
+    uint8_t *payload = malloc(4);
+    if (!m || !payload) {
+        free(m);
+        free(payload);
+        return false;
+    }
+    net_put_u32(payload, c->credits_to_return);
+    c->credits_to_return = 0;
+    m->type = NET_CREDIT;
+    m->data = payload;
+    m->len = 4;
+    *written = net_direct_write(c, m);
+    if (!c->reading)
+        net_mark_dirty(c);
+    return true;
+}
+
 void tsr_net_msg_release(tsr_net_msg *msg) {
     net_msg *m = msg ? msg->internal : NULL;
     if (!m)
@@ -611,17 +709,19 @@ void tsr_net_msg_release(tsr_net_msg *msg) {
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
     c->held--;
+    net_msg *credit = NULL;
     if (!c->close_requested && c->state == NET_OPEN) {
         c->credits_to_return++;
         if (c->transport == NET_INPROC)
             net_inproc_return_credits(c);
-        else
+        else if (!return_credits_direct(c, &credit))
             net_mark_dirty(c);
     }
     if (c->transport != NET_INPROC)
         keep_spare(c, m); /* before maybe_free, which frees the spares with c */
     net_conn_maybe_free(c);
     pthread_mutex_unlock(&net->lock);
+    net_msg_free(credit);
     net_msg_free(m);
 }
 

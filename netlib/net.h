@@ -11,7 +11,8 @@
  * every socket lives on it. Any other thread may call the functions below
  * (one thread per connection at a time for send, one for receive); they
  * exchange messages with the I/O thread through bounded queues guarded by
- * one mutex and wake it with uv_async. Blocking calls take a time-out in
+ * one mutex and wake it with uv_async, or write to an idle socket
+ * themselves (see SENDING). Blocking calls take a time-out in
  * milliseconds: 0 = poll, > 0 = at most that long, TSR_NET_WAIT_FOREVER =
  * until the call can complete or the connection fails (a dead or silent
  * peer is caught by idle_timeout_ms, so set it when waiting forever).
@@ -62,8 +63,19 @@
  * bounded by credits x max_message_bytes on each side (the sender's queue
  * and the receiver's window), plus a 64 KiB read buffer. Payload buffers
  * of released large messages are kept (within that window) and reused for
- * the next ones, so a stream does not fault in fresh pages per message.
+ * the next ones, so a stream does not fault in fresh pages per message;
+ * so are tsr_net_send's copies (queued plus kept: at most the window).
  * Messages are delivered in order, exactly once, per connection.
+ *
+ * SENDING. A message goes to the I/O thread's queue, except when the
+ * connection's write side is idle (nothing queued or being written): then
+ * the sending thread writes it to the socket itself, without blocking and
+ * without netlib's lock, which spares a hand-over to the I/O thread (a
+ * wake-up) per message; the same goes for the CREDIT a release returns.
+ * What the socket does not take at once is finished by the I/O thread
+ * before anything else (for tsr_net_send, that rest is copied first), so
+ * order, framing and every guarantee above hold either way. The I/O thread
+ * writes, shuts down and closes nothing while a thread writes directly.
  *
  * CLOSING. tsr_net_conn_close() hands the connection to the I/O thread,
  * which writes what was already sent, then BYE (empty), shuts down its
@@ -125,6 +137,8 @@ typedef struct tsr_net_stats {
     uint64_t messages_sent, bytes_sent;         /* payload bytes */
     uint64_t messages_received, bytes_received; /* payload bytes */
     uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
+    uint64_t messages_direct;  /* data messages the sending thread wrote itself (see SENDING) */
+    uint64_t messages_direct_rest; /* ... of which the socket took only a part */
 } tsr_net_stats;
 
 TSR_API void tsr_net_config_defaults(tsr_net_config *config);
@@ -157,7 +171,9 @@ TSR_API void tsr_net_listener_close(tsr_net_listener *listener);
  * the peer sent before stay receivable, then send/recv report the end. */
 TSR_API tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err);
 
-/* Sends a copy of `data`. Blocks while the peer grants no credit.
+/* Sends a copy of `data` (copied only when it cannot be written at once:
+ * see SENDING; `data` is the caller's again on return). Blocks while the
+ * peer grants no credit.
  * Returns TSR_OK, TSR_ETIMEDOUT (nothing sent), TSR_EINVAL (kind out of
  * range, or len above the peer's max_message_bytes: nothing allocated), or
  * the connection's error once it failed or closed. */

@@ -40,6 +40,13 @@ typedef struct net_address {
     char name[TSR_NET_ADDRESS_MAX - 8];                      /* inproc */
 } net_address;
 
+/* Payload buffers kept for reuse (newest last). */
+typedef struct net_spares {
+    uint8_t *buf[NET_SPARE_MAX];
+    uint64_t cap[NET_SPARE_MAX];
+    unsigned count;
+} net_spares;
+
 /* One message in an outbox (to write) or an inbox (received). */
 typedef struct net_msg {
     struct net_msg *next;
@@ -50,6 +57,9 @@ typedef struct net_msg {
     uint64_t cap;              /* bytes allocated at data (received messages) */
     void (*release)(void *data, void *ctx); /* NULL = free() */
     void *release_ctx;
+    uint64_t written; /* bytes of header + payload already on the socket (direct.c) */
+    bool borrowed;    /* data is the sender's memory, valid only during tsr_net_send */
+    bool copy;        /* data is tsr_net_send's copy, counted in send_copies (cap set) */
     uint8_t header[TSR_NET_HEADER_BYTES];
     uv_write_t write_req;
 } net_msg;
@@ -86,7 +96,20 @@ struct tsr_net_conn {
     uint32_t peer_window;               /* credits the peer granted in its handshake */
     uint64_t peer_max_message;
     net_msg *outbox_head, *outbox_tail; /* accepted, not yet given to libuv */
-    uint32_t writes_in_flight;          /* given to libuv, not completed */
+    uint32_t writes_in_flight;          /* given to libuv (or being given), not completed */
+    /* Direct writes (direct.c): an application thread may write a message
+     * to the socket itself, without the lock, when nothing else is queued
+     * or in libuv's hands. While direct_writer is set the I/O thread writes
+     * nothing, shuts nothing down and closes nothing on this connection (it
+     * waits on `cond`: the direct write never blocks). What the socket did
+     * not take is left in direct_rest, which the I/O thread writes before
+     * anything else. fd is the socket's descriptor while it is open, else -1. */
+    bool direct_writer;
+    bool direct_awaited; /* the I/O thread waits for the direct writer */
+    net_msg *direct_rest;
+    int fd;
+    int rcvlowat;     /* (IO) SO_RCVLOWAT set on fd (0 = the kernel's default, 1) */
+    int lowat_queued; /* (IO) bytes queued below it when the idle timer last looked */
     uint32_t send_waiters;              /* threads blocked for credits */
 
     /* receive side (L) */
@@ -97,9 +120,12 @@ struct tsr_net_conn {
      * (L): fresh multi-megabyte allocations come from mmap and cost a page
      * fault per 4 KiB on first touch, which halved stream throughput. At
      * most NET_SPARE_MAX, so memory stays within the credit bound. */
-    uint8_t *spare[NET_SPARE_MAX];
-    uint64_t spare_cap[NET_SPARE_MAX];
-    unsigned spares;
+    net_spares spares;
+    /* The same for the copies tsr_net_send makes of messages that must
+     * wait in the queue (L): send_copies are queued or being written,
+     * send_spares written and kept; together at most peer_window. */
+    net_spares send_spares;
+    unsigned send_copies;
 
     tsr_net_stats stats; /* (L) */
 
@@ -259,6 +285,10 @@ void net_msg_free(net_msg *m);
  * one; sets *cap to its size. NULL when out of memory. */
 uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap);
 uint16_t net_version(const tsr_net *net);
+/* (L) A payload buffer for a copy tsr_net_send queues (a send spare or a
+ * new one); and, once written, keeps it for reuse within the bound. */
+uint8_t *net_send_copy_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap);
+void net_send_copy_done(tsr_net_conn *c, net_msg *m);
 
 /* socket.c: runs on the I/O thread, net->lock held */
 void net_io_listen(tsr_net *net, net_op *op);
@@ -266,6 +296,16 @@ void net_io_connect(tsr_net *net, net_op *op);
 void net_io_close_listener(tsr_net_listener *l);
 void net_io_service(tsr_net_conn *conn); /* act on dirty state */
 void net_io_stop(tsr_net *net);          /* destroy: close everything */
+
+/* direct.c: application threads, net->lock held on entry and on return */
+bool net_direct_possible(const tsr_net_conn *conn);
+/* Writes m (header encoded here) from the calling thread when
+ * net_direct_possible(); the lock is dropped during the system call. Takes
+ * m: returns it when it was written whole (free it after unlocking), or
+ * NULL when the rest was left in direct_rest for the I/O thread. */
+net_msg *net_direct_write(tsr_net_conn *conn, net_msg *m);
+/* (I/O thread) Waits until no application thread writes on conn. */
+void net_direct_await(tsr_net_conn *conn);
 
 /* inproc.c: application threads, net->lock held */
 int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err);

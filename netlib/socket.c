@@ -10,11 +10,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include "net_internal.h"
 #include "tessera/log.h"
+
+#define NET_UNIX_SNDBUF (4 << 20) /* asked for a Unix socket's send buffer */
 
 static void close_handles(tsr_net_conn *c);
 static void arm_timer(tsr_net_conn *c);
@@ -29,6 +32,7 @@ static void on_write(uv_write_t *req, int status) {
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
     c->writes_in_flight--;
+    net_send_copy_done(c, m); /* its buffer may serve the next copy */
     if (status < 0 && status != UV_ECANCELED && !c->handles_closing) {
         net_conn_fail(c, TSR_EIO, "net: writing to peer '%s' at %s failed: %s", c->peer_name,
                       c->address, uv_strerror(status));
@@ -38,14 +42,22 @@ static void on_write(uv_write_t *req, int status) {
     net_msg_free(m); /* outside the lock: a caller's release() may take its own */
 }
 
-/* Hands one message (header + payload) to libuv. */
-static void write_msg(tsr_net_conn *c, net_msg *m) {
+/* Hands one message (header + payload, less what a direct write already
+ * put on the socket) to libuv. */
+static void write_now(tsr_net_conn *c, net_msg *m) {
     net_header_encode(m->header, net_version(c->net), m->type, m->len);
     /* Set .len directly: uv_buf_init() takes an unsigned int, and a
      * message may be longer than 4 GiB (uv_buf_t.len is a size_t here). */
-    uv_buf_t bufs[2] = {uv_buf_init((char *)m->header, TSR_NET_HEADER_BYTES),
-                        uv_buf_init((char *)m->data, 0)};
-    bufs[1].len = (size_t)m->len;
+    uv_buf_t bufs[2];
+    unsigned n = 0;
+    if (m->written < TSR_NET_HEADER_BYTES)
+        bufs[n++] = uv_buf_init((char *)m->header + m->written,
+                                (unsigned)(TSR_NET_HEADER_BYTES - m->written));
+    uint64_t at = m->written > TSR_NET_HEADER_BYTES ? m->written - TSR_NET_HEADER_BYTES : 0;
+    if (m->len > at) {
+        bufs[n] = uv_buf_init((char *)m->data + at, 0);
+        bufs[n++].len = (size_t)(m->len - at);
+    }
     m->conn = c;
     m->write_req.data = m;
     /* uv_write writes what the socket takes at once: for a large message
@@ -54,21 +66,45 @@ static void write_msg(tsr_net_conn *c, net_msg *m) {
      * its previous buffer is copied), so the lock is dropped around it.
      * Safe: only this thread touches libuv handles or frees `c` while it
      * holds io_ref, libuv never runs the write callback from inside
-     * uv_write, and `m` is no longer in any list other threads see. */
-    bool unlock = m->len >= NET_STAGING_BYTES;
+     * uv_write, and `m` is no longer in any list other threads see. The
+     * write counts as in flight from here, so no application thread starts
+     * a direct write meanwhile (direct.c). */
+    bool unlock = m->len - at >= NET_STAGING_BYTES;
+    c->writes_in_flight++;
     if (unlock)
         pthread_mutex_unlock(&c->net->lock);
-    int rc = uv_write(&m->write_req, &c->h.stream, bufs, m->len ? 2 : 1, on_write);
+    int rc = uv_write(&m->write_req, &c->h.stream, bufs, n, on_write);
     if (unlock)
         pthread_mutex_lock(&c->net->lock);
     if (rc) {
+        c->writes_in_flight--;
         net_conn_fail(c, TSR_EIO, "net: writing to %s failed: %s", c->address, uv_strerror(rc));
+        net_send_copy_done(c, m);
         net_msg_free(m);
         close_handles(c);
         return;
     }
-    c->writes_in_flight++;
     c->last_written_ms = net_now_ms();
+}
+
+/* What an application thread's direct write left goes first. */
+static void write_direct_rest(tsr_net_conn *c) {
+    net_direct_await(c);
+    if (c->direct_rest && !c->handles_closing) {
+        net_msg *r = c->direct_rest;
+        c->direct_rest = NULL;
+        write_now(c, r);
+    }
+}
+
+static void write_msg(tsr_net_conn *c, net_msg *m) {
+    write_direct_rest(c);
+    if (c->handles_closing) {
+        net_send_copy_done(c, m);
+        net_msg_free(m);
+        return;
+    }
+    write_now(c, m);
 }
 
 static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, size_t len) {
@@ -98,6 +134,7 @@ static void send_hello(tsr_net_conn *c, uint8_t type, bool with_token) {
 }
 
 static void flush_outbox(tsr_net_conn *c) {
+    write_direct_rest(c);
     while (c->outbox_head && !c->handles_closing) {
         net_msg *m = c->outbox_head;
         c->outbox_head = m->next;
@@ -130,7 +167,9 @@ static void on_handle_closed(uv_handle_t *h) {
 static void close_handles(tsr_net_conn *c) {
     if (c->handles_closing)
         return;
+    net_direct_await(c); /* an application thread may be writing on the descriptor */
     c->handles_closing = true;
+    c->fd = -1;
     c->reading = false;
     if (c->state == NET_OPEN) /* nothing more can come or go */
         c->state = NET_ENDED;
@@ -166,6 +205,7 @@ static void begin_shutdown(tsr_net_conn *c) {
     write_control(c, NET_BYE, NULL, 0); /* tells a clean end from a crash */
     if (c->handles_closing)
         return;
+    net_direct_await(c);
     c->shutting_down = true;
     c->shutdown_req.data = c;
     if (uv_shutdown(&c->shutdown_req, &c->h.stream, on_shutdown)) {
@@ -202,6 +242,13 @@ static void on_timer(uv_timer_t *t) {
     } else if (c->state == NET_OPEN && net->config.idle_timeout_ms) {
         if (!c->reading)
             c->last_heard_ms = now; /* we stopped listening; the peer is not silent */
+        int queued;
+        if (c->rcvlowat > 1 && ioctl(c->fd, FIONREAD, &queued) == 0 && queued != c->lowat_queued) {
+            /* Bytes below the low-water mark (update_lowat) still arrive:
+             * a slow peer, not a silent one. */
+            c->lowat_queued = queued;
+            c->last_heard_ms = now;
+        }
         if (now - c->last_heard_ms >= net->config.idle_timeout_ms) {
             net_conn_fail(c, TSR_ETIMEDOUT,
                           "net: peer '%s' at %s sent nothing for %u ms (idle_timeout_ms): "
@@ -284,6 +331,7 @@ static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
     stop_reading(c);
     /* Let the reason reach the peer, then close (bounded by the close
      * time-out: shutting_down arms it). */
+    net_direct_await(c);
     c->shutting_down = true;
     c->shutdown_req.data = c;
     if (c->handles_closing || uv_shutdown(&c->shutdown_req, &c->h.stream, on_shutdown))
@@ -299,6 +347,18 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h) {
     c->peer_max_message = h->max_message_bytes;
     c->state = NET_OPEN;
     c->handshaken = true;
+    uv_os_fd_t fd;
+    if (uv_fileno(&c->h.handle, &fd) == 0) {
+        c->fd = fd; /* application threads may write on it now (direct.c) */
+        if (c->transport == NET_UNIX) {
+            /* A Unix socket queues only ~200 KiB by default (wmem_default),
+             * so a large message never went out in one direct write; TCP
+             * sizes its buffers itself (setting them would stop that). The
+             * kernel caps the request at net.core.wmem_max. */
+            int size = NET_UNIX_SNDBUF;
+            setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
+        }
+    }
     arm_timer(c);
     net_conn_signal(c);
 }
@@ -597,6 +657,24 @@ static void on_peer_eof(tsr_net_conn *c) {
         begin_shutdown(c); /* answer with our own end of stream */
 }
 
+/* TCP only: the kernel wakes this thread (and the sender's softirq pays
+ * for the wake-up) each time a segment arrives, unless SO_RCVLOWAT says
+ * how many bytes are worth waking for. Inside a large message that is what
+ * is left of it, capped (the peer always finishes a message it started;
+ * its end of stream or an error wakes the reader whatever the mark);
+ * otherwise 1, so control messages and headers come through at once. The
+ * idle timer looks at the bytes queued below the mark (FIONREAD), so a
+ * slow peer is not taken for a silent one. */
+#define NET_LOWAT_MAX (1u << 20)
+static void update_lowat(tsr_net_conn *c) {
+    if (c->transport != NET_TCP || c->fd < 0 || c->handles_closing)
+        return;
+    uint64_t left = c->partial ? c->partial->len - c->partial_fill : 1;
+    int want = (int)(left < NET_LOWAT_MAX ? left : NET_LOWAT_MAX);
+    if (want != c->rcvlowat && !setsockopt(c->fd, SOL_SOCKET, SO_RCVLOWAT, &want, sizeof want))
+        c->rcvlowat = want;
+}
+
 static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf) {
     tsr_net_conn *c = s->data;
     tsr_net *net = c->net;
@@ -613,6 +691,7 @@ static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf) {
         } else {
             parse_bytes(c, (const uint8_t *)buf->base, (size_t)nread);
         }
+        update_lowat(c);
     } else if (nread == UV_EOF) {
         on_peer_eof(c);
     } else if (nread < 0 && !c->handles_closing) {
@@ -665,6 +744,10 @@ static void update_reading(tsr_net_conn *c) {
 void net_io_service(tsr_net_conn *c) {
     if (!c->io_ref || c->handles_closing) {
         net_conn_maybe_free(c);
+        return;
+    }
+    if (c->state == NET_FAILED && !c->shutting_down) { /* failed on an application thread (direct.c) */
+        close_handles(c);
         return;
     }
     if (c->state == NET_OPEN && !c->shutting_down)

@@ -26,7 +26,11 @@ foreach(pair
     "net_idle_timeout_detects_silent_peer:idle_timeout"
     "net_many_clients_one_server:many_clients"
     "net_recv_any_serves_clients_round_robin:recv_any_round_robin"
-    "net_destroy_with_open_connections_is_bounded_and_clean:destroy_open_connections")
+    "net_destroy_with_open_connections_is_bounded_and_clean:destroy_open_connections"
+    "net_tcp_direct_writes_under_credit_exhaustion_exact:tcp_direct_writes"
+    "net_unix_direct_writes_under_credit_exhaustion_exact:unix_direct_writes"
+    "net_tcp_direct_write_rest_finished_by_io_thread_exact:tcp_direct_write_rest"
+    "net_peer_closes_during_direct_writes_fails_send_in_time:peer_closes_during_direct_writes")
   string(REPLACE ":" ";" pair "${pair}")
   list(GET pair 0 name)
   list(GET pair 1 sub)

@@ -4,6 +4,7 @@
  * Never: mocks a netlib part; expected bytes come from the pattern, not
  * from constants copied out of a run. */
 #include <pthread.h>
+#include <signal.h>
 #include <sys/un.h>
 
 #include "net_test_util.h"
@@ -1058,6 +1059,331 @@ static int test_destroy_open_connections(void) {
     return 0;
 }
 
+/* ---- direct writes (net.h SENDING) ---------------------------------------
+ * A sending thread writes to the socket itself when the write side is idle.
+ * A receiver that sleeps before each of its first receives, with 2 credits,
+ * makes the sender block on credits, so sends alternate between direct
+ * writes and the queue (what a direct write left unwritten is tested
+ * below, with a peer that does not read). The
+ * sender scribbles over its buffer after every tsr_net_send (whose rest
+ * netlib must have copied) and mixes in tsr_net_send_owned and tiny
+ * messages; the receiver checks every byte and the order, and the sender
+ * closes at once after its last send, so what was left to the I/O thread
+ * must still go out before the end of stream. */
+
+enum { DIRECT_MESSAGES = 40 };
+
+static size_t direct_size(unsigned i) {
+    static const size_t sizes[] = {3u << 20, 1, 100000, (3u << 20) + 5, 0, 65536, 2u << 20, 17};
+    return sizes[i % (sizeof sizes / sizeof sizes[0])];
+}
+
+typedef struct direct_receiver {
+    tsr_net_listener *listener;
+    unsigned messages;
+    uint64_t bytes;
+    int ended_cleanly;
+    char failure[600];
+} direct_receiver;
+
+static void *direct_receive_main(void *arg) {
+    direct_receiver *r = arg;
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_accept(r->listener, 5000, &err);
+    if (!c) {
+        snprintf(r->failure, sizeof r->failure, "accept: %s", err.message);
+        return NULL;
+    }
+    uint8_t *expect = malloc(4u << 20);
+    for (;;) {
+        if (r->messages < 6) /* slow at first: the sender runs out of credits */
+            usleep(40000);
+        tsr_net_msg m;
+        int got = tsr_net_recv(c, &m, 10000, &err);
+        if (got == 0) {
+            r->ended_cleanly = 1;
+            break;
+        }
+        if (got < 0) {
+            snprintf(r->failure, sizeof r->failure, "recv after %u messages: %s", r->messages,
+                     err.message);
+            break;
+        }
+        unsigned i = r->messages;
+        size_t n = direct_size(i);
+        int bad = m.kind != TSR_NET_KIND_FIRST_USER + i % 2 || m.len != n;
+        if (!bad && n) {
+            tsr_net_pattern_fill(expect, 0, n, i + 1);
+            bad = memcmp(expect, m.data, n) != 0;
+        }
+        tsr_net_msg_release(&m);
+        if (bad) {
+            snprintf(r->failure, sizeof r->failure,
+                     "message %u: kind %u, %llu bytes (sent %zu), or its bytes differ", i, m.kind,
+                     (unsigned long long)m.len, n);
+            break;
+        }
+        r->messages++;
+        r->bytes += n;
+    }
+    free(expect);
+    tsr_net_conn_close(c);
+    return NULL;
+}
+
+static int direct_writes(const char *address) {
+    tsr_net *server_net = make_net("direct-receiver", NULL, 2);
+    tsr_net *client_net = make_net("direct-sender", NULL, 2);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, address, &err);
+    CHECK(l, "listen %s: %s", address, err.message);
+    direct_receiver r = {.listener = l};
+    pthread_t thread;
+    pthread_create(&thread, NULL, direct_receive_main, &r);
+    tsr_net_conn *c = tsr_net_connect(client_net, tsr_net_listener_address(l), &err);
+    CHECK(c, "connect: %s", err.message);
+
+    uint8_t *buf = malloc(4u << 20);
+    uint64_t bytes = 0;
+    for (unsigned i = 0; i < DIRECT_MESSAGES; i++) {
+        size_t n = direct_size(i);
+        unsigned kind = TSR_NET_KIND_FIRST_USER + i % 2;
+        if (i % 3 == 2) { /* owned: netlib frees it once written */
+            uint8_t *owned = malloc(n ? n : 1);
+            tsr_net_pattern_fill(owned, 0, n, i + 1);
+            CHECK_OK(tsr_net_send_owned(c, kind, owned, n, NULL, NULL, 10000, &err), err);
+        } else {
+            tsr_net_pattern_fill(buf, 0, n, i + 1);
+            CHECK_OK(tsr_net_send(c, kind, buf, n, 10000, &err), err);
+            memset(buf, 0xee, n); /* the caller's memory is its own again */
+        }
+        bytes += n;
+    }
+    tsr_net_stats st;
+    tsr_net_conn_stats(c, &st);
+    tsr_net_conn_close(c); /* at once: partly written messages must still go out */
+    pthread_join(thread, NULL);
+    CHECK(!r.failure[0], "receiver: %s", r.failure);
+    CHECK(r.messages == DIRECT_MESSAGES && r.bytes == bytes && r.ended_cleanly,
+          "receiver got %u messages, %llu bytes of %d / %llu, clean end %d", r.messages,
+          (unsigned long long)r.bytes, DIRECT_MESSAGES, (unsigned long long)bytes,
+          r.ended_cleanly);
+    /* The paths this test is about were taken. */
+    CHECK(st.messages_direct > 0, "no message was written by the sending thread");
+    CHECK(st.blocked_on_credits_ns > 0, "the sender never ran out of credits");
+    printf("%s: %d messages, %llu bytes exact; %llu written by the sender itself (%llu finished "
+           "by the I/O thread), %.0f ms blocked on credits\n",
+           address, DIRECT_MESSAGES, (unsigned long long)bytes,
+           (unsigned long long)st.messages_direct, (unsigned long long)st.messages_direct_rest,
+           (double)st.blocked_on_credits_ns / 1e6);
+    free(buf);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
+static int test_tcp_direct_writes(void) { return direct_writes("tcp://127.0.0.1:0"); }
+
+static int test_unix_direct_writes(void) {
+    char path[108];
+    snprintf(path, sizeof path, "unix:/tmp/tsr-net-direct-%d.sock", (int)getpid());
+    return direct_writes(path);
+}
+
+/* ---- a direct write the socket cannot take ------------------------------
+ * A peer written by hand grants 16 credits, shrinks its receive buffer and
+ * reads nothing for a while, so the sender's direct writes of 1 MiB
+ * messages fill the socket and leave their rest to the I/O thread. Then it
+ * reads every frame and checks headers, bytes and order against the spec,
+ * while the sender scribbles over its buffer after each tsr_net_send. */
+
+enum { SLOW_MESSAGES = 16, SLOW_SIZE = 1 << 20 };
+
+typedef struct slow_sender {
+    const char *address;
+    tsr_net_stats stats;
+    char failure[600];
+} slow_sender;
+
+static void *slow_send_main(void *arg) {
+    slow_sender *s = arg;
+    tsr_net *net = make_net("direct-sender", NULL, 2);
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_connect(net, s->address, &err);
+    uint8_t *buf = malloc(SLOW_SIZE);
+    for (unsigned i = 0; c && i < SLOW_MESSAGES && !s->failure[0]; i++) {
+        int rc;
+        if (i >= SLOW_MESSAGES / 2 && i % 2) { /* (the first ones, direct, are borrowed) */
+            uint8_t *owned = malloc(SLOW_SIZE);
+            tsr_net_pattern_fill(owned, 0, SLOW_SIZE, i + 1);
+            rc = tsr_net_send_owned(c, TSR_NET_KIND_FIRST_USER, owned, SLOW_SIZE, NULL, NULL,
+                                    10000, &err);
+        } else {
+            tsr_net_pattern_fill(buf, 0, SLOW_SIZE, i + 1);
+            rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, buf, SLOW_SIZE, 10000, &err);
+            memset(buf, 0xee, SLOW_SIZE);
+        }
+        if (rc)
+            snprintf(s->failure, sizeof s->failure, "send %u: %s", i, err.message);
+    }
+    if (!c)
+        snprintf(s->failure, sizeof s->failure, "connect: %s", err.message);
+    else
+        tsr_net_conn_stats(c, &s->stats);
+    tsr_net_conn_close(c);
+    tsr_net_destroy(net); /* waits until everything was written */
+    free(buf);
+    return NULL;
+}
+
+static int test_tcp_direct_write_rest(void) {
+    int l = socket(AF_INET, SOCK_STREAM, 0);
+    int small = 32 << 10;
+    CHECK(setsockopt(l, SOL_SOCKET, SO_RCVBUF, &small, sizeof small) == 0, "SO_RCVBUF: %s",
+          strerror(errno));
+    struct sockaddr_in sa = {.sin_family = AF_INET};
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof sa;
+    CHECK(bind(l, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(l, 1) == 0 &&
+              getsockname(l, (struct sockaddr *)&sa, &len) == 0,
+          "raw listener: %s", strerror(errno));
+    char address[64];
+    snprintf(address, sizeof address, "tcp://127.0.0.1:%u", ntohs(sa.sin_port));
+    slow_sender sender = {.address = address};
+    pthread_t thread;
+    pthread_create(&thread, NULL, slow_send_main, &sender);
+    int fd = accept(l, NULL, NULL);
+    CHECK(fd >= 0, "accept: %s", strerror(errno));
+    close(l);
+
+    uint8_t h[16];
+    CHECK(raw_read_exact(fd, h, 16, 5000) == 0 && h[6] == 0x01, "no HELLO");
+    uint64_t hello_len = get_le(h + 8, 8);
+    uint8_t hello[4096];
+    CHECK(hello_len <= sizeof hello && raw_read_exact(fd, hello, (size_t)hello_len, 5000) == 0,
+          "HELLO payload");
+    uint8_t welcome[16 + 32];
+    size_t at = 16;
+    put_le(welcome + at, SLOW_MESSAGES, 4); /* credits: never returned */
+    at += 4;
+    put_le(welcome + at, 4u << 20, 8);
+    at += 8;
+    put_le(welcome + at, 8, 2);
+    at += 2;
+    memcpy(welcome + at, "raw-slow", 8);
+    at += 8;
+    put_le(welcome + at, 0, 2);
+    at += 2;
+    raw_header(welcome, TSR_NET_PROTOCOL_VERSION, 0x02, at - 16);
+    raw_write_all(fd, welcome, at);
+
+    usleep(500000); /* the sender fills the socket meanwhile */
+    uint8_t *got = malloc(SLOW_SIZE), *expect = malloc(SLOW_SIZE);
+    for (unsigned i = 0; i < SLOW_MESSAGES; i++) {
+        CHECK(raw_read_exact(fd, h, 16, 10000) == 0, "message %u: no header", i);
+        CHECK(get_le(h, 4) == 0x314E5354u && h[6] == TSR_NET_KIND_FIRST_USER && h[7] == 0 &&
+                  get_le(h + 8, 8) == SLOW_SIZE,
+              "message %u: header type 0x%02x length %llu", i, h[6],
+              (unsigned long long)get_le(h + 8, 8));
+        CHECK(raw_read_exact(fd, got, SLOW_SIZE, 10000) == 0, "message %u: payload", i);
+        tsr_net_pattern_fill(expect, 0, SLOW_SIZE, i + 1);
+        CHECK(!memcmp(got, expect, SLOW_SIZE), "message %u: bytes differ", i);
+    }
+    CHECK(raw_read_exact(fd, h, 16, 10000) == 0 && h[6] == 0x06 && get_le(h + 8, 8) == 0,
+          "no BYE after the last message (type 0x%02x)", h[6]);
+    shutdown(fd, SHUT_WR); /* our end of stream: the sender's close completes */
+    pthread_join(thread, NULL);
+    close(fd);
+    CHECK(!sender.failure[0], "sender: %s", sender.failure);
+    CHECK(sender.stats.messages_direct_rest > 0,
+          "no direct write was left for the I/O thread (%llu direct)",
+          (unsigned long long)sender.stats.messages_direct);
+    printf("%d messages of %d bytes exact; %llu written by the sender itself, %llu of them "
+           "finished by the I/O thread\n",
+           SLOW_MESSAGES, SLOW_SIZE, (unsigned long long)sender.stats.messages_direct,
+           (unsigned long long)sender.stats.messages_direct_rest);
+    free(got);
+    free(expect);
+    return 0;
+}
+
+/* ---- the peer closes while the sender writes directly --------------------
+ * The receiver takes three 1 MiB messages and closes; the sender keeps
+ * sending. Each send either succeeds or reports the peer's end, within a
+ * bound, and the process is not killed by SIGPIPE from a direct write on
+ * a socket the peer has shut. */
+
+typedef struct closing_receiver {
+    tsr_net_listener *listener;
+    int failed;
+} closing_receiver;
+
+static void *closing_receive_main(void *arg) {
+    closing_receiver *r = arg;
+    tsr_error err = {0};
+    tsr_net_conn *c = tsr_net_accept(r->listener, 5000, &err);
+    if (!c) {
+        r->failed = 1;
+        return NULL;
+    }
+    for (int i = 0; i < 3; i++) {
+        tsr_net_msg m;
+        if (tsr_net_recv(c, &m, 5000, &err) != 1) {
+            fprintf(stderr, "receiver: %s\n", err.message);
+            r->failed = 1;
+            break;
+        }
+        tsr_net_msg_release(&m);
+    }
+    tsr_net_conn_close(c); /* while the sender is still writing */
+    return NULL;
+}
+
+static int test_peer_closes_during_direct_writes(void) {
+    signal(SIGPIPE, SIG_DFL); /* a SIGPIPE would end this test with a signal */
+    tsr_net *server_net = make_net("closing-receiver", NULL, 4);
+    tsr_net *client_net = make_net("busy-sender", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    closing_receiver r = {.listener = l};
+    pthread_t thread;
+    pthread_create(&thread, NULL, closing_receive_main, &r);
+    tsr_net_conn *c = tsr_net_connect(client_net, tsr_net_listener_address(l), &err);
+    CHECK(c, "connect: %s", err.message);
+    size_t n = 1u << 20;
+    uint8_t *buf = malloc(n);
+    tsr_net_pattern_fill(buf, 0, n, 7);
+    uint64_t t0 = test_now_ms();
+    int rc = TSR_OK;
+    unsigned sent = 0;
+    while (rc == TSR_OK && test_now_ms() - t0 < 20000) {
+        rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, buf, n, 10000, &err);
+        sent += rc == TSR_OK;
+    }
+    uint64_t took = test_now_ms() - t0;
+    CHECK(rc != TSR_OK && rc != TSR_ETIMEDOUT, "sending went on for %llu ms (%u sent): %s",
+          (unsigned long long)took, sent, tsr_error_name(rc));
+    CHECK(contains(err.message, "closing-receiver") || contains(err.message, "127.0.0.1"),
+          "the error does not name the peer: %s", err.message);
+    CHECK(took < 10000, "the peer's close took %llu ms to reach the sender",
+          (unsigned long long)took);
+    tsr_net_stats st;
+    tsr_net_conn_stats(c, &st);
+    CHECK(st.messages_direct > 0, "no message was written by the sending thread");
+    printf("sent %u messages (%llu directly), then after %llu ms: %s\n", sent,
+           (unsigned long long)st.messages_direct, (unsigned long long)took, err.message);
+    pthread_join(thread, NULL);
+    CHECK(!r.failed, "receiver failed");
+    free(buf);
+    tsr_net_conn_close(c);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(client_net);
+    tsr_net_destroy(server_net);
+    return 0;
+}
+
 int main(int argc, char **argv) {
     static const struct {
         const char *name;
@@ -1081,6 +1407,10 @@ int main(int argc, char **argv) {
         {"many_clients", test_many_clients},
         {"recv_any_round_robin", test_recv_any_round_robin},
         {"destroy_open_connections", test_destroy_open_connections},
+        {"tcp_direct_writes", test_tcp_direct_writes},
+        {"unix_direct_writes", test_unix_direct_writes},
+        {"peer_closes_during_direct_writes", test_peer_closes_during_direct_writes},
+        {"tcp_direct_write_rest", test_tcp_direct_write_rest},
     };
     setvbuf(stdout, NULL, _IOLBF, 0);
     for (size_t i = 0; argc == 2 && i < sizeof tests / sizeof tests[0]; i++)
