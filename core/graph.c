@@ -961,6 +961,14 @@ static int check_roles(loader *l) {
                            "server '%s' receives from no node: no 'to' names it (an app node "
                            "needs 'exec')",
                            node->name);
+        /* Sort-first: every server of a tilesort node draws its tiles. */
+        if (src->network_spu && !strcmp(scalar_text(src->network_spu), "tilesort"))
+            for (size_t e = 0; e < node->to_count; e++)
+                if (g->nodes[node->to[e]].tile_count == 0)
+                    return fail_at(l, src->network_spu, TSR_EINVAL,
+                                   "node '%s': tilesort sends to server '%s', which has no "
+                                   "'tiles' (give it tiles: [[x, y, width, height]])",
+                                   node->name, g->nodes[node->to[e]].name);
     }
     return TSR_OK;
 }

@@ -84,6 +84,11 @@ render_rejects(render_rejects_negative_width "render.*width.*-4" "render width=-
 render_rejects(render_rejects_width_without_height "render.*width=64 and height=0"
   "render width=64")
 render_rejects(render_rejects_unknown_option "render.*colour" "render colour=red")
+render_rejects(render_rejects_bad_tiles_naming_the_tile
+  "render.*option tiles=0:0:8:8,0:0:-5:3: tile 2 '0:0:-5:3': width must be 1..16384"
+  "render tiles=0:0:8:8,0:0:-5:3")
+render_rejects(render_rejects_tiles_not_in_x_y_w_h_form
+  "render.*tile 1 '1:2:3': expected X:Y:W:H" "render tiles=1:2:3")
 
 add_test(NAME render_fixed_size_option_overrides_window_size
   COMMAND ${RENDER_TEST_DIR}/render_options.sh fixed-size ${SPHERES_BIN}
@@ -117,6 +122,63 @@ add_test(NAME render_without_window_commands_draws_512_square
   COMMAND sh -c "rm -f \"$2\" && \"$0\" no-window \"$1\" && \"$3\" expect-size \"$2\" 512 512"
           $<TARGET_FILE:render_driver> ${RENDER_OUT}/no-window-%d.png
           ${RENDER_OUT}/no-window-0.png $<TARGET_FILE:image_test>)
+
+# --- tiles: servers that own rectangles of the window ---------------------------
+# Every tile PNG must equal the same pixels of the full-window render (0
+# differing pixels), the scene's glGet of the scissor must give the
+# application's values (tiles_driver.c says what the scene holds).
+add_executable(tiles_driver ${RENDER_TEST_DIR}/tiles_driver.c)
+target_link_libraries(tiles_driver PRIVATE tessera_gl tessera)
+set(TILES_OUT ${RENDER_OUT}/tiles)
+macro(tiles_test name dir)
+  add_test(NAME ${name} COMMAND sh -c "rm -rf \"$1\" && mkdir -p \"$1\" && exec \"$0\" compare \"$@\""
+           $<TARGET_FILE:tiles_driver> ${TILES_OUT}/${dir} ${ARGN})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 120)
+endmacro()
+# 2x2 on four servers (odd size: the tile borders are not centred).
+tiles_test(render_tiles_2x2_four_servers_bit_exact_vs_full_window 2x2 301x227 2
+  0:0:150:113 150:0:151:113 0:113:150:114 150:113:151:114)
+# The same tiles given as the `tiles` option (what the mothership does).
+tiles_test(render_tiles_option_2x2_bit_exact_vs_full_window option 301x227 2 --option
+  0:0:150:113 150:0:151:113 0:113:150:114 150:113:151:114)
+# Two tiles on one server (diagonal: the bounding rectangle is the whole
+# window, the PNGs are -t0 and -t1), and the other two on another.
+tiles_test(render_tiles_two_per_server_bit_exact_vs_full_window two-per-server 256x192 2
+  0:0:128:96,128:96:128:96 128:0:128:96,0:96:128:96)
+# The tiles change between frames (load balancing re-splits): one tile,
+# then two, then another split, then the whole window (count 0); and a
+# server that starts without tiles and gets them after its first frame.
+tiles_test(render_tiles_change_between_frames_bit_exact change 240x180 4
+  0:0:100:180/0:0:100:90,100:0:140:180/0:0:61:180/-
+  100:0:140:180/0:90:100:90/61:0:179:180/-
+  -/0:0:120:180/-/120:0:120:180)
+# Through the wire format (loopback SPU): TilesTSR packed and unpacked, the
+# scissor queries answered across it.
+tiles_test(render_tiles_tilestsr_through_wire_bit_exact loopback 200x150 2 --loopback
+  0:0:100:75 100:0:100:75 0:75:100:75,100:75:100:75/0:0:200:75)
+# Two contexts (two clients of a server) each with their own scissor state.
+tiles_test(render_tiles_two_contexts_each_scissored_bit_exact contexts 200x150 2 --contexts
+  0:0:100:75 100:0:100:75 0:75:100:75 100:75:100:75)
+# 3x3 of odd sizes, and a tile at the window's corner.
+tiles_test(render_tiles_3x3_odd_sizes_bit_exact 3x3 250x190 1
+  0:0:83:63 83:0:84:63 167:0:83:63 0:63:83:64 83:63:84:64 167:63:83:64
+  0:127:83:63 83:127:84:63 167:127:83:63)
+
+# The tile list text (tessera/tiles.h), both forms, and its errors.
+add_test(NAME tiles_text_parses_both_forms_and_names_bad_tiles COMMAND tiles_driver parse)
+
+# Pages outside a server's tiles never become resident (VmRSS).
+add_test(NAME render_tile_server_leaves_pages_outside_its_tile_unused
+  COMMAND ${RENDER_TEST_DIR}/tile_memory.sh $<TARGET_FILE:tiles_driver>)
+set_tests_properties(render_tile_server_leaves_pages_outside_its_tile_unused PROPERTIES TIMEOUT 120)
+
+# Through the mothership: a graph's `tiles:` reach the servers' render SPUs.
+if(TARGET spu_replicate)
+  add_test(NAME render_tiles_from_graph_nodes_bit_exact_vs_native
+    COMMAND ${RENDER_TEST_DIR}/tiles_graph.sh ${CMAKE_BINARY_DIR}/bin
+            ${RENDER_TEST_DIR}/tiles_graph.yaml ${TILES_OUT}/graph $<TARGET_FILE:tiles_driver>)
+  set_tests_properties(render_tiles_from_graph_nodes_bit_exact_vs_native PROPERTIES TIMEOUT 150)
+endif()
 
 # --- accuracy: examples through chains vs OSMesa directly -----------------------
 # Frames per run: enough to exercise animation, small enough to stay fast.

@@ -59,7 +59,51 @@
  * names may); GL_FRONT/GL_LEFT/GL_FRONT_AND_BACK in DrawBuffer/ReadBuffer
  * mean the shared colour buffer; the frame is read back (by context 0) at
  * each swap. Switching contexts finishes the outgoing context first, so
- * the next one sees everything it drew. */
+ * the next one sees everything it drew.
+ *
+ * Tiles (sort-first servers; DESIGN.md section 3): the `tiles` option
+ * ("X:Y:W:H,...", tessera/tiles.h; the mothership fills it from the graph
+ * node's tiles:) and TilesTSR(window, count, rects), which replaces it
+ * whenever it comes (count 0: the whole window again), give the
+ * rectangles of the window this instance owns. The framebuffer stays the
+ * full window's size and the application's viewport and projection pass
+ * through untouched, so every window coordinate is computed exactly as in
+ * a full-window render; only the scissor changes. The real GL scissor is
+ * always enabled, on the application's scissor box (when the application
+ * enabled GL_SCISSOR_TEST) intersected with the BOUNDING RECTANGLE of the
+ * owned tiles: one scissor cannot be exactly several rectangles, so with
+ * several tiles the pixels between them inside that rectangle are drawn
+ * too, but never read or written out (GL_EXT_window_rectangles would
+ * bound them exactly; llvmpipe in Mesa 22.3 does not offer it). Since the test is always on, clears,
+ * DrawPixels, Bitmap and CopyPixels are restricted too, with no
+ * interception of their own. The application's scissor state is kept per
+ * context (render_scissor) from Scissor, Enable/Disable(GL_SCISSOR_TEST)
+ * and PushAttrib/PopAttrib (GL_SCISSOR_BIT and GL_ENABLE_BIT: a pop makes
+ * GL restore the scissor as it was at the push, perhaps fitted to other
+ * tiles, so it is fitted again); glGet*v and glIsEnabled of the scissor
+ * answer with the application's values. Display lists run scissor
+ * commands inside GL: CallList(s) therefore runs with the application's own
+ * scissor and reads it back from GL after (drawing of the list itself is
+ * then not narrowed to the tiles: exact, but not cheaper), and so does a
+ * GL_COMPILE_AND_EXECUTE list; what a list pushes on the attribute stack
+ * is taken as saving no scissor state. Without tiles the real scissor is
+ * the application's: lists run unwatched and glGet goes to GL, and the
+ * record is read back from GL when tiles come. Tiles that change reach
+ * each context when it next becomes current. A swap reads each tile (glReadPixels
+ * of that rectangle, clipped to the window, by a reader context of its own
+ * so no client's pixel-store state applies) and writes one PNG per tile,
+ * tile-sized: the `output` name for one tile, with "-tN" before the
+ * extension (N = index in the tile list) for several (out/w-0007-t1.png).
+ *
+ * Memory: pages outside the tiles are never touched. The first tiles put
+ * the instance in shared mode (FBOs on renderbuffers), because OSMesa's
+ * window buffer is copied whole into the user buffer at every glFinish;
+ * and llvmpipe memsets every new renderbuffer, so after allocating them
+ * for a tiled window the zero pages are given back (pages.h). Measured
+ * (bench/run tiles, 4096x3072 window): a server owning one 1024x768 tile
+ * stays at about 24 MB above an idle 64x48 render instance, a full-window
+ * one at about 145 MB; the tile server's peak still includes the 96 MB
+ * memset for an instant, before the pages are given back. */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -76,6 +120,9 @@
 #include "tessera/image.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
+#include "tessera/tiles.h"
+
+#include "pages.h"
 
 #define RENDER_DEFAULT_SIDE 512
 #define RENDER_MAX_SIDE 16384
@@ -111,6 +158,34 @@ typedef struct fbo_api {
 #define GL_FRAMEBUFFER_FLIP_Y_MESA 0x8BBB
 #endif
 
+/* A rectangle of window pixels, origin bottom-left. */
+typedef struct render_box {
+    int x, y, w, h;
+} render_box;
+
+/* Deeper than any GL attribute stack (Mesa: 16); the real depth is
+ * GL_MAX_ATTRIB_STACK_DEPTH, read at creation. */
+#define RENDER_ATTRIB_DEPTH 64
+
+/* What one PushAttrib saved of the scissor (header comment, "Tiles"). */
+typedef struct scissor_saved {
+    GLbitfield mask;
+    render_box box;
+    bool enabled;
+} scissor_saved;
+
+/* The application's scissor state of one context, as it set it (the real
+ * GL scissor may be narrowed to the tiles). */
+typedef struct render_scissor {
+    render_box box;
+    bool enabled;
+    scissor_saved stack[RENDER_ATTRIB_DEPTH];
+    int depth;
+    GLenum list_mode;  /* mode of the display list being compiled, 0: none */
+    unsigned applied;  /* tiles generation the real scissor was last set for */
+    bool fitted;       /* the real scissor is fitted to tiles (else: the application's) */
+} render_scissor;
+
 /* One context of shared mode; contexts[0] is the instance's own. */
 typedef struct render_context {
     int id;
@@ -118,6 +193,7 @@ typedef struct render_context {
     GLuint fbo;                /* this context's FBO on the shared renderbuffers */
     unsigned attached;         /* renderbuffer generation the FBO was attached at */
     bool window_seen;          /* its first window command reset viewport/scissor */
+    render_scissor sc;
 } render_context;
 
 typedef struct render_spu {
@@ -146,6 +222,18 @@ typedef struct render_spu {
     GLuint color_rb, depth_rb; /* the window: shared by every context */
     unsigned generation;       /* bumped when the renderbuffers are resized */
     unsigned char dummy[4];    /* 1x1 drawable: contexts draw through FBOs */
+
+    /* Tiles (header comment): none = the whole window. */
+    tsr_tile *tiles;
+    size_t ntiles;
+    render_box bounds;         /* bounding rectangle of the tiles */
+    unsigned tiles_gen;        /* bumped whenever the tiles change; starts at 1 */
+    bool released;             /* the renderbuffers were allocated tiled */
+    render_scissor solo_sc;    /* the scissor before shared mode */
+    int max_attrib_depth;
+    render_context reader;     /* reads the tiles back; never gets client commands */
+    unsigned char *tile_pixels;
+    size_t tile_pixels_size;
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6",
@@ -208,17 +296,95 @@ static int bind_framebuffer(render_spu *r, int width, int height, tsr_error *err
     return TSR_OK;
 }
 
+/* --- tiles: the scissor ---------------------------------------------------- */
+
+/* The scissor state of the context commands go to now. */
+static render_scissor *current_scissor(render_spu *r) {
+    return r->shared ? &r->contexts[r->current].sc : &r->solo_sc;
+}
+
+static render_box box_intersect(render_box a, render_box b) {
+    long long x0 = a.x > b.x ? a.x : b.x, y0 = a.y > b.y ? a.y : b.y;
+    long long x1 = (long long)a.x + a.w, y1 = (long long)a.y + a.h;
+    long long bx1 = (long long)b.x + b.w, by1 = (long long)b.y + b.h;
+    if (bx1 < x1)
+        x1 = bx1;
+    if (by1 < y1)
+        y1 = by1;
+    if (x1 <= x0 || y1 <= y0)
+        return (render_box){0, 0, 0, 0};
+    return (render_box){(int)x0, (int)y0, (int)(x1 - x0), (int)(y1 - y0)};
+}
+
+/* Real scissor := the application's own (inside a display list, whose
+ * scissor commands GL runs unseen by us). */
+static void scissor_set_raw(render_spu *r, const render_scissor *s) {
+    r->gl.Scissor(s->box.x, s->box.y, s->box.w, s->box.h);
+    if (s->enabled)
+        r->gl.Enable(GL_SCISSOR_TEST);
+    else
+        r->gl.Disable(GL_SCISSOR_TEST);
+}
+
+/* Sets the current context's real scissor: the application's when there
+ * are no tiles; else always enabled, on the application's box (when its
+ * test is enabled) intersected with the tiles' bounding rectangle. Not
+ * while a list is compiled (it would be compiled too): EndList does it. */
+static void scissor_apply(render_spu *r, render_scissor *s) {
+    if (s->list_mode)
+        return;
+    s->applied = r->tiles_gen;
+    s->fitted = r->ntiles > 0;
+    if (!r->ntiles) {
+        scissor_set_raw(r, s);
+        return;
+    }
+    render_box e = s->enabled ? box_intersect(s->box, r->bounds) : r->bounds;
+    r->gl.Enable(GL_SCISSOR_TEST);
+    r->gl.Scissor(e.x, e.y, e.w, e.h);
+}
+
+/* Reads the application's scissor back from GL (below). */
+static void scissor_sync(render_spu *r, render_scissor *s);
+
+/* Catches up with tiles that changed while this context was not current.
+ * Without tiles, display lists run unwatched (no cost per CallList), so
+ * the record is read back from GL before it is fitted to tiles. */
+static void scissor_refresh(render_spu *r, render_scissor *s) {
+    if (s->applied == r->tiles_gen || s->list_mode)
+        return;
+    if (!s->fitted && r->ntiles)
+        scissor_sync(r, s);
+    scissor_apply(r, s);
+}
+
+/* Reads the application's scissor back from GL after GL ran commands we
+ * did not see (a display list's), while the real state was the raw one. */
+static void scissor_sync(render_spu *r, render_scissor *s) {
+    GLint box[4] = {0, 0, 0, 0}, depth = 0;
+    r->gl.GetIntegerv(GL_SCISSOR_BOX, box);
+    s->box = (render_box){box[0], box[1], box[2], box[3]};
+    s->enabled = r->gl.IsEnabled(GL_SCISSOR_TEST) == GL_TRUE;
+    /* A list may push or pop attributes: follow GL's depth. What a list
+     * pushed is unknown here; it is recorded as saving no scissor state. */
+    r->gl.GetIntegerv(GL_ATTRIB_STACK_DEPTH, &depth);
+    if (depth > RENDER_ATTRIB_DEPTH)
+        depth = RENDER_ATTRIB_DEPTH;
+    while (s->depth > depth)
+        s->depth--;
+    while (s->depth < depth)
+        s->stack[s->depth++] = (scissor_saved){.mask = 0};
+}
+
 /* --- shared mode ----------------------------------------------------------- */
 
-/* Makes contexts[index] current on this thread with its FBO attached to
- * the current renderbuffers. */
-static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
-    render_context *c = &r->contexts[index];
+/* Makes `c` current on this thread with its FBO attached to the current
+ * renderbuffers. */
+static int attach_context(render_spu *r, render_context *c, tsr_error *err) {
     if (r->osmesa.GetCurrentContext() != c->osmesa &&
         !r->osmesa.MakeCurrent(c->osmesa, r->dummy, GL_UNSIGNED_BYTE, 1, 1))
         return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for context %d", r->name,
                              c->id);
-    r->current = index;
     if (!c->fbo) {
         r->fbo.GenFramebuffers(1, &c->fbo);
         r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
@@ -240,6 +406,16 @@ static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
     return TSR_OK;
 }
 
+/* Makes contexts[index] current on this thread with its FBO attached to
+ * the current renderbuffers and its scissor fitted to the tiles. */
+static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
+    if (attach_context(r, &r->contexts[index], err) != TSR_OK)
+        return err->code;
+    r->current = index;
+    scissor_refresh(r, &r->contexts[index].sc);
+    return TSR_OK;
+}
+
 /* Finishes the current context (so a context switched to next sees all
  * it drew: llvmpipe contexts rasterise independently) and makes
  * contexts[index] current. */
@@ -257,22 +433,42 @@ static int shared_switch(render_spu *r, size_t index, tsr_error *err) {
 static int shared_resize(render_spu *r, int width, int height, tsr_error *err) {
     if (width == r->width && height == r->height)
         return TSR_OK;
-    unsigned char *buffer = calloc((size_t)width * (size_t)height, 4);
-    if (!buffer)
-        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %dx%d framebuffer", r->name,
-                             width, height);
+    /* The readback buffer of an untiled frame comes with its first swap
+     * (shared_read_frame); a tiled server never needs one this size. */
     free(r->buffer);
-    r->buffer = buffer;
+    r->buffer = NULL;
     r->width = width;
     r->height = height;
     size_t back = r->current;
     if (shared_switch(r, 0, err) != TSR_OK)
         return err->code;
+    /* Tiled: give back the zero pages llvmpipe wrote into the new storage
+     * (pages.h); below a few MiB it is not worth a look at the maps. */
+    size_t bytes = (size_t)width * (size_t)height * 4;
+    bool release = r->ntiles > 0 && bytes >= ((size_t)4 << 20);
+    render_page_map before = {0};
+    if (release) {
+        /* Old storage goes first: freed memory that the new storage then
+         * reused would look old to the comparison of the maps. */
+        r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->color_rb);
+        r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 1, 1);
+        r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
+        r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, 1, 1);
+        r->gl.Finish();
+        render_pages_snapshot(&before);
+    }
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->color_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    if (release) {
+        size_t given = render_pages_release(&before, bytes);
+        render_pages_free(&before);
+        tsr_log(TSR_LOG_DEBUG, "%s: %dx%d renderbuffers: %zu KiB of zero pages given back", r->name,
+                width, height, given >> 10);
+    }
+    r->released = r->ntiles > 0;
     r->generation++;
     if (shared_make_current(r, 0, err) != TSR_OK)
         return err->code;
@@ -308,7 +504,8 @@ static int shared_enter(render_spu *r, tsr_error *err) {
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", r->name);
     r->contexts_cap = 4;
     r->ncontexts = 1;
-    r->contexts[0] = (render_context){.id = 0, .osmesa = r->context, .window_seen = r->window_seen};
+    r->contexts[0] = (render_context){
+        .id = 0, .osmesa = r->context, .window_seen = r->window_seen, .sc = r->solo_sc};
     r->current = 0;
     r->shared = true;
     /* Context 0 leaves the window-sized user buffer (shared_resize frees
@@ -374,7 +571,290 @@ static int check_output(render_spu *r, tsr_error *err) {
     return TSR_OK;
 }
 
+/* --- tiles: ownership --------------------------------------------------------- */
+
+/* Takes `tiles` (malloc'ed; ownership passes here; NULL/0 = the whole
+ * window). The first tiles put the instance in shared mode (FBOs: OSMesa's
+ * window buffer would be copied whole at every glFinish, see "Memory"),
+ * and renderbuffers allocated before any tiles are allocated again so the
+ * pages outside the tiles are given back (their pixels are lost: tiles
+ * come before the first frame). */
+static int set_tiles(render_spu *r, tsr_tile *tiles, size_t count, tsr_error *err) {
+    free(r->tiles);
+    r->tiles = tiles;
+    r->ntiles = count;
+    r->tiles_gen++;
+    if (count) {
+        long long x0 = tiles[0].x, y0 = tiles[0].y, x1 = x0, y1 = y0;
+        for (size_t i = 0; i < count; i++) {
+            long long tx1 = (long long)tiles[i].x + tiles[i].width;
+            long long ty1 = (long long)tiles[i].y + tiles[i].height;
+            x0 = tiles[i].x < x0 ? tiles[i].x : x0;
+            y0 = tiles[i].y < y0 ? tiles[i].y : y0;
+            x1 = tx1 > x1 ? tx1 : x1;
+            y1 = ty1 > y1 ? ty1 : y1;
+        }
+        r->bounds = (render_box){(int)x0, (int)y0, (int)(x1 - x0), (int)(y1 - y0)};
+        if (!r->shared) {
+            if (shared_enter(r, err) != TSR_OK)
+                return err->code;
+        } else if (!r->released) {
+            int w = r->width, h = r->height;
+            r->width = r->height = 0; /* force the allocation */
+            if (shared_resize(r, w, h, err) != TSR_OK)
+                return err->code;
+        }
+    }
+    scissor_refresh(r, current_scissor(r));
+    return TSR_OK;
+}
+
+static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint *rects) {
+    render_spu *r = self;
+    if (window == r->window) {
+        tsr_tile *tiles = NULL;
+        const char *bad = NULL;
+        GLsizei i = 0;
+        if (count < 0 || (count > 0 && !rects))
+            bad = "bad count";
+        else if (count > 0 && !(tiles = calloc((size_t)count, sizeof *tiles)))
+            bad = "out of memory";
+        for (; !bad && i < count; i++) {
+            const GLint *q = rects + 4 * i;
+            if (q[0] < 0 || q[1] < 0 || q[2] < 1 || q[3] < 1 || q[0] >= TSR_TILES_MAX_SIDE ||
+                q[1] >= TSR_TILES_MAX_SIDE || q[2] > TSR_TILES_MAX_SIDE || q[3] > TSR_TILES_MAX_SIDE)
+                bad = "x, y must be 0..16383 and width, height 1..16384";
+            else
+                tiles[i] = (tsr_tile){.x = q[0], .y = q[1], .width = q[2], .height = q[3]};
+        }
+        tsr_error err = {0};
+        if (bad) {
+            free(tiles);
+            if (i > 0)
+                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): rectangle %d [%d, %d, %d, %d]: %s, ignored",
+                        r->name, (int)window, (int)count, (int)i - 1, rects[4 * (i - 1)],
+                        rects[4 * (i - 1) + 1], rects[4 * (i - 1) + 2], rects[4 * (i - 1) + 3], bad);
+            else
+                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): %s, ignored", r->name, (int)window,
+                        (int)count, bad);
+        } else if (set_tiles(r, tiles, (size_t)count, &err) != TSR_OK) {
+            tsr_log(TSR_LOG_ERROR, "%s: TilesTSR: %s", r->name, err.message);
+        }
+    }
+    tsr_call_TilesTSR(r->child, window, count, rects);
+}
+
 /* --- the commands this SPU implements itself ------------------------------ */
+
+/* The scissor commands (header comment, "Tiles"): the application's state
+ * is recorded, the real one is fitted to the tiles. */
+static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    /* Compiled into a list, or an error GL reports and ignores. */
+    if (s->list_mode || width < 0 || height < 0) {
+        r->gl.Scissor(x, y, width, height);
+        return;
+    }
+    s->box = (render_box){x, y, width, height};
+    if (r->ntiles)
+        scissor_apply(r, s);
+    else
+        r->gl.Scissor(x, y, width, height);
+}
+
+static void enable_cap(render_spu *r, GLenum cap, bool on) {
+    render_scissor *s = current_scissor(r);
+    if (cap != GL_SCISSOR_TEST || s->list_mode || !r->ntiles) {
+        if (on)
+            r->gl.Enable(cap);
+        else
+            r->gl.Disable(cap);
+        if (cap == GL_SCISSOR_TEST && !s->list_mode)
+            s->enabled = on;
+        return;
+    }
+    s->enabled = on;
+    scissor_apply(r, s);
+}
+
+static void render_Enable(void *self, GLenum cap) { enable_cap(self, cap, true); }
+static void render_Disable(void *self, GLenum cap) { enable_cap(self, cap, false); }
+
+static void render_PushAttrib(void *self, GLbitfield mask) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    r->gl.PushAttrib(mask);
+    /* GL refuses a push beyond its depth (stack overflow) and so do we. */
+    if (!s->list_mode && s->depth < r->max_attrib_depth)
+        s->stack[s->depth++] = (scissor_saved){mask, s->box, s->enabled};
+}
+
+static void render_PopAttrib(void *self) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    r->gl.PopAttrib();
+    if (s->list_mode || s->depth == 0)
+        return;
+    scissor_saved e = s->stack[--s->depth];
+    if (e.mask & GL_SCISSOR_BIT) {
+        s->box = e.box;
+        s->enabled = e.enabled;
+    } else if (e.mask & GL_ENABLE_BIT) {
+        s->enabled = e.enabled;
+    }
+    /* GL restored what the real scissor was at the push, perhaps fitted
+     * to other tiles: set it again. */
+    if (e.mask & (GL_SCISSOR_BIT | GL_ENABLE_BIT))
+        scissor_apply(r, s);
+}
+
+/* Display lists run scissor commands inside GL where we cannot see them:
+ * run them on the application's own scissor and read it back after. */
+static void before_list(render_spu *r, render_scissor *s) {
+    if (s->fitted)
+        scissor_set_raw(r, s);
+}
+
+static void after_list(render_spu *r, render_scissor *s) {
+    scissor_sync(r, s);
+    if (r->ntiles || s->applied != r->tiles_gen)
+        scissor_apply(r, s);
+}
+
+static void render_CallList(void *self, GLuint list) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    if (s->list_mode || !s->fitted) {
+        r->gl.CallList(list);
+        return;
+    }
+    before_list(r, s);
+    r->gl.CallList(list);
+    after_list(r, s);
+}
+
+static void render_CallLists(void *self, GLsizei n, GLenum type, const void *lists) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    if (s->list_mode || !s->fitted) {
+        r->gl.CallLists(n, type, lists);
+        return;
+    }
+    before_list(r, s);
+    r->gl.CallLists(n, type, lists);
+    after_list(r, s);
+}
+
+static void render_NewList(void *self, GLuint list, GLenum mode) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    bool execute = mode == GL_COMPILE_AND_EXECUTE;
+    if (s->list_mode) {
+        r->gl.NewList(list, mode); /* GL's error: already compiling */
+        return;
+    }
+    if (execute)
+        before_list(r, s);
+    r->gl.NewList(list, mode);
+    GLint index = 0;
+    r->gl.GetIntegerv(GL_LIST_INDEX, &index);
+    if (list != 0 && (GLuint)index == list && (mode == GL_COMPILE || execute))
+        s->list_mode = mode;
+    else if (execute && s->fitted)
+        scissor_apply(r, s); /* NewList failed: back to the fitted scissor */
+}
+
+static void render_EndList(void *self) {
+    render_spu *r = self;
+    render_scissor *s = current_scissor(r);
+    r->gl.EndList();
+    GLenum mode = s->list_mode;
+    s->list_mode = 0;
+    if (mode == GL_COMPILE_AND_EXECUTE)
+        after_list(r, s);
+    else if (mode)
+        scissor_refresh(r, s);
+}
+
+/* glGet of the scissor: the application's values, not the fitted ones
+ * (inside a compile-and-execute list the real state is the application's). */
+static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n) {
+    render_scissor *s = current_scissor(r);
+    if (!s->fitted || s->list_mode == GL_COMPILE_AND_EXECUTE)
+        return false; /* the real state is the application's */
+    if (pname == GL_SCISSOR_BOX) {
+        out[0] = s->box.x;
+        out[1] = s->box.y;
+        out[2] = s->box.w;
+        out[3] = s->box.h;
+        *n = 4;
+        return true;
+    }
+    if (pname == GL_SCISSOR_TEST) {
+        out[0] = s->enabled;
+        *n = 1;
+        return true;
+    }
+    return false;
+}
+
+static void render_GetIntegerv(void *self, GLenum pname, GLint *data) {
+    render_spu *r = self;
+    double v[4];
+    int n;
+    if (!scissor_query(r, pname, v, &n)) {
+        r->gl.GetIntegerv(pname, data);
+        return;
+    }
+    for (int i = 0; i < n; i++)
+        data[i] = (GLint)v[i];
+}
+
+static void render_GetFloatv(void *self, GLenum pname, GLfloat *data) {
+    render_spu *r = self;
+    double v[4];
+    int n;
+    if (!scissor_query(r, pname, v, &n)) {
+        r->gl.GetFloatv(pname, data);
+        return;
+    }
+    for (int i = 0; i < n; i++)
+        data[i] = (GLfloat)v[i];
+}
+
+static void render_GetDoublev(void *self, GLenum pname, GLdouble *data) {
+    render_spu *r = self;
+    double v[4];
+    int n;
+    if (!scissor_query(r, pname, v, &n)) {
+        r->gl.GetDoublev(pname, data);
+        return;
+    }
+    for (int i = 0; i < n; i++)
+        data[i] = v[i];
+}
+
+static void render_GetBooleanv(void *self, GLenum pname, GLboolean *data) {
+    render_spu *r = self;
+    double v[4];
+    int n;
+    if (!scissor_query(r, pname, v, &n)) {
+        r->gl.GetBooleanv(pname, data);
+        return;
+    }
+    for (int i = 0; i < n; i++)
+        data[i] = v[i] != 0.0 ? GL_TRUE : GL_FALSE;
+}
+
+static GLboolean render_IsEnabled(void *self, GLenum cap) {
+    render_spu *r = self;
+    double v[4];
+    int n;
+    if (cap == GL_SCISSOR_TEST && scissor_query(r, cap, v, &n))
+        return v[0] != 0.0 ? GL_TRUE : GL_FALSE;
+    return r->gl.IsEnabled(cap);
+}
 
 /* Where "the first window command of this context" is remembered. */
 static bool *window_seen_flag(render_spu *r) {
@@ -402,7 +882,7 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
     bool *seen = window_seen_flag(r);
     if (!*seen) {
         r->gl.Viewport(0, 0, width, height);
-        r->gl.Scissor(0, 0, width, height);
+        render_Scissor(r, 0, 0, width, height);
         *seen = true;
     }
 }
@@ -425,6 +905,10 @@ static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsize
  * context 0 (its pack state is never changed, unlike a client's). */
 static void shared_read_frame(render_spu *r) {
     tsr_error err = {0};
+    if (!r->buffer && !(r->buffer = malloc((size_t)r->width * (size_t)r->height * 4))) {
+        tsr_log(TSR_LOG_ERROR, "%s: out of memory for a %dx%d frame", r->name, r->width, r->height);
+        return;
+    }
     size_t back = r->current;
     if (shared_switch(r, 0, &err) != TSR_OK || (r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA,
                                                                    GL_UNSIGNED_BYTE, r->buffer),
@@ -432,9 +916,86 @@ static void shared_read_frame(render_spu *r) {
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
 }
 
+/* The file of one tile: the output pattern's, with "-tN" (N = the tile's
+ * index in the tile list) put before the extension when there are several. */
+static int tile_path(char *out, size_t size, const char *pattern, int frame, size_t tile,
+                     size_t ntiles, tsr_error *err) {
+    if (tsr_image_frame_path(out, size, pattern, frame, err) != TSR_OK)
+        return err->code;
+    if (ntiles == 1)
+        return TSR_OK;
+    char suffix[32];
+    int n = snprintf(suffix, sizeof suffix, "-t%zu", tile);
+    size_t len = strlen(out);
+    if (len + (size_t)n + 1 > size)
+        return tsr_error_set(err, TSR_EINVAL, "file name too long for tile %zu", tile);
+    const char *slash = strrchr(out, '/');
+    char *dot = strrchr(slash ? slash : out, '.');
+    size_t at = dot ? (size_t)(dot - out) : len;
+    memmove(out + at + n, out + at, len - at + 1);
+    memcpy(out + at, suffix, (size_t)n);
+    return TSR_OK;
+}
+
+/* Tiled swap: every context has finished (switching finishes the outgoing
+ * one), the reader context reads each tile's pixels — and only those —
+ * and writes one PNG per tile. The reader is a context of its own so no
+ * client's pixel-store, pixel-transfer or read-buffer state applies. */
+static void tiled_write_frame(render_spu *r, int frame) {
+    tsr_error err = {0};
+    size_t back = r->current;
+    if (r->osmesa.GetCurrentContext())
+        r->gl.Finish();
+    if (!r->reader.osmesa) {
+        r->reader = (render_context){.id = -1};
+        r->reader.osmesa = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
+        if (!r->reader.osmesa) {
+            tsr_log(TSR_LOG_ERROR, "%s: frame %d: OSMesaCreateContextExt failed for the tile reader",
+                    r->name, frame);
+            return;
+        }
+    }
+    if (attach_context(r, &r->reader, &err) != TSR_OK) {
+        tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
+    } else {
+        render_box window = {0, 0, r->width, r->height};
+        for (size_t i = 0; i < r->ntiles; i++) {
+            const tsr_tile *t = &r->tiles[i];
+            render_box b = box_intersect((render_box){t->x, t->y, t->width, t->height}, window);
+            if (!b.w) {
+                tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu [%d, %d, %d, %d] is outside the %dx%d window",
+                        r->name, frame, i, t->x, t->y, t->width, t->height, r->width, r->height);
+                continue;
+            }
+            size_t need = (size_t)b.w * (size_t)b.h * 4;
+            if (need > r->tile_pixels_size) {
+                unsigned char *p = realloc(r->tile_pixels, need);
+                if (!p) {
+                    tsr_log(TSR_LOG_ERROR, "%s: frame %d: out of memory for tile %zu", r->name, frame, i);
+                    continue;
+                }
+                r->tile_pixels = p;
+                r->tile_pixels_size = need;
+            }
+            r->gl.ReadPixels(b.x, b.y, b.w, b.h, GL_RGBA, GL_UNSIGNED_BYTE, r->tile_pixels);
+            char path[PATH_MAX];
+            if (r->output[0] &&
+                (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
+                 tsr_image_write_png_rgba(r->tile_pixels, b.w, b.h, (size_t)b.w * 4, true, path,
+                                          &err) != TSR_OK))
+                tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu: %s", r->name, frame, i, err.message);
+        }
+    }
+    if (shared_make_current(r, back, &err) != TSR_OK)
+        tsr_log(TSR_LOG_ERROR, "%s", err.message);
+}
+
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     render_spu *r = self;
-    if (window == r->window) {
+    if (window == r->window && r->ntiles) {
+        ensure_current(r);
+        tiled_write_frame(r, r->frame++);
+    } else if (window == r->window) {
         ensure_current(r);
         r->gl.Finish();
         if (r->shared)
@@ -488,7 +1049,7 @@ static void render_ContextCreateTSR(void *self, GLint context) {
             if (shared_switch(r, index, &err) != TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s", err.message);
             r->gl.Viewport(0, 0, r->width, r->height);
-            r->gl.Scissor(0, 0, r->width, r->height);
+            render_Scissor(r, 0, 0, r->width, r->height);
             if (shared_switch(r, back, &err) != TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s", err.message);
         }
@@ -566,6 +1127,14 @@ static void render_destroy(void *self) {
     render_spu *r = self;
     if (!r)
         return;
+    if (r->reader.osmesa) {
+        tsr_error err = {0};
+        if (r->reader.fbo && attach_context(r, &r->reader, &err) == TSR_OK)
+            r->fbo.DeleteFramebuffers(1, &r->reader.fbo);
+        if (r->osmesa.GetCurrentContext() == r->reader.osmesa)
+            r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);
+        r->osmesa.DestroyContext(r->reader.osmesa);
+    }
     if (r->shared) {
         for (size_t i = r->ncontexts; i-- > 1;)
             destroy_context(r, i);
@@ -587,6 +1156,8 @@ static void render_destroy(void *self) {
     if (r->library)
         dlclose(r->library);
     free(r->buffer);
+    free(r->tiles);
+    free(r->tile_pixels);
     free(r);
 }
 
@@ -628,6 +1199,27 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     int height = r->fixed_height ? r->fixed_height : RENDER_DEFAULT_SIDE;
     if (bind_framebuffer(r, width, height, err) != TSR_OK)
         goto fail;
+    /* GL's initial scissor: the drawable's size, test disabled. */
+    r->solo_sc.box = (render_box){0, 0, width, height};
+    r->tiles_gen = 1;
+    r->solo_sc.applied = 1;
+    r->max_attrib_depth = 16;
+    r->gl.GetIntegerv(GL_MAX_ATTRIB_STACK_DEPTH, &r->max_attrib_depth);
+    if (r->max_attrib_depth > RENDER_ATTRIB_DEPTH)
+        r->max_attrib_depth = RENDER_ATTRIB_DEPTH;
+    const char *tiles_text = tsr_options_string(init->options, "tiles");
+    if (tiles_text && tiles_text[0]) {
+        tsr_tile *tiles;
+        size_t count;
+        tsr_error tiles_err = {0};
+        if (tsr_tiles_parse(tiles_text, false, &tiles, &count, &tiles_err) != TSR_OK) {
+            tsr_error_set(err, TSR_EINVAL, "%s: option tiles=%s: %s", r->name, tiles_text,
+                          tiles_err.message);
+            goto fail;
+        }
+        if (set_tiles(r, tiles, count, err) != TSR_OK)
+            goto fail;
+    }
 
     tsr_gl_procs_fill_dispatch(&r->gl, init->table);
     tsr_set_WindowCreateTSR(init->table, render_WindowCreateTSR, r);
@@ -638,6 +1230,21 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     tsr_set_MakeCurrentTSR(init->table, render_MakeCurrentTSR, r);
     tsr_set_DrawBuffer(init->table, render_DrawBuffer, r);
     tsr_set_ReadBuffer(init->table, render_ReadBuffer, r);
+    tsr_set_TilesTSR(init->table, render_TilesTSR, r);
+    tsr_set_Scissor(init->table, render_Scissor, r);
+    tsr_set_Enable(init->table, render_Enable, r);
+    tsr_set_Disable(init->table, render_Disable, r);
+    tsr_set_PushAttrib(init->table, render_PushAttrib, r);
+    tsr_set_PopAttrib(init->table, render_PopAttrib, r);
+    tsr_set_CallList(init->table, render_CallList, r);
+    tsr_set_CallLists(init->table, render_CallLists, r);
+    tsr_set_NewList(init->table, render_NewList, r);
+    tsr_set_EndList(init->table, render_EndList, r);
+    tsr_set_GetIntegerv(init->table, render_GetIntegerv, r);
+    tsr_set_GetFloatv(init->table, render_GetFloatv, r);
+    tsr_set_GetDoublev(init->table, render_GetDoublev, r);
+    tsr_set_GetBooleanv(init->table, render_GetBooleanv, r);
+    tsr_set_IsEnabled(init->table, render_IsEnabled, r);
     return r;
 fail:
     render_destroy(r);
@@ -656,6 +1263,11 @@ static const tsr_option_spec render_options[] = {
      .help = "framebuffer height; 0: follow the window (512 until it is known)"},
     {.name = "window", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,
      .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},
+    {.name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+     .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "
+             "tiles:); draws them at full-window coordinates, writes one PNG per tile "
+             "(-tN before the extension when several); a TilesTSR replaces them; empty: "
+             "the whole window"},
 };
 
 static const tsr_spu_class render_class = {
