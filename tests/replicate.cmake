@@ -9,7 +9,7 @@ set(REPLICATE_SH ${CMAKE_CURRENT_SOURCE_DIR}/replicate/replicate.sh)
 set(REPLICATE_OUT ${CMAKE_BINARY_DIR}/test-out/replicate)
 set(REPLICATE_BIN ${CMAKE_BINARY_DIR}/bin)
 
-foreach(example spheres texquads)
+foreach(example spheres texquads isosurface)
   add_test(NAME replicate_three_servers_tcp_unix_exact_${example}
     COMMAND ${REPLICATE_SH} accuracy ${REPLICATE_BIN} ${REPLICATE_OUT}/accuracy-${example} ${example})
 endforeach()
@@ -37,6 +37,30 @@ add_test(NAME replicate_same_server_twice_is_a_clear_error
 add_test(NAME pack_stats_file_counts_frames_bytes_and_blocked_time
   COMMAND ${REPLICATE_SH} pack-blocked ${REPLICATE_BIN} ${REPLICATE_OUT}/pack-blocked)
 
+# Late joiners (replicate late=..., node/join.h): server B joins the
+# running stream and draws bit-identical frames from its first one on;
+# spheres has (nested) display lists, texquads two textures bound in turn.
+set(REPLICATE_LATE_SH ${CMAKE_CURRENT_SOURCE_DIR}/replicate/late.sh)
+foreach(example spheres texquads isosurface)
+  add_test(NAME replicate_late_server_joins_mid_stream_exact_${example}
+    COMMAND ${REPLICATE_LATE_SH} join ${REPLICATE_BIN} ${REPLICATE_OUT}/late-${example} ${example})
+endforeach()
+# The display-list recorder the joiners use (core/dlist.h), with the real
+# packer, unpacker and state tracker.
+add_executable(dlist_tests ${CMAKE_CURRENT_SOURCE_DIR}/replicate/dlist_tests.c)
+add_dependencies(dlist_tests tessera_generated)
+target_include_directories(dlist_tests PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
+target_link_libraries(dlist_tests PRIVATE tessera m)
+foreach(case define_all_is_byte_exact call_equals_direct immediate_and_delete)
+  add_test(NAME replicate_late_dlist_${case} COMMAND dlist_tests ${case})
+endforeach()
+add_test(NAME replicate_late_server_never_comes_run_finishes_one_line
+  COMMAND ${REPLICATE_LATE_SH} never ${REPLICATE_BIN} ${REPLICATE_OUT}/late-never)
+add_test(NAME replicate_late_server_also_listed_in_servers_is_a_clear_error
+  COMMAND ${REPLICATE_EXPECT} 1 "" "server unix:/nonexistent/s.sock is listed twice"
+          ${REPLICATE_BIN}/spheres --frames 1
+          --chain "replicate servers=unix:/nonexistent/s.sock late=unix:/nonexistent/s.sock")
+
 get_property(REPLICATE_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 if(REPLICATE_TESTS_BEFORE)
   list(REMOVE_ITEM REPLICATE_TESTS_AFTER ${REPLICATE_TESTS_BEFORE})
@@ -49,3 +73,6 @@ if(TESSERA_SANITIZE)
 endif()
 set_tests_properties(${REPLICATE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS replicate
   ENVIRONMENT "${REPLICATE_ENV}")
+# isosurface computes its surfaces in the app: under the sanitizers the run
+# plus 27 frame comparisons needs more than the replicate tests' 120 s.
+set_tests_properties(replicate_late_server_joins_mid_stream_exact_isosurface PROPERTIES TIMEOUT 300)

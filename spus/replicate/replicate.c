@@ -7,9 +7,20 @@
  * Owns, per instance: one stream client (node/client.h) with one
  * connection per server, the failure policy (on_error: exit, or go on
  * without the failed server) and the statistics (TESSERA_STATS_FILE).
- * Never calls its child. */
+ * Never calls its child.
+ *
+ * Late joiners (`late=ADDR,...`): servers that may join the running
+ * stream. The client connects to them in the background (every
+ * late_retry_ms, for late_give_up_ms or the whole run) and admits one
+ * right after a SwapBuffersTSR, once it has been sent a catch-up stream of
+ * its own (windows, display lists, texture and buffer objects, then a
+ * state-tracker diff: node/join.h), so its frames from then on are the
+ * application's. Without `late` nothing is tracked: the stream costs the
+ * same as before. A late server that never comes is one warning line at
+ * the end, not an error. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "client.h"
 #include "tessera/spu.h"
@@ -35,11 +46,34 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
     }
     for (size_t i = 0; i < count; i++)
         servers[i] = tsr_options_string_at(init->options, "servers", i);
+    size_t late_count = tsr_options_count(init->options, "late");
+    const char **late = calloc(late_count ? late_count : 1, sizeof *late);
+    if (!late) {
+        free(servers);
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
+        return NULL;
+    }
+    for (size_t i = 0; i < late_count; i++) {
+        late[i] = tsr_options_string_at(init->options, "late", i);
+        /* Checked before connecting: a server cannot be both. */
+        for (size_t k = 0; k < count; k++)
+            if (!strcmp(servers[k], late[i])) {
+                tsr_error_set(err, TSR_EINVAL, "%s: server %s is listed twice (in servers and in late)",
+                              init->instance_name, late[i]);
+                free(servers);
+                free(late);
+                return NULL;
+            }
+    }
     tsr_node_client_config cfg = {.spu = "replicate", .name = init->instance_name,
-                                  .servers = servers, .server_count = count};
+                                  .servers = servers, .server_count = count,
+                                  .late_servers = late, .late_count = late_count,
+                                  .late_retry_ms = (uint32_t)tsr_options_int(init->options, "late_retry_ms"),
+                                  .late_give_up_ms = (uint32_t)tsr_options_int(init->options, "late_give_up_ms")};
     tsr_node_client_config_from_options(&cfg, init->options);
     void *client = tsr_node_client_create(&cfg, init->table, err);
     free(servers); /* the client copied the addresses */
+    free(late);
     return client;
 }
 
@@ -47,6 +81,14 @@ static const tsr_option_spec replicate_options[] = {
     {.name = "servers", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
      .help = "server node addresses, comma-separated: tcp://HOST:PORT or unix:PATH (required; "
              "every one receives the whole stream, replies come from the first)"},
+    {.name = "late", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+     .help = "servers that may join the running stream, comma-separated: not needed at start, "
+             "connected in the background, caught up (state, textures, display lists, buffers) "
+             "and added at the next frame boundary"},
+    {.name = "late_retry_ms", .type = TSR_OPT_INT, .default_value = "200", .min = 10, .max = 60000.0,
+     .help = "pause between connection attempts to a late server"},
+    {.name = "late_give_up_ms", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 86400000.0,
+     .help = "stop trying late servers after this long (0: until the application ends)"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
 
