@@ -326,17 +326,21 @@ static void add_app_stats(agent *a, tsr_ctl_out *out)
     char path[256];
     snprintf(path, sizeof path, "%s/stats.json", a->tmpdir);
     FILE *f = a->tmpdir[0] ? fopen(path, "r") : NULL;
-    char text[4096];
+    /* sort-first statistics hold bytes per server per frame: room for
+     * thousands of frames of a 32-server wall */
+    enum { STATS_MAX = 4 << 20 };
+    char *text = f ? malloc(STATS_MAX) : NULL;
     size_t n = 0;
-    if (f) {
-        n = fread(text, 1, sizeof text - 1, f);
+    if (f && text)
+        n = fread(text, 1, STATS_MAX - 1, f);
+    if (f)
         fclose(f);
-    }
-    text[n] = '\0';
-    if (!f || !n) {
+    if (!text || !n) {
+        free(text);
         tsr_ctl_add(out, "app_stats", "missing");
         return;
     }
+    text[n] = '\0';
     tsr_ctl_add(out, "app_stats", "found");
     static const char *const keys[] = {"frames", "buffers", "bytes_out", "blocked_seconds"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
@@ -344,6 +348,27 @@ static void add_app_stats(agent *a, tsr_ctl_out *out)
         if (tsr_ms_json_number(text, keys[i], &v) == 0)
             tsr_ctl_addf(out, keys[i], "%.17g", v);
     }
+    /* tilesort: its "sort_first" object goes to the mothership whole (it
+     * is JSON the stats file then embeds) */
+    const char *sf = strstr(text, "\"sort_first\":{");
+    if (sf) {
+        sf += strlen("\"sort_first\":");
+        int depth = 0;
+        const char *e = sf;
+        for (; *e; e++) {
+            depth += *e == '{' || *e == '[';
+            depth -= *e == '}' || *e == ']';
+            if (!depth)
+                break;
+        }
+        if (*e) {
+            char *obj = strndup(sf, (size_t)(e - sf + 1));
+            if (obj)
+                tsr_ctl_add(out, "sort_first", obj);
+            free(obj);
+        }
+    }
+    free(text);
 }
 
 static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)

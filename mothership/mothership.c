@@ -62,6 +62,7 @@ typedef struct ms_node {
     double frames, buffers, bytes_in, bytes_out, busy, blocked, elapsed;
     unsigned clients;
     int app_stats; /* -1 not an app, 0 missing, 1 found */
+    char *sort_first; /* a tilesort app's "sort_first" statistics (JSON), or NULL */
     double rate_t, rate_frames, rate_bytes, fps, mbps;
     int done_status;
 } ms_node;
@@ -168,8 +169,41 @@ static int spu_has_option(const tsr_spu_class *cls, const char *name)
     return 0;
 }
 
+/* "X:Y:W:H" of a graph tile (tessera/tiles.h), after `prefix`. */
+static void sb_tile(strbuf *b, const char *prefix, const tsr_graph_tile *t)
+{
+    char text[80];
+    snprintf(text, sizeof text, "%s%d:%d:%d:%d", prefix, t->x, t->y, t->width, t->height);
+    sb_str(b, text);
+}
+
+/* The tiles option a node's SPUs get (tessera/tiles.h): a server's own
+ * tiles "X:Y:W:H,..." for an SPU with a `tiles` option in its chain, and
+ * for its clients' network SPU every server's "S:X:Y:W:H,..." (S = index
+ * in `to:`). Empty when there are none. */
+static void tiles_text(const ms *m, const tsr_graph_node *g, int network, strbuf *list)
+{
+    if (!network) {
+        for (size_t t = 0; t < g->tile_count; t++) {
+            if (t)
+                sb_str(list, ",");
+            sb_tile(list, "", &g->tiles[t]);
+        }
+        return;
+    }
+    for (size_t s = 0; s < g->to_count; s++) {
+        const tsr_graph_node *server = m->nodes[g->to[s]].g;
+        for (size_t t = 0; t < server->tile_count; t++) {
+            char prefix[24];
+            snprintf(prefix, sizeof prefix, "%s%zu:", list->len ? "," : "", s);
+            sb_tile(list, prefix, &server->tiles[t]);
+        }
+    }
+}
+
 /* The node's chain text, its network SPU pointed at its servers' READY
- * addresses (and given the run's token). */
+ * addresses (and given the run's token), and the graph's tiles handed to
+ * the SPUs that take a `tiles` option (tiles_text). */
 static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
 {
     const tsr_graph_node *g = n->g;
@@ -200,13 +234,21 @@ static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
                                      "node '%s': SPU %s sends to one server, but to: names %zu",
                                      g->name, l->spu, g->to_count);
             token = m->cfg->token && m->cfg->token[0] && spu_has_option(cls, "token");
+        } else if (g->tile_count) {
+            tsr_error e = {0};
+            cls = tsr_spu_find(l->spu, &e);
         }
+        strbuf tiles = {0};
+        if (spu_has_option(cls, "tiles"))
+            tiles_text(m, g, network, &tiles);
         if (i)
             sb_str(b, " ! ");
         sb_str(b, l->spu);
         for (size_t k = 0; k < l->option_count; k++) {
             if (network && (!strcmp(l->keys[k], addr_key) || (token && !strcmp(l->keys[k], "token"))))
                 continue; /* the mothership's address and token win */
+            if (tiles.len && !strcmp(l->keys[k], "tiles"))
+                continue; /* and so do the graph's tiles */
             sb_option(b, l->keys[k], l->values[k]);
         }
         if (network) {
@@ -221,6 +263,10 @@ static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
             if (token)
                 sb_option(b, "token", m->cfg->token);
         }
+        if (tiles.len)
+            sb_option(b, "tiles", tiles.s);
+        b->failed |= tiles.failed;
+        free(tiles.s);
     }
     if (b->failed)
         return tsr_error_set(err, TSR_ENOMEM, "node '%s': chain text: out of memory", g->name);
@@ -394,6 +440,11 @@ static void take_stats(ms_node *n, const tsr_ctl *msg)
     const char *app = tsr_ctl_get(msg, "app_stats");
     if (app)
         n->app_stats = !strcmp(app, "found");
+    const char *sf = tsr_ctl_get(msg, "sort_first");
+    if (sf) {
+        free(n->sort_first);
+        n->sort_first = strdup(sf);
+    }
     /* Rates over windows of at least half a second, for a steady line. */
     if (!n->rate_t) {
         n->rate_t = t;
@@ -747,6 +798,21 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Load imbalance of the servers' render time: max / mean of their busy
+ * seconds (1: even; 0 without servers). */
+static double render_imbalance(const ms *m)
+{
+    double max = 0, sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < m->count; i++)
+        if (m->nodes[i].server) {
+            max = m->nodes[i].busy > max ? m->nodes[i].busy : max;
+            sum += m->nodes[i].busy;
+            n++;
+        }
+    return n && sum > 0 ? max / (sum / (double)n) : 0.0;
+}
+
 static int write_stats(ms *m, int ok, double wall, tsr_error *err)
 {
     FILE *f = fopen(m->cfg->stats_path, "w");
@@ -783,13 +849,13 @@ static int write_stats(ms *m, int ok, double wall, tsr_error *err)
                     n->clients);
         }
         else if (n->app_stats == 1)
-            fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": %.6f, \"app_stats\": \"found\"}",
-                    n->blocked);
+            fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": %.6f, \"app_stats\": \"found\"%s%s}",
+                    n->blocked, n->sort_first ? ", \"sort_first\": " : "", n->sort_first ? n->sort_first : "");
         else
             fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": null, \"app_stats\": \"missing\"}");
         fprintf(f, "%s\n", i + 1 < m->count ? "," : "");
     }
-    fprintf(f, "  ]\n}\n");
+    fprintf(f, "  ],\n  \"server_render_imbalance\": %.6f\n}\n", render_imbalance(m));
     if (fclose(f))
         return tsr_error_set(err, TSR_EIO, "--stats %s: %s", m->cfg->stats_path, strerror(errno));
     return TSR_OK;
@@ -814,6 +880,12 @@ static void summary(ms *m, double wall)
                     n->blocked);
         else
             fprintf(f, "  %-12s app:    ran %.2f s (no network statistics from its chain)\n", n->g->name, secs);
+        double overlap, imbalance;
+        if (n->sort_first && tsr_ms_json_number(n->sort_first, "overlap", &overlap) == 0 &&
+            tsr_ms_json_number(n->sort_first, "imbalance", &imbalance) == 0)
+            fprintf(f, "  %-12s sort-first: overlap %.3f (bytes sent / stream), imbalance %.3f (max / mean "
+                       "server bytes), server render time imbalance %.3f\n",
+                    "", overlap, imbalance, render_imbalance(m));
     }
     fflush(f);
 }
@@ -960,6 +1032,8 @@ int tsr_mothership_run(const tsr_graph *graph, const tsr_ms_config *config, tsr_
         tsr_net_listener_close(m.listener);
     if (m.net)
         tsr_net_destroy(m.net);
+    for (size_t i = 0; m.nodes && i < m.count; i++)
+        free(m.nodes[i].sort_first);
     free(m.nodes);
     return rc;
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "join.h"
 #include "net.h"
 #include "pack.h"
 #include "protocol.h"
@@ -68,7 +69,18 @@ struct tsr_node_client {
     buffer_pool pool;        /* flushed buffers' copies; outlives the I/O thread */
     uint64_t frames, buffers, stream_bytes;
     tsr_error first_error;
+    tsr_node_join *join;        /* late servers still expected (join.h); NULL: none, nothing tracked */
+    struct server_sink *sinks;  /* per-server sink contexts (tsr_node_client_server_sink) */
+    int connected;              /* every server reached: statistics are written at the end */
+    void (*stats_extra)(void *ctx, FILE *f);  /* the sending SPU's own members */
+    void *stats_extra_ctx;
 };
+
+/* Context of a sink bound to one server. */
+typedef struct server_sink {
+    tsr_node_client *client;
+    size_t index;
+} server_sink;
 
 static void shared_release(void *data, void *ctx)
 {
@@ -221,6 +233,20 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
     release_reply(c);
     if (!c->live)
         return no_server_left(c, err);
+    if (c->count == 1) {
+        /* One server: tsr_net_send writes straight from the packer's buffer
+         * when the connection's write side is idle, and copies it (into a
+         * reused buffer) only when it must wait (netlib/net.h SENDING). */
+        c->buffers++;
+        if (c->join)
+            tsr_node_join_observe(c->join, buf, size);
+        c->stream_bytes += size;
+        tsr_error cause = {0}, ignored = {0};
+        if (tsr_net_send(c->servers[0].conn, TSR_NODE_MSG_BUFFER, buf, size, TSR_NET_WAIT_FOREVER,
+                         &cause) != TSR_OK)
+            server_failed(c, 0, &ignored, "sending a buffer failed", &cause);
+        return c->live ? TSR_OK : no_server_left(c, err);
+    }
     /* Its one reference is ours, dropped below: no connection can free it
      * while the loop still hands it out. */
     shared_buffer *b = shared_get(&c->pool, size);
@@ -228,6 +254,8 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %zu-byte buffer", c->name, size);
     memcpy(b->data, buf, size);
     c->buffers++; /* counted before sending: a failure that ends the process writes them */
+    if (c->join)
+        tsr_node_join_observe(c->join, buf, size); /* the model follows what the servers get */
     c->stream_bytes += size;
     for (size_t i = 0; i < c->count; i++) {
         server *s = &c->servers[i];
@@ -244,6 +272,80 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
     }
     shared_release(b->data, b);
     return c->live ? TSR_OK : no_server_left(c, err);
+}
+
+int tsr_node_client_send(tsr_node_client *c, const size_t *targets, size_t n, const uint8_t *buf,
+                         size_t size, tsr_error *err)
+{
+    release_reply(c);
+    if (!c->live)
+        return no_server_left(c, err);
+    shared_buffer *b = shared_get(&c->pool, size);
+    if (!b)
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %zu-byte buffer", c->name, size);
+    memcpy(b->data, buf, size);
+    c->buffers++;
+    c->stream_bytes += size;
+    for (size_t k = 0; k < n; k++) {
+        size_t i = targets[k];
+        if (i >= c->count || c->servers[i].failed)
+            continue;
+        atomic_fetch_add_explicit(&b->refs, 1, memory_order_relaxed);
+        tsr_error cause = {0};
+        if (tsr_net_send_owned(c->servers[i].conn, TSR_NODE_MSG_BUFFER, b->data, size, shared_release, b,
+                               TSR_NET_WAIT_FOREVER, &cause) != TSR_OK) {
+            shared_release(b->data, b);
+            tsr_error ignored = {0};
+            server_failed(c, i, &ignored, "sending a buffer failed", &cause);
+        }
+    }
+    shared_release(b->data, b);
+    return c->live ? TSR_OK : no_server_left(c, err);
+}
+
+static int server_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+{
+    server_sink *s = ctx;
+    return tsr_node_client_send(s->client, &s->index, 1, buf, size, err);
+}
+
+static int take_reply(tsr_node_client *c, size_t i, uint32_t id, tsr_net_msg *m);
+
+static int server_sink_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err)
+{
+    server_sink *s = ctx;
+    tsr_node_client *c = s->client;
+    release_reply(c);
+    tsr_net_msg m;
+    if (c->servers[s->index].failed || !take_reply(c, s->index, id, &m))
+        return tsr_error_set(err, TSR_EIO, "%s: server %s failed before answering request %u", c->name,
+                             c->servers[s->index].address, id);
+    c->reply = m;
+    c->holding_reply = 1;
+    *data = (const uint8_t *)c->reply.data + TSR_NODE_REPLY_HEADER;
+    *size = (size_t)(c->reply.len - TSR_NODE_REPLY_HEADER);
+    return TSR_OK;
+}
+
+void tsr_node_client_server_sink(tsr_node_client *c, size_t index, struct tsr_pack_sink *sink)
+{
+    *sink = (tsr_pack_sink){.flush = server_sink_flush, .reply = server_sink_reply, .ctx = &c->sinks[index]};
+}
+
+void tsr_node_client_set_stats_extra(tsr_node_client *c, void (*fn)(void *ctx, FILE *f), void *ctx)
+{
+    c->stats_extra = fn;
+    c->stats_extra_ctx = ctx;
+}
+
+void tsr_node_client_count_frame(tsr_node_client *c)
+{
+    c->frames++;
+}
+
+int tsr_node_client_server_failed(const tsr_node_client *c, size_t index)
+{
+    return index >= c->count || c->servers[index].failed;
 }
 
 /* Takes server i's answer to request `id`: 1 with *m filled when it is the
@@ -301,18 +403,76 @@ static int client_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *si
     return TSR_OK;
 }
 
+/* A late server that caught up becomes server `count` (the arrays grow by
+ * one; nothing outside keeps pointers into them while a packer client
+ * runs, and late joiners exist only for those). */
+static int add_server(tsr_node_client *c, const char *address, tsr_net_conn *conn)
+{
+    server *v = realloc(c->servers, (c->count + 1) * sizeof *v);
+    if (!v)
+        return -1;
+    c->servers = v;
+    if (c->sinks) {
+        server_sink *k = realloc(c->sinks, (c->count + 1) * sizeof *k);
+        if (!k)
+            return -1;
+        c->sinks = k;
+        c->sinks[c->count] = (server_sink){.client = c, .index = c->count};
+    }
+    memset(&v[c->count], 0, sizeof v[c->count]);
+    snprintf(v[c->count].address, sizeof v[c->count].address, "%s", address);
+    v[c->count].conn = conn;
+    c->count++;
+    c->live++;
+    return 0;
+}
+
+/* At a frame boundary (the swap is packed): flush, so the model has seen
+ * the whole frame and the joiner starts with the next one, then catch up
+ * every connected late server and add it to the broadcast. */
+static void admit_late_servers(tsr_node_client *c)
+{
+    if (!tsr_node_join_ready(c->join) || tsr_packer_flush(c->packer) != TSR_OK)
+        return;
+    const char *address;
+    tsr_net_conn *conn;
+    while ((conn = tsr_node_join_take(c->join, &address))) {
+        tsr_node_join_report r;
+        tsr_error err = {0};
+        if (tsr_node_join_catch_up(c->join, conn, &r, &err) != TSR_OK || add_server(c, address, conn) != 0) {
+            tsr_log(TSR_LOG_ERROR, "%s: late server %s: catching up failed: %s", c->name, address,
+                    err.code ? err.message : "out of memory");
+            tsr_net_conn_close(conn);
+            continue;
+        }
+        tsr_log(TSR_LOG_INFO,
+                "%s: server %s joined at frame %llu (catch-up: %llu bytes, %u window%s, %u display list%s, "
+                "%u texture%s, %u buffer%s, %u state call%s)",
+                c->name, address, (unsigned long long)c->frames, (unsigned long long)r.bytes, r.windows,
+                r.windows == 1 ? "" : "s", r.lists, r.lists == 1 ? "" : "s", r.textures,
+                r.textures == 1 ? "" : "s", r.buffers, r.buffers == 1 ? "" : "s", r.state_calls,
+                r.state_calls == 1 ? "" : "s");
+    }
+    if (!tsr_node_join_pending(c->join)) {
+        tsr_node_join_destroy(c->join); /* every late server came: stop tracking */
+        c->join = NULL;
+    }
+}
+
 static void client_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     tsr_node_client *c = self;
     c->frames++;
     ((tsr_fn_SwapBuffersTSR)c->swap.fn)(c->swap.self, window, flags);
+    if (c->join)
+        admit_late_servers(c);
 }
 
 /* Sends what is left and FINISH to every live server, then waits until
  * each confirmed that every buffer ran (or says why not). */
 static void finish_stream(tsr_node_client *c)
 {
-    if (tsr_packer_flush(c->packer) != TSR_OK || !c->live)
+    if ((c->packer && tsr_packer_flush(c->packer) != TSR_OK) || !c->live)
         return;
     release_reply(c);
     tsr_error ignored = {0};
@@ -353,7 +513,9 @@ void tsr_node_client_destroy(tsr_node_client *c)
 {
     if (!c)
         return;
-    if (c->packer && c->live)
+    tsr_node_join_destroy(c->join); /* before the connections: it may hold one */
+    c->join = NULL;
+    if (c->connected && c->live)
         finish_stream(c);
     release_reply(c);
     for (size_t i = 0; i < c->count; i++) {
@@ -369,15 +531,15 @@ void tsr_node_client_destroy(tsr_node_client *c)
     c->net = NULL;
     pool_drain(&c->pool); /* every buffer came back: the I/O thread is gone */
     pthread_mutex_destroy(&c->pool.lock);
-    if (c->packer)
+    if (c->connected)
         write_stats_if_asked(c); /* only for a client that was created */
     tsr_packer_destroy(c->packer);
+    free(c->sinks);
     free(c->servers);
     free(c);
 }
 
-tsr_node_client *tsr_node_client_create(const tsr_node_client_config *config, tsr_dispatch *table,
-                                        tsr_error *err)
+tsr_node_client *tsr_node_client_connect(const tsr_node_client_config *config, tsr_error *err)
 {
     const char *name = config->name ? config->name : "client";
     tsr_node_client *c = calloc(1, sizeof *c);
@@ -445,19 +607,64 @@ tsr_node_client *tsr_node_client_create(const tsr_node_client_config *config, ts
             goto fail;
         }
     }
-    c->live = c->count;
-    tsr_pack_sink sink = {.flush = client_flush, .reply = client_reply, .ctx = c};
-    c->packer = tsr_packer_create(config->buffer_size, &sink, err);
-    if (!c->packer)
+    c->sinks = calloc(c->count, sizeof *c->sinks);
+    if (!c->sinks) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", c->name);
         goto fail;
-    tsr_packer_fill_dispatch(c->packer, table);
-    c->swap = table->SwapBuffersTSR;
-    tsr_set_SwapBuffersTSR(table, client_SwapBuffersTSR, c);
+    }
+    for (size_t i = 0; i < c->count; i++)
+        c->sinks[i] = (server_sink){.client = c, .index = i};
+    c->live = c->count;
+    c->connected = 1;
     return c;
 fail:
     c->live = 0; /* nothing was sent: no FINISH */
     tsr_node_client_destroy(c);
     return NULL;
+}
+
+/* The late servers' model and connecting thread (join.h). */
+static int start_late(tsr_node_client *c, const tsr_node_client_config *config, tsr_error *err)
+{
+    for (size_t i = 0; i < config->late_count; i++) {
+        const char *a = config->late_servers[i];
+        if (!a || !a[0] || strlen(a) >= TSR_NET_ADDRESS_MAX)
+            return tsr_error_set(err, TSR_EINVAL, "%s: late server %zu of %zu is %s", c->name, i + 1,
+                                 config->late_count, a && a[0] ? "too long" : "empty");
+        for (size_t k = 0; k < c->count + i; k++)
+            if (!strcmp(k < c->count ? c->servers[k].address : config->late_servers[k - c->count], a))
+                return tsr_error_set(err, TSR_EINVAL, "%s: server %s is listed twice", c->name, a);
+    }
+    tsr_node_join_config jc = {.name = c->name, .net = c->net, .addresses = config->late_servers,
+                               .count = config->late_count,
+                               .retry_ms = config->late_retry_ms ? config->late_retry_ms : 200,
+                               .give_up_ms = config->late_give_up_ms, .buffer_size = config->buffer_size};
+    c->join = tsr_node_join_create(&jc, err);
+    return c->join ? TSR_OK : err->code;
+}
+
+tsr_node_client *tsr_node_client_create(const tsr_node_client_config *config, tsr_dispatch *table,
+                                        tsr_error *err)
+{
+    tsr_node_client *c = tsr_node_client_connect(config, err);
+    if (!c)
+        return NULL;
+    tsr_pack_sink sink = {.flush = client_flush, .reply = client_reply, .ctx = c};
+    c->packer = tsr_packer_create(config->buffer_size, &sink, err);
+    if (!c->packer) {
+        c->live = 0;
+        c->connected = 0;
+        tsr_node_client_destroy(c);
+        return NULL;
+    }
+    tsr_packer_fill_dispatch(c->packer, table);
+    c->swap = table->SwapBuffersTSR;
+    tsr_set_SwapBuffersTSR(table, client_SwapBuffersTSR, c);
+    if (config->late_count && start_late(c, config, err) != TSR_OK) {
+        tsr_node_client_destroy(c);
+        return NULL;
+    }
+    return c;
 }
 
 void tsr_node_client_get_stats(tsr_node_client *c, tsr_node_client_stats *out,
@@ -532,7 +739,10 @@ int tsr_node_client_write_stats(tsr_node_client *c, const char *path, tsr_error 
                 per[i].blocked_seconds, per[i].failed ? "true" : "false");
     }
     free(per);
-    fprintf(f, "],\"error\":");
+    fprintf(f, "]");
+    if (c->stats_extra)
+        c->stats_extra(c->stats_extra_ctx, f);
+    fprintf(f, ",\"error\":");
     if (c->first_error.code)
         json_string(f, c->first_error.message);
     else

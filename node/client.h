@@ -26,6 +26,17 @@
  * client sends FINISH to every server and waits for each one's
  * confirmation that every buffer ran.
  *
+ * Late joiners (config.late_servers, node/join.h). A late server is not
+ * needed at start: a background thread connects to it; right after the
+ * next SwapBuffersTSR the packer is flushed, the server gets a catch-up
+ * stream of its own (windows, display lists, texture and buffer objects,
+ * state diff) and then joins the broadcast, drawing from the next frame
+ * on; one info line says "server ADDR joined at frame N". A late server
+ * that never comes costs the stream nothing but one warning line when the
+ * client ends (or gives up); the application's exit status is not
+ * affected. Once joined it is a server like the others (failure policy,
+ * replies, FINISH, statistics).
+ *
  * Statistics. The client counts wire buffers and their bytes (the stream,
  * packed once), frames (SwapBuffersTSR calls), and per server the payload
  * bytes and messages sent and the time the application thread was blocked
@@ -49,6 +60,7 @@
 #define TSR_NODE_CLIENT_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdint.h>
 
 #include "tessera/dispatch.h"
@@ -74,6 +86,14 @@ typedef struct tsr_node_client_config {
                                         server; 0 = netlib defaults, no silence limit */
     size_t buffer_size;              /* bytes of one wire buffer */
     int exit_on_error;               /* see the failure policy above */
+    /* Late joiners (node/join.h; replicate's `late` option): servers not
+     * required at start, connected to in the background and admitted at a
+     * frame boundary once caught up. None: nothing is tracked (no cost).
+     * tsr_node_client_create only (the client's own packer is followed). */
+    const char *const *late_servers;
+    size_t late_count;
+    uint32_t late_retry_ms;          /* pause between attempts per server (0: 200) */
+    uint32_t late_give_up_ms;        /* stop trying after this long; 0 = until the end */
 } tsr_node_client_config;
 
 /* The options every stream client SPU shares, as tsr_option_spec
@@ -106,6 +126,29 @@ tsr_node_client *tsr_node_client_create(const tsr_node_client_config *config, ts
 /* Sends what is packed and FINISH, waits for every server's confirmation,
  * closes, writes the statistics file (TESSERA_STATS_FILE) and frees. */
 void tsr_node_client_destroy(tsr_node_client *client);
+
+/* Sorting clients (tilesort) decide per buffer which servers get it: they
+ * connect without a packer of the client's own and send through these.
+ * tsr_node_client_connect: as tsr_node_client_create, but no packer and no
+ * table; the statistics count what tsr_node_client_send sent. */
+tsr_node_client *tsr_node_client_connect(const tsr_node_client_config *config, tsr_error *err);
+/* Sends one wire buffer to servers[0..n) (indexes into config.servers;
+ * failed ones are skipped), copying it once. TSR_OK unless no server is
+ * left (the failure policy above applies to each failed server). */
+int tsr_node_client_send(tsr_node_client *client, const size_t *servers, size_t n, const uint8_t *buf,
+                         size_t size, tsr_error *err);
+/* A packer sink that sends to server `index` only and takes replies from
+ * it alone (the request went to it alone). */
+struct tsr_pack_sink;
+void tsr_node_client_server_sink(tsr_node_client *client, size_t index, struct tsr_pack_sink *sink);
+/* The sending SPU's own statistics: fn writes members (",\"name\":value")
+ * into the JSON object after "servers" (fn runs while the client is
+ * destroyed or fails, so ctx must still be valid then). */
+void tsr_node_client_set_stats_extra(tsr_node_client *client, void (*fn)(void *ctx, FILE *f), void *ctx);
+/* Counts one frame (a SwapBuffersTSR the sorting SPU sent). */
+void tsr_node_client_count_frame(tsr_node_client *client);
+/* Whether server `index` failed (its buffers are dropped). */
+int tsr_node_client_server_failed(const tsr_node_client *client, size_t index);
 
 typedef struct tsr_node_client_server_stats {
     const char *address;     /* valid while the client lives */

@@ -15,11 +15,10 @@ foreach(t reads_nodes_chain_options_edges defaults_apply_and_nodes_override
   add_test(NAME graph_model_${t} COMMAND graph_model_test ${t})
 endforeach()
 
-# Every example graph: its structure always; the full check (SPUs and
-# options against the plugins) for the graphs whose SPUs are built;
-# wall.yaml joins when tilesort exists (issue 4); no test is skipped meanwhile.
+# Every example graph: its structure always, and the full check (SPUs and
+# options against the plugins).
 file(GLOB GRAPH_EXAMPLE_FILES CONFIGURE_DEPENDS ${GRAPH_EXAMPLE_DIR}/*.yaml)
-set(GRAPH_FULLY_CHECKED_EXAMPLES local trace tcp unix replicate psubmit)
+set(GRAPH_FULLY_CHECKED_EXAMPLES local trace tcp unix replicate psubmit wall)
 foreach(example ${GRAPH_FULLY_CHECKED_EXAMPLES})
   add_test(NAME graph_parses_example_${example}
            COMMAND ${GRAPH_TEST_DIR}/check_ok.sh ${GRAPH_TESSERA} ${GRAPH_EXAMPLE_DIR}/${example}.yaml)

@@ -41,7 +41,7 @@ struct exapp_backend {
 
 static void exapp_usage(const exapp *app, FILE *out) {
     fprintf(out,
-            "usage: %s [--frames N] [--size WxH] [--out PATTERN]"
+            "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--detail N]"
 #ifndef EXAPP_NATIVE
             " [--chain \"SPU CHAIN\"]"
 #endif
@@ -52,6 +52,8 @@ static void exapp_usage(const exapp *app, FILE *out) {
             "  --size WxH      window size (default %dx%d)\n"
             "  --out PATTERN   frame files, one %%d for the frame number\n"
             "                  (default out/%s-%%04d.png; out/ is created)\n"
+            "  --detail N      scene detail, 1..8 (default 1): the isosurface's grids are\n"
+            "                  N times finer (about N*N times the triangles)\n"
 #ifndef EXAPP_NATIVE
             "  --chain TEXT    SPU chain the GL calls enter (default: $TESSERA_CHAIN,\n"
             "                  else \"render output=PATTERN\")\n"
@@ -97,6 +99,7 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
     app->width = default_width;
     app->height = default_height;
     app->frames = EXAPP_DEFAULT_FRAMES;
+    app->detail = 1;
     app->backend = calloc(1, sizeof *app->backend);
     if (!app->backend)
         return fail(app, 1, "out of memory", NULL);
@@ -113,7 +116,8 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
             app->exit_code = 0;
             return false;
         }
-        bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out");
+        bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") ||
+                     !strcmp(arg, "--detail");
 #ifndef EXAPP_NATIVE
         known = known || !strcmp(arg, "--chain");
 #endif
@@ -130,6 +134,9 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
                 return fail(app, 2, "bad --size (expected WxH, 1..8192 each)", value);
         } else if (!strcmp(arg, "--out")) {
             b->out_pattern = value;
+        } else if (!strcmp(arg, "--detail")) {
+            if (!parse_int(value, 1, 8, &app->detail))
+                return fail(app, 2, "bad --detail (expected 1..8)", value);
         }
 #ifndef EXAPP_NATIVE
         else {

@@ -1,5 +1,5 @@
 /* examples/common/exapp.h — the tiny harness every example program shares.
- * Owns the command line (--frames, --size, --out, --chain), the GL context
+ * Owns the command line (--frames, --size, --out, --detail, --chain), the GL context
  * and frame output; the example owns only its drawing, written as ordinary
  * GL 1.x code. Never draws anything itself.
  *
@@ -27,6 +27,7 @@ typedef struct exapp {
     int width, height;  /* window size (--size WxH) */
     int frames;         /* frames to draw (--frames N) */
     int frame;          /* number of the next frame to be swapped, from 0 */
+    int detail;         /* --detail N (1..8): how finely examples that can vary it draw */
     int exit_code;      /* what main returns: 0, 1 runtime failure, 2 usage */
     exapp_backend *backend;
 } exapp;

@@ -19,6 +19,9 @@ alive() {
 # Fails (returns 1) when the node does not print its address within 10 s.
 start_node() {
   prefix=$1; shift
+  # The background job opens its files after the fork: an old .out would
+  # still show the previous node's address for a moment.
+  rm -f "$prefix.out" "$prefix.err"
   "$TESSERA" node "$@" >"$prefix.out" 2>"$prefix.err" &
   NODE_PID=$!
   NODE_ADDR=

@@ -1,0 +1,468 @@
+/* spus/tilesort/bucket.c — which servers a geometry buffer must reach.
+ *
+ * A buffer's object-space box is taken to window space with the
+ * application's own matrices and viewport (ts_window_box), grown by the
+ * line width / point size, and tested against the tiling:
+ *   broadcast  every server, always (the baseline tilesort is measured
+ *              against);
+ *   tiles      every tile of every server is tested (any layout);
+ *   grid       the tiles form a grid of columns and rows (sizes may differ,
+ *              e.g. 3x3 of 1024x768): the box's column and row ranges are
+ *              found by binary search, so the cost does not grow with the
+ *              number of tiles;
+ *   balance    one region per server, re-split every frame by a KD split
+ *              of the window (Samanta et al.'s KD-SPLIT; Equalizer's load
+ *              equalizer): the tree's shape is fixed when the window size
+ *              is known, and each frame every split moves `damping` of the
+ *              way towards the position that divides last frame's measured
+ *              cost (bytes sent, spread over the cells each flush covered)
+ *              in proportion to the servers on either side.
+ * Owns the tilings; never sends anything. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tessera/log.h"
+#include "tilesort.h"
+
+static int rect_meets(const ts_rect *r, int x0, int y0, int x1, int y1)
+{
+    return r->x < x1 && x0 < r->x + r->w && r->y < y1 && y0 < r->y + r->h;
+}
+
+static int push_tile(ts_tiling *t, size_t s, ts_rect r)
+{
+    if (t->ntiles[s] == t->cap[s]) {
+        size_t cap = t->cap[s] ? 2 * t->cap[s] : 4;
+        ts_rect *n = realloc(t->tiles[s], cap * sizeof *n);
+        if (!n)
+            return -1;
+        t->tiles[s] = n;
+        t->cap[s] = cap;
+    }
+    t->tiles[s][t->ntiles[s]++] = r;
+    return 0;
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Distinct sorted values of v[0..n) into v; returns their count. */
+static int distinct(int *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_int);
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        if (!k || v[k - 1] != v[i])
+            v[k++] = v[i];
+    return k;
+}
+
+static int find_index(const int *starts, int n, int value)
+{
+    for (int i = 0; i < n; i++)
+        if (starts[i] == value)
+            return i;
+    return -1;
+}
+
+static int build_grid(ts_tiling *t, const char *who, tsr_error *err)
+{
+    size_t total = 0;
+    for (size_t s = 0; s < t->servers; s++)
+        total += t->ntiles[s];
+    int *xs = malloc((2 * total + 2) * sizeof *xs), *ys = malloc((2 * total + 2) * sizeof *ys);
+    if (!xs || !ys) {
+        free(xs);
+        free(ys);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    int nx = 0, ny = 0;
+    for (size_t s = 0; s < t->servers; s++)
+        for (size_t i = 0; i < t->ntiles[s]; i++) {
+            const ts_rect *r = &t->tiles[s][i];
+            xs[nx++] = r->x;
+            xs[nx++] = r->x + r->w;
+            ys[ny++] = r->y;
+            ys[ny++] = r->y + r->h;
+        }
+    nx = distinct(xs, nx);
+    ny = distinct(ys, ny);
+    int cols = nx - 1, rows = ny - 1;
+    int *owner = malloc((size_t)(cols > 0 ? cols : 1) * (size_t)(rows > 0 ? rows : 1) * sizeof *owner);
+    if (!owner) {
+        free(xs);
+        free(ys);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    for (int i = 0; i < cols * rows; i++)
+        owner[i] = -1;
+    int rc = TSR_OK;
+    for (size_t s = 0; s < t->servers && rc == TSR_OK; s++)
+        for (size_t i = 0; i < t->ntiles[s] && rc == TSR_OK; i++) {
+            const ts_rect *r = &t->tiles[s][i];
+            int c0 = find_index(xs, nx, r->x), c1 = find_index(xs, nx, r->x + r->w);
+            int r0 = find_index(ys, ny, r->y), r1 = find_index(ys, ny, r->y + r->h);
+            if (c1 != c0 + 1 || r1 != r0 + 1)
+                rc = tsr_error_set(err, TSR_EINVAL,
+                                   "%s: bucket=grid: tile [%d, %d, %d, %d] of server %zu spans several grid "
+                                   "cells (tiles must form columns and rows; use bucket=tiles)",
+                                   who, r->x, r->y, r->w, r->h, s);
+            else if (owner[r0 * cols + c0] != -1)
+                rc = tsr_error_set(err, TSR_EINVAL, "%s: bucket=grid: tile [%d, %d, %d, %d] is given twice", who,
+                                   r->x, r->y, r->w, r->h);
+            else
+                owner[r0 * cols + c0] = (int)s;
+        }
+    for (int i = 0; i < cols * rows && rc == TSR_OK; i++)
+        if (owner[i] == -1)
+            rc = tsr_error_set(err, TSR_EINVAL,
+                               "%s: bucket=grid: no server has the grid cell at [%d, %d] (tiles must cover a "
+                               "full grid; use bucket=tiles)",
+                               who, xs[i % cols], ys[i / cols]);
+    if (rc != TSR_OK) {
+        free(xs);
+        free(ys);
+        free(owner);
+        return rc;
+    }
+    t->grid_cols = cols;
+    t->grid_rows = rows;
+    t->grid_owner = owner;
+    t->grid_nx = nx;
+    t->grid_ny = ny;
+    int *bounds = malloc((size_t)(nx + ny) * sizeof *bounds);
+    if (!bounds) {
+        free(xs);
+        free(ys);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    memcpy(bounds, xs, (size_t)nx * sizeof *bounds);
+    memcpy(bounds + nx, ys, (size_t)ny * sizeof *bounds);
+    free(xs);
+    free(ys);
+    t->grid_bounds = bounds;
+    return TSR_OK;
+}
+
+int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char *const *items, size_t nitems,
+                   const char *who, tsr_error *err)
+{
+    memset(t, 0, sizeof *t);
+    t->mode = mode;
+    t->servers = servers;
+    t->damping = 0.5;
+    t->tiles = calloc(servers, sizeof *t->tiles);
+    t->ntiles = calloc(servers, sizeof *t->ntiles);
+    t->cap = calloc(servers, sizeof *t->cap);
+    if (!t->tiles || !t->ntiles || !t->cap)
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    for (size_t i = 0; i < nitems; i++) {
+        long s, x, y, w, h;
+        char tail;
+        if (sscanf(items[i], "%ld:%ld:%ld:%ld:%ld%c", &s, &x, &y, &w, &h, &tail) != 5)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "%s: tiles: '%s' is not SERVER:X:Y:WIDTH:HEIGHT (e.g. 0:0:0:512:384)", who,
+                                 items[i]);
+        if (s < 0 || (size_t)s >= servers)
+            return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' names server %ld, but there are %zu servers",
+                                 who, items[i], s, servers);
+        if (x < 0 || y < 0 || w < 1 || h < 1 || x + w > 65536 || y + h > 65536)
+            return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' is outside 0..65536 or empty", who, items[i]);
+        for (size_t o = 0; o < servers; o++)
+            for (size_t k = 0; k < t->ntiles[o]; k++)
+                if (rect_meets(&t->tiles[o][k], (int)x, (int)y, (int)(x + w), (int)(y + h)))
+                    return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' overlaps tile %d:%d:%d:%d:%d", who,
+                                         items[i], (int)o, t->tiles[o][k].x, t->tiles[o][k].y, t->tiles[o][k].w,
+                                         t->tiles[o][k].h);
+        if (push_tile(t, (size_t)s, (ts_rect){(int)x, (int)y, (int)w, (int)h}) != 0)
+            return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    if (mode == TS_TILES || mode == TS_GRID) {
+        if (!nitems)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "%s: bucket=%s needs the servers' tiles (option tiles=SERVER:X:Y:W:H,...; "
+                                 "tessera run fills it from the servers' tiles:)",
+                                 who, mode == TS_GRID ? "grid" : "tiles");
+        for (size_t s = 0; s < servers; s++)
+            if (!t->ntiles[s])
+                return tsr_error_set(err, TSR_EINVAL, "%s: tiles: server %zu has no tile", who, s);
+    }
+    if (mode == TS_GRID)
+        return build_grid(t, who, err);
+    return TSR_OK;
+}
+
+void ts_tiling_free(ts_tiling *t)
+{
+    for (size_t s = 0; t->tiles && s < t->servers; s++)
+        free(t->tiles[s]);
+    free(t->tiles);
+    free(t->ntiles);
+    free(t->cap);
+    free(t->grid_owner);
+    free(t->grid_bounds);
+    free(t->cost);
+    free(t->kd);
+    memset(t, 0, sizeof *t);
+}
+
+/* First index i with bounds[i + 1] > v (the cell containing v), clamped. */
+static int cell_of(const int *bounds, int n, int v)
+{
+    int lo = 0, hi = n - 2;
+    if (hi < 0)
+        return 0;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (bounds[mid] <= v)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t *hit)
+{
+    size_t n = 0;
+    memset(hit, 0, t->servers);
+    if (t->mode == TS_BROADCAST) {
+        memset(hit, 1, t->servers);
+        return t->servers;
+    }
+    if (x1 <= x0 || y1 <= y0)
+        return 0;
+    if (t->mode == TS_GRID) {
+        const int *xs = t->grid_bounds, *ys = t->grid_bounds + t->grid_nx;
+        int nx = t->grid_nx, ny = t->grid_ny;
+        if (x1 <= xs[0] || x0 >= xs[nx - 1] || y1 <= ys[0] || y0 >= ys[ny - 1])
+            return 0;
+        int c0 = cell_of(xs, nx, x0), c1 = cell_of(xs, nx, x1 - 1);
+        int r0 = cell_of(ys, ny, y0), r1 = cell_of(ys, ny, y1 - 1);
+        for (int r = r0; r <= r1; r++)
+            for (int c = c0; c <= c1; c++) {
+                int s = t->grid_owner[r * t->grid_cols + c];
+                if (!hit[s]) {
+                    hit[s] = 1;
+                    n++;
+                }
+            }
+        return n;
+    }
+    for (size_t s = 0; s < t->servers; s++)
+        for (size_t i = 0; i < t->ntiles[s]; i++)
+            if (rect_meets(&t->tiles[s][i], x0, y0, x1, y1)) {
+                hit[s] = 1;
+                n++;
+                break;
+            }
+    return n;
+}
+
+/* --- load balance ---------------------------------------------------------- */
+
+/* Node k of the KD tree covers servers [first, first + count); internal
+ * nodes split their region along `axis` at `at` (pixels from the window
+ * origin), children 2k+1 (servers [first, first + count/2)) and 2k+2. */
+struct ts_kd {
+    int axis;       /* 0: x, 1: y */
+    double at;
+};
+typedef struct ts_kd ts_kd;
+
+static size_t kd_nodes(size_t servers)
+{
+    size_t n = 1;
+    while (n < servers)
+        n *= 2;
+    return 2 * n;
+}
+
+/* Cost of [x0, x1) x [y0, y1) from the cells, cells cut in part counted by
+ * the area inside. */
+static double region_cost(const ts_tiling *t, double x0, double y0, double x1, double y1)
+{
+    double cw = (double)t->window_w / t->cost_cols, ch = (double)t->window_h / t->cost_rows;
+    int c0 = (int)floor(x0 / cw), c1 = (int)ceil(x1 / cw), r0 = (int)floor(y0 / ch), r1 = (int)ceil(y1 / ch);
+    double sum = 0;
+    for (int r = r0 < 0 ? 0 : r0; r < r1 && r < t->cost_rows; r++) {
+        double oy = fmin(y1, (r + 1) * ch) - fmax(y0, r * ch);
+        if (oy <= 0)
+            continue;
+        for (int c = c0 < 0 ? 0 : c0; c < c1 && c < t->cost_cols; c++) {
+            double ox = fmin(x1, (c + 1) * cw) - fmax(x0, c * cw);
+            if (ox > 0)
+                sum += t->cost[r * t->cost_cols + c] * (ox * oy) / (cw * ch);
+        }
+    }
+    return sum;
+}
+
+/* Builds (shape == 1) or re-splits the subtree at node k covering region
+ * [x0, x1) x [y0, y1) and servers [first, first + count); leaves set the
+ * servers' tiles. Returns 1 when a region changed. */
+static int kd_visit(ts_tiling *t, size_t k, double x0, double y0, double x1, double y1, size_t first, size_t count,
+                    int shape, int resplit)
+{
+    if (count == 1) {
+        ts_rect r = {(int)lround(x0), (int)lround(y0), (int)lround(x1) - (int)lround(x0),
+                     (int)lround(y1) - (int)lround(y0)};
+        int changed = t->ntiles[first] != 1 || memcmp(&t->tiles[first][0], &r, sizeof r) != 0;
+        t->ntiles[first] = 0;
+        if (r.w > 0 && r.h > 0)
+            push_tile(t, first, r);
+        return changed;
+    }
+    ts_kd *node = &t->kd[k];
+    size_t left = count / 2;
+    double share = (double)left / (double)count;
+    if (shape) {
+        node->axis = (x1 - x0) >= (y1 - y0) ? 0 : 1;
+        node->at = node->axis == 0 ? x0 + (x1 - x0) * share : y0 + (y1 - y0) * share;
+    } else if (resplit) {
+        double lo = node->axis == 0 ? x0 : y0, hi = node->axis == 0 ? x1 : y1;
+        double total = region_cost(t, x0, y0, x1, y1);
+        double target = node->at;
+        if (total > 0) {
+            /* bisect the position whose lower side holds `share` of the cost */
+            double a = lo, b = hi;
+            for (int it = 0; it < 40; it++) {
+                double m = 0.5 * (a + b);
+                double c = node->axis == 0 ? region_cost(t, x0, y0, m, y1) : region_cost(t, x0, y0, x1, m);
+                if (c < share * total)
+                    a = m;
+                else
+                    b = m;
+            }
+            target = 0.5 * (a + b);
+        }
+        double moved = node->at + t->damping * (target - node->at);
+        /* every server keeps at least one pixel row or column per side */
+        double min_lo = lo + (double)left, max_hi = hi - (double)(count - left);
+        node->at = fmin(fmax(moved, min_lo), max_hi);
+    }
+    double at = round(node->at);
+    int changed = 0;
+    if (node->axis == 0) {
+        changed |= kd_visit(t, 2 * k + 1, x0, y0, at, y1, first, left, shape, resplit);
+        changed |= kd_visit(t, 2 * k + 2, at, y0, x1, y1, first + left, count - left, shape, resplit);
+    } else {
+        changed |= kd_visit(t, 2 * k + 1, x0, y0, x1, at, first, left, shape, resplit);
+        changed |= kd_visit(t, 2 * k + 2, x0, at, x1, y1, first + left, count - left, shape, resplit);
+    }
+    return changed;
+}
+
+void ts_tiling_window(ts_tiling *t, int w, int h)
+{
+    if (t->mode != TS_BALANCE) {
+        for (size_t s = 0; s < t->servers; s++)
+            for (size_t i = 0; i < t->ntiles[s]; i++) {
+                const ts_rect *r = &t->tiles[s][i];
+                if (r->x + r->w > w || r->y + r->h > h)
+                    tsr_log(TSR_LOG_WARN,
+                            "tilesort: tile [%d, %d, %d, %d] of server %zu reaches outside the %dx%d window", r->x,
+                            r->y, r->w, r->h, s, w, h);
+            }
+        return;
+    }
+    if (w == t->window_w && h == t->window_h && t->split_ready)
+        return;
+    t->window_w = w;
+    t->window_h = h;
+    free(t->cost);
+    free(t->kd);
+    t->cost_cols = w < TS_COST_CELLS ? w : TS_COST_CELLS;
+    t->cost_rows = h < TS_COST_CELLS ? h : TS_COST_CELLS;
+    t->cost = calloc((size_t)t->cost_cols * (size_t)t->cost_rows, sizeof *t->cost);
+    t->kd = calloc(kd_nodes(t->servers), sizeof *t->kd);
+    if (!t->cost || !t->kd) {
+        tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; sending to every server");
+        t->mode = TS_BROADCAST;
+        return;
+    }
+    kd_visit(t, 0, 0, 0, w, h, 0, t->servers, 1, 0);
+    t->split_ready = 1;
+}
+
+void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes)
+{
+    if (t->mode != TS_BALANCE || !t->cost || x1 <= x0 || y1 <= y0)
+        return;
+    double cw = (double)t->window_w / t->cost_cols, ch = (double)t->window_h / t->cost_rows;
+    int c0 = (int)(x0 / cw), c1 = (int)((x1 - 1) / cw), r0 = (int)(y0 / ch), r1 = (int)((y1 - 1) / ch);
+    if (c1 >= t->cost_cols)
+        c1 = t->cost_cols - 1;
+    if (r1 >= t->cost_rows)
+        r1 = t->cost_rows - 1;
+    double per = bytes / ((double)(c1 - c0 + 1) * (double)(r1 - r0 + 1));
+    for (int r = r0; r <= r1; r++)
+        for (int c = c0; c <= c1; c++)
+            t->cost[r * t->cost_cols + c] += per;
+}
+
+int ts_tiling_rebalance(ts_tiling *t)
+{
+    if (t->mode != TS_BALANCE || !t->split_ready)
+        return 0;
+    int changed = kd_visit(t, 0, 0, 0, t->window_w, t->window_h, 0, t->servers, 0, 1);
+    memset(t->cost, 0, (size_t)t->cost_cols * (size_t)t->cost_rows * sizeof *t->cost);
+    return changed;
+}
+
+/* --- window-space box --------------------------------------------------------- */
+
+int ts_window_box(const GLfloat *p, const GLfloat *m, const GLint *vp, const float mn[3], const float mx[3],
+                  double margin, int win_w, int win_h, int *x0, int *y0, int *x1, int *y1)
+{
+    /* pm = projection * modelview, in double: the box only has to contain
+     * what the renderer draws, and the margin absorbs rounding. */
+    double pm[16];
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += (double)p[k * 4 + r] * (double)m[c * 4 + k];
+            pm[c * 4 + r] = s;
+        }
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int corner = 0; corner < 8; corner++) {
+        double v[3] = {(corner & 1) ? mx[0] : mn[0], (corner & 2) ? mx[1] : mn[1], (corner & 4) ? mx[2] : mn[2]};
+        double clip[4];
+        for (int r = 0; r < 4; r++)
+            clip[r] = pm[r] * v[0] + pm[4 + r] * v[1] + pm[8 + r] * v[2] + pm[12 + r];
+        if (!(clip[3] > 0) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3]))
+            return 0;
+        for (int a = 0; a < 2; a++) {
+            double ndc = clip[a] / clip[3];
+            if (!isfinite(ndc))
+                return 0;
+            lo[a] = fmin(lo[a], ndc);
+            hi[a] = fmax(hi[a], ndc);
+        }
+    }
+    /* Only what lies inside the clip volume is drawn (wide points and
+     * lines reach out of it by the margin, added below). */
+    for (int a = 0; a < 2; a++) {
+        lo[a] = fmax(lo[a], -1.0);
+        hi[a] = fmin(hi[a], 1.0);
+        if (lo[a] > hi[a]) {
+            *x0 = *y0 = *x1 = *y1 = 0;
+            return 1;
+        }
+    }
+    double wx0 = vp[0] + (lo[0] + 1.0) * 0.5 * vp[2], wx1 = vp[0] + (hi[0] + 1.0) * 0.5 * vp[2];
+    double wy0 = vp[1] + (lo[1] + 1.0) * 0.5 * vp[3], wy1 = vp[1] + (hi[1] + 1.0) * 0.5 * vp[3];
+    double fx0 = floor(wx0 - margin), fy0 = floor(wy0 - margin);
+    double fx1 = ceil(wx1 + margin) + 1, fy1 = ceil(wy1 + margin) + 1;
+    *x0 = fx0 < 0 ? 0 : fx0 > win_w ? win_w : (int)fx0;
+    *y0 = fy0 < 0 ? 0 : fy0 > win_h ? win_h : (int)fy0;
+    *x1 = fx1 < 0 ? 0 : fx1 > win_w ? win_w : (int)fx1;
+    *y1 = fy1 < 0 ? 0 : fy1 > win_h ? win_h : (int)fy1;
+    return 1;
+}

@@ -1,0 +1,129 @@
+#!/bin/sh
+# tests/tilesort/tilesort.sh — the tilesort SPU with real `tessera node`
+# tile servers (render SPU, OSMesa), real example programs and real PNGs.
+# usage: tilesort.sh MODE BIN_DIR OUT_DIR ARGS...
+#   exact APP FRAMES CONFIG [OPTION...]
+#       tilesort gathers every frame from the servers (assemble=) and each
+#       one must equal APP-native's frame: 0 differing pixels.
+#   bad TILES BUCKET WORD
+#       a tilesort with this tiles option fails at start, exit status
+#       non-zero, one message naming WORD.
+# CONFIG (window 1024x768): 1x1 2x1 2x2 3x3 4x4 irregular multi balance
+#   broadcast; OPTIONs are extra tilesort options (batch_bytes=4096 makes
+#   primitives span buffers).
+set -u
+mode=$1 bin=$2 out=$3
+shift 3
+TESSERA=$bin/tessera
+. "$(dirname "$0")/../node/node_lib.sh"
+rm -rf "$out" && mkdir -p "$out" || exit 1
+bad=0
+fail() { echo "FAIL: $*" >&2; bad=1; }
+
+# tiles_of CONFIG: sets SERVERS_N, TILES and BUCKET.
+tiles_of() {
+  BUCKET=grid
+  case $1 in
+    1x1) SERVERS_N=1 TILES=0:0:0:1024:768 ;;
+    2x1) SERVERS_N=2 TILES=0:0:0:512:768,1:512:0:512:768 ;;
+    2x2) SERVERS_N=4 TILES=0:0:0:512:384,1:512:0:512:384,2:0:384:512:384,3:512:384:512:384 ;;
+    3x3) SERVERS_N=9 TILES=
+         k=0
+         for y in 0:256 256:256 512:256; do
+           for x in 0:342 342:341 683:341; do
+             TILES="$TILES${TILES:+,}$k:${x%%:*}:${y%%:*}:${x##*:}:${y##*:}"
+             k=$((k + 1))
+           done
+         done ;;
+    4x4) SERVERS_N=16 TILES=
+         k=0
+         for y in 0 192 384 576; do
+           for x in 0 256 512 768; do
+             TILES="$TILES${TILES:+,}$k:$x:$y:256:192"
+             k=$((k + 1))
+           done
+         done ;;
+    irregular) SERVERS_N=3 BUCKET=tiles TILES=0:0:0:700:768,1:700:0:324:300,2:700:300:324:468 ;;
+    multi) SERVERS_N=2 TILES=0:0:0:512:384,1:512:0:512:384,1:0:384:512:384,0:512:384:512:384 ;;
+    balance) SERVERS_N=4 BUCKET=balance TILES= ;;
+    broadcast) SERVERS_N=3 BUCKET=broadcast TILES=0:0:0:1024:256,1:0:256:1024:256,2:0:512:1024:256 ;;
+    *) echo "unknown CONFIG $1" >&2; exit 2 ;;
+  esac
+}
+
+PIDS=
+kill_all() { for p in $PIDS; do kill -9 "$p" 2>/dev/null; wait "$p" 2>/dev/null; done; PIDS=; }
+
+# run_tilesort DIR APP FRAMES CONFIG OPTIONS...: N servers, the app through
+# tilesort assembling DIR/as-%04d.png; every process must exit 0.
+run_tilesort() {
+  dir=$1 app=$2 frames=$3 cfg=$4
+  shift 4
+  tiles_of "$cfg"
+  mkdir -p "$dir"
+  SERVERS= PIDS=
+  k=0
+  while [ $k -lt "$SERVERS_N" ]; do
+    mkdir -p "$dir/s$k"
+    start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 30000 \
+      --chain "render output=\"$dir/s$k/f-%04d.png\"" || { kill_all; exit 1; }
+    PIDS="$PIDS $NODE_PID"
+    SERVERS="$SERVERS${SERVERS:+,}$NODE_ADDR"
+    k=$((k + 1))
+  done
+  chain="tilesort servers=$SERVERS bucket=$BUCKET assemble=\"$dir/as-%04d.png\""
+  [ -n "$TILES" ] && chain="$chain tiles=$TILES"
+  for o in "$@"; do chain="$chain $o"; done
+  "$bin/$app" --frames "$frames" --size 1024x768 --chain "$chain" >"$dir/app.out" 2>"$dir/app.err" &
+  apid=$!
+  wait_exit "$apid" 120
+  [ "$EXIT_RC" = 0 ] || { fail "$app through tilesort ($cfg) exited $EXIT_RC"; cat "$dir/app.err" >&2; }
+  k=0
+  for p in $PIDS; do
+    wait_exit "$p" 30
+    [ "$EXIT_RC" = 0 ] || { fail "server $k ($cfg) exited $EXIT_RC"; cat "$dir/node$k.err" >&2; }
+    k=$((k + 1))
+  done
+  PIDS=
+}
+
+# pixels A B: differing pixels between two PNGs (or "missing").
+pixels() {
+  [ -f "$1" ] && [ -f "$2" ] || { echo missing; return; }
+  "$TESSERA" imgdiff "$1" "$2" | sed -n 's/^differing_pixels: //p'
+}
+
+case $mode in
+exact)
+  app=$1 frames=$2 config=$3
+  shift 3
+  "$bin/$app-native" --frames "$frames" --size 1024x768 --out "$out/ref-%04d.png" >/dev/null ||
+    fail "$app-native failed"
+  run_tilesort "$out/tiled" "$app" "$frames" "$config" "$@"
+  f=0
+  while [ $f -lt "$frames" ]; do
+    n=$(printf %04d $f)
+    native=$(pixels "$out/ref-$n.png" "$out/tiled/as-$n.png")
+    echo "frame $f ($config): $native pixels differ from $app-native"
+    [ "$native" = 0 ] || fail "frame $f ($config): $native pixels differ from $app-native"
+    f=$((f + 1))
+  done ;;
+bad)
+  tiles=$1 bucket=$2 word=$3
+  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 5000 \
+    --chain "render output=\"$out/f-%04d.png\"" || exit 1
+  PIDS=$NODE_PID
+  "$bin/texquads" --frames 1 --size 1024x768 \
+    --chain "tilesort servers=$NODE_ADDR bucket=$bucket tiles=$tiles" >"$out/app.out" 2>"$out/app.err" &
+  apid=$!
+  wait_exit "$apid" 10
+  cat "$out/app.err"
+  case $EXIT_RC in 0|timeout) fail "tilesort with tiles=$tiles exited $EXIT_RC" ;; esac
+  grep -q -- "$word" "$out/app.err" || fail "the message does not name '$word'"
+  [ "$(wc -l <"$out/app.err")" -le 2 ] || fail "more than two lines of errors"
+  kill_all ;;
+*) echo "unknown mode $mode" >&2; exit 2 ;;
+esac
+kill_all
+[ $bad = 0 ] && echo PASS
+exit $bad
