@@ -22,12 +22,13 @@
 # imbalance as tiles shrink) and stability.csv.
 # usage: bench/march.sh BIN_DIR OUT_DIR [--quick]
 # Environment: MARCH_SIZE (default 4096x3072), MARCH_DETAIL (2),
-# MARCH_FRAMES (3), MARCH_BATCH (tilesort batch_bytes, default 4096).
+# MARCH_FRAMES (3), MARCH_BATCH (tilesort batch_bytes, default 4096),
+# MARCH_CONFIGS (default "1x1 2x1 2x2 4x2 4x4 8x4"; 1x1 must come first).
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${MARCH_SIZE:-4096x3072} detail=${MARCH_DETAIL:-2} frames=${MARCH_FRAMES:-3}
 batch=${MARCH_BATCH:-4096}
-configs=(1x1 2x1 2x2 4x2 4x4 8x4)
+read -r -a configs <<<"${MARCH_CONFIGS:-1x1 2x1 2x2 4x2 4x4 8x4}"
 if [[ $quick == --quick ]]; then
     size=512x384 detail=1 frames=2 configs=(1x1 2x1 2x2)
 fi
