@@ -14,7 +14,7 @@ add_test(NAME state_context_switch_emits_only_differing_groups COMMAND state_tes
 add_test(NAME state_many_renderers_grow_dirty_bits COMMAND state_tests many_renderers)
 add_test(NAME state_textures_sent_lazily_and_once COMMAND state_tests lazy_textures)
 add_test(NAME state_list_compile_does_not_change_state COMMAND state_tests list_compile)
-add_test(NAME state_matrices_bit_identical_and_lit_pixels_equal COMMAND state_tests matrices_bit_identical 300)
+add_test(NAME state_matrices_bit_identical_and_lit_pixels_equal COMMAND state_tests matrices_bit_identical 200)
 set_tests_properties(state_diff_into_osmesa_queries_back_equal PROPERTIES TIMEOUT 600)
 if(TESSERA_SANITIZE)
   # Mesa keeps process-lifetime caches that LeakSanitizer reports

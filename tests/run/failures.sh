@@ -46,8 +46,8 @@ groups="$server $appnode"
 case $case_name in
   kill-server)   victim=$server  sig=KILL bound=5000 want="node 'server' \\(pid $server\\) killed by signal 9" ;;
   kill-app)      victim=$app     sig=KILL bound=5000 want="node 'app': application .*spheres killed by signal 9" ;;
-  stop-server)   victim=$server  sig=STOP bound=$((timeout_ms + 4000)) want="node 'server' sent no heartbeat for [0-9]+ ms" ;;
-  stop-app-node) victim=$appnode sig=STOP bound=$((timeout_ms + 4000)) want="node 'app' sent no heartbeat for [0-9]+ ms" ;;
+  stop-server)   victim=$server  sig=STOP bound=$((timeout_ms + 6000)) want="node 'server' sent no heartbeat for [0-9]+ ms" ;;
+  stop-app-node) victim=$appnode sig=STOP bound=$((timeout_ms + 6000)) want="node 'app' sent no heartbeat for [0-9]+ ms" ;;
   interrupt)     victim=$run_pid sig=TERM bound=5000 want="interrupted by signal 15" ;;
   kill-mothership) victim=$run_pid sig=KILL bound=5000 want= ;;
   *) echo "failures.sh: unknown case '$case_name'" >&2; kill -TERM $run_pid; exit 2 ;;
