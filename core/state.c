@@ -720,12 +720,18 @@ static void st_LoadMatrixf(void *self, const GLfloat *m)
     load_matrix(c, m);
 }
 
+/* A double matrix as GL stores it (Mesa converts each element to float). */
+static void to_float16(GLfloat f[16], const GLdouble *m)
+{
+    for (int i = 0; i < 16; i++)
+        f[i] = (GLfloat)m[i];
+}
+
 static void st_LoadMatrixd(void *self, const GLdouble *m)
 {
     CTX(self);
     GLfloat f[16];
-    for (int i = 0; i < 16; i++)
-        f[i] = (GLfloat)m[i];
+    to_float16(f, m);
     load_matrix(c, f);
 }
 
@@ -762,8 +768,7 @@ static void st_MultMatrixd(void *self, const GLdouble *m)
 {
     CTX(self);
     GLfloat f[16];
-    for (int i = 0; i < 16; i++)
-        f[i] = (GLfloat)m[i];
+    to_float16(f, m);
     mult_matrix(c, f);
 }
 
