@@ -12,7 +12,14 @@
  * has stream_cpus and raw_cpus: CPU seconds of the whole process (every
  * thread, user + system) per second of wall time in each run, so a run's
  * figure can be read against the cores it had (this VM has two) — the
- * stream does the raw pair's kernel work plus packing and unpacking. */
+ * stream does the raw pair's kernel work plus packing and unpacking.
+ * Where that CPU goes, per 10^9 wire bytes: the sending (packing) thread,
+ * the receiving (unpacking) thread and the rest (netlib's I/O threads) of
+ * the stream; the raw pair's writer and reader; and packing and unpacking
+ * alone (run_stages). From the cheapest of each, TRANSPORT_stream_bound_mbytes
+ * = cores / (pack + unpack + raw CPU per byte) is what the stream could
+ * reach with every core busy and no hand-over costing anything, and
+ * TRANSPORT_bound_vs_raw that bound over the raw figure. */
 #include "bench_common.h"
 
 #include <errno.h>
@@ -31,6 +38,7 @@
 
 #include "client.h"
 #include "net.h"
+#include "pack.h"
 #include "protocol.h"
 #include "tessera/dispatch.h"
 #include "unpack.h"
@@ -48,6 +56,20 @@ static double process_cpu(void)
            (double)ru.ru_stime.tv_sec + (double)ru.ru_stime.tv_usec * 1e-6;
 }
 
+/* CPU seconds of the calling thread so far. */
+static double thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* CPU seconds per 10^9 bytes. */
+static double per_gb(double cpu_seconds, uint64_t bytes)
+{
+    return bytes ? cpu_seconds / ((double)bytes * 1e-9) : 0.0;
+}
+
 static double wall_now(void)
 {
     struct timespec ts;
@@ -62,6 +84,7 @@ typedef struct receiver {
     int rc;
     tsr_error err;
     uint64_t buffers, bytes;
+    double cpu_seconds; /* this thread's, accept to close */
 } receiver;
 
 /* The server side of node/protocol.h, reduced to what the benchmark
@@ -70,6 +93,7 @@ static void *receive_main(void *arg)
 {
     receiver *r = arg;
     tsr_net_conn *conn = tsr_net_accept(r->listener, 10000, &r->err);
+    double c0 = thread_cpu();
     if (!conn) {
         r->rc = r->err.code;
         return NULL;
@@ -96,11 +120,13 @@ static void *receive_main(void *arg)
     }
     tsr_unpacker_destroy(u);
     tsr_net_conn_close(conn);
+    r->cpu_seconds = thread_cpu() - c0;
     return NULL;
 }
 
 typedef struct result {
     double seconds, cpu_seconds;
+    double send_cpu, recv_cpu; /* the sending (packing) and the receiving thread's CPU seconds */
     uint64_t bytes, verts;
 } result;
 
@@ -134,7 +160,7 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
         fprintf(stderr, "bench_net: %s\n", err.message);
         status = 1;
     } else {
-        double t0 = wall_now(), c0 = process_cpu();
+        double t0 = wall_now(), c0 = process_cpu(), s0 = thread_cpu();
         float x = 0.0f;
         for (uint64_t done = 0; done < verts; done += BATCH) {
             tsr_call_Begin(gl, GL_POINTS);
@@ -145,10 +171,12 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
         tsr_node_client_destroy(client); /* FINISH: every buffer was unpacked */
         out->seconds = wall_now() - t0;
         out->cpu_seconds = process_cpu() - c0;
+        out->send_cpu = thread_cpu() - s0;
         out->verts = (verts + BATCH - 1) / BATCH * BATCH;
     }
     pthread_join(thread, NULL);
     out->bytes = r.bytes;
+    out->recv_cpu = r.cpu_seconds;
     if (status == 0 && r.rc != TSR_OK) {
         fprintf(stderr, "bench_net: receiver: %s\n", r.err.message);
         status = 1;
@@ -159,17 +187,93 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
     return status;
 }
 
+/* ---- the stages alone: packing, unpacking --------------------------------- */
+
+/* A packer sink that keeps the first buffer (a full one, unless the run
+ * is tiny) to unpack below, and counts the bytes of all of them. */
+typedef struct keep_sink {
+    uint8_t *first;
+    size_t first_size;
+    uint64_t bytes;
+} keep_sink;
+
+static int keep_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+{
+    (void)err;
+    keep_sink *k = ctx;
+    if (!k->first && size && (k->first = malloc(size))) {
+        memcpy(k->first, buf, size);
+        k->first_size = size;
+    }
+    k->bytes += size;
+    return 0;
+}
+
+typedef struct stages {
+    double pack_s_per_gb;   /* the same calls packed into buffers nobody sends */
+    double unpack_s_per_gb; /* one such buffer unpacked into no-ops, repeatedly */
+} stages;
+
+/* CPU seconds per 10^9 wire bytes of the two stages the stream adds to a
+ * raw socket pair, each alone on this thread, same calls and buffer size:
+ * with the raw pair's CPU per byte they bound what the stream can reach on
+ * the cores the machine has (see measure()). */
+static int run_stages(uint64_t verts, stages *out)
+{
+    tsr_error err = {0};
+    keep_sink k = {0};
+    tsr_pack_sink sink = {.flush = keep_flush, .reply = NULL, .ctx = &k};
+    tsr_packer *packer = tsr_packer_create(BUFFER_SIZE, &sink, &err);
+    tsr_dispatch *gl = calloc(1, sizeof *gl);
+    static tsr_dispatch nop; /* read-only after the fill */
+    tsr_dispatch_fill_nop(&nop);
+    tsr_unpacker *u = tsr_unpacker_create(&nop, NULL, NULL, &err);
+    int status = 1;
+    if (packer && gl && u) {
+        tsr_packer_fill_dispatch(packer, gl);
+        double c0 = thread_cpu();
+        float x = 0.0f;
+        for (uint64_t done = 0; done < verts; done += BATCH) { /* the stream's loop */
+            tsr_call_Begin(gl, GL_POINTS);
+            for (int i = 0; i < BATCH; i++, x += 1.0f)
+                tsr_call_Vertex3f(gl, x, 0.5f, -x);
+            tsr_call_End(gl);
+        }
+        tsr_packer_flush(packer);
+        out->pack_s_per_gb = per_gb(thread_cpu() - c0, k.bytes);
+        if (k.first) {
+            uint64_t bytes = 0;
+            status = 0;
+            c0 = thread_cpu();
+            while (bytes < k.bytes && !status) {
+                status = tsr_unpacker_run(u, k.first, k.first_size, &err);
+                bytes += k.first_size;
+            }
+            out->unpack_s_per_gb = per_gb(thread_cpu() - c0, bytes);
+        }
+    }
+    if (status)
+        fprintf(stderr, "bench_net: packing/unpacking alone failed: %s\n", err.message);
+    tsr_unpacker_destroy(u);
+    tsr_packer_destroy(packer);
+    free(gl);
+    free(k.first);
+    return status;
+}
+
 /* ---- raw: a plain blocking socket pair, same bytes ------------------------ */
 
 typedef struct raw_peer {
     int fd;
     uint64_t bytes;
     int failed;
+    double cpu_seconds;
 } raw_peer;
 
 static void *raw_read_main(void *arg)
 {
     raw_peer *p = arg;
+    double c0 = thread_cpu();
     uint8_t *buf = malloc(BUFFER_SIZE);
     uint64_t got = 0;
     while (buf && got < p->bytes) {
@@ -183,6 +287,7 @@ static void *raw_read_main(void *arg)
     }
     p->failed = got != p->bytes;
     free(buf);
+    p->cpu_seconds = thread_cpu() - c0;
     return NULL;
 }
 
@@ -233,7 +338,7 @@ static int run_raw(int unix_socket, const char *path, uint64_t bytes, result *ou
     uint8_t *buf = malloc(BUFFER_SIZE);
     memset(buf, 0x5a, BUFFER_SIZE);
     pthread_t thread;
-    double t0 = wall_now(), c0 = process_cpu();
+    double t0 = wall_now(), c0 = process_cpu(), s0 = thread_cpu();
     pthread_create(&thread, NULL, raw_read_main, &reader);
     uint64_t sent = 0;
     while (sent < bytes) {
@@ -246,7 +351,9 @@ static int run_raw(int unix_socket, const char *path, uint64_t bytes, result *ou
         }
         sent += (uint64_t)n;
     }
+    out->send_cpu = thread_cpu() - s0;
     pthread_join(thread, NULL);
+    out->recv_cpu = reader.cpu_seconds;
     out->seconds = wall_now() - t0;
     out->cpu_seconds = process_cpu() - c0;
     out->bytes = bytes;
@@ -277,18 +384,35 @@ static int measure(const char *transport, const bench_args *args, uint64_t verts
     else
         snprintf(listen_address, sizeof listen_address, "tcp://127.0.0.1:0");
     double best_stream = 0, best_raw = 0;
+    double least_pack = 0, least_unpack = 0, least_raw = 0; /* CPU s per GB, smallest seen */
     uint64_t stream_bytes = 0, stream_verts = 0;
     for (int rep = 0; rep < args->repeats; rep++) {
         result s = {0}, r = {0};
+        stages st = {0};
         if (run_stream(listen_address, verts, &s))
             return 1;
         if (run_raw(unix_socket, path, s.bytes, &r))
             return 1;
+        if (run_stages(verts, &st))
+            return 1;
         double s_mb = (double)s.bytes / s.seconds / 1e6, r_mb = (double)r.bytes / r.seconds / 1e6;
+        double r_gb = per_gb(r.cpu_seconds, r.bytes);
         if (csv)
-            fprintf(csv, "%s,%d,%llu,%llu,%.6f,%.1f,%.2f,%.6f,%.1f,%.2f\n", transport, rep,
-                    (unsigned long long)s.verts, (unsigned long long)s.bytes, s.seconds, s_mb,
-                    s.cpu_seconds / s.seconds, r.seconds, r_mb, r.cpu_seconds / r.seconds);
+            fprintf(csv,
+                    "%s,%d,%llu,%llu,%.6f,%.1f,%.2f,%.3f,%.3f,%.3f,%.6f,%.1f,%.2f,%.3f,%.3f,%.3f,"
+                    "%.3f\n",
+                    transport, rep, (unsigned long long)s.verts, (unsigned long long)s.bytes,
+                    s.seconds, s_mb, s.cpu_seconds / s.seconds, per_gb(s.send_cpu, s.bytes),
+                    per_gb(s.recv_cpu, s.bytes),
+                    per_gb(s.cpu_seconds - s.send_cpu - s.recv_cpu, s.bytes), r.seconds, r_mb,
+                    r.cpu_seconds / r.seconds, per_gb(r.send_cpu, r.bytes),
+                    per_gb(r.recv_cpu, r.bytes), st.pack_s_per_gb, st.unpack_s_per_gb);
+        if (rep == 0 || st.pack_s_per_gb < least_pack)
+            least_pack = st.pack_s_per_gb;
+        if (rep == 0 || st.unpack_s_per_gb < least_unpack)
+            least_unpack = st.unpack_s_per_gb;
+        if (rep == 0 || r_gb < least_raw)
+            least_raw = r_gb;
         if (s_mb > best_stream) {
             best_stream = s_mb;
             stream_bytes = s.bytes;
@@ -306,6 +430,16 @@ static int measure(const char *transport, const bench_args *args, uint64_t verts
     bench_figure(name, best_stream * 1e6 / ((double)stream_bytes / (double)stream_verts) / 1e6, 1);
     snprintf(name, sizeof name, "%s_stream_vs_raw", transport);
     bench_figure(name, best_stream / best_raw, 3);
+    /* The most the stream could reach here: it does the raw pair's kernel
+     * work plus packing and unpacking, so with every core busy and nothing
+     * lost to hand-overs it moves at most cores / (pack + unpack + raw CPU
+     * per byte), each the cheapest seen in this run. */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    double bound = (double)(cores > 0 ? cores : 1) / (least_pack + least_unpack + least_raw) * 1e3;
+    snprintf(name, sizeof name, "%s_stream_bound_mbytes", transport);
+    bench_figure(name, bound, 1);
+    snprintf(name, sizeof name, "%s_bound_vs_raw", transport);
+    bench_figure(name, bound / best_raw, 3);
     return 0;
 }
 
@@ -319,8 +453,10 @@ int main(int argc, char **argv)
     /* About 512 MB of wire bytes per run (13 bytes per glVertex3f). */
     uint64_t verts = args.quick ? (1u << 16) : (40u << 20);
     csv = bench_csv_open(args.csv_path,
-                         "transport,run,verts,bytes,stream_s,stream_mbytes,stream_cpus,raw_s,"
-                         "raw_mbytes,raw_cpus");
+                         "transport,run,verts,bytes,stream_s,stream_mbytes,stream_cpus,"
+                         "stream_send_s_per_gb,stream_recv_s_per_gb,stream_other_s_per_gb,raw_s,"
+                         "raw_mbytes,raw_cpus,raw_send_s_per_gb,raw_recv_s_per_gb,pack_s_per_gb,"
+                         "unpack_s_per_gb");
     int status = measure("tcp", &args, verts) || measure("unix", &args, verts);
     if (csv)
         fclose(csv);

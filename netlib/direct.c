@@ -15,7 +15,15 @@
  * kernel copy is the same work on either thread. What the socket does not
  * take at once (its buffer is full: the peer reads slower) is left to the
  * I/O thread, which writes it before anything else when the socket drains,
- * exactly as if the message had been queued. */
+ * exactly as if the message had been queued.
+ *
+ * Tried and measured worse (bench/README.md, third pass): writing only the
+ * first half of a large message here and leaving the rest to the I/O
+ * thread, to share the kernel's send work between the two cores. The I/O
+ * thread then seldom finished before the next buffer came, so most buffers
+ * were copied and queued whole, and the receiving side, which shares the
+ * other core with the I/O thread, fell behind (the packer waited for
+ * credits 2-4 times longer). */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,11 +82,23 @@ net_msg *net_direct_write(tsr_net_conn *c, net_msg *m) {
     pthread_mutex_unlock(&net->lock);
     write_some(fd, m);
     uint8_t *copy = NULL;
+    uint64_t copy_cap = 0;
     bool partial = m->written < TSR_NET_HEADER_BYTES + m->len;
-    if (partial && m->borrowed) /* the caller's memory is the caller's again on return */
-        copy = malloc(m->len ? (size_t)m->len : 1);
-    if (copy)
-        memcpy(copy, m->data, (size_t)m->len);
+    if (partial && m->borrowed) {
+        /* The caller's memory is the caller's again on return: copy what
+         * is not written yet into a reused buffer (at the same offsets, so
+         * the message stays one payload for the I/O thread). The lock is
+         * taken only to pick the buffer: direct_writer stays set, so the
+         * I/O thread leaves the rest alone until it is copied. */
+        pthread_mutex_lock(&net->lock);
+        copy = net_send_copy_alloc(c, m->len, &copy_cap);
+        if (!copy)
+            c->send_copies--; /* nothing to count */
+        pthread_mutex_unlock(&net->lock);
+        uint64_t at = m->written > TSR_NET_HEADER_BYTES ? m->written - TSR_NET_HEADER_BYTES : 0;
+        if (copy && m->len > at)
+            memcpy(copy + at, m->data + at, (size_t)(m->len - at));
+    }
     pthread_mutex_lock(&net->lock);
     c->direct_writer = false;
     if (c->direct_awaited)
@@ -102,9 +122,8 @@ net_msg *net_direct_write(tsr_net_conn *c, net_msg *m) {
             return m;
         }
         m->data = copy;
-        m->cap = m->len ? m->len : 1;
-        m->copy = true; /* recycled once written, like tsr_net_send's queued copies */
-        c->send_copies++;
+        m->cap = copy_cap;
+        m->copy = true; /* counted in send_copies; recycled once written */
         m->release = NULL; /* free() */
         m->borrowed = false;
     }

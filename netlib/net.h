@@ -73,9 +73,10 @@
  * without netlib's lock, which spares a hand-over to the I/O thread (a
  * wake-up) per message; the same goes for the CREDIT a release returns.
  * What the socket does not take at once is finished by the I/O thread
- * before anything else (for tsr_net_send, that rest is copied first), so
- * order, framing and every guarantee above hold either way. The I/O thread
- * writes, shuts down and closes nothing while a thread writes directly.
+ * before anything else (for tsr_net_send, that rest is copied first, into
+ * a reused buffer), so order, framing and every guarantee above hold
+ * either way. The I/O thread writes, shuts down and closes nothing while a
+ * thread writes directly.
  *
  * CLOSING. tsr_net_conn_close() hands the connection to the I/O thread,
  * which writes what was already sent, then BYE (empty), shuts down its
