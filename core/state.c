@@ -12,7 +12,7 @@
 /* --- groups and members ---------------------------------------------------- */
 static const char *const group_names[TSR_SG_COUNT] = {
     "enable", "current", "viewport", "colorbuf", "depth", "stencil", "fog", "lighting",
-    "raster", "hint", "texture", "buffer", "misc", "pixel", "transform",
+    "raster", "hint", "texture", "buffer", "misc", "pixel", "transform", "program",
 };
 
 const char *tsr_state_group_name(int group)
@@ -48,6 +48,7 @@ const uint8_t st_member_group[TSR_SM_COUNT] = {
     [TSR_SM_MODELVIEW] = TSR_SG_TRANSFORM, [TSR_SM_PROJECTION] = TSR_SG_TRANSFORM,
     [TSR_SM_TEXMAT0 ... TSR_SM_TEXMAT0 + U8 - 1] = TSR_SG_TRANSFORM,
     [TSR_SM_CLIP] = TSR_SG_TRANSFORM,
+    [TSR_SM_PROGRAM] = TSR_SG_PROGRAM,
 };
 
 int tsr_state_member_group(int member)
@@ -2092,5 +2093,6 @@ void tsr_state_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 #undef SET
     st_gen_fill_current(c, d);
     st_obj_fill_dispatch(c, d);
+    st_glsl_fill_dispatch(c, d);
     st_get_fill_dispatch(c, d);
 }

@@ -10,8 +10,9 @@
  *   tsr_state_tracker  one per sending SPU instance: the set of tracked
  *                      contexts and renderers that can meet each other.
  *   tsr_state_ctx      one per application GL context: every value the
- *                      spec's state commands set, texture and buffer
- *                      objects, list names, client arrays.
+ *                      spec's state commands set, texture, buffer,
+ *                      shader and program objects, list names, client
+ *                      arrays.
  *   tsr_state_shadow   one per remote renderer: the tracker's model of the
  *                      values that renderer holds right now.
  *
@@ -40,6 +41,23 @@
  * renderer which version of each object it has. Objects are per context;
  * when two contexts meet on one renderer, an object under the same name
  * with the same content (64-bit content hash) is recognised, not resent.
+ *
+ * Shaders and programs (state_glsl.c) are objects too: names are
+ * allocated here in one namespace (max used + 1, never reused), so
+ * glCreateShader/glCreateProgram need no round trip; renderers create them
+ * with CreateShaderTSR/CreateProgramTSR under these names and map them to
+ * their driver's (tessera/glsl_names.h). The tracker keeps each shader's
+ * source and last compiled source, each program's attachments, attribute
+ * bindings, what its last glLinkProgram linked (shader sources and
+ * bindings at that moment, kept even when the shaders are deleted) and a
+ * log of the uniform calls made since, compacted as later calls cover
+ * earlier ones. A diff gives a renderer the current program (created,
+ * compiled and linked from those inputs, then the uniform calls it lacks);
+ * tsr_state_send_shader/_program give it any other one (before a get the
+ * renderer must answer), tsr_state_send_glsl_all every one (late joiners).
+ * Uniform locations come from a renderer (glGetUniformLocation): the same
+ * link inputs on the same Mesa give the same locations on every renderer
+ * (tests/state: glsl_* tests).
  *
  * Display lists: only their names are tracked here, and state calls made
  * inside glNewList(GL_COMPILE) are not applied (GL records them). What a
@@ -94,7 +112,7 @@ enum { TSR_TEX_1D, TSR_TEX_2D, TSR_TEX_3D, TSR_TEX_CUBE, TSR_TEX_TARGETS };
 typedef enum tsr_state_group {
     TSR_SG_ENABLE, TSR_SG_CURRENT, TSR_SG_VIEWPORT, TSR_SG_COLORBUF, TSR_SG_DEPTH,
     TSR_SG_STENCIL, TSR_SG_FOG, TSR_SG_LIGHTING, TSR_SG_RASTER, TSR_SG_HINT, TSR_SG_TEXTURE,
-    TSR_SG_BUFFER, TSR_SG_MISC, TSR_SG_PIXEL, TSR_SG_TRANSFORM,
+    TSR_SG_BUFFER, TSR_SG_MISC, TSR_SG_PIXEL, TSR_SG_TRANSFORM, TSR_SG_PROGRAM,
     TSR_SG_COUNT
 } tsr_state_group;
 
@@ -130,6 +148,8 @@ typedef enum tsr_state_member {
     /* TRANSFORM: matrix stacks, clip planes */
     TSR_SM_MODELVIEW, TSR_SM_PROJECTION, TSR_SM_TEXMAT0,
     TSR_SM_CLIP = TSR_SM_TEXMAT0 + TSR_STATE_UNITS,
+    /* PROGRAM: the current program (+ the program objects, core/state_glsl.c) */
+    TSR_SM_PROGRAM,
     TSR_SM_COUNT
 } tsr_state_member;
 
@@ -362,6 +382,19 @@ TSR_API uint32_t tsr_state_diff(tsr_state_ctx *c, tsr_state_shadow *s, const tsr
  * the number of GL calls emitted. */
 TSR_API uint32_t tsr_state_send_texture(tsr_state_ctx *c, tsr_state_shadow *s, GLenum target, GLuint name,
                                         const tsr_dispatch *out);
+/* Makes renderer s hold shader / program `name` of c as it is now: created
+ * under that name, sources, compile, attachments, attribute bindings, the
+ * program linked from its last link's inputs and every uniform call since,
+ * emitting only what s lacks; the renderer's current program is left as
+ * it was. For gets only a renderer answers (compile/link status, info
+ * logs, uniform and attribute locations). Returns GL calls emitted. */
+TSR_API uint32_t tsr_state_send_shader(tsr_state_ctx *c, tsr_state_shadow *s, GLuint name, const tsr_dispatch *out);
+TSR_API uint32_t tsr_state_send_program(tsr_state_ctx *c, tsr_state_shadow *s, GLuint name,
+                                        const tsr_dispatch *out);
+/* Every shader and program of c (a late joiner: the stream may use any of
+ * them later), including deletions that wait for a detach or a
+ * glUseProgram, as on the other renderers. */
+TSR_API uint32_t tsr_state_send_glsl_all(tsr_state_ctx *c, tsr_state_shadow *s, const tsr_dispatch *out);
 /* Whether a diff of c into s would look at anything (the root bit). */
 TSR_API int tsr_state_is_dirty(const tsr_state_ctx *c, const tsr_state_shadow *s);
 /* The renderer received commands (in a geometry stream) that made the
@@ -392,6 +425,18 @@ TSR_API int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdou
 TSR_API int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out);
 TSR_API int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname,
                                              GLint *out);
+/* glGetShaderiv / glGetProgramiv: answered for what the client knows
+ * (GL_SHADER_TYPE, GL_DELETE_STATUS, GL_SHADER_SOURCE_LENGTH,
+ * GL_ATTACHED_SHADERS); compile, link and validate status, info logs and
+ * active uniforms/attributes come from a renderer (0: send the object
+ * there first with tsr_state_send_shader/_program, then ask it). Unknown
+ * names are left to the renderer too (its GL error). */
+TSR_API int tsr_state_get_shaderiv(const tsr_state_ctx *c, GLuint shader, GLenum pname, GLint *out);
+TSR_API int tsr_state_get_programiv(const tsr_state_ctx *c, GLuint program, GLenum pname, GLint *out);
+/* Whether the current program's last link had a vertex shader: vertex
+ * positions are then computed by the shader (a bounding box from the
+ * application's matrices does not hold). */
+TSR_API int tsr_state_program_has_vertex_shader(const tsr_state_ctx *c);
 /* glIsTexture / glIsList / glIsBuffer: always answered. */
 TSR_API GLboolean tsr_state_is_texture(const tsr_state_ctx *c, GLuint name);
 TSR_API GLboolean tsr_state_is_list(const tsr_state_ctx *c, GLuint name);

@@ -1222,6 +1222,10 @@ static void diff_member(dctx *x, int m)
     case TSR_SG_MISC: d_misc(x, m); break;
     case TSR_SG_PIXEL: d_pixel(x, m); break;
     case TSR_SG_TRANSFORM: d_transform(x, m); break;
+    case TSR_SG_PROGRAM:
+        for (uint32_t k = st_glsl_diff(x->c, x->s, x->d); k; k--)
+            emitted(x);
+        break;
     default: break;
     }
 }

@@ -62,6 +62,8 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_CURRENT_NORMAL: putf(a, K_NORM, v->normal, 3); return 1;
     case GL_CURRENT_TEXTURE_COORDS: putf(a, K_FLOAT, v->texcoord[au], 4); return 1;
     case GL_EDGE_FLAG: putb(a, v->edge_flag); return 1;
+    /* the stream's name (a renderer maps it: tessera/glsl_names.h) */
+    case GL_CURRENT_PROGRAM: puti(a, c->program); return 1;
     /* transform */
     /* Mesa converts matrices to integers like normalized values. */
     case GL_MODELVIEW_MATRIX: putf(a, K_NORM, c->s.modelview[c->s.modelview_depth - 1], 16); return 1;

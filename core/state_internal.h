@@ -86,6 +86,84 @@ typedef struct st_shadow_buf {
     uint64_t uid, version, hash;
 } st_shadow_buf;
 
+/* --- shaders and programs (state_glsl.c) ----------------------------------- */
+/* A source text, immutable once made and shared (refcounted) between a
+ * shader and the link snapshots that compiled it. id: unique in the
+ * tracker (what a renderer's shadow compares). */
+typedef struct st_source {
+    uint32_t refs;
+    uint64_t id;
+    GLint len;
+    char text[];
+} st_source;
+
+typedef struct st_shader {
+    GLuint name;
+    GLenum type;
+    st_source *source;          /* glShaderSource's text (NULL: none yet) */
+    st_source *compiled;        /* the text of the last glCompileShader (NULL: never) */
+    uint32_t attached;          /* programs it is attached to */
+    int delete_pending;         /* glDeleteShader while attached */
+} st_shader;
+
+typedef struct st_binding {
+    char *name;
+    GLuint index;
+} st_binding;
+
+typedef struct st_link_shader {
+    GLuint name;
+    GLenum type;
+    st_source *src;             /* compiled text at link time (NULL: was never compiled) */
+} st_link_shader;
+
+/* One uniform call, kept as its vector form (Uniform3f = Uniform3fv with
+ * count 1: Mesa treats them alike). It covers locations [loc, loc+count). */
+enum { ST_U_F, ST_U_I, ST_U_M };
+typedef struct st_uniform {
+    uint64_t seq;
+    GLint loc;
+    GLsizei count;
+    uint8_t base;               /* ST_U_F, ST_U_I, ST_U_M */
+    uint8_t size;               /* components (1..4) or matrix side (2..4) */
+    GLboolean transpose;
+    void *data;                 /* count * values floats or ints */
+} st_uniform;
+
+typedef struct st_program {
+    GLuint name;
+    uint64_t uid;
+    GLuint *attached;
+    size_t nattached, capattached;
+    st_binding *bind;           /* glBindAttribLocation so far (a name bound again moves) */
+    size_t nbind;
+    uint64_t bind_version;
+    uint64_t link_id;           /* 0: never linked; unique per glLinkProgram */
+    st_link_shader *link;
+    size_t nlink;
+    st_binding *link_bind;
+    size_t nlink_bind;
+    st_uniform *uni;            /* uniform calls since the last link, oldest first */
+    size_t nuni, capuni;
+    uint64_t next_seq;
+    uint64_t validations;       /* glValidateProgram calls */
+    int delete_pending;         /* glDeleteProgram while current */
+} st_program;
+
+/* What a renderer has of a shader / a program. */
+typedef struct st_shadow_shader {
+    GLenum type;
+    uint64_t source, compiled;  /* st_source ids (0: none) */
+    int deleted;                /* glDeleteShader sent (waits for a detach there) */
+} st_shadow_shader;
+
+typedef struct st_shadow_program {
+    uint64_t uid, link_id, uni_seq, bind_version, validations;
+    GLuint *attached;
+    size_t nattached;
+    int deleted;
+} st_shadow_program;
+
 /* --- attribute stacks --------------------------------------------------------- */
 typedef struct st_attrib_entry {
     GLbitfield mask;
@@ -129,6 +207,9 @@ struct tsr_state_ctx {
     uint32_t attrib_depth;
     st_client_entry *client_stack;
     uint32_t client_depth;
+    st_map shaders;               /* name -> st_shader */
+    st_map programs;              /* name -> st_program */
+    GLuint program;               /* glUseProgram */
     GLenum list_mode;             /* 0, GL_COMPILE, GL_COMPILE_AND_EXECUTE */
     GLuint list_name;
 };
@@ -141,6 +222,9 @@ struct tsr_state_shadow {
     st_map textures;              /* name -> st_shadow_tex */
     st_shadow_tex default_tex[TSR_TEX_TARGETS];
     st_map buffers;               /* name -> st_shadow_buf */
+    st_map shaders;               /* name -> st_shadow_shader */
+    st_map programs;              /* name -> st_shadow_program */
+    GLuint program;               /* current program there */
 };
 
 /* --- shared helpers ------------------------------------------------------------ */
@@ -207,6 +291,13 @@ uint8_t *st_copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, G
                        GLenum format, GLenum type, const void *pixels, size_t *size);
 
 void st_transfer_of(const tsr_state_values *v, st_transfer *t);
+
+/* Shaders and programs (state_glsl.c). */
+void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_glsl_free(tsr_state_ctx *c);
+void st_glsl_shadow_free(tsr_state_shadow *s);
+/* The diff of TSR_SM_PROGRAM: emits through out, returns the calls. */
+uint32_t st_glsl_diff(tsr_state_ctx *c, tsr_state_shadow *s, const tsr_dispatch *out);
 
 /* Gets (state_get.c) fill the get slots of the table. */
 void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);

@@ -92,6 +92,7 @@ void st_objects_free(tsr_state_ctx *c)
         }
     st_map_free(&c->buffers);
     st_map_free(&c->lists);
+    st_glsl_free(c);
 }
 
 void st_shadow_objects_free(tsr_state_shadow *s)
@@ -104,6 +105,7 @@ void st_shadow_objects_free(tsr_state_shadow *s)
         if (s->buffers.keys[i])
             free(s->buffers.vals[i]);
     st_map_free(&s->buffers);
+    st_glsl_shadow_free(s);
 }
 
 /* --- textures ------------------------------------------------------------------ */

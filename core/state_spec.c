@@ -5,45 +5,12 @@
  * here to be implemented as well. */
 #include "state.h"
 
-#define SHADERS                                                                              \
-    "shaders and programs are not tracked yet: their names and uniform locations are chosen by each renderer, so a diff needs a per-renderer name map (planned with tilesort, issue 4 item 2); until then a sender forwards them to every renderer"
 #define RASTER                                                                               \
     "the raster position is computed by the renderer from the transform and viewport at the time of the call (like a vertex); a sender forwards it in the stream with the geometry that uses it"
 #define EVAL "evaluator maps and grids are not tracked yet (rare in the programs tessera runs); a sender forwards them to every renderer"
 #define COPY "the texels come from the renderer's own framebuffer, which the client never sees; a sender must send the call to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
-    {"UseProgram", SHADERS},
-    {"Uniform1f", SHADERS},
-    {"Uniform2f", SHADERS},
-    {"Uniform3f", SHADERS},
-    {"Uniform4f", SHADERS},
-    {"Uniform1i", SHADERS},
-    {"Uniform2i", SHADERS},
-    {"Uniform3i", SHADERS},
-    {"Uniform4i", SHADERS},
-    {"Uniform1fv", SHADERS},
-    {"Uniform2fv", SHADERS},
-    {"Uniform3fv", SHADERS},
-    {"Uniform4fv", SHADERS},
-    {"Uniform1iv", SHADERS},
-    {"Uniform2iv", SHADERS},
-    {"Uniform3iv", SHADERS},
-    {"Uniform4iv", SHADERS},
-    {"UniformMatrix2fv", SHADERS},
-    {"UniformMatrix3fv", SHADERS},
-    {"UniformMatrix4fv", SHADERS},
-    {"CreateShader", SHADERS},
-    {"DeleteShader", SHADERS},
-    {"ShaderSource", SHADERS},
-    {"CompileShader", SHADERS},
-    {"CreateProgram", SHADERS},
-    {"DeleteProgram", SHADERS},
-    {"AttachShader", SHADERS},
-    {"DetachShader", SHADERS},
-    {"LinkProgram", SHADERS},
-    {"BindAttribLocation", SHADERS},
-    {"ValidateProgram", SHADERS},
     {"RasterPos2f", RASTER},
     {"RasterPos2i", RASTER},
     {"RasterPos3f", RASTER},

@@ -557,6 +557,7 @@ int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_r
     if (shadow) {
         /* 3. objects, 4. state */
         send_objects(j, shadow, &out, &r);
+        r.state_calls += tsr_state_send_glsl_all(j->ctx, shadow, &out);
         tsr_state_diff_stats stats;
         r.state_calls += tsr_state_diff(j->ctx, shadow, &out, &stats);
         tsr_state_shadow_destroy(shadow);

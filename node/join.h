@@ -29,11 +29,16 @@
  *      may bind any of them later without uploading again): each is bound
  *      in the tracker in turn and diffed into the joiner's shadow, then the
  *      application's bindings are put back;
+ *   3b. every shader and program (tsr_state_send_glsl_all: sources,
+ *      compiles, links from each program's last link inputs, uniform
+ *      values, attachments, bindings, deletions GL holds back); names are
+ *      the stream's own (replicate with `late` allocates them and sends
+ *      CreateShaderTSR/CreateProgramTSR; renderers map them);
  *   4. tsr_state_diff of the whole state into that shadow.
  * The stream then continues on the joiner exactly as on the others.
  *
  * Not caught up (the tracker does not track them yet, core/state.h):
- * shaders and programs, the raster position, evaluators, CopyTex* images,
+ * the raster position, evaluators, CopyTex* images,
  * barriers and semaphores (a parallel-submission stream), and a stream
  * that switches between several application contexts (one tracked
  * context). A join is refused (deferred) while a list is being compiled. */

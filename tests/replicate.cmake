@@ -39,9 +39,11 @@ add_test(NAME pack_stats_file_counts_frames_bytes_and_blocked_time
 
 # Late joiners (replicate late=..., node/join.h): server B joins the
 # running stream and draws bit-identical frames from its first one on;
-# spheres has (nested) display lists, texquads two textures bound in turn.
+# spheres has (nested) display lists, texquads two textures bound in turn,
+# shaders GLSL programs (one relinked from a new source before B joins,
+# their shaders deleted, uniforms changing every frame).
 set(REPLICATE_LATE_SH ${CMAKE_CURRENT_SOURCE_DIR}/replicate/late.sh)
-foreach(example spheres texquads isosurface)
+foreach(example spheres texquads isosurface shaders)
   add_test(NAME replicate_late_server_joins_mid_stream_exact_${example}
     COMMAND ${REPLICATE_LATE_SH} join ${REPLICATE_BIN} ${REPLICATE_OUT}/late-${example} ${example})
 endforeach()
@@ -76,3 +78,5 @@ set_tests_properties(${REPLICATE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS repl
 # isosurface computes its surfaces in the app: under the sanitizers the run
 # plus 27 frame comparisons needs more than the replicate tests' 120 s.
 set_tests_properties(replicate_late_server_joins_mid_stream_exact_isosurface PROPERTIES TIMEOUT 300)
+# shaders: llvmpipe compiles its programs twice per server; same reason.
+set_tests_properties(replicate_late_server_joins_mid_stream_exact_shaders PROPERTIES TIMEOUT 300)

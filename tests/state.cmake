@@ -1,7 +1,8 @@
 # tests/state.cmake — the state tracker (core/state*.c): coverage of the
 # spec, diffs into real OSMesa contexts (directly and through the real
 # packer/unpacker) queried back against the tracker's own answers, zero-byte
-# diffs of unchanged state, context switches, many renderers, lazy textures.
+# diffs of unchanged state, context switches, many renderers, lazy textures,
+# shaders and programs.
 add_executable(state_tests ${CMAKE_CURRENT_SOURCE_DIR}/state/state_tests.c ${TESSERA_GEN_TRACE_SOURCES})
 add_dependencies(state_tests tessera_generated)
 target_include_directories(state_tests PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
@@ -15,11 +16,18 @@ add_test(NAME state_many_renderers_grow_dirty_bits COMMAND state_tests many_rend
 add_test(NAME state_textures_sent_lazily_and_once COMMAND state_tests lazy_textures)
 add_test(NAME state_list_compile_does_not_change_state COMMAND state_tests list_compile)
 add_test(NAME state_matrices_bit_identical_and_lit_pixels_equal COMMAND state_tests matrices_bit_identical 200)
-set_tests_properties(state_diff_into_osmesa_queries_back_equal PROPERTIES TIMEOUT 600)
+# Shaders and programs: random object/uniform sequences diffed into a fresh
+# OSMesa context equal OSMesa given the calls (status, locations, uniform
+# values, pixels), with different driver names on both sides.
+add_test(NAME state_glsl_programs_diff_into_osmesa_equal_direct COMMAND state_tests glsl_diff_matches_osmesa 120)
+add_test(NAME state_glsl_programs_sent_lazily_and_once COMMAND state_tests glsl_lazy)
+set_tests_properties(state_diff_into_osmesa_queries_back_equal state_glsl_programs_diff_into_osmesa_equal_direct
+  PROPERTIES TIMEOUT 600)
 if(TESSERA_SANITIZE)
   # Mesa keeps process-lifetime caches that LeakSanitizer reports
   # (tests/lsan.supp); tessera's own allocations are still checked.
   set_tests_properties(state_diff_into_osmesa_queries_back_equal state_matrices_bit_identical_and_lit_pixels_equal
+    state_glsl_programs_diff_into_osmesa_equal_direct
     PROPERTIES ENVIRONMENT
     "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()

@@ -17,7 +17,15 @@
  * state-tracker diff: node/join.h), so its frames from then on are the
  * application's. Without `late` nothing is tracked: the stream costs the
  * same as before. A late server that never comes is one warning line at
- * the end, not an error. */
+ * the end, not an error.
+ *
+ * Shaders and programs with `late`: glCreateShader/glCreateProgram are
+ * answered here (names counted up from 1, one namespace, like the state
+ * tracker's) and sent as CreateShaderTSR/CreateProgramTSR, so a joiner
+ * that is given the objects later knows them under the names the stream
+ * uses (every render server maps names to its driver's:
+ * tessera/glsl_names.h). Without `late` they are round trips to the first
+ * server, as before. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,9 +33,35 @@
 #include "client.h"
 #include "tessera/spu.h"
 
+typedef struct replicate {
+    tsr_node_client *client;
+    tsr_dispatch pack;      /* the client's packer table */
+    GLuint last_name;       /* shader/program names given out so far */
+} replicate;
+
+static GLuint rep_CreateShader(void *self, GLenum type)
+{
+    replicate *r = self;
+    if (type != GL_VERTEX_SHADER && type != GL_FRAGMENT_SHADER)
+        return 0; /* GL: INVALID_ENUM, no object */
+    tsr_call_CreateShaderTSR(&r->pack, ++r->last_name, type);
+    return r->last_name;
+}
+
+static GLuint rep_CreateProgram(void *self)
+{
+    replicate *r = self;
+    tsr_call_CreateProgramTSR(&r->pack, ++r->last_name);
+    return r->last_name;
+}
+
 static void replicate_destroy(void *instance)
 {
-    tsr_node_client_destroy(instance);
+    replicate *r = instance;
+    if (!r)
+        return;
+    tsr_node_client_destroy(r->client);
+    free(r);
 }
 
 static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
@@ -71,10 +105,26 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
                                   .late_retry_ms = (uint32_t)tsr_options_int(init->options, "late_retry_ms"),
                                   .late_give_up_ms = (uint32_t)tsr_options_int(init->options, "late_give_up_ms")};
     tsr_node_client_config_from_options(&cfg, init->options);
-    void *client = tsr_node_client_create(&cfg, init->table, err);
+    replicate *r = calloc(1, sizeof *r);
+    if (!r) {
+        free(servers);
+        free(late);
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
+        return NULL;
+    }
+    r->client = tsr_node_client_create(&cfg, init->table, err);
     free(servers); /* the client copied the addresses */
     free(late);
-    return client;
+    if (!r->client) {
+        free(r);
+        return NULL;
+    }
+    if (late_count) {
+        r->pack = *init->table;
+        tsr_set_CreateShader(init->table, rep_CreateShader, r);
+        tsr_set_CreateProgram(init->table, rep_CreateProgram, r);
+    }
+    return r;
 }
 
 static const tsr_option_spec replicate_options[] = {
@@ -83,7 +133,8 @@ static const tsr_option_spec replicate_options[] = {
              "every one receives the whole stream, replies come from the first)"},
     {.name = "late", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
      .help = "servers that may join the running stream, comma-separated: not needed at start, "
-             "connected in the background, caught up (state, textures, display lists, buffers) "
+             "connected in the background, caught up (state, textures, display lists, buffers, "
+             "shaders and programs with their uniforms) "
              "and added at the next frame boundary"},
     {.name = "late_retry_ms", .type = TSR_OPT_INT, .default_value = "200", .min = 10, .max = 60000.0,
      .help = "pause between connection attempts to a late server"},

@@ -36,6 +36,7 @@ join)
   # sanitizer build within the time limit (B still joins mid-stream).
   example=$arg frames=40
   [ "$example" = isosurface ] && frames=16
+  [ "$example" = shaders ] && frames=24
   size=320x240
   "$bin/$example-native" --frames $frames --size $size --out "$out/native/f-%04d.png" \
     || { echo "FAIL: $example-native exited $?" >&2; exit 1; }

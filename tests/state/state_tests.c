@@ -22,6 +22,23 @@
  *  lazy_textures         unbound textures are not sent; a changed texture
  *                        sends only the new image call
  *  list_compile          glNewList(GL_COMPILE) leaves the state alone
+ *  glsl_diff_matches_osmesa  random shader/program/uniform sequences: the
+ *                        calls go to the tracker and (names from the
+ *                        tracker, CreateShaderTSR/CreateProgramTSR, through
+ *                        tessera/glsl_names.h) to OSMesa context B; the diff
+ *                        plus tsr_state_send_shader/_program of every object
+ *                        go into a fresh context A (directly, or through the
+ *                        real wire on odd seeds). What the tracker answers
+ *                        equals A and B; compile/link status, active
+ *                        uniforms, every uniform's location and value, and
+ *                        the pixels of a triangle drawn with the current
+ *                        program are equal in A and B (B's driver names
+ *                        differ: it made and deleted other objects first);
+ *                        a second diff and second sends emit nothing
+ *  glsl_lazy             a program reaches a renderer when it is current in
+ *                        a diff, once; uniform changes send one call; a
+ *                        deleted program leaves the renderer; unchanged
+ *                        state sends nothing
  *
  * Debugging a failing seed: STATE_SEED=N starts at seed N; STATE_TRACE=1
  * prints the calls sent to OSMesa directly, then the diff (direct path).
@@ -36,6 +53,7 @@
 
 #include "pack.h"
 #include "state.h"
+#include "tessera/glsl_names.h"
 #include "tessera/glprocs_gen.h"
 #include "trace_gen.h"
 #include "unpack.h"
@@ -1057,6 +1075,12 @@ static void change_group(int g, const tsr_dispatch *d, tsr_state_ctx *c)
     case TSR_SG_MISC: tsr_call_ListBase(d, 4242); break;
     case TSR_SG_PIXEL: tsr_call_PixelZoom(d, 3.5f, -2.25f); break;
     case TSR_SG_TRANSFORM: tsr_call_Translatef(d, 0.0123f, 7, 9); break;
+    case TSR_SG_PROGRAM: {
+        GLuint p = tsr_call_CreateProgram(d);
+        tsr_call_LinkProgram(d, p);
+        tsr_call_UseProgram(d, p);
+        break;
+    }
     default: break;
     }
 }
@@ -1387,6 +1411,611 @@ static void test_matrices_bit_identical(void)
     printf("%d seeds: matrices bit-identical, %ld lit spheres pixel-identical\n", seeds_arg, drawn);
 }
 
+/* --- shaders and programs ------------------------------------------------------------ */
+static const char *const glsl_vs[] = {
+    "uniform float u_f;\nuniform vec3 u_v3;\nattribute float a_s;\nvarying vec4 col;\n"
+    "void main() {\n  gl_Position = ftransform() + vec4(u_f * 0.01, u_v3.x * 0.01, 0.0, 0.0);\n"
+    "  col = vec4(u_v3, a_s);\n  gl_FrontColor = gl_Color;\n}\n",
+    "uniform mat3 u_m3;\nuniform vec2 u_v2[3];\nvarying vec4 col;\n"
+    "void main() {\n  vec4 p = gl_Vertex;\n  p.xyz = u_m3 * p.xyz;\n  p.xy += (u_v2[0] + u_v2[1] + u_v2[2]) * 0.1;\n"
+    "  gl_Position = gl_ModelViewProjectionMatrix * p;\n  col = gl_Color;\n  gl_FrontColor = gl_Color;\n}\n",
+};
+static const char *const glsl_fs[] = {
+    "uniform vec4 u_c;\nuniform int u_i;\nvarying vec4 col;\n"
+    "void main() { gl_FragColor = col * u_c + float(u_i) * 0.01; }\n",
+    "uniform mat2 u_m2;\nuniform ivec2 u_i2;\nuniform float u_a[4];\nvarying vec4 col;\n"
+    "void main() {\n  gl_FragColor = vec4(u_m2 * col.xy, col.z + float(u_i2.x - u_i2.y) * 0.01 + u_a[0] + u_a[1] + "
+    "u_a[2] + u_a[3], 1.0);\n}\n",
+    "uniform vec4 u_c;\nuniform mat4 u_m4;\nvoid main() { gl_FragColor = u_m4 * gl_Color + u_c * 0.5; }\n",
+};
+/* Uniforms of the sources: name, kind (f/i/m), components or matrix side, array length. */
+typedef struct glsl_uni { const char *name; char kind; int n, len; } glsl_uni;
+static const glsl_uni glsl_unis[] = {
+    {"u_f", 'f', 1, 1}, {"u_v3", 'f', 3, 1}, {"u_m3", 'm', 3, 1}, {"u_v2", 'f', 2, 3}, {"u_c", 'f', 4, 1},
+    {"u_i", 'i', 1, 1}, {"u_m2", 'm', 2, 1}, {"u_i2", 'i', 2, 1}, {"u_a", 'f', 1, 4}, {"u_m4", 'm', 4, 1},
+};
+#define GLSL_UNIS ((int)(sizeof glsl_unis / sizeof glsl_unis[0]))
+#define GLSL_NAMES 40
+
+/* The test's own record of what it did (to make valid links and pick
+ * uniforms); the tracker is never asked for it. */
+typedef struct glsl_model {
+    int src[GLSL_NAMES];              /* shader: 0..1 vertex source, 10..12 fragment; -1 no object */
+    int compiled[GLSL_NAMES];         /* source at the last compile, -1 never */
+    int deleted[GLSL_NAMES];          /* shader deleted while attached */
+    int program[GLSL_NAMES];          /* a program object lives under this name */
+    int prog_deleted[GLSL_NAMES];
+    unsigned char att[GLSL_NAMES][GLSL_NAMES];
+    int usable[GLSL_NAMES];           /* last link had a valid combination */
+    GLuint current;
+} glsl_model;
+
+static int attached_count(const glsl_model *m, int s)
+{
+    int k = 0;
+    for (int p = 0; p < GLSL_NAMES; p++)
+        k += m->att[p][s];
+    return k;
+}
+
+static void model_free_shader(glsl_model *m, int s)
+{
+    m->src[s] = -1;
+    m->deleted[s] = 0;
+}
+
+static void model_detach(glsl_model *m, int p, int s)
+{
+    m->att[p][s] = 0;
+    if (m->deleted[s] && !attached_count(m, s))
+        model_free_shader(m, s);
+}
+
+static void model_free_program(glsl_model *m, int p)
+{
+    m->program[p] = 0;
+    m->prog_deleted[p] = 0;
+    m->usable[p] = 0;
+    for (int s = 0; s < GLSL_NAMES; s++)
+        if (m->att[p][s])
+            model_detach(m, p, s);
+}
+
+/* Whether program p's attached shaders make a program that links: at most
+ * one vertex and one fragment shader, all compiled, at least one, and a
+ * fragment shader reading `col` only with a vertex shader. */
+static int links(const glsl_model *m, int p)
+{
+    int vs = -1, fs = -1, n = 0;
+    for (int s = 0; s < GLSL_NAMES; s++) {
+        if (!m->att[p][s])
+            continue;
+        n++;
+        if (m->compiled[s] < 0 || m->compiled[s] != m->src[s])
+            return 0;
+        if (m->src[s] < 10) {
+            if (vs >= 0)
+                return 0;
+            vs = m->src[s];
+        } else {
+            if (fs >= 0)
+                return 0;
+            fs = m->src[s] - 10;
+        }
+    }
+    return n > 0 && !(vs < 0 && fs >= 0 && fs < 2);
+}
+
+static GLfloat glsl_val(uint64_t *r) { return (GLfloat)(ri(r, 17) - 8) / 8.0f; }
+
+/* A random live shader (program), or a random name when there is none. */
+static int pick(const glsl_model *m, uint64_t *r, int program)
+{
+    int live[GLSL_NAMES], n = 0;
+    for (int i = 1; i < GLSL_NAMES; i++)
+        if (program ? m->program[i] != 0 : m->src[i] >= 0)
+            live[n++] = i;
+    return n ? live[ri(r, n)] : 1 + ri(r, GLSL_NAMES - 1);
+}
+
+/* Every call goes to the tracker (tt) and to context B (bd, through its
+ * name map), B under the tracker's names (CreateShaderTSR/CreateProgramTSR). */
+static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, const tsr_dispatch *bd, glsl_model *m)
+{
+    uint64_t st = seed * 7919u + 17u, *r = &st;
+    memset(m, 0, sizeof *m);
+    for (int i = 0; i < GLSL_NAMES; i++)
+        m->src[i] = m->compiled[i] = -1;
+    tsr_call_Viewport(tt, 0, 0, 64, 64);
+    tsr_call_Viewport(bd, 0, 0, 64, 64);
+    for (int k = 0; k < calls; k++) {
+        int n = pick(m, r, 0), p = pick(m, r, 1);
+        int shader = m->src[n] >= 0, prog = m->program[p] && !m->prog_deleted[p];
+        int op = ri(r, 19);
+        if (op >= 16) { /* build a program that links, as applications do, and maybe use it */
+            GLuint q = tsr_call_CreateProgram(tt);
+            if (!q || q >= GLSL_NAMES)
+                continue;
+            tsr_call_CreateProgramTSR(bd, q);
+            m->program[q] = 1;
+            int vs = ri(r, 3) - 1, fs = vs < 0 ? 2 : ri(r, 4) - 1; /* -1: none */
+            for (int stage = 0; stage < 2; stage++) {
+                int idx = stage ? fs : vs;
+                if (idx < 0)
+                    continue;
+                GLenum type = stage ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER;
+                GLuint sh = tsr_call_CreateShader(tt, type);
+                if (!sh || sh >= GLSL_NAMES)
+                    continue;
+                tsr_call_CreateShaderTSR(bd, sh, type);
+                const char *text = stage ? glsl_fs[idx] : glsl_vs[idx];
+                tsr_call_ShaderSource(tt, sh, 1, &text, NULL);
+                tsr_call_ShaderSource(bd, sh, 1, &text, NULL);
+                tsr_call_CompileShader(tt, sh);
+                tsr_call_CompileShader(bd, sh);
+                m->src[sh] = m->compiled[sh] = stage ? 10 + idx : idx;
+                tsr_call_AttachShader(tt, q, sh);
+                tsr_call_AttachShader(bd, q, sh);
+                m->att[q][sh] = 1;
+            }
+            if (ri(r, 2)) {
+                tsr_call_BindAttribLocation(tt, q, 3, "a_s");
+                tsr_call_BindAttribLocation(bd, q, 3, "a_s");
+            }
+            if (links(m, (int)q)) {
+                tsr_call_LinkProgram(tt, q);
+                tsr_call_LinkProgram(bd, q);
+                m->usable[q] = 1;
+                if (ri(r, 2)) {
+                    tsr_call_UseProgram(tt, q);
+                    tsr_call_UseProgram(bd, q);
+                    GLuint old = m->current;
+                    m->current = q;
+                    if (old != q && old && m->prog_deleted[old])
+                        model_free_program(m, (int)old);
+                }
+            }
+            continue;
+        }
+        switch (op) {
+        case 0: case 1: { /* a new shader with a source, usually compiled */
+            int fs = ri(r, 2), idx = fs ? ri(r, 3) : ri(r, 2);
+            GLenum type = fs ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER;
+            GLuint s = tsr_call_CreateShader(tt, type);
+            if (!s || s >= GLSL_NAMES)
+                break;
+            tsr_call_CreateShaderTSR(bd, s, type);
+            const char *text = fs ? glsl_fs[idx] : glsl_vs[idx];
+            tsr_call_ShaderSource(tt, s, 1, &text, NULL);
+            tsr_call_ShaderSource(bd, s, 1, &text, NULL);
+            m->src[s] = fs ? 10 + idx : idx;
+            m->compiled[s] = -1;
+            if (ri(r, 5)) {
+                tsr_call_CompileShader(tt, s);
+                tsr_call_CompileShader(bd, s);
+                m->compiled[s] = m->src[s];
+            }
+            break;
+        }
+        case 2: /* another source of the same type (two strings), compiled or not */
+            if (shader) {
+                int fs = m->src[n] >= 10, idx = fs ? ri(r, 3) : ri(r, 2);
+                const char *text = fs ? glsl_fs[idx] : glsl_vs[idx];
+                size_t half = strlen(text) / 2;
+                const GLchar *parts[2] = {text, text + half};
+                const GLint lens[2] = {(GLint)half, -1};
+                tsr_call_ShaderSource(tt, (GLuint)n, 2, parts, lens);
+                tsr_call_ShaderSource(bd, (GLuint)n, 2, parts, lens);
+                m->src[n] = fs ? 10 + idx : idx;
+                if (ri(r, 2)) {
+                    tsr_call_CompileShader(tt, (GLuint)n);
+                    tsr_call_CompileShader(bd, (GLuint)n);
+                    m->compiled[n] = m->src[n];
+                }
+            }
+            break;
+        case 3: { /* a new program */
+            GLuint q = tsr_call_CreateProgram(tt);
+            if (!q || q >= GLSL_NAMES)
+                break;
+            tsr_call_CreateProgramTSR(bd, q);
+            m->program[q] = 1;
+            break;
+        }
+        case 4: case 5: /* attach */
+            if (shader && m->program[p] && !m->att[p][n]) {
+                tsr_call_AttachShader(tt, (GLuint)p, (GLuint)n);
+                tsr_call_AttachShader(bd, (GLuint)p, (GLuint)n);
+                m->att[p][n] = 1;
+            }
+            break;
+        case 6: /* detach */
+            if (m->program[p] && m->att[p][n]) {
+                tsr_call_DetachShader(tt, (GLuint)p, (GLuint)n);
+                tsr_call_DetachShader(bd, (GLuint)p, (GLuint)n);
+                model_detach(m, p, n);
+            }
+            break;
+        case 7: /* attribute binding */
+            if (prog) {
+                GLuint idx = (GLuint)(1 + ri(r, 5));
+                tsr_call_BindAttribLocation(tt, (GLuint)p, idx, "a_s");
+                tsr_call_BindAttribLocation(bd, (GLuint)p, idx, "a_s");
+            }
+            break;
+        case 8: case 9: /* link (only valid combinations become usable) */
+            /* A failed relink of the program in use leaves GL drawing with the
+             * old executable, which the tracker cannot rebuild (README): not done. */
+            if (m->program[p] && (links(m, p) || (ri(r, 4) == 0 && m->current != (GLuint)p))) {
+                tsr_call_LinkProgram(tt, (GLuint)p);
+                tsr_call_LinkProgram(bd, (GLuint)p);
+                m->usable[p] = links(m, p);
+                if (ri(r, 2)) /* then the shaders often go, as in many programs */
+                    for (int s = 0; s < GLSL_NAMES; s++)
+                        if (m->att[p][s] && !m->deleted[s]) {
+                            tsr_call_DeleteShader(tt, (GLuint)s);
+                            tsr_call_DeleteShader(bd, (GLuint)s);
+                            m->deleted[s] = 1;
+                        }
+            }
+            break;
+        case 10: /* use a usable program, or none */
+            {
+                GLuint q = ri(r, 4) == 0 ? 0 : (GLuint)p;
+                if (q && !(prog && m->usable[p]))
+                    break;
+                tsr_call_UseProgram(tt, q);
+                tsr_call_UseProgram(bd, q);
+                GLuint old = m->current;
+                m->current = q;
+                if (old != q && old && m->prog_deleted[old])
+                    model_free_program(m, (int)old);
+            }
+            break;
+        case 11: case 12: case 13: { /* a uniform of the current program */
+            if (!m->current || !m->usable[m->current])
+                break;
+            const glsl_uni *u = &glsl_unis[ri(r, GLSL_UNIS)];
+            char name[32];
+            int first = u->len > 1 ? ri(r, u->len) : 0;
+            if (first)
+                snprintf(name, sizeof name, "%s[%d]", u->name, first);
+            else
+                snprintf(name, sizeof name, "%s", u->name);
+            /* the location comes from a renderer (B), as tilesort asks its first server */
+            GLint loc = tsr_call_GetUniformLocation(bd, m->current, name);
+            if (loc < 0)
+                break;
+            GLsizei count = u->len > 1 ? 1 + ri(r, u->len - first) : 1;
+            GLfloat f[64];
+            GLint iv[64];
+            for (int i = 0; i < 64; i++) {
+                f[i] = glsl_val(r);
+                iv[i] = ri(r, 19) - 9;
+            }
+            const tsr_dispatch *both[2] = {tt, bd};
+            int vec = count > 1 || ri(r, 2);
+            for (int w = 0; w < 2; w++) {
+                const tsr_dispatch *d = both[w];
+                if (u->kind == 'm') {
+                    GLboolean tr = (GLboolean)(u->n == 4 && (k & 1));
+                    if (u->n == 2) tsr_call_UniformMatrix2fv(d, loc, count, tr, f);
+                    else if (u->n == 3) tsr_call_UniformMatrix3fv(d, loc, count, tr, f);
+                    else tsr_call_UniformMatrix4fv(d, loc, count, tr, f);
+                } else if (u->kind == 'i') {
+                    if (u->n == 1) { if (vec) tsr_call_Uniform1iv(d, loc, count, iv); else tsr_call_Uniform1i(d, loc, iv[0]); }
+                    else { if (vec) tsr_call_Uniform2iv(d, loc, count, iv); else tsr_call_Uniform2i(d, loc, iv[0], iv[1]); }
+                } else if (u->n == 1) {
+                    if (vec) tsr_call_Uniform1fv(d, loc, count, f); else tsr_call_Uniform1f(d, loc, f[0]);
+                } else if (u->n == 2) {
+                    if (vec) tsr_call_Uniform2fv(d, loc, count, f); else tsr_call_Uniform2f(d, loc, f[0], f[1]);
+                } else if (u->n == 3) {
+                    if (vec) tsr_call_Uniform3fv(d, loc, count, f); else tsr_call_Uniform3f(d, loc, f[0], f[1], f[2]);
+                } else {
+                    if (vec) tsr_call_Uniform4fv(d, loc, count, f);
+                    else tsr_call_Uniform4f(d, loc, f[0], f[1], f[2], f[3]);
+                }
+            }
+            break;
+        }
+        case 14: /* delete a shader (waits while attached) */
+            if (shader && !m->deleted[n]) {
+                tsr_call_DeleteShader(tt, (GLuint)n);
+                tsr_call_DeleteShader(bd, (GLuint)n);
+                if (attached_count(m, n))
+                    m->deleted[n] = 1;
+                else
+                    model_free_shader(m, n);
+            }
+            break;
+        case 15: /* delete a program (waits while current); or validate one */
+            if (prog && ri(r, 3)) {
+                tsr_call_DeleteProgram(tt, (GLuint)p);
+                tsr_call_DeleteProgram(bd, (GLuint)p);
+                if (m->current == (GLuint)p)
+                    m->prog_deleted[p] = 1;
+                else
+                    model_free_program(m, p);
+            } else if (prog) {
+                tsr_call_ValidateProgram(tt, (GLuint)p);
+                tsr_call_ValidateProgram(bd, (GLuint)p);
+            }
+            break;
+        }
+    }
+}
+
+static int glsl_exists(const tsr_state_ctx *c, GLuint n, int program)
+{
+    GLint v;
+    return program ? tsr_state_get_programiv(c, n, GL_ATTACHED_SHADERS, &v)
+                   : tsr_state_get_shaderiv(c, n, GL_SHADER_TYPE, &v);
+}
+
+typedef void (*get_uniformfv_fn)(GLuint, GLint, GLfloat *);
+typedef void (*get_uniformiv_fn)(GLuint, GLint, GLint *);
+
+/* Draws a triangle over the window with the current state and reads it. */
+static void glsl_draw(gl_env *e, unsigned char *px)
+{
+    gl_use(e);
+    e->gl.ClearColor(0.1f, 0.2f, 0.3f, 1.0f);
+    e->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    e->gl.Begin(GL_TRIANGLES);
+    e->gl.Color4f(0.9f, 0.5f, 0.25f, 1.0f);
+    e->gl.Vertex3f(-0.9f, -0.9f, 0.0f);
+    e->gl.Color4f(0.2f, 0.7f, 0.4f, 1.0f);
+    e->gl.Vertex3f(0.9f, -0.8f, 0.1f);
+    e->gl.Color4f(0.3f, 0.3f, 1.0f, 1.0f);
+    e->gl.Vertex3f(0.0f, 0.9f, -0.1f);
+    e->gl.End();
+    e->gl.Finish();
+    e->gl.ReadPixels(0, 0, 64, 64, GL_RGBA, GL_UNSIGNED_BYTE, px);
+}
+
+static void test_glsl_diff_matches_osmesa(void)
+{
+    get_uniformfv_fn get_f = (get_uniformfv_fn)M.GetProcAddress("glGetUniformfv");
+    get_uniformiv_fn get_i = (get_uniformiv_fn)M.GetProcAddress("glGetUniformiv");
+    long compared = 0, commands = 0, drawn = 0, with_program = 0, locations = 0;
+    int first_seed = getenv("STATE_SEED") ? atoi(getenv("STATE_SEED")) : 0;
+    for (int seed = first_seed; seed < seeds_arg; seed++) {
+        tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+        tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+        tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
+        static tsr_dispatch tt;
+        tsr_dispatch_fill_nop(&tt);
+        tsr_state_fill_dispatch(c, &tt);
+        gl_env *b = gl_open();
+        tsr_error err = {0};
+        tsr_glsl_names *bn = tsr_glsl_names_create(&b->d, &err);
+        /* B's driver hands out other names than A's: it made (and deleted) objects first */
+        for (int i = 0; i < 1 + seed % 5; i++)
+            b->gl.DeleteShader(b->gl.CreateShader(GL_VERTEX_SHADER));
+        GLuint keep = b->gl.CreateProgram();
+        static glsl_model m;
+        int calls = 30 + seed % 150;
+        glsl_sequence((uint64_t)seed, calls, &tt, &b->d, &m);
+        b->gl.Finish();
+
+        gl_env *a = gl_open();
+        tsr_glsl_names *an = tsr_glsl_names_create(&a->d, &err);
+        CHECK(an && bn, "name maps: %s", err.message);
+        uint32_t n = 0, again = 0;
+        if (seed & 1) { /* through the real wire */
+            wire *w = wire_open(&a->d);
+            n = tsr_state_diff(c, s, &w->table, NULL);
+            n += tsr_state_send_glsl_all(c, s, &w->table);
+            CHECK(tsr_packer_flush(w->p) == 0, "seed %d: %s", seed, tsr_packer_error(w->p)->message);
+            wire_close(w);
+        } else {
+            n = tsr_state_diff(c, s, &a->d, NULL);
+            n += tsr_state_send_glsl_all(c, s, &a->d);
+        }
+        commands += n;
+        /* unchanged: nothing more to send */
+        again = tsr_state_diff(c, s, &a->d, NULL) + tsr_state_send_glsl_all(c, s, &a->d);
+        for (GLuint q = 1; q < GLSL_NAMES; q++)
+            again += tsr_state_send_shader(c, s, q, &a->d) + tsr_state_send_program(c, s, q, &a->d);
+        CHECK(again == 0, "seed %d: sending unchanged objects again emitted %u calls", seed, again);
+        if (again && getenv("STATE_TRACE")) {
+            static tsr_dispatch traced;
+            tsr_tracer tr = {stderr, &a->d};
+            tsr_trace_fill(&traced, &tr);
+            fprintf(stderr, "--- a third send:\n");
+            tsr_state_diff(c, s, &traced, NULL);
+            tsr_state_send_glsl_all(c, s, &traced);
+        }
+        a->gl.Finish();
+
+        gl_env *envs[2] = {a, b};
+        GLint cur[2] = {-1, -1}, tcur = -2;
+        tsr_state_get_integerv(c, GL_CURRENT_PROGRAM, &tcur);
+        for (int e = 0; e < 2; e++) {
+            gl_use(envs[e]);
+            tsr_call_GetIntegerv(&envs[e]->d, GL_CURRENT_PROGRAM, &cur[e]);
+        }
+        CHECK(cur[0] == tcur && cur[1] == tcur, "seed %d: current program tracker %d, A %d, B %d", seed, tcur,
+              cur[0], cur[1]);
+        with_program += tcur != 0;
+        for (GLuint q = 1; q < GLSL_NAMES; q++) {
+            static const GLenum sp[] = {GL_SHADER_TYPE, GL_DELETE_STATUS, GL_SHADER_SOURCE_LENGTH, GL_COMPILE_STATUS};
+            static const GLenum pp[] = {GL_DELETE_STATUS, GL_ATTACHED_SHADERS, GL_LINK_STATUS, GL_ACTIVE_UNIFORMS,
+                                        GL_ACTIVE_ATTRIBUTES, GL_VALIDATE_STATUS};
+            for (int program = 0; program < 2; program++) {
+                const GLenum *pn = program ? pp : sp;
+                int count = program ? 6 : 4;
+                for (int k = 0; k < count; k++) {
+                    GLint v[2] = {-7, -7}, tv = -7;
+                    int known = program ? tsr_state_get_programiv(c, q, pn[k], &tv)
+                                        : tsr_state_get_shaderiv(c, q, pn[k], &tv);
+                    int exists = glsl_exists(c, q, program);
+                    for (int e = 0; e < 2; e++) {
+                        gl_use(envs[e]);
+                        if (!exists)
+                            continue;
+                        if (program)
+                            tsr_call_GetProgramiv(&envs[e]->d, q, pn[k], &v[e]);
+                        else
+                            tsr_call_GetShaderiv(&envs[e]->d, q, pn[k], &v[e]);
+                    }
+                    if (!exists)
+                        continue;
+                    compared++;
+                    /* validation depends on the state at glValidateProgram: A validated later */
+                    if (pn[k] != GL_VALIDATE_STATUS)
+                        CHECK(v[0] == v[1], "seed %d: %s %u pname 0x%x: A %d, B %d", seed, program ? "program" : "shader",
+                              q, pn[k], v[0], v[1]);
+                    if (known)
+                        CHECK(tv == v[0] && tv == v[1], "seed %d: %s %u pname 0x%x: tracker %d, A %d, B %d", seed,
+                              program ? "program" : "shader", q, pn[k], tv, v[0], v[1]);
+                }
+            }
+            if (!glsl_exists(c, q, 1) || !m.usable[q])
+                continue;
+            for (int u = 0; u < GLSL_UNIS; u++)
+                for (int el = 0; el < glsl_unis[u].len; el++) {
+                    char name[32];
+                    snprintf(name, sizeof name, el ? "%s[%d]" : "%s", glsl_unis[u].name, el);
+                    GLint loc[2];
+                    GLfloat fv[2][16];
+                    GLint iv[2][16];
+                    for (int e = 0; e < 2; e++) {
+                        gl_use(envs[e]);
+                        loc[e] = tsr_call_GetUniformLocation(&envs[e]->d, q, name);
+                        memset(fv[e], 0, sizeof fv[e]);
+                        memset(iv[e], 0, sizeof iv[e]);
+                        GLuint drv = tsr_glsl_names_driver(e ? bn : an, q);
+                        if (loc[e] >= 0 && glsl_unis[u].kind == 'i')
+                            get_i(drv, loc[e], iv[e]);
+                        else if (loc[e] >= 0)
+                            get_f(drv, loc[e], fv[e]);
+                    }
+                    CHECK(loc[0] == loc[1], "seed %d: program %u: %s at %d in A, %d in B", seed, q, name, loc[0], loc[1]);
+                    if (loc[0] < 0)
+                        continue;
+                    locations++;
+                    CHECK(!memcmp(fv[0], fv[1], sizeof fv[0]) && !memcmp(iv[0], iv[1], sizeof iv[0]),
+                          "seed %d: program %u: %s has other values in A (%g %g ...) and B (%g %g ...)", seed, q, name,
+                          fv[0][0], fv[0][1], fv[1][0], fv[1][1]);
+                    compared++;
+                }
+        }
+        CHECK(tsr_glsl_names_driver(an, 1) != tsr_glsl_names_driver(bn, 1) || !glsl_exists(c, 1, 0),
+              "seed %d: A and B gave the same driver names: the test does not show names are mapped", seed);
+        static unsigned char pa[64 * 64 * 4], pb[64 * 64 * 4];
+        glsl_draw(a, pa);
+        glsl_draw(b, pb);
+        int differ = 0;
+        for (size_t i = 0; i < sizeof pa; i += 4)
+            differ += memcmp(pa + i, pb + i, 4) != 0;
+        CHECK(differ == 0, "seed %d: %d pixels differ between A (diffed) and B (direct), program %d", seed, differ,
+              tcur);
+        drawn++;
+        gl_use(b);
+        b->gl.DeleteProgram(keep);
+        tsr_glsl_names_destroy(an);
+        tsr_glsl_names_destroy(bn);
+        gl_close(a);
+        gl_close(b);
+        tsr_state_tracker_destroy(t);
+    }
+    printf("%d seeds: %ld values compared (%ld uniform locations), %ld calls sent, %ld triangles pixel-identical "
+           "(%ld drawn with a program)\n", seeds_arg - first_seed, compared, locations, commands, drawn, with_program);
+    CHECK(with_program > (seeds_arg - first_seed) / 4, "only %ld sequences ended with a program in use", with_program);
+    CHECK(locations > (seeds_arg - first_seed), "only %ld uniform locations compared", locations);
+}
+/* Counting table for the lazy-program test: which calls a diff emits. */
+enum { GC_CREATEPROG, GC_CREATESH, GC_LINK, GC_UNIFORM, GC_USE, GC_DELPROG, GC_N };
+static int gcount[GC_N];
+static void gc_CreateProgramTSR(void *self, GLuint p) { (void)self, (void)p; gcount[GC_CREATEPROG]++; }
+static void gc_CreateShaderTSR(void *self, GLuint s, GLenum t) { (void)self, (void)s, (void)t; gcount[GC_CREATESH]++; }
+static void gc_LinkProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_LINK]++; }
+static void gc_Uniform4fv(void *self, GLint l, GLsizei n, const GLfloat *v) { (void)self, (void)l, (void)n, (void)v; gcount[GC_UNIFORM]++; }
+static void gc_UseProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_USE]++; }
+static void gc_DeleteProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_DELPROG]++; }
+
+static GLuint lazy_program(const tsr_dispatch *d, int k)
+{
+    GLuint p = tsr_call_CreateProgram(d);
+    for (int stage = 0; stage < 2; stage++) {
+        GLuint s = tsr_call_CreateShader(d, stage ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
+        const char *text = stage ? glsl_fs[k % 3] : glsl_vs[k % 2];
+        tsr_call_ShaderSource(d, s, 1, &text, NULL);
+        tsr_call_CompileShader(d, s);
+        tsr_call_AttachShader(d, p, s);
+        tsr_call_DeleteShader(d, s); /* attached: deleted with the program */
+    }
+    tsr_call_LinkProgram(d, p);
+    return p;
+}
+
+/* Expected counts of one diff: created programs, created shaders, links,
+ * uniform calls, UseProgram, DeleteProgram, and the total. */
+static void lazy_expect(tsr_state_ctx *c, tsr_state_shadow *r, const tsr_dispatch *cnt, const char *what,
+                        int cp, int cs, int ln, int un, int use, int del, uint32_t total)
+{
+    memset(gcount, 0, sizeof gcount);
+    uint32_t n = tsr_state_diff(c, r, cnt, NULL);
+    CHECK(gcount[GC_CREATEPROG] == cp && gcount[GC_CREATESH] == cs && gcount[GC_LINK] == ln &&
+              gcount[GC_UNIFORM] == un && gcount[GC_USE] == use && gcount[GC_DELPROG] == del && n == total,
+          "%s: %u calls: %d programs, %d shaders created, %d links, %d uniforms, %d uses, %d deletes", what, n,
+          gcount[GC_CREATEPROG], gcount[GC_CREATESH], gcount[GC_LINK], gcount[GC_UNIFORM], gcount[GC_USE],
+          gcount[GC_DELPROG]);
+}
+
+static void test_glsl_lazy(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
+    static tsr_dispatch tt, cnt;
+    tsr_dispatch_fill_nop(&tt);
+    tsr_state_fill_dispatch(c, &tt);
+    tsr_dispatch_fill_nop(&cnt);
+    tsr_set_CreateProgramTSR(&cnt, gc_CreateProgramTSR, NULL);
+    tsr_set_CreateShaderTSR(&cnt, gc_CreateShaderTSR, NULL);
+    tsr_set_LinkProgram(&cnt, gc_LinkProgram, NULL);
+    tsr_set_Uniform4fv(&cnt, gc_Uniform4fv, NULL);
+    tsr_set_UseProgram(&cnt, gc_UseProgram, NULL);
+    tsr_set_DeleteProgram(&cnt, gc_DeleteProgram, NULL);
+    tsr_state_diff(c, r, &cnt, NULL); /* the initial state */
+    GLuint p1 = lazy_program(&tt, 0), p2 = lazy_program(&tt, 1), p3 = lazy_program(&tt, 2);
+    CHECK(p1 && p2 > p1 && p3 > p2, "program names %u %u %u", p1, p2, p3);
+    lazy_expect(c, r, &cnt, "programs nobody uses", 0, 0, 0, 0, 0, 0, 0);
+    tsr_call_UseProgram(&tt, p2);
+    tsr_call_Uniform4f(&tt, 0, 1, 2, 3, 4);
+    /* created, 2 shaders made, sourced, compiled and attached, linked, used, uniform set */
+    lazy_expect(c, r, &cnt, "first use", 1, 2, 1, 1, 1, 0, 1 + 2 * 4 + 1 + 1 + 1);
+    lazy_expect(c, r, &cnt, "unchanged", 0, 0, 0, 0, 0, 0, 0);
+    tsr_call_Uniform4f(&tt, 0, 5, 6, 7, 8);
+    lazy_expect(c, r, &cnt, "a new uniform value", 0, 0, 0, 1, 0, 0, 1);
+    tsr_call_Uniform4f(&tt, 1, 5, 6, 7, 8);
+    tsr_call_Uniform4f(&tt, 1, 5, 6, 7, 9);
+    lazy_expect(c, r, &cnt, "a value set twice", 0, 0, 0, 1, 0, 0, 1);
+    tsr_call_UseProgram(&tt, p1);
+    lazy_expect(c, r, &cnt, "second program", 1, 2, 1, 0, 1, 0, 1 + 2 * 4 + 1 + 1);
+    tsr_call_UseProgram(&tt, p2);
+    lazy_expect(c, r, &cnt, "back to the first", 0, 0, 0, 0, 1, 0, 1);
+    tsr_call_DeleteProgram(&tt, p3);
+    lazy_expect(c, r, &cnt, "a program the renderer never had is deleted", 0, 0, 0, 0, 0, 0, 0);
+    tsr_call_DeleteProgram(&tt, p1);
+    /* the program, and its two shaders (the client's went with it) */
+    lazy_expect(c, r, &cnt, "a program the renderer has is deleted", 0, 0, 0, 0, 0, 1, 3);
+    tsr_call_LinkProgram(&tt, p2);
+    lazy_expect(c, r, &cnt, "relink (uniforms back to 0)", 0, 0, 1, 0, 0, 0, 1);
+    /* a second renderer joining now gets only what is needed */
+    tsr_state_shadow *r2 = tsr_state_shadow_create(t, NULL);
+    memset(gcount, 0, sizeof gcount);
+    tsr_state_diff(c, r2, &cnt, NULL);
+    CHECK(gcount[GC_CREATEPROG] == 1 && gcount[GC_LINK] == 1 && gcount[GC_UNIFORM] == 0,
+          "new renderer: %d programs, %d links, %d uniforms", gcount[GC_CREATEPROG], gcount[GC_LINK],
+          gcount[GC_UNIFORM]);
+    printf("programs go to a renderer when it draws with them, once; unchanged state sends nothing\n");
+    tsr_state_tracker_destroy(t);
+}
+
+
 int main(int argc, char **argv)
 {
     static const struct { const char *name; void (*fn)(void); int gl; } tests[] = {
@@ -1398,6 +2027,8 @@ int main(int argc, char **argv)
         {"lazy_textures", test_lazy_textures, 0},
         {"list_compile", test_list_compile, 0},
         {"matrices_bit_identical", test_matrices_bit_identical, 1},
+        {"glsl_diff_matches_osmesa", test_glsl_diff_matches_osmesa, 1},
+        {"glsl_lazy", test_glsl_lazy, 0},
     };
     if (argc < 2 || argc > 3) {
         fprintf(stderr, "usage: state_tests TEST [SEEDS]\n");
