@@ -935,6 +935,52 @@ done:
     return rc;
 }
 
+static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b) {
+    return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
+           b->y < a->y + a->height;
+}
+
+/* A display wall (spus/readback): a readback node sends its tile images to
+ * ONE display node, and the nodes whose images meet on one display own
+ * disjoint parts of the window (a node without tiles sends all of it), or
+ * the assembled window would depend on which image arrived last. */
+static int check_readback(loader *l, size_t i) {
+    tsr_graph *g = l->graph;
+    const tsr_graph_node *node = &g->nodes[i];
+    const node_source *src = &l->sources[i];
+    if (!src->network_spu || strcmp(scalar_text(src->network_spu), "readback"))
+        return TSR_OK;
+    if (node->to_count != 1)
+        return fail_at(l, src->to_key, TSR_EINVAL,
+                       "node '%s': readback sends its tile images to one display node, but 'to' "
+                       "names %zu",
+                       node->name, node->to_count);
+    const tsr_graph_node *display = &g->nodes[node->to[0]];
+    tsr_graph_tile whole = {0, 0, g->width, g->height};
+    for (size_t f = 0; f < display->from_count && display->from[f] < i; f++) {
+        const tsr_graph_node *other = &g->nodes[display->from[f]];
+        const node_source *osrc = &l->sources[display->from[f]];
+        if (!osrc->network_spu || strcmp(scalar_text(osrc->network_spu), "readback"))
+            continue;
+        size_t na = node->tile_count ? node->tile_count : 1;
+        size_t nb = other->tile_count ? other->tile_count : 1;
+        for (size_t a = 0; a < na; a++)
+            for (size_t b = 0; b < nb; b++) {
+                const tsr_graph_tile *ta = node->tile_count ? &node->tiles[a] : &whole;
+                const tsr_graph_tile *tb = other->tile_count ? &other->tiles[b] : &whole;
+                if (tiles_overlap(ta, tb))
+                    return fail_at(l, src->to_names[0], TSR_EINVAL,
+                                   "node '%s': its %s [%d, %d, %d, %d] overlaps node '%s''s %s "
+                                   "[%d, %d, %d, %d], and both send images to display '%s'",
+                                   node->name, node->tile_count ? "tile" : "window", ta->x, ta->y,
+                                   ta->width, ta->height, other->name,
+                                   other->tile_count ? "tile" : "window", tb->x, tb->y, tb->width,
+                                   tb->height, display->name);
+            }
+    }
+    return TSR_OK;
+}
+
 /* Roles: who may have `to:`, server-only keys, every server fed. */
 static int check_roles(loader *l) {
     tsr_graph *g = l->graph;
@@ -969,6 +1015,9 @@ static int check_roles(loader *l) {
                                    "node '%s': tilesort sends to server '%s', which has no "
                                    "'tiles' (give it tiles: [[x, y, width, height]])",
                                    node->name, g->nodes[node->to[e]].name);
+        int rc = check_readback(l, i);
+        if (rc != TSR_OK)
+            return rc;
     }
     return TSR_OK;
 }

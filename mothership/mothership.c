@@ -180,7 +180,9 @@ static void sb_tile(strbuf *b, const char *prefix, const tsr_graph_tile *t)
 /* The tiles option a node's SPUs get (tessera/tiles.h): a server's own
  * tiles "X:Y:W:H,..." for an SPU with a `tiles` option in its chain, and
  * for its clients' network SPU every server's "S:X:Y:W:H,..." (S = index
- * in `to:`). Empty when there are none. */
+ * in `to:`). Empty when there are none. A network SPU that sends to one
+ * server (a `server` option: readback) gets its own node's tiles: it
+ * draws them and sends their images on. */
 static void tiles_text(const ms *m, const tsr_graph_node *g, int network, strbuf *list)
 {
     if (!network) {
@@ -240,7 +242,16 @@ static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
         }
         strbuf tiles = {0};
         if (spu_has_option(cls, "tiles"))
-            tiles_text(m, g, network, &tiles);
+            tiles_text(m, g, network && !strcmp(addr_key, "servers"), &tiles);
+        /* readback: its place among its display's senders (rank 0 ends
+         * the display's frames, spus/readback). */
+        int rank = -1;
+        if (network && spu_has_option(cls, "rank")) {
+            const tsr_graph_node *server = m->nodes[g->to[0]].g;
+            for (size_t f = 0; f < server->from_count && rank < 0; f++)
+                if (m->nodes[server->from[f]].g == g)
+                    rank = (int)f;
+        }
         if (i)
             sb_str(b, " ! ");
         sb_str(b, l->spu);
@@ -249,6 +260,8 @@ static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
                 continue; /* the mothership's address and token win */
             if (tiles.len && !strcmp(l->keys[k], "tiles"))
                 continue; /* and so do the graph's tiles */
+            if (rank >= 0 && !strcmp(l->keys[k], "rank"))
+                continue; /* and the sender's rank */
             sb_option(b, l->keys[k], l->values[k]);
         }
         if (network) {
@@ -265,6 +278,11 @@ static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
         }
         if (tiles.len)
             sb_option(b, "tiles", tiles.s);
+        if (rank >= 0) {
+            char text[24];
+            snprintf(text, sizeof text, "%d", rank);
+            sb_option(b, "rank", text);
+        }
         b->failed |= tiles.failed;
         free(tiles.s);
     }

@@ -62,7 +62,10 @@
  *
  * Graph rules besides the types of values: node names are unique, `to:`
  * names existing nodes other than app nodes, each at most once; the edges
- * have no cycle; every server is sent to by at least one node.
+ * have no cycle; every server is sent to by at least one node. A node
+ * whose network SPU is readback (a tile server streaming its tile images
+ * to a display node) sends to exactly one node, and the readback nodes of
+ * one display own disjoint tiles (no tiles: the whole window).
  *
  * The model is immutable once loaded; strings and arrays live as long as
  * the graph. Nodes keep their position in the file so later errors (a node

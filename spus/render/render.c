@@ -103,7 +103,11 @@
  * (bench/run tiles, 4096x3072 window): a server owning one 1024x768 tile
  * stays at about 24 MB above an idle 64x48 render instance, a full-window
  * one at about 145 MB; the tile server's peak still includes the 96 MB
- * memset for an instant, before the pages are given back. */
+ * memset for an instant, before the pages are given back.
+ *
+ * This file is a library (render.h): the `render` plugin (plugin.c) and
+ * `readback` (spus/readback) build on it; a hook gets each frame's tile
+ * pixels (or the whole window's) right after they are read. */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -117,15 +121,16 @@
 #include <GL/osmesa.h>
 
 #include "tessera/glprocs_gen.h"
+#include "tessera/glsl_names.h"
 #include "tessera/image.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 #include "tessera/tiles.h"
 
 #include "pages.h"
+#include "render.h"
 
 #define RENDER_DEFAULT_SIDE 512
-#define RENDER_MAX_SIDE 16384
 
 /* The OSMesa functions this SPU calls, resolved with dlsym. */
 typedef struct osmesa_api {
@@ -202,6 +207,7 @@ typedef struct render_spu {
     osmesa_api osmesa;
     OSMesaContext context;
     tsr_gl_procs gl;           /* every GL entry, through OSMesaGetProcAddress */
+    tsr_glsl_names *names;     /* the stream's shader/program names -> the driver's */
     const tsr_dispatch *child;
 
     const char *output;        /* option; owned by the chain, valid until destroy */
@@ -234,6 +240,7 @@ typedef struct render_spu {
     render_context reader;     /* reads the tiles back; never gets client commands */
     unsigned char *tile_pixels;
     size_t tile_pixels_size;
+    render_hooks hooks;        /* render.h: what an SPU built on render does with each frame */
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6",
@@ -978,6 +985,8 @@ static void tiled_write_frame(render_spu *r, int frame) {
                 r->tile_pixels_size = need;
             }
             r->gl.ReadPixels(b.x, b.y, b.w, b.h, GL_RGBA, GL_UNSIGNED_BYTE, r->tile_pixels);
+            if (r->hooks.image)
+                r->hooks.image(r->hooks.ctx, frame, i, b.x, b.y, b.w, b.h, r->tile_pixels);
             char path[PATH_MAX];
             if (r->output[0] &&
                 (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
@@ -1009,6 +1018,8 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
                                          true, path, &err) != TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
         }
+        if (r->hooks.image && r->buffer)
+            r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
     }
     tsr_call_SwapBuffersTSR(r->child, window, flags);
 }
@@ -1158,10 +1169,11 @@ static void render_destroy(void *self) {
     free(r->buffer);
     free(r->tiles);
     free(r->tile_pixels);
+    tsr_glsl_names_destroy(r->names);
     free(r);
 }
 
-static void *render_create(const tsr_spu_init *init, tsr_error *err) {
+void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err) {
     render_spu *r = calloc(1, sizeof *r);
     if (!r) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
@@ -1169,6 +1181,8 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     }
     snprintf(r->name, sizeof r->name, "%s", init->instance_name);
     r->child = init->child;
+    if (hooks)
+        r->hooks = *hooks;
     r->output = tsr_options_string(init->options, "output");
     if (!r->output)
         r->output = "";
@@ -1245,40 +1259,13 @@ static void *render_create(const tsr_spu_init *init, tsr_error *err) {
     tsr_set_GetDoublev(init->table, render_GetDoublev, r);
     tsr_set_GetBooleanv(init->table, render_GetBooleanv, r);
     tsr_set_IsEnabled(init->table, render_IsEnabled, r);
+    /* last: wraps the shader/program slots set above (tessera/glsl_names.h) */
+    if (!(r->names = tsr_glsl_names_create(init->table, err)))
+        goto fail;
     return r;
 fail:
     render_destroy(r);
     return NULL;
 }
 
-static const tsr_option_spec render_options[] = {
-    {.name = "output", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
-     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "
-             "the directory must exist; empty: write nothing"},
-    {.name = "width", .type = TSR_OPT_INT, .default_value = "0", .min = 0,
-     .max = RENDER_MAX_SIDE,
-     .help = "framebuffer width; 0: follow the window (512 until it is known)"},
-    {.name = "height", .type = TSR_OPT_INT, .default_value = "0", .min = 0,
-     .max = RENDER_MAX_SIDE,
-     .help = "framebuffer height; 0: follow the window (512 until it is known)"},
-    {.name = "window", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,
-     .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},
-    {.name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
-     .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "
-             "tiles:); draws them at full-window coordinates, writes one PNG per tile "
-             "(-tN before the extension when several); a TilesTSR replaces them; empty: "
-             "the whole window"},
-};
-
-static const tsr_spu_class render_class = {
-    .abi = TSR_SPU_ABI,
-    .dispatch_count = TSR_DISPATCH_COUNT,
-    .name = "render",
-    .summary = "draws with OSMesa offscreen and writes a PNG per swap",
-    .options = render_options,
-    .option_count = sizeof render_options / sizeof render_options[0],
-    .create = render_create,
-    .destroy = render_destroy,
-};
-
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &render_class; }
+void render_spu_destroy(void *instance) { render_destroy(instance); }

@@ -6,6 +6,11 @@
 # equals the reference (0 differing pixels), and the --stats JSON carries
 # the sort-first statistics (bytes per server per frame, overlap,
 # imbalance).
+# A graph with a node named `display` (examples/graphs/wall_display.yaml)
+# assembles the window on that display node instead (spus/readback: the
+# tile servers stream their tile images to it): then the app's tilesort
+# must not assemble, and the display must have served the four tile
+# servers, ended every frame and received every tile image of every frame.
 # usage: wall_graph.sh BIN_DIR GRAPH OUT_DIR TILES_DRIVER
 set -u
 bin=$1 graph=$2 out=$3 driver=$4 frames=20
@@ -35,5 +40,15 @@ grep -q '"sort_first": {"bucket":"grid","servers":4' "$out/stats.json" || fail "
 rows=$(sed -e 's/.*"frames":\[\[//' -e 's/\]\]}.*//' "$out/stats.json" | grep -o '\],\[' | wc -l)
 [ "$rows" -eq $((frames - 1)) ] || fail "sort_first.frames has $((rows + 1)) rows, expected $frames"
 grep -q "sort-first: overlap" "$out/run.out" || fail "the summary has no sort-first line"
+if grep -q '^  display:' "$graph"; then
+  ! grep -q 'assemble' "$graph" || fail "$graph: tilesort assembles, the display node should"
+  d=$(grep -o '"name": "display"[^}]*' "$out/stats.json")
+  echo "display: $d"
+  case "$d" in *'"frames": '$frames,*) ;; *) fail "the display ended no $frames frames" ;; esac
+  case "$d" in *'"clients": 4'*) ;; *) fail "the display did not serve 4 tile servers" ;; esac
+  bytes=$(echo "$d" | sed -n 's/.*"bytes_in": \([0-9]*\).*/\1/p')
+  [ "${bytes:-0}" -ge $((frames * 1024 * 768 * 4)) ] ||
+    fail "the display received $bytes bytes, less than $frames frames of 1024x768 RGBA tiles"
+fi
 [ $bad = 0 ] && echo PASS
 exit $bad

@@ -1,0 +1,54 @@
+/* spus/render/render.h — the render SPU's implementation as a library
+ * (tessera_render_core, static), shared by the `render` plugin (plugin.c)
+ * and the SPUs that render exactly like it and then do more with the
+ * frame (`readback`, spus/readback). Owns nothing itself: an instance is
+ * what render.c's header comment describes. Never to be copied: an SPU
+ * that needs render's drawing links this library and passes hooks.
+ *
+ * Hooks: `image` is called at every swap of the instance's window, after
+ * the frame's pixels were read and written out (PNGs), before the swap
+ * goes on to the child: once per owned tile (its rectangle in window
+ * pixels, origin bottom-left, and its RGBA8 pixels, bottom row first,
+ * rows packed), or once with the whole window when there are no tiles.
+ * The pixels are valid during the call only. */
+#ifndef TSR_SPUS_RENDER_RENDER_H
+#define TSR_SPUS_RENDER_RENDER_H
+
+#include <stddef.h>
+
+#include "tessera/spu.h"
+
+#define RENDER_MAX_SIDE 16384
+
+typedef struct render_hooks {
+    void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
+                  const unsigned char *rgba);
+    void *ctx;
+} render_hooks;
+
+/* As a plugin's create and destroy; `hooks` may be NULL. The instance
+ * sets its slots in init->table and calls init->child with what it passes
+ * on (window, swap, context and tiles commands). */
+void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err);
+void render_spu_destroy(void *instance);
+
+/* render's options; an SPU built on it lists them among its own. */
+#define RENDER_OPTION_SPECS                                                                        \
+    {.name = "output", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,           \
+     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "                 \
+             "the directory must exist; empty: write nothing"},                                   \
+    {.name = "width", .type = TSR_OPT_INT, .default_value = "0", .min = 0,                        \
+     .max = RENDER_MAX_SIDE,                                                                       \
+     .help = "framebuffer width; 0: follow the window (512 until it is known)"},                  \
+    {.name = "height", .type = TSR_OPT_INT, .default_value = "0", .min = 0,                       \
+     .max = RENDER_MAX_SIDE,                                                                       \
+     .help = "framebuffer height; 0: follow the window (512 until it is known)"},                 \
+    {.name = "window", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,  \
+     .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},              \
+    {.name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,            \
+     .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "       \
+             "tiles:); draws them at full-window coordinates, writes one PNG per tile "            \
+             "(-tN before the extension when several); a TilesTSR replaces them; empty: "          \
+             "the whole window"}
+
+#endif
