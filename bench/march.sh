@@ -22,12 +22,13 @@
 # imbalance as tiles shrink) and stability.csv.
 # usage: bench/march.sh BIN_DIR OUT_DIR [--quick]
 # Environment: MARCH_SIZE (default 4096x3072), MARCH_DETAIL (2),
-# MARCH_FRAMES (3), MARCH_BATCH (tilesort batch_bytes, default 4096),
-# MARCH_CONFIGS (default "1x1 2x1 2x2 4x2 4x4 8x4"; 1x1 must come first).
+# MARCH_FRAMES (3), MARCH_BATCH (tilesort batch_bytes; default: tilesort's),
+# MARCH_CONFIGS (default "1x1 2x1 2x2 4x2 4x4 8x4"; 1x1 must come first),
+# MARCH_BUCKETS (default "grid broadcast").
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${MARCH_SIZE:-4096x3072} detail=${MARCH_DETAIL:-2} frames=${MARCH_FRAMES:-3}
-batch=${MARCH_BATCH:-4096}
+batch=${MARCH_BATCH:+batch_bytes=$MARCH_BATCH}
 read -r -a configs <<<"${MARCH_CONFIGS:-1x1 2x1 2x2 4x2 4x4 8x4}"
 if [[ $quick == --quick ]]; then
     size=512x384 detail=1 frames=2 configs=(1x1 2x1 2x2)
@@ -73,7 +74,7 @@ run() {
     done
     # shellcheck disable=SC2086
     if ! TESSERA_STATS_FILE=$stats LP_NUM_THREADS=${LP_NUM_THREADS:-1} "$bin/$app" $args --size "$size" \
-        --chain "tilesort servers=$servers tiles=$(tiles_for "$cols" "$rows") bucket=$bucket batch_bytes=$batch timeout_ms=120000" \
+        --chain "tilesort servers=$servers tiles=$(tiles_for "$cols" "$rows") bucket=$bucket $batch timeout_ms=120000" \
         >"$dir/app.out" 2>"$dir/app.err"; then
         cat "$dir/app.err" >&2
         echo "bench/march: $app failed ($config, $bucket)" >&2
@@ -101,7 +102,7 @@ echo "tiles,servers,bucket,bytes,efficiency_pct,overlap,imbalance,frame_ms" >"$c
 base=0
 for config in "${configs[@]}"; do
     n=$((${config%x*} * ${config#*x}))
-    for bucket in grid broadcast; do
+    for bucket in ${MARCH_BUCKETS:-grid broadcast}; do
         [[ $config == 1x1 && $bucket == broadcast ]] && continue
         stats=$work/$config-$bucket.json
         run isosurface "--frames $frames --detail $detail" "$config" "$bucket" "$stats"

@@ -671,6 +671,27 @@ static void write_arrays(const tsr_packer *p, uint8_t *out, const draw_array *v,
     }
 }
 
+int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4])
+{
+    if (a->buffer || (a->type != GL_FLOAT && a->type != GL_DOUBLE && a->type != GL_INT && a->type != GL_SHORT) ||
+        a->size < 1 || a->size > 4)
+        return 0;
+    size_t ts = tsr_gl_type_size(a->type);
+    uint64_t stride = a->stride ? (uint64_t)a->stride : (uint64_t)a->size * ts;
+    const uint8_t *e = (const uint8_t *)a->pointer + i * stride;
+    out[0] = out[1] = out[2] = 0;
+    out[3] = 1;
+    for (int j = 0; j < a->size; j++) {
+        switch (a->type) {
+        case GL_FLOAT: { float f; memcpy(&f, e + 4 * j, 4); out[j] = f; break; }
+        case GL_DOUBLE: { double d; memcpy(&d, e + 8 * j, 8); out[j] = (float)d; break; }
+        case GL_INT: { GLint x; memcpy(&x, e + 4 * j, 4); out[j] = (float)x; break; }
+        default: { GLshort x; memcpy(&x, e + 2 * j, 2); out[j] = (float)x; break; }
+        }
+    }
+    return 1;
+}
+
 /* Feeds the positions of the vertex array, elements [lo, hi], into the
  * bounding box (a superset for DrawElements); arrays in buffer objects
  * make it infinite (their data never passes through the packer). */
@@ -679,23 +700,11 @@ static void bbox_of_vertex_array(tsr_packer *p, const draw_array *v, int n, uint
     for (int i = 0; i < n; i++) {
         if (v[i].kind != TSR_WIRE_ARRAY_VERTEX)
             continue;
-        const tsr_client_array *a = v[i].a;
-        if (a->buffer || (a->type != GL_FLOAT && a->type != GL_DOUBLE && a->type != GL_INT && a->type != GL_SHORT)) {
-            tsr_packer_bbox_infinite(p);
-            return;
-        }
-        uint64_t stride = a->stride ? (uint64_t)a->stride : v[i].elem;
-        const uint8_t *base = (const uint8_t *)a->pointer;
+        float c[4];
         for (uint64_t k = lo; k <= hi; k++) {
-            const uint8_t *e = base + k * stride;
-            float c[4] = {0, 0, 0, 1};
-            for (int j = 0; j < a->size && j < 4; j++) {
-                switch (a->type) {
-                case GL_FLOAT: { float f; memcpy(&f, e + 4 * j, 4); c[j] = f; break; }
-                case GL_DOUBLE: { double d; memcpy(&d, e + 8 * j, 8); c[j] = (float)d; break; }
-                case GL_INT: { GLint x; memcpy(&x, e + 4 * j, 4); c[j] = (float)x; break; }
-                default: { GLshort x; memcpy(&x, e + 2 * j, 2); c[j] = (float)x; break; }
-                }
+            if (!tsr_client_array_position(v[i].a, k, c)) {
+                tsr_packer_bbox_infinite(p);
+                return;
             }
             tsr_packer_bbox4(p, c[0], c[1], c[2], c[3]);
         }
@@ -786,6 +795,19 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
     tsr_wire_put_u64(d + q, asize);
     write_arrays(p, d + q + 8, v, n, lo, hi);
     bbox_of_vertex_array(p, v, n, lo, hi);
+}
+
+uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices)
+{
+    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    int n = count > 0 && vertices ? collect_arrays(p, v, index_type ? "DrawElements" : "DrawArrays") : 0;
+    uint64_t asize;
+    if (n < 0 || arrays_size(v, n, 0, vertices ? vertices - 1 : 0, &asize) != 0)
+        return 0;
+    if (!index_type)
+        return 1 + 24 + asize;
+    uint64_t isize = index_type == GL_UNSIGNED_BYTE ? 1 : index_type == GL_UNSIGNED_SHORT ? 2 : 4;
+    return 1 + 24 + 8 + tsr_wire_align8((uint64_t)count * isize) + 8 + asize;
 }
 
 static uint64_t source_length(const GLchar *s, const GLint *length, GLsizei i)

@@ -116,6 +116,16 @@ TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
  * infinite too (where such a vertex lands is up to the renderer). */
 TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
 TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
+/* Bytes (opcode + data, before alignment padding) that glDrawArrays
+ * (index_type 0) or glDrawElements of `count` vertices or indices of
+ * index_type with client arrays of `vertices` elements would take with the
+ * arrays enabled now: a box-keeping SPU uses it to account for a draw it
+ * sends in other pieces. 0 when the arrays cannot be packed. */
+/* Element i's position from a client vertex array (GL_FLOAT, GL_DOUBLE,
+ * GL_INT or GL_SHORT, 1 to 4 components; missing ones are 0, 0, 1) into
+ * out; returns 0 for other types and arrays in buffer objects. */
+TSR_API int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4]);
+TSR_API uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices);
 /* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
  * a dropped command (invalid size, unknown enum), a missing reply. */
 TSR_API const tsr_error *tsr_packer_error(const tsr_packer *p);

@@ -9,30 +9,58 @@
 # NaN/Inf vertices, window-covering and buffer-spanning primitives,
 # glDrawPixels/glBitmap/glRect across tile borders) and the two where sort-
 # first degrades towards broadcast (every primitive covers the window; a
-# state change between every primitive); batch_bytes=4096 makes
-# primitives span buffers. Bounded in time.
+# state change between every primitive), and one long primitive of each
+# mode; batch_bytes=4096 and 256 make primitives span buffers, so they are
+# cut and reopened. Bounded in time.
 get_property(TILESORT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
 set(TILESORT_SH ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/tilesort.sh)
 set(TILESORT_OUT ${CMAKE_BINARY_DIR}/test-out/tilesort)
 set(TILESORT_BIN ${CMAKE_BINARY_DIR}/bin)
 
+# 15 frames: every tilescenes scene once (frames 10-14: one long primitive
+# of each mode, cut into pieces and reopened, spus/tilesort/split.c).
 foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi balance broadcast)
   add_test(NAME tilesort_exact_tilescenes_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-${config}
-            tilescenes 12 ${config} batch_bytes=4096)
+            tilescenes 15 ${config} batch_bytes=4096)
 endforeach()
+# 256-byte batches (the smallest): every long primitive is cut every few
+# vertices, at odd and even counts.
+foreach(config 3x3 irregular balance)
+  add_test(NAME tilesort_exact_tilescenes_cut_every_few_vertices_${config}
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-256-${config}
+            tilescenes 15 ${config} batch_bytes=256)
+endforeach()
+# ... and on 1x1 and 4x4, exact, with the long strips of frame 10 reaching
+# few of the 16 servers (a primitive sent whole to all of them: about 16).
+add_test(NAME tilesort_cut_primitive_is_not_broadcast_4x4
+  COMMAND ${TILESORT_SH} split ${TILESORT_BIN} ${TILESORT_OUT}/split-4x4 tilescenes 15 10 4 batch_bytes=256)
 foreach(example spheres isosurface texquads)
   foreach(config 2x2 3x3 balance)
     add_test(NAME tilesort_exact_${example}_${config}
       COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/${example}-${config} ${example} 3 ${config})
   endforeach()
 endforeach()
+# Large array draws are sorted primitive by primitive: on a 4x4 wall the
+# isosurface's overlap stays near 1 (broadcast: 16), with large and small
+# batches alike.
+add_test(NAME tilesort_sorted_arrays_overlap_near_one
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/overlap.sh ${TILESORT_BIN} ${TILESORT_OUT}/overlap 1.12)
+add_test(NAME tilesort_sorted_arrays_overlap_near_one_small_batches
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/overlap.sh ${TILESORT_BIN} ${TILESORT_OUT}/overlap-small 1.12
+          batch_bytes=4096)
 # The wall graph through the mothership: tiles from the graph, tile PNGs and
 # the assembled window exact, sort-first statistics in --stats.
 if(TARGET tiles_driver)
   add_test(NAME tilesort_wall_graph_tiles_and_assembled_window_exact
     COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
             ${CMAKE_SOURCE_DIR}/examples/graphs/wall.yaml ${TILESORT_OUT}/wall $<TARGET_FILE:tiles_driver>)
+  # The same wall with a display node (spus/readback): the tile servers
+  # stream their tile images to it and it writes the assembled window.
+  add_test(NAME tilesort_wall_display_node_assembles_exact_window
+    COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
+            ${CMAKE_SOURCE_DIR}/examples/graphs/wall_display.yaml ${TILESORT_OUT}/wall_display
+            $<TARGET_FILE:tiles_driver>)
 endif()
 add_test(NAME tilesort_bad_tile_is_a_clear_error
   COMMAND ${TILESORT_SH} bad ${TILESORT_BIN} ${TILESORT_OUT}/bad-tile 0:0:0:512 grid SERVER)
@@ -52,3 +80,12 @@ if(TESSERA_SANITIZE)
 endif()
 set_tests_properties(${TILESORT_TESTS_AFTER} PROPERTIES
   TIMEOUT 240 LABELS tilesort FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${TILESORT_ENV}")
+# two 15-frame runs (1x1 and sixteen servers), slower under the sanitizers
+set_tests_properties(tilesort_cut_primitive_is_not_broadcast_4x4 PROPERTIES TIMEOUT 600)
+# The wall graphs: four crops and five PNG comparisons per frame for 20
+# frames, each a sanitized process: on a loaded two-core machine 200 s and
+# more (the runs themselves 23-31 s).
+if(TARGET tiles_driver)
+  set_tests_properties(tilesort_wall_graph_tiles_and_assembled_window_exact
+                       tilesort_wall_display_node_assembles_exact_window PROPERTIES TIMEOUT 480)
+endif()

@@ -417,12 +417,10 @@ int ts_tiling_rebalance(ts_tiling *t)
 
 /* --- window-space box --------------------------------------------------------- */
 
-int ts_window_box(const GLfloat *p, const GLfloat *m, const GLint *vp, const float mn[3], const float mx[3],
-                  double margin, int win_w, int win_h, int *x0, int *y0, int *x1, int *y1)
+void ts_clip_matrix(const GLfloat *p, const GLfloat *m, double pm[16])
 {
-    /* pm = projection * modelview, in double: the box only has to contain
-     * what the renderer draws, and the margin absorbs rounding. */
-    double pm[16];
+    /* in double: the box only has to contain what the renderer draws, and
+     * the margin absorbs rounding */
     for (int c = 0; c < 4; c++)
         for (int r = 0; r < 4; r++) {
             double s = 0;
@@ -430,12 +428,32 @@ int ts_window_box(const GLfloat *p, const GLfloat *m, const GLint *vp, const flo
                 s += (double)p[k * 4 + r] * (double)m[c * 4 + k];
             pm[c * 4 + r] = s;
         }
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+}
+
+int ts_window_box(const GLfloat *p, const GLfloat *m, const GLint *vp, const float mn[3], const float mx[3],
+                  double margin, int win_w, int win_h, int *x0, int *y0, int *x1, int *y1)
+{
+    double pm[16];
+    ts_clip_matrix(p, m, pm);
+    float corners[8][4];
     for (int corner = 0; corner < 8; corner++) {
-        double v[3] = {(corner & 1) ? mx[0] : mn[0], (corner & 2) ? mx[1] : mn[1], (corner & 4) ? mx[2] : mn[2]};
+        corners[corner][0] = (corner & 1) ? mx[0] : mn[0];
+        corners[corner][1] = (corner & 2) ? mx[1] : mn[1];
+        corners[corner][2] = (corner & 4) ? mx[2] : mn[2];
+        corners[corner][3] = 1.0f;
+    }
+    return ts_points_box(pm, vp, corners, 8, margin, win_w, win_h, x0, y0, x1, y1);
+}
+
+int ts_points_box(const double pm[16], const GLint *vp, const float (*pts)[4], int n, double margin, int win_w,
+                  int win_h, int *x0, int *y0, int *x1, int *y1)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < n; i++) {
+        const float *v = pts[i];
         double clip[4];
         for (int r = 0; r < 4; r++)
-            clip[r] = pm[r] * v[0] + pm[4 + r] * v[1] + pm[8 + r] * v[2] + pm[12 + r];
+            clip[r] = pm[r] * v[0] + pm[4 + r] * v[1] + pm[8 + r] * v[2] + pm[12 + r] * v[3];
         if (!(clip[3] > 0) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3]))
             return 0;
         for (int a = 0; a < 2; a++) {

@@ -31,18 +31,36 @@
  * with; after a server's diff, the attributes whose start value differs
  * from the end value are sent as they were at the start.
  *
- * A primitive (glBegin ... glEnd) that does not fit one buffer goes to
- * every server, from the buffer holding its glBegin to the one holding its
- * glEnd: each server then sees it whole, so strips, fans, loops and
- * polygons are never cut (no vertex is re-sent, nothing to get wrong); it
- * costs bandwidth only for primitives larger than a buffer.
+ * A primitive (glBegin ... glEnd) that does not fit one buffer is cut
+ * (split.c): each buffer that ends inside it is closed with glEnd and
+ * placed by its own box; the next reopens it with glBegin and the vertices
+ * the primitive still needs (a strip's last two, a fan's or polygon's
+ * first and last, ...), each with the attributes it had, so every tile is
+ * still exact. Primitives split.c cannot cut exactly (a display list or an
+ * evaluator inside, strips under line stipple, lit quads, a program with
+ * a vertex shader in use) go to every server whole, from the buffer holding their glBegin to
+ * the one holding their glEnd (split_primitive).
+ *
+ * Array draws of independent primitives (glDrawArrays/glDrawElements of
+ * points, lines, triangles, quads) are sorted primitive by primitive
+ * instead: each primitive's own window box picks its servers, and each
+ * server collects its primitives into compact draws of about batch_bytes
+ * (batch.c: only the vertices they use, indices renumbered), sent to it
+ * alone. Overlap then comes only from primitives that cross a tile edge,
+ * and messages stay large. Draws that cannot be sorted (arrays in buffer
+ * objects, a program with a vertex shader in use, broadcast) are cut into
+ * boxed batches.
  *
  * Display lists are compiled here (their packed commands are kept, with
  * their object-space box) and sent lazily: a server gets a list the first
  * time a buffer it receives calls it. A list holding only geometry and
- * current attributes is placed by its box like any geometry; one that
- * changes other state goes to every server, and its state calls are
- * replayed into the tracker.
+ * current attributes is placed by its box like any geometry. A list that
+ * changes tracked state but draws only through the lists it calls (a
+ * scene-graph node: transforms, materials, glCallList of meshes) is
+ * expanded: its commands take the normal routes, so each mesh is placed by
+ * its own box under the transform of that moment. Any other list that
+ * changes state goes to every server, and its state calls are replayed
+ * into the tracker.
  *
  * Owns, per instance: the stream client (node/client.h, one connection per
  * server), the tracker with one context and one shadow per server, the
@@ -72,11 +90,7 @@ enum {
     R_SERVER,       /* sent to the first live server (gets) */
 };
 
-typedef struct ts_current {
-    GLfloat color[4], normal[3], texcoord[TSR_STATE_UNITS][4];
-    GLboolean edge_flag;
-    GLfloat attrib[TSR_STATE_ATTRIBS][4];
-} ts_current;
+/* ts_current (the current attributes): tilesort.h, shared with split.c */
 
 typedef struct ts_chunk {
     uint8_t *data;
@@ -93,6 +107,8 @@ typedef struct ts_list {
     int unknown;            /* holds commands a box cannot place: every server gets its calls */
     int has_state;          /* its calls change state: replayed into the tracker */
     int calls;              /* it calls lists */
+    int geometry;           /* it draws itself (not only through the lists it calls) */
+    int unexpandable;       /* holds commands a call cannot be expanded into (see expand_list) */
     tsr_pixel_modes unpack; /* unpack modes it was compiled under */
     struct {
         GLenum target;
@@ -112,7 +128,11 @@ typedef struct ts_server {
     uint32_t *lists;        /* per list slot: version the server has */
     size_t lists_cap;
     uint64_t frame_bytes, bytes;
+    ts_batch sorted;        /* primitives of a sorted array draw waiting for this server */
 } ts_server;
+
+/* No single target: the geometry buffer goes where its box says. */
+#define TS_ANY_TARGET SIZE_MAX
 
 typedef struct tilesort {
     char name[96];
@@ -135,6 +155,7 @@ typedef struct tilesort {
     tsr_tee rec_tees[TSR_DISPATCH_COUNT];
     /* the geometry buffer */
     int in_begin, split_primitive, broadcast_next, program;
+    ts_split *split;        /* split.c: a primitive cut across buffers */
     ts_current start;       /* current attributes when this buffer started */
     size_t *buffer_lists;   /* list slots called by this buffer */
     size_t nbuffer_lists, buffer_lists_cap;
@@ -143,6 +164,12 @@ typedef struct tilesort {
     size_t *targets;
     size_t last_targets;    /* how many of targets[] the last flushed buffer went to */
     tsr_dispatch discard;   /* no-ops: diffs that only update a shadow */
+    /* array draws sorted primitive by primitive */
+    size_t only_target;     /* TS_ANY_TARGET, or the one server the buffer is for */
+    ts_batch compact;       /* scratch: a sorted draw as one server would get it (statistics), or
+                               one batch of a glDrawElements that is not sorted */
+    uint8_t *gathered;      /* scratch: gathered arrays and 16-bit indices */
+    size_t gathered_cap;
     /* display lists */
     ts_list *lists;
     size_t nlists;
@@ -153,11 +180,17 @@ typedef struct tilesort {
     int recording_execute;
     tsr_unpacker *replay;
     int replay_depth;
+    tsr_unpacker *expand;   /* runs an expanded list's commands through the normal routes */
     /* window and frames */
     int win_w, win_h;
     uint64_t frames;
     /* statistics: the stream packed once, and bytes per server per frame */
     uint64_t stream_bytes;
+    /* what one server of a 1x1 configuration would get besides the stream:
+     * its diffs, taken into a shadow of its own and counted, never sent */
+    tsr_state_shadow *solo;
+    tsr_packer *solo_packer;
+    tsr_dispatch solo_table;
     uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
     double *frame_seconds;  /* application time of each kept frame (swap to swap) */
     double last_swap;       /* monotonic seconds of the last swap (or of creation) */
@@ -175,19 +208,9 @@ static void report(tilesort *t, const tsr_error *e)
 
 /* --- current attributes ------------------------------------------------------ */
 
-static void current_of(const tsr_state_ctx *c, ts_current *out)
-{
-    const tsr_state_values *v = tsr_state_values_of(c);
-    memcpy(out->color, v->color, sizeof out->color);
-    memcpy(out->normal, v->normal, sizeof out->normal);
-    memcpy(out->texcoord, v->texcoord, sizeof out->texcoord);
-    out->edge_flag = v->edge_flag;
-    memcpy(out->attrib, v->attrib, sizeof out->attrib);
-}
-
 static void snapshot(tilesort *t)
 {
-    current_of(t->ctx, &t->start);
+    ts_current_of(tsr_state_values_of(t->ctx), &t->start);
 }
 
 /* After server s's diff it holds the end values: send the start values
@@ -195,7 +218,7 @@ static void snapshot(tilesort *t)
 static void send_start_current(tilesort *t, ts_server *s)
 {
     ts_current end;
-    current_of(t->ctx, &end);
+    ts_current_of(tsr_state_values_of(t->ctx), &end);
     const ts_current *a = &t->start;
     if (memcmp(a->color, end.color, sizeof end.color))
         tsr_call_Color4f(&s->table, a->color[0], a->color[1], a->color[2], a->color[3]);
@@ -458,7 +481,13 @@ static double box_margin(const tilesort *t)
 /* The servers this buffer must reach, into t->targets. */
 static size_t choose_targets(tilesort *t, size_t bytes)
 {
-    if (t->broadcast_next || t->in_begin || t->split_primitive || t->program || t->tiling.mode == TS_BROADCAST ||
+    if (t->only_target != TS_ANY_TARGET) {
+        if (tsr_node_client_server_failed(t->client, t->only_target))
+            return 0;
+        t->targets[0] = t->only_target;
+        return 1;
+    }
+    if (t->broadcast_next || t->split_primitive || t->program || t->tiling.mode == TS_BROADCAST ||
         t->win_w <= 0)
         return all_servers(t);
     float mn[3], mx[3];
@@ -478,13 +507,52 @@ static size_t choose_targets(tilesort *t, size_t bytes)
     return n;
 }
 
+/* The diff a single server getting every buffer would need now. */
+static void count_solo_diff(tilesort *t)
+{
+    tsr_state_diff(t->ctx, t->solo, &t->solo_table, NULL);
+    if (tsr_packer_flush(t->solo_packer) != TSR_OK)
+        tsr_packer_clear_error(t->solo_packer);
+}
+
+static int count_solo(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+{
+    tilesort *t = ctx;
+    (void)buf;
+    (void)err;
+    t->stream_bytes += size;
+    return TSR_OK;
+}
+
 static int geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
 {
     tilesort *t = ctx;
-    t->stream_bytes += size;
-    if (t->in_begin)
-        t->split_primitive = 1;
-    size_t n = choose_targets(t, size);
+    if (t->only_target == TS_ANY_TARGET) { /* sorted draws count their whole size themselves */
+        t->stream_bytes += size;
+        count_solo_diff(t);
+    }
+    int piece = 0;
+    if (!t->split_primitive && (t->in_begin || ts_split_open(t->split))) {
+        /* a primitive cut here, or reopened (split.c): this buffer becomes
+         * its piece, closed and reopened */
+        ts_current end;
+        ts_current_of(tsr_state_values_of(t->ctx), &end);
+        GLboolean stipple = GL_FALSE, lighting = GL_FALSE;
+        tsr_state_is_enabled(t->ctx, GL_LINE_STIPPLE, &stipple);
+        tsr_state_is_enabled(t->ctx, GL_LIGHTING, &lighting);
+        unsigned state = (stipple ? TS_SPLIT_LINE_STIPPLE : 0u) | (lighting ? TS_SPLIT_LIGHTING : 0u);
+        int may_cut = !t->program;
+        tsr_error e = {0};
+        piece = ts_split_piece(t->split, buf, size, &t->start, &end, t->in_begin, may_cut, state, t->geo, &buf,
+                               &size, &e);
+        if (piece < 0) {
+            report(t, &e);
+            piece = TS_SPLIT_WHOLE;
+        }
+    }
+    if (t->in_begin && (piece == 0 || piece == TS_SPLIT_WHOLE))
+        t->split_primitive = 1; /* not cut: the primitive goes whole to every server */
+    size_t n = piece == TS_SPLIT_NOTHING ? 0 : choose_targets(t, size);
     t->last_targets = n;
     for (size_t k = 0; k < n; k++)
         prepare_server(t, &t->srv[t->targets[k]], 1);
@@ -579,11 +647,24 @@ static void hook_after(void *ctx, int slot)
 static void rec_before(void *ctx, int slot)
 {
     tilesort *t = ctx;
-    (void)slot;
     if (t->recording) {
         t->recording->unknown = 1;
         t->recording->has_state = 1;
+        /* pixel data was packed under the compile-time unpack modes */
+        const char *name = tsr_dispatch_name(slot);
+        if (t->route[slot] != R_STATE || strstr(name, "TexImage") || strstr(name, "TexSubImage") ||
+            !strcmp(name, "PolygonStipple"))
+            t->recording->unexpandable = 1;
     }
+}
+
+/* Geometry inside glNewList: the list draws by itself. */
+static void rec_geometry_before(void *ctx, int slot)
+{
+    tilesort *t = ctx;
+    (void)slot;
+    if (t->recording)
+        t->recording->geometry = 1;
 }
 
 /* A current attribute inside glNewList: the list's calls change the
@@ -609,6 +690,11 @@ static void ts_Begin(void *self, GLenum mode)
 static void ts_End(void *self)
 {
     tilesort *t = self;
+    if (!t->split_primitive) {
+        ts_current now;
+        ts_current_of(tsr_state_values_of(t->ctx), &now);
+        ts_split_end(t->split, &t->normal, &now); /* a line loop that was cut closes itself */
+    }
     tsr_call_End(&t->geo_table);
     t->in_begin = 0;
 }
@@ -723,7 +809,8 @@ static const char *bucket_name(ts_bucket_mode m)
  *   "sort_first":{"bucket":"grid","servers":4,"stream_bytes":N,
  *     "bytes_out":N,"overlap":X,"imbalance":X,"server_bytes":[...],
  *     "frame_seconds":[...],"frames":[[bytes to server 0, 1, ...], ...]}
- * stream_bytes: the geometry buffers and display lists, packed once (what
+ * stream_bytes: the geometry buffers and display lists, packed once, and
+ * the state diffs one server getting all of them would need (what
  * one server of a 1x1 configuration gets, without its state diffs);
  * overlap = bytes_out / stream_bytes; imbalance = max / mean of the
  * servers' bytes (1 is perfect); frame_seconds: the application's time
@@ -807,6 +894,13 @@ static size_t enabled_arrays(tsr_client_arrays *a, tsr_client_array **out)
     return n;
 }
 
+/* Bytes of one element of a client array as the packer sends it. */
+static size_t array_elem_bytes(const tsr_client_array *a)
+{
+    size_t comps = a->size == GL_BGRA ? 4 : a->size > 0 ? (size_t)a->size : 1;
+    return comps * tsr_gl_type_size(a->type);
+}
+
 /* Bytes one vertex of the enabled client arrays takes on the wire (0 when
  * an array lives in a buffer object: the box is unknown anyway). */
 static size_t vertex_bytes(tsr_client_arrays *a)
@@ -816,14 +910,14 @@ static size_t vertex_bytes(tsr_client_arrays *a)
     for (size_t i = 0; i < n; i++) {
         if (arrays[i]->buffer)
             return 0;
-        bytes += (size_t)(arrays[i]->size > 0 ? arrays[i]->size : 1) * tsr_gl_type_size(arrays[i]->type);
+        bytes += array_elem_bytes(arrays[i]);
     }
     return bytes;
 }
 
-/* How many vertices of `mode` go in one batch of a large array draw (0:
- * draw it whole). Each batch is flushed on its own, so it is bucketed by
- * its own box: a big glDrawArrays reaches only the tiles its parts touch. */
+/* How many vertices of `mode` go in one batch of a large array draw that
+ * is not sorted primitive by primitive (0: draw it whole). Each batch is
+ * flushed on its own, so it is bucketed by its own box. */
 static GLsizei batch_vertices(const tilesort *t, GLenum mode, GLsizei count, size_t index_bytes)
 {
     int per = independent_vertices(mode);
@@ -834,9 +928,196 @@ static GLsizei batch_vertices(const tilesort *t, GLenum mode, GLsizei count, siz
     return (GLsizei)(n < (size_t)per ? (size_t)per : n);
 }
 
+static GLuint index_at(GLenum type, const void *indices, size_t i)
+{
+    switch (type) {
+    case GL_UNSIGNED_BYTE: return ((const GLubyte *)indices)[i];
+    case GL_UNSIGNED_SHORT: return ((const GLushort *)indices)[i];
+    default: return ((const GLuint *)indices)[i];
+    }
+}
+
+/* Draws a compact batch through the geometry buffer: the enabled arrays
+ * gathered to the batch's vertices (the packer's array mirrors point at
+ * the copies for the call and are put back after), with 16-bit indices
+ * where they fit. */
+static int draw_batch(tilesort *t, GLenum mode, const ts_batch *b, int indexed)
+{
+    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    size_t narrays = enabled_arrays(&t->geo->arrays, arrays), need = 0;
+    int short_index = indexed && b->nvert <= 65536;
+    for (size_t k = 0; k < narrays; k++)
+        need += (b->nvert * array_elem_bytes(arrays[k]) + 7) & ~(size_t)7;
+    need += short_index ? b->nidx * sizeof(GLushort) : 0;
+    if (need > t->gathered_cap) {
+        uint8_t *g = realloc(t->gathered, need);
+        if (!g)
+            return -1;
+        t->gathered = g;
+        t->gathered_cap = need;
+    }
+    tsr_client_array saved[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    uint8_t *q = t->gathered;
+    for (size_t k = 0; k < narrays; k++) {
+        tsr_client_array *a = arrays[k];
+        size_t elem = array_elem_bytes(a), stride = a->stride ? (size_t)a->stride : elem;
+        const uint8_t *src = a->pointer;
+        saved[k] = *a;
+        for (size_t u = 0; u < b->nvert; u++)
+            memcpy(q + u * elem, src + (size_t)b->order[u] * stride, elem);
+        a->pointer = q;
+        a->stride = 0;
+        q += (b->nvert * elem + 7) & ~(size_t)7;
+    }
+    if (!indexed) {
+        tsr_call_DrawArrays(&t->geo_table, mode, 0, (GLsizei)b->nvert);
+    } else if (short_index) {
+        GLushort *ix = (GLushort *)(void *)q;
+        for (size_t i = 0; i < b->nidx; i++)
+            ix[i] = (GLushort)b->index[i];
+        tsr_call_DrawElements(&t->geo_table, mode, (GLsizei)b->nidx, GL_UNSIGNED_SHORT, ix);
+    } else {
+        tsr_call_DrawElements(&t->geo_table, mode, (GLsizei)b->nidx, GL_UNSIGNED_INT, b->index);
+    }
+    for (size_t k = 0; k < narrays; k++)
+        *arrays[k] = saved[k];
+    return 0;
+}
+
+/* One array draw being sorted primitive by primitive. */
+typedef struct ts_draw {
+    GLenum mode, type;      /* type: of the indices; 0 for glDrawArrays */
+    GLint first;
+    const void *indices;
+    int per;                /* vertices per primitive */
+    size_t vertex_bytes;    /* wire bytes of one vertex's array elements */
+    size_t overhead;        /* wire bytes of a draw command beyond its vertices and indices, at most */
+} ts_draw;
+
+static uint32_t source_vertex(const ts_draw *d, size_t i)
+{
+    return d->type ? index_at(d->type, d->indices, i) : (uint32_t)d->first + (uint32_t)i;
+}
+
+/* Wire bytes of batch b with one more primitive, at worst (all its
+ * vertices new). */
+static size_t bytes_with_one_more(const ts_draw *d, const ts_batch *b)
+{
+    size_t nvert = b->nvert + (size_t)d->per, nidx = d->type ? b->nidx + (size_t)d->per : 0;
+    return d->overhead + nvert * d->vertex_bytes + nidx * (nvert <= 65536 ? 2 : 4);
+}
+
+/* Sends server `server` the primitives its batch collected, as one draw
+ * through the geometry buffer to that server alone. */
+static void send_sorted(tilesort *t, size_t server, const ts_draw *d)
+{
+    ts_batch *b = &t->srv[server].sorted;
+    if (!b->nvert)
+        return;
+    t->only_target = server;
+    if (draw_batch(t, d->mode, b, d->type != 0) != 0) {
+        tsr_error e;
+        tsr_error_set(&e, TSR_ENOMEM, "out of memory gathering arrays for server %zu", server);
+        report(t, &e);
+    }
+    flush_geometry(t);
+    t->only_target = TS_ANY_TARGET;
+    ts_batch_clear(b);
+}
+
+/* The statistics' stream bytes: t->compact collects the draw exactly as a
+ * single server would get it, batch by batch. */
+static void count_whole(tilesort *t, const ts_draw *d)
+{
+    ts_batch *b = &t->compact;
+    if (!b->nvert)
+        return;
+    GLenum itype = !d->type ? 0 : b->nvert <= 65536 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+    t->stream_bytes += tsr_packer_draw_bytes(t->geo, (GLsizei)(d->type ? b->nidx : b->nvert), itype, b->nvert);
+    ts_batch_clear(b);
+}
+
+static int add_sorted(tilesort *t, size_t server, const ts_draw *d, const uint32_t *vertices)
+{
+    ts_batch *b = server == TS_ANY_TARGET ? &t->compact : &t->srv[server].sorted;
+    if (b->nvert && bytes_with_one_more(d, b) > t->batch_bytes) {
+        if (server == TS_ANY_TARGET)
+            count_whole(t, d);
+        else
+            send_sorted(t, server, d);
+    }
+    return ts_batch_add(b, vertices, d->per, d->type != 0);
+}
+
+/* Draws below this size are boxed whole with the geometry around them. */
+#define TS_SORT_MIN_BYTES 1024
+
+/* An array draw of independent primitives (points, lines, triangles,
+ * quads) sorted primitive by primitive: each primitive's own window box
+ * picks its servers, and each server gets its primitives, in the
+ * application's order, as compact draws of about batch_bytes. Overlap
+ * then comes only from primitives that cross a tile edge, whatever the
+ * batch size, and batches stay large. Returns 0 when the draw cannot be
+ * sorted (the caller cuts it into boxed batches). */
+static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLenum type, const void *indices)
+{
+    tsr_client_arrays *a = &t->geo->arrays;
+    ts_draw d = {.mode = mode, .type = type, .first = first, .indices = indices, .per = independent_vertices(mode),
+                 .vertex_bytes = vertex_bytes(a)};
+    float pos[4][4];
+    if (!d.per || !d.vertex_bytes || count < 2 * d.per || (size_t)count * d.vertex_bytes < TS_SORT_MIN_BYTES ||
+        t->in_begin || t->program || t->tiling.mode == TS_BROADCAST || t->win_w <= 0 || !a->vertex.enabled ||
+        (type && (!indices || a->element_buffer)) || first < 0 ||
+        !tsr_client_array_position(&a->vertex, source_vertex(&d, 0), pos[0]))
+        return 0;
+    flush_geometry(t);
+    count_solo_diff(t);
+    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    d.overhead = (size_t)tsr_packer_draw_bytes(t->geo, 1, type ? GL_UNSIGNED_INT : 0, 1) +
+                 8 * (enabled_arrays(a, arrays) + 1);
+    const tsr_state_values *v = tsr_state_values_of(t->ctx);
+    double pm[16];
+    ts_clip_matrix(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), pm);
+    double margin = box_margin(t);
+    double cost = (double)d.per * (double)(d.vertex_bytes + (type ? tsr_gl_type_size(type) : 0));
+    size_t nprims = (size_t)count / (size_t)d.per;
+    int failed = 0;
+    for (size_t p = 0; p < nprims && !failed; p++) {
+        uint32_t src[4];
+        for (int k = 0; k < d.per; k++) {
+            src[k] = source_vertex(&d, p * (size_t)d.per + (size_t)k);
+            tsr_client_array_position(&a->vertex, src[k], pos[k]);
+        }
+        int x0, y0, x1, y1;
+        if (ts_points_box(pm, v->viewport, (const float (*)[4])pos, d.per, margin, t->win_w, t->win_h, &x0, &y0, &x1,
+                          &y1)) {
+            ts_tiling_add_cost(&t->tiling, x0, y0, x1, y1, cost);
+            ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);
+        } else {
+            memset(t->hit, 1, t->nservers); /* crosses the eye plane, NaN: every server */
+        }
+        failed |= add_sorted(t, TS_ANY_TARGET, &d, src);
+        for (size_t s = 0; s < t->nservers; s++)
+            if (t->hit[s] && !tsr_node_client_server_failed(t->client, s))
+                failed |= add_sorted(t, s, &d, src);
+    }
+    for (size_t s = 0; s < t->nservers; s++)
+        send_sorted(t, s, &d);
+    count_whole(t, &d);
+    if (failed) {
+        tsr_error e;
+        tsr_error_set(&e, TSR_ENOMEM, "a draw of %d vertices could not be sorted (out of memory or index 0x%x)",
+                      count, UINT32_MAX);
+        report(t, &e);
+    }
+    return 1;
+}
+
 static void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count)
 {
     tilesort *t = self;
+    if (draw_sorted(t, mode, first, count, 0, NULL))
+        return;
     GLsizei batch = batch_vertices(t, mode, count, 0);
     if (!batch) {
         tsr_call_DrawArrays(&t->geo_table, mode, first, count);
@@ -849,105 +1130,97 @@ static void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count)
     }
 }
 
-static GLuint index_at(GLenum type, const void *indices, size_t i)
-{
-    switch (type) {
-    case GL_UNSIGNED_BYTE: return ((const GLubyte *)indices)[i];
-    case GL_UNSIGNED_SHORT: return ((const GLushort *)indices)[i];
-    default: return ((const GLuint *)indices)[i];
-    }
-}
-
-/* One batch of a large glDrawElements, made compact: the vertices its
- * indices use are gathered into tight arrays and the indices renumbered,
- * so the packer sends (and boxes) only those vertices, not every vertex
- * between the smallest and the largest index. The packer's array mirrors
- * point at the copies for the call and are put back after. */
-static int draw_compact(tilesort *t, GLenum mode, GLsizei n, GLenum type, const void *indices, GLuint max_index)
-{
-    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
-    size_t narrays = enabled_arrays(&t->geo->arrays, arrays);
-    GLuint *map = malloc(((size_t)max_index + 1) * sizeof *map);
-    GLuint *remapped = malloc((size_t)n * sizeof *remapped);
-    GLuint *order = malloc((size_t)n * sizeof *order);
-    if (!map || !remapped || !order) {
-        free(map);
-        free(remapped);
-        free(order);
-        return -1;
-    }
-    memset(map, 0xff, ((size_t)max_index + 1) * sizeof *map);
-    GLuint unique = 0;
-    for (GLsizei i = 0; i < n; i++) {
-        GLuint v = index_at(type, indices, (size_t)i);
-        if (map[v] == UINT32_MAX) {
-            map[v] = unique;
-            order[unique++] = v;
-        }
-        remapped[i] = map[v];
-    }
-    tsr_client_array saved[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
-    uint8_t *copies[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS] = {0};
-    int ok = 1;
-    for (size_t k = 0; k < narrays && ok; k++) {
-        tsr_client_array *a = arrays[k];
-        size_t elem = (size_t)(a->size > 0 ? a->size : 1) * tsr_gl_type_size(a->type);
-        size_t stride = a->stride ? (size_t)a->stride : elem;
-        saved[k] = *a;
-        copies[k] = malloc((size_t)unique * elem + 1);
-        if (!copies[k]) {
-            ok = 0;
-            break;
-        }
-        for (GLuint u = 0; u < unique; u++)
-            memcpy(copies[k] + (size_t)u * elem, (const uint8_t *)a->pointer + (size_t)order[u] * stride, elem);
-        a->pointer = copies[k];
-        a->stride = 0;
-    }
-    if (ok)
-        tsr_call_DrawElements(&t->geo_table, mode, n, GL_UNSIGNED_INT, remapped);
-    for (size_t k = 0; k < narrays; k++) {
-        if (copies[k])
-            *arrays[k] = saved[k];
-        free(copies[k]);
-    }
-    free(map);
-    free(remapped);
-    free(order);
-    return ok ? 0 : -1;
-}
-
 static void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const void *indices)
 {
     tilesort *t = self;
     size_t isize = tsr_gl_type_size(type);
     int listed = type == GL_UNSIGNED_BYTE || type == GL_UNSIGNED_SHORT || type == GL_UNSIGNED_INT;
+    if (listed && draw_sorted(t, mode, 0, count, type, indices))
+        return;
     GLsizei batch = t->geo->arrays.element_buffer || !indices || !listed ? 0 : batch_vertices(t, mode, count, isize);
     if (!batch) {
         tsr_call_DrawElements(&t->geo_table, mode, count, type, indices);
         return;
     }
-    GLuint max_index = 0;
-    for (GLsizei i = 0; i < count; i++) {
-        GLuint v = index_at(type, indices, (size_t)i);
-        max_index = v > max_index ? v : max_index;
-    }
+    /* each batch made compact: only the vertices its indices use are sent
+     * (and boxed), not every vertex between its smallest and largest index */
+    ts_batch *b = &t->compact;
     for (GLsizei k = 0; k < count; k += batch) {
         GLsizei n = count - k < batch ? count - k : batch;
         const void *part = (const uint8_t *)indices + (size_t)k * isize;
-        if (draw_compact(t, mode, n, type, part, max_index) != 0)
+        int ok = 1;
+        for (GLsizei i = 0; i < n && ok; i++) {
+            uint32_t v = index_at(type, part, (size_t)i);
+            ok = ts_batch_add(b, &v, 1, 1) == 0;
+        }
+        if (!ok || draw_batch(t, mode, b, 1) != 0)
             tsr_call_DrawElements(&t->geo_table, mode, n, type, part);
+        ts_batch_clear(b);
         flush_geometry(t);
     }
 }
 
+/* Programs are tracked (core/state_glsl.c) and reach each server in its
+ * diff, the first time it draws with them. While the current program has
+ * a vertex shader, positions are the shader's: buffers go to every server. */
 static void ts_UseProgram(void *self, GLuint program)
 {
     tilesort *t = self;
     flush_before_state(t);
-    t->broadcast_next = 1;
-    tsr_call_UseProgram(&t->geo_table, program);
-    t->program = program != 0;
+    tsr_call_UseProgram(&t->track_table, program);
+    t->program = tsr_state_program_has_vertex_shader(t->ctx);
+    if (!tsr_packer_pending(t->geo))
+        snapshot(t);
+}
+
+/* Shader and program gets: what the tracker knows, else the first live
+ * server after it has been given the object (compile/link status, info
+ * logs, locations: the same link inputs give the same answers on every
+ * server, tests/state glsl_*). */
+static ts_server *to_server(tilesort *t);
+
+static ts_server *glsl_server(tilesort *t, GLuint name, int program)
+{
+    ts_server *s = to_server(t);
+    if (program)
+        tsr_state_send_program(t->ctx, s->shadow, name, &s->table);
+    else
+        tsr_state_send_shader(t->ctx, s->shadow, name, &s->table);
+    return s;
+}
+
+static void ts_GetShaderiv(void *self, GLuint shader, GLenum pname, GLint *out)
+{
+    tilesort *t = self;
+    if (!tsr_state_get_shaderiv(t->ctx, shader, pname, out))
+        tsr_call_GetShaderiv(&glsl_server(t, shader, 0)->table, shader, pname, out);
+}
+
+static void ts_GetProgramiv(void *self, GLuint program, GLenum pname, GLint *out)
+{
+    tilesort *t = self;
+    if (!tsr_state_get_programiv(t->ctx, program, pname, out))
+        tsr_call_GetProgramiv(&glsl_server(t, program, 1)->table, program, pname, out);
+}
+
+static void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *log)
+{
+    tsr_call_GetShaderInfoLog(&glsl_server(self, shader, 0)->table, shader, size, length, log);
+}
+
+static void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log)
+{
+    tsr_call_GetProgramInfoLog(&glsl_server(self, program, 1)->table, program, size, length, log);
+}
+
+static GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name)
+{
+    return tsr_call_GetUniformLocation(&glsl_server(self, program, 1)->table, program, name);
+}
+
+static GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name)
+{
+    return tsr_call_GetAttribLocation(&glsl_server(self, program, 1)->table, program, name);
 }
 
 static void ts_PixelStorei(void *self, GLenum pname, GLint value)
@@ -1001,8 +1274,10 @@ static void replay_CallList(void *self, GLuint name)
 {
     tilesort *t = self;
     ts_list *l = find_list(t, name);
-    if (l && l->has_state)
+    if (l && l->has_state) {
         replay_list(t, l);
+        t->program = tsr_state_program_has_vertex_shader(t->ctx); /* a list may switch programs */
+    }
 }
 
 static void replay_CallLists(void *self, GLsizei n, GLenum type, const GLvoid *lists);
@@ -1036,12 +1311,36 @@ static void add_buffer_list(tilesort *t, size_t slot)
     t->buffer_lists[t->nbuffer_lists++] = slot;
 }
 
+/* A list that only changes tracked state and calls other lists (a
+ * scene-graph node: transforms, materials, glCallList of meshes) would go
+ * to every server, since its state changes are not boxed. Instead its
+ * commands take the normal routes, as if the application had made them:
+ * state to the tracker (and to each server with its next diff), and each
+ * list it calls placed by its own box under the transform of that
+ * moment. Only the small list itself is re-sent; the meshes stay lists. */
+static int expand_list(tilesort *t, ts_list *l)
+{
+    if (l->geometry || l->unexpandable || t->in_begin || t->replay_depth >= 64)
+        return 0;
+    t->replay_depth++;
+    t->expand->pixels.unpack = l->unpack;
+    for (size_t i = 0; i < l->nchunks; i++) {
+        tsr_error err = {0};
+        if (tsr_unpacker_run(t->expand, l->chunks[i].data, l->chunks[i].size, &err) < 0)
+            report(t, &err);
+    }
+    t->replay_depth--;
+    return 1;
+}
+
 static void ts_CallList(void *self, GLuint name)
 {
     tilesort *t = self;
     ts_list *l = find_list(t, name);
     if (!l)
         return; /* GL: calling an undefined list does nothing */
+    if ((l->unknown || l->calls) && expand_list(t, l))
+        return;
     if (l->unknown || l->calls) {
         flush_before_state(t);
         t->broadcast_next = 1;
@@ -1378,7 +1677,11 @@ static int immediate_in_list(const char *name)
                                         "DeleteLists", "GenTextures", "DeleteTextures", "GenBuffers",
                                         "DeleteBuffers", "BindBuffer", "BufferData", "BufferSubData",
                                         "RenderMode", "FeedbackBuffer", "SelectBuffer", "NewList", "EndList",
-                                        "WindowCreateTSR", "WindowSizeTSR", "WindowDestroyTSR", "SwapBuffersTSR"};
+                                        "WindowCreateTSR", "WindowSizeTSR", "WindowDestroyTSR", "SwapBuffersTSR",
+                                        "CreateShader", "CreateShaderTSR", "ShaderSource", "CompileShader",
+                                        "DeleteShader", "CreateProgram", "CreateProgramTSR", "DeleteProgram",
+                                        "AttachShader", "DetachShader", "BindAttribLocation", "LinkProgram",
+                                        "ValidateProgram"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(names[i], name))
             return 1;
@@ -1451,6 +1754,8 @@ static void build_tables(tilesort *t)
     SET(GetBooleanv); SET(GetIntegerv); SET(GetFloatv); SET(GetDoublev); SET(GetLightfv); SET(GetMaterialfv);
     SET(GetTexEnvfv); SET(GetTexGenfv); SET(GetTexParameterfv); SET(GetTexLevelParameteriv); SET(GetClipPlane);
     SET(GetPolygonStipple); SET(GetBufferParameteriv); SET(IsEnabled); SET(ReadPixels);
+    SET(GetShaderiv); SET(GetProgramiv); SET(GetShaderInfoLog); SET(GetProgramInfoLog);
+    SET(GetUniformLocation); SET(GetAttribLocation);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also
@@ -1467,6 +1772,9 @@ static void build_tables(tilesort *t)
             t->record.slots[slot] = t->normal.slots[slot];
         } else if (!is_current[slot] && !(cat == TSR_CAT_GEOMETRY && is_boxed_geometry(name, flags))) {
             t->rec_hooks[slot] = (tsr_hook){.before = rec_before, .ctx = t};
+            tsr_dispatch_hook(&t->record, slot, &t->rec_hooks[slot]);
+        } else if (!is_current[slot]) {
+            t->rec_hooks[slot] = (tsr_hook){.before = rec_geometry_before, .ctx = t};
             tsr_dispatch_hook(&t->record, slot, &t->rec_hooks[slot]);
         } else if (is_current[slot]) {
             t->rec_hooks[slot] = (tsr_hook){.before = rec_current_before, .ctx = t};
@@ -1491,19 +1799,25 @@ static void tilesort_destroy(void *instance)
     for (size_t i = 0; t->srv && i < t->nservers; i++) {
         tsr_packer_destroy(t->srv[i].packer);
         free(t->srv[i].lists);
+        ts_batch_free(&t->srv[i].sorted);
     }
     for (size_t i = 0; i < t->nlists; i++)
         list_clear(&t->lists[i]);
     free(t->lists);
     tsr_unpacker_destroy(t->replay);
+    tsr_unpacker_destroy(t->expand);
     tsr_packer_destroy(t->list_packer);
     tsr_packer_destroy(t->geo);
+    tsr_packer_destroy(t->solo_packer);
     tsr_state_tracker_destroy(t->tracker); /* destroys the context and shadows */
+    ts_split_destroy(t->split);
     ts_tiling_free(&t->tiling);
     free(t->srv);
     free(t->hit);
     free(t->targets);
     free(t->buffer_lists);
+    ts_batch_free(&t->compact);
+    free(t->gathered);
     free(t->frame_rows);
     free(t->frame_seconds);
     free(t->assemble);
@@ -1525,6 +1839,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
         return NULL;
     }
     snprintf(t->name, sizeof t->name, "%s", init->instance_name);
+    t->only_target = TS_ANY_TARGET;
     t->nservers = count;
     t->srv = calloc(count, sizeof *t->srv);
     t->hit = calloc(count, 1);
@@ -1560,7 +1875,8 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     if (!t->client)
         goto fail;
     tsr_node_client_set_stats_extra(t->client, write_sort_first_stats, t);
-    if (!(t->tracker = tsr_state_tracker_create(err)) || !(t->ctx = tsr_state_ctx_create(t->tracker, err)))
+    if (!(t->tracker = tsr_state_tracker_create(err)) || !(t->ctx = tsr_state_ctx_create(t->tracker, err)) ||
+        !(t->split = ts_split_create(err)))
         goto fail;
     for (size_t i = 0; i < count; i++) {
         ts_server *s = &t->srv[i];
@@ -1578,6 +1894,12 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
         tsr_packer_fill_dispatch(s->packer, &s->table);
     }
     tsr_pack_sink geo_sink = {.flush = geo_sink_flush, .reply = no_reply, .ctx = t};
+    tsr_pack_sink solo_sink = {.flush = count_solo, .reply = no_reply, .ctx = t};
+    if (!(t->solo = tsr_state_shadow_create(t->tracker, err)) ||
+        !(t->solo_packer = tsr_packer_create(TSR_PACK_MIN_BUFFER, &solo_sink, err)))
+        goto fail;
+    tsr_dispatch_fill_nop(&t->solo_table);
+    tsr_packer_fill_dispatch(t->solo_packer, &t->solo_table);
     tsr_pack_sink list_sink = {.flush = list_sink_flush, .reply = no_reply, .ctx = t};
     if (!(t->geo = tsr_packer_create(t->batch_bytes, &geo_sink, err)) ||
         !(t->list_packer = tsr_packer_create(cfg.buffer_size, &list_sink, err)))
@@ -1588,7 +1910,8 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     tsr_dispatch_fill_nop(&t->list_table);
     tsr_packer_fill_dispatch(t->list_packer, &t->list_table);
     build_tables(t);
-    if (!(t->replay = tsr_unpacker_create(&t->track_table, NULL, NULL, err)))
+    if (!(t->replay = tsr_unpacker_create(&t->track_table, NULL, NULL, err)) ||
+        !(t->expand = tsr_unpacker_create(&t->normal, NULL, NULL, err)))
         goto fail;
     /* tiles known from the options are sent with each server's first buffer */
     if (mode != TS_BALANCE && ntiles)
@@ -1620,9 +1943,11 @@ static const tsr_option_spec tilesort_options[] = {
              "every tile; any layout), broadcast (every server gets everything), balance (one region per "
              "server, re-split every frame from measured costs, damped)"},
     {.name = "batch_bytes", .type = TSR_OPT_INT, .default_value = "65536", .min = 256, .max = 67108864.0,
-     .help = "geometry is bucketed in batches of about this many bytes (the geometry buffer's size; large "
-             "glDrawArrays/glDrawElements of points, lines, triangles and quads are cut to fit): smaller "
-             "batches reach fewer tiles, larger ones cost fewer messages"},
+     .help = "geometry is bucketed in batches of about this many bytes (the geometry buffer's size): "
+             "smaller batches reach fewer tiles, larger ones cost fewer messages; glDrawArrays/glDrawElements "
+             "of points, lines, triangles and quads are sorted primitive by primitive and sent to each "
+             "server in draws of about this size; a glBegin/glEnd primitive larger than a batch is cut "
+             "into batches, each closed with glEnd and reopened in the next"},
     {.name = "damping", .type = TSR_OPT_FLOAT, .default_value = "0.5", .min = 0.0, .max = 1.0,
      .help = "bucket=balance: fraction of the way each split moves towards the measured balance per frame"},
     {.name = "assemble", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,

@@ -2,7 +2,8 @@
  * tilesort.c routes every GL call (tracker, geometry buffer, display
  * lists, frame commands) and sends; bucket.c turns a geometry buffer's
  * object-space box into the servers it must reach and owns the tilings
- * (fixed tiles, grid, load-balanced KD split).
+ * (fixed tiles, grid, load-balanced KD split); split.c cuts a glBegin/glEnd
+ * primitive that spans buffers into pieces, one per buffer.
  * Private to the SPU. */
 #ifndef TSR_TILESORT_H
 #define TSR_TILESORT_H
@@ -12,6 +13,8 @@
 #include <GL/gl.h>
 
 #include "tessera/error.h"
+#include "pack.h"
+#include "state.h"
 
 typedef struct ts_rect {
     int x, y, w, h;
@@ -71,5 +74,75 @@ int ts_tiling_rebalance(ts_tiling *t);
  * (a corner at w <= 0, a non-finite value): then every server needs it. */
 int ts_window_box(const GLfloat *projection, const GLfloat *modelview, const GLint *viewport, const float mn[3],
                   const float mx[3], double margin, int win_w, int win_h, int *x0, int *y0, int *x1, int *y1);
+
+/* --- batch.c: a compact draw built primitive by primitive -------------------- */
+typedef struct ts_batch {
+    uint32_t *order;        /* source vertex of each compact vertex */
+    size_t nvert, vcap;
+    uint32_t *index;        /* indexed batches: the primitives' compact indices */
+    size_t nidx, icap;
+    uint32_t *keys, *values; /* source vertex + 1 -> compact vertex (0: empty) */
+    size_t hcap;
+} ts_batch;
+
+/* Adds one primitive of n source vertices. Indexed: a vertex already in
+ * the batch is used again, not added. Returns 0, or -1 when out of memory
+ * or for source vertex UINT32_MAX (the primitive is then partly added). */
+int ts_batch_add(ts_batch *b, const uint32_t *vertices, int n, int indexed);
+void ts_batch_clear(ts_batch *b);
+void ts_batch_free(ts_batch *b);
+
+/* pm = projection * modelview (column-major), in double. */
+void ts_clip_matrix(const GLfloat *projection, const GLfloat *modelview, double pm[16]);
+/* The window-space box of n homogeneous object-space points under pm and
+ * the viewport, as ts_window_box (0: unknown, every server needs it). */
+int ts_points_box(const double pm[16], const GLint *viewport, const float (*pts)[4], int n, double margin, int win_w,
+                  int win_h, int *x0, int *y0, int *x1, int *y1);
+
+/* --- split.c: a glBegin/glEnd primitive cut across geometry buffers --------- */
+/* A primitive that does not fit one geometry buffer is cut: each buffer
+ * ending inside it is closed with glEnd (its box places it, like any
+ * buffer), and the next one reopens it with glBegin and the vertices the
+ * primitive still needs, each with the current attributes it had (the
+ * header of split.c says what each mode carries and why it is exact). */
+
+/* The current attributes (what a geometry buffer starts with, what a
+ * carried vertex had). */
+typedef struct ts_current {
+    GLfloat color[4], normal[3], texcoord[TSR_STATE_UNITS][4];
+    GLboolean edge_flag;
+    GLfloat attrib[TSR_STATE_ATTRIBS][4];
+} ts_current;
+void ts_current_of(const tsr_state_values *v, ts_current *out);
+
+typedef struct ts_split ts_split;
+ts_split *ts_split_create(tsr_error *err);
+void ts_split_destroy(ts_split *sp);
+/* Whether the geometry buffer being filled starts inside a cut primitive
+ * (its flush then goes through ts_split_piece even after glEnd). */
+int ts_split_open(const ts_split *sp);
+/* Before glEnd is packed: a line loop that was cut is closed with its
+ * first vertex, sent through `route` (the SPU's own table: the geometry
+ * buffer and the tracker); the attributes are put back to `now`. */
+void ts_split_end(ts_split *sp, const tsr_dispatch *route, const ts_current *now);
+
+enum {
+    TS_SPLIT_PIECE = 1, /* send *out to the servers its box (with the carried vertices) touches */
+    TS_SPLIT_WHOLE,     /* send *out to every server, and the rest of the primitive too (not cut) */
+    TS_SPLIT_NOTHING,   /* send nothing (attributes only: the next piece restores them) */
+};
+/* State that keeps some modes from being cut (split.c says why). */
+enum { TS_SPLIT_LINE_STIPPLE = 1u, TS_SPLIT_LIGHTING = 2u };
+/* In the geometry sink, for a buffer that ends inside glBegin/glEnd
+ * (ends_inside) or starts inside a cut primitive (ts_split_open): buf
+ * holds its commands, start/end the current attributes at its start and
+ * end. may_cut: 0 while a program is in use;
+ * state: TS_SPLIT_* bits of what is enabled. The carried vertices are added to
+ * box's bounding box (box is the geometry packer; its pixel store is how
+ * images in buf were packed). Sets *out (valid until the next call).
+ * Returns TS_SPLIT_*, or an error code (*out is then buf). */
+int ts_split_piece(ts_split *sp, const uint8_t *buf, size_t size, const ts_current *start, const ts_current *end,
+                   int ends_inside, int may_cut, unsigned state, tsr_packer *box, const uint8_t **out,
+                   size_t *out_size, tsr_error *err);
 
 #endif

@@ -5,6 +5,13 @@
 #   exact APP FRAMES CONFIG [OPTION...]
 #       tilesort gathers every frame from the servers (assemble=) and each
 #       one must equal APP-native's frame: 0 differing pixels.
+#   split APP FRAMES FRAME MAX [OPTION...]
+#       APP through tilesort on 1x1 and on 4x4 tiles, every frame exact as
+#       in `exact`; then frame FRAME (long primitives crossing the wall,
+#       cut into pieces by small batches) must reach the 16 servers with
+#       an overlap (bytes to all servers / bytes of the 1x1 run, from the
+#       sort_first statistics) below MAX: a primitive sent whole to every
+#       server would give about 16.
 #   bad TILES BUCKET WORD
 #       a tilesort with this tiles option fails at start, exit status
 #       non-zero, one message naming WORD.
@@ -65,7 +72,7 @@ run_tilesort() {
   k=0
   while [ $k -lt "$SERVERS_N" ]; do
     mkdir -p "$dir/s$k"
-    start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 30000 \
+    start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 120000 \
       --chain "render output=\"$dir/s$k/f-%04d.png\"" || { kill_all; exit 1; }
     PIDS="$PIDS $NODE_PID"
     SERVERS="$SERVERS${SERVERS:+,}$NODE_ADDR"
@@ -74,7 +81,8 @@ run_tilesort() {
   chain="tilesort servers=$SERVERS bucket=$BUCKET assemble=\"$dir/as-%04d.png\""
   [ -n "$TILES" ] && chain="$chain tiles=$TILES"
   for o in "$@"; do chain="$chain $o"; done
-  "$bin/$app" --frames "$frames" --size 1024x768 --chain "$chain" >"$dir/app.out" 2>"$dir/app.err" &
+  TESSERA_STATS_FILE="$dir/stats.json" "$bin/$app" --frames "$frames" --size 1024x768 --chain "$chain" \
+    >"$dir/app.out" 2>"$dir/app.err" &
   apid=$!
   wait_exit "$apid" 120
   [ "$EXIT_RC" = 0 ] || { fail "$app through tilesort ($cfg) exited $EXIT_RC"; cat "$dir/app.err" >&2; }
@@ -93,6 +101,24 @@ pixels() {
   "$TESSERA" imgdiff "$1" "$2" | sed -n 's/^differing_pixels: //p'
 }
 
+# exact_frames DIR APP FRAMES CONFIG: every assembled frame equals the native one.
+exact_frames() {
+  f=0
+  while [ $f -lt "$3" ]; do
+    n=$(printf %04d $f)
+    native=$(pixels "$out/ref-$n.png" "$1/as-$n.png")
+    echo "frame $f ($4): $native pixels differ from $2-native"
+    [ "$native" = 0 ] || fail "frame $f ($4): $native pixels differ from $2-native"
+    f=$((f + 1))
+  done
+}
+
+# frame_bytes STATS FRAME: bytes sent to all servers in that frame.
+frame_bytes() {
+  sed -e 's/.*"frames":\[\[//' -e 's/\]\]}.*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
+    tr ',' '\n' | awk '{ s += $1 } END { print s + 0 }'
+}
+
 case $mode in
 exact)
   app=$1 frames=$2 config=$3
@@ -100,14 +126,22 @@ exact)
   "$bin/$app-native" --frames "$frames" --size 1024x768 --out "$out/ref-%04d.png" >/dev/null ||
     fail "$app-native failed"
   run_tilesort "$out/tiled" "$app" "$frames" "$config" "$@"
-  f=0
-  while [ $f -lt "$frames" ]; do
-    n=$(printf %04d $f)
-    native=$(pixels "$out/ref-$n.png" "$out/tiled/as-$n.png")
-    echo "frame $f ($config): $native pixels differ from $app-native"
-    [ "$native" = 0 ] || fail "frame $f ($config): $native pixels differ from $app-native"
-    f=$((f + 1))
-  done ;;
+  exact_frames "$out/tiled" "$app" "$frames" "$config" ;;
+split)
+  app=$1 frames=$2 frame=$3 max=$4
+  shift 4
+  "$bin/$app-native" --frames "$frames" --size 1024x768 --out "$out/ref-%04d.png" >/dev/null ||
+    fail "$app-native failed"
+  run_tilesort "$out/one" "$app" "$frames" 1x1 "$@"
+  exact_frames "$out/one" "$app" "$frames" 1x1
+  run_tilesort "$out/wall" "$app" "$frames" 4x4 "$@"
+  exact_frames "$out/wall" "$app" "$frames" 4x4
+  one=$(frame_bytes "$out/one/stats.json" "$frame")
+  wall=$(frame_bytes "$out/wall/stats.json" "$frame")
+  overlap=$(awk -v a="$wall" -v b="$one" 'BEGIN { if (b > 0) printf "%.3f", a / b; else print "none" }')
+  echo "frame $frame on 4x4: $wall bytes to the servers, $one on 1x1: overlap $overlap (must be below $max)"
+  awk -v o="$overlap" -v m="$max" 'BEGIN { exit !(o != "none" && o + 0 < m + 0) }' ||
+    fail "frame $frame: overlap $overlap is not below $max (the long primitives reached too many servers)" ;;
 bad)
   tiles=$1 bucket=$2 word=$3
   start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 5000 \
