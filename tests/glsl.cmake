@@ -9,7 +9,7 @@
 # The tracker itself: tests/state.cmake (state_glsl_*).
 get_property(GLSL_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
 set(GLSL_OUT ${CMAKE_BINARY_DIR}/test-out/glsl)
-foreach(config 2x2 3x3 balance)
+foreach(config 3x3 balance)
   add_test(NAME tilesort_exact_shaders_${config}
     COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/tilesort.sh exact ${CMAKE_BINARY_DIR}/bin
             ${GLSL_OUT}/shaders-${config} shaders 6 ${config})

@@ -25,7 +25,7 @@ for y in 0 192 384 576; do
     k=$((k + 1))
   done
 done
-TESSERA_STATS_FILE=$out/stats.json "$bin/isosurface" --frames 2 --size 1024x768 \
+TESSERA_STATS_FILE=$out/stats.json "$bin/isosurface" --frames 1 --size 1024x768 \
   --chain "tilesort servers=$SERVERS tiles=$TILES $*" >"$out/app.out" 2>"$out/app.err" &
 wait_exit $! 120
 rc=$EXIT_RC
