@@ -1256,18 +1256,25 @@ static void ts_DeleteBuffers(void *self, GLsizei n, const GLuint *buffers)
 }
 
 /* Applies list l's state calls to the tracker (nested calls too). */
-static void replay_list(tilesort *t, ts_list *l)
+/* Runs list l's commands through unpacker u (the tracker's replay, or the
+ * normal routes when a list is expanded), nested at most 64 deep. */
+static void run_list(tilesort *t, tsr_unpacker *u, const ts_list *l)
 {
     if (t->replay_depth >= 64)
         return;
     t->replay_depth++;
-    t->replay->pixels.unpack = l->unpack;
+    u->pixels.unpack = l->unpack;
     for (size_t i = 0; i < l->nchunks; i++) {
         tsr_error err = {0};
-        if (tsr_unpacker_run(t->replay, l->chunks[i].data, l->chunks[i].size, &err) < 0)
+        if (tsr_unpacker_run(u, l->chunks[i].data, l->chunks[i].size, &err) < 0)
             report(t, &err);
     }
     t->replay_depth--;
+}
+
+static void replay_list(tilesort *t, ts_list *l)
+{
+    run_list(t, t->replay, l);
 }
 
 static void replay_CallList(void *self, GLuint name)
@@ -1322,14 +1329,7 @@ static int expand_list(tilesort *t, ts_list *l)
 {
     if (l->geometry || l->unexpandable || t->in_begin || t->replay_depth >= 64)
         return 0;
-    t->replay_depth++;
-    t->expand->pixels.unpack = l->unpack;
-    for (size_t i = 0; i < l->nchunks; i++) {
-        tsr_error err = {0};
-        if (tsr_unpacker_run(t->expand, l->chunks[i].data, l->chunks[i].size, &err) < 0)
-            report(t, &err);
-    }
-    t->replay_depth--;
+    run_list(t, t->expand, l);
     return 1;
 }
 
