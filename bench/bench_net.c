@@ -1,5 +1,5 @@
 /* bench/bench_net.c — how fast a GL stream crosses a real socket: glVertex3f
- * calls packed by the real stream client of the pack SPU (node/client.h:
+ * calls packed by the real stream client of the pack SPU (tessera/dev/client.h:
  * packer, shared buffer, netlib connection with credits) over TCP loopback
  * or a Unix socket to a receiving thread that runs the real unpacker into a
  * table of no-ops, next to a plain blocking socket pair moving the same
@@ -36,12 +36,12 @@
 
 #include <GL/gl.h>
 
-#include "client.h"
+#include "tessera/dev/client.h"
 #include "net.h"
-#include "pack.h"
-#include "protocol.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/protocol.h"
 #include "tessera/dispatch.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 #define BUFFER_SIZE (1u << 20) /* the pack SPU's default buffer_size */
 #define BATCH 4096             /* vertices between Begin and End */
@@ -87,7 +87,7 @@ typedef struct receiver {
     double cpu_seconds; /* this thread's, accept to close */
 } receiver;
 
-/* The server side of node/protocol.h, reduced to what the benchmark
+/* The server side of tessera/dev/protocol.h, reduced to what the benchmark
  * sends: BUFFER (unpacked into no-ops) and FINISH (confirmed). */
 static void *receive_main(void *arg)
 {
@@ -151,10 +151,10 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
 
     tsr_dispatch *gl = calloc(1, sizeof *gl);
     tsr_dispatch_fill_nop(gl);
-    tsr_node_client_config cfg = {.spu = "bench", .name = "bench_net", .servers = &address,
+    tsr_stream_client_config cfg = {.spu = "bench", .name = "bench_net", .servers = &address,
                                   .server_count = 1, .timeout_ms = 30000,
                                   .buffer_size = BUFFER_SIZE, .exit_on_error = 0};
-    tsr_node_client *client = tsr_node_client_create(&cfg, gl, &err);
+    tsr_stream_client *client = tsr_stream_client_create(&cfg, gl, &err);
     int status = 0;
     if (!client) {
         fprintf(stderr, "bench_net: %s\n", err.message);
@@ -168,7 +168,7 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
                 tsr_call_Vertex3f(gl, x, 0.5f, -x);
             tsr_call_End(gl);
         }
-        tsr_node_client_destroy(client); /* FINISH: every buffer was unpacked */
+        tsr_stream_client_destroy(client); /* FINISH: every buffer was unpacked */
         out->seconds = wall_now() - t0;
         out->cpu_seconds = process_cpu() - c0;
         out->send_cpu = thread_cpu() - s0;

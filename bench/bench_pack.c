@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pack.h"
+#include "tessera/dev/pack.h"
 #include "wire_gen.h"
 #include "tessera/dispatch.h"
 

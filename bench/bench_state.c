@@ -1,5 +1,5 @@
 /* bench/bench_state.c — context switches through the state tracker
- * (core/state.h), the experiment of Buck, Humphreys and Hanrahan's 2000
+ * (tessera/dev/state.h), the experiment of Buck, Humphreys and Hanrahan's 2000
  * state-tracking paper: two tracked contexts take turns on one renderer,
  * each turn a diff of the incoming context into the renderer's shadow,
  * packed by the real packer (buffers go to a sink that only counts them).
@@ -19,8 +19,8 @@
 
 #include <GL/gl.h>
 
-#include "pack.h"
-#include "state.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
 #include "tessera/dispatch.h"
 
 typedef struct counter {

@@ -16,9 +16,9 @@
 
 #include <GL/gl.h>
 
-#include "pack.h"
+#include "tessera/dev/pack.h"
 #include "tessera/dispatch.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 /* Buffers of 256 KiB, the size a sending SPU flushes. */
 #define BUFFER_SIZE (256u << 10)

@@ -1,5 +1,5 @@
 /* cli/cmd_node.c — `tessera node`: either a standalone server node
- * (node/node.h) on a listen address until the given number of clients
+ * (server/node.h) on a listen address until the given number of clients
  * connected and ended, or, with --mothership, a node of a graph run that
  * takes its role from the mothership (mothership/mothership.h).
  * Owns only argument parsing and the exit code; the node does the work.

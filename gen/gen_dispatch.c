@@ -292,7 +292,7 @@ static void emit_gl_entry(const gen *g)
     f = gen_open(g, "src/gl_entry_gen.c");
     fprintf(f, "/* Exported gl* entry points: each reads the calling thread's current table\n"
                " * (one TLS load) and jumps through its slot; no table: nothing happens. */\n"
-               "#include \"tessera/dispatch.h\"\n#include \"tessera/gltsr_gen.h\"\n#include \"glapi_internal.h\"\n\n"
+               "#include \"tessera/dispatch.h\"\n#include \"tessera/gltsr_gen.h\"\n#include \"spu/glapi_internal.h\"\n\n"
                "/* gl.h declares a few parameters as arrays (GLfloat m[16]); ours are pointers. */\n"
                "#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 11\n"
                "#pragma GCC diagnostic ignored \"-Warray-parameter\"\n#endif\n\n");

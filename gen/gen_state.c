@@ -147,7 +147,7 @@ void gen_emit_state(const gen *g)
     FILE *f = gen_open(g, "src/state_gen.c");
     fprintf(f, "/* The state tracker's current-attribute entry points and the list of\n"
                " * commands it covers (gen/gen_state.c). */\n"
-               "#include \"state_internal.h\"\n\n");
+               "#include \"state/state_internal.h\"\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const spec_command *c = g->cmds[i].sc;
         attr_cmd a;

@@ -269,7 +269,7 @@ void gen_emit_test_support(const gen *g)
     FILE *f = gen_open(g, "src/wire_test_gen.h");
     fprintf(f, "/* Wire test support: a recording table and random-argument calls. */\n"
                "#ifndef TSR_WIRE_TEST_GEN_H\n#define TSR_WIRE_TEST_GEN_H\n\n"
-               "#include <stddef.h>\n#include <stdint.h>\n#include \"tessera/dispatch.h\"\n#include \"pixel.h\"\n\n"
+               "#include <stddef.h>\n#include <stdint.h>\n#include \"tessera/dispatch.h\"\n#include \"tessera/dev/pixel.h\"\n\n"
                "typedef struct tsr_rec_call {\n    int slot;\n    size_t len;\n    uint8_t *bytes;\n} tsr_rec_call;\n\n"
                "/* Stands in for GL: records every call (name, argument bytes, the bytes\n"
                " * its input pointers address), fills outputs with a pattern, returns a\n"

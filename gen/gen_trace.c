@@ -110,7 +110,7 @@ void gen_emit_trace(const gen *g)
     gen_close(f);
 
     f = gen_open(g, "src/trace_gen.c");
-    fprintf(f, "#include <stdlib.h>\n#include \"trace_gen.h\"\n#include \"pack.h\"\n\n");
+    fprintf(f, "#include <stdlib.h>\n#include \"trace_gen.h\"\n#include \"tessera/dev/pack.h\"\n\n");
     const gen_enum **v = malloc((g->enums.n ? g->enums.n : 1) * sizeof *v);
     size_t n = 0;
     for (size_t i = 0; i < g->enums.n; i++)

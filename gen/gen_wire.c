@@ -2,7 +2,7 @@
  * (src/wire_gen.h), out-of-line packers and the packer dispatch filler
  * (src/pack_gen.c), the validating decoder (src/unpack_gen.c) and the
  * pname/opcode tables (src/wire_tables_gen.c). The layout rules are those
- * of core/wire.h; gen_main.c computes each command's layout once.
+ * of tessera/dev/wire.h; gen_main.c computes each command's layout once.
  * Generated locals carry a tsr_ prefix so they never clash with spec
  * parameter names. */
 #include "gen.h"
@@ -213,7 +213,7 @@ static void emit_bbox(FILE *f, const gen_cmd *gc)
         fprintf(f, "    tsr_packer_bbox4(tsr_p, %s, %s, %s, %s);\n", comp[0], comp[1], comp[2], comp[3]);
 }
 
-/* Fixed-size commands pack inline; their slow path never fails (core/pack.h
+/* Fixed-size commands pack inline; their slow path never fails (tessera/dev/pack.h
  * TSR_PACK_MAX_FIXED), so the inline code has no NULL check. */
 static int is_inline_pack(const gen_cmd *gc)
 {
@@ -413,7 +413,7 @@ static void emit_wire_h(const gen *g)
     fprintf(f, "/* Opcodes and packers of every spec command (private to libtessera and\n"
                " * in-tree SPUs). Fixed-size commands pack inline. */\n"
                "#ifndef TSR_WIRE_GEN_H\n#define TSR_WIRE_GEN_H\n\n"
-               "#include <string.h>\n#include \"pack.h\"\n\n"
+               "#include <string.h>\n#include \"tessera/dev/pack.h\"\n\n"
                "_Static_assert(sizeof(GLintptr) == 8 && sizeof(GLsizeiptr) == 8, \"wire sizes assume 64-bit GLintptr\");\n"
                "_Static_assert(sizeof(GLboolean) == 1 && sizeof(GLenum) == 4 && sizeof(GLdouble) == 8, \"GL type sizes\");\n\n"
                "struct tsr_unpacker;\n\nenum tsr_opcode {\n");
@@ -655,7 +655,7 @@ static void emit_unpack_c(const gen *g)
     FILE *f = gen_open(g, "src/unpack_gen.c");
     fprintf(f, "/* The validating decoder: walks the opcodes of one buffer and calls the\n"
                " * target table; every length is checked before it is used. */\n"
-               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n#include \"unpack.h\"\n\n");
+               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n#include \"tessera/dev/unpack.h\"\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const gen_cmd *gc = &g->cmds[i];
         if ((gc->packable && !is_inline_unpack(gc)))

@@ -1,5 +1,5 @@
 /* mothership/agent.c — the node side of the control channel (`tessera node
- * --mothership`): joins, takes its CONFIG, runs a server (node/node.h on a
+ * --mothership`): joins, takes its CONFIG, runs a server (server/node.h on a
  * thread of its own) or an application (a child process with TESSERA_CHAIN
  * set), sends STATS as its heartbeat and DONE at the end.
  * Owns: its control connection, the server node or the application child
@@ -21,6 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "tessera/dev/util.h"
 #include "mothership.h"
 #include "net.h"
 #include "node.h"
@@ -72,7 +73,7 @@ static int send_stats(agent *a, tsr_error *err)
     tsr_ctl_out_init(&out);
     if (a->node)
         add_server_stats(a, &out);
-    tsr_ctl_addf(&out, "elapsed", "%.3f", tsr_ms_now() - a->started);
+    tsr_ctl_addf(&out, "elapsed", "%.3f", tsr_now_seconds() - a->started);
     int rc = send_ctl(a, TSR_MS_MSG_STATS, &out, err);
     tsr_ctl_out_free(&out);
     return rc;
@@ -169,7 +170,7 @@ static int send_done(agent *a, int status, const char *message, int signal_numbe
     tsr_ctl_addf(&out, "status", "%d", status);
     tsr_ctl_add(&out, "message", message);
     tsr_ctl_addf(&out, "signal", "%d", signal_number);
-    tsr_ctl_addf(&out, "elapsed", "%.3f", tsr_ms_now() - a->started);
+    tsr_ctl_addf(&out, "elapsed", "%.3f", tsr_now_seconds() - a->started);
     if (a->node)
         add_server_stats(a, &out);
     if (extra)
@@ -232,12 +233,12 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         tsr_error_set(err, TSR_EIO, "cannot start the server thread");
         return 1;
     }
-    double next_beat = tsr_ms_now();
+    double next_beat = tsr_now_seconds();
     while (!atomic_load(&a->node_done)) {
-        if (tsr_ms_now() >= next_beat) {
+        if (tsr_now_seconds() >= next_beat) {
             if (send_stats(a, err) != TSR_OK)
                 return 1; /* the node thread still runs: the caller ends the process */
-            next_beat = tsr_ms_now() + a->heartbeat_ms / 1000.0;
+            next_beat = tsr_now_seconds() + a->heartbeat_ms / 1000.0;
         }
         int code = poll_control(a, POLL_MS, err);
         if (code)
@@ -435,18 +436,18 @@ static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
         kill_child(a);
         return 1;
     }
-    double next_beat = tsr_ms_now();
+    double next_beat = tsr_now_seconds();
     int status = 0;
     for (;;) {
         pid_t w = waitpid(pid, &status, WNOHANG);
         if (w == pid)
             break;
-        if (tsr_ms_now() >= next_beat) {
+        if (tsr_now_seconds() >= next_beat) {
             if (send_stats(a, err) != TSR_OK) {
                 kill_child(a);
                 return 1;
             }
-            next_beat = tsr_ms_now() + a->heartbeat_ms / 1000.0;
+            next_beat = tsr_now_seconds() + a->heartbeat_ms / 1000.0;
         }
         int code = poll_control(a, POLL_MS, err);
         if (code) {
@@ -472,14 +473,14 @@ static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
 
 static int connect_mothership(agent *a, tsr_error *err)
 {
-    double deadline = tsr_ms_now() + a->cfg->connect_timeout_ms / 1000.0;
+    double deadline = tsr_now_seconds() + a->cfg->connect_timeout_ms / 1000.0;
     tsr_error e = {0};
     for (;;) {
         a->conn = tsr_net_connect(a->net, a->cfg->mothership, &e);
         if (a->conn)
             return TSR_OK;
         /* A refusal (wrong token, version) will not change by retrying. */
-        if (strstr(e.message, "refused:") || tsr_ms_now() + 0.1 >= deadline)
+        if (strstr(e.message, "refused:") || tsr_now_seconds() + 0.1 >= deadline)
             break;
         struct timespec ts = {0, 100 * 1000000L};
         nanosleep(&ts, NULL);
@@ -565,7 +566,7 @@ int tsr_agent_run(const tsr_agent_config *config, tsr_error *err)
     agent a;
     memset(&a, 0, sizeof a);
     a.cfg = config;
-    a.started = tsr_ms_now();
+    a.started = tsr_now_seconds();
     if (config->name)
         snprintf(a.name, sizeof a.name, "%s", config->name);
     else

@@ -19,6 +19,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "tessera/dev/util.h"
 #include "mothership.h"
 #include "net.h"
 #include "control.h"
@@ -95,7 +96,7 @@ static void fail(ms *m, int cls, const char *fmt, ...) __attribute__((format(pri
 static void fail(ms *m, int cls, const char *fmt, ...)
 {
     if (m->fail_class == FAIL_NONE)
-        m->fail_deadline = tsr_ms_now() + (cls == FAIL_INTERRUPT ? 0 : FAIL_GRACE_S);
+        m->fail_deadline = tsr_now_seconds() + (cls == FAIL_INTERRUPT ? 0 : FAIL_GRACE_S);
     if (cls >= m->fail_class)
         return;
     m->fail_class = cls;
@@ -147,7 +148,7 @@ static void sb_str(strbuf *b, const char *s)
     sb_add(b, s, strlen(s));
 }
 
-/* key="value" with the chain text's escapes (core/chain.c). */
+/* key="value" with the chain text's escapes (core/spu/chain.c). */
 static void sb_option(strbuf *b, const char *key, const char *value)
 {
     sb_str(b, " ");
@@ -446,7 +447,7 @@ static void reap(ms *m)
 
 static void take_stats(ms_node *n, const tsr_ctl *msg)
 {
-    double t = tsr_ms_now();
+    double t = tsr_now_seconds();
     n->frames = tsr_ctl_number(msg, "frames", n->frames);
     n->buffers = tsr_ctl_number(msg, "buffers", n->buffers);
     n->bytes_in = tsr_ctl_number(msg, "bytes_in", n->bytes_in);
@@ -526,14 +527,14 @@ static void handle_join(ms *m, size_t p, const tsr_ctl *msg)
     }
     n->conn = conn;
     n->state = N_JOINED;
-    n->last_heard = tsr_ms_now();
+    n->last_heard = tsr_now_seconds();
     n->remote_pid = (long)tsr_ctl_number(msg, "pid", 0);
     snprintf(n->host, sizeof n->host, "%s", host ? host : "?");
 }
 
 static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
 {
-    n->last_heard = tsr_ms_now();
+    n->last_heard = tsr_now_seconds();
     switch (kind) {
     case TSR_MS_MSG_READY: {
         const char *addr = tsr_ctl_get(msg, "address");
@@ -553,7 +554,7 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
     case TSR_MS_MSG_DONE: {
         take_stats(n, msg);
         n->state = N_DONE;
-        n->done_at = tsr_ms_now();
+        n->done_at = tsr_now_seconds();
         n->done_status = (int)tsr_ctl_number(msg, "status", 1);
         const char *why = tsr_ctl_get(msg, "message");
         if (n->done_status)
@@ -613,7 +614,7 @@ static void receive(ms *m)
             n->conn_ended = 1;
             if (n->state != N_DONE) { /* after DONE, its end was reported */
                 if (!n->lost_at) {
-                    n->lost_at = tsr_ms_now();
+                    n->lost_at = tsr_now_seconds();
                     snprintf(n->lost_why, sizeof n->lost_why, "%s",
                              rc == 0 ? "closed its control connection before reporting its end"
                                      : e.message);
@@ -652,7 +653,7 @@ static void receive(ms *m)
 
 static void check(ms *m)
 {
-    double t = tsr_ms_now();
+    double t = tsr_now_seconds();
     for (size_t i = 0; i < m->count; i++) {
         ms_node *n = &m->nodes[i];
         /* Heartbeats count once the node is READY: before, a server is
@@ -699,7 +700,7 @@ static int configure(ms *m, tsr_error *err)
             continue;
         }
         n->state = N_CONFIGURED;
-        n->configured_at = n->last_heard = tsr_ms_now();
+        n->configured_at = n->last_heard = tsr_now_seconds();
     }
     return TSR_OK;
 }
@@ -708,7 +709,7 @@ static void progress(ms *m, int final)
 {
     if (!m->cfg->progress)
         return;
-    double t = tsr_ms_now();
+    double t = tsr_now_seconds();
     if (!final && t < m->next_progress)
         return;
     m->next_progress = t + 0.25;
@@ -748,12 +749,12 @@ static void stop_all(ms *m, const char *reason)
         }
     }
     tsr_ctl_out_free(&out);
-    double until = tsr_ms_now() + STOP_GRACE_S;
+    double until = tsr_now_seconds() + STOP_GRACE_S;
     for (;;) {
         int running = 0;
         for (size_t i = 0; i < m->count; i++)
             running |= m->nodes[i].pid && !m->nodes[i].reaped;
-        if (!running || tsr_ms_now() >= until)
+        if (!running || tsr_now_seconds() >= until)
             break;
         struct timespec ts = {0, 10 * 1000000L};
         nanosleep(&ts, NULL);
@@ -781,8 +782,8 @@ static void kill_groups(ms *m)
      * not even a zombie of the run is left. Bounded: they were killed. */
     if (!m->cfg->launch_local)
         return;
-    double until = tsr_ms_now() + 1.0;
-    while (tsr_ms_now() < until) {
+    double until = tsr_now_seconds() + 1.0;
+    while (tsr_now_seconds() < until) {
         pid_t w = waitpid(-1, NULL, WNOHANG);
         if (w < 0)
             break; /* ECHILD: none left */
@@ -800,20 +801,6 @@ static int remove_entry(const char *path, const struct stat *st, int type, struc
     (void)ftw;
     remove(path);
     return 0;
-}
-
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        if (*s == '"' || *s == '\\')
-            fprintf(f, "\\%c", *s);
-        else if ((unsigned char)*s < 0x20)
-            fprintf(f, "\\u%04x", *s);
-        else
-            fputc(*s, f);
-    }
-    fputc('"', f);
 }
 
 /* Load imbalance of the servers' render time: max / mean of their busy
@@ -837,19 +824,19 @@ static int write_stats(ms *m, int ok, double wall, tsr_error *err)
     if (!f)
         return tsr_error_set(err, TSR_EIO, "--stats %s: %s", m->cfg->stats_path, strerror(errno));
     fprintf(f, "{\n  \"graph\": ");
-    json_string(f, tsr_graph_file(m->graph));
+    tsr_json_string(f, tsr_graph_file(m->graph));
     fprintf(f, ",\n  \"status\": \"%s\",\n  \"failure\": ", ok ? "ok" : "failed");
     if (ok)
         fprintf(f, "null");
     else
-        json_string(f, m->fail_message);
+        tsr_json_string(f, m->fail_message);
     fprintf(f, ",\n  \"wall_seconds\": %.3f,\n  \"nodes\": [\n", wall);
     for (size_t i = 0; i < m->count; i++) {
         const ms_node *n = &m->nodes[i];
         fprintf(f, "    {\"name\": ");
-        json_string(f, n->g->name);
+        tsr_json_string(f, n->g->name);
         fprintf(f, ", \"role\": \"%s\", \"host\": ", n->server ? "server" : "app");
-        json_string(f, n->host[0] ? n->host : n->g->host);
+        tsr_json_string(f, n->host[0] ? n->host : n->g->host);
         fprintf(f, ", \"state\": \"%s\", \"seconds\": %.3f",
                 n->state == N_DONE ? (n->done_status ? "failed" : "done") : "unfinished", n->elapsed);
         if (n->server || n->app_stats == 1) {
@@ -862,7 +849,7 @@ static int write_stats(ms *m, int ok, double wall, tsr_error *err)
         }
         if (n->server) {
             fprintf(f, ", \"address\": ");
-            json_string(f, n->address);
+            tsr_json_string(f, n->address);
             fprintf(f, ", \"render_seconds\": %.6f, \"blocked_seconds\": null, \"clients\": %u}", n->busy,
                     n->clients);
         }
@@ -957,7 +944,7 @@ static int run(ms *m, tsr_error *err)
     const char *control = tsr_net_listener_address(m->listener);
     if (m->cfg->on_listening)
         m->cfg->on_listening(control, m->cfg->ctx);
-    m->start = tsr_ms_now();
+    m->start = tsr_now_seconds();
     /* An application whose node died is re-parented to us, not to init,
      * so we can reap it (and a container's init need not). */
     if (m->cfg->launch_local) {
@@ -979,7 +966,7 @@ static int run(ms *m, tsr_error *err)
         tsr_net_conn *c;
         while (m->pending_count < MAX_PENDING && (c = tsr_net_accept(m->listener, 0, &e)) != NULL) {
             m->pending[m->pending_count].conn = c;
-            m->pending[m->pending_count++].since = tsr_ms_now();
+            m->pending[m->pending_count++].since = tsr_now_seconds();
         }
         receive(m);
         reap(m);
@@ -989,7 +976,7 @@ static int run(ms *m, tsr_error *err)
                 fail(m, FAIL_OTHER, "%s", err->message);
         }
         if (m->fail_class != FAIL_NONE) {
-            if (tsr_ms_now() >= m->fail_deadline)
+            if (tsr_now_seconds() >= m->fail_deadline)
                 break;
             continue;
         }
@@ -1000,8 +987,8 @@ static int run(ms *m, tsr_error *err)
             children |= m->nodes[i].pid && !m->nodes[i].reaped;
         }
         if (all && !all_done_at)
-            all_done_at = tsr_ms_now();
-        if (all && (!children || tsr_ms_now() - all_done_at > END_GRACE_S))
+            all_done_at = tsr_now_seconds();
+        if (all && (!children || tsr_now_seconds() - all_done_at > END_GRACE_S))
             done = 1;
     }
     return TSR_OK;
@@ -1029,7 +1016,7 @@ int tsr_mothership_run(const tsr_graph *graph, const tsr_ms_config *config, tsr_
     kill_groups(&m);
     if (m.run_tmp[0])
         nftw(m.run_tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
-    double wall = m.start ? tsr_ms_now() - m.start : 0;
+    double wall = m.start ? tsr_now_seconds() - m.start : 0;
     if (rc == TSR_OK && m.fail_class != FAIL_NONE)
         rc = tsr_error_set(err, TSR_EIO, "%s", m.fail_message);
     if (m.start) {

@@ -10,13 +10,6 @@
 #include "mothership.h"
 #include "util.h"
 
-double tsr_ms_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 int tsr_ms_mkdirs(const char *path)
 {
     char buf[PATH_MAX];

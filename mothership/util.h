@@ -1,12 +1,10 @@
 /* mothership/util.h — small helpers the mothership, its node side and the
- * CLI share: a monotonic clock, mkdir -p, a number from a flat JSON object
+ * CLI share: mkdir -p, a number from a flat JSON object
  * (the network SPUs' TESSERA_STATS_FILE) and an environment for execve.
  * Internal to mothership/ and cli/. */
 #ifndef TSR_MOTHERSHIP_UTIL_H
 #define TSR_MOTHERSHIP_UTIL_H
 
-/* Seconds on CLOCK_MONOTONIC. */
-double tsr_ms_now(void);
 /* mkdir -p; 0, or -1 with errno set. */
 int tsr_ms_mkdirs(const char *path);
 /* The number after "key": in a flat JSON object; 0 when found, -1 not. */

@@ -41,8 +41,8 @@ if(TESSERA_FUZZ)
   # stays as it is and no global flag is needed. Only these files: coverage
   # then measures the decoder, not the rest of the library.
   set(tsr_fuzz_core_sources
-    ${CMAKE_SOURCE_DIR}/core/unpack.c ${CMAKE_SOURCE_DIR}/core/pixel.c
-    ${CMAKE_SOURCE_DIR}/core/error.c ${CMAKE_SOURCE_DIR}/core/log.c
+    ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
+    ${CMAKE_SOURCE_DIR}/core/util/error.c ${CMAKE_SOURCE_DIR}/core/util/log.c
     ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c
     ${TESSERA_GEN_DIR}/src/dispatch_gen.c ${TESSERA_GEN_TEST_SOURCES})
   add_executable(fuzz_unpack ${TSR_FUZZ_DIR}/fuzz_unpack.c ${TSR_FUZZ_DIR}/fuzz_unpack_one.c

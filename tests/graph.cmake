@@ -7,7 +7,7 @@ set(GRAPH_EXAMPLE_DIR ${CMAKE_SOURCE_DIR}/examples/graphs)
 set(GRAPH_TESSERA $<TARGET_FILE:tessera_cli>)
 
 add_executable(graph_model_test ${GRAPH_TEST_DIR}/graph_model_test.c)
-target_link_libraries(graph_model_test PRIVATE tessera)
+target_link_libraries(graph_model_test PRIVATE tessera_graph tessera)
 foreach(t reads_nodes_chain_options_edges defaults_apply_and_nodes_override
           edges_both_ways_and_start_order exec_string_is_split_like_a_shell
           list_option_values_use_chain_text chain_builds_from_the_model

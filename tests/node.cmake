@@ -10,7 +10,7 @@ set(NODE_BIN ${CMAKE_BINARY_DIR}/bin)
 file(MAKE_DIRECTORY ${NODE_OUT})
 
 add_executable(node_driver ${NODE_TEST_DIR}/node_driver.c)
-target_include_directories(node_driver PRIVATE ${CMAKE_SOURCE_DIR}/node ${CMAKE_SOURCE_DIR}/core)
+target_include_directories(node_driver PRIVATE ${CMAKE_SOURCE_DIR}/server ${CMAKE_SOURCE_DIR}/core)
 target_link_libraries(node_driver PRIVATE tessera_gl tessera tessera_net)
 
 set(NODE_FRAMES 3)

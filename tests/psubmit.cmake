@@ -1,5 +1,5 @@
 # tests/psubmit.cmake — parallel submission into one shared-mode server
-# node (node/node.h): the unpacker's yield/resume, psubmit with 1..4 rank
+# node (server/node.h): the unpacker's yield/resume, psubmit with 1..4 rank
 # processes bit-identical to psubmit-native, semaphore ordering, deadlock
 # and a client leaving a barrier. Real processes, real sockets, real
 # OSMesa; every test bounded. Included by tests/CMakeLists.txt.

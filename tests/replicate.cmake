@@ -37,7 +37,7 @@ add_test(NAME replicate_same_server_twice_is_a_clear_error
 add_test(NAME pack_stats_file_counts_frames_bytes_and_blocked_time
   COMMAND ${REPLICATE_SH} pack-blocked ${REPLICATE_BIN} ${REPLICATE_OUT}/pack-blocked)
 
-# Late joiners (replicate late=..., node/join.h): server B joins the
+# Late joiners (replicate late=..., client/join.h): server B joins the
 # running stream and draws bit-identical frames from its first one on;
 # spheres has (nested) display lists, texquads two textures bound in turn,
 # shaders GLSL programs (one relinked from a new source before B joins,
@@ -47,7 +47,7 @@ foreach(example spheres texquads isosurface shaders)
   add_test(NAME replicate_late_server_joins_mid_stream_exact_${example}
     COMMAND ${REPLICATE_LATE_SH} join ${REPLICATE_BIN} ${REPLICATE_OUT}/late-${example} ${example})
 endforeach()
-# The display-list recorder the joiners use (core/dlist.h), with the real
+# The display-list recorder the joiners use (tessera/dev/dlist.h), with the real
 # packer, unpacker and state tracker.
 add_executable(dlist_tests ${CMAKE_CURRENT_SOURCE_DIR}/replicate/dlist_tests.c)
 add_dependencies(dlist_tests tessera_generated)

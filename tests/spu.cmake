@@ -8,10 +8,10 @@ set(SPU_TEST_TEMPLATE_DIR ${CMAKE_CURRENT_BINARY_DIR}/spu_template) # template, 
 
 # Options: the parser is internal to libtessera, so it is compiled in.
 add_executable(spu_options_test ${SPU_TEST_SRC}/options_test.c
-  ${CMAKE_SOURCE_DIR}/core/options.c ${CMAKE_SOURCE_DIR}/core/error.c
-  ${CMAKE_SOURCE_DIR}/core/log.c)
+  ${CMAKE_SOURCE_DIR}/core/spu/options.c ${CMAKE_SOURCE_DIR}/core/util/names.c ${CMAKE_SOURCE_DIR}/core/util/error.c
+  ${CMAKE_SOURCE_DIR}/core/util/log.c)
 target_include_directories(spu_options_test PRIVATE ${CMAKE_SOURCE_DIR}/include
-  ${CMAKE_SOURCE_DIR}/core)
+  ${CMAKE_SOURCE_DIR}/core/spu)
 target_link_libraries(spu_options_test PRIVATE Threads::Threads m)
 foreach(t bool int_range int_rejects_junk_and_overflow float_range float_rejects_nan_and_inf
           string enum int_list float_list string_list defaults did_you_mean given_twice
@@ -106,9 +106,9 @@ add_test(NAME spu_template_out_of_tree
           "${SPU_TEST_EXTRA_CFLAGS}")
 set_tests_properties(spu_template_out_of_tree PROPERTIES TIMEOUT 300)
 
-# Logging levels and error values (core/log.c, core/error.c compiled in).
-add_executable(spu_log_test ${SPU_TEST_SRC}/log_test.c ${CMAKE_SOURCE_DIR}/core/log.c
-  ${CMAKE_SOURCE_DIR}/core/error.c)
+# Logging levels and error values (core/util/log.c, core/util/error.c compiled in).
+add_executable(spu_log_test ${SPU_TEST_SRC}/log_test.c ${CMAKE_SOURCE_DIR}/core/util/log.c
+  ${CMAKE_SOURCE_DIR}/core/util/error.c)
 target_include_directories(spu_log_test PRIVATE ${CMAKE_SOURCE_DIR}/include)
 target_link_libraries(spu_log_test PRIVATE Threads::Threads)
 add_test(NAME spu_log_default_level_is_warn COMMAND spu_log_test spu_log_level_filter warn)

@@ -2,7 +2,7 @@
  * program names to its GL driver's names.
  *
  * Why: glCreateShader/glCreateProgram return a name the driver picks. A
- * sender that tracks programs (core/state.h: tilesort, replicate with late
+ * sender that tracks programs (tessera/dev/state.h: tilesort, replicate with late
  * joiners) allocates names itself, like glGen*, and creates objects with
  * CreateShaderTSR(name, type) / CreateProgramTSR(name), so a renderer that
  * gets a program lazily, or joins late, knows it under the same name as

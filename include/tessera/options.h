@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include "tessera/error.h"
 #include "tessera/export.h"
 
 #ifdef __cplusplus
@@ -37,6 +38,11 @@ typedef struct tsr_option_spec {
  * option's declared name; asking for an undeclared name or the wrong type
  * is a programming error and returns 0 / NULL with a logged message. */
 typedef struct tsr_options tsr_options;
+
+/* Checks one text value against one declaration without keeping it
+ * (`spu` names the SPU in the message). */
+TSR_API int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text,
+                                   tsr_error *err);
 
 TSR_API bool tsr_options_bool(const tsr_options *o, const char *name);
 TSR_API int64_t tsr_options_int(const tsr_options *o, const char *name);

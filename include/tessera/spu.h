@@ -95,6 +95,19 @@ TSR_API size_t tsr_spu_list(const tsr_spu_class **out, size_t max);
 /* The directories searched, in order, joined by ':' into `buf`. */
 TSR_API const char *tsr_spu_search_path(char *buf, size_t size);
 
+/* --- Checking options without building a chain (graph checks) -------------
+ * Both use the parser chains use, so options that check build a chain that
+ * works. */
+
+/* The declaration of option `key` of `cls` or of one of its supers; NULL
+ * with `err` saying why (unknown option, with "did you mean"). */
+TSR_API const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char *key,
+                                                   tsr_error *err);
+/* Parses the whole set of `count` key=value pairs as a chain link of `cls`
+ * would (duplicates, defaults, every value): TSR_OK or `err` filled. */
+TSR_API int tsr_spu_check_options(const tsr_spu_class *cls, const char *const *keys,
+                                  const char *const *values, size_t count, tsr_error *err);
+
 #ifdef __cplusplus
 }
 #endif

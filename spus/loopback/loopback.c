@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pack.h"
+#include "tessera/dev/pack.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 typedef struct loopback_spu {
     const char *name;

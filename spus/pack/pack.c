@@ -1,19 +1,19 @@
 /* spus/pack/pack.c — the "pack" SPU: sends the stream, unchanged, to one
  * server node (`tessera node`); replies to gets, ReadPixels and the Gen and
  * Create calls come back, matched by request id.
- * Owns, per instance: one stream client (node/client.h), which holds the
+ * Owns, per instance: one stream client (tessera/dev/client.h), which holds the
  * connection, the packer, the failure policy (on_error) and the
  * statistics (TESSERA_STATS_FILE). Never calls its child: the stream goes
  * to the server. replicate is the same client with several servers. */
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "client.h"
+#include "tessera/dev/client.h"
 #include "tessera/spu.h"
 
 static void pack_destroy(void *instance)
 {
-    tsr_node_client_destroy(instance);
+    tsr_stream_client_destroy(instance);
 }
 
 static void *pack_create(const tsr_spu_init *init, tsr_error *err)
@@ -24,10 +24,10 @@ static void *pack_create(const tsr_spu_init *init, tsr_error *err)
                       init->instance_name);
         return NULL;
     }
-    tsr_node_client_config cfg = {.spu = "pack", .name = init->instance_name, .servers = &server,
+    tsr_stream_client_config cfg = {.spu = "pack", .name = init->instance_name, .servers = &server,
                                   .server_count = 1};
-    tsr_node_client_config_from_options(&cfg, init->options);
-    return tsr_node_client_create(&cfg, init->table, err);
+    tsr_stream_client_config_from_options(&cfg, init->options);
+    return tsr_stream_client_create(&cfg, init->table, err);
 }
 
 static const tsr_option_spec pack_options[] = {

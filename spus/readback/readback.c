@@ -7,7 +7,7 @@
  * barriers and swaps (the server's own context commands stay here).
  *
  * The display node is an ordinary server (`tessera node`, shared mode,
- * node/node.h) whose chain draws: every tile server is one of its
+ * server/node.h) whose chain draws: every tile server is one of its
  * clients, drawing into one shared window through a context of its own.
  * Per frame each tile server sends, for each tile, WindowPos2i(x, y) and
  * DrawPixels(w, h, RGBA, UNSIGNED_BYTE): with the display context's
@@ -24,9 +24,9 @@
  *
  * The stream to the display is created at the first window command, image
  * or swap, not with the instance: a node builds its chain once at start-up
- * only to check it (node/node.h), and that probe must not count as one of
+ * only to check it (server/node.h), and that probe must not count as one of
  * the display's clients. Failing to reach the display follows on_error,
- * like a display that fails later (pack's policy, node/client.h): exit
+ * like a display that fails later (pack's policy, tessera/dev/client.h): exit
  * (the default) ends the process with status 1 after one line naming the
  * display; drop logs it once and goes on, writing only the tile PNGs.
  *
@@ -42,7 +42,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "client.h"
+#include "tessera/dev/client.h"
 #include "render.h"
 #include "tessera/chain.h"
 #include "tessera/log.h"
@@ -85,7 +85,7 @@ static const tsr_dispatch *display(readback_spu *rb) {
         tsr_log(TSR_LOG_ERROR, "%s: display %s: %s", rb->name, values[0], err.message);
         if (!strcmp(values[4], "exit")) {
             /* The failure policy of a display that fails later (pack's,
-             * node/client.h): frames that reach no display are a failed
+             * tessera/dev/client.h): frames that reach no display are a failed
              * run. _exit: other threads (netlib's, llvmpipe's) are running. */
             tsr_log(TSR_LOG_ERROR, "%s: ending the server (on_error=exit)", rb->name);
             fflush(NULL);

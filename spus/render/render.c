@@ -31,7 +31,7 @@
  * instance it switches to before drawing.
  *
  * Several contexts, one window (a server node with many clients,
- * node/node.h): ContextCreateTSR(id) adds a context, MakeCurrentTSR(window,
+ * server/node.h): ContextCreateTSR(id) adds a context, MakeCurrentTSR(window,
  * id) directs the commands that follow to it, ContextDestroyTSR(id) drops
  * it; id 0 is the instance's own context. Every context draws into ONE
  * shared framebuffer, so N clients build one picture. What OSMesa does and

@@ -3,8 +3,8 @@
  * The stream is packed once and each flushed buffer is copied once and
  * handed to every connection (no per-server packing or copying). Replies
  * come from the first live server; the others' replies are read, their
- * request ids checked, and dropped (node/client.h says why).
- * Owns, per instance: one stream client (node/client.h) with one
+ * request ids checked, and dropped (tessera/dev/client.h says why).
+ * Owns, per instance: one stream client (tessera/dev/client.h) with one
  * connection per server, the failure policy (on_error: exit, or go on
  * without the failed server) and the statistics (TESSERA_STATS_FILE).
  * Never calls its child.
@@ -14,7 +14,7 @@
  * late_retry_ms, for late_give_up_ms or the whole run) and admits one
  * right after a SwapBuffersTSR, once it has been sent a catch-up stream of
  * its own (windows, display lists, texture and buffer objects, then a
- * state-tracker diff: node/join.h), so its frames from then on are the
+ * state-tracker diff: client/join.h), so its frames from then on are the
  * application's. Without `late` nothing is tracked: the stream costs the
  * same as before. A late server that never comes is one warning line at
  * the end, not an error.
@@ -30,11 +30,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "client.h"
+#include "tessera/dev/client.h"
 #include "tessera/spu.h"
 
 typedef struct replicate {
-    tsr_node_client *client;
+    tsr_stream_client *client;
     tsr_dispatch pack;      /* the client's packer table */
     GLuint last_name;       /* shader/program names given out so far */
 } replicate;
@@ -60,7 +60,7 @@ static void replicate_destroy(void *instance)
     replicate *r = instance;
     if (!r)
         return;
-    tsr_node_client_destroy(r->client);
+    tsr_stream_client_destroy(r->client);
     free(r);
 }
 
@@ -99,12 +99,12 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
                 return NULL;
             }
     }
-    tsr_node_client_config cfg = {.spu = "replicate", .name = init->instance_name,
+    tsr_stream_client_config cfg = {.spu = "replicate", .name = init->instance_name,
                                   .servers = servers, .server_count = count,
                                   .late_servers = late, .late_count = late_count,
                                   .late_retry_ms = (uint32_t)tsr_options_int(init->options, "late_retry_ms"),
                                   .late_give_up_ms = (uint32_t)tsr_options_int(init->options, "late_give_up_ms")};
-    tsr_node_client_config_from_options(&cfg, init->options);
+    tsr_stream_client_config_from_options(&cfg, init->options);
     replicate *r = calloc(1, sizeof *r);
     if (!r) {
         free(servers);
@@ -112,7 +112,7 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
         return NULL;
     }
-    r->client = tsr_node_client_create(&cfg, init->table, err);
+    r->client = tsr_stream_client_create(&cfg, init->table, err);
     free(servers); /* the client copied the addresses */
     free(late);
     if (!r->client) {

@@ -3,7 +3,7 @@
  * the servers it touches, and the next reopens the primitive.
  *
  * Why at flush time, and not per vertex: the geometry buffer fills inside
- * the packer (core/pack.c), between two commands, so the SPU learns of a
+ * the packer (core/wire/pack.c), between two commands, so the SPU learns of a
  * cut only when a full buffer reaches its sink. Watching every glVertex
  * would tax every primitive; reading the buffer back taxes only the ones
  * that are cut. A cut buffer is
@@ -67,11 +67,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pack.h"
-#include "state.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
 #include "tilesort.h"
-#include "unpack.h"
-#include "wire.h"
+#include "tessera/dev/unpack.h"
+#include "tessera/dev/wire.h"
 
 typedef struct ts_vertex {
     float pos[4];

@@ -4,7 +4,7 @@
  * it lacks.
  *
  * Routing (set up once per instance from the spec's categories):
- *   - state and object commands the tracker (core/state.h) implements go
+ *   - state and object commands the tracker (tessera/dev/state.h) implements go
  *     to the tracker only; before each one, pending geometry is flushed,
  *     because the diffs that precede geometry are taken from the tracker;
  *   - geometry is packed once into the geometry buffer while the packer
@@ -62,7 +62,7 @@
  * changes state goes to every server, and its state calls are replayed
  * into the tracker.
  *
- * Owns, per instance: the stream client (node/client.h, one connection per
+ * Owns, per instance: the stream client (tessera/dev/client.h, one connection per
  * server), the tracker with one context and one shadow per server, the
  * geometry packer, one small packer per server (diffs, tiles, lists,
  * requests), the tiling, the display lists. No globals. */
@@ -72,14 +72,14 @@
 #include <string.h>
 #include <time.h>
 
-#include "client.h"
-#include "pack.h"
-#include "state.h"
+#include "tessera/dev/client.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
 #include "tessera/image.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 #include "tilesort.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 /* What the routing does around a slot (see the header). */
 enum {
@@ -136,7 +136,7 @@ typedef struct ts_server {
 
 typedef struct tilesort {
     char name[96];
-    tsr_node_client *client;
+    tsr_stream_client *client;
     size_t nservers;
     ts_server *srv;
     ts_tiling tiling;
@@ -399,7 +399,7 @@ static void ensure_list(tilesort *t, ts_server *s, size_t slot, int depth)
     }
     for (size_t i = 0; i < l->nchunks; i++) {
         s->frame_bytes += l->chunks[i].size;
-        if (tsr_node_client_send(t->client, &s->index, 1, l->chunks[i].data, l->chunks[i].size, &err) != TSR_OK)
+        if (tsr_stream_client_send(t->client, &s->index, 1, l->chunks[i].data, l->chunks[i].size, &err) != TSR_OK)
             report(t, &err);
     }
     tsr_call_EndList(&s->table);
@@ -461,7 +461,7 @@ static size_t all_servers(tilesort *t)
 {
     size_t n = 0;
     for (size_t i = 0; i < t->nservers; i++)
-        if (!tsr_node_client_server_failed(t->client, i))
+        if (!tsr_stream_client_server_failed(t->client, i))
             t->targets[n++] = i;
     return n;
 }
@@ -482,7 +482,7 @@ static double box_margin(const tilesort *t)
 static size_t choose_targets(tilesort *t, size_t bytes)
 {
     if (t->only_target != TS_ANY_TARGET) {
-        if (tsr_node_client_server_failed(t->client, t->only_target))
+        if (tsr_stream_client_server_failed(t->client, t->only_target))
             return 0;
         t->targets[0] = t->only_target;
         return 1;
@@ -502,7 +502,7 @@ static size_t choose_targets(tilesort *t, size_t bytes)
     ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);
     size_t n = 0;
     for (size_t i = 0; i < t->nservers; i++)
-        if (t->hit[i] && !tsr_node_client_server_failed(t->client, i))
+        if (t->hit[i] && !tsr_stream_client_server_failed(t->client, i))
             t->targets[n++] = i;
     return n;
 }
@@ -558,7 +558,7 @@ static int geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error 
         prepare_server(t, &t->srv[t->targets[k]], 1);
     int rc = TSR_OK;
     if (n) {
-        rc = tsr_node_client_send(t->client, t->targets, n, buf, size, err);
+        rc = tsr_stream_client_send(t->client, t->targets, n, buf, size, err);
         for (size_t k = 0; k < n; k++) {
             ts_server *s = &t->srv[t->targets[k]];
             s->frame_bytes += size;
@@ -606,7 +606,7 @@ static void flush_before_state(tilesort *t)
 static ts_server *first_live(tilesort *t)
 {
     for (size_t i = 0; i < t->nservers; i++)
-        if (!tsr_node_client_server_failed(t->client, i))
+        if (!tsr_stream_client_server_failed(t->client, i))
             return &t->srv[i];
     return &t->srv[0];
 }
@@ -805,7 +805,7 @@ static const char *bucket_name(ts_bucket_mode m)
     return m == TS_BROADCAST ? "broadcast" : m == TS_TILES ? "tiles" : m == TS_BALANCE ? "balance" : "grid";
 }
 
-/* The sort-first members of the statistics file (node/client.h):
+/* The sort-first members of the statistics file (tessera/dev/client.h):
  *   "sort_first":{"bucket":"grid","servers":4,"stream_bytes":N,
  *     "bytes_out":N,"overlap":X,"imbalance":X,"server_bytes":[...],
  *     "frame_seconds":[...],"frames":[[bytes to server 0, 1, ...], ...]}
@@ -854,7 +854,7 @@ static void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     tsr_call_SwapBuffersTSR(&t->geo_table, window, flags);
     flush_geometry(t);
     t->frames++;
-    tsr_node_client_count_frame(t->client);
+    tsr_stream_client_count_frame(t->client);
     keep_frame_row(t);
     for (size_t i = 0; i < t->nservers; i++) {
         t->srv[i].bytes += t->srv[i].frame_bytes;
@@ -1098,7 +1098,7 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
         }
         failed |= add_sorted(t, TS_ANY_TARGET, &d, src);
         for (size_t s = 0; s < t->nservers; s++)
-            if (t->hit[s] && !tsr_node_client_server_failed(t->client, s))
+            if (t->hit[s] && !tsr_stream_client_server_failed(t->client, s))
                 failed |= add_sorted(t, s, &d, src);
     }
     for (size_t s = 0; s < t->nservers; s++)
@@ -1160,7 +1160,7 @@ static void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type,
     }
 }
 
-/* Programs are tracked (core/state_glsl.c) and reach each server in its
+/* Programs are tracked (core/state/state_glsl.c) and reach each server in its
  * diff, the first time it draws with them. While the current program has
  * a vertex shader, positions are the shader's: buffers go to every server. */
 static void ts_UseProgram(void *self, GLuint program)
@@ -1621,7 +1621,7 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
     int first = 1;
     for (size_t i = 0; i < t->nservers; i++) {
         ts_server *s = &t->srv[i];
-        if (tsr_node_client_server_failed(t->client, i))
+        if (tsr_stream_client_server_failed(t->client, i))
             continue;
         int meets = first;
         for (size_t k = 0; k < t->tiling.ntiles[i] && !meets; k++) {
@@ -1795,7 +1795,7 @@ static void tilesort_destroy(void *instance)
     if (t->geo)
         flush_geometry(t);
     if (t->client)
-        tsr_node_client_destroy(t->client);
+        tsr_stream_client_destroy(t->client);
     for (size_t i = 0; t->srv && i < t->nservers; i++) {
         tsr_packer_destroy(t->srv[i].packer);
         free(t->srv[i].lists);
@@ -1869,12 +1869,12 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", t->name);
         goto fail;
     }
-    tsr_node_client_config cfg = {.spu = "tilesort", .name = t->name, .servers = servers, .server_count = count};
-    tsr_node_client_config_from_options(&cfg, init->options);
-    t->client = tsr_node_client_connect(&cfg, err);
+    tsr_stream_client_config cfg = {.spu = "tilesort", .name = t->name, .servers = servers, .server_count = count};
+    tsr_stream_client_config_from_options(&cfg, init->options);
+    t->client = tsr_stream_client_connect(&cfg, err);
     if (!t->client)
         goto fail;
-    tsr_node_client_set_stats_extra(t->client, write_sort_first_stats, t);
+    tsr_stream_client_set_stats_extra(t->client, write_sort_first_stats, t);
     if (!(t->tracker = tsr_state_tracker_create(err)) || !(t->ctx = tsr_state_ctx_create(t->tracker, err)) ||
         !(t->split = ts_split_create(err)))
         goto fail;
@@ -1884,7 +1884,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
         s->index = i;
         if (!(s->shadow = tsr_state_shadow_create(t->tracker, err)))
             goto fail;
-        tsr_node_client_server_sink(t->client, i, &s->inner);
+        tsr_stream_client_server_sink(t->client, i, &s->inner);
         tsr_pack_sink sink = {.flush = server_sink_flush, .reply = server_sink_reply, .ctx = s};
         /* diffs, lists and requests are small: a quarter of a buffer */
         size_t size = cfg.buffer_size / 4 > TSR_PACK_MIN_BUFFER ? cfg.buffer_size / 4 : TSR_PACK_MIN_BUFFER;

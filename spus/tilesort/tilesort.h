@@ -13,8 +13,8 @@
 #include <GL/gl.h>
 
 #include "tessera/error.h"
-#include "pack.h"
-#include "state.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
 
 typedef struct ts_rect {
     int x, y, w, h;

@@ -14,7 +14,7 @@
 
 #include "tessera/dispatch.h"
 #include "tessera/error.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 #include "wire_test_gen.h"
 
 /* Outputs one command may request. The library default (1 GiB) is right for
@@ -29,7 +29,7 @@ typedef struct reply_reader {
 
 /* Reads every byte of every reply, so a reply whose size does not match
  * its bytes is an ASan error here, and checks the item framing
- * (core/wire.h section 5: 8-aligned u64 length + bytes). */
+ * (tessera/dev/wire.h section 5: 8-aligned u64 length + bytes). */
 static int read_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
     (void)err;

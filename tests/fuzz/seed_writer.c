@@ -2,7 +2,7 @@
  * by the real packer (immediate-mode spheres, textures, display lists,
  * client arrays and buffer objects, gets with replies, extended opcodes,
  * pixel and shader commands), named ok-*.bin, and malformed streams derived
- * from single packed commands at the offsets core/wire.h documents, named
+ * from single packed commands at the offsets tessera/dev/wire.h documents, named
  * bad-*.bin. Every seed is checked through fuzz_unpack_one() before it is
  * written: ok-* must decode, bad-* must be rejected (the replay test holds
  * the committed corpus to the same rule). Replies are answered by a real
@@ -19,10 +19,10 @@
 #include <GL/glext.h>
 
 #include "fuzz_unpack.h"
-#include "pack.h"
+#include "tessera/dev/pack.h"
 #include "tessera/dispatch.h"
-#include "unpack.h"
-#include "wire.h"
+#include "tessera/dev/unpack.h"
+#include "tessera/dev/wire.h"
 #include "wire_test_gen.h"
 
 #define MAX_REPLIES 64

@@ -20,11 +20,11 @@
 #include <GL/gl.h>
 
 #include "net.h"
-#include "protocol.h"
+#include "tessera/dev/protocol.h"
 #include "tessera/chain.h"
 #include "tessera/glapi.h"
 #include "tessera/gltsr_gen.h"
-#include "wire.h"
+#include "tessera/dev/wire.h"
 
 #define WIDTH 67   /* odd sizes catch row-stride mistakes */
 #define HEIGHT 43

@@ -1,6 +1,6 @@
 #!/bin/sh
 # tests/psubmit/psubmit.sh — parallel submission into one shared-mode
-# server node (node/node.h), with real processes over real sockets:
+# server node (server/node.h), with real processes over real sockets:
 #   accuracy BIN OUT N FRAMES   N psubmit ranks -> one node (render):
 #                               every frame bit-identical to psubmit-native
 #   semaphore BIN OUT DRIVER    V from one client lets another's P go on:

@@ -1,5 +1,5 @@
 /* tests/psubmit/psubmit_driver.c — small clients of a shared-mode server
- * node (node/node.h) for parallel-API behaviours psubmit cannot show.
+ * node (server/node.h) for parallel-API behaviours psubmit cannot show.
  * Each role sends its commands through CHAIN (normally "pack server=ADDR")
  * and ends by destroying the chain, which waits for the server's
  * confirmation (or error):

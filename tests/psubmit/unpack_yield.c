@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pack.h"
+#include "tessera/dev/pack.h"
 #include "tessera/dispatch.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 #define MAX_CALLS 64
 

@@ -1,4 +1,4 @@
-/* tests/render/image_test.c — tests of tsr_image (core/image.c): PNG
+/* tests/render/image_test.c — tests of tsr_image (core/image/image.c): PNG
  * round trips, conversion of every PNG colour type to RGBA8, compare,
  * row flip, frame patterns, error messages; also writes the fixture PNGs
  * the imgdiff CLI tests use. One behaviour per subcommand; each exits 0 on

@@ -1,5 +1,5 @@
-/* tests/replicate/dlist_tests.c — the display-list recorder (core/dlist.h)
- * that late joiners (node/join.h) use, with the real packer, unpacker and
+/* tests/replicate/dlist_tests.c — the display-list recorder (tessera/dev/dlist.h)
+ * that late joiners (client/join.h) use, with the real packer, unpacker and
  * state tracker:
  *   define_all_is_byte_exact  a list defined again through a packer is
  *                             the same wire bytes as the application's
@@ -17,10 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dlist.h"
-#include "pack.h"
-#include "state.h"
-#include "unpack.h"
+#include "tessera/dev/dlist.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
+#include "tessera/dev/unpack.h"
 
 static int failures;
 #define CHECK(cond, ...)                                                                           \

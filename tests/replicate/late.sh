@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/replicate/late.sh — replicate's late joiners (node/join.h) with real
+# tests/replicate/late.sh — replicate's late joiners (client/join.h) with real
 # `tessera node` servers, real example programs and real PNGs.
 # usage: late.sh MODE BIN_DIR OUT_DIR [EXAMPLE]
 #   join EXAMPLE  server A (TCP) gets the stream from the start; the app

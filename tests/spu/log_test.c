@@ -1,5 +1,5 @@
 /* tests/spu/log_test.c — tsr_log: the TESSERA_LOG level filter and the
- * one-line "tessera: " format (core/log.c and core/error.c, compiled in).
+ * one-line "tessera: " format (core/util/log.c and core/util/error.c, compiled in).
  * ctest sets TESSERA_LOG per test; the expected level is argument 1.
  * Owns nothing. Never: depends on the terminal. */
 #include <unistd.h>

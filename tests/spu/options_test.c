@@ -1,5 +1,5 @@
 /* tests/spu/options_test.c — parsing and validating typed SPU options
- * (core/options.c, compiled in): every type, ranges, bad values, lists,
+ * (core/spu/options.c, compiled in): every type, ranges, bad values, lists,
  * defaults, and the did-you-mean suggestion. Owns nothing. Never: checks a
  * message loosely when the exact text is the contract. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* tests/state/state_tests.c — the state tracker (core/state.h) against real
+/* tests/state/state_tests.c — the state tracker (tessera/dev/state.h) against real
  * GL: OSMesa loaded with dlopen and every GL entry resolved through
  * OSMesaGetProcAddress, as the render SPU does. One program, one ctest per
  * behaviour (`state_tests NAME [SEEDS]`):
@@ -51,12 +51,12 @@
 
 #include <GL/osmesa.h>
 
-#include "pack.h"
-#include "state.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
 #include "tessera/glsl_names.h"
 #include "tessera/glprocs_gen.h"
 #include "trace_gen.h"
-#include "unpack.h"
+#include "tessera/dev/unpack.h"
 
 static int failures;
 #define CHECK(cond, ...)                                                                  \
@@ -1269,7 +1269,7 @@ static void test_list_compile(void)
  * drawn in A and in B must give the same pixels: Mesa classifies a matrix
  * from its history (glRotate, glTranslate, ...) or, after glLoadMatrix,
  * from its values, and lighting rounds differently by class, so the diff
- * replays the operations (core/state.h, tsr_state_recipe). */
+ * replays the operations (tessera/dev/state.h, tsr_state_recipe). */
 static void matrix_ops(uint64_t seed, const tsr_dispatch *d, int n)
 {
     uint64_t r = seed * 7919 + 13;

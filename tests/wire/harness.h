@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pack.h"
-#include "unpack.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/unpack.h"
 #include "wire_gen.h"
 #include "wire_test_gen.h"
 

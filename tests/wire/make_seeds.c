@@ -12,8 +12,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "pack.h"
-#include "unpack.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/unpack.h"
 #include "wire_test_gen.h"
 
 typedef struct seeds {

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pixel.h"
+#include "tessera/dev/pixel.h"
 #include "tessera/glprocs_gen.h"
 
 #define CHECK(cond, ...)                                                   \

@@ -277,7 +277,7 @@ static int wire_client_arrays_draw_arrays_rebuild(void)
     tsr_packer_flush(rt.packer);
     CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
     /* What the receiver sees: BindBuffer(ARRAY_BUFFER, 0) from the client,
-     * then the documented rebuild (core/wire.h section 6). */
+     * then the documented rebuild (tessera/dev/wire.h section 6). */
     const char *const names[] = {
         "BindBuffer", "BindBuffer",
         "BindBuffer", "VertexPointer", "EnableClientState",

@@ -1,0 +1,1321 @@
+/* core/graph/graph.c — the graph file (tessera/graph.h): YAML read with libyaml's
+ * document loader, every key checked and copied into the immutable model,
+ * then the rules between nodes (edges, cycles, who serves whom). Owns: the
+ * model's memory (one allocation list freed with the graph). Never: keeps
+ * a model that failed a check, or reports an error without FILE:LINE:COL. */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <yaml.h>
+
+#include "tessera/dev/util.h"
+#include "tessera/graph.h"
+#include "tessera/spu.h"
+
+/* Unix-domain socket paths must fit sockaddr_un.sun_path (108 on Linux). */
+#define UNIX_PATH_LIMIT 108
+
+struct tsr_graph {
+    char *file;
+    int width, height;
+    tsr_graph_node *nodes;
+    size_t node_count;
+    size_t edge_count;
+    size_t *start_order; /* servers before their clients */
+    void **allocations;  /* everything the model points to */
+    size_t allocation_count, allocation_cap;
+};
+
+/* What the rules between nodes need to know about one node beyond the
+ * model: where its keys were, and the names in `to:` before they resolve. */
+typedef struct node_source {
+    yaml_node_t *name;
+    yaml_node_t *to_key;      /* NULL when the node has no `to:` */
+    yaml_node_t **to_names;   /* scalars, to_count of them */
+    yaml_node_t *network_spu; /* first network SPU of the chain, or NULL */
+    yaml_node_t *server_key;  /* first of transport/listen/tiles set on the node */
+    yaml_node_t *listen_value;
+    yaml_node_t **tile_values; /* one sequence per tile */
+} node_source;
+
+typedef struct loader {
+    const char *file;
+    unsigned flags;
+    yaml_document_t doc;
+    tsr_graph *graph;
+    tsr_error *err;
+    const char *default_host;
+    tsr_transport default_transport;
+    node_source *sources; /* one per node */
+} loader;
+
+/* The SPUs that send to other nodes. Kept here, in one place, until the
+ * SPU class can say so itself. */
+static const char *const network_spus[] = {"pack", "replicate", "tilesort", "binaryswap",
+                                           "readback"};
+#define NETWORK_SPU_COUNT (sizeof network_spus / sizeof network_spus[0])
+
+bool tsr_spu_is_network(const char *spu_name) {
+    if (!spu_name)
+        return false;
+    for (size_t i = 0; i < NETWORK_SPU_COUNT; i++)
+        if (!strcmp(spu_name, network_spus[i]))
+            return true;
+    return false;
+}
+
+/* "pack, replicate, ..." for messages. */
+static const char *network_spu_list(char *buf, size_t size) {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NETWORK_SPU_COUNT && used < size; i++)
+        used += (size_t)snprintf(buf + used, size - used, "%s%s", i ? ", " : "", network_spus[i]);
+    return buf;
+}
+
+/* ---- the model's memory ------------------------------------------------ */
+
+static void *graph_alloc(tsr_graph *g, size_t size) {
+    if (g->allocation_count == g->allocation_cap) {
+        size_t cap = g->allocation_cap ? 2 * g->allocation_cap : 64;
+        void **grown = realloc(g->allocations, cap * sizeof *grown);
+        if (!grown)
+            return NULL;
+        g->allocations = grown;
+        g->allocation_cap = cap;
+    }
+    void *p = calloc(1, size ? size : 1);
+    if (p)
+        g->allocations[g->allocation_count++] = p;
+    return p;
+}
+
+static char *graph_strdup(tsr_graph *g, const char *s) {
+    size_t len = strlen(s);
+    char *d = graph_alloc(g, len + 1);
+    if (d)
+        memcpy(d, s, len + 1);
+    return d;
+}
+
+void tsr_graph_free(tsr_graph *graph) {
+    if (!graph)
+        return;
+    for (size_t i = 0; i < graph->allocation_count; i++)
+        free(graph->allocations[i]);
+    free(graph->allocations);
+    free(graph);
+}
+
+/* ---- messages ------------------------------------------------------------- */
+
+static tsr_graph_mark mark_of(const yaml_node_t *n) {
+    return (tsr_graph_mark){(int)n->start_mark.line + 1, (int)n->start_mark.column + 1};
+}
+
+/* Every error goes through here so each names FILE:LINE:COL. */
+static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, ...) {
+    char message[sizeof l->err->message];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(message, sizeof message, fmt, ap);
+    va_end(ap);
+    tsr_graph_mark m = at ? mark_of(at) : (tsr_graph_mark){1, 1};
+    return tsr_error_set(l->err, code, "%s:%d:%d: %s", l->file, m.line, m.column, message);
+}
+
+static int out_of_memory(loader *l, const yaml_node_t *at) {
+    return fail_at(l, at, TSR_ENOMEM, "out of memory");
+}
+
+static yaml_node_t *node_at(loader *l, int index) { return yaml_document_get_node(&l->doc, index); }
+
+static bool is_null(const yaml_node_t *n) {
+    if (n->type != YAML_SCALAR_NODE || n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+        return false;
+    const char *v = (const char *)n->data.scalar.value;
+    return !*v || !strcmp(v, "~") || !strcmp(v, "null");
+}
+
+static const char *scalar_text(const yaml_node_t *n) {
+    return n->type == YAML_SCALAR_NODE ? (const char *)n->data.scalar.value : NULL;
+}
+
+/* "a list", "a mapping", "nothing", "'abc'" — what the user wrote. */
+static const char *describe(const yaml_node_t *n, char *buf, size_t size) {
+    if (n->type == YAML_SEQUENCE_NODE)
+        return "a list";
+    if (n->type == YAML_MAPPING_NODE)
+        return "a mapping";
+    if (is_null(n))
+        return "nothing";
+    snprintf(buf, size, "'%.80s'", scalar_text(n));
+    return buf;
+}
+
+/* ---- typed values ----------------------------------------------------------- */
+
+/* A non-empty scalar; `what` names the key for the message. */
+static const char *expect_string(loader *l, const yaml_node_t *n, const char *what) {
+    char buf[100];
+    if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+        fail_at(l, n, TSR_EINVAL, "%s: expected a string, got %s", what,
+                describe(n, buf, sizeof buf));
+        return NULL;
+    }
+    return scalar_text(n);
+}
+
+static int expect_int(loader *l, const yaml_node_t *n, const char *what, long min, long max,
+                      int *out) {
+    char buf[100];
+    const char *text = scalar_text(n);
+    if (!text || is_null(n))
+        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got %s", what,
+                       describe(n, buf, sizeof buf));
+    if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got the quoted string '%.80s'",
+                       what, text);
+    errno = 0;
+    char *end;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end)
+        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got '%.80s'", what, text);
+    if (errno == ERANGE || v < min || v > max)
+        return fail_at(l, n, TSR_EINVAL, "%s: %.80s is out of range [%ld, %ld]", what, text, min,
+                       max);
+    *out = (int)v;
+    return TSR_OK;
+}
+
+static int expect_kind(loader *l, const yaml_node_t *n, yaml_node_type_t kind, const char *what) {
+    if (n->type == kind)
+        return TSR_OK;
+    char buf[100];
+    return fail_at(l, n, TSR_EINVAL, "%s: expected %s, got %s", what,
+                   kind == YAML_MAPPING_NODE ? "a mapping" : "a list",
+                   describe(n, buf, sizeof buf));
+}
+
+/* Checks that every key of mapping `m` is a scalar from `allowed`, given
+ * once. `where` prefixes messages ("node 'app'"). */
+static int check_keys(loader *l, const yaml_node_t *m, const char *where,
+                      const char *const *allowed, size_t count) {
+    for (yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top; p++) {
+        yaml_node_t *key = node_at(l, p->key);
+        const char *name = scalar_text(key);
+        if (!name) {
+            char buf[100];
+            return fail_at(l, key, TSR_EINVAL, "%s: a key must be a name, got %s", where,
+                           describe(key, buf, sizeof buf));
+        }
+        bool known = false;
+        for (size_t i = 0; i < count; i++)
+            known |= !strcmp(name, allowed[i]);
+        if (!known) {
+            const char *hint = tsr_closest_name(name, allowed, count);
+            if (hint)
+                return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (did you mean '%s'?)",
+                               where, name, hint);
+            char list[300] = "";
+            size_t used = 0;
+            for (size_t i = 0; i < count && used < sizeof list; i++)
+                used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "",
+                                         allowed[i]);
+            return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (keys: %s)", where, name,
+                           list);
+        }
+        for (yaml_node_pair_t *q = m->data.mapping.pairs.start; q < p; q++) {
+            yaml_node_t *earlier = node_at(l, q->key);
+            const char *earlier_name = scalar_text(earlier);
+            if (earlier_name && !strcmp(earlier_name, name)) {
+                tsr_graph_mark first = mark_of(earlier);
+                return fail_at(l, key, TSR_EINVAL, "%s: key '%s' is given twice (first at %d:%d)",
+                               where, name, first.line, first.column);
+            }
+        }
+    }
+    return TSR_OK;
+}
+
+/* The value of `key` in mapping `m`, or NULL. Keys were checked to be
+ * scalars by check_keys. */
+static yaml_node_t *lookup(loader *l, const yaml_node_t *m, const char *key,
+                           yaml_node_t **key_node) {
+    for (yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top; p++) {
+        yaml_node_t *k = node_at(l, p->key);
+        const char *name = scalar_text(k);
+        if (name && !strcmp(name, key)) {
+            if (key_node)
+                *key_node = k;
+            return node_at(l, p->value);
+        }
+    }
+    return NULL;
+}
+
+/* ---- top-level keys ----------------------------------------------------------- */
+
+static const char *transport_names[] = {"tcp", "unix", "inproc"};
+
+const char *tsr_transport_name(tsr_transport transport) {
+    if ((unsigned)transport < sizeof transport_names / sizeof transport_names[0])
+        return transport_names[transport];
+    return "unknown";
+}
+
+static int parse_transport(loader *l, const yaml_node_t *n, const char *where, tsr_transport *out) {
+    char what[160];
+    snprintf(what, sizeof what, "%s: 'transport'", where);
+    const char *text = expect_string(l, n, what);
+    if (!text)
+        return l->err->code;
+    size_t count = sizeof transport_names / sizeof transport_names[0];
+    for (size_t i = 0; i < count; i++)
+        if (!strcmp(text, transport_names[i])) {
+            *out = (tsr_transport)i;
+            return TSR_OK;
+        }
+    const char *hint = tsr_closest_name(text, transport_names, count);
+    char suggestion[64] = "";
+    if (hint)
+        snprintf(suggestion, sizeof suggestion, "did you mean '%s'? ", hint);
+    return fail_at(l, n, TSR_EINVAL,
+                   "%s: unknown transport '%.80s' (%stransports: tcp, unix, inproc)", where, text,
+                   suggestion);
+}
+
+static int parse_version(loader *l, const yaml_node_t *root) {
+    yaml_node_t *v = lookup(l, root, "version", NULL);
+    if (!v)
+        return fail_at(l, root, TSR_EINVAL, "missing key 'version' (write 'version: %d' first)",
+                       TSR_GRAPH_VERSION);
+    int version;
+    int rc = expect_int(l, v, "'version'", INT_MIN, INT_MAX, &version);
+    if (rc != TSR_OK)
+        return rc;
+    if (version != TSR_GRAPH_VERSION)
+        return fail_at(l, v, TSR_EUNSUPPORTED,
+                       "'version': %d is not supported (this tessera reads version %d)", version,
+                       TSR_GRAPH_VERSION);
+    return TSR_OK;
+}
+
+static int parse_window(loader *l, const yaml_node_t *root) {
+    l->graph->width = TSR_GRAPH_DEFAULT_WIDTH;
+    l->graph->height = TSR_GRAPH_DEFAULT_HEIGHT;
+    yaml_node_t *w = lookup(l, root, "window", NULL);
+    if (!w)
+        return TSR_OK;
+    static const char *const keys[] = {"width", "height"};
+    int rc = expect_kind(l, w, YAML_MAPPING_NODE, "'window'");
+    if (rc == TSR_OK)
+        rc = check_keys(l, w, "'window'", keys, 2);
+    for (size_t i = 0; i < 2 && rc == TSR_OK; i++) {
+        yaml_node_t *v = lookup(l, w, keys[i], NULL);
+        if (!v)
+            return fail_at(l, w, TSR_EINVAL, "'window': missing '%s'", keys[i]);
+        char what[32];
+        snprintf(what, sizeof what, "window '%s'", keys[i]);
+        rc = expect_int(l, v, what, 1, TSR_GRAPH_MAX_SIDE,
+                        i == 0 ? &l->graph->width : &l->graph->height);
+    }
+    return rc;
+}
+
+static int parse_defaults(loader *l, const yaml_node_t *root) {
+    l->default_host = TSR_GRAPH_DEFAULT_HOST;
+    l->default_transport = TSR_TRANSPORT_TCP;
+    yaml_node_t *d = lookup(l, root, "defaults", NULL);
+    if (!d)
+        return TSR_OK;
+    static const char *const keys[] = {"host", "transport"};
+    int rc = expect_kind(l, d, YAML_MAPPING_NODE, "'defaults'");
+    if (rc == TSR_OK)
+        rc = check_keys(l, d, "'defaults'", keys, 2);
+    yaml_node_t *host = rc == TSR_OK ? lookup(l, d, "host", NULL) : NULL;
+    if (host) {
+        /* Nodes point at it after the document is gone: copy it. */
+        const char *text = expect_string(l, host, "'defaults': 'host'");
+        if (!text)
+            return l->err->code;
+        if (!(l->default_host = graph_strdup(l->graph, text)))
+            return out_of_memory(l, host);
+    }
+    yaml_node_t *transport = rc == TSR_OK ? lookup(l, d, "transport", NULL) : NULL;
+    if (transport)
+        rc = parse_transport(l, transport, "'defaults'", &l->default_transport);
+    return rc;
+}
+
+/* ---- node keys ------------------------------------------------------------------ */
+
+/* Splits `text` at blanks; "..." and '...' group, backslash escapes the
+ * next character outside single quotes. No expansions: no shell runs. */
+static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, const char *text) {
+    tsr_graph *g = l->graph;
+    size_t len = strlen(text);
+    char *buf = graph_alloc(g, len + 1);
+    /* At most one word per two characters, plus the terminating NULL. */
+    const char **argv = graph_alloc(g, (len / 2 + 2) * sizeof *argv);
+    if (!buf || !argv)
+        return out_of_memory(l, at);
+    size_t argc = 0, n = 0;
+    const char *p = text;
+    for (;;) {
+        while (isspace((unsigned char)*p))
+            p++;
+        if (!*p)
+            break;
+        argv[argc++] = buf + n;
+        char quote = 0;
+        for (; *p && (quote || !isspace((unsigned char)*p)); p++) {
+            if (quote && *p == quote) {
+                quote = 0;
+            } else if (!quote && (*p == '"' || *p == '\'')) {
+                quote = *p;
+            } else if (*p == '\\' && quote != '\'' && p[1]) {
+                buf[n++] = *++p;
+            } else {
+                buf[n++] = *p;
+            }
+        }
+        if (quote)
+            return fail_at(l, at, TSR_EINVAL, "node '%s': 'exec': unterminated %c quote in '%.80s'",
+                           node->name, quote, text);
+        buf[n++] = '\0';
+    }
+    if (argc == 0)
+        return fail_at(l, at, TSR_EINVAL, "node '%s': 'exec' names no program", node->name);
+    node->exec = argv;
+    node->exec_argc = argc;
+    return TSR_OK;
+}
+
+static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v) {
+    char what[160];
+    snprintf(what, sizeof what, "node '%s': 'exec'", node->name);
+    if (v->type != YAML_SEQUENCE_NODE) {
+        const char *text = expect_string(l, v, what);
+        return text ? split_exec(l, node, v, text) : l->err->code;
+    }
+    size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+    if (count == 0)
+        return fail_at(l, v, TSR_EINVAL, "%s names no program", what);
+    const char **argv = graph_alloc(l->graph, (count + 1) * sizeof *argv);
+    if (!argv)
+        return out_of_memory(l, v);
+    for (size_t i = 0; i < count; i++) {
+        yaml_node_t *item = node_at(l, v->data.sequence.items.start[i]);
+        const char *arg = expect_string(l, item, what);
+        if (!arg || !(argv[i] = graph_strdup(l->graph, arg)))
+            return arg ? out_of_memory(l, item) : l->err->code;
+    }
+    node->exec = argv;
+    node->exec_argc = count;
+    return TSR_OK;
+}
+
+/* An option value in the chain's text form: a scalar as written, a list
+ * of scalars joined by ',' (how list options are written in chain text). */
+static const char *option_text(loader *l, const yaml_node_t *v, const char *where,
+                               const char *key) {
+    char buf[100];
+    if (v->type == YAML_SCALAR_NODE)
+        return graph_strdup(l->graph, is_null(v) ? "" : scalar_text(v));
+    if (v->type == YAML_MAPPING_NODE) {
+        fail_at(l, v, TSR_EINVAL, "%s: option '%s': expected a value or a list, got %s", where, key,
+                describe(v, buf, sizeof buf));
+        return NULL;
+    }
+    size_t total = 1;
+    for (yaml_node_item_t *i = v->data.sequence.items.start; i < v->data.sequence.items.top; i++) {
+        yaml_node_t *item = node_at(l, *i);
+        const char *text = scalar_text(item);
+        if (!text) {
+            fail_at(l, item, TSR_EINVAL, "%s: option '%s': list elements must be values, got %s",
+                    where, key, describe(item, buf, sizeof buf));
+            return NULL;
+        }
+        if (strchr(text, ',')) {
+            fail_at(l, item, TSR_EINVAL,
+                    "%s: option '%s': list element '%.80s' contains ',', which separates elements",
+                    where, key, text);
+            return NULL;
+        }
+        total += strlen(text) + 1;
+    }
+    char *joined = graph_alloc(l->graph, total);
+    if (!joined) {
+        out_of_memory(l, v);
+        return NULL;
+    }
+    for (yaml_node_item_t *i = v->data.sequence.items.start; i < v->data.sequence.items.top; i++) {
+        if (i != v->data.sequence.items.start)
+            strcat(joined, ",");
+        strcat(joined, scalar_text(node_at(l, *i)));
+    }
+    return joined;
+}
+
+static bool is_spu_name(const char *name) {
+    if (!*name)
+        return false;
+    for (const char *p = name; *p; p++)
+        if (!islower((unsigned char)*p) && !isdigit((unsigned char)*p) && *p != '_')
+            return false;
+    return true;
+}
+
+/* Checks one link against the installed SPU: the class exists, every key
+ * is an option of it or its supers, every value parses. Uses the option
+ * parser chains use, so a graph that checks builds a chain that works. */
+static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_chain_link *link,
+                              yaml_node_t *spu_node, yaml_node_t **key_nodes,
+                              yaml_node_t **value_nodes) {
+    /* The loader's and option parser's messages name the SPU already. */
+    char where[120];
+    snprintf(where, sizeof where, "node '%s'", node->name);
+    tsr_error e;
+    tsr_error_clear(&e);
+    const tsr_spu_class *cls = tsr_spu_find(link->spu, &e);
+    if (!cls)
+        return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
+    /* The class itself first (its supers, its defaults). */
+    if (tsr_spu_check_options(cls, NULL, NULL, 0, &e) != TSR_OK)
+        return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
+    for (size_t k = 0; k < link->option_count; k++) {
+        const tsr_option_spec *spec = tsr_spu_find_option(cls, link->keys[k], &e);
+        if (!spec)
+            return fail_at(l, key_nodes[k], e.code ? e.code : TSR_EINVAL, "%s: %s", where,
+                           e.message);
+        if (tsr_option_check_value(link->spu, spec, link->values[k], &e) != TSR_OK)
+            return fail_at(l, value_nodes[k], e.code, "%s: %s", where, e.message);
+    }
+    /* The whole set once more, as the chain will parse it. */
+    if (tsr_spu_check_options(cls, link->keys, link->values, link->option_count, &e) != TSR_OK)
+        return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
+    return TSR_OK;
+}
+
+/* One chain entry: `spu`, `spu:` or `spu: {key: value, ...}`. */
+static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *entry,
+                      tsr_chain_link *link) {
+    char where[160], buf[100];
+    snprintf(where, sizeof where, "node '%s': chain", node->name);
+    yaml_node_t *spu_node = (yaml_node_t *)entry, *options = NULL;
+    if (entry->type == YAML_MAPPING_NODE) {
+        size_t pairs = (size_t)(entry->data.mapping.pairs.top - entry->data.mapping.pairs.start);
+        if (pairs != 1)
+            return fail_at(l, entry, TSR_EINVAL,
+                           "%s: an entry names one SPU, this one has %zu keys (start each SPU "
+                           "with '- ')",
+                           where, pairs);
+        spu_node = node_at(l, entry->data.mapping.pairs.start->key);
+        options = node_at(l, entry->data.mapping.pairs.start->value);
+        if (is_null(options))
+            options = NULL;
+    }
+    const char *name = scalar_text(spu_node);
+    if (!name || is_null(spu_node))
+        return fail_at(l, spu_node, TSR_EINVAL, "%s: expected an SPU name, got %s", where,
+                       describe(spu_node, buf, sizeof buf));
+    if (!is_spu_name(name))
+        return fail_at(l, spu_node, TSR_EINVAL, "%s: '%.80s' is not an SPU name ([a-z0-9_]+)",
+                       where, name);
+    snprintf(where, sizeof where, "node '%s': SPU '%s'", node->name, name);
+    if (!(link->spu = graph_strdup(l->graph, name)))
+        return out_of_memory(l, spu_node);
+    if (tsr_spu_is_network(name) && !src->network_spu)
+        src->network_spu = spu_node;
+    if (options) {
+        int rc = expect_kind(l, options, YAML_MAPPING_NODE, where);
+        if (rc != TSR_OK)
+            return rc;
+        size_t count =
+            (size_t)(options->data.mapping.pairs.top - options->data.mapping.pairs.start);
+        const char **keys = graph_alloc(l->graph, count * sizeof *keys);
+        const char **values = graph_alloc(l->graph, count * sizeof *values);
+        yaml_node_t **key_nodes = calloc(count ? count : 1, sizeof *key_nodes);
+        yaml_node_t **value_nodes = calloc(count ? count : 1, sizeof *value_nodes);
+        if (!keys || !values || !key_nodes || !value_nodes) {
+            free(key_nodes);
+            free(value_nodes);
+            return out_of_memory(l, options);
+        }
+        for (size_t k = 0; k < count && rc == TSR_OK; k++) {
+            yaml_node_pair_t *p = &options->data.mapping.pairs.start[k];
+            key_nodes[k] = node_at(l, p->key);
+            value_nodes[k] = node_at(l, p->value);
+            const char *key = scalar_text(key_nodes[k]);
+            if (!key || is_null(key_nodes[k])) {
+                rc = fail_at(l, key_nodes[k], TSR_EINVAL,
+                             "%s: an option name must be a name, got %s", where,
+                             describe(key_nodes[k], buf, sizeof buf));
+                break;
+            }
+            for (size_t j = 0; j < k; j++)
+                if (!strcmp(keys[j], key)) {
+                    tsr_graph_mark first = mark_of(key_nodes[j]);
+                    rc = fail_at(l, key_nodes[k], TSR_EINVAL,
+                                 "%s: option '%s' is given twice (first at %d:%d)", where, key,
+                                 first.line, first.column);
+                    break;
+                }
+            if (rc != TSR_OK)
+                break;
+            if (!(keys[k] = graph_strdup(l->graph, key)))
+                rc = out_of_memory(l, key_nodes[k]);
+            else if (!(values[k] = option_text(l, value_nodes[k], where, key)))
+                rc = l->err->code;
+        }
+        link->keys = keys;
+        link->values = values;
+        link->option_count = rc == TSR_OK ? count : 0;
+        if (rc == TSR_OK && !(l->flags & TSR_GRAPH_NO_SPU_CHECK))
+            rc = check_link_options(l, node, link, spu_node, key_nodes, value_nodes);
+        free(key_nodes);
+        free(value_nodes);
+        return rc;
+    }
+    if (!(l->flags & TSR_GRAPH_NO_SPU_CHECK))
+        return check_link_options(l, node, link, spu_node, NULL, NULL);
+    return TSR_OK;
+}
+
+static int parse_chain(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v) {
+    char where[160];
+    snprintf(where, sizeof where, "node '%s': 'chain'", node->name);
+    int rc = expect_kind(l, v, YAML_SEQUENCE_NODE, where);
+    if (rc != TSR_OK)
+        return rc;
+    size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+    if (count == 0)
+        return fail_at(l, v, TSR_EINVAL, "%s is empty: name at least one SPU", where);
+    tsr_chain_link *links = graph_alloc(l->graph, count * sizeof *links);
+    if (!links)
+        return out_of_memory(l, v);
+    for (size_t i = 0; i < count && rc == TSR_OK; i++)
+        rc = parse_link(l, node, src, node_at(l, v->data.sequence.items.start[i]), &links[i]);
+    node->chain = links;
+    node->chain_length = count;
+    return rc;
+}
+
+static int parse_to(loader *l, tsr_graph_node *node, node_source *src, yaml_node_t *v) {
+    char where[160];
+    snprintf(where, sizeof where, "node '%s': 'to'", node->name);
+    size_t count = v->type == YAML_SEQUENCE_NODE
+                       ? (size_t)(v->data.sequence.items.top - v->data.sequence.items.start)
+                       : 1;
+    src->to_names = calloc(count ? count : 1, sizeof *src->to_names);
+    if (!src->to_names)
+        return out_of_memory(l, v);
+    for (size_t i = 0; i < count; i++) {
+        yaml_node_t *item =
+            v->type == YAML_SEQUENCE_NODE ? node_at(l, v->data.sequence.items.start[i]) : v;
+        if (!expect_string(l, item, where))
+            return l->err->code;
+        src->to_names[i] = item;
+    }
+    node->to_count = count;
+    return TSR_OK;
+}
+
+static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v) {
+    char where[160];
+    snprintf(where, sizeof where, "node '%s': 'tiles'", node->name);
+    int rc = expect_kind(l, v, YAML_SEQUENCE_NODE, where);
+    if (rc != TSR_OK)
+        return rc;
+    size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+    if (count == 0)
+        return fail_at(l, v, TSR_EINVAL, "%s is empty: leave it out, or list [x, y, width, height]",
+                       where);
+    tsr_graph_tile *tiles = graph_alloc(l->graph, count * sizeof *tiles);
+    src->tile_values = calloc(count, sizeof *src->tile_values);
+    if (!tiles || !src->tile_values)
+        return out_of_memory(l, v);
+    int w = l->graph->width, h = l->graph->height;
+    for (size_t i = 0; i < count; i++) {
+        yaml_node_t *t = node_at(l, v->data.sequence.items.start[i]);
+        src->tile_values[i] = t;
+        size_t n = t->type == YAML_SEQUENCE_NODE
+                       ? (size_t)(t->data.sequence.items.top - t->data.sequence.items.start)
+                       : 0;
+        if (n != 4) {
+            char buf[100];
+            return fail_at(l, t, TSR_EINVAL, "%s: a tile is [x, y, width, height], got %s", where,
+                           t->type == YAML_SEQUENCE_NODE
+                               ? (snprintf(buf, sizeof buf, "a list of %zu", n), buf)
+                               : describe(t, buf, sizeof buf));
+        }
+        static const char *const field[] = {"x", "y", "width", "height"};
+        int value[4];
+        for (size_t f = 0; f < 4; f++) {
+            char what[200];
+            snprintf(what, sizeof what, "%s: tile %zu %s", where, i + 1, field[f]);
+            rc = expect_int(l, node_at(l, t->data.sequence.items.start[f]), what, f < 2 ? 0 : 1,
+                            TSR_GRAPH_MAX_SIDE, &value[f]);
+            if (rc != TSR_OK)
+                return rc;
+        }
+        tiles[i] = (tsr_graph_tile){value[0], value[1], value[2], value[3]};
+        if (value[0] + value[2] > w || value[1] + value[3] > h)
+            return fail_at(l, t, TSR_EINVAL,
+                           "%s: tile [%d, %d, %d, %d] reaches (%d, %d), outside the %dx%d window",
+                           where, value[0], value[1], value[2], value[3], value[0] + value[2],
+                           value[1] + value[3], w, h);
+        for (size_t j = 0; j < i; j++) {
+            const tsr_graph_tile *a = &tiles[j], *b = &tiles[i];
+            if (a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
+                b->y < a->y + a->height)
+                return fail_at(l, t, TSR_EINVAL,
+                               "%s: tile %zu [%d, %d, %d, %d] overlaps tile %zu [%d, %d, %d, %d]",
+                               where, i + 1, b->x, b->y, b->width, b->height, j + 1, a->x, a->y,
+                               a->width, a->height);
+        }
+    }
+    node->tiles = tiles;
+    node->tile_count = count;
+    return TSR_OK;
+}
+
+/* "PORT", "HOST:PORT" or "[V6]:PORT" for tcp; a path for unix. */
+static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t *v) {
+    const char *text = node->listen;
+    if (node->transport == TSR_TRANSPORT_INPROC)
+        return fail_at(l, v, TSR_EINVAL,
+                       "node '%s': 'listen' does not apply to transport inproc (nothing listens)",
+                       node->name);
+    if (node->transport == TSR_TRANSPORT_UNIX) {
+        if (strlen(text) >= UNIX_PATH_LIMIT)
+            return fail_at(l, v, TSR_EINVAL,
+                           "node '%s': 'listen': unix socket path is %zu bytes, the limit is %d",
+                           node->name, strlen(text), UNIX_PATH_LIMIT - 1);
+        return TSR_OK;
+    }
+    const char *port = text;
+    const char *colon = strrchr(text, ':');
+    if (text[0] == '[') {
+        const char *close = strchr(text, ']');
+        if (!close || close[1] != ':' || close == text + 1)
+            return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': '%.80s' is not [IPv6]:PORT",
+                           node->name, text);
+        port = close + 2;
+    } else if (colon) {
+        if (colon == text || memchr(text, ':', (size_t)(colon - text)))
+            return fail_at(l, v, TSR_EINVAL,
+                           "node '%s': 'listen': '%.80s' is not HOST:PORT (write IPv6 as "
+                           "[ADDR]:PORT)",
+                           node->name, text);
+        port = colon + 1;
+    }
+    char *end;
+    errno = 0;
+    long p = strtol(port, &end, 10);
+    if (!*port || *end || !isdigit((unsigned char)*port) || errno == ERANGE || p > 65535)
+        return fail_at(l, v, TSR_EINVAL,
+                       "node '%s': 'listen': port '%.20s' in '%.80s' is not a number in [0, 65535]",
+                       node->name, port, text);
+    return TSR_OK;
+}
+
+static const char *const node_keys[] = {"exec",      "chain",  "to",   "host",
+                                        "transport", "listen", "tiles"};
+
+static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_graph_node *node,
+                      node_source *src) {
+    char where[160], buf[100];
+    const char *name = scalar_text(name_node);
+    if (!name || is_null(name_node) || !*name)
+        return fail_at(l, name_node, TSR_EINVAL, "'nodes': a node name must be a name, got %s",
+                       describe(name_node, buf, sizeof buf));
+    for (const char *p = name; *p; p++)
+        if (!isalnum((unsigned char)*p) && *p != '_' && *p != '-' && *p != '.')
+            return fail_at(l, name_node, TSR_EINVAL,
+                           "node name '%.80s' has '%c': use letters, digits, '_', '-' and '.'",
+                           name, *p);
+    if (!(node->name = graph_strdup(l->graph, name)))
+        return out_of_memory(l, name_node);
+    node->mark = mark_of(name_node);
+    src->name = name_node;
+    snprintf(where, sizeof where, "node '%s'", name);
+    if (v->type != YAML_MAPPING_NODE)
+        return fail_at(l, v, TSR_EINVAL,
+                       "%s: expected a mapping of node keys (chain, exec, to, ...), got %s", where,
+                       describe(v, buf, sizeof buf));
+    int rc = check_keys(l, v, where, node_keys, sizeof node_keys / sizeof node_keys[0]);
+    if (rc != TSR_OK)
+        return rc;
+    /* In file order, so the first mistake on the page is the one reported. */
+    yaml_node_t *listen = NULL;
+    for (yaml_node_pair_t *p = v->data.mapping.pairs.start;
+         p < v->data.mapping.pairs.top && rc == TSR_OK; p++) {
+        yaml_node_t *key = node_at(l, p->key), *value = node_at(l, p->value);
+        const char *k = scalar_text(key);
+        if (!k) /* check_keys() accepted only scalar keys */
+            return fail_at(l, key, TSR_EINVAL, "%s: keys must be plain names", where);
+        char what[200];
+        snprintf(what, sizeof what, "%s: '%s'", where, k);
+        if (!strcmp(k, "exec")) {
+            rc = parse_exec(l, node, value);
+        } else if (!strcmp(k, "chain")) {
+            rc = parse_chain(l, node, src, value);
+        } else if (!strcmp(k, "to")) {
+            src->to_key = key;
+            rc = parse_to(l, node, src, value);
+        } else if (!strcmp(k, "host")) {
+            const char *host = expect_string(l, value, what);
+            if (!host)
+                rc = l->err->code;
+            else if (!(node->host = graph_strdup(l->graph, host)))
+                rc = out_of_memory(l, value);
+        } else if (!strcmp(k, "transport")) {
+            src->server_key = src->server_key ? src->server_key : key;
+            rc = parse_transport(l, value, where, &node->transport);
+        } else if (!strcmp(k, "listen")) {
+            src->server_key = src->server_key ? src->server_key : key;
+            const char *text = expect_string(l, value, what);
+            if (!text)
+                rc = l->err->code;
+            else if (!(node->listen = graph_strdup(l->graph, text)))
+                rc = out_of_memory(l, value);
+            listen = value;
+        } else if (!strcmp(k, "tiles")) {
+            src->server_key = src->server_key ? src->server_key : key;
+            rc = parse_tiles(l, node, src, value);
+        }
+    }
+    if (rc != TSR_OK)
+        return rc;
+    if (!node->chain)
+        return fail_at(l, name_node, TSR_EINVAL, "%s: missing key 'chain' (the SPUs it runs)",
+                       where);
+    if (!node->host)
+        node->host = l->default_host;
+    src->listen_value = listen;
+    if (listen)
+        return check_listen(l, node, listen);
+    return TSR_OK;
+}
+
+/* Every node starts from the default transport; parse_node overrides it
+ * when the node sets its own. */
+static int parse_nodes(loader *l, const yaml_node_t *root) {
+    yaml_node_t *key;
+    yaml_node_t *nodes = lookup(l, root, "nodes", &key);
+    if (!nodes)
+        return fail_at(l, root, TSR_EINVAL, "missing key 'nodes' (the processes of the graph)");
+    int rc = expect_kind(l, nodes, YAML_MAPPING_NODE, "'nodes'");
+    if (rc != TSR_OK)
+        return rc;
+    size_t count = (size_t)(nodes->data.mapping.pairs.top - nodes->data.mapping.pairs.start);
+    if (count == 0)
+        return fail_at(l, nodes, TSR_EINVAL, "'nodes' is empty: a graph needs at least one node");
+    l->graph->nodes = graph_alloc(l->graph, count * sizeof *l->graph->nodes);
+    l->sources = calloc(count, sizeof *l->sources);
+    if (!l->graph->nodes || !l->sources)
+        return out_of_memory(l, nodes);
+    for (size_t i = 0; i < count; i++) {
+        yaml_node_pair_t *p = &nodes->data.mapping.pairs.start[i];
+        yaml_node_t *name = node_at(l, p->key);
+        /* Duplicates first: YAML itself lets a later key win silently. */
+        for (size_t j = 0; j < i && name->type == YAML_SCALAR_NODE; j++) {
+            yaml_node_t *earlier = node_at(l, nodes->data.mapping.pairs.start[j].key);
+            if (earlier->type == YAML_SCALAR_NODE &&
+                !strcmp(scalar_text(earlier), scalar_text(name))) {
+                tsr_graph_mark first = mark_of(earlier);
+                return fail_at(l, name, TSR_EINVAL,
+                               "duplicate node name '%s' (first defined at %d:%d)",
+                               scalar_text(name), first.line, first.column);
+            }
+        }
+        tsr_graph_node *node = &l->graph->nodes[i];
+        node->transport = l->default_transport;
+        l->graph->node_count = i + 1;
+        rc = parse_node(l, name, node_at(l, p->value), node, &l->sources[i]);
+        if (rc != TSR_OK)
+            return rc;
+    }
+    return TSR_OK;
+}
+
+/* ---- rules between nodes ----------------------------------------------------------- */
+
+static int resolve_edges(loader *l) {
+    tsr_graph *g = l->graph;
+    const char **names = malloc(g->node_count * sizeof *names);
+    size_t *incoming = calloc(g->node_count, sizeof *incoming);
+    int rc = TSR_OK;
+    if (!names || !incoming) {
+        rc = out_of_memory(l, NULL);
+        goto done;
+    }
+    for (size_t i = 0; i < g->node_count; i++)
+        names[i] = g->nodes[i].name;
+    for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++) {
+        tsr_graph_node *node = &g->nodes[i];
+        node_source *src = &l->sources[i];
+        size_t *to = graph_alloc(g, (node->to_count ? node->to_count : 1) * sizeof *to);
+        if (!to) {
+            rc = out_of_memory(l, src->name);
+            break;
+        }
+        for (size_t e = 0; e < node->to_count && rc == TSR_OK; e++) {
+            yaml_node_t *at = src->to_names[e];
+            const char *target = scalar_text(at);
+            const tsr_graph_node *server = NULL;
+            for (size_t j = 0; j < g->node_count; j++)
+                if (!strcmp(g->nodes[j].name, target)) {
+                    server = &g->nodes[j];
+                    to[e] = j;
+                }
+            if (!server) {
+                const char *hint = tsr_closest_name(target, names, g->node_count);
+                char suggestion[200] = "";
+                if (hint)
+                    snprintf(suggestion, sizeof suggestion, " (did you mean '%s'?)", hint);
+                rc = fail_at(l, at, TSR_EINVAL,
+                             "node '%s': 'to' names '%.80s', which is not a node%s", node->name,
+                             target, suggestion);
+            } else if (server == node) {
+                rc = fail_at(l, at, TSR_EINVAL, "node '%s' sends to itself (a cycle)", node->name);
+            } else if (server->exec) {
+                rc =
+                    fail_at(l, at, TSR_EINVAL,
+                            "node '%s': 'to' names '%s', an app node (it has 'exec'); only servers "
+                            "receive streams",
+                            node->name, target);
+            }
+            for (size_t d = 0; d < e && rc == TSR_OK; d++)
+                if (to[d] == to[e])
+                    rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' lists '%s' twice", node->name,
+                                 target);
+            if (rc == TSR_OK)
+                incoming[to[e]]++;
+        }
+        node->to = to;
+        g->edge_count += node->to_count;
+    }
+    for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++) {
+        size_t *from = graph_alloc(g, (incoming[i] ? incoming[i] : 1) * sizeof *from);
+        if (!from) {
+            rc = out_of_memory(l, l->sources[i].name);
+            break;
+        }
+        g->nodes[i].from = from;
+    }
+    for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++)
+        for (size_t e = 0; e < g->nodes[i].to_count; e++) {
+            tsr_graph_node *server = &g->nodes[g->nodes[i].to[e]];
+            ((size_t *)server->from)[server->from_count++] = i;
+        }
+done:
+    free(names);
+    free(incoming);
+    return rc;
+}
+
+static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b) {
+    return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
+           b->y < a->y + a->height;
+}
+
+/* A display wall (spus/readback): a readback node sends its tile images to
+ * ONE display node, and the nodes whose images meet on one display own
+ * disjoint parts of the window (a node without tiles sends all of it), or
+ * the assembled window would depend on which image arrived last. */
+static int check_readback(loader *l, size_t i) {
+    tsr_graph *g = l->graph;
+    const tsr_graph_node *node = &g->nodes[i];
+    const node_source *src = &l->sources[i];
+    if (!src->network_spu || strcmp(scalar_text(src->network_spu), "readback"))
+        return TSR_OK;
+    if (node->to_count != 1)
+        return fail_at(l, src->to_key, TSR_EINVAL,
+                       "node '%s': readback sends its tile images to one display node, but 'to' "
+                       "names %zu",
+                       node->name, node->to_count);
+    const tsr_graph_node *display = &g->nodes[node->to[0]];
+    tsr_graph_tile whole = {0, 0, g->width, g->height};
+    for (size_t f = 0; f < display->from_count && display->from[f] < i; f++) {
+        const tsr_graph_node *other = &g->nodes[display->from[f]];
+        const node_source *osrc = &l->sources[display->from[f]];
+        if (!osrc->network_spu || strcmp(scalar_text(osrc->network_spu), "readback"))
+            continue;
+        size_t na = node->tile_count ? node->tile_count : 1;
+        size_t nb = other->tile_count ? other->tile_count : 1;
+        for (size_t a = 0; a < na; a++)
+            for (size_t b = 0; b < nb; b++) {
+                const tsr_graph_tile *ta = node->tile_count ? &node->tiles[a] : &whole;
+                const tsr_graph_tile *tb = other->tile_count ? &other->tiles[b] : &whole;
+                if (tiles_overlap(ta, tb))
+                    return fail_at(l, src->to_names[0], TSR_EINVAL,
+                                   "node '%s': its %s [%d, %d, %d, %d] overlaps node '%s''s %s "
+                                   "[%d, %d, %d, %d], and both send images to display '%s'",
+                                   node->name, node->tile_count ? "tile" : "window", ta->x, ta->y,
+                                   ta->width, ta->height, other->name,
+                                   other->tile_count ? "tile" : "window", tb->x, tb->y, tb->width,
+                                   tb->height, display->name);
+            }
+    }
+    return TSR_OK;
+}
+
+/* Roles: who may have `to:`, server-only keys, every server fed. */
+static int check_roles(loader *l) {
+    tsr_graph *g = l->graph;
+    for (size_t i = 0; i < g->node_count; i++) {
+        const tsr_graph_node *node = &g->nodes[i];
+        const node_source *src = &l->sources[i];
+        if (src->network_spu && node->to_count == 0)
+            return fail_at(l, src->network_spu, TSR_EINVAL,
+                           "node '%s': '%s' is a network SPU but the node has no servers ('to:' "
+                           "is missing or empty)",
+                           node->name, scalar_text(src->network_spu));
+        char list[200];
+        if (!src->network_spu && src->to_key)
+            return fail_at(l, src->to_key, TSR_EINVAL,
+                           "node '%s' has 'to' but no network SPU in its chain to send with (%s)",
+                           node->name, network_spu_list(list, sizeof list));
+        if (node->exec && src->server_key)
+            return fail_at(l, src->server_key, TSR_EINVAL,
+                           "node '%s': '%s' is for servers, but this is an app node (it has "
+                           "'exec')",
+                           node->name, scalar_text(src->server_key));
+        if (!node->exec && node->from_count == 0)
+            return fail_at(l, src->name, TSR_EINVAL,
+                           "server '%s' receives from no node: no 'to' names it (an app node "
+                           "needs 'exec')",
+                           node->name);
+        /* Sort-first: every server of a tilesort node draws its tiles. */
+        if (src->network_spu && !strcmp(scalar_text(src->network_spu), "tilesort"))
+            for (size_t e = 0; e < node->to_count; e++)
+                if (g->nodes[node->to[e]].tile_count == 0)
+                    return fail_at(l, src->network_spu, TSR_EINVAL,
+                                   "node '%s': tilesort sends to server '%s', which has no "
+                                   "'tiles' (give it tiles: [[x, y, width, height]])",
+                                   node->name, g->nodes[node->to[e]].name);
+        int rc = check_readback(l, i);
+        if (rc != TSR_OK)
+            return rc;
+    }
+    return TSR_OK;
+}
+
+/* Depth-first search; `state` 0 unvisited, 1 on the current path, 2 done.
+ * `path` holds the nodes of the current path. */
+static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, size_t depth) {
+    tsr_graph *g = l->graph;
+    state[at] = 1;
+    path[depth] = at;
+    const tsr_graph_node *node = &g->nodes[at];
+    for (size_t e = 0; e < node->to_count; e++) {
+        size_t next = node->to[e];
+        if (state[next] == 1) {
+            char cycle[400] = "";
+            size_t used = 0;
+            size_t start = depth;
+            while (path[start] != next)
+                start--;
+            for (size_t i = start; i <= depth && used < sizeof cycle; i++)
+                used += (size_t)snprintf(cycle + used, sizeof cycle - used, "%s -> ",
+                                         g->nodes[path[i]].name);
+            if (used < sizeof cycle)
+                snprintf(cycle + used, sizeof cycle - used, "%s", g->nodes[next].name);
+            return fail_at(l, l->sources[at].to_names[e], TSR_EINVAL,
+                           "node '%s': 'to' closes a cycle: %s", node->name, cycle);
+        }
+        if (state[next] == 0) {
+            int rc = find_cycle(l, next, state, path, depth + 1);
+            if (rc != TSR_OK)
+                return rc;
+        }
+    }
+    state[at] = 2;
+    return TSR_OK;
+}
+
+static int check_cycles(loader *l) {
+    tsr_graph *g = l->graph;
+    unsigned char *state = calloc(g->node_count, 1);
+    size_t *path = calloc(g->node_count, sizeof *path);
+    int rc = state && path ? TSR_OK : out_of_memory(l, NULL);
+    for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++)
+        if (state[i] == 0)
+            rc = find_cycle(l, i, state, path, 0);
+    free(state);
+    free(path);
+    return rc;
+}
+
+/* The port of a tcp listen address (checked by check_listen), and its
+ * bind address (empty for "PORT"). */
+static const char *split_listen(const char *listen, char *bind, size_t size) {
+    const char *colon = strrchr(listen, ':');
+    if (!colon) {
+        bind[0] = '\0';
+        return listen;
+    }
+    snprintf(bind, size, "%.*s", (int)(colon - listen), listen);
+    return colon + 1;
+}
+
+/* Two servers of one host and transport: unix paths collide when equal;
+ * tcp ports when equal and not 0 (any free port), unless both name
+ * different bind addresses. */
+static bool listen_collides(const tsr_graph_node *a, const tsr_graph_node *b) {
+    if (a->transport == TSR_TRANSPORT_UNIX)
+        return !strcmp(a->listen, b->listen);
+    char bind_a[256], bind_b[256];
+    const char *port_a = split_listen(a->listen, bind_a, sizeof bind_a);
+    const char *port_b = split_listen(b->listen, bind_b, sizeof bind_b);
+    if (strtol(port_a, NULL, 10) == 0 || strtol(port_a, NULL, 10) != strtol(port_b, NULL, 10))
+        return false;
+    return !bind_a[0] || !bind_b[0] || !strcmp(bind_a, bind_b);
+}
+
+/* Transports that cannot leave a host, and listen addresses in use twice. */
+static int check_transports(loader *l) {
+    tsr_graph *g = l->graph;
+    for (size_t i = 0; i < g->node_count; i++) {
+        const tsr_graph_node *node = &g->nodes[i];
+        for (size_t e = 0; e < node->to_count; e++) {
+            const tsr_graph_node *server = &g->nodes[node->to[e]];
+            yaml_node_t *at = l->sources[i].to_names[e];
+            if (server->transport != TSR_TRANSPORT_TCP && strcmp(server->host, node->host))
+                return fail_at(l, at, TSR_EINVAL,
+                               "node '%s' on host '%s' cannot reach '%s' on host '%s' over "
+                               "transport %s (same host only; use tcp)",
+                               node->name, node->host, server->name, server->host,
+                               tsr_transport_name(server->transport));
+            if (server->transport == TSR_TRANSPORT_INPROC && server->from_count > 1)
+                return fail_at(l, at, TSR_EINVAL,
+                               "node '%s': server '%s' uses transport inproc, which serves one "
+                               "client, but %zu nodes send to it",
+                               node->name, server->name, server->from_count);
+        }
+        if (!node->listen)
+            continue;
+        for (size_t j = 0; j < i; j++) {
+            const tsr_graph_node *other = &g->nodes[j];
+            if (other->listen && !strcmp(other->host, node->host) &&
+                other->transport == node->transport && listen_collides(node, other))
+                return fail_at(l, l->sources[i].listen_value, TSR_EINVAL,
+                               "node '%s': 'listen' address '%s' on host '%s' collides with node "
+                               "'%s' ('%s')",
+                               node->name, node->listen, node->host, other->name, other->listen);
+        }
+    }
+    return TSR_OK;
+}
+
+/* Post-order along `to`: a node is placed after every server it sends to.
+ * Runs after check_cycles, so the recursion ends. */
+static void place_after_servers(const tsr_graph *g, size_t at, bool *placed, size_t *out,
+                                size_t *n) {
+    placed[at] = true;
+    for (size_t e = 0; e < g->nodes[at].to_count; e++)
+        if (!placed[g->nodes[at].to[e]])
+            place_after_servers(g, g->nodes[at].to[e], placed, out, n);
+    out[(*n)++] = at;
+}
+
+static int compute_start_order(loader *l) {
+    tsr_graph *g = l->graph;
+    bool *placed = calloc(g->node_count, sizeof *placed);
+    g->start_order = graph_alloc(g, g->node_count * sizeof *g->start_order);
+    if (!placed || !g->start_order) {
+        free(placed);
+        return out_of_memory(l, NULL);
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < g->node_count; i++)
+        if (!placed[i])
+            place_after_servers(g, i, placed, g->start_order, &n);
+    free(placed);
+    return TSR_OK;
+}
+
+/* ---- loading ----------------------------------------------------------------------- */
+
+static const char *const top_keys[] = {"version", "window", "defaults", "nodes"};
+
+static int load_document(loader *l) {
+    yaml_node_t *root = yaml_document_get_root_node(&l->doc);
+    if (!root)
+        return tsr_error_set(l->err, TSR_EINVAL,
+                             "%s:1:1: empty graph file (expected 'version: %d' "
+                             "and 'nodes:')",
+                             l->file, TSR_GRAPH_VERSION);
+    int rc = expect_kind(l, root, YAML_MAPPING_NODE, "graph file");
+    if (rc == TSR_OK)
+        rc = check_keys(l, root, "graph", top_keys, sizeof top_keys / sizeof top_keys[0]);
+    if (rc == TSR_OK)
+        rc = parse_version(l, root);
+    if (rc == TSR_OK)
+        rc = parse_window(l, root);
+    if (rc == TSR_OK)
+        rc = parse_defaults(l, root);
+    if (rc == TSR_OK)
+        rc = parse_nodes(l, root);
+    if (rc == TSR_OK)
+        rc = resolve_edges(l);
+    if (rc == TSR_OK)
+        rc = check_roles(l);
+    if (rc == TSR_OK)
+        rc = check_cycles(l);
+    if (rc == TSR_OK)
+        rc = check_transports(l);
+    if (rc == TSR_OK)
+        rc = compute_start_order(l);
+    return rc;
+}
+
+/* libyaml's problem, where it was found, and where the construct it was
+ * reading started ("while parsing a flow sequence (started at 6:12)"). */
+static int yaml_syntax_error(const yaml_parser_t *parser, const char *file_name, tsr_error *err) {
+    char context[200] = "";
+    if (parser->context)
+        snprintf(context, sizeof context, " %s (started at %d:%d)", parser->context,
+                 (int)parser->context_mark.line + 1, (int)parser->context_mark.column + 1);
+    return tsr_error_set(err, TSR_EINVAL, "%s:%d:%d: YAML syntax: %s%s", file_name,
+                         (int)parser->problem_mark.line + 1, (int)parser->problem_mark.column + 1,
+                         parser->problem ? parser->problem : "malformed document", context);
+}
+
+tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name, unsigned flags,
+                           tsr_error *err) {
+    tsr_error local;
+    if (!err) {
+        err = &local;
+    }
+    tsr_error_clear(err);
+    if (!file_name)
+        file_name = "(graph)";
+    if (!text) {
+        tsr_error_set(err, TSR_EINVAL, "%s: no graph text", file_name);
+        return NULL;
+    }
+    loader l = {.file = file_name, .flags = flags, .err = err};
+    yaml_parser_t parser;
+    if (!yaml_parser_initialize(&parser)) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for the YAML parser", file_name);
+        return NULL;
+    }
+    yaml_parser_set_input_string(&parser, (const unsigned char *)text, length);
+    if (!yaml_parser_load(&parser, &l.doc)) {
+        yaml_syntax_error(&parser, file_name, err);
+        yaml_parser_delete(&parser);
+        return NULL;
+    }
+    /* One document per file: a second one is almost surely a mistake. */
+    yaml_document_t extra;
+    int rc = TSR_OK;
+    if (yaml_document_get_root_node(&l.doc)) {
+        if (!yaml_parser_load(&parser, &extra)) {
+            rc = yaml_syntax_error(&parser, file_name, err);
+        } else {
+            yaml_node_t *second = yaml_document_get_root_node(&extra);
+            if (second)
+                rc = tsr_error_set(err, TSR_EINVAL,
+                                   "%s:%d:%d: a second YAML document ('---'); a graph file holds "
+                                   "one",
+                                   file_name, (int)extra.start_mark.line + 1,
+                                   (int)extra.start_mark.column + 1);
+            yaml_document_delete(&extra);
+        }
+    }
+    yaml_parser_delete(&parser);
+
+    l.graph = calloc(1, sizeof *l.graph);
+    if (rc == TSR_OK && !l.graph)
+        rc = tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", file_name);
+    if (rc == TSR_OK && !(l.graph->file = graph_strdup(l.graph, file_name)))
+        rc = tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", file_name);
+    if (rc == TSR_OK)
+        rc = load_document(&l);
+    if (l.sources && l.graph) {
+        for (size_t i = 0; i < l.graph->node_count; i++) {
+            free(l.sources[i].to_names);
+            free(l.sources[i].tile_values);
+        }
+    }
+    free(l.sources);
+    yaml_document_delete(&l.doc);
+    if (rc != TSR_OK) {
+        tsr_graph_free(l.graph);
+        return NULL;
+    }
+    return l.graph;
+}
+
+tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err) {
+    if (!path) {
+        tsr_error_set(err, TSR_EINVAL, "graph: no file name");
+        return NULL;
+    }
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: cannot open: %s", path,
+                      strerror(errno));
+        return NULL;
+    }
+    char *text = NULL;
+    size_t size = 0, cap = 0;
+    for (;;) {
+        if (size == cap) {
+            cap = cap ? 2 * cap : 16384;
+            char *grown = cap <= (size_t)64 << 20 ? realloc(text, cap) : NULL;
+            if (!grown) {
+                free(text);
+                fclose(f);
+                tsr_error_set(err, TSR_ENOMEM, "%s: too large for a graph file", path);
+                return NULL;
+            }
+            text = grown;
+        }
+        size_t got = fread(text + size, 1, cap - size, f);
+        size += got;
+        if (got == 0)
+            break;
+    }
+    int failed = ferror(f);
+    fclose(f);
+    if (failed) {
+        free(text);
+        tsr_error_set(err, TSR_EIO, "%s: read error", path);
+        return NULL;
+    }
+    tsr_graph *g = tsr_graph_parse(text, size, path, flags, err);
+    free(text);
+    return g;
+}
+
+/* ---- accessors ---------------------------------------------------------------------- */
+
+const char *tsr_graph_file(const tsr_graph *graph) { return graph->file; }
+int tsr_graph_width(const tsr_graph *graph) { return graph->width; }
+int tsr_graph_height(const tsr_graph *graph) { return graph->height; }
+size_t tsr_graph_node_count(const tsr_graph *graph) { return graph->node_count; }
+size_t tsr_graph_edge_count(const tsr_graph *graph) { return graph->edge_count; }
+
+const tsr_graph_node *tsr_graph_node_at(const tsr_graph *graph, size_t index) {
+    return index < graph->node_count ? &graph->nodes[index] : NULL;
+}
+
+const tsr_graph_node *tsr_graph_find(const tsr_graph *graph, const char *name) {
+    for (size_t i = 0; i < graph->node_count; i++)
+        if (!strcmp(graph->nodes[i].name, name))
+            return &graph->nodes[i];
+    return NULL;
+}
+
+const size_t *tsr_graph_start_order(const tsr_graph *graph) { return graph->start_order; }

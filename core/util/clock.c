@@ -1,0 +1,10 @@
+#include "tessera/dev/util.h"
+
+#include <time.h>
+
+double tsr_now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}

@@ -1,0 +1,901 @@
+/* core/wire/pack.c — packer runtime: buffer memory and flushing, replies, the
+ * client-state mirrors (pixel store, vertex arrays, buffer bindings, the
+ * client attribute stack) and the hand-written packers of `local` and
+ * `custom` commands (client-array draws as one bulk payload, ShaderSource,
+ * GetTexImage; formats in tessera/dev/wire.h). Generated packers (pack_gen.c) do
+ * everything else. Owns only the packer's memory; never sends a host
+ * pointer; never aborts: problems are recorded in the packer's error. */
+#include "tessera/dev/pack.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tessera/log.h"
+#include "wire_gen.h"
+
+static void record(tsr_packer *p, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+static void record(tsr_packer *p, int code, const char *fmt, ...)
+{
+    if (p->error.code != TSR_OK)
+        return;
+    char msg[sizeof p->error.message];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    tsr_error_set(&p->error, code, "%s", msg);
+    tsr_log(TSR_LOG_WARN, "packer: %s", msg);
+}
+
+static void use_normal_buffer(tsr_packer *p)
+{
+    p->mid = p->mem + TSR_WIRE_HEADER_SIZE + p->op_room;
+    p->op = p->mid;
+    p->op_limit = p->mid - p->op_room;
+    p->data = p->mid;
+    p->data_end = p->mid + p->data_room;
+}
+
+void tsr_packer_bbox_reset(tsr_packer *p)
+{
+    for (int i = 0; i < 4; i++) {
+        p->bbox_min[i] = INFINITY;
+        p->bbox_max[i] = -INFINITY;
+    }
+    p->bbox_nan = 0;
+}
+
+void tsr_packer_bbox_infinite(tsr_packer *p)
+{
+    for (int i = 0; i < 3; i++) {
+        p->bbox_min[i] = -INFINITY;
+        p->bbox_max[i] = INFINITY;
+    }
+}
+
+int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3])
+{
+    if (p->bbox_nan) {
+        for (int i = 0; i < 3; i++) {
+            min[i] = -INFINITY;
+            max[i] = INFINITY;
+        }
+        return 1;
+    }
+    for (int i = 0; i < 3; i++) {
+        min[i] = p->bbox_min[i];
+        max[i] = p->bbox_max[i];
+    }
+    return p->bbox_min[0] <= p->bbox_max[0];
+}
+
+tsr_packer *tsr_packer_create(size_t buffer_size, const tsr_pack_sink *sink, tsr_error *err)
+{
+    if (buffer_size < TSR_PACK_MIN_BUFFER) {
+        tsr_error_set(err, TSR_EINVAL, "packer: buffer size %zu is below the minimum %u", buffer_size,
+                      TSR_PACK_MIN_BUFFER);
+        return NULL;
+    }
+    tsr_packer *p = calloc(1, sizeof *p);
+    if (!p) {
+        tsr_error_set(err, TSR_ENOMEM, "packer: out of memory");
+        return NULL;
+    }
+    /* One opcode per 4 data bytes: Vertex3f streams (12 bytes per opcode)
+     * fill the data first, End/PopMatrix-heavy ones the opcodes. */
+    size_t usable = (buffer_size - TSR_WIRE_HEADER_SIZE) & ~(size_t)7;
+    p->op_room = (usable / 5) & ~(size_t)7;
+    p->data_room = usable - p->op_room;
+    p->mem_size = TSR_WIRE_HEADER_SIZE + usable;
+    p->mem = calloc(1, p->mem_size);
+    if (!p->mem) {
+        free(p);
+        tsr_error_set(err, TSR_ENOMEM, "packer: out of memory for a %zu-byte buffer", buffer_size);
+        return NULL;
+    }
+    if (sink)
+        p->sink = *sink;
+    use_normal_buffer(p);
+    tsr_packer_bbox_reset(p);
+    tsr_pixel_store_init(&p->pixels);
+    return p;
+}
+
+void tsr_packer_destroy(tsr_packer *p)
+{
+    if (!p)
+        return;
+    free(p->mem);
+    free(p->big);
+    for (size_t i = 0; i < p->nstrings; i++)
+        free(p->strings[i]);
+    free(p->strings);
+    free(p);
+}
+
+size_t tsr_packer_pending(const tsr_packer *p)
+{
+    return (size_t)(p->mid - p->op) + (size_t)(p->data - p->mid);
+}
+
+int tsr_packer_flush(tsr_packer *p)
+{
+    size_t nops = (size_t)(p->mid - p->op);
+    if (!nops)
+        return 0;
+    size_t padded = (size_t)tsr_wire_align8(nops);
+    memset(p->mid - padded, 0, padded - nops);
+    uint8_t *h = p->mid - padded - TSR_WIRE_HEADER_SIZE;
+    size_t dlen = (size_t)(p->data - p->mid);
+    tsr_wire_put_u32(h, TSR_WIRE_MAGIC);
+    tsr_wire_put_u32(h + 4, (uint32_t)nops);
+    tsr_wire_put_u64(h + 8, dlen);
+    size_t size = TSR_WIRE_HEADER_SIZE + padded + dlen;
+    int rc = 0;
+    tsr_error e;
+    tsr_error_clear(&e);
+    if (p->sink.flush)
+        rc = p->sink.flush(p->sink.ctx, h, size, &e);
+    p->buffers_sent++;
+    p->bytes_sent += size;
+    if (p->big) {
+        free(p->big);
+        p->big = NULL;
+    }
+    use_normal_buffer(p);
+    tsr_packer_bbox_reset(p);
+    if (rc) {
+        record(p, rc, "flushing a %zu-byte buffer failed: %s", size, e.message);
+        return rc;
+    }
+    return 0;
+}
+
+static uint8_t *place(tsr_packer *p, uint8_t opcode, size_t size, size_t align)
+{
+    uint8_t *d = (uint8_t *)(((uintptr_t)p->data + (align - 1)) & ~(uintptr_t)(align - 1));
+    *--p->op = opcode;
+    p->data = d + size;
+    return d;
+}
+
+static int fits(const tsr_packer *p, uint64_t size, size_t align)
+{
+    uint8_t *d = (uint8_t *)(((uintptr_t)p->data + (align - 1)) & ~(uintptr_t)(align - 1));
+    return p->op != p->op_limit && (uint64_t)(p->data_end - d) >= size;
+}
+
+static uint8_t *cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
+
+uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
+{
+    uint8_t *d = cmd_slow(p, opcode, size, align);
+    return d ? d : p->discard;
+}
+
+static uint8_t *cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
+{
+    if (p->mid != p->op)
+        tsr_packer_flush(p);
+    if (fits(p, size, align))
+        return place(p, (uint8_t)opcode, (size_t)size, align);
+    /* Larger than a whole buffer: a buffer of its own, sent on the next
+     * command or flush. */
+    if (size > SIZE_MAX / 2) {
+        record(p, TSR_ENOMEM, "command %s of %llu bytes cannot be packed", tsr_wire_opcode_name(opcode),
+               (unsigned long long)size);
+        return NULL;
+    }
+    size_t room = (size_t)tsr_wire_align8(size);
+    uint8_t *big = malloc(TSR_WIRE_HEADER_SIZE + 8 + room);
+    if (!big) {
+        record(p, TSR_ENOMEM, "out of memory for a %llu-byte command", (unsigned long long)size);
+        return NULL;
+    }
+    p->big = big;
+    p->mid = big + TSR_WIRE_HEADER_SIZE + 8;
+    p->op = p->mid;
+    p->op_limit = p->mid - 1;
+    p->data = p->mid;
+    p->data_end = p->mid + room;
+    return place(p, (uint8_t)opcode, (size_t)size, align);
+}
+
+uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
+{
+    if (opcode < TSR_WIRE_EXTENDED) {
+        if (!fits(p, size, align))
+            return cmd_slow(p, opcode, size, align);
+        return place(p, (uint8_t)opcode, (size_t)size, align);
+    }
+    if (size > UINT64_MAX - 8) {
+        record(p, TSR_ENOMEM, "command %s is too large", tsr_wire_opcode_name(opcode));
+        return NULL;
+    }
+    uint8_t *h = fits(p, size + 8, 8) ? place(p, TSR_WIRE_EXTENDED, (size_t)(size + 8), 8)
+                                       : cmd_slow(p, TSR_WIRE_EXTENDED, size + 8, 8);
+    if (!h)
+        return NULL;
+    tsr_wire_put_u32(h, opcode);
+    tsr_wire_put_u32(h + 4, size < TSR_WIRE_EXT_LEN_UNKNOWN ? (uint32_t)size : TSR_WIRE_EXT_LEN_UNKNOWN);
+    return h + 8;
+}
+
+void tsr_packer_drop(tsr_packer *p, const char *command, const char *why)
+{
+    p->commands_dropped++;
+    record(p, TSR_EINVAL, "gl%s not sent: %s", command, why ? why : "invalid arguments");
+}
+
+const tsr_error *tsr_packer_error(const tsr_packer *p)
+{
+    return &p->error;
+}
+
+void tsr_packer_clear_error(tsr_packer *p)
+{
+    tsr_error_clear(&p->error);
+}
+
+const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size)
+{
+    if (tsr_packer_flush(p) != 0)
+        return NULL;
+    if (!p->sink.reply) {
+        record(p, TSR_ESTATE, "request %u needs a reply but the packer's sink has no reply channel", id);
+        return NULL;
+    }
+    const uint8_t *r = NULL;
+    size_t n = 0;
+    tsr_error e;
+    tsr_error_clear(&e);
+    if (p->sink.reply(p->sink.ctx, id, &r, &n, &e) != 0 || !r) {
+        record(p, e.code ? e.code : TSR_EPROTO, "no reply to request %u: %s", id, e.message);
+        return NULL;
+    }
+    *size = n;
+    return r;
+}
+
+const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos, uint64_t *len,
+                                     const char *command)
+{
+    size_t q = (size_t)tsr_wire_align8(*pos);
+    if (q > rsize || rsize - q < 8) {
+        record(p, TSR_EPROTO, "reply to gl%s is truncated", command);
+        return NULL;
+    }
+    uint64_t n = tsr_wire_get_u64(r + q);
+    q += 8;
+    if (n > rsize - q) {
+        record(p, TSR_EPROTO, "reply to gl%s has an item of %llu bytes beyond its end", command, (unsigned long long)n);
+        return NULL;
+    }
+    *len = n;
+    *pos = q + (size_t)n;
+    return r + q;
+}
+
+const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t len)
+{
+    for (size_t i = 0; i < p->nstrings; i++)
+        if (strlen(p->strings[i]) + 1 == len && !memcmp(p->strings[i], s, (size_t)len))
+            return (const GLubyte *)p->strings[i];
+    char **v = realloc(p->strings, (p->nstrings + 1) * sizeof *v);
+    if (!v)
+        return NULL;
+    p->strings = v;
+    char *copy = malloc((size_t)len + 1);
+    if (!copy)
+        return NULL;
+    memcpy(copy, s, (size_t)len);
+    copy[len] = '\0';
+    p->strings[p->nstrings++] = copy;
+    return (const GLubyte *)copy;
+}
+
+/* --- mirrors of client state ------------------------------------------------ */
+
+void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value)
+{
+    tsr_pixel_store_set(&p->pixels, pname, value);
+}
+
+void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer)
+{
+    if (target == GL_ARRAY_BUFFER)
+        p->arrays.array_buffer = buffer;
+    else if (target == GL_ELEMENT_ARRAY_BUFFER)
+        p->arrays.element_buffer = buffer;
+}
+
+void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers)
+{
+    for (GLsizei i = 0; buffers && i < n; i++) {
+        if (!buffers[i])
+            continue;
+        if (buffers[i] == p->arrays.array_buffer)
+            p->arrays.array_buffer = 0;
+        if (buffers[i] == p->arrays.element_buffer)
+            p->arrays.element_buffer = 0;
+    }
+}
+
+static void set_array(tsr_packer *p, tsr_client_array *a, GLint size, GLenum type, GLsizei stride, GLboolean normalized,
+                      const void *pointer)
+{
+    a->size = size;
+    a->type = type;
+    a->stride = stride;
+    a->normalized = normalized != 0;
+    a->buffer = p->arrays.array_buffer;
+    a->pointer = pointer;
+}
+
+void tsr_packer_local_VertexPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.vertex, size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_NormalPointer(tsr_packer *p, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.normal, 3, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_ColorPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.color, size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_TexCoordPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    if (p->arrays.active_texture < TSR_PACK_TEXUNITS)
+        set_array(p, &p->arrays.texcoord[p->arrays.active_texture], size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_EdgeFlagPointer(tsr_packer *p, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.edge_flag, 1, GL_UNSIGNED_BYTE, stride, 0, pointer);
+}
+
+void tsr_packer_local_VertexAttribPointer(tsr_packer *p, GLuint index, GLint size, GLenum type, GLboolean normalized,
+                                          GLsizei stride, const void *pointer)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        set_array(p, &p->arrays.attrib[index], size, type, stride, normalized, pointer);
+}
+
+static tsr_client_array *array_of(tsr_packer *p, GLenum array)
+{
+    switch (array) {
+    case GL_VERTEX_ARRAY: return &p->arrays.vertex;
+    case GL_NORMAL_ARRAY: return &p->arrays.normal;
+    case GL_COLOR_ARRAY: return &p->arrays.color;
+    case GL_EDGE_FLAG_ARRAY: return &p->arrays.edge_flag;
+    case GL_TEXTURE_COORD_ARRAY:
+        return p->arrays.active_texture < TSR_PACK_TEXUNITS ? &p->arrays.texcoord[p->arrays.active_texture] : NULL;
+    default: return NULL;
+    }
+}
+
+int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
+{
+    const tsr_client_array *a = array_of(p, cap);
+    if (!a && cap != GL_TEXTURE_COORD_ARRAY)
+        return 0;
+    *out = a && a->enabled ? GL_TRUE : GL_FALSE;
+    return 1;
+}
+
+void tsr_packer_local_EnableClientState(tsr_packer *p, GLenum array)
+{
+    tsr_client_array *a = array_of(p, array);
+    if (a)
+        a->enabled = 1;
+}
+
+void tsr_packer_local_DisableClientState(tsr_packer *p, GLenum array)
+{
+    tsr_client_array *a = array_of(p, array);
+    if (a)
+        a->enabled = 0;
+}
+
+void tsr_packer_local_EnableVertexAttribArray(tsr_packer *p, GLuint index)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        p->arrays.attrib[index].enabled = 1;
+}
+
+void tsr_packer_local_DisableVertexAttribArray(tsr_packer *p, GLuint index)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        p->arrays.attrib[index].enabled = 0;
+}
+
+void tsr_packer_local_ClientActiveTexture(tsr_packer *p, GLenum texture)
+{
+    if (texture >= GL_TEXTURE0 && texture < GL_TEXTURE0 + TSR_PACK_TEXUNITS)
+        p->arrays.active_texture = texture - GL_TEXTURE0;
+}
+
+/* glInterleavedArrays (GL 2.1 table 2.5): which arrays a format enables,
+ * their sizes and offsets in floats (c = 4 unsigned bytes of color). */
+typedef struct interleaved {
+    GLenum format;
+    int st, sc, sv;       /* texcoord, color, vertex sizes (0: absent) */
+    GLenum ctype;
+    int normal;           /* has a normal */
+    int pc, pn, pv, s;    /* offsets and stride, in bytes */
+} interleaved;
+
+#define F 4
+#define C 4
+static const interleaved interleaved_formats[] = {
+    {GL_V2F, 0, 0, 2, 0, 0, 0, 0, 0, 2 * F},
+    {GL_V3F, 0, 0, 3, 0, 0, 0, 0, 0, 3 * F},
+    {GL_C4UB_V2F, 0, 4, 2, GL_UNSIGNED_BYTE, 0, 0, 0, C, C + 2 * F},
+    {GL_C4UB_V3F, 0, 4, 3, GL_UNSIGNED_BYTE, 0, 0, 0, C, C + 3 * F},
+    {GL_C3F_V3F, 0, 3, 3, GL_FLOAT, 0, 0, 0, 3 * F, 6 * F},
+    {GL_N3F_V3F, 0, 0, 3, 0, 1, 0, 0, 3 * F, 6 * F},
+    {GL_C4F_N3F_V3F, 0, 4, 3, GL_FLOAT, 1, 0, 4 * F, 7 * F, 10 * F},
+    {GL_T2F_V3F, 2, 0, 3, 0, 0, 0, 0, 2 * F, 5 * F},
+    {GL_T4F_V4F, 4, 0, 4, 0, 0, 0, 0, 4 * F, 8 * F},
+    {GL_T2F_C4UB_V3F, 2, 4, 3, GL_UNSIGNED_BYTE, 0, 2 * F, 0, C + 2 * F, C + 5 * F},
+    {GL_T2F_C3F_V3F, 2, 3, 3, GL_FLOAT, 0, 2 * F, 0, 5 * F, 8 * F},
+    {GL_T2F_N3F_V3F, 2, 0, 3, 0, 1, 0, 2 * F, 5 * F, 8 * F},
+    {GL_T2F_C4F_N3F_V3F, 2, 4, 3, GL_FLOAT, 1, 2 * F, 6 * F, 9 * F, 12 * F},
+    {GL_T4F_C4F_N3F_V4F, 4, 4, 4, GL_FLOAT, 1, 4 * F, 8 * F, 11 * F, 15 * F},
+};
+#undef F
+#undef C
+
+void tsr_packer_local_InterleavedArrays(tsr_packer *p, GLenum format, GLsizei stride, const void *pointer)
+{
+    const interleaved *f = NULL;
+    for (size_t i = 0; i < sizeof interleaved_formats / sizeof interleaved_formats[0]; i++)
+        if (interleaved_formats[i].format == format)
+            f = &interleaved_formats[i];
+    if (!f || stride < 0) {
+        tsr_packer_drop(p, "InterleavedArrays", "unknown format or negative stride");
+        return;
+    }
+    GLsizei s = stride ? stride : f->s;
+    const char *base = pointer;
+    /* Integer arithmetic: with a bound buffer the pointer is an offset. */
+#define AT(off) ((const void *)((uintptr_t)base + (uintptr_t)(off)))
+    p->arrays.edge_flag.enabled = 0;
+    tsr_client_array *tc = array_of(p, GL_TEXTURE_COORD_ARRAY);
+    if (tc) {
+        tc->enabled = f->st != 0;
+        if (f->st)
+            set_array(p, tc, f->st, GL_FLOAT, s, 0, AT(0));
+    }
+    p->arrays.color.enabled = f->sc != 0;
+    if (f->sc)
+        set_array(p, &p->arrays.color, f->sc, f->ctype, s, 0, AT(f->pc));
+    p->arrays.normal.enabled = f->normal != 0;
+    if (f->normal)
+        set_array(p, &p->arrays.normal, 3, GL_FLOAT, s, 0, AT(f->pn));
+    p->arrays.vertex.enabled = 1;
+    set_array(p, &p->arrays.vertex, f->sv, GL_FLOAT, s, 0, AT(f->pv));
+#undef AT
+}
+
+static const GLenum pixel_pnames[] = {
+    GL_PACK_ROW_LENGTH,   GL_PACK_IMAGE_HEIGHT,   GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_ROWS,
+    GL_PACK_SKIP_IMAGES,  GL_PACK_ALIGNMENT,      GL_PACK_SWAP_BYTES,    GL_PACK_LSB_FIRST,
+    GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
+    GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,   GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,
+};
+
+void tsr_packer_local_PushClientAttrib(tsr_packer *p, GLbitfield mask)
+{
+    if (p->stack_depth >= TSR_PACK_STACK) {
+        record(p, TSR_ESTATE, "glPushClientAttrib: stack overflow (depth %d)", TSR_PACK_STACK);
+        return;
+    }
+    p->stack[p->stack_depth].mask = mask;
+    p->stack[p->stack_depth].pixels = p->pixels;
+    p->stack[p->stack_depth].arrays = p->arrays;
+    p->stack_depth++;
+}
+
+void tsr_packer_local_PopClientAttrib(tsr_packer *p)
+{
+    if (!p->stack_depth) {
+        record(p, TSR_ESTATE, "glPopClientAttrib: stack underflow");
+        return;
+    }
+    p->stack_depth--;
+    uint32_t mask = p->stack[p->stack_depth].mask;
+    /* The server never sees Push/PopClientAttrib: send what the pop changes
+     * in state it does see (pixel store, buffer bindings). */
+    if (mask & GL_CLIENT_PIXEL_STORE_BIT) {
+        tsr_pixel_store old = p->pixels;
+        const tsr_pixel_store *saved = &p->stack[p->stack_depth].pixels;
+        for (size_t i = 0; i < sizeof pixel_pnames / sizeof pixel_pnames[0]; i++) {
+            int32_t v = tsr_pixel_store_get(saved, pixel_pnames[i]);
+            if (v != tsr_pixel_store_get(&old, pixel_pnames[i]))
+                tsr_pack_PixelStorei(p, pixel_pnames[i], v);
+        }
+        p->pixels = *saved;
+    }
+    if (mask & GL_CLIENT_VERTEX_ARRAY_BIT) {
+        tsr_client_arrays *saved = &p->stack[p->stack_depth].arrays;
+        if (saved->array_buffer != p->arrays.array_buffer)
+            tsr_pack_BindBuffer(p, GL_ARRAY_BUFFER, saved->array_buffer);
+        if (saved->element_buffer != p->arrays.element_buffer)
+            tsr_pack_BindBuffer(p, GL_ELEMENT_ARRAY_BUFFER, saved->element_buffer);
+        p->arrays = *saved;
+    }
+}
+
+void tsr_packer_local_GetPointerv(tsr_packer *p, GLenum pname, void **params)
+{
+    const tsr_client_array *a = NULL;
+    switch (pname) {
+    case GL_VERTEX_ARRAY_POINTER: a = &p->arrays.vertex; break;
+    case GL_NORMAL_ARRAY_POINTER: a = &p->arrays.normal; break;
+    case GL_COLOR_ARRAY_POINTER: a = &p->arrays.color; break;
+    case GL_EDGE_FLAG_ARRAY_POINTER: a = &p->arrays.edge_flag; break;
+    case GL_TEXTURE_COORD_ARRAY_POINTER: a = array_of(p, GL_TEXTURE_COORD_ARRAY); break;
+    default: break;
+    }
+    if (params)
+        *params = a ? (void *)a->pointer : NULL;
+}
+
+/* --- client-array draws ------------------------------------------------------ */
+
+typedef struct draw_array {
+    const tsr_client_array *a;
+    uint32_t kind, index;
+    uint64_t elem;          /* bytes of one element */
+} draw_array;
+
+static int collect_arrays(tsr_packer *p, draw_array *out, const char *cmd)
+{
+    int n = 0;
+    const tsr_client_arrays *s = &p->arrays;
+    const struct {
+        const tsr_client_array *a;
+        uint32_t kind, index;
+    } all[] = {
+        {&s->vertex, TSR_WIRE_ARRAY_VERTEX, 0},
+        {&s->normal, TSR_WIRE_ARRAY_NORMAL, 0},
+        {&s->color, TSR_WIRE_ARRAY_COLOR, 0},
+        {&s->edge_flag, TSR_WIRE_ARRAY_EDGE_FLAG, 0},
+    };
+    for (size_t i = 0; i < 4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS; i++) {
+        const tsr_client_array *a;
+        uint32_t kind, index;
+        if (i < 4) {
+            a = all[i].a;
+            kind = all[i].kind;
+            index = 0;
+        } else if (i < 4 + TSR_PACK_TEXUNITS) {
+            index = (uint32_t)(i - 4);
+            a = &s->texcoord[index];
+            kind = TSR_WIRE_ARRAY_TEXCOORD;
+        } else {
+            index = (uint32_t)(i - 4 - TSR_PACK_TEXUNITS);
+            a = &s->attrib[index];
+            kind = TSR_WIRE_ARRAY_ATTRIB;
+        }
+        if (!a->enabled)
+            continue;
+        uint64_t ts = tsr_gl_type_size(a->type);
+        uint64_t comps = kind == TSR_WIRE_ARRAY_NORMAL ? 3 : kind == TSR_WIRE_ARRAY_EDGE_FLAG ? 1
+                         : a->size == GL_BGRA ? 4 : (uint64_t)a->size;
+        if (kind == TSR_WIRE_ARRAY_EDGE_FLAG)
+            ts = 1;
+        if (!ts || !((a->size >= 1 && a->size <= 4) || a->size == GL_BGRA) || a->stride < 0) {
+            record(p, TSR_EINVAL, "gl%s not sent: an enabled array has size %d, type 0x%x, stride %d", cmd, a->size,
+                   a->type, a->stride);
+            return -1;
+        }
+        if (!a->buffer && !a->pointer) {
+            record(p, TSR_EINVAL, "gl%s not sent: an enabled client array has a NULL pointer", cmd);
+            return -1;
+        }
+        out[n].a = a;
+        out[n].kind = kind;
+        out[n].index = index;
+        out[n].elem = comps * ts;
+        n++;
+    }
+    return n;
+}
+
+/* Bytes of the ARRAYS block for elements [lo, hi] (count 0: no arrays). */
+static int arrays_size(const draw_array *v, int n, uint64_t lo, uint64_t hi, uint64_t *size)
+{
+    uint64_t s = 16;
+    for (int i = 0; i < n; i++) {
+        s += 48;
+        if (v[i].a->buffer)
+            continue;
+        uint64_t bytes;
+        if (__builtin_mul_overflow(hi - lo + 1, v[i].elem, &bytes) || bytes > (UINT64_MAX >> 2))
+            return -1;
+        s = tsr_wire_align8(s + bytes);
+    }
+    *size = s;
+    return 0;
+}
+
+static void write_arrays(const tsr_packer *p, uint8_t *out, const draw_array *v, int n, uint64_t lo, uint64_t hi)
+{
+    tsr_wire_put_u32(out, p->arrays.array_buffer);
+    tsr_wire_put_u32(out + 4, p->arrays.element_buffer);
+    tsr_wire_put_u32(out + 8, p->arrays.active_texture);
+    tsr_wire_put_u32(out + 12, (uint32_t)n);
+    uint64_t q = 16;
+    for (int i = 0; i < n; i++) {
+        const tsr_client_array *a = v[i].a;
+        uint8_t *r = out + q;
+        memset(r, 0, 48);
+        tsr_wire_put_u32(r, v[i].kind);
+        tsr_wire_put_u32(r + 4, v[i].index);
+        tsr_wire_put_u32(r + 8, (uint32_t)a->size);
+        tsr_wire_put_u32(r + 12, a->type);
+        tsr_wire_put_u32(r + 16, (uint32_t)(a->buffer ? a->stride : 0));
+        tsr_wire_put_u32(r + 20, a->normalized);
+        tsr_wire_put_u32(r + 24, a->buffer);
+        q += 48;
+        if (a->buffer) {
+            tsr_wire_put_u64(r + 32, (uint64_t)(uintptr_t)a->pointer);
+            tsr_wire_put_u64(r + 40, 0);
+            continue;
+        }
+        uint64_t count = hi - lo + 1, elem = v[i].elem;
+        uint64_t stride = a->stride ? (uint64_t)a->stride : elem;
+        tsr_wire_put_u64(r + 32, lo);
+        tsr_wire_put_u64(r + 40, count * elem);
+        const uint8_t *src = (const uint8_t *)a->pointer + lo * stride;
+        uint8_t *dst = out + q;
+        if (stride == elem) {
+            memcpy(dst, src, (size_t)(count * elem));
+        } else {
+            for (uint64_t k = 0; k < count; k++)
+                memcpy(dst + k * elem, src + k * stride, (size_t)elem);
+        }
+        uint64_t end = q + count * elem;
+        q = tsr_wire_align8(end);
+        memset(out + end, 0, (size_t)(q - end));
+    }
+}
+
+int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4])
+{
+    if (a->buffer || (a->type != GL_FLOAT && a->type != GL_DOUBLE && a->type != GL_INT && a->type != GL_SHORT) ||
+        a->size < 1 || a->size > 4)
+        return 0;
+    size_t ts = tsr_gl_type_size(a->type);
+    uint64_t stride = a->stride ? (uint64_t)a->stride : (uint64_t)a->size * ts;
+    const uint8_t *e = (const uint8_t *)a->pointer + i * stride;
+    out[0] = out[1] = out[2] = 0;
+    out[3] = 1;
+    for (int j = 0; j < a->size; j++) {
+        switch (a->type) {
+        case GL_FLOAT: { float f; memcpy(&f, e + 4 * j, 4); out[j] = f; break; }
+        case GL_DOUBLE: { double d; memcpy(&d, e + 8 * j, 8); out[j] = (float)d; break; }
+        case GL_INT: { GLint x; memcpy(&x, e + 4 * j, 4); out[j] = (float)x; break; }
+        default: { GLshort x; memcpy(&x, e + 2 * j, 2); out[j] = (float)x; break; }
+        }
+    }
+    return 1;
+}
+
+/* Feeds the positions of the vertex array, elements [lo, hi], into the
+ * bounding box (a superset for DrawElements); arrays in buffer objects
+ * make it infinite (their data never passes through the packer). */
+static void bbox_of_vertex_array(tsr_packer *p, const draw_array *v, int n, uint64_t lo, uint64_t hi)
+{
+    for (int i = 0; i < n; i++) {
+        if (v[i].kind != TSR_WIRE_ARRAY_VERTEX)
+            continue;
+        float c[4];
+        for (uint64_t k = lo; k <= hi; k++) {
+            if (!tsr_client_array_position(v[i].a, k, c)) {
+                tsr_packer_bbox_infinite(p);
+                return;
+            }
+            tsr_packer_bbox4(p, c[0], c[1], c[2], c[3]);
+        }
+        return;
+    }
+}
+
+void tsr_packer_custom_DrawArrays(tsr_packer *p, GLenum mode, GLint first, GLsizei count)
+{
+    if (first < 0 || count < 0) {
+        tsr_packer_drop(p, "DrawArrays", "negative first or count");
+        return;
+    }
+    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    int n = count ? collect_arrays(p, v, "DrawArrays") : 0;
+    if (n < 0)
+        return;
+    uint64_t lo = (uint64_t)first, hi = (uint64_t)first + (uint64_t)count - 1, asize;
+    if (arrays_size(v, n, lo, hi, &asize) != 0) {
+        tsr_packer_drop(p, "DrawArrays", "arrays too large");
+        return;
+    }
+    uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_DrawArrays, 24 + asize, 8);
+    if (!d)
+        return;
+    tsr_wire_put_u32(d, mode);
+    tsr_wire_put_u32(d + 4, (uint32_t)first);
+    tsr_wire_put_u32(d + 8, (uint32_t)count);
+    tsr_wire_put_u32(d + 12, 0);
+    tsr_wire_put_u64(d + 16, asize);
+    write_arrays(p, d + 24, v, n, lo, hi);
+    bbox_of_vertex_array(p, v, n, lo, hi);
+}
+
+void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices)
+{
+    size_t isize = type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_INT ? 4 : 0;
+    if (count < 0 || !isize) {
+        tsr_packer_drop(p, "DrawElements", "negative count or bad index type");
+        return;
+    }
+    GLuint ibuf = p->arrays.element_buffer;
+    if (!ibuf && !indices && count) {
+        tsr_packer_drop(p, "DrawElements", "NULL indices without an element array buffer");
+        return;
+    }
+    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    int n = count ? collect_arrays(p, v, "DrawElements") : 0;
+    if (n < 0)
+        return;
+    uint64_t lo = 0, hi = 0;
+    int inline_arrays = 0;
+    for (int i = 0; i < n; i++)
+        inline_arrays |= v[i].a->buffer == 0;
+    if (inline_arrays) {
+        if (ibuf) {
+            /* The index range lives in a server-side buffer. */
+            tsr_packer_drop(p, "DrawElements", "client-memory arrays with indices in an element array buffer are not supported");
+            return;
+        }
+        const uint8_t *ix = indices;
+        lo = UINT64_MAX;
+        for (GLsizei i = 0; i < count; i++) {
+            uint64_t x = isize == 1 ? ix[i] : isize == 2 ? ((const GLushort *)indices)[i] : ((const GLuint *)indices)[i];
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+        }
+    }
+    uint64_t asize, ilen = ibuf ? 0 : (uint64_t)count * isize;
+    if (arrays_size(v, n, lo, hi, &asize) != 0) {
+        tsr_packer_drop(p, "DrawElements", "arrays too large");
+        return;
+    }
+    uint64_t size = 24 + 8 + tsr_wire_align8(ilen) + 8 + asize;
+    uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_DrawElements, size, 8);
+    if (!d)
+        return;
+    tsr_wire_put_u32(d, mode);
+    tsr_wire_put_u32(d + 4, (uint32_t)count);
+    tsr_wire_put_u32(d + 8, type);
+    tsr_wire_put_u32(d + 12, ibuf);
+    tsr_wire_put_u64(d + 16, ibuf ? (uint64_t)(uintptr_t)indices : 0);
+    tsr_wire_put_u64(d + 24, ilen);
+    if (ilen)
+        memcpy(d + 32, indices, (size_t)ilen);
+    memset(d + 32 + ilen, 0, (size_t)(tsr_wire_align8(ilen) - ilen));
+    uint64_t q = 32 + tsr_wire_align8(ilen);
+    tsr_wire_put_u64(d + q, asize);
+    write_arrays(p, d + q + 8, v, n, lo, hi);
+    bbox_of_vertex_array(p, v, n, lo, hi);
+}
+
+uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices)
+{
+    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    int n = count > 0 && vertices ? collect_arrays(p, v, index_type ? "DrawElements" : "DrawArrays") : 0;
+    uint64_t asize;
+    if (n < 0 || arrays_size(v, n, 0, vertices ? vertices - 1 : 0, &asize) != 0)
+        return 0;
+    if (!index_type)
+        return 1 + 24 + asize;
+    uint64_t isize = index_type == GL_UNSIGNED_BYTE ? 1 : index_type == GL_UNSIGNED_SHORT ? 2 : 4;
+    return 1 + 24 + 8 + tsr_wire_align8((uint64_t)count * isize) + 8 + asize;
+}
+
+static uint64_t source_length(const GLchar *s, const GLint *length, GLsizei i)
+{
+    if (length && length[i] >= 0)
+        return (uint64_t)length[i];
+    return strlen(s);
+}
+
+void tsr_packer_custom_ShaderSource(tsr_packer *p, GLuint shader, GLsizei count, const GLchar *const *string,
+                                    const GLint *length)
+{
+    if (count < 0 || (count && !string)) {
+        tsr_packer_drop(p, "ShaderSource", "negative count or NULL strings");
+        return;
+    }
+    uint64_t block = 0;
+    for (GLsizei i = 0; i < count; i++) {
+        if (!string[i]) {
+            tsr_packer_drop(p, "ShaderSource", "a NULL string");
+            return;
+        }
+        block = tsr_wire_align8(block) + 8 + source_length(string[i], length, i);
+    }
+    uint64_t llen = length ? (uint64_t)count * 4 : 0;
+    uint64_t size = 16 + tsr_wire_align8(block) + 8 + llen;
+    uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_ShaderSource, size, 8);
+    if (!d)
+        return;
+    tsr_wire_put_u32(d, shader);
+    tsr_wire_put_u32(d + 4, (uint32_t)count);
+    tsr_wire_put_u64(d + 8, string ? block : TSR_WIRE_NULL);
+    uint64_t q = 0;
+    uint8_t *b = d + 16;
+    for (GLsizei i = 0; i < count; i++) {
+        uint64_t end = tsr_wire_align8(q);
+        memset(b + q, 0, (size_t)(end - q));
+        q = end;
+        uint64_t s = source_length(string[i], length, i);
+        tsr_wire_put_u64(b + q, s);
+        memcpy(b + q + 8, string[i], (size_t)s);
+        q += 8 + s;
+    }
+    uint64_t end = tsr_wire_align8(q);
+    memset(b + q, 0, (size_t)(end - q));
+    uint8_t *l = b + end;
+    tsr_wire_put_u64(l, length ? llen : TSR_WIRE_NULL);
+    if (length && llen)
+        memcpy(l + 8, length, (size_t)llen);
+}
+
+void tsr_packer_custom_GetTexImage(tsr_packer *p, GLenum target, GLint level, GLenum format, GLenum type, void *pixels)
+{
+    uint32_t id = p->next_request++;
+    uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_GetTexImage, 24, 8);
+    if (!d)
+        return;
+    tsr_wire_put_u32(d, target);
+    tsr_wire_put_u32(d + 4, (uint32_t)level);
+    tsr_wire_put_u32(d + 8, format);
+    tsr_wire_put_u32(d + 12, type);
+    tsr_wire_put_u32(d + 16, id);
+    tsr_wire_put_u32(d + 20, 0);
+    size_t rsize = 0, pos = 0;
+    uint64_t len;
+    const uint8_t *r = tsr_packer_request(p, id, &rsize);
+    if (!r)
+        return;
+    const uint8_t *whd = tsr_packer_reply_item(p, r, rsize, &pos, &len, "GetTexImage");
+    if (!whd)
+        return;
+    if (len != 12) {
+        record(p, TSR_EPROTO, "reply to glGetTexImage has a %llu-byte size item", (unsigned long long)len);
+        return;
+    }
+    int32_t w = (int32_t)tsr_wire_get_u32(whd), h = (int32_t)tsr_wire_get_u32(whd + 4),
+            depth = (int32_t)tsr_wire_get_u32(whd + 8);
+    const uint8_t *img = tsr_packer_reply_item(p, r, rsize, &pos, &len, "GetTexImage");
+    if (!img)
+        return;
+    tsr_pixel_layout lay;
+    if (tsr_pixel_layout_of(&p->pixels.pack, target == GL_TEXTURE_3D ? 3 : 2, w, h, depth, format, type, &lay) != 0)
+        return;
+    if (len != lay.extent) {
+        record(p, TSR_EPROTO, "reply to glGetTexImage has %llu image bytes, %llu expected", (unsigned long long)len,
+               (unsigned long long)lay.extent);
+        return;
+    }
+    if (pixels)
+        tsr_pixel_copy_spans(&lay, h, depth, pixels, img);
+}

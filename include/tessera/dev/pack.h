@@ -1,0 +1,223 @@
+/* tessera/dev/pack.h — the packer: turns GL calls into wire buffers (tessera/dev/wire.h)
+ * and hands full buffers to a sink. Owns its buffer memory, the object-space
+ * bounding box of packed vertices, and mirrors of client state (pixel store,
+ * vertex arrays, buffer bindings) needed to size payloads. No globals: every
+ * packer is a caller-owned object. Never sends a host pointer, never splits
+ * one command across buffers.
+ *
+ * Typical use (an SPU that sends):
+ *   tsr_packer *p = tsr_packer_create(1 << 20, &sink, &err);
+ *   tsr_packer_fill_dispatch(p, table);     // every slot packs (self = p)
+ *   ... GL calls through `table` ...
+ *   tsr_packer_flush(p);                    // also done when a buffer fills
+ *
+ * Generated pack functions (wire_gen.h, private): tsr_pack_NAME(p, args...)
+ * for every `pack`/`reply` command; fixed-size ones are static inline. */
+#ifndef TSR_CORE_PACK_H
+#define TSR_CORE_PACK_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <GL/gl.h>
+#include "tessera/dispatch.h"
+#include "tessera/error.h"
+#include "tessera/export.h"
+#include "tessera/dev/pixel.h"
+#include "tessera/dev/wire.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Where buffers go. flush: one complete buffer [buf, buf+size) (valid only
+ * during the call; copy it to keep it). reply: after a request was flushed,
+ * return the reply bytes of request `id` (tessera/dev/wire.h section 5), valid
+ * until the next call into the sink; NULL when the sink cannot answer. */
+typedef struct tsr_pack_sink {
+    int (*flush)(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
+    int (*reply)(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err);
+    void *ctx;
+} tsr_pack_sink;
+
+#define TSR_PACK_MIN_BUFFER 256u
+#define TSR_PACK_MAX_FIXED 256u  /* largest fixed-size command (generator checks) */
+#define TSR_PACK_TEXUNITS 8
+#define TSR_PACK_ATTRIBS 16
+#define TSR_PACK_STACK 16
+
+typedef struct tsr_client_array {
+    uint8_t enabled, normalized;
+    int32_t size;
+    GLenum type;
+    int32_t stride;
+    GLuint buffer;          /* GL_ARRAY_BUFFER binding when the pointer was set */
+    const void *pointer;    /* client address, or offset into `buffer` */
+} tsr_client_array;
+
+typedef struct tsr_client_arrays {
+    tsr_client_array vertex, normal, color, edge_flag;
+    tsr_client_array texcoord[TSR_PACK_TEXUNITS];
+    tsr_client_array attrib[TSR_PACK_ATTRIBS];
+    uint32_t active_texture;    /* unit index of ClientActiveTexture */
+    GLuint array_buffer, element_buffer;
+} tsr_client_arrays;
+
+typedef struct tsr_packer {
+    /* Hot fields first: one cache line for the Vertex3f path. */
+    uint8_t *op;          /* the next opcode goes to op[-1] */
+    uint8_t *op_limit;    /* lowest opcode address of this buffer */
+    uint8_t *data;        /* next data byte */
+    uint8_t *data_end;    /* end of the data area (8-aligned) */
+    float bbox_min[4] __attribute__((aligned(16)));
+    float bbox_max[4] __attribute__((aligned(16)));
+    uint32_t bbox_nan;    /* non-zero once a NaN coordinate was boxed */
+    uint8_t *mid;         /* data start (8-aligned) */
+    uint8_t *mem;         /* normal buffer memory */
+    size_t mem_size;
+    uint8_t *big;         /* an oversized single-command buffer, or NULL */
+    size_t op_room, data_room;
+    tsr_pack_sink sink;
+    tsr_pixel_store pixels;
+    tsr_client_arrays arrays;
+    struct {
+        uint32_t mask;
+        tsr_pixel_store pixels;
+        tsr_client_arrays arrays;
+    } stack[TSR_PACK_STACK];
+    uint32_t stack_depth;
+    uint32_t next_request;
+    char **strings;       /* GetString results, owned; freed on destroy */
+    size_t nstrings;
+    tsr_error error;      /* first error (sticky until tsr_packer_clear_error) */
+    uint64_t buffers_sent, bytes_sent, commands_dropped;
+    uint8_t discard[TSR_PACK_MAX_FIXED] __attribute__((aligned(16)));
+} tsr_packer;
+
+/* buffer_size: bytes of a buffer including header and opcodes (at least
+ * TSR_PACK_MIN_BUFFER). The sink is copied. */
+TSR_API tsr_packer *tsr_packer_create(size_t buffer_size, const tsr_pack_sink *sink, tsr_error *err);
+TSR_API void tsr_packer_destroy(tsr_packer *p);
+/* Sends what is packed (nothing when empty). Returns 0 or the sink's error. */
+TSR_API int tsr_packer_flush(tsr_packer *p);
+/* Bytes of commands currently packed (opcodes + data, no header). */
+TSR_API size_t tsr_packer_pending(const tsr_packer *p);
+/* Sets every slot of `d` to this packer (self = p): pack/reply commands are
+ * packed, local ones update the mirrors, custom ones use core/wire/pack.c. */
+TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
+/* Object-space box of the vertex positions packed since the last flush (or
+ * reset); returns 0 when no vertex was packed. The box is reset after each
+ * flush, once the sink returned (so a sink may read it). Fed by the spec's
+ * `vertex: position` commands and by DrawArrays/DrawElements with client
+ * vertex arrays (all elements of the index range sent). A homogeneous
+ * vertex with w <= 0, or vertex data the packer never sees (arrays or
+ * indices in buffer objects), makes the box infinite. Other geometry
+ * (Rect*, Eval*, CallList*, Bitmap, ...) does not touch it: a box-keeping
+ * SPU treats those as unknown itself. A NaN coordinate makes the box
+ * infinite too (where such a vertex lands is up to the renderer). */
+TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
+TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
+/* Bytes (opcode + data, before alignment padding) that glDrawArrays
+ * (index_type 0) or glDrawElements of `count` vertices or indices of
+ * index_type with client arrays of `vertices` elements would take with the
+ * arrays enabled now: a box-keeping SPU uses it to account for a draw it
+ * sends in other pieces. 0 when the arrays cannot be packed. */
+/* Element i's position from a client vertex array (GL_FLOAT, GL_DOUBLE,
+ * GL_INT or GL_SHORT, 1 to 4 components; missing ones are 0, 0, 1) into
+ * out; returns 0 for other types and arrays in buffer objects. */
+TSR_API int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4]);
+TSR_API uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices);
+/* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
+ * a dropped command (invalid size, unknown enum), a missing reply. */
+TSR_API const tsr_error *tsr_packer_error(const tsr_packer *p);
+TSR_API void tsr_packer_clear_error(tsr_packer *p);
+
+/* --- for generated code --------------------------------------------------- */
+
+/* Slow path of tsr_packer_cmd (fixed-size commands, at most
+ * TSR_PACK_MAX_FIXED bytes): flushes and places the command. Never NULL:
+ * if memory runs out the command goes to a discard area (error recorded). */
+TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
+    __attribute__((cold));
+/* Reserves `size` data bytes (aligned) for opcode and records the opcode;
+ * the caller fills the bytes. Handles extended opcodes and any size. */
+TSR_API uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
+/* Records an error for a command that cannot be packed and drops it. */
+TSR_API void tsr_packer_drop(tsr_packer *p, const char *command, const char *why);
+/* Flushes and fetches the reply to request `id`; NULL on failure (error
+ * recorded). */
+TSR_API const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size);
+/* Reads reply item `*pos` (advancing it): returns the bytes and sets *len;
+ * NULL when the reply is malformed. */
+TSR_API const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos,
+                                             uint64_t *len, const char *command);
+/* Keeps a copy of a returned string for the packer's lifetime. */
+TSR_API const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t len);
+/* Element count of an enum-dependent vector (spec pname_counts); -1 when
+ * the enum is unknown. Generated. */
+TSR_API int tsr_wire_pname_count(GLenum pname);
+/* Values per control point of an evaluator target (spec map_components);
+ * -1 when unknown. Generated. */
+TSR_API int tsr_wire_map_components(GLenum target);
+/* Opcode of a dispatch slot, -1 when out of range. Generated. */
+TSR_API int tsr_wire_slot_opcode(int slot);
+/* Name of an opcode ("Vertex3f"), NULL when unknown. Generated. */
+TSR_API const char *tsr_wire_opcode_name(uint32_t opcode);
+
+static inline uint8_t *tsr_packer_cmd(tsr_packer *p, uint8_t opcode, size_t size, size_t align)
+{
+    uint8_t *d = (uint8_t *)(((uintptr_t)p->data + (align - 1)) & ~(uintptr_t)(align - 1));
+    if (TSR_UNLIKELY((size_t)(p->data_end - d) < size || p->op == p->op_limit))
+        return tsr_packer_cmd_slow(p, opcode, size, align);
+    *--p->op = opcode;
+    p->data = d + size;
+    return d;
+}
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+/* One min and one max on 4 lanes (x, y, z, z). A NaN component is ignored
+ * (minps returns the second operand). */
+static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
+{
+    __m128 v = _mm_setr_ps(x, y, z, z);
+    p->bbox_nan |= (uint32_t)_mm_movemask_ps(_mm_cmpunord_ps(v, v));
+    _mm_store_ps(p->bbox_min, _mm_min_ps(v, _mm_load_ps(p->bbox_min)));
+    _mm_store_ps(p->bbox_max, _mm_max_ps(v, _mm_load_ps(p->bbox_max)));
+}
+#else
+static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
+{
+    p->bbox_nan |= (x != x) | (y != y) | (z != z);
+    p->bbox_min[0] = x < p->bbox_min[0] ? x : p->bbox_min[0];
+    p->bbox_min[1] = y < p->bbox_min[1] ? y : p->bbox_min[1];
+    p->bbox_min[2] = z < p->bbox_min[2] ? z : p->bbox_min[2];
+    p->bbox_max[0] = x > p->bbox_max[0] ? x : p->bbox_max[0];
+    p->bbox_max[1] = y > p->bbox_max[1] ? y : p->bbox_max[1];
+    p->bbox_max[2] = z > p->bbox_max[2] ? z : p->bbox_max[2];
+}
+#endif
+
+TSR_API void tsr_packer_bbox_infinite(tsr_packer *p);
+
+static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, float w)
+{
+    if (TSR_LIKELY(w == 1.0f))
+        tsr_packer_bbox3(p, x, y, z);
+    else if (w > 0.0f)
+        tsr_packer_bbox3(p, x / w, y / w, z / w);
+    else
+        tsr_packer_bbox_infinite(p); /* also w NaN */
+}
+
+/* Hand-written packers of `local` and `custom` commands (core/wire/pack.c). */
+TSR_API void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value);
+TSR_API void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer);
+TSR_API void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers);
+/* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
+ * mirror (returns 1); other caps go to the receiver (returns 0). */
+TSR_API int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,54 @@
+/* tessera/dev/pixel.h — pixel-store state and the byte extent of images GL reads or
+ * writes under it (the sizes of image payloads on the wire).
+ * Owns: tsr_pixel_store (pack + unpack modes, a small push stack lives in
+ * the packer). Never touches GL: pure arithmetic, overflow-checked. */
+#ifndef TSR_CORE_PIXEL_H
+#define TSR_CORE_PIXEL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <GL/gl.h>
+#include "tessera/export.h"
+
+typedef struct tsr_pixel_modes {
+    int32_t row_length, image_height, skip_pixels, skip_rows, skip_images, alignment;
+    uint8_t swap_bytes, lsb_first;
+} tsr_pixel_modes;
+
+typedef struct tsr_pixel_store {
+    tsr_pixel_modes pack, unpack;
+} tsr_pixel_store;
+
+TSR_API void tsr_pixel_store_init(tsr_pixel_store *s);
+/* Applies glPixelStore{i,f}(pname, value) as GL would; invalid values are
+ * ignored like GL ignores them (it raises an error instead). Returns 1 when
+ * pname is a pixel-store parameter. */
+TSR_API int tsr_pixel_store_set(tsr_pixel_store *s, GLenum pname, double value);
+/* Value of pname in `s` (for re-sending differences), 0 if not a pname. */
+TSR_API int32_t tsr_pixel_store_get(const tsr_pixel_store *s, GLenum pname);
+
+/* Bytes of one element of GL type `type` (GL_FLOAT 4, GL_2_BYTES 2, ...);
+ * 0 when unknown. */
+TSR_API size_t tsr_gl_type_size(GLenum type);
+
+/* Image layout under `m`: `dims` is 1, 2 or 3 (SKIP_IMAGES and IMAGE_HEIGHT
+ * apply to 3D only). */
+typedef struct tsr_pixel_layout {
+    uint64_t group_bytes;   /* bytes of one pixel (0 for GL_BITMAP) */
+    uint64_t row_bytes;     /* distance between rows */
+    uint64_t image_bytes;   /* distance between images */
+    uint64_t first;         /* offset of the first byte read/written */
+    uint64_t row_span;      /* bytes touched per row */
+    uint64_t extent;        /* bytes from the pointer to the last byte touched + 1 (0: nothing) */
+} tsr_pixel_layout;
+
+/* Fills `out` for a w x h x d image of format/type. Returns 0, or -1 for an
+ * unknown format/type, negative sizes, or sizes that overflow 64 bits. */
+TSR_API int tsr_pixel_layout_of(const tsr_pixel_modes *m, int dims, int64_t w, int64_t h, int64_t d,
+                                GLenum format, GLenum type, tsr_pixel_layout *out);
+/* Copies only the pixel spans (what GL writes) of an image laid out as `l`
+ * (h rows x d images) from src to dst, both addressed from the pointer. */
+TSR_API void tsr_pixel_copy_spans(const tsr_pixel_layout *l, int64_t h, int64_t d, void *dst,
+                                  const void *src);
+
+#endif

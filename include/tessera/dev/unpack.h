@@ -1,0 +1,103 @@
+/* tessera/dev/unpack.h — the unpacker: validates a received wire buffer
+ * (tessera/dev/wire.h) command by command and calls a dispatch table with the
+ * decoded arguments; produces replies through a callback.
+ * Owns: per-stream state (pixel-store mirror, output and reply scratch).
+ * Never reads outside the buffer, never trusts a length, never aborts:
+ * malformed input is TSR_EPROTO with the command and data offset named. */
+#ifndef TSR_CORE_UNPACK_H
+#define TSR_CORE_UNPACK_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "tessera/dispatch.h"
+#include "tessera/error.h"
+#include "tessera/export.h"
+#include "tessera/dev/pixel.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Receives the reply to request `id` (bytes valid during the call only). */
+typedef int (*tsr_reply_fn)(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err);
+
+/* Default bound of the outputs one command may ask the server to produce
+ * (a lying ReadPixels must not allocate gigabytes). */
+#define TSR_UNPACK_MAX_OUTPUT ((uint64_t)1 << 30)
+
+typedef struct tsr_unpacker {
+    const tsr_dispatch *target;
+    tsr_reply_fn reply;
+    void *reply_ctx;
+    tsr_pixel_store pixels;   /* mirror of the PixelStore commands seen */
+    uint64_t max_output;
+    uint8_t *aligned;         /* copy of a misaligned input buffer */
+    size_t aligned_cap;
+    uint8_t *out;             /* outputs of the current command */
+    size_t out_cap;
+    uint8_t *rbuf;            /* reply being built */
+    size_t rcap;
+    void **ptrs;              /* pointer arrays of custom commands */
+    size_t ptrs_cap;
+    uint64_t commands, buffers;
+    /* Yielding (see tsr_unpacker_yield): the paused buffer's commands and
+     * where the next one starts. resume_* are 0 while no buffer is paused. */
+    int yield;
+    uint32_t resume_command;
+    size_t resume_pos;
+    const uint8_t *paused_data;  /* NULL: nothing paused */
+    uint32_t paused_nops;
+    size_t paused_len;
+} tsr_unpacker;
+
+/* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when
+ * a command handler asked to stop after its command. */
+#define TSR_UNPACK_YIELDED 1
+
+/* `target` receives every decoded call; `reply` may be NULL (replies are
+ * then dropped after the call ran). */
+TSR_API tsr_unpacker *tsr_unpacker_create(const tsr_dispatch *target, tsr_reply_fn reply, void *reply_ctx,
+                                          tsr_error *err);
+TSR_API void tsr_unpacker_destroy(tsr_unpacker *u);
+/* Decodes one buffer (header + opcodes + data, any alignment) and
+ * dispatches its commands in order. Commands before a malformed one have
+ * been dispatched; the rest of the buffer is dropped. Returns 0,
+ * TSR_UNPACK_YIELDED (a handler yielded: see below), or TSR_EPROTO /
+ * TSR_ENOMEM with `err` filled. */
+TSR_API int tsr_unpacker_run(tsr_unpacker *u, const void *buf, size_t size, tsr_error *err);
+/* Called by a command handler (while run or resume dispatches it): the
+ * unpacker stops right after this command and returns TSR_UNPACK_YIELDED;
+ * tsr_unpacker_resume continues with the next command. The buffer handed
+ * to run must stay valid and unchanged until the buffer is finished (a
+ * server node uses this to block a client's stream at a barrier). Running
+ * a new buffer abandons a paused one. */
+static inline void tsr_unpacker_yield(tsr_unpacker *u) { u->yield = 1; }
+/* True while a buffer is paused after a yield. */
+static inline int tsr_unpacker_paused(const tsr_unpacker *u) { return u->paused_data != NULL; }
+/* Continues the paused buffer: 0 when it is finished, TSR_UNPACK_YIELDED
+ * when a handler yielded again, or an error as tsr_unpacker_run.
+ * TSR_ESTATE when nothing is paused. */
+TSR_API int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err);
+/* Checks a buffer's header: returns its total size, or 0 when `size` bytes
+ * do not start a valid header (`err` filled). */
+TSR_API size_t tsr_wire_buffer_size(const void *buf, size_t size, tsr_error *err);
+
+/* Fuzzing entry point: decodes `data` as a buffer into a table of no-ops
+ * (replies dropped). Returns 0 or the error code; never crashes. */
+TSR_API int tsr_unpack_fuzz_one(const uint8_t *data, size_t size);
+
+/* --- for generated code --------------------------------------------------- */
+int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *data, uint32_t nops, size_t len,
+                        tsr_error *err);
+/* Zero-filled, 8-aligned space for `n` outputs of the given sizes; -1 when
+ * their total exceeds max_output or memory runs out. */
+int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs);
+/* Builds the reply (tessera/dev/wire.h section 5) and hands it to the callback.
+ * ret_len TSR_WIRE_NULL: the command returns nothing. */
+int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n,
+                       const uint64_t *sizes, uint8_t *const *ptrs, tsr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,36 @@
+/* tessera/dev/util.h — small helpers that servers, coordinators and SPUs
+ * share, so each exists once: a monotonic clock, a JSON string writer
+ * (statistics files) and "did you mean" suggestions for error messages. Part of libtessera's developer API. */
+#ifndef TESSERA_DEV_UTIL_H
+#define TESSERA_DEV_UTIL_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "tessera/export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Seconds on CLOCK_MONOTONIC (for intervals; the origin is arbitrary). */
+TSR_API double tsr_now_seconds(void);
+
+/* Writes `s` to `f` as a JSON string: quoted, with quotes, backslashes and
+ * control bytes escaped. */
+TSR_API void tsr_json_string(FILE *f, const char *s);
+
+/* Longest word the suggestions consider. */
+#define TSR_SUGGEST_MAX_LEN 64
+/* Edit distance (insert, delete, substitute, swap adjacent); (size_t)-1
+ * for words over TSR_SUGGEST_MAX_LEN bytes. */
+TSR_API size_t tsr_edit_distance(const char *a, const char *b);
+/* The candidate closest to `word` if it is close enough to be a likely
+ * typo (at most two edits, never the whole word), else NULL. */
+TSR_API const char *tsr_closest_name(const char *word, const char *const *candidates,
+                                     size_t count);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,371 @@
+/* server/node.c — the server node (server/node.h): configuration, listener,
+ * statistics, and independent mode (one session thread per client: chain
+ * + unpacker + reply channel). Shared mode is in schedule.c.
+ * Owns: the netlib instance, the listener, every session and its chain.
+ * Never touches a session's chain from another thread (OSMesa contexts
+ * are current per thread), never exits on a client's bad input. */
+#include "tessera/dev/util.h"
+#include "node.h"
+#include "node_internal.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "net.h"
+#include "tessera/dev/protocol.h"
+#include "tessera/chain.h"
+#include "tessera/log.h"
+#include "tessera/dev/unpack.h"
+#include "tessera/dev/wire.h"
+
+typedef struct node_session {
+    struct tsr_node *node;
+    unsigned index;            /* client number, in connection order */
+    tsr_net_conn *conn;
+    char who[TSR_NET_NAME_MAX + TSR_NET_ADDRESS_MAX + 32]; /* "client 0 'pack-pid1' at tcp://..." */
+    pthread_t thread;
+    int started;
+    uint8_t *reply;            /* TSR_NODE_MSG_REPLY being sent */
+    size_t reply_cap;
+    tsr_error error;           /* why this session failed; TSR_OK when it ended cleanly */
+    tsr_dispatch head;         /* the chain's head with SwapBuffersTSR counted */
+    tsr_entry chain_swap;      /* the chain's own SwapBuffersTSR */
+} node_session;
+
+/* Adds to the node's totals under its lock (sessions run on their own
+ * threads; tsr_node_get_stats may be called from any). */
+void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    tsr_node_stats *t = &node->stats;
+    t->frames += delta->frames;
+    t->buffers += delta->buffers;
+    t->commands += delta->commands;
+    t->bytes_in += delta->bytes_in;
+    t->bytes_out += delta->bytes_out;
+    t->busy_seconds += delta->busy_seconds;
+    t->clients_connected += delta->clients_connected;
+    t->clients_ended += delta->clients_ended;
+    t->clients_failed += delta->clients_failed;
+    t->swaps_ignored += delta->swaps_ignored;
+    t->blocks += delta->blocks;
+    pthread_mutex_unlock(&node->stats_lock);
+}
+
+void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    *out = node->stats;
+    pthread_mutex_unlock(&node->stats_lock);
+}
+
+static void count_swap(void *self, GLint window, GLbitfield flags)
+{
+    node_session *s = self;
+    ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags);
+    tsr_node_stats delta = {.frames = 1};
+    tsr_node_stats_add(s->node, &delta);
+}
+
+/* The chain text with every "{client}" replaced by `index`; NULL when out
+ * of memory. */
+static char *chain_text_for(const char *text, unsigned index)
+{
+    static const char marker[] = "{client}";
+    char number[16];
+    int digits = snprintf(number, sizeof number, "%u", index);
+    size_t count = 0;
+    for (const char *p = strstr(text, marker); p; p = strstr(p + 1, marker))
+        count++;
+    size_t size = strlen(text) + count * (size_t)digits + 1;
+    char *out = malloc(size);
+    if (!out)
+        return NULL;
+    char *o = out;
+    for (const char *p = text;;) {
+        const char *m = strstr(p, marker);
+        size_t n = m ? (size_t)(m - p) : strlen(p);
+        memcpy(o, p, n);
+        o += n;
+        if (!m)
+            break;
+        memcpy(o, number, (size_t)digits);
+        o += digits;
+        p = m + sizeof marker - 1;
+    }
+    *o = '\0';
+    return out;
+}
+
+tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err)
+{
+    char *text = chain_text_for(node->chain_text, index);
+    if (!text) {
+        tsr_error_set(err, TSR_ENOMEM, "node: out of memory for the chain text");
+        return NULL;
+    }
+    tsr_chain *chain = tsr_chain_create(text, err);
+    free(text);
+    return chain;
+}
+
+/* --- one client ---------------------------------------------------------- */
+
+int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_t *cap, uint32_t id,
+                        const uint8_t *data, size_t size, tsr_error *err)
+{
+    size_t total = TSR_NODE_REPLY_HEADER + size;
+    if (total > *cap) {
+        uint8_t *r = realloc(*buf, total);
+        if (!r)
+            return tsr_error_set(err, TSR_ENOMEM, "node: out of memory for a %zu-byte reply", size);
+        *buf = r;
+        *cap = total;
+    }
+    tsr_wire_put_u32(*buf, id);
+    tsr_wire_put_u32(*buf + 4, 0);
+    if (size)
+        memcpy(*buf + TSR_NODE_REPLY_HEADER, data, size);
+    tsr_error cause = {0};
+    if (tsr_net_send(conn, TSR_NODE_MSG_REPLY, *buf, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
+        return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id,
+                             cause.message);
+    tsr_node_stats delta = {.bytes_out = total};
+    tsr_node_stats_add(node, &delta);
+    return TSR_OK;
+}
+
+static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
+{
+    node_session *s = ctx;
+    int rc = tsr_node_send_reply(s->node, s->conn, &s->reply, &s->reply_cap, id, data, size, err);
+    if (rc == TSR_ENOMEM)
+        tsr_error_set(err, rc, "node: %s: out of memory for a %zu-byte reply", s->who, size);
+    return rc;
+}
+
+/* Receives and runs buffers until the client ends. Returns TSR_OK on a
+ * clean end, else the failure (in s->error). */
+static int serve_client(node_session *s, tsr_unpacker *unpacker)
+{
+    for (;;) {
+        tsr_net_msg m;
+        tsr_error cause = {0};
+        int got = tsr_net_recv(s->conn, &m, TSR_NET_WAIT_FOREVER, &cause);
+        if (got == 0)
+            return TSR_OK;
+        if (got < 0)
+            return tsr_error_set(&s->error, got, "%s", cause.message);
+        int rc;
+        if (m.kind == TSR_NODE_MSG_FINISH)
+            rc = tsr_net_send(s->conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause);
+        else if (m.kind != TSR_NODE_MSG_BUFFER)
+            rc = tsr_error_set(&cause, TSR_EPROTO, "unexpected message kind 0x%02x (%llu bytes)", m.kind,
+                               (unsigned long long)m.len);
+        else {
+            uint64_t commands_before = unpacker->commands;
+            double start = tsr_now_seconds();
+            rc = tsr_unpacker_run(unpacker, m.data, (size_t)m.len, &cause);
+            tsr_node_stats delta = {.buffers = 1,
+                                    .commands = unpacker->commands - commands_before,
+                                    .bytes_in = m.len,
+                                    .busy_seconds = tsr_now_seconds() - start};
+            tsr_node_stats_add(s->node, &delta);
+        }
+        tsr_net_msg_release(&m);
+        if (rc != TSR_OK) {
+            tsr_error_set(&s->error, rc, "%s", cause.message);
+            /* Tell the client why before closing; it may be gone already. */
+            tsr_error ignored = {0};
+            tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000,
+                         &ignored);
+            return rc;
+        }
+    }
+}
+
+static void *session_main(void *arg)
+{
+    node_session *s = arg;
+    tsr_error err = {0};
+    /* The chain is created on this thread: its GL context is current here
+     * and nowhere else. */
+    tsr_chain *chain = tsr_node_create_chain(s->node, s->index, &err);
+    tsr_unpacker *unpacker = NULL;
+    if (chain) {
+        s->head = *tsr_chain_head(chain);
+        s->chain_swap = s->head.SwapBuffersTSR;
+        tsr_set_SwapBuffersTSR(&s->head, count_swap, s);
+        unpacker = tsr_unpacker_create(&s->head, send_reply, s, &err);
+    }
+    if (!unpacker) {
+        tsr_error_set(&s->error, err.code, "%s", err.message);
+        tsr_error ignored = {0};
+        tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000, &ignored);
+    } else if (serve_client(s, unpacker) == TSR_OK) {
+        tsr_log(TSR_LOG_INFO, "node: %s ended: %llu buffers, %llu commands", s->who,
+                (unsigned long long)unpacker->buffers, (unsigned long long)unpacker->commands);
+    }
+    if (s->error.code)
+        tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
+    tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1, .clients_failed = s->error.code ? 1 : 0};
+    tsr_node_stats_add(s->node, &ended);
+    tsr_unpacker_destroy(unpacker);
+    tsr_chain_destroy(chain);
+    tsr_net_conn_close(s->conn);
+    s->conn = NULL;
+    free(s->reply);
+    s->reply = NULL;
+    return NULL;
+}
+
+/* --- the node ------------------------------------------------------------ */
+
+tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
+{
+    if (!config->listen || !config->listen[0])
+        return tsr_error_set(err, TSR_EINVAL, "node: no listen address"), NULL;
+    if (!config->chain || !config->chain[0])
+        return tsr_error_set(err, TSR_EINVAL, "node: no chain"), NULL;
+    if (config->clients < 1)
+        return tsr_error_set(err, TSR_EINVAL, "node: clients must be at least 1"), NULL;
+    if (config->mode != TSR_NODE_SHARED && config->mode != TSR_NODE_INDEPENDENT)
+        return tsr_error_set(err, TSR_EINVAL, "node: unknown mode %d", (int)config->mode), NULL;
+    if (config->mode == TSR_NODE_SHARED && strstr(config->chain, "{client}"))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "node: chain: {client} needs independent mode (--independent): in shared mode "
+                             "every client draws into the one chain"),
+               NULL;
+    tsr_node *node = calloc(1, sizeof *node);
+    if (node) {
+        node->chain_text = strdup(config->chain);
+        node->sessions = calloc(config->clients, sizeof *node->sessions);
+    }
+    if (!node || !node->chain_text || !node->sessions) {
+        tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    node->clients = config->clients;
+    node->timeout_ms = config->timeout_ms;
+    node->mode = config->mode;
+    pthread_mutex_init(&node->stats_lock, NULL);
+    node->stats_lock_ready = 1;
+
+    /* A bad chain fails now, once, instead of once per client. */
+    tsr_error chain_err = {0};
+    tsr_chain *probe = tsr_node_create_chain(node, 0, &chain_err);
+    if (!probe) {
+        tsr_error_set(err, chain_err.code == TSR_ENOMEM ? TSR_ENOMEM : TSR_EINVAL, "node: chain: %s",
+                      chain_err.message);
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    tsr_chain_destroy(probe);
+
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = config->name && config->name[0] ? config->name : "node";
+    cfg.token = config->token;
+    cfg.idle_timeout_ms = config->timeout_ms;
+    node->net = tsr_net_create(&cfg, err);
+    if (node->net)
+        node->listener = tsr_net_listen(node->net, config->listen, err);
+    if (!node->listener) {
+        tsr_node_destroy(node);
+        return NULL;
+    }
+    return node;
+}
+
+const char *tsr_node_address(const tsr_node *node)
+{
+    return tsr_net_listener_address(node->listener);
+}
+
+tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure)
+{
+    tsr_error accept_err = {0};
+    tsr_net_conn *conn = tsr_net_accept(node->listener, timeout_ms, &accept_err);
+    if (conn)
+        return conn;
+    tsr_error last = {0};
+    unsigned refused = tsr_net_listener_refusals(node->listener, &last);
+    if (accept_err.code == TSR_ETIMEDOUT)
+        tsr_error_set(failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s",
+                      node->accepted, node->clients, tsr_node_address(node), node->timeout_ms,
+                      refused ? "; refused one: " : "", refused ? last.message : "");
+    else
+        tsr_error_set(failure, accept_err.code, "node: accepting on %s: %s", tsr_node_address(node),
+                      accept_err.message);
+    return NULL;
+}
+
+int tsr_node_run(tsr_node *node, tsr_error *err)
+{
+    if (node->ran)
+        return tsr_error_set(err, TSR_ESTATE, "node: already ran");
+    node->ran = 1;
+    if (node->mode == TSR_NODE_SHARED)
+        return tsr_node_run_shared(node, err);
+    tsr_error failure = {0};
+    int timeout = node->timeout_ms ? (int)node->timeout_ms : TSR_NET_WAIT_FOREVER;
+    while (node->accepted < node->clients) {
+        tsr_net_conn *conn = tsr_node_accept(node, timeout, &failure);
+        if (!conn)
+            break;
+        node_session *s = &node->sessions[node->accepted];
+        s->node = node;
+        s->index = node->accepted++;
+        s->conn = conn;
+        snprintf(s->who, sizeof s->who, "client %u '%s' at %s", s->index, tsr_net_conn_peer_name(conn),
+                 tsr_net_conn_address(conn));
+        tsr_log(TSR_LOG_INFO, "node: %s connected", s->who);
+        tsr_node_stats connected = {.clients_connected = 1};
+        tsr_node_stats_add(node, &connected);
+        int rc = pthread_create(&s->thread, NULL, session_main, s);
+        if (rc) {
+            tsr_error_set(&failure, TSR_EIO, "node: cannot start a thread for %s: %s", s->who, strerror(rc));
+            tsr_net_conn_close(conn);
+            s->conn = NULL;
+            break;
+        }
+        s->started = 1;
+    }
+    unsigned failed = 0;
+    for (unsigned i = 0; i < node->accepted; i++) {
+        node_session *s = &node->sessions[i];
+        if (s->started)
+            pthread_join(s->thread, NULL);
+        s->started = 0;
+        if (s->error.code) {
+            failed++;
+            if (!failure.code)
+                tsr_error_set(&failure, s->error.code, "node: %s dropped: %s", s->who, s->error.message);
+        }
+    }
+    if (!failure.code)
+        return TSR_OK;
+    if (failed > 1)
+        return tsr_error_set(err, failure.code, "%s (and %u more clients failed)", failure.message, failed - 1);
+    return tsr_error_set(err, failure.code, "%s", failure.message);
+}
+
+void tsr_node_destroy(tsr_node *node)
+{
+    if (!node)
+        return;
+    /* tsr_node_run joins every session; a node destroyed without running
+     * has none. */
+    if (node->listener)
+        tsr_net_listener_close(node->listener);
+    tsr_net_destroy(node->net);
+    free(node->sessions);
+    free(node->chain_text);
+    if (node->stats_lock_ready)
+        pthread_mutex_destroy(&node->stats_lock);
+    free(node);
+}

@@ -1,0 +1,127 @@
+/* server/node.h — a server node: accepts stream clients (the pack SPU) on one
+ * listen address and feeds their buffers through an SPU chain, sending
+ * replies back. Used by `tessera node` (cli/cmd_node.c).
+ * Owns: the listener, the client sessions and their chains. Never exits
+ * the process: every failure is a returned or logged tsr_error.
+ *
+ * Two modes (tsr_node_config.mode):
+ *
+ * TSR_NODE_SHARED (the default; `tessera node` without --independent):
+ * one chain, run by ONE thread (the one calling tsr_node_run), with a
+ * separate GL context per client drawing into one shared window, as
+ * Chromium's crserver did: N clients draw one picture. The node sends
+ * ContextCreateTSR(client + 1) when a client connects, MakeCurrentTSR(0,
+ * client + 1) before running that client's commands, ContextDestroyTSR
+ * when it ends (spus/render implements them; other SPUs pass them on).
+ * Clients are scheduled round-robin, one received buffer per turn; a turn
+ * also ends when the client blocks. Every connection is polled without
+ * blocking, so a silent client never stalls the others.
+ * The parallel API (Igehy, Stoll and Hanrahan, "The Design of a Parallel
+ * Graphics Interface", SIGGRAPH 98) is obeyed here, never passed down the
+ * chain:
+ *   BarrierCreateTSR(name, count)  barrier `name` for `count` clients
+ *       (0 = every client of the node). Every client may create it: a
+ *       second create with the same count changes nothing; another count
+ *       is an error for that client.
+ *   BarrierExecTSR(name)  the client's stream stops until `count` clients
+ *       reached the barrier; then all go on, and it can be used again.
+ *   SemaphoreCreateTSR(name, value)  created once likewise; P waits while
+ *       the value is 0, then decrements; V wakes the longest waiter (its P
+ *       completes) or increments.
+ *   Barrier/SemaphoreDestroyTSR  forget it (no-op when unknown, so every
+ *       client may destroy it; an error while a client waits on it).
+ *   Exec, P or V of an unknown name is an error for that client.
+ * A blocked client's buffer is held (its credits with it) and its unpacker
+ * paused right after the blocking command (tsr_unpacker_yield); it resumes
+ * there when released. If every connected client is blocked once all
+ * `clients` connected, nobody can release them: the node fails with one
+ * line naming each barrier or semaphore, the clients waiting on it, and
+ * the clients that already ended (e.g. one disconnected while the others
+ * waited at a barrier counting it); it sends that line to every client
+ * and tsr_node_run returns TSR_ESTATE. Frames: the first client whose
+ * SwapBuffersTSR arrives becomes the swapping client; only its swaps reach
+ * the chain (and count as frames); other clients' swaps are dropped and
+ * counted in swaps_ignored — a parallel program lets one rank swap, after
+ * a barrier. "{client}" in the chain text is refused in this mode.
+ *
+ * TSR_NODE_INDEPENDENT (`--independent`): one session per client, each
+ * with its own thread, its own chain instance built from the node's chain
+ * text (so its own GL context and window: OSMesa contexts are current per
+ * thread), its own unpacker; sessions run concurrently, swap on their own,
+ * and do not obey the parallel API (the commands reach each chain). For
+ * unrelated applications sharing a server: write "{client}" in the chain
+ * text (e.g. render output=out/c{client}-%04d.png) and it becomes the
+ * client's number (0, 1, ... in connection order), so their outputs do not
+ * overwrite each other.
+ *
+ * In both modes a client whose stream is malformed, or whose connection
+ * fails, is dropped with one logged line naming it (peer name and address)
+ * and sent a TSR_NODE_MSG_ERROR; other clients go on. */
+#ifndef TSR_NODE_NODE_H
+#define TSR_NODE_NODE_H
+
+#include <stdint.h>
+
+#include "tessera/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct tsr_node tsr_node;
+
+typedef enum tsr_node_mode {
+    TSR_NODE_SHARED = 0,      /* one thread, one chain, a context per client, parallel API */
+    TSR_NODE_INDEPENDENT = 1, /* a thread and a chain per client */
+} tsr_node_mode;
+
+typedef struct tsr_node_config {
+    const char *listen;     /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
+    const char *chain;      /* chain text, "{client}" replaced by the client's number */
+    const char *token;      /* shared token clients must present; NULL/"" = none */
+    const char *name;       /* this node's name in handshakes; NULL = "node" */
+    unsigned clients;       /* serve this many clients, then tsr_node_run returns (>= 1) */
+    uint32_t timeout_ms;    /* longest wait for the next client to connect, and longest
+                               silence of a connected client; 0 = no limit */
+    tsr_node_mode mode;     /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
+} tsr_node_config;
+
+/* Checks the chain text (builds and destroys client 0's chain once, so a
+ * bad SPU, option or output directory fails here, not per client), then
+ * listens. The chain tsr_node_run uses is built on the thread that
+ * calls it. TSR_EINVAL for a bad configuration or chain, other codes for
+ * runtime failures (address in use, ...). */
+tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err);
+/* The address actually bound ("tcp://127.0.0.1:41234" for port 0). */
+const char *tsr_node_address(const tsr_node *node);
+/* Accepts `clients` clients, serves each until it ends, and returns once
+ * all ended: TSR_OK when every client connected and ended cleanly (BYE),
+ * else the first failure (a client dropped, no client came in time, or,
+ * in shared mode, a deadlock).
+ * Call once. */
+int tsr_node_run(tsr_node *node, tsr_error *err);
+void tsr_node_destroy(tsr_node *node);
+
+/* Running totals over every client so far, for progress lines and the
+ * mothership's statistics. Safe to call from any thread while
+ * tsr_node_run runs. */
+typedef struct tsr_node_stats {
+    uint64_t frames;          /* frames ended: SwapBuffers that reached the node's chain
+                                 (shared mode: the swapping client's only) */
+    uint64_t buffers;         /* wire buffers run */
+    uint64_t commands;        /* commands decoded */
+    uint64_t bytes_in;        /* payload bytes received from clients */
+    uint64_t bytes_out;       /* reply bytes sent to clients */
+    double busy_seconds;      /* time spent running buffers through the chain (render time) */
+    unsigned clients_connected;
+    unsigned clients_ended;   /* ended cleanly */
+    unsigned clients_failed;  /* dropped */
+    uint64_t swaps_ignored;   /* shared mode: swaps of clients other than the swapping one */
+    uint64_t blocks;          /* shared mode: times a client blocked on a barrier or semaphore */
+} tsr_node_stats;
+void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,44 @@
+/* server/node_internal.h — what node.c (listener, independent sessions,
+ * statistics) and schedule.c (shared mode: one rendering thread, the
+ * parallel API) share. Owns nothing; internal to node/. */
+#ifndef TSR_NODE_INTERNAL_H
+#define TSR_NODE_INTERNAL_H
+
+#include <pthread.h>
+
+#include "net.h"
+#include "node.h"
+#include "tessera/chain.h"
+
+struct node_session;
+
+struct tsr_node {
+    char *chain_text;
+    uint32_t timeout_ms;
+    unsigned clients;
+    tsr_node_mode mode;
+    tsr_net *net;
+    tsr_net_listener *listener;
+    struct node_session *sessions; /* independent mode: `clients` entries */
+    unsigned accepted;
+    int ran;
+    int stats_lock_ready;
+    pthread_mutex_t stats_lock;
+    tsr_node_stats stats;
+};
+
+/* Adds `delta` to the node's totals under its lock. */
+void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta);
+/* The chain for client `index` ("{client}" replaced); NULL with `err`. */
+tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err);
+/* Sends a TSR_NODE_MSG_REPLY on `conn` through a growing buffer
+ * (buf, cap); counts bytes_out. */
+int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_t *cap, uint32_t id,
+                        const uint8_t *data, size_t size, tsr_error *err);
+/* Accepts the next client; on failure fills `failure` (time-out and
+ * refusals named) and returns NULL. */
+tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure);
+/* Shared mode's tsr_node_run (schedule.c). */
+int tsr_node_run_shared(tsr_node *node, tsr_error *err);
+
+#endif
