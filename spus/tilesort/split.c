@@ -26,7 +26,7 @@
  *      and ends on 8 bytes, padded with glEdgeFlag commands (one byte each)
  *      that repeat the edge flag in force.
  * A server holds the buffer's start attributes before a piece (its diff
- * and tilesort.c's send_start_current), and the application's at the end
+ * and send.c's send_start_current), and the application's at the end
  * of the buffer after it: the promise every geometry buffer keeps.
  *
  * Exactness (tests/tilesort: 0 differing pixels against one OSMesa

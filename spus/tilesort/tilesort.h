@@ -1,8 +1,10 @@
 /* spus/tilesort/tilesort.h — the tilesort SPU's parts, shared by its files:
  * tilesort.c routes every GL call (tracker, geometry buffer, display
- * lists, frame commands) and sends; bucket.c turns a geometry buffer's
- * object-space box into the servers it must reach and owns the tilings
- * (fixed tiles, grid, load-balanced KD split); split.c cuts a glBegin/glEnd
+ * lists, frame commands) and send.c sends, with lists.c, arrays.c, frame.c
+ * and gets.c (sharing the instance, instance.h); bucket.c turns a geometry
+ * buffer's object-space box into the servers it must reach and owns the
+ * tilings (fixed tiles, grid, load-balanced KD split); batch.c builds the
+ * compact draws of a sorted array draw; split.c cuts a glBegin/glEnd
  * primitive that spans buffers into pieces, one per buffer.
  * Private to the SPU. */
 #ifndef TSR_TILESORT_H

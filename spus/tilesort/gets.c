@@ -1,0 +1,129 @@
+/* spus/tilesort/gets.c — gets: answered by the tracker where the value
+ * is client-known, otherwise by the first live server. (Commands with
+ * output the tracker does not implement reach that server through
+ * tilesort.c's R_SERVER route; glReadPixels is gathered, frame.c.)
+ *
+ * Owns nothing. Never asks a server before it has the tracker's state (its
+ * diff, and the shader or program asked about): it would answer for state
+ * the application has already left. */
+#include "instance.h"
+
+#define ANSWER_OR_ASK(getter, call)                                                                                \
+    do {                                                                                                           \
+        tilesort *t = self;                                                                                        \
+        if (getter)                                                                                                \
+            return;                                                                                                \
+        ts_server *s = ts_to_server(t);                                                                            \
+        call;                                                                                                      \
+    } while (0)
+
+void ts_GetBooleanv(void *self, GLenum p, GLboolean *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_booleanv(t->ctx, p, o), tsr_call_GetBooleanv(&s->table, p, o));
+}
+void ts_GetIntegerv(void *self, GLenum p, GLint *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_integerv(t->ctx, p, o), tsr_call_GetIntegerv(&s->table, p, o));
+}
+void ts_GetFloatv(void *self, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_floatv(t->ctx, p, o), tsr_call_GetFloatv(&s->table, p, o));
+}
+void ts_GetDoublev(void *self, GLenum p, GLdouble *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_doublev(t->ctx, p, o), tsr_call_GetDoublev(&s->table, p, o));
+}
+void ts_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_lightfv(t->ctx, l, p, o), tsr_call_GetLightfv(&s->table, l, p, o));
+}
+void ts_GetMaterialfv(void *self, GLenum f, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_materialfv(t->ctx, f, p, o), tsr_call_GetMaterialfv(&s->table, f, p, o));
+}
+void ts_GetTexEnvfv(void *self, GLenum tg, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_envfv(t->ctx, tg, p, o), tsr_call_GetTexEnvfv(&s->table, tg, p, o));
+}
+void ts_GetTexGenfv(void *self, GLenum c, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_genfv(t->ctx, c, p, o), tsr_call_GetTexGenfv(&s->table, c, p, o));
+}
+void ts_GetTexParameterfv(void *self, GLenum tg, GLenum p, GLfloat *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_parameterfv(t->ctx, tg, p, o), tsr_call_GetTexParameterfv(&s->table, tg, p, o));
+}
+void ts_GetTexLevelParameteriv(void *self, GLenum tg, GLint lv, GLenum p, GLint *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_level_parameteriv(t->ctx, tg, lv, p, o),
+                  tsr_call_GetTexLevelParameteriv(&s->table, tg, lv, p, o));
+}
+void ts_GetClipPlane(void *self, GLenum p, GLdouble *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_clip_plane(t->ctx, p, o), tsr_call_GetClipPlane(&s->table, p, o));
+}
+void ts_GetPolygonStipple(void *self, GLubyte *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_polygon_stipple(t->ctx, o), tsr_call_GetPolygonStipple(&s->table, o));
+}
+void ts_GetBufferParameteriv(void *self, GLenum tg, GLenum p, GLint *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_buffer_parameteriv(t->ctx, tg, p, o),
+                  tsr_call_GetBufferParameteriv(&s->table, tg, p, o));
+}
+GLboolean ts_IsEnabled(void *self, GLenum cap)
+{
+    tilesort *t = self;
+    GLboolean b = GL_FALSE;
+    if (tsr_state_is_enabled(t->ctx, cap, &b))
+        return b;
+    return tsr_call_IsEnabled(&ts_to_server(t)->table, cap);
+}
+
+/* Shader and program gets: what the tracker knows, else the first live
+ * server after it has been given the object (compile/link status, info
+ * logs, locations: the same link inputs give the same answers on every
+ * server, tests/state glsl_*). */
+static ts_server *glsl_server(tilesort *t, GLuint name, int program)
+{
+    ts_server *s = ts_to_server(t);
+    if (program)
+        tsr_state_send_program(t->ctx, s->shadow, name, &s->table);
+    else
+        tsr_state_send_shader(t->ctx, s->shadow, name, &s->table);
+    return s;
+}
+
+void ts_GetShaderiv(void *self, GLuint shader, GLenum pname, GLint *out)
+{
+    tilesort *t = self;
+    if (!tsr_state_get_shaderiv(t->ctx, shader, pname, out))
+        tsr_call_GetShaderiv(&glsl_server(t, shader, 0)->table, shader, pname, out);
+}
+
+void ts_GetProgramiv(void *self, GLuint program, GLenum pname, GLint *out)
+{
+    tilesort *t = self;
+    if (!tsr_state_get_programiv(t->ctx, program, pname, out))
+        tsr_call_GetProgramiv(&glsl_server(t, program, 1)->table, program, pname, out);
+}
+
+void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *log)
+{
+    tsr_call_GetShaderInfoLog(&glsl_server(self, shader, 0)->table, shader, size, length, log);
+}
+
+void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log)
+{
+    tsr_call_GetProgramInfoLog(&glsl_server(self, program, 1)->table, program, size, length, log);
+}
+
+GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name)
+{
+    return tsr_call_GetUniformLocation(&glsl_server(self, program, 1)->table, program, name);
+}
+
+GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name)
+{
+    return tsr_call_GetAttribLocation(&glsl_server(self, program, 1)->table, program, name);
+}

@@ -1,0 +1,192 @@
+/* spus/tilesort/instance.h — one tilesort instance, and what its files
+ * (tilesort.c, send.c, lists.c, arrays.c, frame.c, gets.c) call across one
+ * another. Private to the SPU; bucket.c, batch.c and split.c do not see
+ * the instance (tilesort.h). */
+#ifndef TSR_TILESORT_INSTANCE_H
+#define TSR_TILESORT_INSTANCE_H
+
+#include "tessera/dev/client.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/state.h"
+#include "tessera/dev/unpack.h"
+#include "tilesort.h"
+
+/* ts_current (the current attributes): tilesort.h, shared with split.c */
+
+typedef struct ts_chunk {
+    uint8_t *data;
+    size_t size;
+} ts_chunk;
+
+typedef struct ts_list {
+    GLuint name;
+    uint32_t version;       /* 0: slot free */
+    ts_chunk *chunks;
+    size_t nchunks, cap;
+    float mn[3], mx[3];
+    int boxed;              /* mn/mx hold the box of its vertices */
+    int unknown;            /* holds commands a box cannot place: every server gets its calls */
+    int has_state;          /* its calls change state: replayed into the tracker */
+    int calls;              /* it calls lists */
+    int geometry;           /* it draws itself (not only through the lists it calls) */
+    int unexpandable;       /* holds commands a call cannot be expanded into (lists.c: expand_list) */
+    tsr_pixel_modes unpack; /* unpack modes it was compiled under */
+    struct {
+        GLenum target;
+        GLuint name;
+    } *textures;            /* the textures it binds (sent before it runs) */
+    size_t ntextures;
+} ts_list;
+
+typedef struct ts_server {
+    struct tilesort *ts;
+    size_t index;
+    tsr_state_shadow *shadow;
+    tsr_packer *packer;
+    tsr_dispatch table;     /* the packer's functions */
+    tsr_pack_sink inner;    /* the client's sink for this server */
+    uint32_t tiles_version; /* of the tiling last sent (0: none) */
+    uint32_t *lists;        /* per list slot: version the server has */
+    size_t lists_cap;
+    uint64_t frame_bytes, bytes;
+    ts_batch sorted;        /* primitives of a sorted array draw waiting for this server */
+} ts_server;
+
+/* No single target: the geometry buffer goes where its box says. */
+#define TS_ANY_TARGET SIZE_MAX
+
+typedef struct tilesort {
+    char name[96];
+    tsr_stream_client *client;
+    size_t nservers;
+    ts_server *srv;
+    ts_tiling tiling;
+    uint32_t tiling_version;
+    char *assemble;         /* PNG pattern of the gathered window, or NULL */
+    size_t batch_bytes;     /* geometry is bucketed in batches of about this size */
+    tsr_state_tracker *tracker;
+    tsr_state_ctx *ctx;
+    tsr_packer *geo;
+    tsr_dispatch geo_table, track_table, normal, record;
+    tsr_dispatch *live;
+    unsigned char route[TSR_DISPATCH_COUNT];
+    tsr_hook hooks[TSR_DISPATCH_COUNT];
+    tsr_tee tees[TSR_DISPATCH_COUNT];
+    tsr_hook rec_hooks[TSR_DISPATCH_COUNT];
+    tsr_tee rec_tees[TSR_DISPATCH_COUNT];
+    /* the geometry buffer */
+    int in_begin, split_primitive, broadcast_next, program;
+    ts_split *split;        /* split.c: a primitive cut across buffers */
+    ts_current start;       /* current attributes when this buffer started */
+    size_t *buffer_lists;   /* list slots called by this buffer */
+    size_t nbuffer_lists, buffer_lists_cap;
+    int buffer_calls_any;   /* glCallLists: every list may be called */
+    uint8_t *hit;
+    size_t *targets;
+    size_t last_targets;    /* how many of targets[] the last flushed buffer went to */
+    tsr_dispatch discard;   /* no-ops: diffs that only update a shadow */
+    /* array draws sorted primitive by primitive */
+    size_t only_target;     /* TS_ANY_TARGET, or the one server the buffer is for */
+    ts_batch compact;       /* scratch: a sorted draw as one server would get it (statistics), or
+                               one batch of a glDrawElements that is not sorted */
+    uint8_t *gathered;      /* scratch: gathered arrays and 16-bit indices */
+    size_t gathered_cap;
+    /* display lists */
+    ts_list *lists;
+    size_t nlists;
+    uint32_t list_versions;
+    tsr_packer *list_packer;
+    tsr_dispatch list_table;
+    ts_list *recording;
+    int recording_execute;
+    tsr_unpacker *replay;
+    int replay_depth;
+    tsr_unpacker *expand;   /* runs an expanded list's commands through the normal routes */
+    /* window and frames */
+    int win_w, win_h;
+    uint64_t frames;
+    /* statistics: the stream packed once, and bytes per server per frame */
+    uint64_t stream_bytes;
+    /* what one server of a 1x1 configuration would get besides the stream:
+     * its diffs, taken into a shadow of its own and counted, never sent */
+    tsr_state_shadow *solo;
+    tsr_packer *solo_packer;
+    tsr_dispatch solo_table;
+    uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
+    double *frame_seconds;  /* application time of each kept frame (swap to swap) */
+    double last_swap;       /* monotonic seconds of the last swap (or of creation) */
+    size_t frames_kept, frames_cap;
+    tsr_error error;        /* first failure, reported once */
+} tilesort;
+
+/* --- tilesort.c --------------------------------------------------------------- */
+/* Keeps the first failure and logs it (later ones are dropped). */
+void ts_report(tilesort *t, const tsr_error *e);
+void ts_keep_frame_row(tilesort *t);
+
+/* --- send.c: the geometry buffer and its servers ------------------------------ */
+/* The current attributes now become the start of the next buffer. */
+void ts_snapshot(tilesort *t);
+void ts_prepare_server(tilesort *t, ts_server *s, int geometry);
+void ts_flush_geometry(tilesort *t);
+void ts_flush_before_state(tilesort *t);
+void ts_broadcast_next(tilesort *t);
+ts_server *ts_to_server(tilesort *t);
+double ts_box_margin(const tilesort *t);
+void ts_count_solo_diff(tilesort *t);
+int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
+int ts_server_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
+int ts_server_sink_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err);
+void ts_Begin(void *self, GLenum mode);
+void ts_End(void *self);
+
+/* --- lists.c: display lists --------------------------------------------------- */
+void ts_list_clear(ts_list *l);
+int ts_list_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
+void ts_send_buffer_lists(tilesort *t, ts_server *s);
+void ts_CallList(void *self, GLuint name);
+void ts_CallLists(void *self, GLsizei n, GLenum type, const GLvoid *lists);
+void ts_NewList(void *self, GLuint name, GLenum mode);
+void ts_EndList(void *self);
+void ts_DeleteLists(void *self, GLuint first, GLsizei range);
+/* in the tracker's table: a called list's state calls replayed */
+void ts_replay_CallList(void *self, GLuint name);
+void ts_replay_CallLists(void *self, GLsizei n, GLenum type, const GLvoid *lists);
+/* in the table used while compiling a list */
+void ts_rec_CallList(void *self, GLuint name);
+void ts_rec_CallLists(void *self, GLsizei n, GLenum type, const GLvoid *lists);
+void ts_rec_BindTexture(void *self, GLenum target, GLuint name);
+
+/* --- arrays.c: array draws ---------------------------------------------------- */
+void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count);
+void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const void *indices);
+
+/* --- frame.c: frames, the window, gathered pixels ----------------------------- */
+void ts_WindowCreateTSR(void *self, GLint window, GLsizei w, GLsizei h);
+void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h);
+void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags);
+void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels);
+
+/* --- gets.c ------------------------------------------------------------------- */
+void ts_GetBooleanv(void *self, GLenum p, GLboolean *o);
+void ts_GetIntegerv(void *self, GLenum p, GLint *o);
+void ts_GetFloatv(void *self, GLenum p, GLfloat *o);
+void ts_GetDoublev(void *self, GLenum p, GLdouble *o);
+void ts_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o);
+void ts_GetMaterialfv(void *self, GLenum f, GLenum p, GLfloat *o);
+void ts_GetTexEnvfv(void *self, GLenum tg, GLenum p, GLfloat *o);
+void ts_GetTexGenfv(void *self, GLenum c, GLenum p, GLfloat *o);
+void ts_GetTexParameterfv(void *self, GLenum tg, GLenum p, GLfloat *o);
+void ts_GetTexLevelParameteriv(void *self, GLenum tg, GLint lv, GLenum p, GLint *o);
+void ts_GetClipPlane(void *self, GLenum p, GLdouble *o);
+void ts_GetPolygonStipple(void *self, GLubyte *o);
+void ts_GetBufferParameteriv(void *self, GLenum tg, GLenum p, GLint *o);
+GLboolean ts_IsEnabled(void *self, GLenum cap);
+void ts_GetShaderiv(void *self, GLuint shader, GLenum pname, GLint *out);
+void ts_GetProgramiv(void *self, GLuint program, GLenum pname, GLint *out);
+void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *log);
+void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log);
+GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name);
+GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name);
+
+#endif
