@@ -1,5 +1,5 @@
 /* gen/gen_state.c — emits src/state_gen.c for the state tracker
- * (core/state*.c):
+ * (core/state/):
  *   - one tracker function per current-attribute command of the spec
  *     (Color*, Normal*, TexCoord*, MultiTexCoord*, EdgeFlag*, VertexAttrib*
  *     in every type and vector form), each converting its arguments the

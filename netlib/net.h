@@ -1,8 +1,10 @@
 /* netlib/net.h — message connections over TCP, Unix-domain sockets and an
  * in-process transport, with a handshake and credit-based flow control.
  * Owns: the connection API, the netlib wire protocol (specified below) and
- * the I/O thread that runs one libuv loop per tsr_net. Internal for now
- * (the pack SPU and the node are its first users); symbols are tsr_net_*.
+ * the I/O thread that runs one libuv loop per tsr_net. Not installed (the
+ * library is, for libtessera_client): its users are the stream client
+ * (client/), the server node (server/) and the mothership; symbols are
+ * tsr_net_*.
  * Never: exits or aborts on bad input or a bad peer, allocates what a peer
  * announces before checking it against the limit, or blocks without a bound
  * the caller chose.

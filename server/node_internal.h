@@ -1,6 +1,6 @@
 /* server/node_internal.h — what node.c (listener, independent sessions,
  * statistics) and schedule.c (shared mode: one rendering thread, the
- * parallel API) share. Owns nothing; internal to node/. */
+ * parallel API) share. Owns nothing; internal to server/. */
 #ifndef TSR_NODE_INTERNAL_H
 #define TSR_NODE_INTERNAL_H
 

@@ -1,4 +1,6 @@
-/* core/image/tiles.c — parses the text form of tile lists (tessera/tiles.h). */
+/* core/image/tiles.c — parses the text form of tile lists (tessera/tiles.h).
+ * Owns nothing (the caller frees the list). Never: accepts a field it
+ * cannot represent, or a tile with a non-positive size. */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,3 +1,6 @@
+/* core/util/clock.c — the one monotonic clock (tessera/dev/util.h): seconds
+ * on CLOCK_MONOTONIC, for intervals (the origin is arbitrary). Owns nothing.
+ * Never: a second copy elsewhere; wall-clock time for durations. */
 #include "tessera/dev/util.h"
 
 #include <time.h>

@@ -1,3 +1,6 @@
+/* core/util/json.c — the one JSON string writer (tessera/dev/util.h), for
+ * statistics files: quotes, backslashes and control bytes escaped, other
+ * bytes (UTF-8 included) copied. Owns nothing; never allocates. */
 #include "tessera/dev/util.h"
 
 void tsr_json_string(FILE *f, const char *s)

@@ -1,3 +1,6 @@
+/* core/util/map.c — the name map of map.h: open addressing with linear
+ * probing, a power-of-two capacity kept at least twice the count. Owns its
+ * key and value arrays, never the values; never takes name 0 as a key. */
 #include "map.h"
 
 #include <stdlib.h>

@@ -1,3 +1,7 @@
+/* core/util/names.c — "did you mean" for error messages (tessera/dev/util.h):
+ * edit distance (optimal string alignment: insert, delete, substitute, swap
+ * adjacent) and the closest candidate within two edits. Owns nothing;
+ * never allocates (words over TSR_SUGGEST_MAX_LEN are not compared). */
 #include "tessera/dev/util.h"
 
 #include <string.h>

@@ -1,8 +1,9 @@
 /* core/wire/dlist.c — the display-list recorder (dlist.h): bodies packed by our
- * own packer into wire buffers, kept per list name in the state tracker's
- * name map (state_internal.h), replayed by unpackers (one per nesting
- * level, because a handler of level d starts level d+1 while level d's
- * unpacker is still running). */
+ * own packer into wire buffers, kept per list name in a name map
+ * (core/util/map.h), replayed by unpackers (one per nesting level, because
+ * a handler of level d starts level d+1 while level d's unpacker is still
+ * running). Owns the bodies, its packer and unpackers; never executes a
+ * compiled command itself or keeps a host pointer in a body. */
 #include "tessera/dev/dlist.h"
 
 #include <stdlib.h>

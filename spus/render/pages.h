@@ -1,6 +1,6 @@
 /* spus/render/pages.h — gives back to the kernel the zero pages that Mesa
  * writes when it allocates a renderbuffer, so a tile server pays only for
- * the pages its tiles touch (render.c, "Memory").
+ * the pages its tiles touch (docs/render.md, "Memory").
  *
  * llvmpipe (Mesa 22.3, lp_texture.c llvmpipe_texture_layout) allocates
  * every texture/renderbuffer with align_malloc and then memsets all of it

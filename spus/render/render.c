@@ -1,113 +1,27 @@
-/* spus/render — draws the stream with OSMesa into an offscreen framebuffer
- * of the window's size and writes a PNG per SwapBuffersTSR. Owns, per
- * instance: the dlopen'ed OSMesa handle, one context, its framebuffer and
- * the frame counter. Never links against gl* symbols: every GL entry comes
- * from OSMesaGetProcAddress (so it cannot bind to the faker's own gl* when
- * both live in one process); never keeps state outside the instance.
+/* spus/render/render.c — the render SPU: draws the stream with OSMesa into
+ * an offscreen framebuffer of the window's size and writes a PNG per
+ * SwapBuffersTSR (one per owned tile on a wall's tile server), bit-identical
+ * to the same program drawn by OSMesa directly. A static library
+ * (render.h) that the `render` plugin and `readback` build on.
  *
- * Context: RGBA, depth 24, stencil 8, accum 0 — exactly what the native
- * reference (examples/common/exapp.c, EXAPP_NATIVE) creates, so a stream
- * drawn here is bit-identical to the program drawn by OSMesa directly.
+ * Owns, per instance: the dlopen'ed OSMesa handle, its contexts (RGBA,
+ * depth 24, stencil 8, accum 0: exactly the native reference's,
+ * examples/common/exapp.c), the framebuffer, the owned tiles, the
+ * application's scissor state per context, and the frame counter.
  *
- * Framebuffer size: the `width`/`height` options when non-zero (window
- * sizes are then ignored); otherwise the size of the last WindowCreateTSR
- * or WindowSizeTSR for this SPU's `window`, and 512x512 until one arrives.
- * The first window command resets viewport and scissor to the window, as a
- * window system does when a context is first made current on a window.
- * WindowDestroyTSR changes nothing here (it passes on to the child); the
- * framebuffer lives as long as the instance.
+ * Never: links against gl* symbols (every GL entry comes from
+ * OSMesaGetProcAddress, so it cannot bind to libtessera_gl's own gl* in
+ * the same process); keeps state outside the instance; moves the
+ * application's viewport or projection for tiles (only the scissor
+ * changes); creates the output directory (a typo fails at once).
  *
- * Output: `output` is a pattern with one %d for the frame number (frames
- * count swaps of `window` from 0); empty = write nothing. Its directory
- * must exist when the instance is created (it is not created here, so a
- * typo fails at once instead of scattering files).
+ * Callers: OSMesa's current context is per thread. A thread that switches
+ * between two render instances' tables must send a window or swap command
+ * to the instance it switches to before drawing.
  *
- * Threads: OSMesa's current context is per thread. The context is made
- * current on the creating thread, and again by every window or swap
- * command that finds another context current on the calling thread. GL
- * calls go straight to OSMesa (no per-call check), so they reach the
- * context current on the calling thread: a thread that switches between
- * two render instances' tables must send one of those commands to the
- * instance it switches to before drawing.
- *
- * Several contexts, one window (a server node with many clients,
- * server/node.h): ContextCreateTSR(id) adds a context, MakeCurrentTSR(window,
- * id) directs the commands that follow to it, ContextDestroyTSR(id) drops
- * it; id 0 is the instance's own context. Every context draws into ONE
- * shared framebuffer, so N clients build one picture. What OSMesa does and
- * does not share, measured with Mesa 22.3 (llvmpipe, Debian 12): contexts
- * with the same formats made current on the same user buffer share
- * NOTHING — each context renders into its own colour and depth/stencil
- * resources and only copies its colour into the user buffer at
- * glFlush/glFinish, overwriting it (a context made current on a buffer
- * another context drew into reads black and depth 0). Copying the
- * framebuffer between contexts at every switch is slow and not exact
- * (glDrawPixels or glBlitFramebuffer of depth, which go through float,
- * changed 25% of the depth values of a 1024x768 scene; glDrawPixels of it
- * took 160 ms). So the first ContextCreateTSR
- * switches the instance to shared mode: the contexts form one share group
- * (OSMesaCreateContextExt's sharelist) and each draws through its own
- * framebuffer object into the same two renderbuffers (RGBA8 and
- * DEPTH24_STENCIL8, the native window's formats). A plain FBO rasterises
- * with the opposite y orientation to the window (gallium draws window
- * buffers upside down) and differed from it in 1 of 59,297 pixels (301x197)
- * and 2 of 786,432 (1024x768) on a soup of 3,000 triangles, wide lines and
- * points; with GL_MESA_framebuffer_flip_y set on the FBO both were
- * bit-identical, so the FBOs set it.
- * Consequences: the clients share one object namespace (display lists,
- * textures, buffers, programs: names from glGen* never collide, made-up
- * names may); GL_FRONT/GL_LEFT/GL_FRONT_AND_BACK in DrawBuffer/ReadBuffer
- * mean the shared colour buffer; the frame is read back (by context 0) at
- * each swap. Switching contexts finishes the outgoing context first, so
- * the next one sees everything it drew.
- *
- * Tiles (sort-first servers; DESIGN.md section 3): the `tiles` option
- * ("X:Y:W:H,...", tessera/tiles.h; the mothership fills it from the graph
- * node's tiles:) and TilesTSR(window, count, rects), which replaces it
- * whenever it comes (count 0: the whole window again), give the
- * rectangles of the window this instance owns. The framebuffer stays the
- * full window's size and the application's viewport and projection pass
- * through untouched, so every window coordinate is computed exactly as in
- * a full-window render; only the scissor changes. The real GL scissor is
- * always enabled, on the application's scissor box (when the application
- * enabled GL_SCISSOR_TEST) intersected with the BOUNDING RECTANGLE of the
- * owned tiles: one scissor cannot be exactly several rectangles, so with
- * several tiles the pixels between them inside that rectangle are drawn
- * too, but never read or written out (GL_EXT_window_rectangles would
- * bound them exactly; llvmpipe in Mesa 22.3 does not offer it). Since the test is always on, clears,
- * DrawPixels, Bitmap and CopyPixels are restricted too, with no
- * interception of their own. The application's scissor state is kept per
- * context (render_scissor) from Scissor, Enable/Disable(GL_SCISSOR_TEST)
- * and PushAttrib/PopAttrib (GL_SCISSOR_BIT and GL_ENABLE_BIT: a pop makes
- * GL restore the scissor as it was at the push, perhaps fitted to other
- * tiles, so it is fitted again); glGet*v and glIsEnabled of the scissor
- * answer with the application's values. Display lists run scissor
- * commands inside GL: CallList(s) therefore runs with the application's own
- * scissor and reads it back from GL after (drawing of the list itself is
- * then not narrowed to the tiles: exact, but not cheaper), and so does a
- * GL_COMPILE_AND_EXECUTE list; what a list pushes on the attribute stack
- * is taken as saving no scissor state. Without tiles the real scissor is
- * the application's: lists run unwatched and glGet goes to GL, and the
- * record is read back from GL when tiles come. Tiles that change reach
- * each context when it next becomes current. A swap reads each tile (glReadPixels
- * of that rectangle, clipped to the window, by a reader context of its own
- * so no client's pixel-store state applies) and writes one PNG per tile,
- * tile-sized: the `output` name for one tile, with "-tN" before the
- * extension (N = index in the tile list) for several (out/w-0007-t1.png).
- *
- * Memory: pages outside the tiles are never touched. The first tiles put
- * the instance in shared mode (FBOs on renderbuffers), because OSMesa's
- * window buffer is copied whole into the user buffer at every glFinish;
- * and llvmpipe memsets every new renderbuffer, so after allocating them
- * for a tiled window the zero pages are given back (pages.h). Measured
- * (bench/run tiles, 4096x3072 window): a server owning one 1024x768 tile
- * stays at about 24 MB above an idle 64x48 render instance, a full-window
- * one at about 145 MB; the tile server's peak still includes the 96 MB
- * memset for an instant, before the pages are given back.
- *
- * This file is a library (render.h): the `render` plugin (plugin.c) and
- * `readback` (spus/readback) build on it; a hook gets each frame's tile
- * pixels (or the whole window's) right after they are read. */
+ * docs/render.md describes the behaviour in detail (framebuffer size,
+ * output names, shared mode for several contexts, tiles, memory) and the
+ * measurements behind it. */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -172,7 +86,7 @@ typedef struct render_box {
  * GL_MAX_ATTRIB_STACK_DEPTH, read at creation. */
 #define RENDER_ATTRIB_DEPTH 64
 
-/* What one PushAttrib saved of the scissor (header comment, "Tiles"). */
+/* What one PushAttrib saved of the scissor (docs/render.md, "Tiles"). */
 typedef struct scissor_saved {
     GLbitfield mask;
     render_box box;
@@ -219,7 +133,8 @@ typedef struct render_spu {
     int width, height;
     int frame;                 /* number of the next frame written */
 
-    /* Shared mode (header comment): entered by the first ContextCreateTSR. */
+    /* Shared mode (docs/render.md, "Several contexts, one window"): entered
+     * by the first ContextCreateTSR. */
     bool shared;
     fbo_api fbo;
     render_context *contexts;  /* [0] = `context` */
@@ -229,7 +144,7 @@ typedef struct render_spu {
     unsigned generation;       /* bumped when the renderbuffers are resized */
     unsigned char dummy[4];    /* 1x1 drawable: contexts draw through FBOs */
 
-    /* Tiles (header comment): none = the whole window. */
+    /* Tiles (docs/render.md, "Tiles"): none = the whole window. */
     tsr_tile *tiles;
     size_t ntiles;
     render_box bounds;         /* bounding rectangle of the tiles */
@@ -582,7 +497,8 @@ static int check_output(render_spu *r, tsr_error *err) {
 
 /* Takes `tiles` (malloc'ed; ownership passes here; NULL/0 = the whole
  * window). The first tiles put the instance in shared mode (FBOs: OSMesa's
- * window buffer would be copied whole at every glFinish, see "Memory"),
+ * window buffer would be copied whole at every glFinish: docs/render.md,
+ * "Memory"),
  * and renderbuffers allocated before any tiles are allocated again so the
  * pages outside the tiles are given back (their pixels are lost: tiles
  * come before the first frame). */
@@ -653,7 +569,7 @@ static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint
 
 /* --- the commands this SPU implements itself ------------------------------ */
 
-/* The scissor commands (header comment, "Tiles"): the application's state
+/* The scissor commands (docs/render.md, "Tiles"): the application's state
  * is recorded, the real one is fitted to the tiles. */
 static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height) {
     render_spu *r = self;

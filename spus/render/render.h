@@ -2,8 +2,9 @@
  * (tessera_render_core, static), shared by the `render` plugin (plugin.c)
  * and the SPUs that render exactly like it and then do more with the
  * frame (`readback`, spus/readback). Owns nothing itself: an instance is
- * what render.c's header comment describes. Never to be copied: an SPU
- * that needs render's drawing links this library and passes hooks.
+ * what render.c's header comment describes (docs/render.md in detail).
+ * Never to be copied: an SPU that needs render's drawing links this
+ * library and passes hooks.
  *
  * Hooks: `image` is called at every swap of the instance's window, after
  * the frame's pixels were read and written out (PNGs), before the swap

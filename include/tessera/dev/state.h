@@ -1,4 +1,4 @@
-/* tessera/dev/state.h — the GL state tracker (DESIGN.md section 3).
+/* tessera/dev/state.h — the GL state tracker (docs/architecture.md).
  *
  * What it is for: an SPU that sends one stream to several renderers
  * (tilesort, replicate's late joiners) keeps the application's GL state
