@@ -21,20 +21,6 @@ static void print_usage(FILE *out) {
                  "Exit codes: 0 ok, 1 an SPU failed to load, 2 unknown SPU or bad arguments.\n");
 }
 
-static const char *type_name(tsr_option_type type) {
-    switch (type) {
-    case TSR_OPT_BOOL: return "bool";
-    case TSR_OPT_INT: return "int";
-    case TSR_OPT_FLOAT: return "float";
-    case TSR_OPT_STRING: return "string";
-    case TSR_OPT_ENUM: return "enum";
-    case TSR_OPT_INT_LIST: return "int list";
-    case TSR_OPT_FLOAT_LIST: return "float list";
-    case TSR_OPT_STRING_LIST: return "string list";
-    }
-    return "?";
-}
-
 static bool is_list(tsr_option_type type) {
     return type == TSR_OPT_INT_LIST || type == TSR_OPT_FLOAT_LIST || type == TSR_OPT_STRING_LIST;
 }
@@ -46,7 +32,7 @@ static bool is_numeric(tsr_option_type type) {
 
 /* "    width (int in [1, 16384], default 1024)\n        window width\n" */
 static void print_option(const tsr_option_spec *o) {
-    printf("    %s (%s", o->name, type_name(o->type));
+    printf("    %s (%s", o->name, tsr_option_type_name(o->type));
     if (o->type == TSR_OPT_ENUM)
         printf(": %s", o->choices ? o->choices : "");
     if (is_numeric(o->type) && o->min <= o->max)

@@ -43,7 +43,5 @@ void tsr_options_free(tsr_options *options);
 
 
 
-/* "bool", "int", ..., "string list". */
-const char *tsr_option_type_name(tsr_option_type type);
 
 #endif

@@ -39,6 +39,9 @@ typedef struct tsr_option_spec {
  * is a programming error and returns 0 / NULL with a logged message. */
 typedef struct tsr_options tsr_options;
 
+/* "bool", "int", "float", "string", "enum", "int list", ... */
+TSR_API const char *tsr_option_type_name(tsr_option_type type);
+
 /* Checks one text value against one declaration without keeping it
  * (`spu` names the SPU in the message). */
 TSR_API int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text,
