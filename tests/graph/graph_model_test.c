@@ -10,15 +10,7 @@
 #include "tessera/chain.h"
 #include "tessera/graph.h"
 
-static int failures;
-
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);               \
-            failures++;                                                                            \
-        }                                                                                          \
-    } while (0)
+#include "harness.h"
 
 static tsr_graph *parse(const char *text, unsigned flags) {
     tsr_error err;
@@ -276,9 +268,9 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < sizeof tests / sizeof tests[0]; i++)
         if (!strcmp(argv[1], tests[i].name)) {
             tests[i].run();
-            if (failures)
-                fprintf(stderr, "%s: %d checks failed\n", argv[1], failures);
-            return failures ? 1 : 0;
+            if (harness_failures)
+                fprintf(stderr, "%s: %d checks failed\n", argv[1], harness_failures);
+            return harness_failures ? 1 : 0;
         }
     fprintf(stderr, "unknown test '%s'\n", argv[1]);
     return 2;

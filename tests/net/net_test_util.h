@@ -1,6 +1,7 @@
-/* tests/net/net_test_util.h — helpers shared by the netlib tests: checks
- * that name what broke, VmRSS from /proc, clocks, and raw sockets that
- * speak the wire format by hand (so the tests hold netlib to its spec).
+/* tests/net/net_test_util.h — helpers shared by the netlib tests: the
+ * checks of tests/harness.h (stopping at the first failure), VmRSS from
+ * /proc, clocks, and raw sockets that speak the wire format by hand (so
+ * the tests hold netlib to its spec).
  * Never: hides a failure — every check failure exits 1 with a message. */
 #ifndef TSR_NET_TEST_UTIL_H
 #define TSR_NET_TEST_UTIL_H
@@ -22,22 +23,10 @@
 
 #include "net.h"
 
-#define CHECK(cond, ...)                                                  \
-    do {                                                                  \
-        if (!(cond)) {                                                    \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                 \
-            fputc('\n', stderr);                                          \
-            exit(1);                                                      \
-        }                                                                 \
-    } while (0)
-
-#define CHECK_OK(call, err)                                                             \
-    do {                                                                                \
-        int check_rc_ = (call);                                                         \
-        CHECK(check_rc_ == TSR_OK, "%s -> %s: %s", #call, tsr_error_name(check_rc_),    \
-              (err).message);                                                           \
-    } while (0)
+/* A failed check ends the program: the helpers below return nothing to
+ * check, and later steps need the sockets and peers the earlier ones made. */
+#define HARNESS_ON_FAIL exit(1)
+#include "harness.h"
 
 static inline int contains(const char *haystack, const char *needle) {
     return strstr(haystack, needle) != NULL;

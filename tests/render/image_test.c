@@ -12,18 +12,7 @@
 
 #include "tessera/image.h"
 
-static int failures;
-
-#define CHECK(cond, ...)                                              \
-    do {                                                              \
-        if (!(cond)) {                                                \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__,    \
-                    __LINE__, #cond);                                 \
-            fprintf(stderr, __VA_ARGS__);                             \
-            fprintf(stderr, "\n");                                    \
-            failures++;                                               \
-        }                                                             \
-    } while (0)
+#include "harness.h"
 
 /* A deterministic test picture: every channel varies, alpha included. */
 static void fill_pattern(tsr_image *img) {
@@ -105,7 +94,7 @@ static int test_roundtrip(const char *dir) {
     tsr_image_free(&a);
     tsr_image_free(&b);
     tsr_image_free(&c);
-    return failures;
+    return harness_failures;
 }
 
 static int test_convert(const char *dir) {
@@ -225,7 +214,7 @@ static int test_convert(const char *dir) {
               pixel_at(&img, 2, 0)[3]);
     }
     tsr_image_free(&img);
-    return failures;
+    return harness_failures;
 }
 
 static int test_compare(void) {
@@ -266,7 +255,7 @@ static int test_compare(void) {
     tsr_image_free(&a);
     tsr_image_free(&b);
     tsr_image_free(&c);
-    return failures;
+    return harness_failures;
 }
 
 static int test_flip(void) {
@@ -286,7 +275,7 @@ static int test_flip(void) {
     CHECK(memcmp(a.pixels, b.pixels, a.stride * 5) == 0, "flipping twice is not identity");
     tsr_image_free(&a);
     tsr_image_free(&b);
-    return failures;
+    return harness_failures;
 }
 
 static int test_errors(const char *dir) {
@@ -332,7 +321,7 @@ static int test_errors(const char *dir) {
     CHECK(strstr(err.message, no_dir) != NULL, "message lacks the path: %s", err.message);
     tsr_image_free(&a);
     CHECK(tsr_image_alloc(&a, 0, 5, &err) == TSR_EINVAL, "0-wide image allocated");
-    return failures;
+    return harness_failures;
 }
 
 static int test_frame_path(void) {
@@ -355,7 +344,7 @@ static int test_frame_path(void) {
     }
     CHECK(tsr_image_frame_path(out, 8, "longer-than-eight-%d.png", 1, &err) == TSR_EINVAL,
           "overlong name accepted");
-    return failures;
+    return harness_failures;
 }
 
 /* Fixtures for the imgdiff CLI tests: base.png, base_copy.png,
@@ -395,7 +384,7 @@ static int expect_size(const char *path, int w, int h) {
     CHECK(img.width == w && img.height == h, "%s is %dx%d, expected %dx%d", path, img.width,
           img.height, w, h);
     tsr_image_free(&img);
-    return failures;
+    return harness_failures;
 }
 
 int main(int argc, char **argv) {

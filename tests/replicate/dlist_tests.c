@@ -22,16 +22,7 @@
 #include "tessera/dev/state.h"
 #include "tessera/dev/unpack.h"
 
-static int failures;
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                                   \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fputc('\n', stderr);                                                                   \
-            failures++;                                                                            \
-        }                                                                                          \
-    } while (0)
+#include "harness.h"
 
 typedef struct mem { uint8_t *b; size_t n; } mem;
 
@@ -289,7 +280,7 @@ int main(int argc, char **argv)
     for (size_t i = 0; argc == 2 && i < sizeof tests / sizeof tests[0]; i++)
         if (!strcmp(argv[1], tests[i].name)) {
             tests[i].fn();
-            if (failures)
+            if (harness_failures)
                 return 1;
             printf("PASS: dlist %s\n", argv[1]);
             return 0;

@@ -41,7 +41,7 @@ static void check_journal(const char *const *expected, size_t n, int line) {
     fprintf(stderr, "  expected:\n");
     for (size_t i = 0; i < n; i++)
         fprintf(stderr, "    %s\n", expected[i]);
-    spu_test_failures++;
+    harness_failures++;
 }
 #define CHECK_JOURNAL(...)                                                                         \
     do {                                                                                           \

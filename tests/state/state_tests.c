@@ -58,16 +58,7 @@
 #include "trace_gen.h"
 #include "tessera/dev/unpack.h"
 
-static int failures;
-#define CHECK(cond, ...)                                                                  \
-    do {                                                                                  \
-        if (!(cond)) {                                                                    \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond);     \
-            fprintf(stderr, __VA_ARGS__);                                                 \
-            fputc('\n', stderr);                                                          \
-            failures++;                                                                   \
-        }                                                                                 \
-    } while (0)
+#include "harness.h"
 
 /* --- OSMesa through dlopen ------------------------------------------------------ */
 typedef struct osm {
@@ -2041,9 +2032,9 @@ int main(int argc, char **argv)
             if (tests[i].gl)
                 osm_load();
             tests[i].fn();
-            if (failures)
-                fprintf(stderr, "%s: %d check(s) failed\n", argv[1], failures);
-            return failures ? 1 : 0;
+            if (harness_failures)
+                fprintf(stderr, "%s: %d check(s) failed\n", argv[1], harness_failures);
+            return harness_failures ? 1 : 0;
         }
     fprintf(stderr, "state_tests: unknown test '%s'\n", argv[1]);
     return 2;

@@ -16,15 +16,9 @@
 #include "tessera/dev/pixel.h"
 #include "tessera/glprocs_gen.h"
 
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fputc('\n', stderr);                                           \
-            return 1;                                                      \
-        }                                                                  \
-    } while (0)
+/* A failed check leaves the test function (later steps need what it made). */
+#define HARNESS_ON_FAIL return 1
+#include "harness.h"
 
 static uint64_t next(uint64_t *s)
 {

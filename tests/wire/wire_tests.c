@@ -7,7 +7,7 @@
 #include <GL/glext.h>
 #include <stdint.h>
 
-#include "harness.h"
+#include "roundtrip.h"
 #include "tessera/chain.h"
 #include "tessera/glapi.h"
 

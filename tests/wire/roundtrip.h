@@ -1,10 +1,10 @@
-/* tests/wire/harness.h — shared pieces of the wire tests: a packer whose
+/* tests/wire/roundtrip.h — shared pieces of the wire tests: a packer whose
  * sink keeps a copy of every buffer and unpacks it at once into a
  * recording table (replies answered in-process), and a second recorder
  * that receives the same calls directly, so the two can be compared.
  * Owns nothing global; never hides a failure (every helper reports). */
-#ifndef TSR_TESTS_WIRE_HARNESS_H
-#define TSR_TESTS_WIRE_HARNESS_H
+#ifndef TSR_TESTS_WIRE_ROUNDTRIP_H
+#define TSR_TESTS_WIRE_ROUNDTRIP_H
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,15 +15,9 @@
 #include "wire_gen.h"
 #include "wire_test_gen.h"
 
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fputc('\n', stderr);                                           \
-            return 1;                                                      \
-        }                                                                  \
-    } while (0)
+/* A failed check leaves the test function (later steps need what it made). */
+#define HARNESS_ON_FAIL return 1
+#include "harness.h"
 
 typedef struct roundtrip {
     tsr_packer *packer;
