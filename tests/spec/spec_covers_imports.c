@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "harness.h"
+
 int main(int argc, char **argv)
 {
     spec s;
@@ -15,30 +17,23 @@ int main(int argc, char **argv)
     if (setup)
         return setup;
     char line[256];
-    int lineno = 0, failures = 0, names = 0;
+    int lineno = 0, names = 0;
     while (fgets(line, sizeof line, f)) {
         lineno++;
         line[strcspn(line, "\r\n")] = 0;
         if (!line[0] || line[0] == '#')
             continue;
-        if (strncmp(line, "gl", 2) != 0 || line[2] < 'A' || line[2] > 'Z') {
-            fprintf(stderr, "FAIL: %s:%d: '%s' is not a gl* function name\n", argv[2], lineno, line);
-            failures++;
+        int gl_name = strncmp(line, "gl", 2) == 0 && line[2] >= 'A' && line[2] <= 'Z';
+        CHECK(gl_name, "%s:%d: '%s' is not a gl* function name", argv[2], lineno, line);
+        if (!gl_name)
             continue;
-        }
         names++;
-        if (!spec_find(&s, line + 2)) {
-            fprintf(stderr, "FAIL: %s:%d: %s is imported by a program but missing from %s\n", argv[2], lineno,
-                    line, argv[1]);
-            failures++;
-        }
+        CHECK(spec_find(&s, line + 2), "%s:%d: %s is imported by a program but missing from %s", argv[2],
+              lineno, line, argv[1]);
     }
     fclose(f);
-    printf("%d imported gl functions, %d missing from the spec\n", names, failures);
-    if (names == 0) {
-        fprintf(stderr, "FAIL: %s lists no functions\n", argv[2]);
-        failures++;
-    }
+    printf("%d imported gl functions, %d missing from the spec\n", names, harness_failures);
+    CHECK(names > 0, "%s lists no functions", argv[2]);
     spec_free(&s);
-    return failures ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }

@@ -9,27 +9,22 @@
 #include <stdio.h>
 #include <string.h>
 
-static int check_table(const char *spec_path, const char *what, const spec_pname_count *t, size_t n,
-                       const glxml *x)
+#include "harness.h"
+
+static void check_table(const char *spec_path, const char *what, const spec_pname_count *t, size_t n,
+                        const glxml *x)
 {
-    int failures = 0;
     for (size_t i = 0; i < n; i++) {
         const glxml_enum *e = glxml_find_enum(x, t[i].name);
-        if (!e) {
-            fprintf(stderr, "FAIL: %s: %s entry %s is not a GL enum in gl.xml\n", spec_path, what, t[i].name);
-            failures++;
+        CHECK(e, "%s: %s entry %s is not a GL enum in gl.xml", spec_path, what, t[i].name);
+        if (!e)
             continue;
-        }
         for (size_t j = 0; j < i; j++) {
             const glxml_enum *o = glxml_find_enum(x, t[j].name);
-            if (o && o->value == e->value) {
-                fprintf(stderr, "FAIL: %s: %s lists both %s and %s, which are the same value 0x%llx\n",
-                        spec_path, what, t[j].name, t[i].name, e->value);
-                failures++;
-            }
+            CHECK(!o || o->value != e->value, "%s: %s lists both %s and %s, which are the same value 0x%llx",
+                  spec_path, what, t[j].name, t[i].name, e->value);
         }
     }
-    return failures;
 }
 
 int main(int argc, char **argv)
@@ -39,16 +34,12 @@ int main(int argc, char **argv)
     int setup = spec_test_load_with_glxml(argc, argv, &s, &x);
     if (setup)
         return setup;
-    int failures = 0;
-    if (s.npnames == 0) {
-        fprintf(stderr, "FAIL: %s has no pname_counts\n", argv[1]);
-        failures++;
-    }
-    failures += check_table(argv[1], "pname_counts", s.pnames, s.npnames, &x);
-    failures += check_table(argv[1], "map_components", s.map_components, s.nmap_components, &x);
+    CHECK(s.npnames > 0, "%s has no pname_counts", argv[1]);
+    check_table(argv[1], "pname_counts", s.pnames, s.npnames, &x);
+    check_table(argv[1], "map_components", s.map_components, s.nmap_components, &x);
     printf("%zu pname_counts and %zu map_components checked against %zu gl.xml enums, %d problems\n",
-           s.npnames, s.nmap_components, x.nenums, failures);
+           s.npnames, s.nmap_components, x.nenums, harness_failures);
     glxml_free(&x);
     spec_free(&s);
-    return failures ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }

@@ -4,10 +4,13 @@
  * naming the culprit; a well-formed one of the same shape must load. */
 #include "spec.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "harness.h"
 
 /* Lines 1..10 of every case; the case text starts at line 11. */
 static const char prefix[] = "version: 1\n"                          /* 1 */
@@ -131,34 +134,26 @@ static int check_location(const char *err, const char *path, int want_line)
 int main(void)
 {
     char dir[] = "/tmp/tsr_spec_test_XXXXXX";
-    if (!mkdtemp(dir)) {
-        perror("mkdtemp");
-        return 1;
-    }
-    int failures = 0;
+    REQUIRE(mkdtemp(dir), "mkdtemp %s: %s", dir, strerror(errno));
     char path[256], err[1024];
     spec s;
 
     /* Control: the shared prefix plus a good command loads. */
     snprintf(path, sizeof path, "%s/good.yaml", dir);
-    if (write_file(path, prefix,
-                   "  - name: Lightfv\n    opcode: 2\n    category: state\n    return: void\n    params:\n"
-                   "      - {name: light, type: GLenum}\n"
-                   "      - {name: pname, type: GLenum}\n"
-                   "      - {name: params, type: const GLfloat *, count: {pname: pname}}\n")) {
-        perror(path);
-        return 1;
-    }
-    if (spec_load(path, &s, err, sizeof err) != 0) {
-        fprintf(stderr, "FAIL: control spec does not load: %s\n", err);
-        failures++;
-    } else {
+    REQUIRE(write_file(path, prefix,
+                       "  - name: Lightfv\n    opcode: 2\n    category: state\n    return: void\n    params:\n"
+                       "      - {name: light, type: GLenum}\n"
+                       "      - {name: pname, type: GLenum}\n"
+                       "      - {name: params, type: const GLfloat *, count: {pname: pname}}\n") == 0,
+            "%s: %s", path, strerror(errno));
+    int loaded = spec_load(path, &s, err, sizeof err) == 0;
+    CHECK(loaded, "control spec does not load: %s", err);
+    if (loaded) {
         const spec_command *c = spec_find(&s, "Lightfv");
-        if (s.ncmds != 2 || !c || c->line != 11 || c->nparams != 3 || c->params[2].count.kind != SPEC_COUNT_PNAME ||
-            spec_pname_count_of(&s, "GL_AMBIENT") != 4) {
-            fprintf(stderr, "FAIL: control spec loaded wrongly\n");
-            failures++;
-        }
+        CHECK(s.ncmds == 2 && c && c->line == 11 && c->nparams == 3 &&
+                  c->params[2].count.kind == SPEC_COUNT_PNAME && spec_pname_count_of(&s, "GL_AMBIENT") == 4,
+              "control spec loaded wrongly: %zu commands, Lightfv %s at line %d with %zu params",
+              s.ncmds, c ? "found" : "missing", c ? c->line : 0, c ? c->nparams : 0);
         spec_free(&s);
     }
     unlink(path);
@@ -166,43 +161,42 @@ int main(void)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const bad_case *bc = &cases[i];
         snprintf(path, sizeof path, "%s/%s.yaml", dir, bc->name);
-        if (write_file(path, bc->with_prefix ? prefix : "", bc->text)) {
-            perror(path);
-            failures++;
+        int written = write_file(path, bc->with_prefix ? prefix : "", bc->text) == 0;
+        CHECK(written, "%s: %s", path, strerror(errno));
+        if (!written)
             continue;
-        }
         memset(&s, 0x5a, sizeof s);
         err[0] = 0;
+        int before = harness_failures;
         int rc = spec_load(path, &s, err, sizeof err);
+        CHECK(rc != 0, "%s: spec_load accepted it", bc->name);
         if (rc == 0) {
-            fprintf(stderr, "FAIL: %s: spec_load accepted it\n", bc->name);
             spec_free(&s);
-            failures++;
-        } else if (!check_location(err, path, bc->line)) {
-            fprintf(stderr, "FAIL: %s: message does not start with %s:%d:COL: -> %s\n", bc->name, path, bc->line,
-                    err);
-            failures++;
-        } else if (!strstr(err, bc->want1) || (bc->want2 && !strstr(err, bc->want2))) {
-            fprintf(stderr, "FAIL: %s: message does not name '%s'%s%s%s -> %s\n", bc->name, bc->want1,
-                    bc->want2 ? " and '" : "", bc->want2 ? bc->want2 : "", bc->want2 ? "'" : "", err);
-            failures++;
-        } else if (s.cmds || s.ncmds || s.pnames || s.npnames || s.map_components) {
-            fprintf(stderr, "FAIL: %s: spec_load failed but left data in the output\n", bc->name);
-            failures++;
         } else {
-            printf("ok %s: %s\n", bc->name, err);
+            /* Each holds on its own; all of them are checked. */
+            CHECK(check_location(err, path, bc->line), "%s: message does not start with %s:%d:COL: -> %s",
+                  bc->name, path, bc->line, err);
+            CHECK(strstr(err, bc->want1) && (!bc->want2 || strstr(err, bc->want2)),
+                  "%s: message does not name '%s'%s%s%s -> %s", bc->name, bc->want1, bc->want2 ? " and '" : "",
+                  bc->want2 ? bc->want2 : "", bc->want2 ? "'" : "", err);
+            CHECK(!s.cmds && !s.ncmds && !s.pnames && !s.npnames && !s.map_components,
+                  "%s: spec_load failed but left data in the output", bc->name);
         }
+        if (harness_failures == before)
+            printf("ok %s: %s\n", bc->name, err);
         unlink(path);
     }
 
     snprintf(path, sizeof path, "%s/missing.yaml", dir);
-    if (spec_load(path, &s, err, sizeof err) == 0 || !strstr(err, "cannot open") || strncmp(err, path, strlen(path))) {
-        fprintf(stderr, "FAIL: missing file: %s\n", err);
-        failures++;
-    } else {
+    err[0] = 0;
+    int missing_rc = spec_load(path, &s, err, sizeof err);
+    int missing_ok = missing_rc != 0 && strstr(err, "cannot open") && strncmp(err, path, strlen(path)) == 0;
+    CHECK(missing_ok, "missing file: %s", missing_rc == 0 ? "spec_load accepted it" : err);
+    if (missing_rc == 0)
+        spec_free(&s);
+    if (missing_ok)
         printf("ok missing_file: %s\n", err);
-    }
     rmdir(dir);
-    printf("%zu broken specs, %d failures\n", sizeof cases / sizeof cases[0] + 1, failures);
-    return failures ? 1 : 0;
+    printf("%zu broken specs, %d failures\n", sizeof cases / sizeof cases[0] + 1, harness_failures);
+    return harness_failures ? 1 : 0;
 }

@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "harness.h"
+
 int main(int argc, char **argv)
 {
     spec s;
@@ -16,7 +18,7 @@ int main(int argc, char **argv)
     if (setup)
         return setup;
     char line[256];
-    int lineno = 0, failures = 0, frozen = 0;
+    int lineno = 0, frozen = 0;
     while (fgets(line, sizeof line, f)) {
         lineno++;
         char name[200];
@@ -24,29 +26,20 @@ int main(int argc, char **argv)
         char extra;
         if (line[0] == '#' || line[strspn(line, " \t\r\n")] == 0)
             continue;
-        if (sscanf(line, "%199s %d %c", name, &opcode, &extra) != 2) {
-            fprintf(stderr, "FAIL: %s:%d: expected 'Name opcode'\n", argv[2], lineno);
-            failures++;
+        int fields = sscanf(line, "%199s %d %c", name, &opcode, &extra);
+        CHECK(fields == 2, "%s:%d: expected 'Name opcode'", argv[2], lineno);
+        if (fields != 2)
             continue;
-        }
         frozen++;
         const spec_command *c = spec_find(&s, name);
-        if (!c) {
-            fprintf(stderr, "FAIL: %s:%d: %s (opcode %d) was removed from the spec\n", argv[2], lineno, name,
-                    opcode);
-            failures++;
-        } else if (c->opcode != opcode) {
-            fprintf(stderr, "FAIL: %s:%d: %s was renumbered from %d to %d (spec line %d)\n", argv[2], lineno,
-                    name, opcode, c->opcode, c->line);
-            failures++;
-        }
+        CHECK(c, "%s:%d: %s (opcode %d) was removed from the spec", argv[2], lineno, name, opcode);
+        if (c)
+            CHECK(c->opcode == opcode, "%s:%d: %s was renumbered from %d to %d (spec line %d)", argv[2], lineno,
+                  name, opcode, c->opcode, c->line);
     }
     fclose(f);
-    printf("%d frozen opcodes, %d broken, %zu commands in the spec\n", frozen, failures, s.ncmds);
-    if (frozen == 0) {
-        fprintf(stderr, "FAIL: %s freezes nothing\n", argv[2]);
-        failures++;
-    }
+    printf("%d frozen opcodes, %d broken, %zu commands in the spec\n", frozen, harness_failures, s.ncmds);
+    CHECK(frozen > 0, "%s freezes nothing", argv[2]);
     spec_free(&s);
-    return failures ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }

@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "harness.h"
+
 /* Legal GL 2.1 query enums whose result length is not fixed (it is the
  * value of another query), so no pname_counts entry can describe them. */
 static const char *const variable_length[] = {
@@ -44,7 +46,6 @@ int main(int argc, char **argv)
     if (setup)
         return setup;
 
-    int failures = 0;
     size_t commands = 0, checked = 0;
     for (size_t i = 0; i < s.ncmds; i++) {
         const spec_command *c = &s.cmds[i];
@@ -59,12 +60,10 @@ int main(int argc, char **argv)
             for (size_t m = 0; k && m < k->nparams; m++)
                 if (!strcmp(k->params[m].name, pname))
                     group = k->params[m].group;
-            if (!group) {
-                fprintf(stderr, "FAIL: %s:%d: %s: gl.xml gives parameter '%s' no enum group to check against\n",
-                        argv[1], c->line, glname, pname);
-                failures++;
+            CHECK(group, "%s:%d: %s: gl.xml gives parameter '%s' no enum group to check against", argv[1],
+                  c->line, glname, pname);
+            if (!group)
                 continue;
-            }
             commands++;
             size_t members = 0;
             for (size_t e = 0; e < x.nenums; e++) {
@@ -73,27 +72,18 @@ int main(int argc, char **argv)
                     continue;
                 members++;
                 checked++;
-                if (!listed(&s, &x, en) && !is_variable_length(en->name)) {
-                    fprintf(stderr, "FAIL: %s:%d: %s(%s) accepts %s (group %s, GL %d.%d) but pname_counts lacks it\n",
-                            argv[1], c->line, glname, pname, en->name, group, en->gl_version / 10,
-                            en->gl_version % 10);
-                    failures++;
-                }
+                CHECK(listed(&s, &x, en) || is_variable_length(en->name),
+                      "%s:%d: %s(%s) accepts %s (group %s, GL %d.%d) but pname_counts lacks it", argv[1], c->line,
+                      glname, pname, en->name, group, en->gl_version / 10, en->gl_version % 10);
             }
-            if (members == 0) {
-                fprintf(stderr, "FAIL: %s:%d: %s: group %s has no GL <= 2.1 enums in gl.xml\n", argv[1], c->line,
-                        glname, group);
-                failures++;
-            }
+            CHECK(members > 0, "%s:%d: %s: group %s has no GL <= 2.1 enums in gl.xml", argv[1], c->line, glname,
+                  group);
         }
     }
     printf("%zu enum-sized parameters, %zu (command, enum) pairs checked, %d missing\n", commands, checked,
-           failures);
-    if (commands == 0) {
-        fprintf(stderr, "FAIL: the spec has no {pname: ...} counts\n");
-        failures++;
-    }
+           harness_failures);
+    CHECK(commands > 0, "the spec has no {pname: ...} counts");
     glxml_free(&x);
     spec_free(&s);
-    return failures ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }
