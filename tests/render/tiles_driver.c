@@ -47,13 +47,13 @@
 
 #include "tessera/chain.h"
 #include "tessera/glapi.h"
+#include "harness.h"
 #include "tessera/gltsr_gen.h"
 #include "tessera/image.h"
 #include "tessera/tiles.h"
 
 #define MAX_FRAMES 8
 
-static int failures;
 static int measure;                        /* rss: read memory before the chain goes */
 static double measured_rss, measured_hwm;
 
@@ -76,13 +76,10 @@ static void expect_scissor(const char *where, const GLint want[4], GLboolean wan
     GLboolean on = glIsEnabled(GL_SCISSOR_TEST);
     GLfloat fbox[4] = {0};
     glGetFloatv(GL_SCISSOR_BOX, fbox);
-    if (memcmp(box, want, sizeof box) != 0 || on != want_on || (GLint)fbox[2] != want[2]) {
-        fprintf(stderr,
-                "tiles_driver: %s: glGet scissor gave [%d %d %d %d] %s, want [%d %d %d %d] %s\n",
-                where, box[0], box[1], box[2], box[3], on ? "on" : "off", want[0], want[1],
-                want[2], want[3], want_on ? "on" : "off");
-        failures++;
-    }
+    CHECK(!memcmp(box, want, sizeof box) && on == want_on && (GLint)fbox[2] == want[2],
+          "%s: glGet scissor gave [%d %d %d %d] %s, want [%d %d %d %d] %s", where, box[0], box[1],
+          box[2], box[3], on ? "on" : "off", want[0], want[1], want[2], want[3],
+          want_on ? "on" : "off");
 }
 
 /* Part `part` of the scene (0: background and scissored clears, 1: the
@@ -436,9 +433,9 @@ static int cmd_compare(int argc, char **argv) {
         }
         tsr_image_free(&ref);
     }
-    if (failures)
-        fprintf(stderr, "tiles_driver: %d wrong scissor answers\n", failures);
-    return bad || failures ? 1 : 0;
+    if (harness_failures)
+        fprintf(stderr, "tiles_driver: %d wrong scissor answers\n", harness_failures);
+    return bad || harness_failures ? 1 : 0;
 }
 
 static int cmd_rss(int argc, char **argv) {
@@ -461,7 +458,7 @@ static int cmd_rss(int argc, char **argv) {
     if (run_chain(chain_text, w, h, frames, none ? NULL : &s, option, contexts, 0) != 0)
         return 1;
     printf("vmrss_mb: %.1f\nvmhwm_mb: %.1f\n", measured_rss, measured_hwm);
-    return failures ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }
 
 static int cmd_crop(char **argv) {
@@ -511,7 +508,6 @@ static int cmd_parse(void) {
         {"0:0:1:1", true, -1, {0}, "tile 1 '0:0:1:1': expected S:X:Y:W:H"},
         {"-1:0:0:1:1", true, -1, {0}, "tile 1 '-1:0:0:1:1': server index must be >= 0"},
     };
-    int bad = 0;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         tsr_tile *tiles = NULL;
         size_t n = 0;
@@ -527,12 +523,13 @@ static int cmd_parse(void) {
                              tiles[n - 1].y == w[2] && tiles[n - 1].width == w[3] &&
                              tiles[n - 1].height == w[4]));
         }
-        printf("%s '%s': %s%s%s\n", ok ? "ok" : "FAIL", cases[i].text,
-               rc == TSR_OK ? "parsed" : "error: ", rc == TSR_OK ? "" : err.message, "");
-        bad += !ok;
+        CHECK(ok, "tiles '%s': %s%s", cases[i].text, rc == TSR_OK ? "parsed" : "error: ",
+              rc == TSR_OK ? "" : err.message);
+        if (ok)
+            printf("ok '%s'\n", cases[i].text);
         free(tiles);
     }
-    return bad ? 1 : 0;
+    return harness_failures ? 1 : 0;
 }
 
 int main(int argc, char **argv) {
