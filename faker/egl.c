@@ -283,8 +283,8 @@ EGLBoolean eglChooseConfig(EGLDisplay dpy, const EGLint *attrib_list, EGLConfig 
         return fail(EGL_BAD_PARAMETER);
     for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2)
         if (a[0] == EGL_RENDERABLE_TYPE && a[1] != EGL_DONT_CARE && (a[1] & ~EGL_OPENGL_BIT))
-            tsr_faker_log(TSR_LOG_WARN, "eglChooseConfig: only OpenGL configs (EGL_OPENGL_BIT); OpenGL ES is not "
-                                        "supported");
+            tsr_faker_log(TSR_LOG_WARN, "eglChooseConfig: EGL_RENDERABLE_TYPE 0x%x: only OpenGL configs "
+                                        "(EGL_OPENGL_BIT); OpenGL ES is not supported", (unsigned)a[1]);
     EGLint n = 0;
     for (int i = 0; i < e->nconfigs; i++) {
         if (!config_matches(e, &e->configs[i], attrib_list))
@@ -400,7 +400,12 @@ static EGLSurface window_surface(egl_display *e, const egl_config *c, unsigned l
         last_error = EGL_BAD_MATCH;
         return EGL_NO_SURFACE;
     }
-    tsr_faker_surface *s = tsr_faker_surface_window(DisplayString(e->x), xid);
+    /* The application's requests reach the server first (see glx.c). */
+    tsr_faker_surface *s = tsr_faker_surface_find(xid);
+    if (!s) {
+        XSync(e->x, False);
+        s = tsr_faker_surface_window(DisplayString(e->x), xid);
+    }
     if (!s) {
         last_error = EGL_BAD_NATIVE_WINDOW;
         return EGL_NO_SURFACE;

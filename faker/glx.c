@@ -11,6 +11,7 @@
 #include <GL/glxext.h>
 #include <X11/Xutil.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -292,6 +293,19 @@ int glXGetConfig(Display *dpy, XVisualInfo *visual, int attrib, int *value)
     return config_attrib(c, attrib, value) == Success ? Success : GLX_BAD_ATTRIBUTE;
 }
 
+/* The surface of a drawable; the first time, the application's requests
+ * are made to reach the server first (XSync on its connection, the round
+ * trip a real glXMakeCurrent makes; no event is read or dropped), so a
+ * window it has just created exists for the faker's own connection. */
+static tsr_faker_surface *drawable_surface(Display *dpy, GLXDrawable draw)
+{
+    tsr_faker_surface *s = tsr_faker_surface_find(draw);
+    if (s)
+        return s;
+    XSync(dpy, False);
+    return tsr_faker_surface_window(DisplayString(dpy), draw);
+}
+
 /* --- contexts ------------------------------------------------------------ */
 
 static GLXContext context_new(Display *dpy, const struct __GLXFBConfigRec *config, GLXContext share)
@@ -349,7 +363,7 @@ GLXContext glXCreateContextAttribsARB(Display *dpy, GLXFBConfig config, GLXConte
         }
     }
     if (major > 2 || (major == 2 && minor > 1)) {
-        tsr_faker_log(TSR_LOG_ERROR, "glXCreateContextAttribsARB: OpenGL %d.%d asked, tessera has 2.1", major,
+        tsr_faker_log(TSR_LOG_INFO, "glXCreateContextAttribsARB: OpenGL %d.%d asked, tessera has 2.1", major,
                       minor);
         return NULL;
     }
@@ -388,7 +402,7 @@ Bool glXMakeContextCurrent(Display *dpy, GLXDrawable draw, GLXDrawable read, GLX
     }
     if (read && read != draw)
         tsr_faker_log(TSR_LOG_WARN, "glXMakeContextCurrent: a read drawable other than the draw one is ignored");
-    tsr_faker_surface *s = tsr_faker_surface_window(DisplayString(dpy), draw);
+    tsr_faker_surface *s = drawable_surface(dpy, draw);
     if (!s || !tsr_faker_make_current(ctx->ctx, s))
         return False;
     if (old && old != ctx && old->destroyed)
@@ -439,15 +453,15 @@ Display *glXGetCurrentDisplay(void) { return cur_dpy; }
 
 void glXSwapBuffers(Display *dpy, GLXDrawable drawable)
 {
-    tsr_faker_surface *s = tsr_faker_surface_find(drawable);
-    if (!s)
-        s = tsr_faker_surface_window(DisplayString(dpy), drawable);
-    if (!s)
-        return;
+    static atomic_flag warned = ATOMIC_FLAG_INIT;
     if (!tsr_faker_current_context()) {
-        tsr_faker_log(TSR_LOG_WARN, "glXSwapBuffers with no current context: ignored");
+        if (!atomic_flag_test_and_set(&warned))
+            tsr_faker_log(TSR_LOG_WARN, "glXSwapBuffers with no current context: ignored (logged once)");
         return;
     }
+    tsr_faker_surface *s = drawable_surface(dpy, drawable);
+    if (!s)
+        return;
     tsr_faker_swap(s);
 }
 
@@ -467,9 +481,7 @@ void glXQueryDrawable(Display *dpy, GLXDrawable draw, int attribute, unsigned in
 {
     if (!value)
         return;
-    tsr_faker_surface *s = tsr_faker_surface_find(draw);
-    if (!s)
-        s = tsr_faker_surface_window(DisplayString(dpy), draw);
+    tsr_faker_surface *s = drawable_surface(dpy, draw);
     int w = 0, h = 0;
     tsr_faker_surface_size(s, &w, &h);
     switch (attribute) {
