@@ -1,0 +1,53 @@
+# tests/faker.cmake — the faker (faker/): its exports cover what Debian's GL
+# programs import, GetProcAddress agrees with dlsym, glxgears runs through
+# it under Xvfb (directly and through `tessera exec`), and `tessera exec`
+# passes status, signals and output through. About 5 s in all.
+if(NOT TARGET tessera_faker_gl)
+  return()
+endif()
+set(FAKER_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/faker)
+set(FAKER_OUT ${CMAKE_BINARY_DIR}/test-out/faker)
+file(MAKE_DIRECTORY ${FAKER_OUT})
+
+# Sanitized builds: glxgears is not instrumented but loads the instrumented
+# faker, so the sanitizer runtimes are preloaded into it (ASan must come
+# first in the process); the test programs below are instrumented anyway.
+set(FAKER_PRELOAD "")
+if(TESSERA_SANITIZE)
+  foreach(rt libasan.so libubsan.so)
+    execute_process(COMMAND ${CMAKE_C_COMPILER} -print-file-name=${rt}
+                    OUTPUT_VARIABLE rt_path OUTPUT_STRIP_TRAILING_WHITESPACE)
+    if(NOT EXISTS "${rt_path}")
+      message(FATAL_ERROR "faker tests: the sanitizer runtime ${rt} was not found (${rt_path})")
+    endif()
+    string(APPEND FAKER_PRELOAD "${rt_path} ")
+  endforeach()
+  string(STRIP "${FAKER_PRELOAD}" FAKER_PRELOAD)
+endif()
+
+add_executable(faker_procs ${FAKER_TEST_DIR}/procs.c)
+target_link_libraries(faker_procs PRIVATE ${CMAKE_DL_LIBS})
+add_executable(faker_frames ${FAKER_TEST_DIR}/frames.c)
+target_link_libraries(faker_frames PRIVATE tessera)
+
+add_test(NAME faker_exports_every_gl_glx_egl_import_of_glxgears_glxinfo_glu_and_xscreensaver_gl
+         COMMAND bash ${FAKER_TEST_DIR}/imports.sh ${TESSERA_FAKER_DIR})
+add_test(NAME faker_getprocaddress_equals_dlsym_for_every_exported_name
+         COMMAND sh -c "nm -D --defined-only '${TESSERA_FAKER_DIR}/libGL.so.1' '${TESSERA_FAKER_DIR}/libEGL.so.1' | awk '{print $NF}' | sed 's/@.*//' | grep -E '^(gl|glX|egl)[A-Z]' | sort -u > '${FAKER_OUT}/names.txt' && '$<TARGET_FILE:faker_procs>' '${TESSERA_FAKER_DIR}' '${FAKER_OUT}/names.txt'")
+add_test(NAME faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+         COMMAND bash ${FAKER_TEST_DIR}/glxgears.sh direct ${TESSERA_FAKER_DIR} $<TARGET_FILE:tessera_cli>
+                 $<TARGET_FILE:faker_frames> ${FAKER_OUT}/glxgears)
+add_test(NAME faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+         COMMAND bash ${FAKER_TEST_DIR}/glxgears.sh exec ${TESSERA_FAKER_DIR} $<TARGET_FILE:tessera_cli>
+                 $<TARGET_FILE:faker_frames> ${FAKER_OUT}/exec)
+add_test(NAME faker_tessera_exec_passes_status_signals_and_output_through
+         COMMAND bash ${FAKER_TEST_DIR}/exec_status.sh $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/status)
+set_tests_properties(
+  faker_exports_every_gl_glx_egl_import_of_glxgears_glxinfo_glu_and_xscreensaver_gl
+  faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+  faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+  PROPERTIES SKIP_RETURN_CODE 77)
+set_tests_properties(
+  faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+  faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+  PROPERTIES ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}" TIMEOUT 60)
