@@ -3,8 +3,10 @@
  * $TESSERA_CHAIN (default "render"); every application context is a
  * tessera context of it (ContextCreateTSR at its first MakeCurrent), every
  * surface a tessera window (WindowCreateTSR with the drawable's size, read
- * over the faker's own xcb connection; WindowSizeTSR when a swap finds the
- * size changed). A context's table is the chain head's with glGetString
+ * over the faker's own xcb connection, which also selects StructureNotify
+ * on the window for itself; the ConfigureNotify events that have arrived
+ * are read without a round trip at every glViewport, swap and
+ * MakeCurrent, and a new size becomes WindowSizeTSR). A context's table is the chain head's with glGetString
  * answered here (renderer naming tessera, version 2.1, the spec's
  * extensions). Commands to the chain are serialised by one mutex only
  * around the faker's own calls; the chain itself is driven by the thread
@@ -41,7 +43,8 @@ struct tsr_faker_context {
 struct tsr_faker_surface {
     int window;                  /* tessera window id, from 0 */
     unsigned long xid;           /* X drawable, 0: pbuffer */
-    int width, height;
+    int width, height;           /* what the stream was told */
+    int x_width, x_height;       /* the X window's, from ConfigureNotify */
     bool on_stream;              /* WindowCreateTSR was sent */
     tsr_faker_surface *next;
 };
@@ -145,6 +148,22 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
     }
 }
 
+static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t);
+
+/* glViewport: where programs react to a resize, so a new size reaches the
+ * stream before the frame drawn at it (checked again at every swap). */
+static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
+{
+    (void)self;
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    if (cur_surface && cur_surface->xid) {
+        pthread_mutex_lock(&lock);
+        follow_size_locked(cur_surface, head);
+        pthread_mutex_unlock(&lock);
+    }
+    tsr_call_Viewport(head, x, y, width, height);
+}
+
 /* --- contexts ------------------------------------------------------------ */
 
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
@@ -157,6 +176,7 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
         c->id = next_context_id++;
         c->table = *head;
         tsr_set_GetString(&c->table, faker_GetString, c);
+        tsr_set_Viewport(&c->table, faker_Viewport, c);
         c->next = contexts;
         contexts = c;
     }
@@ -209,6 +229,37 @@ static bool drawable_size_locked(unsigned long xid, int *w, int *h)
     *h = g->height;
     free(g);
     return true;
+}
+
+/* Reads the ConfigureNotify events of the faker's own connection that have
+ * arrived (no round trip): the new sizes of its windows. */
+static void poll_locked(void)
+{
+    if (!xconn)
+        return;
+    xcb_generic_event_t *ev;
+    while ((ev = xcb_poll_for_event(xconn))) {
+        if ((ev->response_type & 0x7f) == XCB_CONFIGURE_NOTIFY) {
+            const xcb_configure_notify_event_t *c = (const xcb_configure_notify_event_t *)ev;
+            for (tsr_faker_surface *s = surfaces; s; s = s->next)
+                if (s->xid == c->window) {
+                    s->x_width = c->width;
+                    s->x_height = c->height;
+                }
+        }
+        free(ev);
+    }
+}
+
+/* Tells the stream (through `t`) about a changed size of `s`. */
+static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t)
+{
+    poll_locked();
+    if (s && s->xid && s->on_stream && (s->x_width != s->width || s->x_height != s->height)) {
+        s->width = s->x_width;
+        s->height = s->x_height;
+        tsr_call_WindowSizeTSR(t, s->window, s->width, s->height);
+    }
 }
 
 static bool connect_locked(const char *display_name)
@@ -266,10 +317,19 @@ tsr_faker_surface *tsr_faker_surface_window(const char *display_name, unsigned l
         pthread_mutex_unlock(&lock);
         return NULL;
     }
+    /* StructureNotify for the faker's own connection (event masks are per
+     * client: the application's is untouched), then the size. */
+    const uint32_t mask = XCB_EVENT_MASK_STRUCTURE_NOTIFY;
+    xcb_void_cookie_t ck = xcb_change_window_attributes_checked(xconn, (xcb_window_t)xid, XCB_CW_EVENT_MASK, &mask);
+    free(xcb_request_check(xconn, ck)); /* a pixmap: no events, sizes fixed */
     if (!drawable_size_locked(xid, &w, &h)) {
         tsr_faker_log(TSR_LOG_ERROR, "drawable 0x%lx: cannot read its size (no such drawable?)", xid);
     } else {
         s = surface_add_locked(xid, w, h);
+        if (s) {
+            s->x_width = w;
+            s->x_height = h;
+        }
     }
     pthread_mutex_unlock(&lock);
     return s;
@@ -279,6 +339,10 @@ tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height)
 {
     pthread_mutex_lock(&lock);
     tsr_faker_surface *s = surface_add_locked(0, width > 0 ? width : 1, height > 0 ? height : 1);
+    if (s) {
+        s->x_width = s->width;
+        s->x_height = s->height;
+    }
     pthread_mutex_unlock(&lock);
     return s;
 }
@@ -332,8 +396,13 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     }
     const tsr_dispatch *head = tsr_chain_head(chain);
     if (draw && !draw->on_stream) {
+        poll_locked();
+        draw->width = draw->x_width;
+        draw->height = draw->x_height;
         tsr_call_WindowCreateTSR(head, draw->window, draw->width, draw->height);
         draw->on_stream = true;
+    } else if (draw) {
+        follow_size_locked(draw, head);
     }
     if (!ctx->on_stream) {
         tsr_call_ContextCreateTSR(head, ctx->id);
@@ -369,12 +438,7 @@ void tsr_faker_swap(tsr_faker_surface *s)
     if (!s->xid)
         return;
     pthread_mutex_lock(&lock);
-    int w, h;
-    if (drawable_size_locked(s->xid, &w, &h) && (w != s->width || h != s->height)) {
-        s->width = w;
-        s->height = h;
-        tsr_call_WindowSizeTSR(t, s->window, w, h);
-    }
+    follow_size_locked(s, t);
     pthread_mutex_unlock(&lock);
 }
 

@@ -51,3 +51,16 @@ set_tests_properties(
   faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
   faker_tessera_exec_runs_glxgears_with_the_default_render_chain
   PROPERTIES ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}" TIMEOUT 60)
+
+# EGL with no X server: linked against the faker's libraries themselves.
+add_executable(faker_egl_surfaceless ${FAKER_TEST_DIR}/egl_surfaceless.c)
+target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_faker_gl)
+add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
+         COMMAND env -u DISPLAY TESSERA_CHAIN=render $<TARGET_FILE:faker_egl_surfaceless>)
+
+# GLX: configs, contexts, current state, sizes, a resize followed.
+add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize.c)
+target_link_libraries(faker_glx_resize PRIVATE tessera_faker_gl tessera PkgConfig::X11)
+add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream
+         COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_resize> ${FAKER_OUT}/resize)
+set_tests_properties(faker_glx_contexts_sizes_and_a_resize_reach_the_stream PROPERTIES SKIP_RETURN_CODE 77)
