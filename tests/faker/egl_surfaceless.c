@@ -3,8 +3,9 @@
  * test): the surfaceless platform and EGL_DEFAULT_DISPLAY initialise,
  * OpenGL ES is refused (eglBindAPI: EGL_BAD_PARAMETER; ES configs: none),
  * an OpenGL context draws into a pbuffer and surfaceless, glGetString
- * names tessera and 2.1, and glReadPixels reads back what glClear drew
- * through the chain's render SPU. */
+ * names tessera and 2.1, glReadPixels reads back what glClear drew
+ * through the chain's render SPU, and glRenderMode (not in the spec) is an
+ * entry that returns 0 and warns once for two calls. */
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/gl.h>
@@ -79,6 +80,14 @@ int main(void)
     CHECK(!strcmp((const char *)glGetString(GL_VENDOR), "tessera"));
     clear_and_read(1.0f, 0.0f, 0.0f, (const unsigned char[]){255, 0, 0, 255});
     CHECK(eglSwapBuffers(dpy, pb));
+    /* A registry function the spec lacks: an entry that warns once (the
+     * test's command counts the lines) and returns 0. */
+    GLint (*render_mode)(GLenum) = (GLint (*)(GLenum))eglGetProcAddress("glRenderMode");
+    CHECK(render_mode != NULL);
+    if (render_mode) {
+        CHECK(render_mode(GL_SELECT) == 0);
+        CHECK(render_mode(GL_RENDER) == 0);
+    }
     CHECK(eglQueryContext(dpy, ctx, EGL_CONTEXT_CLIENT_TYPE, &v) && v == EGL_OPENGL_API);
 
     /* A second context, surfaceless; then back to the first. */
