@@ -149,15 +149,21 @@ static void add_configs(egl_display *e)
             XVisualInfo tmpl = {.screen = DefaultScreen(e->x), .depth = depths[k], .class = TrueColor};
             int n = 0;
             XVisualInfo *vis = XGetVisualInfo(e->x, VisualScreenMask | VisualDepthMask | VisualClassMask, &tmpl, &n);
-            for (int v = 0; v < n && e->nconfigs < MAX_CONFIGS; v++)
-                if (vis[v].bits_per_rgb == 8)
-                    e->configs[e->nconfigs++] = (egl_config){e->nconfigs + 1, vis[v].visualid, vis[v].depth};
+            for (int v = 0; v < n && e->nconfigs < MAX_CONFIGS; v++) {
+                if (vis[v].bits_per_rgb != 8)
+                    continue;
+                int k2 = e->nconfigs;
+                e->configs[k2] = (egl_config){k2 + 1, vis[v].visualid, vis[v].depth};
+                e->nconfigs = k2 + 1;
+            }
             if (vis)
                 XFree(vis);
         }
     }
-    if (!e->nconfigs)
-        e->configs[e->nconfigs++] = (egl_config){1, 0, 24};
+    if (!e->nconfigs) {
+        e->configs[0] = (egl_config){1, 0, 24};
+        e->nconfigs = 1;
+    }
 }
 
 EGLBoolean eglInitialize(EGLDisplay dpy, EGLint *major, EGLint *minor)
