@@ -64,3 +64,15 @@ target_link_libraries(faker_glx_resize PRIVATE tessera_faker_gl tessera PkgConfi
 add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream
          COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_resize> ${FAKER_OUT}/resize)
 set_tests_properties(faker_glx_contexts_sizes_and_a_resize_reach_the_stream PROPERTIES SKIP_RETURN_CODE 77)
+
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations
+# (tests/lsan.supp); the faker's and tessera's own are still checked.
+if(TESSERA_SANITIZE)
+  set_property(TEST
+    faker_getprocaddress_equals_dlsym_for_every_exported_name
+    faker_tessera_exec_passes_status_signals_and_output_through
+    faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
+    faker_glx_contexts_sizes_and_a_resize_reach_the_stream
+    APPEND PROPERTY ENVIRONMENT
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
