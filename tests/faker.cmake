@@ -58,12 +58,13 @@ target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_fa
 add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
          COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err' || exit 1; cat '${FAKER_OUT}/egl.err'; n=$(grep -c 'glRenderMode is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glRenderMode warnings: $n\"; [ $n -eq 1 ]")
 
-# GLX: configs, contexts, current state, sizes, a resize followed.
+# GLX: configs, contexts, current state, sizes, a resize followed; then EGL
+# on X11 into the same window.
 add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize.c)
-target_link_libraries(faker_glx_resize PRIVATE tessera_faker_gl tessera PkgConfig::X11)
-add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream
+target_link_libraries(faker_glx_resize PRIVATE tessera_faker_egl tessera_faker_gl tessera PkgConfig::X11)
+add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
          COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_resize> ${FAKER_OUT}/resize)
-set_tests_properties(faker_glx_contexts_sizes_and_a_resize_reach_the_stream PROPERTIES SKIP_RETURN_CODE 77)
+set_tests_properties(faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11 PROPERTIES SKIP_RETURN_CODE 77)
 
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations
 # (tests/lsan.supp); the faker's and tessera's own are still checked.
@@ -72,7 +73,7 @@ if(TESSERA_SANITIZE)
     faker_getprocaddress_equals_dlsym_for_every_exported_name
     faker_tessera_exec_passes_status_signals_and_output_through
     faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
-    faker_glx_contexts_sizes_and_a_resize_reach_the_stream
+    faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
     APPEND PROPERTY ENVIRONMENT
     "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()

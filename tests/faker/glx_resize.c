@@ -6,8 +6,14 @@
  * answers, glXQueryDrawable sizes, swaps writing frames; then the window is
  * resized: after the program's own ConfigureNotify and its glViewport the
  * next frame has the new size, and the application's event mask on its
- * window is still exactly what it selected. */
+ * window is still exactly what it selected. Then EGL on X11 draws frame 2
+ * into the same window: eglGetPlatformDisplay(EGL_PLATFORM_X11_KHR), a
+ * config whose EGL_NATIVE_VISUAL_ID is a server visual,
+ * eglCreatePlatformWindowSurface, eglSwapBuffers. */
 #define GLX_GLXEXT_PROTOTYPES 1
+#define EGL_EGLEXT_PROTOTYPES 1
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
 #include <GL/glx.h>
 #include <GL/glxext.h>
 #include <X11/Xlib.h>
@@ -40,7 +46,8 @@ static void frame_size(const char *dir, int frame, int w, int h)
     CHECK(img.width == w && img.height == h);
     /* Cleared to the frame's colour: red, then green. */
     const unsigned char *p = img.pixels + 4 * ((size_t)img.width * (size_t)(img.height / 2) + (size_t)img.width / 2);
-    CHECK(frame == 0 ? (p[0] == 255 && p[1] == 0) : (p[0] == 0 && p[1] == 255));
+    static const unsigned char want[3][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}};
+    CHECK(!memcmp(p, want[frame], 3));
     tsr_image_free(&img);
 }
 
@@ -115,8 +122,35 @@ int main(int argc, char **argv)
     CHECK(glXGetCurrentContext() == NULL);
     glXDestroyContext(dpy, ctx);
     glXDestroyContext(dpy, first);
+
+    EGLDisplay edpy = eglGetPlatformDisplay(EGL_PLATFORM_X11_KHR, dpy, NULL);
+    CHECK(edpy != EGL_NO_DISPLAY && eglInitialize(edpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API));
+    static const EGLint eattrs[] = {EGL_SURFACE_TYPE, EGL_WINDOW_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+    EGLConfig ec = NULL;
+    EGLint en = 0, vid = 0;
+    CHECK(eglChooseConfig(edpy, eattrs, &ec, 1, &en) && en == 1);
+    CHECK(eglGetConfigAttrib(edpy, ec, EGL_NATIVE_VISUAL_ID, &vid) && vid != 0);
+    XVisualInfo vtmpl = {.visualid = (VisualID)vid};
+    int vn = 0;
+    XVisualInfo *evi = XGetVisualInfo(dpy, VisualIDMask, &vtmpl, &vn);
+    CHECK(evi && vn == 1 && evi->class == TrueColor);
+    if (evi)
+        XFree(evi);
+    EGLContext ectx = eglCreateContext(edpy, ec, EGL_NO_CONTEXT, NULL);
+    EGLSurface esurf = eglCreatePlatformWindowSurface(edpy, ec, &win, NULL);
+    CHECK(ectx != EGL_NO_CONTEXT && esurf != EGL_NO_SURFACE);
+    CHECK(eglMakeCurrent(edpy, esurf, esurf, ectx));
+    EGLint ew = 0;
+    CHECK(eglQuerySurface(edpy, esurf, EGL_WIDTH, &ew) && ew == 160);
+    glClearColor(0, 0, 1, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    CHECK(eglSwapBuffers(edpy, esurf)); /* frame 2: 160x120 */
+    CHECK(eglMakeCurrent(edpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
+    CHECK(eglDestroySurface(edpy, esurf) && eglDestroyContext(edpy, ectx) && eglTerminate(edpy));
+
     frame_size(argv[1], 0, 200, 100);
     frame_size(argv[1], 1, 160, 120);
+    frame_size(argv[1], 2, 160, 120);
     XFree(vi);
     XFree(configs);
     XDestroyWindow(dpy, win);
