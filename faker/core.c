@@ -6,7 +6,9 @@
  * over the faker's own xcb connection, which also selects StructureNotify
  * on the window for itself; the ConfigureNotify events that have arrived
  * are read without a round trip at every glViewport, swap and
- * MakeCurrent, and a new size becomes WindowSizeTSR). A context's table is the chain head's with glGetString
+ * MakeCurrent — a glViewport of another size than the window's also asks
+ * the server, at most once a frame, in case that event is still on its
+ * way — and a new size becomes WindowSizeTSR). A context's table is the chain head's with glGetString
  * answered here (renderer naming tessera, version 2.1, the spec's
  * extensions). Commands to the chain are serialised by one mutex only
  * around the faker's own calls; the chain itself is driven by the thread
@@ -46,6 +48,7 @@ struct tsr_faker_surface {
     int width, height;           /* what the stream was told */
     int x_width, x_height;       /* the X window's, from ConfigureNotify */
     bool on_stream;              /* WindowCreateTSR was sent */
+    bool asked;                  /* its size was asked this frame (glViewport) */
     tsr_faker_surface *next;
 };
 
@@ -149,6 +152,8 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
 }
 
 static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t);
+static void poll_locked(void);
+static bool drawable_size_locked(unsigned long xid, int *w, int *h);
 
 /* glViewport: where programs react to a resize, so a new size reaches the
  * stream before the frame drawn at it (checked again at every swap). */
@@ -156,9 +161,22 @@ static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei 
 {
     (void)self;
     const tsr_dispatch *head = tsr_chain_head(chain);
-    if (cur_surface && cur_surface->xid) {
+    tsr_faker_surface *sf = cur_surface;
+    if (sf && sf->xid) {
         pthread_mutex_lock(&lock);
-        follow_size_locked(cur_surface, head);
+        poll_locked();
+        /* The faker's ConfigureNotify may still be on its way when the
+         * program, woken by its own, sets the new viewport: a viewport of
+         * another size than the window's asks the server, once a frame. */
+        if ((width != sf->x_width || height != sf->x_height) && !sf->asked) {
+            int w, h;
+            if (drawable_size_locked(sf->xid, &w, &h)) {
+                sf->x_width = w;
+                sf->x_height = h;
+            }
+            sf->asked = true;
+        }
+        follow_size_locked(sf, head);
         pthread_mutex_unlock(&lock);
     }
     tsr_call_Viewport(head, x, y, width, height);
@@ -439,6 +457,7 @@ void tsr_faker_swap(tsr_faker_surface *s)
         return;
     pthread_mutex_lock(&lock);
     follow_size_locked(s, t);
+    s->asked = false;
     pthread_mutex_unlock(&lock);
 }
 
