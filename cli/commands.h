@@ -21,6 +21,7 @@ int cmd_dot(int argc, char **argv);
 int cmd_node(int argc, char **argv);
 int cmd_run(int argc, char **argv);
 int cmd_mothership(int argc, char **argv);
+int cmd_exec(int argc, char **argv);
 /* `tessera run` (launch = 1) and `tessera mothership` (0): cli/cmd_run.c. */
 int tsr_cli_run_graph(int argc, char **argv, int launch);
 

@@ -14,6 +14,7 @@ static const tsr_cli_command commands[] = {
     {"mothership", "coordinate a graph whose nodes are started elsewhere (ssh, mpirun, srun)", cmd_mothership},
     {"node", "run a server node: accept stream clients (pack, replicate), run them through an SPU chain", cmd_node},
     {"imgdiff", "compare two PNG images: differing pixels, max channel error, PSNR", cmd_imgdiff},
+    {"exec", "run an unmodified OpenGL program (glxgears, ...) under the faker libGL/libEGL", cmd_exec},
 };
 
 static void print_usage(FILE *out) {

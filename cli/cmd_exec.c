@@ -1,0 +1,141 @@
+/* cli/cmd_exec.c — `tessera exec [--chain CHAIN] [--out PATTERN] -- PROGRAM
+ * ARGS...`: runs an unmodified OpenGL program under the faker (faker/:
+ * libGL.so.1, libEGL.so.1, libOpenGL.so.0). It puts the faker's directory
+ * first in LD_LIBRARY_PATH, sets TESSERA_CHAIN and then exec()s the
+ * program in place of itself: no process stays between the user and the
+ * program, so its exit status, the signal that ends it, its standard
+ * input, output and error are exactly the program's own. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "commands.h"
+
+#ifndef TESSERA_BUILD_FAKER_DIR
+#define TESSERA_BUILD_FAKER_DIR ""
+#endif
+#ifndef TESSERA_INSTALL_FAKER_DIR
+#define TESSERA_INSTALL_FAKER_DIR ""
+#endif
+
+static void exec_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: tessera exec [--chain CHAIN] [--out PATTERN] -- PROGRAM [ARGS...]\n\n"
+            "Runs an unmodified OpenGL program (GLX or EGL, e.g. glxgears) with tessera's\n"
+            "faker libGL.so.1 / libEGL.so.1 / libOpenGL.so.0 in place of the system's: its\n"
+            "GL calls enter an SPU chain in its own process. The program replaces this\n"
+            "command (exec), so its exit status, signals and standard output and error\n"
+            "are its own.\n\n"
+            "options:\n"
+            "  --chain CHAIN    the SPU chain (default: $TESSERA_CHAIN, else\n"
+            "                   \"render output=PATTERN\")\n"
+            "  --out PATTERN    PNG per frame of the default chain, one %%d for the frame\n"
+            "                   number (default out/PROGRAM-%%04d.png; out/ is created)\n"
+            "  -h, --help       show this help\n\n"
+            "environment: TESSERA_FAKER_DIR overrides where the faker's libraries are\n"
+            "(built: %s, installed: %s).\n",
+            TESSERA_BUILD_FAKER_DIR, TESSERA_INSTALL_FAKER_DIR);
+}
+
+static int has_faker(const char *dir)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/libGL.so.1", dir);
+    return dir[0] && access(path, R_OK) == 0;
+}
+
+int cmd_exec(int argc, char **argv)
+{
+    const char *chain = NULL, *out = NULL;
+    int i = 1;
+    for (; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--")) {
+            i++;
+            break;
+        }
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            exec_usage(stdout);
+            return TSR_EXIT_OK;
+        }
+        if (!strcmp(a, "--chain") || !strcmp(a, "--out")) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tessera exec: %s needs a value (see --help)\n", a);
+                return TSR_EXIT_USAGE;
+            }
+            if (!strcmp(a, "--chain"))
+                chain = argv[++i];
+            else
+                out = argv[++i];
+            continue;
+        }
+        if (a[0] == '-') {
+            fprintf(stderr, "tessera exec: unknown option %s (see --help)\n", a);
+            return TSR_EXIT_USAGE;
+        }
+        break; /* the program, without "--" */
+    }
+    if (i >= argc) {
+        fprintf(stderr, "tessera exec: no program given (see --help)\n");
+        return TSR_EXIT_USAGE;
+    }
+    char **program = argv + i;
+
+    const char *dir = getenv("TESSERA_FAKER_DIR");
+    if (!dir || !dir[0])
+        dir = has_faker(TESSERA_BUILD_FAKER_DIR) ? TESSERA_BUILD_FAKER_DIR : TESSERA_INSTALL_FAKER_DIR;
+    if (!has_faker(dir)) {
+        fprintf(stderr, "tessera exec: the faker's libGL.so.1 is not in %s\n", dir[0] ? dir : "(no directory)");
+        return TSR_EXIT_FAIL;
+    }
+
+    char default_chain[4200];
+    if (!chain && getenv("TESSERA_CHAIN") && getenv("TESSERA_CHAIN")[0])
+        chain = getenv("TESSERA_CHAIN");
+    if (!chain) {
+        char pattern[4096];
+        if (out) {
+            snprintf(pattern, sizeof pattern, "%s", out);
+        } else {
+            const char *base = strrchr(program[0], '/');
+            snprintf(pattern, sizeof pattern, "out/%s-%%04d.png", base ? base + 1 : program[0]);
+            if (mkdir("out", 0777) != 0 && errno != EEXIST) {
+                fprintf(stderr, "tessera exec: cannot create directory out: %s\n", strerror(errno));
+                return TSR_EXIT_FAIL;
+            }
+        }
+        if (strchr(pattern, '"')) {
+            fprintf(stderr, "tessera exec: --out must not contain '\"': %s\n", pattern);
+            return TSR_EXIT_USAGE;
+        }
+        snprintf(default_chain, sizeof default_chain, "render output=\"%s\"", pattern);
+        chain = default_chain;
+    } else if (out) {
+        fprintf(stderr, "tessera exec: --out applies to the default chain only; give output= in --chain\n");
+        return TSR_EXIT_USAGE;
+    }
+
+    const char *old = getenv("LD_LIBRARY_PATH");
+    size_t n = strlen(dir) + (old ? strlen(old) + 1 : 0) + 1;
+    char *path = malloc(n);
+    if (!path) {
+        fprintf(stderr, "tessera exec: out of memory\n");
+        return TSR_EXIT_FAIL;
+    }
+    snprintf(path, n, "%s%s%s", dir, old && old[0] ? ":" : "", old && old[0] ? old : "");
+    if (setenv("LD_LIBRARY_PATH", path, 1) != 0 || setenv("TESSERA_CHAIN", chain, 1) != 0) {
+        fprintf(stderr, "tessera exec: cannot set the environment: %s\n", strerror(errno));
+        free(path);
+        return TSR_EXIT_FAIL;
+    }
+    free(path);
+    fflush(NULL);
+    execvp(program[0], program);
+    int e = errno;
+    fprintf(stderr, "tessera exec: cannot run %s: %s\n", program[0], strerror(e));
+    return e == ENOENT ? 127 : 126;
+}

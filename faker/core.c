@@ -1,0 +1,468 @@
+/* faker/core.c — the faker's contexts, surfaces and current state (see
+ * faker_gl.h). One SPU chain per process, made at the first context from
+ * $TESSERA_CHAIN (default "render"); every application context is a
+ * tessera context of it (ContextCreateTSR at its first MakeCurrent), every
+ * surface a tessera window (WindowCreateTSR with the drawable's size, read
+ * over the faker's own xcb connection, which also selects StructureNotify
+ * on the window for itself; the ConfigureNotify events that have arrived
+ * are read without a round trip at every glViewport, swap and
+ * MakeCurrent — a glViewport of another size than the window's also asks
+ * the server, at most once a frame, in case that event is still on its
+ * way — and a new size becomes WindowSizeTSR). A context's table is the chain head's with glGetString
+ * answered here (renderer naming tessera, version 2.1, the spec's
+ * extensions). Commands to the chain are serialised by one mutex only
+ * around the faker's own calls; the chain itself is driven by the thread
+ * whose context is current (several threads drawing at once through one
+ * chain is not supported yet). */
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <xcb/xcb.h>
+
+#include "faker_gl.h"
+#include "spu/glapi_internal.h"
+#include "tessera/chain.h"
+#include "tessera/glapi.h"
+#include "tessera/log.h"
+
+#ifndef TESSERA_VERSION
+#define TESSERA_VERSION "0"
+#endif
+
+struct tsr_faker_context {
+    int id;                      /* tessera context id, from 1 */
+    bool on_stream;              /* ContextCreateTSR was sent */
+    bool destroy_pending;        /* destroyed while current somewhere */
+    int current_on;              /* threads it is current on (0 or 1) */
+    tsr_dispatch table;          /* the chain head's, GetString answered here */
+    char renderer[256];          /* "tessera (downstream renderer)" */
+    tsr_faker_context *next;
+};
+
+struct tsr_faker_surface {
+    int window;                  /* tessera window id, from 0 */
+    unsigned long xid;           /* X drawable, 0: pbuffer */
+    int width, height;           /* what the stream was told */
+    int x_width, x_height;       /* the X window's, from ConfigureNotify */
+    bool on_stream;              /* WindowCreateTSR was sent */
+    bool asked;                  /* its size was asked this frame (glViewport) */
+    tsr_faker_surface *next;
+};
+
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+static tsr_chain *chain;
+static bool chain_failed;
+static int next_context_id = 1, next_window_id = 0;
+static tsr_faker_context *contexts;
+static tsr_faker_surface *surfaces;
+static xcb_connection_t *xconn;
+static char xconn_name[256];
+
+static _Thread_local tsr_faker_context *cur_ctx;
+static _Thread_local tsr_faker_surface *cur_surface;
+
+void tsr_faker_log(int level, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    tsr_log((tsr_log_level)level, "faker: %s", msg);
+}
+
+void tsr_faker_unsupported(const char *name)
+{
+    tsr_faker_log(TSR_LOG_WARN, "%s is not supported by tessera: ignored (logged once)", name);
+}
+
+void (*tsr_faker_lookup(const tsr_faker_proc *table, size_t n, const char *name))(void)
+{
+    if (!name)
+        return NULL;
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        int c = strcmp(table[mid].name, name);
+        if (c == 0)
+            return table[mid].proc;
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return NULL;
+}
+
+void (*tsr_faker_gl_proc(const char *name))(void)
+{
+    return tsr_faker_lookup(tsr_faker_gl_procs, tsr_faker_gl_proc_count, name);
+}
+
+/* --- chain --------------------------------------------------------------- */
+
+static const tsr_dispatch *head_locked(void)
+{
+    if (chain)
+        return tsr_chain_head(chain);
+    if (chain_failed)
+        return NULL;
+    const char *text = getenv("TESSERA_CHAIN");
+    if (!text || !text[0])
+        text = "render";
+    tsr_error err = {0};
+    chain = tsr_chain_create(text, &err);
+    if (!chain) {
+        chain_failed = true;
+        tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);
+        return NULL;
+    }
+    tsr_faker_log(TSR_LOG_INFO, "SPU chain \"%s\"", text);
+    return tsr_chain_head(chain);
+}
+
+/* --- glGetString --------------------------------------------------------- */
+
+static const GLubyte *faker_GetString(void *self, GLenum name)
+{
+    tsr_faker_context *c = self;
+    switch (name) {
+    case GL_VENDOR:
+        return (const GLubyte *)"tessera";
+    case GL_RENDERER:
+        if (!c->renderer[0]) {
+            const tsr_dispatch *head = tsr_chain_head(chain);
+            const GLubyte *down = tsr_call_GetString(head, GL_RENDERER);
+            snprintf(c->renderer, sizeof c->renderer, "tessera (%s)",
+                     down && down[0] ? (const char *)down : "no renderer");
+        }
+        return (const GLubyte *)c->renderer;
+    case GL_VERSION:
+        return (const GLubyte *)"2.1 tessera " TESSERA_VERSION;
+    case GL_SHADING_LANGUAGE_VERSION:
+        return (const GLubyte *)"1.20";
+    case GL_EXTENSIONS:
+        return (const GLubyte *)tsr_faker_gl_extensions;
+    default:
+        return NULL;
+    }
+}
+
+static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t);
+static void poll_locked(void);
+static bool drawable_size_locked(unsigned long xid, int *w, int *h);
+
+/* glViewport: where programs react to a resize, so a new size reaches the
+ * stream before the frame drawn at it (checked again at every swap). */
+static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
+{
+    (void)self;
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_faker_surface *sf = cur_surface;
+    if (sf && sf->xid) {
+        pthread_mutex_lock(&lock);
+        poll_locked();
+        /* The faker's ConfigureNotify may still be on its way when the
+         * program, woken by its own, sets the new viewport: a viewport of
+         * another size than the window's asks the server, once a frame. */
+        if ((width != sf->x_width || height != sf->x_height) && !sf->asked) {
+            int w, h;
+            if (drawable_size_locked(sf->xid, &w, &h)) {
+                sf->x_width = w;
+                sf->x_height = h;
+            }
+            sf->asked = true;
+        }
+        follow_size_locked(sf, head);
+        pthread_mutex_unlock(&lock);
+    }
+    tsr_call_Viewport(head, x, y, width, height);
+}
+
+/* --- contexts ------------------------------------------------------------ */
+
+tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
+{
+    (void)share; /* the renderer's contexts form one share group */
+    pthread_mutex_lock(&lock);
+    const tsr_dispatch *head = head_locked();
+    tsr_faker_context *c = head ? calloc(1, sizeof *c) : NULL;
+    if (c) {
+        c->id = next_context_id++;
+        c->table = *head;
+        tsr_set_GetString(&c->table, faker_GetString, c);
+        tsr_set_Viewport(&c->table, faker_Viewport, c);
+        c->next = contexts;
+        contexts = c;
+    }
+    pthread_mutex_unlock(&lock);
+    return c;
+}
+
+int tsr_faker_context_id(const tsr_faker_context *ctx)
+{
+    return ctx ? ctx->id : 0;
+}
+
+static void context_free_locked(tsr_faker_context *ctx)
+{
+    for (tsr_faker_context **p = &contexts; *p; p = &(*p)->next)
+        if (*p == ctx) {
+            *p = ctx->next;
+            break;
+        }
+    if (ctx->on_stream && chain)
+        tsr_call_ContextDestroyTSR(tsr_chain_head(chain), ctx->id);
+    free(ctx);
+}
+
+void tsr_faker_context_destroy(tsr_faker_context *ctx)
+{
+    if (!ctx)
+        return;
+    pthread_mutex_lock(&lock);
+    if (ctx->current_on)
+        ctx->destroy_pending = true;
+    else
+        context_free_locked(ctx);
+    pthread_mutex_unlock(&lock);
+}
+
+/* --- surfaces ------------------------------------------------------------ */
+
+/* The drawable's size over the faker's own connection; false if unknown. */
+static bool drawable_size_locked(unsigned long xid, int *w, int *h)
+{
+    if (!xconn)
+        return false;
+    xcb_generic_error_t *e = NULL;
+    xcb_get_geometry_reply_t *g = xcb_get_geometry_reply(xconn, xcb_get_geometry(xconn, (xcb_drawable_t)xid), &e);
+    free(e);
+    if (!g)
+        return false;
+    *w = g->width;
+    *h = g->height;
+    free(g);
+    return true;
+}
+
+/* Reads the ConfigureNotify events of the faker's own connection that have
+ * arrived (no round trip): the new sizes of its windows. */
+static void poll_locked(void)
+{
+    if (!xconn)
+        return;
+    xcb_generic_event_t *ev;
+    while ((ev = xcb_poll_for_event(xconn))) {
+        if ((ev->response_type & 0x7f) == XCB_CONFIGURE_NOTIFY) {
+            const xcb_configure_notify_event_t *c = (const xcb_configure_notify_event_t *)ev;
+            for (tsr_faker_surface *s = surfaces; s; s = s->next)
+                if (s->xid == c->window) {
+                    s->x_width = c->width;
+                    s->x_height = c->height;
+                }
+        }
+        free(ev);
+    }
+}
+
+/* Tells the stream (through `t`) about a changed size of `s`. */
+static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t)
+{
+    poll_locked();
+    if (s && s->xid && s->on_stream && (s->x_width != s->width || s->x_height != s->height)) {
+        s->width = s->x_width;
+        s->height = s->x_height;
+        tsr_call_WindowSizeTSR(t, s->window, s->width, s->height);
+    }
+}
+
+static bool connect_locked(const char *display_name)
+{
+    const char *name = display_name ? display_name : "";
+    if (xconn && !strcmp(name, xconn_name))
+        return true;
+    if (xconn) {
+        tsr_faker_log(TSR_LOG_ERROR, "a second X display (%s after %s) is not supported", name, xconn_name);
+        return false;
+    }
+    xcb_connection_t *c = xcb_connect(name[0] ? name : NULL, NULL);
+    if (xcb_connection_has_error(c)) {
+        xcb_disconnect(c);
+        tsr_faker_log(TSR_LOG_ERROR, "cannot connect to X display \"%s\"", name);
+        return false;
+    }
+    xconn = c;
+    snprintf(xconn_name, sizeof xconn_name, "%s", name);
+    return true;
+}
+
+tsr_faker_surface *tsr_faker_surface_find(unsigned long xid)
+{
+    pthread_mutex_lock(&lock);
+    tsr_faker_surface *s = surfaces;
+    while (s && !(xid && s->xid == xid))
+        s = s->next;
+    pthread_mutex_unlock(&lock);
+    return s;
+}
+
+static tsr_faker_surface *surface_add_locked(unsigned long xid, int w, int h)
+{
+    tsr_faker_surface *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->window = next_window_id++;
+    s->xid = xid;
+    s->width = w;
+    s->height = h;
+    s->next = surfaces;
+    surfaces = s;
+    return s;
+}
+
+tsr_faker_surface *tsr_faker_surface_window(const char *display_name, unsigned long xid)
+{
+    tsr_faker_surface *s = tsr_faker_surface_find(xid);
+    if (s)
+        return s;
+    pthread_mutex_lock(&lock);
+    int w = 0, h = 0;
+    if (!connect_locked(display_name)) {
+        pthread_mutex_unlock(&lock);
+        return NULL;
+    }
+    /* StructureNotify for the faker's own connection (event masks are per
+     * client: the application's is untouched), then the size. */
+    const uint32_t mask = XCB_EVENT_MASK_STRUCTURE_NOTIFY;
+    xcb_void_cookie_t ck = xcb_change_window_attributes_checked(xconn, (xcb_window_t)xid, XCB_CW_EVENT_MASK, &mask);
+    free(xcb_request_check(xconn, ck)); /* a pixmap: no events, sizes fixed */
+    if (!drawable_size_locked(xid, &w, &h)) {
+        tsr_faker_log(TSR_LOG_ERROR, "drawable 0x%lx: cannot read its size (no such drawable?)", xid);
+    } else {
+        s = surface_add_locked(xid, w, h);
+        if (s) {
+            s->x_width = w;
+            s->x_height = h;
+        }
+    }
+    pthread_mutex_unlock(&lock);
+    return s;
+}
+
+tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height)
+{
+    pthread_mutex_lock(&lock);
+    tsr_faker_surface *s = surface_add_locked(0, width > 0 ? width : 1, height > 0 ? height : 1);
+    if (s) {
+        s->x_width = s->width;
+        s->x_height = s->height;
+    }
+    pthread_mutex_unlock(&lock);
+    return s;
+}
+
+void tsr_faker_surface_destroy(tsr_faker_surface *s)
+{
+    if (!s)
+        return;
+    pthread_mutex_lock(&lock);
+    for (tsr_faker_surface **p = &surfaces; *p; p = &(*p)->next)
+        if (*p == s) {
+            *p = s->next;
+            break;
+        }
+    if (s->on_stream && chain)
+        tsr_call_WindowDestroyTSR(tsr_chain_head(chain), s->window);
+    if (cur_surface == s)
+        cur_surface = NULL;
+    free(s);
+    pthread_mutex_unlock(&lock);
+}
+
+void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height)
+{
+    *width = s ? s->width : 0;
+    *height = s ? s->height : 0;
+}
+
+unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s)
+{
+    return s ? s->xid : 0;
+}
+
+/* --- current ------------------------------------------------------------- */
+
+bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
+{
+    pthread_mutex_lock(&lock);
+    tsr_faker_context *old = cur_ctx;
+    if (old && old != ctx) {
+        old->current_on--;
+        if (old->destroy_pending && !old->current_on)
+            context_free_locked(old);
+    }
+    if (!ctx) {
+        cur_ctx = NULL;
+        cur_surface = NULL;
+        tsr_gl_current_table = NULL;
+        pthread_mutex_unlock(&lock);
+        return true;
+    }
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    if (draw && !draw->on_stream) {
+        poll_locked();
+        draw->width = draw->x_width;
+        draw->height = draw->x_height;
+        tsr_call_WindowCreateTSR(head, draw->window, draw->width, draw->height);
+        draw->on_stream = true;
+    } else if (draw) {
+        follow_size_locked(draw, head);
+    }
+    if (!ctx->on_stream) {
+        tsr_call_ContextCreateTSR(head, ctx->id);
+        ctx->on_stream = true;
+    }
+    /* Surfaceless: the commands go to the context; window -1 is none. */
+    tsr_call_MakeCurrentTSR(head, draw ? draw->window : -1, ctx->id);
+    if (old != ctx)
+        ctx->current_on++;
+    cur_ctx = ctx;
+    cur_surface = draw;
+    tsr_gl_current_table = &ctx->table;
+    pthread_mutex_unlock(&lock);
+    return true;
+}
+
+tsr_faker_context *tsr_faker_current_context(void)
+{
+    return cur_ctx;
+}
+
+tsr_faker_surface *tsr_faker_current_surface(void)
+{
+    return cur_surface;
+}
+
+void tsr_faker_swap(tsr_faker_surface *s)
+{
+    if (!s || !cur_ctx)
+        return;
+    const tsr_dispatch *t = &cur_ctx->table;
+    tsr_call_SwapBuffersTSR(t, s->window, 0);
+    if (!s->xid)
+        return;
+    pthread_mutex_lock(&lock);
+    follow_size_locked(s, t);
+    s->asked = false;
+    pthread_mutex_unlock(&lock);
+}
+
+void tsr_faker_finish(void)
+{
+    if (cur_ctx)
+        tsr_call_Finish(&cur_ctx->table);
+}

@@ -1,0 +1,72 @@
+/* faker/faker_gl.h — what the faker's libraries share (libGL.so.1 holds the
+ * core; libEGL.so.1 calls it). Never installed, never included outside
+ * faker/. Owns: contexts (each one tessera context of the one process-wide
+ * SPU chain, ContextCreateTSR/MakeCurrentTSR), surfaces (an X drawable or
+ * a pbuffer: one tessera window each, WindowCreateTSR/WindowSizeTSR), the
+ * calling thread's current context and surface, and the gl* name table.
+ * The faker never creates a GL context on the X server: it reads drawable
+ * sizes over its own xcb connection and never touches the application's. */
+#ifndef TSR_FAKER_GL_H
+#define TSR_FAKER_GL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#define TSR_FAKER_API __attribute__((visibility("default")))
+
+typedef struct tsr_faker_proc {
+    const char *name;
+    void (*proc)(void);
+} tsr_faker_proc;
+
+/* Generated (faker_stubs_gen.c): every exported gl*, sorted by name. */
+extern const tsr_faker_proc tsr_faker_gl_procs[];
+extern const size_t tsr_faker_gl_proc_count;
+extern const size_t tsr_faker_gl_stub_count;
+extern const char tsr_faker_gl_extensions[];
+
+/* Logs once per function (the generated stubs call it the first time). */
+TSR_FAKER_API void tsr_faker_unsupported(const char *name);
+
+/* Exported gl* entry of `name`, or NULL. */
+TSR_FAKER_API void (*tsr_faker_gl_proc(const char *name))(void);
+/* Sorted-table lookup shared by the GLX and EGL tables. */
+TSR_FAKER_API void (*tsr_faker_lookup(const tsr_faker_proc *table, size_t n, const char *name))(void);
+
+typedef struct tsr_faker_context tsr_faker_context;
+typedef struct tsr_faker_surface tsr_faker_surface;
+
+/* Logs through libtessera's log with a "faker: " prefix. level: TSR_LOG_*. */
+TSR_FAKER_API void tsr_faker_log(int level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* A context sharing objects with `share` (NULL: none; every context of the
+ * process is in one share group of the chain's renderer anyway). NULL when
+ * the chain cannot be made (logged). */
+TSR_FAKER_API tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share);
+/* Destroyed now, or when it stops being current (as GLX/EGL say). */
+TSR_FAKER_API void tsr_faker_context_destroy(tsr_faker_context *ctx);
+TSR_FAKER_API int tsr_faker_context_id(const tsr_faker_context *ctx);
+
+/* A surface for X drawable `xid` of the display named `display_name`
+ * (the same surface for the same drawable), or a pbuffer (xid 0) of the
+ * given size. NULL when the size cannot be read (logged). */
+TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_window(const char *display_name, unsigned long xid);
+TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height);
+TSR_FAKER_API void tsr_faker_surface_destroy(tsr_faker_surface *s);
+TSR_FAKER_API void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height);
+TSR_FAKER_API unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s);
+/* Finds the surface of a drawable without creating it (NULL: none). */
+TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_find(unsigned long xid);
+
+/* Makes ctx current on this thread drawing into `draw` (NULL ctx: none
+ * current; NULL draw: surfaceless). false: failed (logged). */
+TSR_FAKER_API bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw);
+TSR_FAKER_API tsr_faker_context *tsr_faker_current_context(void);
+TSR_FAKER_API tsr_faker_surface *tsr_faker_current_surface(void);
+/* End of frame of `s`: SwapBuffersTSR through the current context's
+ * table, then the drawable's size is checked (resize: WindowSizeTSR). */
+TSR_FAKER_API void tsr_faker_swap(tsr_faker_surface *s);
+/* glFinish through the current context (WaitGL). */
+TSR_FAKER_API void tsr_faker_finish(void);
+
+#endif

@@ -1,0 +1,79 @@
+# tests/faker.cmake — the faker (faker/): its exports cover what Debian's GL
+# programs import, GetProcAddress agrees with dlsym, glxgears runs through
+# it under Xvfb (directly and through `tessera exec`), and `tessera exec`
+# passes status, signals and output through. About 5 s in all.
+if(NOT TARGET tessera_faker_gl)
+  return()
+endif()
+set(FAKER_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/faker)
+set(FAKER_OUT ${CMAKE_BINARY_DIR}/test-out/faker)
+file(MAKE_DIRECTORY ${FAKER_OUT})
+
+# Sanitized builds: glxgears is not instrumented but loads the instrumented
+# faker, so the sanitizer runtimes are preloaded into it (ASan must come
+# first in the process); the test programs below are instrumented anyway.
+set(FAKER_PRELOAD "")
+if(TESSERA_SANITIZE)
+  foreach(rt libasan.so libubsan.so)
+    execute_process(COMMAND ${CMAKE_C_COMPILER} -print-file-name=${rt}
+                    OUTPUT_VARIABLE rt_path OUTPUT_STRIP_TRAILING_WHITESPACE)
+    if(NOT EXISTS "${rt_path}")
+      message(FATAL_ERROR "faker tests: the sanitizer runtime ${rt} was not found (${rt_path})")
+    endif()
+    string(APPEND FAKER_PRELOAD "${rt_path} ")
+  endforeach()
+  string(STRIP "${FAKER_PRELOAD}" FAKER_PRELOAD)
+endif()
+
+add_executable(faker_procs ${FAKER_TEST_DIR}/procs.c)
+target_link_libraries(faker_procs PRIVATE ${CMAKE_DL_LIBS})
+add_executable(faker_frames ${FAKER_TEST_DIR}/frames.c)
+target_link_libraries(faker_frames PRIVATE tessera)
+
+add_test(NAME faker_exports_every_gl_glx_egl_import_of_glxgears_glxinfo_glu_and_xscreensaver_gl
+         COMMAND bash ${FAKER_TEST_DIR}/imports.sh ${TESSERA_FAKER_DIR})
+add_test(NAME faker_getprocaddress_equals_dlsym_for_every_exported_name
+         COMMAND sh -c "nm -D --defined-only '${TESSERA_FAKER_DIR}/libGL.so.1' '${TESSERA_FAKER_DIR}/libEGL.so.1' | awk '{print $NF}' | sed 's/@.*//' | grep -E '^(gl|glX|egl)[A-Z]' | sort -u > '${FAKER_OUT}/names.txt' && '$<TARGET_FILE:faker_procs>' '${TESSERA_FAKER_DIR}' '${FAKER_OUT}/names.txt'")
+add_test(NAME faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+         COMMAND bash ${FAKER_TEST_DIR}/glxgears.sh direct ${TESSERA_FAKER_DIR} $<TARGET_FILE:tessera_cli>
+                 $<TARGET_FILE:faker_frames> ${FAKER_OUT}/glxgears)
+add_test(NAME faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+         COMMAND bash ${FAKER_TEST_DIR}/glxgears.sh exec ${TESSERA_FAKER_DIR} $<TARGET_FILE:tessera_cli>
+                 $<TARGET_FILE:faker_frames> ${FAKER_OUT}/exec)
+add_test(NAME faker_tessera_exec_passes_status_signals_and_output_through
+         COMMAND bash ${FAKER_TEST_DIR}/exec_status.sh $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/status)
+set_tests_properties(
+  faker_exports_every_gl_glx_egl_import_of_glxgears_glxinfo_glu_and_xscreensaver_gl
+  faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+  faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+  PROPERTIES SKIP_RETURN_CODE 77)
+set_tests_properties(
+  faker_glxgears_under_xvfb_writes_moving_frames_and_ends_on_sigterm
+  faker_tessera_exec_runs_glxgears_with_the_default_render_chain
+  PROPERTIES ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}" TIMEOUT 60)
+
+# EGL with no X server: linked against the faker's libraries themselves.
+add_executable(faker_egl_surfaceless ${FAKER_TEST_DIR}/egl_surfaceless.c)
+target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_faker_gl)
+add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
+         COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err' || exit 1; cat '${FAKER_OUT}/egl.err'; n=$(grep -c 'glRenderMode is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glRenderMode warnings: $n\"; [ $n -eq 1 ]")
+
+# GLX: configs, contexts, current state, sizes, a resize followed; then EGL
+# on X11 into the same window.
+add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize.c)
+target_link_libraries(faker_glx_resize PRIVATE tessera_faker_egl tessera_faker_gl tessera PkgConfig::X11)
+add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
+         COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_resize> ${FAKER_OUT}/resize)
+set_tests_properties(faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11 PROPERTIES SKIP_RETURN_CODE 77)
+
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations
+# (tests/lsan.supp); the faker's and tessera's own are still checked.
+if(TESSERA_SANITIZE)
+  set_property(TEST
+    faker_getprocaddress_equals_dlsym_for_every_exported_name
+    faker_tessera_exec_passes_status_signals_and_output_through
+    faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
+    faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
+    APPEND PROPERTY ENVIRONMENT
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()

@@ -1,0 +1,72 @@
+/* tests/faker/frames.c — faker_frames DIR PREFIX MIN: the PNG frames
+ * DIR/PREFIX0000.png, PREFIX0001.png, ... a faker run wrote. At least MIN
+ * of them, in sequence from 0, must read as PNGs, each with more than one
+ * colour, and not all the same picture. Only the newest file may be
+ * unreadable: the program was ended by SIGTERM, possibly mid-write. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tessera/image.h"
+
+int main(int argc, char **argv)
+{
+    if (argc != 4) {
+        fprintf(stderr, "usage: faker_frames DIR PREFIX MIN\n");
+        return 2;
+    }
+    int min = atoi(argv[3]), good = 0, distinct = 0, width = 0, height = 0;
+    tsr_image first = {0};
+    for (int i = 0;; i++) {
+        char path[4096], next[4096];
+        snprintf(path, sizeof path, "%s/%s%04d.png", argv[1], argv[2], i);
+        snprintf(next, sizeof next, "%s/%s%04d.png", argv[1], argv[2], i + 1);
+        if (access(path, F_OK) != 0)
+            break;
+        tsr_image img = {0};
+        tsr_error err = {0};
+        if (tsr_image_read_png(&img, path, &err) != TSR_OK) {
+            if (access(next, F_OK) == 0) {
+                printf("FAIL: %s\n", err.message);
+                return 1;
+            }
+            break; /* the last file, cut off by SIGTERM */
+        }
+        int colours = 1;
+        for (size_t k = 1; k < (size_t)img.width * (size_t)img.height && colours == 1; k++)
+            if (memcmp(img.pixels + 4 * k, img.pixels, 4) != 0)
+                colours = 2;
+        if (colours == 1) {
+            printf("FAIL: %s is all one colour (RGBA %u %u %u %u)\n", path, img.pixels[0], img.pixels[1],
+                   img.pixels[2], img.pixels[3]);
+            return 1;
+        }
+        if (!first.pixels) {
+            first = img;
+            width = img.width;
+            height = img.height;
+        } else {
+            if (img.width != width || img.height != height) {
+                printf("FAIL: %s is %dx%d, frame 0 %dx%d\n", path, img.width, img.height, width, height);
+                return 1;
+            }
+            if (memcmp(img.pixels, first.pixels, (size_t)width * (size_t)height * 4) != 0)
+                distinct++;
+            tsr_image_free(&img);
+        }
+        good++;
+    }
+    tsr_image_free(&first);
+    printf("%d readable frames of %dx%d, none of one colour, %d differing from frame 0\n", good, width, height,
+           distinct);
+    if (good < min) {
+        printf("FAIL: fewer than %d frames\n", min);
+        return 1;
+    }
+    if (!distinct) {
+        printf("FAIL: every frame is the same picture\n");
+        return 1;
+    }
+    return 0;
+}
