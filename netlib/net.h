@@ -23,7 +23,8 @@
  *   tcp://127.0.0.1:7000   tcp://[::1]:7000   tcp://host.example:7000
  *   tcp://:7000            (listen: loopback 127.0.0.1; port 0 = any free)
  *   tcp://0.0.0.0:7000     (listen on every IPv4 interface, only when asked)
- *   unix:/tmp/x.sock       (same host; a stale socket file is replaced)
+ *   unix:/tmp/x.sock       (same host; only a stale socket file is replaced:
+ *                          any other file there is refused, never removed)
  *   inproc:name            (same tsr_net; no sockets, same API)
  *
  * WIRE (every integer little-endian). Each message is a 16-byte header

@@ -10,6 +10,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 #include <sys/socket.h>
+#include <sys/types.h>
 #include <sys/un.h>
 #include <uv.h>
 
@@ -163,7 +164,9 @@ struct tsr_net_listener {
     tsr_net *net;
     enum net_transport transport;
     char address[TSR_NET_ADDRESS_MAX];
-    char unix_path[sizeof(((struct sockaddr_un *)0)->sun_path)];
+    char unix_path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* bound by this listener */
+    dev_t unix_dev;                       /* ... and its identity, so that only */
+    ino_t unix_ino;                       /*     that socket is removed */
     char inproc_name[TSR_NET_ADDRESS_MAX - 8];
     pthread_cond_t cond;                  /* (L) accept waits on it */
     tsr_net_conn *ready_head, *ready_tail; /* (L) handshaken, not accepted */

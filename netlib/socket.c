@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "net_internal.h"
@@ -883,7 +884,10 @@ static void on_listener_closed(uv_handle_t *h) {
     tsr_net_listener *l = h->data;
     tsr_net *net = l->net;
     pthread_mutex_lock(&net->lock);
-    if (l->unix_path[0])
+    /* Only the socket this listener bound: not a file that replaced it. */
+    struct stat st;
+    if (l->unix_path[0] && lstat(l->unix_path, &st) == 0 && S_ISSOCK(st.st_mode) &&
+        st.st_dev == l->unix_dev && st.st_ino == l->unix_ino)
         unlink(l->unix_path);
     l->io_ref = false;
     net_listener_maybe_free(l);
@@ -903,7 +907,8 @@ void net_io_close_listener(tsr_net_listener *l) {
         uv_close(&l->h.handle, on_listener_closed);
 }
 
-/* A socket file exists at `path`: is anyone listening on it? */
+/* A socket file exists at `path`: is anyone listening on it? Only a
+ * refused connection says no (ECONNREFUSED: nobody accepts on it). */
 static bool unix_socket_is_live(const char *path) {
     int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0)
@@ -913,6 +918,65 @@ static bool unix_socket_is_live(const char *path) {
     bool live = connect(fd, (struct sockaddr *)&sa, sizeof sa) == 0 || errno != ECONNREFUSED;
     close(fd);
     return live;
+}
+
+/* Before binding a Unix socket at `path`: what is there must be nothing,
+ * or a stale socket (a socket file nobody listens on, left by a process
+ * that died), which is removed. Anything else is refused with one line
+ * naming the path and left as it is: a regular file, a folder, a symbolic
+ * link (never followed or removed), a live socket. A missing folder is
+ * named as such (libuv would report EACCES for it). */
+static int unix_path_prepare(const char *text, const char *path, tsr_error *err) {
+    struct stat st;
+    if (lstat(path, &st) != 0) {
+        if (errno != ENOENT)
+            return tsr_error_set(err, TSR_EIO, "net: cannot listen on %s: cannot inspect %s: %s",
+                                 text, path, strerror(errno));
+        char dir[sizeof(((struct sockaddr_un *)0)->sun_path)];
+        snprintf(dir, sizeof dir, "%s", path);
+        char *slash = strrchr(dir, '/');
+        if (!slash)
+            return TSR_OK; /* in the working directory, which exists */
+        if (slash == dir)
+            slash[1] = '\0';
+        else
+            *slash = '\0';
+        struct stat dst;
+        if (stat(dir, &dst) != 0)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "net: cannot listen on %s: folder %s does not exist", text, dir);
+        if (!S_ISDIR(dst.st_mode))
+            return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on %s: %s is not a folder",
+                                 text, dir);
+        return TSR_OK;
+    }
+    if (S_ISLNK(st.st_mode))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "net: cannot listen on %s: %s is a symbolic link, not a socket "
+                             "(left as it is)",
+                             text, path);
+    if (S_ISDIR(st.st_mode))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "net: cannot listen on %s: %s is a folder, not a socket", text, path);
+    if (!S_ISSOCK(st.st_mode))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "net: cannot listen on %s: %s exists and is not a socket (%s; left as "
+                             "it is)",
+                             text, path, S_ISREG(st.st_mode) ? "a regular file" : "a special file");
+    if (unix_socket_is_live(path))
+        return tsr_error_set(err, TSR_EINVAL,
+                             "net: cannot listen on %s: address already in use (another listener "
+                             "has %s)",
+                             text, path);
+    /* Stale. Removed only if it is still the same socket file. */
+    struct stat again;
+    if (lstat(path, &again) == 0 && S_ISSOCK(again.st_mode) && again.st_ino == st.st_ino &&
+        again.st_dev == st.st_dev && unlink(path) != 0 && errno != ENOENT)
+        return tsr_error_set(err, TSR_EIO,
+                             "net: cannot listen on %s: cannot remove the stale socket %s: %s",
+                             text, path, strerror(errno));
+    tsr_log(TSR_LOG_INFO, "net: replaced the stale socket %s (nobody listened on it)", path);
+    return TSR_OK;
 }
 
 void net_io_listen(tsr_net *net, net_op *op) {
@@ -931,17 +995,24 @@ void net_io_listen(tsr_net *net, net_op *op) {
     if (l->transport == NET_TCP) {
         rc = uv_tcp_bind(&l->h.tcp, (const struct sockaddr *)&op->sockaddr, 0);
     } else {
-        rc = uv_pipe_bind(&l->h.pipe, a->path);
-        if (rc == UV_EADDRINUSE && !unix_socket_is_live(a->path)) {
-            unlink(a->path); /* stale file of a process that died */
-            rc = uv_pipe_bind(&l->h.pipe, a->path);
+        op->rc = unix_path_prepare(text, a->path, &op->err);
+        if (op->rc) {
+            l->closing = true;
+            uv_close(&l->h.handle, on_listener_closed);
+            return;
         }
-        if (!rc)
+        rc = uv_pipe_bind(&l->h.pipe, a->path);
+        struct stat st;
+        if (!rc && lstat(a->path, &st) == 0) { /* ours: removed when the listener closes */
             snprintf(l->unix_path, sizeof l->unix_path, "%s", a->path);
+            l->unix_dev = st.st_dev;
+            l->unix_ino = st.st_ino;
+        }
     }
     if (!rc)
         rc = uv_listen(&l->h.stream, 128, on_connection);
     if (rc) {
+        /* (A Unix path that appeared since it was checked lands here too.) */
         op->rc = tsr_error_set(&op->err, rc == UV_EADDRINUSE ? TSR_EINVAL : TSR_EIO,
                                "net: cannot listen on %s: %s%s", text, uv_strerror(rc),
                                rc == UV_EADDRINUSE ? " (another listener has it)" : "");
