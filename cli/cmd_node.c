@@ -19,7 +19,8 @@ static void node_usage(FILE *out)
 {
     fprintf(out,
             "usage: tessera node --listen ADDR --chain \"SPU CHAIN\" [--token T] [--clients N]\n"
-            "                    [--timeout-ms MS] [--name NAME] [--independent]\n"
+            "                    [--timeout-ms MS] [--idle-timeout-ms MS] [--name NAME]\n"
+            "                    [--independent]\n"
             "       tessera node --mothership HOST:PORT [--name NAME | --rank N] [--token T]\n"
             "                    [--bind HOST] [--timeout-ms MS] [--connect-timeout-ms MS]\n\n"
             "Runs a server node: accepts stream clients (the pack SPU) on ADDR and feeds\n"
@@ -41,8 +42,10 @@ static void node_usage(FILE *out)
             "                    client's number (0, 1, ...), e.g. output=out/c{client}-%%04d.png\n"
             "  --token T         shared token clients must present (default: none)\n"
             "  --clients N       clients to serve before ending (default 1)\n"
-            "  --timeout-ms MS   longest wait for the next client, and longest silence of a\n"
-            "                    connected one (default 60000; 0: no limit)\n"
+            "  --timeout-ms MS   longest wait for the next client (default 60000; 0: no limit)\n"
+            "  --idle-timeout-ms MS  longest silence of a connected client, which is then taken\n"
+            "                    for stopped or dead, dropped and named (default 15000; 0: no\n"
+            "                    limit); a client busy computing still answers heartbeats\n"
             "  --name NAME       this node's name in handshakes (default \"node\")\n"
             "  -h, --help        show this help\n\n"
             "Prints \"listening on ADDR\" once ready. Exit codes: 0 every client ended cleanly,\n"
@@ -145,9 +148,9 @@ static int node_with_mothership(const char *mothership, const char *name, const 
 
 int cmd_node(int argc, char **argv)
 {
-    tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000};
+    tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000, .idle_timeout_ms = 15000};
     const char *mothership = NULL, *rank = NULL, *bind = NULL;
-    long timeout_given = -1, connect_timeout = -1;
+    long timeout_given = -1, connect_timeout = -1, idle_given = -1;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
@@ -161,7 +164,7 @@ int cmd_node(int argc, char **argv)
         int known = !strcmp(arg, "--listen") || !strcmp(arg, "--chain") || !strcmp(arg, "--token") ||
                     !strcmp(arg, "--clients") || !strcmp(arg, "--timeout-ms") || !strcmp(arg, "--name") ||
                     !strcmp(arg, "--mothership") || !strcmp(arg, "--rank") || !strcmp(arg, "--bind") ||
-                    !strcmp(arg, "--connect-timeout-ms");
+                    !strcmp(arg, "--connect-timeout-ms") || !strcmp(arg, "--idle-timeout-ms");
         if (!known) {
             fprintf(stderr, "tessera node: unknown option '%s' (see tessera node --help)\n", arg);
             return TSR_EXIT_USAGE;
@@ -193,6 +196,14 @@ int cmd_node(int argc, char **argv)
             }
             connect_timeout = n;
         }
+        else if (!strcmp(arg, "--idle-timeout-ms")) {
+            if (parse_count(value, 0, 86400000, &n)) {
+                fprintf(stderr, "tessera node: bad --idle-timeout-ms '%s' (expected 0..86400000)\n", value);
+                return TSR_EXIT_USAGE;
+            }
+            cfg.idle_timeout_ms = (uint32_t)n;
+            idle_given = n;
+        }
         else if (!strcmp(arg, "--clients")) {
             if (parse_count(value, 1, 100000, &n)) {
                 fprintf(stderr, "tessera node: bad --clients '%s' (expected 1..100000)\n", value);
@@ -211,6 +222,11 @@ int cmd_node(int argc, char **argv)
     if (mothership) {
         if (cfg.listen || cfg.chain) {
             fprintf(stderr, "tessera node: --mothership gives the node its role: no --listen or --chain\n");
+            return TSR_EXIT_USAGE;
+        }
+        if (idle_given >= 0) {
+            fprintf(stderr, "tessera node: with --mothership, the run's --timeout-ms is the servers' "
+                            "--idle-timeout-ms\n");
             return TSR_EXIT_USAGE;
         }
         return node_with_mothership(mothership, cfg.name, rank, cfg.token, timeout_given, connect_timeout,

@@ -214,6 +214,7 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         .name = a->name,
         .clients = (unsigned)tsr_ctl_number(cfg, "clients", 1),
         .timeout_ms = (uint32_t)tsr_ctl_number(cfg, "timeout_ms", 60000),
+        .idle_timeout_ms = (uint32_t)tsr_ctl_number(cfg, "idle_timeout_ms", 15000),
     };
     tsr_error e = {0};
     a->node = tsr_node_create(&nc, &e);

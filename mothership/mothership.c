@@ -357,6 +357,9 @@ static int send_config(ms *m, ms_node *n, tsr_error *err)
         tsr_ctl_addf(&out, "clients", "%zu", g->from_count);
         uint32_t wait = m->cfg->join_timeout_ms > 60000 ? m->cfg->join_timeout_ms : 60000;
         tsr_ctl_addf(&out, "timeout_ms", "%u", wait);
+        /* A client (the application's stream client) silent this long is
+         * stopped or dead: the server drops it, which ends the run. */
+        tsr_ctl_addf(&out, "idle_timeout_ms", "%u", m->cfg->timeout_ms);
     } else {
         for (size_t i = 0; i < g->exec_argc; i++)
             tsr_ctl_add(&out, "arg", g->exec[i]);

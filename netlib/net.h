@@ -18,6 +18,11 @@
  * milliseconds: 0 = poll, > 0 = at most that long, TSR_NET_WAIT_FOREVER =
  * until the call can complete or the connection fails (a dead or silent
  * peer is caught by idle_timeout_ms, so set it when waiting forever).
+ * TSR_ETIMEDOUT from send, recv, recv_any or accept means only that the
+ * caller's own time-out passed and the connection is as it was; a
+ * connection that failed returns its error (a peer silent beyond
+ * idle_timeout_ms: TSR_EIO), so a poll loop can tell "nothing yet" from
+ * "dead".
  *
  * ADDRESSES are text:
  *   tcp://127.0.0.1:7000   tcp://[::1]:7000   tcp://host.example:7000

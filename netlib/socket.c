@@ -251,7 +251,11 @@ static void on_timer(uv_timer_t *t) {
             c->last_heard_ms = now;
         }
         if (now - c->last_heard_ms >= net->config.idle_timeout_ms) {
-            net_conn_fail(c, TSR_ETIMEDOUT,
+            /* TSR_EIO, not TSR_ETIMEDOUT: that one means only that a
+             * caller's own wait ended with the connection still fine
+             * (tsr_net_recv with a time-out), and a poll loop reading it
+             * as "nothing yet" would poll a dead connection forever. */
+            net_conn_fail(c, TSR_EIO,
                           "net: peer '%s' at %s sent nothing for %u ms (idle_timeout_ms): "
                           "considered dead",
                           c->peer_name, c->address, net->config.idle_timeout_ms);

@@ -270,7 +270,7 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     tsr_net_config_defaults(&cfg);
     cfg.node_name = config->name && config->name[0] ? config->name : "node";
     cfg.token = config->token;
-    cfg.idle_timeout_ms = config->timeout_ms;
+    cfg.idle_timeout_ms = config->idle_timeout_ms;
     node->net = tsr_net_create(&cfg, err);
     if (node->net)
         node->listener = tsr_net_listen(node->net, config->listen, err);

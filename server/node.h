@@ -81,8 +81,12 @@ typedef struct tsr_node_config {
     const char *token;      /* shared token clients must present; NULL/"" = none */
     const char *name;       /* this node's name in handshakes; NULL = "node" */
     unsigned clients;       /* serve this many clients, then tsr_node_run returns (>= 1) */
-    uint32_t timeout_ms;    /* longest wait for the next client to connect, and longest
-                               silence of a connected client; 0 = no limit */
+    uint32_t timeout_ms;    /* longest wait for the next client to connect; 0 = no limit */
+    uint32_t idle_timeout_ms; /* longest silence of a connected client: then it is taken
+                               for stopped or dead, dropped and named; 0 = no limit.
+                               Silence is not being busy: a client's stream client
+                               answers heartbeats from its I/O thread while the
+                               application computes (netlib/net.h, idle_timeout_ms). */
     tsr_node_mode mode;     /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
 } tsr_node_config;
 

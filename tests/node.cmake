@@ -36,6 +36,11 @@ add_test(NAME node_server_killed_app_exits_nonzero
   COMMAND ${NODE_TEST_DIR}/failures.sh node-killed ${NODE_BIN} ${NODE_OUT}/killed)
 add_test(NAME node_client_chain_failure_reaches_the_app
   COMMAND ${NODE_TEST_DIR}/failures.sh client-chain-fails ${NODE_BIN} ${NODE_OUT}/chain-fails)
+add_test(NAME node_shared_stopped_client_dropped_named_after_idle_timeout
+  COMMAND ${NODE_TEST_DIR}/failures.sh client-stopped ${NODE_BIN} ${NODE_OUT}/client-stopped)
+add_test(NAME node_busy_client_computing_between_frames_not_dropped
+  COMMAND ${NODE_TEST_DIR}/failures.sh client-busy ${NODE_BIN} ${NODE_OUT}/client-busy
+          $<TARGET_FILE:node_driver>)
 add_test(NAME node_unix_listen_replaces_only_stale_socket_keeps_files
   COMMAND ${NODE_TEST_DIR}/unix_path.sh ${NODE_BIN} ${NODE_OUT}/unix-path)
 add_test(NAME node_server_stopped_app_exits_nonzero_after_timeout

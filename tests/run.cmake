@@ -34,7 +34,7 @@ if(TARGET psubmit-native)
                  psubmit-native --size 1024x768)
 endif()
 
-foreach(c kill-server kill-app stop-server stop-app-node interrupt kill-mothership)
+foreach(c kill-server kill-app stop-server stop-app-node stop-app interrupt kill-mothership)
   string(REPLACE "-" "_" c_ ${c})
   add_test(NAME run_failure_${c_}_ends_run_names_node_leaves_nothing
     COMMAND ${RUN_DIR}/failures.sh ${c} ${RUN_BIN} ${RUN_OUT}/failure-${c})

@@ -16,6 +16,13 @@
 #                   app exits non-zero with the server's reason
 #   node-stopped    SIGSTOP the node mid-stream: the app (pack
 #                   timeout_ms=1500) exits non-zero within 5 s
+#   client-stopped  SIGSTOP one of two clients of a shared node mid-stream:
+#                   after --idle-timeout-ms it is dropped and named, the
+#                   other is served to its end, and the node exits 1 (it
+#                   must not poll the dead connection forever)
+#   client-busy     a client that computes for 3.5 s between frames (no GL
+#                   call) beside a node whose --idle-timeout-ms is 1 s is
+#                   not dropped: its I/O thread answers the heartbeats
 set -u
 mode=$1 bin=$2 out=$3 driver=${4:-}
 TESSERA=$bin/tessera
@@ -142,6 +149,48 @@ node-stopped)
   [ "$EXIT_RC" != 0 ] || fail "app exited 0 although the node stopped mid-stream"
   [ $took -lt 5000 ] || fail "app took $took ms to give up on a stopped node (timeout_ms=1500)"
   grep -q "$NODE_ADDR" "$out/app.err" || fail "app's message does not name $NODE_ADDR"
+  ;;
+client-stopped)
+  idle=1500
+  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 30000 \
+    --idle-timeout-ms $idle --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  "$bin/spheres" --frames 100000 --size 160x120 --chain "pack server=$NODE_ADDR" \
+    2>"$out/stopped.err" &
+  victim=$!
+  i=0
+  while [ ! -e "$out/chain/f-0002.png" ] && [ $i -lt 400 ]; do sleep 0.05; i=$((i + 1)); done
+  [ -e "$out/chain/f-0002.png" ] || fail "the node wrote no frames within 20 s"
+  kill -STOP "$victim"
+  start=$(now_ms)
+  timeout 30 "$bin/spheres" --frames 5 --size 160x120 --chain "pack server=$NODE_ADDR" \
+    2>"$out/other.err"
+  rc=$?
+  [ $rc -eq 0 ] || { fail "the other client exited $rc while one was stopped"; show "$out/other.err"; }
+  wait_exit "$NODE_PID" $(( idle / 1000 + 15 ))
+  took=$(( $(now_ms) - start ))
+  kill -9 "$victim"
+  wait "$victim" 2>/dev/null
+  show "$out/node.err"
+  echo "node exit $EXIT_RC, $took ms after client 0 was stopped (--idle-timeout-ms $idle)"
+  [ "$EXIT_RC" != timeout ] || fail "node still running $(( idle / 1000 + 15 )) s after a client was stopped"
+  [ "$EXIT_RC" = 1 ] || fail "node exited $EXIT_RC; expected 1 (a client was dropped)"
+  [ $took -lt $(( idle + 8000 )) ] || fail "node took $took ms to drop a client silent for $idle ms"
+  grep -q "client 0 'pack[^']*-pid$victim' at .* dropped: .*sent nothing for $idle ms" "$out/node.err" \
+    || fail "node's message does not name the stopped client (pack-pid$victim) and its silence"
+  ;;
+client-busy)
+  [ -n "$driver" ] || { echo "failures.sh: client-busy needs NODE_DRIVER" >&2; exit 2; }
+  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 20000 \
+    --idle-timeout-ms 1000 --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  timeout 30 "$driver" busy "$NODE_ADDR" 3500 >"$out/busy.out" 2>"$out/busy.err"
+  rc=$?
+  show "$out/busy.out"
+  show "$out/busy.err"
+  [ $rc -eq 0 ] || fail "the busy client exited $rc (taken for dead while computing)"
+  wait_exit "$NODE_PID" 15
+  show "$out/node.err"
+  [ "$EXIT_RC" = 0 ] || fail "node exited $EXIT_RC; a busy client is not a dead one"
+  [ -s "$out/chain/f-0001.png" ] || fail "the frame after the busy time is missing"
   ;;
 *) echo "failures.sh: unknown mode '$mode'" >&2; exit 2 ;;
 esac

@@ -11,11 +11,18 @@
  *   garbage ADDR   connects as 'garbage-client' and sends a buffer whose
  *                  header lies about its length; succeeds when the server
  *                  answers with an error message and closes
+ *   busy ADDR MS   through "pack server=ADDR timeout_ms=1000": draws and
+ *                  swaps a frame, computes for MS ms without a GL call (the
+ *                  in-situ case: only the stream client's I/O thread is
+ *                  there to answer the server's heartbeats), then draws,
+ *                  swaps and glFinish()es; pack exits non-zero if either
+ *                  side took the busy application for a dead one
  * Owns only its scene; expected values come from the local chain, never
  * from constants. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <GL/gl.h>
 
@@ -205,6 +212,55 @@ static int garbage(const char *address)
     return status;
 }
 
+static void draw_frame(float shade)
+{
+    glClearColor(shade, 0.25f, 0.5f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBegin(GL_TRIANGLES);
+    glVertex2f(-0.5f, -0.5f);
+    glVertex2f(0.5f, -0.5f);
+    glVertex2f(0.0f, 0.5f);
+    glEnd();
+    glSwapBuffersTSR(0, 0);
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+static int busy(const char *address, long ms)
+{
+    char text[400];
+    snprintf(text, sizeof text, "pack server=\"%s\" timeout_ms=1000", address);
+    tsr_error err = {0};
+    tsr_chain *chain = tsr_chain_create(text, &err);
+    if (!chain) {
+        fprintf(stderr, "node_driver: chain '%s': %s\n", text, err.message);
+        return 1;
+    }
+    tsr_gl_make_current(tsr_chain_head(chain));
+    glWindowCreateTSR(0, WIDTH, HEIGHT);
+    draw_frame(0.25f);
+    glFinish();
+    /* Computing: no GL call for `ms` milliseconds. */
+    double end = now_seconds() + ms / 1000.0;
+    volatile double x = 1.0;
+    while (now_seconds() < end)
+        for (int i = 0; i < 100000; i++)
+            x = x * 1.0000001 + 1e-9;
+    printf("computed for %ld ms without a GL call\n", ms);
+    draw_frame(0.75f);
+    glFinish();
+    glWindowDestroyTSR(0);
+    tsr_gl_make_current(NULL);
+    tsr_chain_destroy(chain);
+    printf("both frames reached the server\n");
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && !strcmp(argv[1], "replies")) {
@@ -216,6 +272,8 @@ int main(int argc, char **argv)
         return replies(argv[2]);
     if (argc == 3 && !strcmp(argv[1], "garbage"))
         return garbage(argv[2]);
-    fprintf(stderr, "usage: node_driver replies|garbage ADDRESS | replies-chain CHAIN\n");
+    if (argc == 4 && !strcmp(argv[1], "busy"))
+        return busy(argv[2], atol(argv[3]));
+    fprintf(stderr, "usage: node_driver replies|garbage ADDRESS | replies-chain CHAIN | busy ADDRESS MS\n");
     return 2;
 }

@@ -1,12 +1,14 @@
 #!/bin/sh
 # tests/run/failures.sh — `tessera run` must end a run whose node fails:
 # kill -9 the server node mid-stream, kill -9 the application mid-stream,
-# SIGSTOP the server node or the app node. Each case asserts: non-zero exit,
+# SIGSTOP the server node, the app node or the application itself (whose
+# silent stream its server drops after --timeout-ms, which ends the run).
+# Each case asserts: non-zero exit,
 # one line naming the node and what happened, the exit within BOUND_MS of
 # the fault, and no process of the run left (every process group the run
 # started, and the application's pid, are gone).
 # usage: failures.sh CASE BIN_DIR OUT_DIR
-#   CASE: kill-server | kill-app | stop-server | stop-app-node, or
+#   CASE: kill-server | kill-app | stop-server | stop-app-node | stop-app, or
 #         interrupt (SIGTERM to tessera run: it stops the run the same way),
 #         kill-mothership (kill -9 tessera run: its nodes notice the lost
 #         control connection, kill their application and end by themselves)
@@ -48,6 +50,8 @@ case $case_name in
   kill-app)      victim=$app     sig=KILL bound=5000 want="node 'app': application .*spheres killed by signal 9" ;;
   stop-server)   victim=$server  sig=STOP bound=$((timeout_ms + 6000)) want="node 'server' sent no heartbeat for [0-9]+ ms" ;;
   stop-app-node) victim=$appnode sig=STOP bound=$((timeout_ms + 6000)) want="node 'app' sent no heartbeat for [0-9]+ ms" ;;
+  stop-app)      victim=$app     sig=STOP bound=$((timeout_ms + 6000))
+                 want="node 'server': client 0 'pack[^']*-pid$app' at .* dropped: .*sent nothing for $timeout_ms ms" ;;
   interrupt)     victim=$run_pid sig=TERM bound=5000 want="interrupted by signal 15" ;;
   kill-mothership) victim=$run_pid sig=KILL bound=5000 want= ;;
   *) echo "failures.sh: unknown case '$case_name'" >&2; kill -TERM $run_pid; exit 2 ;;
