@@ -61,13 +61,14 @@
  * message, u32 count, batched) when the receiving APPLICATION releases a
  * message with tsr_net_msg_release(), not when the socket reads it. A peer
  * that sends beyond its credits fails its connection when that message's
- * header arrives, before anything is allocated for it. The I/O thread
- * stops reading a socket (uv_read_stop) while the application holds
- * `credits` unreceived or unreleased messages, and reads again when one is
- * released — except while an application thread of this side waits for
- * send credits on that connection: then it keeps reading, because the
- * peer's CREDIT messages queue behind its data (two peers that both send
- * would otherwise deadlock). So per connection and direction, memory is
+ * header arrives, before anything is allocated for it. Flow control is
+ * not liveness: the I/O thread keeps reading every open socket while the
+ * application holds `credits` unreceived or unreleased messages and is
+ * busy with them (the peer has no credit then, so only control messages
+ * can arrive): PINGs are answered and CREDITs taken whatever the
+ * application does, so a peer whose consumer takes minutes over one
+ * message stays alive to the other side's idle_timeout_ms, and two peers
+ * that both send cannot deadlock. So per connection and direction, memory is
  * bounded by credits x max_message_bytes on each side (the sender's queue
  * and the receiver's window), plus a 64 KiB read buffer. Payload buffers
  * of released large messages are kept (within that window) and reused for

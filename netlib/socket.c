@@ -3,8 +3,10 @@
  * Owns: every libuv handle of connections and listeners, and the read
  * parser. Runs only on the I/O thread, always with net->lock held (each
  * libuv callback takes it first). Never: allocates a message before its
- * announced length passed the limit, reads while the application holds a
- * full window of messages, or leaves a handle open at shutdown. */
+ * announced length passed the limit or its credit was granted, stops
+ * reading an open socket because the application is busy (heartbeats are
+ * answered here, whatever the credit window), or leaves a handle open at
+ * shutdown. */
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -241,8 +243,6 @@ static void on_timer(uv_timer_t *t) {
             tsr_log(TSR_LOG_WARN, "%s", c->error.message);
         close_handles(c);
     } else if (c->state == NET_OPEN && net->config.idle_timeout_ms) {
-        if (!c->reading)
-            c->last_heard_ms = now; /* we stopped listening; the peer is not silent */
         int queued;
         if (c->rcvlowat > 1 && ioctl(c->fd, FIONREAD, &queued) == 0 && queued != c->lowat_queued) {
             /* Bytes below the low-water mark (update_lowat) still arrive:
@@ -461,7 +461,10 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         /* An empty PING asks for an answer (a PING of one byte, never
          * answered itself): a side whose idle_timeout_ms is shorter than
          * its peer's still hears from an idle peer in time. */
-        if (m->len == 0 && c->state == NET_OPEN && !c->shutting_down && !c->handles_closing) {
+        /* Not while earlier writes are pending: the peer then hears
+         * those, or is not reading, and answers would only pile up. */
+        if (m->len == 0 && c->state == NET_OPEN && !c->shutting_down && !c->handles_closing &&
+            c->writes_in_flight == 0 && !c->outbox_head && !c->direct_rest) {
             static const uint8_t answer = 1;
             write_control(c, NET_PING, &answer, 1);
         }
@@ -724,20 +727,19 @@ static void start_reading(tsr_net_conn *c) {
     c->last_heard_ms = net_now_ms();
 }
 
-/* Reading stops while the application holds a full window of messages
- * (inbox + held = credits): the peer has no credit left, so nothing but
- * control messages can legally arrive, and the kernel's buffers absorb
- * those. One exception keeps two peers that both send from deadlocking: while
- * an application thread waits for credits on this connection, the socket is
- * read, because the peer's CREDIT messages queue behind its data. Memory
- * stays bounded then too: a data message beyond the credits fails the
- * connection when its header arrives, before any allocation. */
+/* An open socket is always read, also while the application holds a full
+ * window of messages (inbox + held = credits) and is busy with them: the
+ * peer has no credit left then, so only control messages can legally
+ * arrive, and this thread must see them. A PING is answered and a CREDIT
+ * taken whatever the application does, so a slow consumer is never taken
+ * for a dead one (liveness is not flow control), and two peers that both
+ * send cannot deadlock on CREDITs queued behind data. Memory stays
+ * bounded: a data message beyond the credits fails the connection when
+ * its header arrives, before any allocation. */
 static void update_reading(tsr_net_conn *c) {
     if (c->handles_closing || c->saw_eof)
         return;
-    bool window_open = c->inbox_count + c->held < c->net->config.credits;
-    bool want = c->shutting_down || c->state == NET_HANDSHAKE ||
-                (c->state == NET_OPEN && (window_open || c->send_waiters > 0));
+    bool want = c->shutting_down || c->state == NET_HANDSHAKE || c->state == NET_OPEN;
     if (want)
         start_reading(c);
     else

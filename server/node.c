@@ -65,6 +65,7 @@ void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out)
 static void count_swap(void *self, GLint window, GLbitfield flags)
 {
     node_session *s = self;
+    tsr_node_test_stall(s->node);
     ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags);
     tsr_node_stats delta = {.frames = 1};
     tsr_node_stats_add(s->node, &delta);
@@ -110,6 +111,15 @@ tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error
     tsr_chain *chain = tsr_chain_create(text, err);
     free(text);
     return chain;
+}
+
+void tsr_node_test_stall(tsr_node *node)
+{
+    if (!node->test_stall_ms || atomic_exchange(&node->test_stalled, 1))
+        return;
+    struct timespec ts = {node->test_stall_ms / 1000, (long)(node->test_stall_ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) != 0)
+        ;
 }
 
 /* --- one client ---------------------------------------------------------- */
@@ -251,6 +261,12 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     }
     node->clients = config->clients;
     node->timeout_ms = config->timeout_ms;
+    const char *stall = getenv(TSR_NODE_TEST_STALL_ENV);
+    if (stall && *stall) {
+        node->test_stall_ms = (uint32_t)strtoul(stall, NULL, 10);
+        tsr_log(TSR_LOG_WARN, "node: %s=%u: the first frame takes %u ms more (a test setting)",
+                TSR_NODE_TEST_STALL_ENV, node->test_stall_ms, node->test_stall_ms);
+    }
     node->mode = config->mode;
     pthread_mutex_init(&node->stats_lock, NULL);
     node->stats_lock_ready = 1;

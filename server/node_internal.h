@@ -5,6 +5,7 @@
 #define TSR_NODE_INTERNAL_H
 
 #include <pthread.h>
+#include <stdatomic.h>
 
 #include "net.h"
 #include "node.h"
@@ -12,9 +13,17 @@
 
 struct node_session;
 
+/* Tests only: a chain that takes this long over the node's first frame
+ * (the first SwapBuffers to reach the chain sleeps before it does), to
+ * show a slow server without a huge window. Read from the environment at
+ * tsr_node_create. */
+#define TSR_NODE_TEST_STALL_ENV "TESSERA_TEST_STALL_MS"
+
 struct tsr_node {
     char *chain_text;
     uint32_t timeout_ms;
+    uint32_t test_stall_ms; /* TSR_NODE_TEST_STALL_ENV; 0 = none */
+    atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
     unsigned clients;
     tsr_node_mode mode;
     tsr_net *net;
@@ -27,6 +36,9 @@ struct tsr_node {
     tsr_node_stats stats;
 };
 
+/* In a SwapBuffers that reaches the chain, before the chain's: sleeps
+ * for the test stall on the node's first (TSR_NODE_TEST_STALL_ENV). */
+void tsr_node_test_stall(tsr_node *node);
 /* Adds `delta` to the node's totals under its lock. */
 void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta);
 /* The chain for client `index` ("{client}" replaced); NULL with `err`. */

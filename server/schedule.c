@@ -250,6 +250,7 @@ static void node_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     }
     tsr_node_stats delta = {0};
     if (s->swapper == (int)s->current->index) {
+        tsr_node_test_stall(s->node);
         tsr_call_SwapBuffersTSR(s->down, window, flags);
         delta.frames = 1;
     } else {

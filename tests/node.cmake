@@ -38,6 +38,8 @@ add_test(NAME node_client_chain_failure_reaches_the_app
   COMMAND ${NODE_TEST_DIR}/failures.sh client-chain-fails ${NODE_BIN} ${NODE_OUT}/chain-fails)
 add_test(NAME node_shared_stopped_client_dropped_named_after_idle_timeout
   COMMAND ${NODE_TEST_DIR}/failures.sh client-stopped ${NODE_BIN} ${NODE_OUT}/client-stopped)
+add_test(NAME node_slow_server_full_window_clients_stay_alive
+  COMMAND ${NODE_TEST_DIR}/failures.sh server-slow ${NODE_BIN} ${NODE_OUT}/server-slow)
 add_test(NAME node_busy_client_computing_between_frames_not_dropped
   COMMAND ${NODE_TEST_DIR}/failures.sh client-busy ${NODE_BIN} ${NODE_OUT}/client-busy
           $<TARGET_FILE:node_driver>)

@@ -20,6 +20,12 @@
 #                   after --idle-timeout-ms it is dropped and named, the
 #                   other is served to its end, and the node exits 1 (it
 #                   must not poll the dead connection forever)
+#   server-slow     two psubmit ranks (pack timeout_ms=1000) into a shared
+#                   node whose chain takes 3 s over its first frame
+#                   (TESSERA_TEST_STALL_MS): meanwhile both fill their credit
+#                   windows, rank 1 only waiting for rank 0's slow frame;
+#                   neither may be taken for dead: both exit 0, every frame
+#                   is drawn
 #   client-busy     a client that computes for 3.5 s between frames (no GL
 #                   call) beside a node whose --idle-timeout-ms is 1 s is
 #                   not dropped: its I/O thread answers the heartbeats
@@ -177,6 +183,33 @@ client-stopped)
   [ $took -lt $(( idle + 8000 )) ] || fail "node took $took ms to drop a client silent for $idle ms"
   grep -q "client 0 'pack[^']*-pid$victim' at .* dropped: .*sent nothing for $idle ms" "$out/node.err" \
     || fail "node's message does not name the stopped client (pack-pid$victim) and its silence"
+  ;;
+server-slow)
+  frames=8
+  TESSERA_TEST_STALL_MS=3000 start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 \
+    --timeout-ms 20000 --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  start=$(now_ms)
+  pids=""
+  for r in 0 1; do
+    "$bin/psubmit" --rank $r --ranks 2 --frames $frames --size 160x120 \
+      --chain "pack server=$NODE_ADDR timeout_ms=1000 buffer_size=16384" 2>"$out/rank$r.err" &
+    pids="$pids $!"
+  done
+  r=0
+  for pid in $pids; do
+    wait_exit "$pid" 30
+    show "$out/rank$r.err"
+    [ "$EXIT_RC" = 0 ] || fail "rank $r exited $EXIT_RC: a live server busy for 3 s was taken for dead"
+    r=$((r + 1))
+  done
+  took=$(( $(now_ms) - start ))
+  wait_exit "$NODE_PID" 15
+  show "$out/node.err"
+  echo "node exit $EXIT_RC; $took ms for both ranks"
+  [ "$EXIT_RC" = 0 ] || fail "node exited $EXIT_RC"
+  [ $took -ge 3000 ] || fail "both ranks ended within $took ms: the chain did not stall (test setting ignored?)"
+  last=$(printf '%04d' $((frames - 1)))
+  [ -s "$out/chain/f-$last.png" ] || fail "frame $last is missing"
   ;;
 client-busy)
   [ -n "$driver" ] || { echo "failures.sh: client-busy needs NODE_DRIVER" >&2; exit 2; }
