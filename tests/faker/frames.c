@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "harness.h"
 #include "tessera/image.h"
 
 int main(int argc, char **argv)
@@ -16,6 +17,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: faker_frames DIR PREFIX MIN\n");
         return 2;
     }
+    setvbuf(stdout, NULL, _IOLBF, 0); /* in order with the reports on stderr */
     int min = atoi(argv[3]), good = 0, distinct = 0, width = 0, height = 0;
     tsr_image first = {0};
     for (int i = 0;; i++) {
@@ -27,30 +29,23 @@ int main(int argc, char **argv)
         tsr_image img = {0};
         tsr_error err = {0};
         if (tsr_image_read_png(&img, path, &err) != TSR_OK) {
-            if (access(next, F_OK) == 0) {
-                printf("FAIL: %s\n", err.message);
-                return 1;
-            }
+            int newest = access(next, F_OK) != 0;
+            REQUIRE(newest, "%s", err.message);
             break; /* the last file, cut off by SIGTERM */
         }
         int colours = 1;
         for (size_t k = 1; k < (size_t)img.width * (size_t)img.height && colours == 1; k++)
             if (memcmp(img.pixels + 4 * k, img.pixels, 4) != 0)
                 colours = 2;
-        if (colours == 1) {
-            printf("FAIL: %s is all one colour (RGBA %u %u %u %u)\n", path, img.pixels[0], img.pixels[1],
-                   img.pixels[2], img.pixels[3]);
-            return 1;
-        }
+        REQUIRE(colours > 1, "%s is all one colour (RGBA %u %u %u %u)", path, img.pixels[0], img.pixels[1],
+                img.pixels[2], img.pixels[3]);
         if (!first.pixels) {
             first = img;
             width = img.width;
             height = img.height;
         } else {
-            if (img.width != width || img.height != height) {
-                printf("FAIL: %s is %dx%d, frame 0 %dx%d\n", path, img.width, img.height, width, height);
-                return 1;
-            }
+            REQUIRE(img.width == width && img.height == height, "%s is %dx%d, frame 0 %dx%d", path, img.width,
+                    img.height, width, height);
             if (memcmp(img.pixels, first.pixels, (size_t)width * (size_t)height * 4) != 0)
                 distinct++;
             tsr_image_free(&img);
@@ -60,13 +55,7 @@ int main(int argc, char **argv)
     tsr_image_free(&first);
     printf("%d readable frames of %dx%d, none of one colour, %d differing from frame 0\n", good, width, height,
            distinct);
-    if (good < min) {
-        printf("FAIL: fewer than %d frames\n", min);
-        return 1;
-    }
-    if (!distinct) {
-        printf("FAIL: every frame is the same picture\n");
-        return 1;
-    }
-    return 0;
+    CHECK(good >= min, "fewer than %d frames", min);
+    CHECK(distinct > 0, "every frame is the same picture");
+    return harness_failures ? 1 : 0;
 }

@@ -20,16 +20,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "harness.h"
 #include "tessera/image.h"
-
-static int failures;
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            printf("FAIL line %d: %s\n", __LINE__, #cond);                                         \
-            failures++;                                                                            \
-        }                                                                                          \
-    } while (0)
 
 static void frame_size(const char *dir, int frame, int w, int h)
 {
@@ -37,17 +29,18 @@ static void frame_size(const char *dir, int frame, int w, int h)
     snprintf(path, sizeof path, "%s/r-%04d.png", dir, frame);
     tsr_image img = {0};
     tsr_error err = {0};
-    if (tsr_image_read_png(&img, path, &err) != TSR_OK) {
-        printf("FAIL: %s\n", err.message);
-        failures++;
+    int rc = tsr_image_read_png(&img, path, &err);
+    CHECK(rc == TSR_OK, "%s", err.message);
+    if (rc != TSR_OK)
         return;
-    }
     printf("frame %d: %dx%d (expected %dx%d)\n", frame, img.width, img.height, w, h);
-    CHECK(img.width == w && img.height == h);
+    CHECK(img.width == w && img.height == h, "frame %d is %dx%d, expected %dx%d", frame, img.width, img.height, w,
+          h);
     /* Cleared to the frame's colour: red, then green. */
     const unsigned char *p = img.pixels + 4 * ((size_t)img.width * (size_t)(img.height / 2) + (size_t)img.width / 2);
     static const unsigned char want[3][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}};
-    CHECK(!memcmp(p, want[frame], 3));
+    CHECK(!memcmp(p, want[frame], 3), "frame %d's centre is RGB %u %u %u, expected %u %u %u", frame, p[0], p[1],
+          p[2], want[frame][0], want[frame][1], want[frame][2]);
     tsr_image_free(&img);
 }
 
@@ -55,11 +48,9 @@ int main(int argc, char **argv)
 {
     if (argc != 2)
         return 2;
+    setvbuf(stdout, NULL, _IOLBF, 0); /* in order with the reports on stderr */
     Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        printf("FAIL: no X display\n");
-        return 1;
-    }
+    REQUIRE(dpy, "no X display");
     int maj = 0, min = 0;
     CHECK(glXQueryVersion(dpy, &maj, &min) && maj == 1 && min == 4);
     CHECK(strstr(glXQueryExtensionsString(dpy, DefaultScreen(dpy)), "GLX_ARB_create_context") != NULL);
@@ -67,9 +58,7 @@ int main(int argc, char **argv)
                                 True, GLX_DEPTH_SIZE, 24, GLX_STENCIL_SIZE, 8, None};
     int n = 0;
     GLXFBConfig *configs = glXChooseFBConfig(dpy, DefaultScreen(dpy), attrs, &n);
-    CHECK(configs && n > 0);
-    if (!configs)
-        return 1;
+    REQUIRE(configs && n > 0, "glXChooseFBConfig gave %d configs", n);
     int v = 0;
     CHECK(glXGetFBConfigAttrib(dpy, configs[0], GLX_DOUBLEBUFFER, &v) == Success && v == True);
     XVisualInfo *vi = glXGetVisualFromFBConfig(dpy, configs[0]);
@@ -156,6 +145,6 @@ int main(int argc, char **argv)
     XDestroyWindow(dpy, win);
     XFreeColormap(dpy, swa.colormap);
     XCloseDisplay(dpy);
-    printf("%s: %d failures\n", failures ? "FAIL" : "OK", failures);
-    return failures ? 1 : 0;
+    printf("%s: %d failures\n", harness_failures ? "FAIL" : "OK", harness_failures);
+    return harness_failures ? 1 : 0;
 }
