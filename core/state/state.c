@@ -587,17 +587,6 @@ static void recipe_add(tsr_state_ctx *c, int kind, const GLfloat *args, int narg
 }
 
 /* --- setters ------------------------------------------------------------------- */
-/* Inside glNewList(GL_COMPILE) state calls are recorded into the list, not
- * executed: the tracker ignores them (the list's effects when called are a
- * known gap, see tsr_state_untracked). */
-#define CTX(self)                                              \
-    tsr_state_ctx *c = (tsr_state_ctx *)(self);               \
-    if (__builtin_expect(c->list_mode == GL_COMPILE, 0))      \
-        return
-/* Commands GL executes at once even while compiling a list (client state,
- * pixel store, object creation and deletion, buffer objects). */
-#define CTX_NOW(self) tsr_state_ctx *c = (tsr_state_ctx *)(self)
-
 static void mat_apply(tsr_state_ctx *c, const GLfloat m[16])
 {
     int member;
@@ -608,7 +597,9 @@ static void mat_apply(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_LoadIdentity(void *self)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int member;
     identity(st_current_matrix(c, &member));
     recipe_identity(current_recipe(c));
@@ -630,7 +621,9 @@ static void load_matrix(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_LoadMatrixf(void *self, const GLfloat *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     load_matrix(c, m);
 }
 
@@ -643,7 +636,9 @@ static void to_float16(GLfloat f[16], const GLdouble *m)
 
 static void st_LoadMatrixd(void *self, const GLdouble *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[16];
     to_float16(f, m);
     load_matrix(c, f);
@@ -658,7 +653,9 @@ static void transpose(GLfloat o[16], const GLfloat m[16])
 
 static void st_LoadTransposeMatrixf(void *self, const GLfloat *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[16];
     transpose(f, m);
     load_matrix(c, f);
@@ -674,13 +671,17 @@ static void mult_matrix(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_MultMatrixf(void *self, const GLfloat *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     mult_matrix(c, m);
 }
 
 static void st_MultMatrixd(void *self, const GLdouble *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[16];
     to_float16(f, m);
     mult_matrix(c, f);
@@ -688,7 +689,9 @@ static void st_MultMatrixd(void *self, const GLdouble *m)
 
 static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[16];
     transpose(f, m);
     mult_matrix(c, f);
@@ -770,12 +773,53 @@ static void rotate(tsr_state_ctx *c, GLfloat angle, GLfloat x, GLfloat y, GLfloa
     recipe_add(c, TSR_RECIPE_ROTATE, args, 4);
 }
 
-static void st_Translatef(void *self, GLfloat x, GLfloat y, GLfloat z) { CTX(self); translate(c, x, y, z); }
-static void st_Translated(void *self, GLdouble x, GLdouble y, GLdouble z) { CTX(self); translate(c, (GLfloat)x, (GLfloat)y, (GLfloat)z); }
-static void st_Scalef(void *self, GLfloat x, GLfloat y, GLfloat z) { CTX(self); scale(c, x, y, z); }
-static void st_Scaled(void *self, GLdouble x, GLdouble y, GLdouble z) { CTX(self); scale(c, (GLfloat)x, (GLfloat)y, (GLfloat)z); }
-static void st_Rotatef(void *self, GLfloat a, GLfloat x, GLfloat y, GLfloat z) { CTX(self); rotate(c, a, x, y, z); }
-static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble z) { CTX(self); rotate(c, (GLfloat)a, (GLfloat)x, (GLfloat)y, (GLfloat)z); }
+static void st_Translatef(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    translate(c, x, y, z);
+}
+
+static void st_Translated(void *self, GLdouble x, GLdouble y, GLdouble z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    translate(c, (GLfloat)x, (GLfloat)y, (GLfloat)z);
+}
+
+static void st_Scalef(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    scale(c, x, y, z);
+}
+
+static void st_Scaled(void *self, GLdouble x, GLdouble y, GLdouble z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    scale(c, (GLfloat)x, (GLfloat)y, (GLfloat)z);
+}
+
+static void st_Rotatef(void *self, GLfloat a, GLfloat x, GLfloat y, GLfloat z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    rotate(c, a, x, y, z);
+}
+
+static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble z)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    rotate(c, (GLfloat)a, (GLfloat)x, (GLfloat)y, (GLfloat)z);
+}
 
 /* Frustum and Ortho as Mesa builds them: the double arguments converted to
  * float first and the matrix computed in float (_math_matrix_frustum /
@@ -783,7 +827,9 @@ static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble 
  * double, 2 / (r - l) can round the other way). */
 static void st_Frustum(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (nd <= 0 || fd <= 0 || nd == fd || ld == rd || bd == td)
         return;
     GLfloat l = (GLfloat)ld, r = (GLfloat)rd, b = (GLfloat)bd, t = (GLfloat)td, n = (GLfloat)nd, f = (GLfloat)fd;
@@ -801,7 +847,9 @@ static void st_Frustum(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdoub
 
 static void st_Ortho(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (ld == rd || bd == td || nd == fd)
         return;
     GLfloat l = (GLfloat)ld, r = (GLfloat)rd, b = (GLfloat)bd, t = (GLfloat)td, n = (GLfloat)nd, f = (GLfloat)fd;
@@ -819,7 +867,9 @@ static void st_Ortho(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble
 
 static void st_MatrixMode(void *self, GLenum mode)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (mode != GL_MODELVIEW && mode != GL_PROJECTION && mode != GL_TEXTURE)
         return;
     c->v.matrix_mode = mode;
@@ -828,7 +878,9 @@ static void st_MatrixMode(void *self, GLenum mode)
 
 static void st_PushMatrix(void *self)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int member;
     st_current_matrix(c, &member);
     uint32_t *depth, max;
@@ -852,7 +904,9 @@ static void st_PushMatrix(void *self)
 
 static void st_PopMatrix(void *self)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int member;
     st_current_matrix(c, &member);
     uint32_t *depth = member == TSR_SM_MODELVIEW    ? &c->s.modelview_depth
@@ -876,7 +930,9 @@ static void plane_to_eye(const tsr_state_ctx *c, GLfloat out[4], const GLfloat i
 
 static void st_ClipPlane(void *self, GLenum plane, const GLdouble *eq)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (plane < GL_CLIP_PLANE0 || plane >= GL_CLIP_PLANE0 + TSR_STATE_CLIP_PLANES)
         return;
     GLfloat f[4] = {(GLfloat)eq[0], (GLfloat)eq[1], (GLfloat)eq[2], (GLfloat)eq[3]};
@@ -916,7 +972,9 @@ int st_color_material_apply(tsr_state_values *v)
 
 void st_cur_color(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     set4(c->v.color, r, g, b, a);
     st_mark(c, TSR_SM_COLOR);
     color_material_update(c);
@@ -924,7 +982,9 @@ void st_cur_color(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 
 void st_cur_normal(void *self, GLfloat x, GLfloat y, GLfloat z)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.normal[0] = x;
     c->v.normal[1] = y;
     c->v.normal[2] = z;
@@ -933,7 +993,9 @@ void st_cur_normal(void *self, GLfloat x, GLfloat y, GLfloat z)
 
 void st_cur_texcoord(void *self, GLenum unit_enum, GLfloat s, GLfloat t, GLfloat r, GLfloat q)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLuint u = unit_enum - GL_TEXTURE0;
     if (u >= TSR_STATE_UNITS)
         return;
@@ -943,7 +1005,9 @@ void st_cur_texcoord(void *self, GLenum unit_enum, GLfloat s, GLfloat t, GLfloat
 
 void st_cur_edgeflag(void *self, GLboolean flag)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.edge_flag = flag ? GL_TRUE : GL_FALSE;
     st_mark(c, TSR_SM_EDGEFLAG);
 }
@@ -951,7 +1015,9 @@ void st_cur_edgeflag(void *self, GLboolean flag)
 /* Attribute 0 is the vertex position (it emits a vertex, sets no state). */
 void st_cur_attrib(void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GLfloat w)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (index == 0 || index >= TSR_STATE_ATTRIBS)
         return;
     set4(c->v.attrib[index], x, y, z, w);
@@ -973,13 +1039,28 @@ static void set_enable(tsr_state_ctx *c, GLenum cap, int on)
         color_material_update(c);
 }
 
-static void st_Enable(void *self, GLenum cap) { CTX(self); set_enable(c, cap, 1); }
-static void st_Disable(void *self, GLenum cap) { CTX(self); set_enable(c, cap, 0); }
+static void st_Enable(void *self, GLenum cap)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    set_enable(c, cap, 1);
+}
+
+static void st_Disable(void *self, GLenum cap)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    set_enable(c, cap, 0);
+}
 
 /* --- viewport ---------------------------------------------------------------------- */
 static void st_Viewport(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (w < 0 || h < 0)
         return;
     GLint v[4] = {x, y, w, h};
@@ -989,7 +1070,9 @@ static void st_Viewport(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
 
 static void st_Scissor(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (w < 0 || h < 0)
         return;
     GLint v[4] = {x, y, w, h};
@@ -1002,7 +1085,9 @@ static GLfloat clampf(GLfloat x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 
 static void st_DepthRange(void *self, GLdouble n, GLdouble f)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.depth_range[0] = clampd(n);
     c->v.depth_range[1] = clampd(f);
     st_mark(c, TSR_SM_DEPTHRANGE);
@@ -1025,21 +1110,27 @@ static void window_size(tsr_state_ctx *c, GLsizei w, GLsizei h)
 static void st_WindowCreateTSR(void *self, GLint window, GLsizei w, GLsizei h)
 {
     (void)window;
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     window_size(c, w, h);
 }
 
 static void st_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 {
     (void)window;
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     window_size(c, w, h);
 }
 
 /* --- color buffer ------------------------------------------------------------------- */
 static void st_BlendFunc(void *self, GLenum s, GLenum d)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.blend_src_rgb = c->v.blend_src_alpha = s;
     c->v.blend_dst_rgb = c->v.blend_dst_alpha = d;
     st_mark(c, TSR_SM_BLEND);
@@ -1047,7 +1138,9 @@ static void st_BlendFunc(void *self, GLenum s, GLenum d)
 
 static void st_BlendFuncSeparate(void *self, GLenum sr, GLenum dr, GLenum sa, GLenum da)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.blend_src_rgb = sr;
     c->v.blend_dst_rgb = dr;
     c->v.blend_src_alpha = sa;
@@ -1057,14 +1150,18 @@ static void st_BlendFuncSeparate(void *self, GLenum sr, GLenum dr, GLenum sa, GL
 
 static void st_BlendEquation(void *self, GLenum mode)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.blend_eq_rgb = c->v.blend_eq_alpha = mode;
     st_mark(c, TSR_SM_BLEND);
 }
 
 static void st_BlendEquationSeparate(void *self, GLenum rgb, GLenum alpha)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.blend_eq_rgb = rgb;
     c->v.blend_eq_alpha = alpha;
     st_mark(c, TSR_SM_BLEND);
@@ -1072,14 +1169,18 @@ static void st_BlendEquationSeparate(void *self, GLenum rgb, GLenum alpha)
 
 static void st_BlendColor(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     set4(c->v.blend_color, r, g, b, a);
     st_mark(c, TSR_SM_BLEND);
 }
 
 static void st_AlphaFunc(void *self, GLenum func, GLfloat ref)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.alpha_func = func;
     c->v.alpha_ref = clampf(ref);
     st_mark(c, TSR_SM_ALPHAFUNC);
@@ -1087,14 +1188,18 @@ static void st_AlphaFunc(void *self, GLenum func, GLfloat ref)
 
 static void st_LogicOp(void *self, GLenum op)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.logic_op = op;
     st_mark(c, TSR_SM_LOGICOP);
 }
 
 static void st_ColorMask(void *self, GLboolean r, GLboolean g, GLboolean b, GLboolean a)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.color_mask[0] = r ? GL_TRUE : GL_FALSE;
     c->v.color_mask[1] = g ? GL_TRUE : GL_FALSE;
     c->v.color_mask[2] = b ? GL_TRUE : GL_FALSE;
@@ -1104,28 +1209,36 @@ static void st_ColorMask(void *self, GLboolean r, GLboolean g, GLboolean b, GLbo
 
 static void st_ClearColor(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     set4(c->v.clear_color, r, g, b, a);
     st_mark(c, TSR_SM_CLEARCOLOR);
 }
 
 static void st_ClearAccum(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     set4(c->v.clear_accum, r, g, b, a);
     st_mark(c, TSR_SM_CLEARACCUM);
 }
 
 static void st_DrawBuffer(void *self, GLenum buf)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.draw_buffer = buf;
     st_mark(c, TSR_SM_DRAWBUFFER);
 }
 
 static void st_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (n >= 1) {
         c->v.draw_buffer = bufs[0];
         st_mark(c, TSR_SM_DRAWBUFFER);
@@ -1134,16 +1247,49 @@ static void st_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
 
 static void st_ReadBuffer(void *self, GLenum buf)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.read_buffer = buf;
     st_mark(c, TSR_SM_DRAWBUFFER);
 }
 
 /* --- depth, stencil --------------------------------------------------------------- */
-static void st_DepthFunc(void *self, GLenum f) { CTX(self); c->v.depth_func = f; st_mark(c, TSR_SM_DEPTH); }
-static void st_DepthMask(void *self, GLboolean m) { CTX(self); c->v.depth_mask = m ? GL_TRUE : GL_FALSE; st_mark(c, TSR_SM_DEPTH); }
-static void st_ClearDepth(void *self, GLdouble d) { CTX(self); c->v.clear_depth = clampd(d); st_mark(c, TSR_SM_DEPTH); }
-static void st_ClearStencil(void *self, GLint s) { CTX(self); c->v.clear_stencil = s; st_mark(c, TSR_SM_STENCIL); }
+static void st_DepthFunc(void *self, GLenum f)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.depth_func = f;
+    st_mark(c, TSR_SM_DEPTH);
+}
+
+static void st_DepthMask(void *self, GLboolean m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.depth_mask = m ? GL_TRUE : GL_FALSE;
+    st_mark(c, TSR_SM_DEPTH);
+}
+
+static void st_ClearDepth(void *self, GLdouble d)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.clear_depth = clampd(d);
+    st_mark(c, TSR_SM_DEPTH);
+}
+
+static void st_ClearStencil(void *self, GLint s)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.clear_stencil = s;
+    st_mark(c, TSR_SM_STENCIL);
+}
 
 static int faces(GLenum face, int *first, int *last)
 {
@@ -1188,12 +1334,53 @@ static void stencil_mask(tsr_state_ctx *c, GLenum face, GLuint mask)
     st_mark(c, TSR_SM_STENCIL);
 }
 
-static void st_StencilFunc(void *self, GLenum func, GLint ref, GLuint mask) { CTX(self); stencil_func(c, GL_FRONT_AND_BACK, func, ref, mask); }
-static void st_StencilFuncSeparate(void *self, GLenum face, GLenum func, GLint ref, GLuint mask) { CTX(self); stencil_func(c, face, func, ref, mask); }
-static void st_StencilOp(void *self, GLenum f, GLenum zf, GLenum zp) { CTX(self); stencil_op(c, GL_FRONT_AND_BACK, f, zf, zp); }
-static void st_StencilOpSeparate(void *self, GLenum face, GLenum f, GLenum zf, GLenum zp) { CTX(self); stencil_op(c, face, f, zf, zp); }
-static void st_StencilMask(void *self, GLuint m) { CTX(self); stencil_mask(c, GL_FRONT_AND_BACK, m); }
-static void st_StencilMaskSeparate(void *self, GLenum face, GLuint m) { CTX(self); stencil_mask(c, face, m); }
+static void st_StencilFunc(void *self, GLenum func, GLint ref, GLuint mask)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_func(c, GL_FRONT_AND_BACK, func, ref, mask);
+}
+
+static void st_StencilFuncSeparate(void *self, GLenum face, GLenum func, GLint ref, GLuint mask)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_func(c, face, func, ref, mask);
+}
+
+static void st_StencilOp(void *self, GLenum f, GLenum zf, GLenum zp)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_op(c, GL_FRONT_AND_BACK, f, zf, zp);
+}
+
+static void st_StencilOpSeparate(void *self, GLenum face, GLenum f, GLenum zf, GLenum zp)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_op(c, face, f, zf, zp);
+}
+
+static void st_StencilMask(void *self, GLuint m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_mask(c, GL_FRONT_AND_BACK, m);
+}
+
+static void st_StencilMaskSeparate(void *self, GLenum face, GLuint m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    stencil_mask(c, face, m);
+}
 
 /* --- fog ---------------------------------------------------------------------------- */
 static void fog(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
@@ -1223,10 +1410,39 @@ static void fogi(tsr_state_ctx *c, GLenum pname, const GLint *p)
     fog(c, pname, f);
 }
 
-static void st_Fogf(void *self, GLenum pname, GLfloat p) { CTX(self); if (pname != GL_FOG_COLOR) fog(c, pname, &p); }
-static void st_Fogfv(void *self, GLenum pname, const GLfloat *p) { CTX(self); fog(c, pname, p); }
-static void st_Fogi(void *self, GLenum pname, GLint p) { CTX(self); if (pname != GL_FOG_COLOR) fogi(c, pname, &p); }
-static void st_Fogiv(void *self, GLenum pname, const GLint *p) { CTX(self); fogi(c, pname, p); }
+static void st_Fogf(void *self, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_FOG_COLOR)
+        fog(c, pname, &p);
+}
+
+static void st_Fogfv(void *self, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    fog(c, pname, p);
+}
+
+static void st_Fogi(void *self, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_FOG_COLOR)
+        fogi(c, pname, &p);
+}
+
+static void st_Fogiv(void *self, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    fogi(c, pname, p);
+}
 
 /* --- lighting --------------------------------------------------------------------- */
 static void light(tsr_state_ctx *c, GLenum which, GLenum pname, const GLfloat *p)
@@ -1278,10 +1494,39 @@ static int scalar_light_pname(GLenum p)
            p == GL_LINEAR_ATTENUATION || p == GL_QUADRATIC_ATTENUATION;
 }
 
-static void st_Lightf(void *self, GLenum l, GLenum pname, GLfloat p) { CTX(self); if (scalar_light_pname(pname)) light(c, l, pname, &p); }
-static void st_Lightfv(void *self, GLenum l, GLenum pname, const GLfloat *p) { CTX(self); light(c, l, pname, p); }
-static void st_Lighti(void *self, GLenum l, GLenum pname, GLint p) { CTX(self); if (scalar_light_pname(pname)) lighti(c, l, pname, &p); }
-static void st_Lightiv(void *self, GLenum l, GLenum pname, const GLint *p) { CTX(self); lighti(c, l, pname, p); }
+static void st_Lightf(void *self, GLenum l, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (scalar_light_pname(pname))
+        light(c, l, pname, &p);
+}
+
+static void st_Lightfv(void *self, GLenum l, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    light(c, l, pname, p);
+}
+
+static void st_Lighti(void *self, GLenum l, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (scalar_light_pname(pname))
+        lighti(c, l, pname, &p);
+}
+
+static void st_Lightiv(void *self, GLenum l, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    lighti(c, l, pname, p);
+}
 
 static void light_model(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 {
@@ -1309,10 +1554,39 @@ static void light_modeli(tsr_state_ctx *c, GLenum pname, const GLint *p)
     light_model(c, pname, f);
 }
 
-static void st_LightModelf(void *self, GLenum pname, GLfloat p) { CTX(self); if (pname != GL_LIGHT_MODEL_AMBIENT) light_model(c, pname, &p); }
-static void st_LightModelfv(void *self, GLenum pname, const GLfloat *p) { CTX(self); light_model(c, pname, p); }
-static void st_LightModeli(void *self, GLenum pname, GLint p) { CTX(self); if (pname != GL_LIGHT_MODEL_AMBIENT) light_modeli(c, pname, &p); }
-static void st_LightModeliv(void *self, GLenum pname, const GLint *p) { CTX(self); light_modeli(c, pname, p); }
+static void st_LightModelf(void *self, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_LIGHT_MODEL_AMBIENT)
+        light_model(c, pname, &p);
+}
+
+static void st_LightModelfv(void *self, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    light_model(c, pname, p);
+}
+
+static void st_LightModeli(void *self, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_LIGHT_MODEL_AMBIENT)
+        light_modeli(c, pname, &p);
+}
+
+static void st_LightModeliv(void *self, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    light_modeli(c, pname, p);
+}
 
 /* Which material properties glColor currently drives (Mesa ignores
  * glMaterial for those while GL_COLOR_MATERIAL is enabled). */
@@ -1364,14 +1638,46 @@ static void materiali(tsr_state_ctx *c, GLenum face, GLenum pname, const GLint *
         material(c, face, pname, f);
 }
 
-static void st_Materialf(void *self, GLenum face, GLenum pname, GLfloat p) { CTX(self); if (pname == GL_SHININESS) material(c, face, pname, &p); }
-static void st_Materialfv(void *self, GLenum face, GLenum pname, const GLfloat *p) { CTX(self); if (pname != GL_COLOR_INDEXES) material(c, face, pname, p); }
-static void st_Materiali(void *self, GLenum face, GLenum pname, GLint p) { CTX(self); if (pname == GL_SHININESS) materiali(c, face, pname, &p); }
-static void st_Materialiv(void *self, GLenum face, GLenum pname, const GLint *p) { CTX(self); materiali(c, face, pname, p); }
+static void st_Materialf(void *self, GLenum face, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname == GL_SHININESS)
+        material(c, face, pname, &p);
+}
+
+static void st_Materialfv(void *self, GLenum face, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_COLOR_INDEXES)
+        material(c, face, pname, p);
+}
+
+static void st_Materiali(void *self, GLenum face, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname == GL_SHININESS)
+        materiali(c, face, pname, &p);
+}
+
+static void st_Materialiv(void *self, GLenum face, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    materiali(c, face, pname, p);
+}
 
 static void st_ColorMaterial(void *self, GLenum face, GLenum mode)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int a, b;
     if (!faces(face, &a, &b))
         return;
@@ -1386,7 +1692,9 @@ static void st_ColorMaterial(void *self, GLenum face, GLenum mode)
 
 static void st_ShadeModel(void *self, GLenum m)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (m != GL_FLAT && m != GL_SMOOTH)
         return;
     c->v.shade_model = m;
@@ -1394,12 +1702,29 @@ static void st_ShadeModel(void *self, GLenum m)
 }
 
 /* --- polygon, line, point ------------------------------------------------------ */
-static void st_CullFace(void *self, GLenum m) { CTX(self); c->v.cull_face_mode = m; st_mark(c, TSR_SM_POLYGON); }
-static void st_FrontFace(void *self, GLenum m) { CTX(self); c->v.front_face = m; st_mark(c, TSR_SM_POLYGON); }
+static void st_CullFace(void *self, GLenum m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.cull_face_mode = m;
+    st_mark(c, TSR_SM_POLYGON);
+}
+
+static void st_FrontFace(void *self, GLenum m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.front_face = m;
+    st_mark(c, TSR_SM_POLYGON);
+}
 
 static void st_PolygonMode(void *self, GLenum face, GLenum mode)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int a, b;
     if (!faces(face, &a, &b) || (mode != GL_POINT && mode != GL_LINE && mode != GL_FILL))
         return;
@@ -1410,7 +1735,9 @@ static void st_PolygonMode(void *self, GLenum face, GLenum mode)
 
 static void st_PolygonOffset(void *self, GLfloat factor, GLfloat units)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.offset_factor = factor;
     c->v.offset_units = units;
     st_mark(c, TSR_SM_POLYGON);
@@ -1421,7 +1748,9 @@ static void st_PolygonOffset(void *self, GLfloat factor, GLfloat units)
  * MSB-first and tightly packed, as GL returns it by default. */
 static void st_PolygonStipple(void *self, const GLubyte *mask)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     const tsr_pixel_modes *m = &c->v.pixel_store.unpack;
     tsr_pixel_layout l;
     if (tsr_pixel_layout_of(m, 2, 32, 32, 1, GL_COLOR_INDEX, GL_BITMAP, &l) != 0)
@@ -1442,17 +1771,37 @@ static void st_PolygonStipple(void *self, const GLubyte *mask)
     st_mark(c, TSR_SM_STIPPLE);
 }
 
-static void st_LineWidth(void *self, GLfloat w) { CTX(self); if (w <= 0) return; c->v.line_width = w; st_mark(c, TSR_SM_LINE); }
+static void st_LineWidth(void *self, GLfloat w)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (w <= 0)
+        return;
+    c->v.line_width = w;
+    st_mark(c, TSR_SM_LINE);
+}
 
 static void st_LineStipple(void *self, GLint factor, GLushort pattern)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.line_stipple_factor = factor < 1 ? 1 : factor > 256 ? 256 : factor;
     c->v.line_stipple_pattern = pattern;
     st_mark(c, TSR_SM_LINE);
 }
 
-static void st_PointSize(void *self, GLfloat s) { CTX(self); if (s <= 0) return; c->v.point_size = s; st_mark(c, TSR_SM_POINT); }
+static void st_PointSize(void *self, GLfloat s)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (s <= 0)
+        return;
+    c->v.point_size = s;
+    st_mark(c, TSR_SM_POINT);
+}
 
 static void point_param(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 {
@@ -1480,10 +1829,39 @@ static void point_parami(tsr_state_ctx *c, GLenum pname, const GLint *p)
     point_param(c, pname, f);
 }
 
-static void st_PointParameterf(void *self, GLenum pname, GLfloat p) { CTX(self); if (pname != GL_POINT_DISTANCE_ATTENUATION) point_param(c, pname, &p); }
-static void st_PointParameterfv(void *self, GLenum pname, const GLfloat *p) { CTX(self); point_param(c, pname, p); }
-static void st_PointParameteri(void *self, GLenum pname, GLint p) { CTX(self); if (pname != GL_POINT_DISTANCE_ATTENUATION) point_parami(c, pname, &p); }
-static void st_PointParameteriv(void *self, GLenum pname, const GLint *p) { CTX(self); point_parami(c, pname, p); }
+static void st_PointParameterf(void *self, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_POINT_DISTANCE_ATTENUATION)
+        point_param(c, pname, &p);
+}
+
+static void st_PointParameterfv(void *self, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    point_param(c, pname, p);
+}
+
+static void st_PointParameteri(void *self, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_POINT_DISTANCE_ATTENUATION)
+        point_parami(c, pname, &p);
+}
+
+static void st_PointParameteriv(void *self, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    point_parami(c, pname, p);
+}
 
 /* --- hints, misc ------------------------------------------------------------------- */
 static const GLenum hint_targets[8] = {
@@ -1494,7 +1872,9 @@ static const GLenum hint_targets[8] = {
 
 static void st_Hint(void *self, GLenum target, GLenum mode)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (mode != GL_FASTEST && mode != GL_NICEST && mode != GL_DONT_CARE)
         return;
     for (int i = 0; i < 8; i++)
@@ -1504,11 +1884,20 @@ static void st_Hint(void *self, GLenum target, GLenum mode)
         }
 }
 
-static void st_ListBase(void *self, GLuint base) { CTX(self); c->v.list_base = base; st_mark(c, TSR_SM_LISTBASE); }
+static void st_ListBase(void *self, GLuint base)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    c->v.list_base = base;
+    st_mark(c, TSR_SM_LISTBASE);
+}
 
 static void st_SampleCoverage(void *self, GLfloat value, GLboolean invert)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.sample_coverage_value = clampf(value);
     c->v.sample_coverage_invert = invert ? GL_TRUE : GL_FALSE;
     st_mark(c, TSR_SM_MULTISAMPLE);
@@ -1517,21 +1906,23 @@ static void st_SampleCoverage(void *self, GLfloat value, GLboolean invert)
 /* --- pixel ------------------------------------------------------------------------- */
 static void st_PixelStorei(void *self, GLenum pname, GLint v)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (tsr_pixel_store_set(&c->v.pixel_store, pname, v))
         st_mark(c, TSR_SM_PIXELSTORE);
 }
 
 static void st_PixelStoref(void *self, GLenum pname, GLfloat v)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (tsr_pixel_store_set(&c->v.pixel_store, pname, v))
         st_mark(c, TSR_SM_PIXELSTORE);
 }
 
 static void st_PixelZoom(void *self, GLfloat x, GLfloat y)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     c->v.zoom[0] = x;
     c->v.zoom[1] = y;
     st_mark(c, TSR_SM_PIXELMODE);
@@ -1560,13 +1951,28 @@ static void pixel_transfer(tsr_state_ctx *c, GLenum pname, GLfloat p)
     st_mark(c, TSR_SM_PIXELMODE);
 }
 
-static void st_PixelTransferf(void *self, GLenum pname, GLfloat p) { CTX(self); pixel_transfer(c, pname, p); }
-static void st_PixelTransferi(void *self, GLenum pname, GLint p) { CTX(self); pixel_transfer(c, pname, (GLfloat)p); }
+static void st_PixelTransferf(void *self, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    pixel_transfer(c, pname, p);
+}
+
+static void st_PixelTransferi(void *self, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    pixel_transfer(c, pname, (GLfloat)p);
+}
 
 /* --- texture units ------------------------------------------------------------------ */
 static void st_ActiveTexture(void *self, GLenum unit)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLuint u = unit - GL_TEXTURE0;
     if (u >= TSR_STATE_UNITS)
         return;
@@ -1614,18 +2020,37 @@ static void tex_env(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat
     st_mark(c, TSR_SM_TEXENV0 + (int)u);
 }
 
-static void st_TexEnvf(void *self, GLenum target, GLenum pname, GLfloat p) { CTX(self); if (pname != GL_TEXTURE_ENV_COLOR) tex_env(c, target, pname, &p, 0); }
-static void st_TexEnvfv(void *self, GLenum target, GLenum pname, const GLfloat *p) { CTX(self); tex_env(c, target, pname, p, 0); }
+static void st_TexEnvf(void *self, GLenum target, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_TEXTURE_ENV_COLOR)
+        tex_env(c, target, pname, &p, 0);
+}
+
+static void st_TexEnvfv(void *self, GLenum target, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    tex_env(c, target, pname, p, 0);
+}
+
 static void st_TexEnvi(void *self, GLenum target, GLenum pname, GLint p)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f = (GLfloat)p;
     if (pname != GL_TEXTURE_ENV_COLOR)
         tex_env(c, target, pname, &f, 0);
 }
 static void st_TexEnviv(void *self, GLenum target, GLenum pname, const GLint *p)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
     if (pname == GL_TEXTURE_ENV_COLOR)
         for (int i = 0; i < 4; i++)
@@ -1657,13 +2082,48 @@ static void tex_gen(tsr_state_ctx *c, GLenum coord, GLenum pname, const GLfloat 
     st_mark(c, TSR_SM_TEXGEN0 + (int)u);
 }
 
-static void st_TexGenf(void *self, GLenum coord, GLenum pname, GLfloat p) { CTX(self); if (pname == GL_TEXTURE_GEN_MODE) tex_gen(c, coord, pname, &p); }
-static void st_TexGeni(void *self, GLenum coord, GLenum pname, GLint p) { CTX(self); GLfloat f = (GLfloat)p; if (pname == GL_TEXTURE_GEN_MODE) tex_gen(c, coord, pname, &f); }
-static void st_TexGend(void *self, GLenum coord, GLenum pname, GLdouble p) { CTX(self); GLfloat f = (GLfloat)p; if (pname == GL_TEXTURE_GEN_MODE) tex_gen(c, coord, pname, &f); }
-static void st_TexGenfv(void *self, GLenum coord, GLenum pname, const GLfloat *p) { CTX(self); tex_gen(c, coord, pname, p); }
+static void st_TexGenf(void *self, GLenum coord, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname == GL_TEXTURE_GEN_MODE)
+        tex_gen(c, coord, pname, &p);
+}
+
+static void st_TexGeni(void *self, GLenum coord, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    GLfloat f = (GLfloat)p;
+    if (pname == GL_TEXTURE_GEN_MODE)
+        tex_gen(c, coord, pname, &f);
+}
+
+static void st_TexGend(void *self, GLenum coord, GLenum pname, GLdouble p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    GLfloat f = (GLfloat)p;
+    if (pname == GL_TEXTURE_GEN_MODE)
+        tex_gen(c, coord, pname, &f);
+}
+
+static void st_TexGenfv(void *self, GLenum coord, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    tex_gen(c, coord, pname, p);
+}
+
 static void st_TexGeniv(void *self, GLenum coord, GLenum pname, const GLint *p)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
     if (pname != GL_TEXTURE_GEN_MODE)
         for (int i = 1; i < 4; i++)
@@ -1672,7 +2132,9 @@ static void st_TexGeniv(void *self, GLenum coord, GLenum pname, const GLint *p)
 }
 static void st_TexGendv(void *self, GLenum coord, GLenum pname, const GLdouble *p)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
     if (pname != GL_TEXTURE_GEN_MODE)
         for (int i = 1; i < 4; i++)
@@ -1814,7 +2276,9 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
 
 static void st_PushAttrib(void *self, GLbitfield mask)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (c->attrib_depth >= TSR_STATE_ATTRIB_DEPTH)
         return;
     st_attrib_entry *e = &c->attrib_stack[c->attrib_depth++];
@@ -1831,7 +2295,9 @@ static void st_PushAttrib(void *self, GLbitfield mask)
 
 static void st_PopAttrib(void *self)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     if (!c->attrib_depth)
         return;
     st_attrib_entry *e = &c->attrib_stack[--c->attrib_depth];
@@ -1852,7 +2318,7 @@ static void st_PopAttrib(void *self)
 
 static void st_PushClientAttrib(void *self, GLbitfield mask)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (c->client_depth >= TSR_STATE_ATTRIB_DEPTH)
         return;
     st_client_entry *e = &c->client_stack[c->client_depth++];
@@ -1865,7 +2331,7 @@ static void st_PushClientAttrib(void *self, GLbitfield mask)
 
 static void st_PopClientAttrib(void *self)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (!c->client_depth)
         return;
     st_client_entry *e = &c->client_stack[--c->client_depth];
@@ -1896,30 +2362,30 @@ static void set_pointer(tsr_state_ctx *c, tsr_state_array *a, GLint size, GLenum
     a->buffer = c->v.array_buffer;
 }
 
-static void st_VertexPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { CTX_NOW(self); set_pointer(c, &c->client.vertex, size, type, stride, p); }
-static void st_NormalPointer(void *self, GLenum type, GLsizei stride, const void *p) { CTX_NOW(self); set_pointer(c, &c->client.normal, 3, type, stride, p); }
-static void st_ColorPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { CTX_NOW(self); set_pointer(c, &c->client.color, size, type, stride, p); }
-static void st_TexCoordPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { CTX_NOW(self); set_pointer(c, &c->client.texcoord[c->client.client_active_texture], size, type, stride, p); }
-static void st_EdgeFlagPointer(void *self, GLsizei stride, const void *p) { CTX_NOW(self); set_pointer(c, &c->client.edge_flag, 1, GL_BOOL, stride, p); }
+static void st_VertexPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.vertex, size, type, stride, p); }
+static void st_NormalPointer(void *self, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.normal, 3, type, stride, p); }
+static void st_ColorPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.color, size, type, stride, p); }
+static void st_TexCoordPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.texcoord[c->client.client_active_texture], size, type, stride, p); }
+static void st_EdgeFlagPointer(void *self, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.edge_flag, 1, GL_BOOL, stride, p); }
 
 static void st_VertexAttribPointer(void *self, GLuint index, GLint size, GLenum type, GLboolean normalized,
                                    GLsizei stride, const void *p)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (index >= TSR_STATE_ATTRIBS)
         return;
     set_pointer(c, &c->client.attrib[index], size, type, stride, p);
     c->client.attrib[index].normalized = normalized ? GL_TRUE : GL_FALSE;
 }
 
-static void st_EnableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_TRUE; }
-static void st_DisableClientState(void *self, GLenum array) { CTX_NOW(self); tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_FALSE; }
-static void st_EnableVertexAttribArray(void *self, GLuint i) { CTX_NOW(self); if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_TRUE; }
-static void st_DisableVertexAttribArray(void *self, GLuint i) { CTX_NOW(self); if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_FALSE; }
+static void st_EnableClientState(void *self, GLenum array) { tsr_state_ctx *c = self; tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_TRUE; }
+static void st_DisableClientState(void *self, GLenum array) { tsr_state_ctx *c = self; tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_FALSE; }
+static void st_EnableVertexAttribArray(void *self, GLuint i) { tsr_state_ctx *c = self; if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_TRUE; }
+static void st_DisableVertexAttribArray(void *self, GLuint i) { tsr_state_ctx *c = self; if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_FALSE; }
 
 static void st_ClientActiveTexture(void *self, GLenum unit)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     if (unit - GL_TEXTURE0 < TSR_STATE_UNITS)
         c->client.client_active_texture = unit - GL_TEXTURE0;
 }
@@ -1928,7 +2394,7 @@ static void st_ClientActiveTexture(void *self, GLenum unit)
  * (GL 2.1 table 2.5). */
 static void st_InterleavedArrays(void *self, GLenum format, GLsizei stride, const void *pointer)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     int tc = 0, cs = 0, vs = 0, n = 0;
     GLenum ct = GL_FLOAT;
     int pc = 0, pn = 0, pv = 0;

@@ -16,13 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Uniform and UseProgram calls are compiled into lists; the object calls
- * run at once even while compiling (GL 2.1 section 5.4). */
-#define CTX(self)                                              \
-    tsr_state_ctx *c = (tsr_state_ctx *)(self);               \
-    if (__builtin_expect(c->list_mode == GL_COMPILE, 0))      \
-        return
-#define CTX_NOW(self) tsr_state_ctx *c = (tsr_state_ctx *)(self)
+/* Uniform and UseProgram calls are compiled into lists (st_exec_ctx); the
+ * object calls run at once even while compiling (GL 2.1 section 5.4). */
 
 /* Mesa's GL_MAX_VERTEX_ATTRIBS. */
 #define MAX_ATTRIBS 16
@@ -209,33 +204,33 @@ void st_glsl_shadow_free(tsr_state_shadow *s)
 /* --- the application's calls ------------------------------------------------ */
 static GLuint st_CreateShader(void *self, GLenum type)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     GLuint name = new_name(c);
     return shader_new(c, name, type) ? name : 0;
 }
 
 static void st_CreateShaderTSR(void *self, GLuint name, GLenum type)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     shader_new(c, name, type);
 }
 
 static GLuint st_CreateProgram(void *self)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     GLuint name = new_name(c);
     return program_new(c, name) ? name : 0;
 }
 
 static void st_CreateProgramTSR(void *self, GLuint name)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     program_new(c, name);
 }
 
 static void st_ShaderSource(void *self, GLuint shader, GLsizei count, const GLchar *const *str, const GLint *len)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_shader *o = tsr_name_map_get(&c->shaders, shader);
     if (!o || count < 0 || (count && !str))
         return;
@@ -252,7 +247,7 @@ static void st_ShaderSource(void *self, GLuint shader, GLsizei count, const GLch
 
 static void st_CompileShader(void *self, GLuint shader)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_shader *o = tsr_name_map_get(&c->shaders, shader);
     if (!o)
         return;
@@ -266,7 +261,7 @@ static void st_CompileShader(void *self, GLuint shader)
 
 static void st_DeleteShader(void *self, GLuint shader)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_shader *o = tsr_name_map_get(&c->shaders, shader);
     if (!o)
         return;
@@ -279,7 +274,7 @@ static void st_DeleteShader(void *self, GLuint shader)
 
 static void st_AttachShader(void *self, GLuint program, GLuint shader)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     st_shader *o = tsr_name_map_get(&c->shaders, shader);
     if (!p || !o)
@@ -302,7 +297,7 @@ static void st_AttachShader(void *self, GLuint program, GLuint shader)
 
 static void st_DetachShader(void *self, GLuint program, GLuint shader)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     if (!p)
         return;
@@ -317,7 +312,7 @@ static void st_DetachShader(void *self, GLuint program, GLuint shader)
 
 static void st_BindAttribLocation(void *self, GLuint program, GLuint index, const GLchar *name)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     if (!p || !name || index >= MAX_ATTRIBS || !strncmp(name, "gl_", 3))
         return;
@@ -342,7 +337,7 @@ static void st_BindAttribLocation(void *self, GLuint program, GLuint index, cons
 
 static void st_LinkProgram(void *self, GLuint program)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     if (!p)
         return;
@@ -380,7 +375,7 @@ static void st_LinkProgram(void *self, GLuint program)
 
 static void st_ValidateProgram(void *self, GLuint program)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     if (p) {
         p->validations++;
@@ -390,7 +385,7 @@ static void st_ValidateProgram(void *self, GLuint program)
 
 static void st_DeleteProgram(void *self, GLuint program)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     st_program *p = tsr_name_map_get(&c->programs, program);
     if (!p)
         return;
@@ -403,7 +398,9 @@ static void st_DeleteProgram(void *self, GLuint program)
 
 static void st_UseProgram(void *self, GLuint program)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     st_program *p = program ? tsr_name_map_get(&c->programs, program) : NULL;
     if (program && (!p || !p->link_id))
         return; /* unknown or never linked: GL refuses */
@@ -455,15 +452,17 @@ static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei cou
 
 #define UF(n, ...)                                                          \
     {                                                                       \
-        CTX(self);                                                          \
+        tsr_state_ctx *c = st_exec_ctx(self);                               \
         const GLfloat v[] = {__VA_ARGS__};                                  \
-        uniform(c, ST_U_F, n, loc, 1, GL_FALSE, v);                         \
+        if (c)                                                              \
+            uniform(c, ST_U_F, n, loc, 1, GL_FALSE, v);                     \
     }
 #define UI(n, ...)                                                          \
     {                                                                       \
-        CTX(self);                                                          \
+        tsr_state_ctx *c = st_exec_ctx(self);                               \
         const GLint v[] = {__VA_ARGS__};                                    \
-        uniform(c, ST_U_I, n, loc, 1, GL_FALSE, v);                         \
+        if (c)                                                              \
+            uniform(c, ST_U_I, n, loc, 1, GL_FALSE, v);                     \
     }
 static void st_Uniform1f(void *self, GLint loc, GLfloat a) UF(1, a)
 static void st_Uniform2f(void *self, GLint loc, GLfloat a, GLfloat b) UF(2, a, b)
@@ -478,8 +477,9 @@ static void st_Uniform4i(void *self, GLint loc, GLint a, GLint b, GLint d, GLint
 #define UV(name, base, n, T)                                                 \
     static void st_##name(void *self, GLint loc, GLsizei count, const T *v)  \
     {                                                                        \
-        CTX(self);                                                           \
-        uniform(c, base, n, loc, count, GL_FALSE, v);                        \
+        tsr_state_ctx *c = st_exec_ctx(self);                                \
+        if (c)                                                               \
+            uniform(c, base, n, loc, count, GL_FALSE, v);                    \
     }
 UV(Uniform1fv, ST_U_F, 1, GLfloat)
 UV(Uniform2fv, ST_U_F, 2, GLfloat)
@@ -493,8 +493,9 @@ UV(Uniform4iv, ST_U_I, 4, GLint)
 #define UM(name, n)                                                                                  \
     static void st_##name(void *self, GLint loc, GLsizei count, GLboolean transpose, const GLfloat *v) \
     {                                                                                                \
-        CTX(self);                                                                                   \
-        uniform(c, ST_U_M, n, loc, count, transpose, v);                                             \
+        tsr_state_ctx *c = st_exec_ctx(self);                                                        \
+        if (c)                                                                                       \
+            uniform(c, ST_U_M, n, loc, count, transpose, v);                                         \
     }
 UM(UniformMatrix2fv, 2)
 UM(UniformMatrix3fv, 3)

@@ -246,6 +246,18 @@ static inline void st_mark(tsr_state_ctx *c, int member)
     }
 }
 void st_mark_all(tsr_state_ctx *c);
+
+/* The context of a tracker function (self), or NULL when the call must
+ * not change it: inside glNewList(GL_COMPILE) GL records state calls into
+ * the list instead of executing them, so the tracker ignores them (what the
+ * list does when called is a known gap, see tsr_state_untracked). Commands
+ * GL executes at once even while compiling a list (client state, pixel
+ * store, object creation and deletion, buffer objects) use self as it is. */
+static inline tsr_state_ctx *st_exec_ctx(void *self)
+{
+    tsr_state_ctx *c = self;
+    return __builtin_expect(c->list_mode == GL_COMPILE, 0) ? NULL : c;
+}
 /* Marks member dirty for one renderer id only. */
 void st_mark_one(tsr_state_ctx *c, int member, int id);
 

@@ -8,14 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CTX(self)                                              \
-    tsr_state_ctx *c = (tsr_state_ctx *)(self);               \
-    if (__builtin_expect(c->list_mode == GL_COMPILE, 0))      \
-        return
-/* Commands GL executes at once even while compiling a list (client state,
- * pixel store, object creation and deletion, buffer objects). */
-#define CTX_NOW(self) tsr_state_ctx *c = (tsr_state_ctx *)(self)
-
 int st_tex_target_index(GLenum target)
 {
     switch (target) {
@@ -146,7 +138,9 @@ static void st_GenTextures(void *self, GLsizei n, GLuint *names)
 
 static void st_BindTexture(void *self, GLenum target, GLuint name)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     int ti = st_tex_target_index(target);
     if (ti < 0 || target != (ti == TSR_TEX_CUBE ? GL_TEXTURE_CUBE_MAP : target))
         return;
@@ -166,7 +160,7 @@ static void st_BindTexture(void *self, GLenum target, GLuint name)
 
 static void st_DeleteTextures(void *self, GLsizei n, const GLuint *names)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     for (GLsizei i = 0; i < n; i++) {
         st_texobj *o = tsr_name_map_del(&c->textures, names[i]);
         if (!o)
@@ -245,12 +239,38 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
     st_tex_changed(c, o);
 }
 
-static void st_TexParameterf(void *self, GLenum target, GLenum pname, GLfloat p) { CTX(self); if (pname != GL_TEXTURE_BORDER_COLOR) tex_param(c, target, pname, &p); }
-static void st_TexParameterfv(void *self, GLenum target, GLenum pname, const GLfloat *p) { CTX(self); tex_param(c, target, pname, p); }
-static void st_TexParameteri(void *self, GLenum target, GLenum pname, GLint p) { CTX(self); GLfloat f = (GLfloat)p; if (pname != GL_TEXTURE_BORDER_COLOR) tex_param(c, target, pname, &f); }
+static void st_TexParameterf(void *self, GLenum target, GLenum pname, GLfloat p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    if (pname != GL_TEXTURE_BORDER_COLOR)
+        tex_param(c, target, pname, &p);
+}
+
+static void st_TexParameterfv(void *self, GLenum target, GLenum pname, const GLfloat *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    tex_param(c, target, pname, p);
+}
+
+static void st_TexParameteri(void *self, GLenum target, GLenum pname, GLint p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    GLfloat f = (GLfloat)p;
+    if (pname != GL_TEXTURE_BORDER_COLOR)
+        tex_param(c, target, pname, &f);
+}
+
 static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLint *p)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
     if (pname == GL_TEXTURE_BORDER_COLOR)
         for (int i = 0; i < 4; i++)
@@ -373,21 +393,27 @@ static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GL
 static void st_TexImage1D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLint border,
                           GLenum format, GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_image(c, 1, target, level, ifmt, w, 1, 1, border, format, type, pixels);
 }
 
 static void st_TexImage2D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
                           GLint border, GLenum format, GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_image(c, 2, target, level, ifmt, w, h, 1, border, format, type, pixels);
 }
 
 static void st_TexImage3D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
                           GLsizei d, GLint border, GLenum format, GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_image(c, 3, target, level, ifmt, w, h, d, border, format, type, pixels);
 }
 
@@ -441,27 +467,35 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
 static void st_TexSubImage1D(void *self, GLenum target, GLint level, GLint x, GLsizei w, GLenum format,
                              GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_subimage(c, 1, target, level, x, 0, 0, w, 1, 1, format, type, pixels);
 }
 
 static void st_TexSubImage2D(void *self, GLenum target, GLint level, GLint x, GLint y, GLsizei w, GLsizei h,
                              GLenum format, GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_subimage(c, 2, target, level, x, y, 0, w, h, 1, format, type, pixels);
 }
 
 static void st_TexSubImage3D(void *self, GLenum target, GLint level, GLint x, GLint y, GLint z, GLsizei w,
                              GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     tex_subimage(c, 3, target, level, x, y, z, w, h, d, format, type, pixels);
 }
 
 static void st_GenerateMipmap(void *self, GLenum target)
 {
-    CTX(self);
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
     st_texobj *o = bound_tex(c, target);
     st_upload *u = o ? push_upload(o) : NULL;
     if (!u)
@@ -502,7 +536,7 @@ static GLuint *buffer_binding(tsr_state_ctx *c, GLenum target)
 
 static void st_BindBuffer(void *self, GLenum target, GLuint name)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     GLuint *binding = buffer_binding(c, target);
     if (!binding)
         return;
@@ -526,7 +560,7 @@ static void st_BindBuffer(void *self, GLenum target, GLuint name)
 
 static void st_BufferData(void *self, GLenum target, GLsizeiptr size, const void *data, GLenum usage)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     GLuint *binding = buffer_binding(c, target);
     st_bufobj *b = binding ? tsr_name_map_get(&c->buffers, *binding) : NULL;
     if (!b || size < 0)
@@ -546,7 +580,7 @@ static void st_BufferData(void *self, GLenum target, GLsizeiptr size, const void
 
 static void st_BufferSubData(void *self, GLenum target, GLintptr offset, GLsizeiptr size, const void *data)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     GLuint *binding = buffer_binding(c, target);
     st_bufobj *b = binding ? tsr_name_map_get(&c->buffers, *binding) : NULL;
     if (!b || !b->data || offset < 0 || size < 0 || offset + size > b->size)
@@ -558,7 +592,7 @@ static void st_BufferSubData(void *self, GLenum target, GLintptr offset, GLsizei
 
 static void st_DeleteBuffers(void *self, GLsizei n, const GLuint *names)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     for (GLsizei i = 0; i < n; i++) {
         st_bufobj *b = tsr_name_map_del(&c->buffers, names[i]);
         if (!b)
@@ -619,7 +653,7 @@ static void st_EndList(void *self)
 
 static void st_DeleteLists(void *self, GLuint list, GLsizei range)
 {
-    CTX_NOW(self);
+    tsr_state_ctx *c = self;
     for (GLsizei i = 0; i < range; i++)
         tsr_name_map_del(&c->lists, list + (GLuint)i);
 }
