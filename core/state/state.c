@@ -101,14 +101,6 @@ int st_enable_index(GLenum cap, GLuint unit)
 }
 
 /* --- initial values -------------------------------------------------------------- */
-static void set4(GLfloat *d, GLfloat a, GLfloat b, GLfloat c, GLfloat e)
-{
-    d[0] = a;
-    d[1] = b;
-    d[2] = c;
-    d[3] = e;
-}
-
 static void identity(GLfloat m[16])
 {
     memset(m, 0, 16 * sizeof *m);
@@ -154,7 +146,7 @@ static void recipe_identity(tsr_state_recipe *r)
 void st_values_init(tsr_state_values *v)
 {
     memset(v, 0, sizeof *v);
-    set4(v->color, 1, 1, 1, 1);
+    st_set4(v->color, 1, 1, 1, 1);
     v->normal[2] = 1.0f;
     for (int u = 0; u < TSR_STATE_UNITS; u++)
         v->texcoord[u][3] = 1.0f;
@@ -190,27 +182,27 @@ void st_values_init(tsr_state_values *v)
     v->fog_end = 1.0f;
     for (int i = 0; i < TSR_STATE_LIGHTS; i++) {
         tsr_state_light *l = &v->light[i];
-        set4(l->ambient, 0, 0, 0, 1);
+        st_set4(l->ambient, 0, 0, 0, 1);
         if (i == 0) {
-            set4(l->diffuse, 1, 1, 1, 1);
-            set4(l->specular, 1, 1, 1, 1);
+            st_set4(l->diffuse, 1, 1, 1, 1);
+            st_set4(l->specular, 1, 1, 1, 1);
         } else {
-            set4(l->diffuse, 0, 0, 0, 1);
-            set4(l->specular, 0, 0, 0, 1);
+            st_set4(l->diffuse, 0, 0, 0, 1);
+            st_set4(l->specular, 0, 0, 0, 1);
         }
-        set4(l->position, 0, 0, 1, 0);
+        st_set4(l->position, 0, 0, 1, 0);
         l->spot_direction[2] = -1.0f;
         l->spot_cutoff = 180.0f;
         l->attenuation[0] = 1.0f;
     }
-    set4(v->model_ambient, 0.2f, 0.2f, 0.2f, 1.0f);
+    st_set4(v->model_ambient, 0.2f, 0.2f, 0.2f, 1.0f);
     v->model_color_control = GL_SINGLE_COLOR;
     for (int f = 0; f < 2; f++) {
         tsr_state_material *m = &v->material[f];
-        set4(m->ambient, 0.2f, 0.2f, 0.2f, 1.0f);
-        set4(m->diffuse, 0.8f, 0.8f, 0.8f, 1.0f);
-        set4(m->specular, 0, 0, 0, 1);
-        set4(m->emission, 0, 0, 0, 1);
+        st_set4(m->ambient, 0.2f, 0.2f, 0.2f, 1.0f);
+        st_set4(m->diffuse, 0.8f, 0.8f, 0.8f, 1.0f);
+        st_set4(m->specular, 0, 0, 0, 1);
+        st_set4(m->emission, 0, 0, 0, 1);
     }
     v->color_material_face = GL_FRONT_AND_BACK;
     v->color_material_mode = GL_AMBIENT_AND_DIFFUSE;
@@ -975,7 +967,7 @@ void st_cur_color(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    set4(c->v.color, r, g, b, a);
+    st_set4(c->v.color, r, g, b, a);
     st_mark(c, TSR_SM_COLOR);
     color_material_update(c);
 }
@@ -999,7 +991,7 @@ void st_cur_texcoord(void *self, GLenum unit_enum, GLfloat s, GLfloat t, GLfloat
     GLuint u = unit_enum - GL_TEXTURE0;
     if (u >= TSR_STATE_UNITS)
         return;
-    set4(c->v.texcoord[u], s, t, r, q);
+    st_set4(c->v.texcoord[u], s, t, r, q);
     st_mark(c, TSR_SM_TEXCOORD0 + (int)u);
 }
 
@@ -1020,7 +1012,7 @@ void st_cur_attrib(void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GL
         return;
     if (index == 0 || index >= TSR_STATE_ATTRIBS)
         return;
-    set4(c->v.attrib[index], x, y, z, w);
+    st_set4(c->v.attrib[index], x, y, z, w);
     st_mark(c, TSR_SM_ATTRIBS);
 }
 
@@ -1080,16 +1072,13 @@ static void st_Scissor(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
     st_mark(c, TSR_SM_SCISSOR);
 }
 
-static double clampd(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
-static GLfloat clampf(GLfloat x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
-
 static void st_DepthRange(void *self, GLdouble n, GLdouble f)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    c->v.depth_range[0] = clampd(n);
-    c->v.depth_range[1] = clampd(f);
+    c->v.depth_range[0] = st_clampd(n);
+    c->v.depth_range[1] = st_clampd(f);
     st_mark(c, TSR_SM_DEPTHRANGE);
 }
 
@@ -1107,15 +1096,7 @@ static void window_size(tsr_state_ctx *c, GLsizei w, GLsizei h)
     }
 }
 
-static void st_WindowCreateTSR(void *self, GLint window, GLsizei w, GLsizei h)
-{
-    (void)window;
-    tsr_state_ctx *c = st_exec_ctx(self);
-    if (!c)
-        return;
-    window_size(c, w, h);
-}
-
+/* Also glWindowCreateTSR's: a new window has its size. */
 static void st_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 {
     (void)window;
@@ -1172,7 +1153,7 @@ static void st_BlendColor(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    set4(c->v.blend_color, r, g, b, a);
+    st_set4(c->v.blend_color, r, g, b, a);
     st_mark(c, TSR_SM_BLEND);
 }
 
@@ -1182,7 +1163,7 @@ static void st_AlphaFunc(void *self, GLenum func, GLfloat ref)
     if (!c)
         return;
     c->v.alpha_func = func;
-    c->v.alpha_ref = clampf(ref);
+    c->v.alpha_ref = st_clampf(ref);
     st_mark(c, TSR_SM_ALPHAFUNC);
 }
 
@@ -1212,7 +1193,7 @@ static void st_ClearColor(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    set4(c->v.clear_color, r, g, b, a);
+    st_set4(c->v.clear_color, r, g, b, a);
     st_mark(c, TSR_SM_CLEARCOLOR);
 }
 
@@ -1221,7 +1202,7 @@ static void st_ClearAccum(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    set4(c->v.clear_accum, r, g, b, a);
+    st_set4(c->v.clear_accum, r, g, b, a);
     st_mark(c, TSR_SM_CLEARACCUM);
 }
 
@@ -1278,7 +1259,7 @@ static void st_ClearDepth(void *self, GLdouble d)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    c->v.clear_depth = clampd(d);
+    c->v.clear_depth = st_clampd(d);
     st_mark(c, TSR_SM_DEPTH);
 }
 
@@ -1291,17 +1272,10 @@ static void st_ClearStencil(void *self, GLint s)
     st_mark(c, TSR_SM_STENCIL);
 }
 
-static int faces(GLenum face, int *first, int *last)
-{
-    *first = face == GL_BACK ? 1 : 0;
-    *last = face == GL_FRONT ? 0 : 1;
-    return face == GL_FRONT || face == GL_BACK || face == GL_FRONT_AND_BACK;
-}
-
 static void stencil_func(tsr_state_ctx *c, GLenum face, GLenum func, GLint ref, GLuint mask)
 {
     int a, b;
-    if (!faces(face, &a, &b))
+    if (!st_faces(face, &a, &b))
         return;
     for (int f = a; f <= b; f++) {
         c->v.stencil_func[f] = func;
@@ -1314,7 +1288,7 @@ static void stencil_func(tsr_state_ctx *c, GLenum face, GLenum func, GLint ref, 
 static void stencil_op(tsr_state_ctx *c, GLenum face, GLenum fail, GLenum zfail, GLenum zpass)
 {
     int a, b;
-    if (!faces(face, &a, &b))
+    if (!st_faces(face, &a, &b))
         return;
     for (int f = a; f <= b; f++) {
         c->v.stencil_fail[f] = fail;
@@ -1327,7 +1301,7 @@ static void stencil_op(tsr_state_ctx *c, GLenum face, GLenum fail, GLenum zfail,
 static void stencil_mask(tsr_state_ctx *c, GLenum face, GLuint mask)
 {
     int a, b;
-    if (!faces(face, &a, &b))
+    if (!st_faces(face, &a, &b))
         return;
     for (int f = a; f <= b; f++)
         c->v.stencil_writemask[f] = mask;
@@ -1392,7 +1366,7 @@ static void fog(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
     case GL_FOG_START: v->fog_start = p[0]; break;
     case GL_FOG_END: v->fog_end = p[0]; break;
     case GL_FOG_INDEX: v->fog_index = p[0]; break;
-    case GL_FOG_COLOR: for (int i = 0; i < 4; i++) v->fog_color[i] = clampf(p[i]); break;
+    case GL_FOG_COLOR: for (int i = 0; i < 4; i++) v->fog_color[i] = st_clampf(p[i]); break;
     case GL_FOG_COORD_SRC: v->fog_coord_src = (GLenum)p[0]; break;
     default: return;
     }
@@ -1402,11 +1376,8 @@ static void fog(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 static void fogi(tsr_state_ctx *c, GLenum pname, const GLint *p)
 {
     GLfloat f[4];
-    if (pname == GL_FOG_COLOR)
-        for (int i = 0; i < 4; i++)
-            f[i] = (GLfloat)((2.0 * p[i] + 1.0) / 4294967295.0);  /* INT_TO_FLOAT */
-    else
-        f[0] = (GLfloat)p[0];
+    int color = pname == GL_FOG_COLOR;
+    st_ints_to_floats(f, p, color ? 4 : 1, color);
     fog(c, pname, f);
 }
 
@@ -1483,8 +1454,7 @@ static void lighti(tsr_state_ctx *c, GLenum which, GLenum pname, const GLint *p)
 {
     GLfloat f[4];
     int n = pname == GL_SPOT_DIRECTION ? 3 : (pname == GL_POSITION || is_color_pname(pname)) ? 4 : 1;
-    for (int i = 0; i < n; i++)
-        f[i] = is_color_pname(pname) ? (GLfloat)((2.0 * p[i] + 1.0) / 4294967295.0) : (GLfloat)p[i];
+    st_ints_to_floats(f, p, n, is_color_pname(pname));
     light(c, which, pname, f);
 }
 
@@ -1548,9 +1518,8 @@ static void light_model(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 static void light_modeli(tsr_state_ctx *c, GLenum pname, const GLint *p)
 {
     GLfloat f[4];
-    int n = pname == GL_LIGHT_MODEL_AMBIENT ? 4 : 1;
-    for (int i = 0; i < n; i++)
-        f[i] = n == 4 ? (GLfloat)((2.0 * p[i] + 1.0) / 4294967295.0) : (GLfloat)p[i];
+    int color = pname == GL_LIGHT_MODEL_AMBIENT;
+    st_ints_to_floats(f, p, color ? 4 : 1, color);
     light_model(c, pname, f);
 }
 
@@ -1603,7 +1572,7 @@ int st_tracked_by_color(const tsr_state_values *v, int face, GLenum pname)
 static void material(tsr_state_ctx *c, GLenum face, GLenum pname, const GLfloat *p)
 {
     int a, b;
-    if (!faces(face, &a, &b))
+    if (!st_faces(face, &a, &b))
         return;
     for (int f = a; f <= b; f++) {
         tsr_state_material *m = &c->v.material[f];
@@ -1631,9 +1600,8 @@ static void material(tsr_state_ctx *c, GLenum face, GLenum pname, const GLfloat 
 static void materiali(tsr_state_ctx *c, GLenum face, GLenum pname, const GLint *p)
 {
     GLfloat f[4];
-    int n = pname == GL_SHININESS ? 1 : 4;
-    for (int i = 0; i < n; i++)
-        f[i] = n == 4 ? (GLfloat)((2.0 * p[i] + 1.0) / 4294967295.0) : (GLfloat)p[i];
+    int color = pname != GL_SHININESS;
+    st_ints_to_floats(f, p, color ? 4 : 1, color);
     if (pname != GL_COLOR_INDEXES)
         material(c, face, pname, f);
 }
@@ -1679,7 +1647,7 @@ static void st_ColorMaterial(void *self, GLenum face, GLenum mode)
     if (!c)
         return;
     int a, b;
-    if (!faces(face, &a, &b))
+    if (!st_faces(face, &a, &b))
         return;
     if (mode != GL_EMISSION && mode != GL_AMBIENT && mode != GL_DIFFUSE && mode != GL_SPECULAR &&
         mode != GL_AMBIENT_AND_DIFFUSE)
@@ -1726,7 +1694,7 @@ static void st_PolygonMode(void *self, GLenum face, GLenum mode)
     if (!c)
         return;
     int a, b;
-    if (!faces(face, &a, &b) || (mode != GL_POINT && mode != GL_LINE && mode != GL_FILL))
+    if (!st_faces(face, &a, &b) || (mode != GL_POINT && mode != GL_LINE && mode != GL_FILL))
         return;
     for (int f = a; f <= b; f++)
         c->v.polygon_mode[f] = mode;
@@ -1823,9 +1791,8 @@ static void point_param(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 
 static void point_parami(tsr_state_ctx *c, GLenum pname, const GLint *p)
 {
-    GLfloat f[3] = {(GLfloat)p[0], 0, 0};
-    if (pname == GL_POINT_DISTANCE_ATTENUATION)
-        f[1] = (GLfloat)p[1], f[2] = (GLfloat)p[2];
+    GLfloat f[3] = {0, 0, 0};
+    st_ints_to_floats(f, p, pname == GL_POINT_DISTANCE_ATTENUATION ? 3 : 1, 0);
     point_param(c, pname, f);
 }
 
@@ -1898,7 +1865,7 @@ static void st_SampleCoverage(void *self, GLfloat value, GLboolean invert)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    c->v.sample_coverage_value = clampf(value);
+    c->v.sample_coverage_value = st_clampf(value);
     c->v.sample_coverage_invert = invert ? GL_TRUE : GL_FALSE;
     st_mark(c, TSR_SM_MULTISAMPLE);
 }
@@ -2008,7 +1975,7 @@ static void tex_env(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat
         return;
     else if (pname == GL_TEXTURE_ENV_COLOR)
         for (int i = 0; i < 4; i++)
-            t->env_color[i] = clampf(from_int ? (GLfloat)((2.0 * (GLint)p[i] + 1.0) / 4294967295.0) : p[i]);
+            t->env_color[i] = st_clampf(from_int ? st_int_to_float((GLint)p[i]) : p[i]);
     else if (pname == GL_RGB_SCALE || pname == GL_ALPHA_SCALE) {
         if (p[0] != 1.0f && p[0] != 2.0f && p[0] != 4.0f)
             return;
@@ -2051,11 +2018,10 @@ static void st_TexEnviv(void *self, GLenum target, GLenum pname, const GLint *p)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
-    if (pname == GL_TEXTURE_ENV_COLOR)
-        for (int i = 0; i < 4; i++)
-            f[i] = (GLfloat)p[i];
-    tex_env(c, target, pname, f, pname == GL_TEXTURE_ENV_COLOR);
+    GLfloat f[4] = {0, 0, 0, 0};
+    int color = pname == GL_TEXTURE_ENV_COLOR;
+    st_ints_to_floats(f, p, color ? 4 : 1, 0);
+    tex_env(c, target, pname, f, color);
 }
 
 static void tex_gen(tsr_state_ctx *c, GLenum coord, GLenum pname, const GLfloat *p)
@@ -2124,12 +2090,11 @@ static void st_TexGeniv(void *self, GLenum coord, GLenum pname, const GLint *p)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
-    if (pname != GL_TEXTURE_GEN_MODE)
-        for (int i = 1; i < 4; i++)
-            f[i] = (GLfloat)p[i];
+    GLfloat f[4] = {0, 0, 0, 0};
+    st_ints_to_floats(f, p, pname == GL_TEXTURE_GEN_MODE ? 1 : 4, 0);
     tex_gen(c, coord, pname, f);
 }
+
 static void st_TexGendv(void *self, GLenum coord, GLenum pname, const GLdouble *p)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
@@ -2445,7 +2410,8 @@ void tsr_state_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(Translatef); SET(Translated); SET(Scalef); SET(Scaled); SET(Rotatef); SET(Rotated);
     SET(Frustum); SET(Ortho); SET(MatrixMode); SET(PushMatrix); SET(PopMatrix); SET(ClipPlane);
     SET(Enable); SET(Disable);
-    SET(Viewport); SET(Scissor); SET(DepthRange); SET(WindowCreateTSR); SET(WindowSizeTSR);
+    SET(Viewport); SET(Scissor); SET(DepthRange); SET(WindowSizeTSR);
+    tsr_set_WindowCreateTSR(d, st_WindowSizeTSR, c);
     SET(BlendFunc); SET(BlendFuncSeparate); SET(BlendEquation); SET(BlendEquationSeparate);
     SET(BlendColor); SET(AlphaFunc); SET(LogicOp); SET(ColorMask); SET(ClearColor);
     SET(ClearAccum); SET(DrawBuffer); SET(DrawBuffers); SET(ReadBuffer);

@@ -261,6 +261,34 @@ static inline tsr_state_ctx *st_exec_ctx(void *self)
 /* Marks member dirty for one renderer id only. */
 void st_mark_one(tsr_state_ctx *c, int member, int id);
 
+/* Conversions and checks every group of setters needs. */
+static inline void st_set4(GLfloat *d, GLfloat a, GLfloat b, GLfloat c, GLfloat e)
+{
+    d[0] = a;
+    d[1] = b;
+    d[2] = c;
+    d[3] = e;
+}
+static inline GLfloat st_clampf(GLfloat x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
+static inline double st_clampd(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
+/* An integer given for a color: Mesa's INT_TO_FLOAT, in double like Mesa,
+ * so the float the renderer stores is the one the tracker stores. */
+static inline GLfloat st_int_to_float(GLint i) { return (GLfloat)((2.0 * i + 1.0) / 4294967295.0); }
+/* The n values of a glFoo*iv as its float form takes them: colors
+ * normalized, anything else converted as a number. */
+static inline void st_ints_to_floats(GLfloat *out, const GLint *in, int n, int color)
+{
+    for (int i = 0; i < n; i++)
+        out[i] = color ? st_int_to_float(in[i]) : (GLfloat)in[i];
+}
+/* The faces (0 front, 1 back) a face enum names; 0 for an invalid enum. */
+static inline int st_faces(GLenum face, int *first, int *last)
+{
+    *first = face == GL_BACK ? 1 : 0;
+    *last = face == GL_FRONT ? 0 : 1;
+    return face == GL_FRONT || face == GL_BACK || face == GL_FRONT_AND_BACK;
+}
+
 /* glColor -> material while GL_COLOR_MATERIAL is on (returns 1 when it
  * applied); whether glColor drives material property pname of face. */
 int st_color_material_apply(tsr_state_values *v);

@@ -271,10 +271,9 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    GLfloat f[4] = {(GLfloat)p[0], 0, 0, 0};
-    if (pname == GL_TEXTURE_BORDER_COLOR)
-        for (int i = 0; i < 4; i++)
-            f[i] = (GLfloat)((2.0 * p[i] + 1.0) / 4294967295.0);
+    GLfloat f[4] = {0, 0, 0, 0};
+    int color = pname == GL_TEXTURE_BORDER_COLOR;
+    st_ints_to_floats(f, p, color ? 4 : 1, color);
     tex_param(c, target, pname, f);
 }
 
