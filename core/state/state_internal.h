@@ -1,6 +1,7 @@
-/* core/state/state_internal.h — what the state tracker's files share (state.c:
- * life cycle, bits and setters; state_obj.c: texture/buffer/list objects;
- * state_diff.c; state_get.c). Not for SPUs: they use tessera/dev/state.h. */
+/* core/state/state_internal.h — what the state tracker's files share: the
+ * structs behind the opaque types of tessera/dev/state.h, the dirty-bit
+ * nodes, and the helpers more than one file calls (state.c lists the
+ * files). Not for SPUs: they use tessera/dev/state.h. */
 #ifndef TSR_CORE_STATE_INTERNAL_H
 #define TSR_CORE_STATE_INTERNAL_H
 
@@ -217,6 +218,8 @@ struct tsr_state_shadow {
 /* --- shared helpers ------------------------------------------------------------ */
 extern const uint8_t st_member_group[TSR_SM_COUNT];
 extern const GLenum st_enable_caps[128];   /* cap of each enable index (0: unused) */
+/* Indices in st_enable_caps of the caps other files test by index. */
+enum { ST_EN_COLOR_MATERIAL = 10, ST_EN_DITHER = 13, ST_EN_MULTISAMPLE = 36, ST_EN_COLOR_SUM = 43 };
 
 void st_values_init(tsr_state_values *v);
 void st_stacks_init(tsr_state_stacks *s);
@@ -290,8 +293,10 @@ static inline int st_faces(GLenum face, int *first, int *last)
 }
 
 /* glColor -> material while GL_COLOR_MATERIAL is on (returns 1 when it
- * applied); whether glColor drives material property pname of face. */
+ * applied); whether glColor drives material property pname of face
+ * (state_light.c). _update applies it to c and marks the material. */
 int st_color_material_apply(tsr_state_values *v);
+void st_color_material_update(tsr_state_ctx *c);
 int st_tracked_by_color(const tsr_state_values *v, int face, GLenum pname);
 void st_cur_color(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a);
 void st_cur_normal(void *self, GLfloat x, GLfloat y, GLfloat z);
@@ -299,10 +304,20 @@ void st_cur_texcoord(void *self, GLenum unit, GLfloat s, GLfloat t, GLfloat r, G
 void st_cur_edgeflag(void *self, GLboolean flag);
 void st_cur_attrib(void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GLfloat w);
 
-/* The matrix stack top selected by matrix mode (and active texture). */
-GLfloat *st_current_matrix(tsr_state_ctx *c, int *member);
-void st_mat_mul(GLfloat out[16], const GLfloat a[16], const GLfloat b[16]);
-int st_mat_invert(GLfloat out[16], const GLfloat m[16]);
+/* A plane given in object coordinates, in eye coordinates: GL transforms
+ * clip planes and eye-linear texgen planes by the inverse modelview
+ * (state_matrix.c). */
+void st_plane_to_eye(const tsr_state_ctx *c, GLfloat out[4], const GLfloat in[4]);
+
+/* Each file of setters puts its functions in the table
+ * (tsr_state_fill_dispatch calls them all). */
+void st_matrix_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_light_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_fragment_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_raster_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_texenv_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_attrib_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_client_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 
 /* Objects (state_obj.c). */
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target);
@@ -331,7 +346,7 @@ void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 
 /* The client array `which` names (GL_VERTEX_ARRAY, ...; texture coordinates
  * of the client-active unit), or NULL for anything else. Used by the
- * setters (state.c) and the gets (state_get.c). */
+ * setters (state_client.c) and the gets (state_get.c). */
 static inline tsr_state_array *st_client_array(const tsr_state_ctx *c, GLenum which)
 {
     tsr_state_ctx *m = (tsr_state_ctx *)c; /* the caller decides whether it writes */
