@@ -248,7 +248,8 @@ void tsr_state_ctx_destroy(tsr_state_ctx *c)
     free(c);
 }
 
-static void shadow_init(tsr_state_shadow *s)
+/* Renderer s holds GL's initial state, and every context is dirty for it. */
+static void shadow_start(tsr_state_shadow *s)
 {
     st_values_init(&s->v);
     st_stacks_init(&s->s);
@@ -262,6 +263,9 @@ static void shadow_init(tsr_state_shadow *s)
         memset(&s->default_tex[i], 0, sizeof s->default_tex[i]);
         st_texparams_init(&s->default_tex[i].params, i);
     }
+    for (size_t i = 0; i < s->t->nctxs; i++)
+        for (int m = 0; m < TSR_SM_COUNT; m++)
+            st_mark_one(s->t->ctxs[i], m, s->id);
 }
 
 tsr_state_shadow *tsr_state_shadow_create(tsr_state_tracker *t, tsr_error *err)
@@ -283,11 +287,8 @@ tsr_state_shadow *tsr_state_shadow_create(tsr_state_tracker *t, tsr_error *err)
         goto oom;
     s->t = t;
     s->id = (int)id;
-    shadow_init(s);
+    shadow_start(s);
     t->shadows[id] = s;
-    for (size_t i = 0; i < t->nctxs; i++)
-        for (int m = 0; m < TSR_SM_COUNT; m++)
-            st_mark_one(t->ctxs[i], m, s->id);
     return s;
 oom:
     tsr_error_set(err, TSR_ENOMEM, "state: out of memory for a renderer");
@@ -311,10 +312,7 @@ int tsr_state_shadow_id(const tsr_state_shadow *s)
 void tsr_state_shadow_reset(tsr_state_shadow *s)
 {
     st_shadow_objects_free(s);
-    shadow_init(s);
-    for (size_t i = 0; i < s->t->nctxs; i++)
-        for (int m = 0; m < TSR_SM_COUNT; m++)
-            st_mark_one(s->t->ctxs[i], m, s->id);
+    shadow_start(s);
 }
 
 const tsr_state_values *tsr_state_values_of(const tsr_state_ctx *c) { return &c->v; }

@@ -16,36 +16,50 @@
 
 #include <string.h>
 
-/* --- current attributes -------------------------------------------------------- */
-void st_color_material_update(tsr_state_ctx *c)
+/* --- glColor and the material ---------------------------------------------------- */
+/* The color property pname of material m (NULL: not a color property). */
+static GLfloat *material_color(tsr_state_material *m, GLenum pname)
 {
-    if (st_color_material_apply(&c->v))
-        st_mark(c, TSR_SM_MATERIAL);
+    switch (pname) {
+    case GL_AMBIENT: return m->ambient;
+    case GL_DIFFUSE: return m->diffuse;
+    case GL_SPECULAR: return m->specular;
+    case GL_EMISSION: return m->emission;
+    default: return NULL;
+    }
+}
+
+/* Which material properties glColor currently drives (Mesa ignores
+ * glMaterial for those while GL_COLOR_MATERIAL is enabled). */
+int st_tracked_by_color(const tsr_state_values *v, int face, GLenum pname)
+{
+    if (!st_enabled(v, ST_EN_COLOR_MATERIAL))
+        return 0;
+    if ((face == 0 && v->color_material_face == GL_BACK) || (face == 1 && v->color_material_face == GL_FRONT))
+        return 0;
+    GLenum m = v->color_material_mode;
+    return m == pname || (m == GL_AMBIENT_AND_DIFFUSE && (pname == GL_AMBIENT || pname == GL_DIFFUSE));
 }
 
 int st_color_material_apply(tsr_state_values *v)
 {
     if (!st_enabled(v, ST_EN_COLOR_MATERIAL))
         return 0;
-    for (int f = 0; f < 2; f++) {
-        if ((f == 0 && v->color_material_face == GL_BACK) || (f == 1 && v->color_material_face == GL_FRONT))
-            continue;
-        tsr_state_material *m = &v->material[f];
-        switch (v->color_material_mode) {
-        case GL_AMBIENT: memcpy(m->ambient, v->color, 16); break;
-        case GL_DIFFUSE: memcpy(m->diffuse, v->color, 16); break;
-        case GL_SPECULAR: memcpy(m->specular, v->color, 16); break;
-        case GL_EMISSION: memcpy(m->emission, v->color, 16); break;
-        case GL_AMBIENT_AND_DIFFUSE:
-            memcpy(m->ambient, v->color, 16);
-            memcpy(m->diffuse, v->color, 16);
-            break;
-        default: break;
-        }
-    }
+    static const GLenum props[4] = {GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION};
+    for (int f = 0; f < 2; f++)
+        for (int k = 0; k < 4; k++)
+            if (st_tracked_by_color(v, f, props[k]))
+                memcpy(material_color(&v->material[f], props[k]), v->color, 16);
     return 1;
 }
 
+void st_color_material_update(tsr_state_ctx *c)
+{
+    if (st_color_material_apply(&c->v))
+        st_mark(c, TSR_SM_MATERIAL);
+}
+
+/* --- current attributes -------------------------------------------------------- */
 void st_cur_color(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
@@ -242,18 +256,6 @@ static void st_LightModeliv(void *self, GLenum pname, const GLint *p)
     light_modeli(c, pname, p);
 }
 
-/* Which material properties glColor currently drives (Mesa ignores
- * glMaterial for those while GL_COLOR_MATERIAL is enabled). */
-int st_tracked_by_color(const tsr_state_values *v, int face, GLenum pname)
-{
-    if (!st_enabled(v, ST_EN_COLOR_MATERIAL))
-        return 0;
-    if ((face == 0 && v->color_material_face == GL_BACK) || (face == 1 && v->color_material_face == GL_FRONT))
-        return 0;
-    GLenum m = v->color_material_mode;
-    return m == pname || (m == GL_AMBIENT_AND_DIFFUSE && (pname == GL_AMBIENT || pname == GL_DIFFUSE));
-}
-
 static void material(tsr_state_ctx *c, GLenum face, GLenum pname, const GLfloat *p)
 {
     int a, b;
@@ -269,14 +271,13 @@ static void material(tsr_state_ctx *c, GLenum face, GLenum pname, const GLfloat 
         for (int k = 0; k < 2 && props[k]; k++) {
             if (st_tracked_by_color(&c->v, f, props[k]))
                 continue;
-            switch (props[k]) {
-            case GL_AMBIENT: memcpy(m->ambient, p, 16); break;
-            case GL_DIFFUSE: memcpy(m->diffuse, p, 16); break;
-            case GL_SPECULAR: memcpy(m->specular, p, 16); break;
-            case GL_EMISSION: memcpy(m->emission, p, 16); break;
-            case GL_SHININESS: if (p[0] < 0 || p[0] > 128) break; m->shininess = p[0]; break;
-            default: return;
-            }
+            GLfloat *dst = material_color(m, props[k]);
+            if (dst)
+                memcpy(dst, p, 16);
+            else if (props[k] != GL_SHININESS)
+                return;
+            else if (p[0] >= 0 && p[0] <= 128)
+                m->shininess = p[0];
         }
     }
     st_mark(c, TSR_SM_MATERIAL);
@@ -353,7 +354,6 @@ static void st_ShadeModel(void *self, GLenum m)
     c->v.shade_model = m;
     st_mark(c, TSR_SM_SHADEMODEL);
 }
-
 
 void st_light_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {

@@ -116,37 +116,44 @@ static int mat_invert(GLfloat out[16], const GLfloat mf[16])
     return 0;
 }
 
-/* The stack top matrix mode selects (and, for GL_TEXTURE, the active unit),
- * and the member it belongs to. */
-static GLfloat *current_matrix(tsr_state_ctx *c, int *member)
+/* The stack matrix mode selects (for GL_TEXTURE, the active unit's): its
+ * levels, their recipes, its depth and limit, and its dirty-bit member. */
+typedef struct mstack {
+    GLfloat (*m)[16];
+    tsr_state_recipe *r;
+    uint32_t *depth, max;
+    int member;
+} mstack;
+
+static mstack current_stack(tsr_state_ctx *c)
 {
+    tsr_state_stacks *s = &c->s;
     switch (c->v.matrix_mode) {
     case GL_PROJECTION:
-        *member = TSR_SM_PROJECTION;
-        return c->s.projection[c->s.projection_depth - 1];
+        return (mstack){s->projection, s->projection_recipe, &s->projection_depth, TSR_STATE_PROJECTION_DEPTH,
+                        TSR_SM_PROJECTION};
     case GL_TEXTURE: {
         GLuint u = c->v.active_texture;
-        *member = TSR_SM_TEXMAT0 + (int)u;
-        return c->s.texture[u][c->s.texture_depth[u] - 1];
+        return (mstack){s->texture[u], s->texture_recipe[u], &s->texture_depth[u], TSR_STATE_TEXTURE_DEPTH,
+                        TSR_SM_TEXMAT0 + (int)u};
     }
     default:
-        *member = TSR_SM_MODELVIEW;
-        return c->s.modelview[c->s.modelview_depth - 1];
+        return (mstack){s->modelview, s->modelview_recipe, &s->modelview_depth, TSR_STATE_MODELVIEW_DEPTH,
+                        TSR_SM_MODELVIEW};
     }
+}
+
+static GLfloat *current_matrix(tsr_state_ctx *c, int *member)
+{
+    mstack k = current_stack(c);
+    *member = k.member;
+    return k.m[*k.depth - 1];
 }
 
 static tsr_state_recipe *current_recipe(tsr_state_ctx *c)
 {
-    switch (c->v.matrix_mode) {
-    case GL_PROJECTION:
-        return &c->s.projection_recipe[c->s.projection_depth - 1];
-    case GL_TEXTURE: {
-        GLuint u = c->v.active_texture;
-        return &c->s.texture_recipe[u][c->s.texture_depth[u] - 1];
-    }
-    default:
-        return &c->s.modelview_recipe[c->s.modelview_depth - 1];
-    }
+    mstack k = current_stack(c);
+    return &k.r[*k.depth - 1];
 }
 
 /* The current matrix was loaded (or multiplied by an arbitrary matrix,
@@ -470,25 +477,14 @@ static void st_PushMatrix(void *self)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    int member;
-    current_matrix(c, &member);
-    uint32_t *depth, max;
-    GLfloat(*stack)[16];
-    if (member == TSR_SM_MODELVIEW) {
-        depth = &c->s.modelview_depth, max = TSR_STATE_MODELVIEW_DEPTH, stack = c->s.modelview;
-    } else if (member == TSR_SM_PROJECTION) {
-        depth = &c->s.projection_depth, max = TSR_STATE_PROJECTION_DEPTH, stack = c->s.projection;
-    } else {
-        GLuint u = c->v.active_texture;
-        depth = &c->s.texture_depth[u], max = TSR_STATE_TEXTURE_DEPTH, stack = c->s.texture[u];
-    }
-    if (*depth >= max)
+    mstack k = current_stack(c);
+    uint32_t d = *k.depth;
+    if (d >= k.max)
         return;
-    memcpy(stack[*depth], stack[*depth - 1], sizeof stack[0]);
-    tsr_state_recipe *below = current_recipe(c);
-    (*depth)++;
-    *current_recipe(c) = *below;
-    st_mark(c, member);
+    memcpy(k.m[d], k.m[d - 1], sizeof k.m[0]);
+    k.r[d] = k.r[d - 1];
+    *k.depth = d + 1;
+    st_mark(c, k.member);
 }
 
 static void st_PopMatrix(void *self)
@@ -496,15 +492,11 @@ static void st_PopMatrix(void *self)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    int member;
-    current_matrix(c, &member);
-    uint32_t *depth = member == TSR_SM_MODELVIEW    ? &c->s.modelview_depth
-                      : member == TSR_SM_PROJECTION ? &c->s.projection_depth
-                                                    : &c->s.texture_depth[c->v.active_texture];
-    if (*depth <= 1)
+    mstack k = current_stack(c);
+    if (*k.depth <= 1)
         return;
-    (*depth)--;
-    st_mark(c, member);
+    (*k.depth)--;
+    st_mark(c, k.member);
 }
 
 /* GL transforms a plane by the inverse modelview (Mesa: row vector times

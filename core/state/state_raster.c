@@ -45,16 +45,24 @@ static void st_Disable(void *self, GLenum cap)
 }
 
 /* --- viewport ---------------------------------------------------------------------- */
+/* glViewport's and glScissor's box; GL ignores a negative size. */
+static void set_box(tsr_state_ctx *c, GLint box[4], int member, GLint x, GLint y, GLsizei w, GLsizei h)
+{
+    if (w < 0 || h < 0)
+        return;
+    box[0] = x;
+    box[1] = y;
+    box[2] = w;
+    box[3] = h;
+    st_mark(c, member);
+}
+
 static void st_Viewport(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (w < 0 || h < 0)
-        return;
-    GLint v[4] = {x, y, w, h};
-    memcpy(c->v.viewport, v, sizeof v);
-    st_mark(c, TSR_SM_VIEWPORT);
+    set_box(c, c->v.viewport, TSR_SM_VIEWPORT, x, y, w, h);
 }
 
 static void st_Scissor(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
@@ -62,11 +70,7 @@ static void st_Scissor(void *self, GLint x, GLint y, GLsizei w, GLsizei h)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (w < 0 || h < 0)
-        return;
-    GLint v[4] = {x, y, w, h};
-    memcpy(c->v.scissor, v, sizeof v);
-    st_mark(c, TSR_SM_SCISSOR);
+    set_box(c, c->v.scissor, TSR_SM_SCISSOR, x, y, w, h);
 }
 
 static void st_DepthRange(void *self, GLdouble n, GLdouble f)
@@ -79,28 +83,18 @@ static void st_DepthRange(void *self, GLdouble n, GLdouble f)
     st_mark(c, TSR_SM_DEPTHRANGE);
 }
 
-/* The window system sized the window: like the render SPU (and a window
- * system making a context current the first time), an unknown viewport and
+/* glWindowSizeTSR, and glWindowCreateTSR (a new window has its size): the
+ * window system sized the window. Like the render SPU (and a window system
+ * making a context current the first time), an unknown viewport and
  * scissor box become the window. */
-static void window_size(tsr_state_ctx *c, GLsizei w, GLsizei h)
-{
-    if (c->v.viewport[2] < 0 && w > 0 && h > 0) {
-        GLint v[4] = {0, 0, w, h};
-        memcpy(c->v.viewport, v, sizeof v);
-        memcpy(c->v.scissor, v, sizeof v);
-        st_mark(c, TSR_SM_VIEWPORT);
-        st_mark(c, TSR_SM_SCISSOR);
-    }
-}
-
-/* Also glWindowCreateTSR's: a new window has its size. */
 static void st_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 {
     (void)window;
     tsr_state_ctx *c = st_exec_ctx(self);
-    if (!c)
+    if (!c || c->v.viewport[2] >= 0 || w <= 0 || h <= 0)
         return;
-    window_size(c, w, h);
+    set_box(c, c->v.viewport, TSR_SM_VIEWPORT, 0, 0, w, h);
+    set_box(c, c->v.scissor, TSR_SM_SCISSOR, 0, 0, w, h);
 }
 
 /* --- fog ---------------------------------------------------------------------------- */
