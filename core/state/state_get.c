@@ -252,21 +252,66 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     return 0;
 }
 
+/* The table of value counts: how many values glGet* writes for each pname
+ * lookup() answers, one case per pname (the state test get_count_table
+ * fails when this table and lookup() part). A count does not depend on the
+ * values, so it is known even while lookup() declines a pname whose value
+ * only the window system knows yet (the viewport, the draw buffer, ...). */
 int tsr_state_get_count(GLenum pname)
 {
-    /* Counts do not depend on the values: ask a fresh context's shape. */
-    static const struct { GLenum p; int n; } fixed[] = {
-        {GL_VIEWPORT, 4}, {GL_SCISSOR_BOX, 4}, {GL_DRAW_BUFFER, 1}, {GL_READ_BUFFER, 1},
-        {GL_POINT_SIZE_MAX, 1},
-    };
-    for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
-        if (fixed[i].p == pname)
-            return fixed[i].n;
-    static _Thread_local tsr_state_ctx probe;   /* large: not on the stack */
-    st_values_init(&probe.v);
-    st_stacks_init(&probe.s);
-    answer a;
-    return lookup(&probe, pname, &a) ? a.n : 0;
+    switch (pname) {
+    case GL_MODELVIEW_MATRIX: case GL_PROJECTION_MATRIX: case GL_TEXTURE_MATRIX:
+    case GL_TRANSPOSE_MODELVIEW_MATRIX: case GL_TRANSPOSE_PROJECTION_MATRIX:
+        return 16;
+    case GL_CURRENT_COLOR: case GL_CURRENT_TEXTURE_COORDS: case GL_VIEWPORT: case GL_SCISSOR_BOX:
+    case GL_BLEND_COLOR: case GL_COLOR_WRITEMASK: case GL_COLOR_CLEAR_VALUE: case GL_ACCUM_CLEAR_VALUE:
+    case GL_FOG_COLOR: case GL_LIGHT_MODEL_AMBIENT:
+        return 4;
+    case GL_CURRENT_NORMAL: case GL_POINT_DISTANCE_ATTENUATION:
+        return 3;
+    case GL_DEPTH_RANGE: case GL_POLYGON_MODE:
+        return 2;
+    case GL_EDGE_FLAG: case GL_CURRENT_PROGRAM: case GL_MODELVIEW_STACK_DEPTH: case GL_PROJECTION_STACK_DEPTH:
+    case GL_TEXTURE_STACK_DEPTH: case GL_MATRIX_MODE: case GL_BLEND_SRC_RGB: case GL_BLEND_DST_RGB:
+    case GL_BLEND_SRC_ALPHA: case GL_BLEND_DST_ALPHA: case GL_BLEND_EQUATION_RGB: case GL_BLEND_EQUATION_ALPHA:
+    case GL_ALPHA_TEST_FUNC: case GL_ALPHA_TEST_REF: case GL_LOGIC_OP_MODE: case GL_DRAW_BUFFER:
+    case GL_READ_BUFFER: case GL_DEPTH_FUNC: case GL_DEPTH_WRITEMASK: case GL_DEPTH_CLEAR_VALUE:
+    case GL_STENCIL_FUNC: case GL_STENCIL_REF: case GL_STENCIL_FAIL: case GL_STENCIL_PASS_DEPTH_FAIL:
+    case GL_STENCIL_PASS_DEPTH_PASS: case GL_STENCIL_BACK_FUNC: case GL_STENCIL_BACK_REF:
+    case GL_STENCIL_BACK_FAIL: case GL_STENCIL_BACK_PASS_DEPTH_FAIL: case GL_STENCIL_BACK_PASS_DEPTH_PASS:
+    case GL_STENCIL_CLEAR_VALUE: case GL_FOG_MODE: case GL_FOG_COORD_SRC: case GL_FOG_DENSITY:
+    case GL_FOG_START: case GL_FOG_END: case GL_FOG_INDEX: case GL_LIGHT_MODEL_LOCAL_VIEWER:
+    case GL_LIGHT_MODEL_TWO_SIDE: case GL_LIGHT_MODEL_COLOR_CONTROL: case GL_COLOR_MATERIAL_FACE:
+    case GL_COLOR_MATERIAL_PARAMETER: case GL_SHADE_MODEL: case GL_CULL_FACE_MODE: case GL_FRONT_FACE:
+    case GL_POLYGON_OFFSET_FACTOR: case GL_POLYGON_OFFSET_UNITS: case GL_LINE_WIDTH:
+    case GL_LINE_STIPPLE_PATTERN: case GL_LINE_STIPPLE_REPEAT: case GL_POINT_SIZE: case GL_POINT_SIZE_MIN:
+    case GL_POINT_SIZE_MAX: case GL_POINT_FADE_THRESHOLD_SIZE: case GL_POINT_SPRITE_COORD_ORIGIN:
+    case GL_PERSPECTIVE_CORRECTION_HINT: case GL_POINT_SMOOTH_HINT: case GL_LINE_SMOOTH_HINT:
+    case GL_POLYGON_SMOOTH_HINT: case GL_FOG_HINT: case GL_GENERATE_MIPMAP_HINT:
+    case GL_TEXTURE_COMPRESSION_HINT: case GL_FRAGMENT_SHADER_DERIVATIVE_HINT: case GL_PACK_SWAP_BYTES:
+    case GL_PACK_LSB_FIRST: case GL_UNPACK_SWAP_BYTES: case GL_UNPACK_LSB_FIRST: case GL_PACK_ROW_LENGTH:
+    case GL_PACK_IMAGE_HEIGHT: case GL_PACK_SKIP_ROWS: case GL_PACK_SKIP_PIXELS: case GL_PACK_SKIP_IMAGES:
+    case GL_PACK_ALIGNMENT: case GL_UNPACK_ROW_LENGTH: case GL_UNPACK_IMAGE_HEIGHT: case GL_UNPACK_SKIP_ROWS:
+    case GL_UNPACK_SKIP_PIXELS: case GL_UNPACK_SKIP_IMAGES: case GL_UNPACK_ALIGNMENT: case GL_ZOOM_X:
+    case GL_ZOOM_Y: case GL_RED_SCALE: case GL_GREEN_SCALE: case GL_BLUE_SCALE: case GL_ALPHA_SCALE:
+    case GL_DEPTH_SCALE: case GL_RED_BIAS: case GL_GREEN_BIAS: case GL_BLUE_BIAS: case GL_ALPHA_BIAS:
+    case GL_DEPTH_BIAS: case GL_INDEX_SHIFT: case GL_INDEX_OFFSET: case GL_MAP_COLOR: case GL_MAP_STENCIL:
+    case GL_ACTIVE_TEXTURE: case GL_CLIENT_ACTIVE_TEXTURE: case GL_TEXTURE_BINDING_1D:
+    case GL_TEXTURE_BINDING_2D: case GL_TEXTURE_BINDING_3D: case GL_TEXTURE_BINDING_CUBE_MAP:
+    case GL_ARRAY_BUFFER_BINDING: case GL_ELEMENT_ARRAY_BUFFER_BINDING: case GL_LIST_BASE: case GL_LIST_INDEX:
+    case GL_LIST_MODE: case GL_SAMPLE_COVERAGE_VALUE: case GL_SAMPLE_COVERAGE_INVERT:
+    case GL_ATTRIB_STACK_DEPTH: case GL_CLIENT_ATTRIB_STACK_DEPTH: case GL_VERTEX_ARRAY_SIZE:
+    case GL_VERTEX_ARRAY_TYPE: case GL_VERTEX_ARRAY_STRIDE: case GL_NORMAL_ARRAY_TYPE:
+    case GL_NORMAL_ARRAY_STRIDE: case GL_COLOR_ARRAY_SIZE: case GL_COLOR_ARRAY_TYPE:
+    case GL_COLOR_ARRAY_STRIDE: case GL_EDGE_FLAG_ARRAY_STRIDE: case GL_TEXTURE_COORD_ARRAY_SIZE:
+    case GL_TEXTURE_COORD_ARRAY_TYPE: case GL_TEXTURE_COORD_ARRAY_STRIDE: case GL_VERTEX_ARRAY_BUFFER_BINDING:
+    case GL_NORMAL_ARRAY_BUFFER_BINDING: case GL_COLOR_ARRAY_BUFFER_BINDING:
+    case GL_EDGE_FLAG_ARRAY_BUFFER_BINDING: case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING: case GL_VERTEX_ARRAY:
+    case GL_NORMAL_ARRAY: case GL_COLOR_ARRAY: case GL_EDGE_FLAG_ARRAY: case GL_TEXTURE_COORD_ARRAY:
+        return 1;
+    default:
+        return st_enable_index(pname, 0) >= 0 ? 1 : 0;   /* a cap: one boolean */
+    }
 }
 
 /* Mesa's conversions (main/macros.h): FLOAT_TO_INT for normalized values,

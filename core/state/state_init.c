@@ -16,7 +16,7 @@
 #include <string.h>
 
 /* --- initial values ------------------------------------------------------------ */
-void st_values_init(tsr_state_values *v)
+static void values_init(tsr_state_values *v)
 {
     memset(v, 0, sizeof *v);
     st_set4(v->color, 1, 1, 1, 1);
@@ -218,7 +218,7 @@ tsr_state_ctx *tsr_state_ctx_create(tsr_state_tracker *t, tsr_error *err)
         return NULL;
     }
     c->t = t;
-    st_values_init(&c->v);
+    values_init(&c->v);
     st_stacks_init(&c->s);
     client_init(&c->client);
     for (int i = 0; i < TSR_TEX_TARGETS; i++) {
@@ -251,7 +251,7 @@ void tsr_state_ctx_destroy(tsr_state_ctx *c)
 /* Renderer s holds GL's initial state, and every context is dirty for it. */
 static void shadow_start(tsr_state_shadow *s)
 {
-    st_values_init(&s->v);
+    values_init(&s->v);
     st_stacks_init(&s->s);
     /* A fresh renderer's viewport and scissor come from its window: mark
      * them as values no application can have, so the first diff sends the

@@ -221,7 +221,8 @@ extern const GLenum st_enable_caps[128];   /* cap of each enable index (0: unuse
 /* Indices in st_enable_caps of the caps other files test by index. */
 enum { ST_EN_COLOR_MATERIAL = 10, ST_EN_DITHER = 13, ST_EN_MULTISAMPLE = 36, ST_EN_COLOR_SUM = 43 };
 
-void st_values_init(tsr_state_values *v);
+/* Fresh matrix stacks: one identity level each, with no history
+ * (state_matrix.c). */
 void st_stacks_init(tsr_state_stacks *s);
 /* Classification bits (tsr_state_recipe.sticky's kind) recipe r leaves on
  * a Mesa matrix: its sticky bits, its base, its operations. */

@@ -22,6 +22,8 @@
  *  lazy_textures         unbound textures are not sent; a changed texture
  *                        sends only the new image call
  *  list_compile          glNewList(GL_COMPILE) leaves the state alone
+ *  get_count_table       tsr_state_get_count's table says, for every 16-bit
+ *                        enum, how many values the tracker's get writes
  *  glsl_diff_matches_osmesa  random shader/program/uniform sequences: the
  *                        calls go to the tracker and (names from the
  *                        tracker, CreateShaderTSR/CreateProgramTSR, through
@@ -1252,6 +1254,68 @@ static void test_list_compile(void)
     tsr_state_tracker_destroy(t);
 }
 
+/* --- the count table ------------------------------------------------------------- */
+/* How many values tsr_state_get_doublev wrote for pname (-1: declined), told
+ * by a sentinel no conversion from the tracker's values produces (a NaN
+ * with a payload a float widened to double never has). A gap (a sentinel
+ * before a written value) counts as a mismatch: -2. */
+static int values_written(const tsr_state_ctx *c, GLenum pname)
+{
+    enum { N = 64 };
+    static const uint64_t sentinel = 0x7ff4deadbeefcafeull;
+    GLdouble out[N];
+    for (int i = 0; i < N; i++)
+        memcpy(&out[i], &sentinel, sizeof sentinel);
+    if (!tsr_state_get_doublev(c, pname, out))
+        return -1;
+    int n = 0;
+    while (n < N && memcmp(&out[n], &sentinel, sizeof sentinel) != 0)
+        n++;
+    for (int i = n; i < N; i++)
+        if (memcmp(&out[i], &sentinel, sizeof sentinel) != 0)
+            return -2;
+    return n;
+}
+
+/* tsr_state_get_count is a table. It replaced asking a context's lookup
+ * for the shape of each answer, so the oracle is that old way: a context's
+ * own gets. A fresh context, and one that also knows what starts unknown
+ * (window size, draw and read buffer, maximum point size), must answer
+ * exactly the pnames with a count, and write exactly count values; where
+ * the spec gives a pname's count (the wire's table), it must agree. */
+static void test_get_count_table(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *fresh = tsr_state_ctx_create(t, NULL), *known = tsr_state_ctx_create(t, NULL);
+    static tsr_dispatch d;
+    tsr_dispatch_fill_nop(&d);
+    tsr_state_fill_dispatch(known, &d);
+    tsr_call_WindowCreateTSR(&d, 0, 64, 64);
+    tsr_call_DrawBuffer(&d, GL_BACK);
+    tsr_call_ReadBuffer(&d, GL_BACK);
+    tsr_call_PointParameterf(&d, GL_POINT_SIZE_MAX, 64.0f);
+    int answered = 0, declined_fresh = 0, bad = 0;
+    for (GLenum p = 0; p <= 0xFFFF; p++) {
+        int n = tsr_state_get_count(p), k = values_written(known, p), f = values_written(fresh, p);
+        if (n > 0)
+            answered++;
+        if (n > 0 && f == -1)
+            declined_fresh++;
+        int ok = n > 0 ? k == n && (f == n || f == -1) : n == 0 && k == -1 && f == -1;
+        int spec = tsr_wire_pname_count(p);
+        if (n > 0 && spec > 0 && spec != n)
+            ok = 0;
+        if (!ok && bad++ < 12)
+            fprintf(stderr, "  pname 0x%04x: table %d, the context wrote %d (a fresh one %d), spec %d\n", p, n, k,
+                    f, spec);
+    }
+    CHECK(bad == 0, "%d pnames where the count table and the tracker's gets differ", bad);
+    CHECK(answered > 200, "the table answers only %d pnames", answered);
+    CHECK(declined_fresh == 5, "a fresh context declined %d answered pnames (viewport, scissor box, draw and read "
+          "buffer, maximum point size: 5)", declined_fresh);
+    tsr_state_tracker_destroy(t);
+}
+
 /* --- matrices: the renderer's bits and history -------------------------------- */
 /* Random matrix operations (all three stacks, single-axis and zero-angle
  * rotations, Frustum/Ortho from doubles, loads, products, pushes) go to the
@@ -2017,6 +2081,7 @@ int main(int argc, char **argv)
         {"many_renderers", test_many_renderers, 0},
         {"lazy_textures", test_lazy_textures, 0},
         {"list_compile", test_list_compile, 0},
+        {"get_count_table", test_get_count_table, 0},
         {"matrices_bit_identical", test_matrices_bit_identical, 1},
         {"glsl_diff_matches_osmesa", test_glsl_diff_matches_osmesa, 1},
         {"glsl_lazy", test_glsl_lazy, 0},
