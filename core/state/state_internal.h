@@ -323,17 +323,11 @@ void st_client_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 /* Objects (state_obj.c). */
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target);
 st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name);
-void st_tex_free(st_texobj *o);
 void st_tex_changed(tsr_state_ctx *c, st_texobj *o);
 void st_objects_free(tsr_state_ctx *c);
 void st_shadow_objects_free(tsr_state_shadow *s);
 int st_tex_target_index(GLenum target);     /* -1 when not a texture target */
 void st_obj_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
-/* The tight copy of an image given under the context's unpack store. */
-uint8_t *st_copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d,
-                       GLenum format, GLenum type, const void *pixels, size_t *size);
-
-void st_transfer_of(const tsr_state_values *v, st_transfer *t);
 
 /* Shaders and programs (state_glsl.c). */
 void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);

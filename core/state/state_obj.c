@@ -60,7 +60,7 @@ static void uploads_free(st_texobj *o)
     o->nup = o->capup = 0;
 }
 
-void st_tex_free(st_texobj *o)
+static void tex_free(st_texobj *o)
 {
     if (!o)
         return;
@@ -72,7 +72,7 @@ void st_objects_free(tsr_state_ctx *c)
 {
     for (size_t i = 0; i < c->textures.cap; i++)
         if (c->textures.keys[i])
-            st_tex_free(c->textures.vals[i]);
+            tex_free(c->textures.vals[i]);
     tsr_name_map_free(&c->textures);
     for (int i = 0; i < TSR_TEX_TARGETS; i++)
         uploads_free(&c->default_tex[i]);
@@ -171,7 +171,7 @@ static void st_DeleteTextures(void *self, GLsizei n, const GLuint *names)
                     c->v.unit[u].binding[t] = 0;
                     st_mark(c, TSR_SM_TEXBIND0 + u);
                 }
-        st_tex_free(o);
+        tex_free(o);
     }
 }
 
@@ -277,8 +277,9 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
     tex_param(c, target, pname, f);
 }
 
-uint8_t *st_copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format,
-                       GLenum type, const void *pixels, size_t *size)
+/* The tight copy of an image given under the context's unpack store. */
+static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format,
+                          GLenum type, const void *pixels, size_t *size)
 {
     const tsr_pixel_modes *m = &c->v.pixel_store.unpack;
     tsr_pixel_modes tight = {0, 0, 0, 0, 0, 1, m->swap_bytes, m->lsb_first};
@@ -298,7 +299,7 @@ uint8_t *st_copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, G
     return out;
 }
 
-void st_transfer_of(const tsr_state_values *v, st_transfer *t)
+static void transfer_of(const tsr_state_values *v, st_transfer *t)
 {
     memset(t, 0, sizeof *t);
     memcpy(t->scale, v->transfer_scale, sizeof t->scale);
@@ -335,7 +336,7 @@ static void record_upload(tsr_state_ctx *c, st_texobj *o, st_upload up)
         return;
     }
     *u = up;
-    st_transfer_of(&c->v, &u->transfer);
+    transfer_of(&c->v, &u->transfer);
     u->gen_mipmap = o->params.generate_mipmap;
     st_tex_changed(c, o);
 }
@@ -362,7 +363,7 @@ static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GL
         return;
     size_t size = 0;
     uint8_t *copy = NULL;
-    if (pixels && !(copy = st_copy_image(c, dims, w, h, d, format, type, pixels, &size)))
+    if (pixels && !(copy = copy_image(c, dims, w, h, d, format, type, pixels, &size)))
         return;
     /* A new image of a level replaces the earlier calls on that level, but
      * only after the last mipmap generation (explicit, or by an upload made
@@ -426,7 +427,7 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
     if (!img || x < 0 || y < 0 || z < 0 || x + w > img->w || y + h > img->h || z + d > img->d)
         return;
     size_t size;
-    uint8_t *copy = st_copy_image(c, dims, w, h, d, format, type, pixels, &size);
+    uint8_t *copy = copy_image(c, dims, w, h, d, format, type, pixels, &size);
     if (!copy)
         return;
     /* A sub-image covering the whole level in the level's own format
@@ -453,7 +454,7 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
         free(img->data);
         img->data = copy;
         img->size = size;
-        st_transfer_of(&c->v, &img->transfer);
+        transfer_of(&c->v, &img->transfer);
         o->epoch++;
         st_tex_changed(c, o);
         return;
