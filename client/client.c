@@ -138,7 +138,7 @@ static void pool_drain(buffer_pool *pool)
 
 void tsr_stream_client_config_from_options(tsr_stream_client_config *config, const tsr_options *options)
 {
-    config->token = tsr_options_string(options, "token");
+    config->token = tsr_options_string(options, TSR_NODE_CLIENT_TOKEN_OPTION);
     config->buffer_size = (size_t)tsr_options_int(options, "buffer_size");
     config->timeout_ms = (uint32_t)tsr_options_int(options, "timeout_ms");
     config->exit_on_error = !strcmp(tsr_options_string(options, "on_error"), "exit");

@@ -102,6 +102,117 @@ static void each_search_dir(bool (*visit)(const char *dir, void *ctx), void *ctx
     }
 }
 
+/* ---- roles ---------------------------------------------------------------- */
+
+static const struct {
+    const char *name, *summary;
+} roles[] = {
+    [TSR_SPU_ROLE_NONE] = {"none", "sends to no node: its node has no to:"},
+    [TSR_SPU_ROLE_SERVER] = {"server", "streams to the one server its node's to: names"},
+    [TSR_SPU_ROLE_SERVERS] = {"servers", "streams to every server its node's to: names"},
+    [TSR_SPU_ROLE_TILED_SERVERS] = {"tiled servers",
+                                    "sorts its stream among the servers its node's to: names, "
+                                    "each of which has tiles:"},
+    [TSR_SPU_ROLE_DISPLAY] = {"display", "sends its node's tile images to the one display node "
+                                         "its to: names"},
+    [TSR_SPU_ROLE_PEERS] = {"peers", "one of the peers that send to the one display node their "
+                                     "to: names; knows every peer's address and its rank"},
+};
+#define ROLE_COUNT (sizeof roles / sizeof roles[0])
+
+const char *tsr_spu_role_name(tsr_spu_role role) {
+    return (unsigned)role < ROLE_COUNT ? roles[role].name : "unknown";
+}
+
+const char *tsr_spu_role_summary(tsr_spu_role role) {
+    return (unsigned)role < ROLE_COUNT ? roles[role].summary : "unknown role";
+}
+
+/* One option a graph run fills: declared by the class, of an allowed type. */
+static int check_filled_option(const tsr_spu_class *cls, const char *what, const char *option,
+                               tsr_option_type type, tsr_option_type other, tsr_error *err) {
+    if (!option)
+        return TSR_OK;
+    for (size_t i = 0; i < cls->option_count; i++) {
+        const tsr_option_spec *spec = &cls->options[i];
+        if (strcmp(spec->name, option))
+            continue;
+        if (spec->type == type || spec->type == other)
+            return TSR_OK;
+        return tsr_error_set(err, TSR_EINVAL,
+                             "%s: network.%s names option '%s', which is not a %s option", cls->name,
+                             what, option,
+                             type == TSR_OPT_INT           ? "int"
+                             : type == TSR_OPT_STRING_LIST ? "string list"
+                                                           : "string");
+    }
+    return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which it does not declare",
+                         cls->name, what, option);
+}
+
+/* The role and the options a graph run fills (tessera/spu.h). */
+static int check_network(const tsr_spu_class *cls, tsr_error *err) {
+    const tsr_spu_network *n = &cls->network;
+    if ((unsigned)n->role >= ROLE_COUNT)
+        return tsr_error_set(err, TSR_EINVAL, "%s: unknown network role %d", cls->name, (int)n->role);
+    const struct {
+        const char *what, *option;
+        tsr_option_type type, other;
+    } filled[] = {
+        {"server", n->server, TSR_OPT_STRING, TSR_OPT_STRING},
+        {"servers", n->servers, TSR_OPT_STRING_LIST, TSR_OPT_STRING_LIST},
+        {"display", n->display, TSR_OPT_STRING, TSR_OPT_STRING},
+        {"token", n->token, TSR_OPT_STRING, TSR_OPT_STRING},
+        {"tiles", n->tiles, TSR_OPT_STRING, TSR_OPT_STRING_LIST},
+        {"server_tiles", n->server_tiles, TSR_OPT_STRING, TSR_OPT_STRING_LIST},
+        {"rank", n->rank, TSR_OPT_INT, TSR_OPT_INT},
+        {"peers", n->peers, TSR_OPT_STRING_LIST, TSR_OPT_STRING_LIST},
+    };
+    for (size_t i = 0; i < sizeof filled / sizeof filled[0]; i++) {
+        int rc = check_filled_option(cls, filled[i].what, filled[i].option, filled[i].type,
+                                     filled[i].other, err);
+        if (rc != TSR_OK)
+            return rc;
+        for (size_t j = 0; j < i; j++)
+            if (filled[i].option && filled[j].option && !strcmp(filled[i].option, filled[j].option))
+                return tsr_error_set(err, TSR_EINVAL,
+                                     "%s: network.%s and network.%s both name option '%s'",
+                                     cls->name, filled[j].what, filled[i].what, filled[i].option);
+    }
+    /* What each role needs filled to reach its nodes. */
+    const char *missing = NULL;
+    switch (n->role) {
+    case TSR_SPU_ROLE_NONE:
+        if (n->server || n->servers || n->display || n->token || n->server_tiles || n->rank ||
+            n->peers)
+            return tsr_error_set(err, TSR_EINVAL,
+                                 "%s: network role none sends to no node, so it names no address, "
+                                 "token, server tiles, rank or peers option (only tiles)",
+                                 cls->name);
+        break;
+    case TSR_SPU_ROLE_SERVER:
+        missing = !n->server ? "server" : NULL;
+        break;
+    case TSR_SPU_ROLE_SERVERS:
+        missing = !n->servers ? "servers" : NULL;
+        break;
+    case TSR_SPU_ROLE_TILED_SERVERS:
+        missing = !n->servers ? "servers" : !n->server_tiles ? "server_tiles" : NULL;
+        break;
+    case TSR_SPU_ROLE_DISPLAY:
+        missing = !n->display ? "display" : NULL;
+        break;
+    case TSR_SPU_ROLE_PEERS:
+        missing = !n->display ? "display" : !n->peers ? "peers" : !n->rank ? "rank" : NULL;
+        break;
+    }
+    if (missing)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "%s: network role %s needs network.%s (the option a graph run fills)",
+                             cls->name, tsr_spu_role_name(n->role), missing);
+    return TSR_OK;
+}
+
 /* ---- checks --------------------------------------------------------------- */
 
 int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error *err) {
@@ -126,7 +237,8 @@ int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error 
     if (!cls->create || !cls->destroy)
         return tsr_error_set(err, TSR_EINVAL, "%s: class has no %s function", cls->name,
                              cls->create ? "destroy" : "create");
-    return tsr_option_specs_check(cls->name, cls->options, cls->option_count, err);
+    int rc = tsr_option_specs_check(cls->name, cls->options, cls->option_count, err);
+    return rc == TSR_OK ? check_network(cls, err) : rc;
 }
 
 /* ---- the caches (loader_lock held) ------------------------------------ */

@@ -48,8 +48,12 @@ extern "C" {
 
 /* Bumped whenever tsr_spu_class or tsr_spu_init change incompatibly or the
  * dispatch table layout changes (the spec's command list is part of the ABI:
- * the loader also compares TSR_DISPATCH_COUNT). */
-#define TSR_SPU_ABI 1u
+ * the loader also compares TSR_DISPATCH_COUNT). `abi` stays the first member
+ * of tsr_spu_class, so a plugin of any ABI is read that far and refused with
+ * one line naming it and both versions.
+ *   1  the first
+ *   2  tsr_spu_class.network: roles instead of names known to the core */
+#define TSR_SPU_ABI 2u
 
 #define TSR_SPU_EXPORT __attribute__((visibility("default")))
 #define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
@@ -62,8 +66,68 @@ typedef struct tsr_spu_init {
     tsr_dispatch *table;          /* set the slots this SPU implements */
 } tsr_spu_init;
 
+/* --- Network roles ---------------------------------------------------------
+ * What a graph (tessera/graph.h) and the mothership need to know about an
+ * SPU that talks to other nodes, declared by the SPU itself: nothing outside
+ * spus/ knows an SPU by its name, so a third party's network SPU works in a
+ * graph like the built-in ones.
+ *
+ * The role says what a node's `to:` means for the first SPU of its chain
+ * that has a role other than NONE (the node's network SPU), and which graph
+ * rules apply. */
+typedef enum tsr_spu_role {
+    /* Sends to no node (filters, renderers): a node whose chain has only
+     * these may not have `to:`. The role of a zeroed class. */
+    TSR_SPU_ROLE_NONE = 0,
+    /* Streams to one server: `to:` names one node (`tessera run` refuses
+     * more) (pack). */
+    TSR_SPU_ROLE_SERVER,
+    /* Streams to every server `to:` names, one or more (replicate). */
+    TSR_SPU_ROLE_SERVERS,
+    /* Sorts its stream among tiled servers: every node `to:` names has
+     * `tiles:` (tilesort). */
+    TSR_SPU_ROLE_TILED_SERVERS,
+    /* Sends its node's own tile images to one display node, where the
+     * final image goes: `to:` names exactly one node, and the nodes sending
+     * to one display this way own disjoint tiles (readback). */
+    TSR_SPU_ROLE_DISPLAY,
+    /* One of a group of peers: the nodes whose network SPU sends to the
+     * same display node with this role (`to:` names exactly that one).
+     * Each is told every peer's address, in rank order, and its own rank;
+     * peers are servers, so each has an address (sort-last compositing). */
+    TSR_SPU_ROLE_PEERS,
+} tsr_spu_role;
+
+/* The role, and the options the mothership fills when a graph runs: each
+ * member names an option of this class (declared by the class itself, of
+ * the type given) or is NULL. A filled option replaces whatever the graph
+ * file gave it. Only the node's network SPU gets addresses, the token and
+ * a rank; every SPU of a node's chain that names `tiles` gets the node's
+ * own tiles (when it has any). The loader checks this against `options`
+ * (tsr_spu_class_check): a role's address option is required, a role of
+ * NONE names only `tiles`. */
+typedef struct tsr_spu_network {
+    tsr_spu_role role;
+    const char *server;       /* STRING: the one server's address (ROLE_SERVER) */
+    const char *servers;      /* STRING_LIST: every server's address, in `to:` order
+                                 (ROLE_SERVERS, ROLE_TILED_SERVERS) */
+    const char *display;      /* STRING: the display node's address (ROLE_DISPLAY,
+                                 ROLE_PEERS) */
+    const char *token;        /* STRING: the run's token, when it has one */
+    const char *tiles;        /* STRING or STRING_LIST: this node's own tiles,
+                                 "X:Y:W:H,..." (tessera/tiles.h), when it has `tiles:` */
+    const char *server_tiles; /* STRING or STRING_LIST: every server's tiles,
+                                 "S:X:Y:W:H,..." with S the server's index in `to:`
+                                 (required by ROLE_TILED_SERVERS) */
+    const char *rank;         /* INT: this node's place, from 0, among the nodes that
+                                 send to its display with the same role (in the
+                                 graph's file order); rank 0 ends frames */
+    const char *peers;        /* STRING_LIST: every peer's address in rank order,
+                                 this node's own included (required by ROLE_PEERS) */
+} tsr_spu_network;
+
 typedef struct tsr_spu_class {
-    uint32_t abi;                   /* TSR_SPU_ABI */
+    uint32_t abi;                   /* TSR_SPU_ABI; always the first member */
     uint32_t dispatch_count;        /* TSR_DISPATCH_COUNT (0 = not checked) */
     const char *name;               /* [a-z0-9_]+ */
     const char *super;              /* name of the SPU inherited from, or NULL */
@@ -74,6 +138,9 @@ typedef struct tsr_spu_class {
      * with `err` filled. */
     void *(*create)(const tsr_spu_init *init, tsr_error *err);
     void (*destroy)(void *instance);
+    /* Its role in a graph and the options a graph run fills (above); all
+     * zero for an SPU that sends to no node. */
+    tsr_spu_network network;
 } tsr_spu_class;
 
 typedef const tsr_spu_class *(*tsr_spu_describe_fn)(void);
@@ -94,6 +161,15 @@ TSR_API const tsr_spu_class *tsr_spu_find(const char *name, tsr_error *err);
 TSR_API size_t tsr_spu_list(const tsr_spu_class **out, size_t max);
 /* The directories searched, in order, joined by ':' into `buf`. */
 TSR_API const char *tsr_spu_search_path(char *buf, size_t size);
+
+/* --- Roles ------------------------------------------------------------------ */
+
+/* "none", "server", "servers", "tiled servers", "display", "peers"; "unknown"
+ * outside the enum. */
+TSR_API const char *tsr_spu_role_name(tsr_spu_role role);
+/* What the role means in a graph, one phrase ("streams to the one server
+ * its node's to: names"), for listings and messages. */
+TSR_API const char *tsr_spu_role_summary(tsr_spu_role role);
 
 /* --- Checking options without building a chain (graph checks) -------------
  * Both use the parser chains use, so options that check build a chain that

@@ -45,6 +45,10 @@ static const tsr_spu_class pack_class = {
     .option_count = sizeof pack_options / sizeof pack_options[0],
     .create = pack_create,
     .destroy = pack_destroy,
+    /* One server: a graph run points `server` at the node's to: and gives
+     * it the run's token. */
+    .network = {.role = TSR_SPU_ROLE_SERVER, .server = "server",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)

@@ -216,6 +216,12 @@ static const tsr_spu_class readback_class = {
     .option_count = sizeof readback_options / sizeof readback_options[0],
     .create = readback_create,
     .destroy = readback_destroy,
+    /* A tile server sending its images to one display: `server` is the
+     * display's address, `tiles` this node's own tiles (render draws them)
+     * and `rank` its place among the display's senders (rank 0 swaps).
+     * `peers` here counts the barrier's clients: not the role's peers. */
+    .network = {.role = TSR_SPU_ROLE_DISPLAY, .display = "server", .tiles = "tiles",
+                .rank = "rank", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &readback_class; }

@@ -17,6 +17,8 @@ static const tsr_spu_class render_class = {
     .option_count = sizeof render_options / sizeof render_options[0],
     .create = render_plugin_create,
     .destroy = render_spu_destroy,
+    /* Sends to no node; a server's own tiles: go to `tiles`. */
+    .network = {.role = TSR_SPU_ROLE_NONE, .tiles = "tiles"},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &render_class; }

@@ -152,6 +152,10 @@ static const tsr_spu_class replicate_class = {
     .option_count = sizeof replicate_options / sizeof replicate_options[0],
     .create = replicate_create,
     .destroy = replicate_destroy,
+    /* Every server of the node's to:, in order (late joiners are not the
+     * graph's: `late` stays as written). */
+    .network = {.role = TSR_SPU_ROLE_SERVERS, .servers = "servers",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)

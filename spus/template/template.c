@@ -116,6 +116,11 @@ static const tsr_spu_class template_class = {
     .option_count = sizeof template_options / sizeof template_options[0],
     .create = template_create,
     .destroy = template_destroy,
+    /* Its role in a graph (tessera/spu.h): it sends to no node. A network
+     * SPU names its role and the options a graph run fills, e.g. one that
+     * streams to one server: {.role = TSR_SPU_ROLE_SERVER, .server =
+     * "server", .token = "token"}. */
+    .network = {.role = TSR_SPU_ROLE_NONE},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &template_class; }

@@ -573,6 +573,10 @@ static const tsr_spu_class tilesort_class = {
     .option_count = sizeof tilesort_options / sizeof tilesort_options[0],
     .create = tilesort_create,
     .destroy = tilesort_destroy,
+    /* Tiled servers: the node's to: in order, and every server's tiles:
+     * as SERVER:X:Y:W:H in `tiles`. */
+    .network = {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "servers",
+                .server_tiles = "tiles", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)

@@ -99,9 +99,13 @@ typedef struct tsr_stream_client_config {
 
 /* The options every stream client SPU shares, as tsr_option_spec
  * initialisers to put in the SPU's own option array (after its own way of
- * naming servers), and the call that reads them into a config. */
+ * naming servers), and the call that reads them into a config. The token
+ * option's name is the one to give tsr_spu_network.token (tessera/spu.h):
+ * a graph run fills it with the run's token. */
+#define TSR_NODE_CLIENT_TOKEN_OPTION "token"
 #define TSR_NODE_CLIENT_OPTION_SPECS                                                               \
-    {.name = "token", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,            \
+    {.name = TSR_NODE_CLIENT_TOKEN_OPTION, .type = TSR_OPT_STRING, .default_value = "", .min = 1,  \
+     .max = 0,                                                                                     \
      .help = "shared token the servers require (empty: none)"},                                   \
     {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "1048576", .min = 256,          \
      .max = 67108864.0, .help = "bytes of one wire buffer (header, opcodes and data)"},           \
