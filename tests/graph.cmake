@@ -11,7 +11,7 @@ target_link_libraries(graph_model_test PRIVATE tessera_graph tessera)
 foreach(t reads_nodes_chain_options_edges defaults_apply_and_nodes_override
           edges_both_ways_and_start_order exec_string_is_split_like_a_shell
           list_option_values_use_chain_text chain_builds_from_the_model
-          every_truncation_fails_cleanly network_spus_are_known)
+          every_truncation_fails_cleanly network_spus_are_known roles_decide_the_graph_rules)
   add_test(NAME graph_model_${t} COMMAND graph_model_test ${t})
 endforeach()
 
@@ -53,4 +53,5 @@ add_test(NAME graph_cli_exit_codes
                  ${GRAPH_EXAMPLE_DIR}/local.yaml ${GRAPH_TEST_DIR}/bad/unknown_node_key.yaml)
 
 # The CLI finds plugins in the build tree; make sure they are built.
-add_dependencies(graph_model_test spu_passthrough spu_render)
+add_dependencies(graph_model_test spu_passthrough spu_render spu_pack spu_replicate spu_tilesort
+  spu_readback)

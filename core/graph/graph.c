@@ -37,6 +37,9 @@ typedef struct node_source {
     yaml_node_t *to_key;      /* NULL when the node has no `to:` */
     yaml_node_t **to_names;   /* scalars, to_count of them */
     yaml_node_t *network_spu; /* first network SPU of the chain, or NULL */
+    const tsr_spu_class *network; /* its class: its role (tessera/spu.h) */
+    bool role_unknown;        /* TSR_GRAPH_NO_SPU_CHECK: an SPU of the chain is not
+                                 installed here, so the node's role is unknown */
     yaml_node_t *server_key;  /* first of transport/listen/tiles set on the node */
     yaml_node_t *listen_value;
     yaml_node_t **tile_values; /* one sequence per tile */
@@ -53,27 +56,32 @@ typedef struct loader {
     node_source *sources; /* one per node */
 } loader;
 
-/* The SPUs that send to other nodes. Kept here, in one place, until the
- * SPU class can say so itself. */
-static const char *const network_spus[] = {"pack", "replicate", "tilesort", "binaryswap",
-                                           "readback"};
-#define NETWORK_SPU_COUNT (sizeof network_spus / sizeof network_spus[0])
-
+/* Whether an SPU sends to other nodes is its class's to say (its network
+ * role, tessera/spu.h): no SPU is known here by name. */
 bool tsr_spu_is_network(const char *spu_name) {
     if (!spu_name)
         return false;
-    for (size_t i = 0; i < NETWORK_SPU_COUNT; i++)
-        if (!strcmp(spu_name, network_spus[i]))
-            return true;
-    return false;
+    tsr_error ignored;
+    tsr_error_clear(&ignored);
+    const tsr_spu_class *cls = tsr_spu_find(spu_name, &ignored);
+    return cls && cls->network.role != TSR_SPU_ROLE_NONE;
 }
 
-/* "pack, replicate, ..." for messages. */
+/* The installed network SPUs, "pack, replicate, ..." (sorted), for
+ * messages; "none installed" when there are none. */
 static const char *network_spu_list(char *buf, size_t size) {
+    const tsr_spu_class *classes[256];
+    size_t count = tsr_spu_list(classes, sizeof classes / sizeof classes[0]);
+    if (count > sizeof classes / sizeof classes[0])
+        count = sizeof classes / sizeof classes[0];
     size_t used = 0;
     buf[0] = '\0';
-    for (size_t i = 0; i < NETWORK_SPU_COUNT && used < size; i++)
-        used += (size_t)snprintf(buf + used, size - used, "%s%s", i ? ", " : "", network_spus[i]);
+    for (size_t i = 0; i < count && used < size; i++)
+        if (classes[i]->network.role != TSR_SPU_ROLE_NONE)
+            used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                     classes[i]->name);
+    if (!buf[0])
+        snprintf(buf, size, "none installed");
     return buf;
 }
 
@@ -478,7 +486,7 @@ static bool is_spu_name(const char *name) {
  * parser chains use, so a graph that checks builds a chain that works. */
 static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_chain_link *link,
                               yaml_node_t *spu_node, yaml_node_t **key_nodes,
-                              yaml_node_t **value_nodes) {
+                              yaml_node_t **value_nodes, const tsr_spu_class **found) {
     /* The loader's and option parser's messages name the SPU already. */
     char where[120];
     snprintf(where, sizeof where, "node '%s'", node->name);
@@ -487,6 +495,7 @@ static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_c
     const tsr_spu_class *cls = tsr_spu_find(link->spu, &e);
     if (!cls)
         return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
+    *found = cls;
     /* The class itself first (its supers, its defaults). */
     if (tsr_spu_check_options(cls, NULL, NULL, 0, &e) != TSR_OK)
         return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
@@ -501,6 +510,31 @@ static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_c
     /* The whole set once more, as the chain will parse it. */
     if (tsr_spu_check_options(cls, link->keys, link->values, link->option_count, &e) != TSR_OK)
         return fail_at(l, spu_node, e.code, "%s: %s", where, e.message);
+    return TSR_OK;
+}
+
+/* The link's class, checked (checks on) or only looked up for its role
+ * (TSR_GRAPH_NO_SPU_CHECK: an SPU that is not installed here leaves the
+ * node's role unknown); the first with a network role is the node's
+ * network SPU. */
+static int link_class(loader *l, const tsr_graph_node *node, node_source *src,
+                      const tsr_chain_link *link, yaml_node_t *spu_node, yaml_node_t **key_nodes,
+                      yaml_node_t **value_nodes) {
+    const tsr_spu_class *cls = NULL;
+    if (!(l->flags & TSR_GRAPH_NO_SPU_CHECK)) {
+        int rc = check_link_options(l, node, link, spu_node, key_nodes, value_nodes, &cls);
+        if (rc != TSR_OK)
+            return rc;
+    } else {
+        tsr_error ignored;
+        tsr_error_clear(&ignored);
+        cls = tsr_spu_find(link->spu, &ignored);
+        src->role_unknown |= !cls;
+    }
+    if (cls && cls->network.role != TSR_SPU_ROLE_NONE && !src->network_spu) {
+        src->network_spu = spu_node;
+        src->network = cls;
+    }
     return TSR_OK;
 }
 
@@ -532,8 +566,6 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
     snprintf(where, sizeof where, "node '%s': SPU '%s'", node->name, name);
     if (!(link->spu = graph_strdup(l->graph, name)))
         return out_of_memory(l, spu_node);
-    if (tsr_spu_is_network(name) && !src->network_spu)
-        src->network_spu = spu_node;
     if (options) {
         int rc = expect_kind(l, options, YAML_MAPPING_NODE, where);
         if (rc != TSR_OK)
@@ -578,15 +610,13 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
         link->keys = keys;
         link->values = values;
         link->option_count = rc == TSR_OK ? count : 0;
-        if (rc == TSR_OK && !(l->flags & TSR_GRAPH_NO_SPU_CHECK))
-            rc = check_link_options(l, node, link, spu_node, key_nodes, value_nodes);
+        if (rc == TSR_OK)
+            rc = link_class(l, node, src, link, spu_node, key_nodes, value_nodes);
         free(key_nodes);
         free(value_nodes);
         return rc;
     }
-    if (!(l->flags & TSR_GRAPH_NO_SPU_CHECK))
-        return check_link_options(l, node, link, spu_node, NULL, NULL);
-    return TSR_OK;
+    return link_class(l, node, src, link, spu_node, NULL, NULL);
 }
 
 static int parse_chain(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v) {
@@ -928,27 +958,29 @@ static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b) {
            b->y < a->y + a->height;
 }
 
-/* A display wall (spus/readback): a readback node sends its tile images to
- * ONE display node, and the nodes whose images meet on one display own
- * disjoint parts of the window (a node without tiles sends all of it), or
- * the assembled window would depend on which image arrived last. */
-static int check_readback(loader *l, size_t i) {
+/* The role of node `i`'s network SPU; NONE without one. */
+static tsr_spu_role role_of(const loader *l, size_t i) {
+    return l->sources[i].network ? l->sources[i].network->network.role : TSR_SPU_ROLE_NONE;
+}
+
+/* ROLE_DISPLAY: the node sends its tile images to ONE display node, and
+ * the nodes whose images meet on one display own disjoint parts of the
+ * window (a node without tiles sends all of it), or the assembled window
+ * would depend on which image arrived last. */
+static int check_display(loader *l, size_t i) {
     tsr_graph *g = l->graph;
     const tsr_graph_node *node = &g->nodes[i];
     const node_source *src = &l->sources[i];
-    if (!src->network_spu || strcmp(scalar_text(src->network_spu), "readback"))
-        return TSR_OK;
     if (node->to_count != 1)
         return fail_at(l, src->to_key, TSR_EINVAL,
-                       "node '%s': readback sends its tile images to one display node, but 'to' "
+                       "node '%s': %s sends its tile images to one display node, but 'to' "
                        "names %zu",
-                       node->name, node->to_count);
+                       node->name, scalar_text(src->network_spu), node->to_count);
     const tsr_graph_node *display = &g->nodes[node->to[0]];
     tsr_graph_tile whole = {0, 0, g->width, g->height};
     for (size_t f = 0; f < display->from_count && display->from[f] < i; f++) {
         const tsr_graph_node *other = &g->nodes[display->from[f]];
-        const node_source *osrc = &l->sources[display->from[f]];
-        if (!osrc->network_spu || strcmp(scalar_text(osrc->network_spu), "readback"))
+        if (role_of(l, display->from[f]) != TSR_SPU_ROLE_DISPLAY)
             continue;
         size_t na = node->tile_count ? node->tile_count : 1;
         size_t nb = other->tile_count ? other->tile_count : 1;
@@ -969,7 +1001,50 @@ static int check_readback(loader *l, size_t i) {
     return TSR_OK;
 }
 
-/* Roles: who may have `to:`, server-only keys, every server fed. */
+/* What `to:` must hold for the node's network SPU's role (tessera/spu.h). */
+static int check_role(loader *l, size_t i) {
+    tsr_graph *g = l->graph;
+    const tsr_graph_node *node = &g->nodes[i];
+    const node_source *src = &l->sources[i];
+    const char *spu = src->network_spu ? scalar_text(src->network_spu) : NULL;
+    switch (role_of(l, i)) {
+    case TSR_SPU_ROLE_NONE:
+    case TSR_SPU_ROLE_SERVERS:
+    case TSR_SPU_ROLE_SERVER: /* more than one: `tessera run` says so */
+        return TSR_OK;
+    case TSR_SPU_ROLE_TILED_SERVERS:
+        /* Sort-first: every server draws its tiles. */
+        for (size_t e = 0; e < node->to_count; e++)
+            if (g->nodes[node->to[e]].tile_count == 0)
+                return fail_at(l, src->network_spu, TSR_EINVAL,
+                               "node '%s': %s sends to server '%s', which has no 'tiles' (give it "
+                               "tiles: [[x, y, width, height]])",
+                               node->name, spu, g->nodes[node->to[e]].name);
+        return TSR_OK;
+    case TSR_SPU_ROLE_DISPLAY:
+        return check_display(l, i);
+    case TSR_SPU_ROLE_PEERS:
+        if (node->to_count != 1)
+            return fail_at(l, src->to_key, TSR_EINVAL,
+                           "node '%s': %s sends with its peers to one display node, but 'to' "
+                           "names %zu",
+                           node->name, spu, node->to_count);
+        /* Peers reach each other at their nodes' addresses. */
+        if (node->exec)
+            return fail_at(l, src->network_spu, TSR_EINVAL,
+                           "node '%s': %s is one of the peers of display '%s', which reach each "
+                           "other at their addresses, so the node must be a server (it has "
+                           "'exec')",
+                           node->name, spu, g->nodes[node->to[0]].name);
+        return TSR_OK;
+    }
+    return TSR_OK;
+}
+
+/* Roles: who may have `to:`, server-only keys, every server fed, and what
+ * each network SPU's role asks of `to:` (check_role). A node whose role is
+ * unknown (TSR_GRAPH_NO_SPU_CHECK, an SPU not installed here) is spared the
+ * rules about `to:`. */
 static int check_roles(loader *l) {
     tsr_graph *g = l->graph;
     for (size_t i = 0; i < g->node_count; i++) {
@@ -981,7 +1056,7 @@ static int check_roles(loader *l) {
                            "is missing or empty)",
                            node->name, scalar_text(src->network_spu));
         char list[200];
-        if (!src->network_spu && src->to_key)
+        if (!src->network_spu && src->to_key && !src->role_unknown)
             return fail_at(l, src->to_key, TSR_EINVAL,
                            "node '%s' has 'to' but no network SPU in its chain to send with (%s)",
                            node->name, network_spu_list(list, sizeof list));
@@ -995,15 +1070,7 @@ static int check_roles(loader *l) {
                            "server '%s' receives from no node: no 'to' names it (an app node "
                            "needs 'exec')",
                            node->name);
-        /* Sort-first: every server of a tilesort node draws its tiles. */
-        if (src->network_spu && !strcmp(scalar_text(src->network_spu), "tilesort"))
-            for (size_t e = 0; e < node->to_count; e++)
-                if (g->nodes[node->to[e]].tile_count == 0)
-                    return fail_at(l, src->network_spu, TSR_EINVAL,
-                                   "node '%s': tilesort sends to server '%s', which has no "
-                                   "'tiles' (give it tiles: [[x, y, width, height]])",
-                                   node->name, g->nodes[node->to[e]].name);
-        int rc = check_readback(l, i);
+        int rc = check_role(l, i);
         if (rc != TSR_OK)
             return rc;
     }

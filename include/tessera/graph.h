@@ -38,7 +38,9 @@
  *              with the same parser chains use).
  *   to:        the servers this node's network SPU sends to: a node name or
  *              a list of names. Required (non-empty) when the chain holds a
- *              network SPU (tsr_spu_is_network), forbidden otherwise.
+ *              network SPU (one whose class declares a network role,
+ *              tessera/spu.h; the first such SPU of the chain is the node's
+ *              network SPU), forbidden otherwise.
  *   host:      where the node runs (default: defaults.host, else
  *              "localhost"). Compared as text: "localhost" and "127.0.0.1"
  *              are different hosts here.
@@ -62,10 +64,15 @@
  *
  * Graph rules besides the types of values: node names are unique, `to:`
  * names existing nodes other than app nodes, each at most once; the edges
- * have no cycle; every server is sent to by at least one node. A node
- * whose network SPU is readback (a tile server streaming its tile images
- * to a display node) sends to exactly one node, and the readback nodes of
- * one display own disjoint tiles (no tiles: the whole window).
+ * have no cycle; every server is sent to by at least one node. The role
+ * its network SPU's class declares (tsr_spu_network.role) asks more of a
+ * node: tiled servers (TSR_SPU_ROLE_TILED_SERVERS, tilesort) — every server it
+ * names has `tiles:`; a display (TSR_SPU_ROLE_DISPLAY, readback: a tile
+ * server streaming its tile images) — `to:` names exactly one node, and
+ * the nodes sending to one display this way own disjoint tiles (no tiles:
+ * the whole window); peers (TSR_SPU_ROLE_PEERS) — `to:` names exactly one
+ * display, and the node is a server (peers reach each other at their
+ * addresses). No rule knows an SPU by name.
  *
  * The model is immutable once loaded; strings and arrays live as long as
  * the graph. Nodes keep their position in the file so later errors (a node
@@ -98,8 +105,10 @@ typedef enum tsr_transport {
 
 /* Flags for tsr_graph_load / tsr_graph_parse. */
 enum {
-    /* Check the structure only: SPU names must be well formed, but are not
-     * looked up, and their options are not checked. For drawing or
+    /* Check the structure only: SPU names must be well formed, and their
+     * options are not checked. SPUs are looked up only for their network
+     * roles; a node whose chain holds an SPU that is not installed here
+     * has no known role, and the rules about `to:` skip it. For drawing or
      * checking graphs whose SPUs are not installed here. */
     TSR_GRAPH_NO_SPU_CHECK = 1u << 0,
 };
@@ -159,9 +168,10 @@ TSR_API const size_t *tsr_graph_start_order(const tsr_graph *graph);
 
 /* "tcp", "unix", "inproc". */
 TSR_API const char *tsr_transport_name(tsr_transport transport);
-/* True for SPUs that send their stream to other nodes (pack, replicate,
- * tilesort, binaryswap, readback): a chain holding one needs `to:`. The
- * one place that knows this list. */
+/* True when the SPU called `spu_name` is found (tsr_spu_find) and its class
+ * declares a network role (tsr_spu_network.role other than
+ * TSR_SPU_ROLE_NONE): a chain holding one needs `to:`. False for NULL and
+ * for SPUs that cannot be found. */
 TSR_API bool tsr_spu_is_network(const char *spu_name);
 
 #ifdef __cplusplus

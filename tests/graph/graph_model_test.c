@@ -9,6 +9,7 @@
 
 #include "tessera/chain.h"
 #include "tessera/graph.h"
+#include "tessera/spu.h"
 
 #include "harness.h"
 
@@ -239,7 +240,132 @@ static void every_truncation_fails_cleanly(void) {
     CHECK(ok >= 1); /* at least the whole text */
 }
 
+/* Classes registered in-process, one per network role, none of them known
+ * to the core by name: what a third party's network SPU declares. */
+static void *role_create(const tsr_spu_init *init, tsr_error *err) {
+    (void)init;
+    void *self = malloc(1);
+    if (!self)
+        tsr_error_set(err, TSR_ENOMEM, "out of memory");
+    return self;
+}
+static void role_destroy(void *self) { free(self); }
+
+static const tsr_option_spec role_options[] = {
+    {.name = "to_one", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0},
+    {.name = "to_all", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
+    {.name = "own", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0},
+    {.name = "theirs", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
+    {.name = "place", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 1000},
+    {.name = "group", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
+};
+#define ROLE_CLASS(id, ...)                                                                        \
+    {.abi = TSR_SPU_ABI, .name = id, .summary = "test role", .options = role_options,             \
+     .option_count = sizeof role_options / sizeof role_options[0], .create = role_create,          \
+     .destroy = role_destroy, .network = __VA_ARGS__}
+static const tsr_spu_class role_classes[] = {
+    ROLE_CLASS("t_one", {.role = TSR_SPU_ROLE_SERVER, .server = "to_one"}),
+    ROLE_CLASS("t_all", {.role = TSR_SPU_ROLE_SERVERS, .servers = "to_all"}),
+    ROLE_CLASS("t_tiled", {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "to_all",
+                           .server_tiles = "theirs"}),
+    ROLE_CLASS("t_display", {.role = TSR_SPU_ROLE_DISPLAY, .display = "to_one", .tiles = "own",
+                             .rank = "place"}),
+    ROLE_CLASS("t_peers", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place",
+                           .peers = "group"}),
+    ROLE_CLASS("t_filter", {.role = TSR_SPU_ROLE_NONE, .tiles = "own"}),
+    /* the coming sort-last SPU, under its name */
+    ROLE_CLASS("binaryswap", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place",
+                              .peers = "group"}),
+};
+
+static void register_role_classes(void) {
+    for (size_t i = 0; i < sizeof role_classes / sizeof role_classes[0]; i++) {
+        tsr_error err;
+        tsr_error_clear(&err);
+        int rc = tsr_spu_register(&role_classes[i], &err);
+        if (rc != TSR_OK)
+            fprintf(stderr, "register %s: %s\n", role_classes[i].name, err.message);
+        CHECK(rc == TSR_OK);
+    }
+}
+
+/* A graph around one app node whose chain is `spu`, sending to the nodes
+ * of `to` (YAML), with `servers` (YAML node entries) after it. */
+static int graph_checks(const char *spu, const char *to, const char *servers) {
+    char text[2048];
+    snprintf(text, sizeof text,
+             "version: 1\n"
+             "window: {width: 64, height: 32}\n"
+             "nodes:\n"
+             "  app:\n"
+             "    exec: bin/spheres\n"
+             "    chain: [%s]\n"
+             "    to: %s\n"
+             "%s",
+             spu, to, servers);
+    tsr_error err;
+    tsr_error_clear(&err);
+    tsr_graph *g = tsr_graph_parse(text, strlen(text), "roles.yaml", 0, &err);
+    tsr_graph_free(g);
+    return g ? TSR_OK : err.code;
+}
+
+#define SERVER(name, tiles) "  " name ":\n    chain: [t_filter]\n" tiles
+#define TILE(x) "    tiles: [[" #x ", 0, 32, 32]]\n"
+
+/* The graph's rules follow each class's declared role, whatever its name:
+ * one server, every server, tiled servers, a display, a group of peers. */
+static void roles_decide_the_graph_rules(void) {
+    register_role_classes();
+    const char *two = SERVER("a", TILE(0)) SERVER("b", TILE(32));
+    /* one server */
+    CHECK(graph_checks("t_one", "a", SERVER("a", "")) == TSR_OK);
+    /* every server: any number */
+    CHECK(graph_checks("t_all", "[a, b]", two) == TSR_OK);
+    /* tiled servers: every one has tiles */
+    CHECK(graph_checks("t_tiled", "[a, b]", two) == TSR_OK);
+    CHECK(graph_checks("t_tiled", "[a, b]", SERVER("a", TILE(0)) SERVER("b", "")) == TSR_EINVAL);
+    /* no role: no to: */
+    CHECK(graph_checks("t_filter", "[a]", SERVER("a", "")) == TSR_EINVAL);
+    /* display: tile servers sending to one display, disjoint tiles */
+    const char *wall = "  a:\n    chain: [t_display]\n    to: d\n" TILE(0)
+                       "  b:\n    chain: [t_display]\n    to: d\n" TILE(32)
+                       "  d:\n    chain: [t_filter]\n";
+    CHECK(graph_checks("t_all", "[a, b]", wall) == TSR_OK);
+    const char *overlap = "  a:\n    chain: [t_display]\n    to: d\n" TILE(0)
+                          "  b:\n    chain: [t_display]\n    to: d\n" TILE(16)
+                          "  d:\n    chain: [t_filter]\n";
+    CHECK(graph_checks("t_all", "[a, b]", overlap) == TSR_EINVAL);
+    const char *two_displays = "  a:\n    chain: [t_display]\n    to: [d, e]\n"
+                               "  d:\n    chain: [t_filter]\n  e:\n    chain: [t_filter]\n";
+    CHECK(graph_checks("t_one", "a", two_displays) == TSR_EINVAL);
+    /* peers: servers sending to one display (overlap is theirs to sort out) */
+    const char *peers = "  a:\n    chain: [t_peers]\n    to: d\n"
+                        "  b:\n    chain: [t_peers]\n    to: d\n"
+                        "  d:\n    chain: [t_filter]\n";
+    CHECK(graph_checks("t_all", "[a, b]", peers) == TSR_OK);
+    const char *peers_two = "  a:\n    chain: [t_peers]\n    to: [d, e]\n"
+                            "  d:\n    chain: [t_filter]\n  e:\n    chain: [t_filter]\n";
+    CHECK(graph_checks("t_one", "a", peers_two) == TSR_EINVAL);
+    /* an app node cannot be a peer: it has no address */
+    CHECK(graph_checks("t_peers", "d", "  d:\n    chain: [t_filter]\n") == TSR_EINVAL);
+    /* Structure only: an SPU not installed here has no known role, so its
+     * node's to: is neither required nor refused. */
+    static const char unknown[] = "version: 1\n"
+                                  "nodes:\n"
+                                  "  app: {exec: bin/spheres, chain: [not_installed_here], to: s}\n"
+                                  "  s: {chain: [render]}\n";
+    tsr_error err;
+    tsr_error_clear(&err);
+    tsr_graph *g = tsr_graph_parse(unknown, strlen(unknown), "unknown.yaml", TSR_GRAPH_NO_SPU_CHECK,
+                                   &err);
+    CHECK(g != NULL);
+    tsr_graph_free(g);
+    CHECK(!tsr_graph_parse(unknown, strlen(unknown), "unknown.yaml", 0, &err));
+}
+
 static void network_spus_are_known(void) {
+    register_role_classes(); /* binaryswap: the coming sort-last SPU's role */
     const char *network[] = {"pack", "replicate", "tilesort", "binaryswap", "readback"};
     for (size_t i = 0; i < 5; i++)
         CHECK(tsr_spu_is_network(network[i]));
@@ -260,6 +386,7 @@ int main(int argc, char **argv) {
         {"chain_builds_from_the_model", chain_builds_from_the_model},
         {"every_truncation_fails_cleanly", every_truncation_fails_cleanly},
         {"network_spus_are_known", network_spus_are_known},
+        {"roles_decide_the_graph_rules", roles_decide_the_graph_rules},
     };
     if (argc != 2) {
         fprintf(stderr, "usage: %s TEST\n", argv[0]);
