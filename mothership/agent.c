@@ -21,6 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "tessera/chain.h"
 #include "tessera/dev/util.h"
 #include "mothership.h"
 #include "net.h"
@@ -117,6 +118,71 @@ static int make_tmpdir(agent *a, tsr_error *err)
     return TSR_OK;
 }
 
+/* The chain the mothership sent as links (control.h: "link=SPU" fields,
+ * each followed by its "option=KEY=VALUE" fields). SPU names and values
+ * point into the message; keys are copies. */
+typedef struct config_chain {
+    tsr_chain_link *links;
+    size_t count;
+    const char **keys, **values; /* every link's options, in order */
+    size_t option_count;
+} config_chain;
+
+static void config_chain_free(config_chain *c)
+{
+    for (size_t i = 0; c->keys && i < c->option_count; i++)
+        free((char *)c->keys[i]);
+    free(c->links);
+    free((void *)c->keys);
+    free((void *)c->values);
+    memset(c, 0, sizeof *c);
+}
+
+static int config_chain_parse(const tsr_ctl *cfg, config_chain *c, tsr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    size_t links = 0, options = 0;
+    for (size_t i = 0; i < cfg->count; i++) {
+        links += !strcmp(cfg->keys[i], "link");
+        options += !strcmp(cfg->keys[i], "option");
+    }
+    if (!links)
+        return tsr_error_set(err, TSR_EPROTO, "CONFIG without link= (the chain)");
+    c->links = calloc(links, sizeof *c->links);
+    c->keys = calloc(options ? options : 1, sizeof *c->keys);
+    c->values = calloc(options ? options : 1, sizeof *c->values);
+    if (!c->links || !c->keys || !c->values) {
+        config_chain_free(c);
+        return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
+    }
+    for (size_t i = 0; i < cfg->count; i++) {
+        if (!strcmp(cfg->keys[i], "link")) {
+            c->links[c->count++] = (tsr_chain_link){.spu = cfg->values[i],
+                                                    .keys = c->keys + c->option_count,
+                                                    .values = c->values + c->option_count};
+            continue;
+        }
+        if (strcmp(cfg->keys[i], "option"))
+            continue;
+        const char *v = cfg->values[i];
+        size_t key_len = strcspn(v, "=");
+        if (!c->count || !v[key_len] || !key_len) {
+            config_chain_free(c);
+            return tsr_error_set(err, TSR_EPROTO, "CONFIG: option='%.60s' %s", v,
+                                 c->count ? "is not KEY=VALUE" : "comes before any link=");
+        }
+        char *key = strndup(v, key_len);
+        if (!key) {
+            config_chain_free(c);
+            return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
+        }
+        c->keys[c->option_count] = key;
+        c->values[c->option_count++] = v + key_len + 1;
+        c->links[c->count - 1].option_count++;
+    }
+    return TSR_OK;
+}
+
 /* Waits up to `ms` for a control message and handles STOP / a lost
  * mothership. Returns 0 to go on, or the exit code (err filled). */
 static int poll_control(agent *a, int ms, tsr_error *err)
@@ -207,9 +273,15 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         snprintf(address, sizeof address, "unix:%.107s", path);
         listen = address;
     }
+    config_chain chain;
+    if (config_chain_parse(cfg, &chain, err) != TSR_OK) {
+        send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+        return 2;
+    }
     tsr_node_config nc = {
         .listen = listen,
-        .chain = tsr_ctl_get(cfg, "chain"),
+        .links = chain.links,
+        .link_count = chain.count,
         .token = tsr_ctl_get(cfg, "token"),
         .name = a->name,
         .clients = (unsigned)tsr_ctl_number(cfg, "clients", 1),
@@ -218,6 +290,7 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
     };
     tsr_error e = {0};
     a->node = tsr_node_create(&nc, &e);
+    config_chain_free(&chain); /* the node copied it */
     if (!a->node) {
         tsr_error_set(err, e.code, "%s", plain(e.message));
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
@@ -394,12 +467,21 @@ static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
     }
     char stats_path[256];
     snprintf(stats_path, sizeof stats_path, "%s/stats.json", a->tmpdir);
-    const char *chain = tsr_ctl_get(cfg, "chain");
-    char *chain_var = malloc(strlen(chain ? chain : "") + sizeof "TESSERA_CHAIN=");
+    /* The application reads its chain from TESSERA_CHAIN: the links in
+     * text form. */
+    config_chain links;
+    if (config_chain_parse(cfg, &links, err) != TSR_OK) {
+        send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+        return 2;
+    }
+    char *chain = tsr_chain_links_text(links.links, links.count, err);
+    config_chain_free(&links);
+    char *chain_var = chain ? malloc(strlen(chain) + sizeof "TESSERA_CHAIN=") : NULL;
     char stats_var[300];
     snprintf(stats_var, sizeof stats_var, "TESSERA_STATS_FILE=%s", stats_path);
     if (chain_var)
-        sprintf(chain_var, "TESSERA_CHAIN=%s", chain ? chain : "");
+        sprintf(chain_var, "TESSERA_CHAIN=%s", chain);
+    free(chain);
     const char *changes[] = {chain_var ? chain_var : "TESSERA_CHAIN", stats_var, "TESSERA_TOKEN", NULL};
     char **env = chain_var ? tsr_ms_environ(changes) : NULL;
     char exec_failed[PATH_MAX + 160];
@@ -535,9 +617,9 @@ static int join_and_run(agent *a, tsr_error *err)
     } else if (kind == TSR_MS_MSG_STOP) {
         tsr_error_set(err, TSR_ESTATE, "stopped by the mothership: %s", reason ? reason : "?");
         code = 1;
-    } else if (kind != TSR_MS_MSG_CONFIG || !tsr_ctl_get(&msg, "role") || !tsr_ctl_get(&msg, "chain") ||
+    } else if (kind != TSR_MS_MSG_CONFIG || !tsr_ctl_get(&msg, "role") || !tsr_ctl_get(&msg, "link") ||
                !tsr_ctl_get(&msg, "name")) {
-        tsr_error_set(err, TSR_EPROTO, "expected CONFIG with role, chain and name from the mothership, got %s",
+        tsr_error_set(err, TSR_EPROTO, "expected CONFIG with role, link and name from the mothership, got %s",
                       tsr_ctl_kind_name(kind));
         code = 1;
     } else {

@@ -29,9 +29,17 @@
  *                       the application's TESSERA_STATS_FILE (frames,
  *                       buffers, bytes_out, blocked_seconds).
  * Mothership to node:
- *   TSR_MS_MSG_CONFIG   what to run: name=, role=server|app, chain= (the
- *                       chain text, network SPUs already pointing at their
- *                       servers), heartbeat_ms=, mkdir= (repeated:
+ *   TSR_MS_MSG_CONFIG   what to run: name=, role=server|app, the chain as
+ *                       structured links: link=SPU (repeated, first SPU
+ *                       first), each followed by its options as
+ *                       option=KEY=VALUE (repeated; VALUE in the option's
+ *                       text form, tessera/options.h), the graph's options
+ *                       with the values the mothership fills already in
+ *                       (what each SPU's class declares, tsr_spu_network:
+ *                       server addresses, token, tiles, rank, peers), so a
+ *                       node builds its chain from them
+ *                       (tsr_chain_create_links) and parses no chain text;
+ *                       heartbeat_ms=, mkdir= (repeated:
  *                       directories the chain writes into, relative to the
  *                       node's working directory), base= (repeated: where a
  *                       relative exec is looked for, in order).
@@ -44,7 +52,9 @@
  *                       (longest silence of a connected client: the
  *                       run's timeout_ms).
  *                       Apps: arg= (repeated: the exec argv), token= (put
- *                       into the chain by the mothership already).
+ *                       into the links by the mothership already); the
+ *                       application gets the links as TESSERA_CHAIN text
+ *                       (tsr_chain_links_text).
  *                       Servers get it at once; an app node only once every
  *                       server it sends to is READY.
  *   TSR_MS_MSG_STOP     the run is over for a failure elsewhere: reason=.

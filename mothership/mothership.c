@@ -63,6 +63,8 @@ typedef struct ms_node {
     double frames, buffers, bytes_in, bytes_out, busy, blocked, elapsed;
     unsigned clients;
     int app_stats; /* -1 not an app, 0 missing, 1 found */
+    const tsr_spu_class *network; /* its network SPU's class (the first with a role), or NULL */
+    size_t network_link;          /* that SPU's place in the chain (chain_length: none) */
     char *sort_first; /* a tilesort app's "sort_first" statistics (JSON), or NULL */
     double rate_t, rate_frames, rate_bytes, fps, mbps;
     int done_status;
@@ -148,28 +150,6 @@ static void sb_str(strbuf *b, const char *s)
     sb_add(b, s, strlen(s));
 }
 
-/* key="value" with the chain text's escapes (core/spu/chain.c). */
-static void sb_option(strbuf *b, const char *key, const char *value)
-{
-    sb_str(b, " ");
-    sb_str(b, key);
-    sb_str(b, "=\"");
-    for (const char *p = value; *p; p++) {
-        if (*p == '"' || *p == '\\')
-            sb_add(b, "\\", 1);
-        sb_add(b, p, 1);
-    }
-    sb_str(b, "\"");
-}
-
-static int spu_has_option(const tsr_spu_class *cls, const char *name)
-{
-    for (size_t i = 0; cls && i < cls->option_count; i++)
-        if (!strcmp(cls->options[i].name, name))
-            return 1;
-    return 0;
-}
-
 /* "X:Y:W:H" of a graph tile (tessera/tiles.h), after `prefix`. */
 static void sb_tile(strbuf *b, const char *prefix, const tsr_graph_tile *t)
 {
@@ -178,22 +158,16 @@ static void sb_tile(strbuf *b, const char *prefix, const tsr_graph_tile *t)
     sb_str(b, text);
 }
 
-/* The tiles option a node's SPUs get (tessera/tiles.h): a server's own
- * tiles "X:Y:W:H,..." for an SPU with a `tiles` option in its chain, and
- * for its clients' network SPU every server's "S:X:Y:W:H,..." (S = index
- * in `to:`). Empty when there are none. A network SPU that sends to one
- * server (a `server` option: readback) gets its own node's tiles: it
- * draws them and sends their images on. */
-static void tiles_text(const ms *m, const tsr_graph_node *g, int network, strbuf *list)
+/* The node's own tiles, "X:Y:W:H,..." (its `tiles:`). */
+static void own_tiles(const tsr_graph_node *g, strbuf *list)
 {
-    if (!network) {
-        for (size_t t = 0; t < g->tile_count; t++) {
-            if (t)
-                sb_str(list, ",");
-            sb_tile(list, "", &g->tiles[t]);
-        }
-        return;
-    }
+    for (size_t t = 0; t < g->tile_count; t++)
+        sb_tile(list, t ? "," : "", &g->tiles[t]);
+}
+
+/* Every server's tiles, "S:X:Y:W:H,..." (S = index in `to:`). */
+static void server_tiles(const ms *m, const tsr_graph_node *g, strbuf *list)
+{
     for (size_t s = 0; s < g->to_count; s++) {
         const tsr_graph_node *server = m->nodes[g->to[s]].g;
         for (size_t t = 0; t < server->tile_count; t++) {
@@ -204,92 +178,158 @@ static void tiles_text(const ms *m, const tsr_graph_node *g, int network, strbuf
     }
 }
 
-/* The node's chain text, its network SPU pointed at its servers' READY
- * addresses (and given the run's token), and the graph's tiles handed to
- * the SPUs that take a `tiles` option (tiles_text). */
-static int chain_text(ms *m, const ms_node *n, strbuf *b, tsr_error *err)
+/* The role of node `i`'s network SPU; NONE without one. */
+static tsr_spu_role role_of(const ms *m, size_t i)
+{
+    return m->nodes[i].network ? m->nodes[i].network->network.role : TSR_SPU_ROLE_NONE;
+}
+
+/* The group of node `n`: the nodes sending to its first server with the
+ * same role, in the graph's order (tessera/spu.h: rank, peers). Returns
+ * n's place in it; `addresses` (may be NULL) gets the members' addresses. */
+static int group_of(const ms *m, const ms_node *n, strbuf *addresses)
+{
+    const tsr_graph_node *server = m->nodes[n->g->to[0]].g;
+    int rank = -1, members = 0;
+    for (size_t f = 0; f < server->from_count; f++) {
+        const ms_node *member = &m->nodes[server->from[f]];
+        if (role_of(m, member->index) != role_of(m, n->index))
+            continue;
+        if (member == n)
+            rank = members;
+        if (addresses) {
+            sb_str(addresses, members ? "," : "");
+            sb_str(addresses, member->address);
+        }
+        members++;
+    }
+    return rank;
+}
+
+/* The addresses of the node's servers, in `to:` order. */
+static void server_addresses(const ms *m, const tsr_graph_node *g, strbuf *list)
+{
+    for (size_t t = 0; t < g->to_count; t++) {
+        sb_str(list, t ? "," : "");
+        sb_str(list, m->nodes[g->to[t]].address);
+    }
+}
+
+/* The values a graph run gives one link's options, as its class declares
+ * them (tsr_spu_class.network): the node's own tiles for any SPU that takes
+ * them; addresses, the token, server tiles, rank and peers for the node's
+ * network SPU only. */
+#define MAX_FILLED 8
+typedef struct filled {
+    const char *option[MAX_FILLED];
+    strbuf value[MAX_FILLED];
+    size_t count;
+} filled;
+
+static strbuf *fill(filled *f, const char *option)
+{
+    f->option[f->count] = option;
+    return &f->value[f->count++];
+}
+
+static int fill_link(const ms *m, const ms_node *n, const tsr_spu_class *cls, int network,
+                     filled *f, tsr_error *err)
 {
     const tsr_graph_node *g = n->g;
-    int network_done = 0;
-    for (size_t i = 0; i < g->chain_length; i++) {
-        const tsr_chain_link *l = &g->chain[i];
-        int network = !network_done && tsr_spu_is_network(l->spu);
-        const tsr_spu_class *cls = NULL;
-        const char *addr_key = NULL;
-        int token = 0;
-        if (network) {
-            network_done = 1;
-            tsr_error e = {0};
-            cls = tsr_spu_find(l->spu, &e);
-            if (!cls)
-                return tsr_error_set(err, TSR_EINVAL, "node '%s': %s", g->name, e.message);
-            if (spu_has_option(cls, "servers"))
-                addr_key = "servers";
-            else if (spu_has_option(cls, "server"))
-                addr_key = "server";
-            else
-                return tsr_error_set(err, TSR_EINVAL,
-                                     "node '%s': SPU %s has no 'server' or 'servers' option to "
-                                     "point at its servers",
-                                     g->name, l->spu);
-            if (!strcmp(addr_key, "server") && g->to_count != 1)
-                return tsr_error_set(err, TSR_EINVAL,
-                                     "node '%s': SPU %s sends to one server, but to: names %zu",
-                                     g->name, l->spu, g->to_count);
-            token = m->cfg->token && m->cfg->token[0] && spu_has_option(cls, "token");
-        } else if (g->tile_count) {
-            tsr_error e = {0};
-            cls = tsr_spu_find(l->spu, &e);
-        }
-        strbuf tiles = {0};
-        if (spu_has_option(cls, "tiles"))
-            tiles_text(m, g, network && !strcmp(addr_key, "servers"), &tiles);
-        /* readback: its place among its display's senders (rank 0 ends
-         * the display's frames, spus/readback). */
-        int rank = -1;
-        if (network && spu_has_option(cls, "rank")) {
-            const tsr_graph_node *server = m->nodes[g->to[0]].g;
-            for (size_t f = 0; f < server->from_count && rank < 0; f++)
-                if (m->nodes[server->from[f]].g == g)
-                    rank = (int)f;
-        }
-        if (i)
-            sb_str(b, " ! ");
-        sb_str(b, l->spu);
-        for (size_t k = 0; k < l->option_count; k++) {
-            if (network && (!strcmp(l->keys[k], addr_key) || (token && !strcmp(l->keys[k], "token"))))
-                continue; /* the mothership's address and token win */
-            if (tiles.len && !strcmp(l->keys[k], "tiles"))
-                continue; /* and so do the graph's tiles */
-            if (rank >= 0 && !strcmp(l->keys[k], "rank"))
-                continue; /* and the sender's rank */
-            sb_option(b, l->keys[k], l->values[k]);
-        }
-        if (network) {
-            strbuf list = {0};
-            for (size_t t = 0; t < g->to_count; t++) {
-                if (t)
-                    sb_str(&list, ",");
-                sb_str(&list, m->nodes[g->to[t]].address);
-            }
-            sb_option(b, addr_key, list.s ? list.s : "");
+    const tsr_spu_network *role = &cls->network;
+    if (role->tiles && g->tile_count)
+        own_tiles(g, fill(f, role->tiles));
+    if (!network)
+        return TSR_OK;
+    const char *one = role->server ? role->server : role->display;
+    if (one && g->to_count != 1)
+        return tsr_error_set(err, TSR_EINVAL, "node '%s': SPU %s sends to one server, but to: names %zu",
+                             g->name, cls->name, g->to_count);
+    if (one)
+        server_addresses(m, g, fill(f, one));
+    if (role->servers)
+        server_addresses(m, g, fill(f, role->servers));
+    if (role->token && m->cfg->token && m->cfg->token[0])
+        sb_str(fill(f, role->token), m->cfg->token);
+    if (role->server_tiles) {
+        strbuf list = {0};
+        server_tiles(m, g, &list);
+        if (list.len)
+            *fill(f, role->server_tiles) = list; /* none: the graph's value stays */
+        else
             free(list.s);
-            if (token)
-                sb_option(b, "token", m->cfg->token);
-        }
-        if (tiles.len)
-            sb_option(b, "tiles", tiles.s);
-        if (rank >= 0) {
-            char text[24];
-            snprintf(text, sizeof text, "%d", rank);
-            sb_option(b, "rank", text);
-        }
-        b->failed |= tiles.failed;
-        free(tiles.s);
     }
-    if (b->failed)
-        return tsr_error_set(err, TSR_ENOMEM, "node '%s': chain text: out of memory", g->name);
+    if (role->rank) {
+        char text[24];
+        snprintf(text, sizeof text, "%d", group_of(m, n, NULL));
+        sb_str(fill(f, role->rank), text);
+    }
+    if (role->peers)
+        group_of(m, n, fill(f, role->peers));
     return TSR_OK;
+}
+
+/* The node's chain as structured links, one "link=SPU" field each followed
+ * by its "option=KEY=VALUE" fields (control.h): the graph's options, then
+ * the mothership's values (fill_link), which replace the graph's for the
+ * same option. Each link is checked against its class as the node will
+ * parse it, so a filled value that does not parse fails here. */
+static int add_links(ms *m, const ms_node *n, tsr_ctl_out *out, tsr_error *err)
+{
+    const tsr_graph_node *g = n->g;
+    int rc = TSR_OK;
+    for (size_t i = 0; i < g->chain_length && rc == TSR_OK; i++) {
+        const tsr_chain_link *l = &g->chain[i];
+        tsr_error e = {0};
+        const tsr_spu_class *cls = tsr_spu_find(l->spu, &e);
+        if (!cls)
+            return tsr_error_set(err, TSR_EINVAL, "node '%s': %s", g->name, e.message);
+        filled f = {0};
+        rc = fill_link(m, n, cls, i == n->network_link, &f, err);
+        size_t total = l->option_count + f.count;
+        const char **keys = calloc(total ? total : 1, sizeof *keys);
+        const char **values = calloc(total ? total : 1, sizeof *values);
+        if (rc == TSR_OK && (!keys || !values))
+            rc = tsr_error_set(err, TSR_ENOMEM, "node '%s': out of memory", g->name);
+        size_t count = 0;
+        for (size_t k = 0; k < l->option_count && rc == TSR_OK; k++) {
+            int replaced = 0;
+            for (size_t j = 0; j < f.count; j++)
+                replaced |= !strcmp(l->keys[k], f.option[j]);
+            if (!replaced) {
+                keys[count] = l->keys[k];
+                values[count++] = l->values[k];
+            }
+        }
+        for (size_t j = 0; j < f.count && rc == TSR_OK; j++) {
+            if (f.value[j].failed)
+                rc = tsr_error_set(err, TSR_ENOMEM, "node '%s': out of memory", g->name);
+            keys[count] = f.option[j];
+            values[count++] = f.value[j].s ? f.value[j].s : "";
+        }
+        if (rc == TSR_OK && tsr_spu_check_options(cls, keys, values, count, &e) != TSR_OK)
+            rc = tsr_error_set(err, TSR_EINVAL, "node '%s': %s", g->name, e.message);
+        if (rc == TSR_OK) {
+            tsr_ctl_add(out, "link", l->spu);
+            for (size_t k = 0; k < count; k++) {
+                /* Values may be long (every server's tiles): no fixed buffer. */
+                size_t size = strlen(keys[k]) + strlen(values[k]) + 2;
+                char *field = malloc(size);
+                if (field) {
+                    snprintf(field, size, "%s=%s", keys[k], values[k]);
+                    tsr_ctl_add(out, "option", field);
+                } else {
+                    out->failed = 1;
+                }
+                free(field);
+            }
+        }
+        for (size_t j = 0; j < f.count; j++)
+            free(f.value[j].s);
+        free(keys);
+        free(values);
+    }
+    return rc;
 }
 
 /* Where a server listens: listen=ADDR when the graph names a host (or a
@@ -323,18 +363,16 @@ static uint32_t heartbeat_ms(const ms *m)
 static int send_config(ms *m, ms_node *n, tsr_error *err)
 {
     const tsr_graph_node *g = n->g;
-    strbuf chain = {0};
-    if (chain_text(m, n, &chain, err) != TSR_OK) {
-        free(chain.s);
-        return TSR_EINVAL;
-    }
     tsr_ctl_out out;
     tsr_ctl_out_init(&out);
     tsr_ctl_add(&out, "name", g->name);
     tsr_ctl_add(&out, "role", n->server ? "server" : "app");
-    tsr_ctl_add(&out, "chain", chain.s);
+    int rc = add_links(m, n, &out, err);
+    if (rc != TSR_OK) {
+        tsr_ctl_out_free(&out);
+        return rc == TSR_ENOMEM ? rc : TSR_EINVAL;
+    }
     tsr_ctl_addf(&out, "heartbeat_ms", "%u", heartbeat_ms(m));
-    free(chain.s);
     for (size_t i = 0; i < g->chain_length; i++) {
         const tsr_chain_link *l = &g->chain[i];
         for (size_t k = 0; k < l->option_count; k++) {
@@ -364,7 +402,7 @@ static int send_config(ms *m, ms_node *n, tsr_error *err)
         for (size_t i = 0; i < g->exec_argc; i++)
             tsr_ctl_add(&out, "arg", g->exec[i]);
     }
-    int rc = send_ctl(n->conn, TSR_MS_MSG_CONFIG, &out, err);
+    rc = send_ctl(n->conn, TSR_MS_MSG_CONFIG, &out, err);
     tsr_ctl_out_free(&out);
     return rc;
 }
@@ -914,6 +952,19 @@ static int prepare(ms *m, tsr_error *err)
         n->server = n->g->exec == NULL;
         n->app_stats = n->server ? -1 : 0;
         n->local = m->cfg->launch_local && is_local_host(n->g->host);
+        /* The node's network SPU: the first whose class declares a role. */
+        n->network_link = n->g->chain_length;
+        for (size_t l = 0; l < n->g->chain_length && !n->network; l++) {
+            tsr_error e = {0};
+            const tsr_spu_class *cls = tsr_spu_find(n->g->chain[l].spu, &e);
+            if (!cls)
+                return tsr_error_set(err, TSR_EINVAL, "%s:%d:%d: node '%s': %s", tsr_graph_file(m->graph),
+                                     n->g->mark.line, n->g->mark.column, n->g->name, e.message);
+            if (cls->network.role != TSR_SPU_ROLE_NONE) {
+                n->network = cls;
+                n->network_link = l;
+            }
+        }
         if (n->server && n->g->transport == TSR_TRANSPORT_INPROC)
             return tsr_error_set(err, TSR_EINVAL,
                                  "%s:%d:%d: node '%s': transport inproc cannot be run as its own "

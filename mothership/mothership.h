@@ -19,9 +19,11 @@
  *     in file order). A node gets its CONFIG once every server it sends to
  *     is READY, so servers listen before their clients connect; a server
  *     answers READY with its bound address (port 0 → the real port).
- *  3. An app node runs the graph's exec with TESSERA_CHAIN = its chain
- *     (network SPUs pointed at their servers: pack server=ADDR, replicate
- *     servers=A,B,..., and token=T when the run has a token) and
+ *  3. Each node's CONFIG holds its chain as structured links (control.h):
+ *     the graph's options plus what the mothership fills in, as each SPU's
+ *     class declares (tsr_spu_network, tessera/spu.h): its servers' READY
+ *     addresses, the run's token, tiles, rank and peers. An app node runs
+ *     the graph's exec with TESSERA_CHAIN = those links as chain text and
  *     TESSERA_STATS_FILE = a file the network SPU writes its statistics to.
  *  4. Every node sends STATS as its heartbeat; the mothership prints a
  *     progress line (on a terminal) and, at the end, a summary and the

@@ -101,8 +101,75 @@ static char *chain_text_for(const char *text, unsigned index)
     return out;
 }
 
+/* The node's links with "{client}" replaced in every value, built. */
+static tsr_chain *create_chain_from_links(const tsr_node *node, unsigned index, tsr_error *err)
+{
+    size_t total = 0;
+    for (size_t i = 0; i < node->link_count; i++)
+        total += node->links[i].option_count;
+    tsr_chain_link *links = calloc(node->link_count, sizeof *links);
+    char **values = calloc(total ? total : 1, sizeof *values);
+    int failed = !links || !values;
+    size_t v = 0;
+    for (size_t i = 0; i < node->link_count && !failed; i++) {
+        links[i] = node->links[i];
+        links[i].values = (const char *const *)values + v;
+        for (size_t k = 0; k < node->links[i].option_count && !failed; k++)
+            failed = !(values[v++] = chain_text_for(node->links[i].values[k], index));
+    }
+    tsr_chain *chain = NULL;
+    if (failed)
+        tsr_error_set(err, TSR_ENOMEM, "node: out of memory for the chain");
+    else
+        chain = tsr_chain_create_links(links, node->link_count, err);
+    for (size_t i = 0; i < total && values; i++)
+        free(values[i]);
+    free(values);
+    free(links);
+    return chain;
+}
+
+/* Frees what copy_links made (also a partial copy: NULLs are skipped). */
+static void free_links(tsr_chain_link *links, size_t count)
+{
+    for (size_t i = 0; links && i < count; i++) {
+        for (size_t k = 0; k < links[i].option_count; k++) {
+            free(links[i].keys ? (char *)links[i].keys[k] : NULL);
+            free(links[i].values ? (char *)links[i].values[k] : NULL);
+        }
+        free((void *)links[i].keys);
+        free((void *)links[i].values);
+        free((char *)links[i].spu);
+    }
+    free(links);
+}
+
+/* Owned copies of `count` links, NULL when out of memory. */
+static tsr_chain_link *copy_links(const tsr_chain_link *from, size_t count)
+{
+    tsr_chain_link *links = calloc(count ? count : 1, sizeof *links);
+    int failed = !links;
+    for (size_t i = 0; i < count && !failed; i++) {
+        size_t n = from[i].option_count;
+        const char **keys = calloc(n ? n : 1, sizeof *keys);
+        const char **values = calloc(n ? n : 1, sizeof *values);
+        links[i] = (tsr_chain_link){.spu = strdup(from[i].spu), .keys = keys, .values = values,
+                                    .option_count = n};
+        failed = !links[i].spu || !keys || !values;
+        for (size_t k = 0; k < n && !failed; k++)
+            failed = !(keys[k] = strdup(from[i].keys[k])) || !(values[k] = strdup(from[i].values[k]));
+    }
+    if (failed) {
+        free_links(links, count);
+        return NULL;
+    }
+    return links;
+}
+
 tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err)
 {
+    if (!node->chain_text)
+        return create_chain_from_links(node, index, err);
     char *text = chain_text_for(node->chain_text, index);
     if (!text) {
         tsr_error_set(err, TSR_ENOMEM, "node: out of memory for the chain text");
@@ -238,23 +305,35 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
 {
     if (!config->listen || !config->listen[0])
         return tsr_error_set(err, TSR_EINVAL, "node: no listen address"), NULL;
-    if (!config->chain || !config->chain[0])
+    if ((!config->chain || !config->chain[0]) && config->link_count == 0)
         return tsr_error_set(err, TSR_EINVAL, "node: no chain"), NULL;
     if (config->clients < 1)
         return tsr_error_set(err, TSR_EINVAL, "node: clients must be at least 1"), NULL;
     if (config->mode != TSR_NODE_SHARED && config->mode != TSR_NODE_INDEPENDENT)
         return tsr_error_set(err, TSR_EINVAL, "node: unknown mode %d", (int)config->mode), NULL;
-    if (config->mode == TSR_NODE_SHARED && strstr(config->chain, "{client}"))
+    int text = config->chain && config->chain[0];
+    int per_client = text && strstr(config->chain, "{client}");
+    for (size_t i = 0; !text && i < config->link_count; i++)
+        for (size_t k = 0; k < config->links[i].option_count; k++)
+            per_client |= strstr(config->links[i].values[k], "{client}") != NULL;
+    if (config->mode == TSR_NODE_SHARED && per_client)
         return tsr_error_set(err, TSR_EINVAL,
                              "node: chain: {client} needs independent mode (--independent): in shared mode "
                              "every client draws into the one chain"),
                NULL;
     tsr_node *node = calloc(1, sizeof *node);
+    int copied = 0;
     if (node) {
-        node->chain_text = strdup(config->chain);
+        if (text) {
+            copied = (node->chain_text = strdup(config->chain)) != NULL;
+        } else {
+            node->links = copy_links(config->links, config->link_count);
+            node->link_count = node->links ? config->link_count : 0;
+            copied = node->links != NULL;
+        }
         node->sessions = calloc(config->clients, sizeof *node->sessions);
     }
-    if (!node || !node->chain_text || !node->sessions) {
+    if (!node || !copied || !node->sessions) {
         tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
         tsr_node_destroy(node);
         return NULL;
@@ -381,6 +460,7 @@ void tsr_node_destroy(tsr_node *node)
     tsr_net_destroy(node->net);
     free(node->sessions);
     free(node->chain_text);
+    free_links(node->links, node->link_count);
     if (node->stats_lock_ready)
         pthread_mutex_destroy(&node->stats_lock);
     free(node);

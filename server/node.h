@@ -4,6 +4,10 @@
  * Owns: the listener, the client sessions and their chains. Never exits
  * the process: every failure is a returned or logged tsr_error.
  *
+ * The chain comes as text (`tessera node --chain`) or as links (a graph
+ * run's: the mothership sends each node its chain as structured links,
+ * mothership/control.h).
+ *
  * Two modes (tsr_node_config.mode):
  *
  * TSR_NODE_SHARED (the default; `tessera node` without --independent):
@@ -62,6 +66,7 @@
 
 #include <stdint.h>
 
+#include "tessera/chain.h"
 #include "tessera/error.h"
 
 #ifdef __cplusplus
@@ -78,6 +83,10 @@ typedef enum tsr_node_mode {
 typedef struct tsr_node_config {
     const char *listen;     /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
     const char *chain;      /* chain text, "{client}" replaced by the client's number */
+    /* Or the chain as links (a graph run's: mothership/control.h), used when
+     * `chain` is NULL; "{client}" in a value is replaced likewise. Copied. */
+    const tsr_chain_link *links;
+    size_t link_count;
     const char *token;      /* shared token clients must present; NULL/"" = none */
     const char *name;       /* this node's name in handshakes; NULL = "node" */
     unsigned clients;       /* serve this many clients, then tsr_node_run returns (>= 1) */

@@ -249,6 +249,60 @@ fail:
     return rc;
 }
 
+/* ---- links to text ------------------------------------------------------- */
+
+/* Appends `n` bytes to the growing text (*out, *len, *cap); false when out
+ * of memory. */
+static bool text_add(char **out, size_t *len, size_t *cap, const char *s, size_t n) {
+    if (*len + n + 1 > *cap) {
+        size_t grown_cap = *cap ? *cap : 128;
+        while (grown_cap < *len + n + 1)
+            grown_cap *= 2;
+        char *grown = realloc(*out, grown_cap);
+        if (!grown)
+            return false;
+        *out = grown;
+        *cap = grown_cap;
+    }
+    memcpy(*out + *len, s, n);
+    *len += n;
+    (*out)[*len] = '\0';
+    return true;
+}
+
+char *tsr_chain_links_text(const tsr_chain_link *links, size_t count, tsr_error *err) {
+    char *out = NULL;
+    size_t len = 0, cap = 0;
+    bool ok = count > 0 && links;
+    if (!ok) {
+        tsr_error_set(err, TSR_EINVAL, "chain: empty chain (no SPU named)");
+        return NULL;
+    }
+    for (size_t i = 0; i < count && ok; i++) {
+        if (i)
+            ok = text_add(&out, &len, &cap, " ! ", 3);
+        ok = ok && text_add(&out, &len, &cap, links[i].spu, strlen(links[i].spu));
+        for (size_t k = 0; k < links[i].option_count && ok; k++) {
+            ok = text_add(&out, &len, &cap, " ", 1) &&
+                 text_add(&out, &len, &cap, links[i].keys[k], strlen(links[i].keys[k])) &&
+                 text_add(&out, &len, &cap, "=\"", 2);
+            /* The parser's two escapes (read_quoted). */
+            for (const char *v = links[i].values[k]; *v && ok; v++) {
+                if (*v == '"' || *v == '\\')
+                    ok = text_add(&out, &len, &cap, "\\", 1);
+                ok = ok && text_add(&out, &len, &cap, v, 1);
+            }
+            ok = ok && text_add(&out, &len, &cap, "\"", 1);
+        }
+    }
+    if (!ok) {
+        free(out);
+        tsr_error_set(err, TSR_ENOMEM, "chain: out of memory for the chain text");
+        return NULL;
+    }
+    return out;
+}
+
 /* ---- instances ------------------------------------------------------------ */
 
 static void instance_destroy(tsr_instance *inst) {

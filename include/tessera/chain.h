@@ -30,6 +30,11 @@ typedef struct tsr_chain_link {
 TSR_API tsr_chain *tsr_chain_create(const char *text, tsr_error *err);
 TSR_API tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count,
                                           tsr_error *err);
+/* The text form of `count` links, each value quoted (and '"' and '\'
+ * escaped), so tsr_chain_create reads back exactly these links. Returns a
+ * malloc'ed string to free(), or NULL with `err` filled (no links, out of
+ * memory). */
+TSR_API char *tsr_chain_links_text(const tsr_chain_link *links, size_t count, tsr_error *err);
 /* The table calls enter through (the first SPU's resolved table). Valid
  * until tsr_chain_destroy. */
 TSR_API const tsr_dispatch *tsr_chain_head(const tsr_chain *chain);
