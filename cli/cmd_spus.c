@@ -1,6 +1,7 @@
 /* cli/cmd_spus.c — `tessera spus [NAME...]`: lists every SPU the loader
- * can find (or the named ones) with its summary, super SPU and options
- * (type, range or choices, default, help). Owns: output formatting only.
+ * can find (or the named ones) with its summary, super SPU, options
+ * (type, range or choices, default, help) and network role (tessera/spu.h:
+ * what its node's to: means, and which options a graph run fills). Owns: output formatting only.
  * Never: creates SPU instances. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,7 +16,9 @@ static void print_usage(FILE *out) {
     fprintf(out, "usage: tessera spus [NAME...]\n\n"
                  "Lists the SPUs tessera can find (registered, TESSERA_SPU_PATH, the build tree,\n"
                  "then the install prefix), or only the named ones, with each SPU's summary,\n"
-                 "super SPU and options: name, type, range or choices, default and help.\n"
+                 "super SPU and options (name, type, range or choices, default and help), and\n"
+                 "its role in a graph: whether it sends to one server, several, tiled servers,\n"
+                 "a display or a group of peers, and which options a graph run fills.\n"
                  "Options are given in a chain as NAME key=value (see tessera/chain.h).\n\n"
                  "  -h, --help   show this help\n\n"
                  "Exit codes: 0 ok, 1 an SPU failed to load, 2 unknown SPU or bad arguments.\n");
@@ -55,6 +58,34 @@ static bool declared_by(const tsr_spu_class *cls, const char *name) {
     return false;
 }
 
+/* "  role: server (streams to ...)" and the options a graph run fills. */
+static void print_role(const tsr_spu_class *cls) {
+    const tsr_spu_network *n = &cls->network;
+    printf("  role: %s (%s)\n", tsr_spu_role_name(n->role), tsr_spu_role_summary(n->role));
+    const struct {
+        const char *option, *what;
+    } filled[] = {
+        {n->server, "the server's address"},
+        {n->servers, "the servers' addresses"},
+        {n->display, "the display's address"},
+        {n->token, "the run's token"},
+        {n->tiles, "the node's own tiles"},
+        {n->server_tiles, "every server's tiles"},
+        {n->rank, "the node's rank"},
+        {n->peers, "the peers' addresses"},
+    };
+    size_t shown = 0;
+    for (size_t i = 0; i < sizeof filled / sizeof filled[0]; i++) {
+        if (!filled[i].option)
+            continue;
+        printf("%s%s (%s)", shown ? ", " : "  a graph run fills: ", filled[i].option,
+               filled[i].what);
+        shown++;
+    }
+    if (shown)
+        printf("\n");
+}
+
 static void print_class(const tsr_spu_class *cls) {
     printf("%s", cls->name);
     if (cls->super)
@@ -77,7 +108,7 @@ static void print_class(const tsr_spu_class *cls) {
         const tsr_spu_class *s = tsr_spu_find(super, &err);
         if (!s) {
             printf("  inherited options: unavailable (%s)\n", err.message);
-            return;
+            break;
         }
         bool header = false;
         for (size_t i = 0; i < s->option_count; i++) {
@@ -94,6 +125,7 @@ static void print_class(const tsr_spu_class *cls) {
         seen[levels++] = s;
         super = s->super;
     }
+    print_role(cls);
 }
 
 int cmd_spus(int argc, char **argv) {
