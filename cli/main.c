@@ -12,7 +12,7 @@ static const tsr_cli_command commands[] = {
     {"dot", "print a graph file as Graphviz DOT (tessera dot G | dot -Tpng)", cmd_dot},
     {"run", "run a graph: the mothership plus every local node as a child process", cmd_run},
     {"mothership", "coordinate a graph whose nodes are started elsewhere (ssh, mpirun, srun)", cmd_mothership},
-    {"node", "run a server node: accept stream clients (pack, replicate), run them through an SPU chain", cmd_node},
+    {"node", "run a server node: accept stream clients (network SPUs), run them through an SPU chain", cmd_node},
     {"imgdiff", "compare two PNG images: differing pixels, max channel error, PSNR", cmd_imgdiff},
     {"exec", "run an unmodified OpenGL program (glxgears, ...) under the faker libGL/libEGL", cmd_exec},
 };

@@ -118,3 +118,19 @@ foreach(level debug info error)
   set_tests_properties(spu_log_level_${level}_from_env PROPERTIES ENVIRONMENT "TESSERA_LOG=${level}")
 endforeach()
 add_test(NAME spu_error_values COMMAND spu_log_test spu_error_values)
+
+# Roles, not names (tsr_spu_class.network): the core, the mothership, the
+# CLI, the stream client and the server know no SPU by name and guess no
+# role from an option name (tests/spu/names_lint.c says exactly what it
+# flags); and the lint itself finds what the core held before SPUs
+# declared their roles (names_lint_sample.c: 9 findings, nothing from its
+# legitimate half).
+add_executable(spu_names_lint ${SPU_TEST_SRC}/names_lint.c)
+add_test(NAME spu_core_knows_no_spu_by_name
+  COMMAND spu_names_lint ${CMAKE_SOURCE_DIR}/core ${CMAKE_SOURCE_DIR}/mothership
+          ${CMAKE_SOURCE_DIR}/cli ${CMAKE_SOURCE_DIR}/client ${CMAKE_SOURCE_DIR}/server)
+add_test(NAME spu_names_lint_finds_names_and_guessed_roles
+  COMMAND sh -c "\"$0\" \"$1\"; echo \"exit=$?\"" $<TARGET_FILE:spu_names_lint>
+          ${SPU_TEST_SRC}/names_lint_sample.c)
+set_tests_properties(spu_names_lint_finds_names_and_guessed_roles PROPERTIES
+  PASS_REGULAR_EXPRESSION "^[^\n]*sample.c:7: string literal \"pack\" names a built-in SPU\n[^\n]*sample.c:7: string literal \"replicate\"[^\n]*\n[^\n]*sample.c:9: identifier 'check_readback'[^\n]*\n[^\n]*sample.c:11: string literal \"tilesort\"[^\n]*\n[^\n]*sample.c:16: string literal \"servers\" looks an SPU option up by name[^\n]*\n[^\n]*sample.c:17: string literal \"token\" looks[^\n]*\n[^\n]*sample.c:18: string literal \"tiles\" looks[^\n]*\n[^\n]*sample.c:19: string literal \"pack server=[^\n]*\n[^\n]*sample.c:19: string literal \"pack server=[^\n]*\nnames_lint: 1 files, 9 findings\nexit=1\n$")
