@@ -37,17 +37,20 @@ tessera_spu_test_plugin(spu_test_oldabi ${SPU_TEST_SRC}/test_plugins.c TEST_PLUG
   ${SPU_TEST_BAD_DIR} oldabi_spu)
 tessera_spu_test_plugin(spu_test_misnamed ${SPU_TEST_SRC}/test_plugins.c TEST_PLUGIN_MISNAMED
   ${SPU_TEST_BAD_DIR} misnamed_spu)
+tessera_spu_test_plugin(spu_test_prevabi ${SPU_TEST_SRC}/test_plugins.c TEST_PLUGIN_PREVIOUS_ABI
+  ${SPU_TEST_BAD_DIR} prevabi_spu)
 tessera_spu_test_plugin(spu_test_template ${CMAKE_SOURCE_DIR}/spus/template/template.c ""
   ${SPU_TEST_TEMPLATE_DIR} template_spu)
 
 add_executable(spu_loader_test ${SPU_TEST_SRC}/loader_test.c)
 target_link_libraries(spu_loader_test PRIVATE tessera)
 add_dependencies(spu_loader_test spu_passthrough spu_test_shadow spu_test_noentry
-  spu_test_oldabi spu_test_misnamed)
+  spu_test_oldabi spu_test_misnamed spu_test_prevabi)
 foreach(t finds_build_tree_plugin env_path_first missing_spu_names_search_path
           rejects_file_without_entry_point rejects_abi_mismatch rejects_name_mismatch
           rejects_bad_names registered_class_wins register_rejects_bad_class
-          list_sorted_deduplicated find_is_thread_safe)
+          list_sorted_deduplicated find_is_thread_safe
+          register_rejects_bad_network_declaration rejects_previous_abi)
   add_test(NAME spu_loader_${t} COMMAND spu_loader_test spu_loader_${t}
     ${TESSERA_SPU_BUILD_DIR} ${SPU_TEST_ENV_DIR} ${SPU_TEST_BAD_DIR})
 endforeach()

@@ -140,11 +140,11 @@ static int check_filled_option(const tsr_spu_class *cls, const char *what, const
         if (spec->type == type || spec->type == other)
             return TSR_OK;
         return tsr_error_set(err, TSR_EINVAL,
-                             "%s: network.%s names option '%s', which is not a %s option", cls->name,
+                             "%s: network.%s names option '%s', which is not %s option", cls->name,
                              what, option,
-                             type == TSR_OPT_INT           ? "int"
-                             : type == TSR_OPT_STRING_LIST ? "string list"
-                                                           : "string");
+                             type == TSR_OPT_INT           ? "an int"
+                             : type == TSR_OPT_STRING_LIST ? "a string list"
+                                                           : "a string");
     }
     return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which it does not declare",
                          cls->name, what, option);

@@ -103,6 +103,18 @@ static void test_rejects_abi_mismatch(void) {
     expect_bad_plugin("oldabi", fmt);
 }
 
+/* A plugin built against the headers before roles (ABI 1): one line naming
+ * the plugin and both versions, nothing past `abi` read. */
+static void test_rejects_previous_abi(void) {
+    char fmt[256];
+    snprintf(fmt, sizeof fmt,
+             "prevabi: %%s: built for SPU ABI 1, this tessera has ABI %u (rebuild the SPU against "
+             "the installed headers)",
+             TSR_SPU_ABI);
+    CHECK(TSR_SPU_ABI == 2);
+    expect_bad_plugin("prevabi", fmt);
+}
+
 static void test_rejects_name_mismatch(void) {
     expect_bad_plugin("misnamed", "misnamed: %s describes an SPU named 'othername'");
 }
@@ -156,6 +168,60 @@ static void test_register_rejects_bad_class(void) {
     CHECK(tsr_spu_register(&wrong_count, &err) == TSR_EINVAL);
     CHECK_CONTAINS(err.message, "wrongcount: built for a dispatch table of");
     CHECK(tsr_spu_find("badspu", &err) == NULL);
+}
+
+/* The network declaration (tsr_spu_class.network) is checked like the
+ * options: what a role needs, and only options the class declares, of the
+ * type the mothership fills. */
+static void test_register_rejects_bad_network_declaration(void) {
+    static const tsr_option_spec opts[] = {
+        {.name = "to", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0},
+        {.name = "all", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
+        {.name = "place", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 9},
+    };
+#define NET_CLASS(id, ...)                                                                         \
+    {.abi = TSR_SPU_ABI, .name = id, .options = opts, .option_count = 3, .create = noop_create,   \
+     .destroy = noop_destroy, .network = __VA_ARGS__}
+    static const struct {
+        tsr_spu_class cls;
+        const char *message;
+    } bad[] = {
+        {NET_CLASS("n_noaddr", {.role = TSR_SPU_ROLE_SERVER}),
+         "n_noaddr: network role server needs network.server (the option a graph run fills)"},
+        {NET_CLASS("n_tiled", {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "all"}),
+         "n_tiled: network role tiled servers needs network.server_tiles (the option a graph run "
+         "fills)"},
+        {NET_CLASS("n_peers", {.role = TSR_SPU_ROLE_PEERS, .display = "to", .peers = "all"}),
+         "n_peers: network role peers needs network.rank (the option a graph run fills)"},
+        {NET_CLASS("n_undeclared", {.role = TSR_SPU_ROLE_SERVER, .server = "server"}),
+         "n_undeclared: network.server names option 'server', which it does not declare"},
+        {NET_CLASS("n_type", {.role = TSR_SPU_ROLE_SERVERS, .servers = "to"}),
+         "n_type: network.servers names option 'to', which is not a string list option"},
+        {NET_CLASS("n_rank", {.role = TSR_SPU_ROLE_DISPLAY, .display = "to", .rank = "all"}),
+         "n_rank: network.rank names option 'all', which is not an int option"},
+        {NET_CLASS("n_twice", {.role = TSR_SPU_ROLE_SERVER, .server = "to", .token = "to"}),
+         "n_twice: network.server and network.token both name option 'to'"},
+        {NET_CLASS("n_none", {.role = TSR_SPU_ROLE_NONE, .server = "to"}),
+         "n_none: network role none sends to no node, so it names no address, token, server "
+         "tiles, rank or peers option (only tiles)"},
+        {NET_CLASS("n_role", {.role = (tsr_spu_role)42, .server = "to"}),
+         "n_role: unknown network role 42"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        tsr_error err;
+        tsr_error_clear(&err);
+        CHECK(tsr_spu_register(&bad[i].cls, &err) == TSR_EINVAL);
+        CHECK_STR(err.message, bad[i].message);
+    }
+    static const tsr_spu_class good =
+        NET_CLASS("n_good", {.role = TSR_SPU_ROLE_PEERS, .display = "to", .peers = "all",
+                             .rank = "place"});
+    tsr_error err;
+    CHECK(tsr_spu_register(&good, &err) == TSR_OK);
+    CHECK(tsr_spu_find("n_good", &err) == &good);
+    CHECK_STR(tsr_spu_role_name(good.network.role), "peers");
+    CHECK_STR(tsr_spu_role_name((tsr_spu_role)42), "unknown");
+#undef NET_CLASS
 }
 
 static void test_list_sorted_deduplicated(void) {
@@ -225,6 +291,9 @@ static const spu_test_case tests[] = {
     {"spu_loader_rejects_bad_names", test_rejects_bad_names},
     {"spu_loader_registered_class_wins", test_registered_class_wins},
     {"spu_loader_register_rejects_bad_class", test_register_rejects_bad_class},
+    {"spu_loader_register_rejects_bad_network_declaration",
+     test_register_rejects_bad_network_declaration},
+    {"spu_loader_rejects_previous_abi", test_rejects_previous_abi},
     {"spu_loader_list_sorted_deduplicated", test_list_sorted_deduplicated},
     {"spu_loader_find_is_thread_safe", test_find_is_thread_safe},
 };
