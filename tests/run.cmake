@@ -27,6 +27,16 @@ if(TARGET spu_replicate)
                  spheres-native --size 1024x768)
 endif()
 
+# A network SPU that is not tessera's (tests/run/relay/relay.c), built out
+# of tree against an install of this build, in a graph to a render server.
+set(RUN_RELAY_CFLAGS "")
+if(TESSERA_SANITIZE)
+  set(RUN_RELAY_CFLAGS "-fsanitize=address,undefined -fno-omit-frame-pointer")
+endif()
+add_test(NAME run_graph_out_of_tree_relay_spu_exact
+  COMMAND sh ${RUN_DIR}/relay_out_of_tree.sh ${CMAKE_COMMAND} ${CMAKE_BINARY_DIR} ${CMAKE_SOURCE_DIR}
+          ${RUN_OUT}/relay ${CMAKE_C_COMPILER} "${RUN_RELAY_CFLAGS}")
+
 add_test(NAME run_progress_summary_and_stats_json_agree
   COMMAND ${RUN_DIR}/stats.sh ${RUN_BIN} ${RUN_OUT}/stats ${RUN_GRAPHS}/tcp.yaml 20)
 if(TARGET psubmit-native)
