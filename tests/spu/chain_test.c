@@ -391,6 +391,34 @@ static void test_parse_quoted_values(void) {
     tsr_chain_destroy(chain);
 }
 
+/* Links to text (what an app node gets as TESSERA_CHAIN from its links):
+ * every value quoted and escaped, read back unchanged by the parser. */
+static void test_links_text_reads_back(void) {
+    static const tsr_spu_class echo = {.abi = TSR_SPU_ABI,
+                                       .name = "echo",
+                                       .options = msg_options,
+                                       .option_count = 3,
+                                       .create = echo_create,
+                                       .destroy = test_spu_destroy};
+    tsr_error err;
+    REQUIRE(tsr_spu_register(&echo, &err) == TSR_OK);
+    const char *keys[] = {"output", "width"};
+    const char *hard[] = {"say \"hi\" \\o/ ! x=y", "5"}, *empty[] = {""};
+    tsr_chain_link links[] = {{.spu = "echo", .keys = keys, .values = hard, .option_count = 2},
+                              {.spu = "echo", .keys = keys, .values = empty, .option_count = 1},
+                              {.spu = "echo"}};
+    char *text = tsr_chain_links_text(links, 3, &err);
+    REQUIRE(text);
+    CHECK_STR(text, "echo output=\"say \\\"hi\\\" \\\\o/ ! x=y\" width=\"5\" ! echo output=\"\" ! echo");
+    journal_reset();
+    tsr_chain *chain = chain_ok(text);
+    CHECK_JOURNAL("create echo#3", "output=[]", "create echo#2", "output=[]", "create echo#1",
+                  "output=[say \"hi\" \\o/ ! x=y]");
+    tsr_chain_destroy(chain);
+    free(text);
+    CHECK(tsr_chain_links_text(links, 0, &err) == NULL && err.code == TSR_EINVAL);
+}
+
 static void test_create_failure_cleans_up(void) {
     register_test_classes();
     journal_reset();
@@ -461,6 +489,7 @@ static const spu_test_case tests[] = {
     {"spu_chain_parse_errors_name_token", test_parse_errors_name_token},
     {"spu_chain_parse_quoted_values", test_parse_quoted_values},
     {"spu_chain_create_failure_cleans_up", test_create_failure_cleans_up},
+    {"spu_chain_links_text_reads_back", test_links_text_reads_back},
     {"spu_chain_unset_slots_reach_child", test_unset_slots_reach_child},
     {"spu_passthrough_verbose_option", test_passthrough_verbose_option},
 };
