@@ -215,6 +215,52 @@ static int poll_control(agent *a, int ms, tsr_error *err)
     return 1;
 }
 
+/* links=later (control.h): heartbeats until the mothership sends LINKS,
+ * parsed into `links` (its fields point into `msg`, freed by the caller).
+ * Returns 0, or the exit code (err filled) on STOP or a lost mothership. */
+static int wait_for_links(agent *a, tsr_ctl *msg, config_chain *links, tsr_error *err)
+{
+    double next_beat = tsr_now_seconds();
+    for (;;) {
+        if (tsr_now_seconds() >= next_beat) {
+            if (send_stats(a, err) != TSR_OK)
+                return 1;
+            next_beat = tsr_now_seconds() + a->heartbeat_ms / 1000.0;
+        }
+        tsr_net_msg m;
+        tsr_error e = {0};
+        int rc = tsr_net_recv(a->conn, &m, POLL_MS, &e);
+        if (rc == TSR_ETIMEDOUT)
+            continue;
+        if (rc != 1) {
+            if (rc == 0)
+                tsr_error_set(err, TSR_ESTATE, "the mothership closed the control connection");
+            else
+                tsr_error_set(err, rc, "lost the mothership: %s", e.message);
+            return 1;
+        }
+        unsigned kind = m.kind;
+        rc = kind == TSR_MS_MSG_LINKS || kind == TSR_MS_MSG_STOP ? tsr_ctl_parse(msg, m.data, m.len, err)
+                                                                   : TSR_OK;
+        tsr_net_msg_release(&m);
+        if (rc != TSR_OK)
+            return 1;
+        if (kind == TSR_MS_MSG_STOP) {
+            const char *reason = tsr_ctl_get(msg, "reason");
+            tsr_error_set(err, TSR_ESTATE, "stopped by the mothership: %s", reason ? reason : "no reason given");
+            tsr_ctl_free(msg);
+            return 1;
+        }
+        if (kind != TSR_MS_MSG_LINKS)
+            continue;
+        if (config_chain_parse(msg, links, err) != TSR_OK) {
+            tsr_ctl_free(msg);
+            return 2;
+        }
+        return 0;
+    }
+}
+
 static void *server_thread(void *arg)
 {
     agent *a = arg;
@@ -273,8 +319,11 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         snprintf(address, sizeof address, "unix:%.107s", path);
         listen = address;
     }
-    config_chain chain;
-    if (config_chain_parse(cfg, &chain, err) != TSR_OK) {
+    /* links=later: the chain comes once the peers listen (control.h). */
+    const char *later = tsr_ctl_get(cfg, "links");
+    int chain_later = later && !strcmp(later, "later");
+    config_chain chain = {0};
+    if (!chain_later && config_chain_parse(cfg, &chain, err) != TSR_OK) {
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 2;
     }
@@ -282,6 +331,7 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         .listen = listen,
         .links = chain.links,
         .link_count = chain.count,
+        .chain_later = chain_later,
         .token = tsr_ctl_get(cfg, "token"),
         .name = a->name,
         .clients = (unsigned)tsr_ctl_number(cfg, "clients", 1),
@@ -303,6 +353,27 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
     tsr_ctl_out_free(&out);
     if (rc != TSR_OK)
         return 1;
+    if (chain_later) {
+        tsr_ctl msg;
+        int code = wait_for_links(a, &msg, &chain, err);
+        if (code) {
+            if (code == 2)
+                send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+            tsr_node_destroy(a->node);
+            a->node = NULL;
+            return code;
+        }
+        rc = tsr_node_set_links(a->node, chain.links, chain.count, &e);
+        config_chain_free(&chain);
+        tsr_ctl_free(&msg);
+        if (rc != TSR_OK) {
+            tsr_error_set(err, e.code, "%s", plain(e.message));
+            send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+            tsr_node_destroy(a->node);
+            a->node = NULL;
+            return e.code == TSR_EINVAL ? 2 : 1;
+        }
+    }
     if (pthread_create(&a->thread, NULL, server_thread, a)) {
         tsr_error_set(err, TSR_EIO, "cannot start the server thread");
         return 1;
@@ -617,8 +688,8 @@ static int join_and_run(agent *a, tsr_error *err)
     } else if (kind == TSR_MS_MSG_STOP) {
         tsr_error_set(err, TSR_ESTATE, "stopped by the mothership: %s", reason ? reason : "?");
         code = 1;
-    } else if (kind != TSR_MS_MSG_CONFIG || !tsr_ctl_get(&msg, "role") || !tsr_ctl_get(&msg, "link") ||
-               !tsr_ctl_get(&msg, "name")) {
+    } else if (kind != TSR_MS_MSG_CONFIG || !tsr_ctl_get(&msg, "role") ||
+               (!tsr_ctl_get(&msg, "link") && !tsr_ctl_get(&msg, "links")) || !tsr_ctl_get(&msg, "name")) {
         tsr_error_set(err, TSR_EPROTO, "expected CONFIG with role, link and name from the mothership, got %s",
                       tsr_ctl_kind_name(kind));
         code = 1;

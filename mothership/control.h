@@ -56,7 +56,15 @@
  *                       application gets the links as TESSERA_CHAIN text
  *                       (tsr_chain_links_text).
  *                       Servers get it at once; an app node only once every
- *                       server it sends to is READY.
+ *                       server it sends to is READY (and has its links).
+ *                       A server whose network SPU takes its peers'
+ *                       addresses (tsr_spu_network.peers) gets links=later
+ *                       instead of the links: it listens, answers READY,
+ *                       and waits for LINKS.
+ *   TSR_MS_MSG_LINKS    the links (link= and option= as in CONFIG) of a
+ *                       node configured with links=later, sent once every
+ *                       peer of its group is READY, so each one's address
+ *                       is known. The node then builds its chain and runs.
  *   TSR_MS_MSG_STOP     the run is over for a failure elsewhere: reason=.
  *                       The node kills its application and exits 1.
  *   TSR_MS_MSG_REFUSE   the JOIN was wrong (unknown name, rank out of
@@ -79,6 +87,7 @@
 #define TSR_MS_MSG_CONFIG 0x30u
 #define TSR_MS_MSG_STOP 0x31u
 #define TSR_MS_MSG_REFUSE 0x32u
+#define TSR_MS_MSG_LINKS 0x33u
 
 /* Defaults shared by `tessera run`, `tessera mothership` and `tessera node
  * --mothership`. */

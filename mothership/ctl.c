@@ -133,6 +133,7 @@ const char *tsr_ctl_kind_name(unsigned kind)
     case TSR_MS_MSG_CONFIG: return "CONFIG";
     case TSR_MS_MSG_STOP: return "STOP";
     case TSR_MS_MSG_REFUSE: return "REFUSE";
+    case TSR_MS_MSG_LINKS: return "LINKS";
     default: return "unknown";
     }
 }

@@ -65,6 +65,9 @@ typedef struct ms_node {
     int app_stats; /* -1 not an app, 0 missing, 1 found */
     const tsr_spu_class *network; /* its network SPU's class (the first with a role), or NULL */
     size_t network_link;          /* that SPU's place in the chain (chain_length: none) */
+    int links_later;              /* its network SPU takes its peers' addresses: CONFIG without
+                                     the chain, LINKS once every peer is READY */
+    int links_sent;
     char *sort_first; /* a tilesort app's "sort_first" statistics (JSON), or NULL */
     double rate_t, rate_frames, rate_bytes, fps, mbps;
     int done_status;
@@ -367,7 +370,11 @@ static int send_config(ms *m, ms_node *n, tsr_error *err)
     tsr_ctl_out_init(&out);
     tsr_ctl_add(&out, "name", g->name);
     tsr_ctl_add(&out, "role", n->server ? "server" : "app");
-    int rc = add_links(m, n, &out, err);
+    int rc = TSR_OK;
+    if (n->links_later)
+        tsr_ctl_add(&out, "links", "later");
+    else
+        rc = add_links(m, n, &out, err);
     if (rc != TSR_OK) {
         tsr_ctl_out_free(&out);
         return rc == TSR_ENOMEM ? rc : TSR_EINVAL;
@@ -720,16 +727,48 @@ static void check(ms *m)
         }
 }
 
-/* Configures every joined node whose servers all listen. */
+/* A node whose CONFIG said links=later gets its chain once it and every
+ * peer of its group listen (their addresses are in its links). */
+static int send_links_when_peers_listen(ms *m, ms_node *n, tsr_error *err)
+{
+    const tsr_graph_node *display = m->nodes[n->g->to[0]].g;
+    for (size_t f = 0; f < display->from_count; f++) {
+        const ms_node *peer = &m->nodes[display->from[f]];
+        if (role_of(m, peer->index) == role_of(m, n->index) && peer->state < N_READY)
+            return TSR_OK;
+    }
+    tsr_ctl_out out;
+    tsr_ctl_out_init(&out);
+    tsr_error e = {0};
+    int rc = add_links(m, n, &out, &e);
+    if (rc == TSR_OK)
+        rc = send_ctl(n->conn, TSR_MS_MSG_LINKS, &out, &e);
+    tsr_ctl_out_free(&out);
+    if (rc == TSR_EINVAL)
+        return tsr_error_set(err, rc, "%s", e.message);
+    if (rc != TSR_OK)
+        fail(m, FAIL_OTHER, "node '%s': cannot send its chain: %s", n->g->name, e.message);
+    n->links_sent = 1;
+    return TSR_OK;
+}
+
+/* Configures every joined node whose servers all listen (and, if they
+ * take their chain later, have it), and sends the chain to nodes whose
+ * peers all listen. */
 static int configure(ms *m, tsr_error *err)
 {
     for (size_t i = 0; i < m->count; i++) {
         ms_node *n = &m->nodes[i];
+        if (n->links_later && !n->links_sent && n->state == N_READY &&
+            send_links_when_peers_listen(m, n, err) != TSR_OK)
+            return TSR_EINVAL;
         if (n->state != N_JOINED)
             continue;
         int ready = 1;
-        for (size_t t = 0; t < n->g->to_count; t++)
-            ready &= m->nodes[n->g->to[t]].state >= N_READY;
+        for (size_t t = 0; t < n->g->to_count; t++) {
+            const ms_node *server = &m->nodes[n->g->to[t]];
+            ready &= server->state >= N_READY && (!server->links_later || server->links_sent);
+        }
         if (!ready)
             continue;
         tsr_error e = {0};
@@ -963,6 +1002,7 @@ static int prepare(ms *m, tsr_error *err)
             if (cls->network.role != TSR_SPU_ROLE_NONE) {
                 n->network = cls;
                 n->network_link = l;
+                n->links_later = cls->network.peers != NULL;
             }
         }
         if (n->server && n->g->transport == TSR_TRANSPORT_INPROC)

@@ -301,39 +301,72 @@ static void *session_main(void *arg)
 
 /* --- the node ------------------------------------------------------------ */
 
+/* Takes the chain (text, or else links: copied), refuses "{client}" in
+ * shared mode, and builds and destroys client 0's chain once, so a bad SPU,
+ * option or output directory fails now, not once per client. */
+static int take_chain(tsr_node *node, const char *chain, const tsr_chain_link *links, size_t count,
+                      tsr_error *err)
+{
+    int text = chain && chain[0];
+    if (!text && count == 0)
+        return tsr_error_set(err, TSR_EINVAL, "node: no chain");
+    int per_client = text && strstr(chain, "{client}");
+    for (size_t i = 0; !text && i < count; i++)
+        for (size_t k = 0; k < links[i].option_count; k++)
+            per_client |= strstr(links[i].values[k], "{client}") != NULL;
+    if (node->mode == TSR_NODE_SHARED && per_client)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "node: chain: {client} needs independent mode (--independent): in shared mode "
+                             "every client draws into the one chain");
+    if (text) {
+        if (!(node->chain_text = strdup(chain)))
+            return tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
+    } else {
+        if (!(node->links = copy_links(links, count)))
+            return tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
+        node->link_count = count;
+    }
+    tsr_error chain_err = {0};
+    tsr_chain *probe = tsr_node_create_chain(node, 0, &chain_err);
+    if (!probe) {
+        free(node->chain_text);
+        free_links(node->links, node->link_count);
+        node->chain_text = NULL;
+        node->links = NULL;
+        node->link_count = 0;
+        return tsr_error_set(err, chain_err.code == TSR_ENOMEM ? TSR_ENOMEM : TSR_EINVAL, "node: chain: %s",
+                             chain_err.message);
+    }
+    tsr_chain_destroy(probe);
+    return TSR_OK;
+}
+
+int tsr_node_set_links(tsr_node *node, const tsr_chain_link *links, size_t count, tsr_error *err)
+{
+    if (node->chain_text || node->links)
+        return tsr_error_set(err, TSR_ESTATE, "node: the chain is set already");
+    if (node->ran)
+        return tsr_error_set(err, TSR_ESTATE, "node: already ran");
+    return take_chain(node, NULL, links, count, err);
+}
+
 tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
 {
     if (!config->listen || !config->listen[0])
         return tsr_error_set(err, TSR_EINVAL, "node: no listen address"), NULL;
-    if ((!config->chain || !config->chain[0]) && config->link_count == 0)
+    int has_chain = (config->chain && config->chain[0]) || config->link_count;
+    if (!has_chain && !config->chain_later)
         return tsr_error_set(err, TSR_EINVAL, "node: no chain"), NULL;
+    if (has_chain && config->chain_later)
+        return tsr_error_set(err, TSR_EINVAL, "node: a chain and chain_later exclude each other"), NULL;
     if (config->clients < 1)
         return tsr_error_set(err, TSR_EINVAL, "node: clients must be at least 1"), NULL;
     if (config->mode != TSR_NODE_SHARED && config->mode != TSR_NODE_INDEPENDENT)
         return tsr_error_set(err, TSR_EINVAL, "node: unknown mode %d", (int)config->mode), NULL;
-    int text = config->chain && config->chain[0];
-    int per_client = text && strstr(config->chain, "{client}");
-    for (size_t i = 0; !text && i < config->link_count; i++)
-        for (size_t k = 0; k < config->links[i].option_count; k++)
-            per_client |= strstr(config->links[i].values[k], "{client}") != NULL;
-    if (config->mode == TSR_NODE_SHARED && per_client)
-        return tsr_error_set(err, TSR_EINVAL,
-                             "node: chain: {client} needs independent mode (--independent): in shared mode "
-                             "every client draws into the one chain"),
-               NULL;
     tsr_node *node = calloc(1, sizeof *node);
-    int copied = 0;
-    if (node) {
-        if (text) {
-            copied = (node->chain_text = strdup(config->chain)) != NULL;
-        } else {
-            node->links = copy_links(config->links, config->link_count);
-            node->link_count = node->links ? config->link_count : 0;
-            copied = node->links != NULL;
-        }
+    if (node)
         node->sessions = calloc(config->clients, sizeof *node->sessions);
-    }
-    if (!node || !copied || !node->sessions) {
+    if (!node || !node->sessions) {
         tsr_error_set(err, TSR_ENOMEM, "node: out of memory");
         tsr_node_destroy(node);
         return NULL;
@@ -349,17 +382,10 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     node->mode = config->mode;
     pthread_mutex_init(&node->stats_lock, NULL);
     node->stats_lock_ready = 1;
-
-    /* A bad chain fails now, once, instead of once per client. */
-    tsr_error chain_err = {0};
-    tsr_chain *probe = tsr_node_create_chain(node, 0, &chain_err);
-    if (!probe) {
-        tsr_error_set(err, chain_err.code == TSR_ENOMEM ? TSR_ENOMEM : TSR_EINVAL, "node: chain: %s",
-                      chain_err.message);
+    if (has_chain && take_chain(node, config->chain, config->links, config->link_count, err) != TSR_OK) {
         tsr_node_destroy(node);
         return NULL;
     }
-    tsr_chain_destroy(probe);
 
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
@@ -403,6 +429,8 @@ int tsr_node_run(tsr_node *node, tsr_error *err)
 {
     if (node->ran)
         return tsr_error_set(err, TSR_ESTATE, "node: already ran");
+    if (!node->chain_text && !node->links)
+        return tsr_error_set(err, TSR_ESTATE, "node: no chain yet (chain_later: tsr_node_set_links first)");
     node->ran = 1;
     if (node->mode == TSR_NODE_SHARED)
         return tsr_node_run_shared(node, err);

@@ -87,6 +87,10 @@ typedef struct tsr_node_config {
      * `chain` is NULL; "{client}" in a value is replaced likewise. Copied. */
     const tsr_chain_link *links;
     size_t link_count;
+    /* Neither: the chain comes later (tsr_node_set_links), once the node
+     * listens and its address is known: a graph run's peers learn each
+     * other's addresses that way. */
+    int chain_later;
     const char *token;      /* shared token clients must present; NULL/"" = none */
     const char *name;       /* this node's name in handshakes; NULL = "node" */
     unsigned clients;       /* serve this many clients, then tsr_node_run returns (>= 1) */
@@ -99,12 +103,15 @@ typedef struct tsr_node_config {
     tsr_node_mode mode;     /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
 } tsr_node_config;
 
-/* Checks the chain text (builds and destroys client 0's chain once, so a
- * bad SPU, option or output directory fails here, not per client), then
+/* Checks the chain (builds and destroys client 0's chain once, so a bad
+ * SPU, option or output directory fails here, not per client), then
  * listens. The chain tsr_node_run uses is built on the thread that
  * calls it. TSR_EINVAL for a bad configuration or chain, other codes for
  * runtime failures (address in use, ...). */
 tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err);
+/* With chain_later: the chain, as links (copied), checked like one given
+ * to tsr_node_create. Once, before tsr_node_run. */
+int tsr_node_set_links(tsr_node *node, const tsr_chain_link *links, size_t count, tsr_error *err);
 /* The address actually bound ("tcp://127.0.0.1:41234" for port 0). */
 const char *tsr_node_address(const tsr_node *node);
 /* Accepts `clients` clients, serves each until it ends, and returns once

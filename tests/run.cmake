@@ -37,6 +37,16 @@ add_test(NAME run_graph_out_of_tree_relay_spu_exact
   COMMAND sh ${RUN_DIR}/relay_out_of_tree.sh ${CMAKE_COMMAND} ${CMAKE_BINARY_DIR} ${CMAKE_SOURCE_DIR}
           ${RUN_OUT}/relay ${CMAKE_C_COMPILER} "${RUN_RELAY_CFLAGS}")
 
+# A group of peers (TSR_SPU_ROLE_PEERS): ranks and every peer's address,
+# each peer's chain given once all of them listen (tests/run/peers/).
+set(RUN_PLUGIN_DIR ${CMAKE_CURRENT_BINARY_DIR}/run_plugins)
+add_library(run_test_peerprobe MODULE ${RUN_DIR}/peers/peerprobe.c)
+target_link_libraries(run_test_peerprobe PRIVATE tessera tessera_client)
+set_target_properties(run_test_peerprobe PROPERTIES PREFIX "" OUTPUT_NAME peerprobe_spu
+  LIBRARY_OUTPUT_DIRECTORY ${RUN_PLUGIN_DIR} C_VISIBILITY_PRESET hidden)
+add_test(NAME run_graph_peer_group_told_ranks_and_addresses
+  COMMAND ${RUN_DIR}/peers/peers.sh ${RUN_BIN} ${RUN_PLUGIN_DIR} ${RUN_OUT}/peers)
+
 add_test(NAME run_progress_summary_and_stats_json_agree
   COMMAND ${RUN_DIR}/stats.sh ${RUN_BIN} ${RUN_OUT}/stats ${RUN_GRAPHS}/tcp.yaml 20)
 if(TARGET psubmit-native)
