@@ -6,6 +6,12 @@
  * tsr_spu_init; the SPU keeps it in the instance it returns. No globals:
  * two instances of the same SPU in one process must work.
  *
+ * An SPU that sends its stream to other nodes also declares its role in a
+ * graph (tsr_spu_class.network, below): one server, several, tiled
+ * servers, a display, or a group of peers, and which of its options a
+ * graph run fills (addresses, token, tiles, rank, peers). Graphs and the
+ * mothership know SPUs only by these declarations, never by name.
+ *
  * Building a chain "a ! b ! c" (calls enter a, flow to c):
  *   c is created first; its child is a table of no-ops. Then b with child =
  *   c's resolved table, then a. An SPU with a super gets a super instance
@@ -31,6 +37,13 @@
  *       .abi = TSR_SPU_ABI, .name = "my", .summary = "counts vertices",
  *       .create = my_create, .destroy = my_destroy };
  *   TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &my_class; }
+ *
+ * A network SPU adds its role, naming options it declares, e.g. one that
+ * streams to one server (tessera/dev/client.h sends):
+ *       .network = {.role = TSR_SPU_ROLE_SERVER, .server = "server",
+ *                   .token = "token"},
+ * and a graph node `{exec: ..., chain: [my], to: srv}` then gets
+ * server=<srv's address> token=<the run's token> when it runs.
  */
 #ifndef TESSERA_SPU_H
 #define TESSERA_SPU_H
