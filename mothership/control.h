@@ -95,8 +95,9 @@
 #define TSR_MS_DEFAULT_JOIN_TIMEOUT_MS 30000u /* every node joined within this */
 
 /* A decoded message: up to TSR_CTL_MAX_FIELDS key/value pairs pointing
- * into one owned copy of the text. */
-#define TSR_CTL_MAX_FIELDS 256
+ * into one owned copy of the text (a CONFIG holds one field per option of
+ * every link, and one per exec argument). */
+#define TSR_CTL_MAX_FIELDS 1024
 typedef struct tsr_ctl {
     char *text;
     size_t count;
