@@ -20,6 +20,11 @@
 #ifndef TESSERA_INSTALL_FAKER_DIR
 #define TESSERA_INSTALL_FAKER_DIR ""
 #endif
+/* The chain without --chain or TESSERA_CHAIN, {out} the quoted pattern:
+ * set with the SPUs (spus/CMakeLists.txt), so this file names none. */
+#ifndef TESSERA_EXEC_DEFAULT_CHAIN
+#error "TESSERA_EXEC_DEFAULT_CHAIN is defined by cli/CMakeLists.txt"
+#endif
 
 static void exec_usage(FILE *out)
 {
@@ -32,13 +37,13 @@ static void exec_usage(FILE *out)
             "are its own.\n\n"
             "options:\n"
             "  --chain CHAIN    the SPU chain (default: $TESSERA_CHAIN, else\n"
-            "                   \"render output=PATTERN\")\n"
+            "                   \"%s\", {out} = PATTERN)\n"
             "  --out PATTERN    PNG per frame of the default chain, one %%d for the frame\n"
             "                   number (default out/PROGRAM-%%04d.png; out/ is created)\n"
             "  -h, --help       show this help\n\n"
             "environment: TESSERA_FAKER_DIR overrides where the faker's libraries are\n"
             "(built: %s, installed: %s).\n",
-            TESSERA_BUILD_FAKER_DIR, TESSERA_INSTALL_FAKER_DIR);
+            TESSERA_EXEC_DEFAULT_CHAIN, TESSERA_BUILD_FAKER_DIR, TESSERA_INSTALL_FAKER_DIR);
 }
 
 static int has_faker(const char *dir)
@@ -112,7 +117,18 @@ int cmd_exec(int argc, char **argv)
             fprintf(stderr, "tessera exec: --out must not contain '\"': %s\n", pattern);
             return TSR_EXIT_USAGE;
         }
-        snprintf(default_chain, sizeof default_chain, "render output=\"%s\"", pattern);
+        /* TESSERA_EXEC_DEFAULT_CHAIN with each {out} as "PATTERN". */
+        size_t used = 0;
+        for (const char *t = TESSERA_EXEC_DEFAULT_CHAIN; *t && used < sizeof default_chain - 1;) {
+            if (!strncmp(t, "{out}", 5)) {
+                used += (size_t)snprintf(default_chain + used, sizeof default_chain - used, "\"%s\"",
+                                         pattern);
+                t += 5;
+            } else {
+                default_chain[used++] = *t++;
+            }
+        }
+        default_chain[used < sizeof default_chain ? used : sizeof default_chain - 1] = '\0';
         chain = default_chain;
     } else if (out) {
         fprintf(stderr, "tessera exec: --out applies to the default chain only; give output= in --chain\n");
