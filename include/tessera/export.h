@@ -1,5 +1,5 @@
 /* tessera/export.h — symbol visibility for the public API. libtessera,
- * libtessera_client and libtessera_graph are built with
+ * libtessera_client, libtessera_graph and libtessera_gl are built with
  * -fvisibility=hidden; only TSR_API symbols are exported, and TSR_API goes
  * only on what an installed header declares (test api_exports_match_headers). */
 #ifndef TESSERA_EXPORT_H
