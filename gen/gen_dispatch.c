@@ -20,9 +20,14 @@ static void emit_return_zero(FILE *f, const spec_command *c)
 static void emit_dispatch_h(const gen *g)
 {
     FILE *f = gen_open(g, "include/tessera/dispatch_gen.h");
+    /* Part of tessera/dispatch.h, which defines tsr_entry before including
+     * it; included on its own it includes that header instead, which then
+     * brings this one in at the right place. */
     fprintf(f, "/* The dispatch table type: one tsr_entry per spec command, in spec order.\n"
-               " * Included by tessera/dispatch.h; read that header first. */\n"
-               "#ifndef TESSERA_DISPATCH_GEN_H\n#define TESSERA_DISPATCH_GEN_H\n\n"
+               " * Part of tessera/dispatch.h (read that header first), which includes it\n"
+               " * once tsr_entry is defined; included alone it includes that header. */\n"
+               "#ifndef TESSERA_DISPATCH_H\n#include \"tessera/dispatch.h\"\n"
+               "#elif !defined(TESSERA_DISPATCH_GEN_H)\n#define TESSERA_DISPATCH_GEN_H\n\n"
                "#include <GL/gl.h>\n#include <GL/glext.h>\n\n"
                "#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n");
     fprintf(f, "#define TSR_DISPATCH_COUNT %zu\n\n", g->ncmds);

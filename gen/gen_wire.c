@@ -410,8 +410,8 @@ static void emit_local_custom_protos(FILE *f, const gen_cmd *gc)
 static void emit_wire_h(const gen *g)
 {
     FILE *f = gen_open(g, "src/wire_gen.h");
-    fprintf(f, "/* Opcodes and packers of every spec command (private to libtessera and\n"
-               " * in-tree SPUs). Fixed-size commands pack inline. */\n"
+    fprintf(f, "/* Opcodes and packers of every spec command (private to libtessera, its\n"
+               " * tests and benchmarks; never installed). Fixed-size commands pack inline. */\n"
                "#ifndef TSR_WIRE_GEN_H\n#define TSR_WIRE_GEN_H\n\n"
                "#include <string.h>\n#include \"tessera/dev/pack.h\"\n\n"
                "_Static_assert(sizeof(GLintptr) == 8 && sizeof(GLsizeiptr) == 8, \"wire sizes assume 64-bit GLintptr\");\n"
@@ -446,7 +446,8 @@ static void emit_pack_c(const gen *g)
     FILE *f = gen_open(g, "src/pack_gen.c");
     fprintf(f, "/* Out-of-line packers (variable size, replies, extended opcodes) and the\n"
                " * dispatch filler that turns a packer into an SPU table. */\n"
-               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n\n");
+               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n"
+               "#include \"wire/wire_internal.h\"\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const gen_cmd *gc = &g->cmds[i];
         if (gc->packable && !is_inline_pack(gc))
@@ -655,7 +656,8 @@ static void emit_unpack_c(const gen *g)
     FILE *f = gen_open(g, "src/unpack_gen.c");
     fprintf(f, "/* The validating decoder: walks the opcodes of one buffer and calls the\n"
                " * target table; every length is checked before it is used. */\n"
-               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n#include \"tessera/dev/unpack.h\"\n\n");
+               "#include <stdint.h>\n#include <string.h>\n#include \"wire_gen.h\"\n#include \"tessera/dev/unpack.h\"\n"
+               "#include \"wire/wire_internal.h\"\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const gen_cmd *gc = &g->cmds[i];
         if ((gc->packable && !is_inline_unpack(gc)))

@@ -15,6 +15,7 @@
 
 #include "tessera/log.h"
 #include "wire_gen.h"
+#include "wire_internal.h"
 
 static void record(tsr_packer *p, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 

@@ -10,6 +10,7 @@
 
 #include "tessera/dev/wire.h"
 #include "wire_gen.h"
+#include "wire_internal.h"
 
 static int grow(uint8_t **buf, size_t *cap, size_t need)
 {

@@ -2,6 +2,8 @@
  * chains, on which hosts, and who streams to whom. A YAML file is parsed
  * with libyaml into a validated, read-only model; every error names
  * FILE:LINE:COLUMN and the offending key or value, on one line.
+ * Library libtessera_graph (pkg-config tessera-graph), the only one that
+ * links libyaml: programs that read graphs use it, SPUs never need it.
  *
  * The file (version 1):
  *

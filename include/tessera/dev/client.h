@@ -1,12 +1,28 @@
-/* tessera/dev/client.h — the stream client of tessera/dev/protocol.h: what every SPU that
- * sends its GL stream, unchanged, to server nodes shares (pack: one server,
- * replicate: several). Owns: one netlib instance (one I/O thread) with one
- * connection per server, the packer whose buffers go to all of them, the
- * reply the packer is holding, the failure policy and the statistics.
+/* tessera/dev/client.h — the stream client of tessera/dev/protocol.h: what
+ * every SPU that sends its GL stream to server nodes shares (pack: one
+ * server, replicate: several, tilesort: a buffer to the servers it
+ * chooses). Library libtessera_client (pkg-config tessera).
+ *
+ * Owns: one network instance (one I/O thread) with one connection per
+ * server, the packer whose buffers go to all of them, the reply the packer
+ * is holding, the failure policy and the statistics.
  * Never: packs a call twice or copies a buffer once per server (each
  * flushed buffer is copied once and that copy is handed to every
  * connection), or waits on a server without a bound its silence can end
  * (timeout_ms).
+ *
+ * Use (an SPU sending its whole stream; declare its options with
+ * TSR_NODE_CLIENT_OPTION_SPECS next to its own `server` option):
+ *
+ *   tsr_stream_client_config cfg = {.spu = "my", .name = init->instance_name,
+ *                                   .servers = &server, .server_count = 1};
+ *   tsr_stream_client_config_from_options(&cfg, init->options);
+ *   m->client = tsr_stream_client_create(&cfg, init->table, err);  // every slot sends
+ *   ...
+ *   tsr_stream_client_destroy(m->client);   // FINISH, confirmation, statistics
+ *
+ * Addresses are the network library's: "tcp://host:port", "unix:/path",
+ * "inproc:name" (a server node in the same process).
  *
  * Replies (gets, ReadPixels, the Gen and Create calls) come from the FIRST
  * live server. Every other live server answers the same request too; its
@@ -26,7 +42,7 @@
  * client sends FINISH to every server and waits for each one's
  * confirmation that every buffer ran.
  *
- * Late joiners (config.late_servers, client/join.h). A late server is not
+ * Late joiners (config.late_servers). A late server is not
  * needed at start: a background thread connects to it; right after the
  * next SwapBuffersTSR the packer is flushed, the server gets a catch-up
  * stream of its own (windows, display lists, texture and buffer objects,
@@ -80,14 +96,15 @@ typedef struct tsr_stream_client tsr_stream_client;
 typedef struct tsr_stream_client_config {
     const char *spu;                 /* the SPU's class name, for the statistics ("pack") */
     const char *name;                /* instance name, first word of every message ("pack#0") */
-    const char *const *servers;      /* netlib addresses (netlib/net.h) */
+    const char *const *servers;      /* addresses ("tcp://host:port", above) */
     size_t server_count;             /* >= 1 */
     const char *token;               /* shared token; NULL/"" = none */
     uint32_t timeout_ms;             /* connect/handshake limit and longest silence of a
-                                        server; 0 = netlib defaults, no silence limit */
+                                        server; 0 = the network library's defaults, no
+                                        silence limit */
     size_t buffer_size;              /* bytes of one wire buffer */
     int exit_on_error;               /* see the failure policy above */
-    /* Late joiners (client/join.h; replicate's `late` option): servers not
+    /* Late joiners (replicate's `late` option): servers not
      * required at start, connected to in the background and admitted at a
      * frame boundary once caught up. None: nothing is tracked (no cost).
      * tsr_stream_client_create only (the client's own packer is followed). */

@@ -1,14 +1,25 @@
-/* tessera/dev/dlist.h — the display-list recorder: keeps the contents of every
- * display list a GL stream defines, so a sender can replay a list's state
- * calls into its state tracker when the application calls it (tessera/dev/state.h
- * tracks list names only) and define every list again on a renderer that
- * joins late (replicate) or needs it lazily (tilesort).
+/* tessera/dev/dlist.h — the display-list recorder: keeps the contents of
+ * every display list a GL stream defines, so a sender can replay a list's
+ * state calls into its state tracker when the application calls it
+ * (tessera/dev/state.h tracks list names only) and define every list again
+ * on a renderer that joins late (replicate) or needs it lazily (tilesort).
+ * Part of libtessera (pkg-config tessera).
  *
  * Owns: one body per list name (the commands between glNewList and
- * glEndList, packed into wire buffers by its own packer: tessera/dev/pack.h), the
- * packer and unpackers that write and read them, and a copy of the table
- * calls go on to (`next`). Never: executes a compiled command itself, or
- * keeps a host pointer (bodies hold bytes only).
+ * glEndList, packed into wire buffers by its own packer:
+ * tessera/dev/pack.h), the packer and unpackers that write and read them,
+ * and a copy of the table calls go on to (`next`). Never: executes a
+ * compiled command itself, or keeps a host pointer (bodies hold bytes
+ * only).
+ *
+ *   tsr_dispatch next;                       // e.g. a state tracker's table
+ *   tsr_dispatch_fill_nop(&next);
+ *   tsr_state_fill_dispatch(ctx, &next);
+ *   tsr_dlist_store *lists = tsr_dlist_create(&next, &err);
+ *   const tsr_dispatch *in = tsr_dlist_table(lists);   // give the stream to `in`
+ *   ... on glCallList(n): tsr_dlist_call(lists, n, &next, &err);
+ *   ... a renderer joins: tsr_dlist_define_all(lists, its_packer_table, &err);
+ *   tsr_dlist_destroy(lists);
  *
  * Use: build `next` first (e.g. a state tracker's table), create the store
  * with it, and give every call of the stream to tsr_dlist_table(). Outside
@@ -33,8 +44,8 @@
  * after sending the bodies.
  *
  * Not thread-safe: one store per stream, used by one thread. */
-#ifndef TSR_CORE_DLIST_H
-#define TSR_CORE_DLIST_H
+#ifndef TESSERA_DEV_DLIST_H
+#define TESSERA_DEV_DLIST_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -1,20 +1,35 @@
-/* tessera/dev/pack.h — the packer: turns GL calls into wire buffers (tessera/dev/wire.h)
- * and hands full buffers to a sink. Owns its buffer memory, the object-space
- * bounding box of packed vertices, and mirrors of client state (pixel store,
- * vertex arrays, buffer bindings) needed to size payloads. No globals: every
- * packer is a caller-owned object. Never sends a host pointer, never splits
- * one command across buffers.
+/* tessera/dev/pack.h — the packer: turns GL calls into wire buffers
+ * (tessera/dev/wire.h) and hands full buffers to a sink. For an SPU that
+ * sends a GL stream anywhere (a socket, a file, a display-list body): pack,
+ * replicate and tilesort pack through it, and the stream client
+ * (tessera/dev/client.h) is a packer whose sink is the network.
+ * Part of libtessera (pkg-config tessera).
+ *
+ * Owns: its buffer memory, the object-space bounding box of the vertices
+ * packed since the last flush, and mirrors of the client state (pixel
+ * store, vertex arrays, buffer bindings) needed to size payloads. No
+ * globals: every packer is a caller-owned object, used by one thread.
+ * Never: sends a host pointer, splits one command across buffers, or
+ * blocks except inside the sink.
  *
  * Typical use (an SPU that sends):
- *   tsr_packer *p = tsr_packer_create(1 << 20, &sink, &err);
- *   tsr_packer_fill_dispatch(p, table);     // every slot packs (self = p)
- *   ... GL calls through `table` ...
- *   tsr_packer_flush(p);                    // also done when a buffer fills
  *
- * Generated pack functions (wire_gen.h, private): tsr_pack_NAME(p, args...)
- * for every `pack`/`reply` command; fixed-size ones are static inline. */
-#ifndef TSR_CORE_PACK_H
-#define TSR_CORE_PACK_H
+ *   static int my_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err) {
+ *       return my_send(ctx, buf, size, err);   // copy: buf is valid during the call only
+ *   }
+ *   tsr_pack_sink sink = {.flush = my_flush, .ctx = m};
+ *   tsr_packer *p = tsr_packer_create(1 << 20, &sink, &err);
+ *   tsr_packer_fill_dispatch(p, init->table);  // every slot packs (self = p)
+ *   ... GL calls arrive through the table ...
+ *   tsr_packer_flush(p);                       // also done when a buffer fills
+ *   if (tsr_packer_error(p)->code) ...         // dropped commands, failed flushes
+ *   tsr_packer_destroy(p);
+ *
+ * The packing function of each command is generated from the spec and
+ * reached through the table; the functions under "for generated code"
+ * below are what the inline fast paths of this header call. */
+#ifndef TESSERA_DEV_PACK_H
+#define TESSERA_DEV_PACK_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -24,6 +39,9 @@
 #include "tessera/export.h"
 #include "tessera/dev/pixel.h"
 #include "tessera/dev/wire.h"
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -101,8 +119,10 @@ TSR_API void tsr_packer_destroy(tsr_packer *p);
 TSR_API int tsr_packer_flush(tsr_packer *p);
 /* Bytes of commands currently packed (opcodes + data, no header). */
 TSR_API size_t tsr_packer_pending(const tsr_packer *p);
-/* Sets every slot of `d` to this packer (self = p): pack/reply commands are
- * packed, local ones update the mirrors, custom ones use core/wire/pack.c. */
+/* Sets every slot of `d` to this packer (self = p): commands sent on the
+ * wire are packed (those with a reply flush and wait for it), client-state
+ * commands update the mirrors and draws with client arrays carry their
+ * data (tessera/dev/wire.h section 6). */
 TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
 /* Object-space box of the vertex positions packed since the last flush (or
  * reset); returns 0 when no vertex was packed. The box is reset after each
@@ -116,53 +136,44 @@ TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
  * infinite too (where such a vertex lands is up to the renderer). */
 TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
 TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
+/* Element i's position from a client vertex array (GL_FLOAT, GL_DOUBLE,
+ * GL_INT or GL_SHORT, 1 to 4 components; missing ones are 0, 0, 1) into
+ * out; returns 0 for other types and arrays in buffer objects. */
+TSR_API int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4]);
 /* Bytes (opcode + data, before alignment padding) that glDrawArrays
  * (index_type 0) or glDrawElements of `count` vertices or indices of
  * index_type with client arrays of `vertices` elements would take with the
  * arrays enabled now: a box-keeping SPU uses it to account for a draw it
  * sends in other pieces. 0 when the arrays cannot be packed. */
-/* Element i's position from a client vertex array (GL_FLOAT, GL_DOUBLE,
- * GL_INT or GL_SHORT, 1 to 4 components; missing ones are 0, 0, 1) into
- * out; returns 0 for other types and arrays in buffer objects. */
-TSR_API int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4]);
 TSR_API uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices);
 /* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
  * a dropped command (invalid size, unknown enum), a missing reply. */
 TSR_API const tsr_error *tsr_packer_error(const tsr_packer *p);
 TSR_API void tsr_packer_clear_error(tsr_packer *p);
 
-/* --- for generated code --------------------------------------------------- */
+/* --- spec tables (generated from spec/gl.yaml) ------------------------------ */
+
+/* Element count of an enum-dependent vector (spec pname_counts: glLightfv's
+ * params for GL_POSITION is 4); -1 when the enum is unknown. */
+TSR_API int tsr_wire_pname_count(GLenum pname);
+/* Values per control point of an evaluator target (spec map_components);
+ * -1 when unknown. */
+TSR_API int tsr_wire_map_components(GLenum target);
+/* Opcode of a dispatch slot (TSR_SLOT_*), -1 when out of range. */
+TSR_API int tsr_wire_slot_opcode(int slot);
+/* Name of an opcode ("Vertex3f"), NULL when unknown (messages). */
+TSR_API const char *tsr_wire_opcode_name(uint32_t opcode);
+
+/* --- for generated code: the inline fast paths ------------------------------ */
 
 /* Slow path of tsr_packer_cmd (fixed-size commands, at most
  * TSR_PACK_MAX_FIXED bytes): flushes and places the command. Never NULL:
  * if memory runs out the command goes to a discard area (error recorded). */
 TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
     __attribute__((cold));
-/* Reserves `size` data bytes (aligned) for opcode and records the opcode;
- * the caller fills the bytes. Handles extended opcodes and any size. */
-TSR_API uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
-/* Records an error for a command that cannot be packed and drops it. */
-TSR_API void tsr_packer_drop(tsr_packer *p, const char *command, const char *why);
-/* Flushes and fetches the reply to request `id`; NULL on failure (error
- * recorded). */
-TSR_API const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size);
-/* Reads reply item `*pos` (advancing it): returns the bytes and sets *len;
- * NULL when the reply is malformed. */
-TSR_API const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos,
-                                             uint64_t *len, const char *command);
-/* Keeps a copy of a returned string for the packer's lifetime. */
-TSR_API const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t len);
-/* Element count of an enum-dependent vector (spec pname_counts); -1 when
- * the enum is unknown. Generated. */
-TSR_API int tsr_wire_pname_count(GLenum pname);
-/* Values per control point of an evaluator target (spec map_components);
- * -1 when unknown. Generated. */
-TSR_API int tsr_wire_map_components(GLenum target);
-/* Opcode of a dispatch slot, -1 when out of range. Generated. */
-TSR_API int tsr_wire_slot_opcode(int slot);
-/* Name of an opcode ("Vertex3f"), NULL when unknown. Generated. */
-TSR_API const char *tsr_wire_opcode_name(uint32_t opcode);
 
+/* Reserves `size` data bytes (aligned to `align`, a power of two) for a
+ * one-byte opcode and records the opcode; the caller fills the bytes. */
 static inline uint8_t *tsr_packer_cmd(tsr_packer *p, uint8_t opcode, size_t size, size_t align)
 {
     uint8_t *d = (uint8_t *)(((uintptr_t)p->data + (align - 1)) & ~(uintptr_t)(align - 1));
@@ -173,8 +184,11 @@ static inline uint8_t *tsr_packer_cmd(tsr_packer *p, uint8_t opcode, size_t size
     return d;
 }
 
+/* Grow the box by one vertex position (the packers of the spec's
+ * `vertex: position` commands call these; an SPU that accounts for
+ * geometry it sends in other pieces may too). tsr_packer_bbox4 divides
+ * by w; w <= 0 or NaN makes the box infinite. */
 #if defined(__SSE__)
-#include <xmmintrin.h>
 /* One min and one max on 4 lanes (x, y, z, z). A NaN component is ignored
  * (minps returns the second operand). */
 static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
@@ -197,6 +211,7 @@ static inline void tsr_packer_bbox3(tsr_packer *p, float x, float y, float z)
 }
 #endif
 
+/* Makes the box infinite (a vertex whose place is unknown). */
 TSR_API void tsr_packer_bbox_infinite(tsr_packer *p);
 
 static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, float w)
@@ -209,13 +224,13 @@ static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, fl
         tsr_packer_bbox_infinite(p); /* also w NaN */
 }
 
-/* Hand-written packers of `local` and `custom` commands (core/wire/pack.c). */
+/* --- the client-state mirrors ------------------------------------------------
+ * An SPU that sends the stream in pieces through several packers (tilesort:
+ * state to one, geometry to another) keeps each packer's mirrors right by
+ * telling it about the calls it did not pack itself. */
 TSR_API void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value);
 TSR_API void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer);
 TSR_API void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers);
-/* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
- * mirror (returns 1); other caps go to the receiver (returns 0). */
-TSR_API int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
 
 #ifdef __cplusplus
 }

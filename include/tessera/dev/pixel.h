@@ -1,14 +1,32 @@
-/* tessera/dev/pixel.h — pixel-store state and the byte extent of images GL reads or
- * writes under it (the sizes of image payloads on the wire).
- * Owns: tsr_pixel_store (pack + unpack modes, a small push stack lives in
- * the packer). Never touches GL: pure arithmetic, overflow-checked. */
-#ifndef TSR_CORE_PIXEL_H
-#define TSR_CORE_PIXEL_H
+/* tessera/dev/pixel.h — pixel-store state and the byte extent of images GL
+ * reads or writes under it: the sizes of image payloads on the wire. For an
+ * SPU that handles image commands itself (sizing a glTexImage2D's pixels,
+ * copying a glReadPixels result into the application's memory) the same
+ * way the packer and unpacker do. Part of libtessera (pkg-config tessera).
+ *
+ * Owns: tsr_pixel_store (pack and unpack modes; a small push stack lives in
+ * the packer). Never: touches GL; pure arithmetic, overflow-checked.
+ *
+ * Use:
+ *
+ *   tsr_pixel_store ps;
+ *   tsr_pixel_store_init(&ps);                    // GL's initial values
+ *   tsr_pixel_store_set(&ps, GL_UNPACK_ALIGNMENT, 1);
+ *   tsr_pixel_layout l;
+ *   if (tsr_pixel_layout_of(&ps.unpack, 2, w, h, 1, GL_RGB, GL_UNSIGNED_BYTE, &l) == 0)
+ *       ... l.extent bytes from the pointer are what glTexImage2D reads ...
+ */
+#ifndef TESSERA_DEV_PIXEL_H
+#define TESSERA_DEV_PIXEL_H
 
 #include <stddef.h>
 #include <stdint.h>
 #include <GL/gl.h>
 #include "tessera/export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct tsr_pixel_modes {
     int32_t row_length, image_height, skip_pixels, skip_rows, skip_images, alignment;
@@ -51,4 +69,7 @@ TSR_API int tsr_pixel_layout_of(const tsr_pixel_modes *m, int dims, int64_t w, i
 TSR_API void tsr_pixel_copy_spans(const tsr_pixel_layout *l, int64_t h, int64_t d, void *dst,
                                   const void *src);
 
+#ifdef __cplusplus
+}
+#endif
 #endif

@@ -1,8 +1,16 @@
-/* tessera/dev/protocol.h — the messages a stream client (the pack SPU, later
- * replicate) and a server node exchange over one netlib connection.
+/* tessera/dev/protocol.h — the messages a stream client (tessera/dev/client.h:
+ * pack, replicate, tilesort) and a server node exchange over one
+ * connection of the network library. For an SPU that talks to server nodes
+ * without the stream client, or a program that serves streams. Header only.
+ *
  * Owns: the message kinds and the reply layout (this comment specifies
- * them). Never: depends on netlib internals; the connection, handshake and
- * flow control are netlib's (netlib/net.h).
+ * them). Never: depends on the network library's internals; the
+ * connection, handshake and flow control are the library's.
+ *
+ * Use (a receiver): decode each TSR_NODE_MSG_BUFFER with one unpacker
+ * (tessera/dev/unpack.h) per client, send every reply its callback gets as
+ * TSR_NODE_MSG_REPLY, and answer TSR_NODE_MSG_FINISH once every buffer
+ * before it ran.
  *
  * Client to server:
  *   TSR_NODE_MSG_BUFFER  one complete wire buffer (tessera/dev/wire.h section 1),
@@ -21,10 +29,10 @@
  *                        failure, a wrong parallel-API command, or, in
  *                        shared mode, a deadlock that stopped the node).
  *                        The server closes right after it.
- * A clean end: FINISH both ways, then netlib's BYE (the client closes its
+ * A clean end: FINISH both ways, then the connection's BYE (the client closes its
  * connection); the server then destroys that client's chain. */
-#ifndef TSR_NODE_PROTOCOL_H
-#define TSR_NODE_PROTOCOL_H
+#ifndef TESSERA_DEV_PROTOCOL_H
+#define TESSERA_DEV_PROTOCOL_H
 
 #define TSR_NODE_MSG_BUFFER 0x10u
 #define TSR_NODE_MSG_REPLY 0x11u

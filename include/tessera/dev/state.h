@@ -1,10 +1,29 @@
-/* tessera/dev/state.h — the GL state tracker (docs/architecture.md).
+/* tessera/dev/state.h — the GL state tracker (docs/architecture.md). Part
+ * of libtessera (pkg-config tessera).
  *
  * What it is for: an SPU that sends one stream to several renderers
  * (tilesort, replicate's late joiners) keeps the application's GL state
  * here instead of broadcasting state calls, and before it sends geometry to
  * a renderer it asks for a *diff*: the GL calls that turn what that
  * renderer has into what the application has, and nothing else.
+ *
+ * Owns: the tracked contexts, the renderers' shadows, copies of the
+ * objects' contents (texture images, buffer data, shader sources) and the
+ * dirty bits between them. Never: calls GL, or calls on from a tracking
+ * slot (the tracker's table only records); a diff emits only through the
+ * table it is given, and never a get (no reply is needed).
+ *
+ * Use (one renderer behind a packer):
+ *
+ *   tsr_state_tracker *t = tsr_state_tracker_create(&err);
+ *   tsr_state_ctx *c = tsr_state_ctx_create(t, &err);     // the application's context
+ *   tsr_state_shadow *r = tsr_state_shadow_create(t, &err); // one per renderer
+ *   tsr_dispatch track;
+ *   tsr_dispatch_fill_nop(&track);
+ *   tsr_state_fill_dispatch(c, &track);    // give the stream's calls to `track` too
+ *   ... before geometry goes to the renderer:
+ *   tsr_state_diff(c, r, packer_table, NULL);  // only what the renderer lacks
+ *   tsr_state_tracker_destroy(t);          // and every context and shadow
  *
  * Objects (all caller-owned, no globals):
  *   tsr_state_tracker  one per sending SPU instance: the set of tracked
@@ -42,7 +61,7 @@
  * when two contexts meet on one renderer, an object under the same name
  * with the same content (64-bit content hash) is recognised, not resent.
  *
- * Shaders and programs (state_glsl.c) are objects too: names are
+ * Shaders and programs are objects too: names are
  * allocated here in one namespace (max used + 1, never reused), so
  * glCreateShader/glCreateProgram need no round trip; renderers create them
  * with CreateShaderTSR/CreateProgramTSR under these names and map them to
@@ -69,17 +88,16 @@
  * the tracker (return 1) when the value is client-known; 0 means "ask the
  * renderer" (implementation limits, strings, GL errors, ...).
  *
- * What is not tracked, and why, is listed in tsr_state_untracked[]
- * (state_spec.c); the test state_covers_spec checks that every `state`,
+ * What is not tracked, and why, is listed in tsr_state_untracked[]; the
+ * test state_covers_spec checks that every `state`,
  * `object` and `client` command of spec/gl.yaml is either implemented by
  * tsr_state_fill_dispatch or listed there.
  *
- * Internal header (core/, like pack.h): the in-tree SPUs that use it
- * (tilesort, replicate) include core/; the value structs below are still
- * growing, so they are not frozen into the installed API yet. Functions are
- * exported from libtessera (TSR_API) so plugins can call them. */
-#ifndef TSR_CORE_STATE_H
-#define TSR_CORE_STATE_H
+ * The value structs below still grow with the spec: code built against one
+ * version of this header must not assume their layout in another (read
+ * them through this header, rebuild with the library). */
+#ifndef TESSERA_DEV_STATE_H
+#define TESSERA_DEV_STATE_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -148,7 +166,7 @@ typedef enum tsr_state_member {
     /* TRANSFORM: matrix stacks, clip planes */
     TSR_SM_MODELVIEW, TSR_SM_PROJECTION, TSR_SM_TEXMAT0,
     TSR_SM_CLIP = TSR_SM_TEXMAT0 + TSR_STATE_UNITS,
-    /* PROGRAM: the current program (+ the program objects, core/state/state_glsl.c) */
+    /* PROGRAM: the current program (+ the program objects) */
     TSR_SM_PROGRAM,
     TSR_SM_COUNT
 } tsr_state_member;
@@ -342,8 +360,8 @@ TSR_API void tsr_state_shadow_reset(tsr_state_shadow *s);
 
 /* --- tracking ---------------------------------------------------------------
  * Sets the slots of every command the tracker implements (state, current
- * attributes, objects, client state, gets it can answer; list in
- * tsr_state_fill_dispatch's source and tsr_state_untracked[]) to functions
+ * attributes, objects, client state, gets it can answer; the commands it
+ * leaves out are in tsr_state_untracked[]) to functions
  * updating `c` (self = c). Other slots are left untouched, so a caller can
  * fill its child's table first and let the tracker override. The tracker's
  * functions never call further: an SPU that also forwards a call calls both
@@ -456,7 +474,7 @@ TSR_API extern const tsr_state_untracked_cmd tsr_state_untracked[];
 /* Command i (from 0) of the spec the tracker must cover (categories state,
  * object, client, and the current-attribute commands): its name and
  * category ("current" for those). Returns 0 past the end. Generated from
- * the spec by gen/gen_state.c. */
+ * the spec. */
 TSR_API int tsr_state_spec_command(size_t i, const char **name, const char **category);
 
 #ifdef __cplusplus

@@ -1,11 +1,27 @@
 /* tessera/dev/unpack.h — the unpacker: validates a received wire buffer
- * (tessera/dev/wire.h) command by command and calls a dispatch table with the
- * decoded arguments; produces replies through a callback.
+ * (tessera/dev/wire.h) command by command and calls a dispatch table with
+ * the decoded arguments; produces replies through a callback. For whatever
+ * receives a stream: a server node decoding into its chain, an SPU that
+ * replays recorded buffers (display lists, tessera/dev/dlist.h).
+ * Part of libtessera (pkg-config tessera).
+ *
  * Owns: per-stream state (pixel-store mirror, output and reply scratch).
- * Never reads outside the buffer, never trusts a length, never aborts:
- * malformed input is TSR_EPROTO with the command and data offset named. */
-#ifndef TSR_CORE_UNPACK_H
-#define TSR_CORE_UNPACK_H
+ * Never: reads outside the buffer, trusts a length, or aborts; malformed
+ * input is TSR_EPROTO with the command and data offset named.
+ *
+ * Use (one unpacker per stream, buffers in the order they were packed):
+ *
+ *   static int my_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size,
+ *                       tsr_error *err) {
+ *       return my_send_reply(ctx, id, data, size, err);  // tessera/dev/wire.h section 5
+ *   }
+ *   tsr_unpacker *u = tsr_unpacker_create(chain_head, my_reply, m, &err);
+ *   while (next buffer buf of size n)
+ *       if (tsr_unpacker_run(u, buf, n, &err) < 0) ...   // drop the sender: err says why
+ *   tsr_unpacker_destroy(u);
+ */
+#ifndef TESSERA_DEV_UNPACK_H
+#define TESSERA_DEV_UNPACK_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -82,20 +98,10 @@ TSR_API int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err);
  * do not start a valid header (`err` filled). */
 TSR_API size_t tsr_wire_buffer_size(const void *buf, size_t size, tsr_error *err);
 
-/* Fuzzing entry point: decodes `data` as a buffer into a table of no-ops
- * (replies dropped). Returns 0 or the error code; never crashes. */
+/* Whether `data` decodes as one buffer: decodes it into a table of no-ops
+ * (replies dropped). Returns 0 or the error code; never crashes. For
+ * fuzzers and tests of a stream's producer. */
 TSR_API int tsr_unpack_fuzz_one(const uint8_t *data, size_t size);
-
-/* --- for generated code --------------------------------------------------- */
-int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *data, uint32_t nops, size_t len,
-                        tsr_error *err);
-/* Zero-filled, 8-aligned space for `n` outputs of the given sizes; -1 when
- * their total exceeds max_output or memory runs out. */
-int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs);
-/* Builds the reply (tessera/dev/wire.h section 5) and hands it to the callback.
- * ret_len TSR_WIRE_NULL: the command returns nothing. */
-int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n,
-                       const uint64_t *sizes, uint8_t *const *ptrs, tsr_error *err);
 
 #ifdef __cplusplus
 }

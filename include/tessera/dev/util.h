@@ -1,6 +1,18 @@
 /* tessera/dev/util.h — small helpers that servers, coordinators and SPUs
  * share, so each exists once: a monotonic clock, a JSON string writer
- * (statistics files) and "did you mean" suggestions for error messages. Part of libtessera's developer API. */
+ * (statistics files) and "did you mean" suggestions for error messages.
+ * Part of libtessera (pkg-config tessera).
+ *
+ * Owns nothing: every function is pure or writes only where it is told.
+ * Never: keeps state between calls or allocates.
+ *
+ *   double t0 = tsr_now_seconds();
+ *   fprintf(f, "{\"name\":");
+ *   tsr_json_string(f, name);                       // "pack#0", escaped
+ *   fprintf(f, ",\"seconds\":%.3f}", tsr_now_seconds() - t0);
+ *   const char *near = tsr_closest_name(word, names, count);
+ *   if (near) ... "unknown option 'sever' (did you mean 'server'?)"
+ */
 #ifndef TESSERA_DEV_UTIL_H
 #define TESSERA_DEV_UTIL_H
 

@@ -1,7 +1,20 @@
-/* tessera/dev/wire.h — the tessera wire format: layout of a command buffer and the
- * little-endian field accessors the packer and unpacker share.
+/* tessera/dev/wire.h — the tessera wire format: layout of a command buffer
+ * and the little-endian field accessors the packer and unpacker share. For
+ * an SPU that reads or writes wire bytes itself (a sorting SPU walking a
+ * packed buffer, a custom command's payload, a reply). Header only.
+ *
  * Owns: the format definition (this comment is its specification).
- * Never: host pointers, host byte order or host sizes on the wire.
+ * Never: host pointers, host byte order or host sizes on the wire; the
+ * accessors never assume alignment.
+ *
+ * Use: read a buffer's header before trusting it
+ *
+ *   if (size < TSR_WIRE_HEADER_SIZE || tsr_wire_get_u32(buf) != TSR_WIRE_MAGIC) ...
+ *   uint32_t n = tsr_wire_get_u32(buf + 4);               // opcode count
+ *   uint64_t len = tsr_wire_get_u64(buf + 8);             // data length
+ *   const uint8_t *data = buf + TSR_WIRE_HEADER_SIZE + tsr_wire_align8(n);
+ *
+ * (tsr_wire_buffer_size in tessera/dev/unpack.h does the whole check.)
  *
  * 1. A BUFFER (what a sink receives and an unpacker decodes) is one
  *    contiguous byte region:
@@ -116,8 +129,8 @@
  * All multi-byte values are little-endian. Buffers are self-contained: no
  * state survives from one buffer to the next inside the decoder, so any
  * command boundary (also inside Begin/End) is a valid buffer boundary. */
-#ifndef TSR_CORE_WIRE_H
-#define TSR_CORE_WIRE_H
+#ifndef TESSERA_DEV_WIRE_H
+#define TESSERA_DEV_WIRE_H
 
 #include <stdint.h>
 #include <string.h>

@@ -1,0 +1,52 @@
+/* core/wire/wire_internal.h — the packer and unpacker runtime functions that
+ * only the generated packers and decoders (pack_gen.c, unpack_gen.c) call:
+ * variable-size commands, replies, dropped commands. Shared by core/wire/
+ * pack.c and unpack.c, which define them, and the generated code of
+ * libtessera. Not exported and never installed: an SPU packs through the
+ * dispatch table (tessera/dev/pack.h) and decodes with tsr_unpacker_run
+ * (tessera/dev/unpack.h). */
+#ifndef TSR_CORE_WIRE_INTERNAL_H
+#define TSR_CORE_WIRE_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <GL/gl.h>
+#include "tessera/dispatch.h"
+#include "tessera/error.h"
+#include "tessera/dev/pack.h"
+#include "tessera/dev/unpack.h"
+
+/* --- packer ------------------------------------------------------------------ */
+
+/* Reserves `size` data bytes (aligned) for opcode and records the opcode;
+ * the caller fills the bytes. Handles extended opcodes and any size. */
+uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align);
+/* Records an error for a command that cannot be packed and drops it. */
+void tsr_packer_drop(tsr_packer *p, const char *command, const char *why);
+/* Flushes and fetches the reply to request `id`; NULL on failure (error
+ * recorded). */
+const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size);
+/* Reads reply item `*pos` (advancing it): returns the bytes and sets *len;
+ * NULL when the reply is malformed. */
+const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos,
+                                     uint64_t *len, const char *command);
+/* Keeps a copy of a returned string for the packer's lifetime. */
+const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t len);
+/* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
+ * mirror (returns 1); other caps go to the receiver (returns 0). */
+int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
+
+/* --- unpacker ---------------------------------------------------------------- */
+
+/* Decodes `nops` commands of `data` (`len` bytes) into `d` (generated). */
+int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *data, uint32_t nops, size_t len,
+                        tsr_error *err);
+/* Zero-filled, 8-aligned space for `n` outputs of the given sizes; -1 when
+ * their total exceeds max_output or memory runs out. */
+int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs);
+/* Builds the reply (tessera/dev/wire.h section 5) and hands it to the callback.
+ * ret_len TSR_WIRE_NULL: the command returns nothing. */
+int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n,
+                       const uint64_t *sizes, uint8_t *const *ptrs, tsr_error *err);
+
+#endif
