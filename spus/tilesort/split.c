@@ -354,6 +354,9 @@ static void vertex(ts_split *sp, int size, float x, float y, float z, float w)
     {                                                                                                              \
         vertex(self, 4, (float)v[0], (float)v[1], (float)v[2], (float)v[3]);                                       \
     }
+/* A table of macro calls, laid out by hand: clang-format 14 rewraps it
+ * differently on every run (it never settles). */
+/* clang-format off */
 #define VERTEX_TYPES(X2, X3, X4, XV2, XV3, XV4)                                                                    \
     X2(Vertex2f, GLfloat) X2(Vertex2d, GLdouble) X2(Vertex2i, GLint) X2(Vertex2s, GLshort)                         \
     X3(Vertex3f, GLfloat) X3(Vertex3d, GLdouble) X3(Vertex3i, GLint) X3(Vertex3s, GLshort)                         \
@@ -361,6 +364,7 @@ static void vertex(ts_split *sp, int size, float x, float y, float z, float w)
     XV2(Vertex2fv, GLfloat) XV2(Vertex2dv, GLdouble) XV2(Vertex2iv, GLint) XV2(Vertex2sv, GLshort)                 \
     XV3(Vertex3fv, GLfloat) XV3(Vertex3dv, GLdouble) XV3(Vertex3iv, GLint) XV3(Vertex3sv, GLshort)                 \
     XV4(Vertex4fv, GLfloat) XV4(Vertex4dv, GLdouble) XV4(Vertex4iv, GLint) XV4(Vertex4sv, GLshort)
+/* clang-format on */
 
 VERTEX_TYPES(V2, V3, V4, VV2, VV3, VV4)
 
