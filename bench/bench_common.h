@@ -32,9 +32,6 @@ FILE *bench_csv_open(const char *path, const char *header);
 
 /* Keeps the compiler from discarding a computed value or a buffer's
  * contents (the benchmark loops must do the real work). */
-static inline void bench_keep(const void *p)
-{
-    __asm__ __volatile__("" : : "r"(p) : "memory");
-}
+static inline void bench_keep(const void *p) { __asm__ __volatile__("" : : "r"(p) : "memory"); }
 
 #endif

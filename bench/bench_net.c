@@ -52,8 +52,8 @@ static double process_cpu(void)
 {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    return (double)ru.ru_utime.tv_sec + (double)ru.ru_utime.tv_usec * 1e-6 +
-           (double)ru.ru_stime.tv_sec + (double)ru.ru_stime.tv_usec * 1e-6;
+    return (double)ru.ru_utime.tv_sec + (double)ru.ru_utime.tv_usec * 1e-6 + (double)ru.ru_stime.tv_sec +
+           (double)ru.ru_stime.tv_usec * 1e-6;
 }
 
 /* CPU seconds of the calling thread so far. */
@@ -65,10 +65,7 @@ static double thread_cpu(void)
 }
 
 /* CPU seconds per 10^9 bytes. */
-static double per_gb(double cpu_seconds, uint64_t bytes)
-{
-    return bytes ? cpu_seconds / ((double)bytes * 1e-9) : 0.0;
-}
+static double per_gb(double cpu_seconds, uint64_t bytes) { return bytes ? cpu_seconds / ((double)bytes * 1e-9) : 0.0; }
 
 static double wall_now(void)
 {
@@ -151,9 +148,13 @@ static int run_stream(const char *listen_address, uint64_t verts, result *out)
 
     tsr_dispatch *gl = calloc(1, sizeof *gl);
     tsr_dispatch_fill_nop(gl);
-    tsr_stream_client_config cfg = {.spu = "bench", .name = "bench_net", .servers = &address,
-                                  .server_count = 1, .timeout_ms = 30000,
-                                  .buffer_size = BUFFER_SIZE, .exit_on_error = 0};
+    tsr_stream_client_config cfg = {.spu = "bench",
+                                    .name = "bench_net",
+                                    .servers = &address,
+                                    .server_count = 1,
+                                    .timeout_ms = 30000,
+                                    .buffer_size = BUFFER_SIZE,
+                                    .exit_on_error = 0};
     tsr_stream_client *client = tsr_stream_client_create(&cfg, gl, &err);
     int status = 0;
     if (!client) {
@@ -309,8 +310,7 @@ static int raw_pair(int unix_socket, const char *path, int fds[2])
         in->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
         len = sizeof *in;
     }
-    if (l < 0 || bind(l, (struct sockaddr *)&ss, len) || listen(l, 1) ||
-        getsockname(l, (struct sockaddr *)&ss, &len))
+    if (l < 0 || bind(l, (struct sockaddr *)&ss, len) || listen(l, 1) || getsockname(l, (struct sockaddr *)&ss, &len))
         goto fail;
     fds[0] = socket(unix_socket ? AF_UNIX : AF_INET, SOCK_STREAM, 0);
     if (fds[0] < 0 || connect(fds[0], (struct sockaddr *)&ss, len))
@@ -401,12 +401,11 @@ static int measure(const char *transport, const bench_args *args, uint64_t verts
             fprintf(csv,
                     "%s,%d,%llu,%llu,%.6f,%.1f,%.2f,%.3f,%.3f,%.3f,%.6f,%.1f,%.2f,%.3f,%.3f,%.3f,"
                     "%.3f\n",
-                    transport, rep, (unsigned long long)s.verts, (unsigned long long)s.bytes,
-                    s.seconds, s_mb, s.cpu_seconds / s.seconds, per_gb(s.send_cpu, s.bytes),
-                    per_gb(s.recv_cpu, s.bytes),
+                    transport, rep, (unsigned long long)s.verts, (unsigned long long)s.bytes, s.seconds, s_mb,
+                    s.cpu_seconds / s.seconds, per_gb(s.send_cpu, s.bytes), per_gb(s.recv_cpu, s.bytes),
                     per_gb(s.cpu_seconds - s.send_cpu - s.recv_cpu, s.bytes), r.seconds, r_mb,
-                    r.cpu_seconds / r.seconds, per_gb(r.send_cpu, r.bytes),
-                    per_gb(r.recv_cpu, r.bytes), st.pack_s_per_gb, st.unpack_s_per_gb);
+                    r.cpu_seconds / r.seconds, per_gb(r.send_cpu, r.bytes), per_gb(r.recv_cpu, r.bytes),
+                    st.pack_s_per_gb, st.unpack_s_per_gb);
         if (rep == 0 || st.pack_s_per_gb < least_pack)
             least_pack = st.pack_s_per_gb;
         if (rep == 0 || st.unpack_s_per_gb < least_unpack)
@@ -452,11 +451,10 @@ int main(int argc, char **argv)
         args.repeats = 5;
     /* About 512 MB of wire bytes per run (13 bytes per glVertex3f). */
     uint64_t verts = args.quick ? (1u << 16) : (40u << 20);
-    csv = bench_csv_open(args.csv_path,
-                         "transport,run,verts,bytes,stream_s,stream_mbytes,stream_cpus,"
-                         "stream_send_s_per_gb,stream_recv_s_per_gb,stream_other_s_per_gb,raw_s,"
-                         "raw_mbytes,raw_cpus,raw_send_s_per_gb,raw_recv_s_per_gb,pack_s_per_gb,"
-                         "unpack_s_per_gb");
+    csv = bench_csv_open(args.csv_path, "transport,run,verts,bytes,stream_s,stream_mbytes,stream_cpus,"
+                                        "stream_send_s_per_gb,stream_recv_s_per_gb,stream_other_s_per_gb,raw_s,"
+                                        "raw_mbytes,raw_cpus,raw_send_s_per_gb,raw_recv_s_per_gb,pack_s_per_gb,"
+                                        "unpack_s_per_gb");
     int status = measure("tcp", &args, verts) || measure("unix", &args, verts);
     if (csv)
         fclose(csv);

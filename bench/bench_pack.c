@@ -150,13 +150,11 @@ int main(int argc, char **argv)
         if (copy_gbps > best_copy)
             best_copy = copy_gbps;
         if (csv) {
-            fprintf(csv, "pack_vertex3f_bbox,%d,%llu,%llu,%.6f,%.3f,%.3f\n", r,
-                    (unsigned long long)calls, (unsigned long long)bytes, tp, rate * 1e-6, gbps);
-            fprintf(csv, "memcpy,%d,,%llu,%.6f,,%.3f\n", r, (unsigned long long)bytes, tc,
-                    copy_gbps);
-            fprintf(csv, "pack_vertex3f_bbox_inline,%d,%llu,%llu,%.6f,%.3f,%.3f\n", r,
-                    (unsigned long long)calls, (unsigned long long)bytes, ti, (double)calls / ti * 1e-6,
-                    (double)bytes / ti * 1e-9);
+            fprintf(csv, "pack_vertex3f_bbox,%d,%llu,%llu,%.6f,%.3f,%.3f\n", r, (unsigned long long)calls,
+                    (unsigned long long)bytes, tp, rate * 1e-6, gbps);
+            fprintf(csv, "memcpy,%d,,%llu,%.6f,,%.3f\n", r, (unsigned long long)bytes, tc, copy_gbps);
+            fprintf(csv, "pack_vertex3f_bbox_inline,%d,%llu,%llu,%.6f,%.3f,%.3f\n", r, (unsigned long long)calls,
+                    (unsigned long long)bytes, ti, (double)calls / ti * 1e-6, (double)bytes / ti * 1e-9);
         }
     }
     if (csv)

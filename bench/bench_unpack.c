@@ -202,8 +202,8 @@ int main(int argc, char **argv)
     bench_args args;
     if (bench_parse_args(argc, argv, &args, NULL) != 0)
         return 2;
-    FILE *csv = bench_csv_open(args.csv_path,
-                               "stream,repeat,commands,bytes,seconds,mcmds_per_s,gb_per_s,bytes_per_command");
+    FILE *csv =
+        bench_csv_open(args.csv_path, "stream,repeat,commands,bytes,seconds,mcmds_per_s,gb_per_s,bytes_per_command");
     double mix_mcmds, mix_gbps, v_mcmds, v_gbps, big_mcmds, big_gbps;
     /* A just-received buffer is in cache (the receive wrote it): the main
      * figures decode one buffer's worth (fits L2). The 8 MiB stream shows

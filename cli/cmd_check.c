@@ -7,7 +7,8 @@
 #include "commands.h"
 #include "tessera/graph.h"
 
-static void print_usage(FILE *out) {
+static void print_usage(FILE *out)
+{
     fprintf(out, "usage: tessera check [--no-spu-check] GRAPH\n\n"
                  "Validates the graph file GRAPH (YAML, see tessera/graph.h and\n"
                  "examples/graphs/README.md): keys and their types, node names, edges,\n"
@@ -22,15 +23,16 @@ static void print_usage(FILE *out) {
                  "unreadable file or bad arguments.\n");
 }
 
-int cmd_check(int argc, char **argv) {
+int cmd_check(int argc, char **argv)
+{
     tsr_graph *graph;
     unsigned flags;
     int rc = tsr_cli_load_graph(argc, argv, "check", print_usage, &graph, &flags);
     if (!graph)
         return rc;
     size_t nodes = tsr_graph_node_count(graph), edges = tsr_graph_edge_count(graph);
-    printf("ok: %zu node%s, %zu edge%s, window %dx%d%s\n", nodes, nodes == 1 ? "" : "s", edges,
-           edges == 1 ? "" : "s", tsr_graph_width(graph), tsr_graph_height(graph),
+    printf("ok: %zu node%s, %zu edge%s, window %dx%d%s\n", nodes, nodes == 1 ? "" : "s", edges, edges == 1 ? "" : "s",
+           tsr_graph_width(graph), tsr_graph_height(graph),
            flags & TSR_GRAPH_NO_SPU_CHECK ? " (structure only: SPUs not checked)" : "");
     tsr_graph_free(graph);
     return TSR_EXIT_OK;

@@ -12,7 +12,8 @@
 #define APP_COLOR "#dbe8f7"
 #define SERVER_COLOR "#e3f1dc"
 
-static void print_usage(FILE *out) {
+static void print_usage(FILE *out)
+{
     fprintf(out, "usage: tessera dot [--no-spu-check] GRAPH\n\n"
                  "Validates the graph file GRAPH like `tessera check`, then prints it as\n"
                  "Graphviz DOT on stdout: one box per node with its program or role, SPU\n"
@@ -26,7 +27,8 @@ static void print_usage(FILE *out) {
 
 /* Text inside a record field: the record syntax characters and quotes
  * are escaped; `\l` ends a left-justified line. */
-static void put_record_text(FILE *out, const char *s) {
+static void put_record_text(FILE *out, const char *s)
+{
     for (; *s; s++) {
         if (strchr("{}|<>\"\\", *s))
             fputc('\\', out);
@@ -34,7 +36,8 @@ static void put_record_text(FILE *out, const char *s) {
     }
 }
 
-static void put_chain(FILE *out, const tsr_graph_node *node) {
+static void put_chain(FILE *out, const tsr_graph_node *node)
+{
     for (size_t i = 0; i < node->chain_length; i++) {
         const tsr_chain_link *link = &node->chain[i];
         fputs("|", out);
@@ -48,9 +51,9 @@ static void put_chain(FILE *out, const tsr_graph_node *node) {
     }
 }
 
-static void put_node(FILE *out, const tsr_graph_node *node) {
-    fprintf(out, "  \"%s\" [fillcolor=\"%s\", label=\"{", node->name,
-            node->exec ? APP_COLOR : SERVER_COLOR);
+static void put_node(FILE *out, const tsr_graph_node *node)
+{
+    fprintf(out, "  \"%s\" [fillcolor=\"%s\", label=\"{", node->name, node->exec ? APP_COLOR : SERVER_COLOR);
     put_record_text(out, node->name);
     if (node->exec) {
         fputs("\\nruns: ", out);
@@ -80,7 +83,8 @@ static void put_node(FILE *out, const tsr_graph_node *node) {
 }
 
 /* Inside a quoted DOT string only '"' and '\' need escaping. */
-static void put_escaped(FILE *out, const char *s) {
+static void put_escaped(FILE *out, const char *s)
+{
     for (; *s; s++) {
         if (*s == '"' || *s == '\\')
             fputc('\\', out);
@@ -88,13 +92,15 @@ static void put_escaped(FILE *out, const char *s) {
     }
 }
 
-static void put_quoted(FILE *out, const char *s) {
+static void put_quoted(FILE *out, const char *s)
+{
     fputc('"', out);
     put_escaped(out, s);
     fputc('"', out);
 }
 
-static void put_graph(FILE *out, const tsr_graph *graph) {
+static void put_graph(FILE *out, const tsr_graph *graph)
+{
     const char *file = tsr_graph_file(graph);
     const char *base = strrchr(file, '/');
     base = base ? base + 1 : file;
@@ -102,8 +108,7 @@ static void put_graph(FILE *out, const tsr_graph *graph) {
     put_quoted(out, base);
     fputs(" {\n", out);
     char title[300];
-    snprintf(title, sizeof title, "%s  (window %dx%d)", base, tsr_graph_width(graph),
-             tsr_graph_height(graph));
+    snprintf(title, sizeof title, "%s  (window %dx%d)", base, tsr_graph_width(graph), tsr_graph_height(graph));
     fputs("  graph [rankdir=TB, fontname=\"Helvetica\", fontsize=12, labelloc=t, nodesep=0.4, "
           "label=",
           out);
@@ -130,7 +135,8 @@ static void put_graph(FILE *out, const tsr_graph *graph) {
     fputs("}\n", out);
 }
 
-int cmd_dot(int argc, char **argv) {
+int cmd_dot(int argc, char **argv)
+{
     tsr_graph *graph;
     unsigned flags;
     int rc = tsr_cli_load_graph(argc, argv, "dot", print_usage, &graph, &flags);

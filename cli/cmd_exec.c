@@ -121,8 +121,7 @@ int cmd_exec(int argc, char **argv)
         size_t used = 0;
         for (const char *t = TESSERA_EXEC_DEFAULT_CHAIN; *t && used < sizeof default_chain - 1;) {
             if (!strncmp(t, "{out}", 5)) {
-                used += (size_t)snprintf(default_chain + used, sizeof default_chain - used, "\"%s\"",
-                                         pattern);
+                used += (size_t)snprintf(default_chain + used, sizeof default_chain - used, "\"%s\"", pattern);
                 t += 5;
             } else {
                 default_chain[used++] = *t++;

@@ -11,21 +11,22 @@
 #include "commands.h"
 #include "tessera/image.h"
 
-static void imgdiff_usage(FILE *out) {
-    fprintf(out,
-            "usage: tessera imgdiff A.png B.png [--tolerance N]\n\n"
-            "Compares two PNG images of the same size pixel by pixel and prints:\n"
-            "  differing_pixels: N     pixels with any channel off by more than N\n"
-            "  max_channel_error: N    largest difference of one channel (0..255)\n"
-            "  psnr_db: X              PSNR over R, G, B, A in dB (inf when identical)\n\n"
-            "options:\n"
-            "  --tolerance N   allowed per-channel difference, 0..255 (default 0)\n"
-            "  -h, --help      show this help\n\n"
-            "Exit codes: 0 no pixel differs by more than the tolerance, 1 some do,\n"
-            "2 usage error, missing or unreadable file, not a PNG, size mismatch.\n");
+static void imgdiff_usage(FILE *out)
+{
+    fprintf(out, "usage: tessera imgdiff A.png B.png [--tolerance N]\n\n"
+                 "Compares two PNG images of the same size pixel by pixel and prints:\n"
+                 "  differing_pixels: N     pixels with any channel off by more than N\n"
+                 "  max_channel_error: N    largest difference of one channel (0..255)\n"
+                 "  psnr_db: X              PSNR over R, G, B, A in dB (inf when identical)\n\n"
+                 "options:\n"
+                 "  --tolerance N   allowed per-channel difference, 0..255 (default 0)\n"
+                 "  -h, --help      show this help\n\n"
+                 "Exit codes: 0 no pixel differs by more than the tolerance, 1 some do,\n"
+                 "2 usage error, missing or unreadable file, not a PNG, size mismatch.\n");
 }
 
-static int parse_tolerance(const char *text, int *out) {
+static int parse_tolerance(const char *text, int *out)
+{
     char *end;
     errno = 0;
     long v = strtol(text, &end, 10);
@@ -35,7 +36,8 @@ static int parse_tolerance(const char *text, int *out) {
     return 0;
 }
 
-int cmd_imgdiff(int argc, char **argv) {
+int cmd_imgdiff(int argc, char **argv)
+{
     const char *paths[2] = {NULL, NULL};
     int npaths = 0;
     int tolerance = 0;
@@ -77,15 +79,14 @@ int cmd_imgdiff(int argc, char **argv) {
 
     tsr_image a = {0}, b = {0};
     tsr_error err = {0};
-    if (tsr_image_read_png(&a, paths[0], &err) != TSR_OK ||
-        tsr_image_read_png(&b, paths[1], &err) != TSR_OK) {
+    if (tsr_image_read_png(&a, paths[0], &err) != TSR_OK || tsr_image_read_png(&b, paths[1], &err) != TSR_OK) {
         fprintf(stderr, "tessera imgdiff: %s\n", err.message);
         tsr_image_free(&a);
         return TSR_EXIT_USAGE;
     }
     if (a.width != b.width || a.height != b.height) {
-        fprintf(stderr, "tessera imgdiff: size mismatch: %s is %dx%d, %s is %dx%d\n", paths[0],
-                a.width, a.height, paths[1], b.width, b.height);
+        fprintf(stderr, "tessera imgdiff: size mismatch: %s is %dx%d, %s is %dx%d\n", paths[0], a.width, a.height,
+                paths[1], b.width, b.height);
         tsr_image_free(&a);
         tsr_image_free(&b);
         return TSR_EXIT_USAGE;

@@ -5,7 +5,4 @@
  * --listen is required and no node is launched. */
 #include "commands.h"
 
-int cmd_mothership(int argc, char **argv)
-{
-    return tsr_cli_run_graph(argc, argv, 0);
-}
+int cmd_mothership(int argc, char **argv) { return tsr_cli_run_graph(argc, argv, 0); }

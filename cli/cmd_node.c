@@ -83,10 +83,7 @@ static int parse_count(const char *text, long min, long max, long *out)
 }
 
 /* Node errors start with "node: "; after "tessera node: " that is noise. */
-static const char *without_prefix(const char *message)
-{
-    return strncmp(message, "node: ", 6) ? message : message + 6;
-}
+static const char *without_prefix(const char *message) { return strncmp(message, "node: ", 6) ? message : message + 6; }
 
 /* The launcher's rank: mpirun (Open MPI, MPICH/PMI) or srun. */
 static const char *rank_from_env(const char **var)
@@ -102,9 +99,8 @@ static const char *rank_from_env(const char **var)
     return NULL;
 }
 
-static int node_with_mothership(const char *mothership, const char *name, const char *rank_text,
-                                const char *token, long timeout_ms, long connect_timeout_ms,
-                                const char *bind)
+static int node_with_mothership(const char *mothership, const char *name, const char *rank_text, const char *token,
+                                long timeout_ms, long connect_timeout_ms, const char *bind)
 {
     tsr_agent_config cfg = {.name = name, .rank = -1, .token = token, .bind = bind};
     char address[256];
@@ -125,8 +121,7 @@ static int node_with_mothership(const char *mothership, const char *name, const 
             return TSR_EXIT_USAGE;
         }
         if (parse_count(rank_text, 0, 1000000, &r)) {
-            fprintf(stderr, "tessera node: bad rank '%s' from %s (expected 0, 1, ...)\n", rank_text,
-                    source);
+            fprintf(stderr, "tessera node: bad rank '%s' from %s (expected 0, 1, ...)\n", rank_text, source);
             return TSR_EXIT_USAGE;
         }
         cfg.rank = (int)r;
@@ -138,8 +133,7 @@ static int node_with_mothership(const char *mothership, const char *name, const 
     tsr_error err = {0};
     int code = tsr_agent_run(&cfg, &err);
     if (code)
-        fprintf(stderr, "tessera node: %s%s%s: %s\n", name ? "" : "rank ", name ? name : rank_text,
-                "", err.message);
+        fprintf(stderr, "tessera node: %s%s%s: %s\n", name ? "" : "rank ", name ? name : rank_text, "", err.message);
     /* A server thread or the I/O thread may still run after a STOP: end
      * here, without running exit handlers under their feet. */
     fflush(NULL);
@@ -195,16 +189,14 @@ int cmd_node(int argc, char **argv)
                 return TSR_EXIT_USAGE;
             }
             connect_timeout = n;
-        }
-        else if (!strcmp(arg, "--idle-timeout-ms")) {
+        } else if (!strcmp(arg, "--idle-timeout-ms")) {
             if (parse_count(value, 0, 86400000, &n)) {
                 fprintf(stderr, "tessera node: bad --idle-timeout-ms '%s' (expected 0..86400000)\n", value);
                 return TSR_EXIT_USAGE;
             }
             cfg.idle_timeout_ms = (uint32_t)n;
             idle_given = n;
-        }
-        else if (!strcmp(arg, "--clients")) {
+        } else if (!strcmp(arg, "--clients")) {
             if (parse_count(value, 1, 100000, &n)) {
                 fprintf(stderr, "tessera node: bad --clients '%s' (expected 1..100000)\n", value);
                 return TSR_EXIT_USAGE;
@@ -229,8 +221,7 @@ int cmd_node(int argc, char **argv)
                             "--idle-timeout-ms\n");
             return TSR_EXIT_USAGE;
         }
-        return node_with_mothership(mothership, cfg.name, rank, cfg.token, timeout_given, connect_timeout,
-                                    bind);
+        return node_with_mothership(mothership, cfg.name, rank, cfg.token, timeout_given, connect_timeout, bind);
     }
     if (rank || bind || connect_timeout >= 0) {
         fprintf(stderr, "tessera node: --rank, --bind and --connect-timeout-ms need --mothership\n");

@@ -86,10 +86,7 @@ static void mothership_usage(FILE *out)
 
 static volatile sig_atomic_t interrupted;
 
-static void on_signal(int sig)
-{
-    interrupted = sig;
-}
+static void on_signal(int sig) { interrupted = sig; }
 
 static void print_listening(const char *address, void *ctx)
 {
@@ -149,9 +146,8 @@ int tsr_cli_run_graph(int argc, char **argv, int launch)
             graph_path = arg;
             continue;
         }
-        int known = !strcmp(arg, "--stats") || !strcmp(arg, "--timeout-ms") ||
-                    !strcmp(arg, "--join-timeout-ms") || !strcmp(arg, "--listen") ||
-                    !strcmp(arg, "--token") || (launch && !strcmp(arg, "--out"));
+        int known = !strcmp(arg, "--stats") || !strcmp(arg, "--timeout-ms") || !strcmp(arg, "--join-timeout-ms") ||
+                    !strcmp(arg, "--listen") || !strcmp(arg, "--token") || (launch && !strcmp(arg, "--out"));
         if (!known) {
             fprintf(stderr, "%s: unknown option '%s' (see %s --help)\n", who, arg, who);
             return TSR_EXIT_USAGE;
@@ -252,7 +248,4 @@ int tsr_cli_run_graph(int argc, char **argv, int launch)
     return TSR_EXIT_OK;
 }
 
-int cmd_run(int argc, char **argv)
-{
-    return tsr_cli_run_graph(argc, argv, 1);
-}
+int cmd_run(int argc, char **argv) { return tsr_cli_run_graph(argc, argv, 1); }

@@ -12,7 +12,8 @@
 
 #define MAX_SUPER_LEVELS 8
 
-static void print_usage(FILE *out) {
+static void print_usage(FILE *out)
+{
     fprintf(out, "usage: tessera spus [NAME...]\n\n"
                  "Lists the SPUs tessera can find (registered, TESSERA_SPU_PATH, the build tree,\n"
                  "then the install prefix), or only the named ones, with each SPU's summary,\n"
@@ -24,17 +25,19 @@ static void print_usage(FILE *out) {
                  "Exit codes: 0 ok, 1 an SPU failed to load, 2 unknown SPU or bad arguments.\n");
 }
 
-static bool is_list(tsr_option_type type) {
+static bool is_list(tsr_option_type type)
+{
     return type == TSR_OPT_INT_LIST || type == TSR_OPT_FLOAT_LIST || type == TSR_OPT_STRING_LIST;
 }
 
-static bool is_numeric(tsr_option_type type) {
-    return type == TSR_OPT_INT || type == TSR_OPT_FLOAT || type == TSR_OPT_INT_LIST ||
-           type == TSR_OPT_FLOAT_LIST;
+static bool is_numeric(tsr_option_type type)
+{
+    return type == TSR_OPT_INT || type == TSR_OPT_FLOAT || type == TSR_OPT_INT_LIST || type == TSR_OPT_FLOAT_LIST;
 }
 
 /* "    width (int in [1, 16384], default 1024)\n        window width\n" */
-static void print_option(const tsr_option_spec *o) {
+static void print_option(const tsr_option_spec *o)
+{
     printf("    %s (%s", o->name, tsr_option_type_name(o->type));
     if (o->type == TSR_OPT_ENUM)
         printf(": %s", o->choices ? o->choices : "");
@@ -51,7 +54,8 @@ static void print_option(const tsr_option_spec *o) {
     printf(")\n        %s\n", o->help && o->help[0] ? o->help : "(no help text)");
 }
 
-static bool declared_by(const tsr_spu_class *cls, const char *name) {
+static bool declared_by(const tsr_spu_class *cls, const char *name)
+{
     for (size_t i = 0; i < cls->option_count; i++)
         if (!strcmp(cls->options[i].name, name))
             return true;
@@ -59,34 +63,31 @@ static bool declared_by(const tsr_spu_class *cls, const char *name) {
 }
 
 /* "  role: server (streams to ...)" and the options a graph run fills. */
-static void print_role(const tsr_spu_class *cls) {
+static void print_role(const tsr_spu_class *cls)
+{
     const tsr_spu_network *n = &cls->network;
     printf("  role: %s (%s)\n", tsr_spu_role_name(n->role), tsr_spu_role_summary(n->role));
     const struct {
         const char *option, *what;
     } filled[] = {
-        {n->server, "the server's address"},
-        {n->servers, "the servers' addresses"},
-        {n->display, "the display's address"},
-        {n->token, "the run's token"},
-        {n->tiles, "the node's own tiles"},
-        {n->server_tiles, "every server's tiles"},
-        {n->rank, "the node's rank"},
-        {n->peers, "the peers' addresses"},
+        {n->server, "the server's address"},   {n->servers, "the servers' addresses"},
+        {n->display, "the display's address"}, {n->token, "the run's token"},
+        {n->tiles, "the node's own tiles"},    {n->server_tiles, "every server's tiles"},
+        {n->rank, "the node's rank"},          {n->peers, "the peers' addresses"},
     };
     size_t shown = 0;
     for (size_t i = 0; i < sizeof filled / sizeof filled[0]; i++) {
         if (!filled[i].option)
             continue;
-        printf("%s%s (%s)", shown ? ", " : "  a graph run fills: ", filled[i].option,
-               filled[i].what);
+        printf("%s%s (%s)", shown ? ", " : "  a graph run fills: ", filled[i].option, filled[i].what);
         shown++;
     }
     if (shown)
         printf("\n");
 }
 
-static void print_class(const tsr_spu_class *cls) {
+static void print_class(const tsr_spu_class *cls)
+{
     printf("%s", cls->name);
     if (cls->super)
         printf(" (inherits %s)", cls->super);
@@ -128,15 +129,15 @@ static void print_class(const tsr_spu_class *cls) {
     print_role(cls);
 }
 
-int cmd_spus(int argc, char **argv) {
+int cmd_spus(int argc, char **argv)
+{
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             print_usage(stdout);
             return TSR_EXIT_OK;
         }
         if (argv[i][0] == '-') {
-            fprintf(stderr, "tessera spus: unknown option '%s' (see tessera spus --help)\n",
-                    argv[i]);
+            fprintf(stderr, "tessera spus: unknown option '%s' (see tessera spus --help)\n", argv[i]);
             return TSR_EXIT_USAGE;
         }
     }
@@ -149,8 +150,7 @@ int cmd_spus(int argc, char **argv) {
             const tsr_spu_class *cls = tsr_spu_find(argv[i], &err);
             if (!cls) {
                 fprintf(stderr, "tessera spus: %s\n", err.message);
-                int code = err.code == TSR_ENOENT || err.code == TSR_EINVAL ? TSR_EXIT_USAGE
-                                                                            : TSR_EXIT_FAIL;
+                int code = err.code == TSR_ENOENT || err.code == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
                 if (code > status)
                     status = code;
                 continue;

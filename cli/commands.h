@@ -10,8 +10,8 @@
 
 typedef struct tsr_cli_command {
     const char *name;
-    const char *summary;                 /* one line for `tessera --help` */
-    int (*run)(int argc, char **argv);   /* argv[0] is the subcommand name */
+    const char *summary;               /* one line for `tessera --help` */
+    int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
 } tsr_cli_command;
 
 int cmd_imgdiff(int argc, char **argv);
@@ -33,7 +33,7 @@ int tsr_cli_run_graph(int argc, char **argv, int launch);
  * --no-spu-check and the path, loads the graph into *out (with the
  * TSR_GRAPH_* flags asked for in *flags). Returns the exit
  * code to use when *out is NULL (0 after --help, 2 for bad input). */
-int tsr_cli_load_graph(int argc, char **argv, const char *command,
-                       void (*print_usage)(FILE *out), tsr_graph **out, unsigned *flags);
+int tsr_cli_load_graph(int argc, char **argv, const char *command, void (*print_usage)(FILE *out), tsr_graph **out,
+                       unsigned *flags);
 
 #endif

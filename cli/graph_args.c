@@ -7,8 +7,9 @@
 
 #include "commands.h"
 
-int tsr_cli_load_graph(int argc, char **argv, const char *command,
-                       void (*print_usage)(FILE *out), tsr_graph **out, unsigned *flags_out) {
+int tsr_cli_load_graph(int argc, char **argv, const char *command, void (*print_usage)(FILE *out), tsr_graph **out,
+                       unsigned *flags_out)
+{
     unsigned flags = 0;
     const char *path = NULL;
     *out = NULL;
@@ -20,12 +21,10 @@ int tsr_cli_load_graph(int argc, char **argv, const char *command,
         if (!strcmp(argv[i], "--no-spu-check")) {
             flags |= TSR_GRAPH_NO_SPU_CHECK;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "tessera %s: unknown option '%s' (see tessera %s --help)\n", command,
-                    argv[i], command);
+            fprintf(stderr, "tessera %s: unknown option '%s' (see tessera %s --help)\n", command, argv[i], command);
             return TSR_EXIT_USAGE;
         } else if (path) {
-            fprintf(stderr, "tessera %s: one GRAPH at a time ('%s' and '%s')\n", command, path,
-                    argv[i]);
+            fprintf(stderr, "tessera %s: one GRAPH at a time ('%s' and '%s')\n", command, path, argv[i]);
             return TSR_EXIT_USAGE;
         } else {
             path = argv[i];

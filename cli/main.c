@@ -17,19 +17,20 @@ static const tsr_cli_command commands[] = {
     {"exec", "run an unmodified OpenGL program (glxgears, ...) under the faker libGL/libEGL", cmd_exec},
 };
 
-static void print_usage(FILE *out) {
-    fprintf(out,
-            "usage: tessera COMMAND [ARGS...]\n"
-            "       tessera --help | --version\n\n"
-            "Streams OpenGL command streams through chains of stream processing units.\n\n"
-            "commands:\n");
+static void print_usage(FILE *out)
+{
+    fprintf(out, "usage: tessera COMMAND [ARGS...]\n"
+                 "       tessera --help | --version\n\n"
+                 "Streams OpenGL command streams through chains of stream processing units.\n\n"
+                 "commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\nRun `tessera COMMAND --help` for a command's options.\n"
                  "Exit codes: 0 ok, 1 runtime failure, 2 usage error or bad input.\n");
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc < 2) {
         print_usage(stderr);
         return TSR_EXIT_USAGE;

@@ -51,7 +51,7 @@ typedef struct server {
     char address[TSR_NET_ADDRESS_MAX];
     tsr_net_conn *conn;
     int failed;
-    tsr_net_stats final;  /* the connection's counters when it was closed */
+    tsr_net_stats final; /* the connection's counters when it was closed */
     int closed;
 } server;
 
@@ -62,18 +62,18 @@ struct tsr_stream_client {
     tsr_net *net;
     server *servers;
     size_t count;
-    size_t live;             /* servers not failed */
+    size_t live; /* servers not failed */
     tsr_packer *packer;
-    tsr_net_msg reply;       /* the reply handed to the packer, held until the next sink call */
+    tsr_net_msg reply; /* the reply handed to the packer, held until the next sink call */
     int holding_reply;
-    tsr_entry swap;          /* the packer's SwapBuffersTSR (frames are counted in front of it) */
-    buffer_pool pool;        /* flushed buffers' copies; outlives the I/O thread */
+    tsr_entry swap;   /* the packer's SwapBuffersTSR (frames are counted in front of it) */
+    buffer_pool pool; /* flushed buffers' copies; outlives the I/O thread */
     uint64_t frames, buffers, stream_bytes;
     tsr_error first_error;
-    tsr_node_join *join;        /* late servers still expected (join.h); NULL: none, nothing tracked */
-    struct server_sink *sinks;  /* per-server sink contexts (tsr_stream_client_server_sink) */
-    int connected;              /* every server reached: statistics are written at the end */
-    void (*stats_extra)(void *ctx, FILE *f);  /* the sending SPU's own members */
+    tsr_node_join *join;                     /* late servers still expected (join.h); NULL: none, nothing tracked */
+    struct server_sink *sinks;               /* per-server sink contexts (tsr_stream_client_server_sink) */
+    int connected;                           /* every server reached: statistics are written at the end */
+    void (*stats_extra)(void *ctx, FILE *f); /* the sending SPU's own members */
     void *stats_extra_ctx;
 };
 
@@ -155,8 +155,8 @@ static void release_reply(tsr_stream_client *c)
 /* "the server dropped this client: REASON" from a TSR_NODE_MSG_ERROR. */
 static void dropped_reason(tsr_error *why, const tsr_net_msg *m)
 {
-    tsr_error_set(why, TSR_EPROTO, "the server dropped this client: %.*s",
-                  (int)(m->len < 400 ? m->len : 400), (const char *)m->data);
+    tsr_error_set(why, TSR_EPROTO, "the server dropped this client: %.*s", (int)(m->len < 400 ? m->len : 400),
+                  (const char *)m->data);
 }
 
 /* When a server dropped us it said why (TSR_NODE_MSG_ERROR) before
@@ -189,8 +189,7 @@ static void write_stats_if_asked(tsr_stream_client *c)
 
 /* Server `i` is unusable: one line naming it, then the on_error policy.
  * Returns the error code (fills `err`). */
-static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const char *what,
-                         const tsr_error *cause)
+static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const char *what, const tsr_error *cause)
 {
     server *s = &c->servers[i];
     if (!s->failed) {
@@ -200,8 +199,8 @@ static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const c
     tsr_error reason = {0};
     if (cause->code != TSR_EPROTO && server_reason(s, &reason))
         cause = &reason;
-    tsr_error_set(err, cause->code ? cause->code : TSR_EIO, "%s: server %s: %s: %s", c->name,
-                  s->address, what, cause->message);
+    tsr_error_set(err, cause->code ? cause->code : TSR_EIO, "%s: server %s: %s: %s", c->name, s->address, what,
+                  cause->message);
     tsr_log(TSR_LOG_ERROR, "%s", err->message);
     if (!c->first_error.code)
         c->first_error = *err;
@@ -216,15 +215,13 @@ static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const c
     if (c->live)
         tsr_log(TSR_LOG_ERROR, "%s: going on without server %s (on_error=drop)", c->name, s->address);
     else
-        tsr_log(TSR_LOG_ERROR, "%s: no server left: dropping every further call (on_error=drop)",
-                c->name);
+        tsr_log(TSR_LOG_ERROR, "%s: no server left: dropping every further call (on_error=drop)", c->name);
     return err->code;
 }
 
 static int no_server_left(tsr_stream_client *c, tsr_error *err)
 {
-    return tsr_error_set(err, TSR_ESTATE, "%s: every server failed (first: %s)", c->name,
-                         c->first_error.message);
+    return tsr_error_set(err, TSR_ESTATE, "%s: every server failed (first: %s)", c->name, c->first_error.message);
 }
 
 /* The packer's sink: one copy of the buffer, sent on every live connection. */
@@ -243,8 +240,7 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
             tsr_node_join_observe(c->join, buf, size);
         c->stream_bytes += size;
         tsr_error cause = {0}, ignored = {0};
-        if (tsr_net_send(c->servers[0].conn, TSR_NODE_MSG_BUFFER, buf, size, TSR_NET_WAIT_FOREVER,
-                         &cause) != TSR_OK)
+        if (tsr_net_send(c->servers[0].conn, TSR_NODE_MSG_BUFFER, buf, size, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
             server_failed(c, 0, &ignored, "sending a buffer failed", &cause);
         return c->live ? TSR_OK : no_server_left(c, err);
     }
@@ -264,8 +260,8 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
             continue;
         atomic_fetch_add_explicit(&b->refs, 1, memory_order_relaxed);
         tsr_error cause = {0};
-        if (tsr_net_send_owned(s->conn, TSR_NODE_MSG_BUFFER, b->data, size, shared_release, b,
-                               TSR_NET_WAIT_FOREVER, &cause) != TSR_OK) {
+        if (tsr_net_send_owned(s->conn, TSR_NODE_MSG_BUFFER, b->data, size, shared_release, b, TSR_NET_WAIT_FOREVER,
+                               &cause) != TSR_OK) {
             shared_release(b->data, b); /* not taken */
             tsr_error ignored = {0};
             server_failed(c, i, &ignored, "sending a buffer failed", &cause);
@@ -275,8 +271,8 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
     return c->live ? TSR_OK : no_server_left(c, err);
 }
 
-int tsr_stream_client_send(tsr_stream_client *c, const size_t *targets, size_t n, const uint8_t *buf,
-                         size_t size, tsr_error *err)
+int tsr_stream_client_send(tsr_stream_client *c, const size_t *targets, size_t n, const uint8_t *buf, size_t size,
+                           tsr_error *err)
 {
     release_reply(c);
     if (!c->live)
@@ -339,10 +335,7 @@ void tsr_stream_client_set_stats_extra(tsr_stream_client *c, void (*fn)(void *ct
     c->stats_extra_ctx = ctx;
 }
 
-void tsr_stream_client_count_frame(tsr_stream_client *c)
-{
-    c->frames++;
-}
+void tsr_stream_client_count_frame(tsr_stream_client *c) { c->frames++; }
 
 int tsr_stream_client_server_failed(const tsr_stream_client *c, size_t index)
 {
@@ -364,13 +357,11 @@ static int take_reply(tsr_stream_client *c, size_t i, uint32_t id, tsr_net_msg *
     }
     if (m->kind == TSR_NODE_MSG_ERROR) {
         dropped_reason(&cause, m);
-    } else if (m->kind != TSR_NODE_MSG_REPLY || m->len < TSR_NODE_REPLY_HEADER ||
-               tsr_wire_get_u32(m->data) != id) {
+    } else if (m->kind != TSR_NODE_MSG_REPLY || m->len < TSR_NODE_REPLY_HEADER || tsr_wire_get_u32(m->data) != id) {
         tsr_error_set(&cause, TSR_EPROTO,
-                      "expected the reply to request %u, got a message of kind 0x%02x, %llu bytes%s",
-                      id, m->kind, (unsigned long long)m->len,
-                      m->kind == TSR_NODE_MSG_REPLY && m->len >= TSR_NODE_REPLY_HEADER
-                          ? " (another request id)" : "");
+                      "expected the reply to request %u, got a message of kind 0x%02x, %llu bytes%s", id, m->kind,
+                      (unsigned long long)m->len,
+                      m->kind == TSR_NODE_MSG_REPLY && m->len >= TSR_NODE_REPLY_HEADER ? " (another request id)" : "");
     } else {
         return 1;
     }
@@ -450,9 +441,8 @@ static void admit_late_servers(tsr_stream_client *c)
                 "%s: server %s joined at frame %llu (catch-up: %llu bytes, %u window%s, %u display list%s, "
                 "%u texture%s, %u buffer%s, %u state call%s)",
                 c->name, address, (unsigned long long)c->frames, (unsigned long long)r.bytes, r.windows,
-                r.windows == 1 ? "" : "s", r.lists, r.lists == 1 ? "" : "s", r.textures,
-                r.textures == 1 ? "" : "s", r.buffers, r.buffers == 1 ? "" : "s", r.state_calls,
-                r.state_calls == 1 ? "" : "s");
+                r.windows == 1 ? "" : "s", r.lists, r.lists == 1 ? "" : "s", r.textures, r.textures == 1 ? "" : "s",
+                r.buffers, r.buffers == 1 ? "" : "s", r.state_calls, r.state_calls == 1 ? "" : "s");
     }
     if (!tsr_node_join_pending(c->join)) {
         tsr_node_join_destroy(c->join); /* every late server came: stop tracking */
@@ -480,8 +470,7 @@ static void finish_stream(tsr_stream_client *c)
     for (size_t i = 0; i < c->count; i++) {
         tsr_error cause = {0};
         if (!c->servers[i].failed &&
-            tsr_net_send(c->servers[i].conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause) !=
-                TSR_OK)
+            tsr_net_send(c->servers[i].conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
             server_failed(c, i, &ignored, "finishing the stream", &cause);
     }
     for (size_t i = 0; i < c->count; i++) {
@@ -500,8 +489,7 @@ static void finish_stream(tsr_stream_client *c)
                 dropped_reason(&cause, &m);
             else
                 tsr_error_set(&cause, TSR_EPROTO,
-                              "expected the end of stream confirmation, got a message of kind 0x%02x",
-                              m.kind);
+                              "expected the end of stream confirmation, got a message of kind 0x%02x", m.kind);
             tsr_net_msg_release(&m);
         } else if (got == 0) {
             tsr_error_set(&cause, TSR_EIO, "closed the connection before confirming the end of stream");
@@ -569,8 +557,8 @@ tsr_stream_client *tsr_stream_client_connect(const tsr_stream_client_config *con
             goto fail;
         }
         if (strlen(address) >= sizeof c->servers[i].address) {
-            tsr_error_set(err, TSR_EINVAL, "%s: server address %.60s...: longer than %d bytes", c->name,
-                          address, TSR_NET_ADDRESS_MAX - 1);
+            tsr_error_set(err, TSR_EINVAL, "%s: server address %.60s...: longer than %d bytes", c->name, address,
+                          TSR_NET_ADDRESS_MAX - 1);
             goto fail;
         }
         for (size_t j = 0; j < i; j++)
@@ -603,8 +591,8 @@ tsr_stream_client *tsr_stream_client_connect(const tsr_stream_client_config *con
         server *s = &c->servers[i];
         s->conn = tsr_net_connect(c->net, s->address, &cause);
         if (!s->conn) {
-            tsr_error_set(err, cause.code ? cause.code : TSR_EIO, "%s: cannot reach server %s: %s",
-                          c->name, s->address, cause.message);
+            tsr_error_set(err, cause.code ? cause.code : TSR_EIO, "%s: cannot reach server %s: %s", c->name, s->address,
+                          cause.message);
             goto fail;
         }
     }
@@ -636,16 +624,18 @@ static int start_late(tsr_stream_client *c, const tsr_stream_client_config *conf
             if (!strcmp(k < c->count ? c->servers[k].address : config->late_servers[k - c->count], a))
                 return tsr_error_set(err, TSR_EINVAL, "%s: server %s is listed twice", c->name, a);
     }
-    tsr_node_join_config jc = {.name = c->name, .net = c->net, .addresses = config->late_servers,
+    tsr_node_join_config jc = {.name = c->name,
+                               .net = c->net,
+                               .addresses = config->late_servers,
                                .count = config->late_count,
                                .retry_ms = config->late_retry_ms ? config->late_retry_ms : 200,
-                               .give_up_ms = config->late_give_up_ms, .buffer_size = config->buffer_size};
+                               .give_up_ms = config->late_give_up_ms,
+                               .buffer_size = config->buffer_size};
     c->join = tsr_node_join_create(&jc, err);
     return c->join ? TSR_OK : err->code;
 }
 
-tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *config, tsr_dispatch *table,
-                                        tsr_error *err)
+tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *config, tsr_dispatch *table, tsr_error *err)
 {
     tsr_stream_client *c = tsr_stream_client_connect(config, err);
     if (!c)
@@ -669,7 +659,7 @@ tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *conf
 }
 
 void tsr_stream_client_get_stats(tsr_stream_client *c, tsr_stream_client_stats *out,
-                               tsr_stream_client_server_stats *servers, size_t capacity)
+                                 tsr_stream_client_server_stats *servers, size_t capacity)
 {
     memset(out, 0, sizeof *out);
     out->stream_bytes = c->stream_bytes;
@@ -686,10 +676,10 @@ void tsr_stream_client_get_stats(tsr_stream_client *c, tsr_stream_client_stats *
         out->blocked_seconds += blocked;
         if (servers && i < capacity)
             servers[i] = (tsr_stream_client_server_stats){.address = s->address,
-                                                         .bytes_out = st.bytes_sent,
-                                                         .messages = st.messages_sent,
-                                                         .blocked_seconds = blocked,
-                                                         .failed = s->failed};
+                                                          .bytes_out = st.bytes_sent,
+                                                          .messages = st.messages_sent,
+                                                          .blocked_seconds = blocked,
+                                                          .failed = s->failed};
     }
 }
 
@@ -715,14 +705,14 @@ int tsr_stream_client_write_stats(tsr_stream_client *c, const char *path, tsr_er
     fprintf(f,
             ",\"bytes_out\":%llu,\"stream_bytes\":%llu,\"buffers\":%llu,\"frames\":%llu,"
             "\"blocked_seconds\":%.6f,\"servers\":[",
-            (unsigned long long)st.bytes_out, (unsigned long long)st.stream_bytes,
-            (unsigned long long)st.buffers, (unsigned long long)st.frames, st.blocked_seconds);
+            (unsigned long long)st.bytes_out, (unsigned long long)st.stream_bytes, (unsigned long long)st.buffers,
+            (unsigned long long)st.frames, st.blocked_seconds);
     for (size_t i = 0; i < c->count; i++) {
         fprintf(f, "%s{\"address\":", i ? "," : "");
         tsr_json_string(f, per[i].address);
         fprintf(f, ",\"bytes_out\":%llu,\"messages\":%llu,\"blocked_seconds\":%.6f,\"failed\":%s}",
-                (unsigned long long)per[i].bytes_out, (unsigned long long)per[i].messages,
-                per[i].blocked_seconds, per[i].failed ? "true" : "false");
+                (unsigned long long)per[i].bytes_out, (unsigned long long)per[i].messages, per[i].blocked_seconds,
+                per[i].failed ? "true" : "false");
     }
     free(per);
     fprintf(f, "]");

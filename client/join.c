@@ -23,17 +23,26 @@ enum { LATE_WAITING, LATE_READY, LATE_TAKEN, LATE_GAVE_UP };
 typedef struct late {
     char address[TSR_NET_ADDRESS_MAX];
     int state;
-    tsr_net_conn *conn;      /* LATE_READY: connected, not yet admitted */
+    tsr_net_conn *conn; /* LATE_READY: connected, not yet admitted */
     unsigned attempts;
-    tsr_error last;          /* why the last attempt failed */
+    tsr_error last; /* why the last attempt failed */
 } late;
 
 /* Object names the stream bound, with the target of their first binding
  * (sorted by name: binary search per BindTexture/BindBuffer). */
-typedef struct named { GLuint name; GLenum target; } named;
-typedef struct name_set { named *v; size_t n, cap; } name_set;
+typedef struct named {
+    GLuint name;
+    GLenum target;
+} named;
+typedef struct name_set {
+    named *v;
+    size_t n, cap;
+} name_set;
 
-typedef struct window { GLint id; GLsizei width, height; } window;
+typedef struct window {
+    GLint id;
+    GLsizei width, height;
+} window;
 
 struct tsr_node_join {
     char name[96];
@@ -48,16 +57,16 @@ struct tsr_node_join {
     int stop;
     late *lates;
     size_t late_count;
-    atomic_uint ready;       /* lates in LATE_READY */
+    atomic_uint ready; /* lates in LATE_READY */
     double start;
     /* the model (application thread only) */
     tsr_state_tracker *tracker;
     tsr_state_ctx *ctx;
-    tsr_dispatch st;         /* the tracker's own slots (nop elsewhere) */
-    tsr_dispatch track;      /* st + our wrappers: the list recorder's `next` */
+    tsr_dispatch st;    /* the tracker's own slots (nop elsewhere) */
+    tsr_dispatch track; /* st + our wrappers: the list recorder's `next` */
     tsr_dlist_store *lists;
-    tsr_unpacker *unpacker;  /* flushed buffers -> tsr_dlist_table(lists) */
-    int broken;              /* a flushed buffer did not decode: no more joins */
+    tsr_unpacker *unpacker; /* flushed buffers -> tsr_dlist_table(lists) */
+    int broken;             /* a flushed buffer did not decode: no more joins */
     name_set textures, buffers;
     window *windows;
     size_t window_count, window_cap;
@@ -149,8 +158,7 @@ static void tr_CallList(void *self, GLuint list)
     tsr_error err = {0};
     if (tsr_dlist_call(j->lists, list, &j->track, &err) != TSR_OK && !j->broken) {
         j->broken = 1;
-        tsr_log(TSR_LOG_ERROR, "%s: late joiners: display list %u does not replay: %s", j->name, list,
-                err.message);
+        tsr_log(TSR_LOG_ERROR, "%s: late joiners: display list %u does not replay: %s", j->name, list, err.message);
     }
 }
 
@@ -263,8 +271,8 @@ static void tr_MakeCurrentTSR(void *self, GLint window_id, GLint context)
 /* --- the connecting thread ------------------------------------------------------ */
 static void log_gave_up(const tsr_node_join *j, const late *l, const char *why)
 {
-    tsr_log(TSR_LOG_WARN, "%s: late server %s never joined (%s): %u connection attempt%s in %.1f s, last: %s",
-            j->name, l->address, why, l->attempts, l->attempts == 1 ? "" : "s", tsr_now_seconds() - j->start,
+    tsr_log(TSR_LOG_WARN, "%s: late server %s never joined (%s): %u connection attempt%s in %.1f s, last: %s", j->name,
+            l->address, why, l->attempts, l->attempts == 1 ? "" : "s", tsr_now_seconds() - j->start,
             l->attempts ? l->last.message : "none made");
 }
 
@@ -419,15 +427,14 @@ void tsr_node_join_observe(tsr_node_join *j, const uint8_t *buf, size_t size)
     int rc = tsr_unpacker_run(j->unpacker, buf, size, &err);
     if (rc != TSR_OK && rc != TSR_UNPACK_YIELDED) {
         j->broken = 1;
-        tsr_log(TSR_LOG_ERROR, "%s: late joiners: cannot follow the stream (%s); no server will join",
-                j->name, err.message);
+        tsr_log(TSR_LOG_ERROR, "%s: late joiners: cannot follow the stream (%s); no server will join", j->name,
+                err.message);
     }
 }
 
 int tsr_node_join_ready(tsr_node_join *j)
 {
-    return atomic_load_explicit(&j->ready, memory_order_acquire) != 0 && !j->broken &&
-           !tsr_dlist_recording(j->lists);
+    return atomic_load_explicit(&j->ready, memory_order_acquire) != 0 && !j->broken && !tsr_dlist_recording(j->lists);
 }
 
 tsr_net_conn *tsr_node_join_take(tsr_node_join *j, const char **address)
@@ -491,8 +498,7 @@ static int tex_index(GLenum target)
 /* Step 3 of join.h: each object bound in turn and diffed, then the
  * application's bindings put back (the final diff restores them on the
  * joiner too). */
-static void send_objects(tsr_node_join *j, tsr_state_shadow *shadow, const tsr_dispatch *out,
-                         tsr_node_join_report *r)
+static void send_objects(tsr_node_join *j, tsr_state_shadow *shadow, const tsr_dispatch *out, tsr_node_join_report *r)
 {
     const tsr_state_values *v = tsr_state_values_of(j->ctx);
     for (size_t i = 0; i < j->textures.n; i++) {
@@ -522,8 +528,7 @@ static void send_objects(tsr_node_join *j, tsr_state_shadow *shadow, const tsr_d
     }
 }
 
-int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_report *report,
-                           tsr_error *err)
+int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_report *report, tsr_error *err)
 {
     tsr_node_join_report r = {0};
     joiner_sink js = {.conn = conn};

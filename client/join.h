@@ -58,13 +58,13 @@ extern "C" {
 typedef struct tsr_node_join tsr_node_join;
 
 typedef struct tsr_node_join_config {
-    const char *name;                /* the client's instance name, first word of messages */
-    tsr_net *net;                    /* the client's netlib instance (connections are made on it) */
-    const char *const *addresses;    /* the late servers */
+    const char *name;             /* the client's instance name, first word of messages */
+    tsr_net *net;                 /* the client's netlib instance (connections are made on it) */
+    const char *const *addresses; /* the late servers */
     size_t count;
-    uint32_t retry_ms;               /* pause between connection attempts to one server */
-    uint32_t give_up_ms;             /* stop trying after this long; 0 = until the client ends */
-    size_t buffer_size;              /* wire buffer bytes of the catch-up stream */
+    uint32_t retry_ms;   /* pause between connection attempts to one server */
+    uint32_t give_up_ms; /* stop trying after this long; 0 = until the client ends */
+    size_t buffer_size;  /* wire buffer bytes of the catch-up stream */
 } tsr_node_join_config;
 
 /* Starts the connecting thread. Strings are copied. */
@@ -87,16 +87,15 @@ tsr_net_conn *tsr_node_join_take(tsr_node_join *j, const char **address);
 int tsr_node_join_pending(tsr_node_join *j);
 
 typedef struct tsr_node_join_report {
-    uint64_t bytes;        /* catch-up stream bytes sent */
+    uint64_t bytes; /* catch-up stream bytes sent */
     unsigned windows, lists, textures, buffers;
-    uint32_t state_calls;  /* GL calls the diffs emitted (object uploads included) */
+    uint32_t state_calls; /* GL calls the diffs emitted (object uploads included) */
 } tsr_node_join_report;
 
 /* Sends the catch-up stream (above) to `conn` only, ending with a flushed
  * buffer; the caller then adds it to its broadcast. Returns TSR_OK or the
  * error that ended it (the caller closes the connection). */
-int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_report *report,
-                           tsr_error *err);
+int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_report *report, tsr_error *err);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,7 @@
 
 typedef struct mc_case {
     int tri_count;
-    unsigned char edges[MC_MAX_TRIS * 3];  /* cube edge index per triangle corner */
+    unsigned char edges[MC_MAX_TRIS * 3]; /* cube edge index per triangle corner */
 } mc_case;
 
 /* Corner c sits at (c & 1, c >> 1 & 1, c >> 2 & 1). Edge e joins corners
@@ -32,15 +32,16 @@ typedef struct mc_case {
 static int edge_corner[12][2];
 static int edge_axis[12];
 
-static int find_edge(int a, int b) {
+static int find_edge(int a, int b)
+{
     for (int e = 0; e < 12; e++)
-        if ((edge_corner[e][0] == a && edge_corner[e][1] == b) ||
-            (edge_corner[e][0] == b && edge_corner[e][1] == a))
+        if ((edge_corner[e][0] == a && edge_corner[e][1] == b) || (edge_corner[e][0] == b && edge_corner[e][1] == a))
             return e;
     return -1;
 }
 
-static void build_mc_table(mc_case table[256]) {
+static void build_mc_table(mc_case table[256])
+{
     int n = 0;
     for (int c = 0; c < 8; c++)
         for (int axis = 0; axis < 3; axis++)
@@ -62,7 +63,7 @@ static void build_mc_table(mc_case table[256]) {
             faces[f][3] = base | 1 << w;
         }
     for (int config = 0; config < 256; config++) {
-        int link[12][2];  /* each crossed edge's two neighbours in its loop */
+        int link[12][2]; /* each crossed edge's two neighbours in its loop */
         int link_count[12] = {0};
         for (int f = 0; f < 6; f++) {
             int crossed[4], inside_first[4], k = 0;
@@ -124,13 +125,14 @@ static void build_mc_table(mc_case table[256]) {
 /* --- meshes ---------------------------------------------------------------- */
 
 typedef struct mesh {
-    float *positions, *normals;  /* xyz per vertex */
+    float *positions, *normals; /* xyz per vertex */
     unsigned *indices;
     size_t vertex_count, vertex_cap;
     size_t index_count, index_cap;
 } mesh;
 
-static void *xrealloc(void *p, size_t bytes) {
+static void *xrealloc(void *p, size_t bytes)
+{
     void *q = realloc(p, bytes);
     if (!q) {
         fprintf(stderr, "isosurface: out of memory\n");
@@ -139,7 +141,8 @@ static void *xrealloc(void *p, size_t bytes) {
     return q;
 }
 
-static size_t mesh_add_vertex(mesh *m, const float p[3], const float n[3]) {
+static size_t mesh_add_vertex(mesh *m, const float p[3], const float n[3])
+{
     if (m->vertex_count == m->vertex_cap) {
         m->vertex_cap = m->vertex_cap ? 2 * m->vertex_cap : 4096;
         m->positions = xrealloc(m->positions, m->vertex_cap * 3 * sizeof(float));
@@ -150,7 +153,8 @@ static size_t mesh_add_vertex(mesh *m, const float p[3], const float n[3]) {
     return m->vertex_count++;
 }
 
-static void mesh_add_index(mesh *m, size_t v) {
+static void mesh_add_index(mesh *m, size_t v)
+{
     if (m->index_count == m->index_cap) {
         m->index_cap = m->index_cap ? 2 * m->index_cap : 4096;
         m->indices = xrealloc(m->indices, m->index_cap * sizeof(unsigned));
@@ -158,7 +162,8 @@ static void mesh_add_index(mesh *m, size_t v) {
     m->indices[m->index_count++] = (unsigned)v;
 }
 
-static void mesh_free(mesh *m) {
+static void mesh_free(mesh *m)
+{
     free(m->positions);
     free(m->normals);
     free(m->indices);
@@ -174,26 +179,27 @@ typedef struct metaballs {
     float radii[5];
 } metaballs;
 
-static float metaball_field(const float p[3], const void *params) {
+static float metaball_field(const float p[3], const void *params)
+{
     const metaballs *mb = params;
     float sum = 0;
     for (int i = 0; i < 5; i++) {
-        float dx = p[0] - mb->centres[i][0], dy = p[1] - mb->centres[i][1],
-              dz = p[2] - mb->centres[i][2];
+        float dx = p[0] - mb->centres[i][0], dy = p[1] - mb->centres[i][1], dz = p[2] - mb->centres[i][2];
         sum += mb->radii[i] * mb->radii[i] / (dx * dx + dy * dy + dz * dz + 1e-6f);
     }
     return sum - 1.0f;
 }
 
-static float gyroid_field(const float p[3], const void *params) {
+static float gyroid_field(const float p[3], const void *params)
+{
     const float *scale = params;
     float x = p[0] * *scale, y = p[1] * *scale, z = p[2] * *scale;
     return sinf(x) * cosf(y) + sinf(y) * cosf(z) + sinf(z) * cosf(x);
 }
 
 /* Outward normal: minus the gradient for metaballs (field grows inwards). */
-static void field_normal(field_fn f, const void *params, const float p[3], float sign,
-                         float n[3]) {
+static void field_normal(field_fn f, const void *params, const float p[3], float sign, float n[3])
+{
     const float h = 1e-3f;
     for (int a = 0; a < 3; a++) {
         float q0[3] = {p[0], p[1], p[2]}, q1[3] = {p[0], p[1], p[2]};
@@ -210,15 +216,15 @@ static void field_normal(field_fn f, const void *params, const float p[3], float
 /* The case table's fans have arbitrary winding; make each triangle
  * counter-clockwise seen from where its vertex normals point, so front
  * faces (and two-sided lighting) are right. */
-static void orient_triangles(mesh *m, size_t first_index) {
+static void orient_triangles(mesh *m, size_t first_index)
+{
     for (size_t i = first_index; i + 2 < m->index_count; i += 3) {
         const float *a = m->positions + 3 * m->indices[i];
         const float *b = m->positions + 3 * m->indices[i + 1];
         const float *c = m->positions + 3 * m->indices[i + 2];
         float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         float v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        float face[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                         u[0] * v[1] - u[1] * v[0]};
+        float face[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
         float dot = 0;
         for (int k = 0; k < 3; k++)
             for (int a3 = 0; a3 < 3; a3++)
@@ -233,8 +239,9 @@ static void orient_triangles(mesh *m, size_t first_index) {
 
 /* Polygonises f > 0 on an n^3 grid over [lo, hi]^3 into an indexed mesh:
  * a vertex per crossed grid edge, shared by every cell that touches it. */
-static void polygonise(const mc_case table[256], field_fn f, const void *params, float sign,
-                       int n, float lo, float hi, mesh *out) {
+static void polygonise(const mc_case table[256], field_fn f, const void *params, float sign, int n, float lo, float hi,
+                       mesh *out)
+{
     int np = n + 1;
     float step = (hi - lo) / (float)n;
     float *values = xrealloc(NULL, (size_t)np * np * np * sizeof(float));
@@ -252,49 +259,48 @@ static void polygonise(const mc_case table[256], field_fn f, const void *params,
      * cubes does: consecutive triangles stay close together on screen. */
     enum { BRICK = 8 };
     for (int bz = 0; bz < n; bz += BRICK)
-    for (int by = 0; by < n; by += BRICK)
-    for (int bx = 0; bx < n; bx += BRICK)
-    for (int z = bz; z < n && z < bz + BRICK; z++)
-        for (int y = by; y < n && y < by + BRICK; y++)
-            for (int x = bx; x < n && x < bx + BRICK; x++) {
-                int config = 0;
-                for (int c = 0; c < 8; c++) {
-                    size_t gi = ((size_t)(z + (c >> 2 & 1)) * np + (y + (c >> 1 & 1))) * np +
-                                (x + (c & 1));
-                    if (values[gi] > 0)
-                        config |= 1 << c;
-                }
-                const mc_case *mc = &table[config];
-                size_t first_index = out->index_count;
-                for (int t = 0; t < mc->tri_count * 3; t++) {
-                    int e = mc->edges[t];
-                    int c0 = edge_corner[e][0], c1 = edge_corner[e][1];
-                    int gx = x + (c0 & 1), gy = y + (c0 >> 1 & 1), gz = z + (c0 >> 2 & 1);
-                    size_t g0 = ((size_t)gz * np + gy) * np + gx;
-                    size_t key = g0 * 3 + (size_t)edge_axis[e];
-                    if (edge_vertex[key] < 0) {
-                        size_t g1 = ((size_t)(z + (c1 >> 2 & 1)) * np + (y + (c1 >> 1 & 1))) * np +
-                                    (x + (c1 & 1));
-                        float v0 = values[g0], v1 = values[g1];
-                        float s = v0 / (v0 - v1);
-                        float p[3] = {lo + step * (float)gx, lo + step * (float)gy,
-                                      lo + step * (float)gz};
-                        p[edge_axis[e]] += s * step;
-                        float nrm[3];
-                        field_normal(f, params, p, sign, nrm);
-                        edge_vertex[key] = (int)mesh_add_vertex(out, p, nrm);
-                    }
-                    mesh_add_index(out, (size_t)edge_vertex[key]);
-                }
-                orient_triangles(out, first_index);
-            }
+        for (int by = 0; by < n; by += BRICK)
+            for (int bx = 0; bx < n; bx += BRICK)
+                for (int z = bz; z < n && z < bz + BRICK; z++)
+                    for (int y = by; y < n && y < by + BRICK; y++)
+                        for (int x = bx; x < n && x < bx + BRICK; x++) {
+                            int config = 0;
+                            for (int c = 0; c < 8; c++) {
+                                size_t gi = ((size_t)(z + (c >> 2 & 1)) * np + (y + (c >> 1 & 1))) * np + (x + (c & 1));
+                                if (values[gi] > 0)
+                                    config |= 1 << c;
+                            }
+                            const mc_case *mc = &table[config];
+                            size_t first_index = out->index_count;
+                            for (int t = 0; t < mc->tri_count * 3; t++) {
+                                int e = mc->edges[t];
+                                int c0 = edge_corner[e][0], c1 = edge_corner[e][1];
+                                int gx = x + (c0 & 1), gy = y + (c0 >> 1 & 1), gz = z + (c0 >> 2 & 1);
+                                size_t g0 = ((size_t)gz * np + gy) * np + gx;
+                                size_t key = g0 * 3 + (size_t)edge_axis[e];
+                                if (edge_vertex[key] < 0) {
+                                    size_t g1 =
+                                        ((size_t)(z + (c1 >> 2 & 1)) * np + (y + (c1 >> 1 & 1))) * np + (x + (c1 & 1));
+                                    float v0 = values[g0], v1 = values[g1];
+                                    float s = v0 / (v0 - v1);
+                                    float p[3] = {lo + step * (float)gx, lo + step * (float)gy, lo + step * (float)gz};
+                                    p[edge_axis[e]] += s * step;
+                                    float nrm[3];
+                                    field_normal(f, params, p, sign, nrm);
+                                    edge_vertex[key] = (int)mesh_add_vertex(out, p, nrm);
+                                }
+                                mesh_add_index(out, (size_t)edge_vertex[key]);
+                            }
+                            orient_triangles(out, first_index);
+                        }
     free(values);
     free(edge_vertex);
 }
 
 /* --- drawing -------------------------------------------------------------- */
 
-static void setup(const exapp *app) {
+static void setup(const exapp *app)
+{
     glViewport(0, 0, app->width, app->height);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
@@ -317,7 +323,8 @@ static void setup(const exapp *app) {
     glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 32.0f);
 }
 
-static void draw(const mc_case table[256], int frame, int detail) {
+static void draw(const mc_case table[256], int frame, int detail)
+{
     float t = 0.25f * (float)frame;
     metaballs mb;
     for (int i = 0; i < 5; i++) {
@@ -395,7 +402,8 @@ static void draw(const mc_case table[256], int frame, int detail) {
     mesh_free(&gyroid);
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     exapp app;
     if (!exapp_init(&app, "isosurface", argc, argv, 640, 480))
         return exapp_finish(&app);

@@ -20,29 +20,27 @@
 
 #define GRID 24
 
-static const char *wave_vs =
-    "uniform float time;\n"
-    "uniform float amplitude;\n"
-    "uniform mat2 twist;\n"
-    "attribute float shade;\n"
-    "varying float v_shade;\n"
-    "void main() {\n"
-    "    vec4 p = gl_Vertex;\n"
-    "    p.xy = twist * p.xy;\n"
-    "    p.z += amplitude * sin(3.0 * p.x + time) * cos(2.0 * p.y - 0.5 * time);\n"
-    "    v_shade = shade;\n"
-    "    gl_FrontColor = gl_Color;\n"
-    "    gl_Position = gl_ModelViewProjectionMatrix * p;\n"
-    "}\n";
+static const char *wave_vs = "uniform float time;\n"
+                             "uniform float amplitude;\n"
+                             "uniform mat2 twist;\n"
+                             "attribute float shade;\n"
+                             "varying float v_shade;\n"
+                             "void main() {\n"
+                             "    vec4 p = gl_Vertex;\n"
+                             "    p.xy = twist * p.xy;\n"
+                             "    p.z += amplitude * sin(3.0 * p.x + time) * cos(2.0 * p.y - 0.5 * time);\n"
+                             "    v_shade = shade;\n"
+                             "    gl_FrontColor = gl_Color;\n"
+                             "    gl_Position = gl_ModelViewProjectionMatrix * p;\n"
+                             "}\n";
 
-static const char *wave_fs =
-    "uniform vec3 tint;\n"
-    "uniform int bands;\n"
-    "varying float v_shade;\n"
-    "void main() {\n"
-    "    float b = floor(v_shade * float(bands)) / float(bands);\n"
-    "    gl_FragColor = vec4(gl_Color.rgb * tint * (0.4 + 0.6 * b), 1.0);\n"
-    "}\n";
+static const char *wave_fs = "uniform vec3 tint;\n"
+                             "uniform int bands;\n"
+                             "varying float v_shade;\n"
+                             "void main() {\n"
+                             "    float b = floor(v_shade * float(bands)) / float(bands);\n"
+                             "    gl_FragColor = vec4(gl_Color.rgb * tint * (0.4 + 0.6 * b), 1.0);\n"
+                             "}\n";
 
 static const char *stripe_fs[2] = {
     "uniform vec4 pulse;\n"
@@ -59,7 +57,8 @@ static const char *stripe_fs[2] = {
     "}\n",
 };
 
-static GLuint compile(GLenum type, const char *src) {
+static GLuint compile(GLenum type, const char *src)
+{
     GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &src, NULL);
     glCompileShader(s);
@@ -74,7 +73,8 @@ static GLuint compile(GLenum type, const char *src) {
 }
 
 /* Links program p from the given shaders, then detaches and deletes them. */
-static int link(GLuint p, GLuint vs, GLuint fs) {
+static int link(GLuint p, GLuint vs, GLuint fs)
+{
     if (vs)
         glAttachShader(p, vs);
     glAttachShader(p, fs);
@@ -95,7 +95,8 @@ static int link(GLuint p, GLuint vs, GLuint fs) {
     return ok;
 }
 
-static void draw_wave(GLuint prog, int frame) {
+static void draw_wave(GLuint prog, int frame)
+{
     float t = 0.35f * (float)frame;
     glUseProgram(prog);
     glUniform1f(glGetUniformLocation(prog, "time"), t);
@@ -122,7 +123,8 @@ static void draw_wave(GLuint prog, int frame) {
     glPopMatrix();
 }
 
-static void draw_stripes(GLuint prog, int frame) {
+static void draw_stripes(GLuint prog, int frame)
+{
     glUseProgram(prog);
     float t = 0.5f * (float)frame;
     glUniform4f(glGetUniformLocation(prog, "pulse"), 0.5f + 0.5f * sinf(t), 0.3f, 0.5f + 0.5f * cosf(t), 1.0f);
@@ -143,7 +145,8 @@ static void draw_stripes(GLuint prog, int frame) {
     glPopMatrix();
 }
 
-static void draw_frame(void) {
+static void draw_frame(void)
+{
     glUseProgram(0);
     glPushMatrix();
     glTranslatef(0.0f, 0.0f, -2.0f);
@@ -158,7 +161,8 @@ static void draw_frame(void) {
     glPopMatrix();
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     exapp app;
     if (!exapp_init(&app, "shaders", argc, argv, 400, 300))
         return app.exit_code;

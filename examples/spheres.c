@@ -12,7 +12,8 @@
 #define PI_F 3.14159265358979f
 
 /* A unit sphere as latitude quad strips with per-vertex normals. */
-static void emit_sphere(int slices, int stacks) {
+static void emit_sphere(int slices, int stacks)
+{
     for (int i = 0; i < stacks; i++) {
         float lat0 = PI_F * (-0.5f + (float)i / (float)stacks);
         float lat1 = PI_F * (-0.5f + (float)(i + 1) / (float)stacks);
@@ -31,11 +32,11 @@ static void emit_sphere(int slices, int stacks) {
     }
 }
 
-static void set_material(int i) {
+static void set_material(int i)
+{
     static const GLfloat diffuse[SPHERE_COUNT][4] = {
-        {0.9f, 0.2f, 0.2f, 1}, {0.2f, 0.8f, 0.3f, 1}, {0.2f, 0.3f, 0.9f, 1},
-        {0.9f, 0.8f, 0.2f, 1}, {0.8f, 0.3f, 0.8f, 1}, {0.2f, 0.8f, 0.8f, 1},
-        {0.85f, 0.85f, 0.85f, 1}};
+        {0.9f, 0.2f, 0.2f, 1}, {0.2f, 0.8f, 0.3f, 1}, {0.2f, 0.3f, 0.9f, 1},   {0.9f, 0.8f, 0.2f, 1},
+        {0.8f, 0.3f, 0.8f, 1}, {0.2f, 0.8f, 0.8f, 1}, {0.85f, 0.85f, 0.85f, 1}};
     GLfloat ambient[4] = {diffuse[i][0] * 0.2f, diffuse[i][1] * 0.2f, diffuse[i][2] * 0.2f, 1};
     GLfloat specular[4] = {0.9f, 0.9f, 0.9f, 1};
     glMaterialfv(GL_FRONT, GL_AMBIENT, ambient);
@@ -44,7 +45,8 @@ static void set_material(int i) {
     glMaterialf(GL_FRONT, GL_SHININESS, 8.0f + 16.0f * (float)i);
 }
 
-static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list) {
+static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list)
+{
     glViewport(0, 0, app->width, app->height);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
@@ -63,8 +65,7 @@ static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list) {
     GLfloat global_ambient[4] = {0.15f, 0.15f, 0.15f, 1};
     glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global_ambient);
 
-    static const GLfloat light_color[3][4] = {
-        {1.0f, 0.95f, 0.9f, 1}, {0.4f, 0.5f, 1.0f, 1}, {1.0f, 0.5f, 0.3f, 1}};
+    static const GLfloat light_color[3][4] = {{1.0f, 0.95f, 0.9f, 1}, {0.4f, 0.5f, 1.0f, 1}, {1.0f, 0.5f, 0.3f, 1}};
     for (int i = 0; i < 3; i++) {
         glLightfv(GL_LIGHT0 + i, GL_DIFFUSE, light_color[i]);
         glLightfv(GL_LIGHT0 + i, GL_SPECULAR, light_color[i]);
@@ -94,7 +95,8 @@ static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list) {
     glEndList();
 }
 
-static void draw(GLuint sphere_list, GLuint ring_list, int frame) {
+static void draw(GLuint sphere_list, GLuint ring_list, int frame)
+{
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glLoadIdentity();
 
@@ -121,7 +123,8 @@ static void draw(GLuint sphere_list, GLuint ring_list, int frame) {
     glPopMatrix();
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     exapp app;
     if (!exapp_init(&app, "spheres", argc, argv, 640, 480))
         return exapp_finish(&app);

@@ -16,7 +16,8 @@
 
 /* Builds every mip level of an 8x8-cell checker with a colour tint, each
  * level box-filtered from the previous one, and uploads them. */
-static void upload_checker_mipmaps(void) {
+static void upload_checker_mipmaps(void)
+{
     int size = CHECKER_SIZE;
     unsigned char *level = malloc((size_t)size * size * 4);
     if (!level)
@@ -38,8 +39,7 @@ static void upload_checker_mipmaps(void) {
         for (int y = 0; y < half; y++)
             for (int x = 0; x < half; x++)
                 for (int c = 0; c < 4; c++) {
-                    int sum = level[4 * ((2 * y) * size + 2 * x) + c] +
-                              level[4 * ((2 * y) * size + 2 * x + 1) + c] +
+                    int sum = level[4 * ((2 * y) * size + 2 * x) + c] + level[4 * ((2 * y) * size + 2 * x + 1) + c] +
                               level[4 * ((2 * y + 1) * size + 2 * x) + c] +
                               level[4 * ((2 * y + 1) * size + 2 * x + 1) + c];
                     /* in place is safe: row y of the result is written
@@ -51,7 +51,8 @@ static void upload_checker_mipmaps(void) {
     free(level);
 }
 
-static void upload_gradient(void) {
+static void upload_gradient(void)
+{
     unsigned char pixels[GRADIENT_SIZE][GRADIENT_SIZE][4];
     for (int y = 0; y < GRADIENT_SIZE; y++)
         for (int x = 0; x < GRADIENT_SIZE; x++) {
@@ -61,11 +62,11 @@ static void upload_gradient(void) {
             pixels[y][x][3] = (unsigned char)(128 + y * 127 / (GRADIENT_SIZE - 1));
         }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, GRADIENT_SIZE, GRADIENT_SIZE, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, pixels);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, GRADIENT_SIZE, GRADIENT_SIZE, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
 }
 
-static void setup(const exapp *app, GLuint textures[2]) {
+static void setup(const exapp *app, GLuint textures[2])
+{
     glViewport(0, 0, app->width, app->height);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
@@ -94,7 +95,8 @@ static void setup(const exapp *app, GLuint textures[2]) {
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
 }
 
-static void draw_floor(GLuint checker, float t) {
+static void draw_floor(GLuint checker, float t)
+{
     glBindTexture(GL_TEXTURE_2D, checker);
     glEnable(GL_TEXTURE_2D);
     glPushMatrix();
@@ -116,7 +118,8 @@ static void draw_floor(GLuint checker, float t) {
     glDisable(GL_TEXTURE_2D);
 }
 
-static void draw_panels(GLuint gradient, GLuint checker, float t) {
+static void draw_panels(GLuint gradient, GLuint checker, float t)
+{
     glEnable(GL_TEXTURE_2D);
     for (int i = 0; i < 3; i++) {
         glBindTexture(GL_TEXTURE_2D, i == 1 ? checker : gradient);
@@ -144,7 +147,8 @@ static void draw_panels(GLuint gradient, GLuint checker, float t) {
 
 /* Translucent gradient overlay and wide lines / large points in a 2D
  * pixel projection, drawn last with blending and no depth test. */
-static void draw_overlay(const exapp *app, GLuint gradient, float t) {
+static void draw_overlay(const exapp *app, GLuint gradient, float t)
+{
     glMatrixMode(GL_PROJECTION);
     glPushMatrix();
     glLoadIdentity();
@@ -202,7 +206,8 @@ static void draw_overlay(const exapp *app, GLuint gradient, float t) {
     glMatrixMode(GL_MODELVIEW);
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     exapp app;
     if (!exapp_init(&app, "texquads", argc, argv, 640, 480))
         return exapp_finish(&app);

@@ -38,7 +38,8 @@
 
 static GLuint texture, lists;
 
-static void setup(void) {
+static void setup(void)
+{
     glClearColor(0.1f, 0.12f, 0.15f, 1.0f);
     glEnable(GL_DEPTH_TEST);
     unsigned char img[16 * 16 * 4];
@@ -99,7 +100,8 @@ static void setup(void) {
     glEndList();
 }
 
-static void ortho(void) {
+static void ortho(void)
+{
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
     glOrtho(-1, 1, -1, 1, -1, 1);
@@ -110,7 +112,8 @@ static void ortho(void) {
 /* Window x, y of the k-th twelfth in normalised device units. */
 static float ndc(int k, int twelfths) { return -1.0f + 2.0f * (float)k / (float)twelfths; }
 
-static void scene_lit(int frame) {
+static void scene_lit(int frame)
+{
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
     glFrustum(-0.6, 0.6, -0.45, 0.45, 1, 10);
@@ -140,7 +143,8 @@ static void scene_lit(int frame) {
     glDisable(GL_LIGHTING);
 }
 
-static void scene_lists(int frame) {
+static void scene_lists(int frame)
+{
     ortho();
     /* the texture changes before the list that binds it runs */
     unsigned char texel[4] = {(unsigned char)(40 * frame), 250, 20, 255};
@@ -163,7 +167,8 @@ static void scene_lists(int frame) {
     glListBase(0);
 }
 
-static void scene_arrays(const exapp *app, int frame) {
+static void scene_arrays(const exapp *app, int frame)
+{
     ortho();
     enum { N = 64 };
     GLfloat v[N * 2], c[N * 3];
@@ -239,7 +244,8 @@ static void scene_arrays(const exapp *app, int frame) {
     glColorPointer(3, GL_FLOAT, 0, lc);
     glDrawArrays(GL_LINES, 0, n);
     for (int i = 0; i < TRI + 2; i++) {
-        float a = 2 * PI_F * (float)i / TRI + 0.03f * (float)frame, r = i % 2 ? 0.9f : 0.35f, w = 1.0f + 0.5f * (float)(i % 3);
+        float a = 2 * PI_F * (float)i / TRI + 0.03f * (float)frame, r = i % 2 ? 0.9f : 0.35f,
+              w = 1.0f + 0.5f * (float)(i % 3);
         tv[4 * i] = r * cosf(a) * w;
         tv[4 * i + 1] = r * sinf(a) * w;
         tv[4 * i + 2] = 0.2f * w;
@@ -248,8 +254,8 @@ static void scene_arrays(const exapp *app, int frame) {
         tc[3 * i + 1] = 0.5f + 0.5f * sinf(a);
         tc[3 * i + 2] = 0.8f;
     }
-    tv[4 * 5 + 3] = -0.7f;  /* crosses w = 0: its triangles go to every server */
-    tv[4 * 11 + 1] = NAN;   /* a NaN vertex, likewise */
+    tv[4 * 5 + 3] = -0.7f; /* crosses w = 0: its triangles go to every server */
+    tv[4 * 11 + 1] = NAN;  /* a NaN vertex, likewise */
     for (int i = 0; i < TRI; i++) {
         ti[3 * i] = (GLubyte)i;
         ti[3 * i + 1] = (GLubyte)(i + 1);
@@ -264,7 +270,8 @@ static void scene_arrays(const exapp *app, int frame) {
     glDisableClientState(GL_VERTEX_ARRAY);
 }
 
-static void scene_edges(const exapp *app, int frame) {
+static void scene_edges(const exapp *app, int frame)
+{
     ortho();
     float px = 2.0f / (float)app->width, py = 2.0f / (float)app->height;
     glPointSize(9 + (float)(frame % 3));
@@ -290,7 +297,8 @@ static void scene_edges(const exapp *app, int frame) {
     glLineWidth(1);
 }
 
-static void scene_eye_plane(int frame) {
+static void scene_eye_plane(int frame)
+{
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
     glFrustum(-0.5, 0.5, -0.4, 0.4, 0.5, 20);
@@ -310,7 +318,8 @@ static void scene_eye_plane(int frame) {
     glEnd();
 }
 
-static void scene_nan(void) {
+static void scene_nan(void)
+{
     ortho();
     float nan = nanf(""), inf = INFINITY;
     glBegin(GL_TRIANGLES);
@@ -328,7 +337,8 @@ static void scene_nan(void) {
     glEnd();
 }
 
-static void scene_big(int frame) {
+static void scene_big(int frame)
+{
     ortho();
     glBegin(GL_QUADS); /* the whole window, and beyond */
     glColor3f(0.2f, 0.2f, 0.3f);
@@ -357,7 +367,8 @@ static void scene_big(int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_pixels(const exapp *app, int frame) {
+static void scene_pixels(const exapp *app, int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     enum { W = 37, H = 29 };
@@ -387,7 +398,8 @@ static void scene_pixels(const exapp *app, int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_all_tiles(int frame) {
+static void scene_all_tiles(int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
@@ -405,7 +417,8 @@ static void scene_all_tiles(int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_tiny_batches(int frame) {
+static void scene_tiny_batches(int frame)
+{
     ortho();
     for (int i = 0; i < 1500; i++) {
         float x = -0.95f + 1.9f * (float)((i * 37) % 100) / 100.0f, y = -0.95f + 1.9f * (float)((i * 53) % 97) / 97.0f;
@@ -432,14 +445,16 @@ static void scene_tiny_batches(int frame) {
  * even vertex counts. */
 
 /* Point i of n on a spiral over most of the window. */
-static void spiral(int i, int n, float turns, float wobble, float *x, float *y) {
+static void spiral(int i, int n, float turns, float wobble, float *x, float *y)
+{
     float t = (float)i / (float)n, a = 2 * PI_F * turns * t;
     float r = 0.08f + 0.85f * t + ((i & 1) ? wobble : 0.0f);
     *x = r * cosf(a);
     *y = 0.95f * r * sinf(a);
 }
 
-static void scene_split_strips(int frame) {
+static void scene_split_strips(int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_CULL_FACE); /* a triangle whose parity flipped would be culled */
@@ -482,7 +497,8 @@ static void scene_split_strips(int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_split_fans(int frame) {
+static void scene_split_fans(int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     /* a fan (flat: each triangle takes its last vertex's colour), in doubles */
@@ -523,7 +539,8 @@ static void scene_split_fans(int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_split_polygon_lines(int frame) {
+static void scene_split_polygon_lines(int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
@@ -584,7 +601,8 @@ static void scene_split_polygon_lines(int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_split_lines(const exapp *app, int frame) {
+static void scene_split_lines(const exapp *app, int frame)
+{
     ortho();
     glDisable(GL_DEPTH_TEST);
     /* a wide, flat-shaded line strip in window coordinates (integers) */
@@ -626,7 +644,8 @@ static void scene_split_lines(const exapp *app, int frame) {
     glBegin(GL_POINTS);
     for (int i = 0; i < 700; i++) {
         glColor3f(1, 0.5f, (float)(i % 9) / 9.0f);
-        glVertex2f(-0.97f + 1.94f * (float)((i * 71) % 211) / 211.0f, -0.97f + 1.94f * (float)((i * 43) % 199) / 199.0f);
+        glVertex2f(-0.97f + 1.94f * (float)((i * 71) % 211) / 211.0f,
+                   -0.97f + 1.94f * (float)((i * 43) % 199) / 199.0f);
     }
     glEnd();
     glPointSize(1);
@@ -635,7 +654,8 @@ static void scene_split_lines(const exapp *app, int frame) {
     glEnable(GL_DEPTH_TEST);
 }
 
-static void scene_split_lit(int frame) {
+static void scene_split_lit(int frame)
+{
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
     glFrustum(-0.6, 0.6, -0.45, 0.45, 1, 10);
@@ -677,7 +697,8 @@ static void scene_split_lit(int frame) {
     glDisable(GL_LIGHTING);
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     exapp app;
     if (!exapp_init(&app, "tilescenes", argc, argv, 640, 480))
         return app.exit_code;

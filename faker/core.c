@@ -33,22 +33,22 @@
 #endif
 
 struct tsr_faker_context {
-    int id;                      /* tessera context id, from 1 */
-    bool on_stream;              /* ContextCreateTSR was sent */
-    bool destroy_pending;        /* destroyed while current somewhere */
-    int current_on;              /* threads it is current on (0 or 1) */
-    tsr_dispatch table;          /* the chain head's, GetString answered here */
-    char renderer[256];          /* "tessera (downstream renderer)" */
+    int id;               /* tessera context id, from 1 */
+    bool on_stream;       /* ContextCreateTSR was sent */
+    bool destroy_pending; /* destroyed while current somewhere */
+    int current_on;       /* threads it is current on (0 or 1) */
+    tsr_dispatch table;   /* the chain head's, GetString answered here */
+    char renderer[256];   /* "tessera (downstream renderer)" */
     tsr_faker_context *next;
 };
 
 struct tsr_faker_surface {
-    int window;                  /* tessera window id, from 0 */
-    unsigned long xid;           /* X drawable, 0: pbuffer */
-    int width, height;           /* what the stream was told */
-    int x_width, x_height;       /* the X window's, from ConfigureNotify */
-    bool on_stream;              /* WindowCreateTSR was sent */
-    bool asked;                  /* its size was asked this frame (glViewport) */
+    int window;            /* tessera window id, from 0 */
+    unsigned long xid;     /* X drawable, 0: pbuffer */
+    int width, height;     /* what the stream was told */
+    int x_width, x_height; /* the X window's, from ConfigureNotify */
+    bool on_stream;        /* WindowCreateTSR was sent */
+    bool asked;            /* its size was asked this frame (glViewport) */
     tsr_faker_surface *next;
 };
 
@@ -130,8 +130,7 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
 {
     tsr_faker_context *c = self;
     switch (name) {
-    case GL_VENDOR:
-        return (const GLubyte *)"tessera";
+    case GL_VENDOR: return (const GLubyte *)"tessera";
     case GL_RENDERER:
         if (!c->renderer[0]) {
             const tsr_dispatch *head = tsr_chain_head(chain);
@@ -140,14 +139,10 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
                      down && down[0] ? (const char *)down : "no renderer");
         }
         return (const GLubyte *)c->renderer;
-    case GL_VERSION:
-        return (const GLubyte *)"2.1 tessera " TESSERA_VERSION;
-    case GL_SHADING_LANGUAGE_VERSION:
-        return (const GLubyte *)"1.20";
-    case GL_EXTENSIONS:
-        return (const GLubyte *)tsr_faker_gl_extensions;
-    default:
-        return NULL;
+    case GL_VERSION: return (const GLubyte *)"2.1 tessera " TESSERA_VERSION;
+    case GL_SHADING_LANGUAGE_VERSION: return (const GLubyte *)"1.20";
+    case GL_EXTENSIONS: return (const GLubyte *)tsr_faker_gl_extensions;
+    default: return NULL;
     }
 }
 
@@ -202,10 +197,7 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
     return c;
 }
 
-int tsr_faker_context_id(const tsr_faker_context *ctx)
-{
-    return ctx ? ctx->id : 0;
-}
+int tsr_faker_context_id(const tsr_faker_context *ctx) { return ctx ? ctx->id : 0; }
 
 static void context_free_locked(tsr_faker_context *ctx)
 {
@@ -389,10 +381,7 @@ void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height)
     *height = s ? s->height : 0;
 }
 
-unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s)
-{
-    return s ? s->xid : 0;
-}
+unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s) { return s ? s->xid : 0; }
 
 /* --- current ------------------------------------------------------------- */
 
@@ -437,15 +426,9 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     return true;
 }
 
-tsr_faker_context *tsr_faker_current_context(void)
-{
-    return cur_ctx;
-}
+tsr_faker_context *tsr_faker_current_context(void) { return cur_ctx; }
 
-tsr_faker_surface *tsr_faker_current_surface(void)
-{
-    return cur_surface;
-}
+tsr_faker_surface *tsr_faker_current_surface(void) { return cur_surface; }
 
 void tsr_faker_swap(tsr_faker_surface *s)
 {

@@ -23,15 +23,15 @@
 
 typedef struct egl_config {
     EGLint id;
-    VisualID visual;     /* 0: pbuffers only */
+    VisualID visual; /* 0: pbuffers only */
     int depth;
 } egl_config;
 
 typedef struct egl_display {
     EGLenum platform;
-    Display *x;          /* NULL: surfaceless */
-    bool own_x;          /* opened here (EGL_DEFAULT_DISPLAY) */
-    void *native;        /* what the application passed */
+    Display *x;   /* NULL: surfaceless */
+    bool own_x;   /* opened here (EGL_DEFAULT_DISPLAY) */
+    void *native; /* what the application passed */
     bool initialized;
     egl_config configs[MAX_CONFIGS];
     int nconfigs;
@@ -48,7 +48,7 @@ typedef struct egl_surface {
     tsr_faker_surface *s;
     egl_display *dpy;
     const egl_config *config;
-    EGLint type;         /* EGL_WINDOW_BIT or EGL_PBUFFER_BIT */
+    EGLint type; /* EGL_WINDOW_BIT or EGL_PBUFFER_BIT */
     bool destroyed;
 } egl_surface;
 
@@ -205,7 +205,9 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
     *known = true;
     switch (attribute) {
     case EGL_BUFFER_SIZE: return c->depth;
-    case EGL_RED_SIZE: case EGL_GREEN_SIZE: case EGL_BLUE_SIZE: return 8;
+    case EGL_RED_SIZE:
+    case EGL_GREEN_SIZE:
+    case EGL_BLUE_SIZE: return 8;
     case EGL_ALPHA_SIZE: return c->depth == 32 ? 8 : 0;
     case EGL_DEPTH_SIZE: return 24;
     case EGL_STENCIL_SIZE: return 8;
@@ -215,15 +217,22 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
     case EGL_NATIVE_RENDERABLE: return EGL_FALSE;
     case EGL_NATIVE_VISUAL_ID: return (EGLint)c->visual;
     case EGL_NATIVE_VISUAL_TYPE: return c->visual ? TrueColor : EGL_NONE;
-    case EGL_SAMPLES: case EGL_SAMPLE_BUFFERS: return 0;
+    case EGL_SAMPLES:
+    case EGL_SAMPLE_BUFFERS: return 0;
     case EGL_SURFACE_TYPE: return EGL_PBUFFER_BIT | (c->visual && e->x ? EGL_WINDOW_BIT : 0);
     case EGL_TRANSPARENT_TYPE: return EGL_NONE;
-    case EGL_TRANSPARENT_RED_VALUE: case EGL_TRANSPARENT_GREEN_VALUE: case EGL_TRANSPARENT_BLUE_VALUE: return 0;
-    case EGL_RENDERABLE_TYPE: case EGL_CONFORMANT: return EGL_OPENGL_BIT;
+    case EGL_TRANSPARENT_RED_VALUE:
+    case EGL_TRANSPARENT_GREEN_VALUE:
+    case EGL_TRANSPARENT_BLUE_VALUE: return 0;
+    case EGL_RENDERABLE_TYPE:
+    case EGL_CONFORMANT: return EGL_OPENGL_BIT;
     case EGL_COLOR_BUFFER_TYPE: return EGL_RGB_BUFFER;
-    case EGL_LUMINANCE_SIZE: case EGL_ALPHA_MASK_SIZE: return 0;
-    case EGL_BIND_TO_TEXTURE_RGB: case EGL_BIND_TO_TEXTURE_RGBA: return EGL_FALSE;
-    case EGL_MAX_PBUFFER_WIDTH: case EGL_MAX_PBUFFER_HEIGHT: return 8192;
+    case EGL_LUMINANCE_SIZE:
+    case EGL_ALPHA_MASK_SIZE: return 0;
+    case EGL_BIND_TO_TEXTURE_RGB:
+    case EGL_BIND_TO_TEXTURE_RGBA: return EGL_FALSE;
+    case EGL_MAX_PBUFFER_WIDTH:
+    case EGL_MAX_PBUFFER_HEIGHT: return 8192;
     case EGL_MAX_PBUFFER_PIXELS: return 8192 * 8192;
     case EGL_MIN_SWAP_INTERVAL: return 0;
     case EGL_MAX_SWAP_INTERVAL: return 1;
@@ -240,19 +249,30 @@ static bool config_matches(const egl_display *e, const egl_config *c, const EGLi
         if (want == EGL_DONT_CARE || !known)
             continue;
         switch (a[0]) {
-        case EGL_SURFACE_TYPE: case EGL_RENDERABLE_TYPE: case EGL_CONFORMANT:
+        case EGL_SURFACE_TYPE:
+        case EGL_RENDERABLE_TYPE:
+        case EGL_CONFORMANT:
             if ((have & want) != want)
                 return false;
             break;
-        case EGL_CONFIG_ID: case EGL_NATIVE_VISUAL_TYPE: case EGL_COLOR_BUFFER_TYPE: case EGL_LEVEL:
-        case EGL_CONFIG_CAVEAT: case EGL_TRANSPARENT_TYPE: case EGL_NATIVE_RENDERABLE:
-        case EGL_BIND_TO_TEXTURE_RGB: case EGL_BIND_TO_TEXTURE_RGBA:
+        case EGL_CONFIG_ID:
+        case EGL_NATIVE_VISUAL_TYPE:
+        case EGL_COLOR_BUFFER_TYPE:
+        case EGL_LEVEL:
+        case EGL_CONFIG_CAVEAT:
+        case EGL_TRANSPARENT_TYPE:
+        case EGL_NATIVE_RENDERABLE:
+        case EGL_BIND_TO_TEXTURE_RGB:
+        case EGL_BIND_TO_TEXTURE_RGBA:
             if (have != want)
                 return false;
             break;
-        case EGL_MAX_PBUFFER_WIDTH: case EGL_MAX_PBUFFER_HEIGHT: case EGL_MAX_PBUFFER_PIXELS:
-        case EGL_NATIVE_VISUAL_ID: case EGL_MIN_SWAP_INTERVAL: case EGL_MAX_SWAP_INTERVAL:
-            break; /* ignored by eglChooseConfig */
+        case EGL_MAX_PBUFFER_WIDTH:
+        case EGL_MAX_PBUFFER_HEIGHT:
+        case EGL_MAX_PBUFFER_PIXELS:
+        case EGL_NATIVE_VISUAL_ID:
+        case EGL_MIN_SWAP_INTERVAL:
+        case EGL_MAX_SWAP_INTERVAL: break; /* ignored by eglChooseConfig */
         default:
             if (have < want)
                 return false;
@@ -289,8 +309,10 @@ EGLBoolean eglChooseConfig(EGLDisplay dpy, const EGLint *attrib_list, EGLConfig 
         return fail(EGL_BAD_PARAMETER);
     for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2)
         if (a[0] == EGL_RENDERABLE_TYPE && a[1] != EGL_DONT_CARE && (a[1] & ~EGL_OPENGL_BIT))
-            tsr_faker_log(TSR_LOG_WARN, "eglChooseConfig: EGL_RENDERABLE_TYPE 0x%x: only OpenGL configs "
-                                        "(EGL_OPENGL_BIT); OpenGL ES is not supported", (unsigned)a[1]);
+            tsr_faker_log(TSR_LOG_WARN,
+                          "eglChooseConfig: EGL_RENDERABLE_TYPE 0x%x: only OpenGL configs "
+                          "(EGL_OPENGL_BIT); OpenGL ES is not supported",
+                          (unsigned)a[1]);
     EGLint n = 0;
     for (int i = 0; i < e->nconfigs; i++) {
         if (!config_matches(e, &e->configs[i], attrib_list))
@@ -340,10 +362,7 @@ EGLBoolean eglBindAPI(EGLenum api)
     return ok();
 }
 
-EGLenum eglQueryAPI(void)
-{
-    return bound_api;
-}
+EGLenum eglQueryAPI(void) { return bound_api; }
 
 EGLContext eglCreateContext(EGLDisplay dpy, EGLConfig config, EGLContext share_context, const EGLint *attrib_list)
 {
@@ -426,8 +445,7 @@ static EGLSurface window_surface(egl_display *e, const egl_config *c, unsigned l
     return x;
 }
 
-EGLSurface eglCreateWindowSurface(EGLDisplay dpy, EGLConfig config, EGLNativeWindowType win,
-                                  const EGLint *attrib_list)
+EGLSurface eglCreateWindowSurface(EGLDisplay dpy, EGLConfig config, EGLNativeWindowType win, const EGLint *attrib_list)
 {
     (void)attrib_list;
     egl_display *e = initialized(dpy);
@@ -594,10 +612,15 @@ EGLBoolean eglQuerySurface(EGLDisplay dpy, EGLSurface surface, EGLint attribute,
     case EGL_CONFIG_ID: v = x->config->id; break;
     case EGL_RENDER_BUFFER: v = x->type == EGL_WINDOW_BIT ? EGL_BACK_BUFFER : EGL_SINGLE_BUFFER; break;
     case EGL_SWAP_BEHAVIOR: v = EGL_BUFFER_DESTROYED; break;
-    case EGL_LARGEST_PBUFFER: case EGL_MIPMAP_TEXTURE: case EGL_MIPMAP_LEVEL: v = 0; break;
-    case EGL_TEXTURE_FORMAT: case EGL_TEXTURE_TARGET: v = EGL_NO_TEXTURE; break;
+    case EGL_LARGEST_PBUFFER:
+    case EGL_MIPMAP_TEXTURE:
+    case EGL_MIPMAP_LEVEL: v = 0; break;
+    case EGL_TEXTURE_FORMAT:
+    case EGL_TEXTURE_TARGET: v = EGL_NO_TEXTURE; break;
     case EGL_MULTISAMPLE_RESOLVE: v = EGL_MULTISAMPLE_RESOLVE_DEFAULT; break;
-    case EGL_HORIZONTAL_RESOLUTION: case EGL_VERTICAL_RESOLUTION: case EGL_PIXEL_ASPECT_RATIO: v = EGL_UNKNOWN; break;
+    case EGL_HORIZONTAL_RESOLUTION:
+    case EGL_VERTICAL_RESOLUTION:
+    case EGL_PIXEL_ASPECT_RATIO: v = EGL_UNKNOWN; break;
     case EGL_VG_ALPHA_FORMAT: v = EGL_VG_ALPHA_FORMAT_NONPRE; break;
     case EGL_VG_COLORSPACE: v = EGL_VG_COLORSPACE_sRGB; break;
     case EGL_GL_COLORSPACE: v = EGL_GL_COLORSPACE_LINEAR; break;
@@ -707,7 +730,10 @@ EGLBoolean eglWaitNative(EGLint engine)
     return ok();
 }
 
-#define P(name) {#name, (void (*)(void))name}
+#define P(name)                     \
+    {                               \
+#name, (void (*)(void))name \
+    }
 /* Every exported egl*, sorted (strcmp). */
 static const tsr_faker_proc egl_procs[] = {
     P(eglBindAPI),

@@ -22,10 +22,10 @@
 #define MAX_DISPLAYS 8
 
 struct __GLXFBConfigRec {
-    int id;                 /* GLX_FBCONFIG_ID, from 1 */
+    int id; /* GLX_FBCONFIG_ID, from 1 */
     int screen;
     VisualID visual;
-    int depth;              /* of the visual: 24 or 32 */
+    int depth; /* of the visual: 24 or 32 */
     bool doublebuffer;
 };
 
@@ -34,7 +34,7 @@ struct __GLXcontextRec {
     Display *dpy;
     const struct __GLXFBConfigRec *config;
     GLXDrawable draw, read;
-    bool destroyed;         /* glXDestroyContext while current: freed at release */
+    bool destroyed; /* glXDestroyContext while current: freed at release */
 };
 
 typedef struct glx_display {
@@ -89,8 +89,7 @@ static glx_display *display_of(Display *dpy)
             }
         }
         if (!d->nconfigs)
-            tsr_faker_log(TSR_LOG_ERROR, "display %s has no TrueColor visual of depth 24 or 32",
-                          DisplayString(dpy));
+            tsr_faker_log(TSR_LOG_ERROR, "display %s has no TrueColor visual of depth 24 or 32", DisplayString(dpy));
     }
     pthread_mutex_unlock(&glx_lock);
     return d;
@@ -105,11 +104,15 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
     case GLX_DOUBLEBUFFER: *value = c->doublebuffer; break;
     case GLX_STEREO: *value = 0; break;
     case GLX_AUX_BUFFERS: *value = 0; break;
-    case GLX_RED_SIZE: case GLX_GREEN_SIZE: case GLX_BLUE_SIZE: *value = 8; break;
+    case GLX_RED_SIZE:
+    case GLX_GREEN_SIZE:
+    case GLX_BLUE_SIZE: *value = 8; break;
     case GLX_ALPHA_SIZE: *value = c->depth == 32 ? 8 : 0; break;
     case GLX_DEPTH_SIZE: *value = 24; break;
     case GLX_STENCIL_SIZE: *value = 8; break;
-    case GLX_ACCUM_RED_SIZE: case GLX_ACCUM_GREEN_SIZE: case GLX_ACCUM_BLUE_SIZE:
+    case GLX_ACCUM_RED_SIZE:
+    case GLX_ACCUM_GREEN_SIZE:
+    case GLX_ACCUM_BLUE_SIZE:
     case GLX_ACCUM_ALPHA_SIZE: *value = 0; break;
     case GLX_RENDER_TYPE: *value = GLX_RGBA_BIT; break;
     case GLX_DRAWABLE_TYPE: *value = GLX_WINDOW_BIT; break;
@@ -118,11 +121,16 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
     case GLX_X_VISUAL_TYPE: *value = GLX_TRUE_COLOR; break;
     case GLX_CONFIG_CAVEAT: *value = GLX_NONE; break;
     case GLX_TRANSPARENT_TYPE: *value = GLX_NONE; break;
-    case GLX_TRANSPARENT_INDEX_VALUE: case GLX_TRANSPARENT_RED_VALUE: case GLX_TRANSPARENT_GREEN_VALUE:
-    case GLX_TRANSPARENT_BLUE_VALUE: case GLX_TRANSPARENT_ALPHA_VALUE: *value = 0; break;
-    case GLX_MAX_PBUFFER_WIDTH: case GLX_MAX_PBUFFER_HEIGHT: *value = 0; break;
+    case GLX_TRANSPARENT_INDEX_VALUE:
+    case GLX_TRANSPARENT_RED_VALUE:
+    case GLX_TRANSPARENT_GREEN_VALUE:
+    case GLX_TRANSPARENT_BLUE_VALUE:
+    case GLX_TRANSPARENT_ALPHA_VALUE: *value = 0; break;
+    case GLX_MAX_PBUFFER_WIDTH:
+    case GLX_MAX_PBUFFER_HEIGHT: *value = 0; break;
     case GLX_MAX_PBUFFER_PIXELS: *value = 0; break;
-    case GLX_SAMPLE_BUFFERS: case GLX_SAMPLES: *value = 0; break;
+    case GLX_SAMPLE_BUFFERS:
+    case GLX_SAMPLES: *value = 0; break;
     case GLX_SCREEN: *value = c->screen; break;
     case GLX_USE_GL: *value = True; break;
     case GLX_RGBA: *value = True; break;
@@ -139,26 +147,35 @@ static bool config_matches(const struct __GLXFBConfigRec *c, int attribute, int 
     if (want == (int)GLX_DONT_CARE)
         return true;
     switch (attribute) {
-    case GLX_BUFFER_SIZE: case GLX_RED_SIZE: case GLX_GREEN_SIZE: case GLX_BLUE_SIZE: case GLX_ALPHA_SIZE:
-    case GLX_DEPTH_SIZE: case GLX_STENCIL_SIZE: case GLX_ACCUM_RED_SIZE: case GLX_ACCUM_GREEN_SIZE:
-    case GLX_ACCUM_BLUE_SIZE: case GLX_ACCUM_ALPHA_SIZE: case GLX_AUX_BUFFERS: case GLX_SAMPLE_BUFFERS:
-    case GLX_SAMPLES:
-        config_attrib(c, attribute, &have);
-        return have >= want; /* minimums */
-    case GLX_RENDER_TYPE: case GLX_DRAWABLE_TYPE:
-        config_attrib(c, attribute, &have);
-        return (have & want) == want; /* masks */
-    case GLX_CONFIG_CAVEAT: case GLX_TRANSPARENT_TYPE:
+    case GLX_BUFFER_SIZE:
+    case GLX_RED_SIZE:
+    case GLX_GREEN_SIZE:
+    case GLX_BLUE_SIZE:
+    case GLX_ALPHA_SIZE:
+    case GLX_DEPTH_SIZE:
+    case GLX_STENCIL_SIZE:
+    case GLX_ACCUM_RED_SIZE:
+    case GLX_ACCUM_GREEN_SIZE:
+    case GLX_ACCUM_BLUE_SIZE:
+    case GLX_ACCUM_ALPHA_SIZE:
+    case GLX_AUX_BUFFERS:
+    case GLX_SAMPLE_BUFFERS:
+    case GLX_SAMPLES: config_attrib(c, attribute, &have); return have >= want; /* minimums */
+    case GLX_RENDER_TYPE:
+    case GLX_DRAWABLE_TYPE: config_attrib(c, attribute, &have); return (have & want) == want; /* masks */
+    case GLX_CONFIG_CAVEAT:
+    case GLX_TRANSPARENT_TYPE:
         config_attrib(c, attribute, &have);
         return want == (int)GLX_NONE ? have == (int)GLX_NONE : have == want;
-    case GLX_DOUBLEBUFFER: case GLX_STEREO: case GLX_X_RENDERABLE: case GLX_X_VISUAL_TYPE: case GLX_LEVEL:
-    case GLX_FBCONFIG_ID: case GLX_VISUAL_ID:
-        config_attrib(c, attribute, &have);
-        return have == want; /* exact */
-    case GLX_FRAMEBUFFER_SRGB_CAPABLE_ARB:
-        return !want;
-    default:
-        return true; /* ignored */
+    case GLX_DOUBLEBUFFER:
+    case GLX_STEREO:
+    case GLX_X_RENDERABLE:
+    case GLX_X_VISUAL_TYPE:
+    case GLX_LEVEL:
+    case GLX_FBCONFIG_ID:
+    case GLX_VISUAL_ID: config_attrib(c, attribute, &have); return have == want; /* exact */
+    case GLX_FRAMEBUFFER_SRGB_CAPABLE_ARB: return !want;
+    default: return true; /* ignored */
     }
 }
 
@@ -233,10 +250,7 @@ int glXGetFBConfigAttrib(Display *dpy, GLXFBConfig config, int attribute, int *v
     return config_attrib(config, attribute, value);
 }
 
-XVisualInfo *glXGetVisualFromFBConfig(Display *dpy, GLXFBConfig config)
-{
-    return visual_info(dpy, config);
-}
+XVisualInfo *glXGetVisualFromFBConfig(Display *dpy, GLXFBConfig config) { return visual_info(dpy, config); }
 
 XVisualInfo *glXChooseVisual(Display *dpy, int screen, int *attribList)
 {
@@ -249,7 +263,11 @@ XVisualInfo *glXChooseVisual(Display *dpy, int screen, int *attribList)
         case GLX_USE_GL: break;
         case GLX_RGBA: rgba = true; break;
         case GLX_DOUBLEBUFFER: db = true; break;
-        case GLX_STEREO: want[nwant][0] = GLX_STEREO; want[nwant][1] = 1; nwant++; break;
+        case GLX_STEREO:
+            want[nwant][0] = GLX_STEREO;
+            want[nwant][1] = 1;
+            nwant++;
+            break;
         default:
             if (nwant < 64) {
                 want[nwant][0] = a[0];
@@ -336,8 +354,7 @@ GLXContext glXCreateContext(Display *dpy, XVisualInfo *vis, GLXContext shareList
     return context_new(dpy, c, shareList);
 }
 
-GLXContext glXCreateNewContext(Display *dpy, GLXFBConfig config, int renderType, GLXContext shareList,
-                               Bool direct)
+GLXContext glXCreateNewContext(Display *dpy, GLXFBConfig config, int renderType, GLXContext shareList, Bool direct)
 {
     (void)direct;
     if (renderType != GLX_RGBA_TYPE || !config) {
@@ -363,8 +380,7 @@ GLXContext glXCreateContextAttribsARB(Display *dpy, GLXFBConfig config, GLXConte
         }
     }
     if (major > 2 || (major == 2 && minor > 1)) {
-        tsr_faker_log(TSR_LOG_INFO, "glXCreateContextAttribsARB: OpenGL %d.%d asked, tessera has 2.1", major,
-                      minor);
+        tsr_faker_log(TSR_LOG_INFO, "glXCreateContextAttribsARB: OpenGL %d.%d asked, tessera has 2.1", major, minor);
         return NULL;
     }
     if (!config)
@@ -487,7 +503,8 @@ void glXQueryDrawable(Display *dpy, GLXDrawable draw, int attribute, unsigned in
     switch (attribute) {
     case GLX_WIDTH: *value = (unsigned)w; break;
     case GLX_HEIGHT: *value = (unsigned)h; break;
-    case GLX_PRESERVED_CONTENTS: case GLX_LARGEST_PBUFFER: *value = 0; break;
+    case GLX_PRESERVED_CONTENTS:
+    case GLX_LARGEST_PBUFFER: *value = 0; break;
     case GLX_FBCONFIG_ID: *value = cur && cur->draw == draw ? (unsigned)cur->config->id : 1u; break;
     case GLX_SWAP_INTERVAL_EXT: *value = 0; break;
     case GLX_MAX_SWAP_INTERVAL_EXT: *value = 1; break;
@@ -508,11 +525,17 @@ void glXGetSelectedEvent(Display *dpy, GLXDrawable draw, unsigned long *event_ma
 }
 
 void glXWaitGL(void) { tsr_faker_finish(); }
-void glXWaitX(void) { /* the faker draws nothing on the X server */ }
+void glXWaitX(void)
+{ /* the faker draws nothing on the X server */
+}
 
 /* Swap intervals: accepted, no effect (frames are not paced). */
 void glXSwapIntervalEXT(Display *dpy, GLXDrawable drawable, int interval) { (void)dpy, (void)drawable, (void)interval; }
-int glXSwapIntervalMESA(unsigned int interval) { (void)interval; return 0; }
+int glXSwapIntervalMESA(unsigned int interval)
+{
+    (void)interval;
+    return 0;
+}
 int glXGetSwapIntervalMESA(void) { return 0; }
 int glXSwapIntervalSGI(int interval) { return interval <= 0 ? GLX_BAD_VALUE : 0; }
 
@@ -555,29 +578,54 @@ const char *glXQueryServerString(Display *dpy, int screen, int name)
     }
 }
 
-const char *glXGetClientString(Display *dpy, int name)
-{
-    return glXQueryServerString(dpy, 0, name);
-}
+const char *glXGetClientString(Display *dpy, int name) { return glXQueryServerString(dpy, 0, name); }
 
 /* --- GetProcAddress ------------------------------------------------------ */
 
-#define P(name) {#name, (void (*)(void))name}
+#define P(name)                     \
+    {                               \
+#name, (void (*)(void))name \
+    }
 /* Every exported glX*, sorted (strcmp). */
 static const tsr_faker_proc glx_procs[] = {
-    P(glXChooseFBConfig),      P(glXChooseVisual),          P(glXCopyContext),
-    P(glXCreateContext),       P(glXCreateContextAttribsARB), P(glXCreateNewContext),
-    P(glXCreateWindow),        P(glXDestroyContext),        P(glXDestroyWindow),
-    P(glXGetClientString),     P(glXGetConfig),             P(glXGetCurrentContext),
-    P(glXGetCurrentDisplay),   P(glXGetCurrentDrawable),    P(glXGetCurrentReadDrawable),
-    P(glXGetFBConfigAttrib),   P(glXGetFBConfigs),          P(glXGetProcAddress),
-    P(glXGetProcAddressARB),   P(glXGetSelectedEvent),      P(glXGetSwapIntervalMESA),
-    P(glXGetVisualFromFBConfig), P(glXIsDirect),            P(glXMakeContextCurrent),
-    P(glXMakeCurrent),         P(glXQueryContext),          P(glXQueryDrawable),
-    P(glXQueryExtension),      P(glXQueryExtensionsString), P(glXQueryServerString),
-    P(glXQueryVersion),        P(glXSelectEvent),           P(glXSwapBuffers),
-    P(glXSwapIntervalEXT),     P(glXSwapIntervalMESA),      P(glXSwapIntervalSGI),
-    P(glXWaitGL),              P(glXWaitX),
+    P(glXChooseFBConfig),
+    P(glXChooseVisual),
+    P(glXCopyContext),
+    P(glXCreateContext),
+    P(glXCreateContextAttribsARB),
+    P(glXCreateNewContext),
+    P(glXCreateWindow),
+    P(glXDestroyContext),
+    P(glXDestroyWindow),
+    P(glXGetClientString),
+    P(glXGetConfig),
+    P(glXGetCurrentContext),
+    P(glXGetCurrentDisplay),
+    P(glXGetCurrentDrawable),
+    P(glXGetCurrentReadDrawable),
+    P(glXGetFBConfigAttrib),
+    P(glXGetFBConfigs),
+    P(glXGetProcAddress),
+    P(glXGetProcAddressARB),
+    P(glXGetSelectedEvent),
+    P(glXGetSwapIntervalMESA),
+    P(glXGetVisualFromFBConfig),
+    P(glXIsDirect),
+    P(glXMakeContextCurrent),
+    P(glXMakeCurrent),
+    P(glXQueryContext),
+    P(glXQueryDrawable),
+    P(glXQueryExtension),
+    P(glXQueryExtensionsString),
+    P(glXQueryServerString),
+    P(glXQueryVersion),
+    P(glXSelectEvent),
+    P(glXSwapBuffers),
+    P(glXSwapIntervalEXT),
+    P(glXSwapIntervalMESA),
+    P(glXSwapIntervalSGI),
+    P(glXWaitGL),
+    P(glXWaitX),
 };
 #undef P
 
@@ -590,7 +638,4 @@ __GLXextFuncPtr glXGetProcAddressARB(const GLubyte *procName)
     return p ? p : tsr_faker_gl_proc(name);
 }
 
-__GLXextFuncPtr glXGetProcAddress(const GLubyte *procName)
-{
-    return glXGetProcAddressARB(procName);
-}
+__GLXextFuncPtr glXGetProcAddress(const GLubyte *procName) { return glXGetProcAddressARB(procName); }

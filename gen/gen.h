@@ -12,11 +12,11 @@
 
 /* Wire size/alignment of a GL scalar type; 0 size when unknown. */
 typedef struct gen_type {
-    const char *name;   /* "GLfloat" */
-    size_t size;        /* bytes on the wire (GLintptr/GLsizeiptr: 8) */
-    int is_float;       /* printed with %g */
+    const char *name; /* "GLfloat" */
+    size_t size;      /* bytes on the wire (GLintptr/GLsizeiptr: 8) */
+    int is_float;     /* printed with %g */
     int is_signed;
-    int is_enum;        /* GLenum: printed by name */
+    int is_enum; /* GLenum: printed by name */
 } gen_type;
 
 const gen_type *gen_type_find(const char *base);
@@ -25,7 +25,7 @@ const gen_type *gen_type_find(const char *base);
 typedef struct gen_enum {
     char *name;
     unsigned long long value;
-    size_t seq;   /* order of appearance: the first name of a value wins */
+    size_t seq; /* order of appearance: the first name of a value wins */
 } gen_enum;
 
 typedef struct gen_enums {
@@ -40,42 +40,42 @@ unsigned long long gen_enum_value(const gen_enums *e, const char *name, int *fou
 
 /* How one parameter travels on the wire. */
 typedef enum gen_pkind {
-    GEN_P_SCALAR,    /* value in the fixed part */
-    GEN_P_FIXED,     /* pointer with a constant count: inline in the fixed part */
-    GEN_P_VAR,       /* input pointer of variable size: u64 length + payload */
-    GEN_P_OUT,       /* output pointer: not sent; comes back in the reply */
-    GEN_P_NONE,      /* not on the wire (local/custom commands) */
+    GEN_P_SCALAR, /* value in the fixed part */
+    GEN_P_FIXED,  /* pointer with a constant count: inline in the fixed part */
+    GEN_P_VAR,    /* input pointer of variable size: u64 length + payload */
+    GEN_P_OUT,    /* output pointer: not sent; comes back in the reply */
+    GEN_P_NONE,   /* not on the wire (local/custom commands) */
 } gen_pkind;
 
 typedef struct gen_param {
     const spec_param *sp;
     gen_pkind kind;
-    const gen_type *type;  /* value type, or pointee type for pointers (NULL for void) */
-    size_t elem_size;      /* pointee element size (1 for void/bytes) */
-    size_t offset;         /* GEN_P_SCALAR/GEN_P_FIXED: offset in the fixed part */
-    size_t size;           /* GEN_P_SCALAR/GEN_P_FIXED: bytes */
+    const gen_type *type; /* value type, or pointee type for pointers (NULL for void) */
+    size_t elem_size;     /* pointee element size (1 for void/bytes) */
+    size_t offset;        /* GEN_P_SCALAR/GEN_P_FIXED: offset in the fixed part */
+    size_t size;          /* GEN_P_SCALAR/GEN_P_FIXED: bytes */
 } gen_param;
 
 typedef struct gen_cmd {
     const spec_command *sc;
-    int slot;               /* index in the dispatch table (spec order) */
+    int slot; /* index in the dispatch table (spec order) */
     gen_param *params;
-    size_t align;           /* alignment of the command's data start */
-    size_t fixed_size;      /* bytes of the fixed part (incl. request id) */
-    size_t reqid_offset;    /* reply commands: offset of the u32 request id */
-    int nvar;               /* GEN_P_VAR params */
-    int nout;               /* GEN_P_OUT params */
+    size_t align;        /* alignment of the command's data start */
+    size_t fixed_size;   /* bytes of the fixed part (incl. request id) */
+    size_t reqid_offset; /* reply commands: offset of the u32 request id */
+    int nvar;            /* GEN_P_VAR params */
+    int nout;            /* GEN_P_OUT params */
     int is_reply;
-    int packable;           /* wire pack or reply (generated packer/unpacker) */
+    int packable; /* wire pack or reply (generated packer/unpacker) */
     int is_custom, is_local;
     int is_void;
     const gen_type *ret_type; /* NULL for void or pointer returns */
-    int ret_is_string;      /* const GLubyte * return */
+    int ret_is_string;        /* const GLubyte * return */
 } gen_cmd;
 
 typedef struct gen {
     const spec *s;
-    gen_cmd *cmds;          /* same order as s->cmds */
+    gen_cmd *cmds; /* same order as s->cmds */
     size_t ncmds;
     gen_enums enums;
     const char *outdir;

@@ -50,8 +50,8 @@ static void emit_dispatch_h(const gen *g)
         if (c->nparams)
             fprintf(f, ", ");
         gen_print_params(f, c, 0, 0);
-        fprintf(f, ")\n{\n    %s((tsr_fn_%s)d->%s.fn)(d->%s.self",
-                gen_is_void(c->ret) ? "" : "return ", c->name, c->name, c->name);
+        fprintf(f, ")\n{\n    %s((tsr_fn_%s)d->%s.fn)(d->%s.self", gen_is_void(c->ret) ? "" : "return ", c->name,
+                c->name, c->name);
         gen_print_args(f, c, 1);
         fprintf(f, ");\n}\n");
         fprintf(f,
@@ -84,7 +84,7 @@ static void emit_nop(FILE *f, const spec_command *c, const char *prefix)
 static const char *category_enum(const char *category)
 {
     static const char *const names[][2] = {
-        {"geometry", "TSR_CAT_GEOMETRY"}, {"state", "TSR_CAT_STATE"}, {"frame", "TSR_CAT_FRAME"},
+        {"geometry", "TSR_CAT_GEOMETRY"}, {"state", "TSR_CAT_STATE"},   {"frame", "TSR_CAT_FRAME"},
         {"get", "TSR_CAT_GET"},           {"object", "TSR_CAT_OBJECT"}, {"client", "TSR_CAT_CLIENT"},
         {"special", "TSR_CAT_SPECIAL"},
     };
@@ -132,7 +132,10 @@ static void emit_wrappers(FILE *f, const gen *g)
         int value = !gen_is_void(c->ret);
         fprintf(f, "\nstatic %s hook_%s(", c->ret, c->name);
         gen_print_params(f, c, 1, 0);
-        fprintf(f, ")\n{\n    tsr_hook *tsr_h_ = self;\n    if (tsr_h_->before)\n        tsr_h_->before(tsr_h_->ctx, %zu);\n    ", i);
+        fprintf(
+            f,
+            ")\n{\n    tsr_hook *tsr_h_ = self;\n    if (tsr_h_->before)\n        tsr_h_->before(tsr_h_->ctx, %zu);\n    ",
+            i);
         if (value)
             fprintf(f, "%s tsr_result_ = ", c->ret);
         fprintf(f, "((tsr_fn_%s)tsr_h_->next.fn)(tsr_h_->next.self", c->name);
@@ -178,23 +181,25 @@ static void emit_dispatch_c(const gen *g)
     for (size_t i = 0; i < g->ncmds; i++)
         sorted[i] = &g->cmds[i];
     qsort(sorted, g->ncmds, sizeof *sorted, name_cmp);
-    fprintf(f, "/* Slots sorted by name, for bsearch. */\nstatic const unsigned short by_name[TSR_DISPATCH_COUNT] = {\n");
+    fprintf(f,
+            "/* Slots sorted by name, for bsearch. */\nstatic const unsigned short by_name[TSR_DISPATCH_COUNT] = {\n");
     for (size_t i = 0; i < g->ncmds; i++)
         fprintf(f, "    %d, /* %s */\n", sorted[i]->slot, sorted[i]->sc->name);
     fprintf(f, "};\n\n");
     free(sorted);
-    fprintf(f,
-            "static int compare_name(const void *key, const void *elem)\n"
-            "{\n    return strcmp((const char *)key, slot_names[*(const unsigned short *)elem]);\n}\n\n"
-            "int tsr_dispatch_slot(const char *name)\n{\n"
-            "    if (!name)\n        return -1;\n"
-            "    if (name[0] == 'g' && name[1] == 'l' && name[2] >= 'A' && name[2] <= 'Z')\n"
-            "        name += 2;\n"
-            "    const unsigned short *hit = bsearch(name, by_name, TSR_DISPATCH_COUNT, sizeof by_name[0], compare_name);\n"
-            "    return hit ? (int)*hit : -1;\n}\n\n"
-            "const char *tsr_dispatch_name(int slot)\n{\n"
-            "    if (slot < 0 || slot >= TSR_DISPATCH_COUNT)\n        return NULL;\n"
-            "    return slot_names[slot];\n}\n\n");
+    fprintf(
+        f,
+        "static int compare_name(const void *key, const void *elem)\n"
+        "{\n    return strcmp((const char *)key, slot_names[*(const unsigned short *)elem]);\n}\n\n"
+        "int tsr_dispatch_slot(const char *name)\n{\n"
+        "    if (!name)\n        return -1;\n"
+        "    if (name[0] == 'g' && name[1] == 'l' && name[2] >= 'A' && name[2] <= 'Z')\n"
+        "        name += 2;\n"
+        "    const unsigned short *hit = bsearch(name, by_name, TSR_DISPATCH_COUNT, sizeof by_name[0], compare_name);\n"
+        "    return hit ? (int)*hit : -1;\n}\n\n"
+        "const char *tsr_dispatch_name(int slot)\n{\n"
+        "    if (slot < 0 || slot >= TSR_DISPATCH_COUNT)\n        return NULL;\n"
+        "    return slot_names[slot];\n}\n\n");
     for (size_t i = 0; i < g->ncmds; i++)
         emit_nop(f, g->cmds[i].sc, "nop_");
     fprintf(f, "\nvoid tsr_dispatch_fill_nop(tsr_dispatch *d)\n{\n");
@@ -259,8 +264,7 @@ static void emit_glprocs(const gen *g)
             continue;
         fprintf(f, "static %s tramp_%s(", c->ret, c->name);
         gen_print_params(f, c, 1, 0);
-        fprintf(f, ")\n{\n    %s((const tsr_gl_procs *)self)->%s(", gen_is_void(c->ret) ? "" : "return ",
-                c->name);
+        fprintf(f, ")\n{\n    %s((const tsr_gl_procs *)self)->%s(", gen_is_void(c->ret) ? "" : "return ", c->name);
         gen_print_args(f, c, 0);
         fprintf(f, ");\n}\n");
     }
@@ -295,12 +299,13 @@ static void emit_gl_entry(const gen *g)
     gen_close(f);
 
     f = gen_open(g, "src/gl_entry_gen.c");
-    fprintf(f, "/* Exported gl* entry points: each reads the calling thread's current table\n"
-               " * (one TLS load) and jumps through its slot; no table: nothing happens. */\n"
-               "#include \"tessera/dispatch.h\"\n#include \"tessera/gltsr_gen.h\"\n#include \"spu/glapi_internal.h\"\n\n"
-               "/* gl.h declares a few parameters as arrays (GLfloat m[16]); ours are pointers. */\n"
-               "#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 11\n"
-               "#pragma GCC diagnostic ignored \"-Warray-parameter\"\n#endif\n\n");
+    fprintf(f,
+            "/* Exported gl* entry points: each reads the calling thread's current table\n"
+            " * (one TLS load) and jumps through its slot; no table: nothing happens. */\n"
+            "#include \"tessera/dispatch.h\"\n#include \"tessera/gltsr_gen.h\"\n#include \"spu/glapi_internal.h\"\n\n"
+            "/* gl.h declares a few parameters as arrays (GLfloat m[16]); ours are pointers. */\n"
+            "#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 11\n"
+            "#pragma GCC diagnostic ignored \"-Warray-parameter\"\n#endif\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const spec_command *c = g->cmds[i].sc;
         fprintf(f, "TSR_API %s GLAPIENTRY gl%s(", c->ret, c->name);
@@ -308,8 +313,8 @@ static void emit_gl_entry(const gen *g)
         fprintf(f, ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
                    "    if (__builtin_expect(d == NULL, 0))\n        ");
         emit_return_zero(f, c);
-        fprintf(f, "\n    %s((tsr_fn_%s)d->%s.fn)(d->%s.self", gen_is_void(c->ret) ? "" : "return ", c->name,
-                c->name, c->name);
+        fprintf(f, "\n    %s((tsr_fn_%s)d->%s.fn)(d->%s.self", gen_is_void(c->ret) ? "" : "return ", c->name, c->name,
+                c->name);
         gen_print_args(f, c, 1);
         fprintf(f, ");\n}\n");
     }

@@ -51,22 +51,19 @@ static char *xstrndup(const char *s, size_t n)
 typedef enum ret_kind { RET_VOID, RET_INT, RET_FLOAT, RET_DOUBLE } ret_kind;
 
 typedef struct xcmd {
-    char *name;      /* "glActiveTextureARB" */
-    char *alias;     /* "glActiveTexture" or NULL */
+    char *name;  /* "glActiveTextureARB" */
+    char *alias; /* "glActiveTexture" or NULL */
     ret_kind ret;
     int nparams;
-    int wanted;      /* required by GL 1.0-2.1 or an ARB/EXT/KHR extension */
-    const spec_command *spec;   /* the spec command it is, or NULL */
+    int wanted;                  /* required by GL 1.0-2.1 or an ARB/EXT/KHR extension */
+    const spec_command *spec;    /* the spec command it is, or NULL */
     const spec_command *aliased; /* the spec command it aliases, or NULL */
 } xcmd;
 
 static xcmd *cmds;
 static size_t ncmds;
 
-static int xcmd_cmp(const void *a, const void *b)
-{
-    return strcmp(((const xcmd *)a)->name, ((const xcmd *)b)->name);
-}
+static int xcmd_cmp(const void *a, const void *b) { return strcmp(((const xcmd *)a)->name, ((const xcmd *)b)->name); }
 
 static xcmd *find_cmd(const char *name)
 {
@@ -326,9 +323,10 @@ static void emit_alias(const char *dir)
         print_params(f, c);
         fprintf(f, ");\n%s GLAPIENTRY %s(", c->ret, x->name);
         print_params(f, c);
-        fprintf(f, ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
-                   "    if (__builtin_expect(d == NULL, 0))\n        return%s;\n"
-                   "    %s((tsr_fn_%s)d->%s.fn)(d->%s.self",
+        fprintf(f,
+                ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
+                "    if (__builtin_expect(d == NULL, 0))\n        return%s;\n"
+                "    %s((tsr_fn_%s)d->%s.fn)(d->%s.self",
                 value ? " 0" : "", value ? "return " : "", c->name, c->name, c->name);
         for (size_t k = 0; k < c->nparams; k++)
             fprintf(f, ", %s", c->params[k].name);
@@ -359,9 +357,10 @@ static void emit_stubs(const char *dir, const char *extensions)
         const xcmd *x = &cmds[i];
         if (!x->wanted || x->spec || x->aliased)
             continue;
-        fprintf(f, "TSR_FAKER_API %s %s(void);\n%s %s(void)\n{\n"
-                   "    if (!atomic_flag_test_and_set(&warned[%zu]))\n"
-                   "        tsr_faker_unsupported(\"%s\");\n",
+        fprintf(f,
+                "TSR_FAKER_API %s %s(void);\n%s %s(void)\n{\n"
+                "    if (!atomic_flag_test_and_set(&warned[%zu]))\n"
+                "        tsr_faker_unsupported(\"%s\");\n",
                 rtype[x->ret], x->name, rtype[x->ret], x->name, k++, x->name);
         if (x->ret != RET_VOID)
             fprintf(f, "    return 0;\n");
@@ -377,8 +376,10 @@ static void emit_stubs(const char *dir, const char *extensions)
     }
     fprintf(f, "};\nconst size_t tsr_faker_gl_proc_count = %zu;\n", nnames);
     fprintf(f, "const size_t tsr_faker_gl_stub_count = %zu;\n", nstubs);
-    fprintf(f, "\n/* Registry extensions whose every command the spec has. */\n"
-               "const char tsr_faker_gl_extensions[] = \"%s\";\n", extensions);
+    fprintf(f,
+            "\n/* Registry extensions whose every command the spec has. */\n"
+            "const char tsr_faker_gl_extensions[] = \"%s\";\n",
+            extensions);
     close_out(f);
 }
 

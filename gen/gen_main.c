@@ -14,14 +14,12 @@
 #include <sys/stat.h>
 
 static const gen_type type_table[] = {
-    {"GLboolean", 1, 0, 0, 0}, {"GLbyte", 1, 0, 1, 0},      {"GLubyte", 1, 0, 0, 0},
-    {"GLchar", 1, 0, 1, 0},    {"GLcharARB", 1, 0, 1, 0},   {"GLshort", 2, 0, 1, 0},
-    {"GLushort", 2, 0, 0, 0},  {"GLhalf", 2, 0, 0, 0},      {"GLint", 4, 0, 1, 0},
-    {"GLuint", 4, 0, 0, 0},    {"GLsizei", 4, 0, 1, 0},     {"GLenum", 4, 0, 0, 1},
-    {"GLbitfield", 4, 0, 0, 0}, {"GLfloat", 4, 1, 1, 0},    {"GLclampf", 4, 1, 1, 0},
-    {"GLfixed", 4, 0, 1, 0},   {"GLhandleARB", 4, 0, 0, 0}, {"GLdouble", 8, 1, 1, 0},
-    {"GLclampd", 8, 1, 1, 0},  {"GLintptr", 8, 0, 1, 0},    {"GLsizeiptr", 8, 0, 1, 0},
-    {"GLint64", 8, 0, 1, 0},   {"GLuint64", 8, 0, 0, 0},
+    {"GLboolean", 1, 0, 0, 0},   {"GLbyte", 1, 0, 1, 0},   {"GLubyte", 1, 0, 0, 0},  {"GLchar", 1, 0, 1, 0},
+    {"GLcharARB", 1, 0, 1, 0},   {"GLshort", 2, 0, 1, 0},  {"GLushort", 2, 0, 0, 0}, {"GLhalf", 2, 0, 0, 0},
+    {"GLint", 4, 0, 1, 0},       {"GLuint", 4, 0, 0, 0},   {"GLsizei", 4, 0, 1, 0},  {"GLenum", 4, 0, 0, 1},
+    {"GLbitfield", 4, 0, 0, 0},  {"GLfloat", 4, 1, 1, 0},  {"GLclampf", 4, 1, 1, 0}, {"GLfixed", 4, 0, 1, 0},
+    {"GLhandleARB", 4, 0, 0, 0}, {"GLdouble", 8, 1, 1, 0}, {"GLclampd", 8, 1, 1, 0}, {"GLintptr", 8, 0, 1, 0},
+    {"GLsizeiptr", 8, 0, 1, 0},  {"GLint64", 8, 0, 1, 0},  {"GLuint64", 8, 0, 0, 0},
 };
 
 const gen_type *gen_type_find(const char *base)
@@ -32,10 +30,7 @@ const gen_type *gen_type_find(const char *base)
     return NULL;
 }
 
-int gen_is_void(const char *type)
-{
-    return !strcmp(type, "void");
-}
+int gen_is_void(const char *type) { return !strcmp(type, "void"); }
 
 static void die(const char *fmt, const char *a, const char *b)
 {
@@ -193,10 +188,7 @@ void gen_print_args(FILE *f, const spec_command *c, int leading_comma)
 
 /* --- wire layout --------------------------------------------------------- */
 
-static size_t align_up(size_t v, size_t a)
-{
-    return (v + a - 1) / a * a;
-}
+static size_t align_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
 
 static void layout(gen_cmd *gc)
 {
@@ -313,8 +305,7 @@ int main(int argc, char **argv)
         int found = 0;
         gen_enum_value(&g.enums, s.pnames[i].name, &found);
         if (!found) {
-            fprintf(stderr, "tsr-gen: pname_counts: %s is not a GL enum in %s\n", s.pnames[i].name,
-                    argv[2]);
+            fprintf(stderr, "tsr-gen: pname_counts: %s is not a GL enum in %s\n", s.pnames[i].name, argv[2]);
             return 1;
         }
     }
@@ -322,8 +313,7 @@ int main(int argc, char **argv)
         int found = 0;
         gen_enum_value(&g.enums, s.map_components[i].name, &found);
         if (!found) {
-            fprintf(stderr, "tsr-gen: map_components: %s is not a GL enum in %s\n", s.map_components[i].name,
-                    argv[2]);
+            fprintf(stderr, "tsr-gen: map_components: %s is not a GL enum in %s\n", s.map_components[i].name, argv[2]);
             return 1;
         }
     }

@@ -22,18 +22,20 @@
 #include <string.h>
 
 typedef struct attr_cmd {
-    const char *kind;     /* "color", "normal", "texcoord", "multitexcoord", "edgeflag", "attrib" */
-    int n;                /* components given */
-    const char *suffix;   /* "b", "ub", "f", ... */
-    int vector;           /* the v form */
+    const char *kind;   /* "color", "normal", "texcoord", "multitexcoord", "edgeflag", "attrib" */
+    int n;              /* components given */
+    const char *suffix; /* "b", "ub", "f", ... */
+    int vector;         /* the v form */
 } attr_cmd;
 
 /* Parses NAME = PREFIX N? SUFFIX v? for the attribute prefixes. */
 static int parse_attr(const char *name, attr_cmd *a)
 {
-    static const struct { const char *prefix, *kind; } prefixes[] = {
-        {"MultiTexCoord", "multitexcoord"}, {"TexCoord", "texcoord"}, {"Color", "color"},
-        {"Normal", "normal"}, {"VertexAttrib", "attrib"},
+    static const struct {
+        const char *prefix, *kind;
+    } prefixes[] = {
+        {"MultiTexCoord", "multitexcoord"}, {"TexCoord", "texcoord"}, {"Color", "color"}, {"Normal", "normal"},
+        {"VertexAttrib", "attrib"},
     };
     static const char *const suffixes[] = {"ub", "us", "ui", "b", "s", "i", "f", "d"};
     if (!strcmp(name, "EdgeFlag") || !strcmp(name, "EdgeFlagv")) {
@@ -86,8 +88,10 @@ static void conv(char *buf, size_t size, const attr_cmd *a, const char *e)
 
 static void die_shape(const spec_command *c)
 {
-    fprintf(stderr, "tsr-gen: spec/gl.yaml:%d: %s looks like a current-attribute command but its "
-                    "parameters do not fit gen/gen_state.c\n", c->line, c->name);
+    fprintf(stderr,
+            "tsr-gen: spec/gl.yaml:%d: %s looks like a current-attribute command but its "
+            "parameters do not fit gen/gen_state.c\n",
+            c->line, c->name);
     exit(1);
 }
 

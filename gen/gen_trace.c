@@ -64,10 +64,13 @@ static void emit_param_print(FILE *f, const spec_param *p)
         return;
     }
     if (p->pointer_depth == 1 && !p->dir_out && t && p->count.kind == SPEC_COUNT_FIXED && p->count.fixed <= 16) {
-        fprintf(f, "    if (!%s) {\n        fputs(\"NULL\", tsr_t->out);\n    } else {\n        fputc('{', tsr_t->out);\n",
+        fprintf(f,
+                "    if (!%s) {\n        fputs(\"NULL\", tsr_t->out);\n    } else {\n        fputc('{', tsr_t->out);\n",
                 p->name);
-        fprintf(f, "        for (int i = 0; i < %ld; i++) {\n            if (i)\n                fputs(\", \", tsr_t->out);\n    ",
-                p->count.fixed);
+        fprintf(
+            f,
+            "        for (int i = 0; i < %ld; i++) {\n            if (i)\n                fputs(\", \", tsr_t->out);\n    ",
+            p->count.fixed);
         char expr[128];
         snprintf(expr, sizeof expr, "%s[i]", p->name);
         emit_scalar_print(f, p, t, expr);
@@ -75,11 +78,13 @@ static void emit_param_print(FILE *f, const spec_param *p)
         return;
     }
     if (p->pointer_depth == 1 && !p->dir_out && t && p->count.kind == SPEC_COUNT_PNAME) {
-        fprintf(f, "    {\n        int n = tsr_wire_pname_count((GLenum)%s);\n"
-                   "        if (!%s || n <= 0 || n > 16) {\n            fputs(%s ? \"<data>\" : \"NULL\", tsr_t->out);\n"
-                   "        } else {\n            fputc('{', tsr_t->out);\n"
-                   "            for (int i = 0; i < n; i++) {\n                if (i)\n                    fputs(\", \", tsr_t->out);\n    ",
-                p->count.args[0], p->name, p->name);
+        fprintf(
+            f,
+            "    {\n        int n = tsr_wire_pname_count((GLenum)%s);\n"
+            "        if (!%s || n <= 0 || n > 16) {\n            fputs(%s ? \"<data>\" : \"NULL\", tsr_t->out);\n"
+            "        } else {\n            fputc('{', tsr_t->out);\n"
+            "            for (int i = 0; i < n; i++) {\n                if (i)\n                    fputs(\", \", tsr_t->out);\n    ",
+            p->count.args[0], p->name, p->name);
         char expr[128];
         snprintf(expr, sizeof expr, "%s[i]", p->name);
         emit_scalar_print(f, p, t, expr);
@@ -125,25 +130,26 @@ void gen_emit_trace(const gen *g)
     }
     fprintf(f, "};\n\n");
     free(v);
-    fprintf(f,
-            "const char *tsr_trace_enum_name(GLenum value)\n{\n"
-            "    size_t lo = 0, hi = sizeof enum_names / sizeof enum_names[0];\n"
-            "    while (lo < hi) {\n        size_t mid = (lo + hi) / 2;\n"
-            "        if (enum_names[mid].value == value)\n            return enum_names[mid].name;\n"
-            "        if (enum_names[mid].value < value)\n            lo = mid + 1;\n        else\n            hi = mid;\n    }\n"
-            "    return NULL;\n}\n\n"
-            "void tsr_trace_print_enum(FILE *out, GLenum value)\n{\n"
-            "    const char *name = tsr_trace_enum_name(value);\n"
-            "    if (name)\n        fputs(name, out);\n    else\n        fprintf(out, \"0x%%x\", (unsigned)value);\n}\n\n"
-            "void tsr_trace_print_string(FILE *out, const char *s)\n{\n"
-            "    if (!s) {\n        fputs(\"NULL\", out);\n        return;\n    }\n"
-            "    fputc('\"', out);\n"
-            "    for (int i = 0; s[i] && i < 80; i++) {\n"
-            "        unsigned char c = (unsigned char)s[i];\n"
-            "        if (c == '\"' || c == '\\\\')\n            fprintf(out, \"\\\\%%c\", c);\n"
-            "        else if (c < 32 || c > 126)\n            fprintf(out, \"\\\\x%%02x\", c);\n"
-            "        else\n            fputc(c, out);\n    }\n"
-            "    fputc('\"', out);\n}\n\n");
+    fprintf(
+        f,
+        "const char *tsr_trace_enum_name(GLenum value)\n{\n"
+        "    size_t lo = 0, hi = sizeof enum_names / sizeof enum_names[0];\n"
+        "    while (lo < hi) {\n        size_t mid = (lo + hi) / 2;\n"
+        "        if (enum_names[mid].value == value)\n            return enum_names[mid].name;\n"
+        "        if (enum_names[mid].value < value)\n            lo = mid + 1;\n        else\n            hi = mid;\n    }\n"
+        "    return NULL;\n}\n\n"
+        "void tsr_trace_print_enum(FILE *out, GLenum value)\n{\n"
+        "    const char *name = tsr_trace_enum_name(value);\n"
+        "    if (name)\n        fputs(name, out);\n    else\n        fprintf(out, \"0x%%x\", (unsigned)value);\n}\n\n"
+        "void tsr_trace_print_string(FILE *out, const char *s)\n{\n"
+        "    if (!s) {\n        fputs(\"NULL\", out);\n        return;\n    }\n"
+        "    fputc('\"', out);\n"
+        "    for (int i = 0; s[i] && i < 80; i++) {\n"
+        "        unsigned char c = (unsigned char)s[i];\n"
+        "        if (c == '\"' || c == '\\\\')\n            fprintf(out, \"\\\\%%c\", c);\n"
+        "        else if (c < 32 || c > 126)\n            fprintf(out, \"\\\\x%%02x\", c);\n"
+        "        else\n            fputc(c, out);\n    }\n"
+        "    fputc('\"', out);\n}\n\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const spec_command *c = g->cmds[i].sc;
         fprintf(f, "static %s tr_%s(", c->ret, c->name);

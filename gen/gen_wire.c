@@ -15,8 +15,8 @@
  * (pixel store, buffer bindings). The one place such exceptions live. */
 static const struct {
     const char *name;
-    const char *pack_hook;    /* runs after packing, with the packer in tsr_p */
-    const char *unpack_hook;  /* runs before dispatch, with the unpacker in u */
+    const char *pack_hook;   /* runs after packing, with the packer in tsr_p */
+    const char *unpack_hook; /* runs before dispatch, with the unpacker in u */
 } hooks[] = {
     {"PixelStorei", "tsr_packer_mirror_PixelStore(tsr_p, pname, (double)param);",
      "tsr_pixel_store_set(&u->pixels, pname, (double)param);"},
@@ -37,7 +37,8 @@ static const struct {
     const char *name;
     const char *pre;
 } pack_answers[] = {
-    {"IsEnabled", "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
+    {"IsEnabled",
+     "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
 };
 
 static const char *pack_answer(const spec_command *c)
@@ -64,10 +65,7 @@ static const char *unpack_hook(const spec_command *c)
     return NULL;
 }
 
-static int is_literal(const char *s)
-{
-    return isdigit((unsigned char)s[0]) || s[0] == '-';
-}
+static int is_literal(const char *s) { return isdigit((unsigned char)s[0]) || s[0] == '-'; }
 
 static const spec_param *param_named(const spec_command *c, const char *name)
 {
@@ -108,9 +106,10 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         fprintf(f, "        uint64_t tsr_c = %zuu;\n", k->kind == SPEC_COUNT_BYTES ? (size_t)1 : gp->elem_size);
         for (size_t i = 0; i < k->nargs; i++) {
             emit_nonneg(f, c, k->args[i]);
-            fprintf(f,
-                    "        if (__builtin_mul_overflow(tsr_c, (uint64_t)(%s), &tsr_c)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
-                    k->args[i], sp->name);
+            fprintf(
+                f,
+                "        if (__builtin_mul_overflow(tsr_c, (uint64_t)(%s), &tsr_c)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
+                k->args[i], sp->name);
         }
         fprintf(f, "        tsr_len_%s = tsr_c;\n", sp->name);
         break;
@@ -128,20 +127,22 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         const char *format = k->kind == SPEC_COUNT_IMAGE ? k->args[3] : "GL_COLOR_INDEX";
         const char *type = k->kind == SPEC_COUNT_IMAGE ? k->args[4] : "GL_BITMAP";
         int dims = is_literal(d) ? 2 : 3;
-        fprintf(f,
-                "        if (tsr_pixel_layout_of(%s, %d, (int64_t)(%s), (int64_t)(%s), (int64_t)(%s), (GLenum)(%s), (GLenum)(%s), &tsr_lay_%s) != 0) {\n"
-                "            tsr_why = \"invalid size, format or type of %s\"; goto tsr_invalid; }\n"
-                "        tsr_len_%s = tsr_lay_%s.extent;\n",
-                modes, dims, w, h, d, format, type, sp->name, sp->name, sp->name, sp->name);
+        fprintf(
+            f,
+            "        if (tsr_pixel_layout_of(%s, %d, (int64_t)(%s), (int64_t)(%s), (int64_t)(%s), (GLenum)(%s), (GLenum)(%s), &tsr_lay_%s) != 0) {\n"
+            "            tsr_why = \"invalid size, format or type of %s\"; goto tsr_invalid; }\n"
+            "        tsr_len_%s = tsr_lay_%s.extent;\n",
+            modes, dims, w, h, d, format, type, sp->name, sp->name, sp->name, sp->name);
         break;
     }
     case SPEC_COUNT_TYPED:
         emit_nonneg(f, c, k->args[0]);
-        fprintf(f,
-                "        size_t tsr_t = tsr_gl_type_size((GLenum)%s);\n"
-                "        if (!tsr_t) { tsr_why = \"unknown element type of %s\"; goto tsr_invalid; }\n"
-                "        if (__builtin_mul_overflow((uint64_t)(%s), (uint64_t)tsr_t, &tsr_len_%s)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
-                k->args[1], sp->name, k->args[0], sp->name, sp->name);
+        fprintf(
+            f,
+            "        size_t tsr_t = tsr_gl_type_size((GLenum)%s);\n"
+            "        if (!tsr_t) { tsr_why = \"unknown element type of %s\"; goto tsr_invalid; }\n"
+            "        if (__builtin_mul_overflow((uint64_t)(%s), (uint64_t)tsr_t, &tsr_len_%s)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
+            k->args[1], sp->name, k->args[0], sp->name, sp->name);
         break;
     case SPEC_COUNT_MAP: {
         /* ((order-1)*stride [+ (vorder-1)*vstride] + pname_counts[target]) elements */
@@ -152,23 +153,24 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
                 k->args[0]);
         for (size_t i = 1; i + 1 < k->nargs; i += 2) {
             const char *stride = k->args[i], *order = k->args[i + 1];
-            fprintf(f,
-                    "        if ((int64_t)(%s) < 1) { tsr_why = \"map order below 1\"; goto tsr_invalid; }\n"
-                    "        if ((int64_t)(%s) < 0) { tsr_why = \"negative map stride\"; goto tsr_invalid; }\n"
-                    "        if (__builtin_mul_overflow((uint64_t)(%s) - 1u, (uint64_t)(%s), &tsr_t) || __builtin_add_overflow(tsr_c, tsr_t, &tsr_c)) {\n"
-                    "            tsr_why = \"map size overflows\"; goto tsr_invalid; }\n",
-                    order, stride, order, stride);
+            fprintf(
+                f,
+                "        if ((int64_t)(%s) < 1) { tsr_why = \"map order below 1\"; goto tsr_invalid; }\n"
+                "        if ((int64_t)(%s) < 0) { tsr_why = \"negative map stride\"; goto tsr_invalid; }\n"
+                "        if (__builtin_mul_overflow((uint64_t)(%s) - 1u, (uint64_t)(%s), &tsr_t) || __builtin_add_overflow(tsr_c, tsr_t, &tsr_c)) {\n"
+                "            tsr_why = \"map size overflows\"; goto tsr_invalid; }\n",
+                order, stride, order, stride);
         }
-        fprintf(f,
-                "        if (__builtin_mul_overflow(tsr_c, (uint64_t)%zuu, &tsr_len_%s)) { tsr_why = \"map size overflows\"; goto tsr_invalid; }\n",
-                gp->elem_size, sp->name);
+        fprintf(
+            f,
+            "        if (__builtin_mul_overflow(tsr_c, (uint64_t)%zuu, &tsr_len_%s)) { tsr_why = \"map size overflows\"; goto tsr_invalid; }\n",
+            gp->elem_size, sp->name);
         break;
     }
     case SPEC_COUNT_STRING:
         fprintf(f, "        tsr_len_%s = (uint64_t)strlen((const char *)%s) + 1u;\n", sp->name, sp->name);
         break;
-    case SPEC_COUNT_NONE:
-        break;
+    case SPEC_COUNT_NONE: break;
     }
     fprintf(f, "    }\n");
 }
@@ -187,10 +189,7 @@ static void declare_layouts(FILE *f, const gen_cmd *gc, int outs)
     }
 }
 
-static int has_bbox(const gen_cmd *gc)
-{
-    return gc->sc->vertex && !strcmp(gc->sc->vertex, "position");
-}
+static int has_bbox(const gen_cmd *gc) { return gc->sc->vertex && !strcmp(gc->sc->vertex, "position"); }
 
 /* Emits the bounding-box update of a vertex-position command. */
 static void emit_bbox(FILE *f, const gen_cmd *gc)
@@ -330,12 +329,11 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
     if (has_bbox(gc))
         emit_bbox(f, gc);
     if (gc->is_reply) {
-        fprintf(f,
-                "    size_t tsr_rsize = 0, tsr_rpos = 0;\n"
-                "    uint64_t tsr_ilen;\n"
-                "    const uint8_t *tsr_item;\n"
-                "    const uint8_t *tsr_r = tsr_packer_request(tsr_p, tsr_id, &tsr_rsize);\n"
-                "    if (!tsr_r)\n        ");
+        fprintf(f, "    size_t tsr_rsize = 0, tsr_rpos = 0;\n"
+                   "    uint64_t tsr_ilen;\n"
+                   "    const uint8_t *tsr_item;\n"
+                   "    const uint8_t *tsr_r = tsr_packer_request(tsr_p, tsr_id, &tsr_rsize);\n"
+                   "    if (!tsr_r)\n        ");
         emit_return_zero(f, gc);
         fprintf(f, "\n");
         if (!gc->is_void) {
@@ -349,9 +347,10 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
                 fprintf(f, "    tsr_ret = tsr_ilen ? (%s)tsr_packer_keep_string(tsr_p, tsr_item, tsr_ilen) : NULL;\n",
                         c->ret);
             else
-                fprintf(f,
-                        "    if (tsr_ilen != sizeof tsr_ret) { tsr_why = \"reply has a wrong return size\"; goto tsr_invalid; }\n"
-                        "    memcpy(&tsr_ret, tsr_item, sizeof tsr_ret);\n");
+                fprintf(
+                    f,
+                    "    if (tsr_ilen != sizeof tsr_ret) { tsr_why = \"reply has a wrong return size\"; goto tsr_invalid; }\n"
+                    "    memcpy(&tsr_ret, tsr_item, sizeof tsr_ret);\n");
         }
         for (size_t i = 0; i < c->nparams; i++) {
             const gen_param *gp = &gc->params[i];
@@ -365,15 +364,18 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
             emit_return_zero(f, gc);
             fprintf(f, "\n    {\n");
             gen_emit_count(f, gc, gp, "&tsr_p->pixels.pack");
-            fprintf(f,
-                    "    if (tsr_ilen != tsr_len_%s) { tsr_why = \"reply size of %s differs from the request\"; goto tsr_invalid; }\n",
-                    n, n);
+            fprintf(
+                f,
+                "    if (tsr_ilen != tsr_len_%s) { tsr_why = \"reply size of %s differs from the request\"; goto tsr_invalid; }\n",
+                n, n);
             if (needs_layout(gp)) {
                 const spec_count *k = &gp->sp->count;
                 const char *h = k->args[1];
                 const char *d = k->kind == SPEC_COUNT_IMAGE ? k->args[2] : "1";
-                fprintf(f, "    if (%s)\n        tsr_pixel_copy_spans(&tsr_lay_%s, (int64_t)(%s), (int64_t)(%s), %s, tsr_item);\n",
-                        n, n, h, d, n);
+                fprintf(
+                    f,
+                    "    if (%s)\n        tsr_pixel_copy_spans(&tsr_lay_%s, (int64_t)(%s), (int64_t)(%s), %s, tsr_item);\n",
+                    n, n, h, d, n);
             } else {
                 fprintf(f, "    if (%s && tsr_ilen)\n        memcpy(%s, tsr_item, (size_t)tsr_ilen);\n", n, n);
             }
@@ -401,22 +403,25 @@ static void emit_local_custom_protos(FILE *f, const gen_cmd *gc)
     gen_print_params(f, c, 0, 0);
     fprintf(f, ");\n");
     if (gc->is_custom)
-        fprintf(f,
-                "int tsr_unpack_custom_%s(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,\n"
-                "                        size_t *pos, tsr_error *err);\n",
-                c->name);
+        fprintf(
+            f,
+            "int tsr_unpack_custom_%s(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,\n"
+            "                        size_t *pos, tsr_error *err);\n",
+            c->name);
 }
 
 static void emit_wire_h(const gen *g)
 {
     FILE *f = gen_open(g, "src/wire_gen.h");
-    fprintf(f, "/* Opcodes and packers of every spec command (private to libtessera, its\n"
-               " * tests and benchmarks; never installed). Fixed-size commands pack inline. */\n"
-               "#ifndef TSR_WIRE_GEN_H\n#define TSR_WIRE_GEN_H\n\n"
-               "#include <string.h>\n#include \"tessera/dev/pack.h\"\n\n"
-               "_Static_assert(sizeof(GLintptr) == 8 && sizeof(GLsizeiptr) == 8, \"wire sizes assume 64-bit GLintptr\");\n"
-               "_Static_assert(sizeof(GLboolean) == 1 && sizeof(GLenum) == 4 && sizeof(GLdouble) == 8, \"GL type sizes\");\n\n"
-               "struct tsr_unpacker;\n\nenum tsr_opcode {\n");
+    fprintf(
+        f,
+        "/* Opcodes and packers of every spec command (private to libtessera, its\n"
+        " * tests and benchmarks; never installed). Fixed-size commands pack inline. */\n"
+        "#ifndef TSR_WIRE_GEN_H\n#define TSR_WIRE_GEN_H\n\n"
+        "#include <string.h>\n#include \"tessera/dev/pack.h\"\n\n"
+        "_Static_assert(sizeof(GLintptr) == 8 && sizeof(GLsizeiptr) == 8, \"wire sizes assume 64-bit GLintptr\");\n"
+        "_Static_assert(sizeof(GLboolean) == 1 && sizeof(GLenum) == 4 && sizeof(GLdouble) == 8, \"GL type sizes\");\n\n"
+        "struct tsr_unpacker;\n\nenum tsr_opcode {\n");
     for (size_t i = 0; i < g->ncmds; i++)
         fprintf(f, "    TSR_OP_%s = %d,\n", g->cmds[i].sc->name, g->cmds[i].sc->opcode);
     fprintf(f, "};\n\n");
@@ -489,10 +494,7 @@ static void emit_call(FILE *f, const gen_cmd *gc, const char *table, int with_re
     fprintf(f, ");\n");
 }
 
-static int is_inline_unpack(const gen_cmd *gc)
-{
-    return gc->packable && !gc->is_reply && !gc->nvar;
-}
+static int is_inline_unpack(const gen_cmd *gc) { return gc->packable && !gc->is_reply && !gc->nvar; }
 
 /* Decoding of a fixed-size command, inline in the switch: `tsr_pos` is the
  * data offset, aligned here. */
@@ -540,11 +542,11 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
         const gen_param *gp = &gc->params[i];
         const spec_param *sp = gp->sp;
         if (gp->kind == GEN_P_SCALAR)
-            fprintf(f, "    %s %s;\n    memcpy(&%s, tsr_a + %zu, %zu);\n", sp->type, sp->name, sp->name,
-                    gp->offset, gp->size);
+            fprintf(f, "    %s %s;\n    memcpy(&%s, tsr_a + %zu, %zu);\n", sp->type, sp->name, sp->name, gp->offset,
+                    gp->size);
         else if (gp->kind == GEN_P_FIXED)
-            fprintf(f, "    %s%s%s = (%s)(tsr_a + %zu);\n", sp->type,
-                    sp->type[strlen(sp->type) - 1] == '*' ? "" : " ", sp->name, sp->type, gp->offset);
+            fprintf(f, "    %s%s%s = (%s)(tsr_a + %zu);\n", sp->type, sp->type[strlen(sp->type) - 1] == '*' ? "" : " ",
+                    sp->name, sp->type, gp->offset);
     }
     if (gc->is_reply)
         fprintf(f, "    uint32_t tsr_id;\n    memcpy(&tsr_id, tsr_a + %zu, 4);\n", gc->reqid_offset);
@@ -565,21 +567,24 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
                 sp->type, sp->type[strlen(sp->type) - 1] == '*' ? "" : " ", n, n, n, n);
         if (!sp->nullable)
             fprintf(f, "        tsr_why = \"NULL %s\"; goto tsr_invalid;\n", n);
-        fprintf(f,
-                "    } else {\n"
-                "        if (tsr_got_%s > tsr_len - tsr_q) { tsr_why = \"length of %s beyond the buffer\"; goto tsr_invalid; }\n"
-                "        %s = (%s)(tsr_b + tsr_q);\n"
-                "        tsr_q += (size_t)tsr_got_%s;\n",
-                n, n, n, sp->type, n);
+        fprintf(
+            f,
+            "    } else {\n"
+            "        if (tsr_got_%s > tsr_len - tsr_q) { tsr_why = \"length of %s beyond the buffer\"; goto tsr_invalid; }\n"
+            "        %s = (%s)(tsr_b + tsr_q);\n"
+            "        tsr_q += (size_t)tsr_got_%s;\n",
+            n, n, n, sp->type, n);
         if (sp->count.kind == SPEC_COUNT_STRING) {
-            fprintf(f,
-                    "        if (!tsr_got_%s || ((const char *)%s)[tsr_got_%s - 1] != '\\0') { tsr_why = \"string %s is not NUL-terminated\"; goto tsr_invalid; }\n",
-                    n, n, n, n);
+            fprintf(
+                f,
+                "        if (!tsr_got_%s || ((const char *)%s)[tsr_got_%s - 1] != '\\0') { tsr_why = \"string %s is not NUL-terminated\"; goto tsr_invalid; }\n",
+                n, n, n, n);
         } else {
             gen_emit_count(f, gc, gp, "&u->pixels.unpack");
-            fprintf(f,
-                    "        if (tsr_len_%s != tsr_got_%s) { tsr_why = \"length of %s does not match its count\"; goto tsr_invalid; }\n",
-                    n, n, n);
+            fprintf(
+                f,
+                "        if (tsr_len_%s != tsr_got_%s) { tsr_why = \"length of %s does not match its count\"; goto tsr_invalid; }\n",
+                n, n, n);
         }
         fprintf(f, "    }\n");
     }
@@ -599,8 +604,10 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
             if (gc->params[i].kind == GEN_P_OUT)
                 fprintf(f, "tsr_len_%s, ", gc->params[i].sp->name);
         fprintf(f, "};\n    uint8_t *tsr_optr[%d];\n", nout);
-        fprintf(f, "    if (tsr_unpacker_outputs(u, %d, tsr_osize, tsr_optr) != 0) { tsr_why = \"outputs too large\"; goto tsr_invalid; }\n",
-                nout);
+        fprintf(
+            f,
+            "    if (tsr_unpacker_outputs(u, %d, tsr_osize, tsr_optr) != 0) { tsr_why = \"outputs too large\"; goto tsr_invalid; }\n",
+            nout);
         int k = 0;
         for (size_t i = 0; i < c->nparams; i++)
             if (gc->params[i].kind == GEN_P_OUT)
@@ -616,21 +623,26 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
         if (gc->is_void)
             fprintf(f, "    const void *tsr_rv = NULL;\n    uint64_t tsr_rvlen = TSR_WIRE_NULL;\n");
         else if (gc->ret_is_string)
-            fprintf(f, "    const void *tsr_rv = tsr_ret;\n    uint64_t tsr_rvlen = tsr_ret ? strlen((const char *)tsr_ret) + 1u : 0u;\n");
+            fprintf(
+                f,
+                "    const void *tsr_rv = tsr_ret;\n    uint64_t tsr_rvlen = tsr_ret ? strlen((const char *)tsr_ret) + 1u : 0u;\n");
         else
             fprintf(f, "    const void *tsr_rv = &tsr_ret;\n    uint64_t tsr_rvlen = sizeof tsr_ret;\n");
         if (nout)
-            fprintf(f, "    int tsr_rc = tsr_unpacker_reply(u, tsr_id, tsr_rv, tsr_rvlen, %d, tsr_osize, tsr_optr, err);\n", nout);
+            fprintf(
+                f, "    int tsr_rc = tsr_unpacker_reply(u, tsr_id, tsr_rv, tsr_rvlen, %d, tsr_osize, tsr_optr, err);\n",
+                nout);
         else
             fprintf(f, "    int tsr_rc = tsr_unpacker_reply(u, tsr_id, tsr_rv, tsr_rvlen, 0, NULL, NULL, err);\n");
         fprintf(f, "    if (tsr_rc)\n        return tsr_rc;\n");
     }
-    fprintf(f,
-            "    *tsr_pos = tsr_q;\n    return 0;\n"
-            "tsr_invalid:\n"
-            "    return tsr_error_set(err, TSR_EPROTO, \"command %s (opcode %d) at data offset %%zu: %%s\", *tsr_pos, tsr_why);\n"
-            "}\n\n",
-            c->name, c->opcode);
+    fprintf(
+        f,
+        "    *tsr_pos = tsr_q;\n    return 0;\n"
+        "tsr_invalid:\n"
+        "    return tsr_error_set(err, TSR_EPROTO, \"command %s (opcode %d) at data offset %%zu: %%s\", *tsr_pos, tsr_why);\n"
+        "}\n\n",
+        c->name, c->opcode);
 }
 
 static void emit_case(FILE *f, const gen_cmd *gc)
@@ -663,64 +675,67 @@ static void emit_unpack_c(const gen *g)
         if ((gc->packable && !is_inline_unpack(gc)))
             emit_outline_unpack(f, gc);
     }
-    fprintf(f,
-            "int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *tsr_d, const uint8_t *tsr_b, uint32_t tsr_nops,\n"
-            "                        size_t tsr_len, tsr_error *err)\n{\n"
-            "    /* Starts at the unpacker's resume point (0, 0 for a new buffer). */\n"
-            "    size_t tsr_pos = u->resume_pos, tsr_at = 0, tsr_need = 0;\n"
-            "    uint32_t tsr_op = 0;\n"
-            "    for (uint32_t tsr_k = u->resume_command; tsr_k < tsr_nops; tsr_k++) {\n"
-            "        tsr_at = tsr_pos;\n"
-            "        tsr_op = tsr_b[-1 - (ptrdiff_t)tsr_k];\n"
-            "        switch (tsr_op) {\n");
+    fprintf(
+        f,
+        "int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *tsr_d, const uint8_t *tsr_b, uint32_t tsr_nops,\n"
+        "                        size_t tsr_len, tsr_error *err)\n{\n"
+        "    /* Starts at the unpacker's resume point (0, 0 for a new buffer). */\n"
+        "    size_t tsr_pos = u->resume_pos, tsr_at = 0, tsr_need = 0;\n"
+        "    uint32_t tsr_op = 0;\n"
+        "    for (uint32_t tsr_k = u->resume_command; tsr_k < tsr_nops; tsr_k++) {\n"
+        "        tsr_at = tsr_pos;\n"
+        "        tsr_op = tsr_b[-1 - (ptrdiff_t)tsr_k];\n"
+        "        switch (tsr_op) {\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const gen_cmd *gc = &g->cmds[i];
         if ((gc->packable || gc->is_custom) && gc->sc->opcode < 255)
             emit_case(f, gc);
     }
-    fprintf(f,
-            "    case 255: {\n"
-            "        tsr_pos = (tsr_pos + 7u) & ~(size_t)7u;\n"
-            "        if (tsr_pos + 8u > tsr_len) { tsr_need = 8; goto tsr_truncated; }\n"
-            "        tsr_op = tsr_wire_get_u32(tsr_b + tsr_pos);\n"
-            "        uint32_t tsr_xlen = tsr_wire_get_u32(tsr_b + tsr_pos + 4);\n"
-            "        tsr_pos += 8u;\n"
-            "        size_t tsr_xstart = tsr_pos;\n"
-            "        if (tsr_xlen != TSR_WIRE_EXT_LEN_UNKNOWN && tsr_xlen > tsr_len - tsr_pos) { tsr_need = tsr_xlen; goto tsr_truncated; }\n"
-            "        switch (tsr_op) {\n");
+    fprintf(
+        f,
+        "    case 255: {\n"
+        "        tsr_pos = (tsr_pos + 7u) & ~(size_t)7u;\n"
+        "        if (tsr_pos + 8u > tsr_len) { tsr_need = 8; goto tsr_truncated; }\n"
+        "        tsr_op = tsr_wire_get_u32(tsr_b + tsr_pos);\n"
+        "        uint32_t tsr_xlen = tsr_wire_get_u32(tsr_b + tsr_pos + 4);\n"
+        "        tsr_pos += 8u;\n"
+        "        size_t tsr_xstart = tsr_pos;\n"
+        "        if (tsr_xlen != TSR_WIRE_EXT_LEN_UNKNOWN && tsr_xlen > tsr_len - tsr_pos) { tsr_need = tsr_xlen; goto tsr_truncated; }\n"
+        "        switch (tsr_op) {\n");
     for (size_t i = 0; i < g->ncmds; i++) {
         const gen_cmd *gc = &g->cmds[i];
         if ((gc->packable || gc->is_custom) && gc->sc->opcode >= 255)
             emit_case(f, gc);
     }
-    fprintf(f,
-            "        default:\n"
-            "            return tsr_error_set(err, TSR_EPROTO, \"unknown extended opcode %%u at data offset %%zu\", tsr_op, tsr_at);\n"
-            "        }\n"
-            "        if (tsr_xlen != TSR_WIRE_EXT_LEN_UNKNOWN && tsr_pos - tsr_xstart != tsr_xlen)\n"
-            "            return tsr_error_set(err, TSR_EPROTO, \"command %%s (opcode %%u) at data offset %%zu: length %%u in the extended header, %%zu used\",\n"
-            "                                 tsr_wire_opcode_name(tsr_op), tsr_op, tsr_at, tsr_xlen, tsr_pos - tsr_xstart);\n"
-            "        break;\n    }\n"
-            "    default:\n"
-            "        return tsr_error_set(err, TSR_EPROTO, \"unknown opcode %%u (command #%%u) at data offset %%zu\", tsr_op, tsr_k, tsr_at);\n"
-            "        }\n"
-            "        /* A handler asked to stop here (tsr_unpacker_yield): remember\n"
-            "         * where the next command starts. */\n"
-            "        if (TSR_UNLIKELY(u->yield)) {\n"
-            "            u->yield = 0;\n"
-            "            u->resume_command = tsr_k + 1;\n"
-            "            u->resume_pos = tsr_pos;\n"
-            "            return TSR_UNPACK_YIELDED;\n"
-            "        }\n"
-            "    }\n"
-            "    if (tsr_pos != tsr_len)\n"
-            "        return tsr_error_set(err, TSR_EPROTO, \"%%zu data bytes after the last command (offset %%zu)\", tsr_len - tsr_pos, tsr_pos);\n"
-            "    return 0;\n"
-            "tsr_truncated:\n"
-            "    return tsr_error_set(err, TSR_EPROTO, \"command %%s (opcode %%u) at data offset %%zu: truncated (needs %%zu bytes, %%zu left)\",\n"
-            "                         tsr_wire_opcode_name(tsr_op) ? tsr_wire_opcode_name(tsr_op) : \"?\", tsr_op, tsr_at, tsr_need,\n"
-            "                         tsr_pos <= tsr_len ? tsr_len - tsr_pos : 0);\n"
-            "}\n");
+    fprintf(
+        f,
+        "        default:\n"
+        "            return tsr_error_set(err, TSR_EPROTO, \"unknown extended opcode %%u at data offset %%zu\", tsr_op, tsr_at);\n"
+        "        }\n"
+        "        if (tsr_xlen != TSR_WIRE_EXT_LEN_UNKNOWN && tsr_pos - tsr_xstart != tsr_xlen)\n"
+        "            return tsr_error_set(err, TSR_EPROTO, \"command %%s (opcode %%u) at data offset %%zu: length %%u in the extended header, %%zu used\",\n"
+        "                                 tsr_wire_opcode_name(tsr_op), tsr_op, tsr_at, tsr_xlen, tsr_pos - tsr_xstart);\n"
+        "        break;\n    }\n"
+        "    default:\n"
+        "        return tsr_error_set(err, TSR_EPROTO, \"unknown opcode %%u (command #%%u) at data offset %%zu\", tsr_op, tsr_k, tsr_at);\n"
+        "        }\n"
+        "        /* A handler asked to stop here (tsr_unpacker_yield): remember\n"
+        "         * where the next command starts. */\n"
+        "        if (TSR_UNLIKELY(u->yield)) {\n"
+        "            u->yield = 0;\n"
+        "            u->resume_command = tsr_k + 1;\n"
+        "            u->resume_pos = tsr_pos;\n"
+        "            return TSR_UNPACK_YIELDED;\n"
+        "        }\n"
+        "    }\n"
+        "    if (tsr_pos != tsr_len)\n"
+        "        return tsr_error_set(err, TSR_EPROTO, \"%%zu data bytes after the last command (offset %%zu)\", tsr_len - tsr_pos, tsr_pos);\n"
+        "    return 0;\n"
+        "tsr_truncated:\n"
+        "    return tsr_error_set(err, TSR_EPROTO, \"command %%s (opcode %%u) at data offset %%zu: truncated (needs %%zu bytes, %%zu left)\",\n"
+        "                         tsr_wire_opcode_name(tsr_op) ? tsr_wire_opcode_name(tsr_op) : \"?\", tsr_op, tsr_at, tsr_need,\n"
+        "                         tsr_pos <= tsr_len ? tsr_len - tsr_pos : 0);\n"
+        "}\n");
     gen_close(f);
 }
 
@@ -754,7 +769,8 @@ static void emit_tables(const gen *g)
     for (size_t i = 0; i < g->s->nmap_components; i++) {
         int found;
         unsigned long long v = gen_enum_value(&g->enums, g->s->map_components[i].name, &found);
-        fprintf(f, "    case 0x%llx: return %d; /* %s */\n", v, g->s->map_components[i].count, g->s->map_components[i].name);
+        fprintf(f, "    case 0x%llx: return %d; /* %s */\n", v, g->s->map_components[i].count,
+                g->s->map_components[i].name);
     }
     fprintf(f, "    default: return -1;\n    }\n}\n\n");
     const gen_cmd **v = malloc((g->ncmds ? g->ncmds : 1) * sizeof *v);
@@ -766,13 +782,14 @@ static void emit_tables(const gen *g)
         fprintf(f, "    {%d, \"%s\"},\n", v[i]->sc->opcode, v[i]->sc->name);
     fprintf(f, "};\n\n");
     free(v);
-    fprintf(f,
-            "const char *tsr_wire_opcode_name(uint32_t opcode)\n{\n"
-            "    size_t lo = 0, hi = sizeof names / sizeof names[0];\n"
-            "    while (lo < hi) {\n        size_t mid = (lo + hi) / 2;\n"
-            "        if (names[mid].opcode == opcode)\n            return names[mid].name;\n"
-            "        if (names[mid].opcode < opcode)\n            lo = mid + 1;\n        else\n            hi = mid;\n    }\n"
-            "    return NULL;\n}\n\n");
+    fprintf(
+        f,
+        "const char *tsr_wire_opcode_name(uint32_t opcode)\n{\n"
+        "    size_t lo = 0, hi = sizeof names / sizeof names[0];\n"
+        "    while (lo < hi) {\n        size_t mid = (lo + hi) / 2;\n"
+        "        if (names[mid].opcode == opcode)\n            return names[mid].name;\n"
+        "        if (names[mid].opcode < opcode)\n            lo = mid + 1;\n        else\n            hi = mid;\n    }\n"
+        "    return NULL;\n}\n\n");
     fprintf(f, "static const unsigned short slot_opcodes[TSR_DISPATCH_COUNT] = {\n");
     for (size_t i = 0; i < g->ncmds; i++)
         fprintf(f, "    %d, /* %s */\n", g->cmds[i].sc->opcode, g->cmds[i].sc->name);

@@ -17,11 +17,9 @@
  * the list closed catches typos ("GLFloat") at load time instead of in the
  * generated C. */
 static const char *const known_base_types[] = {
-    "void",     "GLboolean", "GLbyte",    "GLubyte",   "GLshort",  "GLushort",
-    "GLint",    "GLuint",    "GLsizei",   "GLenum",    "GLbitfield", "GLfloat",
-    "GLclampf", "GLdouble",  "GLclampd",  "GLchar",    "GLintptr", "GLsizeiptr",
-    "GLint64",  "GLuint64",  "GLhalf",    "GLfixed",   "GLsync",   "GLhandleARB",
-    "GLcharARB",
+    "void",    "GLboolean",  "GLbyte",  "GLubyte",  "GLshort",  "GLushort",    "GLint",     "GLuint",   "GLsizei",
+    "GLenum",  "GLbitfield", "GLfloat", "GLclampf", "GLdouble", "GLclampd",    "GLchar",    "GLintptr", "GLsizeiptr",
+    "GLint64", "GLuint64",   "GLhalf",  "GLfixed",  "GLsync",   "GLhandleARB", "GLcharARB",
 };
 
 static const char *const known_categories[] = {
@@ -30,8 +28,8 @@ static const char *const known_categories[] = {
 
 /* Integer types a count may be computed from. */
 static const char *const integer_types[] = {
-    "GLint", "GLuint", "GLsizei", "GLshort", "GLushort", "GLbyte", "GLubyte",
-    "GLsizeiptr", "GLintptr", "GLint64", "GLuint64",
+    "GLint",   "GLuint",     "GLsizei",  "GLshort", "GLushort", "GLbyte",
+    "GLubyte", "GLsizeiptr", "GLintptr", "GLint64", "GLuint64",
 };
 
 typedef struct loader {
@@ -65,8 +63,8 @@ static int fail_at(loader *ld, yaml_mark_t mark, const char *fmt, ...)
 
 static int fail(loader *ld, const yaml_node_t *node, const char *fmt, ...)
 {
-    int n = snprintf(ld->err, ld->errsz, "%s:%zu:%zu: ", ld->path, node->start_mark.line + 1,
-                     node->start_mark.column + 1);
+    int n =
+        snprintf(ld->err, ld->errsz, "%s:%zu:%zu: ", ld->path, node->start_mark.line + 1, node->start_mark.column + 1);
     if (n >= 0 && (size_t)n < ld->errsz) {
         va_list ap;
         va_start(ap, fmt);
@@ -169,8 +167,7 @@ static int check_duplicate_keys(loader *ld, const yaml_node_t *map)
 
 /* Splits a C type as written in the GL headers ("const GLchar *const *")
  * into base type, pointer depth and pointee constness. */
-static int parse_type(loader *ld, const yaml_node_t *n, const char *text, char **base, int *depth,
-                      int *is_const)
+static int parse_type(loader *ld, const yaml_node_t *n, const char *text, char **base, int *depth, int *is_const)
 {
     char buf[128];
     size_t len = strlen(text);
@@ -275,8 +272,7 @@ static int parse_product(loader *ld, const yaml_node_t *n, const char *text, spe
     return 0;
 }
 
-static int parse_arg_list(loader *ld, const yaml_node_t *v, const char *form, size_t min, size_t max,
-                          spec_count *c)
+static int parse_arg_list(loader *ld, const yaml_node_t *v, const char *form, size_t min, size_t max, spec_count *c)
 {
     if (v->type != YAML_SEQUENCE_NODE)
         return fail(ld, v, "count form '%s' takes a list", form);
@@ -487,8 +483,8 @@ static int check_count_arg(loader *ld, const yaml_node_t *where, const spec_comm
     }
     const spec_param *ref = find_param(c, arg);
     if (!ref)
-        return fail(ld, where, "%s: count of '%s' names '%s', which is not a parameter of %s", c->name, p->name,
-                    arg, c->name);
+        return fail(ld, where, "%s: count of '%s' names '%s', which is not a parameter of %s", c->name, p->name, arg,
+                    c->name);
     if (ref == p)
         return fail(ld, where, "%s: count of '%s' refers to itself", c->name, p->name);
     if (ref->pointer_depth)
@@ -497,8 +493,8 @@ static int check_count_arg(loader *ld, const yaml_node_t *where, const spec_comm
         return fail(ld, where, "%s: count of '%s' needs GLenum parameter, but '%s' is %s", c->name, p->name, arg,
                     ref->type);
     if (!want_enum && !contains(integer_types, COUNT_OF(integer_types), ref->base_type))
-        return fail(ld, where, "%s: count of '%s' names '%s' of type %s, which is not an integer", c->name,
-                    p->name, arg, ref->type);
+        return fail(ld, where, "%s: count of '%s' names '%s' of type %s, which is not an integer", c->name, p->name,
+                    arg, ref->type);
     return 0;
 }
 
@@ -508,16 +504,14 @@ static int check_counts(loader *ld, const spec_command *c, const spec_param *p, 
     switch (k->kind) {
     case SPEC_COUNT_NONE:
     case SPEC_COUNT_FIXED:
-    case SPEC_COUNT_STRING:
-        return 0;
+    case SPEC_COUNT_STRING: return 0;
     case SPEC_COUNT_EXPR:
     case SPEC_COUNT_BYTES:
         for (size_t i = 0; i < k->nargs; i++)
             if (check_count_arg(ld, where, c, p, k->args[i], 0, 1))
                 return -1;
         return 0;
-    case SPEC_COUNT_PNAME:
-        return check_count_arg(ld, where, c, p, k->args[0], 1, 0);
+    case SPEC_COUNT_PNAME: return check_count_arg(ld, where, c, p, k->args[0], 1, 0);
     case SPEC_COUNT_IMAGE:
         /* w, h, d: sizes (d may be a literal 1); format, type: enums. */
         for (size_t i = 0; i < 3; i++)
@@ -589,8 +583,7 @@ static int parse_command(loader *ld, const yaml_node_t *n, spec_command *c)
             c->opcode = (int)op;
         } else if (!strcmp(key, "category")) {
             if (!contains(known_categories, COUNT_OF(known_categories), s))
-                return fail(ld, v,
-                            "unknown category '%s' (geometry, state, frame, get, object, client, special)", s);
+                return fail(ld, v, "unknown category '%s' (geometry, state, frame, get, object, client, special)", s);
             if (!(c->category = dup_str(s)))
                 return fail(ld, v, "out of memory");
         } else if (!strcmp(key, "return")) {
@@ -621,8 +614,8 @@ static int parse_command(loader *ld, const yaml_node_t *n, spec_command *c)
             if (!(c->vertex = dup_str(s)))
                 return fail(ld, v, "out of memory");
         } else {
-            return fail(ld, k, "unknown command key '%s' (name, opcode, category, return, params, wire, vertex, khronos)",
-                        key);
+            return fail(
+                ld, k, "unknown command key '%s' (name, opcode, category, return, params, wire, vertex, khronos)", key);
         }
     }
     if (!c->name)
@@ -666,8 +659,7 @@ static int parse_command(loader *ld, const yaml_node_t *n, spec_command *c)
             else if (count_nodes[i])
                 rc = check_counts(ld, c, p, count_nodes[i]);
             if (rc == 0 && p->dir_out && c->wire == SPEC_WIRE_PACK)
-                rc = fail(ld, pn, "%s: output parameter '%s' needs 'wire: reply' (or local/custom)", c->name,
-                          p->name);
+                rc = fail(ld, pn, "%s: output parameter '%s' needs 'wire: reply' (or local/custom)", c->name, p->name);
         }
         free(count_nodes);
         if (rc)
@@ -767,8 +759,7 @@ static int parse_root(loader *ld, spec *s)
         else if (!strcmp(key, "commands"))
             commands = node_at(ld, pr->value);
         else
-            return fail(ld, k, "unknown top-level key '%s' (version, pname_counts, map_components, commands)",
-                        key);
+            return fail(ld, k, "unknown top-level key '%s' (version, pname_counts, map_components, commands)", key);
     }
     if (!version)
         return fail(ld, root, "missing 'version: 1'");

@@ -112,8 +112,7 @@ static int make_tmpdir(agent *a, tsr_error *err)
     snprintf(a->tmpdir, sizeof a->tmpdir, "%s/tessera-node-XXXXXX", base);
     if (!mkdtemp(a->tmpdir)) {
         a->tmpdir[0] = '\0';
-        return tsr_error_set(err, TSR_EIO, "cannot create a temporary directory in %s: %s", base,
-                             strerror(errno));
+        return tsr_error_set(err, TSR_EIO, "cannot create a temporary directory in %s: %s", base, strerror(errno));
     }
     return TSR_OK;
 }
@@ -157,9 +156,8 @@ static int config_chain_parse(const tsr_ctl *cfg, config_chain *c, tsr_error *er
     }
     for (size_t i = 0; i < cfg->count; i++) {
         if (!strcmp(cfg->keys[i], "link")) {
-            c->links[c->count++] = (tsr_chain_link){.spu = cfg->values[i],
-                                                    .keys = c->keys + c->option_count,
-                                                    .values = c->values + c->option_count};
+            c->links[c->count++] = (tsr_chain_link){
+                .spu = cfg->values[i], .keys = c->keys + c->option_count, .values = c->values + c->option_count};
             continue;
         }
         if (strcmp(cfg->keys[i], "option"))
@@ -240,8 +238,7 @@ static int wait_for_links(agent *a, tsr_ctl *msg, config_chain *links, tsr_error
             return 1;
         }
         unsigned kind = m.kind;
-        rc = kind == TSR_MS_MSG_LINKS || kind == TSR_MS_MSG_STOP ? tsr_ctl_parse(msg, m.data, m.len, err)
-                                                                   : TSR_OK;
+        rc = kind == TSR_MS_MSG_LINKS || kind == TSR_MS_MSG_STOP ? tsr_ctl_parse(msg, m.data, m.len, err) : TSR_OK;
         tsr_net_msg_release(&m);
         if (rc != TSR_OK)
             return 1;
@@ -269,10 +266,7 @@ static void *server_thread(void *arg)
     return NULL;
 }
 
-static const char *plain(const char *message)
-{
-    return strncmp(message, "node: ", 6) ? message : message + 6;
-}
+static const char *plain(const char *message) { return strncmp(message, "node: ", 6) ? message : message + 6; }
 
 static int send_done(agent *a, int status, const char *message, int signal_number,
                      void (*extra)(agent *, tsr_ctl_out *), tsr_error *err)
@@ -459,8 +453,8 @@ static int resolve_exec(const tsr_ctl *cfg, const char *prog, char *out, size_t 
                 return TSR_OK;
             return tsr_error_set(err, TSR_EINVAL, "exec '%s': %s is not executable", prog, out);
         }
-        used += (size_t)snprintf(tried + used, used < sizeof tried ? sizeof tried - used : 0, "%s%s",
-                                 used ? ", " : "", strcmp(base, ".") ? base : "the working directory");
+        used += (size_t)snprintf(tried + used, used < sizeof tried ? sizeof tried - used : 0, "%s%s", used ? ", " : "",
+                                 strcmp(base, ".") ? base : "the working directory");
         if (used >= sizeof tried)
             used = sizeof tried - 1;
     }
@@ -531,8 +525,7 @@ static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 2;
     }
-    if (resolve_exec(cfg, args[0], path, sizeof path, err) != TSR_OK ||
-        make_tmpdir(a, err) != TSR_OK) {
+    if (resolve_exec(cfg, args[0], path, sizeof path, err) != TSR_OK || make_tmpdir(a, err) != TSR_OK) {
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 1;
     }
@@ -614,12 +607,10 @@ static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
     if (WIFSIGNALED(status)) {
         sig = WTERMSIG(status);
         failed = 1;
-        tsr_error_set(err, TSR_EIO, "application %s killed by signal %d (%s)", args[0], sig,
-                      strsignal(sig));
+        tsr_error_set(err, TSR_EIO, "application %s killed by signal %d (%s)", args[0], sig, strsignal(sig));
     } else if (WEXITSTATUS(status) != 0) {
         failed = 1;
-        tsr_error_set(err, TSR_EIO, "application %s exited with status %d", args[0],
-                      WEXITSTATUS(status));
+        tsr_error_set(err, TSR_EIO, "application %s exited with status %d", args[0], WEXITSTATUS(status));
     }
     send_done(a, failed, failed ? err->message : "", sig, add_app_stats, &(tsr_error){0});
     return failed;
@@ -639,9 +630,8 @@ static int connect_mothership(agent *a, tsr_error *err)
         struct timespec ts = {0, 100 * 1000000L};
         nanosleep(&ts, NULL);
     }
-    return tsr_error_set(err, e.code ? e.code : TSR_EIO,
-                         "cannot reach the mothership at %s within %u ms: %s", a->cfg->mothership,
-                         a->cfg->connect_timeout_ms, e.message);
+    return tsr_error_set(err, e.code ? e.code : TSR_EIO, "cannot reach the mothership at %s within %u ms: %s",
+                         a->cfg->mothership, a->cfg->connect_timeout_ms, e.message);
 }
 
 static int join_and_run(agent *a, tsr_error *err)
@@ -701,15 +691,13 @@ static int join_and_run(agent *a, tsr_error *err)
         code = 0;
         for (size_t i = 0; i < msg.count && !code; i++) {
             if (!strcmp(msg.keys[i], "mkdir") && tsr_ms_mkdirs(msg.values[i])) {
-                tsr_error_set(err, TSR_EIO, "cannot create output directory '%s': %s", msg.values[i],
-                              strerror(errno));
+                tsr_error_set(err, TSR_EIO, "cannot create output directory '%s': %s", msg.values[i], strerror(errno));
                 send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
                 code = 1;
             }
         }
         if (!code)
-            code = !strcmp(tsr_ctl_get(&msg, "role"), "server") ? run_server(a, &msg, err)
-                                                                : run_app(a, &msg, err);
+            code = !strcmp(tsr_ctl_get(&msg, "role"), "server") ? run_server(a, &msg, err) : run_app(a, &msg, err);
     }
     tsr_ctl_free(&msg);
     return code;

@@ -117,8 +117,7 @@ void tsr_ctl_out_init(tsr_ctl_out *out);
 void tsr_ctl_out_free(tsr_ctl_out *out);
 /* Adds key=value; a newline in value becomes a blank. */
 void tsr_ctl_add(tsr_ctl_out *out, const char *key, const char *value);
-void tsr_ctl_addf(tsr_ctl_out *out, const char *key, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+void tsr_ctl_addf(tsr_ctl_out *out, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
 /* Parses `len` bytes of payload. TSR_EPROTO when a line has no '=' or
  * there are too many fields. Free with tsr_ctl_free. */

@@ -7,10 +7,7 @@
 
 #include "control.h"
 
-void tsr_ctl_out_init(tsr_ctl_out *out)
-{
-    memset(out, 0, sizeof *out);
-}
+void tsr_ctl_out_init(tsr_ctl_out *out) { memset(out, 0, sizeof *out); }
 
 void tsr_ctl_out_free(tsr_ctl_out *out)
 {

@@ -27,11 +27,12 @@
 #include "util.h"
 
 #define POLL_MS 20
-#define FAIL_GRACE_S 1.0   /* collect related failures before naming one (a loaded
+#define FAIL_GRACE_S \
+    1.0                  /* collect related failures before naming one (a loaded
                               machine may see the root cause after its echo) */
-#define LOST_GRACE_S 1.0   /* a launched node's lost connection: wait this long for its exit status */
-#define STOP_GRACE_S 1.0   /* after STOP, before SIGKILL */
-#define END_GRACE_S 5.0    /* after every DONE, for the processes to exit */
+#define LOST_GRACE_S 1.0 /* a launched node's lost connection: wait this long for its exit status */
+#define STOP_GRACE_S 1.0 /* after STOP, before SIGKILL */
+#define END_GRACE_S 5.0  /* after every DONE, for the processes to exit */
 #define MAX_PENDING 64
 
 
@@ -47,12 +48,12 @@ typedef struct ms_node {
     const tsr_graph_node *g;
     size_t index;
     int server;
-    int local;           /* launched by us */
-    pid_t pid;           /* launched child (process group leader); 0 = none */
+    int local; /* launched by us */
+    pid_t pid; /* launched child (process group leader); 0 = none */
     int reaped, wstatus;
     tsr_net_conn *conn;
     int conn_ended;
-    double lost_at;      /* control connection failed at; 0 = not */
+    double lost_at; /* control connection failed at; 0 = not */
     char lost_why[520];
     node_state state;
     double last_heard, configured_at, done_at;
@@ -62,7 +63,7 @@ typedef struct ms_node {
     /* statistics (running totals from STATS / DONE) */
     double frames, buffers, bytes_in, bytes_out, busy, blocked, elapsed;
     unsigned clients;
-    int app_stats; /* -1 not an app, 0 missing, 1 found */
+    int app_stats;                /* -1 not an app, 0 missing, 1 found */
     const tsr_spu_class *network; /* its network SPU's class (the first with a role), or NULL */
     size_t network_link;          /* that SPU's place in the chain (chain_length: none) */
     int links_later;              /* its network SPU takes its peers' addresses: CONFIG without
@@ -115,8 +116,7 @@ static int is_local_host(const char *host)
 {
     char self[256] = "";
     gethostname(self, sizeof self - 1);
-    return !strcmp(host, "localhost") || !strcmp(host, "127.0.0.1") || !strcmp(host, "::1") ||
-           !strcmp(host, self);
+    return !strcmp(host, "localhost") || !strcmp(host, "127.0.0.1") || !strcmp(host, "::1") || !strcmp(host, self);
 }
 
 /* --- plan ------------------------------------------------------------- */
@@ -148,10 +148,7 @@ static void sb_add(strbuf *b, const char *s, size_t n)
     b->s[b->len] = '\0';
 }
 
-static void sb_str(strbuf *b, const char *s)
-{
-    sb_add(b, s, strlen(s));
-}
+static void sb_str(strbuf *b, const char *s) { sb_add(b, s, strlen(s)); }
 
 /* "X:Y:W:H" of a graph tile (tessera/tiles.h), after `prefix`. */
 static void sb_tile(strbuf *b, const char *prefix, const tsr_graph_tile *t)
@@ -235,8 +232,7 @@ static strbuf *fill(filled *f, const char *option)
     return &f->value[f->count++];
 }
 
-static int fill_link(const ms *m, const ms_node *n, const tsr_spu_class *cls, int network,
-                     filled *f, tsr_error *err)
+static int fill_link(const ms *m, const ms_node *n, const tsr_spu_class *cls, int network, filled *f, tsr_error *err)
 {
     const tsr_graph_node *g = n->g;
     const tsr_spu_network *role = &cls->network;
@@ -246,8 +242,8 @@ static int fill_link(const ms *m, const ms_node *n, const tsr_spu_class *cls, in
         return TSR_OK;
     const char *one = role->server ? role->server : role->display;
     if (one && g->to_count != 1)
-        return tsr_error_set(err, TSR_EINVAL, "node '%s': SPU %s sends to one server, but to: names %zu",
-                             g->name, cls->name, g->to_count);
+        return tsr_error_set(err, TSR_EINVAL, "node '%s': SPU %s sends to one server, but to: names %zu", g->name,
+                             cls->name, g->to_count);
     if (one)
         server_addresses(m, g, fill(f, one));
     if (role->servers)
@@ -420,8 +416,8 @@ static int launch(ms *m, ms_node *n, const char *control, tsr_error *err)
 {
     char timeout[32];
     snprintf(timeout, sizeof timeout, "%u", m->cfg->timeout_ms);
-    const char *argv[] = {"tessera", "node", "--mothership", control, "--name", n->g->name,
-                          "--timeout-ms", timeout, NULL};
+    const char *argv[] = {"tessera",  "node",         "--mothership", control, "--name",
+                          n->g->name, "--timeout-ms", timeout,        NULL};
     /* Everything the child needs is made before fork: this process has
      * threads, so the child may only make async-signal-safe calls. */
     char token_var[TSR_NET_TOKEN_MAX + 32];
@@ -432,8 +428,8 @@ static int launch(ms *m, ms_node *n, const char *control, tsr_error *err)
                              m->run_tmp[0] ? tmp_var : NULL, NULL};
     char **env = tsr_ms_environ(changes);
     char failed[PATH_MAX + 160];
-    snprintf(failed, sizeof failed, "%s: node '%s': cannot start %s in %s\n", m->cfg->who, n->g->name,
-             m->cfg->self_exe, m->cfg->out_dir ? m->cfg->out_dir : ".");
+    snprintf(failed, sizeof failed, "%s: node '%s': cannot start %s in %s\n", m->cfg->who, n->g->name, m->cfg->self_exe,
+             m->cfg->out_dir ? m->cfg->out_dir : ".");
     if (!env)
         return tsr_error_set(err, TSR_ENOMEM, "node '%s': out of memory", n->g->name);
     fflush(NULL);
@@ -486,8 +482,7 @@ static void reap(ms *m)
             fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s%s", n->g->name, (long)n->pid, what,
                  n->state == N_WAITING ? " before joining" : "");
         else if (n->state != N_DONE)
-            fail(m, FAIL_OTHER, "node '%s' (pid %ld) ended without reporting its end", n->g->name,
-                 (long)n->pid);
+            fail(m, FAIL_OTHER, "node '%s' (pid %ld) ended without reporting its end", n->g->name, (long)n->pid);
     }
 }
 
@@ -550,14 +545,14 @@ static void handle_join(ms *m, size_t p, const tsr_ctl *msg)
             if (!strcmp(m->nodes[i].g->name, name))
                 n = &m->nodes[i];
         if (!n)
-            snprintf(reason, sizeof reason, "a node joined as '%.64s', but %s has no such node",
-                     name, tsr_graph_file(m->graph));
+            snprintf(reason, sizeof reason, "a node joined as '%.64s', but %s has no such node", name,
+                     tsr_graph_file(m->graph));
     } else if (rank) {
         char *end;
         long r = strtol(rank, &end, 10);
         if (*end || r < 0 || (size_t)r >= m->count)
-            snprintf(reason, sizeof reason, "a node joined with rank %.20s, but %s has %zu nodes (ranks 0..%zu)",
-                     rank, tsr_graph_file(m->graph), m->count, m->count - 1);
+            snprintf(reason, sizeof reason, "a node joined with rank %.20s, but %s has %zu nodes (ranks 0..%zu)", rank,
+                     tsr_graph_file(m->graph), m->count, m->count - 1);
         else
             n = &m->nodes[r];
     } else {
@@ -596,9 +591,7 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         n->state = N_READY;
         break;
     }
-    case TSR_MS_MSG_STATS:
-        take_stats(n, msg);
-        break;
+    case TSR_MS_MSG_STATS: take_stats(n, msg); break;
     case TSR_MS_MSG_DONE: {
         take_stats(n, msg);
         n->state = N_DONE;
@@ -606,13 +599,11 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         n->done_status = (int)tsr_ctl_number(msg, "status", 1);
         const char *why = tsr_ctl_get(msg, "message");
         if (n->done_status)
-            fail(m, tsr_ctl_number(msg, "signal", 0) ? FAIL_SIGNAL : FAIL_EXIT, "node '%s': %s",
-                 n->g->name, why && *why ? why : "failed (no reason given)");
+            fail(m, tsr_ctl_number(msg, "signal", 0) ? FAIL_SIGNAL : FAIL_EXIT, "node '%s': %s", n->g->name,
+                 why && *why ? why : "failed (no reason given)");
         break;
     }
-    default:
-        fail(m, FAIL_OTHER, "node '%s' sent an unexpected %s message", n->g->name,
-             tsr_ctl_kind_name(kind));
+    default: fail(m, FAIL_OTHER, "node '%s' sent an unexpected %s message", n->g->name, tsr_ctl_kind_name(kind));
     }
 }
 
@@ -664,8 +655,7 @@ static void receive(ms *m)
                 if (!n->lost_at) {
                     n->lost_at = tsr_now_seconds();
                     snprintf(n->lost_why, sizeof n->lost_why, "%s",
-                             rc == 0 ? "closed its control connection before reporting its end"
-                                     : e.message);
+                             rc == 0 ? "closed its control connection before reporting its end" : e.message);
                 }
             }
             return; /* arrays changed */
@@ -708,16 +698,15 @@ static void check(ms *m)
          * building its chain (loading OSMesa can take seconds on a loaded
          * machine) and cannot beat; that phase has the join time-out. */
         if (n->state == N_CONFIGURED && (t - n->configured_at) * 1000.0 > m->cfg->join_timeout_ms)
-            fail(m, FAIL_HEARTBEAT, "node '%s' was not ready within %u ms of its configuration",
-                 n->g->name, m->cfg->join_timeout_ms);
+            fail(m, FAIL_HEARTBEAT, "node '%s' was not ready within %u ms of its configuration", n->g->name,
+                 m->cfg->join_timeout_ms);
         if (n->state == N_READY && !n->lost_at && (t - n->last_heard) * 1000.0 > m->cfg->timeout_ms)
             fail(m, FAIL_HEARTBEAT, "node '%s' sent no heartbeat for %.0f ms (stopped or hung; --timeout-ms %u)",
                  n->g->name, (t - n->last_heard) * 1000.0, m->cfg->timeout_ms);
         if (n->lost_at && !n->reaped && (!n->pid || t - n->lost_at > LOST_GRACE_S))
             fail(m, FAIL_LOST, "node '%s': control connection lost: %s", n->g->name, n->lost_why);
         if (n->state == N_WAITING && (t - m->start) * 1000.0 > m->cfg->join_timeout_ms)
-            fail(m, FAIL_OTHER, "node '%s' did not join within %u ms%s", n->g->name,
-                 m->cfg->join_timeout_ms,
+            fail(m, FAIL_OTHER, "node '%s' did not join within %u ms%s", n->g->name, m->cfg->join_timeout_ms,
                  n->local ? "" : " (start it with: tessera node --mothership ADDR --name NAME)");
     }
     for (size_t p = 0; p < m->pending_count; p++)
@@ -797,14 +786,16 @@ static void progress(ms *m, int final)
     size_t used = (size_t)snprintf(line, sizeof line, "%.1fs", t - m->start);
     for (size_t i = 0; i < m->count && used < sizeof line; i++) {
         const ms_node *n = &m->nodes[i];
-        const char *state = n->state == N_WAITING ? "waiting" : n->state < N_READY ? "starting"
-                            : n->state == N_DONE ? "done" : NULL;
+        const char *state = n->state == N_WAITING ? "waiting"
+                            : n->state < N_READY  ? "starting"
+                            : n->state == N_DONE  ? "done"
+                                                  : NULL;
         if (n->server && !state)
-            used += (size_t)snprintf(line + used, sizeof line - used, " | %s %.0f fr %.1f fr/s %.1f MB/s",
-                                     n->g->name, n->frames, n->fps, n->mbps);
+            used += (size_t)snprintf(line + used, sizeof line - used, " | %s %.0f fr %.1f fr/s %.1f MB/s", n->g->name,
+                                     n->frames, n->fps, n->mbps);
         else
-            used += (size_t)snprintf(line + used, sizeof line - used, " | %s %s", n->g->name,
-                                     state ? state : "running");
+            used +=
+                (size_t)snprintf(line + used, sizeof line - used, " | %s %s", n->g->name, state ? state : "running");
     }
     fprintf(stderr, "\r\033[K%s", line);
     if (final)
@@ -920,8 +911,8 @@ static int write_stats(ms *m, int ok, double wall, tsr_error *err)
         fprintf(f, ", \"state\": \"%s\", \"seconds\": %.3f",
                 n->state == N_DONE ? (n->done_status ? "failed" : "done") : "unfinished", n->elapsed);
         if (n->server || n->app_stats == 1) {
-            fprintf(f, ", \"frames\": %.0f, \"buffers\": %.0f, \"bytes_in\": %.0f, \"bytes_out\": %.0f",
-                    n->frames, n->buffers, n->bytes_in, n->bytes_out);
+            fprintf(f, ", \"frames\": %.0f, \"buffers\": %.0f, \"bytes_in\": %.0f, \"bytes_out\": %.0f", n->frames,
+                    n->buffers, n->bytes_in, n->bytes_out);
         } else {
             /* The application's network SPU wrote no TESSERA_STATS_FILE
              * (not every chain has one): unknown, not zero. */
@@ -930,10 +921,8 @@ static int write_stats(ms *m, int ok, double wall, tsr_error *err)
         if (n->server) {
             fprintf(f, ", \"address\": ");
             tsr_json_string(f, n->address);
-            fprintf(f, ", \"render_seconds\": %.6f, \"blocked_seconds\": null, \"clients\": %u}", n->busy,
-                    n->clients);
-        }
-        else if (n->app_stats == 1)
+            fprintf(f, ", \"render_seconds\": %.6f, \"blocked_seconds\": null, \"clients\": %u}", n->busy, n->clients);
+        } else if (n->app_stats == 1)
             fprintf(f, ", \"render_seconds\": null, \"blocked_seconds\": %.6f, \"app_stats\": \"found\"%s%s}",
                     n->blocked, n->sort_first ? ", \"sort_first\": " : "", n->sort_first ? n->sort_first : "");
         else
@@ -956,20 +945,22 @@ static void summary(ms *m, double wall)
         const ms_node *n = &m->nodes[i];
         double secs = n->elapsed > 0 ? n->elapsed : wall;
         if (n->server)
-            fprintf(f, "  %-12s server: %.0f frames, %.1f frames/s, %.2f MB in (%.1f MB/s), render %.3f s, %u client%s\n",
-                    n->g->name, n->frames, n->frames / secs, n->bytes_in / 1e6, n->bytes_in / 1e6 / secs,
-                    n->busy, n->clients, n->clients == 1 ? "" : "s");
+            fprintf(f,
+                    "  %-12s server: %.0f frames, %.1f frames/s, %.2f MB in (%.1f MB/s), render %.3f s, %u client%s\n",
+                    n->g->name, n->frames, n->frames / secs, n->bytes_in / 1e6, n->bytes_in / 1e6 / secs, n->busy,
+                    n->clients, n->clients == 1 ? "" : "s");
         else if (n->app_stats == 1)
-            fprintf(f, "  %-12s app:    %.0f frames, %.1f frames/s, %.2f MB out (%.1f MB/s), blocked on credits %.3f s\n",
-                    n->g->name, n->frames, n->frames / secs, n->bytes_out / 1e6, n->bytes_out / 1e6 / secs,
-                    n->blocked);
+            fprintf(f,
+                    "  %-12s app:    %.0f frames, %.1f frames/s, %.2f MB out (%.1f MB/s), blocked on credits %.3f s\n",
+                    n->g->name, n->frames, n->frames / secs, n->bytes_out / 1e6, n->bytes_out / 1e6 / secs, n->blocked);
         else
             fprintf(f, "  %-12s app:    ran %.2f s (no network statistics from its chain)\n", n->g->name, secs);
         double overlap, imbalance;
         if (n->sort_first && tsr_ms_json_number(n->sort_first, "overlap", &overlap) == 0 &&
             tsr_ms_json_number(n->sort_first, "imbalance", &imbalance) == 0)
-            fprintf(f, "  %-12s sort-first: overlap %.3f (bytes sent / stream), imbalance %.3f (max / mean "
-                       "server bytes), server render time imbalance %.3f\n",
+            fprintf(f,
+                    "  %-12s sort-first: overlap %.3f (bytes sent / stream), imbalance %.3f (max / mean "
+                    "server bytes), server render time imbalance %.3f\n",
                     "", overlap, imbalance, render_imbalance(m));
     }
     fflush(f);
@@ -1014,8 +1005,7 @@ static int prepare(ms *m, tsr_error *err)
             return tsr_error_set(err, TSR_EINVAL,
                                  "%s:%d:%d: node '%s' runs on host '%s': give --listen ADDR (an address "
                                  "that host reaches) and start it there with tessera node --mothership",
-                                 tsr_graph_file(m->graph), n->g->mark.line, n->g->mark.column, n->g->name,
-                                 n->g->host);
+                                 tsr_graph_file(m->graph), n->g->mark.line, n->g->mark.column, n->g->name, n->g->host);
     }
     return TSR_OK;
 }

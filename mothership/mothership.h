@@ -55,17 +55,17 @@
 #include "tessera/graph.h"
 
 typedef struct tsr_ms_config {
-    const char *listen;         /* control address; NULL = tcp://127.0.0.1:0 */
-    const char *token;          /* control and stream token; NULL/"" = none */
-    bool launch_local;          /* start local nodes as children (tessera run) */
-    const char *self_exe;       /* the tessera program to launch nodes with */
-    const char *out_dir;        /* working directory of launched nodes; NULL = "." */
-    const char *stats_path;     /* statistics JSON; NULL = none */
-    uint32_t timeout_ms;        /* no heartbeat this long = node lost */
-    uint32_t join_timeout_ms;   /* every node must have joined within this */
-    bool progress;              /* live progress line on stderr */
-    FILE *summary;              /* end-of-run summary; NULL = none */
-    const char *who;            /* prefix of messages: "tessera run" */
+    const char *listen;       /* control address; NULL = tcp://127.0.0.1:0 */
+    const char *token;        /* control and stream token; NULL/"" = none */
+    bool launch_local;        /* start local nodes as children (tessera run) */
+    const char *self_exe;     /* the tessera program to launch nodes with */
+    const char *out_dir;      /* working directory of launched nodes; NULL = "." */
+    const char *stats_path;   /* statistics JSON; NULL = none */
+    uint32_t timeout_ms;      /* no heartbeat this long = node lost */
+    uint32_t join_timeout_ms; /* every node must have joined within this */
+    bool progress;            /* live progress line on stderr */
+    FILE *summary;            /* end-of-run summary; NULL = none */
+    const char *who;          /* prefix of messages: "tessera run" */
     /* Set (to the signal number) by the caller's SIGINT/SIGTERM handler:
      * the run stops as on a failure. May be NULL. */
     volatile sig_atomic_t *interrupted;
@@ -82,13 +82,13 @@ int tsr_mothership_run(const tsr_graph *graph, const tsr_ms_config *config, tsr_
 
 /* The node side (`tessera node --mothership`). */
 typedef struct tsr_agent_config {
-    const char *mothership;       /* netlib address of the mothership */
-    const char *name;             /* join by name, or NULL and ... */
-    int rank;                     /* ... by rank (>= 0) */
-    const char *token;            /* NULL/"" = none */
-    uint32_t connect_timeout_ms;  /* keep trying to reach the mothership this long */
-    uint32_t timeout_ms;          /* the mothership silent this long = lost */
-    const char *bind;             /* host a server listens on when the graph names
+    const char *mothership;      /* netlib address of the mothership */
+    const char *name;            /* join by name, or NULL and ... */
+    int rank;                    /* ... by rank (>= 0) */
+    const char *token;           /* NULL/"" = none */
+    uint32_t connect_timeout_ms; /* keep trying to reach the mothership this long */
+    uint32_t timeout_ms;         /* the mothership silent this long = lost */
+    const char *bind;            /* host a server listens on when the graph names
                                      none; NULL = 127.0.0.1 (loopback) */
 } tsr_agent_config;
 

@@ -9,14 +9,16 @@
 
 #include "net_internal.h"
 
-static int bad_address(tsr_error *err, const char *text, const char *why) {
+static int bad_address(tsr_error *err, const char *text, const char *why)
+{
     return tsr_error_set(err, TSR_EINVAL,
                          "net: bad address '%s': %s (expected tcp://HOST:PORT, "
                          "tcp://[IPV6]:PORT, unix:PATH or inproc:NAME)",
                          text, why);
 }
 
-static int parse_port(const char *s, unsigned *port) {
+static int parse_port(const char *s, unsigned *port)
+{
     if (!*s)
         return -1;
     unsigned v = 0;
@@ -31,7 +33,8 @@ static int parse_port(const char *s, unsigned *port) {
     return 0;
 }
 
-int net_address_parse(const char *text, net_address *out, tsr_error *err) {
+int net_address_parse(const char *text, net_address *out, tsr_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!text)
         return tsr_error_set(err, TSR_EINVAL, "net: no address given");
@@ -93,8 +96,8 @@ int net_address_parse(const char *text, net_address *out, tsr_error *err) {
     return bad_address(err, text, "unknown transport");
 }
 
-void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out,
-                                 size_t size) {
+void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out, size_t size)
+{
     char ip[INET6_ADDRSTRLEN] = "?";
     if (t == NET_TCP && sa->sa_family == AF_INET) {
         const struct sockaddr_in *in = (const struct sockaddr_in *)sa;

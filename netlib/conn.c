@@ -16,7 +16,8 @@
 
 uint16_t net_version(const tsr_net *net) { return net->config.protocol_version; }
 
-void net_msg_free(net_msg *m) {
+void net_msg_free(net_msg *m)
+{
     if (!m)
         return;
     if (m->release)
@@ -28,7 +29,8 @@ void net_msg_free(net_msg *m) {
 
 /* A kept buffer of at least `len` bytes and not more than twice that,
  * newest first (the likeliest to be in cache); NULL when none fits. */
-static uint8_t *spares_take(net_spares *s, uint64_t len, uint64_t *cap) {
+static uint8_t *spares_take(net_spares *s, uint64_t len, uint64_t *cap)
+{
     for (unsigned i = s->count; i-- > 0;)
         if (s->cap[i] >= len && s->cap[i] / 2 <= len) {
             uint8_t *p = s->buf[i];
@@ -43,7 +45,8 @@ static uint8_t *spares_take(net_spares *s, uint64_t len, uint64_t *cap) {
 
 /* Keeps buf; when all places are taken it replaces the smallest (sizes
  * drift upwards), or is refused (0) when it is the smallest itself. */
-static int spares_put(net_spares *s, uint8_t *buf, uint64_t cap) {
+static int spares_put(net_spares *s, uint8_t *buf, uint64_t cap)
+{
     if (s->count == NET_SPARE_MAX) {
         unsigned small = 0;
         for (unsigned i = 1; i < s->count; i++)
@@ -62,12 +65,14 @@ static int spares_put(net_spares *s, uint8_t *buf, uint64_t cap) {
     return 1;
 }
 
-static void spares_free(net_spares *s) {
+static void spares_free(net_spares *s)
+{
     while (s->count)
         free(s->buf[--s->count]);
 }
 
-uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
+uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap)
+{
     uint8_t *p = len >= NET_STAGING_BYTES ? spares_take(&c->spares, len, cap) : NULL;
     if (p)
         return p;
@@ -79,7 +84,8 @@ uint8_t *net_payload_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
  * when it took it. Spares plus messages in use stay within the credit
  * window, so the memory bound of net.h (credits x max_message_bytes per
  * connection and direction) still holds. */
-static int keep_spare(tsr_net_conn *c, net_msg *m) {
+static int keep_spare(tsr_net_conn *c, net_msg *m)
+{
     if (m->release || m->cap < NET_STAGING_BYTES || c->close_requested || c->state != NET_OPEN)
         return 0;
     if (c->spares.count + c->inbox_count + c->held + (c->partial != NULL) >= c->net->config.credits)
@@ -90,7 +96,8 @@ static int keep_spare(tsr_net_conn *c, net_msg *m) {
     return 1;
 }
 
-uint8_t *net_send_copy_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
+uint8_t *net_send_copy_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap)
+{
     c->send_copies++;
     uint8_t *p = len >= NET_STAGING_BYTES ? spares_take(&c->send_spares, len, cap) : NULL;
     if (p)
@@ -99,7 +106,8 @@ uint8_t *net_send_copy_alloc(tsr_net_conn *c, uint64_t len, uint64_t *cap) {
     return malloc((size_t)*cap);
 }
 
-void net_send_copy_done(tsr_net_conn *c, net_msg *m) {
+void net_send_copy_done(tsr_net_conn *c, net_msg *m)
+{
     if (!m->copy)
         return;
     m->copy = false;
@@ -107,12 +115,12 @@ void net_send_copy_done(tsr_net_conn *c, net_msg *m) {
     /* Copies queued plus kept stay within the peer's window: the sender's
      * side of the memory bound in net.h. */
     if (m->data && m->cap >= NET_STAGING_BYTES && !c->close_requested && c->state == NET_OPEN &&
-        c->send_spares.count + c->send_copies < c->peer_window &&
-        spares_put(&c->send_spares, m->data, m->cap))
+        c->send_spares.count + c->send_copies < c->peer_window && spares_put(&c->send_spares, m->data, m->cap))
         m->data = NULL;
 }
 
-static void free_msg_list(net_msg **head, net_msg **tail) {
+static void free_msg_list(net_msg **head, net_msg **tail)
+{
     while (*head) {
         net_msg *m = *head;
         *head = m->next;
@@ -122,8 +130,8 @@ static void free_msg_list(net_msg **head, net_msg **tail) {
         *tail = NULL;
 }
 
-tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
-                           const char *address) {
+tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, const char *address)
+{
     tsr_net_conn *c = calloc(1, sizeof *c);
     if (!c)
         return NULL;
@@ -143,7 +151,8 @@ tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
     return c;
 }
 
-void net_conn_maybe_free(tsr_net_conn *c) {
+void net_conn_maybe_free(tsr_net_conn *c)
+{
     if (c->app_ref || c->io_ref || c->held)
         return;
     tsr_net *net = c->net;
@@ -173,13 +182,15 @@ void net_conn_maybe_free(tsr_net_conn *c) {
     free(c);
 }
 
-void net_conn_signal(tsr_net_conn *c) {
+void net_conn_signal(tsr_net_conn *c)
+{
     pthread_cond_broadcast(&c->cond);
     if (c->net->any_waiters)
         pthread_cond_broadcast(&c->net->any_cond);
 }
 
-void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...) {
+void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...)
+{
     if (c->state == NET_FAILED)
         return;
     c->state = NET_FAILED;
@@ -193,7 +204,8 @@ void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...) {
 }
 
 /* Waits on `cond` until `deadline` (NULL: no deadline). 1 = timed out. */
-static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct timespec *dl) {
+static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct timespec *dl)
+{
     if (!dl) {
         pthread_cond_wait(cond, lock);
         return 0;
@@ -201,19 +213,20 @@ static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct 
     return pthread_cond_timedwait(cond, lock, dl) != 0;
 }
 
-static int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err) {
+static int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err)
+{
     if (c->state == NET_FAILED)
         return tsr_error_set(err, c->error.code, "%s", c->error.message);
     if (c->state == NET_ENDED)
-        return tsr_error_set(err, TSR_EIO, "net: cannot %s: peer '%s' at %s closed the connection",
-                             verb, c->peer_name, c->address);
-    return tsr_error_set(err, TSR_ESTATE, "net: cannot %s: connection to %s is not open", verb,
-                         c->address);
+        return tsr_error_set(err, TSR_EIO, "net: cannot %s: peer '%s' at %s closed the connection", verb, c->peer_name,
+                             c->address);
+    return tsr_error_set(err, TSR_ESTATE, "net: cannot %s: connection to %s is not open", verb, c->address);
 }
 
 /* ---- listeners ------------------------------------------------------------ */
 
-void net_listener_unlink(tsr_net_listener *l) {
+void net_listener_unlink(tsr_net_listener *l)
+{
     tsr_net_listener **p = &l->net->listeners;
     while (*p && *p != l)
         p = &(*p)->next;
@@ -222,7 +235,8 @@ void net_listener_unlink(tsr_net_listener *l) {
     l->next = NULL;
 }
 
-void net_listener_maybe_free(tsr_net_listener *l) {
+void net_listener_maybe_free(tsr_net_listener *l)
+{
     if (l->app_ref || l->io_ref)
         return;
     net_listener_unlink(l);
@@ -232,8 +246,9 @@ void net_listener_maybe_free(tsr_net_listener *l) {
 
 /* Resolves a tcp address in the calling thread (bounded by the system
  * resolver's own time-outs). An empty host means loopback. */
-static int resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text,
-                   const char *verb, tsr_error *err) {
+static int resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
+                   tsr_error *err)
+{
     const char *host = a->host[0] ? a->host : "127.0.0.1";
     char port[8];
     snprintf(port, sizeof port, "%u", a->port);
@@ -244,12 +259,13 @@ static int resolve(const net_address *a, bool passive, struct addrinfo **out, co
     *out = NULL;
     int rc = getaddrinfo(host, port, &hints, out);
     if (rc || !*out)
-        return tsr_error_set(err, TSR_ENOENT, "net: cannot %s %s: host '%s' not found (%s)",
-                             verb, text, host, gai_strerror(rc));
+        return tsr_error_set(err, TSR_ENOENT, "net: cannot %s %s: host '%s' not found (%s)", verb, text, host,
+                             gai_strerror(rc));
     return TSR_OK;
 }
 
-tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err) {
+tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err)
+{
     net_address a;
     if (net_address_parse(address, &a, err))
         return NULL;
@@ -297,7 +313,8 @@ tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *e
 
 const char *tsr_net_listener_address(const tsr_net_listener *l) { return l->address; }
 
-tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err) {
+tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err)
+{
     struct timespec ts;
     const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
     tsr_net *net = l->net;
@@ -317,14 +334,14 @@ tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err
     } else if (l->closing || net->stopping) {
         tsr_error_set(err, TSR_ESTATE, "net: %s is closed", l->address);
     } else {
-        tsr_error_set(err, TSR_ETIMEDOUT, "net: no connection on %s within %d ms", l->address,
-                      timeout_ms);
+        tsr_error_set(err, TSR_ETIMEDOUT, "net: no connection on %s within %d ms", l->address, timeout_ms);
     }
     pthread_mutex_unlock(&net->lock);
     return c;
 }
 
-unsigned tsr_net_listener_refusals(tsr_net_listener *l, tsr_error *last) {
+unsigned tsr_net_listener_refusals(tsr_net_listener *l, tsr_error *last)
+{
     pthread_mutex_lock(&l->net->lock);
     unsigned n = l->refusals;
     if (last)
@@ -333,7 +350,8 @@ unsigned tsr_net_listener_refusals(tsr_net_listener *l, tsr_error *last) {
     return n;
 }
 
-void tsr_net_listener_close(tsr_net_listener *l) {
+void tsr_net_listener_close(tsr_net_listener *l)
+{
     if (!l)
         return;
     tsr_net *net = l->net;
@@ -372,8 +390,9 @@ void tsr_net_listener_close(tsr_net_listener *l) {
 /* One connection attempt to one resolved address (NULL for unix). Sets
  * *reached when the socket connected (so a later failure was the peer's
  * answer, not an unreachable address worth trying the next one for). */
-static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char *address,
-                                  const struct addrinfo *ai, bool *reached, tsr_error *err) {
+static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char *address, const struct addrinfo *ai,
+                                  bool *reached, tsr_error *err)
+{
     net_op op = {.kind = NET_OP_CONNECT, .address = a};
     if (ai)
         memcpy(&op.sockaddr, ai->ai_addr, ai->ai_addrlen);
@@ -395,8 +414,7 @@ static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char
     net_submit_op(net, &op);
     /* The I/O thread enforces both time-outs; this bound only guards it. */
     struct timespec ts;
-    net_deadline(&ts, (int)(net->config.connect_timeout_ms + net->config.handshake_timeout_ms +
-                            2000));
+    net_deadline(&ts, (int)(net->config.connect_timeout_ms + net->config.handshake_timeout_ms + 2000));
     bool guard_expired = false;
     while (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
         if (wait_until(&c->cond, &net->lock, &ts)) {
@@ -424,7 +442,8 @@ static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char
     return c;
 }
 
-tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err) {
+tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err)
+{
     net_address a;
     if (net_address_parse(address, &a, err))
         return NULL;
@@ -456,14 +475,15 @@ tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err)
     return c;
 }
 
-static uint64_t elapsed_ns(const struct timespec *since) {
+static uint64_t elapsed_ns(const struct timespec *since)
+{
     struct timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);
-    return (uint64_t)(now.tv_sec - since->tv_sec) * 1000000000u +
-           (uint64_t)(now.tv_nsec - since->tv_nsec);
+    return (uint64_t)(now.tv_sec - since->tv_sec) * 1000000000u + (uint64_t)(now.tv_nsec - since->tv_nsec);
 }
 
-static void release_nothing(void *data, void *ctx) {
+static void release_nothing(void *data, void *ctx)
+{
     (void)data;
     (void)ctx;
 }
@@ -471,16 +491,14 @@ static void release_nothing(void *data, void *ctx) {
 /* tsr_net_send_owned, or with `borrowed` tsr_net_send: the caller's `data`
  * is written directly when the connection's write side is idle (no copy
  * at all), and copied only when it must wait in a queue. */
-static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
-                    void (*release)(void *, void *), void *ctx, bool borrowed, int timeout_ms,
-                    tsr_error *err) {
+static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, void (*release)(void *, void *),
+                    void *ctx, bool borrowed, int timeout_ms, tsr_error *err)
+{
     if (kind < TSR_NET_KIND_FIRST_USER || kind > 255)
-        return tsr_error_set(err, TSR_EINVAL,
-                             "net: message kind %u is outside the application range %d..255",
-                             kind, TSR_NET_KIND_FIRST_USER);
+        return tsr_error_set(err, TSR_EINVAL, "net: message kind %u is outside the application range %d..255", kind,
+                             TSR_NET_KIND_FIRST_USER);
     if (!data && len)
-        return tsr_error_set(err, TSR_EINVAL, "net: NULL data with length %llu",
-                             (unsigned long long)len);
+        return tsr_error_set(err, TSR_EINVAL, "net: NULL data with length %llu", (unsigned long long)len);
     tsr_net *net = c->net;
     struct timespec ts, started;
     const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
@@ -495,8 +513,7 @@ static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
         rc = tsr_error_set(err, TSR_EINVAL,
                            "net: a %llu-byte message is over the %llu-byte limit of peer '%s' "
                            "at %s (its max_message_bytes)",
-                           (unsigned long long)len, (unsigned long long)c->peer_max_message,
-                           c->peer_name, c->address);
+                           (unsigned long long)len, (unsigned long long)c->peer_max_message, c->peer_name, c->address);
         goto out;
     }
     if (c->send_credits == 0) {
@@ -513,9 +530,8 @@ static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
             goto out;
         }
         if (c->send_credits == 0) {
-            rc = tsr_error_set(err, TSR_ETIMEDOUT,
-                               "net: peer '%s' at %s granted no credit within %d ms",
-                               c->peer_name, c->address, timeout_ms);
+            rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: peer '%s' at %s granted no credit within %d ms", c->peer_name,
+                               c->address, timeout_ms);
             goto out;
         }
     }
@@ -530,7 +546,7 @@ static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
     m->data = data;
     m->release = release;
     m->release_ctx = ctx;
-    if (borrowed && !net_direct_possible(c)) { /* it waits in a queue: copy it */
+    if (borrowed && !net_direct_possible(c)) {    /* it waits in a queue: copy it */
         bool pooled = c->transport != NET_INPROC; /* an inproc copy becomes the peer's */
         m->data = pooled ? net_send_copy_alloc(c, len, &m->cap) : malloc(len ? (size_t)len : 1);
         m->copy = pooled;
@@ -577,27 +593,25 @@ out:
     return rc;
 }
 
-int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len,
-                       void (*release)(void *, void *), void *ctx, int timeout_ms,
-                       tsr_error *err) {
+int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, void (*release)(void *, void *),
+                       void *ctx, int timeout_ms, tsr_error *err)
+{
     return send_msg(c, kind, data, len, release, ctx, false, timeout_ms, err);
 }
 
-int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len, int timeout_ms,
-                 tsr_error *err) {
+int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len, int timeout_ms, tsr_error *err)
+{
     if (len >= SIZE_MAX)
-        return tsr_error_set(err, TSR_EINVAL, "net: a %llu-byte message cannot be copied",
-                             (unsigned long long)len);
+        return tsr_error_set(err, TSR_EINVAL, "net: a %llu-byte message cannot be copied", (unsigned long long)len);
     return send_msg(c, kind, (void *)data, len, NULL, NULL, true, timeout_ms, err);
 }
 
 /* (L) Whether tsr_net_recv on c would return now. */
-static bool recv_ready(const tsr_net_conn *c) {
-    return c->inbox_head || c->state != NET_OPEN || c->close_requested;
-}
+static bool recv_ready(const tsr_net_conn *c) { return c->inbox_head || c->state != NET_OPEN || c->close_requested; }
 
 /* (L) What tsr_net_recv returns once recv_ready(c) (or on time-out). */
-static int recv_take(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
+static int recv_take(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err)
+{
     net_msg *m = c->inbox_head;
     if (m) {
         c->inbox_head = m->next;
@@ -616,11 +630,12 @@ static int recv_take(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_erro
         return 0;
     if (c->state != NET_OPEN || c->close_requested)
         return conn_unusable(c, "receive", err);
-    return tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from peer '%s' at %s within %d ms",
-                         c->peer_name, c->address, timeout_ms);
+    return tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from peer '%s' at %s within %d ms", c->peer_name, c->address,
+                         timeout_ms);
 }
 
-int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err) {
+int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *err)
+{
     memset(msg, 0, sizeof *msg);
     tsr_net *net = c->net;
     struct timespec ts;
@@ -634,16 +649,16 @@ int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *e
     return rc;
 }
 
-int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, tsr_net_msg *msg,
-                     int timeout_ms, tsr_error *err) {
+int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, tsr_net_msg *msg, int timeout_ms,
+                     tsr_error *err)
+{
     memset(msg, 0, sizeof *msg);
     if (count == 0 || !which)
         return tsr_error_set(err, TSR_EINVAL, "net: tsr_net_recv_any needs connections");
     tsr_net *net = conns[0]->net;
     for (size_t i = 1; i < count; i++)
         if (conns[i]->net != net)
-            return tsr_error_set(err, TSR_EINVAL,
-                                 "net: tsr_net_recv_any: %s belongs to another tsr_net",
+            return tsr_error_set(err, TSR_EINVAL, "net: tsr_net_recv_any: %s belongs to another tsr_net",
                                  conns[i]->address);
     struct timespec ts;
     const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
@@ -666,8 +681,7 @@ int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, ts
         *which = found;
         rc = recv_take(conns[found], msg, timeout_ms, err);
     } else {
-        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from %zu connections within %d ms",
-                           count, timeout_ms);
+        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: nothing from %zu connections within %d ms", count, timeout_ms);
     }
     pthread_mutex_unlock(&net->lock);
     return rc;
@@ -678,7 +692,8 @@ int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, ts
  * when the I/O thread must do it. *written gets the message to free after
  * unlocking. While the application held a full window the I/O thread
  * stopped reading; it is woken then to read again. */
-static bool return_credits_direct(tsr_net_conn *c, net_msg **written) {
+static bool return_credits_direct(tsr_net_conn *c, net_msg **written)
+{
     if (!net_direct_possible(c))
         return false;
     net_msg *m = calloc(1, sizeof *m);
@@ -699,7 +714,8 @@ static bool return_credits_direct(tsr_net_conn *c, net_msg **written) {
     return true;
 }
 
-void tsr_net_msg_release(tsr_net_msg *msg) {
+void tsr_net_msg_release(tsr_net_msg *msg)
+{
     net_msg *m = msg ? msg->internal : NULL;
     if (!m)
         return;
@@ -728,13 +744,15 @@ void tsr_net_msg_release(tsr_net_msg *msg) {
 const char *tsr_net_conn_peer_name(const tsr_net_conn *c) { return c->peer_name; }
 const char *tsr_net_conn_address(const tsr_net_conn *c) { return c->address; }
 
-void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats) {
+void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats)
+{
     pthread_mutex_lock(&c->net->lock);
     *stats = c->stats;
     pthread_mutex_unlock(&c->net->lock);
 }
 
-void tsr_net_conn_close(tsr_net_conn *c) {
+void tsr_net_conn_close(tsr_net_conn *c)
+{
     if (!c)
         return;
     tsr_net *net = c->net;

@@ -32,15 +32,16 @@
 
 #include "net_internal.h"
 
-bool net_direct_possible(const tsr_net_conn *c) {
-    return c->transport != NET_INPROC && c->fd >= 0 && c->io_ref && c->state == NET_OPEN &&
-           !c->close_requested && !c->handles_closing && !c->shutting_down &&
-           !c->direct_writer && !c->direct_awaited && !c->direct_rest && !c->outbox_head &&
-           c->writes_in_flight == 0;
+bool net_direct_possible(const tsr_net_conn *c)
+{
+    return c->transport != NET_INPROC && c->fd >= 0 && c->io_ref && c->state == NET_OPEN && !c->close_requested &&
+           !c->handles_closing && !c->shutting_down && !c->direct_writer && !c->direct_awaited && !c->direct_rest &&
+           !c->outbox_head && c->writes_in_flight == 0;
 }
 
 /* Writes what the socket takes of m without blocking. */
-static void write_some(int fd, net_msg *m) {
+static void write_some(int fd, net_msg *m)
+{
     const uint64_t total = TSR_NET_HEADER_BYTES + m->len;
     while (m->written < total) {
         struct iovec iov[2];
@@ -68,7 +69,8 @@ static void write_some(int fd, net_msg *m) {
     }
 }
 
-net_msg *net_direct_write(tsr_net_conn *c, net_msg *m) {
+net_msg *net_direct_write(tsr_net_conn *c, net_msg *m)
+{
     tsr_net *net = c->net;
     net_header_encode(m->header, net_version(net), m->type, m->len);
     m->conn = c;
@@ -116,14 +118,14 @@ net_msg *net_direct_write(tsr_net_conn *c, net_msg *m) {
     if (m->borrowed) {
         if (!copy) {
             /* Half a message is on the wire: the stream cannot go on. */
-            net_conn_fail(c, TSR_ENOMEM, "net: out of memory for a %llu-byte message to %s",
-                          (unsigned long long)m->len, c->address);
+            net_conn_fail(c, TSR_ENOMEM, "net: out of memory for a %llu-byte message to %s", (unsigned long long)m->len,
+                          c->address);
             net_mark_dirty(c); /* the I/O thread closes it */
             return m;
         }
         m->data = copy;
         m->cap = copy_cap;
-        m->copy = true; /* counted in send_copies; recycled once written */
+        m->copy = true;    /* counted in send_copies; recycled once written */
         m->release = NULL; /* free() */
         m->borrowed = false;
     }
@@ -135,7 +137,8 @@ net_msg *net_direct_write(tsr_net_conn *c, net_msg *m) {
     return NULL;
 }
 
-void net_direct_await(tsr_net_conn *c) {
+void net_direct_await(tsr_net_conn *c)
+{
     if (!c->direct_writer)
         return;
     /* No new direct write starts until this thread has the lock back

@@ -6,8 +6,8 @@
 
 #include "net_internal.h"
 
-void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type,
-                       uint64_t len) {
+void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint64_t len)
+{
     net_put_u32(out, TSR_NET_MAGIC);
     net_put_u16(out + 4, version);
     out[6] = type;
@@ -15,7 +15,8 @@ void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint
     net_put_u64(out + 8, len);
 }
 
-void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out) {
+void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out)
+{
     out->magic = net_get_u32(in);
     out->version = net_get_u16(in + 4);
     out->type = in[6];
@@ -23,8 +24,8 @@ void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out) 
     out->len = net_get_u64(in + 8);
 }
 
-size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes,
-                        const char *name, const char *token) {
+size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name, const char *token)
+{
     size_t name_len = strlen(name), token_len = token ? strlen(token) : 0;
     if (name_len > TSR_NET_NAME_MAX)
         name_len = TSR_NET_NAME_MAX;
@@ -46,19 +47,18 @@ size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_byt
     return at + token_len;
 }
 
-int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err) {
+int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err)
+{
     memset(out, 0, sizeof *out);
     if (len < 16)
-        return tsr_error_set(err, TSR_EPROTO, "handshake payload of %llu bytes is too short",
-                             (unsigned long long)len);
+        return tsr_error_set(err, TSR_EPROTO, "handshake payload of %llu bytes is too short", (unsigned long long)len);
     out->credits = net_get_u32(in);
     out->max_message_bytes = net_get_u64(in + 4);
     uint64_t at = 12;
     uint16_t name_len = net_get_u16(in + at);
     at += 2;
     if (name_len > TSR_NET_NAME_MAX || at + name_len + 2 > len)
-        return tsr_error_set(err, TSR_EPROTO, "handshake node name length %u does not fit",
-                             name_len);
+        return tsr_error_set(err, TSR_EPROTO, "handshake node name length %u does not fit", name_len);
     memcpy(out->name, in + at, name_len);
     at += name_len;
     for (size_t i = 0; i < name_len; i++) /* names appear in one-line messages */
@@ -67,8 +67,7 @@ int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error 
     uint16_t token_len = net_get_u16(in + at);
     at += 2;
     if (token_len > TSR_NET_TOKEN_MAX || at + token_len != len)
-        return tsr_error_set(err, TSR_EPROTO, "handshake token length %u does not fit",
-                             token_len);
+        return tsr_error_set(err, TSR_EPROTO, "handshake token length %u does not fit", token_len);
     memcpy(out->token, in + at, token_len);
     out->token_len = token_len;
     if (out->credits == 0)

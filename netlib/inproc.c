@@ -8,17 +8,18 @@
 
 #include "net_internal.h"
 
-static tsr_net_listener *find_listener(tsr_net *net, const char *name) {
+static tsr_net_listener *find_listener(tsr_net *net, const char *name)
+{
     for (tsr_net_listener *l = net->listeners; l; l = l->next)
         if (l->transport == NET_INPROC && !l->closing && !strcmp(l->inproc_name, name))
             return l;
     return NULL;
 }
 
-int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err) {
+int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err)
+{
     if (find_listener(net, a->name))
-        return tsr_error_set(err, TSR_EINVAL,
-                             "net: cannot listen on inproc:%s: address already in use", a->name);
+        return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on inproc:%s: address already in use", a->name);
     snprintf(l->inproc_name, sizeof l->inproc_name, "%s", a->name);
     snprintf(l->address, sizeof l->address, "inproc:%s", a->name);
     l->next = net->listeners;
@@ -26,7 +27,8 @@ int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, t
     return TSR_OK;
 }
 
-static void open_side(tsr_net_conn *c, tsr_net_conn *peer) {
+static void open_side(tsr_net_conn *c, tsr_net_conn *peer)
+{
     tsr_net *net = c->net;
     c->state = NET_OPEN;
     c->app_ref = true;
@@ -37,19 +39,19 @@ static void open_side(tsr_net_conn *c, tsr_net_conn *peer) {
     snprintf(c->peer_name, sizeof c->peer_name, "%s", net->node_name);
 }
 
-tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *err) {
+tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *err)
+{
     char address[TSR_NET_ADDRESS_MAX];
     snprintf(address, sizeof address, "inproc:%s", a->name);
     tsr_net_listener *l = find_listener(net, a->name);
     if (!l || net->stopping) {
-        tsr_error_set(err, TSR_ENOENT,
-                      "net: cannot connect to %s: connection refused (nothing listens on it)",
+        tsr_error_set(err, TSR_ENOENT, "net: cannot connect to %s: connection refused (nothing listens on it)",
                       address);
         return NULL;
     }
     if (l->pending >= NET_PENDING_ACCEPT_MAX) {
-        tsr_error_set(err, TSR_EIO, "net: cannot connect to %s: %u connections wait to be accepted",
-                      address, l->pending);
+        tsr_error_set(err, TSR_EIO, "net: cannot connect to %s: %u connections wait to be accepted", address,
+                      l->pending);
         return NULL;
     }
     /* Both ends share this tsr_net's configuration, so the handshake's
@@ -77,7 +79,8 @@ tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *
     return client;
 }
 
-void net_inproc_deliver(tsr_net_conn *from, net_msg *m) {
+void net_inproc_deliver(tsr_net_conn *from, net_msg *m)
+{
     tsr_net_conn *to = from->inproc_peer;
     if (!to || to->close_requested) {
         net_msg_free(m); /* the peer is gone: like bytes sent into a closed socket */
@@ -95,7 +98,8 @@ void net_inproc_deliver(tsr_net_conn *from, net_msg *m) {
     net_conn_signal(to);
 }
 
-void net_inproc_return_credits(tsr_net_conn *c) {
+void net_inproc_return_credits(tsr_net_conn *c)
+{
     tsr_net_conn *peer = c->inproc_peer;
     if (peer) {
         peer->send_credits += c->credits_to_return;
@@ -104,7 +108,8 @@ void net_inproc_return_credits(tsr_net_conn *c) {
     c->credits_to_return = 0;
 }
 
-void net_inproc_close(tsr_net_conn *c) {
+void net_inproc_close(tsr_net_conn *c)
+{
     tsr_net_conn *peer = c->inproc_peer;
     if (peer) {
         peer->inproc_peer = NULL;

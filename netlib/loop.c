@@ -12,7 +12,8 @@
 #include "net_internal.h"
 #include "tessera/log.h"
 
-void tsr_net_config_defaults(tsr_net_config *config) {
+void tsr_net_config_defaults(tsr_net_config *config)
+{
     memset(config, 0, sizeof *config);
     config->node_name = "node";
     config->credits = 8;
@@ -23,13 +24,15 @@ void tsr_net_config_defaults(tsr_net_config *config) {
     config->close_timeout_ms = 5000;
 }
 
-uint64_t net_now_ms(void) {
+uint64_t net_now_ms(void)
+{
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (uint64_t)ts.tv_sec * 1000u + (uint64_t)ts.tv_nsec / 1000000u;
 }
 
-int net_deadline(struct timespec *ts, int timeout_ms) {
+int net_deadline(struct timespec *ts, int timeout_ms)
+{
     if (timeout_ms < 0)
         return 0;
     clock_gettime(CLOCK_MONOTONIC, ts);
@@ -44,7 +47,8 @@ int net_deadline(struct timespec *ts, int timeout_ms) {
 
 void net_wake(tsr_net *net) { uv_async_send(&net->wakeup); }
 
-void net_mark_dirty(tsr_net_conn *conn) {
+void net_mark_dirty(tsr_net_conn *conn)
+{
     if (conn->transport == NET_INPROC || !conn->io_ref)
         return;
     if (!conn->dirty) {
@@ -55,7 +59,8 @@ void net_mark_dirty(tsr_net_conn *conn) {
     net_wake(conn->net);
 }
 
-int net_submit_op(tsr_net *net, net_op *op) {
+int net_submit_op(tsr_net *net, net_op *op)
+{
     op->done = false;
     op->next = NULL;
     if (net->ops_tail)
@@ -69,7 +74,8 @@ int net_submit_op(tsr_net *net, net_op *op) {
     return op->rc;
 }
 
-void net_io_maybe_finish(tsr_net *net) {
+void net_io_maybe_finish(tsr_net *net)
+{
     if (!net->stopping || uv_is_closing((uv_handle_t *)&net->wakeup))
         return;
     for (tsr_net_conn *c = net->conns; c; c = c->next_all)
@@ -81,7 +87,8 @@ void net_io_maybe_finish(tsr_net *net) {
     uv_close((uv_handle_t *)&net->wakeup, NULL);
 }
 
-static void on_wakeup(uv_async_t *async) {
+static void on_wakeup(uv_async_t *async)
+{
     tsr_net *net = async->data;
     pthread_mutex_lock(&net->lock);
     while (net->ops_head) {
@@ -92,7 +99,10 @@ static void on_wakeup(uv_async_t *async) {
         switch (op->kind) {
         case NET_OP_LISTEN: net_io_listen(net, op); break;
         case NET_OP_CONNECT: net_io_connect(net, op); break;
-        case NET_OP_CLOSE_LISTENER: net_io_close_listener(op->target); op->rc = TSR_OK; break;
+        case NET_OP_CLOSE_LISTENER:
+            net_io_close_listener(op->target);
+            op->rc = TSR_OK;
+            break;
         }
         op->done = true;
         pthread_cond_broadcast(&net->op_cond);
@@ -109,13 +119,15 @@ static void on_wakeup(uv_async_t *async) {
     pthread_mutex_unlock(&net->lock);
 }
 
-static void *io_thread_main(void *arg) {
+static void *io_thread_main(void *arg)
+{
     tsr_net *net = arg;
     uv_run(&net->loop, UV_RUN_DEFAULT);
     return NULL;
 }
 
-static void init_monotonic_cond(pthread_cond_t *cond) {
+static void init_monotonic_cond(pthread_cond_t *cond)
+{
     pthread_condattr_t attr;
     pthread_condattr_init(&attr);
     pthread_condattr_setclock(&attr, CLOCK_MONOTONIC);
@@ -125,15 +137,15 @@ static void init_monotonic_cond(pthread_cond_t *cond) {
 
 void net_cond_init(pthread_cond_t *cond) { init_monotonic_cond(cond); }
 
-tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err) {
+tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err)
+{
     tsr_net_config defaults;
     tsr_net_config_defaults(&defaults);
     if (!config)
         config = &defaults;
     const char *name = config->node_name && *config->node_name ? config->node_name : "node";
     if (strlen(name) > TSR_NET_NAME_MAX) {
-        tsr_error_set(err, TSR_EINVAL, "net: node name '%s' is longer than %d bytes", name,
-                      TSR_NET_NAME_MAX);
+        tsr_error_set(err, TSR_EINVAL, "net: node name '%s' is longer than %d bytes", name, TSR_NET_NAME_MAX);
         return NULL;
     }
     if (config->token && strlen(config->token) > TSR_NET_TOKEN_MAX) {
@@ -205,7 +217,8 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err) {
     return net;
 }
 
-void tsr_net_destroy(tsr_net *net) {
+void tsr_net_destroy(tsr_net *net)
+{
     if (!net)
         return;
     pthread_mutex_lock(&net->lock);

@@ -113,8 +113,8 @@ extern "C" {
 #define TSR_NET_MAGIC 0x314E5354u
 #define TSR_NET_KIND_FIRST_USER 0x10 /* message kinds 0x10..0xff are the caller's */
 #define TSR_NET_WAIT_FOREVER (-1)
-#define TSR_NET_NAME_MAX 64          /* node name bytes */
-#define TSR_NET_TOKEN_MAX 256        /* shared token bytes */
+#define TSR_NET_NAME_MAX 64   /* node name bytes */
+#define TSR_NET_TOKEN_MAX 256 /* shared token bytes */
 #define TSR_NET_ADDRESS_MAX 160
 
 typedef struct tsr_net tsr_net;                   /* I/O thread + loop */
@@ -137,7 +137,7 @@ typedef struct tsr_net_config {
 
 /* A received message. `data` stays valid (and writable) until released. */
 typedef struct tsr_net_msg {
-    unsigned kind;  /* TSR_NET_KIND_FIRST_USER..255 */
+    unsigned kind; /* TSR_NET_KIND_FIRST_USER..255 */
     void *data;
     uint64_t len;
     void *internal; /* netlib's; do not touch */
@@ -147,8 +147,8 @@ typedef struct tsr_net_stats {
     uint64_t messages_sent, bytes_sent;         /* payload bytes */
     uint64_t messages_received, bytes_received; /* payload bytes */
     uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
-    uint64_t messages_direct;  /* data messages the sending thread wrote itself (see SENDING) */
-    uint64_t messages_direct_rest; /* ... of which the socket took only a part */
+    uint64_t messages_direct;                   /* data messages the sending thread wrote itself (see SENDING) */
+    uint64_t messages_direct_rest;              /* ... of which the socket took only a part */
 } tsr_net_stats;
 
 TSR_API void tsr_net_config_defaults(tsr_net_config *config);
@@ -187,16 +187,15 @@ TSR_API tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_err
  * Returns TSR_OK, TSR_ETIMEDOUT (nothing sent), TSR_EINVAL (kind out of
  * range, or len above the peer's max_message_bytes: nothing allocated), or
  * the connection's error once it failed or closed. */
-TSR_API int tsr_net_send(tsr_net_conn *conn, unsigned kind, const void *data, uint64_t len,
-                         int timeout_ms, tsr_error *err);
+TSR_API int tsr_net_send(tsr_net_conn *conn, unsigned kind, const void *data, uint64_t len, int timeout_ms,
+                         tsr_error *err);
 /* Like tsr_net_send, but takes ownership of `data` instead of copying: it
  * calls release(data, ctx) once written or dropped (release NULL = free()).
  * release runs on the I/O thread or inside a netlib call, possibly with
  * netlib's lock held: it must not call netlib (return the buffer to a pool).
  * On an error return, `data` was not taken and is still the caller's. */
 TSR_API int tsr_net_send_owned(tsr_net_conn *conn, unsigned kind, void *data, uint64_t len,
-                               void (*release)(void *data, void *ctx), void *ctx,
-                               int timeout_ms, tsr_error *err);
+                               void (*release)(void *data, void *ctx), void *ctx, int timeout_ms, tsr_error *err);
 /* Receives the next message. Returns 1 with *msg filled, 0 when the peer
  * closed cleanly and every message was received, TSR_ETIMEDOUT, or the
  * connection's error. Release every message (this returns its credit). */
@@ -209,8 +208,8 @@ TSR_API int tsr_net_recv(tsr_net_conn *conn, tsr_net_msg *msg, int timeout_ms, t
  * tsr_net_recv would for it — 1 (message), 0 (that peer closed cleanly) or
  * its error — so the caller can drop ended connections from its array; or
  * TSR_ETIMEDOUT (*which unchanged) when none had anything in time. */
-TSR_API int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which,
-                             tsr_net_msg *msg, int timeout_ms, tsr_error *err);
+TSR_API int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, tsr_net_msg *msg, int timeout_ms,
+                             tsr_error *err);
 TSR_API void tsr_net_msg_release(tsr_net_msg *msg);
 
 /* The peer's node name (from its handshake) and address. */
@@ -226,10 +225,9 @@ TSR_API void tsr_net_conn_close(tsr_net_conn *conn);
  * tsr_net_pattern_fill(seed 0) by stream position; and receive such a
  * stream until `total_bytes` arrived, verifying every byte. Both return TSR_OK
  * or an error naming the connection and, for a mismatch, the offset. */
-TSR_API int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes,
-                                size_t message_bytes, int timeout_ms, tsr_error *err);
-TSR_API int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms,
-                                tsr_error *err);
+TSR_API int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes, size_t message_bytes,
+                                int timeout_ms, tsr_error *err);
+TSR_API int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms, tsr_error *err);
 /* Deterministic bytes for stream position [offset, offset+len) of `seed`. */
 TSR_API void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed);
 /* FNV-1a 64 over `len` bytes, continuing from `hash` (start: TSR_NET_FNV_START). */

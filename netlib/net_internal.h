@@ -38,7 +38,7 @@ typedef struct net_address {
     char host[TSR_NET_ADDRESS_MAX];
     unsigned port;
     char path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* unix */
-    char name[TSR_NET_ADDRESS_MAX - 8];                      /* inproc */
+    char name[TSR_NET_ADDRESS_MAX - 8];                     /* inproc */
 } net_address;
 
 /* Payload buffers kept for reuse (newest last). */
@@ -55,7 +55,7 @@ typedef struct net_msg {
     uint8_t type;
     uint64_t len;
     uint8_t *data;
-    uint64_t cap;              /* bytes allocated at data (received messages) */
+    uint64_t cap;                           /* bytes allocated at data (received messages) */
     void (*release)(void *data, void *ctx); /* NULL = free() */
     void *release_ctx;
     uint64_t written; /* bytes of header + payload already on the socket (direct.c) */
@@ -69,8 +69,8 @@ typedef enum net_conn_state {
     NET_CONNECTING, /* socket connect in progress (client) */
     NET_HANDSHAKE,  /* waiting for HELLO (server) or WELCOME (client) */
     NET_OPEN,
-    NET_FAILED,     /* error recorded; no more traffic */
-    NET_ENDED,      /* peer closed cleanly */
+    NET_FAILED, /* error recorded; no more traffic */
+    NET_ENDED,  /* peer closed cleanly */
 } net_conn_state;
 
 struct tsr_net_conn {
@@ -82,19 +82,19 @@ struct tsr_net_conn {
     pthread_cond_t cond; /* (L) any change an app thread may wait for */
 
     /* lifetime (L): freed when nobody holds it */
-    bool app_ref;        /* the application (or a listener's queue) holds it */
-    bool io_ref;         /* the I/O thread still has handles open */
-    unsigned held;       /* received messages not yet released */
+    bool app_ref;  /* the application (or a listener's queue) holds it */
+    bool io_ref;   /* the I/O thread still has handles open */
+    unsigned held; /* received messages not yet released */
 
-    net_conn_state state; /* (L) */
-    tsr_error error;      /* (L) set once state is NET_FAILED */
-    bool close_requested; /* (L) app closed; I/O thread winds down */
+    net_conn_state state;  /* (L) */
+    tsr_error error;       /* (L) set once state is NET_FAILED */
+    bool close_requested;  /* (L) app closed; I/O thread winds down */
     bool socket_connected; /* (L) the transport connected (handshake may still fail) */
-    bool handshaken;      /* (L) the handshake succeeded (the state may have moved on) */
+    bool handshaken;       /* (L) the handshake succeeded (the state may have moved on) */
 
     /* send side (L) */
     uint32_t send_credits;
-    uint32_t peer_window;               /* credits the peer granted in its handshake */
+    uint32_t peer_window; /* credits the peer granted in its handshake */
     uint64_t peer_max_message;
     net_msg *outbox_head, *outbox_tail; /* accepted, not yet given to libuv */
     uint32_t writes_in_flight;          /* given to libuv (or being given), not completed */
@@ -109,9 +109,9 @@ struct tsr_net_conn {
     bool direct_awaited; /* the I/O thread waits for the direct writer */
     net_msg *direct_rest;
     int fd;
-    int rcvlowat;     /* (IO) SO_RCVLOWAT set on fd (0 = the kernel's default, 1) */
-    int lowat_queued; /* (IO) bytes queued below it when the idle timer last looked */
-    uint32_t send_waiters;              /* threads blocked for credits */
+    int rcvlowat;          /* (IO) SO_RCVLOWAT set on fd (0 = the kernel's default, 1) */
+    int lowat_queued;      /* (IO) bytes queued below it when the idle timer last looked */
+    uint32_t send_waiters; /* threads blocked for credits */
 
     /* receive side (L) */
     net_msg *inbox_head, *inbox_tail;
@@ -136,8 +136,8 @@ struct tsr_net_conn {
     struct tsr_net_conn *next_all, *prev_all;
     struct tsr_net_listener *listener; /* server side until accepted */
     struct tsr_net_conn *next_ready;
-    bool ready;             /* (L) in listener->ready queue */
-    uint16_t hello_version; /* (IO) version of the peer's HELLO header */
+    bool ready;                       /* (L) in listener->ready queue */
+    uint16_t hello_version;           /* (IO) version of the peer's HELLO header */
     struct tsr_net_conn *inproc_peer; /* (L) */
 
     /* (IO) socket state */
@@ -165,16 +165,16 @@ struct tsr_net_listener {
     enum net_transport transport;
     char address[TSR_NET_ADDRESS_MAX];
     char unix_path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* bound by this listener */
-    dev_t unix_dev;                       /* ... and its identity, so that only */
-    ino_t unix_ino;                       /*     that socket is removed */
+    dev_t unix_dev;                                              /* ... and its identity, so that only */
+    ino_t unix_ino;                                              /*     that socket is removed */
     char inproc_name[TSR_NET_ADDRESS_MAX - 8];
-    pthread_cond_t cond;                  /* (L) accept waits on it */
+    pthread_cond_t cond;                   /* (L) accept waits on it */
     tsr_net_conn *ready_head, *ready_tail; /* (L) handshaken, not accepted */
-    unsigned pending;                     /* (L) handshaking + ready */
-    unsigned refusals;                    /* (L) */
-    tsr_error last_refusal;               /* (L) */
-    bool app_ref, io_ref, closing;        /* (L) */
-    struct tsr_net_listener *next;        /* (L) net->listeners */
+    unsigned pending;                      /* (L) handshaking + ready */
+    unsigned refusals;                     /* (L) */
+    tsr_error last_refusal;                /* (L) */
+    bool app_ref, io_ref, closing;         /* (L) */
+    struct tsr_net_listener *next;         /* (L) net->listeners */
     union {
         uv_handle_t handle;
         uv_stream_t stream;
@@ -201,27 +201,25 @@ struct tsr_net {
     char node_name[TSR_NET_NAME_MAX + 1];
     char token[TSR_NET_TOKEN_MAX + 1];
     pthread_mutex_t lock;
-    pthread_cond_t op_cond; /* (L) op completion */
+    pthread_cond_t op_cond;  /* (L) op completion */
     pthread_cond_t any_cond; /* (L) some connection changed (tsr_net_recv_any) */
     unsigned any_waiters;    /* (L) threads in tsr_net_recv_any */
     uv_loop_t loop;
     uv_async_t wakeup;
     pthread_t thread;
-    bool stopping;          /* (L) destroy called */
-    net_op *ops_head, *ops_tail;          /* (L) */
-    tsr_net_conn *dirty_head;             /* (L) */
-    tsr_net_conn *conns;                  /* (L) every live connection */
-    tsr_net_listener *listeners;          /* (L) */
+    bool stopping;               /* (L) destroy called */
+    net_op *ops_head, *ops_tail; /* (L) */
+    tsr_net_conn *dirty_head;    /* (L) */
+    tsr_net_conn *conns;         /* (L) every live connection */
+    tsr_net_listener *listeners; /* (L) */
 };
 
 /* address.c */
 int net_address_parse(const char *text, net_address *out, tsr_error *err);
-void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out,
-                                 size_t size);
+void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out, size_t size);
 
 /* frame.c: header and handshake encoding */
-void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type,
-                       uint64_t len);
+void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint64_t len);
 typedef struct net_header {
     uint32_t magic;
     uint16_t version;
@@ -237,29 +235,34 @@ typedef struct net_hello {
     size_t token_len;
 } net_hello;
 /* Returns the payload size written into out (at most NET_CONTROL_MAX). */
-size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes,
-                        const char *name, const char *token);
+size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name,
+                        const char *token);
 int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err);
-static inline void net_put_u16(uint8_t *p, uint16_t v) {
+static inline void net_put_u16(uint8_t *p, uint16_t v)
+{
     p[0] = (uint8_t)v;
     p[1] = (uint8_t)(v >> 8);
 }
-static inline void net_put_u32(uint8_t *p, uint32_t v) {
+static inline void net_put_u32(uint8_t *p, uint32_t v)
+{
     for (int i = 0; i < 4; i++)
         p[i] = (uint8_t)(v >> (8 * i));
 }
-static inline void net_put_u64(uint8_t *p, uint64_t v) {
+static inline void net_put_u64(uint8_t *p, uint64_t v)
+{
     for (int i = 0; i < 8; i++)
         p[i] = (uint8_t)(v >> (8 * i));
 }
 static inline uint16_t net_get_u16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
-static inline uint32_t net_get_u32(const uint8_t *p) {
+static inline uint32_t net_get_u32(const uint8_t *p)
+{
     uint32_t v = 0;
     for (int i = 3; i >= 0; i--)
         v = v << 8 | p[i];
     return v;
 }
-static inline uint64_t net_get_u64(const uint8_t *p) {
+static inline uint64_t net_get_u64(const uint8_t *p)
+{
     uint64_t v = 0;
     for (int i = 7; i >= 0; i--)
         v = v << 8 | p[i];
@@ -267,21 +270,19 @@ static inline uint64_t net_get_u64(const uint8_t *p) {
 }
 
 /* loop.c */
-void net_wake(tsr_net *net);                      /* (L) nudge the I/O thread */
-void net_mark_dirty(tsr_net_conn *conn);          /* (L) + wake */
-int net_submit_op(tsr_net *net, net_op *op);      /* (L held) waits for completion */
+void net_wake(tsr_net *net);                 /* (L) nudge the I/O thread */
+void net_mark_dirty(tsr_net_conn *conn);     /* (L) + wake */
+int net_submit_op(tsr_net *net, net_op *op); /* (L held) waits for completion */
 uint64_t net_now_ms(void);
-void net_cond_init(pthread_cond_t *cond);         /* waits use CLOCK_MONOTONIC */
-void net_io_maybe_finish(tsr_net *net);           /* (IO, L) close the loop when idle */
+void net_cond_init(pthread_cond_t *cond);              /* waits use CLOCK_MONOTONIC */
+void net_io_maybe_finish(tsr_net *net);                /* (IO, L) close the loop when idle */
 int net_deadline(struct timespec *ts, int timeout_ms); /* 0 = no deadline */
 
 /* conn.c */
-tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server,
-                           const char *address);
+tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, const char *address);
 void net_conn_maybe_free(tsr_net_conn *conn); /* (L) */
 void net_conn_signal(tsr_net_conn *conn);     /* (L) wake its waiters */
-void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4))); /* (L) */
+void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4))); /* (L) */
 void net_msg_free(net_msg *m);
 /* (L) A payload buffer of at least `len` bytes for a message from `c`: a
  * spare one when it fits (and is not more than twice too big), else a new

@@ -29,7 +29,8 @@ static void update_reading(tsr_net_conn *c);
 
 /* ---- writing -------------------------------------------------------------- */
 
-static void on_write(uv_write_t *req, int status) {
+static void on_write(uv_write_t *req, int status)
+{
     net_msg *m = req->data;
     tsr_net_conn *c = m->conn;
     tsr_net *net = c->net;
@@ -37,8 +38,8 @@ static void on_write(uv_write_t *req, int status) {
     c->writes_in_flight--;
     net_send_copy_done(c, m); /* its buffer may serve the next copy */
     if (status < 0 && status != UV_ECANCELED && !c->handles_closing) {
-        net_conn_fail(c, TSR_EIO, "net: writing to peer '%s' at %s failed: %s", c->peer_name,
-                      c->address, uv_strerror(status));
+        net_conn_fail(c, TSR_EIO, "net: writing to peer '%s' at %s failed: %s", c->peer_name, c->address,
+                      uv_strerror(status));
         close_handles(c);
     }
     pthread_mutex_unlock(&net->lock);
@@ -47,15 +48,15 @@ static void on_write(uv_write_t *req, int status) {
 
 /* Hands one message (header + payload, less what a direct write already
  * put on the socket) to libuv. */
-static void write_now(tsr_net_conn *c, net_msg *m) {
+static void write_now(tsr_net_conn *c, net_msg *m)
+{
     net_header_encode(m->header, net_version(c->net), m->type, m->len);
     /* Set .len directly: uv_buf_init() takes an unsigned int, and a
      * message may be longer than 4 GiB (uv_buf_t.len is a size_t here). */
     uv_buf_t bufs[2];
     unsigned n = 0;
     if (m->written < TSR_NET_HEADER_BYTES)
-        bufs[n++] = uv_buf_init((char *)m->header + m->written,
-                                (unsigned)(TSR_NET_HEADER_BYTES - m->written));
+        bufs[n++] = uv_buf_init((char *)m->header + m->written, (unsigned)(TSR_NET_HEADER_BYTES - m->written));
     uint64_t at = m->written > TSR_NET_HEADER_BYTES ? m->written - TSR_NET_HEADER_BYTES : 0;
     if (m->len > at) {
         bufs[n] = uv_buf_init((char *)m->data + at, 0);
@@ -91,7 +92,8 @@ static void write_now(tsr_net_conn *c, net_msg *m) {
 }
 
 /* What an application thread's direct write left goes first. */
-static void write_direct_rest(tsr_net_conn *c) {
+static void write_direct_rest(tsr_net_conn *c)
+{
     net_direct_await(c);
     if (c->direct_rest && !c->handles_closing) {
         net_msg *r = c->direct_rest;
@@ -100,7 +102,8 @@ static void write_direct_rest(tsr_net_conn *c) {
     }
 }
 
-static void write_msg(tsr_net_conn *c, net_msg *m) {
+static void write_msg(tsr_net_conn *c, net_msg *m)
+{
     write_direct_rest(c);
     if (c->handles_closing) {
         net_send_copy_done(c, m);
@@ -110,7 +113,8 @@ static void write_msg(tsr_net_conn *c, net_msg *m) {
     write_now(c, m);
 }
 
-static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, size_t len) {
+static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, size_t len)
+{
     net_msg *m = calloc(1, sizeof *m);
     uint8_t *data = len ? malloc(len) : NULL;
     if (!m || (len && !data)) {
@@ -128,15 +132,17 @@ static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, si
     write_msg(c, m);
 }
 
-static void send_hello(tsr_net_conn *c, uint8_t type, bool with_token) {
+static void send_hello(tsr_net_conn *c, uint8_t type, bool with_token)
+{
     tsr_net *net = c->net;
     uint8_t payload[NET_CONTROL_MAX];
-    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes,
-                                net->node_name, with_token ? net->token : NULL);
+    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes, net->node_name,
+                                with_token ? net->token : NULL);
     write_control(c, type, payload, n);
 }
 
-static void flush_outbox(tsr_net_conn *c) {
+static void flush_outbox(tsr_net_conn *c)
+{
     write_direct_rest(c);
     while (c->outbox_head && !c->handles_closing) {
         net_msg *m = c->outbox_head;
@@ -150,7 +156,8 @@ static void flush_outbox(tsr_net_conn *c) {
 
 /* ---- closing -------------------------------------------------------------- */
 
-static void on_handle_closed(uv_handle_t *h) {
+static void on_handle_closed(uv_handle_t *h)
+{
     tsr_net_conn *c = h->data;
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
@@ -167,7 +174,8 @@ static void on_handle_closed(uv_handle_t *h) {
     pthread_mutex_unlock(&net->lock);
 }
 
-static void close_handles(tsr_net_conn *c) {
+static void close_handles(tsr_net_conn *c)
+{
     if (c->handles_closing)
         return;
     net_direct_await(c); /* an application thread may be writing on the descriptor */
@@ -181,7 +189,8 @@ static void close_handles(tsr_net_conn *c) {
     uv_close((uv_handle_t *)&c->timer, on_handle_closed);
 }
 
-static void on_shutdown(uv_shutdown_t *req, int status) {
+static void on_shutdown(uv_shutdown_t *req, int status)
+{
     tsr_net_conn *c = req->data;
     pthread_mutex_lock(&c->net->lock);
     (void)status;
@@ -195,7 +204,8 @@ static void on_shutdown(uv_shutdown_t *req, int status) {
  * the handles close once the peer's end of stream arrives (or the close
  * time-out passes). Closing without this could make the peer's kernel
  * answer a late write with a reset that discards data still unread. */
-static void begin_shutdown(tsr_net_conn *c) {
+static void begin_shutdown(tsr_net_conn *c)
+{
     if (c->shutting_down || c->handles_closing)
         return;
     if (c->state != NET_OPEN && c->state != NET_ENDED) {
@@ -222,7 +232,8 @@ static void begin_shutdown(tsr_net_conn *c) {
 
 /* ---- timers --------------------------------------------------------------- */
 
-static void on_timer(uv_timer_t *t) {
+static void on_timer(uv_timer_t *t)
+{
     tsr_net_conn *c = t->data;
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
@@ -232,12 +243,11 @@ static void on_timer(uv_timer_t *t) {
     } else if (c->shutting_down) {
         close_handles(c); /* the peer did not end its stream in time */
     } else if (c->state == NET_CONNECTING) {
-        net_conn_fail(c, TSR_ETIMEDOUT, "net: cannot connect to %s: timed out after %u ms",
-                      c->address, net->config.connect_timeout_ms);
+        net_conn_fail(c, TSR_ETIMEDOUT, "net: cannot connect to %s: timed out after %u ms", c->address,
+                      net->config.connect_timeout_ms);
         close_handles(c);
     } else if (c->state == NET_HANDSHAKE) {
-        net_conn_fail(c, TSR_ETIMEDOUT,
-                      "net: handshake with %s timed out after %u ms (is it a tessera node?)",
+        net_conn_fail(c, TSR_ETIMEDOUT, "net: handshake with %s timed out after %u ms (is it a tessera node?)",
                       c->address, net->config.handshake_timeout_ms);
         if (c->is_server)
             tsr_log(TSR_LOG_WARN, "%s", c->error.message);
@@ -260,8 +270,7 @@ static void on_timer(uv_timer_t *t) {
                           "considered dead",
                           c->peer_name, c->address, net->config.idle_timeout_ms);
             close_handles(c);
-        } else if (now - c->last_written_ms >= net->config.idle_timeout_ms / 3 &&
-                   c->writes_in_flight == 0) {
+        } else if (now - c->last_written_ms >= net->config.idle_timeout_ms / 3 && c->writes_in_flight == 0) {
             /* (With writes still pending the peer is not reading; more
              * pings would only pile up.) */
             write_control(c, NET_PING, NULL, 0);
@@ -270,7 +279,8 @@ static void on_timer(uv_timer_t *t) {
     pthread_mutex_unlock(&net->lock);
 }
 
-static void arm_timer(tsr_net_conn *c) {
+static void arm_timer(tsr_net_conn *c)
+{
     const tsr_net_config *cfg = &c->net->config;
     uv_timer_stop(&c->timer);
     if (c->handles_closing)
@@ -290,14 +300,15 @@ static void arm_timer(tsr_net_conn *c) {
 
 /* ---- reading -------------------------------------------------------------- */
 
-static void on_alloc(uv_handle_t *h, size_t suggested, uv_buf_t *buf) {
+static void on_alloc(uv_handle_t *h, size_t suggested, uv_buf_t *buf)
+{
     tsr_net_conn *c = h->data;
     (void)suggested;
     /* The rest of a large payload is read straight into the message. */
     if (c->partial && c->partial->len - c->partial_fill >= NET_STAGING_BYTES) {
         uint64_t left = c->partial->len - c->partial_fill;
-        *buf = uv_buf_init((char *)c->partial->data + c->partial_fill,
-                           (unsigned)(left < (1u << 30) ? left : (1u << 30)));
+        *buf =
+            uv_buf_init((char *)c->partial->data + c->partial_fill, (unsigned)(left < (1u << 30) ? left : (1u << 30)));
         return;
     }
     if (!c->staging)
@@ -305,28 +316,27 @@ static void on_alloc(uv_handle_t *h, size_t suggested, uv_buf_t *buf) {
     *buf = uv_buf_init((char *)c->staging, c->staging ? NET_STAGING_BYTES : 0);
 }
 
-static uint32_t unreturned(const tsr_net_conn *c) {
-    return c->inbox_count + c->held + c->credits_to_return;
-}
+static uint32_t unreturned(const tsr_net_conn *c) { return c->inbox_count + c->held + c->credits_to_return; }
 
-static void stop_reading(tsr_net_conn *c) {
+static void stop_reading(tsr_net_conn *c)
+{
     if (c->reading) {
         uv_read_stop(&c->h.stream);
         c->reading = false;
     }
 }
 
+static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...) {
+{
     char reason[400];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(reason, sizeof reason, fmt, ap);
     va_end(ap);
     tsr_net_listener *l = c->listener;
-    net_conn_fail(c, TSR_EPROTO, "net: refused peer '%s' from %s on %s: %s", peer_name,
-                  c->address, l ? l->address : "?", reason);
+    net_conn_fail(c, TSR_EPROTO, "net: refused peer '%s' from %s on %s: %s", peer_name, c->address,
+                  l ? l->address : "?", reason);
     tsr_log(TSR_LOG_WARN, "%s", c->error.message);
     if (l) {
         l->refusals++;
@@ -345,7 +355,8 @@ static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
         arm_timer(c);
 }
 
-static void handshake_done(tsr_net_conn *c, const net_hello *h) {
+static void handshake_done(tsr_net_conn *c, const net_hello *h)
+{
     snprintf(c->peer_name, sizeof c->peer_name, "%s", h->name);
     c->send_credits = h->credits;
     c->peer_window = h->credits;
@@ -368,14 +379,15 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h) {
     net_conn_signal(c);
 }
 
-static void deliver_hello(tsr_net_conn *c, net_msg *m) {
+static void deliver_hello(tsr_net_conn *c, net_msg *m)
+{
     tsr_net *net = c->net;
     net_hello h;
     tsr_error e;
     int bad = net_hello_decode(m->data, m->len, &h, &e);
     if (c->hello_version != net_version(net)) {
-        refuse(c, bad ? "?" : h.name, "protocol version %u, this node speaks version %u",
-               c->hello_version, net_version(net));
+        refuse(c, bad ? "?" : h.name, "protocol version %u, this node speaks version %u", c->hello_version,
+               net_version(net));
         return;
     }
     if (bad) {
@@ -403,12 +415,12 @@ static void deliver_hello(tsr_net_conn *c, net_msg *m) {
         l->ready_head = c;
     l->ready_tail = c;
     pthread_cond_broadcast(&l->cond);
-    tsr_log(TSR_LOG_INFO, "net: accepted peer '%s' from %s on %s", c->peer_name, c->address,
-            l->address);
+    tsr_log(TSR_LOG_INFO, "net: accepted peer '%s' from %s on %s", c->peer_name, c->address, l->address);
 }
 
 /* A complete message arrived. Takes ownership of m. */
-static void deliver(tsr_net_conn *c, net_msg *m) {
+static void deliver(tsr_net_conn *c, net_msg *m)
+{
     tsr_net *net = c->net;
     switch (m->type) {
     case NET_HELLO:
@@ -419,8 +431,7 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         net_hello h;
         tsr_error e;
         if (net_hello_decode(m->data, m->len, &h, &e)) {
-            net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: %s",
-                          c->address, e.message);
+            net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: %s", c->address, e.message);
             close_handles(c);
         } else {
             handshake_done(c, &h);
@@ -436,8 +447,7 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         for (size_t i = 0; i < n; i++)
             if ((unsigned char)reason[i] < 0x20)
                 reason[i] = ' ';
-        net_conn_fail(c, TSR_EPROTO, "net: %s refused this node ('%s'): %s", c->address,
-                      net->node_name, reason);
+        net_conn_fail(c, TSR_EPROTO, "net: %s refused this node ('%s'): %s", c->address, net->node_name, reason);
         close_handles(c);
         net_msg_free(m);
         return;
@@ -446,8 +456,7 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         uint32_t n = net_get_u32(m->data);
         net_msg_free(m);
         if ((uint64_t)c->send_credits + n > c->peer_window) {
-            net_conn_fail(c, TSR_EPROTO,
-                          "net: peer '%s' at %s returned more credits than it granted (%u)",
+            net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s returned more credits than it granted (%u)",
                           c->peer_name, c->address, c->peer_window);
             close_handles(c);
             return;
@@ -474,8 +483,7 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
         c->peer_said_bye = true;
         net_msg_free(m);
         return;
-    default:
-        break;
+    default: break;
     }
     if (c->close_requested) { /* the application is gone: drop */
         net_msg_free(m);
@@ -497,16 +505,16 @@ static void deliver(tsr_net_conn *c, net_msg *m) {
 /* Validates a complete header, then either starts reading its payload into
  * a new message, delivers a zero-length message at once, or fails the
  * connection (naming the peer) without allocating anything. */
-static void handle_header(tsr_net_conn *c) {
+static void handle_header(tsr_net_conn *c)
+{
     tsr_net *net = c->net;
     net_header h;
     net_header_decode(c->hdr, &h);
     c->hdr_fill = 0;
     const char *who = c->peer_name;
     if (h.magic != TSR_NET_MAGIC) {
-        net_conn_fail(c, TSR_EPROTO,
-                      "net: peer '%s' at %s is not speaking the tessera protocol (magic 0x%08x)",
-                      who, c->address, h.magic);
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s is not speaking the tessera protocol (magic 0x%08x)", who,
+                      c->address, h.magic);
         if (c->is_server)
             tsr_log(TSR_LOG_WARN, "%s", c->error.message);
         close_handles(c);
@@ -529,8 +537,7 @@ static void handle_header(tsr_net_conn *c) {
         return;
     }
     if (h.flags) {
-        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent unknown flags 0x%02x", who,
-                      c->address, h.flags);
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent unknown flags 0x%02x", who, c->address, h.flags);
         close_handles(c);
         return;
     }
@@ -540,25 +547,32 @@ static void handle_header(tsr_net_conn *c) {
     case NET_HELLO: expected = handshaking && c->is_server; break;
     case NET_WELCOME:
     case NET_REFUSE: expected = handshaking && !c->is_server; break;
-    case NET_CREDIT: expected = c->state == NET_OPEN; limit = 4; break;
-    case NET_PING: expected = c->state == NET_OPEN; limit = 1; break;
-    case NET_BYE: expected = c->state == NET_OPEN; limit = 0; break;
+    case NET_CREDIT:
+        expected = c->state == NET_OPEN;
+        limit = 4;
+        break;
+    case NET_PING:
+        expected = c->state == NET_OPEN;
+        limit = 1;
+        break;
+    case NET_BYE:
+        expected = c->state == NET_OPEN;
+        limit = 0;
+        break;
     default:
-        expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN &&
-                   !c->peer_said_bye;
+        expected = h.type >= TSR_NET_KIND_FIRST_USER && c->state == NET_OPEN && !c->peer_said_bye;
         limit = net->config.max_message_bytes;
         break;
     }
     if (!expected) {
-        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent message type 0x%02x %s", who,
-                      c->address, h.type,
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent message type 0x%02x %s", who, c->address, h.type,
                       handshaking ? "before completing the handshake" : "out of place");
         close_handles(c);
         return;
     }
     if (h.type == NET_CREDIT && h.len != 4) {
-        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a CREDIT of %llu bytes (not 4)",
-                      who, c->address, (unsigned long long)h.len);
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a CREDIT of %llu bytes (not 4)", who, c->address,
+                      (unsigned long long)h.len);
         close_handles(c);
         return;
     }
@@ -566,17 +580,14 @@ static void handle_header(tsr_net_conn *c) {
         net_conn_fail(c, TSR_EPROTO,
                       "net: peer '%s' at %s announced a %llu-byte message (type 0x%02x), over "
                       "this node's limit of %llu bytes%s",
-                      who, c->address, (unsigned long long)h.len, h.type,
-                      (unsigned long long)limit,
+                      who, c->address, (unsigned long long)h.len, h.type, (unsigned long long)limit,
                       h.type >= TSR_NET_KIND_FIRST_USER ? " (max_message_bytes)" : "");
         close_handles(c);
         return;
     }
-    if (h.type >= TSR_NET_KIND_FIRST_USER && !c->close_requested &&
-        unreturned(c) >= net->config.credits) {
-        net_conn_fail(c, TSR_EPROTO,
-                      "net: peer '%s' at %s sent more messages than the %u credits granted",
-                      who, c->address, net->config.credits);
+    if (h.type >= TSR_NET_KIND_FIRST_USER && !c->close_requested && unreturned(c) >= net->config.credits) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent more messages than the %u credits granted", who,
+                      c->address, net->config.credits);
         close_handles(c);
         return;
     }
@@ -586,8 +597,8 @@ static void handle_header(tsr_net_conn *c) {
     if (!m || !data) {
         free(m);
         free(data);
-        net_conn_fail(c, TSR_ENOMEM, "net: out of memory for a %llu-byte message from %s",
-                      (unsigned long long)h.len, c->address);
+        net_conn_fail(c, TSR_ENOMEM, "net: out of memory for a %llu-byte message from %s", (unsigned long long)h.len,
+                      c->address);
         close_handles(c);
         return;
     }
@@ -604,7 +615,8 @@ static void handle_header(tsr_net_conn *c) {
     c->partial_fill = 0;
 }
 
-static void parse_bytes(tsr_net_conn *c, const uint8_t *p, size_t n) {
+static void parse_bytes(tsr_net_conn *c, const uint8_t *p, size_t n)
+{
     while (n && !c->handles_closing && c->state != NET_FAILED) {
         if (c->partial) {
             uint64_t left = c->partial->len - c->partial_fill;
@@ -632,18 +644,18 @@ static void parse_bytes(tsr_net_conn *c, const uint8_t *p, size_t n) {
     }
 }
 
-static void on_peer_eof(tsr_net_conn *c) {
+static void on_peer_eof(tsr_net_conn *c)
+{
     c->saw_eof = true;
     stop_reading(c);
     if (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE) {
-        net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake",
-                      c->address);
+        net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake", c->address);
         close_handles(c);
         return;
     }
     if (c->partial || c->hdr_fill) {
-        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s ended its stream inside a message",
-                      c->peer_name, c->address);
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s ended its stream inside a message", c->peer_name,
+                      c->address);
         close_handles(c);
         return;
     }
@@ -674,7 +686,8 @@ static void on_peer_eof(tsr_net_conn *c) {
  * idle timer looks at the bytes queued below the mark (FIONREAD), so a
  * slow peer is not taken for a silent one. */
 #define NET_LOWAT_MAX (1u << 20)
-static void update_lowat(tsr_net_conn *c) {
+static void update_lowat(tsr_net_conn *c)
+{
     if (c->transport != NET_TCP || c->fd < 0 || c->handles_closing)
         return;
     uint64_t left = c->partial ? c->partial->len - c->partial_fill : 1;
@@ -683,7 +696,8 @@ static void update_lowat(tsr_net_conn *c) {
         c->rcvlowat = want;
 }
 
-static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf) {
+static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf)
+{
     tsr_net_conn *c = s->data;
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
@@ -704,17 +718,18 @@ static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf) {
         on_peer_eof(c);
     } else if (nread < 0 && !c->handles_closing) {
         if (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
-            net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake (%s)",
-                          c->address, uv_strerror((int)nread));
+            net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake (%s)", c->address,
+                          uv_strerror((int)nread));
         else
-            net_conn_fail(c, TSR_EIO, "net: connection to peer '%s' at %s lost: %s",
-                          c->peer_name, c->address, uv_strerror((int)nread));
+            net_conn_fail(c, TSR_EIO, "net: connection to peer '%s' at %s lost: %s", c->peer_name, c->address,
+                          uv_strerror((int)nread));
         close_handles(c);
     }
     pthread_mutex_unlock(&net->lock);
 }
 
-static void start_reading(tsr_net_conn *c) {
+static void start_reading(tsr_net_conn *c)
+{
     if (c->reading || c->handles_closing || c->saw_eof)
         return;
     int rc = uv_read_start(&c->h.stream, on_alloc, on_read);
@@ -736,7 +751,8 @@ static void start_reading(tsr_net_conn *c) {
  * send cannot deadlock on CREDITs queued behind data. Memory stays
  * bounded: a data message beyond the credits fails the connection when
  * its header arrives, before any allocation. */
-static void update_reading(tsr_net_conn *c) {
+static void update_reading(tsr_net_conn *c)
+{
     if (c->handles_closing || c->saw_eof)
         return;
     bool want = c->shutting_down || c->state == NET_HANDSHAKE || c->state == NET_OPEN;
@@ -748,7 +764,8 @@ static void update_reading(tsr_net_conn *c) {
 
 /* ---- servicing requests from application threads -------------------------- */
 
-void net_io_service(tsr_net_conn *c) {
+void net_io_service(tsr_net_conn *c)
+{
     if (!c->io_ref || c->handles_closing) {
         net_conn_maybe_free(c);
         return;
@@ -759,8 +776,7 @@ void net_io_service(tsr_net_conn *c) {
     }
     if (c->state == NET_OPEN && !c->shutting_down)
         flush_outbox(c);
-    if (c->credits_to_return && c->state == NET_OPEN && !c->handles_closing &&
-        !c->shutting_down) {
+    if (c->credits_to_return && c->state == NET_OPEN && !c->handles_closing && !c->shutting_down) {
         uint8_t payload[4];
         net_put_u32(payload, c->credits_to_return);
         c->credits_to_return = 0;
@@ -771,7 +787,8 @@ void net_io_service(tsr_net_conn *c) {
         begin_shutdown(c);
 }
 
-void net_io_stop(tsr_net *net) {
+void net_io_stop(tsr_net *net)
+{
     for (tsr_net_listener *l = net->listeners; l; l = l->next)
         if (l->transport != NET_INPROC && l->io_ref && !uv_is_closing(&l->h.handle))
             net_io_close_listener(l);
@@ -784,15 +801,15 @@ void net_io_stop(tsr_net *net) {
 
 /* ---- connecting ----------------------------------------------------------- */
 
-static void on_connect(uv_connect_t *req, int status) {
+static void on_connect(uv_connect_t *req, int status)
+{
     tsr_net_conn *c = req->data;
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
     if (c->handles_closing) {
         /* closed meanwhile (time-out or shutdown) */
     } else if (status < 0) {
-        net_conn_fail(c, TSR_EIO, "net: cannot connect to %s: %s", c->address,
-                      uv_strerror(status));
+        net_conn_fail(c, TSR_EIO, "net: cannot connect to %s: %s", c->address, uv_strerror(status));
         close_handles(c);
     } else {
         c->socket_connected = true;
@@ -804,9 +821,9 @@ static void on_connect(uv_connect_t *req, int status) {
     pthread_mutex_unlock(&net->lock);
 }
 
-static int init_stream(tsr_net *net, tsr_net_conn *c) {
-    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp)
-                                     : uv_pipe_init(&net->loop, &c->h.pipe, 0);
+static int init_stream(tsr_net *net, tsr_net_conn *c)
+{
+    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp) : uv_pipe_init(&net->loop, &c->h.pipe, 0);
     if (rc)
         return rc;
     c->h.handle.data = c;
@@ -816,7 +833,8 @@ static int init_stream(tsr_net *net, tsr_net_conn *c) {
     return 0;
 }
 
-void net_io_connect(tsr_net *net, net_op *op) {
+void net_io_connect(tsr_net *net, net_op *op)
+{
     tsr_net_conn *c = op->target;
     op->rc = TSR_OK;
     int rc = init_stream(net, c);
@@ -829,8 +847,7 @@ void net_io_connect(tsr_net *net, net_op *op) {
     c->connect_req.data = c;
     if (c->transport == NET_TCP) {
         uv_tcp_nodelay(&c->h.tcp, 1);
-        rc = uv_tcp_connect(&c->connect_req, &c->h.tcp, (const struct sockaddr *)&op->sockaddr,
-                            on_connect);
+        rc = uv_tcp_connect(&c->connect_req, &c->h.tcp, (const struct sockaddr *)&op->sockaddr, on_connect);
     } else {
         uv_pipe_connect(&c->connect_req, &c->h.pipe, op->address->path, on_connect);
     }
@@ -842,13 +859,13 @@ void net_io_connect(tsr_net *net, net_op *op) {
 
 /* ---- listening ------------------------------------------------------------ */
 
-static void on_connection(uv_stream_t *server, int status) {
+static void on_connection(uv_stream_t *server, int status)
+{
     tsr_net_listener *l = server->data;
     tsr_net *net = l->net;
     pthread_mutex_lock(&net->lock);
     if (status < 0) {
-        tsr_log(TSR_LOG_WARN, "net: accepting on %s failed: %s", l->address,
-                uv_strerror(status));
+        tsr_log(TSR_LOG_WARN, "net: accepting on %s failed: %s", l->address, uv_strerror(status));
         goto out;
     }
     tsr_net_conn *c = net_conn_new(net, l->transport, true, l->address);
@@ -866,16 +883,15 @@ static void on_connection(uv_stream_t *server, int status) {
         struct sockaddr_storage peer;
         int len = sizeof peer;
         if (!uv_tcp_getpeername(&c->h.tcp, (struct sockaddr *)&peer, &len))
-            net_address_format_sockaddr((struct sockaddr *)&peer, NET_TCP, c->address,
-                                        sizeof c->address);
+            net_address_format_sockaddr((struct sockaddr *)&peer, NET_TCP, c->address, sizeof c->address);
         uv_tcp_nodelay(&c->h.tcp, 1);
     } /* a Unix-domain peer has no address of its own: it keeps the listener's */
     c->listener = l;
     l->pending++;
     if (rc || l->closing || l->pending > NET_PENDING_ACCEPT_MAX) {
         if (!rc)
-            tsr_log(TSR_LOG_WARN, "net: %s: %u connections wait to be accepted; closing %s",
-                    l->address, l->pending - 1, c->address);
+            tsr_log(TSR_LOG_WARN, "net: %s: %u connections wait to be accepted; closing %s", l->address, l->pending - 1,
+                    c->address);
         net_conn_fail(c, TSR_EIO, "net: not accepted");
         close_handles(c);
         goto out;
@@ -886,14 +902,15 @@ out:
     pthread_mutex_unlock(&net->lock);
 }
 
-static void on_listener_closed(uv_handle_t *h) {
+static void on_listener_closed(uv_handle_t *h)
+{
     tsr_net_listener *l = h->data;
     tsr_net *net = l->net;
     pthread_mutex_lock(&net->lock);
     /* Only the socket this listener bound: not a file that replaced it. */
     struct stat st;
-    if (l->unix_path[0] && lstat(l->unix_path, &st) == 0 && S_ISSOCK(st.st_mode) &&
-        st.st_dev == l->unix_dev && st.st_ino == l->unix_ino)
+    if (l->unix_path[0] && lstat(l->unix_path, &st) == 0 && S_ISSOCK(st.st_mode) && st.st_dev == l->unix_dev &&
+        st.st_ino == l->unix_ino)
         unlink(l->unix_path);
     l->io_ref = false;
     net_listener_maybe_free(l);
@@ -901,7 +918,8 @@ static void on_listener_closed(uv_handle_t *h) {
     pthread_mutex_unlock(&net->lock);
 }
 
-void net_io_close_listener(tsr_net_listener *l) {
+void net_io_close_listener(tsr_net_listener *l)
+{
     l->closing = true;
     /* Connections still in their handshake lose their listener. */
     for (tsr_net_conn *c = l->net->conns; c; c = c->next_all)
@@ -915,7 +933,8 @@ void net_io_close_listener(tsr_net_listener *l) {
 
 /* A socket file exists at `path`: is anyone listening on it? Only a
  * refused connection says no (ECONNREFUSED: nobody accepts on it). */
-static bool unix_socket_is_live(const char *path) {
+static bool unix_socket_is_live(const char *path)
+{
     int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0)
         return true;
@@ -932,12 +951,13 @@ static bool unix_socket_is_live(const char *path) {
  * naming the path and left as it is: a regular file, a folder, a symbolic
  * link (never followed or removed), a live socket. A missing folder is
  * named as such (libuv would report EACCES for it). */
-static int unix_path_prepare(const char *text, const char *path, tsr_error *err) {
+static int unix_path_prepare(const char *text, const char *path, tsr_error *err)
+{
     struct stat st;
     if (lstat(path, &st) != 0) {
         if (errno != ENOENT)
-            return tsr_error_set(err, TSR_EIO, "net: cannot listen on %s: cannot inspect %s: %s",
-                                 text, path, strerror(errno));
+            return tsr_error_set(err, TSR_EIO, "net: cannot listen on %s: cannot inspect %s: %s", text, path,
+                                 strerror(errno));
         char dir[sizeof(((struct sockaddr_un *)0)->sun_path)];
         snprintf(dir, sizeof dir, "%s", path);
         char *slash = strrchr(dir, '/');
@@ -949,11 +969,9 @@ static int unix_path_prepare(const char *text, const char *path, tsr_error *err)
             *slash = '\0';
         struct stat dst;
         if (stat(dir, &dst) != 0)
-            return tsr_error_set(err, TSR_EINVAL,
-                                 "net: cannot listen on %s: folder %s does not exist", text, dir);
+            return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on %s: folder %s does not exist", text, dir);
         if (!S_ISDIR(dst.st_mode))
-            return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on %s: %s is not a folder",
-                                 text, dir);
+            return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on %s: %s is not a folder", text, dir);
         return TSR_OK;
     }
     if (S_ISLNK(st.st_mode))
@@ -962,8 +980,7 @@ static int unix_path_prepare(const char *text, const char *path, tsr_error *err)
                              "(left as it is)",
                              text, path);
     if (S_ISDIR(st.st_mode))
-        return tsr_error_set(err, TSR_EINVAL,
-                             "net: cannot listen on %s: %s is a folder, not a socket", text, path);
+        return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on %s: %s is a folder, not a socket", text, path);
     if (!S_ISSOCK(st.st_mode))
         return tsr_error_set(err, TSR_EINVAL,
                              "net: cannot listen on %s: %s exists and is not a socket (%s; left as "
@@ -976,25 +993,23 @@ static int unix_path_prepare(const char *text, const char *path, tsr_error *err)
                              text, path);
     /* Stale. Removed only if it is still the same socket file. */
     struct stat again;
-    if (lstat(path, &again) == 0 && S_ISSOCK(again.st_mode) && again.st_ino == st.st_ino &&
-        again.st_dev == st.st_dev && unlink(path) != 0 && errno != ENOENT)
-        return tsr_error_set(err, TSR_EIO,
-                             "net: cannot listen on %s: cannot remove the stale socket %s: %s",
-                             text, path, strerror(errno));
+    if (lstat(path, &again) == 0 && S_ISSOCK(again.st_mode) && again.st_ino == st.st_ino && again.st_dev == st.st_dev &&
+        unlink(path) != 0 && errno != ENOENT)
+        return tsr_error_set(err, TSR_EIO, "net: cannot listen on %s: cannot remove the stale socket %s: %s", text,
+                             path, strerror(errno));
     tsr_log(TSR_LOG_INFO, "net: replaced the stale socket %s (nobody listened on it)", path);
     return TSR_OK;
 }
 
-void net_io_listen(tsr_net *net, net_op *op) {
+void net_io_listen(tsr_net *net, net_op *op)
+{
     tsr_net_listener *l = op->target;
     const net_address *a = op->address;
     const char *text = l->address;
-    int rc = l->transport == NET_TCP ? uv_tcp_init(&net->loop, &l->h.tcp)
-                                     : uv_pipe_init(&net->loop, &l->h.pipe, 0);
+    int rc = l->transport == NET_TCP ? uv_tcp_init(&net->loop, &l->h.tcp) : uv_pipe_init(&net->loop, &l->h.pipe, 0);
     if (rc) {
         l->io_ref = false;
-        op->rc = tsr_error_set(&op->err, TSR_EIO, "net: cannot listen on %s: %s", text,
-                               uv_strerror(rc));
+        op->rc = tsr_error_set(&op->err, TSR_EIO, "net: cannot listen on %s: %s", text, uv_strerror(rc));
         return;
     }
     l->h.handle.data = l;
@@ -1019,9 +1034,8 @@ void net_io_listen(tsr_net *net, net_op *op) {
         rc = uv_listen(&l->h.stream, 128, on_connection);
     if (rc) {
         /* (A Unix path that appeared since it was checked lands here too.) */
-        op->rc = tsr_error_set(&op->err, rc == UV_EADDRINUSE ? TSR_EINVAL : TSR_EIO,
-                               "net: cannot listen on %s: %s%s", text, uv_strerror(rc),
-                               rc == UV_EADDRINUSE ? " (another listener has it)" : "");
+        op->rc = tsr_error_set(&op->err, rc == UV_EADDRINUSE ? TSR_EINVAL : TSR_EIO, "net: cannot listen on %s: %s%s",
+                               text, uv_strerror(rc), rc == UV_EADDRINUSE ? " (another listener has it)" : "");
         l->closing = true;
         uv_close(&l->h.handle, on_listener_closed);
         return;
@@ -1030,8 +1044,7 @@ void net_io_listen(tsr_net *net, net_op *op) {
         struct sockaddr_storage sa;
         int len = sizeof sa;
         if (!uv_tcp_getsockname(&l->h.tcp, (struct sockaddr *)&sa, &len))
-            net_address_format_sockaddr((struct sockaddr *)&sa, NET_TCP, l->address,
-                                        sizeof l->address);
+            net_address_format_sockaddr((struct sockaddr *)&sa, NET_TCP, l->address, sizeof l->address);
     } else {
         snprintf(l->address, sizeof l->address, "unix:%s", a->path);
     }

@@ -7,14 +7,16 @@
 
 #include "net_internal.h"
 
-static uint64_t splitmix64(uint64_t x) {
+static uint64_t splitmix64(uint64_t x)
+{
     x += 0x9E3779B97F4A7C15ull;
     x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
     x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
     return x ^ (x >> 31);
 }
 
-void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed) {
+void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed)
+{
     uint8_t *d = dst;
     while (len) {
         uint64_t word = splitmix64((offset >> 3) ^ seed);
@@ -32,7 +34,8 @@ void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed)
     }
 }
 
-uint64_t tsr_net_fnv1a(uint64_t hash, const void *data, size_t len) {
+uint64_t tsr_net_fnv1a(uint64_t hash, const void *data, size_t len)
+{
     const uint8_t *p = data;
     for (size_t i = 0; i < len; i++) {
         hash ^= p[i];
@@ -41,8 +44,9 @@ uint64_t tsr_net_fnv1a(uint64_t hash, const void *data, size_t len) {
     return hash;
 }
 
-int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes,
-                        size_t message_bytes, int timeout_ms, tsr_error *err) {
+int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes, size_t message_bytes, int timeout_ms,
+                        tsr_error *err)
+{
     if (message_bytes == 0)
         return tsr_error_set(err, TSR_EINVAL, "net: stream message size must be above 0");
     for (uint64_t at = 0; at < total_bytes;) {
@@ -61,8 +65,8 @@ int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes,
     return TSR_OK;
 }
 
-int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms,
-                        tsr_error *err) {
+int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms, tsr_error *err)
+{
     enum { CHUNK = 65536 };
     uint8_t *expect = malloc(CHUNK);
     if (!expect)
@@ -73,8 +77,7 @@ int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms
         int got = tsr_net_recv(conn, &msg, timeout_ms, err);
         if (got <= 0) {
             rc = got < 0 ? got
-                         : tsr_error_set(err, TSR_EIO,
-                                         "net: stream from %s ended after %llu of %llu bytes",
+                         : tsr_error_set(err, TSR_EIO, "net: stream from %s ended after %llu of %llu bytes",
                                          tsr_net_conn_address(conn), (unsigned long long)at,
                                          (unsigned long long)total_bytes);
             break;
@@ -90,8 +93,7 @@ int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms
                 while (expect[i] == ((uint8_t *)msg.data)[done + i])
                     i++;
                 rc = tsr_error_set(err, TSR_EPROTO, "net: stream from %s differs at byte %llu",
-                                   tsr_net_conn_address(conn),
-                                   (unsigned long long)(at + done + i));
+                                   tsr_net_conn_address(conn), (unsigned long long)(at + done + i));
             }
             done += n;
         }

@@ -23,16 +23,16 @@
 
 typedef struct node_session {
     struct tsr_node *node;
-    unsigned index;            /* client number, in connection order */
+    unsigned index; /* client number, in connection order */
     tsr_net_conn *conn;
     char who[TSR_NET_NAME_MAX + TSR_NET_ADDRESS_MAX + 32]; /* "client 0 'pack-pid1' at tcp://..." */
     pthread_t thread;
     int started;
-    uint8_t *reply;            /* TSR_NODE_MSG_REPLY being sent */
+    uint8_t *reply; /* TSR_NODE_MSG_REPLY being sent */
     size_t reply_cap;
-    tsr_error error;           /* why this session failed; TSR_OK when it ended cleanly */
-    tsr_dispatch head;         /* the chain's head with SwapBuffersTSR counted */
-    tsr_entry chain_swap;      /* the chain's own SwapBuffersTSR */
+    tsr_error error;      /* why this session failed; TSR_OK when it ended cleanly */
+    tsr_dispatch head;    /* the chain's head with SwapBuffersTSR counted */
+    tsr_entry chain_swap; /* the chain's own SwapBuffersTSR */
 } node_session;
 
 /* Adds to the node's totals under its lock (sessions run on their own
@@ -153,8 +153,7 @@ static tsr_chain_link *copy_links(const tsr_chain_link *from, size_t count)
         size_t n = from[i].option_count;
         const char **keys = calloc(n ? n : 1, sizeof *keys);
         const char **values = calloc(n ? n : 1, sizeof *values);
-        links[i] = (tsr_chain_link){.spu = strdup(from[i].spu), .keys = keys, .values = values,
-                                    .option_count = n};
+        links[i] = (tsr_chain_link){.spu = strdup(from[i].spu), .keys = keys, .values = values, .option_count = n};
         failed = !links[i].spu || !keys || !values;
         for (size_t k = 0; k < n && !failed; k++)
             failed = !(keys[k] = strdup(from[i].keys[k])) || !(values[k] = strdup(from[i].values[k]));
@@ -208,8 +207,7 @@ int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_
         memcpy(*buf + TSR_NODE_REPLY_HEADER, data, size);
     tsr_error cause = {0};
     if (tsr_net_send(conn, TSR_NODE_MSG_REPLY, *buf, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
-        return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id,
-                             cause.message);
+        return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id, cause.message);
     tsr_node_stats delta = {.bytes_out = total};
     tsr_node_stats_add(node, &delta);
     return TSR_OK;
@@ -257,8 +255,7 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
             tsr_error_set(&s->error, rc, "%s", cause.message);
             /* Tell the client why before closing; it may be gone already. */
             tsr_error ignored = {0};
-            tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000,
-                         &ignored);
+            tsr_net_send(s->conn, TSR_NODE_MSG_ERROR, s->error.message, strlen(s->error.message), 1000, &ignored);
             return rc;
         }
     }
@@ -304,8 +301,7 @@ static void *session_main(void *arg)
 /* Takes the chain (text, or else links: copied), refuses "{client}" in
  * shared mode, and builds and destroys client 0's chain once, so a bad SPU,
  * option or output directory fails now, not once per client. */
-static int take_chain(tsr_node *node, const char *chain, const tsr_chain_link *links, size_t count,
-                      tsr_error *err)
+static int take_chain(tsr_node *node, const char *chain, const tsr_chain_link *links, size_t count, tsr_error *err)
 {
     int text = chain && chain[0];
     if (!text && count == 0)
@@ -376,8 +372,8 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     const char *stall = getenv(TSR_NODE_TEST_STALL_ENV);
     if (stall && *stall) {
         node->test_stall_ms = (uint32_t)strtoul(stall, NULL, 10);
-        tsr_log(TSR_LOG_WARN, "node: %s=%u: the first frame takes %u ms more (a test setting)",
-                TSR_NODE_TEST_STALL_ENV, node->test_stall_ms, node->test_stall_ms);
+        tsr_log(TSR_LOG_WARN, "node: %s=%u: the first frame takes %u ms more (a test setting)", TSR_NODE_TEST_STALL_ENV,
+                node->test_stall_ms, node->test_stall_ms);
     }
     node->mode = config->mode;
     pthread_mutex_init(&node->stats_lock, NULL);
@@ -402,10 +398,7 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     return node;
 }
 
-const char *tsr_node_address(const tsr_node *node)
-{
-    return tsr_net_listener_address(node->listener);
-}
+const char *tsr_node_address(const tsr_node *node) { return tsr_net_listener_address(node->listener); }
 
 tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure)
 {
@@ -416,9 +409,9 @@ tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure
     tsr_error last = {0};
     unsigned refused = tsr_net_listener_refusals(node->listener, &last);
     if (accept_err.code == TSR_ETIMEDOUT)
-        tsr_error_set(failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s",
-                      node->accepted, node->clients, tsr_node_address(node), node->timeout_ms,
-                      refused ? "; refused one: " : "", refused ? last.message : "");
+        tsr_error_set(failure, TSR_ETIMEDOUT, "node: %u of %u clients connected to %s within %u ms%s%s", node->accepted,
+                      node->clients, tsr_node_address(node), node->timeout_ms, refused ? "; refused one: " : "",
+                      refused ? last.message : "");
     else
         tsr_error_set(failure, accept_err.code, "node: accepting on %s: %s", tsr_node_address(node),
                       accept_err.message);

@@ -81,8 +81,8 @@ typedef enum tsr_node_mode {
 } tsr_node_mode;
 
 typedef struct tsr_node_config {
-    const char *listen;     /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
-    const char *chain;      /* chain text, "{client}" replaced by the client's number */
+    const char *listen; /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
+    const char *chain;  /* chain text, "{client}" replaced by the client's number */
     /* Or the chain as links (a graph run's: mothership/control.h), used when
      * `chain` is NULL; "{client}" in a value is replaced likewise. Copied. */
     const tsr_chain_link *links;
@@ -91,16 +91,16 @@ typedef struct tsr_node_config {
      * listens and its address is known: a graph run's peers learn each
      * other's addresses that way. */
     int chain_later;
-    const char *token;      /* shared token clients must present; NULL/"" = none */
-    const char *name;       /* this node's name in handshakes; NULL = "node" */
-    unsigned clients;       /* serve this many clients, then tsr_node_run returns (>= 1) */
-    uint32_t timeout_ms;    /* longest wait for the next client to connect; 0 = no limit */
+    const char *token;        /* shared token clients must present; NULL/"" = none */
+    const char *name;         /* this node's name in handshakes; NULL = "node" */
+    unsigned clients;         /* serve this many clients, then tsr_node_run returns (>= 1) */
+    uint32_t timeout_ms;      /* longest wait for the next client to connect; 0 = no limit */
     uint32_t idle_timeout_ms; /* longest silence of a connected client: then it is taken
                                for stopped or dead, dropped and named; 0 = no limit.
                                Silence is not being busy: a client's stream client
                                answers heartbeats from its I/O thread while the
                                application computes (netlib/net.h, idle_timeout_ms). */
-    tsr_node_mode mode;     /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
+    tsr_node_mode mode;       /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
 } tsr_node_config;
 
 /* Checks the chain (builds and destroys client 0's chain once, so a bad
@@ -126,18 +126,18 @@ void tsr_node_destroy(tsr_node *node);
  * mothership's statistics. Safe to call from any thread while
  * tsr_node_run runs. */
 typedef struct tsr_node_stats {
-    uint64_t frames;          /* frames ended: SwapBuffers that reached the node's chain
+    uint64_t frames;     /* frames ended: SwapBuffers that reached the node's chain
                                  (shared mode: the swapping client's only) */
-    uint64_t buffers;         /* wire buffers run */
-    uint64_t commands;        /* commands decoded */
-    uint64_t bytes_in;        /* payload bytes received from clients */
-    uint64_t bytes_out;       /* reply bytes sent to clients */
-    double busy_seconds;      /* time spent running buffers through the chain (render time) */
+    uint64_t buffers;    /* wire buffers run */
+    uint64_t commands;   /* commands decoded */
+    uint64_t bytes_in;   /* payload bytes received from clients */
+    uint64_t bytes_out;  /* reply bytes sent to clients */
+    double busy_seconds; /* time spent running buffers through the chain (render time) */
     unsigned clients_connected;
-    unsigned clients_ended;   /* ended cleanly */
-    unsigned clients_failed;  /* dropped */
-    uint64_t swaps_ignored;   /* shared mode: swaps of clients other than the swapping one */
-    uint64_t blocks;          /* shared mode: times a client blocked on a barrier or semaphore */
+    unsigned clients_ended;  /* ended cleanly */
+    unsigned clients_failed; /* dropped */
+    uint64_t swaps_ignored;  /* shared mode: swaps of clients other than the swapping one */
+    uint64_t blocks;         /* shared mode: times a client blocked on a barrier or semaphore */
 } tsr_node_stats;
 void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out);
 

@@ -20,11 +20,11 @@ struct node_session;
 #define TSR_NODE_TEST_STALL_ENV "TESSERA_TEST_STALL_MS"
 
 struct tsr_node {
-    char *chain_text;          /* the chain as text, or NULL and ... */
-    tsr_chain_link *links;     /* ... as links (owned copies) */
+    char *chain_text;      /* the chain as text, or NULL and ... */
+    tsr_chain_link *links; /* ... as links (owned copies) */
     size_t link_count;
     uint32_t timeout_ms;
-    uint32_t test_stall_ms; /* TSR_NODE_TEST_STALL_ENV; 0 = none */
+    uint32_t test_stall_ms;  /* TSR_NODE_TEST_STALL_ENV; 0 = none */
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
     unsigned clients;
     tsr_node_mode mode;

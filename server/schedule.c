@@ -44,18 +44,18 @@ typedef struct sched sched;
 typedef struct sched_client {
     sched *sched;
     unsigned index;
-    GLint context;             /* index + 1 */
+    GLint context; /* index + 1 */
     char who[TSR_NET_NAME_MAX + TSR_NET_ADDRESS_MAX + 32];
     tsr_net_conn *conn;
     tsr_unpacker *unpacker;
     client_state state;
-    tsr_net_msg msg;           /* received, not finished */
+    tsr_net_msg msg; /* received, not finished */
     int has_msg;
-    int started;               /* msg is a buffer paused mid-way */
-    sync_kind wait_kind;       /* while BLOCKED */
+    int started;         /* msg is a buffer paused mid-way */
+    sync_kind wait_kind; /* while BLOCKED */
     GLuint wait_name;
-    uint64_t wait_ticket;      /* FIFO order of semaphore waiters */
-    tsr_error error;           /* why it was dropped */
+    uint64_t wait_ticket; /* FIFO order of semaphore waiters */
+    tsr_error error;      /* why it was dropped */
     uint8_t *reply;
     size_t reply_cap;
 } sched_client;
@@ -63,19 +63,19 @@ typedef struct sched_client {
 struct sched {
     tsr_node *node;
     tsr_chain *chain;
-    tsr_dispatch head;         /* the chain's head with the node's commands */
-    const tsr_dispatch *down;  /* the chain's own table */
-    sched_client *clients;     /* node->clients entries, `accepted` used */
-    tsr_net_conn **conns;      /* scratch for waiting on every ready client */
+    tsr_dispatch head;        /* the chain's head with the node's commands */
+    const tsr_dispatch *down; /* the chain's own table */
+    sched_client *clients;    /* node->clients entries, `accepted` used */
+    tsr_net_conn **conns;     /* scratch for waiting on every ready client */
     sched_client **owners;
     unsigned accepted;
-    sched_client *current;     /* whose commands run now */
-    GLint current_context;     /* context current in the chain; 0 = none yet */
-    int swapper;               /* client whose swaps end frames; -1 = none yet */
+    sched_client *current; /* whose commands run now */
+    GLint current_context; /* context current in the chain; 0 = none yet */
+    int swapper;           /* client whose swaps end frames; -1 = none yet */
     sync_object *syncs;
     size_t nsyncs, syncs_cap;
     uint64_t tickets;
-    tsr_error failure;         /* first client failure */
+    tsr_error failure; /* first client failure */
 };
 
 /* --- client errors inside command handlers -------------------------------- */
@@ -110,8 +110,8 @@ static unsigned count_waiters(const sched *s, sync_kind kind, GLuint name)
 {
     unsigned n = 0;
     for (unsigned i = 0; i < s->accepted; i++)
-        n += s->clients[i].state == CLIENT_BLOCKED && s->clients[i].wait_kind == kind &&
-             s->clients[i].wait_name == name;
+        n +=
+            s->clients[i].state == CLIENT_BLOCKED && s->clients[i].wait_kind == kind && s->clients[i].wait_name == name;
     return n;
 }
 
@@ -262,10 +262,7 @@ static void node_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 /* Contexts are the node's to manage: a client's own are ignored. */
 static void node_ContextCreateTSR(void *self, GLint context) { (void)self, (void)context; }
 static void node_ContextDestroyTSR(void *self, GLint context) { (void)self, (void)context; }
-static void node_MakeCurrentTSR(void *self, GLint window, GLint context)
-{
-    (void)self, (void)window, (void)context;
-}
+static void node_MakeCurrentTSR(void *self, GLint window, GLint context) { (void)self, (void)window, (void)context; }
 
 static int client_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
@@ -428,8 +425,7 @@ static void run_turn(sched *s, sched_client *c)
 
 /* --- deadlock ------------------------------------------------------------------ */
 
-static void append(char *buf, size_t size, size_t *len, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
+static void append(char *buf, size_t size, size_t *len, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
 static void append(char *buf, size_t size, size_t *len, const char *fmt, ...)
 {
     if (*len >= size - 1)
@@ -455,8 +451,7 @@ static void report_deadlock(sched *s, tsr_error *err)
         if (!waiting)
             continue;
         if (o->kind == SYNC_BARRIER)
-            append(text, sizeof text, &len, " barrier %u (count %u, %u arrived) holds", o->name, o->count,
-                   o->arrived);
+            append(text, sizeof text, &len, " barrier %u (count %u, %u arrived) holds", o->name, o->count, o->arrived);
         else
             append(text, sizeof text, &len, " semaphore %u (value %u) holds", o->name, o->value);
         const char *sep = " ";
@@ -525,7 +520,7 @@ static int check_unreachable(sched *s, unsigned live, tsr_error *err)
 static int scheduler_loop(sched *s, tsr_error *err)
 {
     tsr_node *node = s->node;
-    unsigned next = 0;               /* round-robin position */
+    unsigned next = 0; /* round-robin position */
     double last_accept = tsr_now_seconds();
     for (;;) {
         /* New clients, without waiting. */

@@ -42,8 +42,8 @@ static int harness_failures __attribute__((unused));
 
 /* Prints "FILE:LINE: check failed: COND" and then `fmt` (": " plus the
  * caller's message, or just ": " when there is none). */
-__attribute__((format(printf, 4, 5))) static inline void
-harness_report_(const char *file, int line, const char *cond, const char *fmt, ...)
+__attribute__((format(printf, 4, 5))) static inline void harness_report_(const char *file, int line, const char *cond,
+                                                                         const char *fmt, ...)
 {
     fprintf(stderr, "%s:%d: check failed: %s", file, line, cond);
     if (strcmp(fmt, ": ") != 0) {
@@ -56,53 +56,50 @@ harness_report_(const char *file, int line, const char *cond, const char *fmt, .
     fflush(stderr);
 }
 
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            harness_report_(__FILE__, __LINE__, #cond, ": " __VA_ARGS__);                          \
-            HARNESS_ON_FAIL;                                                                       \
-        }                                                                                          \
+#define CHECK(cond, ...)                                                  \
+    do {                                                                  \
+        if (!(cond)) {                                                    \
+            harness_report_(__FILE__, __LINE__, #cond, ": " __VA_ARGS__); \
+            HARNESS_ON_FAIL;                                              \
+        }                                                                 \
     } while (0)
 
-#define REQUIRE(cond, ...)                                                                         \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            harness_report_(__FILE__, __LINE__, #cond, ": " __VA_ARGS__);                          \
-            exit(1);                                                                               \
-        }                                                                                          \
+#define REQUIRE(cond, ...)                                                \
+    do {                                                                  \
+        if (!(cond)) {                                                    \
+            harness_report_(__FILE__, __LINE__, #cond, ": " __VA_ARGS__); \
+            exit(1);                                                      \
+        }                                                                 \
     } while (0)
 
-#define CHECK_OK(call, err)                                                                        \
-    do {                                                                                           \
-        int harness_rc_ = (call);                                                                  \
-        if (harness_rc_ != TSR_OK) {                                                               \
-            harness_report_(__FILE__, __LINE__, #call " == TSR_OK", ": got %s: %s",                \
-                            tsr_error_name(harness_rc_), (err).message);                           \
-            HARNESS_ON_FAIL;                                                                       \
-        }                                                                                          \
+#define CHECK_OK(call, err)                                                                                      \
+    do {                                                                                                         \
+        int harness_rc_ = (call);                                                                                \
+        if (harness_rc_ != TSR_OK) {                                                                             \
+            harness_report_(__FILE__, __LINE__, #call " == TSR_OK", ": got %s: %s", tsr_error_name(harness_rc_), \
+                            (err).message);                                                                      \
+            HARNESS_ON_FAIL;                                                                                     \
+        }                                                                                                        \
     } while (0)
 
-#define CHECK_STR(actual, expected)                                                                \
-    do {                                                                                           \
-        const char *harness_a_ = (actual), *harness_e_ = (expected);                               \
-        if (!harness_a_ || !harness_e_ || strcmp(harness_a_, harness_e_)) {                        \
-            harness_report_(__FILE__, __LINE__, #actual " == " #expected,                          \
-                            ":\n  got:      %s\n  expected: %s",                                   \
-                            harness_a_ ? harness_a_ : "(null)",                                    \
-                            harness_e_ ? harness_e_ : "(null)");                                   \
-            HARNESS_ON_FAIL;                                                                       \
-        }                                                                                          \
+#define CHECK_STR(actual, expected)                                                                            \
+    do {                                                                                                       \
+        const char *harness_a_ = (actual), *harness_e_ = (expected);                                           \
+        if (!harness_a_ || !harness_e_ || strcmp(harness_a_, harness_e_)) {                                    \
+            harness_report_(__FILE__, __LINE__, #actual " == " #expected, ":\n  got:      %s\n  expected: %s", \
+                            harness_a_ ? harness_a_ : "(null)", harness_e_ ? harness_e_ : "(null)");           \
+            HARNESS_ON_FAIL;                                                                                   \
+        }                                                                                                      \
     } while (0)
 
-#define CHECK_CONTAINS(haystack, needle)                                                           \
-    do {                                                                                           \
-        const char *harness_h_ = (haystack), *harness_n_ = (needle);                               \
-        if (!harness_h_ || !harness_n_ || !strstr(harness_h_, harness_n_)) {                       \
-            harness_report_(__FILE__, __LINE__, #haystack " contains " #needle,                    \
-                            ": '%s' does not contain '%s'", harness_h_ ? harness_h_ : "(null)",   \
-                            harness_n_ ? harness_n_ : "(null)");                                   \
-            HARNESS_ON_FAIL;                                                                       \
-        }                                                                                          \
+#define CHECK_CONTAINS(haystack, needle)                                                                        \
+    do {                                                                                                        \
+        const char *harness_h_ = (haystack), *harness_n_ = (needle);                                            \
+        if (!harness_h_ || !harness_n_ || !strstr(harness_h_, harness_n_)) {                                    \
+            harness_report_(__FILE__, __LINE__, #haystack " contains " #needle, ": '%s' does not contain '%s'", \
+                            harness_h_ ? harness_h_ : "(null)", harness_n_ ? harness_n_ : "(null)");            \
+            HARNESS_ON_FAIL;                                                                                    \
+        }                                                                                                       \
     } while (0)
 
 #endif

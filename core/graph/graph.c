@@ -34,13 +34,13 @@ struct tsr_graph {
  * model: where its keys were, and the names in `to:` before they resolve. */
 typedef struct node_source {
     yaml_node_t *name;
-    yaml_node_t *to_key;      /* NULL when the node has no `to:` */
-    yaml_node_t **to_names;   /* scalars, to_count of them */
-    yaml_node_t *network_spu; /* first network SPU of the chain, or NULL */
+    yaml_node_t *to_key;          /* NULL when the node has no `to:` */
+    yaml_node_t **to_names;       /* scalars, to_count of them */
+    yaml_node_t *network_spu;     /* first network SPU of the chain, or NULL */
     const tsr_spu_class *network; /* its class: its role (tessera/spu.h) */
-    bool role_unknown;        /* TSR_GRAPH_NO_SPU_CHECK: an SPU of the chain is not
+    bool role_unknown;            /* TSR_GRAPH_NO_SPU_CHECK: an SPU of the chain is not
                                  installed here, so the node's role is unknown */
-    yaml_node_t *server_key;  /* first of transport/listen/tiles set on the node */
+    yaml_node_t *server_key;      /* first of transport/listen/tiles set on the node */
     yaml_node_t *listen_value;
     yaml_node_t **tile_values; /* one sequence per tile */
 } node_source;
@@ -58,7 +58,8 @@ typedef struct loader {
 
 /* Whether an SPU sends to other nodes is its class's to say (its network
  * role, tessera/spu.h): no SPU is known here by name. */
-bool tsr_spu_is_network(const char *spu_name) {
+bool tsr_spu_is_network(const char *spu_name)
+{
     if (!spu_name)
         return false;
     tsr_error ignored;
@@ -69,7 +70,8 @@ bool tsr_spu_is_network(const char *spu_name) {
 
 /* The installed network SPUs, "pack, replicate, ..." (sorted), for
  * messages; "none installed" when there are none. */
-static const char *network_spu_list(char *buf, size_t size) {
+static const char *network_spu_list(char *buf, size_t size)
+{
     const tsr_spu_class *classes[256];
     size_t count = tsr_spu_list(classes, sizeof classes / sizeof classes[0]);
     if (count > sizeof classes / sizeof classes[0])
@@ -78,8 +80,7 @@ static const char *network_spu_list(char *buf, size_t size) {
     buf[0] = '\0';
     for (size_t i = 0; i < count && used < size; i++)
         if (classes[i]->network.role != TSR_SPU_ROLE_NONE)
-            used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
-                                     classes[i]->name);
+            used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "", classes[i]->name);
     if (!buf[0])
         snprintf(buf, size, "none installed");
     return buf;
@@ -87,7 +88,8 @@ static const char *network_spu_list(char *buf, size_t size) {
 
 /* ---- the model's memory ------------------------------------------------ */
 
-static void *graph_alloc(tsr_graph *g, size_t size) {
+static void *graph_alloc(tsr_graph *g, size_t size)
+{
     if (g->allocation_count == g->allocation_cap) {
         size_t cap = g->allocation_cap ? 2 * g->allocation_cap : 64;
         void **grown = realloc(g->allocations, cap * sizeof *grown);
@@ -102,7 +104,8 @@ static void *graph_alloc(tsr_graph *g, size_t size) {
     return p;
 }
 
-static char *graph_strdup(tsr_graph *g, const char *s) {
+static char *graph_strdup(tsr_graph *g, const char *s)
+{
     size_t len = strlen(s);
     char *d = graph_alloc(g, len + 1);
     if (d)
@@ -110,7 +113,8 @@ static char *graph_strdup(tsr_graph *g, const char *s) {
     return d;
 }
 
-void tsr_graph_free(tsr_graph *graph) {
+void tsr_graph_free(tsr_graph *graph)
+{
     if (!graph)
         return;
     for (size_t i = 0; i < graph->allocation_count; i++)
@@ -121,14 +125,16 @@ void tsr_graph_free(tsr_graph *graph) {
 
 /* ---- messages ------------------------------------------------------------- */
 
-static tsr_graph_mark mark_of(const yaml_node_t *n) {
+static tsr_graph_mark mark_of(const yaml_node_t *n)
+{
     return (tsr_graph_mark){(int)n->start_mark.line + 1, (int)n->start_mark.column + 1};
 }
 
 /* Every error goes through here so each names FILE:LINE:COL. */
 static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
-static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, ...) {
+static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, ...)
+{
     char message[sizeof l->err->message];
     va_list ap;
     va_start(ap, fmt);
@@ -138,25 +144,26 @@ static int fail_at(loader *l, const yaml_node_t *at, int code, const char *fmt, 
     return tsr_error_set(l->err, code, "%s:%d:%d: %s", l->file, m.line, m.column, message);
 }
 
-static int out_of_memory(loader *l, const yaml_node_t *at) {
-    return fail_at(l, at, TSR_ENOMEM, "out of memory");
-}
+static int out_of_memory(loader *l, const yaml_node_t *at) { return fail_at(l, at, TSR_ENOMEM, "out of memory"); }
 
 static yaml_node_t *node_at(loader *l, int index) { return yaml_document_get_node(&l->doc, index); }
 
-static bool is_null(const yaml_node_t *n) {
+static bool is_null(const yaml_node_t *n)
+{
     if (n->type != YAML_SCALAR_NODE || n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
         return false;
     const char *v = (const char *)n->data.scalar.value;
     return !*v || !strcmp(v, "~") || !strcmp(v, "null");
 }
 
-static const char *scalar_text(const yaml_node_t *n) {
+static const char *scalar_text(const yaml_node_t *n)
+{
     return n->type == YAML_SCALAR_NODE ? (const char *)n->data.scalar.value : NULL;
 }
 
 /* "a list", "a mapping", "nothing", "'abc'" — what the user wrote. */
-static const char *describe(const yaml_node_t *n, char *buf, size_t size) {
+static const char *describe(const yaml_node_t *n, char *buf, size_t size)
+{
     if (n->type == YAML_SEQUENCE_NODE)
         return "a list";
     if (n->type == YAML_MAPPING_NODE)
@@ -170,51 +177,48 @@ static const char *describe(const yaml_node_t *n, char *buf, size_t size) {
 /* ---- typed values ----------------------------------------------------------- */
 
 /* A non-empty scalar; `what` names the key for the message. */
-static const char *expect_string(loader *l, const yaml_node_t *n, const char *what) {
+static const char *expect_string(loader *l, const yaml_node_t *n, const char *what)
+{
     char buf[100];
     if (n->type != YAML_SCALAR_NODE || is_null(n)) {
-        fail_at(l, n, TSR_EINVAL, "%s: expected a string, got %s", what,
-                describe(n, buf, sizeof buf));
+        fail_at(l, n, TSR_EINVAL, "%s: expected a string, got %s", what, describe(n, buf, sizeof buf));
         return NULL;
     }
     return scalar_text(n);
 }
 
-static int expect_int(loader *l, const yaml_node_t *n, const char *what, long min, long max,
-                      int *out) {
+static int expect_int(loader *l, const yaml_node_t *n, const char *what, long min, long max, int *out)
+{
     char buf[100];
     const char *text = scalar_text(n);
     if (!text || is_null(n))
-        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got %s", what,
-                       describe(n, buf, sizeof buf));
+        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got %s", what, describe(n, buf, sizeof buf));
     if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
-        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got the quoted string '%.80s'",
-                       what, text);
+        return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got the quoted string '%.80s'", what, text);
     errno = 0;
     char *end;
     long v = strtol(text, &end, 10);
     if (end == text || *end)
         return fail_at(l, n, TSR_EINVAL, "%s: expected an integer, got '%.80s'", what, text);
     if (errno == ERANGE || v < min || v > max)
-        return fail_at(l, n, TSR_EINVAL, "%s: %.80s is out of range [%ld, %ld]", what, text, min,
-                       max);
+        return fail_at(l, n, TSR_EINVAL, "%s: %.80s is out of range [%ld, %ld]", what, text, min, max);
     *out = (int)v;
     return TSR_OK;
 }
 
-static int expect_kind(loader *l, const yaml_node_t *n, yaml_node_type_t kind, const char *what) {
+static int expect_kind(loader *l, const yaml_node_t *n, yaml_node_type_t kind, const char *what)
+{
     if (n->type == kind)
         return TSR_OK;
     char buf[100];
     return fail_at(l, n, TSR_EINVAL, "%s: expected %s, got %s", what,
-                   kind == YAML_MAPPING_NODE ? "a mapping" : "a list",
-                   describe(n, buf, sizeof buf));
+                   kind == YAML_MAPPING_NODE ? "a mapping" : "a list", describe(n, buf, sizeof buf));
 }
 
 /* Checks that every key of mapping `m` is a scalar from `allowed`, given
  * once. `where` prefixes messages ("node 'app'"). */
-static int check_keys(loader *l, const yaml_node_t *m, const char *where,
-                      const char *const *allowed, size_t count) {
+static int check_keys(loader *l, const yaml_node_t *m, const char *where, const char *const *allowed, size_t count)
+{
     for (yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top; p++) {
         yaml_node_t *key = node_at(l, p->key);
         const char *name = scalar_text(key);
@@ -229,23 +233,20 @@ static int check_keys(loader *l, const yaml_node_t *m, const char *where,
         if (!known) {
             const char *hint = tsr_closest_name(name, allowed, count);
             if (hint)
-                return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (did you mean '%s'?)",
-                               where, name, hint);
+                return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (did you mean '%s'?)", where, name, hint);
             char list[300] = "";
             size_t used = 0;
             for (size_t i = 0; i < count && used < sizeof list; i++)
-                used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "",
-                                         allowed[i]);
-            return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (keys: %s)", where, name,
-                           list);
+                used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", allowed[i]);
+            return fail_at(l, key, TSR_EINVAL, "%s: unknown key '%s' (keys: %s)", where, name, list);
         }
         for (yaml_node_pair_t *q = m->data.mapping.pairs.start; q < p; q++) {
             yaml_node_t *earlier = node_at(l, q->key);
             const char *earlier_name = scalar_text(earlier);
             if (earlier_name && !strcmp(earlier_name, name)) {
                 tsr_graph_mark first = mark_of(earlier);
-                return fail_at(l, key, TSR_EINVAL, "%s: key '%s' is given twice (first at %d:%d)",
-                               where, name, first.line, first.column);
+                return fail_at(l, key, TSR_EINVAL, "%s: key '%s' is given twice (first at %d:%d)", where, name,
+                               first.line, first.column);
             }
         }
     }
@@ -254,8 +255,8 @@ static int check_keys(loader *l, const yaml_node_t *m, const char *where,
 
 /* The value of `key` in mapping `m`, or NULL. Keys were checked to be
  * scalars by check_keys. */
-static yaml_node_t *lookup(loader *l, const yaml_node_t *m, const char *key,
-                           yaml_node_t **key_node) {
+static yaml_node_t *lookup(loader *l, const yaml_node_t *m, const char *key, yaml_node_t **key_node)
+{
     for (yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top; p++) {
         yaml_node_t *k = node_at(l, p->key);
         const char *name = scalar_text(k);
@@ -272,13 +273,15 @@ static yaml_node_t *lookup(loader *l, const yaml_node_t *m, const char *key,
 
 static const char *transport_names[] = {"tcp", "unix", "inproc"};
 
-const char *tsr_transport_name(tsr_transport transport) {
+const char *tsr_transport_name(tsr_transport transport)
+{
     if ((unsigned)transport < sizeof transport_names / sizeof transport_names[0])
         return transport_names[transport];
     return "unknown";
 }
 
-static int parse_transport(loader *l, const yaml_node_t *n, const char *where, tsr_transport *out) {
+static int parse_transport(loader *l, const yaml_node_t *n, const char *where, tsr_transport *out)
+{
     char what[160];
     snprintf(what, sizeof what, "%s: 'transport'", where);
     const char *text = expect_string(l, n, what);
@@ -294,28 +297,27 @@ static int parse_transport(loader *l, const yaml_node_t *n, const char *where, t
     char suggestion[64] = "";
     if (hint)
         snprintf(suggestion, sizeof suggestion, "did you mean '%s'? ", hint);
-    return fail_at(l, n, TSR_EINVAL,
-                   "%s: unknown transport '%.80s' (%stransports: tcp, unix, inproc)", where, text,
+    return fail_at(l, n, TSR_EINVAL, "%s: unknown transport '%.80s' (%stransports: tcp, unix, inproc)", where, text,
                    suggestion);
 }
 
-static int parse_version(loader *l, const yaml_node_t *root) {
+static int parse_version(loader *l, const yaml_node_t *root)
+{
     yaml_node_t *v = lookup(l, root, "version", NULL);
     if (!v)
-        return fail_at(l, root, TSR_EINVAL, "missing key 'version' (write 'version: %d' first)",
-                       TSR_GRAPH_VERSION);
+        return fail_at(l, root, TSR_EINVAL, "missing key 'version' (write 'version: %d' first)", TSR_GRAPH_VERSION);
     int version;
     int rc = expect_int(l, v, "'version'", INT_MIN, INT_MAX, &version);
     if (rc != TSR_OK)
         return rc;
     if (version != TSR_GRAPH_VERSION)
-        return fail_at(l, v, TSR_EUNSUPPORTED,
-                       "'version': %d is not supported (this tessera reads version %d)", version,
-                       TSR_GRAPH_VERSION);
+        return fail_at(l, v, TSR_EUNSUPPORTED, "'version': %d is not supported (this tessera reads version %d)",
+                       version, TSR_GRAPH_VERSION);
     return TSR_OK;
 }
 
-static int parse_window(loader *l, const yaml_node_t *root) {
+static int parse_window(loader *l, const yaml_node_t *root)
+{
     l->graph->width = TSR_GRAPH_DEFAULT_WIDTH;
     l->graph->height = TSR_GRAPH_DEFAULT_HEIGHT;
     yaml_node_t *w = lookup(l, root, "window", NULL);
@@ -331,13 +333,13 @@ static int parse_window(loader *l, const yaml_node_t *root) {
             return fail_at(l, w, TSR_EINVAL, "'window': missing '%s'", keys[i]);
         char what[32];
         snprintf(what, sizeof what, "window '%s'", keys[i]);
-        rc = expect_int(l, v, what, 1, TSR_GRAPH_MAX_SIDE,
-                        i == 0 ? &l->graph->width : &l->graph->height);
+        rc = expect_int(l, v, what, 1, TSR_GRAPH_MAX_SIDE, i == 0 ? &l->graph->width : &l->graph->height);
     }
     return rc;
 }
 
-static int parse_defaults(loader *l, const yaml_node_t *root) {
+static int parse_defaults(loader *l, const yaml_node_t *root)
+{
     l->default_host = TSR_GRAPH_DEFAULT_HOST;
     l->default_transport = TSR_TRANSPORT_TCP;
     yaml_node_t *d = lookup(l, root, "defaults", NULL);
@@ -366,7 +368,8 @@ static int parse_defaults(loader *l, const yaml_node_t *root) {
 
 /* Splits `text` at blanks; "..." and '...' group, backslash escapes the
  * next character outside single quotes. No expansions: no shell runs. */
-static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, const char *text) {
+static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, const char *text)
+{
     tsr_graph *g = l->graph;
     size_t len = strlen(text);
     char *buf = graph_alloc(g, len + 1);
@@ -395,8 +398,8 @@ static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, co
             }
         }
         if (quote)
-            return fail_at(l, at, TSR_EINVAL, "node '%s': 'exec': unterminated %c quote in '%.80s'",
-                           node->name, quote, text);
+            return fail_at(l, at, TSR_EINVAL, "node '%s': 'exec': unterminated %c quote in '%.80s'", node->name, quote,
+                           text);
         buf[n++] = '\0';
     }
     if (argc == 0)
@@ -406,7 +409,8 @@ static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, co
     return TSR_OK;
 }
 
-static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v) {
+static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v)
+{
     char what[160];
     snprintf(what, sizeof what, "node '%s': 'exec'", node->name);
     if (v->type != YAML_SEQUENCE_NODE) {
@@ -432,8 +436,8 @@ static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v) {
 
 /* An option value in the chain's text form: a scalar as written, a list
  * of scalars joined by ',' (how list options are written in chain text). */
-static const char *option_text(loader *l, const yaml_node_t *v, const char *where,
-                               const char *key) {
+static const char *option_text(loader *l, const yaml_node_t *v, const char *where, const char *key)
+{
     char buf[100];
     if (v->type == YAML_SCALAR_NODE)
         return graph_strdup(l->graph, is_null(v) ? "" : scalar_text(v));
@@ -447,13 +451,12 @@ static const char *option_text(loader *l, const yaml_node_t *v, const char *wher
         yaml_node_t *item = node_at(l, *i);
         const char *text = scalar_text(item);
         if (!text) {
-            fail_at(l, item, TSR_EINVAL, "%s: option '%s': list elements must be values, got %s",
-                    where, key, describe(item, buf, sizeof buf));
+            fail_at(l, item, TSR_EINVAL, "%s: option '%s': list elements must be values, got %s", where, key,
+                    describe(item, buf, sizeof buf));
             return NULL;
         }
         if (strchr(text, ',')) {
-            fail_at(l, item, TSR_EINVAL,
-                    "%s: option '%s': list element '%.80s' contains ',', which separates elements",
+            fail_at(l, item, TSR_EINVAL, "%s: option '%s': list element '%.80s' contains ',', which separates elements",
                     where, key, text);
             return NULL;
         }
@@ -472,7 +475,8 @@ static const char *option_text(loader *l, const yaml_node_t *v, const char *wher
     return joined;
 }
 
-static bool is_spu_name(const char *name) {
+static bool is_spu_name(const char *name)
+{
     if (!*name)
         return false;
     for (const char *p = name; *p; p++)
@@ -484,9 +488,9 @@ static bool is_spu_name(const char *name) {
 /* Checks one link against the installed SPU: the class exists, every key
  * is an option of it or its supers, every value parses. Uses the option
  * parser chains use, so a graph that checks builds a chain that works. */
-static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_chain_link *link,
-                              yaml_node_t *spu_node, yaml_node_t **key_nodes,
-                              yaml_node_t **value_nodes, const tsr_spu_class **found) {
+static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_chain_link *link, yaml_node_t *spu_node,
+                              yaml_node_t **key_nodes, yaml_node_t **value_nodes, const tsr_spu_class **found)
+{
     /* The loader's and option parser's messages name the SPU already. */
     char where[120];
     snprintf(where, sizeof where, "node '%s'", node->name);
@@ -502,8 +506,7 @@ static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_c
     for (size_t k = 0; k < link->option_count; k++) {
         const tsr_option_spec *spec = tsr_spu_find_option(cls, link->keys[k], &e);
         if (!spec)
-            return fail_at(l, key_nodes[k], e.code ? e.code : TSR_EINVAL, "%s: %s", where,
-                           e.message);
+            return fail_at(l, key_nodes[k], e.code ? e.code : TSR_EINVAL, "%s: %s", where, e.message);
         if (tsr_option_check_value(link->spu, spec, link->values[k], &e) != TSR_OK)
             return fail_at(l, value_nodes[k], e.code, "%s: %s", where, e.message);
     }
@@ -517,9 +520,9 @@ static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_c
  * (TSR_GRAPH_NO_SPU_CHECK: an SPU that is not installed here leaves the
  * node's role unknown); the first with a network role is the node's
  * network SPU. */
-static int link_class(loader *l, const tsr_graph_node *node, node_source *src,
-                      const tsr_chain_link *link, yaml_node_t *spu_node, yaml_node_t **key_nodes,
-                      yaml_node_t **value_nodes) {
+static int link_class(loader *l, const tsr_graph_node *node, node_source *src, const tsr_chain_link *link,
+                      yaml_node_t *spu_node, yaml_node_t **key_nodes, yaml_node_t **value_nodes)
+{
     const tsr_spu_class *cls = NULL;
     if (!(l->flags & TSR_GRAPH_NO_SPU_CHECK)) {
         int rc = check_link_options(l, node, link, spu_node, key_nodes, value_nodes, &cls);
@@ -539,8 +542,8 @@ static int link_class(loader *l, const tsr_graph_node *node, node_source *src,
 }
 
 /* One chain entry: `spu`, `spu:` or `spu: {key: value, ...}`. */
-static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *entry,
-                      tsr_chain_link *link) {
+static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *entry, tsr_chain_link *link)
+{
     char where[160], buf[100];
     snprintf(where, sizeof where, "node '%s': chain", node->name);
     yaml_node_t *spu_node = (yaml_node_t *)entry, *options = NULL;
@@ -561,8 +564,7 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
         return fail_at(l, spu_node, TSR_EINVAL, "%s: expected an SPU name, got %s", where,
                        describe(spu_node, buf, sizeof buf));
     if (!is_spu_name(name))
-        return fail_at(l, spu_node, TSR_EINVAL, "%s: '%.80s' is not an SPU name ([a-z0-9_]+)",
-                       where, name);
+        return fail_at(l, spu_node, TSR_EINVAL, "%s: '%.80s' is not an SPU name ([a-z0-9_]+)", where, name);
     snprintf(where, sizeof where, "node '%s': SPU '%s'", node->name, name);
     if (!(link->spu = graph_strdup(l->graph, name)))
         return out_of_memory(l, spu_node);
@@ -570,8 +572,7 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
         int rc = expect_kind(l, options, YAML_MAPPING_NODE, where);
         if (rc != TSR_OK)
             return rc;
-        size_t count =
-            (size_t)(options->data.mapping.pairs.top - options->data.mapping.pairs.start);
+        size_t count = (size_t)(options->data.mapping.pairs.top - options->data.mapping.pairs.start);
         const char **keys = graph_alloc(l->graph, count * sizeof *keys);
         const char **values = graph_alloc(l->graph, count * sizeof *values);
         yaml_node_t **key_nodes = calloc(count ? count : 1, sizeof *key_nodes);
@@ -587,17 +588,15 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
             value_nodes[k] = node_at(l, p->value);
             const char *key = scalar_text(key_nodes[k]);
             if (!key || is_null(key_nodes[k])) {
-                rc = fail_at(l, key_nodes[k], TSR_EINVAL,
-                             "%s: an option name must be a name, got %s", where,
+                rc = fail_at(l, key_nodes[k], TSR_EINVAL, "%s: an option name must be a name, got %s", where,
                              describe(key_nodes[k], buf, sizeof buf));
                 break;
             }
             for (size_t j = 0; j < k; j++)
                 if (!strcmp(keys[j], key)) {
                     tsr_graph_mark first = mark_of(key_nodes[j]);
-                    rc = fail_at(l, key_nodes[k], TSR_EINVAL,
-                                 "%s: option '%s' is given twice (first at %d:%d)", where, key,
-                                 first.line, first.column);
+                    rc = fail_at(l, key_nodes[k], TSR_EINVAL, "%s: option '%s' is given twice (first at %d:%d)", where,
+                                 key, first.line, first.column);
                     break;
                 }
             if (rc != TSR_OK)
@@ -619,7 +618,8 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
     return link_class(l, node, src, link, spu_node, NULL, NULL);
 }
 
-static int parse_chain(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v) {
+static int parse_chain(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v)
+{
     char where[160];
     snprintf(where, sizeof where, "node '%s': 'chain'", node->name);
     int rc = expect_kind(l, v, YAML_SEQUENCE_NODE, where);
@@ -638,18 +638,17 @@ static int parse_chain(loader *l, tsr_graph_node *node, node_source *src, const 
     return rc;
 }
 
-static int parse_to(loader *l, tsr_graph_node *node, node_source *src, yaml_node_t *v) {
+static int parse_to(loader *l, tsr_graph_node *node, node_source *src, yaml_node_t *v)
+{
     char where[160];
     snprintf(where, sizeof where, "node '%s': 'to'", node->name);
-    size_t count = v->type == YAML_SEQUENCE_NODE
-                       ? (size_t)(v->data.sequence.items.top - v->data.sequence.items.start)
-                       : 1;
+    size_t count =
+        v->type == YAML_SEQUENCE_NODE ? (size_t)(v->data.sequence.items.top - v->data.sequence.items.start) : 1;
     src->to_names = calloc(count ? count : 1, sizeof *src->to_names);
     if (!src->to_names)
         return out_of_memory(l, v);
     for (size_t i = 0; i < count; i++) {
-        yaml_node_t *item =
-            v->type == YAML_SEQUENCE_NODE ? node_at(l, v->data.sequence.items.start[i]) : v;
+        yaml_node_t *item = v->type == YAML_SEQUENCE_NODE ? node_at(l, v->data.sequence.items.start[i]) : v;
         if (!expect_string(l, item, where))
             return l->err->code;
         src->to_names[i] = item;
@@ -658,7 +657,8 @@ static int parse_to(loader *l, tsr_graph_node *node, node_source *src, yaml_node
     return TSR_OK;
 }
 
-static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v) {
+static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v)
+{
     char where[160];
     snprintf(where, sizeof where, "node '%s': 'tiles'", node->name);
     int rc = expect_kind(l, v, YAML_SEQUENCE_NODE, where);
@@ -666,8 +666,7 @@ static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const 
         return rc;
     size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
     if (count == 0)
-        return fail_at(l, v, TSR_EINVAL, "%s is empty: leave it out, or list [x, y, width, height]",
-                       where);
+        return fail_at(l, v, TSR_EINVAL, "%s is empty: leave it out, or list [x, y, width, height]", where);
     tsr_graph_tile *tiles = graph_alloc(l->graph, count * sizeof *tiles);
     src->tile_values = calloc(count, sizeof *src->tile_values);
     if (!tiles || !src->tile_values)
@@ -676,40 +675,34 @@ static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const 
     for (size_t i = 0; i < count; i++) {
         yaml_node_t *t = node_at(l, v->data.sequence.items.start[i]);
         src->tile_values[i] = t;
-        size_t n = t->type == YAML_SEQUENCE_NODE
-                       ? (size_t)(t->data.sequence.items.top - t->data.sequence.items.start)
-                       : 0;
+        size_t n =
+            t->type == YAML_SEQUENCE_NODE ? (size_t)(t->data.sequence.items.top - t->data.sequence.items.start) : 0;
         if (n != 4) {
             char buf[100];
             return fail_at(l, t, TSR_EINVAL, "%s: a tile is [x, y, width, height], got %s", where,
-                           t->type == YAML_SEQUENCE_NODE
-                               ? (snprintf(buf, sizeof buf, "a list of %zu", n), buf)
-                               : describe(t, buf, sizeof buf));
+                           t->type == YAML_SEQUENCE_NODE ? (snprintf(buf, sizeof buf, "a list of %zu", n), buf)
+                                                         : describe(t, buf, sizeof buf));
         }
         static const char *const field[] = {"x", "y", "width", "height"};
         int value[4];
         for (size_t f = 0; f < 4; f++) {
             char what[200];
             snprintf(what, sizeof what, "%s: tile %zu %s", where, i + 1, field[f]);
-            rc = expect_int(l, node_at(l, t->data.sequence.items.start[f]), what, f < 2 ? 0 : 1,
-                            TSR_GRAPH_MAX_SIDE, &value[f]);
+            rc = expect_int(l, node_at(l, t->data.sequence.items.start[f]), what, f < 2 ? 0 : 1, TSR_GRAPH_MAX_SIDE,
+                            &value[f]);
             if (rc != TSR_OK)
                 return rc;
         }
         tiles[i] = (tsr_graph_tile){value[0], value[1], value[2], value[3]};
         if (value[0] + value[2] > w || value[1] + value[3] > h)
-            return fail_at(l, t, TSR_EINVAL,
-                           "%s: tile [%d, %d, %d, %d] reaches (%d, %d), outside the %dx%d window",
-                           where, value[0], value[1], value[2], value[3], value[0] + value[2],
-                           value[1] + value[3], w, h);
+            return fail_at(l, t, TSR_EINVAL, "%s: tile [%d, %d, %d, %d] reaches (%d, %d), outside the %dx%d window",
+                           where, value[0], value[1], value[2], value[3], value[0] + value[2], value[1] + value[3], w,
+                           h);
         for (size_t j = 0; j < i; j++) {
             const tsr_graph_tile *a = &tiles[j], *b = &tiles[i];
-            if (a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
-                b->y < a->y + a->height)
-                return fail_at(l, t, TSR_EINVAL,
-                               "%s: tile %zu [%d, %d, %d, %d] overlaps tile %zu [%d, %d, %d, %d]",
-                               where, i + 1, b->x, b->y, b->width, b->height, j + 1, a->x, a->y,
-                               a->width, a->height);
+            if (a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height && b->y < a->y + a->height)
+                return fail_at(l, t, TSR_EINVAL, "%s: tile %zu [%d, %d, %d, %d] overlaps tile %zu [%d, %d, %d, %d]",
+                               where, i + 1, b->x, b->y, b->width, b->height, j + 1, a->x, a->y, a->width, a->height);
         }
     }
     node->tiles = tiles;
@@ -718,16 +711,15 @@ static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const 
 }
 
 /* "PORT", "HOST:PORT" or "[V6]:PORT" for tcp; a path for unix. */
-static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t *v) {
+static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t *v)
+{
     const char *text = node->listen;
     if (node->transport == TSR_TRANSPORT_INPROC)
-        return fail_at(l, v, TSR_EINVAL,
-                       "node '%s': 'listen' does not apply to transport inproc (nothing listens)",
+        return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen' does not apply to transport inproc (nothing listens)",
                        node->name);
     if (node->transport == TSR_TRANSPORT_UNIX) {
         if (strlen(text) >= UNIX_PATH_LIMIT)
-            return fail_at(l, v, TSR_EINVAL,
-                           "node '%s': 'listen': unix socket path is %zu bytes, the limit is %d",
+            return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': unix socket path is %zu bytes, the limit is %d",
                            node->name, strlen(text), UNIX_PATH_LIMIT - 1);
         return TSR_OK;
     }
@@ -736,8 +728,7 @@ static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t
     if (text[0] == '[') {
         const char *close = strchr(text, ']');
         if (!close || close[1] != ':' || close == text + 1)
-            return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': '%.80s' is not [IPv6]:PORT",
-                           node->name, text);
+            return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': '%.80s' is not [IPv6]:PORT", node->name, text);
         port = close + 2;
     } else if (colon) {
         if (colon == text || memchr(text, ':', (size_t)(colon - text)))
@@ -751,17 +742,15 @@ static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t
     errno = 0;
     long p = strtol(port, &end, 10);
     if (!*port || *end || !isdigit((unsigned char)*port) || errno == ERANGE || p > 65535)
-        return fail_at(l, v, TSR_EINVAL,
-                       "node '%s': 'listen': port '%.20s' in '%.80s' is not a number in [0, 65535]",
+        return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': port '%.20s' in '%.80s' is not a number in [0, 65535]",
                        node->name, port, text);
     return TSR_OK;
 }
 
-static const char *const node_keys[] = {"exec",      "chain",  "to",   "host",
-                                        "transport", "listen", "tiles"};
+static const char *const node_keys[] = {"exec", "chain", "to", "host", "transport", "listen", "tiles"};
 
-static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_graph_node *node,
-                      node_source *src) {
+static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_graph_node *node, node_source *src)
+{
     char where[160], buf[100];
     const char *name = scalar_text(name_node);
     if (!name || is_null(name_node) || !*name)
@@ -770,24 +759,21 @@ static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_gra
     for (const char *p = name; *p; p++)
         if (!isalnum((unsigned char)*p) && *p != '_' && *p != '-' && *p != '.')
             return fail_at(l, name_node, TSR_EINVAL,
-                           "node name '%.80s' has '%c': use letters, digits, '_', '-' and '.'",
-                           name, *p);
+                           "node name '%.80s' has '%c': use letters, digits, '_', '-' and '.'", name, *p);
     if (!(node->name = graph_strdup(l->graph, name)))
         return out_of_memory(l, name_node);
     node->mark = mark_of(name_node);
     src->name = name_node;
     snprintf(where, sizeof where, "node '%s'", name);
     if (v->type != YAML_MAPPING_NODE)
-        return fail_at(l, v, TSR_EINVAL,
-                       "%s: expected a mapping of node keys (chain, exec, to, ...), got %s", where,
+        return fail_at(l, v, TSR_EINVAL, "%s: expected a mapping of node keys (chain, exec, to, ...), got %s", where,
                        describe(v, buf, sizeof buf));
     int rc = check_keys(l, v, where, node_keys, sizeof node_keys / sizeof node_keys[0]);
     if (rc != TSR_OK)
         return rc;
     /* In file order, so the first mistake on the page is the one reported. */
     yaml_node_t *listen = NULL;
-    for (yaml_node_pair_t *p = v->data.mapping.pairs.start;
-         p < v->data.mapping.pairs.top && rc == TSR_OK; p++) {
+    for (yaml_node_pair_t *p = v->data.mapping.pairs.start; p < v->data.mapping.pairs.top && rc == TSR_OK; p++) {
         yaml_node_t *key = node_at(l, p->key), *value = node_at(l, p->value);
         const char *k = scalar_text(key);
         if (!k) /* check_keys() accepted only scalar keys */
@@ -826,8 +812,7 @@ static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_gra
     if (rc != TSR_OK)
         return rc;
     if (!node->chain)
-        return fail_at(l, name_node, TSR_EINVAL, "%s: missing key 'chain' (the SPUs it runs)",
-                       where);
+        return fail_at(l, name_node, TSR_EINVAL, "%s: missing key 'chain' (the SPUs it runs)", where);
     if (!node->host)
         node->host = l->default_host;
     src->listen_value = listen;
@@ -838,7 +823,8 @@ static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_gra
 
 /* Every node starts from the default transport; parse_node overrides it
  * when the node sets its own. */
-static int parse_nodes(loader *l, const yaml_node_t *root) {
+static int parse_nodes(loader *l, const yaml_node_t *root)
+{
     yaml_node_t *key;
     yaml_node_t *nodes = lookup(l, root, "nodes", &key);
     if (!nodes)
@@ -859,11 +845,9 @@ static int parse_nodes(loader *l, const yaml_node_t *root) {
         /* Duplicates first: YAML itself lets a later key win silently. */
         for (size_t j = 0; j < i && name->type == YAML_SCALAR_NODE; j++) {
             yaml_node_t *earlier = node_at(l, nodes->data.mapping.pairs.start[j].key);
-            if (earlier->type == YAML_SCALAR_NODE &&
-                !strcmp(scalar_text(earlier), scalar_text(name))) {
+            if (earlier->type == YAML_SCALAR_NODE && !strcmp(scalar_text(earlier), scalar_text(name))) {
                 tsr_graph_mark first = mark_of(earlier);
-                return fail_at(l, name, TSR_EINVAL,
-                               "duplicate node name '%s' (first defined at %d:%d)",
+                return fail_at(l, name, TSR_EINVAL, "duplicate node name '%s' (first defined at %d:%d)",
                                scalar_text(name), first.line, first.column);
             }
         }
@@ -879,7 +863,8 @@ static int parse_nodes(loader *l, const yaml_node_t *root) {
 
 /* ---- rules between nodes ----------------------------------------------------------- */
 
-static int resolve_edges(loader *l) {
+static int resolve_edges(loader *l)
+{
     tsr_graph *g = l->graph;
     const char **names = malloc(g->node_count * sizeof *names);
     size_t *incoming = calloc(g->node_count, sizeof *incoming);
@@ -912,22 +897,19 @@ static int resolve_edges(loader *l) {
                 char suggestion[200] = "";
                 if (hint)
                     snprintf(suggestion, sizeof suggestion, " (did you mean '%s'?)", hint);
-                rc = fail_at(l, at, TSR_EINVAL,
-                             "node '%s': 'to' names '%.80s', which is not a node%s", node->name,
+                rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' names '%.80s', which is not a node%s", node->name,
                              target, suggestion);
             } else if (server == node) {
                 rc = fail_at(l, at, TSR_EINVAL, "node '%s' sends to itself (a cycle)", node->name);
             } else if (server->exec) {
-                rc =
-                    fail_at(l, at, TSR_EINVAL,
-                            "node '%s': 'to' names '%s', an app node (it has 'exec'); only servers "
-                            "receive streams",
-                            node->name, target);
+                rc = fail_at(l, at, TSR_EINVAL,
+                             "node '%s': 'to' names '%s', an app node (it has 'exec'); only servers "
+                             "receive streams",
+                             node->name, target);
             }
             for (size_t d = 0; d < e && rc == TSR_OK; d++)
                 if (to[d] == to[e])
-                    rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' lists '%s' twice", node->name,
-                                 target);
+                    rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' lists '%s' twice", node->name, target);
             if (rc == TSR_OK)
                 incoming[to[e]]++;
         }
@@ -953,13 +935,14 @@ done:
     return rc;
 }
 
-static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b) {
-    return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
-           b->y < a->y + a->height;
+static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b)
+{
+    return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height && b->y < a->y + a->height;
 }
 
 /* The role of node `i`'s network SPU; NONE without one. */
-static tsr_spu_role role_of(const loader *l, size_t i) {
+static tsr_spu_role role_of(const loader *l, size_t i)
+{
     return l->sources[i].network ? l->sources[i].network->network.role : TSR_SPU_ROLE_NONE;
 }
 
@@ -967,7 +950,8 @@ static tsr_spu_role role_of(const loader *l, size_t i) {
  * the nodes whose images meet on one display own disjoint parts of the
  * window (a node without tiles sends all of it), or the assembled window
  * would depend on which image arrived last. */
-static int check_display(loader *l, size_t i) {
+static int check_display(loader *l, size_t i)
+{
     tsr_graph *g = l->graph;
     const tsr_graph_node *node = &g->nodes[i];
     const node_source *src = &l->sources[i];
@@ -992,17 +976,17 @@ static int check_display(loader *l, size_t i) {
                     return fail_at(l, src->to_names[0], TSR_EINVAL,
                                    "node '%s': its %s [%d, %d, %d, %d] overlaps node '%s''s %s "
                                    "[%d, %d, %d, %d], and both send images to display '%s'",
-                                   node->name, node->tile_count ? "tile" : "window", ta->x, ta->y,
-                                   ta->width, ta->height, other->name,
-                                   other->tile_count ? "tile" : "window", tb->x, tb->y, tb->width,
-                                   tb->height, display->name);
+                                   node->name, node->tile_count ? "tile" : "window", ta->x, ta->y, ta->width,
+                                   ta->height, other->name, other->tile_count ? "tile" : "window", tb->x, tb->y,
+                                   tb->width, tb->height, display->name);
             }
     }
     return TSR_OK;
 }
 
 /* What `to:` must hold for the node's network SPU's role (tessera/spu.h). */
-static int check_role(loader *l, size_t i) {
+static int check_role(loader *l, size_t i)
+{
     tsr_graph *g = l->graph;
     const tsr_graph_node *node = &g->nodes[i];
     const node_source *src = &l->sources[i];
@@ -1010,8 +994,7 @@ static int check_role(loader *l, size_t i) {
     switch (role_of(l, i)) {
     case TSR_SPU_ROLE_NONE:
     case TSR_SPU_ROLE_SERVERS:
-    case TSR_SPU_ROLE_SERVER: /* more than one: `tessera run` says so */
-        return TSR_OK;
+    case TSR_SPU_ROLE_SERVER: /* more than one: `tessera run` says so */ return TSR_OK;
     case TSR_SPU_ROLE_TILED_SERVERS:
         /* Sort-first: every server draws its tiles. */
         for (size_t e = 0; e < node->to_count; e++)
@@ -1021,8 +1004,7 @@ static int check_role(loader *l, size_t i) {
                                "tiles: [[x, y, width, height]])",
                                node->name, spu, g->nodes[node->to[e]].name);
         return TSR_OK;
-    case TSR_SPU_ROLE_DISPLAY:
-        return check_display(l, i);
+    case TSR_SPU_ROLE_DISPLAY: return check_display(l, i);
     case TSR_SPU_ROLE_PEERS:
         if (node->to_count != 1)
             return fail_at(l, src->to_key, TSR_EINVAL,
@@ -1045,7 +1027,8 @@ static int check_role(loader *l, size_t i) {
  * each network SPU's role asks of `to:` (check_role). A node whose role is
  * unknown (TSR_GRAPH_NO_SPU_CHECK, an SPU not installed here) is spared the
  * rules about `to:`. */
-static int check_roles(loader *l) {
+static int check_roles(loader *l)
+{
     tsr_graph *g = l->graph;
     for (size_t i = 0; i < g->node_count; i++) {
         const tsr_graph_node *node = &g->nodes[i];
@@ -1058,8 +1041,8 @@ static int check_roles(loader *l) {
         char list[200];
         if (!src->network_spu && src->to_key && !src->role_unknown)
             return fail_at(l, src->to_key, TSR_EINVAL,
-                           "node '%s' has 'to' but no network SPU in its chain to send with (%s)",
-                           node->name, network_spu_list(list, sizeof list));
+                           "node '%s' has 'to' but no network SPU in its chain to send with (%s)", node->name,
+                           network_spu_list(list, sizeof list));
         if (node->exec && src->server_key)
             return fail_at(l, src->server_key, TSR_EINVAL,
                            "node '%s': '%s' is for servers, but this is an app node (it has "
@@ -1079,7 +1062,8 @@ static int check_roles(loader *l) {
 
 /* Depth-first search; `state` 0 unvisited, 1 on the current path, 2 done.
  * `path` holds the nodes of the current path. */
-static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, size_t depth) {
+static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, size_t depth)
+{
     tsr_graph *g = l->graph;
     state[at] = 1;
     path[depth] = at;
@@ -1093,12 +1077,11 @@ static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, 
             while (path[start] != next)
                 start--;
             for (size_t i = start; i <= depth && used < sizeof cycle; i++)
-                used += (size_t)snprintf(cycle + used, sizeof cycle - used, "%s -> ",
-                                         g->nodes[path[i]].name);
+                used += (size_t)snprintf(cycle + used, sizeof cycle - used, "%s -> ", g->nodes[path[i]].name);
             if (used < sizeof cycle)
                 snprintf(cycle + used, sizeof cycle - used, "%s", g->nodes[next].name);
-            return fail_at(l, l->sources[at].to_names[e], TSR_EINVAL,
-                           "node '%s': 'to' closes a cycle: %s", node->name, cycle);
+            return fail_at(l, l->sources[at].to_names[e], TSR_EINVAL, "node '%s': 'to' closes a cycle: %s", node->name,
+                           cycle);
         }
         if (state[next] == 0) {
             int rc = find_cycle(l, next, state, path, depth + 1);
@@ -1110,7 +1093,8 @@ static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, 
     return TSR_OK;
 }
 
-static int check_cycles(loader *l) {
+static int check_cycles(loader *l)
+{
     tsr_graph *g = l->graph;
     unsigned char *state = calloc(g->node_count, 1);
     size_t *path = calloc(g->node_count, sizeof *path);
@@ -1125,7 +1109,8 @@ static int check_cycles(loader *l) {
 
 /* The port of a tcp listen address (checked by check_listen), and its
  * bind address (empty for "PORT"). */
-static const char *split_listen(const char *listen, char *bind, size_t size) {
+static const char *split_listen(const char *listen, char *bind, size_t size)
+{
     const char *colon = strrchr(listen, ':');
     if (!colon) {
         bind[0] = '\0';
@@ -1138,7 +1123,8 @@ static const char *split_listen(const char *listen, char *bind, size_t size) {
 /* Two servers of one host and transport: unix paths collide when equal;
  * tcp ports when equal and not 0 (any free port), unless both name
  * different bind addresses. */
-static bool listen_collides(const tsr_graph_node *a, const tsr_graph_node *b) {
+static bool listen_collides(const tsr_graph_node *a, const tsr_graph_node *b)
+{
     if (a->transport == TSR_TRANSPORT_UNIX)
         return !strcmp(a->listen, b->listen);
     char bind_a[256], bind_b[256];
@@ -1150,7 +1136,8 @@ static bool listen_collides(const tsr_graph_node *a, const tsr_graph_node *b) {
 }
 
 /* Transports that cannot leave a host, and listen addresses in use twice. */
-static int check_transports(loader *l) {
+static int check_transports(loader *l)
+{
     tsr_graph *g = l->graph;
     for (size_t i = 0; i < g->node_count; i++) {
         const tsr_graph_node *node = &g->nodes[i];
@@ -1173,8 +1160,8 @@ static int check_transports(loader *l) {
             continue;
         for (size_t j = 0; j < i; j++) {
             const tsr_graph_node *other = &g->nodes[j];
-            if (other->listen && !strcmp(other->host, node->host) &&
-                other->transport == node->transport && listen_collides(node, other))
+            if (other->listen && !strcmp(other->host, node->host) && other->transport == node->transport &&
+                listen_collides(node, other))
                 return fail_at(l, l->sources[i].listen_value, TSR_EINVAL,
                                "node '%s': 'listen' address '%s' on host '%s' collides with node "
                                "'%s' ('%s')",
@@ -1186,8 +1173,8 @@ static int check_transports(loader *l) {
 
 /* Post-order along `to`: a node is placed after every server it sends to.
  * Runs after check_cycles, so the recursion ends. */
-static void place_after_servers(const tsr_graph *g, size_t at, bool *placed, size_t *out,
-                                size_t *n) {
+static void place_after_servers(const tsr_graph *g, size_t at, bool *placed, size_t *out, size_t *n)
+{
     placed[at] = true;
     for (size_t e = 0; e < g->nodes[at].to_count; e++)
         if (!placed[g->nodes[at].to[e]])
@@ -1195,7 +1182,8 @@ static void place_after_servers(const tsr_graph *g, size_t at, bool *placed, siz
     out[(*n)++] = at;
 }
 
-static int compute_start_order(loader *l) {
+static int compute_start_order(loader *l)
+{
     tsr_graph *g = l->graph;
     bool *placed = calloc(g->node_count, sizeof *placed);
     g->start_order = graph_alloc(g, g->node_count * sizeof *g->start_order);
@@ -1215,7 +1203,8 @@ static int compute_start_order(loader *l) {
 
 static const char *const top_keys[] = {"version", "window", "defaults", "nodes"};
 
-static int load_document(loader *l) {
+static int load_document(loader *l)
+{
     yaml_node_t *root = yaml_document_get_root_node(&l->doc);
     if (!root)
         return tsr_error_set(l->err, TSR_EINVAL,
@@ -1248,18 +1237,19 @@ static int load_document(loader *l) {
 
 /* libyaml's problem, where it was found, and where the construct it was
  * reading started ("while parsing a flow sequence (started at 6:12)"). */
-static int yaml_syntax_error(const yaml_parser_t *parser, const char *file_name, tsr_error *err) {
+static int yaml_syntax_error(const yaml_parser_t *parser, const char *file_name, tsr_error *err)
+{
     char context[200] = "";
     if (parser->context)
-        snprintf(context, sizeof context, " %s (started at %d:%d)", parser->context,
-                 (int)parser->context_mark.line + 1, (int)parser->context_mark.column + 1);
-    return tsr_error_set(err, TSR_EINVAL, "%s:%d:%d: YAML syntax: %s%s", file_name,
-                         (int)parser->problem_mark.line + 1, (int)parser->problem_mark.column + 1,
-                         parser->problem ? parser->problem : "malformed document", context);
+        snprintf(context, sizeof context, " %s (started at %d:%d)", parser->context, (int)parser->context_mark.line + 1,
+                 (int)parser->context_mark.column + 1);
+    return tsr_error_set(err, TSR_EINVAL, "%s:%d:%d: YAML syntax: %s%s", file_name, (int)parser->problem_mark.line + 1,
+                         (int)parser->problem_mark.column + 1, parser->problem ? parser->problem : "malformed document",
+                         context);
 }
 
-tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name, unsigned flags,
-                           tsr_error *err) {
+tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name, unsigned flags, tsr_error *err)
+{
     tsr_error local;
     if (!err) {
         err = &local;
@@ -1295,8 +1285,7 @@ tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_nam
                 rc = tsr_error_set(err, TSR_EINVAL,
                                    "%s:%d:%d: a second YAML document ('---'); a graph file holds "
                                    "one",
-                                   file_name, (int)extra.start_mark.line + 1,
-                                   (int)extra.start_mark.column + 1);
+                                   file_name, (int)extra.start_mark.line + 1, (int)extra.start_mark.column + 1);
             yaml_document_delete(&extra);
         }
     }
@@ -1324,15 +1313,15 @@ tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_nam
     return l.graph;
 }
 
-tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err) {
+tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err)
+{
     if (!path) {
         tsr_error_set(err, TSR_EINVAL, "graph: no file name");
         return NULL;
     }
     FILE *f = fopen(path, "rb");
     if (!f) {
-        tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: cannot open: %s", path,
-                      strerror(errno));
+        tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: cannot open: %s", path, strerror(errno));
         return NULL;
     }
     char *text = NULL;
@@ -1374,11 +1363,13 @@ int tsr_graph_height(const tsr_graph *graph) { return graph->height; }
 size_t tsr_graph_node_count(const tsr_graph *graph) { return graph->node_count; }
 size_t tsr_graph_edge_count(const tsr_graph *graph) { return graph->edge_count; }
 
-const tsr_graph_node *tsr_graph_node_at(const tsr_graph *graph, size_t index) {
+const tsr_graph_node *tsr_graph_node_at(const tsr_graph *graph, size_t index)
+{
     return index < graph->node_count ? &graph->nodes[index] : NULL;
 }
 
-const tsr_graph_node *tsr_graph_find(const tsr_graph *graph, const char *name) {
+const tsr_graph_node *tsr_graph_find(const tsr_graph *graph, const char *name)
+{
     for (size_t i = 0; i < graph->node_count; i++)
         if (!strcmp(graph->nodes[i].name, name))
             return &graph->nodes[i];

@@ -18,7 +18,7 @@
 typedef struct png_job {
     const char *path;
     FILE *file;
-    char message[256];          /* libpng's error text */
+    char message[256]; /* libpng's error text */
     /* reading */
     tsr_image *out;
     png_bytep *rows;
@@ -29,22 +29,25 @@ typedef struct png_job {
     bool bottom_up;
 } png_job;
 
-static void png_job_error(png_structp png, png_const_charp msg) {
+static void png_job_error(png_structp png, png_const_charp msg)
+{
     png_job *job = png_get_error_ptr(png);
     snprintf(job->message, sizeof job->message, "%s", msg ? msg : "libpng error");
     png_longjmp(png, 1);
 }
 
-static void png_job_warning(png_structp png, png_const_charp msg) {
+static void png_job_warning(png_structp png, png_const_charp msg)
+{
     (void)png;
     (void)msg; /* warnings (e.g. a bad sRGB chunk) do not change the pixels we use */
 }
 
-int tsr_image_alloc(tsr_image *img, int width, int height, tsr_error *err) {
+int tsr_image_alloc(tsr_image *img, int width, int height, tsr_error *err)
+{
     memset(img, 0, sizeof *img);
     if (width < 1 || height < 1 || width > TSR_IMAGE_MAX_SIDE || height > TSR_IMAGE_MAX_SIDE)
-        return tsr_error_set(err, TSR_EINVAL, "image size %dx%d out of range (1..%d per side)",
-                             width, height, TSR_IMAGE_MAX_SIDE);
+        return tsr_error_set(err, TSR_EINVAL, "image size %dx%d out of range (1..%d per side)", width, height,
+                             TSR_IMAGE_MAX_SIDE);
     size_t stride = (size_t)width * 4;
     uint8_t *pixels = calloc((size_t)height, stride);
     if (!pixels)
@@ -56,7 +59,8 @@ int tsr_image_alloc(tsr_image *img, int width, int height, tsr_error *err) {
     return TSR_OK;
 }
 
-void tsr_image_free(tsr_image *img) {
+void tsr_image_free(tsr_image *img)
+{
     if (!img)
         return;
     free(img->pixels);
@@ -67,7 +71,8 @@ void tsr_image_free(tsr_image *img) {
 
 /* All libpng reading happens here. Returns 0, or -1 with job->message set.
  * Every object touched after setjmp lives in `job` (caller's frame). */
-static int read_png_guarded(png_structp png, png_infop info, png_job *job) {
+static int read_png_guarded(png_structp png, png_infop info, png_job *job)
+{
     if (setjmp(png_jmpbuf(png)))
         return -1;
     png_init_io(png, job->file);
@@ -114,21 +119,20 @@ static int read_png_guarded(png_structp png, png_infop info, png_job *job) {
     return 0;
 }
 
-int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err) {
+int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err)
+{
     memset(img, 0, sizeof *img);
     png_job job = {.path = path, .out = img};
     job.file = fopen(path, "rb");
     if (!job.file)
-        return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: %s", path,
-                             strerror(errno));
+        return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: %s", path, strerror(errno));
     unsigned char sig[8];
     size_t got = fread(sig, 1, sizeof sig, job.file);
     if (got != sizeof sig || png_sig_cmp(sig, 0, sizeof sig) != 0) {
         fclose(job.file);
         return tsr_error_set(err, TSR_EINVAL, "%s: not a PNG file", path);
     }
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error,
-                                             png_job_warning);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error, png_job_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!info) {
         png_destroy_read_struct(&png, NULL, NULL);
@@ -148,15 +152,15 @@ int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err) {
 
 /* --- writing ------------------------------------------------------------ */
 
-static int write_png_guarded(png_structp png, png_infop info, png_job *job) {
+static int write_png_guarded(png_structp png, png_infop info, png_job *job)
+{
     if (setjmp(png_jmpbuf(png)))
         return -1;
     png_init_io(png, job->file);
     /* Frames are written often and read back by tests: favour speed. */
     png_set_compression_level(png, 1);
-    png_set_IHDR(png, info, (png_uint_32)job->width, (png_uint_32)job->height, 8,
-                 PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, (png_uint_32)job->width, (png_uint_32)job->height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
     for (int y = 0; y < job->height; y++) {
         int src_row = job->bottom_up ? job->height - 1 - y : y;
@@ -166,20 +170,20 @@ static int write_png_guarded(png_structp png, png_infop info, png_job *job) {
     return 0;
 }
 
-int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride,
-                             bool bottom_up, const char *path, tsr_error *err) {
-    if (!pixels || width < 1 || height < 1 || width > TSR_IMAGE_MAX_SIDE ||
-        height > TSR_IMAGE_MAX_SIDE || stride < (size_t)width * 4)
-        return tsr_error_set(err, TSR_EINVAL, "%s: cannot write a %dx%d image with stride %zu",
-                             path, width, height, stride);
-    png_job job = {.path = path, .pixels = pixels, .width = width, .height = height,
-                   .stride = stride, .bottom_up = bottom_up};
+int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                             const char *path, tsr_error *err)
+{
+    if (!pixels || width < 1 || height < 1 || width > TSR_IMAGE_MAX_SIDE || height > TSR_IMAGE_MAX_SIDE ||
+        stride < (size_t)width * 4)
+        return tsr_error_set(err, TSR_EINVAL, "%s: cannot write a %dx%d image with stride %zu", path, width, height,
+                             stride);
+    png_job job = {
+        .path = path, .pixels = pixels, .width = width, .height = height, .stride = stride, .bottom_up = bottom_up};
     job.file = fopen(path, "wb");
     if (!job.file)
-        return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "cannot create %s: %s",
-                             path, strerror(errno));
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error,
-                                              png_job_warning);
+        return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "cannot create %s: %s", path,
+                             strerror(errno));
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error, png_job_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!info) {
         png_destroy_write_struct(&png, NULL);
@@ -200,19 +204,19 @@ int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_
     return TSR_OK;
 }
 
-int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err) {
-    return tsr_image_write_png_rgba(img->pixels, img->width, img->height, img->stride, false,
-                                    path, err);
+int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err)
+{
+    return tsr_image_write_png_rgba(img->pixels, img->width, img->height, img->stride, false, path, err);
 }
 
 /* --- compare and flip --------------------------------------------------- */
 
-int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance,
-                      tsr_image_diff *out, tsr_error *err) {
+int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance, tsr_image_diff *out, tsr_error *err)
+{
     memset(out, 0, sizeof *out);
     if (a->width != b->width || a->height != b->height)
-        return tsr_error_set(err, TSR_EINVAL, "size mismatch: %dx%d vs %dx%d", a->width,
-                             a->height, b->width, b->height);
+        return tsr_error_set(err, TSR_EINVAL, "size mismatch: %dx%d vs %dx%d", a->width, a->height, b->width,
+                             b->height);
     if (tolerance < 0)
         return tsr_error_set(err, TSR_EINVAL, "tolerance %d is negative", tolerance);
     uint64_t differing = 0;
@@ -246,7 +250,8 @@ int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance,
     return TSR_OK;
 }
 
-void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride) {
+void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride)
+{
     uint8_t tmp[1024];
     for (int top = 0, bottom = height - 1; top < bottom; top++, bottom--) {
         uint8_t *rt = pixels + (size_t)top * stride;
@@ -263,8 +268,8 @@ void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride) {
 
 /* --- frame file names --------------------------------------------------- */
 
-int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
-                         tsr_error *err) {
+int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame, tsr_error *err)
+{
     int conversions = 0;
     for (const char *p = pattern; *p; p++) {
         if (*p != '%')
@@ -280,8 +285,7 @@ int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
             width_digits++;
         }
         if ((*p != 'd' && *p != 'i') || width_digits > 2 || ++conversions > 1)
-            return tsr_error_set(err, TSR_EINVAL,
-                                 "bad file pattern '%s': allowed is one %%d (e.g. %%04d) and %%%%",
+            return tsr_error_set(err, TSR_EINVAL, "bad file pattern '%s': allowed is one %%d (e.g. %%04d) and %%%%",
                                  pattern);
     }
     /* The pattern was checked above: at most one int conversion. */
@@ -290,7 +294,7 @@ int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
     int n = snprintf(out, size, pattern, frame);
 #pragma GCC diagnostic pop
     if (n < 0 || (size_t)n >= size)
-        return tsr_error_set(err, TSR_EINVAL, "file pattern '%s' gives a name longer than %zu bytes",
-                             pattern, size - 1);
+        return tsr_error_set(err, TSR_EINVAL, "file pattern '%s' gives a name longer than %zu bytes", pattern,
+                             size - 1);
     return TSR_OK;
 }

@@ -9,7 +9,8 @@
 
 /* One decimal field ending at ':' (or at the end of the tile when `last`).
  * Returns false on anything else. */
-static bool parse_field(const char **p, const char *end, bool last, long *out) {
+static bool parse_field(const char **p, const char *end, bool last, long *out)
+{
     const char *s = *p;
     if (s >= end || !((*s >= '0' && *s <= '9') || *s == '-'))
         return false;
@@ -25,8 +26,8 @@ static bool parse_field(const char **p, const char *end, bool last, long *out) {
     return true;
 }
 
-int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t *count,
-                    tsr_error *err) {
+int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t *count, tsr_error *err)
+{
     *tiles = NULL;
     *count = 0;
     if (!text || !text[0])
@@ -50,8 +51,8 @@ int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t
         for (size_t f = 0; f < fields; f++)
             if (!parse_field(&q, end, f + 1 == fields, &v[f])) {
                 free(out);
-                return tsr_error_set(err, TSR_EINVAL, "tile %zu '%.*s': expected %s", i + 1,
-                                     len > 60 ? 60 : len, p, form);
+                return tsr_error_set(err, TSR_EINVAL, "tile %zu '%.*s': expected %s", i + 1, len > 60 ? 60 : len, p,
+                                     form);
             }
         const long *r = with_server ? v + 1 : v;
         static const char *const name[] = {"x", "y", "width", "height"};
@@ -66,11 +67,14 @@ int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t
         }
         if (with_server && (v[0] < 0 || v[0] > 1000000)) {
             free(out);
-            return tsr_error_set(err, TSR_EINVAL, "tile %zu '%.*s': server index must be >= 0",
-                                 i + 1, len > 60 ? 60 : len, p);
+            return tsr_error_set(err, TSR_EINVAL, "tile %zu '%.*s': server index must be >= 0", i + 1,
+                                 len > 60 ? 60 : len, p);
         }
         out[i] = (tsr_tile){.server = with_server ? (int)v[0] : 0,
-                            .x = (int)r[0], .y = (int)r[1], .width = (int)r[2], .height = (int)r[3]};
+                            .x = (int)r[0],
+                            .y = (int)r[1],
+                            .width = (int)r[2],
+                            .height = (int)r[3]};
         p = *end ? end + 1 : end;
     }
     *tiles = out;

@@ -37,7 +37,8 @@ typedef struct text_builder {
     size_t option_cap; /* of the last link */
 } text_builder;
 
-static char *dup_range(const char *s, size_t len) {
+static char *dup_range(const char *s, size_t len)
+{
     char *d = malloc(len + 1);
     if (d) {
         memcpy(d, s, len);
@@ -46,7 +47,8 @@ static char *dup_range(const char *s, size_t len) {
     return d;
 }
 
-void tsr_chain_text_free(tsr_chain_text *parsed) {
+void tsr_chain_text_free(tsr_chain_text *parsed)
+{
     if (!parsed)
         return;
     for (size_t i = 0; i < parsed->count; i++) {
@@ -64,7 +66,8 @@ void tsr_chain_text_free(tsr_chain_text *parsed) {
     parsed->count = 0;
 }
 
-static int add_link(text_builder *b, char *spu) {
+static int add_link(text_builder *b, char *spu)
+{
     tsr_chain_text *t = b->out;
     if (t->count == b->link_cap) {
         size_t cap = b->link_cap ? 2 * b->link_cap : 4;
@@ -79,7 +82,8 @@ static int add_link(text_builder *b, char *spu) {
     return TSR_OK;
 }
 
-static int add_option(text_builder *b, char *key, char *value) {
+static int add_option(text_builder *b, char *key, char *value)
+{
     tsr_chain_link *l = &b->out->links[b->out->count - 1];
     if (l->option_count == b->option_cap) {
         size_t cap = b->option_cap ? 2 * b->option_cap : 4;
@@ -102,7 +106,8 @@ static bool is_separator(char c) { return c == '\0' || c == '!' || isspace((unsi
 
 /* Reads a quoted value starting at the opening quote *p; "\"" and "\\" are
  * the only escapes. Returns NULL (err filled) when unterminated. */
-static char *read_quoted(const char **p, const char *text, const char *token, tsr_error *err) {
+static char *read_quoted(const char **p, const char *text, const char *token, tsr_error *err)
+{
     const char *start = *p;
     const char *s = start + 1;
     size_t len = 0;
@@ -131,7 +136,8 @@ static char *read_quoted(const char **p, const char *text, const char *token, ts
     return value;
 }
 
-int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err) {
+int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err)
+{
     out->links = NULL;
     out->count = 0;
     if (!text)
@@ -149,8 +155,7 @@ int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err) 
         int column = (int)(p - text) + 1;
         if (*p == '!') {
             if (expect_spu) {
-                rc = tsr_error_set(err, TSR_EINVAL, "chain: '!' (column %d) has no SPU before it",
-                                   column);
+                rc = tsr_error_set(err, TSR_EINVAL, "chain: '!' (column %d) has no SPU before it", column);
                 goto fail;
             }
             expect_spu = true;
@@ -167,8 +172,7 @@ int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err) 
         if (expect_spu) {
             for (size_t i = 0; i < token_len; i++)
                 if (!islower((unsigned char)p[i]) && !isdigit((unsigned char)p[i]) && p[i] != '_') {
-                    rc = tsr_error_set(err, TSR_EINVAL,
-                                       "chain: '%s' (column %d) is not an SPU name ([a-z0-9_]+)",
+                    rc = tsr_error_set(err, TSR_EINVAL, "chain: '%s' (column %d) is not an SPU name ([a-z0-9_]+)",
                                        token, column);
                     goto fail;
                 }
@@ -185,14 +189,12 @@ int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err) 
         const char *spu = out->links[out->count - 1].spu;
         size_t key_len = strcspn(p, "= \t\r\n\f\v!\"");
         if (p[key_len] != '=') {
-            rc = tsr_error_set(err, TSR_EINVAL,
-                               "chain: '%s' after '%s' (column %d) is not key=value", token, spu,
+            rc = tsr_error_set(err, TSR_EINVAL, "chain: '%s' after '%s' (column %d) is not key=value", token, spu,
                                column);
             goto fail;
         }
         if (key_len == 0) {
-            rc = tsr_error_set(err, TSR_EINVAL,
-                               "chain: '%s' after '%s' (column %d) has no option name", token, spu,
+            rc = tsr_error_set(err, TSR_EINVAL, "chain: '%s' after '%s' (column %d) has no option name", token, spu,
                                column);
             goto fail;
         }
@@ -239,8 +241,7 @@ int tsr_chain_text_parse(const char *text, tsr_chain_text *out, tsr_error *err) 
     if (out->count == 0)
         return tsr_error_set(err, TSR_EINVAL, "chain: empty chain (no SPU named)");
     if (expect_spu) {
-        rc = tsr_error_set(err, TSR_EINVAL, "chain: '!' (column %d) is not followed by an SPU",
-                           bang_column);
+        rc = tsr_error_set(err, TSR_EINVAL, "chain: '!' (column %d) is not followed by an SPU", bang_column);
         goto fail;
     }
     return TSR_OK;
@@ -253,7 +254,8 @@ fail:
 
 /* Appends `n` bytes to the growing text (*out, *len, *cap); false when out
  * of memory. */
-static bool text_add(char **out, size_t *len, size_t *cap, const char *s, size_t n) {
+static bool text_add(char **out, size_t *len, size_t *cap, const char *s, size_t n)
+{
     if (*len + n + 1 > *cap) {
         size_t grown_cap = *cap ? *cap : 128;
         while (grown_cap < *len + n + 1)
@@ -270,7 +272,8 @@ static bool text_add(char **out, size_t *len, size_t *cap, const char *s, size_t
     return true;
 }
 
-char *tsr_chain_links_text(const tsr_chain_link *links, size_t count, tsr_error *err) {
+char *tsr_chain_links_text(const tsr_chain_link *links, size_t count, tsr_error *err)
+{
     char *out = NULL;
     size_t len = 0, cap = 0;
     bool ok = count > 0 && links;
@@ -305,7 +308,8 @@ char *tsr_chain_links_text(const tsr_chain_link *links, size_t count, tsr_error 
 
 /* ---- instances ------------------------------------------------------------ */
 
-static void instance_destroy(tsr_instance *inst) {
+static void instance_destroy(tsr_instance *inst)
+{
     /* A subclass goes before its super: it may still hold the super's
      * table while it shuts down. */
     while (inst) {
@@ -320,25 +324,24 @@ static void instance_destroy(tsr_instance *inst) {
 
 /* The option groups of lineage[level..]: the level's own declarations
  * first, then its supers'. */
-static size_t lineage_groups(const tsr_spu_class *const *lineage, size_t depth, size_t level,
-                             tsr_option_group *groups) {
+static size_t lineage_groups(const tsr_spu_class *const *lineage, size_t depth, size_t level, tsr_option_group *groups)
+{
     size_t n = 0;
     for (size_t j = level; j < depth; j++)
-        groups[n++] =
-            (tsr_option_group){lineage[j]->name, lineage[j]->options, lineage[j]->option_count};
+        groups[n++] = (tsr_option_group){lineage[j]->name, lineage[j]->options, lineage[j]->option_count};
     return n;
 }
 
 /* Parses the link's options for lineage[level]. The chain's own SPU
  * (level 0) must know every key; a super receives only the keys its own
  * option set declares. */
-static tsr_options *parse_level_options(const tsr_spu_class *const *lineage, size_t depth,
-                                        size_t level, const tsr_chain_link *link, tsr_error *err) {
+static tsr_options *parse_level_options(const tsr_spu_class *const *lineage, size_t depth, size_t level,
+                                        const tsr_chain_link *link, tsr_error *err)
+{
     tsr_option_group groups[TSR_SPU_MAX_SUPER_DEPTH + 1];
     size_t ngroups = lineage_groups(lineage, depth, level, groups);
     if (level == 0)
-        return tsr_options_parse(lineage[0]->name, groups, ngroups, link->keys, link->values,
-                                 link->option_count, err);
+        return tsr_options_parse(lineage[0]->name, groups, ngroups, link->keys, link->values, link->option_count, err);
     const char **keys = NULL, **values = NULL;
     size_t n = 0;
     if (link->option_count) {
@@ -363,9 +366,9 @@ static tsr_options *parse_level_options(const tsr_spu_class *const *lineage, siz
 }
 
 /* Creates lineage[level] (and, first, its supers) with `child` after it. */
-static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t depth,
-                                     size_t level, const char *name, const tsr_chain_link *link,
-                                     const tsr_dispatch *child, tsr_error *err) {
+static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t depth, size_t level, const char *name,
+                                     const tsr_chain_link *link, const tsr_dispatch *child, tsr_error *err)
+{
     const tsr_spu_class *cls = lineage[level];
     tsr_instance *inst = calloc(1, sizeof *inst);
     if (!inst) {
@@ -421,15 +424,15 @@ typedef struct resolved_link {
 
 /* Finds every class and checks every option before anything is created,
  * so a mistake in any link costs no create()/destroy() round. */
-static int resolve_links(const tsr_chain_link *links, size_t count, resolved_link *out,
-                         tsr_error *err) {
+static int resolve_links(const tsr_chain_link *links, size_t count, resolved_link *out, tsr_error *err)
+{
     for (size_t i = 0; i < count; i++) {
         const tsr_chain_link *link = &links[i];
         if (!link->spu)
             return tsr_error_set(err, TSR_EINVAL, "chain: link %zu names no SPU", i + 1);
         if (link->option_count && (!link->keys || !link->values))
-            return tsr_error_set(err, TSR_EINVAL, "%s: %zu options but no keys or values",
-                                 link->spu, link->option_count);
+            return tsr_error_set(err, TSR_EINVAL, "%s: %zu options but no keys or values", link->spu,
+                                 link->option_count);
         const tsr_spu_class *cls = tsr_spu_find(link->spu, err);
         if (!cls)
             return err ? err->code : TSR_ENOENT;
@@ -446,7 +449,8 @@ static int resolve_links(const tsr_chain_link *links, size_t count, resolved_lin
     return TSR_OK;
 }
 
-tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr_error *err) {
+tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr_error *err)
+{
     if (count == 0 || !links) {
         tsr_error_set(err, TSR_EINVAL, "chain: empty chain (no SPU named)");
         return NULL;
@@ -471,8 +475,7 @@ tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr
         char name[64];
         snprintf(name, sizeof name, "%.40s#%u", links[i].spu, same_before);
         const tsr_dispatch *child = i + 1 < count ? &chain->links[i + 1]->table : &chain->end;
-        chain->links[i] =
-            instance_create(resolved[i].lineage, resolved[i].depth, 0, name, &links[i], child, err);
+        chain->links[i] = instance_create(resolved[i].lineage, resolved[i].depth, 0, name, &links[i], child, err);
         if (!chain->links[i])
             goto fail;
     }
@@ -484,7 +487,8 @@ fail:
     return NULL;
 }
 
-tsr_chain *tsr_chain_create(const char *text, tsr_error *err) {
+tsr_chain *tsr_chain_create(const char *text, tsr_error *err)
+{
     tsr_chain_text parsed;
     if (tsr_chain_text_parse(text, &parsed, err) != TSR_OK)
         return NULL;
@@ -493,13 +497,15 @@ tsr_chain *tsr_chain_create(const char *text, tsr_error *err) {
     return chain;
 }
 
-const tsr_dispatch *tsr_chain_head(const tsr_chain *chain) {
+const tsr_dispatch *tsr_chain_head(const tsr_chain *chain)
+{
     if (!chain || chain->count == 0 || !chain->links[0])
         return NULL;
     return &chain->links[0]->table;
 }
 
-void tsr_chain_destroy(tsr_chain *chain) {
+void tsr_chain_destroy(tsr_chain *chain)
+{
     if (!chain)
         return;
     /* First to last: calls flow downstream, so nothing still alive can call

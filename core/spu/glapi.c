@@ -6,12 +6,6 @@
 
 _Thread_local const tsr_dispatch *tsr_gl_current_table = NULL;
 
-void tsr_gl_make_current(const tsr_dispatch *table)
-{
-    tsr_gl_current_table = table;
-}
+void tsr_gl_make_current(const tsr_dispatch *table) { tsr_gl_current_table = table; }
 
-const tsr_dispatch *tsr_gl_current(void)
-{
-    return tsr_gl_current_table;
-}
+const tsr_dispatch *tsr_gl_current(void) { return tsr_gl_current_table; }

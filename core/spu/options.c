@@ -31,7 +31,8 @@ struct tsr_options {
     option_value *values;
 };
 
-const char *tsr_option_type_name(tsr_option_type type) {
+const char *tsr_option_type_name(tsr_option_type type)
+{
     switch (type) {
     case TSR_OPT_BOOL: return "bool";
     case TSR_OPT_INT: return "int";
@@ -51,7 +52,8 @@ static bool range_is_set(const tsr_option_spec *spec) { return spec->min <= spec
 
 /* The detail of a parse failure ("'abc' is not an integer") goes into
  * `why`; the caller adds who (SPU, option, default or element). */
-static bool parse_bool(const char *text, bool *out, char *why, size_t whysz) {
+static bool parse_bool(const char *text, bool *out, char *why, size_t whysz)
+{
     static const char *const yes[] = {"true", "yes", "on", "1"};
     static const char *const no[] = {"false", "no", "off", "0"};
     for (size_t i = 0; i < 4; i++) {
@@ -68,8 +70,8 @@ static bool parse_bool(const char *text, bool *out, char *why, size_t whysz) {
     return false;
 }
 
-static bool check_range(const tsr_option_spec *spec, double v, const char *text, char *why,
-                        size_t whysz) {
+static bool check_range(const tsr_option_spec *spec, double v, const char *text, char *why, size_t whysz)
+{
     if (range_is_set(spec) && (v < spec->min || v > spec->max)) {
         snprintf(why, whysz, "'%s' is out of range [%.15g, %.15g]", text, spec->min, spec->max);
         return false;
@@ -77,8 +79,8 @@ static bool check_range(const tsr_option_spec *spec, double v, const char *text,
     return true;
 }
 
-static bool parse_int(const tsr_option_spec *spec, const char *text, int64_t *out, char *why,
-                      size_t whysz) {
+static bool parse_int(const tsr_option_spec *spec, const char *text, int64_t *out, char *why, size_t whysz)
+{
     /* Base 10 only ("010" is ten, not eight), an optional sign, digits, and
      * nothing else: strtoll alone would accept leading blanks. */
     const char *p = text;
@@ -105,13 +107,13 @@ static bool parse_int(const tsr_option_spec *spec, const char *text, int64_t *ou
     return true;
 }
 
-static bool parse_float(const tsr_option_spec *spec, const char *text, double *out, char *why,
-                        size_t whysz) {
+static bool parse_float(const tsr_option_spec *spec, const char *text, double *out, char *why, size_t whysz)
+{
     const char *p = text;
     if (*p == '+' || *p == '-')
         p++;
-    if (!isdigit((unsigned char)*p) && !(*p == '.' && isdigit((unsigned char)p[1])) &&
-        strncasecmp(p, "inf", 3) && strncasecmp(p, "nan", 3)) {
+    if (!isdigit((unsigned char)*p) && !(*p == '.' && isdigit((unsigned char)p[1])) && strncasecmp(p, "inf", 3) &&
+        strncasecmp(p, "nan", 3)) {
         snprintf(why, whysz, "'%s' is not a number", text);
         return false;
     }
@@ -135,7 +137,8 @@ static bool parse_float(const tsr_option_spec *spec, const char *text, double *o
 }
 
 /* Copies the `index`-th '|'-separated choice into buf; false past the end. */
-static bool enum_choice(const char *choices, size_t index, char *buf, size_t size) {
+static bool enum_choice(const char *choices, size_t index, char *buf, size_t size)
+{
     const char *p = choices;
     for (size_t i = 0; i < index; i++) {
         p = strchr(p, '|');
@@ -151,7 +154,8 @@ static bool enum_choice(const char *choices, size_t index, char *buf, size_t siz
     return true;
 }
 
-static bool parse_enum(const tsr_option_spec *spec, const char *text, char *why, size_t whysz) {
+static bool parse_enum(const tsr_option_spec *spec, const char *text, char *why, size_t whysz)
+{
     const char *choices = spec->choices ? spec->choices : "";
     char names[32][TSR_SUGGEST_MAX_LEN + 1];
     const char *candidates[32];
@@ -178,7 +182,8 @@ static bool parse_enum(const tsr_option_spec *spec, const char *text, char *why,
     return false;
 }
 
-static void value_free(option_value *v) {
+static void value_free(option_value *v)
+{
     free(v->s);
     free(v->ints);
     free(v->floats);
@@ -189,7 +194,8 @@ static void value_free(option_value *v) {
     memset(v, 0, sizeof *v);
 }
 
-static char *dup_range(const char *s, size_t len) {
+static char *dup_range(const char *s, size_t len)
+{
     char *d = malloc(len + 1);
     if (d) {
         memcpy(d, s, len);
@@ -200,8 +206,8 @@ static char *dup_range(const char *s, size_t len) {
 
 /* Parses a comma-separated list; elements are trimmed of blanks, so
  * "1, 2, 3" works. The empty text is the empty list. */
-static int parse_list(const tsr_option_spec *spec, const char *text, option_value *out, char *why,
-                      size_t whysz) {
+static int parse_list(const tsr_option_spec *spec, const char *text, option_value *out, char *why, size_t whysz)
+{
     size_t n = 0;
     if (*text) {
         n = 1;
@@ -257,8 +263,8 @@ static int parse_list(const tsr_option_spec *spec, const char *text, option_valu
 
 /* Parses `text` for `spec` into `out` (which owns what it allocates, even
  * on failure). On failure `why` holds the detail. */
-static int parse_value(const tsr_option_spec *spec, const char *text, option_value *out, char *why,
-                       size_t whysz) {
+static int parse_value(const tsr_option_spec *spec, const char *text, option_value *out, char *why, size_t whysz)
+{
     out->spec = spec;
     switch (spec->type) {
     case TSR_OPT_BOOL: return parse_bool(text, &out->b, why, whysz) ? TSR_OK : TSR_EINVAL;
@@ -285,7 +291,8 @@ static int parse_value(const tsr_option_spec *spec, const char *text, option_val
 
 /* The text a missing default stands for: the type's zero value, or the
  * first choice of an enum. Parsed like any other default. */
-static const char *default_text(const tsr_option_spec *spec, char *buf, size_t size) {
+static const char *default_text(const tsr_option_spec *spec, char *buf, size_t size)
+{
     if (spec->default_value)
         return spec->default_value;
     switch (spec->type) {
@@ -300,8 +307,8 @@ static const char *default_text(const tsr_option_spec *spec, char *buf, size_t s
     }
 }
 
-static int parse_default(const char *spu, const tsr_option_spec *spec, option_value *out,
-                         tsr_error *err) {
+static int parse_default(const char *spu, const tsr_option_spec *spec, option_value *out, tsr_error *err)
+{
     char buf[TSR_SUGGEST_MAX_LEN + 1];
     char why[400];
     int rc = parse_value(spec, default_text(spec, buf, sizeof buf), out, why, sizeof why);
@@ -310,8 +317,8 @@ static int parse_default(const char *spu, const tsr_option_spec *spec, option_va
     return TSR_OK;
 }
 
-int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text,
-                           tsr_error *err) {
+int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text, tsr_error *err)
+{
     option_value v = {0};
     char why[400];
     int rc = parse_value(spec, text, &v, why, sizeof why);
@@ -323,7 +330,8 @@ int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const c
 
 /* ---- declarations ---------------------------------------------------- */
 
-static bool is_option_name(const char *name) {
+static bool is_option_name(const char *name)
+{
     if (!name || !islower((unsigned char)*name))
         return false;
     for (const char *p = name; *p; p++)
@@ -332,24 +340,20 @@ static bool is_option_name(const char *name) {
     return strlen(name) <= TSR_SUGGEST_MAX_LEN;
 }
 
-int tsr_option_specs_check(const char *spu, const tsr_option_spec *specs, size_t count,
-                           tsr_error *err) {
+int tsr_option_specs_check(const char *spu, const tsr_option_spec *specs, size_t count, tsr_error *err)
+{
     if (count > 0 && !specs)
-        return tsr_error_set(err, TSR_EINVAL, "%s: declares %zu options but no option table", spu,
-                             count);
+        return tsr_error_set(err, TSR_EINVAL, "%s: declares %zu options but no option table", spu, count);
     for (size_t i = 0; i < count; i++) {
         const tsr_option_spec *spec = &specs[i];
         if (!is_option_name(spec->name))
-            return tsr_error_set(err, TSR_EINVAL,
-                                 "%s: option %zu: '%s' is not a lower_snake_case name", spu, i + 1,
+            return tsr_error_set(err, TSR_EINVAL, "%s: option %zu: '%s' is not a lower_snake_case name", spu, i + 1,
                                  spec->name ? spec->name : "(null)");
         for (size_t j = 0; j < i; j++)
             if (!strcmp(specs[j].name, spec->name))
-                return tsr_error_set(err, TSR_EINVAL, "%s: option '%s' is declared twice", spu,
-                                     spec->name);
+                return tsr_error_set(err, TSR_EINVAL, "%s: option '%s' is declared twice", spu, spec->name);
         if ((unsigned)spec->type > (unsigned)TSR_OPT_STRING_LIST)
-            return tsr_error_set(err, TSR_EINVAL, "%s: option '%s': unknown type %d", spu,
-                                 spec->name, (int)spec->type);
+            return tsr_error_set(err, TSR_EINVAL, "%s: option '%s': unknown type %d", spu, spec->name, (int)spec->type);
         if (spec->type == TSR_OPT_ENUM) {
             const char *c = spec->choices;
             if (!c || !*c || *c == '|' || c[strlen(c) - 1] == '|' || strstr(c, "||"))
@@ -367,8 +371,8 @@ int tsr_option_specs_check(const char *spu, const tsr_option_spec *specs, size_t
     return TSR_OK;
 }
 
-const tsr_option_spec *tsr_option_groups_find(const tsr_option_group *groups, size_t ngroups,
-                                              const char *name) {
+const tsr_option_spec *tsr_option_groups_find(const tsr_option_group *groups, size_t ngroups, const char *name)
+{
     for (size_t g = 0; g < ngroups; g++)
         for (size_t i = 0; i < groups[g].count; i++)
             if (!strcmp(groups[g].specs[i].name, name))
@@ -378,14 +382,14 @@ const tsr_option_spec *tsr_option_groups_find(const tsr_option_group *groups, si
 
 /* ---- a whole option set ---------------------------------------------- */
 
-static int unknown_option(const char *spu, const tsr_option_group *groups, size_t ngroups,
-                          const char *key, tsr_error *err) {
+static int unknown_option(const char *spu, const tsr_option_group *groups, size_t ngroups, const char *key,
+                          tsr_error *err)
+{
     size_t total = 0;
     for (size_t g = 0; g < ngroups; g++)
         total += groups[g].count;
     if (total == 0)
-        return tsr_error_set(err, TSR_EINVAL, "%s: unknown option '%s' (%s has no options)", spu,
-                             key, spu);
+        return tsr_error_set(err, TSR_EINVAL, "%s: unknown option '%s' (%s has no options)", spu, key, spu);
     const char **names = malloc(total * sizeof *names);
     if (!names)
         return tsr_error_set(err, TSR_ENOMEM, "%s: unknown option '%s'", spu, key);
@@ -395,8 +399,7 @@ static int unknown_option(const char *spu, const tsr_option_group *groups, size_
             names[n++] = groups[g].specs[i].name;
     const char *hint = tsr_closest_name(key, names, n);
     if (hint) {
-        tsr_error_set(err, TSR_EINVAL, "%s: unknown option '%s' (did you mean '%s'?)", spu, key,
-                      hint);
+        tsr_error_set(err, TSR_EINVAL, "%s: unknown option '%s' (did you mean '%s'?)", spu, key, hint);
     } else {
         char list[400] = "";
         size_t used = 0;
@@ -417,9 +420,9 @@ static int unknown_option(const char *spu, const tsr_option_group *groups, size_
     return TSR_EINVAL;
 }
 
-tsr_options *tsr_options_parse(const char *spu, const tsr_option_group *groups, size_t ngroups,
-                               const char *const *keys, const char *const *values, size_t count,
-                               tsr_error *err) {
+tsr_options *tsr_options_parse(const char *spu, const tsr_option_group *groups, size_t ngroups, const char *const *keys,
+                               const char *const *values, size_t count, tsr_error *err)
+{
     /* Check the keys first so a typo is reported before any value. */
     for (size_t k = 0; k < count; k++) {
         if (!keys[k] || !*keys[k]) {
@@ -441,8 +444,7 @@ tsr_options *tsr_options_parse(const char *spu, const tsr_option_group *groups, 
     size_t total = 0;
     for (size_t g = 0; g < ngroups; g++)
         total += groups[g].count;
-    if (!o || !(o->spu = strdup(spu)) ||
-        (total && !(o->values = calloc(total, sizeof *o->values)))) {
+    if (!o || !(o->spu = strdup(spu)) || (total && !(o->values = calloc(total, sizeof *o->values)))) {
         tsr_options_free(o);
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for options", spu);
         return NULL;
@@ -477,7 +479,8 @@ tsr_options *tsr_options_parse(const char *spu, const tsr_option_group *groups, 
     return o;
 }
 
-void tsr_options_free(tsr_options *options) {
+void tsr_options_free(tsr_options *options)
+{
     if (!options)
         return;
     for (size_t i = 0; i < options->count; i++)
@@ -491,8 +494,9 @@ void tsr_options_free(tsr_options *options) {
 
 /* The value of `name` if it has one of the two accepted types; otherwise
  * logs the programming error and returns NULL. */
-static const option_value *lookup(const tsr_options *o, const char *name, const char *accessor,
-                                  tsr_option_type want, tsr_option_type also) {
+static const option_value *lookup(const tsr_options *o, const char *name, const char *accessor, tsr_option_type want,
+                                  tsr_option_type also)
+{
     if (!o || !name) {
         tsr_log(TSR_LOG_ERROR, "%s: called with %s", accessor, o ? "no option name" : "no options");
         return NULL;
@@ -502,8 +506,8 @@ static const option_value *lookup(const tsr_options *o, const char *name, const 
         if (strcmp(v->spec->name, name))
             continue;
         if (v->spec->type != want && v->spec->type != also) {
-            tsr_log(TSR_LOG_ERROR, "%s: %s('%s'): the option is declared as %s", o->spu, accessor,
-                    name, tsr_option_type_name(v->spec->type));
+            tsr_log(TSR_LOG_ERROR, "%s: %s('%s'): the option is declared as %s", o->spu, accessor, name,
+                    tsr_option_type_name(v->spec->type));
             return NULL;
         }
         return v;
@@ -512,30 +516,34 @@ static const option_value *lookup(const tsr_options *o, const char *name, const 
     return NULL;
 }
 
-bool tsr_options_bool(const tsr_options *o, const char *name) {
+bool tsr_options_bool(const tsr_options *o, const char *name)
+{
     const option_value *v = lookup(o, name, "tsr_options_bool", TSR_OPT_BOOL, TSR_OPT_BOOL);
     return v ? v->b : false;
 }
 
-int64_t tsr_options_int(const tsr_options *o, const char *name) {
+int64_t tsr_options_int(const tsr_options *o, const char *name)
+{
     const option_value *v = lookup(o, name, "tsr_options_int", TSR_OPT_INT, TSR_OPT_INT);
     return v ? v->i : 0;
 }
 
-double tsr_options_float(const tsr_options *o, const char *name) {
+double tsr_options_float(const tsr_options *o, const char *name)
+{
     const option_value *v = lookup(o, name, "tsr_options_float", TSR_OPT_FLOAT, TSR_OPT_FLOAT);
     return v ? v->f : 0.0;
 }
 
-const char *tsr_options_string(const tsr_options *o, const char *name) {
+const char *tsr_options_string(const tsr_options *o, const char *name)
+{
     const option_value *v = lookup(o, name, "tsr_options_string", TSR_OPT_STRING, TSR_OPT_ENUM);
     return v ? v->s : NULL;
 }
 
-size_t tsr_options_count(const tsr_options *o, const char *name) {
+size_t tsr_options_count(const tsr_options *o, const char *name)
+{
     if (!o || !name) {
-        tsr_log(TSR_LOG_ERROR, "tsr_options_count: called with %s",
-                o ? "no option name" : "no options");
+        tsr_log(TSR_LOG_ERROR, "tsr_options_count: called with %s", o ? "no option name" : "no options");
         return 0;
     }
     for (size_t i = 0; i < o->count; i++) {
@@ -545,40 +553,40 @@ size_t tsr_options_count(const tsr_options *o, const char *name) {
         if (v->spec->type == TSR_OPT_INT_LIST || v->spec->type == TSR_OPT_FLOAT_LIST ||
             v->spec->type == TSR_OPT_STRING_LIST)
             return v->n;
-        tsr_log(TSR_LOG_ERROR,
-                "%s: tsr_options_count('%s'): the option is declared as %s, not a list", o->spu,
-                name, tsr_option_type_name(v->spec->type));
+        tsr_log(TSR_LOG_ERROR, "%s: tsr_options_count('%s'): the option is declared as %s, not a list", o->spu, name,
+                tsr_option_type_name(v->spec->type));
         return 0;
     }
     tsr_log(TSR_LOG_ERROR, "%s: tsr_options_count('%s'): no such option is declared", o->spu, name);
     return 0;
 }
 
-static bool index_ok(const tsr_options *o, const option_value *v, size_t i, const char *accessor) {
+static bool index_ok(const tsr_options *o, const option_value *v, size_t i, const char *accessor)
+{
     if (!v)
         return false;
     if (i >= v->n) {
-        tsr_log(TSR_LOG_ERROR, "%s: %s('%s', %zu): the list has %zu elements", o->spu, accessor,
-                v->spec->name, i, v->n);
+        tsr_log(TSR_LOG_ERROR, "%s: %s('%s', %zu): the list has %zu elements", o->spu, accessor, v->spec->name, i,
+                v->n);
         return false;
     }
     return true;
 }
 
-int64_t tsr_options_int_at(const tsr_options *o, const char *name, size_t i) {
-    const option_value *v =
-        lookup(o, name, "tsr_options_int_at", TSR_OPT_INT_LIST, TSR_OPT_INT_LIST);
+int64_t tsr_options_int_at(const tsr_options *o, const char *name, size_t i)
+{
+    const option_value *v = lookup(o, name, "tsr_options_int_at", TSR_OPT_INT_LIST, TSR_OPT_INT_LIST);
     return index_ok(o, v, i, "tsr_options_int_at") ? v->ints[i] : 0;
 }
 
-double tsr_options_float_at(const tsr_options *o, const char *name, size_t i) {
-    const option_value *v =
-        lookup(o, name, "tsr_options_float_at", TSR_OPT_FLOAT_LIST, TSR_OPT_FLOAT_LIST);
+double tsr_options_float_at(const tsr_options *o, const char *name, size_t i)
+{
+    const option_value *v = lookup(o, name, "tsr_options_float_at", TSR_OPT_FLOAT_LIST, TSR_OPT_FLOAT_LIST);
     return index_ok(o, v, i, "tsr_options_float_at") ? v->floats[i] : 0.0;
 }
 
-const char *tsr_options_string_at(const tsr_options *o, const char *name, size_t i) {
-    const option_value *v =
-        lookup(o, name, "tsr_options_string_at", TSR_OPT_STRING_LIST, TSR_OPT_STRING_LIST);
+const char *tsr_options_string_at(const tsr_options *o, const char *name, size_t i)
+{
+    const option_value *v = lookup(o, name, "tsr_options_string_at", TSR_OPT_STRING_LIST, TSR_OPT_STRING_LIST);
     return index_ok(o, v, i, "tsr_options_string_at") ? v->strings[i] : NULL;
 }

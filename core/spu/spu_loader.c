@@ -40,7 +40,8 @@ static size_t registered_count, registered_cap;
 static loaded_class *loaded;
 static size_t loaded_count, loaded_cap;
 
-static bool is_spu_name(const char *name) {
+static bool is_spu_name(const char *name)
+{
     if (!name || !*name || strlen(name) > MAX_SPU_NAME)
         return false;
     for (const char *p = name; *p; p++)
@@ -52,7 +53,8 @@ static bool is_spu_name(const char *name) {
 /* ---- search path ------------------------------------------------------ */
 
 /* Appends `dir` to the ':'-joined `path` unless empty or already there. */
-static void path_append(char *path, size_t size, const char *dir, size_t len) {
+static void path_append(char *path, size_t size, const char *dir, size_t len)
+{
     if (len == 0)
         return;
     for (const char *p = path; *p;) {
@@ -70,7 +72,8 @@ static void path_append(char *path, size_t size, const char *dir, size_t len) {
     path[used + len] = '\0';
 }
 
-const char *tsr_spu_search_path(char *buf, size_t size) {
+const char *tsr_spu_search_path(char *buf, size_t size)
+{
     if (!buf || size == 0)
         return NULL;
     buf[0] = '\0';
@@ -87,7 +90,8 @@ const char *tsr_spu_search_path(char *buf, size_t size) {
 
 /* Calls visit(dir) for each directory of the search path in order; stops
  * early when visit returns false. */
-static void each_search_dir(bool (*visit)(const char *dir, void *ctx), void *ctx) {
+static void each_search_dir(bool (*visit)(const char *dir, void *ctx), void *ctx)
+{
     char path[8192];
     tsr_spu_search_path(path, sizeof path);
     for (char *p = path; *p;) {
@@ -110,9 +114,8 @@ static const struct {
     [TSR_SPU_ROLE_NONE] = {"none", "sends to no node: its node has no to:"},
     [TSR_SPU_ROLE_SERVER] = {"server", "streams to the one server its node's to: names"},
     [TSR_SPU_ROLE_SERVERS] = {"servers", "streams to every server its node's to: names"},
-    [TSR_SPU_ROLE_TILED_SERVERS] = {"tiled servers",
-                                    "sorts its stream among the servers its node's to: names, "
-                                    "each of which has tiles:"},
+    [TSR_SPU_ROLE_TILED_SERVERS] = {"tiled servers", "sorts its stream among the servers its node's to: names, "
+                                                     "each of which has tiles:"},
     [TSR_SPU_ROLE_DISPLAY] = {"display", "sends its node's tile images to the one display node "
                                          "its to: names"},
     [TSR_SPU_ROLE_PEERS] = {"peers", "one of the peers that send to the one display node their "
@@ -120,17 +123,17 @@ static const struct {
 };
 #define ROLE_COUNT (sizeof roles / sizeof roles[0])
 
-const char *tsr_spu_role_name(tsr_spu_role role) {
-    return (unsigned)role < ROLE_COUNT ? roles[role].name : "unknown";
-}
+const char *tsr_spu_role_name(tsr_spu_role role) { return (unsigned)role < ROLE_COUNT ? roles[role].name : "unknown"; }
 
-const char *tsr_spu_role_summary(tsr_spu_role role) {
+const char *tsr_spu_role_summary(tsr_spu_role role)
+{
     return (unsigned)role < ROLE_COUNT ? roles[role].summary : "unknown role";
 }
 
 /* One option a graph run fills: declared by the class, of an allowed type. */
-static int check_filled_option(const tsr_spu_class *cls, const char *what, const char *option,
-                               tsr_option_type type, tsr_option_type other, tsr_error *err) {
+static int check_filled_option(const tsr_spu_class *cls, const char *what, const char *option, tsr_option_type type,
+                               tsr_option_type other, tsr_error *err)
+{
     if (!option)
         return TSR_OK;
     for (size_t i = 0; i < cls->option_count; i++) {
@@ -139,19 +142,19 @@ static int check_filled_option(const tsr_spu_class *cls, const char *what, const
             continue;
         if (spec->type == type || spec->type == other)
             return TSR_OK;
-        return tsr_error_set(err, TSR_EINVAL,
-                             "%s: network.%s names option '%s', which is not %s option", cls->name,
+        return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which is not %s option", cls->name,
                              what, option,
                              type == TSR_OPT_INT           ? "an int"
                              : type == TSR_OPT_STRING_LIST ? "a string list"
                                                            : "a string");
     }
-    return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which it does not declare",
-                         cls->name, what, option);
+    return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which it does not declare", cls->name,
+                         what, option);
 }
 
 /* The role and the options a graph run fills (tessera/spu.h). */
-static int check_network(const tsr_spu_class *cls, tsr_error *err) {
+static int check_network(const tsr_spu_class *cls, tsr_error *err)
+{
     const tsr_spu_network *n = &cls->network;
     if ((unsigned)n->role >= ROLE_COUNT)
         return tsr_error_set(err, TSR_EINVAL, "%s: unknown network role %d", cls->name, (int)n->role);
@@ -169,53 +172,42 @@ static int check_network(const tsr_spu_class *cls, tsr_error *err) {
         {"peers", n->peers, TSR_OPT_STRING_LIST, TSR_OPT_STRING_LIST},
     };
     for (size_t i = 0; i < sizeof filled / sizeof filled[0]; i++) {
-        int rc = check_filled_option(cls, filled[i].what, filled[i].option, filled[i].type,
-                                     filled[i].other, err);
+        int rc = check_filled_option(cls, filled[i].what, filled[i].option, filled[i].type, filled[i].other, err);
         if (rc != TSR_OK)
             return rc;
         for (size_t j = 0; j < i; j++)
             if (filled[i].option && filled[j].option && !strcmp(filled[i].option, filled[j].option))
-                return tsr_error_set(err, TSR_EINVAL,
-                                     "%s: network.%s and network.%s both name option '%s'",
-                                     cls->name, filled[j].what, filled[i].what, filled[i].option);
+                return tsr_error_set(err, TSR_EINVAL, "%s: network.%s and network.%s both name option '%s'", cls->name,
+                                     filled[j].what, filled[i].what, filled[i].option);
     }
     /* What each role needs filled to reach its nodes. */
     const char *missing = NULL;
     switch (n->role) {
     case TSR_SPU_ROLE_NONE:
-        if (n->server || n->servers || n->display || n->token || n->server_tiles || n->rank ||
-            n->peers)
+        if (n->server || n->servers || n->display || n->token || n->server_tiles || n->rank || n->peers)
             return tsr_error_set(err, TSR_EINVAL,
                                  "%s: network role none sends to no node, so it names no address, "
                                  "token, server tiles, rank or peers option (only tiles)",
                                  cls->name);
         break;
-    case TSR_SPU_ROLE_SERVER:
-        missing = !n->server ? "server" : NULL;
-        break;
-    case TSR_SPU_ROLE_SERVERS:
-        missing = !n->servers ? "servers" : NULL;
-        break;
+    case TSR_SPU_ROLE_SERVER: missing = !n->server ? "server" : NULL; break;
+    case TSR_SPU_ROLE_SERVERS: missing = !n->servers ? "servers" : NULL; break;
     case TSR_SPU_ROLE_TILED_SERVERS:
         missing = !n->servers ? "servers" : !n->server_tiles ? "server_tiles" : NULL;
         break;
-    case TSR_SPU_ROLE_DISPLAY:
-        missing = !n->display ? "display" : NULL;
-        break;
-    case TSR_SPU_ROLE_PEERS:
-        missing = !n->display ? "display" : !n->peers ? "peers" : !n->rank ? "rank" : NULL;
-        break;
+    case TSR_SPU_ROLE_DISPLAY: missing = !n->display ? "display" : NULL; break;
+    case TSR_SPU_ROLE_PEERS: missing = !n->display ? "display" : !n->peers ? "peers" : !n->rank ? "rank" : NULL; break;
     }
     if (missing)
-        return tsr_error_set(err, TSR_EINVAL,
-                             "%s: network role %s needs network.%s (the option a graph run fills)",
+        return tsr_error_set(err, TSR_EINVAL, "%s: network role %s needs network.%s (the option a graph run fills)",
                              cls->name, tsr_spu_role_name(n->role), missing);
     return TSR_OK;
 }
 
 /* ---- checks --------------------------------------------------------------- */
 
-int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error *err) {
+int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error *err)
+{
     if (cls->abi != TSR_SPU_ABI)
         return tsr_error_set(err, TSR_EINVAL,
                              "%s: built for SPU ABI %u, this tessera has ABI %u (rebuild the SPU "
@@ -230,8 +222,7 @@ int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error 
         return tsr_error_set(err, TSR_EINVAL, "%s: SPU name '%s' is not [a-z0-9_]+", origin,
                              cls->name ? cls->name : "(null)");
     if (cls->super && !is_spu_name(cls->super))
-        return tsr_error_set(err, TSR_EINVAL, "%s: super SPU name '%s' is not [a-z0-9_]+",
-                             cls->name, cls->super);
+        return tsr_error_set(err, TSR_EINVAL, "%s: super SPU name '%s' is not [a-z0-9_]+", cls->name, cls->super);
     if (cls->super && !strcmp(cls->super, cls->name))
         return tsr_error_set(err, TSR_EINVAL, "%s: an SPU cannot be its own super", cls->name);
     if (!cls->create || !cls->destroy)
@@ -243,7 +234,8 @@ int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error 
 
 /* ---- the caches (loader_lock held) ------------------------------------ */
 
-static const tsr_spu_class *cached_locked(const char *name) {
+static const tsr_spu_class *cached_locked(const char *name)
+{
     for (size_t i = 0; i < registered_count; i++)
         if (!strcmp(registered[i]->name, name))
             return registered[i];
@@ -253,12 +245,12 @@ static const tsr_spu_class *cached_locked(const char *name) {
     return NULL;
 }
 
-static const tsr_spu_class *load_file_locked(const char *path, const char *name, tsr_error *err) {
+static const tsr_spu_class *load_file_locked(const char *path, const char *name, tsr_error *err)
+{
     void *handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char *why = dlerror();
-        tsr_error_set(err, TSR_EIO, "%s: cannot load %s: %s", name, path,
-                      why ? why : "unknown dlopen error");
+        tsr_error_set(err, TSR_EIO, "%s: cannot load %s: %s", name, path, why ? why : "unknown dlopen error");
         return NULL;
     }
     const tsr_spu_class *cls = NULL;
@@ -276,8 +268,7 @@ static const tsr_spu_class *load_file_locked(const char *path, const char *name,
     memcpy(&describe, &sym, sizeof describe);
     cls = describe();
     if (!cls) {
-        tsr_error_set(err, TSR_EINVAL, "%s: " TSR_SPU_ENTRY_NAME "() in %s returned no class", name,
-                      path);
+        tsr_error_set(err, TSR_EINVAL, "%s: " TSR_SPU_ENTRY_NAME "() in %s returned no class", name, path);
         goto fail;
     }
     char origin[4096 + MAX_SPU_NAME + 2];
@@ -307,16 +298,15 @@ fail:
 }
 
 /* Names of SPU files in a directory, for listing and suggestions. */
-static void each_spu_file(const char *dir,
-                          void (*visit)(const char *name, const char *path, void *ctx), void *ctx) {
+static void each_spu_file(const char *dir, void (*visit)(const char *name, const char *path, void *ctx), void *ctx)
+{
     DIR *d = opendir(dir);
     if (!d)
         return;
     struct dirent *e;
     while ((e = readdir(d))) {
         size_t len = strlen(e->d_name), suffix = strlen(SPU_FILE_SUFFIX);
-        if (len <= suffix || len - suffix > MAX_SPU_NAME ||
-            strcmp(e->d_name + len - suffix, SPU_FILE_SUFFIX))
+        if (len <= suffix || len - suffix > MAX_SPU_NAME || strcmp(e->d_name + len - suffix, SPU_FILE_SUFFIX))
             continue;
         char name[MAX_SPU_NAME + 1];
         memcpy(name, e->d_name, len - suffix);
@@ -340,7 +330,8 @@ typedef struct find_ctx {
     tsr_error *err;
 } find_ctx;
 
-static bool find_in_dir(const char *dir, void *arg) {
+static bool find_in_dir(const char *dir, void *arg)
+{
     find_ctx *f = arg;
     char path[4096];
     if (snprintf(path, sizeof path, "%s/%s" SPU_FILE_SUFFIX, dir, f->name) >= (int)sizeof path)
@@ -360,7 +351,8 @@ typedef struct suggest_ctx {
     size_t best_distance;
 } suggest_ctx;
 
-static void consider_name(const char *name, suggest_ctx *s) {
+static void consider_name(const char *name, suggest_ctx *s)
+{
     const char *candidate[1] = {name};
     if (tsr_closest_name(s->word, candidate, 1)) {
         size_t d = tsr_edit_distance(s->word, name);
@@ -371,17 +363,20 @@ static void consider_name(const char *name, suggest_ctx *s) {
     }
 }
 
-static void suggest_file(const char *name, const char *path, void *arg) {
+static void suggest_file(const char *name, const char *path, void *arg)
+{
     (void)path;
     consider_name(name, arg);
 }
 
-static bool suggest_in_dir(const char *dir, void *arg) {
+static bool suggest_in_dir(const char *dir, void *arg)
+{
     each_spu_file(dir, suggest_file, arg);
     return true;
 }
 
-static const tsr_spu_class *find_locked(const char *name, tsr_error *err) {
+static const tsr_spu_class *find_locked(const char *name, tsr_error *err)
+{
     const tsr_spu_class *cls = cached_locked(name);
     if (cls)
         return cls;
@@ -399,15 +394,15 @@ static const tsr_spu_class *find_locked(const char *name, tsr_error *err) {
     char hint[MAX_SPU_NAME + 32] = "";
     if (s.best[0])
         snprintf(hint, sizeof hint, " (did you mean '%s'?)", s.best);
-    tsr_error_set(err, TSR_ENOENT, "unknown SPU '%s'%s: no %s" SPU_FILE_SUFFIX " in %s", name, hint,
-                  name, path[0] ? path : "(empty search path)");
+    tsr_error_set(err, TSR_ENOENT, "unknown SPU '%s'%s: no %s" SPU_FILE_SUFFIX " in %s", name, hint, name,
+                  path[0] ? path : "(empty search path)");
     return NULL;
 }
 
-const tsr_spu_class *tsr_spu_find(const char *name, tsr_error *err) {
+const tsr_spu_class *tsr_spu_find(const char *name, tsr_error *err)
+{
     if (!is_spu_name(name)) {
-        tsr_error_set(err, TSR_EINVAL, "'%s' is not an SPU name ([a-z0-9_]+)",
-                      name ? name : "(null)");
+        tsr_error_set(err, TSR_EINVAL, "'%s' is not an SPU name ([a-z0-9_]+)", name ? name : "(null)");
         return NULL;
     }
     pthread_mutex_lock(&loader_lock);
@@ -416,11 +411,11 @@ const tsr_spu_class *tsr_spu_find(const char *name, tsr_error *err) {
     return cls;
 }
 
-int tsr_spu_register(const tsr_spu_class *cls, tsr_error *err) {
+int tsr_spu_register(const tsr_spu_class *cls, tsr_error *err)
+{
     if (!cls)
         return tsr_error_set(err, TSR_EINVAL, "tsr_spu_register: no class");
-    int rc = tsr_spu_class_check(
-        cls, cls->name && is_spu_name(cls->name) ? cls->name : "registered SPU", err);
+    int rc = tsr_spu_class_check(cls, cls->name && is_spu_name(cls->name) ? cls->name : "registered SPU", err);
     if (rc != TSR_OK)
         return rc;
     pthread_mutex_lock(&loader_lock);
@@ -457,14 +452,16 @@ typedef struct list_ctx {
     size_t count, cap;
 } list_ctx;
 
-static bool list_has(const list_ctx *l, const char *name) {
+static bool list_has(const list_ctx *l, const char *name)
+{
     for (size_t i = 0; i < l->count; i++)
         if (!strcmp(l->items[i]->name, name))
             return true;
     return false;
 }
 
-static void list_add(list_ctx *l, const tsr_spu_class *cls) {
+static void list_add(list_ctx *l, const tsr_spu_class *cls)
+{
     if (l->count == l->cap) {
         size_t cap = l->cap ? 2 * l->cap : 32;
         const tsr_spu_class **grown = realloc(l->items, cap * sizeof *grown);
@@ -476,7 +473,8 @@ static void list_add(list_ctx *l, const tsr_spu_class *cls) {
     l->items[l->count++] = cls;
 }
 
-static void list_file(const char *name, const char *path, void *arg) {
+static void list_file(const char *name, const char *path, void *arg)
+{
     list_ctx *l = arg;
     if (list_has(l, name))
         return; /* an earlier directory (or the registry) has it */
@@ -493,17 +491,20 @@ static void list_file(const char *name, const char *path, void *arg) {
     list_add(l, cls);
 }
 
-static bool list_dir(const char *dir, void *arg) {
+static bool list_dir(const char *dir, void *arg)
+{
     each_spu_file(dir, list_file, arg);
     return true;
 }
 
-static int by_name(const void *a, const void *b) {
+static int by_name(const void *a, const void *b)
+{
     const tsr_spu_class *const *x = a, *const *y = b;
     return strcmp((*x)->name, (*y)->name);
 }
 
-size_t tsr_spu_list(const tsr_spu_class **out, size_t max) {
+size_t tsr_spu_list(const tsr_spu_class **out, size_t max)
+{
     list_ctx l = {0};
     pthread_mutex_lock(&loader_lock);
     for (size_t i = 0; i < registered_count; i++)
@@ -521,8 +522,8 @@ size_t tsr_spu_list(const tsr_spu_class **out, size_t max) {
 
 /* ---- lineage ------------------------------------------------------------ */
 
-size_t tsr_spu_lineage(const tsr_spu_class *cls,
-                       const tsr_spu_class *out[TSR_SPU_MAX_SUPER_DEPTH + 1], tsr_error *err) {
+size_t tsr_spu_lineage(const tsr_spu_class *cls, const tsr_spu_class *out[TSR_SPU_MAX_SUPER_DEPTH + 1], tsr_error *err)
+{
     size_t n = 0;
     out[n++] = cls;
     while (out[n - 1]->super) {
@@ -537,21 +538,20 @@ size_t tsr_spu_lineage(const tsr_spu_class *cls,
         }
         for (size_t i = 0; i < n; i++)
             if (!strcmp(out[i]->name, last->super)) {
-                tsr_error_set(err, TSR_EINVAL, "%s: super SPUs form a cycle: %s%s", cls->name,
-                              trail, last->super);
+                tsr_error_set(err, TSR_EINVAL, "%s: super SPUs form a cycle: %s%s", cls->name, trail, last->super);
                 return 0;
             }
         if (n == TSR_SPU_MAX_SUPER_DEPTH + 1) {
-            tsr_error_set(err, TSR_EINVAL, "%s: more than %d levels of super SPUs: %s%s ...",
-                          cls->name, TSR_SPU_MAX_SUPER_DEPTH, trail, last->super);
+            tsr_error_set(err, TSR_EINVAL, "%s: more than %d levels of super SPUs: %s%s ...", cls->name,
+                          TSR_SPU_MAX_SUPER_DEPTH, trail, last->super);
             return 0;
         }
         tsr_error inner;
         tsr_error_clear(&inner);
         const tsr_spu_class *super = tsr_spu_find(last->super, &inner);
         if (!super) {
-            tsr_error_set(err, inner.code, "%s: super SPU '%s' of '%s': %s", cls->name, last->super,
-                          last->name, inner.message);
+            tsr_error_set(err, inner.code, "%s: super SPU '%s' of '%s': %s", cls->name, last->super, last->name,
+                          inner.message);
             return 0;
         }
         out[n++] = super;
@@ -562,19 +562,18 @@ size_t tsr_spu_lineage(const tsr_spu_class *cls,
 /* ---- checking a link's options without building it ---------------------- */
 
 /* The option groups of `cls` and its supers, as the chain parses them. */
-static size_t option_groups(const tsr_spu_class *cls,
-                            tsr_option_group groups[TSR_SPU_MAX_SUPER_DEPTH + 1],
-                            tsr_error *err) {
+static size_t option_groups(const tsr_spu_class *cls, tsr_option_group groups[TSR_SPU_MAX_SUPER_DEPTH + 1],
+                            tsr_error *err)
+{
     const tsr_spu_class *lineage[TSR_SPU_MAX_SUPER_DEPTH + 1];
     size_t depth = tsr_spu_lineage(cls, lineage, err);
     for (size_t i = 0; i < depth; i++)
-        groups[i] =
-            (tsr_option_group){lineage[i]->name, lineage[i]->options, lineage[i]->option_count};
+        groups[i] = (tsr_option_group){lineage[i]->name, lineage[i]->options, lineage[i]->option_count};
     return depth;
 }
 
-const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char *key,
-                                           tsr_error *err) {
+const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char *key, tsr_error *err)
+{
     tsr_option_group groups[TSR_SPU_MAX_SUPER_DEPTH + 1];
     size_t depth = option_groups(cls, groups, err);
     if (!depth)
@@ -590,8 +589,9 @@ const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char 
     return spec;
 }
 
-int tsr_spu_check_options(const tsr_spu_class *cls, const char *const *keys,
-                          const char *const *values, size_t count, tsr_error *err) {
+int tsr_spu_check_options(const tsr_spu_class *cls, const char *const *keys, const char *const *values, size_t count,
+                          tsr_error *err)
+{
     tsr_option_group groups[TSR_SPU_MAX_SUPER_DEPTH + 1];
     size_t depth = option_groups(cls, groups, err);
     if (!depth)

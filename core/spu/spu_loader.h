@@ -20,7 +20,6 @@ int tsr_spu_class_check(const tsr_spu_class *cls, const char *origin, tsr_error 
  * most 1 + TSR_SPU_MAX_SUPER_DEPTH entries; a cycle, a deeper lineage or a
  * missing super is an error naming the SPUs involved. Returns the count, or
  * 0 with `err` filled. */
-size_t tsr_spu_lineage(const tsr_spu_class *cls,
-                       const tsr_spu_class *out[TSR_SPU_MAX_SUPER_DEPTH + 1], tsr_error *err);
+size_t tsr_spu_lineage(const tsr_spu_class *cls, const tsr_spu_class *out[TSR_SPU_MAX_SUPER_DEPTH + 1], tsr_error *err);
 
 #endif

@@ -12,9 +12,9 @@
 #define UNKNOWN_NAME 0xFFFFFFFFu
 
 struct tsr_glsl_names {
-    tsr_dispatch drv;   /* the slots as they were (the driver, or whatever was there) */
-    tsr_name_map to_drv;      /* stream name -> (void *)driver name */
-    tsr_name_map to_stream;   /* driver name -> (void *)stream name */
+    tsr_dispatch drv;       /* the slots as they were (the driver, or whatever was there) */
+    tsr_name_map to_drv;    /* stream name -> (void *)driver name */
+    tsr_name_map to_stream; /* driver name -> (void *)stream name */
 };
 
 static GLuint drv_of(const tsr_glsl_names *m, GLuint name)
@@ -25,10 +25,7 @@ static GLuint drv_of(const tsr_glsl_names *m, GLuint name)
     return d ? (GLuint)(uintptr_t)d : UNKNOWN_NAME;
 }
 
-GLuint tsr_glsl_names_driver(const tsr_glsl_names *m, GLuint name)
-{
-    return drv_of(m, name);
-}
+GLuint tsr_glsl_names_driver(const tsr_glsl_names *m, GLuint name) { return drv_of(m, name); }
 
 /* Stream name `name` is driver name `d` from now on. A stale stream name
  * still pointing at `d` (its object is gone: the driver gave `d` out
@@ -91,26 +88,66 @@ static void n_CreateProgramTSR(void *self, GLuint program)
 }
 
 #define M tsr_glsl_names *m = self
-static void n_DeleteShader(void *self, GLuint s) { M; tsr_call_DeleteShader(&m->drv, drv_of(m, s)); }
+static void n_DeleteShader(void *self, GLuint s)
+{
+    M;
+    tsr_call_DeleteShader(&m->drv, drv_of(m, s));
+}
 static void n_ShaderSource(void *self, GLuint s, GLsizei n, const GLchar *const *str, const GLint *len)
 {
     M;
     tsr_call_ShaderSource(&m->drv, drv_of(m, s), n, str, len);
 }
-static void n_CompileShader(void *self, GLuint s) { M; tsr_call_CompileShader(&m->drv, drv_of(m, s)); }
-static void n_DeleteProgram(void *self, GLuint p) { M; tsr_call_DeleteProgram(&m->drv, drv_of(m, p)); }
-static void n_AttachShader(void *self, GLuint p, GLuint s) { M; tsr_call_AttachShader(&m->drv, drv_of(m, p), drv_of(m, s)); }
-static void n_DetachShader(void *self, GLuint p, GLuint s) { M; tsr_call_DetachShader(&m->drv, drv_of(m, p), drv_of(m, s)); }
-static void n_LinkProgram(void *self, GLuint p) { M; tsr_call_LinkProgram(&m->drv, drv_of(m, p)); }
+static void n_CompileShader(void *self, GLuint s)
+{
+    M;
+    tsr_call_CompileShader(&m->drv, drv_of(m, s));
+}
+static void n_DeleteProgram(void *self, GLuint p)
+{
+    M;
+    tsr_call_DeleteProgram(&m->drv, drv_of(m, p));
+}
+static void n_AttachShader(void *self, GLuint p, GLuint s)
+{
+    M;
+    tsr_call_AttachShader(&m->drv, drv_of(m, p), drv_of(m, s));
+}
+static void n_DetachShader(void *self, GLuint p, GLuint s)
+{
+    M;
+    tsr_call_DetachShader(&m->drv, drv_of(m, p), drv_of(m, s));
+}
+static void n_LinkProgram(void *self, GLuint p)
+{
+    M;
+    tsr_call_LinkProgram(&m->drv, drv_of(m, p));
+}
 static void n_BindAttribLocation(void *self, GLuint p, GLuint i, const GLchar *name)
 {
     M;
     tsr_call_BindAttribLocation(&m->drv, drv_of(m, p), i, name);
 }
-static void n_ValidateProgram(void *self, GLuint p) { M; tsr_call_ValidateProgram(&m->drv, drv_of(m, p)); }
-static void n_UseProgram(void *self, GLuint p) { M; tsr_call_UseProgram(&m->drv, drv_of(m, p)); }
-static void n_GetShaderiv(void *self, GLuint s, GLenum pname, GLint *out) { M; tsr_call_GetShaderiv(&m->drv, drv_of(m, s), pname, out); }
-static void n_GetProgramiv(void *self, GLuint p, GLenum pname, GLint *out) { M; tsr_call_GetProgramiv(&m->drv, drv_of(m, p), pname, out); }
+static void n_ValidateProgram(void *self, GLuint p)
+{
+    M;
+    tsr_call_ValidateProgram(&m->drv, drv_of(m, p));
+}
+static void n_UseProgram(void *self, GLuint p)
+{
+    M;
+    tsr_call_UseProgram(&m->drv, drv_of(m, p));
+}
+static void n_GetShaderiv(void *self, GLuint s, GLenum pname, GLint *out)
+{
+    M;
+    tsr_call_GetShaderiv(&m->drv, drv_of(m, s), pname, out);
+}
+static void n_GetProgramiv(void *self, GLuint p, GLenum pname, GLint *out)
+{
+    M;
+    tsr_call_GetProgramiv(&m->drv, drv_of(m, p), pname, out);
+}
 static void n_GetShaderInfoLog(void *self, GLuint s, GLsizei size, GLsizei *len, GLchar *log)
 {
     M;
@@ -121,8 +158,16 @@ static void n_GetProgramInfoLog(void *self, GLuint p, GLsizei size, GLsizei *len
     M;
     tsr_call_GetProgramInfoLog(&m->drv, drv_of(m, p), size, len, log);
 }
-static GLint n_GetUniformLocation(void *self, GLuint p, const GLchar *name) { M; return tsr_call_GetUniformLocation(&m->drv, drv_of(m, p), name); }
-static GLint n_GetAttribLocation(void *self, GLuint p, const GLchar *name) { M; return tsr_call_GetAttribLocation(&m->drv, drv_of(m, p), name); }
+static GLint n_GetUniformLocation(void *self, GLuint p, const GLchar *name)
+{
+    M;
+    return tsr_call_GetUniformLocation(&m->drv, drv_of(m, p), name);
+}
+static GLint n_GetAttribLocation(void *self, GLuint p, const GLchar *name)
+{
+    M;
+    return tsr_call_GetAttribLocation(&m->drv, drv_of(m, p), name);
+}
 
 /* glGet of GL_CURRENT_PROGRAM answers with the stream's name. */
 static GLuint stream_of(const tsr_glsl_names *m, GLuint d)
@@ -162,12 +207,29 @@ tsr_glsl_names *tsr_glsl_names_create(tsr_dispatch *table, tsr_error *err)
     }
     m->drv = *table;
 #define SET(name) tsr_set_##name(table, n_##name, m)
-    SET(CreateShader); SET(CreateProgram); SET(CreateShaderTSR); SET(CreateProgramTSR);
-    SET(DeleteShader); SET(ShaderSource); SET(CompileShader); SET(DeleteProgram);
-    SET(AttachShader); SET(DetachShader); SET(LinkProgram); SET(BindAttribLocation);
-    SET(ValidateProgram); SET(UseProgram); SET(GetShaderiv); SET(GetProgramiv);
-    SET(GetShaderInfoLog); SET(GetProgramInfoLog); SET(GetUniformLocation); SET(GetAttribLocation);
-    SET(GetIntegerv); SET(GetFloatv); SET(GetDoublev);
+    SET(CreateShader);
+    SET(CreateProgram);
+    SET(CreateShaderTSR);
+    SET(CreateProgramTSR);
+    SET(DeleteShader);
+    SET(ShaderSource);
+    SET(CompileShader);
+    SET(DeleteProgram);
+    SET(AttachShader);
+    SET(DetachShader);
+    SET(LinkProgram);
+    SET(BindAttribLocation);
+    SET(ValidateProgram);
+    SET(UseProgram);
+    SET(GetShaderiv);
+    SET(GetProgramiv);
+    SET(GetShaderInfoLog);
+    SET(GetProgramInfoLog);
+    SET(GetUniformLocation);
+    SET(GetAttribLocation);
+    SET(GetIntegerv);
+    SET(GetFloatv);
+    SET(GetDoublev);
 #undef SET
     return m;
 }

@@ -22,73 +22,138 @@
 
 /* --- groups and members ---------------------------------------------------- */
 static const char *const group_names[TSR_SG_COUNT] = {
-    "enable", "current", "viewport", "colorbuf", "depth", "stencil", "fog", "lighting",
-    "raster", "hint", "texture", "buffer", "misc", "pixel", "transform", "program",
+    "enable", "current", "viewport", "colorbuf", "depth", "stencil", "fog",       "lighting",
+    "raster", "hint",    "texture",  "buffer",   "misc",  "pixel",   "transform", "program",
 };
 
-const char *tsr_state_group_name(int group)
-{
-    return group >= 0 && group < TSR_SG_COUNT ? group_names[group] : "?";
-}
+const char *tsr_state_group_name(int group) { return group >= 0 && group < TSR_SG_COUNT ? group_names[group] : "?"; }
 
 #define U8 TSR_STATE_UNITS
 const uint8_t st_member_group[TSR_SM_COUNT] = {
-    [TSR_SM_ENABLE0] = TSR_SG_ENABLE, [TSR_SM_ENABLE1] = TSR_SG_ENABLE,
-    [TSR_SM_COLOR] = TSR_SG_CURRENT, [TSR_SM_NORMAL] = TSR_SG_CURRENT,
-    [TSR_SM_TEXCOORD0 ... TSR_SM_TEXCOORD0 + U8 - 1] = TSR_SG_CURRENT,
-    [TSR_SM_EDGEFLAG] = TSR_SG_CURRENT, [TSR_SM_ATTRIBS] = TSR_SG_CURRENT,
-    [TSR_SM_VIEWPORT] = TSR_SG_VIEWPORT, [TSR_SM_DEPTHRANGE] = TSR_SG_VIEWPORT,
+    [TSR_SM_ENABLE0] = TSR_SG_ENABLE,
+    [TSR_SM_ENABLE1] = TSR_SG_ENABLE,
+    [TSR_SM_COLOR] = TSR_SG_CURRENT,
+    [TSR_SM_NORMAL] = TSR_SG_CURRENT,
+    [TSR_SM_TEXCOORD0... TSR_SM_TEXCOORD0 + U8 - 1] = TSR_SG_CURRENT,
+    [TSR_SM_EDGEFLAG] = TSR_SG_CURRENT,
+    [TSR_SM_ATTRIBS] = TSR_SG_CURRENT,
+    [TSR_SM_VIEWPORT] = TSR_SG_VIEWPORT,
+    [TSR_SM_DEPTHRANGE] = TSR_SG_VIEWPORT,
     [TSR_SM_SCISSOR] = TSR_SG_VIEWPORT,
-    [TSR_SM_BLEND] = TSR_SG_COLORBUF, [TSR_SM_ALPHAFUNC] = TSR_SG_COLORBUF,
-    [TSR_SM_LOGICOP] = TSR_SG_COLORBUF, [TSR_SM_COLORMASK] = TSR_SG_COLORBUF,
-    [TSR_SM_CLEARCOLOR] = TSR_SG_COLORBUF, [TSR_SM_DRAWBUFFER] = TSR_SG_COLORBUF,
+    [TSR_SM_BLEND] = TSR_SG_COLORBUF,
+    [TSR_SM_ALPHAFUNC] = TSR_SG_COLORBUF,
+    [TSR_SM_LOGICOP] = TSR_SG_COLORBUF,
+    [TSR_SM_COLORMASK] = TSR_SG_COLORBUF,
+    [TSR_SM_CLEARCOLOR] = TSR_SG_COLORBUF,
+    [TSR_SM_DRAWBUFFER] = TSR_SG_COLORBUF,
     [TSR_SM_CLEARACCUM] = TSR_SG_COLORBUF,
-    [TSR_SM_DEPTH] = TSR_SG_DEPTH, [TSR_SM_STENCIL] = TSR_SG_STENCIL, [TSR_SM_FOG] = TSR_SG_FOG,
-    [TSR_SM_LIGHT0 ... TSR_SM_LIGHT0 + TSR_STATE_LIGHTS - 1] = TSR_SG_LIGHTING,
-    [TSR_SM_LIGHTMODEL] = TSR_SG_LIGHTING, [TSR_SM_MATERIAL] = TSR_SG_LIGHTING,
-    [TSR_SM_COLORMATERIAL] = TSR_SG_LIGHTING, [TSR_SM_SHADEMODEL] = TSR_SG_LIGHTING,
-    [TSR_SM_POLYGON] = TSR_SG_RASTER, [TSR_SM_STIPPLE] = TSR_SG_RASTER,
-    [TSR_SM_LINE] = TSR_SG_RASTER, [TSR_SM_POINT] = TSR_SG_RASTER,
+    [TSR_SM_DEPTH] = TSR_SG_DEPTH,
+    [TSR_SM_STENCIL] = TSR_SG_STENCIL,
+    [TSR_SM_FOG] = TSR_SG_FOG,
+    [TSR_SM_LIGHT0... TSR_SM_LIGHT0 + TSR_STATE_LIGHTS - 1] = TSR_SG_LIGHTING,
+    [TSR_SM_LIGHTMODEL] = TSR_SG_LIGHTING,
+    [TSR_SM_MATERIAL] = TSR_SG_LIGHTING,
+    [TSR_SM_COLORMATERIAL] = TSR_SG_LIGHTING,
+    [TSR_SM_SHADEMODEL] = TSR_SG_LIGHTING,
+    [TSR_SM_POLYGON] = TSR_SG_RASTER,
+    [TSR_SM_STIPPLE] = TSR_SG_RASTER,
+    [TSR_SM_LINE] = TSR_SG_RASTER,
+    [TSR_SM_POINT] = TSR_SG_RASTER,
     [TSR_SM_HINT] = TSR_SG_HINT,
-    [TSR_SM_TEXBIND0 ... TSR_SM_TEXBIND0 + U8 - 1] = TSR_SG_TEXTURE,
-    [TSR_SM_TEXENV0 ... TSR_SM_TEXENV0 + U8 - 1] = TSR_SG_TEXTURE,
-    [TSR_SM_TEXGEN0 ... TSR_SM_TEXGEN0 + U8 - 1] = TSR_SG_TEXTURE,
+    [TSR_SM_TEXBIND0... TSR_SM_TEXBIND0 + U8 - 1] = TSR_SG_TEXTURE,
+    [TSR_SM_TEXENV0... TSR_SM_TEXENV0 + U8 - 1] = TSR_SG_TEXTURE,
+    [TSR_SM_TEXGEN0... TSR_SM_TEXGEN0 + U8 - 1] = TSR_SG_TEXTURE,
     [TSR_SM_BUFBIND] = TSR_SG_BUFFER,
-    [TSR_SM_LISTBASE] = TSR_SG_MISC, [TSR_SM_MULTISAMPLE] = TSR_SG_MISC,
-    [TSR_SM_PIXELSTORE] = TSR_SG_PIXEL, [TSR_SM_PIXELMODE] = TSR_SG_PIXEL,
-    [TSR_SM_MODELVIEW] = TSR_SG_TRANSFORM, [TSR_SM_PROJECTION] = TSR_SG_TRANSFORM,
-    [TSR_SM_TEXMAT0 ... TSR_SM_TEXMAT0 + U8 - 1] = TSR_SG_TRANSFORM,
+    [TSR_SM_LISTBASE] = TSR_SG_MISC,
+    [TSR_SM_MULTISAMPLE] = TSR_SG_MISC,
+    [TSR_SM_PIXELSTORE] = TSR_SG_PIXEL,
+    [TSR_SM_PIXELMODE] = TSR_SG_PIXEL,
+    [TSR_SM_MODELVIEW] = TSR_SG_TRANSFORM,
+    [TSR_SM_PROJECTION] = TSR_SG_TRANSFORM,
+    [TSR_SM_TEXMAT0... TSR_SM_TEXMAT0 + U8 - 1] = TSR_SG_TRANSFORM,
     [TSR_SM_CLIP] = TSR_SG_TRANSFORM,
     [TSR_SM_PROGRAM] = TSR_SG_PROGRAM,
 };
 
-int tsr_state_member_group(int member)
-{
-    return member >= 0 && member < TSR_SM_COUNT ? st_member_group[member] : -1;
-}
+int tsr_state_member_group(int member) { return member >= 0 && member < TSR_SM_COUNT ? st_member_group[member] : -1; }
 
 /* --- enables ---------------------------------------------------------------- */
-#define EN_UNIT(u, k) [ST_EN_UNIT0 + (u)*8 + 0] = GL_TEXTURE_1D, [ST_EN_UNIT0 + (u)*8 + 1] = GL_TEXTURE_2D, \
-    [ST_EN_UNIT0 + (u)*8 + 2] = GL_TEXTURE_3D, [ST_EN_UNIT0 + (u)*8 + 3] = GL_TEXTURE_CUBE_MAP, \
-    [ST_EN_UNIT0 + (u)*8 + 4] = GL_TEXTURE_GEN_S, [ST_EN_UNIT0 + (u)*8 + 5] = GL_TEXTURE_GEN_T, \
-    [ST_EN_UNIT0 + (u)*8 + 6] = GL_TEXTURE_GEN_R, [ST_EN_UNIT0 + (u)*8 + 7] = GL_TEXTURE_GEN_Q
+#define EN_UNIT(u, k)                                                                                                  \
+    [ST_EN_UNIT0 + (u)*8 + 0] = GL_TEXTURE_1D, [ST_EN_UNIT0 + (u)*8 + 1] = GL_TEXTURE_2D,                              \
+                           [ST_EN_UNIT0 + (u)*8 + 2] = GL_TEXTURE_3D, [ST_EN_UNIT0 + (u)*8 + 3] = GL_TEXTURE_CUBE_MAP, \
+                           [ST_EN_UNIT0 + (u)*8 + 4] = GL_TEXTURE_GEN_S, [ST_EN_UNIT0 + (u)*8 + 5] = GL_TEXTURE_GEN_T, \
+                           [ST_EN_UNIT0 + (u)*8 + 6] = GL_TEXTURE_GEN_R, [ST_EN_UNIT0 + (u)*8 + 7] = GL_TEXTURE_GEN_Q
 const GLenum st_enable_caps[128] = {
-    GL_ALPHA_TEST, GL_AUTO_NORMAL, GL_BLEND, GL_CLIP_PLANE0, GL_CLIP_PLANE1, GL_CLIP_PLANE2,
-    GL_CLIP_PLANE3, GL_CLIP_PLANE4, GL_CLIP_PLANE5, GL_COLOR_LOGIC_OP, GL_COLOR_MATERIAL,
-    GL_CULL_FACE, GL_DEPTH_TEST, GL_DITHER, GL_FOG, GL_LIGHT0, GL_LIGHT1, GL_LIGHT2, GL_LIGHT3,
-    GL_LIGHT4, GL_LIGHT5, GL_LIGHT6, GL_LIGHT7, GL_LIGHTING, GL_LINE_SMOOTH, GL_LINE_STIPPLE,
-    GL_NORMALIZE, GL_POINT_SMOOTH, GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
-    GL_POLYGON_OFFSET_POINT, GL_POLYGON_SMOOTH, GL_POLYGON_STIPPLE, GL_RESCALE_NORMAL,
-    GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_MULTISAMPLE, GL_SAMPLE_ALPHA_TO_COVERAGE,
-    GL_SAMPLE_ALPHA_TO_ONE, GL_SAMPLE_COVERAGE, GL_POINT_SPRITE, GL_VERTEX_PROGRAM_POINT_SIZE,
-    GL_VERTEX_PROGRAM_TWO_SIDE, GL_COLOR_SUM,
-    GL_MAP1_COLOR_4, GL_MAP1_INDEX, GL_MAP1_NORMAL, GL_MAP1_TEXTURE_COORD_1,
-    GL_MAP1_TEXTURE_COORD_2, GL_MAP1_TEXTURE_COORD_3, GL_MAP1_TEXTURE_COORD_4, GL_MAP1_VERTEX_3,
-    GL_MAP1_VERTEX_4, GL_MAP2_COLOR_4, GL_MAP2_INDEX, GL_MAP2_NORMAL, GL_MAP2_TEXTURE_COORD_1,
-    GL_MAP2_TEXTURE_COORD_2, GL_MAP2_TEXTURE_COORD_3, GL_MAP2_TEXTURE_COORD_4, GL_MAP2_VERTEX_3,
+    GL_ALPHA_TEST,
+    GL_AUTO_NORMAL,
+    GL_BLEND,
+    GL_CLIP_PLANE0,
+    GL_CLIP_PLANE1,
+    GL_CLIP_PLANE2,
+    GL_CLIP_PLANE3,
+    GL_CLIP_PLANE4,
+    GL_CLIP_PLANE5,
+    GL_COLOR_LOGIC_OP,
+    GL_COLOR_MATERIAL,
+    GL_CULL_FACE,
+    GL_DEPTH_TEST,
+    GL_DITHER,
+    GL_FOG,
+    GL_LIGHT0,
+    GL_LIGHT1,
+    GL_LIGHT2,
+    GL_LIGHT3,
+    GL_LIGHT4,
+    GL_LIGHT5,
+    GL_LIGHT6,
+    GL_LIGHT7,
+    GL_LIGHTING,
+    GL_LINE_SMOOTH,
+    GL_LINE_STIPPLE,
+    GL_NORMALIZE,
+    GL_POINT_SMOOTH,
+    GL_POLYGON_OFFSET_FILL,
+    GL_POLYGON_OFFSET_LINE,
+    GL_POLYGON_OFFSET_POINT,
+    GL_POLYGON_SMOOTH,
+    GL_POLYGON_STIPPLE,
+    GL_RESCALE_NORMAL,
+    GL_SCISSOR_TEST,
+    GL_STENCIL_TEST,
+    GL_MULTISAMPLE,
+    GL_SAMPLE_ALPHA_TO_COVERAGE,
+    GL_SAMPLE_ALPHA_TO_ONE,
+    GL_SAMPLE_COVERAGE,
+    GL_POINT_SPRITE,
+    GL_VERTEX_PROGRAM_POINT_SIZE,
+    GL_VERTEX_PROGRAM_TWO_SIDE,
+    GL_COLOR_SUM,
+    GL_MAP1_COLOR_4,
+    GL_MAP1_INDEX,
+    GL_MAP1_NORMAL,
+    GL_MAP1_TEXTURE_COORD_1,
+    GL_MAP1_TEXTURE_COORD_2,
+    GL_MAP1_TEXTURE_COORD_3,
+    GL_MAP1_TEXTURE_COORD_4,
+    GL_MAP1_VERTEX_3,
+    GL_MAP1_VERTEX_4,
+    GL_MAP2_COLOR_4,
+    GL_MAP2_INDEX,
+    GL_MAP2_NORMAL,
+    GL_MAP2_TEXTURE_COORD_1,
+    GL_MAP2_TEXTURE_COORD_2,
+    GL_MAP2_TEXTURE_COORD_3,
+    GL_MAP2_TEXTURE_COORD_4,
+    GL_MAP2_VERTEX_3,
     GL_MAP2_VERTEX_4,
-    EN_UNIT(0, 0), EN_UNIT(1, 0), EN_UNIT(2, 0), EN_UNIT(3, 0),
-    EN_UNIT(4, 0), EN_UNIT(5, 0), EN_UNIT(6, 0), EN_UNIT(7, 0),
+    EN_UNIT(0, 0),
+    EN_UNIT(1, 0),
+    EN_UNIT(2, 0),
+    EN_UNIT(3, 0),
+    EN_UNIT(4, 0),
+    EN_UNIT(5, 0),
+    EN_UNIT(6, 0),
+    EN_UNIT(7, 0),
 };
 
 int st_enable_index(GLenum cap, GLuint unit)
@@ -111,10 +176,7 @@ int st_enable_index(GLenum cap, GLuint unit)
 }
 
 /* --- bits ------------------------------------------------------------------------ */
-void st_mark_all(tsr_state_ctx *c)
-{
-    memset(c->dirty, 0xff, (size_t)ST_NODES * c->t->words * sizeof *c->dirty);
-}
+void st_mark_all(tsr_state_ctx *c) { memset(c->dirty, 0xff, (size_t)ST_NODES * c->t->words * sizeof *c->dirty); }
 
 void st_mark_one(tsr_state_ctx *c, int member, int id)
 {
@@ -126,7 +188,7 @@ void st_mark_one(tsr_state_ctx *c, int member, int id)
 }
 
 /* --- the table ------------------------------------------------------------------- */
-void st_gen_fill_current(tsr_state_ctx *c, tsr_dispatch *d);   /* state_gen.c (generated) */
+void st_gen_fill_current(tsr_state_ctx *c, tsr_dispatch *d); /* state_gen.c (generated) */
 
 void tsr_state_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {

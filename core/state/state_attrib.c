@@ -29,72 +29,113 @@ static void enable_mask(uint64_t m[2], const GLenum *caps, size_t n)
 }
 
 #define COPY(f) memcpy(&d->f, &s->f, sizeof d->f)
-#define ENABLES(...)                                         \
-    do {                                                     \
-        static const GLenum caps_[] = {__VA_ARGS__};         \
-        uint64_t m_[2] = {0, 0};                             \
+#define ENABLES(...)                                          \
+    do {                                                      \
+        static const GLenum caps_[] = {__VA_ARGS__};          \
+        uint64_t m_[2] = {0, 0};                              \
         enable_mask(m_, caps_, sizeof caps_ / sizeof *caps_); \
-        copy_enables(d, s, m_);                              \
+        copy_enables(d, s, m_);                               \
     } while (0)
 
 /* Restores the groups of `mask` from s into d (glPopAttrib). */
 static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbitfield mask)
 {
     if (mask & GL_CURRENT_BIT) {
-        COPY(color); COPY(normal); COPY(texcoord); COPY(edge_flag); COPY(attrib);
+        COPY(color);
+        COPY(normal);
+        COPY(texcoord);
+        COPY(edge_flag);
+        COPY(attrib);
     }
     if (mask & GL_POINT_BIT) {
-        COPY(point_size); COPY(point_min); COPY(point_max); COPY(point_fade); COPY(point_attenuation);
+        COPY(point_size);
+        COPY(point_min);
+        COPY(point_max);
+        COPY(point_fade);
+        COPY(point_attenuation);
         COPY(point_sprite_origin);
         ENABLES(GL_POINT_SMOOTH, GL_POINT_SPRITE);
         for (int u = 0; u < TSR_STATE_UNITS; u++)
             d->unit[u].coord_replace = s->unit[u].coord_replace;
     }
     if (mask & GL_LINE_BIT) {
-        COPY(line_width); COPY(line_stipple_factor); COPY(line_stipple_pattern);
+        COPY(line_width);
+        COPY(line_stipple_factor);
+        COPY(line_stipple_pattern);
         ENABLES(GL_LINE_SMOOTH, GL_LINE_STIPPLE);
     }
     if (mask & GL_POLYGON_BIT) {
-        COPY(polygon_mode); COPY(cull_face_mode); COPY(front_face); COPY(offset_factor); COPY(offset_units);
-        ENABLES(GL_CULL_FACE, GL_POLYGON_SMOOTH, GL_POLYGON_STIPPLE, GL_POLYGON_OFFSET_FILL,
-                GL_POLYGON_OFFSET_LINE, GL_POLYGON_OFFSET_POINT);
+        COPY(polygon_mode);
+        COPY(cull_face_mode);
+        COPY(front_face);
+        COPY(offset_factor);
+        COPY(offset_units);
+        ENABLES(GL_CULL_FACE, GL_POLYGON_SMOOTH, GL_POLYGON_STIPPLE, GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
+                GL_POLYGON_OFFSET_POINT);
     }
     if (mask & GL_POLYGON_STIPPLE_BIT)
         COPY(polygon_stipple);
     if (mask & GL_PIXEL_MODE_BIT) {
-        COPY(zoom); COPY(transfer_scale); COPY(transfer_bias); COPY(index_shift); COPY(index_offset);
-        COPY(map_color); COPY(map_stencil); COPY(read_buffer);
+        COPY(zoom);
+        COPY(transfer_scale);
+        COPY(transfer_bias);
+        COPY(index_shift);
+        COPY(index_offset);
+        COPY(map_color);
+        COPY(map_stencil);
+        COPY(read_buffer);
     }
     if (mask & GL_LIGHTING_BIT) {
-        COPY(light); COPY(model_ambient); COPY(model_local_viewer); COPY(model_two_side);
-        COPY(model_color_control); COPY(material); COPY(color_material_face);
-        COPY(color_material_mode); COPY(shade_model);
-        ENABLES(GL_LIGHTING, GL_COLOR_MATERIAL, GL_LIGHT0, GL_LIGHT1, GL_LIGHT2, GL_LIGHT3, GL_LIGHT4,
-                GL_LIGHT5, GL_LIGHT6, GL_LIGHT7);
+        COPY(light);
+        COPY(model_ambient);
+        COPY(model_local_viewer);
+        COPY(model_two_side);
+        COPY(model_color_control);
+        COPY(material);
+        COPY(color_material_face);
+        COPY(color_material_mode);
+        COPY(shade_model);
+        ENABLES(GL_LIGHTING, GL_COLOR_MATERIAL, GL_LIGHT0, GL_LIGHT1, GL_LIGHT2, GL_LIGHT3, GL_LIGHT4, GL_LIGHT5,
+                GL_LIGHT6, GL_LIGHT7);
     }
     if (mask & GL_FOG_BIT) {
-        COPY(fog_mode); COPY(fog_coord_src); COPY(fog_density); COPY(fog_start); COPY(fog_end);
-        COPY(fog_index); COPY(fog_color);
+        COPY(fog_mode);
+        COPY(fog_coord_src);
+        COPY(fog_density);
+        COPY(fog_start);
+        COPY(fog_end);
+        COPY(fog_index);
+        COPY(fog_color);
         ENABLES(GL_FOG);
     }
     if (mask & GL_DEPTH_BUFFER_BIT) {
-        COPY(depth_func); COPY(depth_mask); COPY(clear_depth);
+        COPY(depth_func);
+        COPY(depth_mask);
+        COPY(clear_depth);
         ENABLES(GL_DEPTH_TEST);
     }
     if (mask & GL_ACCUM_BUFFER_BIT)
         COPY(clear_accum);
     if (mask & GL_STENCIL_BUFFER_BIT) {
-        COPY(stencil_func); COPY(stencil_ref); COPY(stencil_value_mask); COPY(stencil_writemask);
-        COPY(stencil_fail); COPY(stencil_zfail); COPY(stencil_zpass); COPY(clear_stencil);
+        COPY(stencil_func);
+        COPY(stencil_ref);
+        COPY(stencil_value_mask);
+        COPY(stencil_writemask);
+        COPY(stencil_fail);
+        COPY(stencil_zfail);
+        COPY(stencil_zpass);
+        COPY(clear_stencil);
         ENABLES(GL_STENCIL_TEST);
     }
     if (mask & GL_VIEWPORT_BIT) {
-        COPY(viewport); COPY(depth_range);
+        COPY(viewport);
+        COPY(depth_range);
     }
     if (mask & GL_TRANSFORM_BIT) {
-        COPY(matrix_mode); COPY(clip_plane);
-        ENABLES(GL_NORMALIZE, GL_RESCALE_NORMAL, GL_CLIP_PLANE0, GL_CLIP_PLANE1, GL_CLIP_PLANE2,
-                GL_CLIP_PLANE3, GL_CLIP_PLANE4, GL_CLIP_PLANE5);
+        COPY(matrix_mode);
+        COPY(clip_plane);
+        ENABLES(GL_NORMALIZE, GL_RESCALE_NORMAL, GL_CLIP_PLANE0, GL_CLIP_PLANE1, GL_CLIP_PLANE2, GL_CLIP_PLANE3,
+                GL_CLIP_PLANE4, GL_CLIP_PLANE5);
     }
     if (mask & GL_ENABLE_BIT) {
         /* All but GL_COLOR_SUM, which Mesa (the renderer) does not save. */
@@ -103,9 +144,19 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
         d->enables[0] = (d->enables[0] & ~(1ull << ST_EN_COLOR_SUM)) | keep;
     }
     if (mask & GL_COLOR_BUFFER_BIT) {
-        COPY(alpha_func); COPY(alpha_ref); COPY(blend_src_rgb); COPY(blend_dst_rgb);
-        COPY(blend_src_alpha); COPY(blend_dst_alpha); COPY(blend_eq_rgb); COPY(blend_eq_alpha);
-        COPY(blend_color); COPY(logic_op); COPY(color_mask); COPY(clear_color); COPY(draw_buffer);
+        COPY(alpha_func);
+        COPY(alpha_ref);
+        COPY(blend_src_rgb);
+        COPY(blend_dst_rgb);
+        COPY(blend_src_alpha);
+        COPY(blend_dst_alpha);
+        COPY(blend_eq_rgb);
+        COPY(blend_eq_alpha);
+        COPY(blend_color);
+        COPY(logic_op);
+        COPY(color_mask);
+        COPY(clear_color);
+        COPY(draw_buffer);
         ENABLES(GL_ALPHA_TEST, GL_BLEND, GL_COLOR_LOGIC_OP, GL_DITHER);
     }
     if (mask & GL_HINT_BIT) {
@@ -116,16 +167,16 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
     }
     if (mask & GL_EVAL_BIT)
         ENABLES(GL_AUTO_NORMAL, GL_MAP1_COLOR_4, GL_MAP1_INDEX, GL_MAP1_NORMAL, GL_MAP1_TEXTURE_COORD_1,
-                GL_MAP1_TEXTURE_COORD_2, GL_MAP1_TEXTURE_COORD_3, GL_MAP1_TEXTURE_COORD_4,
-                GL_MAP1_VERTEX_3, GL_MAP1_VERTEX_4, GL_MAP2_COLOR_4, GL_MAP2_INDEX, GL_MAP2_NORMAL,
-                GL_MAP2_TEXTURE_COORD_1, GL_MAP2_TEXTURE_COORD_2, GL_MAP2_TEXTURE_COORD_3,
-                GL_MAP2_TEXTURE_COORD_4, GL_MAP2_VERTEX_3, GL_MAP2_VERTEX_4);
+                GL_MAP1_TEXTURE_COORD_2, GL_MAP1_TEXTURE_COORD_3, GL_MAP1_TEXTURE_COORD_4, GL_MAP1_VERTEX_3,
+                GL_MAP1_VERTEX_4, GL_MAP2_COLOR_4, GL_MAP2_INDEX, GL_MAP2_NORMAL, GL_MAP2_TEXTURE_COORD_1,
+                GL_MAP2_TEXTURE_COORD_2, GL_MAP2_TEXTURE_COORD_3, GL_MAP2_TEXTURE_COORD_4, GL_MAP2_VERTEX_3,
+                GL_MAP2_VERTEX_4);
     if (mask & GL_LIST_BIT)
         COPY(list_base);
     if (mask & GL_TEXTURE_BIT) {
         COPY(active_texture);
         for (int u = 0; u < TSR_STATE_UNITS; u++) {
-            GLboolean keep = d->unit[u].coord_replace;  /* POINT_BIT's */
+            GLboolean keep = d->unit[u].coord_replace; /* POINT_BIT's */
             d->unit[u] = s->unit[u];
             d->unit[u].coord_replace = keep;
         }
@@ -137,7 +188,8 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
         ENABLES(GL_SCISSOR_TEST);
     }
     if (mask & GL_MULTISAMPLE_BIT) {
-        COPY(sample_coverage_value); COPY(sample_coverage_invert);
+        COPY(sample_coverage_value);
+        COPY(sample_coverage_invert);
         ENABLES(GL_MULTISAMPLE, GL_SAMPLE_ALPHA_TO_COVERAGE, GL_SAMPLE_ALPHA_TO_ONE, GL_SAMPLE_COVERAGE);
     }
 }
@@ -189,6 +241,7 @@ static void st_PopAttrib(void *self)
 void st_attrib_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(PushAttrib); SET(PopAttrib);
+    SET(PushAttrib);
+    SET(PopAttrib);
 #undef SET
 }

@@ -62,8 +62,7 @@ static void st_PopClientAttrib(void *self)
 }
 
 /* --- client arrays --------------------------------------------------------------- */
-static void set_pointer(tsr_state_ctx *c, tsr_state_array *a, GLint size, GLenum type, GLsizei stride,
-                        const void *ptr)
+static void set_pointer(tsr_state_ctx *c, tsr_state_array *a, GLint size, GLenum type, GLsizei stride, const void *ptr)
 {
     a->size = size;
     a->type = type;
@@ -72,11 +71,31 @@ static void set_pointer(tsr_state_ctx *c, tsr_state_array *a, GLint size, GLenum
     a->buffer = c->v.array_buffer;
 }
 
-static void st_VertexPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.vertex, size, type, stride, p); }
-static void st_NormalPointer(void *self, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.normal, 3, type, stride, p); }
-static void st_ColorPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.color, size, type, stride, p); }
-static void st_TexCoordPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.texcoord[c->client.client_active_texture], size, type, stride, p); }
-static void st_EdgeFlagPointer(void *self, GLsizei stride, const void *p) { tsr_state_ctx *c = self; set_pointer(c, &c->client.edge_flag, 1, GL_BOOL, stride, p); }
+static void st_VertexPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    set_pointer(c, &c->client.vertex, size, type, stride, p);
+}
+static void st_NormalPointer(void *self, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    set_pointer(c, &c->client.normal, 3, type, stride, p);
+}
+static void st_ColorPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    set_pointer(c, &c->client.color, size, type, stride, p);
+}
+static void st_TexCoordPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    set_pointer(c, &c->client.texcoord[c->client.client_active_texture], size, type, stride, p);
+}
+static void st_EdgeFlagPointer(void *self, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    set_pointer(c, &c->client.edge_flag, 1, GL_BOOL, stride, p);
+}
 
 static void st_VertexAttribPointer(void *self, GLuint index, GLint size, GLenum type, GLboolean normalized,
                                    GLsizei stride, const void *p)
@@ -88,10 +107,32 @@ static void st_VertexAttribPointer(void *self, GLuint index, GLint size, GLenum 
     c->client.attrib[index].normalized = normalized ? GL_TRUE : GL_FALSE;
 }
 
-static void st_EnableClientState(void *self, GLenum array) { tsr_state_ctx *c = self; tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_TRUE; }
-static void st_DisableClientState(void *self, GLenum array) { tsr_state_ctx *c = self; tsr_state_array *a = st_client_array(c, array); if (a) a->enabled = GL_FALSE; }
-static void st_EnableVertexAttribArray(void *self, GLuint i) { tsr_state_ctx *c = self; if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_TRUE; }
-static void st_DisableVertexAttribArray(void *self, GLuint i) { tsr_state_ctx *c = self; if (i < TSR_STATE_ATTRIBS) c->client.attrib[i].enabled = GL_FALSE; }
+static void st_EnableClientState(void *self, GLenum array)
+{
+    tsr_state_ctx *c = self;
+    tsr_state_array *a = st_client_array(c, array);
+    if (a)
+        a->enabled = GL_TRUE;
+}
+static void st_DisableClientState(void *self, GLenum array)
+{
+    tsr_state_ctx *c = self;
+    tsr_state_array *a = st_client_array(c, array);
+    if (a)
+        a->enabled = GL_FALSE;
+}
+static void st_EnableVertexAttribArray(void *self, GLuint i)
+{
+    tsr_state_ctx *c = self;
+    if (i < TSR_STATE_ATTRIBS)
+        c->client.attrib[i].enabled = GL_TRUE;
+}
+static void st_DisableVertexAttribArray(void *self, GLuint i)
+{
+    tsr_state_ctx *c = self;
+    if (i < TSR_STATE_ATTRIBS)
+        c->client.attrib[i].enabled = GL_FALSE;
+}
 
 static void st_ClientActiveTexture(void *self, GLenum unit)
 {
@@ -110,20 +151,107 @@ static void st_InterleavedArrays(void *self, GLenum format, GLsizei stride, cons
     int pc = 0, pn = 0, pv = 0;
     const int f = (int)sizeof(GLfloat);
     switch (format) {
-    case GL_V2F: vs = 2; pv = 0; n = 2 * f; break;
-    case GL_V3F: vs = 3; pv = 0; n = 3 * f; break;
-    case GL_C4UB_V2F: cs = 4; ct = GL_UNSIGNED_BYTE; vs = 2; pc = 0; pv = 4; n = 4 + 2 * f; break;
-    case GL_C4UB_V3F: cs = 4; ct = GL_UNSIGNED_BYTE; vs = 3; pc = 0; pv = 4; n = 4 + 3 * f; break;
-    case GL_C3F_V3F: cs = 3; vs = 3; pc = 0; pv = 3 * f; n = 6 * f; break;
-    case GL_N3F_V3F: pn = 1; vs = 3; pv = 3 * f; n = 6 * f; break;
-    case GL_C4F_N3F_V3F: cs = 4; pc = 0; pn = 1; vs = 3; pv = 7 * f; n = 10 * f; break;
-    case GL_T2F_V3F: tc = 2; vs = 3; pv = 2 * f; n = 5 * f; break;
-    case GL_T4F_V4F: tc = 4; vs = 4; pv = 4 * f; n = 8 * f; break;
-    case GL_T2F_C4UB_V3F: tc = 2; cs = 4; ct = GL_UNSIGNED_BYTE; pc = 2 * f; vs = 3; pv = 2 * f + 4; n = 2 * f + 4 + 3 * f; break;
-    case GL_T2F_C3F_V3F: tc = 2; cs = 3; pc = 2 * f; vs = 3; pv = 5 * f; n = 8 * f; break;
-    case GL_T2F_N3F_V3F: tc = 2; pn = 1; vs = 3; pv = 5 * f; n = 8 * f; break;
-    case GL_T2F_C4F_N3F_V3F: tc = 2; cs = 4; pc = 2 * f; pn = 1; vs = 3; pv = 9 * f; n = 12 * f; break;
-    case GL_T4F_C4F_N3F_V4F: tc = 4; cs = 4; pc = 4 * f; pn = 1; vs = 4; pv = 11 * f; n = 15 * f; break;
+    case GL_V2F:
+        vs = 2;
+        pv = 0;
+        n = 2 * f;
+        break;
+    case GL_V3F:
+        vs = 3;
+        pv = 0;
+        n = 3 * f;
+        break;
+    case GL_C4UB_V2F:
+        cs = 4;
+        ct = GL_UNSIGNED_BYTE;
+        vs = 2;
+        pc = 0;
+        pv = 4;
+        n = 4 + 2 * f;
+        break;
+    case GL_C4UB_V3F:
+        cs = 4;
+        ct = GL_UNSIGNED_BYTE;
+        vs = 3;
+        pc = 0;
+        pv = 4;
+        n = 4 + 3 * f;
+        break;
+    case GL_C3F_V3F:
+        cs = 3;
+        vs = 3;
+        pc = 0;
+        pv = 3 * f;
+        n = 6 * f;
+        break;
+    case GL_N3F_V3F:
+        pn = 1;
+        vs = 3;
+        pv = 3 * f;
+        n = 6 * f;
+        break;
+    case GL_C4F_N3F_V3F:
+        cs = 4;
+        pc = 0;
+        pn = 1;
+        vs = 3;
+        pv = 7 * f;
+        n = 10 * f;
+        break;
+    case GL_T2F_V3F:
+        tc = 2;
+        vs = 3;
+        pv = 2 * f;
+        n = 5 * f;
+        break;
+    case GL_T4F_V4F:
+        tc = 4;
+        vs = 4;
+        pv = 4 * f;
+        n = 8 * f;
+        break;
+    case GL_T2F_C4UB_V3F:
+        tc = 2;
+        cs = 4;
+        ct = GL_UNSIGNED_BYTE;
+        pc = 2 * f;
+        vs = 3;
+        pv = 2 * f + 4;
+        n = 2 * f + 4 + 3 * f;
+        break;
+    case GL_T2F_C3F_V3F:
+        tc = 2;
+        cs = 3;
+        pc = 2 * f;
+        vs = 3;
+        pv = 5 * f;
+        n = 8 * f;
+        break;
+    case GL_T2F_N3F_V3F:
+        tc = 2;
+        pn = 1;
+        vs = 3;
+        pv = 5 * f;
+        n = 8 * f;
+        break;
+    case GL_T2F_C4F_N3F_V3F:
+        tc = 2;
+        cs = 4;
+        pc = 2 * f;
+        pn = 1;
+        vs = 3;
+        pv = 9 * f;
+        n = 12 * f;
+        break;
+    case GL_T4F_C4F_N3F_V4F:
+        tc = 4;
+        cs = 4;
+        pc = 4 * f;
+        pn = 1;
+        vs = 4;
+        pv = 11 * f;
+        n = 15 * f;
+        break;
     default: return;
     }
     if (stride == 0)
@@ -147,10 +275,21 @@ static void st_InterleavedArrays(void *self, GLenum format, GLsizei stride, cons
 void st_client_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(PixelStorei); SET(PixelStoref); SET(PushClientAttrib); SET(PopClientAttrib);
-    SET(VertexPointer); SET(NormalPointer); SET(ColorPointer); SET(TexCoordPointer);
-    SET(EdgeFlagPointer); SET(VertexAttribPointer); SET(EnableClientState);
-    SET(DisableClientState); SET(EnableVertexAttribArray); SET(DisableVertexAttribArray);
-    SET(ClientActiveTexture); SET(InterleavedArrays);
+    SET(PixelStorei);
+    SET(PixelStoref);
+    SET(PushClientAttrib);
+    SET(PopClientAttrib);
+    SET(VertexPointer);
+    SET(NormalPointer);
+    SET(ColorPointer);
+    SET(TexCoordPointer);
+    SET(EdgeFlagPointer);
+    SET(VertexAttribPointer);
+    SET(EnableClientState);
+    SET(DisableClientState);
+    SET(EnableVertexAttribArray);
+    SET(DisableVertexAttribArray);
+    SET(ClientActiveTexture);
+    SET(InterleavedArrays);
 #undef SET
 }

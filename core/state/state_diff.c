@@ -24,9 +24,9 @@ typedef struct dctx {
     tsr_state_shadow *s;
     const tsr_dispatch *d;
     uint32_t n;
-    uint64_t changed[2];   /* members this diff changed on the renderer */
-    int member;            /* member being diffed */
-    int eye_pushed;        /* eye_begin saved the modelview with glPushMatrix */
+    uint64_t changed[2]; /* members this diff changed on the renderer */
+    int member;          /* member being diffed */
+    int eye_pushed;      /* eye_begin saved the modelview with glPushMatrix */
 } dctx;
 
 static inline void emitted(dctx *x)
@@ -58,12 +58,12 @@ static void sel_mode(dctx *x, GLenum mode)
 }
 
 static const GLenum unpack_pnames[8] = {
-    GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST, GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT,
-    GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,
+    GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST,   GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT,
+    GL_UNPACK_SKIP_ROWS,  GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,
 };
 static const GLenum pack_pnames[8] = {
-    GL_PACK_SWAP_BYTES, GL_PACK_LSB_FIRST, GL_PACK_ROW_LENGTH, GL_PACK_IMAGE_HEIGHT,
-    GL_PACK_SKIP_ROWS, GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_IMAGES, GL_PACK_ALIGNMENT,
+    GL_PACK_SWAP_BYTES, GL_PACK_LSB_FIRST,   GL_PACK_ROW_LENGTH,  GL_PACK_IMAGE_HEIGHT,
+    GL_PACK_SKIP_ROWS,  GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_IMAGES, GL_PACK_ALIGNMENT,
 };
 
 /* Sets the renderer's unpack modes to tightly packed pixels (what the
@@ -106,8 +106,12 @@ static void sel_transfer(dctx *x, const st_transfer *t)
             x->n++, changed = 1;
         }
     }
-    const struct { GLenum p; GLint *sv; GLint want; } ints[2] = {
-        {GL_INDEX_SHIFT, &s->index_shift, t->index_shift}, {GL_INDEX_OFFSET, &s->index_offset, t->index_offset}};
+    const struct {
+        GLenum p;
+        GLint *sv;
+        GLint want;
+    } ints[2] = {{GL_INDEX_SHIFT, &s->index_shift, t->index_shift},
+                 {GL_INDEX_OFFSET, &s->index_offset, t->index_offset}};
     for (int i = 0; i < 2; i++)
         if (*ints[i].sv != ints[i].want) {
             tsr_call_PixelTransferi(x->d, ints[i].p, ints[i].want);
@@ -457,7 +461,8 @@ static void d_stencil(dctx *x)
                 s->stencil_zpass[g] = c->stencil_zpass[g];
             }
         } else {
-            tsr_call_StencilOpSeparate(x->d, face_enum[f], c->stencil_fail[f], c->stencil_zfail[f], c->stencil_zpass[f]);
+            tsr_call_StencilOpSeparate(x->d, face_enum[f], c->stencil_fail[f], c->stencil_zfail[f],
+                                       c->stencil_zpass[f]);
             s->stencil_fail[f] = c->stencil_fail[f];
             s->stencil_zfail[f] = c->stencil_zfail[f];
             s->stencil_zpass[f] = c->stencil_zpass[f];
@@ -587,7 +592,7 @@ static void d_lighting(dctx *x, int m)
         static const GLenum props[5] = {GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_SHININESS};
         static const GLenum face_enum[2] = {GL_FRONT, GL_BACK};
         for (int p = 0; p < 5; p++) {
-            size_t off = p == 0 ? offsetof(tsr_state_material, ambient)
+            size_t off = p == 0   ? offsetof(tsr_state_material, ambient)
                          : p == 1 ? offsetof(tsr_state_material, diffuse)
                          : p == 2 ? offsetof(tsr_state_material, specular)
                          : p == 3 ? offsetof(tsr_state_material, emission)
@@ -708,8 +713,13 @@ static void d_raster(dctx *x, int m)
 static void d_hint(dctx *x)
 {
     static const GLenum targets[8] = {
-        GL_PERSPECTIVE_CORRECTION_HINT, GL_POINT_SMOOTH_HINT, GL_LINE_SMOOTH_HINT,
-        GL_POLYGON_SMOOTH_HINT, GL_FOG_HINT, GL_GENERATE_MIPMAP_HINT, GL_TEXTURE_COMPRESSION_HINT,
+        GL_PERSPECTIVE_CORRECTION_HINT,
+        GL_POINT_SMOOTH_HINT,
+        GL_LINE_SMOOTH_HINT,
+        GL_POLYGON_SMOOTH_HINT,
+        GL_FOG_HINT,
+        GL_GENERATE_MIPMAP_HINT,
+        GL_TEXTURE_COMPRESSION_HINT,
         GL_FRAGMENT_SHADER_DERIVATIVE_HINT,
     };
     for (int i = 0; i < 8; i++)
@@ -721,8 +731,7 @@ static void d_hint(dctx *x)
 }
 
 /* --- textures --------------------------------------------------------------------- */
-static const GLenum target_enum[TSR_TEX_TARGETS] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D,
-                                                     GL_TEXTURE_CUBE_MAP};
+static const GLenum target_enum[TSR_TEX_TARGETS] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP};
 
 static void bind_tex(dctx *x, GLuint u, int ti, GLuint name)
 {
@@ -736,17 +745,17 @@ static void bind_tex(dctx *x, GLuint u, int ti, GLuint name)
 
 static void texparams(dctx *x, GLenum target, st_texparams *s, const st_texparams *c)
 {
-#define TPI(field, pname)                                               \
-    if (s->field != c->field) {                                         \
-        tsr_call_TexParameteri(x->d, target, pname, (GLint)c->field);  \
-        s->field = c->field;                                            \
-        emitted(x);                                                     \
+#define TPI(field, pname)                                             \
+    if (s->field != c->field) {                                       \
+        tsr_call_TexParameteri(x->d, target, pname, (GLint)c->field); \
+        s->field = c->field;                                          \
+        emitted(x);                                                   \
     }
-#define TPF(field, pname)                                               \
-    if (NEQ(s->field, c->field)) {                                      \
-        tsr_call_TexParameterf(x->d, target, pname, c->field);         \
-        s->field = c->field;                                            \
-        emitted(x);                                                     \
+#define TPF(field, pname)                                      \
+    if (NEQ(s->field, c->field)) {                             \
+        tsr_call_TexParameterf(x->d, target, pname, c->field); \
+        s->field = c->field;                                   \
+        emitted(x);                                            \
     }
     TPI(min_filter, GL_TEXTURE_MIN_FILTER);
     TPI(mag_filter, GL_TEXTURE_MAG_FILTER);
@@ -783,21 +792,22 @@ static void replay(dctx *x, const st_texobj *o, const st_upload *u)
     sel_transfer(x, &u->transfer);
     if (u->kind == ST_UP_IMAGE) {
         if (u->dims == 1)
-            tsr_call_TexImage1D(x->d, u->target, u->level, u->internalformat, u->w, u->border, u->format, u->type, u->data);
+            tsr_call_TexImage1D(x->d, u->target, u->level, u->internalformat, u->w, u->border, u->format, u->type,
+                                u->data);
         else if (u->dims == 2)
-            tsr_call_TexImage2D(x->d, u->target, u->level, u->internalformat, u->w, u->h, u->border, u->format,
-                                u->type, u->data);
+            tsr_call_TexImage2D(x->d, u->target, u->level, u->internalformat, u->w, u->h, u->border, u->format, u->type,
+                                u->data);
         else
-            tsr_call_TexImage3D(x->d, u->target, u->level, u->internalformat, u->w, u->h, u->d, u->border,
-                                u->format, u->type, u->data);
+            tsr_call_TexImage3D(x->d, u->target, u->level, u->internalformat, u->w, u->h, u->d, u->border, u->format,
+                                u->type, u->data);
     } else {
         if (u->dims == 1)
             tsr_call_TexSubImage1D(x->d, u->target, u->level, u->x, u->w, u->format, u->type, u->data);
         else if (u->dims == 2)
             tsr_call_TexSubImage2D(x->d, u->target, u->level, u->x, u->y, u->w, u->h, u->format, u->type, u->data);
         else
-            tsr_call_TexSubImage3D(x->d, u->target, u->level, u->x, u->y, u->z, u->w, u->h, u->d, u->format,
-                                   u->type, u->data);
+            tsr_call_TexSubImage3D(x->d, u->target, u->level, u->x, u->y, u->z, u->w, u->h, u->d, u->format, u->type,
+                                   u->data);
     }
     emitted(x);
 }
@@ -818,8 +828,22 @@ static uint64_t tex_hash(const st_texobj *o)
     uint64_t h = fnv(0xcbf29ce484222325ull, &o->params, sizeof o->params);
     for (size_t i = 0; i < o->nup; i++) {
         const st_upload *u = &o->up[i];
-        GLint f[17] = {(GLint)u->kind, u->dims, (GLint)u->target, u->level, u->internalformat, u->border, u->x, u->y,
-                       u->z, u->w, u->h, u->d, (GLint)u->format, (GLint)u->type, u->swap_bytes, u->lsb_first,
+        GLint f[17] = {(GLint)u->kind,
+                       u->dims,
+                       (GLint)u->target,
+                       u->level,
+                       u->internalformat,
+                       u->border,
+                       u->x,
+                       u->y,
+                       u->z,
+                       u->w,
+                       u->h,
+                       u->d,
+                       (GLint)u->format,
+                       (GLint)u->type,
+                       u->swap_bytes,
+                       u->lsb_first,
                        u->gen_mipmap};
         h = fnv(h, f, sizeof f);
         h = fnv(h, &u->size, sizeof u->size);
@@ -1057,9 +1081,8 @@ static void d_misc(dctx *x, int m)
         tsr_call_ListBase(x->d, c->list_base);
         s->list_base = c->list_base;
         emitted(x);
-    } else if (m == TSR_SM_MULTISAMPLE &&
-               (NEQ(c->sample_coverage_value, s->sample_coverage_value) ||
-                c->sample_coverage_invert != s->sample_coverage_invert)) {
+    } else if (m == TSR_SM_MULTISAMPLE && (NEQ(c->sample_coverage_value, s->sample_coverage_value) ||
+                                           c->sample_coverage_invert != s->sample_coverage_invert)) {
         tsr_call_SampleCoverage(x->d, c->sample_coverage_value, c->sample_coverage_invert);
         s->sample_coverage_value = c->sample_coverage_value;
         s->sample_coverage_invert = c->sample_coverage_invert;
@@ -1175,8 +1198,8 @@ static void d_transform(dctx *x, int m)
         sync_stack(x, GL_MODELVIEW, 0, (const GLfloat(*)[16])c->modelview, c->modelview_recipe, c->modelview_depth,
                    s->modelview, s->modelview_recipe, &s->modelview_depth);
     else if (m == TSR_SM_PROJECTION)
-        sync_stack(x, GL_PROJECTION, 0, (const GLfloat(*)[16])c->projection, c->projection_recipe,
-                   c->projection_depth, s->projection, s->projection_recipe, &s->projection_depth);
+        sync_stack(x, GL_PROJECTION, 0, (const GLfloat(*)[16])c->projection, c->projection_recipe, c->projection_depth,
+                   s->projection, s->projection_recipe, &s->projection_depth);
     else if (m >= TSR_SM_TEXMAT0 && m < TSR_SM_TEXMAT0 + TSR_STATE_UNITS) {
         GLuint u = (GLuint)(m - TSR_SM_TEXMAT0);
         sync_stack(x, GL_TEXTURE, u, (const GLfloat(*)[16])c->texture[u], c->texture_recipe[u], c->texture_depth[u],

@@ -263,11 +263,28 @@ static void st_StencilMaskSeparate(void *self, GLenum face, GLuint m)
 void st_fragment_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(BlendFunc); SET(BlendFuncSeparate); SET(BlendEquation); SET(BlendEquationSeparate);
-    SET(BlendColor); SET(AlphaFunc); SET(LogicOp); SET(ColorMask); SET(ClearColor);
-    SET(ClearAccum); SET(DrawBuffer); SET(DrawBuffers); SET(ReadBuffer);
-    SET(DepthFunc); SET(DepthMask); SET(ClearDepth); SET(ClearStencil);
-    SET(StencilFunc); SET(StencilFuncSeparate); SET(StencilOp); SET(StencilOpSeparate);
-    SET(StencilMask); SET(StencilMaskSeparate);
+    SET(BlendFunc);
+    SET(BlendFuncSeparate);
+    SET(BlendEquation);
+    SET(BlendEquationSeparate);
+    SET(BlendColor);
+    SET(AlphaFunc);
+    SET(LogicOp);
+    SET(ColorMask);
+    SET(ClearColor);
+    SET(ClearAccum);
+    SET(DrawBuffer);
+    SET(DrawBuffers);
+    SET(ReadBuffer);
+    SET(DepthFunc);
+    SET(DepthMask);
+    SET(ClearDepth);
+    SET(ClearStencil);
+    SET(StencilFunc);
+    SET(StencilFuncSeparate);
+    SET(StencilOp);
+    SET(StencilOpSeparate);
+    SET(StencilMask);
+    SET(StencilMaskSeparate);
 #undef SET
 }

@@ -9,9 +9,9 @@
 #include <string.h>
 
 typedef enum kind {
-    K_FLOAT,   /* plain number: ints round to nearest */
-    K_NORM,    /* normalized [0,1] / [-1,1] value: ints scale to the full range */
-    K_INT,     /* integer or enum */
+    K_FLOAT, /* plain number: ints round to nearest */
+    K_NORM,  /* normalized [0,1] / [-1,1] value: ints scale to the full range */
+    K_INT,   /* integer or enum */
     K_BOOL,
 } kind;
 
@@ -72,7 +72,8 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     /* GL_TRANSPOSE_TEXTURE_MATRIX is left to the renderer: Mesa (22.3)
      * answers it with a matrix other than the active unit's transposed
      * texture matrix, and the renderer's answer is the one that counts. */
-    case GL_TRANSPOSE_MODELVIEW_MATRIX: case GL_TRANSPOSE_PROJECTION_MATRIX: {
+    case GL_TRANSPOSE_MODELVIEW_MATRIX:
+    case GL_TRANSPOSE_PROJECTION_MATRIX: {
         GLenum base = pname == GL_TRANSPOSE_MODELVIEW_MATRIX ? GL_MODELVIEW_MATRIX : GL_PROJECTION_MATRIX;
         answer m;
         lookup(c, base, &m);
@@ -99,7 +100,12 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
             a->v[i] = r[i];
         return 1;
     }
-    case GL_DEPTH_RANGE: a->k = K_NORM; a->n = 2; a->v[0] = v->depth_range[0]; a->v[1] = v->depth_range[1]; return 1;
+    case GL_DEPTH_RANGE:
+        a->k = K_NORM;
+        a->n = 2;
+        a->v[0] = v->depth_range[0];
+        a->v[1] = v->depth_range[1];
+        return 1;
     /* color buffer */
     case GL_BLEND_SRC_RGB: puti(a, v->blend_src_rgb); return 1;
     case GL_BLEND_DST_RGB: puti(a, v->blend_dst_rgb); return 1;
@@ -119,8 +125,16 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
         return 1;
     case GL_COLOR_CLEAR_VALUE: putf(a, K_NORM, v->clear_color, 4); return 1;
     case GL_ACCUM_CLEAR_VALUE: putf(a, K_NORM, v->clear_accum, 4); return 1;
-    case GL_DRAW_BUFFER: if (!v->draw_buffer) return 0; puti(a, v->draw_buffer); return 1;
-    case GL_READ_BUFFER: if (!v->read_buffer) return 0; puti(a, v->read_buffer); return 1;
+    case GL_DRAW_BUFFER:
+        if (!v->draw_buffer)
+            return 0;
+        puti(a, v->draw_buffer);
+        return 1;
+    case GL_READ_BUFFER:
+        if (!v->read_buffer)
+            return 0;
+        puti(a, v->read_buffer);
+        return 1;
     /* depth, stencil */
     case GL_DEPTH_FUNC: puti(a, v->depth_func); return 1;
     case GL_DEPTH_WRITEMASK: putb(a, v->depth_mask); return 1;
@@ -155,7 +169,12 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_COLOR_MATERIAL_PARAMETER: puti(a, v->color_material_mode); return 1;
     case GL_SHADE_MODEL: puti(a, v->shade_model); return 1;
     /* polygon, line, point */
-    case GL_POLYGON_MODE: a->k = K_INT; a->n = 2; a->v[0] = v->polygon_mode[0]; a->v[1] = v->polygon_mode[1]; return 1;
+    case GL_POLYGON_MODE:
+        a->k = K_INT;
+        a->n = 2;
+        a->v[0] = v->polygon_mode[0];
+        a->v[1] = v->polygon_mode[1];
+        return 1;
     case GL_CULL_FACE_MODE: puti(a, v->cull_face_mode); return 1;
     case GL_FRONT_FACE: puti(a, v->front_face); return 1;
     case GL_POLYGON_OFFSET_FACTOR: put1(a, K_FLOAT, v->offset_factor); return 1;
@@ -165,7 +184,11 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_LINE_STIPPLE_REPEAT: puti(a, v->line_stipple_factor); return 1;
     case GL_POINT_SIZE: put1(a, K_FLOAT, v->point_size); return 1;
     case GL_POINT_SIZE_MIN: put1(a, K_FLOAT, v->point_min); return 1;
-    case GL_POINT_SIZE_MAX: if (v->point_max < 0) return 0; put1(a, K_FLOAT, v->point_max); return 1;
+    case GL_POINT_SIZE_MAX:
+        if (v->point_max < 0)
+            return 0;
+        put1(a, K_FLOAT, v->point_max);
+        return 1;
     case GL_POINT_FADE_THRESHOLD_SIZE: put1(a, K_FLOAT, v->point_fade); return 1;
     case GL_POINT_DISTANCE_ATTENUATION: putf(a, K_FLOAT, v->point_attenuation, 3); return 1;
     case GL_POINT_SPRITE_COORD_ORIGIN: puti(a, v->point_sprite_origin); return 1;
@@ -179,14 +202,22 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_TEXTURE_COMPRESSION_HINT: puti(a, v->hint[6]); return 1;
     case GL_FRAGMENT_SHADER_DERIVATIVE_HINT: puti(a, v->hint[7]); return 1;
     /* pixel */
-    case GL_PACK_SWAP_BYTES: case GL_PACK_LSB_FIRST: case GL_UNPACK_SWAP_BYTES: case GL_UNPACK_LSB_FIRST:
-        putb(a, tsr_pixel_store_get(&v->pixel_store, pname));
-        return 1;
-    case GL_PACK_ROW_LENGTH: case GL_PACK_IMAGE_HEIGHT: case GL_PACK_SKIP_ROWS: case GL_PACK_SKIP_PIXELS:
-    case GL_PACK_SKIP_IMAGES: case GL_PACK_ALIGNMENT: case GL_UNPACK_ROW_LENGTH: case GL_UNPACK_IMAGE_HEIGHT:
-    case GL_UNPACK_SKIP_ROWS: case GL_UNPACK_SKIP_PIXELS: case GL_UNPACK_SKIP_IMAGES: case GL_UNPACK_ALIGNMENT:
-        puti(a, tsr_pixel_store_get(&v->pixel_store, pname));
-        return 1;
+    case GL_PACK_SWAP_BYTES:
+    case GL_PACK_LSB_FIRST:
+    case GL_UNPACK_SWAP_BYTES:
+    case GL_UNPACK_LSB_FIRST: putb(a, tsr_pixel_store_get(&v->pixel_store, pname)); return 1;
+    case GL_PACK_ROW_LENGTH:
+    case GL_PACK_IMAGE_HEIGHT:
+    case GL_PACK_SKIP_ROWS:
+    case GL_PACK_SKIP_PIXELS:
+    case GL_PACK_SKIP_IMAGES:
+    case GL_PACK_ALIGNMENT:
+    case GL_UNPACK_ROW_LENGTH:
+    case GL_UNPACK_IMAGE_HEIGHT:
+    case GL_UNPACK_SKIP_ROWS:
+    case GL_UNPACK_SKIP_PIXELS:
+    case GL_UNPACK_SKIP_IMAGES:
+    case GL_UNPACK_ALIGNMENT: puti(a, tsr_pixel_store_get(&v->pixel_store, pname)); return 1;
     case GL_ZOOM_X: put1(a, K_FLOAT, v->zoom[0]); return 1;
     case GL_ZOOM_Y: put1(a, K_FLOAT, v->zoom[1]); return 1;
     case GL_RED_SCALE: put1(a, K_FLOAT, v->transfer_scale[0]); return 1;
@@ -238,10 +269,11 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_COLOR_ARRAY_BUFFER_BINDING: puti(a, c->client.color.buffer); return 1;
     case GL_EDGE_FLAG_ARRAY_BUFFER_BINDING: puti(a, c->client.edge_flag.buffer); return 1;
     case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->buffer); return 1;
-    case GL_VERTEX_ARRAY: case GL_NORMAL_ARRAY: case GL_COLOR_ARRAY: case GL_EDGE_FLAG_ARRAY:
-    case GL_TEXTURE_COORD_ARRAY:
-        putb(a, st_client_array(c, pname)->enabled);
-        return 1;
+    case GL_VERTEX_ARRAY:
+    case GL_NORMAL_ARRAY:
+    case GL_COLOR_ARRAY:
+    case GL_EDGE_FLAG_ARRAY:
+    case GL_TEXTURE_COORD_ARRAY: putb(a, st_client_array(c, pname)->enabled); return 1;
     default: break;
     }
     int idx = st_enable_index(pname, au);
@@ -260,57 +292,158 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
 int tsr_state_get_count(GLenum pname)
 {
     switch (pname) {
-    case GL_MODELVIEW_MATRIX: case GL_PROJECTION_MATRIX: case GL_TEXTURE_MATRIX:
-    case GL_TRANSPOSE_MODELVIEW_MATRIX: case GL_TRANSPOSE_PROJECTION_MATRIX:
-        return 16;
-    case GL_CURRENT_COLOR: case GL_CURRENT_TEXTURE_COORDS: case GL_VIEWPORT: case GL_SCISSOR_BOX:
-    case GL_BLEND_COLOR: case GL_COLOR_WRITEMASK: case GL_COLOR_CLEAR_VALUE: case GL_ACCUM_CLEAR_VALUE:
-    case GL_FOG_COLOR: case GL_LIGHT_MODEL_AMBIENT:
-        return 4;
-    case GL_CURRENT_NORMAL: case GL_POINT_DISTANCE_ATTENUATION:
-        return 3;
-    case GL_DEPTH_RANGE: case GL_POLYGON_MODE:
-        return 2;
-    case GL_EDGE_FLAG: case GL_CURRENT_PROGRAM: case GL_MODELVIEW_STACK_DEPTH: case GL_PROJECTION_STACK_DEPTH:
-    case GL_TEXTURE_STACK_DEPTH: case GL_MATRIX_MODE: case GL_BLEND_SRC_RGB: case GL_BLEND_DST_RGB:
-    case GL_BLEND_SRC_ALPHA: case GL_BLEND_DST_ALPHA: case GL_BLEND_EQUATION_RGB: case GL_BLEND_EQUATION_ALPHA:
-    case GL_ALPHA_TEST_FUNC: case GL_ALPHA_TEST_REF: case GL_LOGIC_OP_MODE: case GL_DRAW_BUFFER:
-    case GL_READ_BUFFER: case GL_DEPTH_FUNC: case GL_DEPTH_WRITEMASK: case GL_DEPTH_CLEAR_VALUE:
-    case GL_STENCIL_FUNC: case GL_STENCIL_REF: case GL_STENCIL_FAIL: case GL_STENCIL_PASS_DEPTH_FAIL:
-    case GL_STENCIL_PASS_DEPTH_PASS: case GL_STENCIL_BACK_FUNC: case GL_STENCIL_BACK_REF:
-    case GL_STENCIL_BACK_FAIL: case GL_STENCIL_BACK_PASS_DEPTH_FAIL: case GL_STENCIL_BACK_PASS_DEPTH_PASS:
-    case GL_STENCIL_CLEAR_VALUE: case GL_FOG_MODE: case GL_FOG_COORD_SRC: case GL_FOG_DENSITY:
-    case GL_FOG_START: case GL_FOG_END: case GL_FOG_INDEX: case GL_LIGHT_MODEL_LOCAL_VIEWER:
-    case GL_LIGHT_MODEL_TWO_SIDE: case GL_LIGHT_MODEL_COLOR_CONTROL: case GL_COLOR_MATERIAL_FACE:
-    case GL_COLOR_MATERIAL_PARAMETER: case GL_SHADE_MODEL: case GL_CULL_FACE_MODE: case GL_FRONT_FACE:
-    case GL_POLYGON_OFFSET_FACTOR: case GL_POLYGON_OFFSET_UNITS: case GL_LINE_WIDTH:
-    case GL_LINE_STIPPLE_PATTERN: case GL_LINE_STIPPLE_REPEAT: case GL_POINT_SIZE: case GL_POINT_SIZE_MIN:
-    case GL_POINT_SIZE_MAX: case GL_POINT_FADE_THRESHOLD_SIZE: case GL_POINT_SPRITE_COORD_ORIGIN:
-    case GL_PERSPECTIVE_CORRECTION_HINT: case GL_POINT_SMOOTH_HINT: case GL_LINE_SMOOTH_HINT:
-    case GL_POLYGON_SMOOTH_HINT: case GL_FOG_HINT: case GL_GENERATE_MIPMAP_HINT:
-    case GL_TEXTURE_COMPRESSION_HINT: case GL_FRAGMENT_SHADER_DERIVATIVE_HINT: case GL_PACK_SWAP_BYTES:
-    case GL_PACK_LSB_FIRST: case GL_UNPACK_SWAP_BYTES: case GL_UNPACK_LSB_FIRST: case GL_PACK_ROW_LENGTH:
-    case GL_PACK_IMAGE_HEIGHT: case GL_PACK_SKIP_ROWS: case GL_PACK_SKIP_PIXELS: case GL_PACK_SKIP_IMAGES:
-    case GL_PACK_ALIGNMENT: case GL_UNPACK_ROW_LENGTH: case GL_UNPACK_IMAGE_HEIGHT: case GL_UNPACK_SKIP_ROWS:
-    case GL_UNPACK_SKIP_PIXELS: case GL_UNPACK_SKIP_IMAGES: case GL_UNPACK_ALIGNMENT: case GL_ZOOM_X:
-    case GL_ZOOM_Y: case GL_RED_SCALE: case GL_GREEN_SCALE: case GL_BLUE_SCALE: case GL_ALPHA_SCALE:
-    case GL_DEPTH_SCALE: case GL_RED_BIAS: case GL_GREEN_BIAS: case GL_BLUE_BIAS: case GL_ALPHA_BIAS:
-    case GL_DEPTH_BIAS: case GL_INDEX_SHIFT: case GL_INDEX_OFFSET: case GL_MAP_COLOR: case GL_MAP_STENCIL:
-    case GL_ACTIVE_TEXTURE: case GL_CLIENT_ACTIVE_TEXTURE: case GL_TEXTURE_BINDING_1D:
-    case GL_TEXTURE_BINDING_2D: case GL_TEXTURE_BINDING_3D: case GL_TEXTURE_BINDING_CUBE_MAP:
-    case GL_ARRAY_BUFFER_BINDING: case GL_ELEMENT_ARRAY_BUFFER_BINDING: case GL_LIST_BASE: case GL_LIST_INDEX:
-    case GL_LIST_MODE: case GL_SAMPLE_COVERAGE_VALUE: case GL_SAMPLE_COVERAGE_INVERT:
-    case GL_ATTRIB_STACK_DEPTH: case GL_CLIENT_ATTRIB_STACK_DEPTH: case GL_VERTEX_ARRAY_SIZE:
-    case GL_VERTEX_ARRAY_TYPE: case GL_VERTEX_ARRAY_STRIDE: case GL_NORMAL_ARRAY_TYPE:
-    case GL_NORMAL_ARRAY_STRIDE: case GL_COLOR_ARRAY_SIZE: case GL_COLOR_ARRAY_TYPE:
-    case GL_COLOR_ARRAY_STRIDE: case GL_EDGE_FLAG_ARRAY_STRIDE: case GL_TEXTURE_COORD_ARRAY_SIZE:
-    case GL_TEXTURE_COORD_ARRAY_TYPE: case GL_TEXTURE_COORD_ARRAY_STRIDE: case GL_VERTEX_ARRAY_BUFFER_BINDING:
-    case GL_NORMAL_ARRAY_BUFFER_BINDING: case GL_COLOR_ARRAY_BUFFER_BINDING:
-    case GL_EDGE_FLAG_ARRAY_BUFFER_BINDING: case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING: case GL_VERTEX_ARRAY:
-    case GL_NORMAL_ARRAY: case GL_COLOR_ARRAY: case GL_EDGE_FLAG_ARRAY: case GL_TEXTURE_COORD_ARRAY:
-        return 1;
-    default:
-        return st_enable_index(pname, 0) >= 0 ? 1 : 0;   /* a cap: one boolean */
+    case GL_MODELVIEW_MATRIX:
+    case GL_PROJECTION_MATRIX:
+    case GL_TEXTURE_MATRIX:
+    case GL_TRANSPOSE_MODELVIEW_MATRIX:
+    case GL_TRANSPOSE_PROJECTION_MATRIX: return 16;
+    case GL_CURRENT_COLOR:
+    case GL_CURRENT_TEXTURE_COORDS:
+    case GL_VIEWPORT:
+    case GL_SCISSOR_BOX:
+    case GL_BLEND_COLOR:
+    case GL_COLOR_WRITEMASK:
+    case GL_COLOR_CLEAR_VALUE:
+    case GL_ACCUM_CLEAR_VALUE:
+    case GL_FOG_COLOR:
+    case GL_LIGHT_MODEL_AMBIENT: return 4;
+    case GL_CURRENT_NORMAL:
+    case GL_POINT_DISTANCE_ATTENUATION: return 3;
+    case GL_DEPTH_RANGE:
+    case GL_POLYGON_MODE: return 2;
+    case GL_EDGE_FLAG:
+    case GL_CURRENT_PROGRAM:
+    case GL_MODELVIEW_STACK_DEPTH:
+    case GL_PROJECTION_STACK_DEPTH:
+    case GL_TEXTURE_STACK_DEPTH:
+    case GL_MATRIX_MODE:
+    case GL_BLEND_SRC_RGB:
+    case GL_BLEND_DST_RGB:
+    case GL_BLEND_SRC_ALPHA:
+    case GL_BLEND_DST_ALPHA:
+    case GL_BLEND_EQUATION_RGB:
+    case GL_BLEND_EQUATION_ALPHA:
+    case GL_ALPHA_TEST_FUNC:
+    case GL_ALPHA_TEST_REF:
+    case GL_LOGIC_OP_MODE:
+    case GL_DRAW_BUFFER:
+    case GL_READ_BUFFER:
+    case GL_DEPTH_FUNC:
+    case GL_DEPTH_WRITEMASK:
+    case GL_DEPTH_CLEAR_VALUE:
+    case GL_STENCIL_FUNC:
+    case GL_STENCIL_REF:
+    case GL_STENCIL_FAIL:
+    case GL_STENCIL_PASS_DEPTH_FAIL:
+    case GL_STENCIL_PASS_DEPTH_PASS:
+    case GL_STENCIL_BACK_FUNC:
+    case GL_STENCIL_BACK_REF:
+    case GL_STENCIL_BACK_FAIL:
+    case GL_STENCIL_BACK_PASS_DEPTH_FAIL:
+    case GL_STENCIL_BACK_PASS_DEPTH_PASS:
+    case GL_STENCIL_CLEAR_VALUE:
+    case GL_FOG_MODE:
+    case GL_FOG_COORD_SRC:
+    case GL_FOG_DENSITY:
+    case GL_FOG_START:
+    case GL_FOG_END:
+    case GL_FOG_INDEX:
+    case GL_LIGHT_MODEL_LOCAL_VIEWER:
+    case GL_LIGHT_MODEL_TWO_SIDE:
+    case GL_LIGHT_MODEL_COLOR_CONTROL:
+    case GL_COLOR_MATERIAL_FACE:
+    case GL_COLOR_MATERIAL_PARAMETER:
+    case GL_SHADE_MODEL:
+    case GL_CULL_FACE_MODE:
+    case GL_FRONT_FACE:
+    case GL_POLYGON_OFFSET_FACTOR:
+    case GL_POLYGON_OFFSET_UNITS:
+    case GL_LINE_WIDTH:
+    case GL_LINE_STIPPLE_PATTERN:
+    case GL_LINE_STIPPLE_REPEAT:
+    case GL_POINT_SIZE:
+    case GL_POINT_SIZE_MIN:
+    case GL_POINT_SIZE_MAX:
+    case GL_POINT_FADE_THRESHOLD_SIZE:
+    case GL_POINT_SPRITE_COORD_ORIGIN:
+    case GL_PERSPECTIVE_CORRECTION_HINT:
+    case GL_POINT_SMOOTH_HINT:
+    case GL_LINE_SMOOTH_HINT:
+    case GL_POLYGON_SMOOTH_HINT:
+    case GL_FOG_HINT:
+    case GL_GENERATE_MIPMAP_HINT:
+    case GL_TEXTURE_COMPRESSION_HINT:
+    case GL_FRAGMENT_SHADER_DERIVATIVE_HINT:
+    case GL_PACK_SWAP_BYTES:
+    case GL_PACK_LSB_FIRST:
+    case GL_UNPACK_SWAP_BYTES:
+    case GL_UNPACK_LSB_FIRST:
+    case GL_PACK_ROW_LENGTH:
+    case GL_PACK_IMAGE_HEIGHT:
+    case GL_PACK_SKIP_ROWS:
+    case GL_PACK_SKIP_PIXELS:
+    case GL_PACK_SKIP_IMAGES:
+    case GL_PACK_ALIGNMENT:
+    case GL_UNPACK_ROW_LENGTH:
+    case GL_UNPACK_IMAGE_HEIGHT:
+    case GL_UNPACK_SKIP_ROWS:
+    case GL_UNPACK_SKIP_PIXELS:
+    case GL_UNPACK_SKIP_IMAGES:
+    case GL_UNPACK_ALIGNMENT:
+    case GL_ZOOM_X:
+    case GL_ZOOM_Y:
+    case GL_RED_SCALE:
+    case GL_GREEN_SCALE:
+    case GL_BLUE_SCALE:
+    case GL_ALPHA_SCALE:
+    case GL_DEPTH_SCALE:
+    case GL_RED_BIAS:
+    case GL_GREEN_BIAS:
+    case GL_BLUE_BIAS:
+    case GL_ALPHA_BIAS:
+    case GL_DEPTH_BIAS:
+    case GL_INDEX_SHIFT:
+    case GL_INDEX_OFFSET:
+    case GL_MAP_COLOR:
+    case GL_MAP_STENCIL:
+    case GL_ACTIVE_TEXTURE:
+    case GL_CLIENT_ACTIVE_TEXTURE:
+    case GL_TEXTURE_BINDING_1D:
+    case GL_TEXTURE_BINDING_2D:
+    case GL_TEXTURE_BINDING_3D:
+    case GL_TEXTURE_BINDING_CUBE_MAP:
+    case GL_ARRAY_BUFFER_BINDING:
+    case GL_ELEMENT_ARRAY_BUFFER_BINDING:
+    case GL_LIST_BASE:
+    case GL_LIST_INDEX:
+    case GL_LIST_MODE:
+    case GL_SAMPLE_COVERAGE_VALUE:
+    case GL_SAMPLE_COVERAGE_INVERT:
+    case GL_ATTRIB_STACK_DEPTH:
+    case GL_CLIENT_ATTRIB_STACK_DEPTH:
+    case GL_VERTEX_ARRAY_SIZE:
+    case GL_VERTEX_ARRAY_TYPE:
+    case GL_VERTEX_ARRAY_STRIDE:
+    case GL_NORMAL_ARRAY_TYPE:
+    case GL_NORMAL_ARRAY_STRIDE:
+    case GL_COLOR_ARRAY_SIZE:
+    case GL_COLOR_ARRAY_TYPE:
+    case GL_COLOR_ARRAY_STRIDE:
+    case GL_EDGE_FLAG_ARRAY_STRIDE:
+    case GL_TEXTURE_COORD_ARRAY_SIZE:
+    case GL_TEXTURE_COORD_ARRAY_TYPE:
+    case GL_TEXTURE_COORD_ARRAY_STRIDE:
+    case GL_VERTEX_ARRAY_BUFFER_BINDING:
+    case GL_NORMAL_ARRAY_BUFFER_BINDING:
+    case GL_COLOR_ARRAY_BUFFER_BINDING:
+    case GL_EDGE_FLAG_ARRAY_BUFFER_BINDING:
+    case GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING:
+    case GL_VERTEX_ARRAY:
+    case GL_NORMAL_ARRAY:
+    case GL_COLOR_ARRAY:
+    case GL_EDGE_FLAG_ARRAY:
+    case GL_TEXTURE_COORD_ARRAY: return 1;
+    default: return st_enable_index(pname, 0) >= 0 ? 1 : 0; /* a cap: one boolean */
     }
 }
 
@@ -440,10 +573,18 @@ int tsr_state_get_tex_envfv(const tsr_state_ctx *c, GLenum target, GLenum pname,
     case GL_TEXTURE_ENV_COLOR: memcpy(out, t->env_color, 16); return 1;
     case GL_COMBINE_RGB: *out = (GLfloat)t->combine_rgb; return 1;
     case GL_COMBINE_ALPHA: *out = (GLfloat)t->combine_alpha; return 1;
-    case GL_SRC0_RGB: case GL_SRC1_RGB: case GL_SRC2_RGB: *out = (GLfloat)t->src_rgb[pname - GL_SRC0_RGB]; return 1;
-    case GL_SRC0_ALPHA: case GL_SRC1_ALPHA: case GL_SRC2_ALPHA: *out = (GLfloat)t->src_alpha[pname - GL_SRC0_ALPHA]; return 1;
-    case GL_OPERAND0_RGB: case GL_OPERAND1_RGB: case GL_OPERAND2_RGB: *out = (GLfloat)t->operand_rgb[pname - GL_OPERAND0_RGB]; return 1;
-    case GL_OPERAND0_ALPHA: case GL_OPERAND1_ALPHA: case GL_OPERAND2_ALPHA: *out = (GLfloat)t->operand_alpha[pname - GL_OPERAND0_ALPHA]; return 1;
+    case GL_SRC0_RGB:
+    case GL_SRC1_RGB:
+    case GL_SRC2_RGB: *out = (GLfloat)t->src_rgb[pname - GL_SRC0_RGB]; return 1;
+    case GL_SRC0_ALPHA:
+    case GL_SRC1_ALPHA:
+    case GL_SRC2_ALPHA: *out = (GLfloat)t->src_alpha[pname - GL_SRC0_ALPHA]; return 1;
+    case GL_OPERAND0_RGB:
+    case GL_OPERAND1_RGB:
+    case GL_OPERAND2_RGB: *out = (GLfloat)t->operand_rgb[pname - GL_OPERAND0_RGB]; return 1;
+    case GL_OPERAND0_ALPHA:
+    case GL_OPERAND1_ALPHA:
+    case GL_OPERAND2_ALPHA: *out = (GLfloat)t->operand_alpha[pname - GL_OPERAND0_ALPHA]; return 1;
     case GL_RGB_SCALE: *out = t->rgb_scale; return 1;
     case GL_ALPHA_SCALE: *out = t->alpha_scale; return 1;
     default: return 0;
@@ -508,7 +649,7 @@ int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, G
     const st_upload *img = NULL;
     for (size_t i = o->nup; i-- > 0;) {
         if (o->up[i].kind == ST_UP_MIPMAP || o->up[i].gen_mipmap)
-            return 0;   /* levels made by the renderer: ask it */
+            return 0; /* levels made by the renderer: ask it */
         if (o->up[i].kind == ST_UP_IMAGE && o->up[i].target == target && o->up[i].level == level) {
             img = &o->up[i];
             break;
@@ -521,7 +662,7 @@ int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, G
     case GL_TEXTURE_HEIGHT: *out = img->dims >= 2 ? img->h : 1; return 1;
     case GL_TEXTURE_DEPTH: *out = img->dims == 3 ? img->d : 1; return 1;
     case GL_TEXTURE_BORDER: *out = img->border; return 1;
-    default: return 0;   /* internal format and sizes: the renderer decides */
+    default: return 0; /* internal format and sizes: the renderer decides */
     }
 }
 
@@ -555,8 +696,9 @@ int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out)
 
 int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLint *out)
 {
-    GLuint name = target == GL_ARRAY_BUFFER ? c->v.array_buffer
-                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer : 0;
+    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
+                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
+                                                      : 0;
     const st_bufobj *b = name ? st_buf_lookup(c, name) : NULL;
     if (!b)
         return 0;
@@ -575,10 +717,7 @@ GLboolean tsr_state_is_texture(const tsr_state_ctx *c, GLuint name)
     return o && o->target >= 0;
 }
 
-GLboolean tsr_state_is_list(const tsr_state_ctx *c, GLuint name)
-{
-    return tsr_name_map_get(&c->lists, name) != NULL;
-}
+GLboolean tsr_state_is_list(const tsr_state_ctx *c, GLuint name) { return tsr_name_map_get(&c->lists, name) != NULL; }
 
 GLboolean tsr_state_is_buffer(const tsr_state_ctx *c, GLuint name)
 {
@@ -601,20 +740,30 @@ static void g_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o) { tsr_state
 static void g_GetMaterialfv(void *self, GLenum f, GLenum p, GLfloat *o) { tsr_state_get_materialfv(self, f, p, o); }
 static void g_GetTexEnvfv(void *self, GLenum t, GLenum p, GLfloat *o) { tsr_state_get_tex_envfv(self, t, p, o); }
 static void g_GetTexGenfv(void *self, GLenum t, GLenum p, GLfloat *o) { tsr_state_get_tex_genfv(self, t, p, o); }
-static void g_GetTexParameterfv(void *self, GLenum t, GLenum p, GLfloat *o) { tsr_state_get_tex_parameterfv(self, t, p, o); }
-static void g_GetTexLevelParameteriv(void *self, GLenum t, GLint l, GLenum p, GLint *o) { tsr_state_get_tex_level_parameteriv(self, t, l, p, o); }
+static void g_GetTexParameterfv(void *self, GLenum t, GLenum p, GLfloat *o)
+{
+    tsr_state_get_tex_parameterfv(self, t, p, o);
+}
+static void g_GetTexLevelParameteriv(void *self, GLenum t, GLint l, GLenum p, GLint *o)
+{
+    tsr_state_get_tex_level_parameteriv(self, t, l, p, o);
+}
 static void g_GetClipPlane(void *self, GLenum p, GLdouble *o) { tsr_state_get_clip_plane(self, p, o); }
 static void g_GetPolygonStipple(void *self, GLubyte *o) { tsr_state_get_polygon_stipple(self, o); }
-static void g_GetBufferParameteriv(void *self, GLenum t, GLenum p, GLint *o) { tsr_state_get_buffer_parameteriv(self, t, p, o); }
+static void g_GetBufferParameteriv(void *self, GLenum t, GLenum p, GLint *o)
+{
+    tsr_state_get_buffer_parameteriv(self, t, p, o);
+}
 static void g_GetPointerv(void *self, GLenum pname, void **out)
 {
     const tsr_state_ctx *c = self;
-    const tsr_state_array *a = pname == GL_VERTEX_ARRAY_POINTER ? &c->client.vertex
-                               : pname == GL_NORMAL_ARRAY_POINTER ? &c->client.normal
-                               : pname == GL_COLOR_ARRAY_POINTER ? &c->client.color
+    const tsr_state_array *a = pname == GL_VERTEX_ARRAY_POINTER      ? &c->client.vertex
+                               : pname == GL_NORMAL_ARRAY_POINTER    ? &c->client.normal
+                               : pname == GL_COLOR_ARRAY_POINTER     ? &c->client.color
                                : pname == GL_EDGE_FLAG_ARRAY_POINTER ? &c->client.edge_flag
-                               : pname == GL_TEXTURE_COORD_ARRAY_POINTER ? &c->client.texcoord[c->client.client_active_texture]
-                                                                         : NULL;
+                               : pname == GL_TEXTURE_COORD_ARRAY_POINTER
+                                   ? &c->client.texcoord[c->client.client_active_texture]
+                                   : NULL;
     if (a)
         *out = (void *)a->pointer;
 }
@@ -625,9 +774,23 @@ static GLboolean g_IsBuffer(void *self, GLuint n) { return tsr_state_is_buffer(s
 void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, g_##name, c)
-    SET(GetBooleanv); SET(GetDoublev); SET(GetFloatv); SET(GetIntegerv); SET(IsEnabled);
-    SET(GetLightfv); SET(GetMaterialfv); SET(GetTexEnvfv); SET(GetTexGenfv); SET(GetTexParameterfv);
-    SET(GetTexLevelParameteriv); SET(GetClipPlane); SET(GetPolygonStipple); SET(GetBufferParameteriv);
-    SET(IsTexture); SET(IsList); SET(IsBuffer); SET(GetPointerv);
+    SET(GetBooleanv);
+    SET(GetDoublev);
+    SET(GetFloatv);
+    SET(GetIntegerv);
+    SET(IsEnabled);
+    SET(GetLightfv);
+    SET(GetMaterialfv);
+    SET(GetTexEnvfv);
+    SET(GetTexGenfv);
+    SET(GetTexParameterfv);
+    SET(GetTexLevelParameteriv);
+    SET(GetClipPlane);
+    SET(GetPolygonStipple);
+    SET(GetBufferParameteriv);
+    SET(IsTexture);
+    SET(IsList);
+    SET(IsBuffer);
+    SET(GetPointerv);
 #undef SET
 }

@@ -60,10 +60,7 @@ static void src_unref(st_source *s)
 }
 
 /* --- objects --------------------------------------------------------------- */
-static void mark(tsr_state_ctx *c)
-{
-    st_mark(c, TSR_SM_PROGRAM);
-}
+static void mark(tsr_state_ctx *c) { st_mark(c, TSR_SM_PROGRAM); }
 
 static GLuint new_name(const tsr_state_ctx *c)
 {
@@ -428,8 +425,7 @@ static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei cou
     size_t out = 0;
     for (size_t i = 0; i < p->nuni; i++) {
         st_uniform *u = &p->uni[i];
-        if (u->base == base && u->size == size && u->loc >= loc &&
-            (int64_t)u->loc + u->count <= (int64_t)loc + count) {
+        if (u->base == base && u->size == size && u->loc >= loc && (int64_t)u->loc + u->count <= (int64_t)loc + count) {
             free(u->data);
             continue;
         }
@@ -450,69 +446,89 @@ static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei cou
     mark(c);
 }
 
-#define UF(n, ...)                                                          \
-    {                                                                       \
-        tsr_state_ctx *c = st_exec_ctx(self);                               \
-        const GLfloat v[] = {__VA_ARGS__};                                  \
-        if (c)                                                              \
-            uniform(c, ST_U_F, n, loc, 1, GL_FALSE, v);                     \
+#define UF(n, ...)                                      \
+    {                                                   \
+        tsr_state_ctx *c = st_exec_ctx(self);           \
+        const GLfloat v[] = {__VA_ARGS__};              \
+        if (c)                                          \
+            uniform(c, ST_U_F, n, loc, 1, GL_FALSE, v); \
     }
-#define UI(n, ...)                                                          \
-    {                                                                       \
-        tsr_state_ctx *c = st_exec_ctx(self);                               \
-        const GLint v[] = {__VA_ARGS__};                                    \
-        if (c)                                                              \
-            uniform(c, ST_U_I, n, loc, 1, GL_FALSE, v);                     \
+#define UI(n, ...)                                      \
+    {                                                   \
+        tsr_state_ctx *c = st_exec_ctx(self);           \
+        const GLint v[] = {__VA_ARGS__};                \
+        if (c)                                          \
+            uniform(c, ST_U_I, n, loc, 1, GL_FALSE, v); \
     }
-static void st_Uniform1f(void *self, GLint loc, GLfloat a) UF(1, a)
-static void st_Uniform2f(void *self, GLint loc, GLfloat a, GLfloat b) UF(2, a, b)
-static void st_Uniform3f(void *self, GLint loc, GLfloat a, GLfloat b, GLfloat d) UF(3, a, b, d)
-static void st_Uniform4f(void *self, GLint loc, GLfloat a, GLfloat b, GLfloat d, GLfloat e) UF(4, a, b, d, e)
-static void st_Uniform1i(void *self, GLint loc, GLint a) UI(1, a)
-static void st_Uniform2i(void *self, GLint loc, GLint a, GLint b) UI(2, a, b)
-static void st_Uniform3i(void *self, GLint loc, GLint a, GLint b, GLint d) UI(3, a, b, d)
-static void st_Uniform4i(void *self, GLint loc, GLint a, GLint b, GLint d, GLint e) UI(4, a, b, d, e)
+static void st_Uniform1f(void *self, GLint loc, GLfloat a)
+    UF(1, a) static void st_Uniform2f(void *self, GLint loc, GLfloat a, GLfloat b)
+        UF(2, a, b) static void st_Uniform3f(void *self, GLint loc, GLfloat a, GLfloat b, GLfloat d)
+            UF(3, a, b, d) static void st_Uniform4f(void *self, GLint loc, GLfloat a, GLfloat b, GLfloat d, GLfloat e)
+                UF(4, a, b, d, e) static void st_Uniform1i(void *self, GLint loc, GLint a)
+                    UI(1, a) static void st_Uniform2i(void *self, GLint loc, GLint a, GLint b)
+                        UI(2, a, b) static void st_Uniform3i(void *self, GLint loc, GLint a, GLint b, GLint d)
+                            UI(3, a, b, d) static void st_Uniform4i(void *self, GLint loc, GLint a, GLint b, GLint d,
+                                                                    GLint e) UI(4, a, b, d, e)
 #undef UF
 #undef UI
-#define UV(name, base, n, T)                                                 \
-    static void st_##name(void *self, GLint loc, GLsizei count, const T *v)  \
-    {                                                                        \
-        tsr_state_ctx *c = st_exec_ctx(self);                                \
-        if (c)                                                               \
-            uniform(c, base, n, loc, count, GL_FALSE, v);                    \
+#define UV(name, base, n, T)                                                \
+    static void st_##name(void *self, GLint loc, GLsizei count, const T *v) \
+    {                                                                       \
+        tsr_state_ctx *c = st_exec_ctx(self);                               \
+        if (c)                                                              \
+            uniform(c, base, n, loc, count, GL_FALSE, v);                   \
     }
-UV(Uniform1fv, ST_U_F, 1, GLfloat)
-UV(Uniform2fv, ST_U_F, 2, GLfloat)
-UV(Uniform3fv, ST_U_F, 3, GLfloat)
-UV(Uniform4fv, ST_U_F, 4, GLfloat)
-UV(Uniform1iv, ST_U_I, 1, GLint)
-UV(Uniform2iv, ST_U_I, 2, GLint)
-UV(Uniform3iv, ST_U_I, 3, GLint)
-UV(Uniform4iv, ST_U_I, 4, GLint)
+                                UV(Uniform1fv, ST_U_F, 1, GLfloat) UV(Uniform2fv, ST_U_F, 2, GLfloat)
+                                    UV(Uniform3fv, ST_U_F, 3, GLfloat) UV(Uniform4fv, ST_U_F, 4, GLfloat)
+                                        UV(Uniform1iv, ST_U_I, 1, GLint) UV(Uniform2iv, ST_U_I, 2, GLint)
+                                            UV(Uniform3iv, ST_U_I, 3, GLint) UV(Uniform4iv, ST_U_I, 4, GLint)
 #undef UV
-#define UM(name, n)                                                                                  \
+#define UM(name, n)                                                                                    \
     static void st_##name(void *self, GLint loc, GLsizei count, GLboolean transpose, const GLfloat *v) \
-    {                                                                                                \
-        tsr_state_ctx *c = st_exec_ctx(self);                                                        \
-        if (c)                                                                                       \
-            uniform(c, ST_U_M, n, loc, count, transpose, v);                                         \
+    {                                                                                                  \
+        tsr_state_ctx *c = st_exec_ctx(self);                                                          \
+        if (c)                                                                                         \
+            uniform(c, ST_U_M, n, loc, count, transpose, v);                                           \
     }
-UM(UniformMatrix2fv, 2)
-UM(UniformMatrix3fv, 3)
-UM(UniformMatrix4fv, 4)
+                                                UM(UniformMatrix2fv, 2) UM(UniformMatrix3fv, 3) UM(UniformMatrix4fv, 4)
 #undef UM
 
-void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
+                                                    void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(CreateShader); SET(CreateShaderTSR); SET(CreateProgram); SET(CreateProgramTSR);
-    SET(ShaderSource); SET(CompileShader); SET(DeleteShader); SET(AttachShader); SET(DetachShader);
-    SET(BindAttribLocation); SET(LinkProgram); SET(ValidateProgram); SET(DeleteProgram); SET(UseProgram);
-    SET(Uniform1f); SET(Uniform2f); SET(Uniform3f); SET(Uniform4f);
-    SET(Uniform1i); SET(Uniform2i); SET(Uniform3i); SET(Uniform4i);
-    SET(Uniform1fv); SET(Uniform2fv); SET(Uniform3fv); SET(Uniform4fv);
-    SET(Uniform1iv); SET(Uniform2iv); SET(Uniform3iv); SET(Uniform4iv);
-    SET(UniformMatrix2fv); SET(UniformMatrix3fv); SET(UniformMatrix4fv);
+    SET(CreateShader);
+    SET(CreateShaderTSR);
+    SET(CreateProgram);
+    SET(CreateProgramTSR);
+    SET(ShaderSource);
+    SET(CompileShader);
+    SET(DeleteShader);
+    SET(AttachShader);
+    SET(DetachShader);
+    SET(BindAttribLocation);
+    SET(LinkProgram);
+    SET(ValidateProgram);
+    SET(DeleteProgram);
+    SET(UseProgram);
+    SET(Uniform1f);
+    SET(Uniform2f);
+    SET(Uniform3f);
+    SET(Uniform4f);
+    SET(Uniform1i);
+    SET(Uniform2i);
+    SET(Uniform3i);
+    SET(Uniform4i);
+    SET(Uniform1fv);
+    SET(Uniform2fv);
+    SET(Uniform3fv);
+    SET(Uniform4fv);
+    SET(Uniform1iv);
+    SET(Uniform2iv);
+    SET(Uniform3iv);
+    SET(Uniform4iv);
+    SET(UniformMatrix2fv);
+    SET(UniformMatrix3fv);
+    SET(UniformMatrix4fv);
 #undef SET
 }
 

@@ -88,7 +88,7 @@ static void values_init(tsr_state_values *v)
     v->line_stipple_factor = 1;
     v->line_stipple_pattern = 0xffff;
     v->point_size = 1.0f;
-    v->point_max = -1.0f;   /* implementation's maximum: unknown here */
+    v->point_max = -1.0f; /* implementation's maximum: unknown here */
     v->point_fade = 1.0f;
     v->point_attenuation[0] = 1.0f;
     v->point_sprite_origin = GL_UPPER_LEFT;
@@ -304,10 +304,7 @@ void tsr_state_shadow_destroy(tsr_state_shadow *s)
     free(s);
 }
 
-int tsr_state_shadow_id(const tsr_state_shadow *s)
-{
-    return s->id;
-}
+int tsr_state_shadow_id(const tsr_state_shadow *s) { return s->id; }
 
 void tsr_state_shadow_reset(tsr_state_shadow *s)
 {

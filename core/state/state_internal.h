@@ -30,24 +30,24 @@ typedef struct st_transfer {
 typedef enum st_upload_kind { ST_UP_IMAGE, ST_UP_SUBIMAGE, ST_UP_MIPMAP } st_upload_kind;
 typedef struct st_upload {
     st_upload_kind kind;
-    int dims;                   /* 1, 2, 3 */
-    GLenum target;              /* the face for cube maps */
+    int dims;      /* 1, 2, 3 */
+    GLenum target; /* the face for cube maps */
     GLint level, internalformat, border, x, y, z;
     GLsizei w, h, d;
     GLenum format, type;
-    uint8_t *data;              /* NULL: no pixels (undefined contents) */
+    uint8_t *data; /* NULL: no pixels (undefined contents) */
     size_t size;
     uint8_t swap_bytes, lsb_first;
-    uint8_t gen_mipmap;         /* GL_GENERATE_MIPMAP was on: the upload regenerated levels */
+    uint8_t gen_mipmap; /* GL_GENERATE_MIPMAP was on: the upload regenerated levels */
     st_transfer transfer;
 } st_upload;
 
 typedef struct st_texobj {
     GLuint name;
-    int target;                 /* TSR_TEX_*, -1 while only generated */
-    uint64_t uid;               /* unique in the tracker: a new object = a new uid */
-    uint64_t version;           /* bumped by every change */
-    uint64_t epoch;             /* bumped when uploads[] is rewritten (not appended) */
+    int target;       /* TSR_TEX_*, -1 while only generated */
+    uint64_t uid;     /* unique in the tracker: a new object = a new uid */
+    uint64_t version; /* bumped by every change */
+    uint64_t epoch;   /* bumped when uploads[] is rewritten (not appended) */
     st_texparams params;
     st_upload *up;
     size_t nup, capup;
@@ -56,14 +56,14 @@ typedef struct st_texobj {
 /* What a renderer has of one texture object. */
 typedef struct st_shadow_tex {
     uint64_t uid, version, epoch;
-    uint64_t hash;              /* content hash of what the renderer has */
-    size_t nup;                 /* uploads replayed */
+    uint64_t hash; /* content hash of what the renderer has */
+    size_t nup;    /* uploads replayed */
     st_texparams params;
 } st_shadow_tex;
 
 typedef struct st_bufobj {
     GLuint name;
-    int bound;                  /* ever bound: IsBuffer is true */
+    int bound; /* ever bound: IsBuffer is true */
     uint64_t uid, version;
     GLsizeiptr size;
     GLenum usage;
@@ -88,10 +88,10 @@ typedef struct st_source {
 typedef struct st_shader {
     GLuint name;
     GLenum type;
-    st_source *source;          /* glShaderSource's text (NULL: none yet) */
-    st_source *compiled;        /* the text of the last glCompileShader (NULL: never) */
-    uint32_t attached;          /* programs it is attached to */
-    int delete_pending;         /* glDeleteShader while attached */
+    st_source *source;   /* glShaderSource's text (NULL: none yet) */
+    st_source *compiled; /* the text of the last glCompileShader (NULL: never) */
+    uint32_t attached;   /* programs it is attached to */
+    int delete_pending;  /* glDeleteShader while attached */
 } st_shader;
 
 typedef struct st_binding {
@@ -102,7 +102,7 @@ typedef struct st_binding {
 typedef struct st_link_shader {
     GLuint name;
     GLenum type;
-    st_source *src;             /* compiled text at link time (NULL: was never compiled) */
+    st_source *src; /* compiled text at link time (NULL: was never compiled) */
 } st_link_shader;
 
 /* One uniform call, kept as its vector form (Uniform3f = Uniform3fv with
@@ -112,10 +112,10 @@ typedef struct st_uniform {
     uint64_t seq;
     GLint loc;
     GLsizei count;
-    uint8_t base;               /* ST_U_F, ST_U_I, ST_U_M */
-    uint8_t size;               /* components (1..4) or matrix side (2..4) */
+    uint8_t base; /* ST_U_F, ST_U_I, ST_U_M */
+    uint8_t size; /* components (1..4) or matrix side (2..4) */
     GLboolean transpose;
-    void *data;                 /* count * values floats or ints */
+    void *data; /* count * values floats or ints */
 } st_uniform;
 
 typedef struct st_program {
@@ -123,26 +123,26 @@ typedef struct st_program {
     uint64_t uid;
     GLuint *attached;
     size_t nattached, capattached;
-    st_binding *bind;           /* glBindAttribLocation so far (a name bound again moves) */
+    st_binding *bind; /* glBindAttribLocation so far (a name bound again moves) */
     size_t nbind;
     uint64_t bind_version;
-    uint64_t link_id;           /* 0: never linked; unique per glLinkProgram */
+    uint64_t link_id; /* 0: never linked; unique per glLinkProgram */
     st_link_shader *link;
     size_t nlink;
     st_binding *link_bind;
     size_t nlink_bind;
-    st_uniform *uni;            /* uniform calls since the last link, oldest first */
+    st_uniform *uni; /* uniform calls since the last link, oldest first */
     size_t nuni, capuni;
     uint64_t next_seq;
-    uint64_t validations;       /* glValidateProgram calls */
-    int delete_pending;         /* glDeleteProgram while current */
+    uint64_t validations; /* glValidateProgram calls */
+    int delete_pending;   /* glDeleteProgram while current */
 } st_program;
 
 /* What a renderer has of a shader / a program. */
 typedef struct st_shadow_shader {
     GLenum type;
-    uint64_t source, compiled;  /* st_source ids (0: none) */
-    int deleted;                /* glDeleteShader sent (waits for a detach there) */
+    uint64_t source, compiled; /* st_source ids (0: none) */
+    int deleted;               /* glDeleteShader sent (waits for a detach there) */
 } st_shadow_shader;
 
 typedef struct st_shadow_program {
@@ -170,35 +170,39 @@ typedef struct st_client_entry {
 struct tsr_state_tracker {
     tsr_state_ctx **ctxs;
     size_t nctxs, capctxs;
-    tsr_state_shadow **shadows;   /* indexed by id; NULL = free id */
-    size_t nshadows;              /* ids in use are < nshadows */
-    size_t words;                 /* bit-vector words per node (64 renderers each) */
-    uint8_t group_first[TSR_SG_COUNT + 1];  /* members of group g: [first[g], first[g+1]) */
+    tsr_state_shadow **shadows;            /* indexed by id; NULL = free id */
+    size_t nshadows;                       /* ids in use are < nshadows */
+    size_t words;                          /* bit-vector words per node (64 renderers each) */
+    uint8_t group_first[TSR_SG_COUNT + 1]; /* members of group g: [first[g], first[g+1]) */
     uint64_t next_uid;
 };
 
 /* Dirty-bit nodes: root, groups, members. */
-enum { ST_NODE_ROOT = 0, ST_NODE_GROUP0 = 1, ST_NODE_MEMBER0 = 1 + TSR_SG_COUNT,
-       ST_NODES = 1 + TSR_SG_COUNT + TSR_SM_COUNT };
+enum {
+    ST_NODE_ROOT = 0,
+    ST_NODE_GROUP0 = 1,
+    ST_NODE_MEMBER0 = 1 + TSR_SG_COUNT,
+    ST_NODES = 1 + TSR_SG_COUNT + TSR_SM_COUNT
+};
 
 struct tsr_state_ctx {
     tsr_state_tracker *t;
-    uint64_t *dirty;              /* [ST_NODES][t->words] */
+    uint64_t *dirty; /* [ST_NODES][t->words] */
     tsr_state_values v;
     tsr_state_stacks s;
     tsr_state_client client;
-    tsr_name_map textures;              /* name -> st_texobj */
+    tsr_name_map textures; /* name -> st_texobj */
     st_texobj default_tex[TSR_TEX_TARGETS];
-    tsr_name_map buffers;               /* name -> st_bufobj */
-    tsr_name_map lists;                 /* name -> (void *)1 */
-    st_attrib_entry *attrib_stack;     /* TSR_STATE_ATTRIB_DEPTH entries */
+    tsr_name_map buffers;          /* name -> st_bufobj */
+    tsr_name_map lists;            /* name -> (void *)1 */
+    st_attrib_entry *attrib_stack; /* TSR_STATE_ATTRIB_DEPTH entries */
     uint32_t attrib_depth;
     st_client_entry *client_stack;
     uint32_t client_depth;
-    tsr_name_map shaders;               /* name -> st_shader */
-    tsr_name_map programs;              /* name -> st_program */
-    GLuint program;               /* glUseProgram */
-    GLenum list_mode;             /* 0, GL_COMPILE, GL_COMPILE_AND_EXECUTE */
+    tsr_name_map shaders;  /* name -> st_shader */
+    tsr_name_map programs; /* name -> st_program */
+    GLuint program;        /* glUseProgram */
+    GLenum list_mode;      /* 0, GL_COMPILE, GL_COMPILE_AND_EXECUTE */
     GLuint list_name;
 };
 
@@ -207,17 +211,17 @@ struct tsr_state_shadow {
     int id;
     tsr_state_values v;
     tsr_state_stacks s;
-    tsr_name_map textures;              /* name -> st_shadow_tex */
+    tsr_name_map textures; /* name -> st_shadow_tex */
     st_shadow_tex default_tex[TSR_TEX_TARGETS];
-    tsr_name_map buffers;               /* name -> st_shadow_buf */
-    tsr_name_map shaders;               /* name -> st_shadow_shader */
-    tsr_name_map programs;              /* name -> st_shadow_program */
-    GLuint program;               /* current program there */
+    tsr_name_map buffers;  /* name -> st_shadow_buf */
+    tsr_name_map shaders;  /* name -> st_shadow_shader */
+    tsr_name_map programs; /* name -> st_shadow_program */
+    GLuint program;        /* current program there */
 };
 
 /* --- shared helpers ------------------------------------------------------------ */
 extern const uint8_t st_member_group[TSR_SM_COUNT];
-extern const GLenum st_enable_caps[128];   /* cap of each enable index (0: unused) */
+extern const GLenum st_enable_caps[128]; /* cap of each enable index (0: unused) */
 /* Indices in st_enable_caps of the caps other files test by index. */
 enum { ST_EN_COLOR_MATERIAL = 10, ST_EN_DITHER = 13, ST_EN_MULTISAMPLE = 36, ST_EN_COLOR_SUM = 43 };
 
@@ -326,7 +330,7 @@ st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name);
 void st_tex_changed(tsr_state_ctx *c, st_texobj *o);
 void st_objects_free(tsr_state_ctx *c);
 void st_shadow_objects_free(tsr_state_shadow *s);
-int st_tex_target_index(GLenum target);     /* -1 when not a texture target */
+int st_tex_target_index(GLenum target); /* -1 when not a texture target */
 void st_obj_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 
 /* Shaders and programs (state_glsl.c). */

@@ -133,11 +133,31 @@ static void light(tsr_state_ctx *c, GLenum which, GLenum pname, const GLfloat *p
         for (int i = 0; i < 3; i++)
             l->spot_direction[i] = p[0] * m[i] + p[1] * m[4 + i] + p[2] * m[8 + i];
         break;
-    case GL_SPOT_EXPONENT: if (p[0] < 0 || p[0] > 128) return; l->spot_exponent = p[0]; break;
-    case GL_SPOT_CUTOFF: if ((p[0] < 0 || p[0] > 90) && p[0] != 180) return; l->spot_cutoff = p[0]; break;
-    case GL_CONSTANT_ATTENUATION: if (p[0] < 0) return; l->attenuation[0] = p[0]; break;
-    case GL_LINEAR_ATTENUATION: if (p[0] < 0) return; l->attenuation[1] = p[0]; break;
-    case GL_QUADRATIC_ATTENUATION: if (p[0] < 0) return; l->attenuation[2] = p[0]; break;
+    case GL_SPOT_EXPONENT:
+        if (p[0] < 0 || p[0] > 128)
+            return;
+        l->spot_exponent = p[0];
+        break;
+    case GL_SPOT_CUTOFF:
+        if ((p[0] < 0 || p[0] > 90) && p[0] != 180)
+            return;
+        l->spot_cutoff = p[0];
+        break;
+    case GL_CONSTANT_ATTENUATION:
+        if (p[0] < 0)
+            return;
+        l->attenuation[0] = p[0];
+        break;
+    case GL_LINEAR_ATTENUATION:
+        if (p[0] < 0)
+            return;
+        l->attenuation[1] = p[0];
+        break;
+    case GL_QUADRATIC_ATTENUATION:
+        if (p[0] < 0)
+            return;
+        l->attenuation[2] = p[0];
+        break;
     default: return;
     }
     st_mark(c, TSR_SM_LIGHT0 + (int)(which - GL_LIGHT0));
@@ -145,8 +165,8 @@ static void light(tsr_state_ctx *c, GLenum which, GLenum pname, const GLfloat *p
 
 static int is_color_pname(GLenum p)
 {
-    return p == GL_AMBIENT || p == GL_DIFFUSE || p == GL_SPECULAR || p == GL_EMISSION ||
-           p == GL_AMBIENT_AND_DIFFUSE || p == GL_LIGHT_MODEL_AMBIENT;
+    return p == GL_AMBIENT || p == GL_DIFFUSE || p == GL_SPECULAR || p == GL_EMISSION || p == GL_AMBIENT_AND_DIFFUSE ||
+           p == GL_LIGHT_MODEL_AMBIENT;
 }
 
 static void lighti(tsr_state_ctx *c, GLenum which, GLenum pname, const GLint *p)
@@ -159,8 +179,8 @@ static void lighti(tsr_state_ctx *c, GLenum which, GLenum pname, const GLint *p)
 
 static int scalar_light_pname(GLenum p)
 {
-    return p == GL_SPOT_EXPONENT || p == GL_SPOT_CUTOFF || p == GL_CONSTANT_ATTENUATION ||
-           p == GL_LINEAR_ATTENUATION || p == GL_QUADRATIC_ATTENUATION;
+    return p == GL_SPOT_EXPONENT || p == GL_SPOT_CUTOFF || p == GL_CONSTANT_ATTENUATION || p == GL_LINEAR_ATTENUATION ||
+           p == GL_QUADRATIC_ATTENUATION;
 }
 
 static void st_Lightf(void *self, GLenum l, GLenum pname, GLfloat p)
@@ -358,9 +378,19 @@ static void st_ShadeModel(void *self, GLenum m)
 void st_light_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(Lightf); SET(Lightfv); SET(Lighti); SET(Lightiv);
-    SET(LightModelf); SET(LightModelfv); SET(LightModeli); SET(LightModeliv);
-    SET(Materialf); SET(Materialfv); SET(Materiali); SET(Materialiv);
-    SET(ColorMaterial); SET(ShadeModel);
+    SET(Lightf);
+    SET(Lightfv);
+    SET(Lighti);
+    SET(Lightiv);
+    SET(LightModelf);
+    SET(LightModelfv);
+    SET(LightModeli);
+    SET(LightModeliv);
+    SET(Materialf);
+    SET(Materialfv);
+    SET(Materiali);
+    SET(Materialiv);
+    SET(ColorMaterial);
+    SET(ShadeModel);
 #undef SET
 }

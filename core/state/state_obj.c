@@ -15,10 +15,12 @@ int st_tex_target_index(GLenum target)
     case GL_TEXTURE_2D: return TSR_TEX_2D;
     case GL_TEXTURE_3D: return TSR_TEX_3D;
     case GL_TEXTURE_CUBE_MAP:
-    case GL_TEXTURE_CUBE_MAP_POSITIVE_X: case GL_TEXTURE_CUBE_MAP_NEGATIVE_X:
-    case GL_TEXTURE_CUBE_MAP_POSITIVE_Y: case GL_TEXTURE_CUBE_MAP_NEGATIVE_Y:
-    case GL_TEXTURE_CUBE_MAP_POSITIVE_Z: case GL_TEXTURE_CUBE_MAP_NEGATIVE_Z:
-        return TSR_TEX_CUBE;
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_X:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_X:
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_Y:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_Y:
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_Z:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_Z: return TSR_TEX_CUBE;
     default: return -1;
     }
 }
@@ -46,10 +48,7 @@ st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target)
     return tsr_name_map_get(&c->textures, name);
 }
 
-st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name)
-{
-    return tsr_name_map_get(&c->buffers, name);
-}
+st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name) { return tsr_name_map_get(&c->buffers, name); }
 
 static void uploads_free(st_texobj *o)
 {
@@ -185,8 +184,7 @@ static st_texobj *bound_tex(tsr_state_ctx *c, GLenum target)
 
 static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat *p)
 {
-    if (target != GL_TEXTURE_1D && target != GL_TEXTURE_2D && target != GL_TEXTURE_3D &&
-        target != GL_TEXTURE_CUBE_MAP)
+    if (target != GL_TEXTURE_1D && target != GL_TEXTURE_2D && target != GL_TEXTURE_3D && target != GL_TEXTURE_CUBE_MAP)
         return;
     st_texobj *o = bound_tex(c, target);
     if (!o)
@@ -205,7 +203,9 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
             return;
         t->mag_filter = e;
         break;
-    case GL_TEXTURE_WRAP_S: case GL_TEXTURE_WRAP_T: case GL_TEXTURE_WRAP_R:
+    case GL_TEXTURE_WRAP_S:
+    case GL_TEXTURE_WRAP_T:
+    case GL_TEXTURE_WRAP_R:
         if (e != GL_CLAMP && e != GL_CLAMP_TO_EDGE && e != GL_REPEAT && e != GL_CLAMP_TO_BORDER &&
             e != GL_MIRRORED_REPEAT)
             return;
@@ -216,8 +216,16 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
     case GL_TEXTURE_MIN_LOD: t->min_lod = p[0]; break;
     case GL_TEXTURE_MAX_LOD: t->max_lod = p[0]; break;
     case GL_TEXTURE_LOD_BIAS: t->lod_bias = p[0]; break;
-    case GL_TEXTURE_BASE_LEVEL: if (p[0] < 0) return; t->base_level = (GLint)p[0]; break;
-    case GL_TEXTURE_MAX_LEVEL: if (p[0] < 0) return; t->max_level = (GLint)p[0]; break;
+    case GL_TEXTURE_BASE_LEVEL:
+        if (p[0] < 0)
+            return;
+        t->base_level = (GLint)p[0];
+        break;
+    case GL_TEXTURE_MAX_LEVEL:
+        if (p[0] < 0)
+            return;
+        t->max_level = (GLint)p[0];
+        break;
     case GL_GENERATE_MIPMAP: t->generate_mipmap = p[0] != 0.0f; break;
     case GL_TEXTURE_COMPARE_MODE:
         if (e != GL_NONE && e != GL_COMPARE_R_TO_TEXTURE)
@@ -279,7 +287,7 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
 
 /* The tight copy of an image given under the context's unpack store. */
 static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format,
-                          GLenum type, const void *pixels, size_t *size)
+                           GLenum type, const void *pixels, size_t *size)
 {
     const tsr_pixel_modes *m = &c->v.pixel_store.unpack;
     tsr_pixel_modes tight = {0, 0, 0, 0, 0, 1, m->swap_bytes, m->lsb_first};
@@ -385,13 +393,31 @@ static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GL
     if (out != o->nup)
         o->epoch++;
     o->nup = out;
-    record_upload(c, o, (st_upload){ST_UP_IMAGE, dims, target, level, ifmt, border, 0, 0, 0, w, h, d, format, type,
-                                    copy, size, c->v.pixel_store.unpack.swap_bytes,
-                                    c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}});
+    record_upload(c, o,
+                  (st_upload){ST_UP_IMAGE,
+                              dims,
+                              target,
+                              level,
+                              ifmt,
+                              border,
+                              0,
+                              0,
+                              0,
+                              w,
+                              h,
+                              d,
+                              format,
+                              type,
+                              copy,
+                              size,
+                              c->v.pixel_store.unpack.swap_bytes,
+                              c->v.pixel_store.unpack.lsb_first,
+                              0,
+                              {{0}, {0}, 0, 0, 0, 0}});
 }
 
-static void st_TexImage1D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLint border,
-                          GLenum format, GLenum type, const void *pixels)
+static void st_TexImage1D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLint border, GLenum format,
+                          GLenum type, const void *pixels)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
@@ -399,8 +425,8 @@ static void st_TexImage1D(void *self, GLenum target, GLint level, GLint ifmt, GL
     tex_image(c, 1, target, level, ifmt, w, 1, 1, border, format, type, pixels);
 }
 
-static void st_TexImage2D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
-                          GLint border, GLenum format, GLenum type, const void *pixels)
+static void st_TexImage2D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h, GLint border,
+                          GLenum format, GLenum type, const void *pixels)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
@@ -408,8 +434,8 @@ static void st_TexImage2D(void *self, GLenum target, GLint level, GLint ifmt, GL
     tex_image(c, 2, target, level, ifmt, w, h, 1, border, format, type, pixels);
 }
 
-static void st_TexImage3D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
-                          GLsizei d, GLint border, GLenum format, GLenum type, const void *pixels)
+static void st_TexImage3D(void *self, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h, GLsizei d,
+                          GLint border, GLenum format, GLenum type, const void *pixels)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
@@ -417,8 +443,8 @@ static void st_TexImage3D(void *self, GLenum target, GLint level, GLint ifmt, GL
     tex_image(c, 3, target, level, ifmt, w, h, d, border, format, type, pixels);
 }
 
-static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level, GLint x, GLint y, GLint z,
-                         GLsizei w, GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
+static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level, GLint x, GLint y, GLint z, GLsizei w,
+                         GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
 {
     st_texobj *o = bound_tex(c, target);
     if (!o || !pixels || w < 0 || h < 0 || d < 0)
@@ -437,9 +463,8 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
     for (const st_upload *u = img; u < o->up + o->nup; u++)
         logged_after |= u->kind == ST_UP_MIPMAP || u->gen_mipmap;
     if (!logged_after && !o->params.generate_mipmap && x == 0 && y == 0 && z == 0 && w == img->w && h == img->h &&
-        d == img->d && format == img->format &&
-        type == img->type && img->swap_bytes == c->v.pixel_store.unpack.swap_bytes &&
-        img->lsb_first == c->v.pixel_store.unpack.lsb_first) {
+        d == img->d && format == img->format && type == img->type &&
+        img->swap_bytes == c->v.pixel_store.unpack.swap_bytes && img->lsb_first == c->v.pixel_store.unpack.lsb_first) {
         size_t out = 0;
         for (size_t i = 0; i < o->nup; i++) {
             st_upload *u = &o->up[i];
@@ -459,13 +484,31 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
         st_tex_changed(c, o);
         return;
     }
-    record_upload(c, o, (st_upload){ST_UP_SUBIMAGE, dims, target, level, 0, 0, x, y, z, w, h, d, format, type,
-                                    copy, size, c->v.pixel_store.unpack.swap_bytes,
-                                    c->v.pixel_store.unpack.lsb_first, 0, {{0}, {0}, 0, 0, 0, 0}});
+    record_upload(c, o,
+                  (st_upload){ST_UP_SUBIMAGE,
+                              dims,
+                              target,
+                              level,
+                              0,
+                              0,
+                              x,
+                              y,
+                              z,
+                              w,
+                              h,
+                              d,
+                              format,
+                              type,
+                              copy,
+                              size,
+                              c->v.pixel_store.unpack.swap_bytes,
+                              c->v.pixel_store.unpack.lsb_first,
+                              0,
+                              {{0}, {0}, 0, 0, 0, 0}});
 }
 
-static void st_TexSubImage1D(void *self, GLenum target, GLint level, GLint x, GLsizei w, GLenum format,
-                             GLenum type, const void *pixels)
+static void st_TexSubImage1D(void *self, GLenum target, GLint level, GLint x, GLsizei w, GLenum format, GLenum type,
+                             const void *pixels)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
@@ -482,8 +525,8 @@ static void st_TexSubImage2D(void *self, GLenum target, GLint level, GLint x, GL
     tex_subimage(c, 2, target, level, x, y, 0, w, h, 1, format, type, pixels);
 }
 
-static void st_TexSubImage3D(void *self, GLenum target, GLint level, GLint x, GLint y, GLint z, GLsizei w,
-                             GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
+static void st_TexSubImage3D(void *self, GLenum target, GLint level, GLint x, GLint y, GLint z, GLsizei w, GLsizei h,
+                             GLsizei d, GLenum format, GLenum type, const void *pixels)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
@@ -661,11 +704,28 @@ static void st_DeleteLists(void *self, GLuint list, GLsizei range)
 void st_obj_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(GenTextures); SET(BindTexture); SET(DeleteTextures);
-    SET(TexParameterf); SET(TexParameterfv); SET(TexParameteri); SET(TexParameteriv);
-    SET(TexImage1D); SET(TexImage2D); SET(TexImage3D);
-    SET(TexSubImage1D); SET(TexSubImage2D); SET(TexSubImage3D); SET(GenerateMipmap);
-    SET(GenBuffers); SET(BindBuffer); SET(BufferData); SET(BufferSubData); SET(DeleteBuffers);
-    SET(GenLists); SET(NewList); SET(EndList); SET(DeleteLists);
+    SET(GenTextures);
+    SET(BindTexture);
+    SET(DeleteTextures);
+    SET(TexParameterf);
+    SET(TexParameterfv);
+    SET(TexParameteri);
+    SET(TexParameteriv);
+    SET(TexImage1D);
+    SET(TexImage2D);
+    SET(TexImage3D);
+    SET(TexSubImage1D);
+    SET(TexSubImage2D);
+    SET(TexSubImage3D);
+    SET(GenerateMipmap);
+    SET(GenBuffers);
+    SET(BindBuffer);
+    SET(BufferData);
+    SET(BufferSubData);
+    SET(DeleteBuffers);
+    SET(GenLists);
+    SET(NewList);
+    SET(EndList);
+    SET(DeleteLists);
 #undef SET
 }

@@ -103,11 +103,18 @@ static void fog(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
     tsr_state_values *v = &c->v;
     switch (pname) {
     case GL_FOG_MODE: v->fog_mode = (GLenum)p[0]; break;
-    case GL_FOG_DENSITY: if (p[0] < 0) return; v->fog_density = p[0]; break;
+    case GL_FOG_DENSITY:
+        if (p[0] < 0)
+            return;
+        v->fog_density = p[0];
+        break;
     case GL_FOG_START: v->fog_start = p[0]; break;
     case GL_FOG_END: v->fog_end = p[0]; break;
     case GL_FOG_INDEX: v->fog_index = p[0]; break;
-    case GL_FOG_COLOR: for (int i = 0; i < 4; i++) v->fog_color[i] = st_clampf(p[i]); break;
+    case GL_FOG_COLOR:
+        for (int i = 0; i < 4; i++)
+            v->fog_color[i] = st_clampf(p[i]);
+        break;
     case GL_FOG_COORD_SRC: v->fog_coord_src = (GLenum)p[0]; break;
     default: return;
     }
@@ -220,7 +227,7 @@ static void st_PolygonStipple(void *self, const GLubyte *mask)
             if (bit)
                 *dst |= (GLubyte)(0x80u >> (x % 8));
             else
-                *dst &= (GLubyte)~(0x80u >> (x % 8));
+                *dst &= (GLubyte) ~(0x80u >> (x % 8));
         }
     }
     st_mark(c, TSR_SM_STIPPLE);
@@ -262,9 +269,21 @@ static void point_param(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
 {
     tsr_state_values *v = &c->v;
     switch (pname) {
-    case GL_POINT_SIZE_MIN: if (p[0] < 0) return; v->point_min = p[0]; break;
-    case GL_POINT_SIZE_MAX: if (p[0] < 0) return; v->point_max = p[0]; break;
-    case GL_POINT_FADE_THRESHOLD_SIZE: if (p[0] < 0) return; v->point_fade = p[0]; break;
+    case GL_POINT_SIZE_MIN:
+        if (p[0] < 0)
+            return;
+        v->point_min = p[0];
+        break;
+    case GL_POINT_SIZE_MAX:
+        if (p[0] < 0)
+            return;
+        v->point_max = p[0];
+        break;
+    case GL_POINT_FADE_THRESHOLD_SIZE:
+        if (p[0] < 0)
+            return;
+        v->point_fade = p[0];
+        break;
     case GL_POINT_DISTANCE_ATTENUATION: memcpy(v->point_attenuation, p, 12); break;
     case GL_POINT_SPRITE_COORD_ORIGIN:
         if ((GLenum)p[0] != GL_LOWER_LEFT && (GLenum)p[0] != GL_UPPER_LEFT)
@@ -319,8 +338,13 @@ static void st_PointParameteriv(void *self, GLenum pname, const GLint *p)
 
 /* --- hints, misc ------------------------------------------------------------------- */
 static const GLenum hint_targets[8] = {
-    GL_PERSPECTIVE_CORRECTION_HINT, GL_POINT_SMOOTH_HINT, GL_LINE_SMOOTH_HINT,
-    GL_POLYGON_SMOOTH_HINT, GL_FOG_HINT, GL_GENERATE_MIPMAP_HINT, GL_TEXTURE_COMPRESSION_HINT,
+    GL_PERSPECTIVE_CORRECTION_HINT,
+    GL_POINT_SMOOTH_HINT,
+    GL_LINE_SMOOTH_HINT,
+    GL_POLYGON_SMOOTH_HINT,
+    GL_FOG_HINT,
+    GL_GENERATE_MIPMAP_HINT,
+    GL_TEXTURE_COMPRESSION_HINT,
     GL_FRAGMENT_SHADER_DERIVATIVE_HINT,
 };
 
@@ -410,14 +434,34 @@ static void st_PixelTransferi(void *self, GLenum pname, GLint p)
 void st_raster_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(Enable); SET(Disable);
-    SET(Viewport); SET(Scissor); SET(DepthRange); SET(WindowSizeTSR);
-    SET(Fogf); SET(Fogfv); SET(Fogi); SET(Fogiv);
-    SET(CullFace); SET(FrontFace); SET(PolygonMode); SET(PolygonOffset); SET(PolygonStipple);
-    SET(LineWidth); SET(LineStipple); SET(PointSize);
-    SET(PointParameterf); SET(PointParameterfv); SET(PointParameteri); SET(PointParameteriv);
-    SET(Hint); SET(ListBase); SET(SampleCoverage);
-    SET(PixelZoom); SET(PixelTransferf); SET(PixelTransferi);
+    SET(Enable);
+    SET(Disable);
+    SET(Viewport);
+    SET(Scissor);
+    SET(DepthRange);
+    SET(WindowSizeTSR);
+    SET(Fogf);
+    SET(Fogfv);
+    SET(Fogi);
+    SET(Fogiv);
+    SET(CullFace);
+    SET(FrontFace);
+    SET(PolygonMode);
+    SET(PolygonOffset);
+    SET(PolygonStipple);
+    SET(LineWidth);
+    SET(LineStipple);
+    SET(PointSize);
+    SET(PointParameterf);
+    SET(PointParameterfv);
+    SET(PointParameteri);
+    SET(PointParameteriv);
+    SET(Hint);
+    SET(ListBase);
+    SET(SampleCoverage);
+    SET(PixelZoom);
+    SET(PixelTransferf);
+    SET(PixelTransferi);
 #undef SET
     /* Creating a window gives it its size. */
     tsr_set_WindowCreateTSR(d, st_WindowSizeTSR, c);

@@ -5,10 +5,12 @@
  * here to be implemented as well. */
 #include "tessera/dev/state.h"
 
-#define RASTER                                                                               \
+#define RASTER \
     "the raster position is computed by the renderer from the transform and viewport at the time of the call (like a vertex); a sender forwards it in the stream with the geometry that uses it"
-#define EVAL "evaluator maps and grids are not tracked yet (rare in the programs tessera runs); a sender forwards them to every renderer"
-#define COPY "the texels come from the renderer's own framebuffer, which the client never sees; a sender must send the call to every renderer"
+#define EVAL \
+    "evaluator maps and grids are not tracked yet (rare in the programs tessera runs); a sender forwards them to every renderer"
+#define COPY \
+    "the texels come from the renderer's own framebuffer, which the client never sees; a sender must send the call to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"RasterPos2f", RASTER},

@@ -31,10 +31,18 @@ static int env_enum_slot(tsr_state_texunit *t, GLenum pname, GLenum **slot)
     case GL_TEXTURE_ENV_MODE: *slot = &t->env_mode; return 1;
     case GL_COMBINE_RGB: *slot = &t->combine_rgb; return 1;
     case GL_COMBINE_ALPHA: *slot = &t->combine_alpha; return 1;
-    case GL_SRC0_RGB: case GL_SRC1_RGB: case GL_SRC2_RGB: *slot = &t->src_rgb[pname - GL_SRC0_RGB]; return 1;
-    case GL_SRC0_ALPHA: case GL_SRC1_ALPHA: case GL_SRC2_ALPHA: *slot = &t->src_alpha[pname - GL_SRC0_ALPHA]; return 1;
-    case GL_OPERAND0_RGB: case GL_OPERAND1_RGB: case GL_OPERAND2_RGB: *slot = &t->operand_rgb[pname - GL_OPERAND0_RGB]; return 1;
-    case GL_OPERAND0_ALPHA: case GL_OPERAND1_ALPHA: case GL_OPERAND2_ALPHA: *slot = &t->operand_alpha[pname - GL_OPERAND0_ALPHA]; return 1;
+    case GL_SRC0_RGB:
+    case GL_SRC1_RGB:
+    case GL_SRC2_RGB: *slot = &t->src_rgb[pname - GL_SRC0_RGB]; return 1;
+    case GL_SRC0_ALPHA:
+    case GL_SRC1_ALPHA:
+    case GL_SRC2_ALPHA: *slot = &t->src_alpha[pname - GL_SRC0_ALPHA]; return 1;
+    case GL_OPERAND0_RGB:
+    case GL_OPERAND1_RGB:
+    case GL_OPERAND2_RGB: *slot = &t->operand_rgb[pname - GL_OPERAND0_RGB]; return 1;
+    case GL_OPERAND0_ALPHA:
+    case GL_OPERAND1_ALPHA:
+    case GL_OPERAND2_ALPHA: *slot = &t->operand_alpha[pname - GL_OPERAND0_ALPHA]; return 1;
     default: return 0;
     }
 }
@@ -187,7 +195,16 @@ static void st_TexGendv(void *self, GLenum coord, GLenum pname, const GLdouble *
 void st_texenv_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
-    SET(ActiveTexture); SET(TexEnvf); SET(TexEnvfv); SET(TexEnvi); SET(TexEnviv);
-    SET(TexGenf); SET(TexGeni); SET(TexGend); SET(TexGenfv); SET(TexGeniv); SET(TexGendv);
+    SET(ActiveTexture);
+    SET(TexEnvf);
+    SET(TexEnvfv);
+    SET(TexEnvi);
+    SET(TexEnviv);
+    SET(TexGenf);
+    SET(TexGeni);
+    SET(TexGend);
+    SET(TexGenfv);
+    SET(TexGeniv);
+    SET(TexGendv);
 #undef SET
 }

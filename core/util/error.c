@@ -7,7 +7,8 @@
 
 #include "tessera/error.h"
 
-int tsr_error_set(tsr_error *err, int code, const char *fmt, ...) {
+int tsr_error_set(tsr_error *err, int code, const char *fmt, ...)
+{
     if (!err)
         return code;
     err->code = code;
@@ -23,14 +24,16 @@ int tsr_error_set(tsr_error *err, int code, const char *fmt, ...) {
     return code;
 }
 
-void tsr_error_clear(tsr_error *err) {
+void tsr_error_clear(tsr_error *err)
+{
     if (!err)
         return;
     err->code = TSR_OK;
     err->message[0] = '\0';
 }
 
-const char *tsr_error_name(int code) {
+const char *tsr_error_name(int code)
+{
     switch (code) {
     case TSR_OK: return "OK";
     case TSR_EINVAL: return "EINVAL";

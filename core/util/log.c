@@ -14,7 +14,8 @@ static pthread_once_t log_level_once = PTHREAD_ONCE_INIT;
 /* Written once under log_level_once, read-only afterwards. */
 static tsr_log_level log_threshold = TSR_LOG_WARN;
 
-static void read_log_level(void) {
+static void read_log_level(void)
+{
     const char *env = getenv("TESSERA_LOG");
     if (!env || !*env)
         return;
@@ -30,16 +31,17 @@ static void read_log_level(void) {
             log_threshold = names[i].level;
             return;
         }
-    fprintf(stderr, "tessera: TESSERA_LOG='%s' is not one of debug|info|warn|error; using warn\n",
-            env);
+    fprintf(stderr, "tessera: TESSERA_LOG='%s' is not one of debug|info|warn|error; using warn\n", env);
 }
 
-int tsr_log_enabled(tsr_log_level level) {
+int tsr_log_enabled(tsr_log_level level)
+{
     pthread_once(&log_level_once, read_log_level);
     return level >= log_threshold;
 }
 
-void tsr_log(tsr_log_level level, const char *fmt, ...) {
+void tsr_log(tsr_log_level level, const char *fmt, ...)
+{
     if (!tsr_log_enabled(level))
         return;
     /* Format the whole line first and write it with one call, so lines of

@@ -7,7 +7,8 @@
 #include <string.h>
 
 
-size_t tsr_edit_distance(const char *a, const char *b) {
+size_t tsr_edit_distance(const char *a, const char *b)
+{
     size_t la = strlen(a), lb = strlen(b);
     if (la > TSR_SUGGEST_MAX_LEN || lb > TSR_SUGGEST_MAX_LEN)
         return (size_t)-1;
@@ -25,8 +26,7 @@ size_t tsr_edit_distance(const char *a, const char *b) {
                 best = cur[j - 1] + 1;
             if (prev[j - 1] + cost < best)
                 best = prev[j - 1] + cost;
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
-                prev2[j - 2] + 1 < best)
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && prev2[j - 2] + 1 < best)
                 best = prev2[j - 2] + 1;
             cur[j] = best;
         }
@@ -38,7 +38,8 @@ size_t tsr_edit_distance(const char *a, const char *b) {
     return prev[lb];
 }
 
-const char *tsr_closest_name(const char *word, const char *const *candidates, size_t count) {
+const char *tsr_closest_name(const char *word, const char *const *candidates, size_t count)
+{
     const char *best = NULL;
     size_t best_distance = (size_t)-1;
     size_t word_len = strlen(word);

@@ -22,31 +22,31 @@
 typedef struct body {
     uint8_t *bytes;
     size_t len, cap;
-    int pixels_touched;   /* contains PixelStore calls (prefix or the app's) */
-    int buffers_touched;  /* contains BindBuffer calls */
-    uint64_t seq;         /* when it was defined: lists are defined again in that order */
+    int pixels_touched;  /* contains PixelStore calls (prefix or the app's) */
+    int buffers_touched; /* contains BindBuffer calls */
+    uint64_t seq;        /* when it was defined: lists are defined again in that order */
 } body;
 
 struct tsr_dlist_store {
-    tsr_dispatch live;    /* what tsr_dlist_table returns: pass or rec */
-    tsr_dispatch next;    /* the caller's table, copied */
-    tsr_dispatch pass;    /* outside a list: next + our list commands */
-    tsr_dispatch rec;     /* inside a list: the packer, immediate commands to next */
-    tsr_dispatch ptab;    /* the recorder packer's own table */
+    tsr_dispatch live; /* what tsr_dlist_table returns: pass or rec */
+    tsr_dispatch next; /* the caller's table, copied */
+    tsr_dispatch pass; /* outside a list: next + our list commands */
+    tsr_dispatch rec;  /* inside a list: the packer, immediate commands to next */
+    tsr_dispatch ptab; /* the recorder packer's own table */
     tsr_dispatch nop;
     uint8_t immediate[TSR_DISPATCH_COUNT];
     int *immediate_slots;
     size_t immediate_count;
     tsr_packer *packer;
-    tsr_pixel_store pixels;   /* the stream's pixel store (every PixelStore seen) */
+    tsr_pixel_store pixels; /* the stream's pixel store (every PixelStore seen) */
     /* the list being recorded */
     GLenum mode;
     GLuint name;
     body cur;
-    int failed;               /* out of memory while recording: the body is dropped */
-    tsr_name_map lists;             /* name -> body (malloc'ed) */
+    int failed;         /* out of memory while recording: the body is dropped */
+    tsr_name_map lists; /* name -> body (malloc'ed) */
     uint64_t bytes;
-    uint64_t defined;         /* bodies ended so far (their seq) */
+    uint64_t defined; /* bodies ended so far (their seq) */
     /* replay */
     tsr_unpacker *level[TSR_DLIST_MAX_NESTING];
     tsr_dispatch *filtered[TSR_DLIST_MAX_NESTING];
@@ -58,29 +58,64 @@ struct tsr_dlist_store {
  * 5.4), besides every Get* and Is* query, every *Pointer and every
  * tessera *TSR command. Names the spec lacks are skipped. */
 static const char *const immediate_names[] = {
-    "GenLists", "DeleteLists", "FeedbackBuffer", "SelectBuffer", "RenderMode",
-    "ClientActiveTexture", "InterleavedArrays", "EnableClientState", "DisableClientState",
-    "EnableVertexAttribArray", "DisableVertexAttribArray", "PushClientAttrib", "PopClientAttrib",
-    "PixelStoref", "PixelStorei", "ReadPixels", "GenTextures", "DeleteTextures", "AreTexturesResident",
-    "GenQueries", "DeleteQueries", "GenBuffers", "DeleteBuffers", "BindBuffer", "BufferData",
-    "BufferSubData", "MapBuffer", "UnmapBuffer", "CreateProgram", "CreateShader", "DeleteProgram",
-    "DeleteShader", "AttachShader", "DetachShader", "BindAttribLocation", "CompileShader",
-    "ShaderSource", "LinkProgram", "ValidateProgram", "Finish", "Flush", "NewList", "EndList",
+    "GenLists",
+    "DeleteLists",
+    "FeedbackBuffer",
+    "SelectBuffer",
+    "RenderMode",
+    "ClientActiveTexture",
+    "InterleavedArrays",
+    "EnableClientState",
+    "DisableClientState",
+    "EnableVertexAttribArray",
+    "DisableVertexAttribArray",
+    "PushClientAttrib",
+    "PopClientAttrib",
+    "PixelStoref",
+    "PixelStorei",
+    "ReadPixels",
+    "GenTextures",
+    "DeleteTextures",
+    "AreTexturesResident",
+    "GenQueries",
+    "DeleteQueries",
+    "GenBuffers",
+    "DeleteBuffers",
+    "BindBuffer",
+    "BufferData",
+    "BufferSubData",
+    "MapBuffer",
+    "UnmapBuffer",
+    "CreateProgram",
+    "CreateShader",
+    "DeleteProgram",
+    "DeleteShader",
+    "AttachShader",
+    "DetachShader",
+    "BindAttribLocation",
+    "CompileShader",
+    "ShaderSource",
+    "LinkProgram",
+    "ValidateProgram",
+    "Finish",
+    "Flush",
+    "NewList",
+    "EndList",
 };
 
 static const GLenum pixel_pnames[] = {
-    GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST, GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT,
-    GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,
-    GL_PACK_SWAP_BYTES, GL_PACK_LSB_FIRST, GL_PACK_ROW_LENGTH, GL_PACK_IMAGE_HEIGHT,
-    GL_PACK_SKIP_ROWS, GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_IMAGES, GL_PACK_ALIGNMENT,
+    GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST,   GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT,
+    GL_UNPACK_SKIP_ROWS,  GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,
+    GL_PACK_SWAP_BYTES,   GL_PACK_LSB_FIRST,     GL_PACK_ROW_LENGTH,    GL_PACK_IMAGE_HEIGHT,
+    GL_PACK_SKIP_ROWS,    GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_IMAGES,   GL_PACK_ALIGNMENT,
 };
 #define UNPACK_PNAMES 8
 
 static int is_immediate(const char *name)
 {
     size_t n = strlen(name);
-    if (!strncmp(name, "Get", 3) || !strncmp(name, "Is", 2) ||
-        (n > 3 && !strcmp(name + n - 3, "TSR")) || (n > 7 && !strcmp(name + n - 7, "Pointer")))
+    if (!strncmp(name, "Get", 3) || !strncmp(name, "Is", 2) || (n > 3 && !strcmp(name + n - 3, "TSR")) ||
+        (n > 7 && !strcmp(name + n - 7, "Pointer")))
         return 1;
     for (size_t i = 0; i < sizeof immediate_names / sizeof immediate_names[0]; i++)
         if (!strcmp(name, immediate_names[i]))
@@ -335,8 +370,7 @@ tsr_dlist_store *tsr_dlist_create(const tsr_dispatch *next, tsr_error *err)
     tsr_set_ColorPointer(&s->rec, (tsr_fn_ColorPointer)s->ptab.ColorPointer.fn, s->packer);
     tsr_set_TexCoordPointer(&s->rec, (tsr_fn_TexCoordPointer)s->ptab.TexCoordPointer.fn, s->packer);
     tsr_set_EdgeFlagPointer(&s->rec, (tsr_fn_EdgeFlagPointer)s->ptab.EdgeFlagPointer.fn, s->packer);
-    tsr_set_VertexAttribPointer(&s->rec, (tsr_fn_VertexAttribPointer)s->ptab.VertexAttribPointer.fn,
-                                s->packer);
+    tsr_set_VertexAttribPointer(&s->rec, (tsr_fn_VertexAttribPointer)s->ptab.VertexAttribPointer.fn, s->packer);
     s->rec.EnableVertexAttribArray = s->ptab.EnableVertexAttribArray;
     s->rec.DisableVertexAttribArray = s->ptab.DisableVertexAttribArray;
     tsr_set_EnableClientState(&s->rec, rec_EnableClientState, s);
@@ -433,7 +467,10 @@ int tsr_dlist_call(tsr_dlist_store *s, GLuint list, const tsr_dispatch *out, tsr
     return rc;
 }
 
-typedef struct named_body { GLuint name; const body *b; } named_body;
+typedef struct named_body {
+    GLuint name;
+    const body *b;
+} named_body;
 
 static int by_seq(const void *a, const void *b)
 {

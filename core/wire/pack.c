@@ -118,10 +118,7 @@ void tsr_packer_destroy(tsr_packer *p)
     free(p);
 }
 
-size_t tsr_packer_pending(const tsr_packer *p)
-{
-    return (size_t)(p->mid - p->op) + (size_t)(p->data - p->mid);
-}
+size_t tsr_packer_pending(const tsr_packer *p) { return (size_t)(p->mid - p->op) + (size_t)(p->data - p->mid); }
 
 int tsr_packer_flush(tsr_packer *p)
 {
@@ -218,7 +215,7 @@ uint8_t *tsr_packer_cmd_var(tsr_packer *p, uint32_t opcode, uint64_t size, size_
         return NULL;
     }
     uint8_t *h = fits(p, size + 8, 8) ? place(p, TSR_WIRE_EXTENDED, (size_t)(size + 8), 8)
-                                       : cmd_slow(p, TSR_WIRE_EXTENDED, size + 8, 8);
+                                      : cmd_slow(p, TSR_WIRE_EXTENDED, size + 8, 8);
     if (!h)
         return NULL;
     tsr_wire_put_u32(h, opcode);
@@ -232,15 +229,9 @@ void tsr_packer_drop(tsr_packer *p, const char *command, const char *why)
     record(p, TSR_EINVAL, "gl%s not sent: %s", command, why ? why : "invalid arguments");
 }
 
-const tsr_error *tsr_packer_error(const tsr_packer *p)
-{
-    return &p->error;
-}
+const tsr_error *tsr_packer_error(const tsr_packer *p) { return &p->error; }
 
-void tsr_packer_clear_error(tsr_packer *p)
-{
-    tsr_error_clear(&p->error);
-}
+void tsr_packer_clear_error(tsr_packer *p) { tsr_error_clear(&p->error); }
 
 const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size)
 {
@@ -428,10 +419,10 @@ void tsr_packer_local_ClientActiveTexture(tsr_packer *p, GLenum texture)
  * their sizes and offsets in floats (c = 4 unsigned bytes of color). */
 typedef struct interleaved {
     GLenum format;
-    int st, sc, sv;       /* texcoord, color, vertex sizes (0: absent) */
+    int st, sc, sv; /* texcoord, color, vertex sizes (0: absent) */
     GLenum ctype;
-    int normal;           /* has a normal */
-    int pc, pn, pv, s;    /* offsets and stride, in bytes */
+    int normal;        /* has a normal */
+    int pc, pn, pv, s; /* offsets and stride, in bytes */
 } interleaved;
 
 #define F 4
@@ -488,10 +479,10 @@ void tsr_packer_local_InterleavedArrays(tsr_packer *p, GLenum format, GLsizei st
 }
 
 static const GLenum pixel_pnames[] = {
-    GL_PACK_ROW_LENGTH,   GL_PACK_IMAGE_HEIGHT,   GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_ROWS,
-    GL_PACK_SKIP_IMAGES,  GL_PACK_ALIGNMENT,      GL_PACK_SWAP_BYTES,    GL_PACK_LSB_FIRST,
-    GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
-    GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,   GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,
+    GL_PACK_ROW_LENGTH,    GL_PACK_IMAGE_HEIGHT,   GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_ROWS,
+    GL_PACK_SKIP_IMAGES,   GL_PACK_ALIGNMENT,      GL_PACK_SWAP_BYTES,    GL_PACK_LSB_FIRST,
+    GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
+    GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,    GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,
 };
 
 void tsr_packer_local_PushClientAttrib(tsr_packer *p, GLbitfield mask)
@@ -556,7 +547,7 @@ void tsr_packer_local_GetPointerv(tsr_packer *p, GLenum pname, void **params)
 typedef struct draw_array {
     const tsr_client_array *a;
     uint32_t kind, index;
-    uint64_t elem;          /* bytes of one element */
+    uint64_t elem; /* bytes of one element */
 } draw_array;
 
 static int collect_arrays(tsr_packer *p, draw_array *out, const char *cmd)
@@ -591,8 +582,10 @@ static int collect_arrays(tsr_packer *p, draw_array *out, const char *cmd)
         if (!a->enabled)
             continue;
         uint64_t ts = tsr_gl_type_size(a->type);
-        uint64_t comps = kind == TSR_WIRE_ARRAY_NORMAL ? 3 : kind == TSR_WIRE_ARRAY_EDGE_FLAG ? 1
-                         : a->size == GL_BGRA ? 4 : (uint64_t)a->size;
+        uint64_t comps = kind == TSR_WIRE_ARRAY_NORMAL      ? 3
+                         : kind == TSR_WIRE_ARRAY_EDGE_FLAG ? 1
+                         : a->size == GL_BGRA               ? 4
+                                                            : (uint64_t)a->size;
         if (kind == TSR_WIRE_ARRAY_EDGE_FLAG)
             ts = 1;
         if (!ts || !((a->size >= 1 && a->size <= 4) || a->size == GL_BGRA) || a->stride < 0) {
@@ -684,10 +677,30 @@ int tsr_client_array_position(const tsr_client_array *a, uint64_t i, float out[4
     out[3] = 1;
     for (int j = 0; j < a->size; j++) {
         switch (a->type) {
-        case GL_FLOAT: { float f; memcpy(&f, e + 4 * j, 4); out[j] = f; break; }
-        case GL_DOUBLE: { double d; memcpy(&d, e + 8 * j, 8); out[j] = (float)d; break; }
-        case GL_INT: { GLint x; memcpy(&x, e + 4 * j, 4); out[j] = (float)x; break; }
-        default: { GLshort x; memcpy(&x, e + 2 * j, 2); out[j] = (float)x; break; }
+        case GL_FLOAT: {
+            float f;
+            memcpy(&f, e + 4 * j, 4);
+            out[j] = f;
+            break;
+        }
+        case GL_DOUBLE: {
+            double d;
+            memcpy(&d, e + 8 * j, 8);
+            out[j] = (float)d;
+            break;
+        }
+        case GL_INT: {
+            GLint x;
+            memcpy(&x, e + 4 * j, 4);
+            out[j] = (float)x;
+            break;
+        }
+        default: {
+            GLshort x;
+            memcpy(&x, e + 2 * j, 2);
+            out[j] = (float)x;
+            break;
+        }
         }
     }
     return 1;
@@ -763,13 +776,16 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
     if (inline_arrays) {
         if (ibuf) {
             /* The index range lives in a server-side buffer. */
-            tsr_packer_drop(p, "DrawElements", "client-memory arrays with indices in an element array buffer are not supported");
+            tsr_packer_drop(p, "DrawElements",
+                            "client-memory arrays with indices in an element array buffer are not supported");
             return;
         }
         const uint8_t *ix = indices;
         lo = UINT64_MAX;
         for (GLsizei i = 0; i < count; i++) {
-            uint64_t x = isize == 1 ? ix[i] : isize == 2 ? ((const GLushort *)indices)[i] : ((const GLuint *)indices)[i];
+            uint64_t x = isize == 1   ? ix[i]
+                         : isize == 2 ? ((const GLushort *)indices)[i]
+                                      : ((const GLuint *)indices)[i];
             lo = x < lo ? x : lo;
             hi = x > hi ? x : hi;
         }

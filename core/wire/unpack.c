@@ -164,8 +164,8 @@ static int put_item(tsr_unpacker *u, size_t *pos, const void *bytes, uint64_t le
     return 0;
 }
 
-int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n,
-                       const uint64_t *sizes, uint8_t *const *ptrs, tsr_error *err)
+int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n, const uint64_t *sizes,
+                       uint8_t *const *ptrs, tsr_error *err)
 {
     if (!u->reply)
         return 0;
@@ -239,7 +239,8 @@ static int parse_arrays(const uint8_t *p, uint64_t plen, arrays_hdr *h, const ch
         q += 48;
         if (r->kind < TSR_WIRE_ARRAY_VERTEX || r->kind > TSR_WIRE_ARRAY_ATTRIB)
             BAD("command %s at data offset %zu: array record %u has unknown kind %u", cmd, at, i, r->kind);
-        if ((r->kind == TSR_WIRE_ARRAY_TEXCOORD && r->index >= 32) || (r->kind == TSR_WIRE_ARRAY_ATTRIB && r->index >= 64))
+        if ((r->kind == TSR_WIRE_ARRAY_TEXCOORD && r->index >= 32) ||
+            (r->kind == TSR_WIRE_ARRAY_ATTRIB && r->index >= 64))
             BAD("command %s at data offset %zu: array record %u has index %u out of range", cmd, at, i, r->index);
         if (!((r->size >= 1 && r->size <= 4) || r->size == GL_BGRA))
             BAD("command %s at data offset %zu: array record %u has size %d", cmd, at, i, r->size);
@@ -439,8 +440,9 @@ int tsr_unpack_custom_DrawElements(tsr_unpacker *u, const tsr_dispatch *d, const
         /* Every index must address data that was sent. */
         uint64_t lo = UINT64_MAX, hi = 0;
         for (GLsizei i = 0; i < count; i++) {
-            uint64_t v = isize == 1 ? indices[i] : isize == 2 ? tsr_wire_get_u16(indices + 2 * i)
-                                                             : tsr_wire_get_u32(indices + 4 * i);
+            uint64_t v = isize == 1   ? indices[i]
+                         : isize == 2 ? tsr_wire_get_u16(indices + 2 * i)
+                                      : tsr_wire_get_u32(indices + 4 * i);
             lo = v < lo ? v : lo;
             hi = v > hi ? v : hi;
         }
@@ -450,7 +452,8 @@ int tsr_unpack_custom_DrawElements(tsr_unpacker *u, const tsr_dispatch *d, const
     }
     set_arrays(d, &h);
     tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, index_buffer);
-    tsr_call_DrawElements(d, mode, count, type, index_buffer ? (const void *)(uintptr_t)index_offset : (const void *)indices);
+    tsr_call_DrawElements(d, mode, count, type,
+                          index_buffer ? (const void *)(uintptr_t)index_offset : (const void *)indices);
     restore_arrays(d, &h);
     tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, h.element_buffer);
     *pos = q;
@@ -500,7 +503,8 @@ int tsr_unpack_custom_ShaderSource(tsr_unpacker *u, const tsr_dispatch *d, const
     uint64_t sizes[2] = {(uint64_t)count * sizeof(char *), plen + (uint64_t)count};
     uint8_t *ptrs[2];
     if (tsr_unpacker_outputs(u, 2, sizes, ptrs) != 0)
-        BAD("command ShaderSource at data offset %zu: %llu bytes of source are too large", at, (unsigned long long)plen);
+        BAD("command ShaderSource at data offset %zu: %llu bytes of source are too large", at,
+            (unsigned long long)plen);
     const GLchar **strings = (const GLchar **)(void *)ptrs[0];
     char *text = (char *)ptrs[1];
     uint64_t sq = 0;
@@ -550,7 +554,8 @@ int tsr_unpack_custom_GetTexImage(tsr_unpacker *u, const tsr_dispatch *d, const 
     uint64_t sizes[1] = {lay.extent};
     uint8_t *ptrs[1];
     if (tsr_unpacker_outputs(u, 1, sizes, ptrs) != 0)
-        BAD("command GetTexImage at data offset %zu: image of %llu bytes is too large", at, (unsigned long long)lay.extent);
+        BAD("command GetTexImage at data offset %zu: image of %llu bytes is too large", at,
+            (unsigned long long)lay.extent);
     tsr_call_GetTexImage(d, target, level, format, type, ptrs[0]);
     *pos = at + 24;
     if (!u->reply)

@@ -28,8 +28,8 @@ void tsr_packer_drop(tsr_packer *p, const char *command, const char *why);
 const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size);
 /* Reads reply item `*pos` (advancing it): returns the bytes and sets *len;
  * NULL when the reply is malformed. */
-const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos,
-                                     uint64_t *len, const char *command);
+const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos, uint64_t *len,
+                                     const char *command);
 /* Keeps a copy of a returned string for the packer's lifetime. */
 const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t len);
 /* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
@@ -46,7 +46,7 @@ int tsr_unpack_commands(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *d
 int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs);
 /* Builds the reply (tessera/dev/wire.h section 5) and hands it to the callback.
  * ret_len TSR_WIRE_NULL: the command returns nothing. */
-int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n,
-                       const uint64_t *sizes, uint8_t *const *ptrs, tsr_error *err);
+int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n, const uint64_t *sizes,
+                       uint8_t *const *ptrs, tsr_error *err);
 
 #endif

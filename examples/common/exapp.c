@@ -27,19 +27,20 @@
 #define EXAPP_DEFAULT_FRAMES 4
 
 struct exapp_backend {
-    char default_pattern[256];   /* "out/NAME-%04d.png" */
-    const char *out_pattern;     /* --out, or default_pattern */
+    char default_pattern[256]; /* "out/NAME-%04d.png" */
+    const char *out_pattern;   /* --out, or default_pattern */
 #ifdef EXAPP_NATIVE
     OSMesaContext context;
-    unsigned char *buffer;       /* width * height RGBA, bottom row first */
+    unsigned char *buffer; /* width * height RGBA, bottom row first */
 #else
-    const char *chain_text;      /* --chain, $TESSERA_CHAIN or built default */
+    const char *chain_text; /* --chain, $TESSERA_CHAIN or built default */
     char default_chain[400];
     tsr_chain *chain;
 #endif
 };
 
-static void exapp_usage(const exapp *app, FILE *out) {
+static void exapp_usage(const exapp *app, FILE *out)
+{
     fprintf(out,
             "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--detail N]"
 #ifndef EXAPP_NATIVE
@@ -64,7 +65,8 @@ static void exapp_usage(const exapp *app, FILE *out) {
             app->name, app->name, EXAPP_DEFAULT_FRAMES, app->width, app->height, app->name);
 }
 
-static bool parse_int(const char *text, int min, int max, int *out) {
+static bool parse_int(const char *text, int min, int max, int *out)
+{
     char *end;
     errno = 0;
     long v = strtol(text, &end, 10);
@@ -74,7 +76,8 @@ static bool parse_int(const char *text, int min, int max, int *out) {
     return true;
 }
 
-static bool parse_size(const char *text, int *w, int *h) {
+static bool parse_size(const char *text, int *w, int *h)
+{
     char buf[64];
     const char *x = strchr(text, 'x');
     if (!x || (size_t)(x - text) >= sizeof buf)
@@ -84,7 +87,8 @@ static bool parse_size(const char *text, int *w, int *h) {
     return parse_int(buf, 1, 8192, w) && parse_int(x + 1, 1, 8192, h);
 }
 
-static bool fail(exapp *app, int code, const char *msg, const char *detail) {
+static bool fail(exapp *app, int code, const char *msg, const char *detail)
+{
     fprintf(stderr, "%s: %s%s%s\n", app->name, msg, detail ? ": " : "", detail ? detail : "");
     app->exit_code = code;
     return false;
@@ -92,8 +96,8 @@ static bool fail(exapp *app, int code, const char *msg, const char *detail) {
 
 static bool backend_start(exapp *app);
 
-bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width,
-                int default_height) {
+bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height)
+{
     memset(app, 0, sizeof *app);
     app->name = name;
     app->width = default_width;
@@ -116,8 +120,8 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
             app->exit_code = 0;
             return false;
         }
-        bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") ||
-                     !strcmp(arg, "--detail");
+        bool known =
+            !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") || !strcmp(arg, "--detail");
 #ifndef EXAPP_NATIVE
         known = known || !strcmp(arg, "--chain");
 #endif
@@ -146,8 +150,7 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
     }
     char probe[PATH_MAX];
     tsr_error err = {0};
-    if (b->out_pattern[0] &&
-        tsr_image_frame_path(probe, sizeof probe, b->out_pattern, 0, &err) != TSR_OK)
+    if (b->out_pattern[0] && tsr_image_frame_path(probe, sizeof probe, b->out_pattern, 0, &err) != TSR_OK)
         return fail(app, 2, err.message, NULL);
     bool writes_default_output = b->out_pattern == b->default_pattern;
 #ifndef EXAPP_NATIVE
@@ -160,8 +163,7 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
     } else {
         if (strchr(b->out_pattern, '"'))
             return fail(app, 2, "--out must not contain '\"'", b->out_pattern);
-        snprintf(b->default_chain, sizeof b->default_chain, "render output=\"%s\"",
-                 b->out_pattern);
+        snprintf(b->default_chain, sizeof b->default_chain, "render output=\"%s\"", b->out_pattern);
         b->chain_text = b->default_chain;
     }
 #endif
@@ -172,7 +174,8 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
 
 #ifdef EXAPP_NATIVE
 
-static bool backend_start(exapp *app) {
+static bool backend_start(exapp *app)
+{
     exapp_backend *b = app->backend;
     /* Same attributes as spus/render: RGBA, depth 24, stencil 8, accum 0. */
     b->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
@@ -186,7 +189,8 @@ static bool backend_start(exapp *app) {
     return true;
 }
 
-bool exapp_swap(exapp *app) {
+bool exapp_swap(exapp *app)
+{
     exapp_backend *b = app->backend;
     glFinish();
     int frame = app->frame++;
@@ -195,13 +199,14 @@ bool exapp_swap(exapp *app) {
     char path[PATH_MAX];
     tsr_error err = {0};
     if (tsr_image_frame_path(path, sizeof path, b->out_pattern, frame, &err) != TSR_OK ||
-        tsr_image_write_png_rgba(b->buffer, app->width, app->height, (size_t)app->width * 4,
-                                 true, path, &err) != TSR_OK)
+        tsr_image_write_png_rgba(b->buffer, app->width, app->height, (size_t)app->width * 4, true, path, &err) !=
+            TSR_OK)
         return fail(app, 1, err.message, NULL);
     return true;
 }
 
-int exapp_finish(exapp *app) {
+int exapp_finish(exapp *app)
+{
     exapp_backend *b = app->backend;
     if (b) {
         if (b->context)
@@ -215,7 +220,8 @@ int exapp_finish(exapp *app) {
 
 #else /* tessera build */
 
-static bool backend_start(exapp *app) {
+static bool backend_start(exapp *app)
+{
     exapp_backend *b = app->backend;
     tsr_error err = {0};
     b->chain = tsr_chain_create(b->chain_text, &err);
@@ -226,13 +232,15 @@ static bool backend_start(exapp *app) {
     return true;
 }
 
-bool exapp_swap(exapp *app) {
+bool exapp_swap(exapp *app)
+{
     glSwapBuffersTSR(0, 0);
     app->frame++;
     return true;
 }
 
-int exapp_finish(exapp *app) {
+int exapp_finish(exapp *app)
+{
     exapp_backend *b = app->backend;
     if (b) {
         if (b->chain) {

@@ -23,12 +23,12 @@
 typedef struct exapp_backend exapp_backend;
 
 typedef struct exapp {
-    const char *name;   /* example name, e.g. "spheres" */
-    int width, height;  /* window size (--size WxH) */
-    int frames;         /* frames to draw (--frames N) */
-    int frame;          /* number of the next frame to be swapped, from 0 */
-    int detail;         /* --detail N (1..8): how finely examples that can vary it draw */
-    int exit_code;      /* what main returns: 0, 1 runtime failure, 2 usage */
+    const char *name;  /* example name, e.g. "spheres" */
+    int width, height; /* window size (--size WxH) */
+    int frames;        /* frames to draw (--frames N) */
+    int frame;         /* number of the next frame to be swapped, from 0 */
+    int detail;        /* --detail N (1..8): how finely examples that can vary it draw */
+    int exit_code;     /* what main returns: 0, 1 runtime failure, 2 usage */
     exapp_backend *backend;
 } exapp;
 
@@ -36,8 +36,7 @@ typedef struct exapp {
  * Returns true to go on drawing; false means main should return
  * app->exit_code now (0 after --help, 2 on bad arguments, 1 when the
  * context or chain could not be made; a one-line message was printed). */
-bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width,
-                int default_height);
+bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height);
 
 /* Ends the frame: the native build finishes and writes the PNG, the
  * tessera build sends SwapBuffersTSR(0, 0). Returns false (exit_code = 1,

@@ -28,8 +28,7 @@ typedef struct tsr_chain_link {
 } tsr_chain_link;
 
 TSR_API tsr_chain *tsr_chain_create(const char *text, tsr_error *err);
-TSR_API tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count,
-                                          tsr_error *err);
+TSR_API tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr_error *err);
 /* The text form of `count` links, each value quoted (and '"' and '\'
  * escaped), so tsr_chain_create reads back exactly these links. Returns a
  * malloc'ed string to free(), or NULL with `err` filled (no links, out of

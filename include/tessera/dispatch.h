@@ -30,8 +30,8 @@ extern "C" {
 typedef void (*tsr_proc)(void);
 
 typedef struct tsr_entry {
-    tsr_proc fn;   /* cast to the slot's tsr_fn_NAME type before calling */
-    void *self;    /* the instance the function belongs to */
+    tsr_proc fn; /* cast to the slot's tsr_fn_NAME type before calling */
+    void *self;  /* the instance the function belongs to */
 } tsr_entry;
 
 #ifdef __cplusplus
@@ -55,12 +55,17 @@ TSR_API void tsr_dispatch_fill_nop(tsr_dispatch *d);
 
 /* What the spec says of a slot's command: its category, and flags. */
 typedef enum tsr_cmd_category {
-    TSR_CAT_GEOMETRY, TSR_CAT_STATE, TSR_CAT_FRAME, TSR_CAT_GET, TSR_CAT_OBJECT, TSR_CAT_CLIENT,
+    TSR_CAT_GEOMETRY,
+    TSR_CAT_STATE,
+    TSR_CAT_FRAME,
+    TSR_CAT_GET,
+    TSR_CAT_OBJECT,
+    TSR_CAT_CLIENT,
     TSR_CAT_SPECIAL
 } tsr_cmd_category;
-#define TSR_CMD_OUTPUT 1u    /* returns a value or writes through a pointer */
-#define TSR_CMD_LOCAL 2u     /* wire: local (client state, never sent) */
-#define TSR_CMD_POSITION 4u  /* vertex: position (glVertex*) */
+#define TSR_CMD_OUTPUT 1u   /* returns a value or writes through a pointer */
+#define TSR_CMD_LOCAL 2u    /* wire: local (client state, never sent) */
+#define TSR_CMD_POSITION 4u /* vertex: position (glVertex*) */
 /* Category of a slot (tsr_cmd_category), -1 when out of range. */
 TSR_API int tsr_dispatch_category(int slot);
 TSR_API unsigned tsr_dispatch_flags(int slot);

@@ -150,8 +150,8 @@ typedef struct tsr_graph tsr_graph;
  * on any error. `flags`: TSR_GRAPH_* or 0. */
 TSR_API tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err);
 /* The same from memory; `file_name` is used in messages. */
-TSR_API tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name,
-                                   unsigned flags, tsr_error *err);
+TSR_API tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name, unsigned flags,
+                                   tsr_error *err);
 TSR_API void tsr_graph_free(tsr_graph *graph);
 
 TSR_API const char *tsr_graph_file(const tsr_graph *graph);

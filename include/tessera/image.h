@@ -26,8 +26,8 @@ extern "C" {
 typedef struct tsr_image {
     int width;
     int height;
-    size_t stride;     /* bytes from one row to the next: width * 4 */
-    uint8_t *pixels;   /* RGBA8, top row first; owned (tsr_image_free) */
+    size_t stride;   /* bytes from one row to the next: width * 4 */
+    uint8_t *pixels; /* RGBA8, top row first; owned (tsr_image_free) */
 } tsr_image;
 
 /* Result of comparing two images of the same size. */
@@ -55,23 +55,21 @@ TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_erro
 /* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
  * first row in memory is the bottom row of the picture (glReadPixels,
  * OSMesa buffers); the file is written top row first either way. */
-TSR_API int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height,
-                                     size_t stride, bool bottom_up, const char *path,
-                                     tsr_error *err);
+TSR_API int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                                     const char *path, tsr_error *err);
 
 /* Compares `a` and `b` channel by channel. A pixel differs when any of its
  * four channels differs by more than `tolerance` (0 = exact). Images of
  * different sizes are an error (TSR_EINVAL) naming both sizes. */
-TSR_API int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance,
-                              tsr_image_diff *out, tsr_error *err);
+TSR_API int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolerance, tsr_image_diff *out,
+                              tsr_error *err);
 
 /* Formats a frame file name from a printf-style `pattern` holding at most
  * one integer conversion (%d or %i with optional flags 0-+ and a width up
  * to 2 digits, e.g. "out/frame-%04d.png"); "%%" is a literal '%'. Any
  * other '%' use is an error (TSR_EINVAL) naming the pattern, so a user's
  * pattern is never handed to printf unchecked. */
-TSR_API int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
-                                 tsr_error *err);
+TSR_API int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame, tsr_error *err);
 
 /* Reverses the order of `height` rows of `stride` bytes in place. */
 TSR_API void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride);

@@ -12,8 +12,7 @@ typedef enum tsr_log_level {
     TSR_LOG_ERROR = 3,
 } tsr_log_level;
 
-TSR_API void tsr_log(tsr_log_level level, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+TSR_API void tsr_log(tsr_log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 TSR_API int tsr_log_enabled(tsr_log_level level);
 
 #endif

@@ -19,14 +19,14 @@ typedef enum tsr_option_type {
     TSR_OPT_INT,
     TSR_OPT_FLOAT,
     TSR_OPT_STRING,
-    TSR_OPT_ENUM,         /* one of `choices` */
-    TSR_OPT_INT_LIST,     /* written "1,2,3" in text form */
+    TSR_OPT_ENUM,     /* one of `choices` */
+    TSR_OPT_INT_LIST, /* written "1,2,3" in text form */
     TSR_OPT_FLOAT_LIST,
     TSR_OPT_STRING_LIST,
 } tsr_option_type;
 
 typedef struct tsr_option_spec {
-    const char *name;          /* lower_snake_case */
+    const char *name; /* lower_snake_case */
     tsr_option_type type;
     const char *default_value; /* text form, parsed like user input; NULL = empty */
     double min, max;           /* numeric range (also list elements); ignored when min > max */
@@ -44,8 +44,7 @@ TSR_API const char *tsr_option_type_name(tsr_option_type type);
 
 /* Checks one text value against one declaration without keeping it
  * (`spu` names the SPU in the message). */
-TSR_API int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text,
-                                   tsr_error *err);
+TSR_API int tsr_option_check_value(const char *spu, const tsr_option_spec *spec, const char *text, tsr_error *err);
 
 TSR_API bool tsr_options_bool(const tsr_options *o, const char *name);
 TSR_API int64_t tsr_options_int(const tsr_options *o, const char *name);

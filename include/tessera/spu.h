@@ -72,11 +72,11 @@ extern "C" {
 #define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
 
 typedef struct tsr_spu_init {
-    const char *instance_name;    /* "render#2": use it in messages */
-    const tsr_options *options;   /* validated; valid until destroy */
-    const tsr_dispatch *child;    /* next SPU's resolved table (or no-ops) */
-    const tsr_dispatch *super;    /* super instance's resolved table, or NULL */
-    tsr_dispatch *table;          /* set the slots this SPU implements */
+    const char *instance_name;  /* "render#2": use it in messages */
+    const tsr_options *options; /* validated; valid until destroy */
+    const tsr_dispatch *child;  /* next SPU's resolved table (or no-ops) */
+    const tsr_dispatch *super;  /* super instance's resolved table, or NULL */
+    tsr_dispatch *table;        /* set the slots this SPU implements */
 } tsr_spu_init;
 
 /* --- Network roles ---------------------------------------------------------
@@ -190,12 +190,11 @@ TSR_API const char *tsr_spu_role_summary(tsr_spu_role role);
 
 /* The declaration of option `key` of `cls` or of one of its supers; NULL
  * with `err` saying why (unknown option, with "did you mean"). */
-TSR_API const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char *key,
-                                                   tsr_error *err);
+TSR_API const tsr_option_spec *tsr_spu_find_option(const tsr_spu_class *cls, const char *key, tsr_error *err);
 /* Parses the whole set of `count` key=value pairs as a chain link of `cls`
  * would (duplicates, defaults, every value): TSR_OK or `err` filled. */
-TSR_API int tsr_spu_check_options(const tsr_spu_class *cls, const char *const *keys,
-                                  const char *const *values, size_t count, tsr_error *err);
+TSR_API int tsr_spu_check_options(const tsr_spu_class *cls, const char *const *keys, const char *const *values,
+                                  size_t count, tsr_error *err);
 
 #ifdef __cplusplus
 }

@@ -32,8 +32,7 @@ typedef struct tsr_tile {
  * selects the "S:X:Y:W:H" form. On success *tiles is malloc'ed (free()
  * it). On error returns TSR_EINVAL with a message naming the bad tile,
  * e.g. "tile 2 '0:0:-4:8': width must be 1..16384". */
-TSR_API int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t *count,
-                            tsr_error *err);
+TSR_API int tsr_tiles_parse(const char *text, bool with_server, tsr_tile **tiles, size_t *count, tsr_error *err);
 
 #ifdef __cplusplus
 }

@@ -16,7 +16,7 @@ typedef struct loopback_spu {
     const char *name;
     tsr_packer *packer;
     tsr_unpacker *unpacker;
-    uint8_t *reply;          /* the last reply the unpacker produced */
+    uint8_t *reply; /* the last reply the unpacker produced */
     size_t reply_len, reply_cap;
     uint32_t reply_id;
     int has_reply;
@@ -96,8 +96,12 @@ static void *loopback_create(const tsr_spu_init *init, tsr_error *err)
 }
 
 static const tsr_option_spec loopback_options[] = {
-    {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "1048576", .min = TSR_PACK_MIN_BUFFER,
-     .max = 1073741824.0, .help = "bytes of one wire buffer (header, opcodes and data)"},
+    {.name = "buffer_size",
+     .type = TSR_OPT_INT,
+     .default_value = "1048576",
+     .min = TSR_PACK_MIN_BUFFER,
+     .max = 1073741824.0,
+     .help = "bytes of one wire buffer (header, opcodes and data)"},
 };
 
 static const tsr_spu_class loopback_class = {
@@ -111,7 +115,4 @@ static const tsr_spu_class loopback_class = {
     .destroy = loopback_destroy,
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
-{
-    return &loopback_class;
-}
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &loopback_class; }

@@ -11,10 +11,7 @@
 #include "tessera/dev/client.h"
 #include "tessera/spu.h"
 
-static void pack_destroy(void *instance)
-{
-    tsr_stream_client_destroy(instance);
-}
+static void pack_destroy(void *instance) { tsr_stream_client_destroy(instance); }
 
 static void *pack_create(const tsr_spu_init *init, tsr_error *err)
 {
@@ -24,14 +21,17 @@ static void *pack_create(const tsr_spu_init *init, tsr_error *err)
                       init->instance_name);
         return NULL;
     }
-    tsr_stream_client_config cfg = {.spu = "pack", .name = init->instance_name, .servers = &server,
-                                  .server_count = 1};
+    tsr_stream_client_config cfg = {.spu = "pack", .name = init->instance_name, .servers = &server, .server_count = 1};
     tsr_stream_client_config_from_options(&cfg, init->options);
     return tsr_stream_client_create(&cfg, init->table, err);
 }
 
 static const tsr_option_spec pack_options[] = {
-    {.name = "server", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "server",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "server node address: tcp://HOST:PORT or unix:PATH (required)"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
@@ -47,11 +47,7 @@ static const tsr_spu_class pack_class = {
     .destroy = pack_destroy,
     /* One server: a graph run points `server` at the node's to: and gives
      * it the run's token. */
-    .network = {.role = TSR_SPU_ROLE_SERVER, .server = "server",
-                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+    .network = {.role = TSR_SPU_ROLE_SERVER, .server = "server", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
-{
-    return &pack_class;
-}
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &pack_class; }

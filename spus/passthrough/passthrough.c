@@ -12,7 +12,8 @@ typedef struct passthrough {
     bool verbose;
 } passthrough;
 
-static void *passthrough_create(const tsr_spu_init *init, tsr_error *err) {
+static void *passthrough_create(const tsr_spu_init *init, tsr_error *err)
+{
     passthrough *p = calloc(1, sizeof *p);
     if (!p) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
@@ -28,7 +29,8 @@ static void *passthrough_create(const tsr_spu_init *init, tsr_error *err) {
     return p;
 }
 
-static void passthrough_destroy(void *self) {
+static void passthrough_destroy(void *self)
+{
     passthrough *p = self;
     if (p->verbose)
         tsr_log(TSR_LOG_WARN, "%s: destroyed", p->name);

@@ -56,7 +56,11 @@ static void print_destroy(void *instance)
 }
 
 static const tsr_option_spec print_options[] = {
-    {.name = "file", .type = TSR_OPT_STRING, .default_value = "-", .min = 1, .max = 0,
+    {.name = "file",
+     .type = TSR_OPT_STRING,
+     .default_value = "-",
+     .min = 1,
+     .max = 0,
      .help = "where to write the trace: a path, \"stdout\", or \"-\"/\"stderr\""},
 };
 
@@ -71,7 +75,4 @@ static const tsr_spu_class print_class = {
     .destroy = print_destroy,
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
-{
-    return &print_class;
-}
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &print_class; }

@@ -56,9 +56,9 @@ typedef struct readback_spu {
     const tsr_options *options;
     int window, rank;
     unsigned peers, barrier;
-    tsr_chain *out;            /* pack to the display; NULL until first needed */
+    tsr_chain *out; /* pack to the display; NULL until first needed */
     const tsr_dispatch *display;
-    bool failed;               /* the display could not be reached: images are dropped */
+    bool failed; /* the display could not be reached: images are dropped */
 } readback_spu;
 
 /* The options passed through to the pack SPU that carries the images. */
@@ -67,7 +67,8 @@ static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeo
 
 /* The display stream, created on first use (header comment); NULL when it
  * cannot be. */
-static const tsr_dispatch *display(readback_spu *rb) {
+static const tsr_dispatch *display(readback_spu *rb)
+{
     if (rb->display || rb->failed)
         return rb->display;
     char numbers[2][24];
@@ -76,8 +77,7 @@ static const tsr_dispatch *display(readback_spu *rb) {
     const char *values[PACK_KEYS] = {tsr_options_string(rb->options, "server"),
                                      tsr_options_string(rb->options, "token"), numbers[0], numbers[1],
                                      tsr_options_string(rb->options, "on_error")};
-    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values,
-                           .option_count = PACK_KEYS};
+    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
     tsr_error err = {0};
     rb->out = tsr_chain_create_links(&link, 1, &err);
     if (!rb->out) {
@@ -100,7 +100,8 @@ static const tsr_dispatch *display(readback_spu *rb) {
 }
 
 static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
-                           const unsigned char *rgba) {
+                           const unsigned char *rgba)
+{
     (void)frame;
     (void)tile;
     readback_spu *rb = ctx;
@@ -111,7 +112,8 @@ static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int 
     tsr_call_DrawPixels(d, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
 }
 
-static void readback_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height) {
+static void readback_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
     readback_spu *rb = self;
     const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
     if (d)
@@ -119,7 +121,8 @@ static void readback_WindowCreateTSR(void *self, GLint window, GLsizei width, GL
     tsr_call_WindowCreateTSR(rb->child, window, width, height);
 }
 
-static void readback_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height) {
+static void readback_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
     readback_spu *rb = self;
     const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
     if (d)
@@ -129,7 +132,8 @@ static void readback_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsi
 
 /* render has read and sent this frame's tiles (readback_image): fence the
  * frame on the display (header comment). */
-static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
+static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
     readback_spu *rb = self;
     const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
     if (d) {
@@ -141,7 +145,8 @@ static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) 
     tsr_call_SwapBuffersTSR(rb->child, window, flags);
 }
 
-static void readback_destroy(void *self) {
+static void readback_destroy(void *self)
+{
     readback_spu *rb = self;
     if (!rb)
         return;
@@ -152,7 +157,8 @@ static void readback_destroy(void *self) {
     free(rb);
 }
 
-static void *readback_create(const tsr_spu_init *init, tsr_error *err) {
+static void *readback_create(const tsr_spu_init *init, tsr_error *err)
+{
     readback_spu *rb = calloc(1, sizeof *rb);
     if (!rb) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
@@ -168,8 +174,7 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err) {
     const char *server = tsr_options_string(init->options, "server");
     if (!server || !server[0]) {
         tsr_error_set(err, TSR_EINVAL,
-                      "%s: option server is required: the display node (e.g. server=tcp://127.0.0.1:7000)",
-                      rb->name);
+                      "%s: option server is required: the display node (e.g. server=tcp://127.0.0.1:7000)", rb->name);
         free(rb);
         return NULL;
     }
@@ -192,15 +197,30 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err) {
 
 static const tsr_option_spec readback_options[] = {
     RENDER_OPTION_SPECS,
-    {.name = "server", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "server",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "the display node the tile images go to: tcp://HOST:PORT or unix:PATH (required; "
              "a graph's to: fills it)"},
-    {.name = "rank", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,
+    {.name = "rank",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = 2147483647.0,
      .help = "this server's place among the display's clients: rank 0 sends the swap that ends "
              "each frame (a graph run sets it: the display's first sender is 0)"},
-    {.name = "peers", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,
+    {.name = "peers",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = 2147483647.0,
      .help = "clients of the frame barrier on the display; 0: every client of the display node"},
-    {.name = "barrier", .type = TSR_OPT_INT, .default_value = "1380073291", .min = 0,
+    {.name = "barrier",
+     .type = TSR_OPT_INT,
+     .default_value = "1380073291",
+     .min = 0,
      .max = 4294967295.0,
      .help = "name of the frame barrier on the display (every tile server must use the same)"},
     TSR_NODE_CLIENT_OPTION_SPECS, /* passed on to the pack stream to the display */
@@ -220,8 +240,11 @@ static const tsr_spu_class readback_class = {
      * display's address, `tiles` this node's own tiles (render draws them)
      * and `rank` its place among the display's senders (rank 0 swaps).
      * `peers` here counts the barrier's clients: not the role's peers. */
-    .network = {.role = TSR_SPU_ROLE_DISPLAY, .display = "server", .tiles = "tiles",
-                .rank = "rank", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+    .network = {.role = TSR_SPU_ROLE_DISPLAY,
+                .display = "server",
+                .tiles = "tiles",
+                .rank = "rank",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &readback_class; }

@@ -10,7 +10,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-static bool add_span(render_page_map *map, size_t *cap, uintptr_t start, uintptr_t end) {
+static bool add_span(render_page_map *map, size_t *cap, uintptr_t start, uintptr_t end)
+{
     if (map->count == *cap) {
         size_t n = *cap ? *cap * 2 : 64;
         render_span *s = realloc(map->spans, n * sizeof *s);
@@ -23,7 +24,8 @@ static bool add_span(render_page_map *map, size_t *cap, uintptr_t start, uintptr
     return true;
 }
 
-int render_pages_snapshot(render_page_map *map) {
+int render_pages_snapshot(render_page_map *map)
+{
     map->spans = NULL;
     map->count = 0;
     FILE *f = fopen("/proc/self/maps", "r");
@@ -66,7 +68,8 @@ int render_pages_snapshot(render_page_map *map) {
 #define PAGES_RAW_READ
 #endif
 
-PAGES_RAW_READ static bool page_is_zero(const unsigned char *p, size_t size) {
+PAGES_RAW_READ static bool page_is_zero(const unsigned char *p, size_t size)
+{
     const uint64_t *w = (const uint64_t *)(const void *)p;
     uint64_t any = 0;
     for (size_t i = 0; i < size / sizeof *w; i++)
@@ -75,7 +78,8 @@ PAGES_RAW_READ static bool page_is_zero(const unsigned char *p, size_t size) {
 }
 
 /* Drops the zero pages of [start, end) (page aligned). */
-static size_t release_span(uintptr_t start, uintptr_t end, size_t page) {
+static size_t release_span(uintptr_t start, uintptr_t end, size_t page)
+{
     size_t released = 0;
     uintptr_t run = 0; /* start of the current run of zero pages, 0: none */
     for (uintptr_t p = start; p <= end; p += page) {
@@ -91,7 +95,8 @@ static size_t release_span(uintptr_t start, uintptr_t end, size_t page) {
     return released;
 }
 
-size_t render_pages_release(const render_page_map *before, size_t min_bytes) {
+size_t render_pages_release(const render_page_map *before, size_t min_bytes)
+{
     render_page_map now;
     if (!before->spans || render_pages_snapshot(&now) != 0)
         return 0;
@@ -125,7 +130,8 @@ size_t render_pages_release(const render_page_map *before, size_t min_bytes) {
     return released;
 }
 
-void render_pages_free(render_page_map *map) {
+void render_pages_free(render_page_map *map)
+{
     free(map->spans);
     map->spans = NULL;
     map->count = 0;

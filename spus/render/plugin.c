@@ -2,7 +2,8 @@
  * (tessera_render_core, render.h) with no hooks. */
 #include "render.h"
 
-static void *render_plugin_create(const tsr_spu_init *init, tsr_error *err) {
+static void *render_plugin_create(const tsr_spu_init *init, tsr_error *err)
+{
     return render_spu_create(init, NULL, err);
 }
 

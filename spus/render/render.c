@@ -48,10 +48,8 @@
 
 /* The OSMesa functions this SPU calls, resolved with dlsym. */
 typedef struct osmesa_api {
-    OSMesaContext (*CreateContextExt)(GLenum format, GLint depth, GLint stencil, GLint accum,
-                                      OSMesaContext sharelist);
-    GLboolean (*MakeCurrent)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei width,
-                             GLsizei height);
+    OSMesaContext (*CreateContextExt)(GLenum format, GLint depth, GLint stencil, GLint accum, OSMesaContext sharelist);
+    GLboolean (*MakeCurrent)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei width, GLsizei height);
     void (*DestroyContext)(OSMesaContext ctx);
     OSMesaContext (*GetCurrentContext)(void);
     OSMESAproc (*GetProcAddress)(const char *name);
@@ -60,17 +58,16 @@ typedef struct osmesa_api {
 /* Framebuffer-object entries for shared mode; not in the spec (clients
  * never send them), so resolved here. */
 typedef struct fbo_api {
-    void (GLAPIENTRY *GenRenderbuffers)(GLsizei n, GLuint *ids);
-    void (GLAPIENTRY *DeleteRenderbuffers)(GLsizei n, const GLuint *ids);
-    void (GLAPIENTRY *BindRenderbuffer)(GLenum target, GLuint id);
-    void (GLAPIENTRY *RenderbufferStorage)(GLenum target, GLenum format, GLsizei w, GLsizei h);
-    void (GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
-    void (GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
-    void (GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
-    void (GLAPIENTRY *FramebufferRenderbuffer)(GLenum target, GLenum attachment, GLenum rbtarget,
-                                               GLuint rb);
-    void (GLAPIENTRY *FramebufferParameteri)(GLenum target, GLenum pname, GLint value);
-    GLenum (GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
+    void(GLAPIENTRY *GenRenderbuffers)(GLsizei n, GLuint *ids);
+    void(GLAPIENTRY *DeleteRenderbuffers)(GLsizei n, const GLuint *ids);
+    void(GLAPIENTRY *BindRenderbuffer)(GLenum target, GLuint id);
+    void(GLAPIENTRY *RenderbufferStorage)(GLenum target, GLenum format, GLsizei w, GLsizei h);
+    void(GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
+    void(GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
+    void(GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
+    void(GLAPIENTRY *FramebufferRenderbuffer)(GLenum target, GLenum attachment, GLenum rbtarget, GLuint rb);
+    void(GLAPIENTRY *FramebufferParameteri)(GLenum target, GLenum pname, GLint value);
+    GLenum(GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
 } fbo_api;
 
 #ifndef GL_FRAMEBUFFER_FLIP_Y_MESA
@@ -100,44 +97,44 @@ typedef struct render_scissor {
     bool enabled;
     scissor_saved stack[RENDER_ATTRIB_DEPTH];
     int depth;
-    GLenum list_mode;  /* mode of the display list being compiled, 0: none */
-    unsigned applied;  /* tiles generation the real scissor was last set for */
-    bool fitted;       /* the real scissor is fitted to tiles (else: the application's) */
+    GLenum list_mode; /* mode of the display list being compiled, 0: none */
+    unsigned applied; /* tiles generation the real scissor was last set for */
+    bool fitted;      /* the real scissor is fitted to tiles (else: the application's) */
 } render_scissor;
 
 /* One context of shared mode; contexts[0] is the instance's own. */
 typedef struct render_context {
     int id;
     OSMesaContext osmesa;
-    GLuint fbo;                /* this context's FBO on the shared renderbuffers */
-    unsigned attached;         /* renderbuffer generation the FBO was attached at */
-    bool window_seen;          /* its first window command reset viewport/scissor */
+    GLuint fbo;        /* this context's FBO on the shared renderbuffers */
+    unsigned attached; /* renderbuffer generation the FBO was attached at */
+    bool window_seen;  /* its first window command reset viewport/scissor */
     render_scissor sc;
 } render_context;
 
 typedef struct render_spu {
     char name[96];
-    void *library;             /* dlopen handle of libOSMesa */
+    void *library; /* dlopen handle of libOSMesa */
     osmesa_api osmesa;
     OSMesaContext context;
-    tsr_gl_procs gl;           /* every GL entry, through OSMesaGetProcAddress */
-    tsr_glsl_names *names;     /* the stream's shader/program names -> the driver's */
+    tsr_gl_procs gl;       /* every GL entry, through OSMesaGetProcAddress */
+    tsr_glsl_names *names; /* the stream's shader/program names -> the driver's */
     const tsr_dispatch *child;
 
-    const char *output;        /* option; owned by the chain, valid until destroy */
-    int window;                /* which window id this instance renders */
+    const char *output; /* option; owned by the chain, valid until destroy */
+    int window;         /* which window id this instance renders */
     int fixed_width, fixed_height;
-    bool window_seen;          /* a WindowCreate/Size arrived for `window` */
+    bool window_seen; /* a WindowCreate/Size arrived for `window` */
 
-    unsigned char *buffer;     /* width * height RGBA, bottom row first */
+    unsigned char *buffer; /* width * height RGBA, bottom row first */
     int width, height;
-    int frame;                 /* number of the next frame written */
+    int frame; /* number of the next frame written */
 
     /* Shared mode (docs/render.md, "Several contexts, one window"): entered
      * by the first ContextCreateTSR. */
     bool shared;
     fbo_api fbo;
-    render_context *contexts;  /* [0] = `context` */
+    render_context *contexts; /* [0] = `context` */
     size_t ncontexts, contexts_cap;
     size_t current;            /* index into contexts */
     GLuint color_rb, depth_rb; /* the window: shared by every context */
@@ -147,21 +144,21 @@ typedef struct render_spu {
     /* Tiles (docs/render.md, "Tiles"): none = the whole window. */
     tsr_tile *tiles;
     size_t ntiles;
-    render_box bounds;         /* bounding rectangle of the tiles */
-    unsigned tiles_gen;        /* bumped whenever the tiles change; starts at 1 */
-    bool released;             /* the renderbuffers were allocated tiled */
-    render_scissor solo_sc;    /* the scissor before shared mode */
+    render_box bounds;      /* bounding rectangle of the tiles */
+    unsigned tiles_gen;     /* bumped whenever the tiles change; starts at 1 */
+    bool released;          /* the renderbuffers were allocated tiled */
+    render_scissor solo_sc; /* the scissor before shared mode */
     int max_attrib_depth;
-    render_context reader;     /* reads the tiles back; never gets client commands */
+    render_context reader; /* reads the tiles back; never gets client commands */
     unsigned char *tile_pixels;
     size_t tile_pixels_size;
-    render_hooks hooks;        /* render.h: what an SPU built on render does with each frame */
+    render_hooks hooks; /* render.h: what an SPU built on render does with each frame */
 } render_spu;
 
-static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6",
-                                                    "libOSMesa.so"};
+static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
 
-static int load_osmesa(render_spu *r, tsr_error *err) {
+static int load_osmesa(render_spu *r, tsr_error *err)
+{
     const char *last_error = "not found";
     for (size_t i = 0; i < sizeof osmesa_library_names / sizeof osmesa_library_names[0]; i++) {
         /* RTLD_LOCAL: OSMesa's gl* never become visible to the process.
@@ -173,8 +170,7 @@ static int load_osmesa(render_spu *r, tsr_error *err) {
         last_error = dlerror();
     }
     if (!r->library)
-        return tsr_error_set(err, TSR_ENOENT, "%s: cannot load OSMesa (libOSMesa.so.8): %s",
-                             r->name, last_error);
+        return tsr_error_set(err, TSR_ENOENT, "%s: cannot load OSMesa (libOSMesa.so.8): %s", r->name, last_error);
     struct {
         const char *symbol;
         void **slot;
@@ -188,44 +184,42 @@ static int load_osmesa(render_spu *r, tsr_error *err) {
     for (size_t i = 0; i < sizeof wanted / sizeof wanted[0]; i++) {
         *wanted[i].slot = dlsym(r->library, wanted[i].symbol);
         if (!*wanted[i].slot)
-            return tsr_error_set(err, TSR_ENOENT, "%s: OSMesa has no %s", r->name,
-                                 wanted[i].symbol);
+            return tsr_error_set(err, TSR_ENOENT, "%s: OSMesa has no %s", r->name, wanted[i].symbol);
     }
     return TSR_OK;
 }
 
-static tsr_proc osmesa_getproc(const char *gl_name, void *ctx) {
+static tsr_proc osmesa_getproc(const char *gl_name, void *ctx)
+{
     render_spu *r = ctx;
     return (tsr_proc)r->osmesa.GetProcAddress(gl_name);
 }
 
 /* Points the context at a framebuffer of width x height (reallocated when
  * the size changes) and makes it current on this thread. */
-static int bind_framebuffer(render_spu *r, int width, int height, tsr_error *err) {
+static int bind_framebuffer(render_spu *r, int width, int height, tsr_error *err)
+{
     if (width != r->width || height != r->height || !r->buffer) {
         unsigned char *buffer = calloc((size_t)width * (size_t)height, 4);
         if (!buffer)
-            return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %dx%d framebuffer",
-                                 r->name, width, height);
+            return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %dx%d framebuffer", r->name, width, height);
         free(r->buffer);
         r->buffer = buffer;
         r->width = width;
         r->height = height;
     }
     if (!r->osmesa.MakeCurrent(r->context, r->buffer, GL_UNSIGNED_BYTE, width, height))
-        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for %dx%d", r->name,
-                             width, height);
+        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for %dx%d", r->name, width, height);
     return TSR_OK;
 }
 
 /* --- tiles: the scissor ---------------------------------------------------- */
 
 /* The scissor state of the context commands go to now. */
-static render_scissor *current_scissor(render_spu *r) {
-    return r->shared ? &r->contexts[r->current].sc : &r->solo_sc;
-}
+static render_scissor *current_scissor(render_spu *r) { return r->shared ? &r->contexts[r->current].sc : &r->solo_sc; }
 
-static render_box box_intersect(render_box a, render_box b) {
+static render_box box_intersect(render_box a, render_box b)
+{
     long long x0 = a.x > b.x ? a.x : b.x, y0 = a.y > b.y ? a.y : b.y;
     long long x1 = (long long)a.x + a.w, y1 = (long long)a.y + a.h;
     long long bx1 = (long long)b.x + b.w, by1 = (long long)b.y + b.h;
@@ -240,7 +234,8 @@ static render_box box_intersect(render_box a, render_box b) {
 
 /* Real scissor := the application's own (inside a display list, whose
  * scissor commands GL runs unseen by us). */
-static void scissor_set_raw(render_spu *r, const render_scissor *s) {
+static void scissor_set_raw(render_spu *r, const render_scissor *s)
+{
     r->gl.Scissor(s->box.x, s->box.y, s->box.w, s->box.h);
     if (s->enabled)
         r->gl.Enable(GL_SCISSOR_TEST);
@@ -252,7 +247,8 @@ static void scissor_set_raw(render_spu *r, const render_scissor *s) {
  * are no tiles; else always enabled, on the application's box (when its
  * test is enabled) intersected with the tiles' bounding rectangle. Not
  * while a list is compiled (it would be compiled too): EndList does it. */
-static void scissor_apply(render_spu *r, render_scissor *s) {
+static void scissor_apply(render_spu *r, render_scissor *s)
+{
     if (s->list_mode)
         return;
     s->applied = r->tiles_gen;
@@ -272,7 +268,8 @@ static void scissor_sync(render_spu *r, render_scissor *s);
 /* Catches up with tiles that changed while this context was not current.
  * Without tiles, display lists run unwatched (no cost per CallList), so
  * the record is read back from GL before it is fitted to tiles. */
-static void scissor_refresh(render_spu *r, render_scissor *s) {
+static void scissor_refresh(render_spu *r, render_scissor *s)
+{
     if (s->applied == r->tiles_gen || s->list_mode)
         return;
     if (!s->fitted && r->ntiles)
@@ -282,7 +279,8 @@ static void scissor_refresh(render_spu *r, render_scissor *s) {
 
 /* Reads the application's scissor back from GL after GL ran commands we
  * did not see (a display list's), while the real state was the raw one. */
-static void scissor_sync(render_spu *r, render_scissor *s) {
+static void scissor_sync(render_spu *r, render_scissor *s)
+{
     GLint box[4] = {0, 0, 0, 0}, depth = 0;
     r->gl.GetIntegerv(GL_SCISSOR_BOX, box);
     s->box = (render_box){box[0], box[1], box[2], box[3]};
@@ -302,11 +300,11 @@ static void scissor_sync(render_spu *r, render_scissor *s) {
 
 /* Makes `c` current on this thread with its FBO attached to the current
  * renderbuffers. */
-static int attach_context(render_spu *r, render_context *c, tsr_error *err) {
+static int attach_context(render_spu *r, render_context *c, tsr_error *err)
+{
     if (r->osmesa.GetCurrentContext() != c->osmesa &&
         !r->osmesa.MakeCurrent(c->osmesa, r->dummy, GL_UNSIGNED_BYTE, 1, 1))
-        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for context %d", r->name,
-                             c->id);
+        return tsr_error_set(err, TSR_EIO, "%s: OSMesaMakeCurrent failed for context %d", r->name, c->id);
     if (!c->fbo) {
         r->fbo.GenFramebuffers(1, &c->fbo);
         r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
@@ -315,14 +313,11 @@ static int attach_context(render_spu *r, render_context *c, tsr_error *err) {
     }
     if (c->attached != r->generation) {
         r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
-        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                       r->color_rb);
-        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
-                                       GL_RENDERBUFFER, r->depth_rb);
+        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
+        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
         GLenum status = r->fbo.CheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE)
-            return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer incomplete (0x%x)",
-                                 r->name, c->id, status);
+            return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer incomplete (0x%x)", r->name, c->id, status);
         c->attached = r->generation;
     }
     return TSR_OK;
@@ -330,7 +325,8 @@ static int attach_context(render_spu *r, render_context *c, tsr_error *err) {
 
 /* Makes contexts[index] current on this thread with its FBO attached to
  * the current renderbuffers and its scissor fitted to the tiles. */
-static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
+static int shared_make_current(render_spu *r, size_t index, tsr_error *err)
+{
     if (attach_context(r, &r->contexts[index], err) != TSR_OK)
         return err->code;
     r->current = index;
@@ -341,7 +337,8 @@ static int shared_make_current(render_spu *r, size_t index, tsr_error *err) {
 /* Finishes the current context (so a context switched to next sees all
  * it drew: llvmpipe contexts rasterise independently) and makes
  * contexts[index] current. */
-static int shared_switch(render_spu *r, size_t index, tsr_error *err) {
+static int shared_switch(render_spu *r, size_t index, tsr_error *err)
+{
     if (r->osmesa.GetCurrentContext() == r->contexts[index].osmesa && r->current == index)
         return TSR_OK;
     if (r->osmesa.GetCurrentContext())
@@ -352,7 +349,8 @@ static int shared_switch(render_spu *r, size_t index, tsr_error *err) {
 /* (Re)allocates the shared renderbuffers at width x height, in context 0
  * (renderbuffers belong to the share group), and the readback buffer;
  * then makes the current context current again. */
-static int shared_resize(render_spu *r, int width, int height, tsr_error *err) {
+static int shared_resize(render_spu *r, int width, int height, tsr_error *err)
+{
     if (width == r->width && height == r->height)
         return TSR_OK;
     /* The readback buffer of an untiled frame comes with its first swap
@@ -387,8 +385,8 @@ static int shared_resize(render_spu *r, int width, int height, tsr_error *err) {
     if (release) {
         size_t given = render_pages_release(&before, bytes);
         render_pages_free(&before);
-        tsr_log(TSR_LOG_DEBUG, "%s: %dx%d renderbuffers: %zu KiB of zero pages given back", r->name,
-                width, height, given >> 10);
+        tsr_log(TSR_LOG_DEBUG, "%s: %dx%d renderbuffers: %zu KiB of zero pages given back", r->name, width, height,
+                given >> 10);
     }
     r->released = r->ntiles > 0;
     r->generation++;
@@ -399,7 +397,8 @@ static int shared_resize(render_spu *r, int width, int height, tsr_error *err) {
 
 /* Enters shared mode: resolves the FBO entries, puts context 0 on the
  * shared renderbuffers at the current size. */
-static int shared_enter(render_spu *r, tsr_error *err) {
+static int shared_enter(render_spu *r, tsr_error *err)
+{
     struct {
         const char *symbol;
         void **slot;
@@ -418,16 +417,15 @@ static int shared_enter(render_spu *r, tsr_error *err) {
     for (size_t i = 0; i < sizeof wanted / sizeof wanted[0]; i++) {
         *wanted[i].slot = (void *)r->osmesa.GetProcAddress(wanted[i].symbol);
         if (!*wanted[i].slot)
-            return tsr_error_set(err, TSR_ENOENT, "%s: OSMesa has no %s (needed for several contexts)",
-                                 r->name, wanted[i].symbol);
+            return tsr_error_set(err, TSR_ENOENT, "%s: OSMesa has no %s (needed for several contexts)", r->name,
+                                 wanted[i].symbol);
     }
     r->contexts = calloc(4, sizeof *r->contexts);
     if (!r->contexts)
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", r->name);
     r->contexts_cap = 4;
     r->ncontexts = 1;
-    r->contexts[0] = (render_context){
-        .id = 0, .osmesa = r->context, .window_seen = r->window_seen, .sc = r->solo_sc};
+    r->contexts[0] = (render_context){.id = 0, .osmesa = r->context, .window_seen = r->window_seen, .sc = r->solo_sc};
     r->current = 0;
     r->shared = true;
     /* Context 0 leaves the window-sized user buffer (shared_resize frees
@@ -441,14 +439,16 @@ static int shared_enter(render_spu *r, tsr_error *err) {
     return shared_resize(r, width, height, err);
 }
 
-static size_t find_context(const render_spu *r, GLint id) {
+static size_t find_context(const render_spu *r, GLint id)
+{
     for (size_t i = 0; i < r->ncontexts; i++)
         if (r->contexts[i].id == id)
             return i;
     return SIZE_MAX;
 }
 
-static void ensure_current(render_spu *r) {
+static void ensure_current(render_spu *r)
+{
     tsr_error err = {0};
     if (r->shared) {
         if (r->osmesa.GetCurrentContext() != r->contexts[r->current].osmesa &&
@@ -464,14 +464,14 @@ static void ensure_current(render_spu *r) {
 
 /* The directory part of the output pattern (checked with frame 0) must be
  * an existing, writable directory. */
-static int check_output(render_spu *r, tsr_error *err) {
+static int check_output(render_spu *r, tsr_error *err)
+{
     if (!r->output[0])
         return TSR_OK;
     char path[PATH_MAX];
     tsr_error pattern_err = {0};
     if (tsr_image_frame_path(path, sizeof path, r->output, 0, &pattern_err) != TSR_OK)
-        return tsr_error_set(err, TSR_EINVAL, "%s: option output: %s", r->name,
-                             pattern_err.message);
+        return tsr_error_set(err, TSR_EINVAL, "%s: option output: %s", r->name, pattern_err.message);
     char *slash = strrchr(path, '/');
     const char *dir = ".";
     if (slash == path)
@@ -482,14 +482,13 @@ static int check_output(render_spu *r, tsr_error *err) {
     }
     struct stat st;
     if (stat(dir, &st) != 0)
-        return tsr_error_set(err, TSR_ENOENT, "%s: option output=%s: directory '%s': %s",
-                             r->name, r->output, dir, strerror(errno));
+        return tsr_error_set(err, TSR_ENOENT, "%s: option output=%s: directory '%s': %s", r->name, r->output, dir,
+                             strerror(errno));
     if (!S_ISDIR(st.st_mode))
-        return tsr_error_set(err, TSR_EINVAL, "%s: option output=%s: '%s' is not a directory",
-                             r->name, r->output, dir);
+        return tsr_error_set(err, TSR_EINVAL, "%s: option output=%s: '%s' is not a directory", r->name, r->output, dir);
     if (access(dir, W_OK | X_OK) != 0)
-        return tsr_error_set(err, TSR_EIO, "%s: option output=%s: directory '%s': %s", r->name,
-                             r->output, dir, strerror(errno));
+        return tsr_error_set(err, TSR_EIO, "%s: option output=%s: directory '%s': %s", r->name, r->output, dir,
+                             strerror(errno));
     return TSR_OK;
 }
 
@@ -502,7 +501,8 @@ static int check_output(render_spu *r, tsr_error *err) {
  * and renderbuffers allocated before any tiles are allocated again so the
  * pages outside the tiles are given back (their pixels are lost: tiles
  * come before the first frame). */
-static int set_tiles(render_spu *r, tsr_tile *tiles, size_t count, tsr_error *err) {
+static int set_tiles(render_spu *r, tsr_tile *tiles, size_t count, tsr_error *err)
+{
     free(r->tiles);
     r->tiles = tiles;
     r->ntiles = count;
@@ -532,7 +532,8 @@ static int set_tiles(render_spu *r, tsr_tile *tiles, size_t count, tsr_error *er
     return TSR_OK;
 }
 
-static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint *rects) {
+static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint *rects)
+{
     render_spu *r = self;
     if (window == r->window) {
         tsr_tile *tiles = NULL;
@@ -554,12 +555,11 @@ static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint
         if (bad) {
             free(tiles);
             if (i > 0)
-                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): rectangle %d [%d, %d, %d, %d]: %s, ignored",
-                        r->name, (int)window, (int)count, (int)i - 1, rects[4 * (i - 1)],
-                        rects[4 * (i - 1) + 1], rects[4 * (i - 1) + 2], rects[4 * (i - 1) + 3], bad);
+                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): rectangle %d [%d, %d, %d, %d]: %s, ignored", r->name,
+                        (int)window, (int)count, (int)i - 1, rects[4 * (i - 1)], rects[4 * (i - 1) + 1],
+                        rects[4 * (i - 1) + 2], rects[4 * (i - 1) + 3], bad);
             else
-                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): %s, ignored", r->name, (int)window,
-                        (int)count, bad);
+                tsr_log(TSR_LOG_ERROR, "%s: TilesTSR(%d, %d): %s, ignored", r->name, (int)window, (int)count, bad);
         } else if (set_tiles(r, tiles, (size_t)count, &err) != TSR_OK) {
             tsr_log(TSR_LOG_ERROR, "%s: TilesTSR: %s", r->name, err.message);
         }
@@ -571,7 +571,8 @@ static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint
 
 /* The scissor commands (docs/render.md, "Tiles"): the application's state
  * is recorded, the real one is fitted to the tiles. */
-static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height) {
+static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     /* Compiled into a list, or an error GL reports and ignores. */
@@ -586,7 +587,8 @@ static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei 
         r->gl.Scissor(x, y, width, height);
 }
 
-static void enable_cap(render_spu *r, GLenum cap, bool on) {
+static void enable_cap(render_spu *r, GLenum cap, bool on)
+{
     render_scissor *s = current_scissor(r);
     if (cap != GL_SCISSOR_TEST || s->list_mode || !r->ntiles) {
         if (on)
@@ -604,7 +606,8 @@ static void enable_cap(render_spu *r, GLenum cap, bool on) {
 static void render_Enable(void *self, GLenum cap) { enable_cap(self, cap, true); }
 static void render_Disable(void *self, GLenum cap) { enable_cap(self, cap, false); }
 
-static void render_PushAttrib(void *self, GLbitfield mask) {
+static void render_PushAttrib(void *self, GLbitfield mask)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     r->gl.PushAttrib(mask);
@@ -613,7 +616,8 @@ static void render_PushAttrib(void *self, GLbitfield mask) {
         s->stack[s->depth++] = (scissor_saved){mask, s->box, s->enabled};
 }
 
-static void render_PopAttrib(void *self) {
+static void render_PopAttrib(void *self)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     r->gl.PopAttrib();
@@ -634,18 +638,21 @@ static void render_PopAttrib(void *self) {
 
 /* Display lists run scissor commands inside GL where we cannot see them:
  * run them on the application's own scissor and read it back after. */
-static void before_list(render_spu *r, render_scissor *s) {
+static void before_list(render_spu *r, render_scissor *s)
+{
     if (s->fitted)
         scissor_set_raw(r, s);
 }
 
-static void after_list(render_spu *r, render_scissor *s) {
+static void after_list(render_spu *r, render_scissor *s)
+{
     scissor_sync(r, s);
     if (r->ntiles || s->applied != r->tiles_gen)
         scissor_apply(r, s);
 }
 
-static void render_CallList(void *self, GLuint list) {
+static void render_CallList(void *self, GLuint list)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     if (s->list_mode || !s->fitted) {
@@ -657,7 +664,8 @@ static void render_CallList(void *self, GLuint list) {
     after_list(r, s);
 }
 
-static void render_CallLists(void *self, GLsizei n, GLenum type, const void *lists) {
+static void render_CallLists(void *self, GLsizei n, GLenum type, const void *lists)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     if (s->list_mode || !s->fitted) {
@@ -669,7 +677,8 @@ static void render_CallLists(void *self, GLsizei n, GLenum type, const void *lis
     after_list(r, s);
 }
 
-static void render_NewList(void *self, GLuint list, GLenum mode) {
+static void render_NewList(void *self, GLuint list, GLenum mode)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     bool execute = mode == GL_COMPILE_AND_EXECUTE;
@@ -688,7 +697,8 @@ static void render_NewList(void *self, GLuint list, GLenum mode) {
         scissor_apply(r, s); /* NewList failed: back to the fitted scissor */
 }
 
-static void render_EndList(void *self) {
+static void render_EndList(void *self)
+{
     render_spu *r = self;
     render_scissor *s = current_scissor(r);
     r->gl.EndList();
@@ -702,7 +712,8 @@ static void render_EndList(void *self) {
 
 /* glGet of the scissor: the application's values, not the fitted ones
  * (inside a compile-and-execute list the real state is the application's). */
-static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n) {
+static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n)
+{
     render_scissor *s = current_scissor(r);
     if (!s->fitted || s->list_mode == GL_COMPILE_AND_EXECUTE)
         return false; /* the real state is the application's */
@@ -722,7 +733,8 @@ static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n) {
     return false;
 }
 
-static void render_GetIntegerv(void *self, GLenum pname, GLint *data) {
+static void render_GetIntegerv(void *self, GLenum pname, GLint *data)
+{
     render_spu *r = self;
     double v[4];
     int n;
@@ -734,7 +746,8 @@ static void render_GetIntegerv(void *self, GLenum pname, GLint *data) {
         data[i] = (GLint)v[i];
 }
 
-static void render_GetFloatv(void *self, GLenum pname, GLfloat *data) {
+static void render_GetFloatv(void *self, GLenum pname, GLfloat *data)
+{
     render_spu *r = self;
     double v[4];
     int n;
@@ -746,7 +759,8 @@ static void render_GetFloatv(void *self, GLenum pname, GLfloat *data) {
         data[i] = (GLfloat)v[i];
 }
 
-static void render_GetDoublev(void *self, GLenum pname, GLdouble *data) {
+static void render_GetDoublev(void *self, GLenum pname, GLdouble *data)
+{
     render_spu *r = self;
     double v[4];
     int n;
@@ -758,7 +772,8 @@ static void render_GetDoublev(void *self, GLenum pname, GLdouble *data) {
         data[i] = v[i];
 }
 
-static void render_GetBooleanv(void *self, GLenum pname, GLboolean *data) {
+static void render_GetBooleanv(void *self, GLenum pname, GLboolean *data)
+{
     render_spu *r = self;
     double v[4];
     int n;
@@ -770,7 +785,8 @@ static void render_GetBooleanv(void *self, GLenum pname, GLboolean *data) {
         data[i] = v[i] != 0.0 ? GL_TRUE : GL_FALSE;
 }
 
-static GLboolean render_IsEnabled(void *self, GLenum cap) {
+static GLboolean render_IsEnabled(void *self, GLenum cap)
+{
     render_spu *r = self;
     double v[4];
     int n;
@@ -780,25 +796,26 @@ static GLboolean render_IsEnabled(void *self, GLenum cap) {
 }
 
 /* Where "the first window command of this context" is remembered. */
-static bool *window_seen_flag(render_spu *r) {
+static bool *window_seen_flag(render_spu *r)
+{
     return r->shared ? &r->contexts[r->current].window_seen : &r->window_seen;
 }
 
-static void resize_window(render_spu *r, GLsizei width, GLsizei height, const char *command) {
+static void resize_window(render_spu *r, GLsizei width, GLsizei height, const char *command)
+{
     if (r->fixed_width) {
         ensure_current(r);
         *window_seen_flag(r) = true;
         return;
     }
     if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE) {
-        tsr_log(TSR_LOG_ERROR, "%s: %s(%d, %d, %d): size out of range 1..%d, ignored", r->name,
-                command, r->window, (int)width, (int)height, RENDER_MAX_SIDE);
+        tsr_log(TSR_LOG_ERROR, "%s: %s(%d, %d, %d): size out of range 1..%d, ignored", r->name, command, r->window,
+                (int)width, (int)height, RENDER_MAX_SIDE);
         ensure_current(r);
         return;
     }
     tsr_error err = {0};
-    if ((r->shared ? shared_resize(r, width, height, &err) : bind_framebuffer(r, width, height, &err)) !=
-        TSR_OK) {
+    if ((r->shared ? shared_resize(r, width, height, &err) : bind_framebuffer(r, width, height, &err)) != TSR_OK) {
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
         return;
     }
@@ -810,14 +827,16 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
     }
 }
 
-static void render_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height) {
+static void render_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
     render_spu *r = self;
     if (window == r->window)
         resize_window(r, width, height, "WindowCreateTSR");
     tsr_call_WindowCreateTSR(r->child, window, width, height);
 }
 
-static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height) {
+static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
     render_spu *r = self;
     if (window == r->window)
         resize_window(r, width, height, "WindowSizeTSR");
@@ -826,23 +845,24 @@ static void render_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsize
 
 /* Shared mode: reads the shared colour buffer into r->buffer through
  * context 0 (its pack state is never changed, unlike a client's). */
-static void shared_read_frame(render_spu *r) {
+static void shared_read_frame(render_spu *r)
+{
     tsr_error err = {0};
     if (!r->buffer && !(r->buffer = malloc((size_t)r->width * (size_t)r->height * 4))) {
         tsr_log(TSR_LOG_ERROR, "%s: out of memory for a %dx%d frame", r->name, r->width, r->height);
         return;
     }
     size_t back = r->current;
-    if (shared_switch(r, 0, &err) != TSR_OK || (r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA,
-                                                                   GL_UNSIGNED_BYTE, r->buffer),
-                                                shared_switch(r, back, &err)) != TSR_OK)
+    if (shared_switch(r, 0, &err) != TSR_OK ||
+        (r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, r->buffer),
+         shared_switch(r, back, &err)) != TSR_OK)
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
 }
 
 /* The file of one tile: the output pattern's, with "-tN" (N = the tile's
  * index in the tile list) put before the extension when there are several. */
-static int tile_path(char *out, size_t size, const char *pattern, int frame, size_t tile,
-                     size_t ntiles, tsr_error *err) {
+static int tile_path(char *out, size_t size, const char *pattern, int frame, size_t tile, size_t ntiles, tsr_error *err)
+{
     if (tsr_image_frame_path(out, size, pattern, frame, err) != TSR_OK)
         return err->code;
     if (ntiles == 1)
@@ -864,7 +884,8 @@ static int tile_path(char *out, size_t size, const char *pattern, int frame, siz
  * one), the reader context reads each tile's pixels — and only those —
  * and writes one PNG per tile. The reader is a context of its own so no
  * client's pixel-store, pixel-transfer or read-buffer state applies. */
-static void tiled_write_frame(render_spu *r, int frame) {
+static void tiled_write_frame(render_spu *r, int frame)
+{
     tsr_error err = {0};
     size_t back = r->current;
     if (r->osmesa.GetCurrentContext())
@@ -873,8 +894,7 @@ static void tiled_write_frame(render_spu *r, int frame) {
         r->reader = (render_context){.id = -1};
         r->reader.osmesa = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
         if (!r->reader.osmesa) {
-            tsr_log(TSR_LOG_ERROR, "%s: frame %d: OSMesaCreateContextExt failed for the tile reader",
-                    r->name, frame);
+            tsr_log(TSR_LOG_ERROR, "%s: frame %d: OSMesaCreateContextExt failed for the tile reader", r->name, frame);
             return;
         }
     }
@@ -886,8 +906,8 @@ static void tiled_write_frame(render_spu *r, int frame) {
             const tsr_tile *t = &r->tiles[i];
             render_box b = box_intersect((render_box){t->x, t->y, t->width, t->height}, window);
             if (!b.w) {
-                tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu [%d, %d, %d, %d] is outside the %dx%d window",
-                        r->name, frame, i, t->x, t->y, t->width, t->height, r->width, r->height);
+                tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu [%d, %d, %d, %d] is outside the %dx%d window", r->name,
+                        frame, i, t->x, t->y, t->width, t->height, r->width, r->height);
                 continue;
             }
             size_t need = (size_t)b.w * (size_t)b.h * 4;
@@ -906,8 +926,7 @@ static void tiled_write_frame(render_spu *r, int frame) {
             char path[PATH_MAX];
             if (r->output[0] &&
                 (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
-                 tsr_image_write_png_rgba(r->tile_pixels, b.w, b.h, (size_t)b.w * 4, true, path,
-                                          &err) != TSR_OK))
+                 tsr_image_write_png_rgba(r->tile_pixels, b.w, b.h, (size_t)b.w * 4, true, path, &err) != TSR_OK))
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu: %s", r->name, frame, i, err.message);
         }
     }
@@ -915,7 +934,8 @@ static void tiled_write_frame(render_spu *r, int frame) {
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
 }
 
-static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
+static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
     render_spu *r = self;
     if (window == r->window && r->ntiles) {
         ensure_current(r);
@@ -930,8 +950,8 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
             char path[PATH_MAX];
             tsr_error err = {0};
             if (tsr_image_frame_path(path, sizeof path, r->output, frame, &err) != TSR_OK ||
-                tsr_image_write_png_rgba(r->buffer, r->width, r->height, (size_t)r->width * 4,
-                                         true, path, &err) != TSR_OK)
+                tsr_image_write_png_rgba(r->buffer, r->width, r->height, (size_t)r->width * 4, true, path, &err) !=
+                    TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
         }
         if (r->hooks.image && r->buffer)
@@ -941,7 +961,8 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
 }
 
 /* Room for one more context; false when out of memory. */
-static bool grow_contexts(render_spu *r) {
+static bool grow_contexts(render_spu *r)
+{
     if (r->ncontexts < r->contexts_cap)
         return true;
     render_context *c = realloc(r->contexts, 2 * r->contexts_cap * sizeof *c);
@@ -952,7 +973,8 @@ static bool grow_contexts(render_spu *r) {
     return true;
 }
 
-static void render_ContextCreateTSR(void *self, GLint context) {
+static void render_ContextCreateTSR(void *self, GLint context)
+{
     render_spu *r = self;
     tsr_error err = {0};
     if (context <= 0 || (r->shared && find_context(r, context) != SIZE_MAX)) {
@@ -966,8 +988,7 @@ static void render_ContextCreateTSR(void *self, GLint context) {
         /* Same attributes as context 0, in its share group. */
         OSMesaContext c = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
         if (!c) {
-            tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): OSMesaCreateContextExt failed", r->name,
-                    (int)context);
+            tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): OSMesaCreateContextExt failed", r->name, (int)context);
         } else {
             size_t back = r->current, index = r->ncontexts++;
             r->contexts[index] = (render_context){.id = context, .osmesa = c};
@@ -984,7 +1005,8 @@ static void render_ContextCreateTSR(void *self, GLint context) {
     tsr_call_ContextCreateTSR(r->child, context);
 }
 
-static void render_MakeCurrentTSR(void *self, GLint window, GLint context) {
+static void render_MakeCurrentTSR(void *self, GLint window, GLint context)
+{
     render_spu *r = self;
     size_t index = r->shared ? find_context(r, context) : (context == 0 ? 0 : SIZE_MAX);
     tsr_error err = {0};
@@ -998,7 +1020,8 @@ static void render_MakeCurrentTSR(void *self, GLint window, GLint context) {
     tsr_call_MakeCurrentTSR(r->child, window, context);
 }
 
-static void destroy_context(render_spu *r, size_t index) {
+static void destroy_context(render_spu *r, size_t index)
+{
     render_context *c = &r->contexts[index];
     if (c->fbo) {
         tsr_error err = {0};
@@ -1010,7 +1033,8 @@ static void destroy_context(render_spu *r, size_t index) {
     r->osmesa.DestroyContext(c->osmesa);
 }
 
-static void render_ContextDestroyTSR(void *self, GLint context) {
+static void render_ContextDestroyTSR(void *self, GLint context)
+{
     render_spu *r = self;
     size_t index = r->shared && context > 0 ? find_context(r, context) : SIZE_MAX;
     if (index == SIZE_MAX) {
@@ -1032,25 +1056,29 @@ static void render_ContextDestroyTSR(void *self, GLint context) {
 
 /* Shared mode draws into FBO colour attachment 0: the window buffer names
  * a single-buffered OSMesa window accepts mean that attachment. */
-static GLenum shared_buffer_name(const render_spu *r, GLenum buf) {
+static GLenum shared_buffer_name(const render_spu *r, GLenum buf)
+{
     if (r->shared && (buf == GL_FRONT || buf == GL_FRONT_LEFT || buf == GL_LEFT || buf == GL_FRONT_AND_BACK))
         return GL_COLOR_ATTACHMENT0;
     return buf;
 }
 
-static void render_DrawBuffer(void *self, GLenum buf) {
+static void render_DrawBuffer(void *self, GLenum buf)
+{
     render_spu *r = self;
     r->gl.DrawBuffer(shared_buffer_name(r, buf));
 }
 
-static void render_ReadBuffer(void *self, GLenum buf) {
+static void render_ReadBuffer(void *self, GLenum buf)
+{
     render_spu *r = self;
     r->gl.ReadBuffer(shared_buffer_name(r, buf));
 }
 
 /* --- life cycle ---------------------------------------------------------- */
 
-static void render_destroy(void *self) {
+static void render_destroy(void *self)
+{
     render_spu *r = self;
     if (!r)
         return;
@@ -1089,7 +1117,8 @@ static void render_destroy(void *self) {
     free(r);
 }
 
-void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err) {
+void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err)
+{
     render_spu *r = calloc(1, sizeof *r);
     if (!r) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
@@ -1106,8 +1135,7 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     r->fixed_width = (int)tsr_options_int(init->options, "width");
     r->fixed_height = (int)tsr_options_int(init->options, "height");
     if ((r->fixed_width == 0) != (r->fixed_height == 0)) {
-        tsr_error_set(err, TSR_EINVAL,
-                      "%s: options width=%d and height=%d: give both or neither", r->name,
+        tsr_error_set(err, TSR_EINVAL, "%s: options width=%d and height=%d: give both or neither", r->name,
                       r->fixed_width, r->fixed_height);
         goto fail;
     }
@@ -1143,8 +1171,7 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
         size_t count;
         tsr_error tiles_err = {0};
         if (tsr_tiles_parse(tiles_text, false, &tiles, &count, &tiles_err) != TSR_OK) {
-            tsr_error_set(err, TSR_EINVAL, "%s: option tiles=%s: %s", r->name, tiles_text,
-                          tiles_err.message);
+            tsr_error_set(err, TSR_EINVAL, "%s: option tiles=%s: %s", r->name, tiles_text, tiles_err.message);
             goto fail;
         }
         if (set_tiles(r, tiles, count, err) != TSR_OK)

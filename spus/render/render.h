@@ -22,8 +22,7 @@
 #define RENDER_MAX_SIDE 16384
 
 typedef struct render_hooks {
-    void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
-                  const unsigned char *rgba);
+    void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height, const unsigned char *rgba);
     void *ctx;
 } render_hooks;
 
@@ -34,22 +33,38 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
 void render_spu_destroy(void *instance);
 
 /* render's options; an SPU built on it lists them among its own. */
-#define RENDER_OPTION_SPECS                                                                        \
-    {.name = "output", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,           \
-     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "                 \
-             "the directory must exist; empty: write nothing"},                                   \
-    {.name = "width", .type = TSR_OPT_INT, .default_value = "0", .min = 0,                        \
-     .max = RENDER_MAX_SIDE,                                                                       \
-     .help = "framebuffer width; 0: follow the window (512 until it is known)"},                  \
-    {.name = "height", .type = TSR_OPT_INT, .default_value = "0", .min = 0,                       \
-     .max = RENDER_MAX_SIDE,                                                                       \
-     .help = "framebuffer height; 0: follow the window (512 until it is known)"},                 \
-    {.name = "window", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 2147483647.0,  \
-     .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},              \
-    {.name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,            \
-     .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "       \
-             "tiles:); draws them at full-window coordinates, writes one PNG per tile "            \
-             "(-tN before the extension when several); a TilesTSR replaces them; empty: "          \
-             "the whole window"}
+#define RENDER_OPTION_SPECS                                                                   \
+    {.name = "output",                                                                        \
+     .type = TSR_OPT_STRING,                                                                  \
+     .default_value = "",                                                                     \
+     .min = 1,                                                                                \
+     .max = 0,                                                                                \
+     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "             \
+             "the directory must exist; empty: write nothing"},                               \
+        {.name = "width",                                                                     \
+         .type = TSR_OPT_INT,                                                                 \
+         .default_value = "0",                                                                \
+         .min = 0,                                                                            \
+         .max = RENDER_MAX_SIDE,                                                              \
+         .help = "framebuffer width; 0: follow the window (512 until it is known)"},          \
+        {.name = "height",                                                                    \
+         .type = TSR_OPT_INT,                                                                 \
+         .default_value = "0",                                                                \
+         .min = 0,                                                                            \
+         .max = RENDER_MAX_SIDE,                                                              \
+         .help = "framebuffer height; 0: follow the window (512 until it is known)"},         \
+        {.name = "window",                                                                    \
+         .type = TSR_OPT_INT,                                                                 \
+         .default_value = "0",                                                                \
+         .min = 0,                                                                            \
+         .max = 2147483647.0,                                                                 \
+         .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},      \
+    {                                                                                         \
+        .name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,     \
+        .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's " \
+                "tiles:); draws them at full-window coordinates, writes one PNG per tile "    \
+                "(-tN before the extension when several); a TilesTSR replaces them; empty: "  \
+                "the whole window"                                                            \
+    }
 
 #endif

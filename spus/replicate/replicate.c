@@ -35,8 +35,8 @@
 
 typedef struct replicate {
     tsr_stream_client *client;
-    tsr_dispatch pack;      /* the client's packer table */
-    GLuint last_name;       /* shader/program names given out so far */
+    tsr_dispatch pack; /* the client's packer table */
+    GLuint last_name;  /* shader/program names given out so far */
 } replicate;
 
 static GLuint rep_CreateShader(void *self, GLenum type)
@@ -99,11 +99,14 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
                 return NULL;
             }
     }
-    tsr_stream_client_config cfg = {.spu = "replicate", .name = init->instance_name,
-                                  .servers = servers, .server_count = count,
-                                  .late_servers = late, .late_count = late_count,
-                                  .late_retry_ms = (uint32_t)tsr_options_int(init->options, "late_retry_ms"),
-                                  .late_give_up_ms = (uint32_t)tsr_options_int(init->options, "late_give_up_ms")};
+    tsr_stream_client_config cfg = {.spu = "replicate",
+                                    .name = init->instance_name,
+                                    .servers = servers,
+                                    .server_count = count,
+                                    .late_servers = late,
+                                    .late_count = late_count,
+                                    .late_retry_ms = (uint32_t)tsr_options_int(init->options, "late_retry_ms"),
+                                    .late_give_up_ms = (uint32_t)tsr_options_int(init->options, "late_give_up_ms")};
     tsr_stream_client_config_from_options(&cfg, init->options);
     replicate *r = calloc(1, sizeof *r);
     if (!r) {
@@ -128,17 +131,33 @@ static void *replicate_create(const tsr_spu_init *init, tsr_error *err)
 }
 
 static const tsr_option_spec replicate_options[] = {
-    {.name = "servers", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+    {.name = "servers",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "server node addresses, comma-separated: tcp://HOST:PORT or unix:PATH (required; "
              "every one receives the whole stream, replies come from the first)"},
-    {.name = "late", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+    {.name = "late",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "servers that may join the running stream, comma-separated: not needed at start, "
              "connected in the background, caught up (state, textures, display lists, buffers, "
              "shaders and programs with their uniforms) "
              "and added at the next frame boundary"},
-    {.name = "late_retry_ms", .type = TSR_OPT_INT, .default_value = "200", .min = 10, .max = 60000.0,
+    {.name = "late_retry_ms",
+     .type = TSR_OPT_INT,
+     .default_value = "200",
+     .min = 10,
+     .max = 60000.0,
      .help = "pause between connection attempts to a late server"},
-    {.name = "late_give_up_ms", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 86400000.0,
+    {.name = "late_give_up_ms",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = 86400000.0,
      .help = "stop trying late servers after this long (0: until the application ends)"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
@@ -154,11 +173,7 @@ static const tsr_spu_class replicate_class = {
     .destroy = replicate_destroy,
     /* Every server of the node's to:, in order (late joiners are not the
      * graph's: `late` stays as written). */
-    .network = {.role = TSR_SPU_ROLE_SERVERS, .servers = "servers",
-                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+    .network = {.role = TSR_SPU_ROLE_SERVERS, .servers = "servers", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
-{
-    return &replicate_class;
-}
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &replicate_class; }

@@ -20,42 +20,48 @@ typedef struct template_spu {
 } template_spu;
 
 /* Every function receives the instance it was registered with. */
-static void template_Begin(void *self, GLenum mode) {
+static void template_Begin(void *self, GLenum mode)
+{
     template_spu *t = self;
     t->primitives++;
     if (t->forward)
         tsr_call_Begin(t->child, mode);
 }
 
-static void template_Vertex2f(void *self, GLfloat x, GLfloat y) {
+static void template_Vertex2f(void *self, GLfloat x, GLfloat y)
+{
     template_spu *t = self;
     t->vertices++;
     if (t->forward)
         tsr_call_Vertex2f(t->child, x, y);
 }
 
-static void template_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
+static void template_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
     template_spu *t = self;
     t->vertices++;
     if (t->forward)
         tsr_call_Vertex3f(t->child, x, y, z);
 }
 
-static void template_Vertex3fv(void *self, const GLfloat *v) {
+static void template_Vertex3fv(void *self, const GLfloat *v)
+{
     template_spu *t = self;
     t->vertices++;
     if (t->forward)
         tsr_call_Vertex3fv(t->child, v);
 }
 
-static void template_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
+static void template_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
     template_spu *t = self;
     t->swaps++;
     if (t->forward)
         tsr_call_SwapBuffersTSR(t->child, window, flags);
 }
 
-static void *template_create(const tsr_spu_init *init, tsr_error *err) {
+static void *template_create(const tsr_spu_init *init, tsr_error *err)
+{
     template_spu *t = calloc(1, sizeof *t);
     if (!t || !(t->output = strdup(tsr_options_string(init->options, "output")))) {
         free(t);
@@ -75,16 +81,16 @@ static void *template_create(const tsr_spu_init *init, tsr_error *err) {
     return t;
 }
 
-static void template_destroy(void *self) {
+static void template_destroy(void *self)
+{
     template_spu *t = self;
     FILE *out = t->output[0] ? fopen(t->output, "w") : stderr;
     if (!out) {
         /* destroy cannot fail; say what was lost */
-        tsr_log(TSR_LOG_ERROR, "%s: cannot write %s; vertices=%llu primitives=%llu swaps=%llu",
-                t->name, t->output, t->vertices, t->primitives, t->swaps);
+        tsr_log(TSR_LOG_ERROR, "%s: cannot write %s; vertices=%llu primitives=%llu swaps=%llu", t->name, t->output,
+                t->vertices, t->primitives, t->swaps);
     } else {
-        fprintf(out, "%s: vertices=%llu primitives=%llu swaps=%llu\n", t->name, t->vertices,
-                t->primitives, t->swaps);
+        fprintf(out, "%s: vertices=%llu primitives=%llu swaps=%llu\n", t->name, t->vertices, t->primitives, t->swaps);
         if (out != stderr)
             fclose(out);
     }

@@ -142,12 +142,12 @@ static int draw_batch(tilesort *t, GLenum mode, const ts_batch *b, int indexed)
 
 /* One array draw being sorted primitive by primitive. */
 typedef struct ts_draw {
-    GLenum mode, type;      /* type: of the indices; 0 for glDrawArrays */
+    GLenum mode, type; /* type: of the indices; 0 for glDrawArrays */
     GLint first;
     const void *indices;
-    int per;                /* vertices per primitive */
-    size_t vertex_bytes;    /* wire bytes of one vertex's array elements */
-    size_t overhead;        /* wire bytes of a draw command beyond its vertices and indices, at most */
+    int per;             /* vertices per primitive */
+    size_t vertex_bytes; /* wire bytes of one vertex's array elements */
+    size_t overhead;     /* wire bytes of a draw command beyond its vertices and indices, at most */
 } ts_draw;
 
 static uint32_t source_vertex(const ts_draw *d, size_t i)
@@ -218,7 +218,11 @@ static int add_sorted(tilesort *t, size_t server, const ts_draw *d, const uint32
 static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLenum type, const void *indices)
 {
     tsr_client_arrays *a = &t->geo->arrays;
-    ts_draw d = {.mode = mode, .type = type, .first = first, .indices = indices, .per = independent_vertices(mode),
+    ts_draw d = {.mode = mode,
+                 .type = type,
+                 .first = first,
+                 .indices = indices,
+                 .per = independent_vertices(mode),
                  .vertex_bytes = vertex_bytes(a)};
     float pos[4][4];
     if (!d.per || !d.vertex_bytes || count < 2 * d.per || (size_t)count * d.vertex_bytes < TS_SORT_MIN_BYTES ||
@@ -229,8 +233,8 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
     ts_flush_geometry(t);
     ts_count_solo_diff(t);
     tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
-    d.overhead = (size_t)tsr_packer_draw_bytes(t->geo, 1, type ? GL_UNSIGNED_INT : 0, 1) +
-                 8 * (enabled_arrays(a, arrays) + 1);
+    d.overhead =
+        (size_t)tsr_packer_draw_bytes(t->geo, 1, type ? GL_UNSIGNED_INT : 0, 1) + 8 * (enabled_arrays(a, arrays) + 1);
     const tsr_state_values *v = tsr_state_values_of(t->ctx);
     double pm[16];
     ts_clip_matrix(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), pm);
@@ -245,7 +249,7 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
             tsr_client_array_position(&a->vertex, src[k], pos[k]);
         }
         int x0, y0, x1, y1;
-        if (ts_points_box(pm, v->viewport, (const float (*)[4])pos, d.per, margin, t->win_w, t->win_h, &x0, &y0, &x1,
+        if (ts_points_box(pm, v->viewport, (const float(*)[4])pos, d.per, margin, t->win_w, t->win_h, &x0, &y0, &x1,
                           &y1)) {
             ts_tiling_add_cost(&t->tiling, x0, y0, x1, y1, cost);
             ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);
@@ -262,8 +266,8 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
     count_whole(t, &d);
     if (failed) {
         tsr_error e;
-        tsr_error_set(&e, TSR_ENOMEM, "a draw of %d vertices could not be sorted (out of memory or index 0x%x)",
-                      count, UINT32_MAX);
+        tsr_error_set(&e, TSR_ENOMEM, "a draw of %d vertices could not be sorted (out of memory or index 0x%x)", count,
+                      UINT32_MAX);
         ts_report(t, &e);
     }
     return 1;

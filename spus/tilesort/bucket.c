@@ -113,8 +113,8 @@ static int build_grid(ts_tiling *t, const char *who, tsr_error *err)
                                    "cells (tiles must form columns and rows; use bucket=tiles)",
                                    who, r->x, r->y, r->w, r->h, s);
             else if (owner[r0 * cols + c0] != -1)
-                rc = tsr_error_set(err, TSR_EINVAL, "%s: bucket=grid: tile [%d, %d, %d, %d] is given twice", who,
-                                   r->x, r->y, r->w, r->h);
+                rc = tsr_error_set(err, TSR_EINVAL, "%s: bucket=grid: tile [%d, %d, %d, %d] is given twice", who, r->x,
+                                   r->y, r->w, r->h);
             else
                 owner[r0 * cols + c0] = (int)s;
         }
@@ -165,19 +165,18 @@ int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char
         long s, x, y, w, h;
         char tail;
         if (sscanf(items[i], "%ld:%ld:%ld:%ld:%ld%c", &s, &x, &y, &w, &h, &tail) != 5)
-            return tsr_error_set(err, TSR_EINVAL,
-                                 "%s: tiles: '%s' is not SERVER:X:Y:WIDTH:HEIGHT (e.g. 0:0:0:512:384)", who,
-                                 items[i]);
+            return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' is not SERVER:X:Y:WIDTH:HEIGHT (e.g. 0:0:0:512:384)",
+                                 who, items[i]);
         if (s < 0 || (size_t)s >= servers)
-            return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' names server %ld, but there are %zu servers",
-                                 who, items[i], s, servers);
+            return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' names server %ld, but there are %zu servers", who,
+                                 items[i], s, servers);
         if (x < 0 || y < 0 || w < 1 || h < 1 || x + w > 65536 || y + h > 65536)
             return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' is outside 0..65536 or empty", who, items[i]);
         for (size_t o = 0; o < servers; o++)
             for (size_t k = 0; k < t->ntiles[o]; k++)
                 if (rect_meets(&t->tiles[o][k], (int)x, (int)y, (int)(x + w), (int)(y + h)))
-                    return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' overlaps tile %d:%d:%d:%d:%d", who,
-                                         items[i], (int)o, t->tiles[o][k].x, t->tiles[o][k].y, t->tiles[o][k].w,
+                    return tsr_error_set(err, TSR_EINVAL, "%s: tiles: '%s' overlaps tile %d:%d:%d:%d:%d", who, items[i],
+                                         (int)o, t->tiles[o][k].x, t->tiles[o][k].y, t->tiles[o][k].w,
                                          t->tiles[o][k].h);
         if (push_tile(t, (size_t)s, (ts_rect){(int)x, (int)y, (int)w, (int)h}) != 0)
             return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
@@ -270,7 +269,7 @@ size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t
  * nodes split their region along `axis` at `at` (pixels from the window
  * origin), children 2k+1 (servers [first, first + count/2)) and 2k+2. */
 struct ts_kd {
-    int axis;       /* 0: x, 1: y */
+    int axis; /* 0: x, 1: y */
     double at;
 };
 typedef struct ts_kd ts_kd;

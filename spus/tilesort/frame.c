@@ -19,10 +19,7 @@
 #include "instance.h"
 #include "tessera/image.h"
 
-static void frame_command_done(tilesort *t)
-{
-    ts_flush_geometry(t);
-}
+static void frame_command_done(tilesort *t) { ts_flush_geometry(t); }
 
 static void window_size(tilesort *t, GLsizei w, GLsizei h)
 {
@@ -58,14 +55,13 @@ void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 
 /* Each server answers for its own tiles; pixels outside every tile come
  * from the first server's answer. */
-static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type,
-                          void *pixels)
+static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)
 {
     ts_flush_geometry(t);
     const tsr_pixel_modes *pack = &tsr_state_values_of(t->ctx)->pixel_store.pack;
     tsr_pixel_layout l;
-    if (w <= 0 || h <= 0 || !pixels ||
-        tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 || l.group_bytes == 0) {
+    if (w <= 0 || h <= 0 || !pixels || tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 ||
+        l.group_bytes == 0) {
         ts_server *s = ts_to_server(t);
         tsr_call_ReadPixels(&s->table, x, y, w, h, format, type, pixels);
         return;

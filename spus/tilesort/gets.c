@@ -8,13 +8,13 @@
  * the application has already left. */
 #include "instance.h"
 
-#define ANSWER_OR_ASK(getter, call)                                                                                \
-    do {                                                                                                           \
-        tilesort *t = self;                                                                                        \
-        if (getter)                                                                                                \
-            return;                                                                                                \
-        ts_server *s = ts_to_server(t);                                                                            \
-        call;                                                                                                      \
+#define ANSWER_OR_ASK(getter, call)     \
+    do {                                \
+        tilesort *t = self;             \
+        if (getter)                     \
+            return;                     \
+        ts_server *s = ts_to_server(t); \
+        call;                           \
     } while (0)
 
 void ts_GetBooleanv(void *self, GLenum p, GLboolean *o)

@@ -20,7 +20,7 @@ typedef struct ts_chunk {
 
 typedef struct ts_list {
     GLuint name;
-    uint32_t version;       /* 0: slot free */
+    uint32_t version; /* 0: slot free */
     ts_chunk *chunks;
     size_t nchunks, cap;
     float mn[3], mx[3];
@@ -34,7 +34,7 @@ typedef struct ts_list {
     struct {
         GLenum target;
         GLuint name;
-    } *textures;            /* the textures it binds (sent before it runs) */
+    } * textures; /* the textures it binds (sent before it runs) */
     size_t ntextures;
 } ts_list;
 
@@ -49,7 +49,7 @@ typedef struct ts_server {
     uint32_t *lists;        /* per list slot: version the server has */
     size_t lists_cap;
     uint64_t frame_bytes, bytes;
-    ts_batch sorted;        /* primitives of a sorted array draw waiting for this server */
+    ts_batch sorted; /* primitives of a sorted array draw waiting for this server */
 } ts_server;
 
 /* No single target: the geometry buffer goes where its box says. */
@@ -62,8 +62,8 @@ typedef struct tilesort {
     ts_server *srv;
     ts_tiling tiling;
     uint32_t tiling_version;
-    char *assemble;         /* PNG pattern of the gathered window, or NULL */
-    size_t batch_bytes;     /* geometry is bucketed in batches of about this size */
+    char *assemble;     /* PNG pattern of the gathered window, or NULL */
+    size_t batch_bytes; /* geometry is bucketed in batches of about this size */
     tsr_state_tracker *tracker;
     tsr_state_ctx *ctx;
     tsr_packer *geo;
@@ -76,20 +76,20 @@ typedef struct tilesort {
     tsr_tee rec_tees[TSR_DISPATCH_COUNT];
     /* the geometry buffer */
     int in_begin, split_primitive, broadcast_next, program;
-    ts_split *split;        /* split.c: a primitive cut across buffers */
-    ts_current start;       /* current attributes when this buffer started */
-    size_t *buffer_lists;   /* list slots called by this buffer */
+    ts_split *split;      /* split.c: a primitive cut across buffers */
+    ts_current start;     /* current attributes when this buffer started */
+    size_t *buffer_lists; /* list slots called by this buffer */
     size_t nbuffer_lists, buffer_lists_cap;
-    int buffer_calls_any;   /* glCallLists: every list may be called */
+    int buffer_calls_any; /* glCallLists: every list may be called */
     uint8_t *hit;
     size_t *targets;
-    size_t last_targets;    /* how many of targets[] the last flushed buffer went to */
-    tsr_dispatch discard;   /* no-ops: diffs that only update a shadow */
+    size_t last_targets;  /* how many of targets[] the last flushed buffer went to */
+    tsr_dispatch discard; /* no-ops: diffs that only update a shadow */
     /* array draws sorted primitive by primitive */
-    size_t only_target;     /* TS_ANY_TARGET, or the one server the buffer is for */
-    ts_batch compact;       /* scratch: a sorted draw as one server would get it (statistics), or
+    size_t only_target; /* TS_ANY_TARGET, or the one server the buffer is for */
+    ts_batch compact;   /* scratch: a sorted draw as one server would get it (statistics), or
                                one batch of a glDrawElements that is not sorted */
-    uint8_t *gathered;      /* scratch: gathered arrays and 16-bit indices */
+    uint8_t *gathered;  /* scratch: gathered arrays and 16-bit indices */
     size_t gathered_cap;
     /* display lists */
     ts_list *lists;
@@ -101,7 +101,7 @@ typedef struct tilesort {
     int recording_execute;
     tsr_unpacker *replay;
     int replay_depth;
-    tsr_unpacker *expand;   /* runs an expanded list's commands through the normal routes */
+    tsr_unpacker *expand; /* runs an expanded list's commands through the normal routes */
     /* window and frames */
     int win_w, win_h;
     uint64_t frames;
@@ -112,11 +112,11 @@ typedef struct tilesort {
     tsr_state_shadow *solo;
     tsr_packer *solo_packer;
     tsr_dispatch solo_table;
-    uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
-    double *frame_seconds;  /* application time of each kept frame (swap to swap) */
-    double last_swap;       /* monotonic seconds of the last swap (or of creation) */
+    uint64_t *frame_rows;  /* frames_kept rows of nservers counts */
+    double *frame_seconds; /* application time of each kept frame (swap to swap) */
+    double last_swap;      /* monotonic seconds of the last swap (or of creation) */
     size_t frames_kept, frames_cap;
-    tsr_error error;        /* first failure, reported once */
+    tsr_error error; /* first failure, reported once */
 } tilesort;
 
 /* --- tilesort.c --------------------------------------------------------------- */

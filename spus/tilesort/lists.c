@@ -92,8 +92,8 @@ int ts_list_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *er
     if (!l)
         return tsr_error_set(err, TSR_ESTATE, "%s: list buffer outside glNewList", t->name);
     ts_chunk c = {malloc(size), size};
-    if (!c.data || (l->nchunks == l->cap && !(l->chunks = realloc(l->chunks, (l->cap = l->cap ? 2 * l->cap : 4) *
-                                                                               sizeof *l->chunks)))) {
+    if (!c.data || (l->nchunks == l->cap &&
+                    !(l->chunks = realloc(l->chunks, (l->cap = l->cap ? 2 * l->cap : 4) * sizeof *l->chunks)))) {
         free(c.data);
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory compiling list %u", t->name, l->name);
     }
@@ -317,10 +317,7 @@ static void run_list(tilesort *t, tsr_unpacker *u, const ts_list *l)
 }
 
 /* Applies list l's state calls to the tracker (nested calls too). */
-static void replay_list(tilesort *t, ts_list *l)
-{
-    run_list(t, t->replay, l);
-}
+static void replay_list(tilesort *t, ts_list *l) { run_list(t, t->replay, l); }
 
 void ts_replay_CallList(void *self, GLuint name)
 {

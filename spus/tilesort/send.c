@@ -40,10 +40,7 @@
 
 /* --- current attributes ------------------------------------------------------ */
 
-void ts_snapshot(tilesort *t)
-{
-    ts_current_of(tsr_state_values_of(t->ctx), &t->start);
-}
+void ts_snapshot(tilesort *t) { ts_current_of(tsr_state_values_of(t->ctx), &t->start); }
 
 /* After server s's diff it holds the end values: send the start values
  * where they differ. */
@@ -140,16 +137,15 @@ static size_t choose_targets(tilesort *t, size_t bytes)
         t->targets[0] = t->only_target;
         return 1;
     }
-    if (t->broadcast_next || t->split_primitive || t->program || t->tiling.mode == TS_BROADCAST ||
-        t->win_w <= 0)
+    if (t->broadcast_next || t->split_primitive || t->program || t->tiling.mode == TS_BROADCAST || t->win_w <= 0)
         return all_servers(t);
     float mn[3], mx[3];
     if (!tsr_packer_bbox(t->geo, mn, mx))
         return 0; /* no vertex: current attributes only (the tracker has them) */
     int x0, y0, x1, y1;
     const tsr_state_values *v = tsr_state_values_of(t->ctx);
-    if (!ts_window_box(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), v->viewport, mn, mx,
-                       ts_box_margin(t), t->win_w, t->win_h, &x0, &y0, &x1, &y1))
+    if (!ts_window_box(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), v->viewport, mn, mx, ts_box_margin(t),
+                       t->win_w, t->win_h, &x0, &y0, &x1, &y1))
         return all_servers(t);
     ts_tiling_add_cost(&t->tiling, x0, y0, x1, y1, (double)bytes);
     ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);
@@ -187,8 +183,8 @@ int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err
         unsigned state = (stipple ? TS_SPLIT_LINE_STIPPLE : 0u) | (lighting ? TS_SPLIT_LIGHTING : 0u);
         int may_cut = !t->program;
         tsr_error e = {0};
-        piece = ts_split_piece(t->split, buf, size, &t->start, &end, t->in_begin, may_cut, state, t->geo, &buf,
-                               &size, &e);
+        piece =
+            ts_split_piece(t->split, buf, size, &t->start, &end, t->in_begin, may_cut, state, t->geo, &buf, &size, &e);
         if (piece < 0) {
             ts_report(t, &e);
             piece = TS_SPLIT_WHOLE;

@@ -75,9 +75,9 @@
 
 typedef struct ts_vertex {
     float pos[4];
-    int size;        /* components the application gave (2, 3, 4): sent the same way */
-    uint32_t cmd;    /* commands of the buffer up to and including this vertex */
-    size_t pos_end;  /* data offset where its command ends */
+    int size;       /* components the application gave (2, 3, 4): sent the same way */
+    uint32_t cmd;   /* commands of the buffer up to and including this vertex */
+    size_t pos_end; /* data offset where its command ends */
     ts_current attrs;
 } ts_vertex;
 
@@ -94,23 +94,23 @@ typedef struct ts_bytes {
 
 struct ts_split {
     /* the primitive the current geometry buffer starts inside */
-    int open;          /* the buffer starts inside a primitive cut before */
-    int ended;         /* that primitive's glEnd is in the buffer */
+    int open;  /* the buffer starts inside a primitive cut before */
+    int ended; /* that primitive's glEnd is in the buffer */
     GLenum mode;
-    uint64_t count;    /* its vertices so far */
+    uint64_t count; /* its vertices so far */
     ts_vertex first;
     ts_vertex tail[3]; /* its last min(3, count) vertices, oldest first */
     int ntail;
-    uint32_t mask;     /* the attributes set inside it (M_* bits) */
-    ts_sizes sizes;    /* the components of the last call setting each (see color()) */
+    uint32_t mask;  /* the attributes set inside it (M_* bits) */
+    ts_sizes sizes; /* the components of the last call setting each (see color()) */
     /* the scan */
     tsr_state_tracker *tracker;
     tsr_state_ctx *scratch;
     tsr_dispatch tracked; /* the scratch tracker's functions */
     tsr_dispatch scan;
     tsr_hook *hooks;
-    uint8_t *kind;     /* per slot: the attribute a current-attribute command sets (K_*) */
-    uint8_t *ncomp;    /* per slot: its components */
+    uint8_t *kind;  /* per slot: the attribute a current-attribute command sets (K_*) */
+    uint8_t *ncomp; /* per slot: its components */
     tsr_unpacker *scanner;
     int inside, opaque, began, tex_any, tex_any_size;
     uint32_t seen;
@@ -221,8 +221,8 @@ static void emit_vertex(const tsr_dispatch *out, const ts_vertex *v)
 
 static int strip_like(GLenum mode)
 {
-    return mode == GL_LINE_STRIP || mode == GL_LINE_LOOP || mode == GL_TRIANGLE_STRIP ||
-           mode == GL_TRIANGLE_FAN || mode == GL_QUAD_STRIP || mode == GL_POLYGON;
+    return mode == GL_LINE_STRIP || mode == GL_LINE_LOOP || mode == GL_TRIANGLE_STRIP || mode == GL_TRIANGLE_FAN ||
+           mode == GL_QUAD_STRIP || mode == GL_POLYGON;
 }
 
 /* The vertices the next piece starts with (see the header), into out[];
@@ -305,11 +305,20 @@ static void scan_current(void *ctx, int slot)
     if (!sp->inside)
         return;
     switch (sp->kind[slot]) {
-    case K_COLOR: sp->seen |= M_COLOR; sp->ssizes.color = sp->ncomp[slot]; break;
+    case K_COLOR:
+        sp->seen |= M_COLOR;
+        sp->ssizes.color = sp->ncomp[slot];
+        break;
     case K_NORMAL: sp->seen |= M_NORMAL; break;
     case K_EDGE: sp->seen |= M_EDGE; break;
-    case K_TEX0: sp->seen |= M_TEX0; sp->ssizes.tex[0] = sp->ncomp[slot]; break;
-    case K_TEXANY: sp->tex_any = 1; sp->tex_any_size = sp->ncomp[slot]; break;
+    case K_TEX0:
+        sp->seen |= M_TEX0;
+        sp->ssizes.tex[0] = sp->ncomp[slot];
+        break;
+    case K_TEXANY:
+        sp->tex_any = 1;
+        sp->tex_any_size = sp->ncomp[slot];
+        break;
     default: break;
     }
 }
@@ -339,21 +348,18 @@ static void vertex(ts_split *sp, int size, float x, float y, float z, float w)
     tsr_unpacker_yield(sp->scanner);
 }
 
-#define V2(N, T)                                                                                                   \
+#define V2(N, T) \
     static void w_##N(void *self, T x, T y) { vertex(self, 2, (float)x, (float)y, 0.0f, 1.0f); }
-#define V3(N, T)                                                                                                   \
+#define V3(N, T) \
     static void w_##N(void *self, T x, T y, T z) { vertex(self, 3, (float)x, (float)y, (float)z, 1.0f); }
-#define V4(N, T)                                                                                                   \
+#define V4(N, T) \
     static void w_##N(void *self, T x, T y, T z, T w) { vertex(self, 4, (float)x, (float)y, (float)z, (float)w); }
-#define VV2(N, T)                                                                                                  \
+#define VV2(N, T) \
     static void w_##N(void *self, const T *v) { vertex(self, 2, (float)v[0], (float)v[1], 0.0f, 1.0f); }
-#define VV3(N, T)                                                                                                  \
+#define VV3(N, T) \
     static void w_##N(void *self, const T *v) { vertex(self, 3, (float)v[0], (float)v[1], (float)v[2], 1.0f); }
-#define VV4(N, T)                                                                                                  \
-    static void w_##N(void *self, const T *v)                                                                      \
-    {                                                                                                              \
-        vertex(self, 4, (float)v[0], (float)v[1], (float)v[2], (float)v[3]);                                       \
-    }
+#define VV4(N, T) \
+    static void w_##N(void *self, const T *v) { vertex(self, 4, (float)v[0], (float)v[1], (float)v[2], (float)v[3]); }
 /* A table of macro calls, laid out by hand: clang-format 14 rewraps it
  * differently on every run (it never settles). */
 /* clang-format off */
@@ -369,38 +375,36 @@ static void vertex(ts_split *sp, int size, float x, float y, float z, float w)
 VERTEX_TYPES(V2, V3, V4, VV2, VV3, VV4)
 
 #define SETW(N, T) tsr_set_##N(d, w_##N, sp);
-static void set_vertices(tsr_dispatch *d, ts_split *sp)
-{
-    VERTEX_TYPES(SETW, SETW, SETW, SETW, SETW, SETW)
-}
+static void set_vertices(tsr_dispatch *d, ts_split *sp){VERTEX_TYPES(SETW, SETW, SETW, SETW, SETW, SETW)}
 
 /* glVertexAttrib*(0, ...) inside glBegin is a vertex: the primitive is
  * opaque. Other indices are current attributes (the scratch tracker). */
-#define VA(N, K, PARAMS, ARGS)                                                                                     \
-    static void a_##N PARAMS                                                                                       \
-    {                                                                                                              \
-        ts_split *sp = self;                                                                                       \
-        if (index == 0 && sp->inside)                                                                              \
-            sp->opaque = 1;                                                                                        \
-        if (sp->inside && index < TSR_STATE_ATTRIBS) {                                                             \
-            sp->seen |= M_ATTRIB0 << index;                                                                        \
-            sp->ssizes.attrib[index] = K;                                                                          \
-        }                                                                                                          \
-        tsr_call_##N ARGS;                                                                                         \
+#define VA(N, K, PARAMS, ARGS)                         \
+    static void a_##N PARAMS                           \
+    {                                                  \
+        ts_split *sp = self;                           \
+        if (index == 0 && sp->inside)                  \
+            sp->opaque = 1;                            \
+        if (sp->inside && index < TSR_STATE_ATTRIBS) { \
+            sp->seen |= M_ATTRIB0 << index;            \
+            sp->ssizes.attrib[index] = K;              \
+        }                                              \
+        tsr_call_##N ARGS;                             \
     }
 VA(VertexAttrib1f, 1, (void *self, GLuint index, GLfloat x), (&sp->tracked, index, x))
-VA(VertexAttrib2f, 2, (void *self, GLuint index, GLfloat x, GLfloat y), (&sp->tracked, index, x, y))
-VA(VertexAttrib3f, 3, (void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z), (&sp->tracked, index, x, y, z))
-VA(VertexAttrib4f, 4, (void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GLfloat w),
-   (&sp->tracked, index, x, y, z, w))
-VA(VertexAttrib1fv, 1, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
-VA(VertexAttrib2fv, 2, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
-VA(VertexAttrib3fv, 3, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
-VA(VertexAttrib4fv, 4, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
+    VA(VertexAttrib2f, 2, (void *self, GLuint index, GLfloat x, GLfloat y), (&sp->tracked, index, x, y))
+        VA(VertexAttrib3f, 3, (void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z),
+           (&sp->tracked, index, x, y, z)) VA(VertexAttrib4f, 4,
+                                              (void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GLfloat w),
+                                              (&sp->tracked, index, x, y, z, w))
+            VA(VertexAttrib1fv, 1, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
+                VA(VertexAttrib2fv, 2, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
+                    VA(VertexAttrib3fv, 3, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
+                        VA(VertexAttrib4fv, 4, (void *self, GLuint index, const GLfloat *v), (&sp->tracked, index, v))
 
-/* Runs buf through the scan from the attributes `start`. */
-static int scan(ts_split *sp, const uint8_t *buf, size_t size, const ts_current *start,
-                const tsr_pixel_store *pixels, tsr_error *err)
+    /* Runs buf through the scan from the attributes `start`. */
+    static int scan(ts_split *sp, const uint8_t *buf, size_t size, const ts_current *start,
+                    const tsr_pixel_store *pixels, tsr_error *err)
 {
     emit_attrs(&sp->tracked, NULL, start, &four);
     sp->inside = sp->open;
@@ -604,12 +608,12 @@ ts_split *ts_split_create(tsr_error *err)
     for (int slot = 0; slot < TSR_DISPATCH_COUNT; slot++) {
         if (current[slot]) {
             const char *n = tsr_dispatch_name(slot);
-            sp->kind[slot] = !strncmp(n, "Color", 5)           ? K_COLOR
-                             : !strncmp(n, "Normal", 6)        ? K_NORMAL
-                             : !strncmp(n, "EdgeFlag", 8)      ? K_EDGE
-                             : !strncmp(n, "TexCoord", 8)      ? K_TEX0
+            sp->kind[slot] = !strncmp(n, "Color", 5)            ? K_COLOR
+                             : !strncmp(n, "Normal", 6)         ? K_NORMAL
+                             : !strncmp(n, "EdgeFlag", 8)       ? K_EDGE
+                             : !strncmp(n, "TexCoord", 8)       ? K_TEX0
                              : !strncmp(n, "MultiTexCoord", 13) ? K_TEXANY
-                                                               : K_NONE;
+                                                                : K_NONE;
             const char *digit = strpbrk(n, "1234");
             sp->ncomp[slot] = (uint8_t)(digit ? *digit - '0' : 4);
             sp->scan.slots[slot] = sp->tracked.slots[slot];
@@ -664,10 +668,7 @@ void ts_split_destroy(ts_split *sp)
     free(sp);
 }
 
-int ts_split_open(const ts_split *sp)
-{
-    return sp->open;
-}
+int ts_split_open(const ts_split *sp) { return sp->open; }
 
 void ts_split_end(ts_split *sp, const tsr_dispatch *route, const ts_current *now)
 {
@@ -686,8 +687,8 @@ void ts_split_end(ts_split *sp, const tsr_dispatch *route, const ts_current *now
 }
 
 int ts_split_piece(ts_split *sp, const uint8_t *buf, size_t size, const ts_current *start, const ts_current *end,
-                   int ends_inside, int may_cut, unsigned state, tsr_packer *box, const uint8_t **out,
-                   size_t *out_size, tsr_error *err)
+                   int ends_inside, int may_cut, unsigned state, tsr_packer *box, const uint8_t **out, size_t *out_size,
+                   tsr_error *err)
 {
     *out = buf;
     *out_size = size;

@@ -40,11 +40,11 @@
 
 /* What the routing does around a slot (see the header). */
 enum {
-    R_DEFAULT,      /* geometry buffer only */
-    R_STATE,        /* tracker only, pending geometry flushed first */
-    R_BROADCAST,    /* geometry buffer, and that buffer goes to every server */
-    R_FRAME,        /* like R_BROADCAST, flushed at once */
-    R_SERVER,       /* sent to the first live server (gets) */
+    R_DEFAULT,   /* geometry buffer only */
+    R_STATE,     /* tracker only, pending geometry flushed first */
+    R_BROADCAST, /* geometry buffer, and that buffer goes to every server */
+    R_FRAME,     /* like R_BROADCAST, flushed at once */
+    R_SERVER,    /* sent to the first live server (gets) */
 };
 
 void ts_report(tilesort *t, const tsr_error *e)
@@ -109,11 +109,11 @@ static void write_sort_first_stats(void *ctx, FILE *f)
         max = b > max ? b : max;
     }
     double mean = (double)total / (double)t->nservers;
-    fprintf(f, ",\"sort_first\":{\"bucket\":\"%s\",\"servers\":%zu,\"stream_bytes\":%llu,\"bytes_out\":%llu,"
-               "\"overlap\":%.6f,\"imbalance\":%.6f,\"server_bytes\":[",
-            bucket_name(t->tiling.mode), t->nservers, (unsigned long long)t->stream_bytes,
-            (unsigned long long)total, t->stream_bytes ? (double)total / (double)t->stream_bytes : 0.0,
-            mean > 0 ? (double)max / mean : 0.0);
+    fprintf(f,
+            ",\"sort_first\":{\"bucket\":\"%s\",\"servers\":%zu,\"stream_bytes\":%llu,\"bytes_out\":%llu,"
+            "\"overlap\":%.6f,\"imbalance\":%.6f,\"server_bytes\":[",
+            bucket_name(t->tiling.mode), t->nservers, (unsigned long long)t->stream_bytes, (unsigned long long)total,
+            t->stream_bytes ? (double)total / (double)t->stream_bytes : 0.0, mean > 0 ? (double)max / mean : 0.0);
     for (size_t i = 0; i < t->nservers; i++)
         fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)(t->srv[i].bytes + t->srv[i].frame_bytes));
     fprintf(f, "],\"frame_seconds\":[");
@@ -146,18 +146,11 @@ static void hook_before(void *ctx, int slot)
 {
     tilesort *t = ctx;
     switch (t->route[slot]) {
-    case R_STATE:
-        ts_flush_before_state(t);
-        break;
+    case R_STATE: ts_flush_before_state(t); break;
     case R_BROADCAST:
-    case R_FRAME:
-        ts_broadcast_next(t);
-        break;
-    case R_SERVER:
-        ts_to_server(t);
-        break;
-    default:
-        break;
+    case R_FRAME: ts_broadcast_next(t); break;
+    case R_SERVER: ts_to_server(t); break;
+    default: break;
     }
 }
 
@@ -280,15 +273,18 @@ static int current_slots(uint8_t *is_current)
  * section 5.4), beyond gets and client state. */
 static int immediate_in_list(const char *name)
 {
-    static const char *const names[] = {"PixelStorei", "PixelStoref", "Finish", "Flush", "GenLists",
-                                        "DeleteLists", "GenTextures", "DeleteTextures", "GenBuffers",
-                                        "DeleteBuffers", "BindBuffer", "BufferData", "BufferSubData",
-                                        "RenderMode", "FeedbackBuffer", "SelectBuffer", "NewList", "EndList",
-                                        "WindowCreateTSR", "WindowSizeTSR", "WindowDestroyTSR", "SwapBuffersTSR",
-                                        "CreateShader", "CreateShaderTSR", "ShaderSource", "CompileShader",
-                                        "DeleteShader", "CreateProgram", "CreateProgramTSR", "DeleteProgram",
-                                        "AttachShader", "DetachShader", "BindAttribLocation", "LinkProgram",
-                                        "ValidateProgram"};
+    static const char *const names[] = {"PixelStorei",     "PixelStoref",      "Finish",
+                                        "Flush",           "GenLists",         "DeleteLists",
+                                        "GenTextures",     "DeleteTextures",   "GenBuffers",
+                                        "DeleteBuffers",   "BindBuffer",       "BufferData",
+                                        "BufferSubData",   "RenderMode",       "FeedbackBuffer",
+                                        "SelectBuffer",    "NewList",          "EndList",
+                                        "WindowCreateTSR", "WindowSizeTSR",    "WindowDestroyTSR",
+                                        "SwapBuffersTSR",  "CreateShader",     "CreateShaderTSR",
+                                        "ShaderSource",    "CompileShader",    "DeleteShader",
+                                        "CreateProgram",   "CreateProgramTSR", "DeleteProgram",
+                                        "AttachShader",    "DetachShader",     "BindAttribLocation",
+                                        "LinkProgram",     "ValidateProgram"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(names[i], name))
             return 1;
@@ -355,14 +351,44 @@ static void build_tables(tilesort *t)
         tsr_dispatch_hook(&t->normal, slot, &t->hooks[slot]);
     }
     /* own code (after the generic routes, which they replace) */
-    SET(Begin); SET(End); SET(DrawArrays); SET(DrawElements); SET(WindowCreateTSR); SET(WindowSizeTSR); SET(SwapBuffersTSR); SET(UseProgram);
-    SET(PixelStorei); SET(PixelStoref); SET(BindBuffer); SET(DeleteBuffers);
-    SET(CallList); SET(CallLists); SET(NewList); SET(EndList); SET(DeleteLists);
-    SET(GetBooleanv); SET(GetIntegerv); SET(GetFloatv); SET(GetDoublev); SET(GetLightfv); SET(GetMaterialfv);
-    SET(GetTexEnvfv); SET(GetTexGenfv); SET(GetTexParameterfv); SET(GetTexLevelParameteriv); SET(GetClipPlane);
-    SET(GetPolygonStipple); SET(GetBufferParameteriv); SET(IsEnabled); SET(ReadPixels);
-    SET(GetShaderiv); SET(GetProgramiv); SET(GetShaderInfoLog); SET(GetProgramInfoLog);
-    SET(GetUniformLocation); SET(GetAttribLocation);
+    SET(Begin);
+    SET(End);
+    SET(DrawArrays);
+    SET(DrawElements);
+    SET(WindowCreateTSR);
+    SET(WindowSizeTSR);
+    SET(SwapBuffersTSR);
+    SET(UseProgram);
+    SET(PixelStorei);
+    SET(PixelStoref);
+    SET(BindBuffer);
+    SET(DeleteBuffers);
+    SET(CallList);
+    SET(CallLists);
+    SET(NewList);
+    SET(EndList);
+    SET(DeleteLists);
+    SET(GetBooleanv);
+    SET(GetIntegerv);
+    SET(GetFloatv);
+    SET(GetDoublev);
+    SET(GetLightfv);
+    SET(GetMaterialfv);
+    SET(GetTexEnvfv);
+    SET(GetTexGenfv);
+    SET(GetTexParameterfv);
+    SET(GetTexLevelParameteriv);
+    SET(GetClipPlane);
+    SET(GetPolygonStipple);
+    SET(GetBufferParameteriv);
+    SET(IsEnabled);
+    SET(ReadPixels);
+    SET(GetShaderiv);
+    SET(GetProgramiv);
+    SET(GetShaderInfoLog);
+    SET(GetProgramInfoLog);
+    SET(GetUniformLocation);
+    SET(GetAttribLocation);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also
@@ -538,26 +564,50 @@ fail:
 }
 
 static const tsr_option_spec tilesort_options[] = {
-    {.name = "servers", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+    {.name = "servers",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "server node addresses in order, comma-separated: tcp://HOST:PORT or unix:PATH (required; "
              "tessera run fills it from the node's to: list)"},
-    {.name = "tiles", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+    {.name = "tiles",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "the servers' tiles: SERVER:X:Y:WIDTH:HEIGHT,... (SERVER is the 0-based index in servers; "
              "window pixels, origin bottom-left; tessera run fills it from the servers' tiles:)"},
-    {.name = "bucket", .type = TSR_OPT_ENUM, .default_value = "grid", .choices = "grid|tiles|broadcast|balance",
-     .min = 1, .max = 0,
+    {.name = "bucket",
+     .type = TSR_OPT_ENUM,
+     .default_value = "grid",
+     .choices = "grid|tiles|broadcast|balance",
+     .min = 1,
+     .max = 0,
      .help = "how geometry finds its servers: grid (tiles form columns and rows; fastest), tiles (test "
              "every tile; any layout), broadcast (every server gets everything), balance (one region per "
              "server, re-split every frame from measured costs, damped)"},
-    {.name = "batch_bytes", .type = TSR_OPT_INT, .default_value = "65536", .min = 256, .max = 67108864.0,
+    {.name = "batch_bytes",
+     .type = TSR_OPT_INT,
+     .default_value = "65536",
+     .min = 256,
+     .max = 67108864.0,
      .help = "geometry is bucketed in batches of about this many bytes (the geometry buffer's size): "
              "smaller batches reach fewer tiles, larger ones cost fewer messages; glDrawArrays/glDrawElements "
              "of points, lines, triangles and quads are sorted primitive by primitive and sent to each "
              "server in draws of about this size; a glBegin/glEnd primitive larger than a batch is cut "
              "into batches, each closed with glEnd and reopened in the next"},
-    {.name = "damping", .type = TSR_OPT_FLOAT, .default_value = "0.5", .min = 0.0, .max = 1.0,
+    {.name = "damping",
+     .type = TSR_OPT_FLOAT,
+     .default_value = "0.5",
+     .min = 0.0,
+     .max = 1.0,
      .help = "bucket=balance: fraction of the way each split moves towards the measured balance per frame"},
-    {.name = "assemble", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "assemble",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "also gather every frame from the servers and write the whole window as PNG files with "
              "this printf pattern (frame number), e.g. out/wall-%04d.png"},
     TSR_NODE_CLIENT_OPTION_SPECS,
@@ -575,11 +625,10 @@ static const tsr_spu_class tilesort_class = {
     .destroy = tilesort_destroy,
     /* Tiled servers: the node's to: in order, and every server's tiles:
      * as SERVER:X:Y:W:H in `tiles`. */
-    .network = {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "servers",
-                .server_tiles = "tiles", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+    .network = {.role = TSR_SPU_ROLE_TILED_SERVERS,
+                .servers = "servers",
+                .server_tiles = "tiles",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
-{
-    return &tilesort_class;
-}
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &tilesort_class; }

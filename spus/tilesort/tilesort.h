@@ -34,7 +34,7 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_BALANCE } ts_b
 typedef struct ts_tiling {
     ts_bucket_mode mode;
     size_t servers;
-    ts_rect **tiles;        /* tiles[s][0..ntiles[s]) */
+    ts_rect **tiles; /* tiles[s][0..ntiles[s]) */
     size_t *ntiles;
     size_t *cap;
     /* grid: cell (c, r) -> server; grid_bounds holds the grid_nx column
@@ -44,11 +44,11 @@ typedef struct ts_tiling {
     int *grid_bounds;
     /* load balance */
     int window_w, window_h;
-    double *cost;           /* cost_cols x cost_rows, this frame */
+    double *cost; /* cost_cols x cost_rows, this frame */
     int cost_cols, cost_rows;
-    double damping;         /* fraction of the way to the new split taken per frame */
+    double damping; /* fraction of the way to the new split taken per frame */
     int split_ready;
-    struct ts_kd *kd;       /* the KD tree's split positions */
+    struct ts_kd *kd; /* the KD tree's split positions */
 } ts_tiling;
 
 /* Parses "S:X:Y:W:H,..." entries (already split by the options layer). */
@@ -79,9 +79,9 @@ int ts_window_box(const GLfloat *projection, const GLfloat *modelview, const GLi
 
 /* --- batch.c: a compact draw built primitive by primitive -------------------- */
 typedef struct ts_batch {
-    uint32_t *order;        /* source vertex of each compact vertex */
+    uint32_t *order; /* source vertex of each compact vertex */
     size_t nvert, vcap;
-    uint32_t *index;        /* indexed batches: the primitives' compact indices */
+    uint32_t *index; /* indexed batches: the primitives' compact indices */
     size_t nidx, icap;
     uint32_t *keys, *values; /* source vertex + 1 -> compact vertex (0: empty) */
     size_t hcap;
@@ -144,7 +144,7 @@ enum { TS_SPLIT_LINE_STIPPLE = 1u, TS_SPLIT_LIGHTING = 2u };
  * images in buf were packed). Sets *out (valid until the next call).
  * Returns TS_SPLIT_*, or an error code (*out is then buf). */
 int ts_split_piece(ts_split *sp, const uint8_t *buf, size_t size, const ts_current *start, const ts_current *end,
-                   int ends_inside, int may_cut, unsigned state, tsr_packer *box, const uint8_t **out,
-                   size_t *out_size, tsr_error *err);
+                   int ends_inside, int may_cut, unsigned state, tsr_packer *box, const uint8_t **out, size_t *out_size,
+                   tsr_error *err);
 
 #endif

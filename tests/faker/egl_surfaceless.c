@@ -24,8 +24,8 @@ static void clear_and_read(GLfloat r, GLfloat g, GLfloat b, const unsigned char 
     glClear(GL_COLOR_BUFFER_BIT);
     unsigned char px[4] = {0, 0, 0, 0};
     glReadPixels(3, 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
-    CHECK(!memcmp(px, want, 4), "read back %u %u %u %u, expected %u %u %u %u", px[0], px[1], px[2], px[3],
-          want[0], want[1], want[2], want[3]);
+    CHECK(!memcmp(px, want, 4), "read back %u %u %u %u, expected %u %u %u %u", px[0], px[1], px[2], px[3], want[0],
+          want[1], want[2], want[3]);
 }
 
 int main(void)
@@ -44,9 +44,9 @@ int main(void)
     EGLConfig config = NULL;
     EGLint n = -1;
     CHECK(eglChooseConfig(dpy, es_attrs, &config, 1, &n) && n == 0, EGL_SAYS);
-    static const EGLint attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                   EGL_RED_SIZE,     8,               EGL_DEPTH_SIZE,      24,
-                                   EGL_NONE};
+    static const EGLint attrs[] = {
+        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8, EGL_DEPTH_SIZE, 24,
+        EGL_NONE};
     CHECK(eglChooseConfig(dpy, attrs, &config, 1, &n) && n == 1, EGL_SAYS);
     EGLint v = 0;
     CHECK(eglGetConfigAttrib(dpy, config, EGL_STENCIL_SIZE, &v) && v == 8, EGL_SAYS);
@@ -65,7 +65,8 @@ int main(void)
     CHECK(eglQuerySurface(dpy, pb, EGL_HEIGHT, &v) && v == 48, EGL_SAYS);
 
     CHECK(eglMakeCurrent(dpy, pb, pb, ctx), EGL_SAYS);
-    CHECK(eglGetCurrentContext() == ctx && eglGetCurrentSurface(EGL_DRAW) == pb && eglGetCurrentDisplay() == dpy, EGL_SAYS);
+    CHECK(eglGetCurrentContext() == ctx && eglGetCurrentSurface(EGL_DRAW) == pb && eglGetCurrentDisplay() == dpy,
+          EGL_SAYS);
     const char *renderer = (const char *)glGetString(GL_RENDERER);
     const char *version = (const char *)glGetString(GL_VERSION);
     printf("GL_RENDERER \"%s\", GL_VERSION \"%s\"\n", renderer ? renderer : "(null)", version ? version : "(null)");
@@ -76,7 +77,7 @@ int main(void)
     CHECK(eglSwapBuffers(dpy, pb), EGL_SAYS);
     /* A registry function the spec lacks: an entry that warns once (the
      * test's command counts the lines) and returns 0. */
-    GLint (*render_mode)(GLenum) = (GLint (*)(GLenum))eglGetProcAddress("glRenderMode");
+    GLint (*render_mode)(GLenum) = (GLint(*)(GLenum))eglGetProcAddress("glRenderMode");
     CHECK(render_mode != NULL, EGL_SAYS);
     if (render_mode) {
         CHECK(render_mode(GL_SELECT) == 0, EGL_SAYS);

@@ -34,13 +34,12 @@ static void frame_size(const char *dir, int frame, int w, int h)
     if (rc != TSR_OK)
         return;
     printf("frame %d: %dx%d (expected %dx%d)\n", frame, img.width, img.height, w, h);
-    CHECK(img.width == w && img.height == h, "frame %d is %dx%d, expected %dx%d", frame, img.width, img.height, w,
-          h);
+    CHECK(img.width == w && img.height == h, "frame %d is %dx%d, expected %dx%d", frame, img.width, img.height, w, h);
     /* Cleared to the frame's colour: red, then green. */
     const unsigned char *p = img.pixels + 4 * ((size_t)img.width * (size_t)(img.height / 2) + (size_t)img.width / 2);
     static const unsigned char want[3][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}};
-    CHECK(!memcmp(p, want[frame], 3), "frame %d's centre is RGB %u %u %u, expected %u %u %u", frame, p[0], p[1],
-          p[2], want[frame][0], want[frame][1], want[frame][2]);
+    CHECK(!memcmp(p, want[frame], 3), "frame %d's centre is RGB %u %u %u, expected %u %u %u", frame, p[0], p[1], p[2],
+          want[frame][0], want[frame][1], want[frame][2]);
     tsr_image_free(&img);
 }
 
@@ -54,8 +53,17 @@ int main(int argc, char **argv)
     int maj = 0, min = 0;
     CHECK(glXQueryVersion(dpy, &maj, &min) && maj == 1 && min == 4);
     CHECK(strstr(glXQueryExtensionsString(dpy, DefaultScreen(dpy)), "GLX_ARB_create_context") != NULL);
-    static const int attrs[] = {GLX_DRAWABLE_TYPE, GLX_WINDOW_BIT, GLX_RENDER_TYPE, GLX_RGBA_BIT, GLX_DOUBLEBUFFER,
-                                True, GLX_DEPTH_SIZE, 24, GLX_STENCIL_SIZE, 8, None};
+    static const int attrs[] = {GLX_DRAWABLE_TYPE,
+                                GLX_WINDOW_BIT,
+                                GLX_RENDER_TYPE,
+                                GLX_RGBA_BIT,
+                                GLX_DOUBLEBUFFER,
+                                True,
+                                GLX_DEPTH_SIZE,
+                                24,
+                                GLX_STENCIL_SIZE,
+                                8,
+                                None};
     int n = 0;
     GLXFBConfig *configs = glXChooseFBConfig(dpy, DefaultScreen(dpy), attrs, &n);
     REQUIRE(configs && n > 0, "glXChooseFBConfig gave %d configs", n);
@@ -66,8 +74,8 @@ int main(int argc, char **argv)
     XSetWindowAttributes swa = {0};
     swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
     swa.event_mask = StructureNotifyMask | ExposureMask;
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, 200, 100, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap | CWEventMask, &swa);
+    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, 200, 100, 0, vi->depth, InputOutput, vi->visual,
+                               CWColormap | CWEventMask, &swa);
     XMapWindow(dpy, win);
 
     static const int gl33[] = {GLX_CONTEXT_MAJOR_VERSION_ARB, 3, GLX_CONTEXT_MINOR_VERSION_ARB, 3, None};

@@ -57,8 +57,9 @@ int main(int argc, char **argv)
             ngl++;
     }
     fclose(f);
-    static const char *const unknown[] = {"glNoSuchFunctionTSR", "glXNoSuchFunction", "eglNoSuchFunction",
-                                          "gl", "", "glVertex3", "glVertex3fv_", "glx", "glXSwapBuffersX"};
+    static const char *const unknown[] = {
+        "glNoSuchFunctionTSR", "glXNoSuchFunction", "eglNoSuchFunction", "gl", "", "glVertex3", "glVertex3fv_", "glx",
+        "glXSwapBuffersX"};
     for (size_t i = 0; i < sizeof unknown / sizeof unknown[0]; i++)
         CHECK(!gpa((const unsigned char *)unknown[i]) && !egpa(unknown[i]), "GetProcAddress(\"%s\") is not NULL",
               unknown[i]);

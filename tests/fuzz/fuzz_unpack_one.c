@@ -65,10 +65,7 @@ static void check_error(int rc, const tsr_error *err)
         __builtin_trap();
 }
 
-int fuzz_unpack_one(const uint8_t *data, size_t size)
-{
-    return fuzz_unpack_explain(data, size, NULL, 0);
-}
+int fuzz_unpack_one(const uint8_t *data, size_t size) { return fuzz_unpack_explain(data, size, NULL, 0); }
 
 int fuzz_unpack_explain(const uint8_t *data, size_t size, char *why, size_t why_size)
 {

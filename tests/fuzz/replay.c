@@ -80,10 +80,7 @@ static int replay_file(const char *path, size_t *count)
     return 0;
 }
 
-static int name_cmp(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
+static int name_cmp(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
 static int replay_dir(const char *dir, size_t *count)
 {

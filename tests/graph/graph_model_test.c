@@ -13,7 +13,8 @@
 
 #include "harness.h"
 
-static tsr_graph *parse(const char *text, unsigned flags) {
+static tsr_graph *parse(const char *text, unsigned flags)
+{
     tsr_error err;
     tsr_error_clear(&err);
     tsr_graph *g = tsr_graph_parse(text, strlen(text), "test.yaml", flags, &err);
@@ -22,14 +23,16 @@ static tsr_graph *parse(const char *text, unsigned flags) {
     return g;
 }
 
-static const char *option(const tsr_chain_link *link, const char *key) {
+static const char *option(const tsr_chain_link *link, const char *key)
+{
     for (size_t i = 0; i < link->option_count; i++)
         if (!strcmp(link->keys[i], key))
             return link->values[i];
     return NULL;
 }
 
-static void reads_nodes_chain_options_edges(void) {
+static void reads_nodes_chain_options_edges(void)
+{
     tsr_graph *g = parse("version: 1\n"
                          "window: {width: 640, height: 480}\n"
                          "nodes:\n"
@@ -49,14 +52,12 @@ static void reads_nodes_chain_options_edges(void) {
     CHECK(app && app == tsr_graph_node_at(g, 0));
     CHECK(tsr_graph_node_at(g, 1) == NULL && tsr_graph_find(g, "nobody") == NULL);
     if (app) {
-        CHECK(app->exec_argc == 3 && !strcmp(app->exec[0], "bin/spheres") &&
-              !strcmp(app->exec[2], "3") && app->exec[3] == NULL);
+        CHECK(app->exec_argc == 3 && !strcmp(app->exec[0], "bin/spheres") && !strcmp(app->exec[2], "3") &&
+              app->exec[3] == NULL);
         CHECK(app->chain_length == 2);
         CHECK(!strcmp(app->chain[0].spu, "passthrough") && !strcmp(app->chain[1].spu, "render"));
-        CHECK(option(&app->chain[0], "verbose") &&
-              !strcmp(option(&app->chain[0], "verbose"), "yes"));
-        CHECK(option(&app->chain[1], "output") &&
-              !strcmp(option(&app->chain[1], "output"), "out/f-%04d.png"));
+        CHECK(option(&app->chain[0], "verbose") && !strcmp(option(&app->chain[0], "verbose"), "yes"));
+        CHECK(option(&app->chain[1], "output") && !strcmp(option(&app->chain[1], "output"), "out/f-%04d.png"));
         CHECK(option(&app->chain[1], "width") && !strcmp(option(&app->chain[1], "width"), "64"));
         CHECK(!strcmp(app->host, TSR_GRAPH_DEFAULT_HOST));
         CHECK(app->mark.line == 4 && app->mark.column == 3);
@@ -65,7 +66,8 @@ static void reads_nodes_chain_options_edges(void) {
     tsr_graph_free(g);
 }
 
-static void defaults_apply_and_nodes_override(void) {
+static void defaults_apply_and_nodes_override(void)
+{
     tsr_graph *g = parse("version: 1\n"
                          "defaults: {host: alpha, transport: unix}\n"
                          "nodes:\n"
@@ -77,8 +79,7 @@ static void defaults_apply_and_nodes_override(void) {
     CHECK(g);
     if (!g)
         return;
-    CHECK(tsr_graph_width(g) == TSR_GRAPH_DEFAULT_WIDTH &&
-          tsr_graph_height(g) == TSR_GRAPH_DEFAULT_HEIGHT);
+    CHECK(tsr_graph_width(g) == TSR_GRAPH_DEFAULT_WIDTH && tsr_graph_height(g) == TSR_GRAPH_DEFAULT_HEIGHT);
     const tsr_graph_node *app = tsr_graph_find(g, "app"), *near = tsr_graph_find(g, "near"),
                          *far = tsr_graph_find(g, "far");
     CHECK(app && near && far);
@@ -87,8 +88,7 @@ static void defaults_apply_and_nodes_override(void) {
         CHECK(!strcmp(far->host, "beta"));
         CHECK(near->transport == TSR_TRANSPORT_UNIX && far->transport == TSR_TRANSPORT_TCP);
         CHECK(!strcmp(near->listen, "/tmp/near.sock") && !strcmp(far->listen, "7000"));
-        CHECK(far->tile_count == 2 && far->tiles[1].x == 10 && far->tiles[1].width == 5 &&
-              far->tiles[0].height == 20);
+        CHECK(far->tile_count == 2 && far->tiles[1].x == 10 && far->tiles[1].width == 5 && far->tiles[0].height == 20);
         CHECK(app->exec_argc == 1 && !strcmp(app->exec[0], "x"));
         CHECK(near->exec == NULL);
         CHECK(!strcmp(tsr_transport_name(near->transport), "unix"));
@@ -98,7 +98,8 @@ static void defaults_apply_and_nodes_override(void) {
 
 /* Every edge appears as `to` on its client and `from` on its server, and
  * the start order puts each server before its clients. */
-static void edges_both_ways_and_start_order(void) {
+static void edges_both_ways_and_start_order(void)
+{
     tsr_graph *g = parse("version: 1\n"
                          "nodes:\n"
                          "  app0: {exec: x, chain: [replicate], to: [relay, s1]}\n"
@@ -144,7 +145,8 @@ static void edges_both_ways_and_start_order(void) {
     tsr_graph_free(g);
 }
 
-static void exec_string_is_split_like_a_shell(void) {
+static void exec_string_is_split_like_a_shell(void)
+{
     tsr_graph *g = parse("version: 1\n"
                          "nodes:\n"
                          "  app:\n"
@@ -164,12 +166,12 @@ static void exec_string_is_split_like_a_shell(void) {
     tsr_graph_free(g);
 }
 
-static void list_option_values_use_chain_text(void) {
-    tsr_graph *g =
-        parse("version: 1\n"
-              "nodes:\n"
-              "  app: {exec: x, chain: [{someday: {sizes: [1, 2, 3], name: '', on: }}]}\n",
-              TSR_GRAPH_NO_SPU_CHECK);
+static void list_option_values_use_chain_text(void)
+{
+    tsr_graph *g = parse("version: 1\n"
+                         "nodes:\n"
+                         "  app: {exec: x, chain: [{someday: {sizes: [1, 2, 3], name: '', on: }}]}\n",
+                         TSR_GRAPH_NO_SPU_CHECK);
     CHECK(g);
     if (!g)
         return;
@@ -182,7 +184,8 @@ static void list_option_values_use_chain_text(void) {
 }
 
 /* The model's links are what tsr_chain_create_links takes. */
-static void chain_builds_from_the_model(void) {
+static void chain_builds_from_the_model(void)
+{
     tsr_graph *g = parse("version: 1\n"
                          "nodes:\n"
                          "  app:\n"
@@ -205,7 +208,8 @@ static void chain_builds_from_the_model(void) {
 
 /* Cutting a valid file anywhere gives a graph or an error that starts with
  * the file name and a position — never a crash or an unplaced message. */
-static void every_truncation_fails_cleanly(void) {
+static void every_truncation_fails_cleanly(void)
+{
     static const char text[] = "version: 1\n"
                                "window: {width: 1024, height: 768}\n"
                                "defaults: {host: localhost, transport: tcp}\n"
@@ -233,8 +237,7 @@ static void every_truncation_fails_cleanly(void) {
             continue;
         }
         int line = 0, column = 0;
-        CHECK(sscanf(err.message, "cut.yaml:%d:%d: ", &line, &column) == 2 && line >= 1 &&
-              column >= 1);
+        CHECK(sscanf(err.message, "cut.yaml:%d:%d: ", &line, &column) == 2 && line >= 1 && column >= 1);
         CHECK(err.code != TSR_OK && !strchr(err.message, '\n'));
     }
     CHECK(ok >= 1); /* at least the whole text */
@@ -242,7 +245,8 @@ static void every_truncation_fails_cleanly(void) {
 
 /* Classes registered in-process, one per network role, none of them known
  * to the core by name: what a third party's network SPU declares. */
-static void *role_create(const tsr_spu_init *init, tsr_error *err) {
+static void *role_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)init;
     void *self = malloc(1);
     if (!self)
@@ -259,26 +263,25 @@ static const tsr_option_spec role_options[] = {
     {.name = "place", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 1000},
     {.name = "group", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
 };
-#define ROLE_CLASS(id, ...)                                                                        \
-    {.abi = TSR_SPU_ABI, .name = id, .summary = "test role", .options = role_options,             \
-     .option_count = sizeof role_options / sizeof role_options[0], .create = role_create,          \
-     .destroy = role_destroy, .network = __VA_ARGS__}
+#define ROLE_CLASS(id, ...)                                                                                           \
+    {                                                                                                                 \
+        .abi = TSR_SPU_ABI, .name = id, .summary = "test role", .options = role_options,                              \
+        .option_count = sizeof role_options / sizeof role_options[0], .create = role_create, .destroy = role_destroy, \
+        .network = __VA_ARGS__                                                                                        \
+    }
 static const tsr_spu_class role_classes[] = {
     ROLE_CLASS("t_one", {.role = TSR_SPU_ROLE_SERVER, .server = "to_one"}),
     ROLE_CLASS("t_all", {.role = TSR_SPU_ROLE_SERVERS, .servers = "to_all"}),
-    ROLE_CLASS("t_tiled", {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "to_all",
-                           .server_tiles = "theirs"}),
-    ROLE_CLASS("t_display", {.role = TSR_SPU_ROLE_DISPLAY, .display = "to_one", .tiles = "own",
-                             .rank = "place"}),
-    ROLE_CLASS("t_peers", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place",
-                           .peers = "group"}),
+    ROLE_CLASS("t_tiled", {.role = TSR_SPU_ROLE_TILED_SERVERS, .servers = "to_all", .server_tiles = "theirs"}),
+    ROLE_CLASS("t_display", {.role = TSR_SPU_ROLE_DISPLAY, .display = "to_one", .tiles = "own", .rank = "place"}),
+    ROLE_CLASS("t_peers", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place", .peers = "group"}),
     ROLE_CLASS("t_filter", {.role = TSR_SPU_ROLE_NONE, .tiles = "own"}),
     /* the coming sort-last SPU, under its name */
-    ROLE_CLASS("binaryswap", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place",
-                              .peers = "group"}),
+    ROLE_CLASS("binaryswap", {.role = TSR_SPU_ROLE_PEERS, .display = "to_one", .rank = "place", .peers = "group"}),
 };
 
-static void register_role_classes(void) {
+static void register_role_classes(void)
+{
     for (size_t i = 0; i < sizeof role_classes / sizeof role_classes[0]; i++) {
         tsr_error err;
         tsr_error_clear(&err);
@@ -291,7 +294,8 @@ static void register_role_classes(void) {
 
 /* A graph around one app node whose chain is `spu`, sending to the nodes
  * of `to` (YAML), with `servers` (YAML node entries) after it. */
-static int graph_checks(const char *spu, const char *to, const char *servers) {
+static int graph_checks(const char *spu, const char *to, const char *servers)
+{
     char text[2048];
     snprintf(text, sizeof text,
              "version: 1\n"
@@ -315,7 +319,8 @@ static int graph_checks(const char *spu, const char *to, const char *servers) {
 
 /* The graph's rules follow each class's declared role, whatever its name:
  * one server, every server, tiled servers, a display, a group of peers. */
-static void roles_decide_the_graph_rules(void) {
+static void roles_decide_the_graph_rules(void)
+{
     register_role_classes();
     const char *two = SERVER("a", TILE(0)) SERVER("b", TILE(32));
     /* one server */
@@ -328,13 +333,11 @@ static void roles_decide_the_graph_rules(void) {
     /* no role: no to: */
     CHECK(graph_checks("t_filter", "[a]", SERVER("a", "")) == TSR_EINVAL);
     /* display: tile servers sending to one display, disjoint tiles */
-    const char *wall = "  a:\n    chain: [t_display]\n    to: d\n" TILE(0)
-                       "  b:\n    chain: [t_display]\n    to: d\n" TILE(32)
-                       "  d:\n    chain: [t_filter]\n";
+    const char *wall = "  a:\n    chain: [t_display]\n    to: d\n" TILE(
+        0) "  b:\n    chain: [t_display]\n    to: d\n" TILE(32) "  d:\n    chain: [t_filter]\n";
     CHECK(graph_checks("t_all", "[a, b]", wall) == TSR_OK);
-    const char *overlap = "  a:\n    chain: [t_display]\n    to: d\n" TILE(0)
-                          "  b:\n    chain: [t_display]\n    to: d\n" TILE(16)
-                          "  d:\n    chain: [t_filter]\n";
+    const char *overlap = "  a:\n    chain: [t_display]\n    to: d\n" TILE(
+        0) "  b:\n    chain: [t_display]\n    to: d\n" TILE(16) "  d:\n    chain: [t_filter]\n";
     CHECK(graph_checks("t_all", "[a, b]", overlap) == TSR_EINVAL);
     const char *two_displays = "  a:\n    chain: [t_display]\n    to: [d, e]\n"
                                "  d:\n    chain: [t_filter]\n  e:\n    chain: [t_filter]\n";
@@ -357,23 +360,23 @@ static void roles_decide_the_graph_rules(void) {
                                   "  s: {chain: [render]}\n";
     tsr_error err;
     tsr_error_clear(&err);
-    tsr_graph *g = tsr_graph_parse(unknown, strlen(unknown), "unknown.yaml", TSR_GRAPH_NO_SPU_CHECK,
-                                   &err);
+    tsr_graph *g = tsr_graph_parse(unknown, strlen(unknown), "unknown.yaml", TSR_GRAPH_NO_SPU_CHECK, &err);
     CHECK(g != NULL);
     tsr_graph_free(g);
     CHECK(!tsr_graph_parse(unknown, strlen(unknown), "unknown.yaml", 0, &err));
 }
 
-static void network_spus_are_known(void) {
+static void network_spus_are_known(void)
+{
     register_role_classes(); /* binaryswap: the coming sort-last SPU's role */
     const char *network[] = {"pack", "replicate", "tilesort", "binaryswap", "readback"};
     for (size_t i = 0; i < 5; i++)
         CHECK(tsr_spu_is_network(network[i]));
-    CHECK(!tsr_spu_is_network("render") && !tsr_spu_is_network("passthrough") &&
-          !tsr_spu_is_network(NULL));
+    CHECK(!tsr_spu_is_network("render") && !tsr_spu_is_network("passthrough") && !tsr_spu_is_network(NULL));
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     static const struct {
         const char *name;
         void (*run)(void);

@@ -34,7 +34,8 @@ typedef struct monitor {
     long peak_self_kb, peak_child_kb;
 } monitor;
 
-static void *monitor_main(void *arg) {
+static void *monitor_main(void *arg)
+{
     monitor *m = arg;
     while (!atomic_load(&m->stop)) {
         long self = rss_kb(0), child = rss_kb(m->child);
@@ -47,7 +48,8 @@ static void *monitor_main(void *arg) {
     return NULL;
 }
 
-static int read_line(FILE *f, char *line, size_t size, const char *want) {
+static int read_line(FILE *f, char *line, size_t size, const char *want)
+{
     while (fgets(line, (int)size, f)) {
         printf("server: %s", line);
         if (!strncmp(line, "error", 5))
@@ -58,7 +60,8 @@ static int read_line(FILE *f, char *line, size_t size, const char *want) {
     return -1;
 }
 
-static pid_t spawn_server(const char *helper, int stall_ms_value, FILE **from_child) {
+static pid_t spawn_server(const char *helper, int stall_ms_value, FILE **from_child)
+{
     int out[2];
     CHECK(pipe(out) == 0, "pipe: %s", strerror(errno));
     char credits[16], message_bytes[32], total[32], stall_after[16], stall_ms[16];
@@ -88,13 +91,13 @@ typedef struct blocked_sender {
     uint64_t failed_at_ms;
 } blocked_sender;
 
-static void *blocked_sender_main(void *arg) {
+static void *blocked_sender_main(void *arg)
+{
     blocked_sender *b = arg;
     uint8_t *source = malloc(MESSAGE_BYTES);
     for (unsigned k = 0; k < MESSAGES && !b->rc; k++) {
         tsr_net_pattern_fill(source, (uint64_t)k * MESSAGE_BYTES, MESSAGE_BYTES, 0);
-        b->rc = tsr_net_send(b->conn, TSR_NET_KIND_FIRST_USER, source, MESSAGE_BYTES, 15000,
-                             &b->err);
+        b->rc = tsr_net_send(b->conn, TSR_NET_KIND_FIRST_USER, source, MESSAGE_BYTES, 15000, &b->err);
     }
     b->failed_at_ms = test_now_ms();
     free(source);
@@ -102,7 +105,8 @@ static void *blocked_sender_main(void *arg) {
 }
 
 /* The receiver dies while the sender waits for credits. */
-static int killed_receiver(const char *helper) {
+static int killed_receiver(const char *helper)
+{
     FILE *from_child;
     pid_t child = spawn_server(helper, 20000, &from_child);
     char line[512], address[256];
@@ -124,18 +128,17 @@ static int killed_receiver(const char *helper) {
     pthread_join(thread, NULL);
     uint64_t took = b.failed_at_ms - killed_at;
     printf("send failed %llu ms after SIGKILL: %s\n", (unsigned long long)took, b.err.message);
-    CHECK(b.rc == TSR_EIO && contains(b.err.message, "stalling-server") &&
-              contains(b.err.message, address),
+    CHECK(b.rc == TSR_EIO && contains(b.err.message, "stalling-server") && contains(b.err.message, address),
           "unclear error %s: %s", tsr_error_name(b.rc), b.err.message);
-    CHECK(took < 2000, "the blocked sender noticed the dead peer only after %llu ms",
-          (unsigned long long)took);
+    CHECK(took < 2000, "the blocked sender noticed the dead peer only after %llu ms", (unsigned long long)took);
     tsr_net_conn_close(b.conn);
     tsr_net_destroy(net);
     fclose(from_child);
     return 0;
 }
 
-static int stalled_receiver(const char *helper) {
+static int stalled_receiver(const char *helper)
+{
     FILE *from_child;
     pid_t child = spawn_server(helper, STALL_MS, &from_child);
     char line[512], address[256];
@@ -166,8 +169,7 @@ static int stalled_receiver(const char *helper) {
     for (unsigned k = 0; k < MESSAGES; k++) {
         tsr_net_pattern_fill(source, (uint64_t)k * MESSAGE_BYTES, MESSAGE_BYTES, 0);
         fnv = tsr_net_fnv1a(fnv, source, MESSAGE_BYTES);
-        CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, source, MESSAGE_BYTES, 10000, &err),
-                 err);
+        CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, source, MESSAGE_BYTES, 10000, &err), err);
         returned_ms[k + 1] = test_now_ms();
     }
     tsr_net_stats st;
@@ -176,9 +178,8 @@ static int stalled_receiver(const char *helper) {
     CHECK(read_line(from_child, line, sizeof line, "done ") == 0, "server did not finish");
     unsigned long long got_bytes = 0, got_fnv = 0;
     unsigned got_messages = 0;
-    CHECK(sscanf(line, "done bytes=%llu messages=%u fnv=%llx", &got_bytes, &got_messages,
-                 &got_fnv) == 3,
-          "bad line %s", line);
+    CHECK(sscanf(line, "done bytes=%llu messages=%u fnv=%llx", &got_bytes, &got_messages, &got_fnv) == 3, "bad line %s",
+          line);
     atomic_store(&mon.stop, 1);
     pthread_join(mon_thread, NULL);
     int status = 0;
@@ -200,20 +201,17 @@ static int stalled_receiver(const char *helper) {
            blocked, (unsigned long long)longest, blocked - 1, STALL_AFTER, CREDITS,
            (double)st.blocked_on_credits_ns / 1e9);
     long bound_kb = (long)(CREDITS + 2) * (MESSAGE_BYTES / 1024) + MARGIN_KB;
-    printf("VmRSS client: baseline %ld KiB, peak %ld KiB, growth %ld KiB\n", base_self,
-           mon.peak_self_kb, mon.peak_self_kb - base_self);
-    printf("VmRSS server: baseline %ld KiB, peak %ld KiB, growth %ld KiB\n", base_child,
-           mon.peak_child_kb, mon.peak_child_kb - base_child);
-    printf("bound: (credits %d + 2) x %d KiB + %d KiB margin = %ld KiB; streamed %d MiB\n",
-           CREDITS, MESSAGE_BYTES / 1024, MARGIN_KB, bound_kb,
-           (int)((uint64_t)MESSAGES * MESSAGE_BYTES >> 20));
+    printf("VmRSS client: baseline %ld KiB, peak %ld KiB, growth %ld KiB\n", base_self, mon.peak_self_kb,
+           mon.peak_self_kb - base_self);
+    printf("VmRSS server: baseline %ld KiB, peak %ld KiB, growth %ld KiB\n", base_child, mon.peak_child_kb,
+           mon.peak_child_kb - base_child);
+    printf("bound: (credits %d + 2) x %d KiB + %d KiB margin = %ld KiB; streamed %d MiB\n", CREDITS,
+           MESSAGE_BYTES / 1024, MARGIN_KB, bound_kb, (int)((uint64_t)MESSAGES * MESSAGE_BYTES >> 20));
     CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "server exited with status %d", status);
-    CHECK(longest >= STALL_MS - 500,
-          "no send blocked during the %d ms stall (longest wait %llu ms)", STALL_MS,
+    CHECK(longest >= STALL_MS - 500, "no send blocked during the %d ms stall (longest wait %llu ms)", STALL_MS,
           (unsigned long long)longest);
-    CHECK(blocked - 1 == STALL_AFTER + CREDITS,
-          "%u sends returned before the block; credits allow exactly %d", blocked - 1,
-          STALL_AFTER + CREDITS);
+    CHECK(blocked - 1 == STALL_AFTER + CREDITS, "%u sends returned before the block; credits allow exactly %d",
+          blocked - 1, STALL_AFTER + CREDITS);
 #if defined(__SANITIZE_THREAD__)
     printf("memory bound not checked: ThreadSanitizer's allocator keeps freed memory\n");
 #else
@@ -224,14 +222,13 @@ static int stalled_receiver(const char *helper) {
 #endif
     CHECK(got_bytes == (unsigned long long)MESSAGES * MESSAGE_BYTES && got_messages == MESSAGES,
           "server received %llu bytes in %u messages", got_bytes, got_messages);
-    CHECK(got_fnv == fnv, "checksum: sent %016llx, received %016llx", (unsigned long long)fnv,
-          got_fnv);
-    printf("all %d MiB arrived exactly (fnv1a %016llx)\n",
-           (int)((uint64_t)MESSAGES * MESSAGE_BYTES >> 20), got_fnv);
+    CHECK(got_fnv == fnv, "checksum: sent %016llx, received %016llx", (unsigned long long)fnv, got_fnv);
+    printf("all %d MiB arrived exactly (fnv1a %016llx)\n", (int)((uint64_t)MESSAGES * MESSAGE_BYTES >> 20), got_fnv);
     return 0;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (argc == 3 && !strcmp(argv[1], "stall"))
         return stalled_receiver(argv[2]);

@@ -17,7 +17,8 @@ const char *__asan_default_options(void);
 const char *__asan_default_options(void) { return "quarantine_size_mb=0"; }
 #endif
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc != 6) {
         fprintf(stderr, "usage: net_stall_server CREDITS MESSAGE_BYTES TOTAL_BYTES STALL_AFTER "
                         "STALL_MS\n");
@@ -63,15 +64,14 @@ int main(int argc, char **argv) {
         tsr_net_msg m;
         int got = tsr_net_recv(c, &m, 10000, &err);
         if (got <= 0) {
-            printf("error stream ended after %llu of %llu bytes: %s\n", (unsigned long long)at,
-                   total, got ? err.message : "peer closed");
+            printf("error stream ended after %llu of %llu bytes: %s\n", (unsigned long long)at, total,
+                   got ? err.message : "peer closed");
             rc = 1;
             break;
         }
         tsr_net_pattern_fill(expect, at, (size_t)m.len, 0);
         if (m.len > message_bytes || memcmp(expect, m.data, (size_t)m.len)) {
-            printf("error message %u (stream offset %llu) differs\n", consumed,
-                   (unsigned long long)at);
+            printf("error message %u (stream offset %llu) differs\n", consumed, (unsigned long long)at);
             rc = 1;
         }
         fnv = tsr_net_fnv1a(fnv, m.data, (size_t)m.len);
@@ -91,8 +91,7 @@ int main(int argc, char **argv) {
     }
     tsr_net_stats st;
     tsr_net_conn_stats(c, &st);
-    printf("done bytes=%llu messages=%u fnv=%016llx\n", (unsigned long long)at, consumed,
-           (unsigned long long)fnv);
+    printf("done bytes=%llu messages=%u fnv=%016llx\n", (unsigned long long)at, consumed, (unsigned long long)fnv);
     free(expect);
     tsr_net_conn_close(c);
     tsr_net_listener_close(l);

@@ -13,7 +13,8 @@
 
 static void check_still_works(tsr_net_conn *a, tsr_net_conn *b, const char *when);
 
-static tsr_net *make_net(const char *name, const char *token, uint32_t credits) {
+static tsr_net *make_net(const char *name, const char *token, uint32_t credits)
+{
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
     cfg.node_name = name;
@@ -32,12 +33,12 @@ static tsr_net *make_net(const char *name, const char *token, uint32_t credits) 
 /* ---- round trip: a client streams messages of awkward sizes, the server
  * echoes each one, the client checks kind, length, bytes and order. ------ */
 
-static const size_t roundtrip_sizes[] = {0, 1, 7, 8, 15, 4095, 65535, 65536, 65537,
-                                         200000, 1048576 + 3, 3, 0, 123457};
+static const size_t roundtrip_sizes[] = {0, 1, 7, 8, 15, 4095, 65535, 65536, 65537, 200000, 1048576 + 3, 3, 0, 123457};
 enum { ROUNDTRIP_REPEATS = 6 };
 #define ROUNDTRIP_COUNT (sizeof roundtrip_sizes / sizeof roundtrip_sizes[0] * ROUNDTRIP_REPEATS)
 
-static size_t roundtrip_size(size_t i) {
+static size_t roundtrip_size(size_t i)
+{
     return roundtrip_sizes[i % (sizeof roundtrip_sizes / sizeof roundtrip_sizes[0])];
 }
 
@@ -48,7 +49,8 @@ typedef struct echo_server {
     int failed;
 } echo_server;
 
-static void *echo_main(void *arg) {
+static void *echo_main(void *arg)
+{
     echo_server *s = arg;
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_accept(s->listener, 5000, &err);
@@ -87,15 +89,15 @@ typedef struct roundtrip_sender {
     int failed;
 } roundtrip_sender;
 
-static void *roundtrip_send_main(void *arg) {
+static void *roundtrip_send_main(void *arg)
+{
     roundtrip_sender *s = arg;
     tsr_error err = {0};
     for (size_t i = 0; i < ROUNDTRIP_COUNT; i++) {
         size_t n = roundtrip_size(i);
         uint8_t *buf = malloc(n ? n : 1);
         tsr_net_pattern_fill(buf, 0, n, i);
-        int rc = tsr_net_send(s->conn, TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), buf, n,
-                              5000, &err);
+        int rc = tsr_net_send(s->conn, TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), buf, n, 5000, &err);
         free(buf);
         if (rc) {
             fprintf(stderr, "client: send %zu: %s\n", i, err.message);
@@ -106,7 +108,8 @@ static void *roundtrip_send_main(void *arg) {
     return NULL;
 }
 
-static int roundtrip(const char *address, int same_net) {
+static int roundtrip(const char *address, int same_net)
+{
     tsr_net *server_net = make_net("echo-server", NULL, 4);
     tsr_net *client_net = same_net ? server_net : make_net("roundtrip-client", NULL, 4);
     tsr_error err = {0};
@@ -120,8 +123,8 @@ static int roundtrip(const char *address, int same_net) {
 
     tsr_net_conn *c = tsr_net_connect(client_net, bound, &err);
     CHECK(c, "connect %s: %s", bound, err.message);
-    CHECK(!strcmp(tsr_net_conn_peer_name(c), same_net ? "echo-server" : "echo-server"),
-          "peer name '%s'", tsr_net_conn_peer_name(c));
+    CHECK(!strcmp(tsr_net_conn_peer_name(c), same_net ? "echo-server" : "echo-server"), "peer name '%s'",
+          tsr_net_conn_peer_name(c));
     roundtrip_sender sender = {.conn = c};
     pthread_t send_thread;
     pthread_create(&send_thread, NULL, roundtrip_send_main, &sender);
@@ -132,8 +135,7 @@ static int roundtrip(const char *address, int same_net) {
         int got = tsr_net_recv(c, &m, 5000, &err);
         CHECK(got == 1, "echo %zu of %zu: %d %s", i, (size_t)ROUNDTRIP_COUNT, got, err.message);
         size_t n = roundtrip_size(i);
-        CHECK(m.kind == TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), "message %zu kind %u", i,
-              m.kind);
+        CHECK(m.kind == TSR_NET_KIND_FIRST_USER + (unsigned)(i % 200), "message %zu kind %u", i, m.kind);
         CHECK(m.len == n, "message %zu: %llu bytes, sent %zu", i, (unsigned long long)m.len, n);
         uint8_t *expect = malloc(n ? n : 1);
         tsr_net_pattern_fill(expect, 0, n, i);
@@ -146,23 +148,21 @@ static int roundtrip(const char *address, int same_net) {
     CHECK(!sender.failed, "sender failed");
     tsr_net_stats st;
     tsr_net_conn_stats(c, &st);
-    CHECK(st.bytes_sent == bytes && st.bytes_received == bytes &&
-              st.messages_sent == ROUNDTRIP_COUNT && st.messages_received == ROUNDTRIP_COUNT,
-          "stats: sent %llu B/%llu msgs, received %llu B/%llu msgs, expected %llu B",
-          (unsigned long long)st.bytes_sent, (unsigned long long)st.messages_sent,
-          (unsigned long long)st.bytes_received, (unsigned long long)st.messages_received,
-          (unsigned long long)bytes);
+    CHECK(st.bytes_sent == bytes && st.bytes_received == bytes && st.messages_sent == ROUNDTRIP_COUNT &&
+              st.messages_received == ROUNDTRIP_COUNT,
+          "stats: sent %llu B/%llu msgs, received %llu B/%llu msgs, expected %llu B", (unsigned long long)st.bytes_sent,
+          (unsigned long long)st.messages_sent, (unsigned long long)st.bytes_received,
+          (unsigned long long)st.messages_received, (unsigned long long)bytes);
     tsr_net_conn_close(c);
     pthread_join(echo_thread, NULL);
     CHECK(!server.failed, "echo server failed");
     CHECK(server.messages == ROUNDTRIP_COUNT && server.bytes == bytes,
-          "server echoed %llu messages / %llu bytes of %zu / %llu",
-          (unsigned long long)server.messages, (unsigned long long)server.bytes,
-          (size_t)ROUNDTRIP_COUNT, (unsigned long long)bytes);
-    CHECK(!strcmp(server.peer_name, same_net ? "echo-server" : "roundtrip-client"),
-          "server saw peer '%s'", server.peer_name);
-    printf("%zu messages, %llu bytes each way through %s, order and bytes exact\n",
-           (size_t)ROUNDTRIP_COUNT, (unsigned long long)bytes, bound);
+          "server echoed %llu messages / %llu bytes of %zu / %llu", (unsigned long long)server.messages,
+          (unsigned long long)server.bytes, (size_t)ROUNDTRIP_COUNT, (unsigned long long)bytes);
+    CHECK(!strcmp(server.peer_name, same_net ? "echo-server" : "roundtrip-client"), "server saw peer '%s'",
+          server.peer_name);
+    printf("%zu messages, %llu bytes each way through %s, order and bytes exact\n", (size_t)ROUNDTRIP_COUNT,
+           (unsigned long long)bytes, bound);
     tsr_net_listener_close(l);
     if (!same_net)
         tsr_net_destroy(client_net);
@@ -172,7 +172,8 @@ static int roundtrip(const char *address, int same_net) {
 
 static int test_tcp_roundtrip_ipv4(void) { return roundtrip("tcp://127.0.0.1:0", 0); }
 
-static int test_tcp_roundtrip_ipv6(void) {
+static int test_tcp_roundtrip_ipv6(void)
+{
     int fd = socket(AF_INET6, SOCK_STREAM, 0);
     struct sockaddr_in6 sa = {.sin6_family = AF_INET6, .sin6_addr = IN6ADDR_LOOPBACK_INIT};
     if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
@@ -185,7 +186,8 @@ static int test_tcp_roundtrip_ipv6(void) {
     return roundtrip("tcp://[::1]:0", 0);
 }
 
-static int test_unix_roundtrip(void) {
+static int test_unix_roundtrip(void)
+{
     char address[128];
     snprintf(address, sizeof address, "unix:/tmp/tsr-net-test-%d.sock", (int)getpid());
     int rc = roundtrip(address, 0);
@@ -197,16 +199,16 @@ static int test_inproc_roundtrip(void) { return roundtrip("inproc:echo", 1); }
 
 /* "localhost" may resolve to ::1 first; a loopback IPv4 listener must
  * still be reached (every resolved address is tried). */
-static int test_connect_by_host_name(void) {
+static int test_connect_by_host_name(void)
+{
     tsr_net *net = make_net("named-host", NULL, 4);
     tsr_error err = {0};
     tsr_net_listener *l = tsr_net_listen(net, "tcp://:0", &err);
     CHECK(l, "listen: %s", err.message);
-    CHECK(!strncmp(tsr_net_listener_address(l), "tcp://127.0.0.1:", 16),
-          "default listener bound %s, not loopback", tsr_net_listener_address(l));
+    CHECK(!strncmp(tsr_net_listener_address(l), "tcp://127.0.0.1:", 16), "default listener bound %s, not loopback",
+          tsr_net_listener_address(l));
     char address[64];
-    snprintf(address, sizeof address, "tcp://localhost:%u",
-             address_port(tsr_net_listener_address(l)));
+    snprintf(address, sizeof address, "tcp://localhost:%u", address_port(tsr_net_listener_address(l)));
     tsr_net_conn *c = tsr_net_connect(net, address, &err);
     CHECK(c, "connect %s: %s", address, err.message);
     tsr_net_conn *s = tsr_net_accept(l, 2000, &err);
@@ -221,7 +223,8 @@ static int test_connect_by_host_name(void) {
 }
 
 /* The in-process transport keeps the credit rules of the sockets. */
-static int test_inproc_credits(void) {
+static int test_inproc_credits(void)
+{
     tsr_net *net = make_net("inproc-node", NULL, 3);
     tsr_error err = {0};
     tsr_net_listener *l = tsr_net_listen(net, "inproc:window", &err);
@@ -234,9 +237,8 @@ static int test_inproc_credits(void) {
         CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, &k, sizeof k, 1000, &err), err);
     uint64_t t0 = test_now_ms();
     int rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "x", 1, 200, &err);
-    CHECK(rc == TSR_ETIMEDOUT && test_now_ms() - t0 >= 150,
-          "a 4th message on 3 credits: %s after %llu ms", tsr_error_name(rc),
-          (unsigned long long)(test_now_ms() - t0));
+    CHECK(rc == TSR_ETIMEDOUT && test_now_ms() - t0 >= 150, "a 4th message on 3 credits: %s after %llu ms",
+          tsr_error_name(rc), (unsigned long long)(test_now_ms() - t0));
     tsr_net_msg m;
     CHECK(tsr_net_recv(s, &m, 1000, &err) == 1, "recv: %s", err.message);
     /* Received but not released: the credit is still out. */
@@ -244,8 +246,7 @@ static int test_inproc_credits(void) {
           "a credit came back before the message was released");
     tsr_net_msg_release(&m);
     CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, "x", 1, 1000, &err), err);
-    CHECK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, (void *)&err, 1ull << 40, 1000, &err) ==
-              TSR_EINVAL,
+    CHECK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER, (void *)&err, 1ull << 40, 1000, &err) == TSR_EINVAL,
           "oversize inproc message accepted");
     tsr_net_conn_close(c);
     int got, n = 0;
@@ -263,7 +264,8 @@ static int test_inproc_credits(void) {
 
 /* ---- limits ------------------------------------------------------------- */
 
-static int test_large_message_rejected(void) {
+static int test_large_message_rejected(void)
+{
     tsr_net *server_net = make_net("limit-server", NULL, 4); /* max 4 MiB */
     tsr_net *client_net = make_net("limit-client", NULL, 4);
     tsr_error err = {0};
@@ -293,8 +295,7 @@ static int test_large_message_rejected(void) {
     CHECK(contains(err.message, number) && contains(err.message, "max_message_bytes") &&
               contains(err.message, "raw-liar"),
           "error does not name the length, the limit and the peer: %s", err.message);
-    CHECK(rss_after - rss_before < 64 * 1024, "RSS grew by %ld KiB on a lying length",
-          rss_after - rss_before);
+    CHECK(rss_after - rss_before < 64 * 1024, "RSS grew by %ld KiB on a lying length", rss_after - rss_before);
     uint8_t byte;
     CHECK(raw_read_exact(fd, &byte, 1, 3000) == -1, "server kept the lying connection open");
     close(fd);
@@ -309,8 +310,7 @@ static int test_large_message_rejected(void) {
     static const uint8_t small[16];
     int rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, small, 1ull << 40, 1000, &err);
     printf("sender error: %s\n", err.message);
-    CHECK(rc == TSR_EINVAL && contains(err.message, "1099511627776") &&
-              contains(err.message, "limit-server"),
+    CHECK(rc == TSR_EINVAL && contains(err.message, "1099511627776") && contains(err.message, "limit-server"),
           "oversize send: %s %s", tsr_error_name(rc), err.message);
     uint64_t limit = 4u << 20;
     uint8_t *big = malloc(limit + 1);
@@ -319,10 +319,8 @@ static int test_large_message_rejected(void) {
     CHECK(rc == TSR_EINVAL, "limit+1 bytes accepted: %s", tsr_error_name(rc));
     CHECK_OK(tsr_net_send(c, TSR_NET_KIND_FIRST_USER + 1, big, limit, 5000, &err), err);
     got = tsr_net_recv(s, &m, 5000, &err);
-    CHECK(got == 1 && m.len == limit && m.kind == TSR_NET_KIND_FIRST_USER + 1 &&
-              !memcmp(m.data, big, limit),
-          "a message of exactly max_message_bytes did not arrive intact: %d %s", got,
-          err.message);
+    CHECK(got == 1 && m.len == limit && m.kind == TSR_NET_KIND_FIRST_USER + 1 && !memcmp(m.data, big, limit),
+          "a message of exactly max_message_bytes did not arrive intact: %d %s", got, err.message);
     tsr_net_msg_release(&m);
     free(big);
     tsr_net_conn_close(c);
@@ -335,7 +333,8 @@ static int test_large_message_rejected(void) {
 
 /* Hand-made bad frames: each fails only its own connection, with a line
  * naming the problem, and the server goes on serving a good client. */
-static int test_malformed_frames(void) {
+static int test_malformed_frames(void)
+{
     tsr_net *server_net = make_net("strict-server", NULL, 2);
     tsr_net *good_net = make_net("good-client", NULL, 4);
     tsr_error err = {0};
@@ -358,8 +357,7 @@ static int test_malformed_frames(void) {
         {"reserved type", "type 0x09", 1, 0x09, 0, 0, 1},
         {"second HELLO", "type 0x01", 1, 0x01, 0, 16, 1},
         {"CREDIT of 3 bytes", "CREDIT of 3 bytes", 1, 0x04, 0, 3, 1},
-        {"credits returned that were never granted", "more credits than it granted", 1, 0x04,
-         0, 4, 1},
+        {"credits returned that were never granted", "more credits than it granted", 1, 0x04, 0, 4, 1},
         {"wrong version after the handshake", "protocol version 9", 9, 0x10, 0, 0, 1},
         {"three messages on two credits", "more messages than the 2 credits", 1, 0x10, 0, 1, 3},
         {"end of stream inside a message", "inside a message", 1, 0x10, 0, 100, 1},
@@ -392,10 +390,8 @@ static int test_malformed_frames(void) {
         while ((got = tsr_net_recv(c, &m, 2000, &err)) == 1)
             tsr_net_msg_release(&m);
         printf("%s: %s\n", cases[i].what, err.message);
-        CHECK(got < 0 && got != TSR_ETIMEDOUT && contains(err.message, cases[i].expect) &&
-                  !strchr(err.message, '\n'),
-              "%s: got %d, error '%s' lacks '%s'", cases[i].what, got, err.message,
-              cases[i].expect);
+        CHECK(got < 0 && got != TSR_ETIMEDOUT && contains(err.message, cases[i].expect) && !strchr(err.message, '\n'),
+              "%s: got %d, error '%s' lacks '%s'", cases[i].what, got, err.message, cases[i].expect);
         tsr_net_conn_close(c);
         close(fd);
         check_still_works(good, good_s, cases[i].what);
@@ -410,7 +406,8 @@ static int test_malformed_frames(void) {
 
 /* ---- handshake ------------------------------------------------------------ */
 
-static tsr_net *make_net_version(const char *name, const char *token, uint16_t version) {
+static tsr_net *make_net_version(const char *name, const char *token, uint16_t version)
+{
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
     cfg.node_name = name;
@@ -424,17 +421,18 @@ static tsr_net *make_net_version(const char *name, const char *token, uint16_t v
 }
 
 /* An established connection survives a refusal next to it. */
-static void check_still_works(tsr_net_conn *a, tsr_net_conn *b, const char *when) {
+static void check_still_works(tsr_net_conn *a, tsr_net_conn *b, const char *when)
+{
     tsr_error err = {0};
     CHECK_OK(tsr_net_send(a, TSR_NET_KIND_FIRST_USER, "ping", 4, 2000, &err), err);
     tsr_net_msg m;
     int got = tsr_net_recv(b, &m, 2000, &err);
-    CHECK(got == 1 && m.len == 4 && !memcmp(m.data, "ping", 4), "%s: open connection broke: %s",
-          when, err.message);
+    CHECK(got == 1 && m.len == 4 && !memcmp(m.data, "ping", 4), "%s: open connection broke: %s", when, err.message);
     tsr_net_msg_release(&m);
 }
 
-static int test_version_mismatch(void) {
+static int test_version_mismatch(void)
+{
     tsr_net *server_net = make_net_version("render-server", NULL, 0);
     tsr_net *good_net = make_net_version("good-client", NULL, 0);
     tsr_net *future_net = make_net_version("future-client", NULL, TSR_NET_PROTOCOL_VERSION + 1);
@@ -455,9 +453,8 @@ static int test_version_mismatch(void) {
     char theirs[64], ours[64];
     snprintf(theirs, sizeof theirs, "protocol version %d", TSR_NET_PROTOCOL_VERSION + 1);
     snprintf(ours, sizeof ours, "speaks version %d", TSR_NET_PROTOCOL_VERSION);
-    CHECK(err.code == TSR_EPROTO && contains(err.message, "refused") &&
-              contains(err.message, theirs) && contains(err.message, ours) &&
-              contains(err.message, address) && !strchr(err.message, '\n'),
+    CHECK(err.code == TSR_EPROTO && contains(err.message, "refused") && contains(err.message, theirs) &&
+              contains(err.message, ours) && contains(err.message, address) && !strchr(err.message, '\n'),
           "client error is not one clear line: %s", err.message);
     CHECK(took < 2000, "refusal took %llu ms", (unsigned long long)took);
     tsr_error refusal = {0};
@@ -468,8 +465,7 @@ static int test_version_mismatch(void) {
     CHECK(refusals == 1, "server counted %u refusals", refusals);
     CHECK(contains(refusal.message, "future-client") && contains(refusal.message, theirs),
           "server's line does not name the peer and the version: %s", refusal.message);
-    CHECK(!tsr_net_accept(l, 200, &err) && err.code == TSR_ETIMEDOUT,
-          "the refused peer reached accept");
+    CHECK(!tsr_net_accept(l, 200, &err) && err.code == TSR_ETIMEDOUT, "the refused peer reached accept");
     check_still_works(good, good_s, "after a version refusal");
     check_still_works(good_s, good, "after a version refusal (reply)");
     tsr_net_conn_close(good);
@@ -481,7 +477,8 @@ static int test_version_mismatch(void) {
     return 0;
 }
 
-static int test_bad_token(void) {
+static int test_bad_token(void)
+{
     tsr_net *server_net = make_net_version("secure-server", "s3cret-token", 0);
     tsr_net *wrong_net = make_net_version("wrong-token-client", "guess", 0);
     tsr_net *none_net = make_net_version("no-token-client", NULL, 0);
@@ -493,8 +490,7 @@ static int test_bad_token(void) {
     tsr_net_conn *right = tsr_net_connect(right_net, address, &err);
     CHECK(right, "right token refused: %s", err.message);
     tsr_net_conn *right_s = tsr_net_accept(l, 2000, &err);
-    CHECK(right_s && !strcmp(tsr_net_conn_peer_name(right_s), "right-token-client"),
-          "accept: %s", err.message);
+    CHECK(right_s && !strcmp(tsr_net_conn_peer_name(right_s), "right-token-client"), "accept: %s", err.message);
 
     CHECK(!tsr_net_connect(wrong_net, address, &err), "wrong token accepted");
     printf("wrong token, client side: %s\n", err.message);
@@ -511,8 +507,8 @@ static int test_bad_token(void) {
         refusals = tsr_net_listener_refusals(l, &last);
     printf("server side (last): %s\n", last.message);
     CHECK(refusals == 2, "server counted %u refusals, expected 2", refusals);
-    CHECK(contains(last.message, "no-token-client") && !contains(last.message, "s3cret"),
-          "server line: %s", last.message);
+    CHECK(contains(last.message, "no-token-client") && !contains(last.message, "s3cret"), "server line: %s",
+          last.message);
     check_still_works(right, right_s, "after token refusals");
     tsr_net_conn *again = tsr_net_connect(right_net, address, &err);
     CHECK(again, "a second right-token client was refused: %s", err.message);
@@ -529,7 +525,8 @@ static int test_bad_token(void) {
 
 /* ---- address errors --------------------------------------------------------- */
 
-static int test_port_in_use(void) {
+static int test_port_in_use(void)
+{
     tsr_net *net = make_net("port-test", NULL, 4);
     tsr_error err = {0};
     tsr_net_listener *first = tsr_net_listen(net, "tcp://127.0.0.1:0", &err);
@@ -538,13 +535,12 @@ static int test_port_in_use(void) {
     snprintf(address, sizeof address, "%s", tsr_net_listener_address(first));
     CHECK(!tsr_net_listen(net, address, &err), "second listener on %s accepted", address);
     printf("tcp: %s\n", err.message);
-    CHECK(contains(err.message, address) && contains(err.message, "address already in use"),
-          "unclear: %s", err.message);
+    CHECK(contains(err.message, address) && contains(err.message, "address already in use"), "unclear: %s",
+          err.message);
     /* A default listener binds loopback only. */
     char loopback_default[64];
     snprintf(loopback_default, sizeof loopback_default, "tcp://:%u", address_port(address));
-    CHECK(!tsr_net_listen(net, loopback_default, &err) &&
-              contains(err.message, "address already in use"),
+    CHECK(!tsr_net_listen(net, loopback_default, &err) && contains(err.message, "address already in use"),
           "tcp://:PORT did not bind 127.0.0.1: %s", err.message);
 
     char path[96], unix_address[128];
@@ -561,8 +557,7 @@ static int test_port_in_use(void) {
     /* ...but a live one is not. */
     CHECK(!tsr_net_listen(net, unix_address, &err), "second unix listener accepted");
     printf("unix: %s\n", err.message);
-    CHECK(contains(err.message, unix_address) && contains(err.message, "in use"), "unclear: %s",
-          err.message);
+    CHECK(contains(err.message, unix_address) && contains(err.message, "in use"), "unclear: %s", err.message);
     tsr_net_listener_close(u);
     CHECK(access(path, F_OK) != 0, "%s left behind", path);
 
@@ -570,15 +565,15 @@ static int test_port_in_use(void) {
     CHECK(a, "inproc listen: %s", err.message);
     CHECK(!tsr_net_listen(net, "inproc:render", &err), "second inproc listener accepted");
     printf("inproc: %s\n", err.message);
-    CHECK(contains(err.message, "inproc:render") && contains(err.message, "in use"),
-          "unclear: %s", err.message);
+    CHECK(contains(err.message, "inproc:render") && contains(err.message, "in use"), "unclear: %s", err.message);
     tsr_net_listener_close(a);
     tsr_net_listener_close(first);
     tsr_net_destroy(net);
     return 0;
 }
 
-static int test_connect_refused(void) {
+static int test_connect_refused(void)
+{
     tsr_net *net = make_net("refused-test", NULL, 4);
     tsr_error err = {0};
     tsr_net_listener *l = tsr_net_listen(net, "tcp://127.0.0.1:0", &err);
@@ -589,31 +584,25 @@ static int test_connect_refused(void) {
     uint64_t t0 = test_now_ms();
     CHECK(!tsr_net_connect(net, address, &err), "connected to a closed port");
     printf("tcp: %s\n", err.message);
-    CHECK(contains(err.message, address) && contains(err.message, "connection refused"),
-          "unclear: %s", err.message);
-    CHECK(test_now_ms() - t0 < 1500, "refusal took %llu ms",
-          (unsigned long long)(test_now_ms() - t0));
+    CHECK(contains(err.message, address) && contains(err.message, "connection refused"), "unclear: %s", err.message);
+    CHECK(test_now_ms() - t0 < 1500, "refusal took %llu ms", (unsigned long long)(test_now_ms() - t0));
 
     char unix_address[128];
     snprintf(unix_address, sizeof unix_address, "unix:/tmp/tsr-net-nobody-%d.sock", (int)getpid());
     CHECK(!tsr_net_connect(net, unix_address, &err), "connected to a missing socket");
     printf("unix: %s\n", err.message);
-    CHECK(contains(err.message, unix_address) && contains(err.message, "no such file"),
-          "unclear: %s", err.message);
+    CHECK(contains(err.message, unix_address) && contains(err.message, "no such file"), "unclear: %s", err.message);
     CHECK(!tsr_net_connect(net, "inproc:nobody", &err), "connected to a missing inproc name");
     printf("inproc: %s\n", err.message);
-    CHECK(contains(err.message, "inproc:nobody") && contains(err.message, "refused"),
-          "unclear: %s", err.message);
+    CHECK(contains(err.message, "inproc:nobody") && contains(err.message, "refused"), "unclear: %s", err.message);
 
-    static const char *const bad[] = {"tcp://127.0.0.1",     "tcp://::1:7000",
-                                      "tcp://127.0.0.1:70000", "tcp://[::1:7000",
-                                      "udp://127.0.0.1:7000", "unix:",
-                                      "inproc:",             "tcp://localhost:7x"};
+    static const char *const bad[] = {
+        "tcp://127.0.0.1", "tcp://::1:7000", "tcp://127.0.0.1:70000", "tcp://[::1:7000", "udp://127.0.0.1:7000",
+        "unix:",           "inproc:",        "tcp://localhost:7x"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         CHECK(!tsr_net_connect(net, bad[i], &err), "'%s' accepted", bad[i]);
         printf("syntax: %s\n", err.message);
-        CHECK(err.code == TSR_EINVAL && contains(err.message, bad[i]) &&
-                  contains(err.message, "bad address"),
+        CHECK(err.code == TSR_EINVAL && contains(err.message, bad[i]) && contains(err.message, "bad address"),
               "unclear: %s", err.message);
     }
     tsr_net_destroy(net);
@@ -621,12 +610,12 @@ static int test_connect_refused(void) {
 }
 
 /* A peer that accepts the socket but never answers the handshake. */
-static int test_handshake_timeout(void) {
+static int test_handshake_timeout(void)
+{
     int lfd = socket(AF_INET, SOCK_STREAM, 0);
     struct sockaddr_in sa = {.sin_family = AF_INET};
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 4) == 0, "listen: %s",
-          strerror(errno));
+    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 4) == 0, "listen: %s", strerror(errno));
     socklen_t len = sizeof sa;
     getsockname(lfd, (struct sockaddr *)&sa, &len);
     char address[64];
@@ -642,11 +631,9 @@ static int test_handshake_timeout(void) {
     CHECK(!tsr_net_connect(net, address, &err), "handshake with a mute peer succeeded");
     uint64_t took = test_now_ms() - t0;
     printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
-    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) &&
-              contains(err.message, "timed out"),
+    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) && contains(err.message, "timed out"),
           "unclear: %s", err.message);
-    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms",
-          (unsigned long long)took);
+    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms", (unsigned long long)took);
     tsr_net_destroy(net);
     close(lfd);
     return 0;
@@ -654,12 +641,12 @@ static int test_handshake_timeout(void) {
 
 /* A listener whose accept queue is full drops new SYNs, so the socket
  * connect itself never completes: the connect time-out must end it. */
-static int test_connect_timeout(void) {
+static int test_connect_timeout(void)
+{
     int lfd = socket(AF_INET, SOCK_STREAM, 0);
     struct sockaddr_in sa = {.sin_family = AF_INET};
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 0) == 0, "listen: %s",
-          strerror(errno));
+    CHECK(bind(lfd, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(lfd, 0) == 0, "listen: %s", strerror(errno));
     socklen_t len = sizeof sa;
     getsockname(lfd, (struct sockaddr *)&sa, &len);
     /* Fill the accept queue (never accepted) until a connect stalls. */
@@ -691,11 +678,9 @@ static int test_connect_timeout(void) {
     CHECK(!tsr_net_connect(net, address, &err), "connected through a full accept queue");
     uint64_t took = test_now_ms() - t0;
     printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
-    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) &&
-              contains(err.message, "timed out"),
+    CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) && contains(err.message, "timed out"),
           "unclear: %s", err.message);
-    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms",
-          (unsigned long long)took);
+    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms", (unsigned long long)took);
     tsr_net_destroy(net);
     for (int i = 0; i < nfill; i++)
         close(fillers[i]);
@@ -704,7 +689,8 @@ static int test_connect_timeout(void) {
 }
 
 /* A peer that completes the handshake, then goes silent (no pings). */
-static int test_idle_timeout(void) {
+static int test_idle_timeout(void)
+{
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
     cfg.node_name = "watchful-server";
@@ -728,8 +714,7 @@ static int test_idle_timeout(void) {
     uint64_t took = test_now_ms() - t0;
     printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
     /* Not TSR_ETIMEDOUT: that would read as "nothing yet" to a poll loop. */
-    CHECK(got == TSR_EIO && contains(err.message, "silent-peer") &&
-              contains(err.message, "idle_timeout_ms"),
+    CHECK(got == TSR_EIO && contains(err.message, "silent-peer") && contains(err.message, "idle_timeout_ms"),
           "silent peer not detected: %d %s", got, err.message);
     CHECK(took < 1500, "detection took %llu ms", (unsigned long long)took);
     close(fd);
@@ -743,9 +728,7 @@ static int test_idle_timeout(void) {
 
 enum { MANY_CLIENTS = 8, MANY_MESSAGES = 300 };
 
-static size_t many_size(unsigned client, unsigned seq) {
-    return 8 + (client * 7919u + seq * 104729u) % 30000u;
-}
+static size_t many_size(unsigned client, unsigned seq) { return 8 + (client * 7919u + seq * 104729u) % 30000u; }
 
 typedef struct many_client {
     tsr_net *net;
@@ -754,7 +737,8 @@ typedef struct many_client {
     int failed;
 } many_client;
 
-static void *many_client_main(void *arg) {
+static void *many_client_main(void *arg)
+{
     many_client *mc = arg;
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_connect(mc->net, mc->address, &err);
@@ -788,7 +772,8 @@ typedef struct many_receiver {
     int failed;
 } many_receiver;
 
-static void *many_receiver_main(void *arg) {
+static void *many_receiver_main(void *arg)
+{
     many_receiver *r = arg;
     tsr_error err = {0};
     r->client = -1;
@@ -814,8 +799,8 @@ static void *many_receiver_main(void *arg) {
             free(expect);
         }
         if (!ok) {
-            fprintf(stderr, "receiver for client %d: message %u (id %u seq %u, %llu bytes) wrong\n",
-                    r->client, r->messages, id, seq, (unsigned long long)m.len);
+            fprintf(stderr, "receiver for client %d: message %u (id %u seq %u, %llu bytes) wrong\n", r->client,
+                    r->messages, id, seq, (unsigned long long)m.len);
             r->failed = 1;
         }
         r->messages++;
@@ -826,7 +811,8 @@ static void *many_receiver_main(void *arg) {
     return NULL;
 }
 
-static int test_many_clients(void) {
+static int test_many_clients(void)
+{
     tsr_net *server_net = make_net("many-server", NULL, 4);
     tsr_net *client_net = make_net("many-clients", NULL, 4);
     tsr_error err = {0};
@@ -859,16 +845,15 @@ static int test_many_clients(void) {
         for (unsigned seq = 0; seq < MANY_MESSAGES; seq++)
             expect += many_size((unsigned)r->client, seq);
         CHECK(r->messages == MANY_MESSAGES && r->bytes == expect,
-              "client %d: %u messages / %llu bytes arrived, sent %d / %llu", r->client,
-              r->messages, (unsigned long long)r->bytes, MANY_MESSAGES,
-              (unsigned long long)expect);
+              "client %d: %u messages / %llu bytes arrived, sent %d / %llu", r->client, r->messages,
+              (unsigned long long)r->bytes, MANY_MESSAGES, (unsigned long long)expect);
         seen[r->client]++;
         total += r->bytes;
     }
     for (unsigned i = 0; i < MANY_CLIENTS; i++)
         CHECK(seen[i] == 1, "client %u arrived on %d connections", i, seen[i]);
-    printf("%d clients x %d messages, %llu bytes, all in order and exact\n", MANY_CLIENTS,
-           MANY_MESSAGES, (unsigned long long)total);
+    printf("%d clients x %d messages, %llu bytes, all in order and exact\n", MANY_CLIENTS, MANY_MESSAGES,
+           (unsigned long long)total);
     tsr_net_listener_close(l);
     tsr_net_destroy(client_net);
     tsr_net_destroy(server_net);
@@ -887,7 +872,8 @@ typedef struct any_client {
     int failed;
 } any_client;
 
-static void *any_client_main(void *arg) {
+static void *any_client_main(void *arg)
+{
     any_client *a = arg;
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_connect(a->net, a->address, &err);
@@ -909,7 +895,8 @@ static void *any_client_main(void *arg) {
     return NULL;
 }
 
-static int test_recv_any_round_robin(void) {
+static int test_recv_any_round_robin(void)
+{
     tsr_net *server_net = make_net("multiplexing-server", NULL, ANY_CREDITS);
     tsr_net *client_net = make_net("any-clients", NULL, 4);
     tsr_error err = {0};
@@ -957,29 +944,27 @@ static int test_recv_any_round_robin(void) {
         if (client_of[which] < 0)
             client_of[which] = (int)id;
         CHECK(client_of[which] == (int)id && id < ANY_CLIENTS && seq == next_seq[id],
-              "connection %zu: client %u message %u, expected client %d message %u", which, id,
-              seq, client_of[which], id < ANY_CLIENTS ? next_seq[id] : 0);
+              "connection %zu: client %u message %u, expected client %d message %u", which, id, seq, client_of[which],
+              id < ANY_CLIENTS ? next_seq[id] : 0);
         next_seq[id]++;
         /* The first ANY_CLIENTS x ANY_CREDITS messages were all waiting. */
         if (received > 0 && received < ANY_CLIENTS * ANY_CREDITS)
-            CHECK(which == (previous + 1) % ANY_CLIENTS,
-                  "receive %u served connection %zu after %zu: not round-robin", received, which,
-                  previous);
+            CHECK(which == (previous + 1) % ANY_CLIENTS, "receive %u served connection %zu after %zu: not round-robin",
+                  received, which, previous);
         previous = which;
         received++;
     }
     for (unsigned i = 0; i < ANY_CLIENTS; i++) {
         pthread_join(threads[i], NULL);
         CHECK(!clients[i].failed, "client %u failed", i);
-        CHECK(next_seq[i] == ANY_MESSAGES, "client %u: %u of %d messages", i, next_seq[i],
-              ANY_MESSAGES);
+        CHECK(next_seq[i] == ANY_MESSAGES, "client %u: %u of %d messages", i, next_seq[i], ANY_MESSAGES);
     }
     CHECK(ended == ANY_CLIENTS, "%u of %d ends reported", ended, ANY_CLIENTS);
     tsr_net_msg m;
     which = 0;
     CHECK(tsr_net_recv_any(conns, 0, &which, &m, 0, &err) == TSR_EINVAL, "empty set accepted");
-    printf("%u messages from %d clients, first %d strictly round-robin, %u ends reported\n",
-           received, ANY_CLIENTS, ANY_CLIENTS * ANY_CREDITS, ended);
+    printf("%u messages from %d clients, first %d strictly round-robin, %u ends reported\n", received, ANY_CLIENTS,
+           ANY_CLIENTS * ANY_CREDITS, ended);
     tsr_net_listener_close(l);
     tsr_net_destroy(client_net);
     tsr_net_destroy(server_net);
@@ -992,7 +977,8 @@ static int test_recv_any_round_robin(void) {
  * closed: a responsive peer sees a clean end after every message, also
  * one that holds a full window; a peer that stopped reading delays
  * destroy by at most close_timeout_ms. */
-static int test_destroy_open_connections(void) {
+static int test_destroy_open_connections(void)
+{
     tsr_net *server_net = make_net("destroy-server", NULL, 4);
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
@@ -1021,8 +1007,7 @@ static int test_destroy_open_connections(void) {
     for (int i = 0; i < N; i++) {
         tsr_net_msg m;
         for (int k = 0; k < 2; k++) {
-            CHECK(tsr_net_recv(server[i], &m, 2000, &err) == 1 && m.len == 3 &&
-                      !memcmp(m.data, k ? "two" : "one", 3),
+            CHECK(tsr_net_recv(server[i], &m, 2000, &err) == 1 && m.len == 3 && !memcmp(m.data, k ? "two" : "one", 3),
                   "connection %d lost message %d at destroy: %s", i, k, err.message);
             tsr_net_msg_release(&m);
         }
@@ -1048,13 +1033,12 @@ static int test_destroy_open_connections(void) {
     took = test_now_ms() - t0;
     printf("client destroy with a peer holding a full window took %llu ms (close_timeout_ms 500)\n",
            (unsigned long long)took);
-    CHECK(took < 400, "destroy waited %llu ms for a peer with a full window",
-          (unsigned long long)took);
+    CHECK(took < 400, "destroy waited %llu ms for a peer with a full window", (unsigned long long)took);
     /* What was sent before the forced close still arrives, in order. */
     for (int k = 0; k < 4; k++) {
         tsr_net_msg m;
-        CHECK(tsr_net_recv(s, &m, 2000, &err) == 1 && m.len == 4 && !memcmp(m.data, "full", 4),
-              "message %d lost: %s", k, err.message);
+        CHECK(tsr_net_recv(s, &m, 2000, &err) == 1 && m.len == 4 && !memcmp(m.data, "full", 4), "message %d lost: %s",
+              k, err.message);
         tsr_net_msg_release(&m);
     }
     t0 = test_now_ms();
@@ -1074,8 +1058,7 @@ static int test_destroy_open_connections(void) {
     t0 = test_now_ms();
     tsr_net_destroy(stall_net);
     took = test_now_ms() - t0;
-    printf("destroy with a peer that stopped reading took %llu ms (close_timeout_ms 500)\n",
-           (unsigned long long)took);
+    printf("destroy with a peer that stopped reading took %llu ms (close_timeout_ms 500)\n", (unsigned long long)took);
     CHECK(took >= 400 && took < 1500, "destroy took %llu ms", (unsigned long long)took);
     close(fd);
     return 0;
@@ -1095,7 +1078,8 @@ static int test_destroy_open_connections(void) {
 
 enum { DIRECT_MESSAGES = 40 };
 
-static size_t direct_size(unsigned i) {
+static size_t direct_size(unsigned i)
+{
     static const size_t sizes[] = {3u << 20, 1, 100000, (3u << 20) + 5, 0, 65536, 2u << 20, 17};
     return sizes[i % (sizeof sizes / sizeof sizes[0])];
 }
@@ -1108,7 +1092,8 @@ typedef struct direct_receiver {
     char failure[600];
 } direct_receiver;
 
-static void *direct_receive_main(void *arg) {
+static void *direct_receive_main(void *arg)
+{
     direct_receiver *r = arg;
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_accept(r->listener, 5000, &err);
@@ -1127,8 +1112,7 @@ static void *direct_receive_main(void *arg) {
             break;
         }
         if (got < 0) {
-            snprintf(r->failure, sizeof r->failure, "recv after %u messages: %s", r->messages,
-                     err.message);
+            snprintf(r->failure, sizeof r->failure, "recv after %u messages: %s", r->messages, err.message);
             break;
         }
         unsigned i = r->messages;
@@ -1140,9 +1124,8 @@ static void *direct_receive_main(void *arg) {
         }
         tsr_net_msg_release(&m);
         if (bad) {
-            snprintf(r->failure, sizeof r->failure,
-                     "message %u: kind %u, %llu bytes (sent %zu), or its bytes differ", i, m.kind,
-                     (unsigned long long)m.len, n);
+            snprintf(r->failure, sizeof r->failure, "message %u: kind %u, %llu bytes (sent %zu), or its bytes differ",
+                     i, m.kind, (unsigned long long)m.len, n);
             break;
         }
         r->messages++;
@@ -1153,7 +1136,8 @@ static void *direct_receive_main(void *arg) {
     return NULL;
 }
 
-static int direct_writes(const char *address) {
+static int direct_writes(const char *address)
+{
     tsr_net *server_net = make_net("direct-receiver", NULL, 2);
     tsr_net *client_net = make_net("direct-sender", NULL, 2);
     tsr_error err = {0};
@@ -1187,17 +1171,15 @@ static int direct_writes(const char *address) {
     pthread_join(thread, NULL);
     CHECK(!r.failure[0], "receiver: %s", r.failure);
     CHECK(r.messages == DIRECT_MESSAGES && r.bytes == bytes && r.ended_cleanly,
-          "receiver got %u messages, %llu bytes of %d / %llu, clean end %d", r.messages,
-          (unsigned long long)r.bytes, DIRECT_MESSAGES, (unsigned long long)bytes,
-          r.ended_cleanly);
+          "receiver got %u messages, %llu bytes of %d / %llu, clean end %d", r.messages, (unsigned long long)r.bytes,
+          DIRECT_MESSAGES, (unsigned long long)bytes, r.ended_cleanly);
     /* The paths this test is about were taken. */
     CHECK(st.messages_direct > 0, "no message was written by the sending thread");
     CHECK(st.blocked_on_credits_ns > 0, "the sender never ran out of credits");
     printf("%s: %d messages, %llu bytes exact; %llu written by the sender itself (%llu finished "
            "by the I/O thread), %.0f ms blocked on credits\n",
-           address, DIRECT_MESSAGES, (unsigned long long)bytes,
-           (unsigned long long)st.messages_direct, (unsigned long long)st.messages_direct_rest,
-           (double)st.blocked_on_credits_ns / 1e6);
+           address, DIRECT_MESSAGES, (unsigned long long)bytes, (unsigned long long)st.messages_direct,
+           (unsigned long long)st.messages_direct_rest, (double)st.blocked_on_credits_ns / 1e6);
     free(buf);
     tsr_net_listener_close(l);
     tsr_net_destroy(client_net);
@@ -1207,7 +1189,8 @@ static int direct_writes(const char *address) {
 
 static int test_tcp_direct_writes(void) { return direct_writes("tcp://127.0.0.1:0"); }
 
-static int test_unix_direct_writes(void) {
+static int test_unix_direct_writes(void)
+{
     char path[108];
     snprintf(path, sizeof path, "unix:/tmp/tsr-net-direct-%d.sock", (int)getpid());
     return direct_writes(path);
@@ -1228,7 +1211,8 @@ typedef struct slow_sender {
     char failure[600];
 } slow_sender;
 
-static void *slow_send_main(void *arg) {
+static void *slow_send_main(void *arg)
+{
     slow_sender *s = arg;
     tsr_net *net = make_net("direct-sender", NULL, 2);
     tsr_error err = {0};
@@ -1239,8 +1223,7 @@ static void *slow_send_main(void *arg) {
         if (i >= SLOW_MESSAGES / 2 && i % 2) { /* (the first ones, direct, are borrowed) */
             uint8_t *owned = malloc(SLOW_SIZE);
             tsr_net_pattern_fill(owned, 0, SLOW_SIZE, i + 1);
-            rc = tsr_net_send_owned(c, TSR_NET_KIND_FIRST_USER, owned, SLOW_SIZE, NULL, NULL,
-                                    10000, &err);
+            rc = tsr_net_send_owned(c, TSR_NET_KIND_FIRST_USER, owned, SLOW_SIZE, NULL, NULL, 10000, &err);
         } else {
             tsr_net_pattern_fill(buf, 0, SLOW_SIZE, i + 1);
             rc = tsr_net_send(c, TSR_NET_KIND_FIRST_USER, buf, SLOW_SIZE, 10000, &err);
@@ -1259,11 +1242,11 @@ static void *slow_send_main(void *arg) {
     return NULL;
 }
 
-static int test_tcp_direct_write_rest(void) {
+static int test_tcp_direct_write_rest(void)
+{
     int l = socket(AF_INET, SOCK_STREAM, 0);
     int small = 32 << 10;
-    CHECK(setsockopt(l, SOL_SOCKET, SO_RCVBUF, &small, sizeof small) == 0, "SO_RCVBUF: %s",
-          strerror(errno));
+    CHECK(setsockopt(l, SOL_SOCKET, SO_RCVBUF, &small, sizeof small) == 0, "SO_RCVBUF: %s", strerror(errno));
     struct sockaddr_in sa = {.sin_family = AF_INET};
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     socklen_t len = sizeof sa;
@@ -1283,8 +1266,7 @@ static int test_tcp_direct_write_rest(void) {
     CHECK(raw_read_exact(fd, h, 16, 5000) == 0 && h[6] == 0x01, "no HELLO");
     uint64_t hello_len = get_le(h + 8, 8);
     uint8_t hello[4096];
-    CHECK(hello_len <= sizeof hello && raw_read_exact(fd, hello, (size_t)hello_len, 5000) == 0,
-          "HELLO payload");
+    CHECK(hello_len <= sizeof hello && raw_read_exact(fd, hello, (size_t)hello_len, 5000) == 0, "HELLO payload");
     uint8_t welcome[16 + 32];
     size_t at = 16;
     put_le(welcome + at, SLOW_MESSAGES, 4); /* credits: never returned */
@@ -1306,8 +1288,7 @@ static int test_tcp_direct_write_rest(void) {
         CHECK(raw_read_exact(fd, h, 16, 10000) == 0, "message %u: no header", i);
         CHECK(get_le(h, 4) == 0x314E5354u && h[6] == TSR_NET_KIND_FIRST_USER && h[7] == 0 &&
                   get_le(h + 8, 8) == SLOW_SIZE,
-              "message %u: header type 0x%02x length %llu", i, h[6],
-              (unsigned long long)get_le(h + 8, 8));
+              "message %u: header type 0x%02x length %llu", i, h[6], (unsigned long long)get_le(h + 8, 8));
         CHECK(raw_read_exact(fd, got, SLOW_SIZE, 10000) == 0, "message %u: payload", i);
         tsr_net_pattern_fill(expect, 0, SLOW_SIZE, i + 1);
         CHECK(!memcmp(got, expect, SLOW_SIZE), "message %u: bytes differ", i);
@@ -1318,8 +1299,7 @@ static int test_tcp_direct_write_rest(void) {
     pthread_join(thread, NULL);
     close(fd);
     CHECK(!sender.failure[0], "sender: %s", sender.failure);
-    CHECK(sender.stats.messages_direct_rest > 0,
-          "no direct write was left for the I/O thread (%llu direct)",
+    CHECK(sender.stats.messages_direct_rest > 0, "no direct write was left for the I/O thread (%llu direct)",
           (unsigned long long)sender.stats.messages_direct);
     printf("%d messages of %d bytes exact; %llu written by the sender itself, %llu of them "
            "finished by the I/O thread\n",
@@ -1341,7 +1321,8 @@ typedef struct closing_receiver {
     int failed;
 } closing_receiver;
 
-static void *closing_receive_main(void *arg) {
+static void *closing_receive_main(void *arg)
+{
     closing_receiver *r = arg;
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_accept(r->listener, 5000, &err);
@@ -1362,7 +1343,8 @@ static void *closing_receive_main(void *arg) {
     return NULL;
 }
 
-static int test_peer_closes_during_direct_writes(void) {
+static int test_peer_closes_during_direct_writes(void)
+{
     signal(SIGPIPE, SIG_DFL); /* a SIGPIPE would end this test with a signal */
     tsr_net *server_net = make_net("closing-receiver", NULL, 4);
     tsr_net *client_net = make_net("busy-sender", NULL, 4);
@@ -1385,17 +1367,16 @@ static int test_peer_closes_during_direct_writes(void) {
         sent += rc == TSR_OK;
     }
     uint64_t took = test_now_ms() - t0;
-    CHECK(rc != TSR_OK && rc != TSR_ETIMEDOUT, "sending went on for %llu ms (%u sent): %s",
-          (unsigned long long)took, sent, tsr_error_name(rc));
+    CHECK(rc != TSR_OK && rc != TSR_ETIMEDOUT, "sending went on for %llu ms (%u sent): %s", (unsigned long long)took,
+          sent, tsr_error_name(rc));
     CHECK(contains(err.message, "closing-receiver") || contains(err.message, "127.0.0.1"),
           "the error does not name the peer: %s", err.message);
-    CHECK(took < 10000, "the peer's close took %llu ms to reach the sender",
-          (unsigned long long)took);
+    CHECK(took < 10000, "the peer's close took %llu ms to reach the sender", (unsigned long long)took);
     tsr_net_stats st;
     tsr_net_conn_stats(c, &st);
     CHECK(st.messages_direct > 0, "no message was written by the sending thread");
-    printf("sent %u messages (%llu directly), then after %llu ms: %s\n", sent,
-           (unsigned long long)st.messages_direct, (unsigned long long)took, err.message);
+    printf("sent %u messages (%llu directly), then after %llu ms: %s\n", sent, (unsigned long long)st.messages_direct,
+           (unsigned long long)took, err.message);
     pthread_join(thread, NULL);
     CHECK(!r.failed, "receiver failed");
     free(buf);
@@ -1406,7 +1387,8 @@ static int test_peer_closes_during_direct_writes(void) {
     return 0;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     static const struct {
         const char *name;
         int (*run)(void);

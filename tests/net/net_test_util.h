@@ -28,18 +28,18 @@
 #define HARNESS_ON_FAIL exit(1)
 #include "harness.h"
 
-static inline int contains(const char *haystack, const char *needle) {
-    return strstr(haystack, needle) != NULL;
-}
+static inline int contains(const char *haystack, const char *needle) { return strstr(haystack, needle) != NULL; }
 
-static inline uint64_t test_now_ms(void) {
+static inline uint64_t test_now_ms(void)
+{
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (uint64_t)ts.tv_sec * 1000u + (uint64_t)ts.tv_nsec / 1000000u;
 }
 
 /* VmRSS of a process in KiB (pid 0 = this one), or -1. */
-static inline long rss_kb(pid_t pid) {
+static inline long rss_kb(pid_t pid)
+{
     char path[64], line[256];
     if (pid)
         snprintf(path, sizeof path, "/proc/%d/status", (int)pid);
@@ -59,22 +59,24 @@ static inline long rss_kb(pid_t pid) {
 }
 
 /* Port of a "tcp://HOST:PORT" address text. */
-static inline unsigned address_port(const char *address) {
+static inline unsigned address_port(const char *address)
+{
     const char *colon = strrchr(address, ':');
     return colon ? (unsigned)atoi(colon + 1) : 0;
 }
 
-static inline int raw_connect_loopback(unsigned port) {
+static inline int raw_connect_loopback(unsigned port)
+{
     int fd = socket(AF_INET, SOCK_STREAM, 0);
     CHECK(fd >= 0, "socket: %s", strerror(errno));
     struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port)};
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    CHECK(connect(fd, (struct sockaddr *)&sa, sizeof sa) == 0, "connect to port %u: %s", port,
-          strerror(errno));
+    CHECK(connect(fd, (struct sockaddr *)&sa, sizeof sa) == 0, "connect to port %u: %s", port, strerror(errno));
     return fd;
 }
 
-static inline void raw_write_all(int fd, const void *data, size_t len) {
+static inline void raw_write_all(int fd, const void *data, size_t len)
+{
     const uint8_t *p = data;
     while (len) {
         ssize_t n = send(fd, p, len, MSG_NOSIGNAL);
@@ -86,7 +88,8 @@ static inline void raw_write_all(int fd, const void *data, size_t len) {
 
 /* Reads exactly len bytes within timeout_ms. Returns 0, or -1 on end of
  * stream / error / time-out. */
-static inline int raw_read_exact(int fd, void *data, size_t len, int timeout_ms) {
+static inline int raw_read_exact(int fd, void *data, size_t len, int timeout_ms)
+{
     uint8_t *p = data;
     uint64_t end = test_now_ms() + (uint64_t)timeout_ms;
     while (len) {
@@ -105,11 +108,13 @@ static inline int raw_read_exact(int fd, void *data, size_t len, int timeout_ms)
     return 0;
 }
 
-static inline void put_le(uint8_t *p, uint64_t v, int bytes) {
+static inline void put_le(uint8_t *p, uint64_t v, int bytes)
+{
     for (int i = 0; i < bytes; i++)
         p[i] = (uint8_t)(v >> (8 * i));
 }
-static inline uint64_t get_le(const uint8_t *p, int bytes) {
+static inline uint64_t get_le(const uint8_t *p, int bytes)
+{
     uint64_t v = 0;
     for (int i = bytes - 1; i >= 0; i--)
         v = v << 8 | p[i];
@@ -117,7 +122,8 @@ static inline uint64_t get_le(const uint8_t *p, int bytes) {
 }
 
 /* A header written by hand from the layout documented in net.h. */
-static inline void raw_header(uint8_t out[16], unsigned version, unsigned type, uint64_t len) {
+static inline void raw_header(uint8_t out[16], unsigned version, unsigned type, uint64_t len)
+{
     put_le(out, 0x314E5354u, 4);
     put_le(out + 4, version, 2);
     out[6] = (uint8_t)type;
@@ -127,7 +133,8 @@ static inline void raw_header(uint8_t out[16], unsigned version, unsigned type, 
 
 /* Sends a HELLO (credits, max, name, token) and reads the answer's header;
  * returns its type (2 WELCOME, 3 REFUSE) and skips its payload. */
-static inline int raw_handshake(int fd, const char *name, const char *token, uint32_t credits) {
+static inline int raw_handshake(int fd, const char *name, const char *token, uint32_t credits)
+{
     uint8_t msg[16 + 512];
     size_t at = 16, nl = strlen(name), tl = token ? strlen(token) : 0;
     put_le(msg + at, credits, 4);

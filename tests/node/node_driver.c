@@ -33,7 +33,7 @@
 #include "tessera/gltsr_gen.h"
 #include "tessera/dev/wire.h"
 
-#define WIDTH 67   /* odd sizes catch row-stride mistakes */
+#define WIDTH 67 /* odd sizes catch row-stride mistakes */
 #define HEIGHT 43
 
 typedef struct answers {
@@ -107,20 +107,18 @@ static int replies(const char *text)
         return 1;
     int bad = 0;
     if (memcmp(remote.viewport, local.viewport, sizeof local.viewport)) {
-        fprintf(stderr, "FAIL: viewport %d %d %d %d, local %d %d %d %d\n", remote.viewport[0],
-                remote.viewport[1], remote.viewport[2], remote.viewport[3], local.viewport[0],
-                local.viewport[1], local.viewport[2], local.viewport[3]);
+        fprintf(stderr, "FAIL: viewport %d %d %d %d, local %d %d %d %d\n", remote.viewport[0], remote.viewport[1],
+                remote.viewport[2], remote.viewport[3], local.viewport[0], local.viewport[1], local.viewport[2],
+                local.viewport[3]);
         bad = 1;
     }
     if (remote.lists != local.lists) {
         fprintf(stderr, "FAIL: GenLists %u, local %u\n", remote.lists, local.lists);
         bad = 1;
     }
-    if (memcmp(remote.textures, local.textures, sizeof local.textures) ||
-        remote.depth_enabled != local.depth_enabled) {
+    if (memcmp(remote.textures, local.textures, sizeof local.textures) || remote.depth_enabled != local.depth_enabled) {
         fprintf(stderr, "FAIL: GenTextures %u %u / IsEnabled %d, local %u %u / %d\n", remote.textures[0],
-                remote.textures[1], remote.depth_enabled, local.textures[0], local.textures[1],
-                local.depth_enabled);
+                remote.textures[1], remote.depth_enabled, local.textures[0], local.textures[1], local.depth_enabled);
         bad = 1;
     }
     const char *names[] = {"VENDOR", "RENDERER", "VERSION"};
@@ -158,8 +156,8 @@ static int replies(const char *text)
     }
     printf("textures %u %u, depth test %d, ", remote.textures[0], remote.textures[1], remote.depth_enabled);
     printf("viewport %d %d %d %d, lists %u, vendor '%s', renderer '%s', version '%s', %zu red pixels: %s\n",
-           remote.viewport[0], remote.viewport[1], remote.viewport[2], remote.viewport[3], remote.lists,
-           remote.vendor, remote.renderer, remote.version, lit, bad ? "DIFFERENT" : "equal to local");
+           remote.viewport[0], remote.viewport[1], remote.viewport[2], remote.viewport[3], remote.lists, remote.vendor,
+           remote.renderer, remote.version, lit, bad ? "DIFFERENT" : "equal to local");
     return bad;
 }
 

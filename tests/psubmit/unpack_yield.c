@@ -101,17 +101,14 @@ int main(void)
     /* The last barrier is the last command: its yield comes before the
      * buffer's end check, and resuming then finishes it. */
     REQUIRE(yields == 3 && r.n == 8 && !tsr_unpacker_paused(r.u),
-            "wrong number of yields or calls: %d yields, %d calls, paused %d", yields, r.n,
-            tsr_unpacker_paused(r.u));
+            "wrong number of yields or calls: %d yields, %d calls, paused %d", yields, r.n, tsr_unpacker_paused(r.u));
     for (int i = 0; i < 8; i++)
-        REQUIRE(strcmp(r.calls[i], want[i]) == 0, "calls out of order: call %d is %s, want %s", i, r.calls[i],
-                want[i]);
+        REQUIRE(strcmp(r.calls[i], want[i]) == 0, "calls out of order: call %d is %s, want %s", i, r.calls[i], want[i]);
 
     /* A new run abandons a paused buffer. */
     r.n = 0;
     rc = tsr_unpacker_run(r.u, sink_buf.buf, sink_buf.size, &err);
-    REQUIRE(rc == TSR_UNPACK_YIELDED && r.n == 3, "second run did not yield after B1: rc %d after %d calls", rc,
-            r.n);
+    REQUIRE(rc == TSR_UNPACK_YIELDED && r.n == 3, "second run did not yield after B1: rc %d after %d calls", rc, r.n);
     r.n = 0;
     rc = tsr_unpacker_run(r.u, sink_buf.buf, sink_buf.size, &err);
     REQUIRE(rc == TSR_UNPACK_YIELDED && r.n == 3 && strcmp(r.calls[0], "V0") == 0,

@@ -15,7 +15,8 @@
 #include "harness.h"
 
 /* A deterministic test picture: every channel varies, alpha included. */
-static void fill_pattern(tsr_image *img) {
+static void fill_pattern(tsr_image *img)
+{
     for (int y = 0; y < img->height; y++)
         for (int x = 0; x < img->width; x++) {
             uint8_t *p = img->pixels + (size_t)y * img->stride + 4 * (size_t)x;
@@ -26,7 +27,8 @@ static void fill_pattern(tsr_image *img) {
         }
 }
 
-static char *join(const char *dir, const char *file) {
+static char *join(const char *dir, const char *file)
+{
     static char buf[4][1024];
     static int next;
     char *out = buf[next++ % 4];
@@ -36,9 +38,9 @@ static char *join(const char *dir, const char *file) {
 
 /* Writes `rows` with libpng in the given colour type / depth (no tessera
  * code involved), optionally with a palette or a tRNS chunk. */
-static int write_raw_png(const char *path, int w, int h, int color_type, int bit_depth,
-                         png_bytep *rows, const png_color *palette, int palette_len,
-                         const png_color_16 *trans_color, int interlace) {
+static int write_raw_png(const char *path, int w, int h, int color_type, int bit_depth, png_bytep *rows,
+                         const png_color *palette, int palette_len, const png_color_16 *trans_color, int interlace)
+{
     FILE *f = fopen(path, "wb");
     if (!f)
         return -1;
@@ -51,8 +53,8 @@ static int write_raw_png(const char *path, int w, int h, int color_type, int bit
     }
     png_init_io(png, f);
     png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, bit_depth, color_type,
-                 interlace ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+                 interlace ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     if (palette)
         png_set_PLTE(png, info, palette, palette_len);
     if (trans_color)
@@ -64,11 +66,13 @@ static int write_raw_png(const char *path, int w, int h, int color_type, int bit
     return fclose(f);
 }
 
-static const uint8_t *pixel_at(const tsr_image *img, int x, int y) {
+static const uint8_t *pixel_at(const tsr_image *img, int x, int y)
+{
     return img->pixels + (size_t)y * img->stride + 4 * (size_t)x;
 }
 
-static int test_roundtrip(const char *dir) {
+static int test_roundtrip(const char *dir)
+{
     tsr_image a, b;
     tsr_error err = {0};
     CHECK(tsr_image_alloc(&a, 37, 23, &err) == TSR_OK, "%s", err.message);
@@ -83,9 +87,8 @@ static int test_roundtrip(const char *dir) {
     /* bottom-up writing stores the rows flipped */
     const char *flipped_path = join(dir, "roundtrip_bottom_up.png");
     tsr_image c;
-    CHECK(tsr_image_write_png_rgba(a.pixels, a.width, a.height, a.stride, true, flipped_path,
-                                   &err) == TSR_OK,
-          "%s", err.message);
+    CHECK(tsr_image_write_png_rgba(a.pixels, a.width, a.height, a.stride, true, flipped_path, &err) == TSR_OK, "%s",
+          err.message);
     CHECK(tsr_image_read_png(&c, flipped_path, &err) == TSR_OK, "%s", err.message);
     tsr_image_flip_rows(c.pixels, c.height, c.stride);
     if (c.pixels)
@@ -97,7 +100,8 @@ static int test_roundtrip(const char *dir) {
     return harness_failures;
 }
 
-static int test_convert(const char *dir) {
+static int test_convert(const char *dir)
+{
     enum { W = 5, H = 3 };
     tsr_error err = {0};
     tsr_image img;
@@ -111,13 +115,12 @@ static int test_convert(const char *dir) {
             grey[y][x] = (png_byte)(40 * x + y);
     }
     const char *p = join(dir, "grey8.png");
-    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_GRAY, 8, grey_rows, NULL, 0, NULL, 0) == 0,
-          "writing %s", p);
+    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_GRAY, 8, grey_rows, NULL, 0, NULL, 0) == 0, "writing %s", p);
     CHECK(tsr_image_read_png(&img, p, &err) == TSR_OK, "%s", err.message);
     if (img.pixels) {
         const uint8_t *px = pixel_at(&img, 3, 2);
-        CHECK(px[0] == 122 && px[1] == 122 && px[2] == 122 && px[3] == 255,
-              "grey8 pixel = %d %d %d %d", px[0], px[1], px[2], px[3]);
+        CHECK(px[0] == 122 && px[1] == 122 && px[2] == 122 && px[3] == 255, "grey8 pixel = %d %d %d %d", px[0], px[1],
+              px[2], px[3]);
     }
     tsr_image_free(&img);
 
@@ -128,18 +131,17 @@ static int test_convert(const char *dir) {
         rgb16_rows[y] = rgb16[y];
         for (int x = 0; x < W; x++)
             for (int c = 0; c < 3; c++) {
-                rgb16[y][6 * x + 2 * c] = (png_byte)(10 * x + 50 * c + y);  /* high byte */
-                rgb16[y][6 * x + 2 * c + 1] = 0xee;                          /* low byte */
+                rgb16[y][6 * x + 2 * c] = (png_byte)(10 * x + 50 * c + y); /* high byte */
+                rgb16[y][6 * x + 2 * c + 1] = 0xee;                        /* low byte */
             }
     }
     p = join(dir, "rgb16_interlaced.png");
-    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_RGB, 16, rgb16_rows, NULL, 0, NULL, 1) == 0,
-          "writing %s", p);
+    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_RGB, 16, rgb16_rows, NULL, 0, NULL, 1) == 0, "writing %s", p);
     CHECK(tsr_image_read_png(&img, p, &err) == TSR_OK, "%s", err.message);
     if (img.pixels) {
         const uint8_t *px = pixel_at(&img, 4, 1);
-        CHECK(px[0] == 41 && px[1] == 91 && px[2] == 141 && px[3] == 255,
-              "rgb16 pixel = %d %d %d %d", px[0], px[1], px[2], px[3]);
+        CHECK(px[0] == 41 && px[1] == 91 && px[2] == 141 && px[3] == 255, "rgb16 pixel = %d %d %d %d", px[0], px[1],
+              px[2], px[3]);
     }
     tsr_image_free(&img);
 
@@ -156,18 +158,16 @@ static int test_convert(const char *dir) {
         }
     }
     p = join(dir, "palette4.png");
-    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_PALETTE, 4, pal_rows, palette, 3, NULL, 0) == 0,
-          "writing %s", p);
+    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_PALETTE, 4, pal_rows, palette, 3, NULL, 0) == 0, "writing %s", p);
     CHECK(tsr_image_read_png(&img, p, &err) == TSR_OK, "%s", err.message);
     if (img.pixels) {
         const uint8_t *px = pixel_at(&img, 3, 1); /* index (3 + 1) % 3 = 1: green */
-        CHECK(px[0] == 0 && px[1] == 255 && px[2] == 0 && px[3] == 255,
-              "palette pixel = %d %d %d %d", px[0], px[1], px[2], px[3]);
+        CHECK(px[0] == 0 && px[1] == 255 && px[2] == 0 && px[3] == 255, "palette pixel = %d %d %d %d", px[0], px[1],
+              px[2], px[3]);
         px = pixel_at(&img, 4, 0); /* index 1 */
         CHECK(px[1] == 255, "palette pixel (4,0) green = %d", px[1]);
         px = pixel_at(&img, 2, 0); /* index 2 */
-        CHECK(px[0] == 10 && px[1] == 20 && px[2] == 30, "palette pixel (2,0) = %d %d %d",
-              px[0], px[1], px[2]);
+        CHECK(px[0] == 10 && px[1] == 20 && px[2] == 30, "palette pixel (2,0) = %d %d %d", px[0], px[1], px[2]);
     }
     tsr_image_free(&img);
 
@@ -182,13 +182,12 @@ static int test_convert(const char *dir) {
         }
     }
     p = join(dir, "grey_alpha.png");
-    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_GRAY_ALPHA, 8, ga_rows, NULL, 0, NULL, 0) == 0,
-          "writing %s", p);
+    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_GRAY_ALPHA, 8, ga_rows, NULL, 0, NULL, 0) == 0, "writing %s", p);
     CHECK(tsr_image_read_png(&img, p, &err) == TSR_OK, "%s", err.message);
     if (img.pixels) {
         const uint8_t *px = pixel_at(&img, 2, 2);
-        CHECK(px[0] == 60 && px[1] == 60 && px[2] == 60 && px[3] == 198,
-              "grey+alpha pixel = %d %d %d %d", px[0], px[1], px[2], px[3]);
+        CHECK(px[0] == 60 && px[1] == 60 && px[2] == 60 && px[3] == 198, "grey+alpha pixel = %d %d %d %d", px[0], px[1],
+              px[2], px[3]);
     }
     tsr_image_free(&img);
 
@@ -205,19 +204,18 @@ static int test_convert(const char *dir) {
     }
     png_color_16 key = {.red = 9, .green = 8, .blue = 7};
     p = join(dir, "rgb_trns.png");
-    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_RGB, 8, rgb_rows, NULL, 0, &key, 0) == 0,
-          "writing %s", p);
+    CHECK(write_raw_png(p, W, H, PNG_COLOR_TYPE_RGB, 8, rgb_rows, NULL, 0, &key, 0) == 0, "writing %s", p);
     CHECK(tsr_image_read_png(&img, p, &err) == TSR_OK, "%s", err.message);
     if (img.pixels) {
         CHECK(pixel_at(&img, 1, 0)[3] == 0, "keyed pixel alpha = %d", pixel_at(&img, 1, 0)[3]);
-        CHECK(pixel_at(&img, 2, 0)[3] == 255, "other pixel alpha = %d",
-              pixel_at(&img, 2, 0)[3]);
+        CHECK(pixel_at(&img, 2, 0)[3] == 255, "other pixel alpha = %d", pixel_at(&img, 2, 0)[3]);
     }
     tsr_image_free(&img);
     return harness_failures;
 }
 
-static int test_compare(void) {
+static int test_compare(void)
+{
     tsr_image a, b;
     tsr_error err = {0};
     tsr_image_diff d;
@@ -226,9 +224,8 @@ static int test_compare(void) {
     fill_pattern(&a);
     fill_pattern(&b);
     CHECK(tsr_image_compare(&a, &b, 0, &d, &err) == TSR_OK, "%s", err.message);
-    CHECK(d.differing_pixels == 0 && d.max_channel_error == 0 && isinf(d.psnr_db),
-          "identical: %llu %d %f", (unsigned long long)d.differing_pixels, d.max_channel_error,
-          d.psnr_db);
+    CHECK(d.differing_pixels == 0 && d.max_channel_error == 0 && isinf(d.psnr_db), "identical: %llu %d %f",
+          (unsigned long long)d.differing_pixels, d.max_channel_error, d.psnr_db);
 
     /* two pixels off: one by 3 in red, one by 10 in alpha */
     uint8_t *p1 = b.pixels + 2 * b.stride + 4 * 3;
@@ -240,25 +237,24 @@ static int test_compare(void) {
     CHECK(d.max_channel_error == 10, "max error %d", d.max_channel_error);
     double mse = (9.0 + 100.0) / (10.0 * 8.0 * 4.0);
     double expected_psnr = 10.0 * log10(255.0 * 255.0 / mse);
-    CHECK(fabs(d.psnr_db - expected_psnr) < 1e-9, "psnr %f, expected %f", d.psnr_db,
-          expected_psnr);
-    CHECK(tsr_image_compare(&a, &b, 3, &d, &err) == TSR_OK && d.differing_pixels == 1,
-          "tolerance 3: differing %llu", (unsigned long long)d.differing_pixels);
-    CHECK(tsr_image_compare(&a, &b, 10, &d, &err) == TSR_OK && d.differing_pixels == 0,
-          "tolerance 10: differing %llu", (unsigned long long)d.differing_pixels);
+    CHECK(fabs(d.psnr_db - expected_psnr) < 1e-9, "psnr %f, expected %f", d.psnr_db, expected_psnr);
+    CHECK(tsr_image_compare(&a, &b, 3, &d, &err) == TSR_OK && d.differing_pixels == 1, "tolerance 3: differing %llu",
+          (unsigned long long)d.differing_pixels);
+    CHECK(tsr_image_compare(&a, &b, 10, &d, &err) == TSR_OK && d.differing_pixels == 0, "tolerance 10: differing %llu",
+          (unsigned long long)d.differing_pixels);
 
     tsr_image c;
     tsr_image_alloc(&c, 10, 9, &err);
     CHECK(tsr_image_compare(&a, &c, 0, &d, &err) == TSR_EINVAL, "size mismatch accepted");
-    CHECK(strstr(err.message, "10x8") && strstr(err.message, "10x9"),
-          "mismatch message lacks sizes: %s", err.message);
+    CHECK(strstr(err.message, "10x8") && strstr(err.message, "10x9"), "mismatch message lacks sizes: %s", err.message);
     tsr_image_free(&a);
     tsr_image_free(&b);
     tsr_image_free(&c);
     return harness_failures;
 }
 
-static int test_flip(void) {
+static int test_flip(void)
+{
     tsr_image a, b;
     tsr_error err = {0};
     /* wide enough that a row is swapped in several chunks */
@@ -268,8 +264,7 @@ static int test_flip(void) {
     fill_pattern(&b);
     tsr_image_flip_rows(b.pixels, b.height, b.stride);
     for (int y = 0; y < 5; y++)
-        CHECK(memcmp(a.pixels + (size_t)y * a.stride, b.pixels + (size_t)(4 - y) * b.stride,
-                     a.stride) == 0,
+        CHECK(memcmp(a.pixels + (size_t)y * a.stride, b.pixels + (size_t)(4 - y) * b.stride, a.stride) == 0,
               "row %d not mirrored", y);
     tsr_image_flip_rows(b.pixels, b.height, b.stride);
     CHECK(memcmp(a.pixels, b.pixels, a.stride * 5) == 0, "flipping twice is not identity");
@@ -278,12 +273,12 @@ static int test_flip(void) {
     return harness_failures;
 }
 
-static int test_errors(const char *dir) {
+static int test_errors(const char *dir)
+{
     tsr_image img;
     tsr_error err = {0};
     const char *missing = join(dir, "does-not-exist.png");
-    CHECK(tsr_image_read_png(&img, missing, &err) == TSR_ENOENT, "missing file: code %d",
-          err.code);
+    CHECK(tsr_image_read_png(&img, missing, &err) == TSR_ENOENT, "missing file: code %d", err.code);
     CHECK(strstr(err.message, missing) != NULL, "message lacks the path: %s", err.message);
 
     const char *text = join(dir, "not-a-png.png");
@@ -291,8 +286,7 @@ static int test_errors(const char *dir) {
     fputs("this is not a PNG file at all\n", f);
     fclose(f);
     CHECK(tsr_image_read_png(&img, text, &err) == TSR_EINVAL, "text file accepted");
-    CHECK(strstr(err.message, text) && strstr(err.message, "not a PNG"), "message: %s",
-          err.message);
+    CHECK(strstr(err.message, text) && strstr(err.message, "not a PNG"), "message: %s", err.message);
 
     /* a valid PNG cut in half: libpng's error comes back, naming the file */
     tsr_image a;
@@ -310,47 +304,42 @@ static int test_errors(const char *dir) {
     fwrite(buf, 1, n / 2, f);
     fclose(f);
     CHECK(tsr_image_read_png(&img, cut, &err) == TSR_EINVAL, "truncated PNG accepted");
-    CHECK(strstr(err.message, cut) && strstr(err.message, "bad PNG"), "message: %s",
-          err.message);
+    CHECK(strstr(err.message, cut) && strstr(err.message, "bad PNG"), "message: %s", err.message);
     CHECK(img.pixels == NULL && img.width == 0, "image not cleared after a failed read");
 
     const char *no_dir = join(dir, "no/such/dir/x.png");
     tsr_image_alloc(&a, 4, 4, &err);
-    CHECK(tsr_image_write_png(&a, no_dir, &err) == TSR_ENOENT, "write into missing dir: %d",
-          err.code);
+    CHECK(tsr_image_write_png(&a, no_dir, &err) == TSR_ENOENT, "write into missing dir: %d", err.code);
     CHECK(strstr(err.message, no_dir) != NULL, "message lacks the path: %s", err.message);
     tsr_image_free(&a);
     CHECK(tsr_image_alloc(&a, 0, 5, &err) == TSR_EINVAL, "0-wide image allocated");
     return harness_failures;
 }
 
-static int test_frame_path(void) {
+static int test_frame_path(void)
+{
     char out[64];
     tsr_error err = {0};
-    CHECK(tsr_image_frame_path(out, sizeof out, "out/f-%04d.png", 7, &err) == TSR_OK &&
-              !strcmp(out, "out/f-0007.png"),
+    CHECK(tsr_image_frame_path(out, sizeof out, "out/f-%04d.png", 7, &err) == TSR_OK && !strcmp(out, "out/f-0007.png"),
           "got '%s' (%s)", out, err.message);
-    CHECK(tsr_image_frame_path(out, sizeof out, "100%%-%d.png", 3, &err) == TSR_OK &&
-              !strcmp(out, "100%-3.png"),
+    CHECK(tsr_image_frame_path(out, sizeof out, "100%%-%d.png", 3, &err) == TSR_OK && !strcmp(out, "100%-3.png"),
           "got '%s' (%s)", out, err.message);
-    CHECK(tsr_image_frame_path(out, sizeof out, "still.png", 3, &err) == TSR_OK &&
-              !strcmp(out, "still.png"),
+    CHECK(tsr_image_frame_path(out, sizeof out, "still.png", 3, &err) == TSR_OK && !strcmp(out, "still.png"),
           "got '%s'", out);
     const char *bad[] = {"f-%s.png", "f-%d-%d.png", "f-%n.png", "f-%123d.png", "f-%", "%ld"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        CHECK(tsr_image_frame_path(out, sizeof out, bad[i], 1, &err) == TSR_EINVAL,
-              "pattern '%s' accepted", bad[i]);
+        CHECK(tsr_image_frame_path(out, sizeof out, bad[i], 1, &err) == TSR_EINVAL, "pattern '%s' accepted", bad[i]);
         CHECK(strstr(err.message, bad[i]) != NULL, "message lacks the pattern: %s", err.message);
     }
-    CHECK(tsr_image_frame_path(out, 8, "longer-than-eight-%d.png", 1, &err) == TSR_EINVAL,
-          "overlong name accepted");
+    CHECK(tsr_image_frame_path(out, 8, "longer-than-eight-%d.png", 1, &err) == TSR_EINVAL, "overlong name accepted");
     return harness_failures;
 }
 
 /* Fixtures for the imgdiff CLI tests: base.png, base_copy.png,
  * one_pixel_off.png (one red channel +3), small.png (other size),
  * not_png.png (text). */
-static int write_fixtures(const char *dir) {
+static int write_fixtures(const char *dir)
+{
     tsr_image a;
     tsr_error err = {0};
     if (tsr_image_alloc(&a, 48, 32, &err) != TSR_OK)
@@ -377,17 +366,18 @@ static int write_fixtures(const char *dir) {
 }
 
 /* expect-size FILE W H: the PNG exists and has that size. */
-static int expect_size(const char *path, int w, int h) {
+static int expect_size(const char *path, int w, int h)
+{
     tsr_image img;
     tsr_error err = {0};
     CHECK(tsr_image_read_png(&img, path, &err) == TSR_OK, "%s", err.message);
-    CHECK(img.width == w && img.height == h, "%s is %dx%d, expected %dx%d", path, img.width,
-          img.height, w, h);
+    CHECK(img.width == w && img.height == h, "%s is %dx%d, expected %dx%d", path, img.width, img.height, w, h);
     tsr_image_free(&img);
     return harness_failures;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc >= 3 && !strcmp(argv[1], "roundtrip"))
         return test_roundtrip(argv[2]) != 0;
     if (argc >= 3 && !strcmp(argv[1], "convert"))
@@ -404,8 +394,7 @@ int main(int argc, char **argv) {
         return write_fixtures(argv[2]);
     if (argc >= 5 && !strcmp(argv[1], "expect-size"))
         return expect_size(argv[2], atoi(argv[3]), atoi(argv[4])) != 0;
-    fprintf(stderr,
-            "usage: image_test roundtrip DIR | convert DIR | compare | flip | errors DIR |\n"
-            "       frame-path | fixtures DIR | expect-size FILE W H\n");
+    fprintf(stderr, "usage: image_test roundtrip DIR | convert DIR | compare | flip | errors DIR |\n"
+                    "       frame-path | fixtures DIR | expect-size FILE W H\n");
     return 2;
 }

@@ -18,7 +18,7 @@
 #include "tessera/gltsr_gen.h"
 
 typedef struct scene_job {
-    char which;          /* 'A' or 'B': picks colours, motion and window size */
+    char which; /* 'A' or 'B': picks colours, motion and window size */
     char chain_text[600];
     int frames;
     int exit_code;
@@ -26,7 +26,8 @@ typedef struct scene_job {
 } scene_job;
 
 /* Deterministic per (scene, frame): overlapping depth-tested triangles. */
-static void draw_scene(char which, int frame, int width, int height) {
+static void draw_scene(char which, int frame, int width, int height)
+{
     float base = which == 'A' ? 0.2f : 0.7f;
     glViewport(0, 0, width, height);
     glMatrixMode(GL_PROJECTION);
@@ -50,7 +51,8 @@ static void draw_scene(char which, int frame, int width, int height) {
     glEnd();
 }
 
-static void *run_scene(void *arg) {
+static void *run_scene(void *arg)
+{
     scene_job *job = arg;
     int width = job->which == 'A' ? 160 : 200, height = job->which == 'A' ? 120 : 150;
     tsr_error err = {0};
@@ -72,14 +74,15 @@ static void *run_scene(void *arg) {
     return NULL;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc == 4 && !strcmp(argv[1], "both")) {
         scene_job jobs[2] = {{.which = 'A'}, {.which = 'B'}};
         pthread_t threads[2];
         for (int i = 0; i < 2; i++) {
             jobs[i].frames = atoi(argv[3]);
-            snprintf(jobs[i].chain_text, sizeof jobs[i].chain_text,
-                     "render output=\"%s/%c-%%d.png\"", argv[2], i ? 'b' : 'a');
+            snprintf(jobs[i].chain_text, sizeof jobs[i].chain_text, "render output=\"%s/%c-%%d.png\"", argv[2],
+                     i ? 'b' : 'a');
             if (pthread_create(&threads[i], NULL, run_scene, &jobs[i]) != 0) {
                 fprintf(stderr, "render_driver: pthread_create failed\n");
                 return 1;

@@ -54,10 +54,11 @@
 
 #define MAX_FRAMES 8
 
-static int measure;                        /* rss: read memory before the chain goes */
+static int measure; /* rss: read memory before the chain goes */
 static double measured_rss, measured_hwm;
 
-static double status_mb(const char *key) {
+static double status_mb(const char *key)
+{
     FILE *f = fopen("/proc/self/status", "r");
     char line[256];
     double kb = -1;
@@ -70,22 +71,23 @@ static double status_mb(const char *key) {
     return kb / 1024.0;
 }
 
-static void expect_scissor(const char *where, const GLint want[4], GLboolean want_on) {
+static void expect_scissor(const char *where, const GLint want[4], GLboolean want_on)
+{
     GLint box[4] = {-1, -1, -1, -1};
     glGetIntegerv(GL_SCISSOR_BOX, box);
     GLboolean on = glIsEnabled(GL_SCISSOR_TEST);
     GLfloat fbox[4] = {0};
     glGetFloatv(GL_SCISSOR_BOX, fbox);
     CHECK(!memcmp(box, want, sizeof box) && on == want_on && (GLint)fbox[2] == want[2],
-          "%s: glGet scissor gave [%d %d %d %d] %s, want [%d %d %d %d] %s", where, box[0], box[1],
-          box[2], box[3], on ? "on" : "off", want[0], want[1], want[2], want[3],
-          want_on ? "on" : "off");
+          "%s: glGet scissor gave [%d %d %d %d] %s, want [%d %d %d %d] %s", where, box[0], box[1], box[2], box[3],
+          on ? "on" : "off", want[0], want[1], want[2], want[3], want_on ? "on" : "off");
 }
 
 /* Part `part` of the scene (0: background and scissored clears, 1: the
  * rest); `check`: query the scissor state (a server's answers must be the
  * application's). */
-static void draw_part(int part, int frame, int w, int h, GLuint list) {
+static void draw_part(int part, int frame, int w, int h, GLuint list)
+{
     float t = (float)frame;
     if (part == 0) {
         glViewport(0, 0, w, h);
@@ -210,7 +212,8 @@ static void draw_part(int part, int frame, int w, int h, GLuint list) {
     expect_scissor("after the display list", list_box, GL_FALSE);
 }
 
-static GLuint make_list(int w, int h) {
+static GLuint make_list(int w, int h)
+{
     GLuint list = glGenLists(2); /* list + 1: draw_part's compile-and-execute one */
     glNewList(list, GL_COMPILE);
     glEnable(GL_SCISSOR_TEST);
@@ -234,7 +237,8 @@ typedef struct server {
 } server;
 
 /* Sends the tiles of `text` ("-" or "X:Y:W:H,...") as TilesTSR. */
-static int send_tiles(const char *text) {
+static int send_tiles(const char *text)
+{
     tsr_tile *tiles = NULL;
     size_t n = 0;
     tsr_error err = {0};
@@ -259,7 +263,8 @@ static int send_tiles(const char *text) {
 /* A server with fixed tiles must leave every pixel outside their bounding
  * rectangle as the renderbuffer started: 0 (the scene's clears have alpha
  * 1). Read through the chain: the render SPU reads its framebuffer. */
-static int check_outside(const char *text, int w, int h) {
+static int check_outside(const char *text, int w, int h)
+{
     tsr_tile *tiles = NULL;
     size_t n = 0;
     tsr_error err = {0};
@@ -290,8 +295,9 @@ static int check_outside(const char *text, int w, int h) {
 }
 
 /* Runs the scene through `chain_text`; `srv` NULL: no tiles at all. */
-static int run_chain(const char *chain_text, int w, int h, int frames, const server *srv,
-                     int via_option, int contexts, int check) {
+static int run_chain(const char *chain_text, int w, int h, int frames, const server *srv, int via_option, int contexts,
+                     int check)
+{
     tsr_error err = {0};
     tsr_chain *chain = tsr_chain_create(chain_text, &err);
     if (!chain) {
@@ -333,13 +339,14 @@ static int run_chain(const char *chain_text, int w, int h, int frames, const ser
     return rc;
 }
 
-static int parse_size(const char *s, int *w, int *h) {
+static int parse_size(const char *s, int *w, int *h)
+{
     return sscanf(s, "%dx%d", w, h) == 2 && *w > 0 && *h > 0 && *w <= 16384 && *h <= 16384 ? 0 : -1;
 }
 
 /* Compares tile `t` of server `k`, frame `f` with the reference. */
-static int compare_tile(const char *dir, int k, int f, size_t i, size_t n, const tsr_tile *t,
-                        const tsr_image *ref) {
+static int compare_tile(const char *dir, int k, int f, size_t i, size_t n, const tsr_tile *t, const tsr_image *ref)
+{
     char path[4096];
     if (n == 1)
         snprintf(path, sizeof path, "%s/s%d-%d.png", dir, k, f);
@@ -356,13 +363,12 @@ static int compare_tile(const char *dir, int k, int f, size_t i, size_t n, const
         /* tsr_image rows are top first; GL's y is bottom-up. */
         for (int y = 0; y < t->height; y++)
             memcpy(want.pixels + (size_t)y * (size_t)t->width * 4,
-                   ref->pixels + ((size_t)(ref->height - t->y - t->height + y) * (size_t)ref->width +
-                                  (size_t)t->x) * 4,
+                   ref->pixels + ((size_t)(ref->height - t->y - t->height + y) * (size_t)ref->width + (size_t)t->x) * 4,
                    (size_t)t->width * 4);
         tsr_image_diff d;
         if (tsr_image_compare(&got, &want, 0, &d, &err) == TSR_OK) {
-            printf("server %d frame %d tile %zu [%d, %d, %d, %d]: differing_pixels: %llu\n", k, f, i,
-                   t->x, t->y, t->width, t->height, (unsigned long long)d.differing_pixels);
+            printf("server %d frame %d tile %zu [%d, %d, %d, %d]: differing_pixels: %llu\n", k, f, i, t->x, t->y,
+                   t->width, t->height, (unsigned long long)d.differing_pixels);
             rc = d.differing_pixels != 0;
         }
     }
@@ -373,7 +379,8 @@ static int compare_tile(const char *dir, int k, int f, size_t i, size_t n, const
     return rc;
 }
 
-static int cmd_compare(int argc, char **argv) {
+static int cmd_compare(int argc, char **argv)
+{
     const char *dir = argv[2];
     int w, h, frames = atoi(argv[4]), via_option = 0, contexts = 0;
     const char *prefix = "";
@@ -402,8 +409,7 @@ static int cmd_compare(int argc, char **argv) {
     if (run_chain(chain_text, w, h, frames, NULL, 0, contexts, 0) != 0)
         return 1;
     for (int k = 0; k < nservers; k++) {
-        int n = snprintf(chain_text, sizeof chain_text, "%srender output=\"%s/s%d-%%d.png\"", prefix,
-                         dir, k);
+        int n = snprintf(chain_text, sizeof chain_text, "%srender output=\"%s/s%d-%%d.png\"", prefix, dir, k);
         if (via_option && strcmp(servers[k].spec[0], "-"))
             snprintf(chain_text + n, sizeof chain_text - (size_t)n, " tiles=%s", servers[k].spec[0]);
         if (run_chain(chain_text, w, h, frames, &servers[k], via_option, contexts, 1) != 0)
@@ -438,7 +444,8 @@ static int cmd_compare(int argc, char **argv) {
     return bad || harness_failures ? 1 : 0;
 }
 
-static int cmd_rss(int argc, char **argv) {
+static int cmd_rss(int argc, char **argv)
+{
     int w, h, frames = atoi(argv[3]), tilestsr = 0, contexts = 0;
     if (parse_size(argv[2], &w, &h) || frames < 1 || frames > MAX_FRAMES)
         return 2;
@@ -461,7 +468,8 @@ static int cmd_rss(int argc, char **argv) {
     return harness_failures ? 1 : 0;
 }
 
-static int cmd_crop(char **argv) {
+static int cmd_crop(char **argv)
+{
     tsr_image in = {0}, out = {0};
     tsr_error err = {0};
     int x = atoi(argv[3]), y = atoi(argv[4]), w = atoi(argv[5]), h = atoi(argv[6]);
@@ -471,13 +479,12 @@ static int cmd_crop(char **argv) {
     }
     int rc = 1;
     if (x < 0 || y < 0 || w < 1 || h < 1 || x + w > in.width || y + h > in.height)
-        fprintf(stderr, "tiles_driver: crop %d,%d %dx%d is outside %s (%dx%d)\n", x, y, w, h,
-                argv[2], in.width, in.height);
+        fprintf(stderr, "tiles_driver: crop %d,%d %dx%d is outside %s (%dx%d)\n", x, y, w, h, argv[2], in.width,
+                in.height);
     else if (tsr_image_alloc(&out, w, h, &err) == TSR_OK) {
         for (int row = 0; row < h; row++)
             memcpy(out.pixels + (size_t)row * (size_t)w * 4,
-                   in.pixels + ((size_t)(in.height - y - h + row) * (size_t)in.width + (size_t)x) * 4,
-                   (size_t)w * 4);
+                   in.pixels + ((size_t)(in.height - y - h + row) * (size_t)in.width + (size_t)x) * 4, (size_t)w * 4);
         rc = tsr_image_write_png(&out, argv[7], &err) != TSR_OK;
     }
     if (rc && err.message[0])
@@ -488,12 +495,13 @@ static int cmd_crop(char **argv) {
 }
 
 /* tsr_tiles_parse: both forms, and one error per kind naming the tile. */
-static int cmd_parse(void) {
+static int cmd_parse(void)
+{
     static const struct {
         const char *text;
         bool with_server;
-        int count;          /* -1: must fail */
-        int last[5];        /* the last tile: server x y w h */
+        int count;           /* -1: must fail */
+        int last[5];         /* the last tile: server x y w h */
         const char *message; /* expected error */
     } cases[] = {
         {"", false, 0, {0}, NULL},
@@ -519,12 +527,11 @@ static int cmd_parse(void) {
         } else {
             const int *w = cases[i].last;
             ok = rc == TSR_OK && n == (size_t)cases[i].count &&
-                 (n == 0 || (tiles[n - 1].server == w[0] && tiles[n - 1].x == w[1] &&
-                             tiles[n - 1].y == w[2] && tiles[n - 1].width == w[3] &&
-                             tiles[n - 1].height == w[4]));
+                 (n == 0 || (tiles[n - 1].server == w[0] && tiles[n - 1].x == w[1] && tiles[n - 1].y == w[2] &&
+                             tiles[n - 1].width == w[3] && tiles[n - 1].height == w[4]));
         }
-        CHECK(ok, "tiles '%s': %s%s", cases[i].text, rc == TSR_OK ? "parsed" : "error: ",
-              rc == TSR_OK ? "" : err.message);
+        CHECK(ok, "tiles '%s': %s%s", cases[i].text,
+              rc == TSR_OK ? "parsed" : "error: ", rc == TSR_OK ? "" : err.message);
         if (ok)
             printf("ok '%s'\n", cases[i].text);
         free(tiles);
@@ -532,7 +539,8 @@ static int cmd_parse(void) {
     return harness_failures ? 1 : 0;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc == 2 && !strcmp(argv[1], "parse"))
         return cmd_parse();
     if (argc == 8 && !strcmp(argv[1], "crop"))

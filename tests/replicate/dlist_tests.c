@@ -24,7 +24,10 @@
 
 #include "harness.h"
 
-typedef struct mem { uint8_t *b; size_t n; } mem;
+typedef struct mem {
+    uint8_t *b;
+    size_t n;
+} mem;
 
 static int mem_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
 {
@@ -39,7 +42,11 @@ static int mem_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
     return TSR_OK;
 }
 
-typedef struct packed { tsr_packer *p; tsr_dispatch d; mem m; } packed;
+typedef struct packed {
+    tsr_packer *p;
+    tsr_dispatch d;
+    mem m;
+} packed;
 
 static void packed_init(packed *k)
 {
@@ -124,7 +131,7 @@ static void direct_calls(const tsr_dispatch *d, int times)
     for (int t = 0; t < times; t++) {
         tsr_call_Translatef(d, 1, 2, 3);
         tsr_call_Color4f(d, 0.1f, 0.2f, 0.3f, 0.4f);
-        tsr_call_Rotatef(d, 30, 0, 1, 0);       /* list 11, called by list 10 */
+        tsr_call_Rotatef(d, 30, 0, 1, 0); /* list 11, called by list 10 */
         tsr_call_Normal3f(d, 0, 1, 0);
         GLfloat amb[4] = {0.3f, 0.2f, 0.1f, 1};
         tsr_call_Materialfv(d, GL_FRONT, GL_AMBIENT, amb);
@@ -132,7 +139,10 @@ static void direct_calls(const tsr_dispatch *d, int times)
     }
 }
 
-typedef struct caller { tsr_dlist_store *s; tsr_dispatch table; } caller;
+typedef struct caller {
+    tsr_dlist_store *s;
+    tsr_dispatch table;
+} caller;
 
 static void caller_CallList(void *self, GLuint list)
 {
@@ -227,7 +237,8 @@ static void immediate_and_delete(void)
     packed_init(&again);
     tsr_call_PixelStorei(&app.d, GL_UNPACK_ALIGNMENT, 1);
     tsr_call_NewList(&app.d, 5, GL_COMPILE);
-    static const GLubyte bits[3 * 5] = {0xff, 0x81, 0xff, 0x42, 0x24, 0x18, 0x81, 0x42, 0x24, 0x18, 0xff, 0x00, 0xaa, 0x55, 0xaa};
+    static const GLubyte bits[3 * 5] = {0xff, 0x81, 0xff, 0x42, 0x24, 0x18, 0x81, 0x42,
+                                        0x24, 0x18, 0xff, 0x00, 0xaa, 0x55, 0xaa};
     tsr_call_Bitmap(&app.d, 20, 5, 0, 0, 21, 0, bits);
     tsr_call_PixelStorei(&app.d, GL_UNPACK_ROW_LENGTH, 24); /* runs at once: reaches the tracker now */
     tsr_call_EndList(&app.d);
@@ -258,8 +269,7 @@ static void immediate_and_delete(void)
           "after define_all the renderer's pixel store is not GL's default");
 
     tsr_call_DeleteLists(in, 1, 100);
-    CHECK(tsr_dlist_count(s) == 0 && !tsr_dlist_has(s, 5), "DeleteLists(1, 100) left %zu lists",
-          tsr_dlist_count(s));
+    CHECK(tsr_dlist_count(s) == 0 && !tsr_dlist_has(s, 5), "DeleteLists(1, 100) left %zu lists", tsr_dlist_count(s));
     CHECK(!tsr_state_is_list(ctx, 5), "the tracker still knows list 5");
 
     tsr_dlist_destroy(s2);
@@ -272,7 +282,10 @@ static void immediate_and_delete(void)
 
 int main(int argc, char **argv)
 {
-    static const struct { const char *name; void (*fn)(void); } tests[] = {
+    static const struct {
+        const char *name;
+        void (*fn)(void);
+    } tests[] = {
         {"define_all_is_byte_exact", define_all_is_byte_exact},
         {"call_equals_direct", call_equals_direct},
         {"immediate_and_delete", immediate_and_delete},

@@ -93,7 +93,7 @@ typedef struct scanner {
     struct required {
         char *name;
         int version;
-    } *required;
+    } * required;
     size_t nrequired, required_cap;
 } scanner;
 
@@ -234,8 +234,7 @@ static int push_enum(scanner *s)
     }
     char *end;
     errno = 0;
-    unsigned long long v =
-        value[0] == '-' ? (unsigned long long)strtoll(value, &end, 0) : strtoull(value, &end, 0);
+    unsigned long long v = value[0] == '-' ? (unsigned long long)strtoll(value, &end, 0) : strtoull(value, &end, 0);
     if (errno || *end)
         return fail(s, "enum %s has bad value '%s'", name, value);
     glxml_enum *e = &x->enums[x->nenums];

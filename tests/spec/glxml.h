@@ -9,23 +9,23 @@
 
 typedef struct glxml_param {
     char *name;
-    char *type;        /* C type text with the name removed: "const GLchar *const*" */
-    char *group;       /* enum group of a GLenum parameter ("LightParameter") or NULL */
+    char *type;  /* C type text with the name removed: "const GLchar *const*" */
+    char *group; /* enum group of a GLenum parameter ("LightParameter") or NULL */
 } glxml_param;
 
 typedef struct glxml_command {
-    char *name;        /* "glLightfv" */
-    char *ret;         /* "void", "const GLubyte *" */
+    char *name; /* "glLightfv" */
+    char *ret;  /* "void", "const GLubyte *" */
     glxml_param *params;
     size_t nparams;
-    int line;          /* line of <command> in gl.xml */
+    int line; /* line of <command> in gl.xml */
 } glxml_command;
 
 typedef struct glxml_enum {
-    char *name;        /* "GL_AMBIENT" */
+    char *name; /* "GL_AMBIENT" */
     unsigned long long value;
-    char *groups;      /* comma-separated group list ("GetPName,LightParameter") or NULL */
-    int gl_version;    /* first GL version requiring it, major*10+minor (21 = 2.1); 0 if none */
+    char *groups;   /* comma-separated group list ("GetPName,LightParameter") or NULL */
+    int gl_version; /* first GL version requiring it, major*10+minor (21 = 2.1); 0 if none */
 } glxml_enum;
 
 typedef struct glxml {

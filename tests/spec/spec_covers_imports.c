@@ -28,8 +28,8 @@ int main(int argc, char **argv)
         if (!gl_name)
             continue;
         names++;
-        CHECK(spec_find(&s, line + 2), "%s:%d: %s is imported by a program but missing from %s", argv[2],
-              lineno, line, argv[1]);
+        CHECK(spec_find(&s, line + 2), "%s:%d: %s is imported by a program but missing from %s", argv[2], lineno, line,
+              argv[1]);
     }
     fclose(f);
     printf("%d imported gl functions, %d missing from the spec\n", names, harness_failures);

@@ -11,8 +11,7 @@
 
 #include "harness.h"
 
-static void check_table(const char *spec_path, const char *what, const spec_pname_count *t, size_t n,
-                        const glxml *x)
+static void check_table(const char *spec_path, const char *what, const spec_pname_count *t, size_t n, const glxml *x)
 {
     for (size_t i = 0; i < n; i++) {
         const glxml_enum *e = glxml_find_enum(x, t[i].name);
@@ -21,8 +20,8 @@ static void check_table(const char *spec_path, const char *what, const spec_pnam
             continue;
         for (size_t j = 0; j < i; j++) {
             const glxml_enum *o = glxml_find_enum(x, t[j].name);
-            CHECK(!o || o->value != e->value, "%s: %s lists both %s and %s, which are the same value 0x%llx",
-                  spec_path, what, t[j].name, t[i].name, e->value);
+            CHECK(!o || o->value != e->value, "%s: %s lists both %s and %s, which are the same value 0x%llx", spec_path,
+                  what, t[j].name, t[i].name, e->value);
         }
     }
 }
@@ -37,8 +36,8 @@ int main(int argc, char **argv)
     CHECK(s.npnames > 0, "%s has no pname_counts", argv[1]);
     check_table(argv[1], "pname_counts", s.pnames, s.npnames, &x);
     check_table(argv[1], "map_components", s.map_components, s.nmap_components, &x);
-    printf("%zu pname_counts and %zu map_components checked against %zu gl.xml enums, %d problems\n",
-           s.npnames, s.nmap_components, x.nenums, harness_failures);
+    printf("%zu pname_counts and %zu map_components checked against %zu gl.xml enums, %d problems\n", s.npnames,
+           s.nmap_components, x.nenums, harness_failures);
     glxml_free(&x);
     spec_free(&s);
     return harness_failures ? 1 : 0;

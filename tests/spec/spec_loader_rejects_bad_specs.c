@@ -26,22 +26,19 @@ static const char prefix[] = "version: 1\n"                          /* 1 */
 
 typedef struct bad_case {
     const char *name;
-    int with_prefix;  /* prepend `prefix` */
+    int with_prefix; /* prepend `prefix` */
     const char *text;
-    int line;         /* expected line of the error, 0: any */
+    int line;                  /* expected line of the error, 0: any */
     const char *want1, *want2; /* substrings the message must contain */
 } bad_case;
 
 static const bad_case cases[] = {
-    {"duplicate_opcode", 1,
-     "  - name: End\n    opcode: 1\n    category: geometry\n    return: void\n    params: []\n", 11,
-     "duplicate opcode 1", "End"},
-    {"duplicate_name", 1,
-     "  - name: Begin\n    opcode: 2\n    category: geometry\n    return: void\n    params: []\n", 11,
-     "duplicate command name", "Begin"},
-    {"unknown_category", 1,
-     "  - name: End\n    opcode: 2\n    category: geomtry\n    return: void\n    params: []\n", 13,
-     "unknown category", "geomtry"},
+    {"duplicate_opcode", 1, "  - name: End\n    opcode: 1\n    category: geometry\n    return: void\n    params: []\n",
+     11, "duplicate opcode 1", "End"},
+    {"duplicate_name", 1, "  - name: Begin\n    opcode: 2\n    category: geometry\n    return: void\n    params: []\n",
+     11, "duplicate command name", "Begin"},
+    {"unknown_category", 1, "  - name: End\n    opcode: 2\n    category: geomtry\n    return: void\n    params: []\n",
+     13, "unknown category", "geomtry"},
     {"count_names_missing_param", 1,
      "  - name: Lightfv\n    opcode: 2\n    category: state\n    return: void\n    params:\n"
      "      - {name: light, type: GLenum}\n"
@@ -74,19 +71,19 @@ static const bad_case cases[] = {
      "      - {name: data, type: GLint *, count: {pname: pname}}\n",
      17, "wire: reply", "data"},
     {"return_value_on_pack_command", 1,
-     "  - name: GetError\n    opcode: 2\n    category: get\n    return: GLenum\n    params: []\n", 11,
-     "GetError", "wire: reply"},
-    {"opcode_zero", 1, "  - name: End\n    opcode: 0\n    category: geometry\n    return: void\n    params: []\n",
-     12, "opcode 0", "out of range"},
+     "  - name: GetError\n    opcode: 2\n    category: get\n    return: GLenum\n    params: []\n", 11, "GetError",
+     "wire: reply"},
+    {"opcode_zero", 1, "  - name: End\n    opcode: 0\n    category: geometry\n    return: void\n    params: []\n", 12,
+     "opcode 0", "out of range"},
     {"opcode_above_65534", 1,
-     "  - name: End\n    opcode: 65535\n    category: geometry\n    return: void\n    params: []\n", 12,
-     "opcode 65535", "out of range"},
+     "  - name: End\n    opcode: 65535\n    category: geometry\n    return: void\n    params: []\n", 12, "opcode 65535",
+     "out of range"},
     {"opcode_not_a_number", 1,
-     "  - name: End\n    opcode: two\n    category: geometry\n    return: void\n    params: []\n", 12,
-     "'two'", "not an integer"},
+     "  - name: End\n    opcode: two\n    category: geometry\n    return: void\n    params: []\n", 12, "'two'",
+     "not an integer"},
     {"unknown_wire", 1,
-     "  - name: End\n    opcode: 2\n    category: geometry\n    return: void\n    wire: packed\n    params: []\n",
-     15, "unknown wire", "packed"},
+     "  - name: End\n    opcode: 2\n    category: geometry\n    return: void\n    wire: packed\n    params: []\n", 15,
+     "unknown wire", "packed"},
     {"unknown_command_key", 1,
      "  - name: End\n    opcod: 2\n    category: geometry\n    return: void\n    params: []\n", 12,
      "unknown command key", "opcod"},
@@ -150,10 +147,10 @@ int main(void)
     CHECK(loaded, "control spec does not load: %s", err);
     if (loaded) {
         const spec_command *c = spec_find(&s, "Lightfv");
-        CHECK(s.ncmds == 2 && c && c->line == 11 && c->nparams == 3 &&
-                  c->params[2].count.kind == SPEC_COUNT_PNAME && spec_pname_count_of(&s, "GL_AMBIENT") == 4,
-              "control spec loaded wrongly: %zu commands, Lightfv %s at line %d with %zu params",
-              s.ncmds, c ? "found" : "missing", c ? c->line : 0, c ? c->nparams : 0);
+        CHECK(s.ncmds == 2 && c && c->line == 11 && c->nparams == 3 && c->params[2].count.kind == SPEC_COUNT_PNAME &&
+                  spec_pname_count_of(&s, "GL_AMBIENT") == 4,
+              "control spec loaded wrongly: %zu commands, Lightfv %s at line %d with %zu params", s.ncmds,
+              c ? "found" : "missing", c ? c->line : 0, c ? c->nparams : 0);
         spec_free(&s);
     }
     unlink(path);
@@ -174,8 +171,8 @@ int main(void)
             spec_free(&s);
         } else {
             /* Each holds on its own; all of them are checked. */
-            CHECK(check_location(err, path, bc->line), "%s: message does not start with %s:%d:COL: -> %s",
-                  bc->name, path, bc->line, err);
+            CHECK(check_location(err, path, bc->line), "%s: message does not start with %s:%d:COL: -> %s", bc->name,
+                  path, bc->line, err);
             CHECK(strstr(err, bc->want1) && (!bc->want2 || strstr(err, bc->want2)),
                   "%s: message does not name '%s'%s%s%s -> %s", bc->name, bc->want1, bc->want2 ? " and '" : "",
                   bc->want2 ? bc->want2 : "", bc->want2 ? "'" : "", err);

@@ -33,17 +33,17 @@ int main(int argc, char **argv)
         char a[256], b[256];
         glxml_normalise_type(c->ret, a, sizeof a);
         glxml_normalise_type(k->ret, b, sizeof b);
-        CHECK(strcmp(a, b) == 0, "%s:%d: %s returns '%s' in the spec but '%s' in gl.xml", argv[1], c->line,
-              glname, c->ret, b);
-        CHECK(c->nparams == k->nparams, "%s:%d: %s has %zu parameters in the spec but %zu in gl.xml", argv[1],
-              c->line, glname, c->nparams, k->nparams);
+        CHECK(strcmp(a, b) == 0, "%s:%d: %s returns '%s' in the spec but '%s' in gl.xml", argv[1], c->line, glname,
+              c->ret, b);
+        CHECK(c->nparams == k->nparams, "%s:%d: %s has %zu parameters in the spec but %zu in gl.xml", argv[1], c->line,
+              glname, c->nparams, k->nparams);
         if (c->nparams != k->nparams)
             continue;
         for (size_t j = 0; j < c->nparams; j++) {
             glxml_normalise_type(c->params[j].type, a, sizeof a);
             glxml_normalise_type(k->params[j].type, b, sizeof b);
-            CHECK(strcmp(a, b) == 0, "%s:%d: %s parameter %zu (%s) is '%s' in the spec but '%s' in gl.xml",
-                  argv[1], c->line, glname, j + 1, c->params[j].name, c->params[j].type, b);
+            CHECK(strcmp(a, b) == 0, "%s:%d: %s parameter %zu (%s) is '%s' in the spec but '%s' in gl.xml", argv[1],
+                  c->line, glname, j + 1, c->params[j].name, c->params[j].type, b);
         }
     }
     printf("%zu spec commands checked against %zu gl.xml commands, %d mismatches\n", checked, x.ncmds,

@@ -34,8 +34,8 @@ int main(int argc, char **argv)
         const spec_command *c = spec_find(&s, name);
         CHECK(c, "%s:%d: %s (opcode %d) was removed from the spec", argv[2], lineno, name, opcode);
         if (c)
-            CHECK(c->opcode == opcode, "%s:%d: %s was renumbered from %d to %d (spec line %d)", argv[2], lineno,
-                  name, opcode, c->opcode, c->line);
+            CHECK(c->opcode == opcode, "%s:%d: %s was renumbered from %d to %d (spec line %d)", argv[2], lineno, name,
+                  opcode, c->opcode, c->line);
     }
     fclose(f);
     printf("%d frozen opcodes, %d broken, %zu commands in the spec\n", frozen, harness_failures, s.ncmds);

@@ -60,8 +60,8 @@ int main(int argc, char **argv)
             for (size_t m = 0; k && m < k->nparams; m++)
                 if (!strcmp(k->params[m].name, pname))
                     group = k->params[m].group;
-            CHECK(group, "%s:%d: %s: gl.xml gives parameter '%s' no enum group to check against", argv[1],
-                  c->line, glname, pname);
+            CHECK(group, "%s:%d: %s: gl.xml gives parameter '%s' no enum group to check against", argv[1], c->line,
+                  glname, pname);
             if (!group)
                 continue;
             commands++;
@@ -76,8 +76,7 @@ int main(int argc, char **argv)
                       "%s:%d: %s(%s) accepts %s (group %s, GL %d.%d) but pname_counts lacks it", argv[1], c->line,
                       glname, pname, en->name, group, en->gl_version / 10, en->gl_version % 10);
             }
-            CHECK(members > 0, "%s:%d: %s: group %s has no GL <= 2.1 enums in gl.xml", argv[1], c->line, glname,
-                  group);
+            CHECK(members > 0, "%s:%d: %s: group %s has no GL <= 2.1 enums in gl.xml", argv[1], c->line, glname, group);
         }
     }
     printf("%zu enum-sized parameters, %zu (command, enum) pairs checked, %d missing\n", commands, checked,

@@ -18,7 +18,8 @@ static char journal[64][128];
 static size_t journal_len;
 
 static void note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static void note(const char *fmt, ...) {
+static void note(const char *fmt, ...)
+{
     if (journal_len == 64)
         return;
     va_list ap;
@@ -29,7 +30,8 @@ static void note(const char *fmt, ...) {
 
 static void journal_reset(void) { journal_len = 0; }
 
-static void check_journal(const char *const *expected, size_t n, int line) {
+static void check_journal(const char *const *expected, size_t n, int line)
+{
     bool same = journal_len == n;
     for (size_t i = 0; same && i < n; i++)
         same = !strcmp(journal[i], expected[i]);
@@ -43,10 +45,10 @@ static void check_journal(const char *const *expected, size_t n, int line) {
         fprintf(stderr, "    %s\n", expected[i]);
     harness_failures++;
 }
-#define CHECK_JOURNAL(...)                                                                         \
-    do {                                                                                           \
-        static const char *const expected_[] = {__VA_ARGS__};                                      \
-        check_journal(expected_, sizeof expected_ / sizeof expected_[0], __LINE__);                \
+#define CHECK_JOURNAL(...)                                                          \
+    do {                                                                            \
+        static const char *const expected_[] = {__VA_ARGS__};                       \
+        check_journal(expected_, sizeof expected_ / sizeof expected_[0], __LINE__); \
     } while (0)
 
 /* An instance of any test SPU: its name, where calls go next, its super. */
@@ -56,7 +58,8 @@ typedef struct test_spu {
     const tsr_dispatch *super;
 } test_spu;
 
-static test_spu *test_spu_new(const tsr_spu_init *init) {
+static test_spu *test_spu_new(const tsr_spu_init *init)
+{
     test_spu *t = calloc(1, sizeof *t);
     if (t) {
         snprintf(t->name, sizeof t->name, "%s", init->instance_name);
@@ -67,24 +70,28 @@ static test_spu *test_spu_new(const tsr_spu_init *init) {
     return t;
 }
 
-static void test_spu_destroy(void *self) {
+static void test_spu_destroy(void *self)
+{
     test_spu *t = self;
     note("destroy %s", t->name);
     free(t);
 }
 
 /* inh_super implements Vertex3f (A) and Color3f (B), passing both on. */
-static void super_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
+static void super_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
     test_spu *t = self;
     note("%s: Vertex3f %g", t->name, x);
     tsr_call_Vertex3f(t->child, x, y, z);
 }
-static void super_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b) {
+static void super_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b)
+{
     test_spu *t = self;
     note("%s: Color3f %g", t->name, r);
     tsr_call_Color3f(t->child, r, g, b);
 }
-static void *super_create(const tsr_spu_init *init, tsr_error *err) {
+static void *super_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)err;
     test_spu *t = test_spu_new(init);
     if (t) {
@@ -97,12 +104,14 @@ static void *super_create(const tsr_spu_init *init, tsr_error *err) {
 
 /* inh_sub inherits inh_super and overrides only Color3f (B), then calls
  * its super's version, as a subclass method would. */
-static void sub_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b) {
+static void sub_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b)
+{
     test_spu *t = self;
     note("%s: Color3f %g", t->name, r);
     tsr_call_Color3f(t->super, r, g, b);
 }
-static void *sub_create(const tsr_spu_init *init, tsr_error *err) {
+static void *sub_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)err;
     test_spu *t = test_spu_new(init);
     if (t) {
@@ -115,19 +124,23 @@ static void *sub_create(const tsr_spu_init *init, tsr_error *err) {
 }
 
 /* inh_child records Vertex3f, Color3f and Normal3f (C). */
-static void child_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
+static void child_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
     (void)y, (void)z;
     note("%s: Vertex3f %g", ((test_spu *)self)->name, x);
 }
-static void child_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b) {
+static void child_Color3f(void *self, GLfloat r, GLfloat g, GLfloat b)
+{
     (void)g, (void)b;
     note("%s: Color3f %g", ((test_spu *)self)->name, r);
 }
-static void child_Normal3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
+static void child_Normal3f(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
     (void)y, (void)z;
     note("%s: Normal3f %g", ((test_spu *)self)->name, x);
 }
-static void *child_create(const tsr_spu_init *init, tsr_error *err) {
+static void *child_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)err;
     test_spu *t = test_spu_new(init);
     if (t) {
@@ -138,18 +151,14 @@ static void *child_create(const tsr_spu_init *init, tsr_error *err) {
     return t;
 }
 
-static void *failing_create(const tsr_spu_init *init, tsr_error *err) {
+static void *failing_create(const tsr_spu_init *init, tsr_error *err)
+{
     tsr_error_set(err, TSR_EIO, "%s: cannot open the display", init->instance_name);
     return NULL;
 }
 
 static const tsr_option_spec super_options[] = {
-    {.name = "level",
-     .type = TSR_OPT_INT,
-     .default_value = "1",
-     .min = 0,
-     .max = 9,
-     .help = "a super's option"},
+    {.name = "level", .type = TSR_OPT_INT, .default_value = "1", .min = 0, .max = 9, .help = "a super's option"},
 };
 static const tsr_option_spec sub_options[] = {
     {.name = "tag",
@@ -165,11 +174,11 @@ static const tsr_option_spec msg_options[] = {
     {.name = "output", .type = TSR_OPT_STRING, .min = 1, .max = 0},
 };
 
-#define TEST_CLASS(cname, csuper, opts, nopts, create_fn)                                          \
-    {                                                                                              \
-        .abi = TSR_SPU_ABI, .dispatch_count = TSR_DISPATCH_COUNT, .name = cname, .super = csuper,  \
-        .summary = "chain test SPU", .options = opts, .option_count = nopts, .create = create_fn,  \
-        .destroy = test_spu_destroy                                                                \
+#define TEST_CLASS(cname, csuper, opts, nopts, create_fn)                                         \
+    {                                                                                             \
+        .abi = TSR_SPU_ABI, .dispatch_count = TSR_DISPATCH_COUNT, .name = cname, .super = csuper, \
+        .summary = "chain test SPU", .options = opts, .option_count = nopts, .create = create_fn, \
+        .destroy = test_spu_destroy                                                               \
     }
 
 static const tsr_spu_class test_classes[] = {
@@ -195,7 +204,8 @@ static const tsr_spu_class test_classes[] = {
     TEST_CLASS("orphan", "no_such_super", NULL, 0, child_create),
 };
 
-static void register_test_classes(void) {
+static void register_test_classes(void)
+{
     for (size_t i = 0; i < sizeof test_classes / sizeof test_classes[0]; i++) {
         tsr_error err;
         if (tsr_spu_register(&test_classes[i], &err) != TSR_OK) {
@@ -205,7 +215,8 @@ static void register_test_classes(void) {
     }
 }
 
-static tsr_chain *chain_ok(const char *text) {
+static tsr_chain *chain_ok(const char *text)
+{
     tsr_error err;
     tsr_error_clear(&err);
     tsr_chain *chain = tsr_chain_create(text, &err);
@@ -216,7 +227,8 @@ static tsr_chain *chain_ok(const char *text) {
 }
 
 /* The message of a chain that must fail. */
-static const char *chain_error(const char *text, int code) {
+static const char *chain_error(const char *text, int code)
+{
     static tsr_error err;
     tsr_error_clear(&err);
     journal_reset();
@@ -224,13 +236,13 @@ static const char *chain_error(const char *text, int code) {
     CHECK(chain == NULL);
     tsr_chain_destroy(chain);
     if (err.code != code)
-        fprintf(stderr, "chain '%s': code %s, expected %s\n", text, tsr_error_name(err.code),
-                tsr_error_name(code));
+        fprintf(stderr, "chain '%s': code %s, expected %s\n", text, tsr_error_name(err.code), tsr_error_name(code));
     CHECK(err.code == code);
     return err.message;
 }
 
-static void test_inheritance(void) {
+static void test_inheritance(void)
+{
     register_test_classes();
     tsr_chain *chain = chain_ok("inh_sub level=3 tag=x ! inh_child");
     const tsr_dispatch *head = tsr_chain_head(chain);
@@ -242,8 +254,7 @@ static void test_inheritance(void) {
 
     journal_reset();
     tsr_call_Color3f(head, 2, 0, 0); /* B: the subclass overrides it */
-    CHECK_JOURNAL("inh_sub#1: Color3f 2", "inh_sub#1.inh_super: Color3f 2",
-                  "inh_child#1: Color3f 2");
+    CHECK_JOURNAL("inh_sub#1: Color3f 2", "inh_sub#1.inh_super: Color3f 2", "inh_child#1: Color3f 2");
 
     journal_reset();
     tsr_call_Normal3f(head, 3, 0, 0); /* C: neither does; the child gets it */
@@ -259,38 +270,36 @@ static void test_inheritance(void) {
     CHECK_JOURNAL("destroy inh_sub#1", "destroy inh_sub#1.inh_super", "destroy inh_child#1");
 }
 
-static void test_super_options_accepted(void) {
+static void test_super_options_accepted(void)
+{
     register_test_classes();
     journal_reset();
     tsr_chain *chain = chain_ok("inh_sub level=7 ! inh_child");
     /* Last to first; the super before its subclass; both see `level`. */
-    CHECK_JOURNAL("create inh_child#1", "create inh_sub#1.inh_super",
-                  "inh_sub#1.inh_super: level=7", "create inh_sub#1",
-                  "inh_sub#1: level=7 tag=none");
+    CHECK_JOURNAL("create inh_child#1", "create inh_sub#1.inh_super", "inh_sub#1.inh_super: level=7",
+                  "create inh_sub#1", "inh_sub#1: level=7 tag=none");
     tsr_chain_destroy(chain);
     /* The super alone does not know the subclass's option. */
-    CHECK_STR(chain_error("inh_super tag=x", TSR_EINVAL),
-              "inh_super: unknown option 'tag' (options: level)");
-    CHECK_STR(chain_error("inh_sub level=12", TSR_EINVAL),
-              "inh_sub: option 'level': '12' is out of range [0, 9]");
+    CHECK_STR(chain_error("inh_super tag=x", TSR_EINVAL), "inh_super: unknown option 'tag' (options: level)");
+    CHECK_STR(chain_error("inh_sub level=12", TSR_EINVAL), "inh_sub: option 'level': '12' is out of range [0, 9]");
 }
 
-static void test_rejects_unknown_option(void) {
+static void test_rejects_unknown_option(void)
+{
     register_test_classes();
     CHECK_STR(chain_error("msg_render widht=640", TSR_EINVAL),
               "msg_render: unknown option 'widht' (did you mean 'width'?)");
     CHECK_STR(chain_error("inh_child ! msg_render colour=red", TSR_EINVAL),
               "msg_render: unknown option 'colour' (options: width, verbose, output)");
-    CHECK_STR(chain_error("inh_child x=1", TSR_EINVAL),
-              "inh_child: unknown option 'x' (inh_child has no options)");
+    CHECK_STR(chain_error("inh_child x=1", TSR_EINVAL), "inh_child: unknown option 'x' (inh_child has no options)");
     /* Nothing was created for a chain that cannot be built. */
     CHECK(journal_len == 0);
 }
 
-static void test_rejects_wrong_type(void) {
+static void test_rejects_wrong_type(void)
+{
     register_test_classes();
-    CHECK_STR(chain_error("msg_render width=abc", TSR_EINVAL),
-              "msg_render: option 'width': 'abc' is not an integer");
+    CHECK_STR(chain_error("msg_render width=abc", TSR_EINVAL), "msg_render: option 'width': 'abc' is not an integer");
     CHECK_STR(chain_error("msg_render verbose=2", TSR_EINVAL),
               "msg_render: option 'verbose': '2' is not a boolean (true/false, yes/no, on/off, "
               "1/0)");
@@ -299,7 +308,8 @@ static void test_rejects_wrong_type(void) {
     CHECK(journal_len == 0);
 }
 
-static void test_rejects_unknown_spu(void) {
+static void test_rejects_unknown_spu(void)
+{
     register_test_classes();
     char path[4096], expected[8192];
     tsr_spu_search_path(path, sizeof path);
@@ -309,10 +319,10 @@ static void test_rejects_unknown_spu(void) {
                    "unknown SPU 'inh_chlid' (did you mean 'inh_child'?): no inh_chlid_spu.so in ");
 }
 
-static void test_rejects_bad_supers(void) {
+static void test_rejects_bad_supers(void)
+{
     register_test_classes();
-    CHECK_STR(chain_error("cyc_a", TSR_EINVAL),
-              "cyc_a: super SPUs form a cycle: cyc_a -> cyc_b -> cyc_a");
+    CHECK_STR(chain_error("cyc_a", TSR_EINVAL), "cyc_a: super SPUs form a cycle: cyc_a -> cyc_b -> cyc_a");
     CHECK_STR(chain_error("deep0", TSR_EINVAL),
               "deep0: more than 8 levels of super SPUs: deep0 -> deep1 -> deep2 -> deep3 -> "
               "deep4 -> deep5 -> deep6 -> deep7 -> deep8 -> deep9 ...");
@@ -323,7 +333,8 @@ static void test_rejects_bad_supers(void) {
                    "orphan: super SPU 'no_such_super' of 'orphan': unknown SPU 'no_such_super'");
 }
 
-static void test_empty_is_error(void) {
+static void test_empty_is_error(void)
+{
     CHECK_STR(chain_error("", TSR_EINVAL), "chain: empty chain (no SPU named)");
     CHECK_STR(chain_error("   ", TSR_EINVAL), "chain: empty chain (no SPU named)");
     tsr_error err;
@@ -333,18 +344,16 @@ static void test_empty_is_error(void) {
     tsr_chain_destroy(NULL);
 }
 
-static void test_parse_errors_name_token(void) {
+static void test_parse_errors_name_token(void)
+{
     CHECK_STR(chain_error("! inh_child", TSR_EINVAL), "chain: '!' (column 1) has no SPU before it");
-    CHECK_STR(chain_error("inh_child ! ! inh_child", TSR_EINVAL),
-              "chain: '!' (column 13) has no SPU before it");
-    CHECK_STR(chain_error("inh_child !", TSR_EINVAL),
-              "chain: '!' (column 11) is not followed by an SPU");
+    CHECK_STR(chain_error("inh_child ! ! inh_child", TSR_EINVAL), "chain: '!' (column 13) has no SPU before it");
+    CHECK_STR(chain_error("inh_child !", TSR_EINVAL), "chain: '!' (column 11) is not followed by an SPU");
     CHECK_STR(chain_error("msg_render width", TSR_EINVAL),
               "chain: 'width' after 'msg_render' (column 12) is not key=value");
     CHECK_STR(chain_error("msg_render =5", TSR_EINVAL),
               "chain: '=5' after 'msg_render' (column 12) has no option name");
-    CHECK_STR(chain_error("Render", TSR_EINVAL),
-              "chain: 'Render' (column 1) is not an SPU name ([a-z0-9_]+)");
+    CHECK_STR(chain_error("Render", TSR_EINVAL), "chain: 'Render' (column 1) is not an SPU name ([a-z0-9_]+)");
     CHECK_STR(chain_error("msg_render output=\"a b", TSR_EINVAL),
               "chain: unterminated quote in 'output=\"a' (column 19)");
     CHECK_STR(chain_error("msg_render output=\"a\"b", TSR_EINVAL),
@@ -355,7 +364,8 @@ static void test_parse_errors_name_token(void) {
 }
 
 /* A recording SPU's view of the option it was given, through the journal. */
-static void *echo_create(const tsr_spu_init *init, tsr_error *err) {
+static void *echo_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)err;
     test_spu *t = test_spu_new(init);
     if (t)
@@ -363,7 +373,8 @@ static void *echo_create(const tsr_spu_init *init, tsr_error *err) {
     return t;
 }
 
-static void test_parse_quoted_values(void) {
+static void test_parse_quoted_values(void)
+{
     static const tsr_spu_class echo = {.abi = TSR_SPU_ABI,
                                        .name = "echo",
                                        .options = msg_options,
@@ -375,14 +386,13 @@ static void test_parse_quoted_values(void) {
     journal_reset();
     tsr_chain *chain = chain_ok("echo output=\"frames/a b!c.png\" width=5!echo   output=\"say "
                                 "\\\"hi\\\" \\\\o/\" ! echo output=\"\"");
-    CHECK_JOURNAL("create echo#3", "output=[]", "create echo#2", "output=[say \"hi\" \\o/]",
-                  "create echo#1", "output=[frames/a b!c.png]");
+    CHECK_JOURNAL("create echo#3", "output=[]", "create echo#2", "output=[say \"hi\" \\o/]", "create echo#1",
+                  "output=[frames/a b!c.png]");
     tsr_chain_destroy(chain);
 
     /* The same chain as links, without text. */
     const char *keys[] = {"output", "width"}, *values[] = {"x y", "7"};
-    tsr_chain_link links[] = {{.spu = "echo", .keys = keys, .values = values, .option_count = 2},
-                              {.spu = "inh_child"}};
+    tsr_chain_link links[] = {{.spu = "echo", .keys = keys, .values = values, .option_count = 2}, {.spu = "inh_child"}};
     register_test_classes();
     journal_reset();
     chain = tsr_chain_create_links(links, 2, &err);
@@ -393,7 +403,8 @@ static void test_parse_quoted_values(void) {
 
 /* Links to text (what an app node gets as TESSERA_CHAIN from its links):
  * every value quoted and escaped, read back unchanged by the parser. */
-static void test_links_text_reads_back(void) {
+static void test_links_text_reads_back(void)
+{
     static const tsr_spu_class echo = {.abi = TSR_SPU_ABI,
                                        .name = "echo",
                                        .options = msg_options,
@@ -419,7 +430,8 @@ static void test_links_text_reads_back(void) {
     CHECK(tsr_chain_links_text(links, 0, &err) == NULL && err.code == TSR_EINVAL);
 }
 
-static void test_create_failure_cleans_up(void) {
+static void test_create_failure_cleans_up(void)
+{
     register_test_classes();
     journal_reset();
     tsr_error err;
@@ -427,12 +439,13 @@ static void test_create_failure_cleans_up(void) {
     CHECK(err.code == TSR_EIO);
     CHECK_STR(err.message, "failing#1: cannot open the display");
     /* What was created is destroyed again, first to last. */
-    CHECK_JOURNAL("create inh_child#2", "create inh_sub#1.inh_super",
-                  "inh_sub#1.inh_super: level=1", "create inh_sub#1", "inh_sub#1: level=1 tag=none",
-                  "destroy inh_sub#1", "destroy inh_sub#1.inh_super", "destroy inh_child#2");
+    CHECK_JOURNAL("create inh_child#2", "create inh_sub#1.inh_super", "inh_sub#1.inh_super: level=1",
+                  "create inh_sub#1", "inh_sub#1: level=1 tag=none", "destroy inh_sub#1", "destroy inh_sub#1.inh_super",
+                  "destroy inh_child#2");
 }
 
-static void test_unset_slots_reach_child(void) {
+static void test_unset_slots_reach_child(void)
+{
     /* The real passthrough plugin implements nothing: every call must reach
      * the SPU after it. */
     unsetenv("TESSERA_SPU_PATH");
@@ -451,7 +464,8 @@ static void test_unset_slots_reach_child(void) {
 }
 
 /* Creates and destroys `text` with stderr captured; returns what was said. */
-static const char *chain_stderr(const char *text) {
+static const char *chain_stderr(const char *text)
+{
     static char said[2048];
     char path[] = "/tmp/tessera_chain_test_XXXXXX";
     int fd = mkstemp(path);
@@ -470,7 +484,8 @@ static const char *chain_stderr(const char *text) {
     return said;
 }
 
-static void test_passthrough_verbose_option(void) {
+static void test_passthrough_verbose_option(void)
+{
     unsetenv("TESSERA_SPU_PATH");
     CHECK_STR(chain_stderr("passthrough verbose=yes ! passthrough"),
               "tessera: passthrough#1: created; every call goes straight to the next SPU\n"

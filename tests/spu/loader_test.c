@@ -12,14 +12,16 @@ static const char *build_spu_dir(void) { return spu_test_argv[0]; }
 static const char *env_dir(void) { return spu_test_argv[1]; }
 static const char *bad_dir(void) { return spu_test_argv[2]; }
 
-static void *noop_create(const tsr_spu_init *init, tsr_error *err) {
+static void *noop_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)init;
     (void)err;
     return malloc(1);
 }
 static void noop_destroy(void *self) { free(self); }
 
-static void test_finds_build_tree_plugin(void) {
+static void test_finds_build_tree_plugin(void)
+{
     unsetenv("TESSERA_SPU_PATH");
     char path[4096];
     CHECK_CONTAINS(tsr_spu_search_path(path, sizeof path), build_spu_dir());
@@ -36,7 +38,8 @@ static void test_finds_build_tree_plugin(void) {
     CHECK(tsr_spu_find("passthrough", &err) == cls);
 }
 
-static void test_env_path_first(void) {
+static void test_env_path_first(void)
+{
     setenv("TESSERA_SPU_PATH", env_dir(), 1);
     char path[4096];
     tsr_spu_search_path(path, sizeof path);
@@ -57,7 +60,8 @@ static void test_env_path_first(void) {
     CHECK(seen == 1);
 }
 
-static void test_missing_spu_names_search_path(void) {
+static void test_missing_spu_names_search_path(void)
+{
     char env[4096];
     snprintf(env, sizeof env, "/nonexistent/tessera-spus:%s", env_dir());
     setenv("TESSERA_SPU_PATH", env, 1);
@@ -76,7 +80,8 @@ static void test_missing_spu_names_search_path(void) {
     CHECK_CONTAINS(err.message, "unknown SPU 'pasthrough' (did you mean 'passthrough'?)");
 }
 
-static void expect_bad_plugin(const char *name, const char *fmt) {
+static void expect_bad_plugin(const char *name, const char *fmt)
+{
     setenv("TESSERA_SPU_PATH", bad_dir(), 1);
     char file[4096], expected[8192];
     snprintf(file, sizeof file, "%s/%s_spu.so", bad_dir(), name);
@@ -88,24 +93,26 @@ static void expect_bad_plugin(const char *name, const char *fmt) {
     CHECK_STR(err.message, expected);
 }
 
-static void test_rejects_file_without_entry_point(void) {
+static void test_rejects_file_without_entry_point(void)
+{
     expect_bad_plugin("noentry", "noentry: %s has no tsr_spu_describe() entry point (not an SPU "
                                  "built against tessera/spu.h?)");
 }
 
-static void test_rejects_abi_mismatch(void) {
+static void test_rejects_abi_mismatch(void)
+{
     char fmt[256];
-    snprintf(
-        fmt, sizeof fmt,
-        "oldabi: %%s: built for SPU ABI %u, this tessera has ABI %u (rebuild the SPU against the "
-        "installed headers)",
-        TSR_SPU_ABI + 1000, TSR_SPU_ABI);
+    snprintf(fmt, sizeof fmt,
+             "oldabi: %%s: built for SPU ABI %u, this tessera has ABI %u (rebuild the SPU against the "
+             "installed headers)",
+             TSR_SPU_ABI + 1000, TSR_SPU_ABI);
     expect_bad_plugin("oldabi", fmt);
 }
 
 /* A plugin built against the headers before roles (ABI 1): one line naming
  * the plugin and both versions, nothing past `abi` read. */
-static void test_rejects_previous_abi(void) {
+static void test_rejects_previous_abi(void)
+{
     char fmt[256];
     snprintf(fmt, sizeof fmt,
              "prevabi: %%s: built for SPU ABI 1, this tessera has ABI %u (rebuild the SPU against "
@@ -115,11 +122,13 @@ static void test_rejects_previous_abi(void) {
     expect_bad_plugin("prevabi", fmt);
 }
 
-static void test_rejects_name_mismatch(void) {
+static void test_rejects_name_mismatch(void)
+{
     expect_bad_plugin("misnamed", "misnamed: %s describes an SPU named 'othername'");
 }
 
-static void test_rejects_bad_names(void) {
+static void test_rejects_bad_names(void)
+{
     tsr_error err;
     CHECK(tsr_spu_find("../etc/passwd", &err) == NULL);
     CHECK_STR(err.message, "'../etc/passwd' is not an SPU name ([a-z0-9_]+)");
@@ -127,7 +136,8 @@ static void test_rejects_bad_names(void) {
     CHECK_STR(err.message, "'' is not an SPU name ([a-z0-9_]+)");
 }
 
-static void test_registered_class_wins(void) {
+static void test_registered_class_wins(void)
+{
     unsetenv("TESSERA_SPU_PATH");
     static const tsr_spu_class mine = {.abi = TSR_SPU_ABI,
                                        .name = "passthrough",
@@ -144,7 +154,8 @@ static void test_registered_class_wins(void) {
     CHECK_STR(err.message, "passthrough: another SPU class of this name is already registered");
 }
 
-static void test_register_rejects_bad_class(void) {
+static void test_register_rejects_bad_class(void)
+{
     static const tsr_option_spec bad_default[] = {
         {.name = "width", .type = TSR_OPT_INT, .default_value = "wide", .min = 1, .max = 10}};
     static const tsr_spu_class bad = {.abi = TSR_SPU_ABI,
@@ -156,8 +167,7 @@ static void test_register_rejects_bad_class(void) {
     tsr_error err;
     CHECK(tsr_spu_register(&bad, &err) == TSR_EINVAL);
     CHECK_STR(err.message, "badspu: option 'width': bad default: 'wide' is not an integer");
-    static const tsr_spu_class no_create = {
-        .abi = TSR_SPU_ABI, .name = "nocreate", .destroy = noop_destroy};
+    static const tsr_spu_class no_create = {.abi = TSR_SPU_ABI, .name = "nocreate", .destroy = noop_destroy};
     CHECK(tsr_spu_register(&no_create, &err) == TSR_EINVAL);
     CHECK_STR(err.message, "nocreate: class has no create function");
     static const tsr_spu_class wrong_count = {.abi = TSR_SPU_ABI,
@@ -173,15 +183,18 @@ static void test_register_rejects_bad_class(void) {
 /* The network declaration (tsr_spu_class.network) is checked like the
  * options: what a role needs, and only options the class declares, of the
  * type the mothership fills. */
-static void test_register_rejects_bad_network_declaration(void) {
+static void test_register_rejects_bad_network_declaration(void)
+{
     static const tsr_option_spec opts[] = {
         {.name = "to", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0},
         {.name = "all", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0},
         {.name = "place", .type = TSR_OPT_INT, .default_value = "0", .min = 0, .max = 9},
     };
 #define NET_CLASS(id, ...)                                                                         \
-    {.abi = TSR_SPU_ABI, .name = id, .options = opts, .option_count = 3, .create = noop_create,   \
-     .destroy = noop_destroy, .network = __VA_ARGS__}
+    {                                                                                              \
+        .abi = TSR_SPU_ABI, .name = id, .options = opts, .option_count = 3, .create = noop_create, \
+        .destroy = noop_destroy, .network = __VA_ARGS__                                            \
+    }
     static const struct {
         tsr_spu_class cls;
         const char *message;
@@ -204,8 +217,7 @@ static void test_register_rejects_bad_network_declaration(void) {
         {NET_CLASS("n_none", {.role = TSR_SPU_ROLE_NONE, .server = "to"}),
          "n_none: network role none sends to no node, so it names no address, token, server "
          "tiles, rank or peers option (only tiles)"},
-        {NET_CLASS("n_role", {.role = (tsr_spu_role)42, .server = "to"}),
-         "n_role: unknown network role 42"},
+        {NET_CLASS("n_role", {.role = (tsr_spu_role)42, .server = "to"}), "n_role: unknown network role 42"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         tsr_error err;
@@ -214,8 +226,7 @@ static void test_register_rejects_bad_network_declaration(void) {
         CHECK_STR(err.message, bad[i].message);
     }
     static const tsr_spu_class good =
-        NET_CLASS("n_good", {.role = TSR_SPU_ROLE_PEERS, .display = "to", .peers = "all",
-                             .rank = "place"});
+        NET_CLASS("n_good", {.role = TSR_SPU_ROLE_PEERS, .display = "to", .peers = "all", .rank = "place"});
     tsr_error err;
     CHECK(tsr_spu_register(&good, &err) == TSR_OK);
     CHECK(tsr_spu_find("n_good", &err) == &good);
@@ -224,14 +235,13 @@ static void test_register_rejects_bad_network_declaration(void) {
 #undef NET_CLASS
 }
 
-static void test_list_sorted_deduplicated(void) {
+static void test_list_sorted_deduplicated(void)
+{
     char env[8192];
     snprintf(env, sizeof env, "%s:%s", env_dir(), bad_dir());
     setenv("TESSERA_SPU_PATH", env, 1);
-    static const tsr_spu_class first = {.abi = TSR_SPU_ABI,
-                                        .name = "aaa_registered",
-                                        .create = noop_create,
-                                        .destroy = noop_destroy};
+    static const tsr_spu_class first = {
+        .abi = TSR_SPU_ABI, .name = "aaa_registered", .create = noop_create, .destroy = noop_destroy};
     tsr_error err;
     REQUIRE(tsr_spu_register(&first, &err) == TSR_OK);
     size_t n = tsr_spu_list(NULL, 0);
@@ -252,7 +262,8 @@ static void test_list_sorted_deduplicated(void) {
     free(all);
 }
 
-static void *find_many(void *arg) {
+static void *find_many(void *arg)
+{
     const tsr_spu_class **out = arg;
     for (int i = 0; i < 50; i++) {
         tsr_error err;
@@ -266,7 +277,8 @@ static void *find_many(void *arg) {
     return arg;
 }
 
-static void test_find_is_thread_safe(void) {
+static void test_find_is_thread_safe(void)
+{
     unsetenv("TESSERA_SPU_PATH");
     enum { THREADS = 8 };
     pthread_t threads[THREADS];
@@ -291,8 +303,7 @@ static const spu_test_case tests[] = {
     {"spu_loader_rejects_bad_names", test_rejects_bad_names},
     {"spu_loader_registered_class_wins", test_registered_class_wins},
     {"spu_loader_register_rejects_bad_class", test_register_rejects_bad_class},
-    {"spu_loader_register_rejects_bad_network_declaration",
-     test_register_rejects_bad_network_declaration},
+    {"spu_loader_register_rejects_bad_network_declaration", test_register_rejects_bad_network_declaration},
     {"spu_loader_rejects_previous_abi", test_rejects_previous_abi},
     {"spu_loader_list_sorted_deduplicated", test_list_sorted_deduplicated},
     {"spu_loader_find_is_thread_safe", test_find_is_thread_safe},

@@ -9,7 +9,8 @@
 #include "tessera/log.h"
 
 /* Runs `emit` with stderr redirected to a file and returns what it wrote. */
-static const char *capture_stderr(void (*emit)(void)) {
+static const char *capture_stderr(void (*emit)(void))
+{
     static char text[4096];
     char path[] = "/tmp/tessera_log_test_XXXXXX";
     int fd = mkstemp(path);
@@ -28,14 +29,16 @@ static const char *capture_stderr(void (*emit)(void)) {
     return text;
 }
 
-static void emit_all_levels(void) {
+static void emit_all_levels(void)
+{
     tsr_log(TSR_LOG_DEBUG, "debug %d", 1);
     tsr_log(TSR_LOG_INFO, "info %d", 2);
     tsr_log(TSR_LOG_WARN, "warn %d", 3);
     tsr_log(TSR_LOG_ERROR, "error %d\nsecond line", 4);
 }
 
-static void test_level_filter(void) {
+static void test_level_filter(void)
+{
     /* argv: the lowest level that must be printed (debug|info|warn|error). */
     REQUIRE(spu_test_argc == 1);
     static const char *const names[] = {"debug", "info", "warn", "error"};
@@ -45,8 +48,8 @@ static void test_level_filter(void) {
             lowest = i;
     REQUIRE(lowest >= 0);
     char expected[512] = "";
-    static const char *const lines[] = {"tessera: debug 1\n", "tessera: info 2\n",
-                                        "tessera: warn 3\n", "tessera: error 4 second line\n"};
+    static const char *const lines[] = {"tessera: debug 1\n", "tessera: info 2\n", "tessera: warn 3\n",
+                                        "tessera: error 4 second line\n"};
     for (int i = lowest; i < 4; i++)
         strcat(expected, lines[i]);
     CHECK_STR(capture_stderr(emit_all_levels), expected);
@@ -54,7 +57,8 @@ static void test_level_filter(void) {
         CHECK(tsr_log_enabled((tsr_log_level)i) == (i >= lowest));
 }
 
-static void test_error_values(void) {
+static void test_error_values(void)
+{
     tsr_error err;
     tsr_error_clear(&err);
     CHECK(err.code == TSR_OK && err.message[0] == '\0');

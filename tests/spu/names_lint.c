@@ -26,11 +26,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const char *const distinct_names[] = {"replicate", "tilesort", "readback", "binaryswap",
-                                             "passthrough"};
+static const char *const distinct_names[] = {"replicate", "tilesort", "readback", "binaryswap", "passthrough"};
 static const char *const word_names[] = {"pack", "render", "print", "loopback"};
-static const char *const role_options[] = {"server", "servers", "token",  "tiles",
-                                           "rank",   "peers",   "display"};
+static const char *const role_options[] = {"server", "servers", "token", "tiles", "rank", "peers", "display"};
 #define COUNT(a) (sizeof a / sizeof a[0])
 
 static int findings;
@@ -49,7 +47,8 @@ typedef struct statement {
     size_t count, cap;
 } statement;
 
-static void report(const char *file, int line, const char *fmt, const char *what) {
+static void report(const char *file, int line, const char *fmt, const char *what)
+{
     printf("%s:%d: ", file, line);
     printf(fmt, what);
     printf("\n");
@@ -59,7 +58,8 @@ static void report(const char *file, int line, const char *fmt, const char *what
 static bool is_word_char(char c) { return isalnum((unsigned char)c) || c == '_'; }
 
 /* `word` appears in `s` with no letter, digit or '_' on either side. */
-static bool has_word(const char *s, const char *word) {
+static bool has_word(const char *s, const char *word)
+{
     size_t n = strlen(word);
     for (const char *p = strstr(s, word); p; p = strstr(p + 1, word))
         if ((p == s || !is_word_char(p[-1])) && !is_word_char(p[n]))
@@ -68,7 +68,8 @@ static bool has_word(const char *s, const char *word) {
 }
 
 /* `name` as a '_'-separated part of identifier `id`, in any case. */
-static bool has_part(const char *id, const char *name) {
+static bool has_part(const char *id, const char *name)
+{
     size_t n = strlen(name);
     for (const char *p = id; *p;) {
         size_t len = strcspn(p, "_");
@@ -80,7 +81,8 @@ static bool has_part(const char *id, const char *name) {
 }
 
 /* After an SPU's name in chain text: the end, '!' or " key=". */
-static bool ends_chain_name(const char *p) {
+static bool ends_chain_name(const char *p)
+{
     while (*p == ' ')
         p++;
     if (*p == '\0' || *p == '!')
@@ -92,7 +94,8 @@ static bool ends_chain_name(const char *p) {
 }
 
 /* The literal names SPU `name` the way chain text does. */
-static bool names_spu(const char *s, const char *name) {
+static bool names_spu(const char *s, const char *name)
+{
     size_t n = strlen(name);
     for (const char *p = s;; p++) {
         while (*p == ' ')
@@ -105,7 +108,8 @@ static bool names_spu(const char *s, const char *name) {
     }
 }
 
-static bool deals_with_options(const statement *st) {
+static bool deals_with_options(const statement *st)
+{
     for (size_t i = 0; i < st->count; i++) {
         const token *t = &st->items[i];
         if (t->kind != TOK_IDENT)
@@ -123,7 +127,8 @@ static bool deals_with_options(const statement *st) {
     return false;
 }
 
-static void check_statement(const char *file, statement *st) {
+static void check_statement(const char *file, statement *st)
+{
     bool options = deals_with_options(st);
     for (size_t i = 0; i < st->count; i++) {
         const token *t = &st->items[i];
@@ -153,7 +158,8 @@ static void check_statement(const char *file, statement *st) {
     st->count = 0;
 }
 
-static void push(statement *st, tok_kind kind, const char *text, size_t len, int line) {
+static void push(statement *st, tok_kind kind, const char *text, size_t len, int line)
+{
     if (st->count == st->cap) {
         st->cap = st->cap ? 2 * st->cap : 64;
         st->items = realloc(st->items, st->cap * sizeof *st->items);
@@ -172,7 +178,8 @@ static void push(statement *st, tok_kind kind, const char *text, size_t len, int
     st->items[st->count++] = (token){kind, copy, line};
 }
 
-static void lint_text(const char *file, const char *s) {
+static void lint_text(const char *file, const char *s)
+{
     statement st = {0};
     int line = 1;
     for (const char *p = s; *p;) {
@@ -215,12 +222,14 @@ static void lint_text(const char *file, const char *s) {
     free(st.items);
 }
 
-static bool is_c_file(const char *path) {
+static bool is_c_file(const char *path)
+{
     size_t n = strlen(path);
     return (n > 2 && !strcmp(path + n - 2, ".c")) || (n > 2 && !strcmp(path + n - 2, ".h"));
 }
 
-static int lint_file(const char *path) {
+static int lint_file(const char *path)
+{
     FILE *f = fopen(path, "rb");
     if (!f) {
         fprintf(stderr, "names_lint: cannot open %s\n", path);
@@ -243,12 +252,11 @@ static int lint_file(const char *path) {
     return 0;
 }
 
-static int compare_names(const void *a, const void *b) {
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
+static int compare_names(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
 /* Files in a stable order, so the report reads the same every time. */
-static int lint_path(const char *path, size_t *files) {
+static int lint_path(const char *path, size_t *files)
+{
     struct stat sb;
     if (stat(path, &sb) != 0) {
         fprintf(stderr, "names_lint: no such file or directory: %s\n", path);
@@ -295,7 +303,8 @@ static int lint_path(const char *path, size_t *files) {
     return rc;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc < 2) {
         fprintf(stderr, "usage: %s DIR_OR_FILE...\n", argv[0]);
         return 2;

@@ -6,16 +6,13 @@
 
 static const char *const network_spus[] = {"pack", "replicate"}; /* FIND x2 */
 
-static int check_readback(const char *spu) /* FIND */
-{
-    return !strcmp(spu, "tilesort"); /* FIND */
-}
+static int check_readback(const char *spu) /* FIND */ { return !strcmp(spu, "tilesort"); /* FIND */ }
 
 static void chain_text(struct sb *b, const struct spu_class *cls)
 {
-    if (spu_has_option(cls, "servers")) /* FIND */
-        sb_option(b, "token", "T");     /* FIND */
-    if (!strcmp(l->keys[k], "tiles"))   /* FIND */
+    if (spu_has_option(cls, "servers"))                         /* FIND */
+        sb_option(b, "token", "T");                             /* FIND */
+    if (!strcmp(l->keys[k], "tiles"))                           /* FIND */
         sb_str(b, "pack server=tcp://127.0.0.1:7000 ! render"); /* FIND x2 */
 }
 

@@ -11,7 +11,8 @@
 
 /* Parses `value` for the single option `spec` of an SPU called "render";
  * value NULL means the option is not given (its default applies). */
-static tsr_options *parse1(const tsr_option_spec *spec, const char *value, tsr_error *err) {
+static tsr_options *parse1(const tsr_option_spec *spec, const char *value, tsr_error *err)
+{
     tsr_option_group group = {"render", spec, 1};
     const char *keys[1] = {spec->name};
     const char *values[1] = {value};
@@ -20,7 +21,8 @@ static tsr_options *parse1(const tsr_option_spec *spec, const char *value, tsr_e
 }
 
 /* The error message of parsing `value`, "" when it parsed. */
-static const char *parse_error(const tsr_option_spec *spec, const char *value) {
+static const char *parse_error(const tsr_option_spec *spec, const char *value)
+{
     static tsr_error err;
     tsr_options *o = parse1(spec, value, &err);
     if (o) {
@@ -31,7 +33,8 @@ static const char *parse_error(const tsr_option_spec *spec, const char *value) {
     return err.message;
 }
 
-static void test_bool(void) {
+static void test_bool(void)
+{
     const tsr_option_spec spec = {.name = "verbose", .type = TSR_OPT_BOOL, NO_RANGE};
     static const char *const truthy[] = {"true", "yes", "on", "1", "TRUE", "Yes"};
     static const char *const falsy[] = {"false", "no", "off", "0", "OFF"};
@@ -55,7 +58,8 @@ static void test_bool(void) {
               "render: option 'verbose': '' is not a boolean (true/false, yes/no, on/off, 1/0)");
 }
 
-static void test_int(void) {
+static void test_int(void)
+{
     const tsr_option_spec spec = {
         .name = "width", .type = TSR_OPT_INT, .default_value = "1024", .min = 1, .max = 16384};
     tsr_error err;
@@ -74,11 +78,11 @@ static void test_int(void) {
     tsr_options_free(o);
     CHECK_STR(parse_error(&spec, "abc"), "render: option 'width': 'abc' is not an integer");
     CHECK_STR(parse_error(&spec, "0"), "render: option 'width': '0' is out of range [1, 16384]");
-    CHECK_STR(parse_error(&spec, "16385"),
-              "render: option 'width': '16385' is out of range [1, 16384]");
+    CHECK_STR(parse_error(&spec, "16385"), "render: option 'width': '16385' is out of range [1, 16384]");
 }
 
-static void test_int_rejects_junk_and_overflow(void) {
+static void test_int_rejects_junk_and_overflow(void)
+{
     const tsr_option_spec spec = {.name = "count", .type = TSR_OPT_INT, NO_RANGE};
     CHECK_STR(parse_error(&spec, "12px"), "render: option 'count': '12px' is not an integer");
     CHECK_STR(parse_error(&spec, " 12"), "render: option 'count': ' 12' is not an integer");
@@ -95,9 +99,9 @@ static void test_int_rejects_junk_and_overflow(void) {
     tsr_options_free(o);
 }
 
-static void test_float(void) {
-    const tsr_option_spec spec = {
-        .name = "gamma", .type = TSR_OPT_FLOAT, .default_value = "2.2", .min = 0.5, .max = 4};
+static void test_float(void)
+{
+    const tsr_option_spec spec = {.name = "gamma", .type = TSR_OPT_FLOAT, .default_value = "2.2", .min = 0.5, .max = 4};
     tsr_error err;
     tsr_options *o = parse1(&spec, "1.8", &err);
     REQUIRE(o);
@@ -113,21 +117,20 @@ static void test_float(void) {
     tsr_options_free(o);
     CHECK_STR(parse_error(&spec, "bright"), "render: option 'gamma': 'bright' is not a number");
     CHECK_STR(parse_error(&spec, "1.5x"), "render: option 'gamma': '1.5x' is not a number");
-    CHECK_STR(parse_error(&spec, "0.25"),
-              "render: option 'gamma': '0.25' is out of range [0.5, 4]");
+    CHECK_STR(parse_error(&spec, "0.25"), "render: option 'gamma': '0.25' is out of range [0.5, 4]");
 }
 
-static void test_float_rejects_nan_and_inf(void) {
+static void test_float_rejects_nan_and_inf(void)
+{
     const tsr_option_spec spec = {.name = "scale", .type = TSR_OPT_FLOAT, NO_RANGE};
     CHECK_STR(parse_error(&spec, "nan"), "render: option 'scale': 'nan' is not a finite number");
     CHECK_STR(parse_error(&spec, "-inf"), "render: option 'scale': '-inf' is not a finite number");
-    CHECK_STR(parse_error(&spec, "1e999"),
-              "render: option 'scale': '1e999' is not a finite number");
+    CHECK_STR(parse_error(&spec, "1e999"), "render: option 'scale': '1e999' is not a finite number");
 }
 
-static void test_string(void) {
-    const tsr_option_spec spec = {
-        .name = "output", .type = TSR_OPT_STRING, .default_value = "out-%04d.png", NO_RANGE};
+static void test_string(void)
+{
+    const tsr_option_spec spec = {.name = "output", .type = TSR_OPT_STRING, .default_value = "out-%04d.png", NO_RANGE};
     tsr_error err;
     tsr_options *o = parse1(&spec, "frames/f 1.png", &err);
     REQUIRE(o);
@@ -143,7 +146,8 @@ static void test_string(void) {
     tsr_options_free(o);
 }
 
-static void test_enum(void) {
+static void test_enum(void)
+{
     const tsr_option_spec spec = {.name = "bucket",
                                   .type = TSR_OPT_ENUM,
                                   .default_value = "grid",
@@ -157,14 +161,14 @@ static void test_enum(void) {
     CHECK_STR(parse_error(&spec, "Grid"),
               "render: option 'bucket': 'Grid' is not one of grid|broadcast|balanced (did you "
               "mean 'grid'?)");
-    CHECK_STR(parse_error(&spec, "tiles"),
-              "render: option 'bucket': 'tiles' is not one of grid|broadcast|balanced");
+    CHECK_STR(parse_error(&spec, "tiles"), "render: option 'bucket': 'tiles' is not one of grid|broadcast|balanced");
     CHECK_STR(parse_error(&spec, "gri"),
               "render: option 'bucket': 'gri' is not one of grid|broadcast|balanced (did you "
               "mean 'grid'?)");
 }
 
-static void test_int_list(void) {
+static void test_int_list(void)
+{
     const tsr_option_spec spec = {.name = "tile", .type = TSR_OPT_INT_LIST, .min = 0, .max = 4096};
     tsr_error err;
     tsr_options *o = parse1(&spec, "0,0, 512 ,768", &err);
@@ -178,17 +182,15 @@ static void test_int_list(void) {
     REQUIRE(o);
     CHECK(tsr_options_count(o, "tile") == 0);
     tsr_options_free(o);
-    CHECK_STR(parse_error(&spec, "1,x,3"),
-              "render: option 'tile': element 2 of '1,x,3': 'x' is not an integer");
+    CHECK_STR(parse_error(&spec, "1,x,3"), "render: option 'tile': element 2 of '1,x,3': 'x' is not an integer");
     CHECK_STR(parse_error(&spec, "1,5000"),
               "render: option 'tile': element 2 of '1,5000': '5000' is out of range [0, 4096]");
-    CHECK_STR(parse_error(&spec, "1,,3"),
-              "render: option 'tile': element 2 of '1,,3': '' is not an integer");
+    CHECK_STR(parse_error(&spec, "1,,3"), "render: option 'tile': element 2 of '1,,3': '' is not an integer");
 }
 
-static void test_float_list(void) {
-    const tsr_option_spec spec = {
-        .name = "clear_color", .type = TSR_OPT_FLOAT_LIST, .min = 0, .max = 1};
+static void test_float_list(void)
+{
+    const tsr_option_spec spec = {.name = "clear_color", .type = TSR_OPT_FLOAT_LIST, .min = 0, .max = 1};
     tsr_error err;
     tsr_options *o = parse1(&spec, "0.25,0.5,1", &err);
     REQUIRE(o);
@@ -204,9 +206,9 @@ static void test_float_list(void) {
               "number");
 }
 
-static void test_string_list(void) {
-    const tsr_option_spec spec = {
-        .name = "peers", .type = TSR_OPT_STRING_LIST, .default_value = "a,b", NO_RANGE};
+static void test_string_list(void)
+{
+    const tsr_option_spec spec = {.name = "peers", .type = TSR_OPT_STRING_LIST, .default_value = "a,b", NO_RANGE};
     tsr_error err;
     tsr_options *o = parse1(&spec, "wall0, wall1,wall2", &err);
     REQUIRE(o);
@@ -224,12 +226,7 @@ static void test_string_list(void) {
 }
 
 static const tsr_option_spec render_specs[] = {
-    {.name = "width",
-     .type = TSR_OPT_INT,
-     .default_value = "1024",
-     .min = 1,
-     .max = 16384,
-     .help = "window width"},
+    {.name = "width", .type = TSR_OPT_INT, .default_value = "1024", .min = 1, .max = 16384, .help = "window width"},
     {.name = "height", .type = TSR_OPT_INT, .default_value = "768", .min = 1, .max = 16384},
     {.name = "output", .type = TSR_OPT_STRING, .default_value = "", NO_RANGE},
     {.name = "depth", .type = TSR_OPT_BOOL, NO_RANGE},
@@ -238,7 +235,8 @@ static const tsr_option_spec render_specs[] = {
 };
 #define RENDER_SPEC_COUNT (sizeof render_specs / sizeof render_specs[0])
 
-static const char *parse_render(const char *key, const char *value) {
+static const char *parse_render(const char *key, const char *value)
+{
     static tsr_error err;
     tsr_option_group group = {"render", render_specs, RENDER_SPEC_COUNT};
     tsr_error_clear(&err);
@@ -247,7 +245,8 @@ static const char *parse_render(const char *key, const char *value) {
     return o ? "" : err.message;
 }
 
-static void test_defaults(void) {
+static void test_defaults(void)
+{
     tsr_error err;
     tsr_option_group group = {"render", render_specs, RENDER_SPEC_COUNT};
     CHECK(tsr_option_specs_check("render", render_specs, RENDER_SPEC_COUNT, &err) == TSR_OK);
@@ -263,12 +262,11 @@ static void test_defaults(void) {
     tsr_options_free(o);
 }
 
-static void test_did_you_mean(void) {
+static void test_did_you_mean(void)
+{
     CHECK_STR(parse_render("widht", "5"), "render: unknown option 'widht' (did you mean 'width'?)");
-    CHECK_STR(parse_render("heigth", "5"),
-              "render: unknown option 'heigth' (did you mean 'height'?)");
-    CHECK_STR(parse_render("outpt", "x"),
-              "render: unknown option 'outpt' (did you mean 'output'?)");
+    CHECK_STR(parse_render("heigth", "5"), "render: unknown option 'heigth' (did you mean 'height'?)");
+    CHECK_STR(parse_render("outpt", "x"), "render: unknown option 'outpt' (did you mean 'output'?)");
     CHECK_STR(parse_render("color", "red"),
               "render: unknown option 'color' (options: width, height, output, depth, mode, "
               "tiles)");
@@ -277,7 +275,8 @@ static void test_did_you_mean(void) {
     CHECK(tsr_edit_distance("kitten", "sitting") == 3);
 }
 
-static void test_given_twice(void) {
+static void test_given_twice(void)
+{
     tsr_error err;
     tsr_option_group group = {"render", render_specs, RENDER_SPEC_COUNT};
     const char *keys[] = {"width", "width"}, *values[] = {"1", "2"};
@@ -287,14 +286,14 @@ static void test_given_twice(void) {
     tsr_options_free(o);
 }
 
-static void test_bad_default_is_class_error(void) {
+static void test_bad_default_is_class_error(void)
+{
     tsr_error err;
     const tsr_option_spec bad_int[] = {
         {.name = "width", .type = TSR_OPT_INT, .default_value = "wide", .min = 1, .max = 10}};
     CHECK(tsr_option_specs_check("badspu", bad_int, 1, &err) == TSR_EINVAL);
     CHECK_STR(err.message, "badspu: option 'width': bad default: 'wide' is not an integer");
-    const tsr_option_spec out_of_range[] = {
-        {.name = "level", .type = TSR_OPT_INT, .min = 1, .max = 9}};
+    const tsr_option_spec out_of_range[] = {{.name = "level", .type = TSR_OPT_INT, .min = 1, .max = 9}};
     CHECK(tsr_option_specs_check("badspu", out_of_range, 1, &err) == TSR_EINVAL);
     CHECK_STR(err.message, "badspu: option 'level': bad default: '0' is out of range [1, 9]");
     const tsr_option_spec bad_enum[] = {
@@ -303,8 +302,7 @@ static void test_bad_default_is_class_error(void) {
     CHECK_STR(err.message, "badspu: option 'mode': bad default: 'c' is not one of a|b");
     const tsr_option_spec no_choices[] = {{.name = "mode", .type = TSR_OPT_ENUM, NO_RANGE}};
     CHECK(tsr_option_specs_check("badspu", no_choices, 1, &err) == TSR_EINVAL);
-    CHECK_STR(err.message,
-              "badspu: option 'mode': enum choices '(null)' must be names separated by '|'");
+    CHECK_STR(err.message, "badspu: option 'mode': enum choices '(null)' must be names separated by '|'");
     const tsr_option_spec bad_name[] = {{.name = "Width", .type = TSR_OPT_INT, NO_RANGE}};
     CHECK(tsr_option_specs_check("badspu", bad_name, 1, &err) == TSR_EINVAL);
     CHECK_STR(err.message, "badspu: option 1: 'Width' is not a lower_snake_case name");
@@ -314,15 +312,15 @@ static void test_bad_default_is_class_error(void) {
     CHECK_STR(err.message, "badspu: option 'a' is declared twice");
 }
 
-static void test_subclass_overrides_super(void) {
+static void test_subclass_overrides_super(void)
+{
     /* readback inherits render: it accepts render's options, and its own
      * declaration of `output` (another default) wins over render's. */
     const tsr_option_spec readback_specs[] = {
         {.name = "output", .type = TSR_OPT_STRING, .default_value = "net", NO_RANGE},
         {.name = "send_depth", .type = TSR_OPT_BOOL, .default_value = "yes", NO_RANGE},
     };
-    tsr_option_group groups[] = {{"readback", readback_specs, 2},
-                                 {"render", render_specs, RENDER_SPEC_COUNT}};
+    tsr_option_group groups[] = {{"readback", readback_specs, 2}, {"render", render_specs, RENDER_SPEC_COUNT}};
     tsr_error err;
     const char *keys[] = {"width"}, *values[] = {"300"};
     tsr_options *o = tsr_options_parse("readback", groups, 2, keys, values, 1, &err);
@@ -337,7 +335,8 @@ static void test_subclass_overrides_super(void) {
     CHECK_STR(err.message, "readback: unknown option 'send_dpth' (did you mean 'send_depth'?)");
 }
 
-static void test_accessor_wrong_type_returns_zero(void) {
+static void test_accessor_wrong_type_returns_zero(void)
+{
     tsr_error err;
     tsr_option_group group = {"render", render_specs, RENDER_SPEC_COUNT};
     tsr_options *o = tsr_options_parse("render", &group, 1, NULL, NULL, 0, &err);

@@ -21,7 +21,8 @@ typedef struct spu_test_case {
 static int spu_test_argc;
 static char **spu_test_argv;
 
-static int spu_test_main(const spu_test_case *tests, size_t count, int argc, char **argv) {
+static int spu_test_main(const spu_test_case *tests, size_t count, int argc, char **argv)
+{
     if (argc < 2) {
         fprintf(stderr, "usage: %s TEST [ARGS...]\ntests:\n", argv[0]);
         for (size_t i = 0; i < count; i++)
@@ -45,9 +46,7 @@ static int spu_test_main(const spu_test_case *tests, size_t count, int argc, cha
     return 2;
 }
 
-#define SPU_TEST_MAIN(table)                                                                       \
-    int main(int argc, char **argv) {                                                              \
-        return spu_test_main(table, sizeof table / sizeof table[0], argc, argv);                   \
-    }
+#define SPU_TEST_MAIN(table) \
+    int main(int argc, char **argv) { return spu_test_main(table, sizeof table / sizeof table[0], argc, argv); }
 
 #endif

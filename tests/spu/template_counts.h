@@ -16,8 +16,8 @@ typedef struct template_expect {
 
 /* Sends `frames` frames of `triangles` triangles (Vertex2f, Vertex3f and
  * Vertex3fv, one of each per triangle) and counts what it sent. */
-static void template_send_frames(const tsr_dispatch *head, int frames, int triangles,
-                                 template_expect *sent) {
+static void template_send_frames(const tsr_dispatch *head, int frames, int triangles, template_expect *sent)
+{
     for (int f = 0; f < frames; f++) {
         for (int t = 0; t < triangles; t++) {
             const GLfloat v[3] = {(GLfloat)t, 1.0f, 0.5f};
@@ -36,8 +36,8 @@ static void template_send_frames(const tsr_dispatch *head, int frames, int trian
 
 /* Reads the summary line the template instance wrote to `path` and checks
  * it against `sent`; returns 0 when it matches. */
-static int template_check_summary(const char *path, const char *instance,
-                                  const template_expect *sent) {
+static int template_check_summary(const char *path, const char *instance, const template_expect *sent)
+{
     FILE *f = fopen(path, "r");
     if (!f) {
         fprintf(stderr, "no summary written to %s\n", path);
@@ -48,8 +48,8 @@ static int template_check_summary(const char *path, const char *instance,
         line[0] = '\0';
     fclose(f);
     char expected[256];
-    snprintf(expected, sizeof expected, "%s: vertices=%llu primitives=%llu swaps=%llu\n", instance,
-             sent->vertices, sent->primitives, sent->swaps);
+    snprintf(expected, sizeof expected, "%s: vertices=%llu primitives=%llu swaps=%llu\n", instance, sent->vertices,
+             sent->primitives, sent->swaps);
     if (strcmp(line, expected)) {
         fprintf(stderr, "%s:\n  got:      %s  expected: %s", path, line, expected);
         return 1;

@@ -9,7 +9,8 @@
 
 #include "template_counts.h"
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc != 2) {
         fprintf(stderr, "usage: %s SUMMARY_FILE\n", argv[0]);
         return 2;
@@ -34,7 +35,6 @@ int main(int argc, char **argv) {
     tsr_chain_destroy(chain);
     if (template_check_summary(argv[1], "template#1", &sent))
         return 1;
-    printf("template counted vertices=%llu primitives=%llu swaps=%llu\n", sent.vertices,
-           sent.primitives, sent.swaps);
+    printf("template counted vertices=%llu primitives=%llu swaps=%llu\n", sent.vertices, sent.primitives, sent.swaps);
     return 0;
 }

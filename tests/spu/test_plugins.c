@@ -24,7 +24,8 @@ typedef struct abi1_class {
 #endif
 
 #ifndef TEST_PLUGIN_NO_ENTRY
-static void *plugin_create(const tsr_spu_init *init, tsr_error *err) {
+static void *plugin_create(const tsr_spu_init *init, tsr_error *err)
+{
     (void)init;
     void *instance = malloc(1);
     if (!instance)
@@ -46,11 +47,9 @@ static const tsr_spu_class plugin_class = {
     .abi = TSR_SPU_ABI + 1000,
     .name = "oldabi",
 #elif defined TEST_PLUGIN_MISNAMED
-    .abi = TSR_SPU_ABI,
-    .name = "othername",
+.abi = TSR_SPU_ABI, .name = "othername",
 #else /* TEST_PLUGIN_SHADOW */
-    .abi = TSR_SPU_ABI,
-    .name = "passthrough",
+.abi = TSR_SPU_ABI, .name = "passthrough",
 #endif
     .dispatch_count = TSR_DISPATCH_COUNT,
     .summary = "test copy found first on TESSERA_SPU_PATH",
@@ -58,7 +57,8 @@ static const tsr_spu_class plugin_class = {
     .destroy = plugin_destroy,
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) {
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void)
+{
     return (const tsr_spu_class *)(const void *)&plugin_class;
 }
 #else

@@ -9,7 +9,8 @@
 #include "template_counts.h"
 #include "tessera/spu.h"
 
-static void test_two_instances(void) {
+static void test_two_instances(void)
+{
     const char *template_dir = spu_test_argv[0], *work = spu_test_argv[1];
     setenv("TESSERA_SPU_PATH", template_dir, 1);
     char out_a[4096], out_b[4096], text_a[8192 + 64], text_b[8192 + 64];
@@ -42,7 +43,8 @@ static void test_two_instances(void) {
     CHECK(template_check_summary(out_b, "template#1", &sent_b) == 0);
 }
 
-static void test_two_instances_in_one_chain(void) {
+static void test_two_instances_in_one_chain(void)
+{
     const char *template_dir = spu_test_argv[0], *work = spu_test_argv[1];
     setenv("TESSERA_SPU_PATH", template_dir, 1);
     char out_1[4096], out_2[4096], text[12288];

@@ -73,7 +73,7 @@ typedef struct osm {
 
 typedef struct gl_env {
     OSMesaContext ctx;
-    unsigned char *buf;   /* color buffer: static, see gl_open */
+    unsigned char *buf; /* color buffer: static, see gl_open */
     tsr_gl_procs gl;
     tsr_dispatch d;
     void (*GetVertexAttribfv)(GLuint, GLenum, GLfloat *);
@@ -133,10 +133,7 @@ static gl_env *gl_open(void)
     return e;
 }
 
-static void gl_use(gl_env *e)
-{
-    M.MakeCurrent(e->ctx, e->buf, GL_UNSIGNED_BYTE, 64, 64);
-}
+static void gl_use(gl_env *e) { M.MakeCurrent(e->ctx, e->buf, GL_UNSIGNED_BYTE, 64, 64); }
 
 static void gl_close(gl_env *e)
 {
@@ -155,9 +152,13 @@ static uint64_t rnd(uint64_t *s)
 }
 static int ri(uint64_t *s, int n) { return (int)(rnd(s) % (uint64_t)n); }
 /* Values with few bits (exact in float) and some that are not. */
-static GLfloat rf(uint64_t *s) { return ri(s, 2) ? (GLfloat)(ri(s, 33) - 16) / 8.0f : (GLfloat)(rnd(s) % 100000) / 77777.0f; }
+static GLfloat rf(uint64_t *s)
+{
+    return ri(s, 2) ? (GLfloat)(ri(s, 33) - 16) / 8.0f : (GLfloat)(rnd(s) % 100000) / 77777.0f;
+}
 static GLfloat r01(uint64_t *s) { return (GLfloat)ri(s, 1001) / 1000.0f; }
-#define PICK(s, ...) ((const GLenum[]){__VA_ARGS__})[ri(s, (int)(sizeof((const GLenum[]){__VA_ARGS__}) / sizeof(GLenum)))]
+#define PICK(s, ...) \
+    ((const GLenum[]){__VA_ARGS__})[ri(s, (int)(sizeof((const GLenum[]){__VA_ARGS__}) / sizeof(GLenum)))]
 
 static uint8_t scratch[1 << 16];
 /* What the sequence did so far (reset per sequence). Mesa 22.3 departs
@@ -187,14 +188,46 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     for (int i = 0; i < 16; i++)
         v[i] = rf(s);
     switch (ri(s, 40)) {
-    case 0: case 1: {
-        static const GLenum caps[] = {GL_ALPHA_TEST, GL_AUTO_NORMAL, GL_BLEND, GL_CLIP_PLANE0, GL_CLIP_PLANE5,
-            GL_COLOR_LOGIC_OP, GL_COLOR_MATERIAL, GL_CULL_FACE, GL_DEPTH_TEST, GL_DITHER, GL_FOG, GL_LIGHT0,
-            GL_LIGHT3, GL_LIGHT7, GL_LIGHTING, GL_LINE_SMOOTH, GL_LINE_STIPPLE, GL_NORMALIZE, GL_POINT_SMOOTH,
-            GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE, GL_POLYGON_SMOOTH, GL_POLYGON_STIPPLE,
-            GL_RESCALE_NORMAL, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_MULTISAMPLE, GL_SAMPLE_COVERAGE,
-            GL_POINT_SPRITE, GL_MAP1_VERTEX_3, GL_MAP2_NORMAL, GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D,
-            GL_TEXTURE_CUBE_MAP, GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_Q, GL_COLOR_SUM};
+    case 0:
+    case 1: {
+        static const GLenum caps[] = {GL_ALPHA_TEST,
+                                      GL_AUTO_NORMAL,
+                                      GL_BLEND,
+                                      GL_CLIP_PLANE0,
+                                      GL_CLIP_PLANE5,
+                                      GL_COLOR_LOGIC_OP,
+                                      GL_COLOR_MATERIAL,
+                                      GL_CULL_FACE,
+                                      GL_DEPTH_TEST,
+                                      GL_DITHER,
+                                      GL_FOG,
+                                      GL_LIGHT0,
+                                      GL_LIGHT3,
+                                      GL_LIGHT7,
+                                      GL_LIGHTING,
+                                      GL_LINE_SMOOTH,
+                                      GL_LINE_STIPPLE,
+                                      GL_NORMALIZE,
+                                      GL_POINT_SMOOTH,
+                                      GL_POLYGON_OFFSET_FILL,
+                                      GL_POLYGON_OFFSET_LINE,
+                                      GL_POLYGON_SMOOTH,
+                                      GL_POLYGON_STIPPLE,
+                                      GL_RESCALE_NORMAL,
+                                      GL_SCISSOR_TEST,
+                                      GL_STENCIL_TEST,
+                                      GL_MULTISAMPLE,
+                                      GL_SAMPLE_COVERAGE,
+                                      GL_POINT_SPRITE,
+                                      GL_MAP1_VERTEX_3,
+                                      GL_MAP2_NORMAL,
+                                      GL_TEXTURE_1D,
+                                      GL_TEXTURE_2D,
+                                      GL_TEXTURE_3D,
+                                      GL_TEXTURE_CUBE_MAP,
+                                      GL_TEXTURE_GEN_S,
+                                      GL_TEXTURE_GEN_Q,
+                                      GL_COLOR_SUM};
         GLenum cap = caps[ri(s, sizeof caps / sizeof caps[0])];
         seq_color_material_used |= cap == GL_COLOR_MATERIAL;
         if (ri(s, 2))
@@ -225,7 +258,10 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     case 5: tsr_call_DepthRange(d, r01(s), r01(s)); break;
     case 6:
         switch (ri(s, 5)) {
-        case 0: tsr_call_BlendFunc(d, PICK(s, GL_ONE, GL_SRC_ALPHA, GL_DST_COLOR, GL_ZERO), PICK(s, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA, GL_SRC_COLOR)); break;
+        case 0:
+            tsr_call_BlendFunc(d, PICK(s, GL_ONE, GL_SRC_ALPHA, GL_DST_COLOR, GL_ZERO),
+                               PICK(s, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA, GL_SRC_COLOR));
+            break;
         case 1: tsr_call_BlendFuncSeparate(d, GL_SRC_ALPHA, GL_ONE, PICK(s, GL_ONE, GL_ZERO), GL_DST_ALPHA); break;
         case 2: tsr_call_BlendEquation(d, PICK(s, GL_FUNC_ADD, GL_FUNC_SUBTRACT, GL_MIN, GL_MAX)); break;
         case 3: tsr_call_BlendEquationSeparate(d, GL_FUNC_REVERSE_SUBTRACT, PICK(s, GL_FUNC_ADD, GL_MAX)); break;
@@ -236,7 +272,9 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         switch (ri(s, 5)) {
         case 0: tsr_call_AlphaFunc(d, PICK(s, GL_LESS, GL_GEQUAL, GL_NEVER, GL_ALWAYS), r01(s)); break;
         case 1: tsr_call_LogicOp(d, PICK(s, GL_XOR, GL_COPY, GL_AND, GL_INVERT)); break;
-        case 2: tsr_call_ColorMask(d, (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2)); break;
+        case 2:
+            tsr_call_ColorMask(d, (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2));
+            break;
         case 3: tsr_call_ClearColor(d, r01(s), r01(s), r01(s), r01(s)); break;
         default: tsr_call_ClearAccum(d, r01(s), -r01(s), r01(s), r01(s)); break;
         }
@@ -251,8 +289,13 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     case 9:
         switch (ri(s, 7)) {
         case 0: tsr_call_StencilFunc(d, PICK(s, GL_EQUAL, GL_LESS, GL_ALWAYS), ri(s, 256), (GLuint)ri(s, 256)); break;
-        case 1: tsr_call_StencilFuncSeparate(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), GL_NOTEQUAL, ri(s, 256), 0xf0); break;
-        case 2: tsr_call_StencilOp(d, PICK(s, GL_KEEP, GL_ZERO, GL_INCR), GL_REPLACE, PICK(s, GL_INVERT, GL_DECR_WRAP)); break;
+        case 1:
+            tsr_call_StencilFuncSeparate(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), GL_NOTEQUAL, ri(s, 256),
+                                         0xf0);
+            break;
+        case 2:
+            tsr_call_StencilOp(d, PICK(s, GL_KEEP, GL_ZERO, GL_INCR), GL_REPLACE, PICK(s, GL_INVERT, GL_DECR_WRAP));
+            break;
         case 3: tsr_call_StencilOpSeparate(d, PICK(s, GL_FRONT, GL_BACK), GL_INCR_WRAP, GL_KEEP, GL_ZERO); break;
         case 4: tsr_call_StencilMask(d, (GLuint)ri(s, 256)); break;
         case 5: tsr_call_StencilMaskSeparate(d, PICK(s, GL_FRONT, GL_BACK), (GLuint)ri(s, 256)); break;
@@ -267,14 +310,18 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         default: tsr_call_Fogi(d, GL_FOG_COORD_SRC, (GLint)PICK(s, GL_FOG_COORD, GL_FRAGMENT_DEPTH)); break;
         }
         break;
-    case 11: case 12: {
+    case 11:
+    case 12: {
         GLenum l = GL_LIGHT0 + (GLenum)ri(s, 8);
         switch (ri(s, 5)) {
         case 0: tsr_call_Lightfv(d, l, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR), v); break;
         case 1: tsr_call_Lightfv(d, l, PICK(s, GL_POSITION, GL_SPOT_DIRECTION), v); break;
         case 2: tsr_call_Lightf(d, l, GL_SPOT_EXPONENT, (GLfloat)ri(s, 129)); break;
         case 3: tsr_call_Lightf(d, l, GL_SPOT_CUTOFF, ri(s, 4) ? (GLfloat)ri(s, 91) : 180.0f); break;
-        default: tsr_call_Lightf(d, l, PICK(s, GL_CONSTANT_ATTENUATION, GL_LINEAR_ATTENUATION, GL_QUADRATIC_ATTENUATION), r01(s) * 3); break;
+        default:
+            tsr_call_Lightf(d, l, PICK(s, GL_CONSTANT_ATTENUATION, GL_LINEAR_ATTENUATION, GL_QUADRATIC_ATTENUATION),
+                            r01(s) * 3);
+            break;
         }
         break;
     }
@@ -282,16 +329,25 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         switch (ri(s, 4)) {
         case 0: tsr_call_LightModelfv(d, GL_LIGHT_MODEL_AMBIENT, v); break;
         case 1: tsr_call_LightModeli(d, PICK(s, GL_LIGHT_MODEL_LOCAL_VIEWER, GL_LIGHT_MODEL_TWO_SIDE), ri(s, 2)); break;
-        case 2: tsr_call_LightModeli(d, GL_LIGHT_MODEL_COLOR_CONTROL, (GLint)PICK(s, GL_SINGLE_COLOR, GL_SEPARATE_SPECULAR_COLOR)); break;
+        case 2:
+            tsr_call_LightModeli(d, GL_LIGHT_MODEL_COLOR_CONTROL,
+                                 (GLint)PICK(s, GL_SINGLE_COLOR, GL_SEPARATE_SPECULAR_COLOR));
+            break;
         default: tsr_call_ShadeModel(d, PICK(s, GL_FLAT, GL_SMOOTH)); break;
         }
         break;
     case 14: {
         GLenum face = PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK);
         switch (ri(s, 3)) {
-        case 0: tsr_call_Materialfv(d, face, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE), v); break;
+        case 0:
+            tsr_call_Materialfv(d, face,
+                                PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE), v);
+            break;
         case 1: tsr_call_Materialf(d, face, GL_SHININESS, (GLfloat)ri(s, 129)); break;
-        default: tsr_call_ColorMaterial(d, face, PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE)); break;
+        default:
+            tsr_call_ColorMaterial(d, face,
+                                   PICK(s, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_EMISSION, GL_AMBIENT_AND_DIFFUSE));
+            break;
         }
         break;
     }
@@ -299,7 +355,9 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         switch (ri(s, 6)) {
         case 0: tsr_call_CullFace(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK)); break;
         case 1: tsr_call_FrontFace(d, PICK(s, GL_CW, GL_CCW)); break;
-        case 2: tsr_call_PolygonMode(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), PICK(s, GL_POINT, GL_LINE, GL_FILL)); break;
+        case 2:
+            tsr_call_PolygonMode(d, PICK(s, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK), PICK(s, GL_POINT, GL_LINE, GL_FILL));
+            break;
         case 3: tsr_call_PolygonOffset(d, v[0], v[1]); break;
         case 4: {
             uint8_t *p = scratch + 1024;
@@ -322,21 +380,34 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         switch (ri(s, 5)) {
         case 0: tsr_call_LineWidth(d, 1.0f + (GLfloat)ri(s, 16) / 4.0f); break;
         case 1: tsr_call_PointSize(d, 1.0f + (GLfloat)ri(s, 40) / 4.0f); break;
-        case 2: tsr_call_PointParameterf(d, PICK(s, GL_POINT_SIZE_MIN, GL_POINT_SIZE_MAX, GL_POINT_FADE_THRESHOLD_SIZE), (GLfloat)ri(s, 20)); break;
+        case 2:
+            tsr_call_PointParameterf(d, PICK(s, GL_POINT_SIZE_MIN, GL_POINT_SIZE_MAX, GL_POINT_FADE_THRESHOLD_SIZE),
+                                     (GLfloat)ri(s, 20));
+            break;
         case 3: tsr_call_PointParameterfv(d, GL_POINT_DISTANCE_ATTENUATION, (GLfloat[]){r01(s), r01(s), r01(s)}); break;
-        default: tsr_call_PointParameteri(d, GL_POINT_SPRITE_COORD_ORIGIN, (GLint)PICK(s, GL_LOWER_LEFT, GL_UPPER_LEFT)); break;
+        default:
+            tsr_call_PointParameteri(d, GL_POINT_SPRITE_COORD_ORIGIN, (GLint)PICK(s, GL_LOWER_LEFT, GL_UPPER_LEFT));
+            break;
         }
         break;
     case 17:
-        tsr_call_Hint(d, PICK(s, GL_PERSPECTIVE_CORRECTION_HINT, GL_POINT_SMOOTH_HINT, GL_LINE_SMOOTH_HINT,
-                              GL_POLYGON_SMOOTH_HINT, GL_FOG_HINT, GL_GENERATE_MIPMAP_HINT),
+        tsr_call_Hint(d,
+                      PICK(s, GL_PERSPECTIVE_CORRECTION_HINT, GL_POINT_SMOOTH_HINT, GL_LINE_SMOOTH_HINT,
+                           GL_POLYGON_SMOOTH_HINT, GL_FOG_HINT, GL_GENERATE_MIPMAP_HINT),
                       PICK(s, GL_FASTEST, GL_NICEST, GL_DONT_CARE));
         break;
     case 18:
         switch (ri(s, 4)) {
         case 0: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_ALIGNMENT, GL_PACK_ALIGNMENT), 1 << ri(s, 4)); break;
-        case 1: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_PACK_ROW_LENGTH, GL_PACK_SKIP_PIXELS), ri(s, 2) ? 0 : ri(s, 12)); break;
-        case 2: tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_LSB_FIRST, GL_PACK_LSB_FIRST, GL_UNPACK_SWAP_BYTES), ri(s, 2)); break;
+        case 1:
+            tsr_call_PixelStorei(d,
+                                 PICK(s, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS,
+                                      GL_PACK_ROW_LENGTH, GL_PACK_SKIP_PIXELS),
+                                 ri(s, 2) ? 0 : ri(s, 12));
+            break;
+        case 2:
+            tsr_call_PixelStorei(d, PICK(s, GL_UNPACK_LSB_FIRST, GL_PACK_LSB_FIRST, GL_UNPACK_SWAP_BYTES), ri(s, 2));
+            break;
         default: tsr_call_PixelStoref(d, GL_UNPACK_IMAGE_HEIGHT, (GLfloat)ri(s, 4)); break;
         }
         break;
@@ -351,7 +422,8 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         break;
     case 20: tsr_call_ActiveTexture(d, GL_TEXTURE0 + (GLenum)ri(s, 8)); break;
     case 21: {
-        static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP};
+        static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_2D, GL_TEXTURE_3D,
+                                         GL_TEXTURE_CUBE_MAP};
         GLenum t = targets[ri(s, 5)];
         /* names by target so a name never meets two targets */
         GLuint base = t == GL_TEXTURE_1D ? 10 : t == GL_TEXTURE_2D ? 20 : t == GL_TEXTURE_3D ? 30 : 40;
@@ -363,10 +435,22 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         GLenum t = PICK(s, GL_TEXTURE_2D, GL_TEXTURE_1D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP);
         int k = ri(s, 6);
         switch (k) {
-        case 0: tsr_call_TexParameteri(d, t, GL_TEXTURE_MIN_FILTER, (GLint)PICK(s, GL_NEAREST, GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR)); break;
-        case 1: tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R), (GLint)PICK(s, GL_CLAMP_TO_EDGE, GL_REPEAT, GL_MIRRORED_REPEAT)); break;
-        case 2: tsr_call_TexParameterfv(d, t, GL_TEXTURE_BORDER_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)}); break;
-        case 3: tsr_call_TexParameterf(d, t, PICK(s, GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_PRIORITY), r01(s) * 4); break;
+        case 0:
+            tsr_call_TexParameteri(d, t, GL_TEXTURE_MIN_FILTER,
+                                   (GLint)PICK(s, GL_NEAREST, GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR));
+            break;
+        case 1:
+            tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R),
+                                   (GLint)PICK(s, GL_CLAMP_TO_EDGE, GL_REPEAT, GL_MIRRORED_REPEAT));
+            break;
+        case 2:
+            tsr_call_TexParameterfv(d, t, GL_TEXTURE_BORDER_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)});
+            break;
+        case 3:
+            tsr_call_TexParameterf(
+                d, t, PICK(s, GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_PRIORITY),
+                r01(s) * 4);
+            break;
         case 4: tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_BASE_LEVEL, GL_TEXTURE_MAX_LEVEL), ri(s, 5)); break;
         default: {
             /* Not GL_GENERATE_MIPMAP on cube maps: uploading a face of an
@@ -380,7 +464,8 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         }
         break;
     }
-    case 23: case 24: {
+    case 23:
+    case 24: {
         GLenum fmt = PICK(s, GL_RGBA, GL_RGB, GL_LUMINANCE);
         /* One internal format per mipmapped texture (levels of different
          * formats make an inconsistent texture whose contents are again the
@@ -394,9 +479,10 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
             scratch[i] = (uint8_t)rnd(s);
         int which = ri(s, 6);
         if (seq_transfer_used) {
-            static const GLenum scales[] = {GL_RED_SCALE, GL_GREEN_SCALE, GL_BLUE_SCALE, GL_ALPHA_SCALE, GL_DEPTH_SCALE};
-            static const GLenum biases[] = {GL_RED_BIAS, GL_GREEN_BIAS, GL_BLUE_BIAS, GL_ALPHA_BIAS, GL_DEPTH_BIAS,
-                                            GL_INDEX_SHIFT, GL_INDEX_OFFSET, GL_MAP_COLOR};
+            static const GLenum scales[] = {GL_RED_SCALE, GL_GREEN_SCALE, GL_BLUE_SCALE, GL_ALPHA_SCALE,
+                                            GL_DEPTH_SCALE};
+            static const GLenum biases[] = {GL_RED_BIAS,   GL_GREEN_BIAS,  GL_BLUE_BIAS,    GL_ALPHA_BIAS,
+                                            GL_DEPTH_BIAS, GL_INDEX_SHIFT, GL_INDEX_OFFSET, GL_MAP_COLOR};
             for (int i = 0; i < 5; i++)
                 tsr_call_PixelTransferf(d, scales[i], 1.0f);
             for (int i = 0; i < 8; i++)
@@ -407,9 +493,11 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         else if (which == 1)
             tsr_call_TexImage3D(d, GL_TEXTURE_3D, 0, ifmt3, 8, 4, 1 + ri(s, 3), 0, fmt, GL_UNSIGNED_BYTE, scratch);
         else if (which == 2)
-            tsr_call_TexImage2D(d, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)ri(s, 6), 0, ifmt, 4, 4, 0, fmt, GL_UNSIGNED_BYTE, scratch);
+            tsr_call_TexImage2D(d, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)ri(s, 6), 0, ifmt, 4, 4, 0, fmt,
+                                GL_UNSIGNED_BYTE, scratch);
         else if (which == 3)
-            tsr_call_TexSubImage2D(d, GL_TEXTURE_2D, 0, ri(s, 2), ri(s, 2), 1 + ri(s, 2), 1 + ri(s, 2), fmt, GL_UNSIGNED_BYTE, scratch);
+            tsr_call_TexSubImage2D(d, GL_TEXTURE_2D, 0, ri(s, 2), ri(s, 2), 1 + ri(s, 2), 1 + ri(s, 2), fmt,
+                                   GL_UNSIGNED_BYTE, scratch);
         else if (which == 4 && ri(s, 3) == 0)
             tsr_call_GenerateMipmap(d, GL_TEXTURE_2D);
         else {
@@ -422,22 +510,36 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     }
     case 25: {
         switch (ri(s, 4)) {
-        case 0: tsr_call_TexEnvi(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, (GLint)PICK(s, GL_MODULATE, GL_REPLACE, GL_DECAL, GL_BLEND, GL_ADD, GL_COMBINE)); break;
-        case 1: tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)}); break;
-        case 2: tsr_call_TexEnvi(d, GL_TEXTURE_ENV, PICK(s, GL_COMBINE_RGB, GL_COMBINE_ALPHA), (GLint)PICK(s, GL_REPLACE, GL_ADD, GL_INTERPOLATE, GL_SUBTRACT)); break;
-        default: tsr_call_TexEnvf(d, GL_TEXTURE_ENV, PICK(s, GL_RGB_SCALE, GL_ALPHA_SCALE), (GLfloat)(1 << ri(s, 3))); break;
+        case 0:
+            tsr_call_TexEnvi(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE,
+                             (GLint)PICK(s, GL_MODULATE, GL_REPLACE, GL_DECAL, GL_BLEND, GL_ADD, GL_COMBINE));
+            break;
+        case 1:
+            tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){r01(s), r01(s), r01(s), r01(s)});
+            break;
+        case 2:
+            tsr_call_TexEnvi(d, GL_TEXTURE_ENV, PICK(s, GL_COMBINE_RGB, GL_COMBINE_ALPHA),
+                             (GLint)PICK(s, GL_REPLACE, GL_ADD, GL_INTERPOLATE, GL_SUBTRACT));
+            break;
+        default:
+            tsr_call_TexEnvf(d, GL_TEXTURE_ENV, PICK(s, GL_RGB_SCALE, GL_ALPHA_SCALE), (GLfloat)(1 << ri(s, 3)));
+            break;
         }
         break;
     }
     case 26:
         switch (ri(s, 3)) {
-        case 0: tsr_call_TexGeni(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_TEXTURE_GEN_MODE, (GLint)PICK(s, GL_OBJECT_LINEAR, GL_EYE_LINEAR)); break;
+        case 0:
+            tsr_call_TexGeni(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_TEXTURE_GEN_MODE,
+                             (GLint)PICK(s, GL_OBJECT_LINEAR, GL_EYE_LINEAR));
+            break;
         case 1: tsr_call_TexGenfv(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_OBJECT_PLANE, v); break;
         default: tsr_call_TexGenfv(d, PICK(s, GL_S, GL_T, GL_R, GL_Q), GL_EYE_PLANE, v); break;
         }
         break;
     case 27: tsr_call_MatrixMode(d, PICK(s, GL_MODELVIEW, GL_MODELVIEW, GL_PROJECTION, GL_TEXTURE)); break;
-    case 28: case 29:
+    case 28:
+    case 29:
         switch (ri(s, 8)) {
         case 0: tsr_call_LoadIdentity(d); break;
         case 1: tsr_call_Translatef(d, v[0], v[1], v[2]); break;
@@ -449,7 +551,12 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         default: tsr_call_LoadMatrixf(d, v); break;
         }
         break;
-    case 30: if (ri(s, 2)) tsr_call_PushMatrix(d); else tsr_call_PopMatrix(d); break;
+    case 30:
+        if (ri(s, 2))
+            tsr_call_PushMatrix(d);
+        else
+            tsr_call_PopMatrix(d);
+        break;
     case 31: tsr_call_ClipPlane(d, GL_CLIP_PLANE0 + (GLenum)ri(s, 6), (GLdouble[]){v[0], v[1], v[2], v[3]}); break;
     case 32:
         if (ri(s, 2) && *attrib_depth < 8) {
@@ -479,7 +586,8 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         case 1:
             for (int i = 0; i < 256; i++)
                 scratch[8192 + i] = (uint8_t)rnd(s);
-            tsr_call_BufferData(d, GL_ARRAY_BUFFER, 16 + ri(s, 200), scratch + 8192, PICK(s, GL_STATIC_DRAW, GL_STREAM_DRAW));
+            tsr_call_BufferData(d, GL_ARRAY_BUFFER, 16 + ri(s, 200), scratch + 8192,
+                                PICK(s, GL_STATIC_DRAW, GL_STREAM_DRAW));
             break;
         default: tsr_call_BufferSubData(d, GL_ARRAY_BUFFER, ri(s, 8), 8, scratch + 8192 + ri(s, 64)); break;
         }
@@ -487,24 +595,33 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     }
     case 35:
         switch (ri(s, 5)) {
-        case 0: tsr_call_VertexPointer(d, 2 + ri(s, 3), PICK(s, GL_FLOAT, GL_SHORT, GL_DOUBLE), 4 * ri(s, 8), scratch + ri(s, 64)); break;
+        case 0:
+            tsr_call_VertexPointer(d, 2 + ri(s, 3), PICK(s, GL_FLOAT, GL_SHORT, GL_DOUBLE), 4 * ri(s, 8),
+                                   scratch + ri(s, 64));
+            break;
         case 1: tsr_call_ColorPointer(d, 3 + ri(s, 2), PICK(s, GL_UNSIGNED_BYTE, GL_FLOAT), 0, scratch + 16); break;
         case 2: tsr_call_TexCoordPointer(d, 1 + ri(s, 4), GL_FLOAT, 8 * ri(s, 4), scratch + 32); break;
         case 3: tsr_call_NormalPointer(d, PICK(s, GL_FLOAT, GL_BYTE), 0, scratch); break;
-        default: tsr_call_InterleavedArrays(d, PICK(s, GL_V3F, GL_C4UB_V3F, GL_T2F_N3F_V3F, GL_T4F_C4F_N3F_V4F), 0, scratch + 64); break;
+        default:
+            tsr_call_InterleavedArrays(d, PICK(s, GL_V3F, GL_C4UB_V3F, GL_T2F_N3F_V3F, GL_T4F_C4F_N3F_V4F), 0,
+                                       scratch + 64);
+            break;
         }
         break;
     case 36:
         if (ri(s, 3) == 0)
             tsr_call_ClientActiveTexture(d, GL_TEXTURE0 + (GLenum)ri(s, 8));
         else if (ri(s, 2))
-            tsr_call_EnableClientState(d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY, GL_TEXTURE_COORD_ARRAY, GL_EDGE_FLAG_ARRAY));
+            tsr_call_EnableClientState(d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY,
+                                               GL_TEXTURE_COORD_ARRAY, GL_EDGE_FLAG_ARRAY));
         else
-            tsr_call_DisableClientState(d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY, GL_TEXTURE_COORD_ARRAY));
+            tsr_call_DisableClientState(
+                d, PICK(s, GL_VERTEX_ARRAY, GL_NORMAL_ARRAY, GL_COLOR_ARRAY, GL_TEXTURE_COORD_ARRAY));
         break;
     case 37:
         if (ri(s, 2) && *client_depth < 8) {
-            tsr_call_PushClientAttrib(d, PICK(s, GL_CLIENT_PIXEL_STORE_BIT, GL_CLIENT_VERTEX_ARRAY_BIT, GL_CLIENT_ALL_ATTRIB_BITS));
+            tsr_call_PushClientAttrib(
+                d, PICK(s, GL_CLIENT_PIXEL_STORE_BIT, GL_CLIENT_VERTEX_ARRAY_BIT, GL_CLIENT_ALL_ATTRIB_BITS));
             ++*client_depth;
         } else if (*client_depth > 0) {
             tsr_call_PopClientAttrib(d);
@@ -529,7 +646,8 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
             if (!*client_depth)
                 tsr_call_DeleteBuffers(d, 1, &b);
         } else {
-            tsr_call_TexGeni(d, GL_S, GL_TEXTURE_GEN_MODE, (GLint)PICK(s, GL_SPHERE_MAP, GL_REFLECTION_MAP, GL_NORMAL_MAP));
+            tsr_call_TexGeni(d, GL_S, GL_TEXTURE_GEN_MODE,
+                             (GLint)PICK(s, GL_SPHERE_MAP, GL_REFLECTION_MAP, GL_NORMAL_MAP));
         }
         break;
     }
@@ -637,9 +755,9 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
                     bad += report("GetBooleanv", p, i, tb[i], gb[i], &shown);
             }
         }
-        static const GLenum envs[] = {GL_TEXTURE_ENV_MODE, GL_TEXTURE_ENV_COLOR, GL_COMBINE_RGB, GL_COMBINE_ALPHA,
-                                      GL_SRC0_RGB, GL_SRC1_ALPHA, GL_OPERAND2_RGB, GL_OPERAND0_ALPHA, GL_RGB_SCALE,
-                                      GL_ALPHA_SCALE};
+        static const GLenum envs[] = {GL_TEXTURE_ENV_MODE, GL_TEXTURE_ENV_COLOR, GL_COMBINE_RGB,  GL_COMBINE_ALPHA,
+                                      GL_SRC0_RGB,         GL_SRC1_ALPHA,        GL_OPERAND2_RGB, GL_OPERAND0_ALPHA,
+                                      GL_RGB_SCALE,        GL_ALPHA_SCALE};
         for (size_t k = 0; k < sizeof envs / sizeof envs[0]; k++) {
             GLfloat t[4] = {0}, g[4] = {0};
             tsr_state_get_tex_envfv(c, GL_TEXTURE_ENV, envs[k], t);
@@ -660,9 +778,10 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
             }
         }
         static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP};
-        static const GLenum tparams[] = {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER, GL_TEXTURE_WRAP_S,
-            GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R, GL_TEXTURE_BORDER_COLOR, GL_TEXTURE_PRIORITY, GL_TEXTURE_MIN_LOD,
-            GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_BASE_LEVEL, GL_TEXTURE_MAX_LEVEL, GL_GENERATE_MIPMAP};
+        static const GLenum tparams[] = {
+            GL_TEXTURE_MIN_FILTER,   GL_TEXTURE_MAG_FILTER, GL_TEXTURE_WRAP_S,  GL_TEXTURE_WRAP_T,  GL_TEXTURE_WRAP_R,
+            GL_TEXTURE_BORDER_COLOR, GL_TEXTURE_PRIORITY,   GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD, GL_TEXTURE_LOD_BIAS,
+            GL_TEXTURE_BASE_LEVEL,   GL_TEXTURE_MAX_LEVEL,  GL_GENERATE_MIPMAP};
         for (int t = 0; t < 4; t++) {
             for (size_t k = 0; k < sizeof tparams / sizeof tparams[0]; k++) {
                 GLfloat tv4[4] = {0}, gv4[4] = {0};
@@ -691,9 +810,16 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
     tsr_call_ActiveTexture(tracker_table, GL_TEXTURE0 + unit);
     e->gl.ActiveTexture(GL_TEXTURE0 + unit);
     for (GLenum l = GL_LIGHT0; l < GL_LIGHT0 + 8; l++) {
-        static const GLenum lps[] = {GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_POSITION, GL_SPOT_DIRECTION,
-                                     GL_SPOT_EXPONENT, GL_SPOT_CUTOFF, GL_CONSTANT_ATTENUATION,
-                                     GL_LINEAR_ATTENUATION, GL_QUADRATIC_ATTENUATION};
+        static const GLenum lps[] = {GL_AMBIENT,
+                                     GL_DIFFUSE,
+                                     GL_SPECULAR,
+                                     GL_POSITION,
+                                     GL_SPOT_DIRECTION,
+                                     GL_SPOT_EXPONENT,
+                                     GL_SPOT_CUTOFF,
+                                     GL_CONSTANT_ATTENUATION,
+                                     GL_LINEAR_ATTENUATION,
+                                     GL_QUADRATIC_ATTENUATION};
         for (size_t k = 0; k < sizeof lps / sizeof lps[0]; k++) {
             GLfloat t[4] = {0}, g[4] = {0};
             tsr_state_get_lightfv(c, l, lps[k], t);
@@ -759,7 +885,7 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
             bad += report("IsBuffer", n, 0, tsr_state_is_buffer(c, n), e->gl.IsBuffer(n), &shown);
     }
     GLenum err = e->gl.GetError();
-    (void)err;   /* the random sequence makes legal-but-rejected calls on purpose */
+    (void)err; /* the random sequence makes legal-but-rejected calls on purpose */
     return bad;
 }
 
@@ -837,7 +963,7 @@ static int compare_objects(gl_env *a, gl_env *b)
 typedef struct wire {
     tsr_packer *p;
     tsr_unpacker *u;
-    tsr_dispatch table;       /* the packer's table */
+    tsr_dispatch table; /* the packer's table */
     uint64_t bytes, buffers;
 } wire;
 
@@ -946,13 +1072,13 @@ static void test_diff_matches_osmesa(void)
         gl_env *a = gl_open();
         tsr_state_diff_stats st;
         uint32_t n;
-        if ((seed & 1) && !getenv("STATE_TRACE")) {   /* through the real wire */
+        if ((seed & 1) && !getenv("STATE_TRACE")) { /* through the real wire */
             wire *w = wire_open(&a->d);
             n = tsr_state_diff(c, s, &w->table, &st);
             CHECK(tsr_packer_flush(w->p) == 0, "seed %d: packer flush: %s", seed, tsr_packer_error(w->p)->message);
             CHECK(tsr_packer_error(w->p)->code == TSR_OK, "seed %d: %s", seed, tsr_packer_error(w->p)->message);
             wire_close(w);
-        } else if (getenv("STATE_TRACE")) {   /* print what the diff sends */
+        } else if (getenv("STATE_TRACE")) { /* print what the diff sends */
             static tsr_dispatch traced;
             tsr_tracer tr = {stderr, &a->d};
             tsr_trace_fill(&traced, &tr);
@@ -969,7 +1095,8 @@ static void test_diff_matches_osmesa(void)
 
         long before = compared;
         int bad_a = compare_gets(c, &tt, a, 0, &compared);
-        CHECK(bad_a == 0, "seed %d (%d calls): %d tracker answers differ from the diffed OSMesa context", seed, calls, bad_a);
+        CHECK(bad_a == 0, "seed %d (%d calls): %d tracker answers differ from the diffed OSMesa context", seed, calls,
+              bad_a);
         if (!seq_popattrib_used) {
             direct_seeds++;
             int bad_b = compare_gets(c, &tt, b, 1, &compared);
@@ -985,7 +1112,8 @@ static void test_diff_matches_osmesa(void)
         tsr_state_tracker_destroy(t);
     }
     printf("%d seeds, %ld values compared, %ld commands diffed; %d seeds (no PopAttrib) also compared with "
-           "OSMesa given the calls directly\n", seeds_arg, compared, commands, direct_seeds);
+           "OSMesa given the calls directly\n",
+           seeds_arg, compared, commands, direct_seeds);
     CHECK(direct_seeds > seeds_arg / 3, "only %d seeds compared directly", direct_seeds);
 }
 
@@ -1023,7 +1151,8 @@ static void test_unchanged_is_zero_bytes(void)
         uint32_t n1 = tsr_state_diff(c1, r, &w->table, NULL);
         uint32_t n2 = tsr_state_diff(c2, r, &w->table, NULL);
         uint32_t n3 = tsr_state_diff(c1, r, &w->table, NULL);
-        CHECK(tsr_packer_pending(w->p) == 0, "seed %d: unchanged diffs packed %zu bytes", seed, tsr_packer_pending(w->p));
+        CHECK(tsr_packer_pending(w->p) == 0, "seed %d: unchanged diffs packed %zu bytes", seed,
+              tsr_packer_pending(w->p));
         tsr_packer_flush(w->p);
         CHECK(n1 == 0 && n2 == 0 && n3 == 0 && w->bytes == b0,
               "seed %d: unchanged state diffed to %u/%u/%u commands, %llu bytes", seed, n1, n2, n3,
@@ -1063,7 +1192,9 @@ static void change_group(int g, const tsr_dispatch *d, tsr_state_ctx *c)
         tsr_call_Hint(d, GL_FOG_HINT, h == GL_NICEST ? GL_FASTEST : GL_NICEST);
         break;
     }
-    case TSR_SG_TEXTURE: tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){0.0123f, 0, 0, 1}); break;
+    case TSR_SG_TEXTURE:
+        tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){0.0123f, 0, 0, 1});
+        break;
     case TSR_SG_BUFFER: tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, 77); break;
     case TSR_SG_MISC: tsr_call_ListBase(d, 4242); break;
     case TSR_SG_PIXEL: tsr_call_PixelZoom(d, 3.5f, -2.25f); break;
@@ -1096,7 +1227,7 @@ static void test_switch_only_differing_groups(void)
             if (g >= 0)
                 change_group(g, &db, b);
             uint32_t expect = g >= 0 ? 1u << g : 0;
-            tsr_state_diff(a, r, &nop, NULL);   /* r holds A */
+            tsr_state_diff(a, r, &nop, NULL); /* r holds A */
             for (int round = 0; round < 3; round++) {
                 tsr_state_diff_stats sb, sa;
                 uint32_t nb = tsr_state_diff(b, r, &nop, &sb);
@@ -1104,12 +1235,11 @@ static void test_switch_only_differing_groups(void)
                 CHECK(sb.group_mask == expect && sa.group_mask == expect,
                       "seed %d group %s round %d: switch A->B emitted groups 0x%x, B->A 0x%x, expected 0x%x", seed,
                       g >= 0 ? tsr_state_group_name(g) : "(none)", round, sb.group_mask, sa.group_mask, expect);
-                CHECK((g < 0) == (nb == 0) && (g < 0) == (na == 0),
-                      "seed %d group %d: %u and %u commands", seed, g, nb, na);
+                CHECK((g < 0) == (nb == 0) && (g < 0) == (na == 0), "seed %d group %d: %u and %u commands", seed, g, nb,
+                      na);
                 /* Once B has met r, identical contexts look at nothing. */
                 CHECK(g >= 0 || round == 0 || (sb.groups_visited == 0 && sa.groups_visited == 0),
-                      "seed %d: identical contexts visited %u/%u groups", seed, sb.groups_visited,
-                      sa.groups_visited);
+                      "seed %d: identical contexts visited %u/%u groups", seed, sb.groups_visited, sa.groups_visited);
             }
             tsr_state_tracker_destroy(t);
         }
@@ -1306,13 +1436,15 @@ static void test_get_count_table(void)
         if (n > 0 && spec > 0 && spec != n)
             ok = 0;
         if (!ok && bad++ < 12)
-            fprintf(stderr, "  pname 0x%04x: table %d, the context wrote %d (a fresh one %d), spec %d\n", p, n, k,
-                    f, spec);
+            fprintf(stderr, "  pname 0x%04x: table %d, the context wrote %d (a fresh one %d), spec %d\n", p, n, k, f,
+                    spec);
     }
     CHECK(bad == 0, "%d pnames where the count table and the tracker's gets differ", bad);
     CHECK(answered > 200, "the table answers only %d pnames", answered);
-    CHECK(declined_fresh == 5, "a fresh context declined %d answered pnames (viewport, scissor box, draw and read "
-          "buffer, maximum point size: 5)", declined_fresh);
+    CHECK(declined_fresh == 5,
+          "a fresh context declined %d answered pnames (viewport, scissor box, draw and read "
+          "buffer, maximum point size: 5)",
+          declined_fresh);
     tsr_state_tracker_destroy(t);
 }
 
@@ -1484,10 +1616,14 @@ static const char *const glsl_fs[] = {
     "uniform vec4 u_c;\nuniform mat4 u_m4;\nvoid main() { gl_FragColor = u_m4 * gl_Color + u_c * 0.5; }\n",
 };
 /* Uniforms of the sources: name, kind (f/i/m), components or matrix side, array length. */
-typedef struct glsl_uni { const char *name; char kind; int n, len; } glsl_uni;
+typedef struct glsl_uni {
+    const char *name;
+    char kind;
+    int n, len;
+} glsl_uni;
 static const glsl_uni glsl_unis[] = {
     {"u_f", 'f', 1, 1}, {"u_v3", 'f', 3, 1}, {"u_m3", 'm', 3, 1}, {"u_v2", 'f', 2, 3}, {"u_c", 'f', 4, 1},
-    {"u_i", 'i', 1, 1}, {"u_m2", 'm', 2, 1}, {"u_i2", 'i', 2, 1}, {"u_a", 'f', 1, 4}, {"u_m4", 'm', 4, 1},
+    {"u_i", 'i', 1, 1}, {"u_m2", 'm', 2, 1}, {"u_i2", 'i', 2, 1}, {"u_a", 'f', 1, 4},  {"u_m4", 'm', 4, 1},
 };
 #define GLSL_UNIS ((int)(sizeof glsl_unis / sizeof glsl_unis[0]))
 #define GLSL_NAMES 40
@@ -1495,13 +1631,13 @@ static const glsl_uni glsl_unis[] = {
 /* The test's own record of what it did (to make valid links and pick
  * uniforms); the tracker is never asked for it. */
 typedef struct glsl_model {
-    int src[GLSL_NAMES];              /* shader: 0..1 vertex source, 10..12 fragment; -1 no object */
-    int compiled[GLSL_NAMES];         /* source at the last compile, -1 never */
-    int deleted[GLSL_NAMES];          /* shader deleted while attached */
-    int program[GLSL_NAMES];          /* a program object lives under this name */
+    int src[GLSL_NAMES];      /* shader: 0..1 vertex source, 10..12 fragment; -1 no object */
+    int compiled[GLSL_NAMES]; /* source at the last compile, -1 never */
+    int deleted[GLSL_NAMES];  /* shader deleted while attached */
+    int program[GLSL_NAMES];  /* a program object lives under this name */
     int prog_deleted[GLSL_NAMES];
     unsigned char att[GLSL_NAMES][GLSL_NAMES];
-    int usable[GLSL_NAMES];           /* last link had a valid combination */
+    int usable[GLSL_NAMES]; /* last link had a valid combination */
     GLuint current;
 } glsl_model;
 
@@ -1633,7 +1769,8 @@ static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, cons
             continue;
         }
         switch (op) {
-        case 0: case 1: { /* a new shader with a source, usually compiled */
+        case 0:
+        case 1: { /* a new shader with a source, usually compiled */
             int fs = ri(r, 2), idx = fs ? ri(r, 3) : ri(r, 2);
             GLenum type = fs ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER;
             GLuint s = tsr_call_CreateShader(tt, type);
@@ -1677,7 +1814,8 @@ static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, cons
             m->program[q] = 1;
             break;
         }
-        case 4: case 5: /* attach */
+        case 4:
+        case 5: /* attach */
             if (shader && m->program[p] && !m->att[p][n]) {
                 tsr_call_AttachShader(tt, (GLuint)p, (GLuint)n);
                 tsr_call_AttachShader(bd, (GLuint)p, (GLuint)n);
@@ -1698,7 +1836,8 @@ static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, cons
                 tsr_call_BindAttribLocation(bd, (GLuint)p, idx, "a_s");
             }
             break;
-        case 8: case 9: /* link (only valid combinations become usable) */
+        case 8:
+        case 9: /* link (only valid combinations become usable) */
             /* A failed relink of the program in use leaves GL drawing with the
              * old executable, which the tracker cannot rebuild (README): not done. */
             if (m->program[p] && (links(m, p) || (ri(r, 4) == 0 && m->current != (GLuint)p))) {
@@ -1715,19 +1854,20 @@ static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, cons
             }
             break;
         case 10: /* use a usable program, or none */
-            {
-                GLuint q = ri(r, 4) == 0 ? 0 : (GLuint)p;
-                if (q && !(prog && m->usable[p]))
-                    break;
-                tsr_call_UseProgram(tt, q);
-                tsr_call_UseProgram(bd, q);
-                GLuint old = m->current;
-                m->current = q;
-                if (old != q && old && m->prog_deleted[old])
-                    model_free_program(m, (int)old);
-            }
-            break;
-        case 11: case 12: case 13: { /* a uniform of the current program */
+        {
+            GLuint q = ri(r, 4) == 0 ? 0 : (GLuint)p;
+            if (q && !(prog && m->usable[p]))
+                break;
+            tsr_call_UseProgram(tt, q);
+            tsr_call_UseProgram(bd, q);
+            GLuint old = m->current;
+            m->current = q;
+            if (old != q && old && m->prog_deleted[old])
+                model_free_program(m, (int)old);
+        } break;
+        case 11:
+        case 12:
+        case 13: { /* a uniform of the current program */
             if (!m->current || !m->usable[m->current])
                 break;
             const glsl_uni *u = &glsl_unis[ri(r, GLSL_UNIS)];
@@ -1754,21 +1894,44 @@ static void glsl_sequence(uint64_t seed, int calls, const tsr_dispatch *tt, cons
                 const tsr_dispatch *d = both[w];
                 if (u->kind == 'm') {
                     GLboolean tr = (GLboolean)(u->n == 4 && (k & 1));
-                    if (u->n == 2) tsr_call_UniformMatrix2fv(d, loc, count, tr, f);
-                    else if (u->n == 3) tsr_call_UniformMatrix3fv(d, loc, count, tr, f);
-                    else tsr_call_UniformMatrix4fv(d, loc, count, tr, f);
+                    if (u->n == 2)
+                        tsr_call_UniformMatrix2fv(d, loc, count, tr, f);
+                    else if (u->n == 3)
+                        tsr_call_UniformMatrix3fv(d, loc, count, tr, f);
+                    else
+                        tsr_call_UniformMatrix4fv(d, loc, count, tr, f);
                 } else if (u->kind == 'i') {
-                    if (u->n == 1) { if (vec) tsr_call_Uniform1iv(d, loc, count, iv); else tsr_call_Uniform1i(d, loc, iv[0]); }
-                    else { if (vec) tsr_call_Uniform2iv(d, loc, count, iv); else tsr_call_Uniform2i(d, loc, iv[0], iv[1]); }
+                    if (u->n == 1) {
+                        if (vec)
+                            tsr_call_Uniform1iv(d, loc, count, iv);
+                        else
+                            tsr_call_Uniform1i(d, loc, iv[0]);
+                    } else {
+                        if (vec)
+                            tsr_call_Uniform2iv(d, loc, count, iv);
+                        else
+                            tsr_call_Uniform2i(d, loc, iv[0], iv[1]);
+                    }
                 } else if (u->n == 1) {
-                    if (vec) tsr_call_Uniform1fv(d, loc, count, f); else tsr_call_Uniform1f(d, loc, f[0]);
+                    if (vec)
+                        tsr_call_Uniform1fv(d, loc, count, f);
+                    else
+                        tsr_call_Uniform1f(d, loc, f[0]);
                 } else if (u->n == 2) {
-                    if (vec) tsr_call_Uniform2fv(d, loc, count, f); else tsr_call_Uniform2f(d, loc, f[0], f[1]);
+                    if (vec)
+                        tsr_call_Uniform2fv(d, loc, count, f);
+                    else
+                        tsr_call_Uniform2f(d, loc, f[0], f[1]);
                 } else if (u->n == 3) {
-                    if (vec) tsr_call_Uniform3fv(d, loc, count, f); else tsr_call_Uniform3f(d, loc, f[0], f[1], f[2]);
+                    if (vec)
+                        tsr_call_Uniform3fv(d, loc, count, f);
+                    else
+                        tsr_call_Uniform3f(d, loc, f[0], f[1], f[2]);
                 } else {
-                    if (vec) tsr_call_Uniform4fv(d, loc, count, f);
-                    else tsr_call_Uniform4f(d, loc, f[0], f[1], f[2], f[3]);
+                    if (vec)
+                        tsr_call_Uniform4fv(d, loc, count, f);
+                    else
+                        tsr_call_Uniform4f(d, loc, f[0], f[1], f[2], f[3]);
                 }
             }
             break;
@@ -1890,20 +2053,20 @@ static void test_glsl_diff_matches_osmesa(void)
             gl_use(envs[e]);
             tsr_call_GetIntegerv(&envs[e]->d, GL_CURRENT_PROGRAM, &cur[e]);
         }
-        CHECK(cur[0] == tcur && cur[1] == tcur, "seed %d: current program tracker %d, A %d, B %d", seed, tcur,
-              cur[0], cur[1]);
+        CHECK(cur[0] == tcur && cur[1] == tcur, "seed %d: current program tracker %d, A %d, B %d", seed, tcur, cur[0],
+              cur[1]);
         with_program += tcur != 0;
         for (GLuint q = 1; q < GLSL_NAMES; q++) {
             static const GLenum sp[] = {GL_SHADER_TYPE, GL_DELETE_STATUS, GL_SHADER_SOURCE_LENGTH, GL_COMPILE_STATUS};
-            static const GLenum pp[] = {GL_DELETE_STATUS, GL_ATTACHED_SHADERS, GL_LINK_STATUS, GL_ACTIVE_UNIFORMS,
-                                        GL_ACTIVE_ATTRIBUTES, GL_VALIDATE_STATUS};
+            static const GLenum pp[] = {GL_DELETE_STATUS,   GL_ATTACHED_SHADERS,  GL_LINK_STATUS,
+                                        GL_ACTIVE_UNIFORMS, GL_ACTIVE_ATTRIBUTES, GL_VALIDATE_STATUS};
             for (int program = 0; program < 2; program++) {
                 const GLenum *pn = program ? pp : sp;
                 int count = program ? 6 : 4;
                 for (int k = 0; k < count; k++) {
                     GLint v[2] = {-7, -7}, tv = -7;
-                    int known = program ? tsr_state_get_programiv(c, q, pn[k], &tv)
-                                        : tsr_state_get_shaderiv(c, q, pn[k], &tv);
+                    int known =
+                        program ? tsr_state_get_programiv(c, q, pn[k], &tv) : tsr_state_get_shaderiv(c, q, pn[k], &tv);
                     int exists = glsl_exists(c, q, program);
                     for (int e = 0; e < 2; e++) {
                         gl_use(envs[e]);
@@ -1919,8 +2082,8 @@ static void test_glsl_diff_matches_osmesa(void)
                     compared++;
                     /* validation depends on the state at glValidateProgram: A validated later */
                     if (pn[k] != GL_VALIDATE_STATUS)
-                        CHECK(v[0] == v[1], "seed %d: %s %u pname 0x%x: A %d, B %d", seed, program ? "program" : "shader",
-                              q, pn[k], v[0], v[1]);
+                        CHECK(v[0] == v[1], "seed %d: %s %u pname 0x%x: A %d, B %d", seed,
+                              program ? "program" : "shader", q, pn[k], v[0], v[1]);
                     if (known)
                         CHECK(tv == v[0] && tv == v[1], "seed %d: %s %u pname 0x%x: tracker %d, A %d, B %d", seed,
                               program ? "program" : "shader", q, pn[k], tv, v[0], v[1]);
@@ -1946,7 +2109,8 @@ static void test_glsl_diff_matches_osmesa(void)
                         else if (loc[e] >= 0)
                             get_f(drv, loc[e], fv[e]);
                     }
-                    CHECK(loc[0] == loc[1], "seed %d: program %u: %s at %d in A, %d in B", seed, q, name, loc[0], loc[1]);
+                    CHECK(loc[0] == loc[1], "seed %d: program %u: %s at %d in A, %d in B", seed, q, name, loc[0],
+                          loc[1]);
                     if (loc[0] < 0)
                         continue;
                     locations++;
@@ -1976,19 +2140,44 @@ static void test_glsl_diff_matches_osmesa(void)
         tsr_state_tracker_destroy(t);
     }
     printf("%d seeds: %ld values compared (%ld uniform locations), %ld calls sent, %ld triangles pixel-identical "
-           "(%ld drawn with a program)\n", seeds_arg - first_seed, compared, locations, commands, drawn, with_program);
+           "(%ld drawn with a program)\n",
+           seeds_arg - first_seed, compared, locations, commands, drawn, with_program);
     CHECK(with_program > (seeds_arg - first_seed) / 4, "only %ld sequences ended with a program in use", with_program);
     CHECK(locations > (seeds_arg - first_seed), "only %ld uniform locations compared", locations);
 }
 /* Counting table for the lazy-program test: which calls a diff emits. */
 enum { GC_CREATEPROG, GC_CREATESH, GC_LINK, GC_UNIFORM, GC_USE, GC_DELPROG, GC_N };
 static int gcount[GC_N];
-static void gc_CreateProgramTSR(void *self, GLuint p) { (void)self, (void)p; gcount[GC_CREATEPROG]++; }
-static void gc_CreateShaderTSR(void *self, GLuint s, GLenum t) { (void)self, (void)s, (void)t; gcount[GC_CREATESH]++; }
-static void gc_LinkProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_LINK]++; }
-static void gc_Uniform4fv(void *self, GLint l, GLsizei n, const GLfloat *v) { (void)self, (void)l, (void)n, (void)v; gcount[GC_UNIFORM]++; }
-static void gc_UseProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_USE]++; }
-static void gc_DeleteProgram(void *self, GLuint p) { (void)self, (void)p; gcount[GC_DELPROG]++; }
+static void gc_CreateProgramTSR(void *self, GLuint p)
+{
+    (void)self, (void)p;
+    gcount[GC_CREATEPROG]++;
+}
+static void gc_CreateShaderTSR(void *self, GLuint s, GLenum t)
+{
+    (void)self, (void)s, (void)t;
+    gcount[GC_CREATESH]++;
+}
+static void gc_LinkProgram(void *self, GLuint p)
+{
+    (void)self, (void)p;
+    gcount[GC_LINK]++;
+}
+static void gc_Uniform4fv(void *self, GLint l, GLsizei n, const GLfloat *v)
+{
+    (void)self, (void)l, (void)n, (void)v;
+    gcount[GC_UNIFORM]++;
+}
+static void gc_UseProgram(void *self, GLuint p)
+{
+    (void)self, (void)p;
+    gcount[GC_USE]++;
+}
+static void gc_DeleteProgram(void *self, GLuint p)
+{
+    (void)self, (void)p;
+    gcount[GC_DELPROG]++;
+}
 
 static GLuint lazy_program(const tsr_dispatch *d, int k)
 {
@@ -2007,8 +2196,8 @@ static GLuint lazy_program(const tsr_dispatch *d, int k)
 
 /* Expected counts of one diff: created programs, created shaders, links,
  * uniform calls, UseProgram, DeleteProgram, and the total. */
-static void lazy_expect(tsr_state_ctx *c, tsr_state_shadow *r, const tsr_dispatch *cnt, const char *what,
-                        int cp, int cs, int ln, int un, int use, int del, uint32_t total)
+static void lazy_expect(tsr_state_ctx *c, tsr_state_shadow *r, const tsr_dispatch *cnt, const char *what, int cp,
+                        int cs, int ln, int un, int use, int del, uint32_t total)
 {
     memset(gcount, 0, sizeof gcount);
     uint32_t n = tsr_state_diff(c, r, cnt, NULL);
@@ -2073,7 +2262,11 @@ static void test_glsl_lazy(void)
 
 int main(int argc, char **argv)
 {
-    static const struct { const char *name; void (*fn)(void); int gl; } tests[] = {
+    static const struct {
+        const char *name;
+        void (*fn)(void);
+        int gl;
+    } tests[] = {
         {"covers_spec", test_covers_spec, 0},
         {"diff_matches_osmesa", test_diff_matches_osmesa, 1},
         {"unchanged_is_zero_bytes", test_unchanged_is_zero_bytes, 0},

@@ -72,9 +72,14 @@ static int pixel_extents(void)
     glClearDepth(0.5);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     static const GLenum pairs[][2] = {
-        {GL_RGBA, GL_UNSIGNED_BYTE}, {GL_RGB, GL_UNSIGNED_BYTE}, {GL_LUMINANCE, GL_FLOAT},
-        {GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4}, {GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT},
-        {GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV}, {GL_ALPHA, GL_UNSIGNED_BYTE}, {GL_RGB, GL_SHORT},
+        {GL_RGBA, GL_UNSIGNED_BYTE},
+        {GL_RGB, GL_UNSIGNED_BYTE},
+        {GL_LUMINANCE, GL_FLOAT},
+        {GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4},
+        {GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT},
+        {GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV},
+        {GL_ALPHA, GL_UNSIGNED_BYTE},
+        {GL_RGB, GL_SHORT},
     };
     static const int aligns[] = {1, 2, 4, 8};
     uint64_t rng = 7;

@@ -21,12 +21,12 @@
 
 typedef struct roundtrip {
     tsr_packer *packer;
-    tsr_dispatch pack_table;       /* calls enter here and get packed */
-    tsr_recorder expect, actual;   /* direct calls / unpacked calls */
+    tsr_dispatch pack_table;     /* calls enter here and get packed */
+    tsr_recorder expect, actual; /* direct calls / unpacked calls */
     tsr_dispatch expect_table, actual_table;
     tsr_unpacker *unpacker;
-    uint8_t **bufs;                /* copies of every flushed buffer (kept: */
-    size_t *sizes;                 /* unpacked pointers point into them) */
+    uint8_t **bufs; /* copies of every flushed buffer (kept: */
+    size_t *sizes;  /* unpacked pointers point into them) */
     size_t nbufs;
     int unpack_rc;
     tsr_error unpack_err;
@@ -34,7 +34,7 @@ typedef struct roundtrip {
     size_t reply_len;
     uint32_t reply_id;
     int has_reply;
-    int decode;                    /* unpack on flush (default 1) */
+    int decode; /* unpack on flush (default 1) */
 } roundtrip;
 
 static int rt_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)

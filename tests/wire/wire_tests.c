@@ -227,7 +227,7 @@ static int check_sequence(const tsr_recorder *r, const char *const *names, size_
 
 typedef struct vtx {
     float pos[3];
-    float pad;          /* stride 16: the packer must compact */
+    float pad; /* stride 16: the packer must compact */
 } vtx;
 
 static int wire_client_arrays_draw_arrays_rebuild(void)
@@ -279,16 +279,33 @@ static int wire_client_arrays_draw_arrays_rebuild(void)
     /* What the receiver sees: BindBuffer(ARRAY_BUFFER, 0) from the client,
      * then the documented rebuild (tessera/dev/wire.h section 6). */
     const char *const names[] = {
-        "BindBuffer", "BindBuffer",
-        "BindBuffer", "VertexPointer", "EnableClientState",
-        "BindBuffer", "NormalPointer", "EnableClientState",
-        "BindBuffer", "ColorPointer", "EnableClientState",
-        "BindBuffer", "ClientActiveTexture", "TexCoordPointer", "EnableClientState",
-        "BindBuffer", "VertexAttribPointer", "EnableVertexAttribArray",
+        "BindBuffer",
+        "BindBuffer",
+        "BindBuffer",
+        "VertexPointer",
+        "EnableClientState",
+        "BindBuffer",
+        "NormalPointer",
+        "EnableClientState",
+        "BindBuffer",
+        "ColorPointer",
+        "EnableClientState",
+        "BindBuffer",
+        "ClientActiveTexture",
+        "TexCoordPointer",
+        "EnableClientState",
+        "BindBuffer",
+        "VertexAttribPointer",
+        "EnableVertexAttribArray",
         "DrawArrays",
-        "DisableClientState", "DisableClientState", "DisableClientState",
-        "ClientActiveTexture", "DisableClientState", "DisableVertexAttribArray",
-        "ClientActiveTexture", "BindBuffer",
+        "DisableClientState",
+        "DisableClientState",
+        "DisableClientState",
+        "ClientActiveTexture",
+        "DisableClientState",
+        "DisableVertexAttribArray",
+        "ClientActiveTexture",
+        "BindBuffer",
     };
     if (check_sequence(&rt.actual, names, sizeof names / sizeof names[0]))
         return 1;
@@ -335,11 +352,10 @@ static int wire_client_arrays_draw_elements_rebuild(void)
     tsr_packer_flush(rt.packer);
     CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
     const char *const names[] = {
-        "BindBuffer", "VertexPointer", "EnableClientState", "BindBuffer", "DrawElements",
-        "DisableClientState", "BindBuffer", "BindBuffer",
-        "BindBuffer", "BindBuffer",
-        "BindBuffer", "VertexPointer", "EnableClientState", "BindBuffer", "DrawElements",
-        "DisableClientState", "BindBuffer", "BindBuffer",
+        "BindBuffer",         "VertexPointer", "EnableClientState", "BindBuffer", "DrawElements",
+        "DisableClientState", "BindBuffer",    "BindBuffer",        "BindBuffer", "BindBuffer",
+        "BindBuffer",         "VertexPointer", "EnableClientState", "BindBuffer", "DrawElements",
+        "DisableClientState", "BindBuffer",    "BindBuffer",
     };
     if (check_sequence(&rt.actual, names, sizeof names / sizeof names[0]))
         return 1;
@@ -676,8 +692,7 @@ static int wire_print_spu_traces_calls(void)
     CHECK(read_file(direct, a, sizeof a) == 0 && read_file(looped, b, sizeof b) == 0, "trace files");
     fputs(a, stderr);
     CHECK(strstr(a, "glVertex3f(1, 2.5, -3)\n") && strstr(a, "glBegin(GL_TRIANGLES)\n") &&
-              strstr(a, "glLightfv(GL_LIGHT0, GL_POSITION, {0.5, 1, 0, 0})\n") &&
-              strstr(a, "glColor3ub(255, 0, 7)\n"),
+              strstr(a, "glLightfv(GL_LIGHT0, GL_POSITION, {0.5, 1, 0, 0})\n") && strstr(a, "glColor3ub(255, 0, 7)\n"),
           "readable trace lines");
     CHECK(!strcmp(a, b), "the loopback SPU delivers the same calls:\n%s", b);
     return 0;

@@ -94,24 +94,24 @@ extern "C" {
 typedef struct tsr_stream_client tsr_stream_client;
 
 typedef struct tsr_stream_client_config {
-    const char *spu;                 /* the SPU's class name, for the statistics ("pack") */
-    const char *name;                /* instance name, first word of every message ("pack#0") */
-    const char *const *servers;      /* addresses ("tcp://host:port", above) */
-    size_t server_count;             /* >= 1 */
-    const char *token;               /* shared token; NULL/"" = none */
-    uint32_t timeout_ms;             /* connect/handshake limit and longest silence of a
+    const char *spu;            /* the SPU's class name, for the statistics ("pack") */
+    const char *name;           /* instance name, first word of every message ("pack#0") */
+    const char *const *servers; /* addresses ("tcp://host:port", above) */
+    size_t server_count;        /* >= 1 */
+    const char *token;          /* shared token; NULL/"" = none */
+    uint32_t timeout_ms;        /* connect/handshake limit and longest silence of a
                                         server; 0 = the network library's defaults, no
                                         silence limit */
-    size_t buffer_size;              /* bytes of one wire buffer */
-    int exit_on_error;               /* see the failure policy above */
+    size_t buffer_size;         /* bytes of one wire buffer */
+    int exit_on_error;          /* see the failure policy above */
     /* Late joiners (replicate's `late` option): servers not
      * required at start, connected to in the background and admitted at a
      * frame boundary once caught up. None: nothing is tracked (no cost).
      * tsr_stream_client_create only (the client's own packer is followed). */
     const char *const *late_servers;
     size_t late_count;
-    uint32_t late_retry_ms;          /* pause between attempts per server (0: 200) */
-    uint32_t late_give_up_ms;        /* stop trying after this long; 0 = until the end */
+    uint32_t late_retry_ms;   /* pause between attempts per server (0: 200) */
+    uint32_t late_give_up_ms; /* stop trying after this long; 0 = until the end */
 } tsr_stream_client_config;
 
 /* The options every stream client SPU shares, as tsr_option_spec
@@ -120,20 +120,31 @@ typedef struct tsr_stream_client_config {
  * option's name is the one to give tsr_spu_network.token (tessera/spu.h):
  * a graph run fills it with the run's token. */
 #define TSR_NODE_CLIENT_TOKEN_OPTION "token"
-#define TSR_NODE_CLIENT_OPTION_SPECS                                                               \
-    {.name = TSR_NODE_CLIENT_TOKEN_OPTION, .type = TSR_OPT_STRING, .default_value = "", .min = 1,  \
-     .max = 0,                                                                                     \
-     .help = "shared token the servers require (empty: none)"},                                   \
-    {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "1048576", .min = 256,          \
-     .max = 67108864.0, .help = "bytes of one wire buffer (header, opcodes and data)"},           \
-    {.name = "timeout_ms", .type = TSR_OPT_INT, .default_value = "10000", .min = 0,               \
-     .max = 3600000.0,                                                                             \
-     .help = "connect/handshake limit, and how long a server may stay silent before it counts "   \
-             "as dead (0: netlib defaults, no silence limit)"},                                    \
-    {.name = "on_error", .type = TSR_OPT_ENUM, .default_value = "exit", .choices = "exit|drop",   \
-     .min = 1, .max = 0,                                                                           \
-     .help = "when a server fails mid-stream: exit ends the application with status 1, drop "     \
-             "goes on without that server (every call is dropped once none is left)"}
+#define TSR_NODE_CLIENT_OPTION_SPECS                                                                                   \
+    {.name = TSR_NODE_CLIENT_TOKEN_OPTION,                                                                             \
+     .type = TSR_OPT_STRING,                                                                                           \
+     .default_value = "",                                                                                              \
+     .min = 1,                                                                                                         \
+     .max = 0,                                                                                                         \
+     .help = "shared token the servers require (empty: none)"},                                                        \
+        {.name = "buffer_size",                                                                                        \
+         .type = TSR_OPT_INT,                                                                                          \
+         .default_value = "1048576",                                                                                   \
+         .min = 256,                                                                                                   \
+         .max = 67108864.0,                                                                                            \
+         .help = "bytes of one wire buffer (header, opcodes and data)"},                                               \
+        {.name = "timeout_ms",                                                                                         \
+         .type = TSR_OPT_INT,                                                                                          \
+         .default_value = "10000",                                                                                     \
+         .min = 0,                                                                                                     \
+         .max = 3600000.0,                                                                                             \
+         .help = "connect/handshake limit, and how long a server may stay silent before it counts "                    \
+                 "as dead (0: netlib defaults, no silence limit)"},                                                    \
+    {                                                                                                                  \
+        .name = "on_error", .type = TSR_OPT_ENUM, .default_value = "exit", .choices = "exit|drop", .min = 1, .max = 0, \
+        .help = "when a server fails mid-stream: exit ends the application with status 1, drop "                       \
+                "goes on without that server (every call is dropped once none is left)"                                \
+    }
 
 /* Fills token, timeout_ms, buffer_size and exit_on_error from options
  * declared with TSR_NODE_CLIENT_OPTION_SPECS. */
@@ -144,7 +155,7 @@ TSR_API void tsr_stream_client_config_from_options(tsr_stream_client_config *con
  * slot of `table` at it (SwapBuffersTSR also counts the frame). Strings of
  * `config` are copied. */
 TSR_API tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *config, tsr_dispatch *table,
-                                        tsr_error *err);
+                                                    tsr_error *err);
 /* Sends what is packed and FINISH, waits for every server's confirmation,
  * closes, writes the statistics file (TESSERA_STATS_FILE) and frees. */
 TSR_API void tsr_stream_client_destroy(tsr_stream_client *client);
@@ -158,7 +169,7 @@ TSR_API tsr_stream_client *tsr_stream_client_connect(const tsr_stream_client_con
  * failed ones are skipped), copying it once. TSR_OK unless no server is
  * left (the failure policy above applies to each failed server). */
 TSR_API int tsr_stream_client_send(tsr_stream_client *client, const size_t *servers, size_t n, const uint8_t *buf,
-                         size_t size, tsr_error *err);
+                                   size_t size, tsr_error *err);
 /* A packer sink that sends to server `index` only and takes replies from
  * it alone (the request went to it alone). */
 struct tsr_pack_sink;
@@ -173,26 +184,26 @@ TSR_API void tsr_stream_client_count_frame(tsr_stream_client *client);
 TSR_API int tsr_stream_client_server_failed(const tsr_stream_client *client, size_t index);
 
 typedef struct tsr_stream_client_server_stats {
-    const char *address;     /* valid while the client lives */
-    uint64_t bytes_out;      /* payload bytes sent */
-    uint64_t messages;       /* messages sent (buffers + FINISH) */
-    double blocked_seconds;  /* waiting for this server's send credits */
+    const char *address;    /* valid while the client lives */
+    uint64_t bytes_out;     /* payload bytes sent */
+    uint64_t messages;      /* messages sent (buffers + FINISH) */
+    double blocked_seconds; /* waiting for this server's send credits */
     int failed;
 } tsr_stream_client_server_stats;
 
 typedef struct tsr_stream_client_stats {
-    uint64_t bytes_out;      /* sum over servers */
-    uint64_t stream_bytes;   /* wire buffer bytes, counted once */
-    uint64_t buffers;        /* wire buffers flushed */
-    uint64_t frames;         /* SwapBuffersTSR calls */
-    double blocked_seconds;  /* sum over servers */
+    uint64_t bytes_out;     /* sum over servers */
+    uint64_t stream_bytes;  /* wire buffer bytes, counted once */
+    uint64_t buffers;       /* wire buffers flushed */
+    uint64_t frames;        /* SwapBuffersTSR calls */
+    double blocked_seconds; /* sum over servers */
     size_t server_count;
 } tsr_stream_client_stats;
 
 /* Running totals (the application thread's view); `servers` may be NULL,
  * else it receives min(capacity, server count) entries. */
 TSR_API void tsr_stream_client_get_stats(tsr_stream_client *client, tsr_stream_client_stats *out,
-                               tsr_stream_client_server_stats *servers, size_t capacity);
+                                         tsr_stream_client_server_stats *servers, size_t capacity);
 /* Writes the statistics JSON object (above) to `path` (temporary file +
  * rename). */
 TSR_API int tsr_stream_client_write_stats(tsr_stream_client *client, const char *path, tsr_error *err);

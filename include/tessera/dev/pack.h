@@ -58,7 +58,7 @@ typedef struct tsr_pack_sink {
 } tsr_pack_sink;
 
 #define TSR_PACK_MIN_BUFFER 256u
-#define TSR_PACK_MAX_FIXED 256u  /* largest fixed-size command (generator checks) */
+#define TSR_PACK_MAX_FIXED 256u /* largest fixed-size command (generator checks) */
 #define TSR_PACK_TEXUNITS 8
 #define TSR_PACK_ATTRIBS 16
 #define TSR_PACK_STACK 16
@@ -68,31 +68,31 @@ typedef struct tsr_client_array {
     int32_t size;
     GLenum type;
     int32_t stride;
-    GLuint buffer;          /* GL_ARRAY_BUFFER binding when the pointer was set */
-    const void *pointer;    /* client address, or offset into `buffer` */
+    GLuint buffer;       /* GL_ARRAY_BUFFER binding when the pointer was set */
+    const void *pointer; /* client address, or offset into `buffer` */
 } tsr_client_array;
 
 typedef struct tsr_client_arrays {
     tsr_client_array vertex, normal, color, edge_flag;
     tsr_client_array texcoord[TSR_PACK_TEXUNITS];
     tsr_client_array attrib[TSR_PACK_ATTRIBS];
-    uint32_t active_texture;    /* unit index of ClientActiveTexture */
+    uint32_t active_texture; /* unit index of ClientActiveTexture */
     GLuint array_buffer, element_buffer;
 } tsr_client_arrays;
 
 typedef struct tsr_packer {
     /* Hot fields first: one cache line for the Vertex3f path. */
-    uint8_t *op;          /* the next opcode goes to op[-1] */
-    uint8_t *op_limit;    /* lowest opcode address of this buffer */
-    uint8_t *data;        /* next data byte */
-    uint8_t *data_end;    /* end of the data area (8-aligned) */
+    uint8_t *op;       /* the next opcode goes to op[-1] */
+    uint8_t *op_limit; /* lowest opcode address of this buffer */
+    uint8_t *data;     /* next data byte */
+    uint8_t *data_end; /* end of the data area (8-aligned) */
     float bbox_min[4] __attribute__((aligned(16)));
     float bbox_max[4] __attribute__((aligned(16)));
-    uint32_t bbox_nan;    /* non-zero once a NaN coordinate was boxed */
-    uint8_t *mid;         /* data start (8-aligned) */
-    uint8_t *mem;         /* normal buffer memory */
+    uint32_t bbox_nan; /* non-zero once a NaN coordinate was boxed */
+    uint8_t *mid;      /* data start (8-aligned) */
+    uint8_t *mem;      /* normal buffer memory */
     size_t mem_size;
-    uint8_t *big;         /* an oversized single-command buffer, or NULL */
+    uint8_t *big; /* an oversized single-command buffer, or NULL */
     size_t op_room, data_room;
     tsr_pack_sink sink;
     tsr_pixel_store pixels;
@@ -104,9 +104,9 @@ typedef struct tsr_packer {
     } stack[TSR_PACK_STACK];
     uint32_t stack_depth;
     uint32_t next_request;
-    char **strings;       /* GetString results, owned; freed on destroy */
+    char **strings; /* GetString results, owned; freed on destroy */
     size_t nstrings;
-    tsr_error error;      /* first error (sticky until tsr_packer_clear_error) */
+    tsr_error error; /* first error (sticky until tsr_packer_clear_error) */
     uint64_t buffers_sent, bytes_sent, commands_dropped;
     uint8_t discard[TSR_PACK_MAX_FIXED] __attribute__((aligned(16)));
 } tsr_packer;
@@ -169,8 +169,7 @@ TSR_API const char *tsr_wire_opcode_name(uint32_t opcode);
 /* Slow path of tsr_packer_cmd (fixed-size commands, at most
  * TSR_PACK_MAX_FIXED bytes): flushes and places the command. Never NULL:
  * if memory runs out the command goes to a discard area (error recorded). */
-TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align)
-    __attribute__((cold));
+TSR_API uint8_t *tsr_packer_cmd_slow(tsr_packer *p, uint32_t opcode, uint64_t size, size_t align) __attribute__((cold));
 
 /* Reserves `size` data bytes (aligned to `align`, a power of two) for a
  * one-byte opcode and records the opcode; the caller fills the bytes. */

@@ -52,22 +52,21 @@ TSR_API size_t tsr_gl_type_size(GLenum type);
 /* Image layout under `m`: `dims` is 1, 2 or 3 (SKIP_IMAGES and IMAGE_HEIGHT
  * apply to 3D only). */
 typedef struct tsr_pixel_layout {
-    uint64_t group_bytes;   /* bytes of one pixel (0 for GL_BITMAP) */
-    uint64_t row_bytes;     /* distance between rows */
-    uint64_t image_bytes;   /* distance between images */
-    uint64_t first;         /* offset of the first byte read/written */
-    uint64_t row_span;      /* bytes touched per row */
-    uint64_t extent;        /* bytes from the pointer to the last byte touched + 1 (0: nothing) */
+    uint64_t group_bytes; /* bytes of one pixel (0 for GL_BITMAP) */
+    uint64_t row_bytes;   /* distance between rows */
+    uint64_t image_bytes; /* distance between images */
+    uint64_t first;       /* offset of the first byte read/written */
+    uint64_t row_span;    /* bytes touched per row */
+    uint64_t extent;      /* bytes from the pointer to the last byte touched + 1 (0: nothing) */
 } tsr_pixel_layout;
 
 /* Fills `out` for a w x h x d image of format/type. Returns 0, or -1 for an
  * unknown format/type, negative sizes, or sizes that overflow 64 bits. */
-TSR_API int tsr_pixel_layout_of(const tsr_pixel_modes *m, int dims, int64_t w, int64_t h, int64_t d,
-                                GLenum format, GLenum type, tsr_pixel_layout *out);
+TSR_API int tsr_pixel_layout_of(const tsr_pixel_modes *m, int dims, int64_t w, int64_t h, int64_t d, GLenum format,
+                                GLenum type, tsr_pixel_layout *out);
 /* Copies only the pixel spans (what GL writes) of an image laid out as `l`
  * (h rows x d images) from src to dst, both addressed from the pointer. */
-TSR_API void tsr_pixel_copy_spans(const tsr_pixel_layout *l, int64_t h, int64_t d, void *dst,
-                                  const void *src);
+TSR_API void tsr_pixel_copy_spans(const tsr_pixel_layout *l, int64_t h, int64_t d, void *dst, const void *src);
 
 #ifdef __cplusplus
 }

@@ -128,43 +128,80 @@ enum { TSR_TEX_1D, TSR_TEX_2D, TSR_TEX_3D, TSR_TEX_CUBE, TSR_TEX_TARGETS };
 
 /* --- groups and members of the dirty-bit tree ------------------------------ */
 typedef enum tsr_state_group {
-    TSR_SG_ENABLE, TSR_SG_CURRENT, TSR_SG_VIEWPORT, TSR_SG_COLORBUF, TSR_SG_DEPTH,
-    TSR_SG_STENCIL, TSR_SG_FOG, TSR_SG_LIGHTING, TSR_SG_RASTER, TSR_SG_HINT, TSR_SG_TEXTURE,
-    TSR_SG_BUFFER, TSR_SG_MISC, TSR_SG_PIXEL, TSR_SG_TRANSFORM, TSR_SG_PROGRAM,
+    TSR_SG_ENABLE,
+    TSR_SG_CURRENT,
+    TSR_SG_VIEWPORT,
+    TSR_SG_COLORBUF,
+    TSR_SG_DEPTH,
+    TSR_SG_STENCIL,
+    TSR_SG_FOG,
+    TSR_SG_LIGHTING,
+    TSR_SG_RASTER,
+    TSR_SG_HINT,
+    TSR_SG_TEXTURE,
+    TSR_SG_BUFFER,
+    TSR_SG_MISC,
+    TSR_SG_PIXEL,
+    TSR_SG_TRANSFORM,
+    TSR_SG_PROGRAM,
     TSR_SG_COUNT
 } tsr_state_group;
 
 typedef enum tsr_state_member {
     /* ENABLE: the two words of the enable bitmap */
-    TSR_SM_ENABLE0, TSR_SM_ENABLE1,
+    TSR_SM_ENABLE0,
+    TSR_SM_ENABLE1,
     /* CURRENT */
-    TSR_SM_COLOR, TSR_SM_NORMAL, TSR_SM_TEXCOORD0,
-    TSR_SM_EDGEFLAG = TSR_SM_TEXCOORD0 + TSR_STATE_UNITS, TSR_SM_ATTRIBS,
+    TSR_SM_COLOR,
+    TSR_SM_NORMAL,
+    TSR_SM_TEXCOORD0,
+    TSR_SM_EDGEFLAG = TSR_SM_TEXCOORD0 + TSR_STATE_UNITS,
+    TSR_SM_ATTRIBS,
     /* VIEWPORT */
-    TSR_SM_VIEWPORT, TSR_SM_DEPTHRANGE, TSR_SM_SCISSOR,
+    TSR_SM_VIEWPORT,
+    TSR_SM_DEPTHRANGE,
+    TSR_SM_SCISSOR,
     /* COLORBUF */
-    TSR_SM_BLEND, TSR_SM_ALPHAFUNC, TSR_SM_LOGICOP, TSR_SM_COLORMASK, TSR_SM_CLEARCOLOR,
-    TSR_SM_DRAWBUFFER, TSR_SM_CLEARACCUM,
+    TSR_SM_BLEND,
+    TSR_SM_ALPHAFUNC,
+    TSR_SM_LOGICOP,
+    TSR_SM_COLORMASK,
+    TSR_SM_CLEARCOLOR,
+    TSR_SM_DRAWBUFFER,
+    TSR_SM_CLEARACCUM,
     /* DEPTH, STENCIL, FOG */
-    TSR_SM_DEPTH, TSR_SM_STENCIL, TSR_SM_FOG,
+    TSR_SM_DEPTH,
+    TSR_SM_STENCIL,
+    TSR_SM_FOG,
     /* LIGHTING */
-    TSR_SM_LIGHT0, TSR_SM_LIGHTMODEL = TSR_SM_LIGHT0 + TSR_STATE_LIGHTS, TSR_SM_COLORMATERIAL,
-    TSR_SM_MATERIAL, TSR_SM_SHADEMODEL,
+    TSR_SM_LIGHT0,
+    TSR_SM_LIGHTMODEL = TSR_SM_LIGHT0 + TSR_STATE_LIGHTS,
+    TSR_SM_COLORMATERIAL,
+    TSR_SM_MATERIAL,
+    TSR_SM_SHADEMODEL,
     /* RASTER */
-    TSR_SM_POLYGON, TSR_SM_STIPPLE, TSR_SM_LINE, TSR_SM_POINT,
+    TSR_SM_POLYGON,
+    TSR_SM_STIPPLE,
+    TSR_SM_LINE,
+    TSR_SM_POINT,
     /* HINT */
     TSR_SM_HINT,
     /* TEXTURE: per unit bindings (+ the bound objects), env, texgen */
-    TSR_SM_TEXBIND0, TSR_SM_TEXENV0 = TSR_SM_TEXBIND0 + TSR_STATE_UNITS,
+    TSR_SM_TEXBIND0,
+    TSR_SM_TEXENV0 = TSR_SM_TEXBIND0 + TSR_STATE_UNITS,
     TSR_SM_TEXGEN0 = TSR_SM_TEXENV0 + TSR_STATE_UNITS,
     /* BUFFER: bindings (+ the bound objects) */
     TSR_SM_BUFBIND = TSR_SM_TEXGEN0 + TSR_STATE_UNITS,
     /* MISC */
-    TSR_SM_LISTBASE, TSR_SM_MULTISAMPLE,
+    TSR_SM_LISTBASE,
+    TSR_SM_MULTISAMPLE,
     /* PIXEL */
-    TSR_SM_PIXELSTORE, TSR_SM_PIXELMODE,
+    TSR_SM_PIXELSTORE,
+    TSR_SM_PIXELMODE,
     /* TRANSFORM: matrix stacks, clip planes */
-    TSR_SM_MODELVIEW, TSR_SM_PROJECTION, TSR_SM_TEXMAT0,
+    TSR_SM_MODELVIEW,
+    TSR_SM_PROJECTION,
+    TSR_SM_TEXMAT0,
     TSR_SM_CLIP = TSR_SM_TEXMAT0 + TSR_STATE_UNITS,
     /* PROGRAM: the current program (+ the program objects) */
     TSR_SM_PROGRAM,
@@ -179,8 +216,8 @@ TSR_API int tsr_state_member_group(int member);
 /* --- the values ------------------------------------------------------------ */
 typedef struct tsr_state_light {
     GLfloat ambient[4], diffuse[4], specular[4];
-    GLfloat position[4];        /* eye coordinates (transformed when set) */
-    GLfloat spot_direction[3];  /* eye coordinates */
+    GLfloat position[4];       /* eye coordinates (transformed when set) */
+    GLfloat spot_direction[3]; /* eye coordinates */
     GLfloat spot_exponent, spot_cutoff, attenuation[3];
 } tsr_state_light;
 
@@ -191,7 +228,7 @@ typedef struct tsr_state_material {
 typedef struct tsr_state_texgen {
     GLenum mode;
     GLfloat object_plane[4];
-    GLfloat eye_plane[4];       /* eye coordinates */
+    GLfloat eye_plane[4]; /* eye coordinates */
 } tsr_state_texgen;
 
 typedef struct tsr_state_texunit {
@@ -201,9 +238,9 @@ typedef struct tsr_state_texunit {
     GLfloat env_color[4];
     GLenum combine_rgb, combine_alpha, src_rgb[3], src_alpha[3], operand_rgb[3], operand_alpha[3];
     GLfloat rgb_scale, alpha_scale;
-    GLfloat lod_bias;           /* GL_TEXTURE_FILTER_CONTROL */
-    GLboolean coord_replace;    /* GL_POINT_SPRITE */
-    tsr_state_texgen gen[4];    /* S, T, R, Q */
+    GLfloat lod_bias;        /* GL_TEXTURE_FILTER_CONTROL */
+    GLboolean coord_replace; /* GL_POINT_SPRITE */
+    tsr_state_texgen gen[4]; /* S, T, R, Q */
 } tsr_state_texunit;
 
 typedef struct tsr_state_array {
@@ -220,8 +257,8 @@ typedef struct tsr_state_client {
     tsr_state_array vertex, normal, color, edge_flag;
     tsr_state_array texcoord[TSR_STATE_UNITS];
     tsr_state_array attrib[TSR_STATE_ATTRIBS];
-    GLuint client_active_texture;   /* unit index */
-    tsr_pixel_store pixel_store;    /* saved by PushClientAttrib only */
+    GLuint client_active_texture; /* unit index */
+    tsr_pixel_store pixel_store;  /* saved by PushClientAttrib only */
 } tsr_state_client;
 
 /* Everything PushAttrib can save, and more: one flat struct so a shadow is
@@ -265,11 +302,11 @@ typedef struct tsr_state_values {
     GLfloat model_ambient[4];
     GLboolean model_local_viewer, model_two_side;
     GLenum model_color_control;
-    tsr_state_material material[2];    /* front, back */
+    tsr_state_material material[2]; /* front, back */
     GLenum color_material_face, color_material_mode;
     GLenum shade_model;
     /* polygon, line, point */
-    GLenum polygon_mode[2];            /* front, back */
+    GLenum polygon_mode[2]; /* front, back */
     GLenum cull_face_mode, front_face;
     GLfloat offset_factor, offset_units;
     GLubyte polygon_stipple[128];
@@ -284,11 +321,11 @@ typedef struct tsr_state_values {
     /* pixel */
     tsr_pixel_store pixel_store;
     GLfloat zoom[2];
-    GLfloat transfer_scale[5], transfer_bias[5];  /* R, G, B, A, depth */
+    GLfloat transfer_scale[5], transfer_bias[5]; /* R, G, B, A, depth */
     GLint index_shift, index_offset;
     GLboolean map_color, map_stencil;
     /* texture */
-    GLuint active_texture;             /* unit index */
+    GLuint active_texture; /* unit index */
     tsr_state_texunit unit[TSR_STATE_UNITS];
     /* buffers */
     GLuint array_buffer, element_buffer;
@@ -298,7 +335,7 @@ typedef struct tsr_state_values {
     GLboolean sample_coverage_invert;
     /* transform (the stacks live in tsr_state_stacks) */
     GLenum matrix_mode;
-    GLfloat clip_plane[TSR_STATE_CLIP_PLANES][4];  /* eye coordinates */
+    GLfloat clip_plane[TSR_STATE_CLIP_PLANES][4]; /* eye coordinates */
 } tsr_state_values;
 
 /* How a matrix was built since its last load: what a renderer replays so
@@ -317,10 +354,10 @@ enum { TSR_RECIPE_TRANSLATE, TSR_RECIPE_SCALE, TSR_RECIPE_ROTATE, TSR_RECIPE_FRU
 #define TSR_STICKY_GENERAL_SCALE (1u << 5)
 #define TSR_STICKY_GENERAL (1u << 6)
 typedef struct tsr_state_recipe {
-    GLfloat base[16];          /* the loaded matrix the operations start from */
-    uint8_t base_is_identity;  /* base came from glLoadIdentity (or the initial state) */
-    uint8_t sticky;            /* classification bits from before the last glLoadIdentity */
-    uint8_t count;             /* operations after the base */
+    GLfloat base[16];         /* the loaded matrix the operations start from */
+    uint8_t base_is_identity; /* base came from glLoadIdentity (or the initial state) */
+    uint8_t sticky;           /* classification bits from before the last glLoadIdentity */
+    uint8_t count;            /* operations after the base */
     uint8_t kind[TSR_STATE_RECIPE_OPS];
     GLfloat arg[TSR_STATE_RECIPE_OPS][6];
 } tsr_state_recipe;
@@ -381,10 +418,10 @@ TSR_API const GLfloat *tsr_state_projection(const tsr_state_ctx *c);
 
 /* --- diffing --------------------------------------------------------------- */
 typedef struct tsr_state_diff_stats {
-    uint32_t groups_visited;   /* dirty groups looked at */
-    uint32_t members_visited;  /* dirty members compared */
-    uint32_t commands;         /* GL calls emitted */
-    uint32_t group_mask;       /* bit g: group g emitted something */
+    uint32_t groups_visited;  /* dirty groups looked at */
+    uint32_t members_visited; /* dirty members compared */
+    uint32_t commands;        /* GL calls emitted */
+    uint32_t group_mask;      /* bit g: group g emitted something */
 } tsr_state_diff_stats;
 
 /* Emits through `out` the calls that make renderer `s` hold the state of
@@ -407,8 +444,7 @@ TSR_API uint32_t tsr_state_send_texture(tsr_state_ctx *c, tsr_state_shadow *s, G
  * it was. For gets only a renderer answers (compile/link status, info
  * logs, uniform and attribute locations). Returns GL calls emitted. */
 TSR_API uint32_t tsr_state_send_shader(tsr_state_ctx *c, tsr_state_shadow *s, GLuint name, const tsr_dispatch *out);
-TSR_API uint32_t tsr_state_send_program(tsr_state_ctx *c, tsr_state_shadow *s, GLuint name,
-                                        const tsr_dispatch *out);
+TSR_API uint32_t tsr_state_send_program(tsr_state_ctx *c, tsr_state_shadow *s, GLuint name, const tsr_dispatch *out);
 /* Every shader and program of c (a late joiner: the stream may use any of
  * them later), including deletions that wait for a detach or a
  * glUseProgram, as on the other renderers. */
@@ -435,14 +471,12 @@ TSR_API int tsr_state_get_lightfv(const tsr_state_ctx *c, GLenum light, GLenum p
 TSR_API int tsr_state_get_materialfv(const tsr_state_ctx *c, GLenum face, GLenum pname, GLfloat *out);
 TSR_API int tsr_state_get_tex_envfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out);
 TSR_API int tsr_state_get_tex_genfv(const tsr_state_ctx *c, GLenum coord, GLenum pname, GLfloat *out);
-TSR_API int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum pname,
-                                          GLfloat *out);
-TSR_API int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level,
-                                                GLenum pname, GLint *out);
+TSR_API int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out);
+TSR_API int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname,
+                                                GLint *out);
 TSR_API int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdouble *out);
 TSR_API int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out);
-TSR_API int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname,
-                                             GLint *out);
+TSR_API int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLint *out);
 /* glGetShaderiv / glGetProgramiv: answered for what the client knows
  * (GL_SHADER_TYPE, GL_DELETE_STATUS, GL_SHADER_SOURCE_LENGTH,
  * GL_ATTACHED_SHADERS); compile, link and validate status, info logs and
@@ -465,7 +499,7 @@ TSR_API int tsr_state_get_count(GLenum pname);
 
 /* --- coverage -------------------------------------------------------------- */
 typedef struct tsr_state_untracked_cmd {
-    const char *name;   /* spec name without "gl" */
+    const char *name; /* spec name without "gl" */
     const char *why;
 } tsr_state_untracked_cmd;
 /* Spec commands of category state/object/client the tracker does not

@@ -45,15 +45,15 @@ typedef struct tsr_unpacker {
     const tsr_dispatch *target;
     tsr_reply_fn reply;
     void *reply_ctx;
-    tsr_pixel_store pixels;   /* mirror of the PixelStore commands seen */
+    tsr_pixel_store pixels; /* mirror of the PixelStore commands seen */
     uint64_t max_output;
-    uint8_t *aligned;         /* copy of a misaligned input buffer */
+    uint8_t *aligned; /* copy of a misaligned input buffer */
     size_t aligned_cap;
-    uint8_t *out;             /* outputs of the current command */
+    uint8_t *out; /* outputs of the current command */
     size_t out_cap;
-    uint8_t *rbuf;            /* reply being built */
+    uint8_t *rbuf; /* reply being built */
     size_t rcap;
-    void **ptrs;              /* pointer arrays of custom commands */
+    void **ptrs; /* pointer arrays of custom commands */
     size_t ptrs_cap;
     uint64_t commands, buffers;
     /* Yielding (see tsr_unpacker_yield): the paused buffer's commands and
@@ -61,7 +61,7 @@ typedef struct tsr_unpacker {
     int yield;
     uint32_t resume_command;
     size_t resume_pos;
-    const uint8_t *paused_data;  /* NULL: nothing paused */
+    const uint8_t *paused_data; /* NULL: nothing paused */
     uint32_t paused_nops;
     size_t paused_len;
 } tsr_unpacker;

@@ -39,8 +39,7 @@ TSR_API void tsr_json_string(FILE *f, const char *s);
 TSR_API size_t tsr_edit_distance(const char *a, const char *b);
 /* The candidate closest to `word` if it is close enough to be a likely
  * typo (at most two edits, never the whole word), else NULL. */
-TSR_API const char *tsr_closest_name(const char *word, const char *const *candidates,
-                                     size_t count);
+TSR_API const char *tsr_closest_name(const char *word, const char *const *candidates, size_t count);
 
 #ifdef __cplusplus
 }

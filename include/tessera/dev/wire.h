@@ -166,10 +166,35 @@ static inline void tsr_wire_put_u64(uint8_t *p, uint64_t v) { memcpy(p, &v, 8); 
 static inline void tsr_wire_put_f32(uint8_t *p, float v) { memcpy(p, &v, 4); }
 static inline void tsr_wire_put_f64(uint8_t *p, double v) { memcpy(p, &v, 8); }
 static inline uint8_t tsr_wire_get_u8(const uint8_t *p) { return *p; }
-static inline uint16_t tsr_wire_get_u16(const uint8_t *p) { uint16_t v; memcpy(&v, p, 2); return v; }
-static inline uint32_t tsr_wire_get_u32(const uint8_t *p) { uint32_t v; memcpy(&v, p, 4); return v; }
-static inline uint64_t tsr_wire_get_u64(const uint8_t *p) { uint64_t v; memcpy(&v, p, 8); return v; }
-static inline float tsr_wire_get_f32(const uint8_t *p) { float v; memcpy(&v, p, 4); return v; }
-static inline double tsr_wire_get_f64(const uint8_t *p) { double v; memcpy(&v, p, 8); return v; }
+static inline uint16_t tsr_wire_get_u16(const uint8_t *p)
+{
+    uint16_t v;
+    memcpy(&v, p, 2);
+    return v;
+}
+static inline uint32_t tsr_wire_get_u32(const uint8_t *p)
+{
+    uint32_t v;
+    memcpy(&v, p, 4);
+    return v;
+}
+static inline uint64_t tsr_wire_get_u64(const uint8_t *p)
+{
+    uint64_t v;
+    memcpy(&v, p, 8);
+    return v;
+}
+static inline float tsr_wire_get_f32(const uint8_t *p)
+{
+    float v;
+    memcpy(&v, p, 4);
+    return v;
+}
+static inline double tsr_wire_get_f64(const uint8_t *p)
+{
+    double v;
+    memcpy(&v, p, 8);
+    return v;
+}
 
 #endif

@@ -20,12 +20,12 @@ typedef struct probe {
     tsr_stream_client *display; /* NULL until the first swap */
 } probe;
 
-static void probe_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
+static void probe_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
     probe *p = self;
     if (!p->display) {
         const char *address = tsr_options_string(p->options, "display");
-        tsr_stream_client_config cfg = {.spu = "peerprobe", .name = p->name, .servers = &address,
-                                        .server_count = 1};
+        tsr_stream_client_config cfg = {.spu = "peerprobe", .name = p->name, .servers = &address, .server_count = 1};
         tsr_stream_client_config_from_options(&cfg, p->options);
         tsr_error err = {0};
         if (!(p->display = tsr_stream_client_connect(&cfg, &err)))
@@ -34,7 +34,8 @@ static void probe_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     tsr_call_SwapBuffersTSR(p->child, window, flags);
 }
 
-static void *probe_create(const tsr_spu_init *init, tsr_error *err) {
+static void *probe_create(const tsr_spu_init *init, tsr_error *err)
+{
     probe *p = calloc(1, sizeof *p);
     if (!p) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
@@ -59,20 +60,37 @@ static void *probe_create(const tsr_spu_init *init, tsr_error *err) {
     return p;
 }
 
-static void probe_destroy(void *self) {
+static void probe_destroy(void *self)
+{
     probe *p = self;
     tsr_stream_client_destroy(p->display);
     free(p);
 }
 
 static const tsr_option_spec probe_options[] = {
-    {.name = "display", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "display",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "the display node's address (a graph run fills it)"},
-    {.name = "rank", .type = TSR_OPT_INT, .default_value = "-1", .min = -1, .max = 1e6,
+    {.name = "rank",
+     .type = TSR_OPT_INT,
+     .default_value = "-1",
+     .min = -1,
+     .max = 1e6,
      .help = "this node's rank among its peers (a graph run fills it)"},
-    {.name = "peers", .type = TSR_OPT_STRING_LIST, .default_value = "", .min = 1, .max = 0,
+    {.name = "peers",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "every peer's address in rank order (a graph run fills it)"},
-    {.name = "report", .type = TSR_OPT_STRING, .default_value = "peer.txt", .min = 1, .max = 0,
+    {.name = "report",
+     .type = TSR_OPT_STRING,
+     .default_value = "peer.txt",
+     .min = 1,
+     .max = 0,
      .help = "where to write rank, display and peers"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
@@ -86,8 +104,11 @@ static const tsr_spu_class probe_class = {
     .option_count = sizeof probe_options / sizeof probe_options[0],
     .create = probe_create,
     .destroy = probe_destroy,
-    .network = {.role = TSR_SPU_ROLE_PEERS, .display = "display", .rank = "rank",
-                .peers = "peers", .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+    .network = {.role = TSR_SPU_ROLE_PEERS,
+                .display = "display",
+                .rank = "rank",
+                .peers = "peers",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &probe_class; }

@@ -31,22 +31,24 @@ typedef struct relay {
 } relay;
 
 /* Every full (or flushed) buffer goes to the server, counted. */
-static int relay_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err) {
+static int relay_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+{
     relay *r = ctx;
     r->buffers++;
     r->bytes += size;
     return r->to_server.flush(r->to_server.ctx, buf, size, err);
 }
 
-static int relay_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size,
-                       tsr_error *err) {
+static int relay_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err)
+{
     relay *r = ctx;
     return r->to_server.reply(r->to_server.ctx, id, data, size, err);
 }
 
 /* A frame ends: pack the swap, send the frame now (not when the buffer
  * fills), count it. */
-static void relay_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
+static void relay_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
     relay *r = self;
     tsr_call_SwapBuffersTSR(&r->packed, window, flags);
     tsr_packer_flush(r->packer);
@@ -54,7 +56,8 @@ static void relay_SwapBuffersTSR(void *self, GLint window, GLbitfield flags) {
     r->frames++;
 }
 
-static void relay_destroy(void *self) {
+static void relay_destroy(void *self)
+{
     relay *r = self;
     if (!r)
         return;
@@ -64,9 +67,9 @@ static void relay_destroy(void *self) {
     tsr_packer_destroy(r->packer);
     FILE *out = r->report[0] ? fopen(r->report, "w") : stderr;
     if (out) {
-        fprintf(out, "%s: upstream=%s key=%s frames=%llu buffers=%llu bytes=%llu\n", r->name,
-                r->upstream, r->keyed ? "set" : "none", (unsigned long long)r->frames,
-                (unsigned long long)r->buffers, (unsigned long long)r->bytes);
+        fprintf(out, "%s: upstream=%s key=%s frames=%llu buffers=%llu bytes=%llu\n", r->name, r->upstream,
+                r->keyed ? "set" : "none", (unsigned long long)r->frames, (unsigned long long)r->buffers,
+                (unsigned long long)r->bytes);
         if (out != stderr)
             fclose(out);
     }
@@ -74,11 +77,11 @@ static void relay_destroy(void *self) {
     free(r);
 }
 
-static void *relay_create(const tsr_spu_init *init, tsr_error *err) {
+static void *relay_create(const tsr_spu_init *init, tsr_error *err)
+{
     const char *upstream = tsr_options_string(init->options, "upstream");
     if (!upstream[0]) {
-        tsr_error_set(err, TSR_EINVAL, "%s: option upstream is required (a graph's to: fills it)",
-                      init->instance_name);
+        tsr_error_set(err, TSR_EINVAL, "%s: option upstream is required (a graph's to: fills it)", init->instance_name);
         return NULL;
     }
     relay *r = calloc(1, sizeof *r);
@@ -119,13 +122,29 @@ static void *relay_create(const tsr_spu_init *init, tsr_error *err) {
 }
 
 static const tsr_option_spec relay_options[] = {
-    {.name = "upstream", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "upstream",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "the server the stream goes to: tcp://HOST:PORT or unix:PATH (a graph's to:)"},
-    {.name = "key", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "key",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "the token the server requires (a graph run's token)"},
-    {.name = "buffer_size", .type = TSR_OPT_INT, .default_value = "262144", .min = 4096,
-     .max = 16777216.0, .help = "bytes of one wire buffer"},
-    {.name = "report", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,
+    {.name = "buffer_size",
+     .type = TSR_OPT_INT,
+     .default_value = "262144",
+     .min = 4096,
+     .max = 16777216.0,
+     .help = "bytes of one wire buffer"},
+    {.name = "report",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
      .help = "file for the report line written at the end (empty: standard error)"},
 };
 
