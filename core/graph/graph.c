@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <yaml.h>
 
 #include "tessera/dev/util.h"
@@ -26,6 +27,7 @@ struct tsr_graph {
     size_t node_count;
     size_t edge_count;
     size_t *start_order; /* servers before their clients */
+    size_t *by_name;     /* node indices sorted by name (tsr_graph_find) */
     void **allocations;  /* everything the model points to */
     size_t allocation_count, allocation_cap;
 };
@@ -267,6 +269,59 @@ static yaml_node_t *lookup(loader *l, const yaml_node_t *m, const char *key, yam
         }
     }
     return NULL;
+}
+
+/* ---- names in n log n ------------------------------------------------------------ */
+
+/* Duplicate keys and node lookups by sorting: a graph may have tens of
+ * thousands of nodes, and an SPU entry any number of option keys. */
+typedef struct named {
+    const char *name;
+    size_t index; /* position in the file */
+} named;
+
+static int compare_named(const void *a, const void *b)
+{
+    const named *x = a, *y = b;
+    int c = strcmp(x->name, y->name);
+    return c ? c : (x->index > y->index) - (x->index < y->index);
+}
+
+/* Sorts `v` by name and finds the first entry in file order whose name an
+ * earlier entry has: *dup, and that earlier one, *first. False when every
+ * name is unique. */
+static bool first_duplicate(named *v, size_t count, size_t *dup, size_t *first)
+{
+    qsort(v, count, sizeof *v, compare_named);
+    bool found = false;
+    for (size_t s = 0, e; s < count; s = e) {
+        for (e = s + 1; e < count && !strcmp(v[e].name, v[s].name);)
+            e++;
+        if (e - s > 1 && (!found || v[s + 1].index < *dup)) {
+            found = true;
+            *dup = v[s + 1].index;
+            *first = v[s].index;
+        }
+    }
+    return found;
+}
+
+/* The index of the node called `name` (graph->by_name is sorted), or
+ * SIZE_MAX. */
+static size_t find_node(const tsr_graph *g, const char *name)
+{
+    size_t lo = 0, hi = g->node_count;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        int c = strcmp(g->nodes[g->by_name[mid]].name, name);
+        if (c == 0)
+            return g->by_name[mid];
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return SIZE_MAX;
 }
 
 /* ---- top-level keys ----------------------------------------------------------- */
@@ -577,11 +632,22 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
         const char **values = graph_alloc(l->graph, count * sizeof *values);
         yaml_node_t **key_nodes = calloc(count ? count : 1, sizeof *key_nodes);
         yaml_node_t **value_nodes = calloc(count ? count : 1, sizeof *value_nodes);
-        if (!keys || !values || !key_nodes || !value_nodes) {
+        named *names = calloc(count ? count : 1, sizeof *names);
+        if (!keys || !values || !key_nodes || !value_nodes || !names) {
             free(key_nodes);
             free(value_nodes);
+            free(names);
             return out_of_memory(l, options);
         }
+        size_t named_count = 0, dup = SIZE_MAX, first = 0;
+        for (size_t k = 0; k < count; k++) {
+            yaml_node_t *key = node_at(l, options->data.mapping.pairs.start[k].key);
+            if (scalar_text(key) && !is_null(key))
+                names[named_count++] = (named){scalar_text(key), k};
+        }
+        if (!first_duplicate(names, named_count, &dup, &first))
+            dup = SIZE_MAX;
+        free(names);
         for (size_t k = 0; k < count && rc == TSR_OK; k++) {
             yaml_node_pair_t *p = &options->data.mapping.pairs.start[k];
             key_nodes[k] = node_at(l, p->key);
@@ -592,15 +658,12 @@ static int parse_link(loader *l, tsr_graph_node *node, node_source *src, const y
                              describe(key_nodes[k], buf, sizeof buf));
                 break;
             }
-            for (size_t j = 0; j < k; j++)
-                if (!strcmp(keys[j], key)) {
-                    tsr_graph_mark first = mark_of(key_nodes[j]);
-                    rc = fail_at(l, key_nodes[k], TSR_EINVAL, "%s: option '%s' is given twice (first at %d:%d)", where,
-                                 key, first.line, first.column);
-                    break;
-                }
-            if (rc != TSR_OK)
+            if (k == dup) {
+                tsr_graph_mark at = mark_of(key_nodes[first]);
+                rc = fail_at(l, key_nodes[k], TSR_EINVAL, "%s: option '%s' is given twice (first at %d:%d)", where, key,
+                             at.line, at.column);
                 break;
+            }
             if (!(keys[k] = graph_strdup(l->graph, key)))
                 rc = out_of_memory(l, key_nodes[k]);
             else if (!(values[k] = option_text(l, value_nodes[k], where, key)))
@@ -657,6 +720,98 @@ static int parse_to(loader *l, tsr_graph_node *node, node_source *src, yaml_node
     return TSR_OK;
 }
 
+/* ---- overlapping tiles in n log n ------------------------------------------------- */
+
+/* A sweep along x over tiles inside a window `height` rows high: the
+ * y-intervals of the tiles the sweep line crosses are disjoint while no
+ * overlap has been found, so a new tile overlaps one of them exactly when
+ * the active interval that starts last below its top reaches above its
+ * bottom. Rows of active starts are kept in a count tree over the rows. */
+typedef struct sweep_event {
+    int x;
+    int open; /* 0: the tile ends at x (ends sort first: tiles are half-open) */
+    size_t tile;
+} sweep_event;
+
+static int compare_events(const void *a, const void *b)
+{
+    const sweep_event *p = a, *q = b;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    if (p->open != q->open)
+        return p->open - q->open;
+    return (p->tile > q->tile) - (p->tile < q->tile);
+}
+
+static void count_tree_add(unsigned *tree, size_t leaves, size_t row, int delta)
+{
+    for (size_t i = leaves + row; i >= 1; i >>= 1)
+        tree[i] += (unsigned)delta;
+}
+
+/* The highest row below `row` that holds an active start, or SIZE_MAX. */
+static size_t count_tree_below(const unsigned *tree, size_t leaves, size_t row)
+{
+    if (row == 0)
+        return SIZE_MAX;
+    size_t i = leaves + row - 1;
+    if (tree[i])
+        return row - 1;
+    /* Up until a left sibling holds a start, then down its right edge. */
+    for (;; i >>= 1) {
+        if (i <= 1)
+            return SIZE_MAX;
+        if ((i & 1) && tree[i - 1]) {
+            i--;
+            break;
+        }
+    }
+    while (i < leaves)
+        i = tree[2 * i + 1] ? 2 * i + 1 : 2 * i;
+    return i - leaves;
+}
+
+/* Finds two overlapping tiles among `count` (each inside a window of
+ * `height` rows): true with *a < *b. *rc is TSR_ENOMEM on failure. */
+static bool find_overlap(const tsr_graph_tile *tiles, size_t count, int height, size_t *a, size_t *b, int *rc)
+{
+    size_t leaves = 1;
+    while (leaves < (size_t)height)
+        leaves *= 2;
+    sweep_event *events = malloc(2 * count * sizeof *events);
+    unsigned *tree = calloc(2 * leaves, sizeof *tree);
+    size_t *starts = malloc((size_t)height * sizeof *starts); /* row -> tile starting there */
+    bool found = false;
+    *rc = events && tree && starts ? TSR_OK : TSR_ENOMEM;
+    for (size_t i = 0; i < count && *rc == TSR_OK; i++) {
+        events[2 * i] = (sweep_event){tiles[i].x, 1, i};
+        events[2 * i + 1] = (sweep_event){tiles[i].x + tiles[i].width, 0, i};
+    }
+    if (*rc == TSR_OK)
+        qsort(events, 2 * count, sizeof *events, compare_events);
+    for (size_t e = 0; e < 2 * count && *rc == TSR_OK && !found; e++) {
+        const tsr_graph_tile *t = &tiles[events[e].tile];
+        if (!events[e].open) {
+            count_tree_add(tree, leaves, (size_t)t->y, -1);
+            continue;
+        }
+        size_t row = count_tree_below(tree, leaves, (size_t)(t->y + t->height));
+        if (row != SIZE_MAX && (int)row + tiles[starts[row]].height > t->y) {
+            size_t other = starts[row], self = events[e].tile;
+            *a = other < self ? other : self;
+            *b = other < self ? self : other;
+            found = true;
+            break;
+        }
+        starts[t->y] = events[e].tile;
+        count_tree_add(tree, leaves, (size_t)t->y, 1);
+    }
+    free(events);
+    free(tree);
+    free(starts);
+    return found;
+}
+
 static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const yaml_node_t *v)
 {
     char where[160];
@@ -698,13 +853,16 @@ static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const 
             return fail_at(l, t, TSR_EINVAL, "%s: tile [%d, %d, %d, %d] reaches (%d, %d), outside the %dx%d window",
                            where, value[0], value[1], value[2], value[3], value[0] + value[2], value[1] + value[3], w,
                            h);
-        for (size_t j = 0; j < i; j++) {
-            const tsr_graph_tile *a = &tiles[j], *b = &tiles[i];
-            if (a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height && b->y < a->y + a->height)
-                return fail_at(l, t, TSR_EINVAL, "%s: tile %zu [%d, %d, %d, %d] overlaps tile %zu [%d, %d, %d, %d]",
-                               where, i + 1, b->x, b->y, b->width, b->height, j + 1, a->x, a->y, a->width, a->height);
-        }
     }
+    size_t first, second;
+    if (find_overlap(tiles, count, h, &first, &second, &rc)) {
+        const tsr_graph_tile *a = &tiles[first], *b = &tiles[second];
+        return fail_at(l, src->tile_values[second], TSR_EINVAL,
+                       "%s: tile %zu [%d, %d, %d, %d] overlaps tile %zu [%d, %d, %d, %d]", where, second + 1, b->x,
+                       b->y, b->width, b->height, first + 1, a->x, a->y, a->width, a->height);
+    }
+    if (rc != TSR_OK)
+        return out_of_memory(l, v);
     node->tiles = tiles;
     node->tile_count = count;
     return TSR_OK;
@@ -835,30 +993,46 @@ static int parse_nodes(loader *l, const yaml_node_t *root)
     size_t count = (size_t)(nodes->data.mapping.pairs.top - nodes->data.mapping.pairs.start);
     if (count == 0)
         return fail_at(l, nodes, TSR_EINVAL, "'nodes' is empty: a graph needs at least one node");
+    if (count > TSR_GRAPH_MAX_NODES)
+        return fail_at(l, key, TSR_EINVAL, "'nodes': %zu nodes, more than the limit of %d", count, TSR_GRAPH_MAX_NODES);
     l->graph->nodes = graph_alloc(l->graph, count * sizeof *l->graph->nodes);
+    l->graph->by_name = graph_alloc(l->graph, count * sizeof *l->graph->by_name);
     l->sources = calloc(count, sizeof *l->sources);
-    if (!l->graph->nodes || !l->sources)
+    named *names = calloc(count, sizeof *names);
+    if (!l->graph->nodes || !l->graph->by_name || !l->sources || !names) {
+        free(names);
         return out_of_memory(l, nodes);
+    }
+    /* Duplicates are found first (YAML itself lets a later key win
+     * silently), and reported where the node is reached, so the first
+     * mistake on the page is the one reported. */
+    size_t named_count = 0, dup = SIZE_MAX, first = 0;
     for (size_t i = 0; i < count; i++) {
+        yaml_node_t *name = node_at(l, nodes->data.mapping.pairs.start[i].key);
+        if (name->type == YAML_SCALAR_NODE)
+            names[named_count++] = (named){scalar_text(name), i};
+    }
+    if (!first_duplicate(names, named_count, &dup, &first))
+        dup = SIZE_MAX;
+    for (size_t i = 0; i < count && rc == TSR_OK; i++) {
         yaml_node_pair_t *p = &nodes->data.mapping.pairs.start[i];
         yaml_node_t *name = node_at(l, p->key);
-        /* Duplicates first: YAML itself lets a later key win silently. */
-        for (size_t j = 0; j < i && name->type == YAML_SCALAR_NODE; j++) {
-            yaml_node_t *earlier = node_at(l, nodes->data.mapping.pairs.start[j].key);
-            if (earlier->type == YAML_SCALAR_NODE && !strcmp(scalar_text(earlier), scalar_text(name))) {
-                tsr_graph_mark first = mark_of(earlier);
-                return fail_at(l, name, TSR_EINVAL, "duplicate node name '%s' (first defined at %d:%d)",
-                               scalar_text(name), first.line, first.column);
-            }
+        if (i == dup) {
+            tsr_graph_mark at = mark_of(node_at(l, nodes->data.mapping.pairs.start[first].key));
+            rc = fail_at(l, name, TSR_EINVAL, "duplicate node name '%s' (first defined at %d:%d)", scalar_text(name),
+                         at.line, at.column);
+            break;
         }
         tsr_graph_node *node = &l->graph->nodes[i];
         node->transport = l->default_transport;
         l->graph->node_count = i + 1;
         rc = parse_node(l, name, node_at(l, p->value), node, &l->sources[i]);
-        if (rc != TSR_OK)
-            return rc;
     }
-    return TSR_OK;
+    /* Every key was a valid, unique name: `names` is the lookup order. */
+    for (size_t i = 0; i < count && rc == TSR_OK; i++)
+        l->graph->by_name[i] = names[i].index;
+    free(names);
+    return rc;
 }
 
 /* ---- rules between nodes ----------------------------------------------------------- */
@@ -868,8 +1042,9 @@ static int resolve_edges(loader *l)
     tsr_graph *g = l->graph;
     const char **names = malloc(g->node_count * sizeof *names);
     size_t *incoming = calloc(g->node_count, sizeof *incoming);
+    size_t *listed_by = calloc(g->node_count, sizeof *listed_by); /* i + 1: node i's `to` has it */
     int rc = TSR_OK;
-    if (!names || !incoming) {
+    if (!names || !incoming || !listed_by) {
         rc = out_of_memory(l, NULL);
         goto done;
     }
@@ -887,11 +1062,11 @@ static int resolve_edges(loader *l)
             yaml_node_t *at = src->to_names[e];
             const char *target = scalar_text(at);
             const tsr_graph_node *server = NULL;
-            for (size_t j = 0; j < g->node_count; j++)
-                if (!strcmp(g->nodes[j].name, target)) {
-                    server = &g->nodes[j];
-                    to[e] = j;
-                }
+            size_t j = find_node(g, target);
+            if (j != SIZE_MAX) {
+                server = &g->nodes[j];
+                to[e] = j;
+            }
             if (!server) {
                 const char *hint = tsr_closest_name(target, names, g->node_count);
                 char suggestion[200] = "";
@@ -907,11 +1082,12 @@ static int resolve_edges(loader *l)
                              "receive streams",
                              node->name, target);
             }
-            for (size_t d = 0; d < e && rc == TSR_OK; d++)
-                if (to[d] == to[e])
-                    rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' lists '%s' twice", node->name, target);
-            if (rc == TSR_OK)
+            if (rc == TSR_OK && listed_by[to[e]] == i + 1)
+                rc = fail_at(l, at, TSR_EINVAL, "node '%s': 'to' lists '%s' twice", node->name, target);
+            if (rc == TSR_OK) {
+                listed_by[to[e]] = i + 1;
                 incoming[to[e]]++;
+            }
         }
         node->to = to;
         g->edge_count += node->to_count;
@@ -932,12 +1108,8 @@ static int resolve_edges(loader *l)
 done:
     free(names);
     free(incoming);
+    free(listed_by);
     return rc;
-}
-
-static bool tiles_overlap(const tsr_graph_tile *a, const tsr_graph_tile *b)
-{
-    return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height && b->y < a->y + a->height;
 }
 
 /* The role of node `i`'s network SPU; NONE without one. */
@@ -961,27 +1133,60 @@ static int check_display(loader *l, size_t i)
                        "names %zu",
                        node->name, scalar_text(src->network_spu), node->to_count);
     const tsr_graph_node *display = &g->nodes[node->to[0]];
-    tsr_graph_tile whole = {0, 0, g->width, g->height};
-    for (size_t f = 0; f < display->from_count && display->from[f] < i; f++) {
-        const tsr_graph_node *other = &g->nodes[display->from[f]];
-        if (role_of(l, display->from[f]) != TSR_SPU_ROLE_DISPLAY)
+    /* Once, at the display's last sender of images: all of them in one
+     * sweep, each node without tiles as the whole window. */
+    size_t senders = 0, total = 0;
+    for (size_t f = 0; f < display->from_count; f++) {
+        size_t s = display->from[f];
+        if (role_of(l, s) != TSR_SPU_ROLE_DISPLAY)
             continue;
-        size_t na = node->tile_count ? node->tile_count : 1;
-        size_t nb = other->tile_count ? other->tile_count : 1;
-        for (size_t a = 0; a < na; a++)
-            for (size_t b = 0; b < nb; b++) {
-                const tsr_graph_tile *ta = node->tile_count ? &node->tiles[a] : &whole;
-                const tsr_graph_tile *tb = other->tile_count ? &other->tiles[b] : &whole;
-                if (tiles_overlap(ta, tb))
-                    return fail_at(l, src->to_names[0], TSR_EINVAL,
-                                   "node '%s': its %s [%d, %d, %d, %d] overlaps node '%s''s %s "
-                                   "[%d, %d, %d, %d], and both send images to display '%s'",
-                                   node->name, node->tile_count ? "tile" : "window", ta->x, ta->y, ta->width,
-                                   ta->height, other->name, other->tile_count ? "tile" : "window", tb->x, tb->y,
-                                   tb->width, tb->height, display->name);
-            }
+        if (s > i)
+            return TSR_OK;
+        senders++;
+        total += g->nodes[s].tile_count ? g->nodes[s].tile_count : 1;
     }
-    return TSR_OK;
+    if (senders < 2)
+        return TSR_OK;
+    tsr_graph_tile *tiles = malloc(total * sizeof *tiles);
+    size_t *owner = malloc(total * sizeof *owner);
+    int rc = tiles && owner ? TSR_OK : TSR_ENOMEM;
+    size_t n = 0;
+    for (size_t f = 0; f < display->from_count && rc == TSR_OK; f++) {
+        size_t s = display->from[f];
+        const tsr_graph_node *sender = &g->nodes[s];
+        if (role_of(l, s) != TSR_SPU_ROLE_DISPLAY)
+            continue;
+        if (!sender->tile_count) {
+            owner[n] = s;
+            tiles[n++] = (tsr_graph_tile){0, 0, g->width, g->height};
+        }
+        for (size_t t = 0; t < sender->tile_count; t++) {
+            owner[n] = s;
+            tiles[n++] = sender->tiles[t];
+        }
+    }
+    size_t a, b;
+    /* A node's own tiles do not overlap (parse_tiles): a and b are two nodes. */
+    if (rc == TSR_OK && find_overlap(tiles, n, g->height, &a, &b, &rc)) {
+        if (owner[a] > owner[b]) {
+            size_t swap = a;
+            a = b;
+            b = swap;
+        }
+        const tsr_graph_node *later = &g->nodes[owner[b]], *earlier = &g->nodes[owner[a]];
+        const tsr_graph_tile *ta = &tiles[b], *tb = &tiles[a];
+        rc = fail_at(l, l->sources[owner[b]].to_names[0], TSR_EINVAL,
+                     "node '%s': its %s [%d, %d, %d, %d] overlaps node '%s''s %s "
+                     "[%d, %d, %d, %d], and both send images to display '%s'",
+                     later->name, later->tile_count ? "tile" : "window", ta->x, ta->y, ta->width, ta->height,
+                     earlier->name, earlier->tile_count ? "tile" : "window", tb->x, tb->y, tb->width, tb->height,
+                     display->name);
+    } else if (rc != TSR_OK) {
+        rc = out_of_memory(l, src->to_names[0]);
+    }
+    free(tiles);
+    free(owner);
+    return rc;
 }
 
 /* What `to:` must hold for the node's network SPU's role (tessera/spu.h). */
@@ -1060,15 +1265,28 @@ static int check_roles(loader *l)
     return TSR_OK;
 }
 
-/* Depth-first search; `state` 0 unvisited, 1 on the current path, 2 done.
- * `path` holds the nodes of the current path. */
-static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, size_t depth)
+/* Depth-first search from `root` without recursion (a chain of edges may
+ * be as long as the graph has nodes); `state` 0 unvisited, 1 on the
+ * current path, 2 done. `path` holds the nodes of the current path and
+ * `next_edge` the edge each one goes on with. */
+static int find_cycle(loader *l, size_t root, unsigned char *state, size_t *path, size_t *next_edge)
 {
     tsr_graph *g = l->graph;
-    state[at] = 1;
-    path[depth] = at;
-    const tsr_graph_node *node = &g->nodes[at];
-    for (size_t e = 0; e < node->to_count; e++) {
+    size_t depth = 0;
+    path[0] = root;
+    next_edge[0] = 0;
+    state[root] = 1;
+    for (;;) {
+        size_t at = path[depth];
+        const tsr_graph_node *node = &g->nodes[at];
+        if (next_edge[depth] == node->to_count) {
+            state[at] = 2;
+            if (depth == 0)
+                return TSR_OK;
+            depth--;
+            continue;
+        }
+        size_t e = next_edge[depth]++;
         size_t next = node->to[e];
         if (state[next] == 1) {
             char cycle[400] = "";
@@ -1084,13 +1302,11 @@ static int find_cycle(loader *l, size_t at, unsigned char *state, size_t *path, 
                            cycle);
         }
         if (state[next] == 0) {
-            int rc = find_cycle(l, next, state, path, depth + 1);
-            if (rc != TSR_OK)
-                return rc;
+            state[next] = 1;
+            path[++depth] = next;
+            next_edge[depth] = 0;
         }
     }
-    state[at] = 2;
-    return TSR_OK;
 }
 
 static int check_cycles(loader *l)
@@ -1098,44 +1314,114 @@ static int check_cycles(loader *l)
     tsr_graph *g = l->graph;
     unsigned char *state = calloc(g->node_count, 1);
     size_t *path = calloc(g->node_count, sizeof *path);
-    int rc = state && path ? TSR_OK : out_of_memory(l, NULL);
+    size_t *next_edge = calloc(g->node_count, sizeof *next_edge);
+    int rc = state && path && next_edge ? TSR_OK : out_of_memory(l, NULL);
     for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++)
         if (state[i] == 0)
-            rc = find_cycle(l, i, state, path, 0);
+            rc = find_cycle(l, i, state, path, next_edge);
     free(state);
     free(path);
+    free(next_edge);
     return rc;
 }
 
-/* The port of a tcp listen address (checked by check_listen), and its
- * bind address (empty for "PORT"). */
-static const char *split_listen(const char *listen, char *bind, size_t size)
+/* A listen address as compared: host, transport, then the place (a unix
+ * path, or a tcp port as digits) and the bind address ("" for "PORT" and
+ * for unix, where the place alone decides). */
+typedef struct listen_key {
+    const char *host;
+    tsr_transport transport;
+    char place[UNIX_PATH_LIMIT];
+    char bind[256];
+    size_t index;
+} listen_key;
+
+static int compare_place(const listen_key *x, const listen_key *y)
 {
-    const char *colon = strrchr(listen, ':');
-    if (!colon) {
-        bind[0] = '\0';
-        return listen;
+    int c = strcmp(x->host, y->host);
+    if (!c)
+        c = (int)x->transport - (int)y->transport;
+    return c ? c : strcmp(x->place, y->place);
+}
+
+static int compare_listen(const void *a, const void *b)
+{
+    const listen_key *x = a, *y = b;
+    int c = compare_place(x, y);
+    if (!c)
+        c = strcmp(x->bind, y->bind);
+    return c ? c : (x->index > y->index) - (x->index < y->index);
+}
+
+/* Two servers of one host and transport collide when their unix paths are
+ * equal, or their tcp ports are equal and not 0 (any free port) and they
+ * do not bind different addresses. Sorted, so tens of thousands of
+ * servers cost n log n. The first node in file order that collides with
+ * an earlier one is reported, with the first node it collides with. */
+static int check_listen_collisions(loader *l)
+{
+    tsr_graph *g = l->graph;
+    listen_key *keys = calloc(g->node_count ? g->node_count : 1, sizeof *keys);
+    if (!keys)
+        return out_of_memory(l, NULL);
+    size_t count = 0;
+    for (size_t i = 0; i < g->node_count; i++) {
+        const tsr_graph_node *node = &g->nodes[i];
+        if (!node->listen)
+            continue;
+        listen_key *k = &keys[count];
+        k->host = node->host;
+        k->transport = node->transport;
+        k->index = i;
+        if (node->transport == TSR_TRANSPORT_UNIX) {
+            snprintf(k->place, sizeof k->place, "%s", node->listen); /* < UNIX_PATH_LIMIT: check_listen */
+        } else {
+            const char *colon = strrchr(node->listen, ':');
+            long port = strtol(colon ? colon + 1 : node->listen, NULL, 10);
+            if (port == 0)
+                continue;
+            snprintf(k->place, sizeof k->place, "%ld", port);
+            snprintf(k->bind, sizeof k->bind, "%.*s", colon ? (int)(colon - node->listen) : 0, node->listen);
+        }
+        count++;
     }
-    snprintf(bind, size, "%.*s", (int)(colon - listen), listen);
-    return colon + 1;
+    qsort(keys, count, sizeof *keys, compare_listen);
+    size_t culprit = SIZE_MAX, with = SIZE_MAX;
+    for (size_t s = 0, e; s < count; s = e) {
+        /* One place: every bind address sorted, "" (all addresses) first. */
+        size_t first = keys[s].index, first_any = SIZE_MAX;
+        for (e = s + 1; e < count && !compare_place(&keys[e], &keys[s]); e++)
+            first = keys[e].index < first ? keys[e].index : first;
+        if (!keys[s].bind[0])
+            first_any = keys[s].index;
+        for (size_t k = s, same_bind = s; k < e; k++) {
+            if (strcmp(keys[k].bind, keys[same_bind].bind))
+                same_bind = k;
+            size_t i = keys[k].index, j = SIZE_MAX;
+            if (!keys[k].bind[0]) {
+                j = first < i ? first : SIZE_MAX;
+            } else {
+                if (first_any < i)
+                    j = first_any;
+                if (keys[same_bind].index < i && keys[same_bind].index < j)
+                    j = keys[same_bind].index;
+            }
+            if (j != SIZE_MAX && (culprit == SIZE_MAX || i < culprit)) {
+                culprit = i;
+                with = j;
+            }
+        }
+    }
+    free(keys);
+    if (culprit == SIZE_MAX)
+        return TSR_OK;
+    const tsr_graph_node *node = &g->nodes[culprit], *other = &g->nodes[with];
+    return fail_at(l, l->sources[culprit].listen_value, TSR_EINVAL,
+                   "node '%s': 'listen' address '%s' on host '%s' collides with node '%s' ('%s')", node->name,
+                   node->listen, node->host, other->name, other->listen);
 }
 
-/* Two servers of one host and transport: unix paths collide when equal;
- * tcp ports when equal and not 0 (any free port), unless both name
- * different bind addresses. */
-static bool listen_collides(const tsr_graph_node *a, const tsr_graph_node *b)
-{
-    if (a->transport == TSR_TRANSPORT_UNIX)
-        return !strcmp(a->listen, b->listen);
-    char bind_a[256], bind_b[256];
-    const char *port_a = split_listen(a->listen, bind_a, sizeof bind_a);
-    const char *port_b = split_listen(b->listen, bind_b, sizeof bind_b);
-    if (strtol(port_a, NULL, 10) == 0 || strtol(port_a, NULL, 10) != strtol(port_b, NULL, 10))
-        return false;
-    return !bind_a[0] || !bind_b[0] || !strcmp(bind_a, bind_b);
-}
-
-/* Transports that cannot leave a host, and listen addresses in use twice. */
+/* Transports that cannot leave a host, then listen addresses in use twice. */
 static int check_transports(loader *l)
 {
     tsr_graph *g = l->graph;
@@ -1150,53 +1436,50 @@ static int check_transports(loader *l)
                                "transport %s (same host only; use tcp)",
                                node->name, node->host, server->name, server->host,
                                tsr_transport_name(server->transport));
-            if (server->transport == TSR_TRANSPORT_INPROC && server->from_count > 1)
-                return fail_at(l, at, TSR_EINVAL,
-                               "node '%s': server '%s' uses transport inproc, which serves one "
-                               "client, but %zu nodes send to it",
-                               node->name, server->name, server->from_count);
-        }
-        if (!node->listen)
-            continue;
-        for (size_t j = 0; j < i; j++) {
-            const tsr_graph_node *other = &g->nodes[j];
-            if (other->listen && !strcmp(other->host, node->host) && other->transport == node->transport &&
-                listen_collides(node, other))
-                return fail_at(l, l->sources[i].listen_value, TSR_EINVAL,
-                               "node '%s': 'listen' address '%s' on host '%s' collides with node "
-                               "'%s' ('%s')",
-                               node->name, node->listen, node->host, other->name, other->listen);
         }
     }
-    return TSR_OK;
+    return check_listen_collisions(l);
 }
 
-/* Post-order along `to`: a node is placed after every server it sends to.
- * Runs after check_cycles, so the recursion ends. */
-static void place_after_servers(const tsr_graph *g, size_t at, bool *placed, size_t *out, size_t *n)
-{
-    placed[at] = true;
-    for (size_t e = 0; e < g->nodes[at].to_count; e++)
-        if (!placed[g->nodes[at].to[e]])
-            place_after_servers(g, g->nodes[at].to[e], placed, out, n);
-    out[(*n)++] = at;
-}
-
+/* Post-order along `to`, without recursion: a node is placed after every
+ * server it sends to. Runs after check_cycles, so every path ends. */
 static int compute_start_order(loader *l)
 {
     tsr_graph *g = l->graph;
     bool *placed = calloc(g->node_count, sizeof *placed);
+    size_t *path = calloc(g->node_count, sizeof *path);
+    size_t *next_edge = calloc(g->node_count, sizeof *next_edge);
     g->start_order = graph_alloc(g, g->node_count * sizeof *g->start_order);
-    if (!placed || !g->start_order) {
-        free(placed);
-        return out_of_memory(l, NULL);
-    }
+    int rc = placed && path && next_edge && g->start_order ? TSR_OK : out_of_memory(l, NULL);
     size_t n = 0;
-    for (size_t i = 0; i < g->node_count; i++)
-        if (!placed[i])
-            place_after_servers(g, i, placed, g->start_order, &n);
+    for (size_t i = 0; i < g->node_count && rc == TSR_OK; i++) {
+        if (placed[i])
+            continue;
+        size_t depth = 0;
+        path[0] = i;
+        next_edge[0] = 0;
+        placed[i] = true;
+        for (;;) {
+            const tsr_graph_node *node = &g->nodes[path[depth]];
+            if (next_edge[depth] == node->to_count) {
+                g->start_order[n++] = path[depth];
+                if (depth == 0)
+                    break;
+                depth--;
+                continue;
+            }
+            size_t next = node->to[next_edge[depth]++];
+            if (!placed[next]) {
+                placed[next] = true;
+                path[++depth] = next;
+                next_edge[depth] = 0;
+            }
+        }
+    }
     free(placed);
-    return TSR_OK;
+    free(path);
+    free(next_edge);
+    return rc;
 }
 
 /* ---- loading ----------------------------------------------------------------------- */
@@ -1248,6 +1531,146 @@ static int yaml_syntax_error(const yaml_parser_t *parser, const char *file_name,
                          context);
 }
 
+/* What one pass over the YAML events keeps to bound the work: the open
+ * collections (where each began in the expanded size, and its anchor), and
+ * the anchors so far with the size they expand to. */
+typedef struct event_pass {
+    const char *file;
+    tsr_error *err;
+    int depth;
+    size_t open_start[TSR_GRAPH_MAX_DEPTH + 1];
+    char *open_anchor[TSR_GRAPH_MAX_DEPTH + 1]; /* owned copies */
+    size_t expanded;                            /* YAML nodes plus scalar bytes, aliases expanded */
+    char *anchor_name[TSR_GRAPH_MAX_ANCHORS];
+    size_t anchor_size[TSR_GRAPH_MAX_ANCHORS];
+    size_t anchor_count;
+} event_pass;
+
+static int event_fail(event_pass *p, const yaml_event_t *e, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int event_fail(event_pass *p, const yaml_event_t *e, const char *fmt, ...)
+{
+    char message[sizeof p->err->message];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(message, sizeof message, fmt, ap);
+    va_end(ap);
+    return tsr_error_set(p->err, TSR_EINVAL, "%s:%d:%d: %s", p->file, (int)e->start_mark.line + 1,
+                         (int)e->start_mark.column + 1, message);
+}
+
+/* A node that ended, with its anchor (or NULL; owned by the pass from
+ * here) and where it began. */
+static int node_ended(event_pass *p, const yaml_event_t *e, char *anchor, size_t start)
+{
+    if (!anchor)
+        return TSR_OK;
+    if (p->anchor_count == TSR_GRAPH_MAX_ANCHORS) {
+        free(anchor);
+        return event_fail(p, e, "more than %d anchors (&name), the limit", TSR_GRAPH_MAX_ANCHORS);
+    }
+    p->anchor_name[p->anchor_count] = anchor;
+    p->anchor_size[p->anchor_count++] = p->expanded - start;
+    return TSR_OK;
+}
+
+static int copy_anchor(event_pass *p, const yaml_char_t *anchor, char **out)
+{
+    *out = NULL;
+    if (anchor && !(*out = strdup((const char *)anchor)))
+        return tsr_error_set(p->err, TSR_ENOMEM, "%s: out of memory", p->file);
+    return TSR_OK;
+}
+
+static int count_expanded(event_pass *p, const yaml_event_t *e, size_t units)
+{
+    p->expanded += units;
+    if (p->expanded > 2 * (size_t)TSR_GRAPH_MAX_FILE_BYTES)
+        return event_fail(p, e,
+                          "aliases expand the graph past %zu YAML nodes and scalar bytes (the limit, twice the "
+                          "file size limit)",
+                          2 * (size_t)TSR_GRAPH_MAX_FILE_BYTES);
+    return TSR_OK;
+}
+
+static int on_event(event_pass *p, const yaml_event_t *e)
+{
+    int rc = TSR_OK;
+    switch (e->type) {
+    case YAML_SEQUENCE_START_EVENT:
+    case YAML_MAPPING_START_EVENT:
+        if (p->depth == TSR_GRAPH_MAX_DEPTH)
+            return event_fail(p, e, "lists and mappings nested more than %d deep (the limit)", TSR_GRAPH_MAX_DEPTH);
+        rc = copy_anchor(
+            p, e->type == YAML_SEQUENCE_START_EVENT ? e->data.sequence_start.anchor : e->data.mapping_start.anchor,
+            &p->open_anchor[p->depth]);
+        if (rc != TSR_OK)
+            return rc;
+        p->open_start[p->depth++] = p->expanded;
+        return count_expanded(p, e, 1);
+    case YAML_SEQUENCE_END_EVENT:
+    case YAML_MAPPING_END_EVENT: p->depth--; return node_ended(p, e, p->open_anchor[p->depth], p->open_start[p->depth]);
+    case YAML_SCALAR_EVENT: {
+        size_t start = p->expanded;
+        char *anchor;
+        rc = count_expanded(p, e, 1 + e->data.scalar.length);
+        if (rc == TSR_OK)
+            rc = copy_anchor(p, e->data.scalar.anchor, &anchor);
+        return rc == TSR_OK ? node_ended(p, e, anchor, start) : rc;
+    }
+    case YAML_ALIAS_EVENT: {
+        const char *name = (const char *)e->data.alias.anchor;
+        for (int d = 0; d < p->depth; d++)
+            if (p->open_anchor[d] && !strcmp(p->open_anchor[d], name))
+                return event_fail(p, e, "alias *%s is inside its own anchor", name);
+        /* The latest anchor of that name; an unknown one is the loader's to report. */
+        for (size_t i = p->anchor_count; i-- > 0;)
+            if (!strcmp(p->anchor_name[i], name))
+                return count_expanded(p, e, p->anchor_size[i]);
+        return TSR_OK;
+    }
+    default: return TSR_OK;
+    }
+}
+
+/* Reads the YAML events once before the document is built, to bound the
+ * work the rest can take: nesting deeper than TSR_GRAPH_MAX_DEPTH (the
+ * scanner's work per token grows with the open flow collections, so
+ * unbounded nesting costs quadratic time), more than
+ * TSR_GRAPH_MAX_ANCHORS anchors (the loader looks each anchor and alias up
+ * among all of them), and aliases that expand the document to more than
+ * twice the file size limit (every check walks the expanded values). A
+ * syntax error is reported here as the loader would report it. */
+static int check_events(const char *text, size_t length, const char *file_name, tsr_error *err)
+{
+    event_pass *p = calloc(1, sizeof *p);
+    yaml_parser_t parser;
+    if (!p || !yaml_parser_initialize(&parser)) {
+        free(p);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for the YAML parser", file_name);
+    }
+    p->file = file_name;
+    p->err = err;
+    yaml_parser_set_input_string(&parser, (const unsigned char *)text, length);
+    int rc = TSR_OK;
+    for (bool end = false; !end && rc == TSR_OK;) {
+        yaml_event_t event;
+        if (!yaml_parser_parse(&parser, &event)) {
+            rc = yaml_syntax_error(&parser, file_name, err);
+            break;
+        }
+        end = event.type == YAML_STREAM_END_EVENT;
+        rc = on_event(p, &event);
+        yaml_event_delete(&event);
+    }
+    yaml_parser_delete(&parser);
+    for (size_t i = 0; i < p->anchor_count; i++)
+        free(p->anchor_name[i]);
+    for (int d = 0; d < p->depth; d++)
+        free(p->open_anchor[d]);
+    free(p);
+    return rc;
+}
+
 tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_name, unsigned flags, tsr_error *err)
 {
     tsr_error local;
@@ -1261,6 +1684,13 @@ tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_nam
         tsr_error_set(err, TSR_EINVAL, "%s: no graph text", file_name);
         return NULL;
     }
+    if (length > TSR_GRAPH_MAX_FILE_BYTES) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %zu bytes, more than the limit of %d bytes (%d MiB) for a graph file",
+                      file_name, length, TSR_GRAPH_MAX_FILE_BYTES, TSR_GRAPH_MAX_FILE_BYTES >> 20);
+        return NULL;
+    }
+    if (check_events(text, length, file_name, err) != TSR_OK)
+        return NULL;
     loader l = {.file = file_name, .flags = flags, .err = err};
     yaml_parser_t parser;
     if (!yaml_parser_initialize(&parser)) {
@@ -1313,6 +1743,9 @@ tsr_graph *tsr_graph_parse(const char *text, size_t length, const char *file_nam
     return l.graph;
 }
 
+/* The size is known (stat) before anything is read, so an oversized file
+ * costs nothing; a file whose size stat cannot tell (a pipe, a file that
+ * grows) is read up to one byte past the limit. */
 tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err)
 {
     if (!path) {
@@ -1324,30 +1757,34 @@ tsr_graph *tsr_graph_load(const char *path, unsigned flags, tsr_error *err)
         tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: cannot open: %s", path, strerror(errno));
         return NULL;
     }
-    char *text = NULL;
-    size_t size = 0, cap = 0;
-    for (;;) {
-        if (size == cap) {
-            cap = cap ? 2 * cap : 16384;
-            char *grown = cap <= (size_t)64 << 20 ? realloc(text, cap) : NULL;
-            if (!grown) {
-                free(text);
-                fclose(f);
-                tsr_error_set(err, TSR_ENOMEM, "%s: too large for a graph file", path);
-                return NULL;
-            }
-            text = grown;
-        }
-        size_t got = fread(text + size, 1, cap - size, f);
-        size += got;
-        if (got == 0)
-            break;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        tsr_error_set(err, TSR_EINVAL, "%s: is a directory, not a graph file", path);
+        return NULL;
     }
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > TSR_GRAPH_MAX_FILE_BYTES) {
+        fclose(f);
+        tsr_error_set(err, TSR_EINVAL, "%s: %lld bytes, more than the limit of %d bytes (%d MiB) for a graph file",
+                      path, (long long)st.st_size, TSR_GRAPH_MAX_FILE_BYTES, TSR_GRAPH_MAX_FILE_BYTES >> 20);
+        return NULL;
+    }
+    size_t cap = (size_t)TSR_GRAPH_MAX_FILE_BYTES + 1; /* one byte past: too long */
+    char *text = malloc(cap);
+    if (!text) {
+        fclose(f);
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for %zu bytes", path, cap);
+        return NULL;
+    }
+    size_t size = 0;
+    for (size_t got; size < cap && (got = fread(text + size, 1, cap - size, f)) > 0;)
+        size += got;
     int failed = ferror(f);
+    int read_errno = errno;
     fclose(f);
     if (failed) {
         free(text);
-        tsr_error_set(err, TSR_EIO, "%s: read error", path);
+        tsr_error_set(err, TSR_EIO, "%s: read error: %s", path, strerror(read_errno));
         return NULL;
     }
     tsr_graph *g = tsr_graph_parse(text, size, path, flags, err);
@@ -1370,10 +1807,8 @@ const tsr_graph_node *tsr_graph_node_at(const tsr_graph *graph, size_t index)
 
 const tsr_graph_node *tsr_graph_find(const tsr_graph *graph, const char *name)
 {
-    for (size_t i = 0; i < graph->node_count; i++)
-        if (!strcmp(graph->nodes[i].name, name))
-            return &graph->nodes[i];
-    return NULL;
+    size_t i = name ? find_node(graph, name) : SIZE_MAX;
+    return i == SIZE_MAX ? NULL : &graph->nodes[i];
 }
 
 const size_t *tsr_graph_start_order(const tsr_graph *graph) { return graph->start_order; }

@@ -98,6 +98,16 @@ extern "C" {
 #define TSR_GRAPH_DEFAULT_HEIGHT 768
 #define TSR_GRAPH_MAX_SIDE 16384
 #define TSR_GRAPH_DEFAULT_HOST "localhost"
+/* Limits that bound the work a graph file can ask for; each is refused
+ * with an error naming the limit and its value. The file size is checked
+ * before the file is read (tsr_graph_load) or parsed; nesting, anchors and
+ * what aliases expand to (at most twice the file size limit, counted as
+ * YAML nodes plus scalar bytes) while the YAML is read, before the
+ * document is built. */
+#define TSR_GRAPH_MAX_FILE_BYTES (4 << 20) /* 4 MiB */
+#define TSR_GRAPH_MAX_DEPTH 64             /* nested lists and mappings */
+#define TSR_GRAPH_MAX_NODES 65536
+#define TSR_GRAPH_MAX_ANCHORS 256 /* YAML anchors (&name) in one file */
 
 typedef enum tsr_transport {
     TSR_TRANSPORT_TCP,
