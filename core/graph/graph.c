@@ -342,7 +342,12 @@ static int parse_transport(loader *l, const yaml_node_t *n, const char *where, t
     const char *text = expect_string(l, n, what);
     if (!text)
         return l->err->code;
-    size_t count = sizeof transport_names / sizeof transport_names[0];
+    size_t count = TSR_TRANSPORT_INPROC; /* the transports a graph may use */
+    /* `tessera run` starts every server as a process of its own, which
+     * an inproc server cannot be: refused here, so check and run agree. */
+    if (!strcmp(text, "inproc"))
+        return fail_at(l, n, TSR_EUNSUPPORTED,
+                       "%s: transport inproc cannot be run as its own process yet; use tcp or unix", where);
     for (size_t i = 0; i < count; i++)
         if (!strcmp(text, transport_names[i])) {
             *out = (tsr_transport)i;
@@ -352,7 +357,7 @@ static int parse_transport(loader *l, const yaml_node_t *n, const char *where, t
     char suggestion[64] = "";
     if (hint)
         snprintf(suggestion, sizeof suggestion, "did you mean '%s'? ", hint);
-    return fail_at(l, n, TSR_EINVAL, "%s: unknown transport '%.80s' (%stransports: tcp, unix, inproc)", where, text,
+    return fail_at(l, n, TSR_EINVAL, "%s: unknown transport '%.80s' (%stransports: tcp, unix)", where, text,
                    suggestion);
 }
 
@@ -562,6 +567,14 @@ static int check_link_options(loader *l, const tsr_graph_node *node, const tsr_c
         const tsr_option_spec *spec = tsr_spu_find_option(cls, link->keys[k], &e);
         if (!spec)
             return fail_at(l, key_nodes[k], e.code ? e.code : TSR_EINVAL, "%s: %s", where, e.message);
+        /* The value's text joins a list with ',' (option_text), which a
+         * string option would take as one value: the YAML type decides. */
+        bool is_list =
+            spec->type == TSR_OPT_INT_LIST || spec->type == TSR_OPT_FLOAT_LIST || spec->type == TSR_OPT_STRING_LIST;
+        if (value_nodes[k]->type == YAML_SEQUENCE_NODE && !is_list)
+            return fail_at(l, value_nodes[k], TSR_EINVAL,
+                           "%s: %s: option '%s': expected one %s value, got a list (only list options take lists)",
+                           where, link->spu, link->keys[k], tsr_option_type_name(spec->type));
         if (tsr_option_check_value(link->spu, spec, link->values[k], &e) != TSR_OK)
             return fail_at(l, value_nodes[k], e.code, "%s: %s", where, e.message);
     }
@@ -872,9 +885,6 @@ static int parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const 
 static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t *v)
 {
     const char *text = node->listen;
-    if (node->transport == TSR_TRANSPORT_INPROC)
-        return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen' does not apply to transport inproc (nothing listens)",
-                       node->name);
     if (node->transport == TSR_TRANSPORT_UNIX) {
         if (strlen(text) >= UNIX_PATH_LIMIT)
             return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': unix socket path is %zu bytes, the limit is %d",
