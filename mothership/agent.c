@@ -511,14 +511,29 @@ static void add_app_stats(agent *a, tsr_ctl_out *out)
     free(text);
 }
 
+static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t argc, tsr_error *err);
+
+/* The exec argv from the CONFIG's arg= fields, as many as it has. */
 static int run_app(agent *a, const tsr_ctl *cfg, tsr_error *err)
 {
-    const char *args[TSR_CTL_MAX_FIELDS + 1];
     size_t argc = 0;
+    const char **args = malloc((cfg->count + 1) * sizeof *args);
+    if (!args) {
+        tsr_error_set(err, TSR_ENOMEM, "out of memory for %zu arguments", cfg->count);
+        send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+        return 1;
+    }
     for (size_t i = 0; i < cfg->count; i++)
         if (!strcmp(cfg->keys[i], "arg"))
             args[argc++] = cfg->values[i];
     args[argc] = NULL;
+    int rc = run_app_args(a, cfg, args, argc, err);
+    free(args);
+    return rc;
+}
+
+static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t argc, tsr_error *err)
+{
     char path[PATH_MAX];
     if (!argc) {
         tsr_error_set(err, TSR_EINVAL, "CONFIG for app node without arg=");

@@ -94,15 +94,15 @@
 #define TSR_MS_DEFAULT_TIMEOUT_MS 5000u       /* no heartbeat this long = node lost */
 #define TSR_MS_DEFAULT_JOIN_TIMEOUT_MS 30000u /* every node joined within this */
 
-/* A decoded message: up to TSR_CTL_MAX_FIELDS key/value pairs pointing
- * into one owned copy of the text (a CONFIG holds one field per option of
- * every link, and one per exec argument). */
-#define TSR_CTL_MAX_FIELDS 1024
+/* A decoded message: key/value pairs pointing into one owned copy of the
+ * text. As many fields as the message holds (a CONFIG has one per option
+ * of every link and one per exec argument, so a fixed count would refuse
+ * graphs that check accepts); the message size bounds them. */
 typedef struct tsr_ctl {
     char *text;
     size_t count;
-    const char *keys[TSR_CTL_MAX_FIELDS];
-    const char *values[TSR_CTL_MAX_FIELDS];
+    const char **keys; /* count of each, owned */
+    const char **values;
 } tsr_ctl;
 
 /* A message being built (text grows; never fails silently: an error is
@@ -119,8 +119,8 @@ void tsr_ctl_out_free(tsr_ctl_out *out);
 void tsr_ctl_add(tsr_ctl_out *out, const char *key, const char *value);
 void tsr_ctl_addf(tsr_ctl_out *out, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
-/* Parses `len` bytes of payload. TSR_EPROTO when a line has no '=' or
- * there are too many fields. Free with tsr_ctl_free. */
+/* Parses `len` bytes of payload. TSR_EPROTO when a line has no '='.
+ * Free with tsr_ctl_free. */
 int tsr_ctl_parse(tsr_ctl *msg, const void *data, size_t len, tsr_error *err);
 void tsr_ctl_free(tsr_ctl *msg);
 /* The first value of `key`, or NULL. */

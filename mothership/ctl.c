@@ -66,6 +66,15 @@ int tsr_ctl_parse(tsr_ctl *msg, const void *data, size_t len, tsr_error *err)
         return tsr_error_set(err, TSR_ENOMEM, "control message of %zu bytes: out of memory", len);
     memcpy(msg->text, data, len);
     msg->text[len] = '\0';
+    size_t fields = 1;
+    for (const char *p = msg->text; (p = strchr(p, '\n')) != NULL; p++)
+        fields++;
+    msg->keys = malloc(fields * sizeof *msg->keys);
+    msg->values = malloc(fields * sizeof *msg->values);
+    if (!msg->keys || !msg->values) {
+        tsr_ctl_free(msg);
+        return tsr_error_set(err, TSR_ENOMEM, "control message of %zu fields: out of memory", fields);
+    }
     char *line = msg->text;
     while (*line) {
         char *end = strchr(line, '\n');
@@ -75,11 +84,6 @@ int tsr_ctl_parse(tsr_ctl *msg, const void *data, size_t len, tsr_error *err)
             char *eq = strchr(line, '=');
             if (!eq || eq == line) {
                 tsr_error_set(err, TSR_EPROTO, "control message: line '%.60s' is not key=value", line);
-                tsr_ctl_free(msg);
-                return TSR_EPROTO;
-            }
-            if (msg->count == TSR_CTL_MAX_FIELDS) {
-                tsr_error_set(err, TSR_EPROTO, "control message: more than %d fields", TSR_CTL_MAX_FIELDS);
                 tsr_ctl_free(msg);
                 return TSR_EPROTO;
             }
@@ -98,7 +102,10 @@ int tsr_ctl_parse(tsr_ctl *msg, const void *data, size_t len, tsr_error *err)
 void tsr_ctl_free(tsr_ctl *msg)
 {
     free(msg->text);
+    free(msg->keys);
+    free(msg->values);
     msg->text = NULL;
+    msg->keys = msg->values = NULL;
     msg->count = 0;
 }
 
