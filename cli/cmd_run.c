@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "commands.h"
@@ -31,9 +32,11 @@ static void run_usage(FILE *out)
             "install prefix of this program (bin/spheres), then in DIR; outputs (render\n"
             "output=, print file=) are relative to DIR, their directories are created.\n\n"
             "options:\n"
-            "  --out DIR            working directory of the nodes (default: the current one)\n"
+            "  --out DIR            working directory of the nodes, created if missing\n"
+            "                       (default: the current one)\n"
             "  --stats FILE         write per-node statistics (frames, bytes in/out, time\n"
-            "                       blocked on credits, render time) as JSON\n"
+            "                       blocked on credits, render time) as JSON; checked to be\n"
+            "                       writable before the run starts\n"
             "  --timeout-ms MS      a node silent this long (no heartbeat) fails the run, and\n"
             "                       so does an application whose stream is silent this long\n"
             "                       (stopped or dead; its servers drop it) (default %u)\n"
@@ -121,6 +124,47 @@ static int random_token(char *out, size_t size)
     return 0;
 }
 
+/* --out: created when missing, then it must be a directory the nodes can
+ * work in; said in one line before anything starts. */
+static int check_out_dir(const char *who, const char *dir, char *abs)
+{
+    struct stat st;
+    if (tsr_ms_mkdirs(dir) != 0) {
+        fprintf(stderr, "%s: --out %s: cannot create the directory: %s\n", who, dir, strerror(errno));
+        return -1;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "%s: --out %s: not a directory\n", who, dir);
+        return -1;
+    }
+    if (access(dir, W_OK | X_OK) != 0 || !realpath(dir, abs)) {
+        fprintf(stderr, "%s: --out %s: cannot work in it: %s\n", who, dir, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* --stats is written when the run is over: a path that cannot be written
+ * is found before the run starts (opened for writing, nothing truncated;
+ * a file made for the test is removed again). */
+static int check_stats_path(const char *who, const char *path)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+        close(fd);
+        unlink(path);
+        return 0;
+    }
+    if (errno == EEXIST)
+        fd = open(path, O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0) {
+        close(fd);
+        return 0;
+    }
+    fprintf(stderr, "%s: --stats %s: cannot write it: %s\n", who, path, strerror(errno));
+    return -1;
+}
+
 int tsr_cli_run_graph(int argc, char **argv, int launch)
 {
     const char *who = launch ? "tessera run" : "tessera mothership";
@@ -193,14 +237,12 @@ int tsr_cli_run_graph(int argc, char **argv, int launch)
     }
     self[n] = '\0';
     char out_abs[PATH_MAX];
-    if (out_dir) {
-        if (tsr_ms_mkdirs(out_dir) || !realpath(out_dir, out_abs)) {
-            fprintf(stderr, "%s: --out %s: %s\n", who, out_dir, strerror(errno));
-            tsr_graph_free(graph);
-            return TSR_EXIT_USAGE;
-        }
-        out_dir = out_abs;
+    if ((out_dir && check_out_dir(who, out_dir, out_abs)) || (stats && check_stats_path(who, stats))) {
+        tsr_graph_free(graph);
+        return TSR_EXIT_USAGE;
     }
+    if (out_dir)
+        out_dir = out_abs;
     char run_token[40];
     char listen_buf[256];
     if (!token || !*token)

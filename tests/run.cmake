@@ -86,8 +86,21 @@ run_cli_test(run_cli_node_help_names_mothership_mode 0 "tessera node --mothershi
   ${RUN_TESSERA} node --help)
 run_cli_test(run_cli_bad_graph_exit_2_file_line_col 2 "" "bad.yaml:7:5: .*chian"
   ${RUN_TESSERA} run ${RUN_DIR}/bad.yaml)
-run_cli_test(run_cli_inproc_server_refused_exit_2 2 "" "inproc.yaml:10:3: node 'server': transport inproc"
+run_cli_test(run_cli_inproc_server_refused_exit_2 2 ""
+  "inproc.yaml:12:16: node 'server': transport inproc cannot be run as its own process yet"
   ${RUN_TESSERA} run ${RUN_DIR}/inproc.yaml --out ${RUN_OUT}/inproc)
+# What check refuses, run refuses the same way; what check accepts, run runs.
+run_cli_test(run_cli_option_list_for_string_refused_exit_2 2 ""
+  "option_list_for_string.yaml:8:26: node 'app': render: option 'output': expected one string value, got a list"
+  ${RUN_TESSERA} run ${CMAKE_CURRENT_SOURCE_DIR}/graph/bad/option_list_for_string.yaml --out ${RUN_OUT}/list-output)
+add_test(NAME run_exec_with_1200_arguments_reaches_the_application
+  COMMAND ${RUN_DIR}/many_args.sh ${RUN_TESSERA} ${RUN_OUT}/many-args)
+# --out and --stats paths that cannot be used: one line, exit 2, before the run.
+foreach(c out-is-a-file out-under-a-file stats-no-folder stats-is-a-folder)
+  string(REPLACE "-" "_" c_ ${c})
+  add_test(NAME run_cli_${c_}_refused_before_the_run
+    COMMAND ${RUN_DIR}/cli_paths.sh ${c} ${RUN_TESSERA} ${RUN_GRAPHS}/local.yaml ${RUN_OUT}/cli-paths-${c})
+endforeach()
 run_cli_test(run_cli_missing_exec_names_node_and_program 1 ""
   "^tessera run: node .app.: exec .bin/no-such-program.: not found .looked in "
   timeout 60 ${RUN_TESSERA} run ${RUN_DIR}/missing-exec.yaml --out ${RUN_OUT}/missing-exec --no-progress)
