@@ -56,7 +56,8 @@ foreach(t chain_of_20000_nodes_is_checked_and_drawn cycle_through_20000_nodes_is
           tiles_131072_one_pixel_are_checked nodes_100002_refused_at_the_node_limit
           nodes_65536_at_the_limit_are_checked nesting_100000_deep_refused_at_the_depth_limit
           file_of_50_mb_refused_before_it_is_read anchors_257_refused_at_the_anchor_limit
-          alias_expansion_refused_past_twice_the_file_limit directory_is_named_a_directory)
+          alias_expansion_refused_past_twice_the_file_limit exec_arguments_execve_refuses_are_refused
+          directory_is_named_a_directory)
   add_test(NAME graph_limits_${t} COMMAND graph_limits_test ${GRAPH_TESSERA} ${t})
   set_tests_properties(graph_limits_${t} PROPERTIES TIMEOUT 120)
 endforeach()

@@ -3,6 +3,7 @@
  * then the rules between nodes (edges, cycles, who serves whom). Owns: the
  * model's memory (one allocation list freed with the graph). Never: keeps
  * a model that failed a check, or reports an error without FILE:LINE:COL. */
+#include <arpa/inet.h>
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -19,6 +20,11 @@
 
 /* Unix-domain socket paths must fit sockaddr_un.sun_path (108 on Linux). */
 #define UNIX_PATH_LIMIT 108
+/* A tcp listen HOST must fit netlib's parsed address (TSR_NET_ADDRESS_MAX,
+ * netlib/net.h), or the node refuses what check accepted. */
+#define LISTEN_HOST_LIMIT 160
+/* execve refuses one argument of 32 pages or more (Linux's MAX_ARG_STRLEN). */
+#define EXEC_ARG_LIMIT 131072
 
 struct tsr_graph {
     char *file;
@@ -469,13 +475,35 @@ static int split_exec(loader *l, tsr_graph_node *node, const yaml_node_t *at, co
     return TSR_OK;
 }
 
+/* What execve would refuse, refused here: one argument too long, or all
+ * of them more than TSR_GRAPH_MAX_EXEC_BYTES (the kernel's limit for
+ * arguments and environment together is usually 2 MiB). `items`: the
+ * list's items, or NULL when the exec was one string `v`. */
+static int check_exec_size(loader *l, const tsr_graph_node *node, const yaml_node_t *v, const yaml_node_item_t *items)
+{
+    size_t total = sizeof(char *); /* the terminating NULL */
+    for (size_t i = 0; i < node->exec_argc; i++) {
+        size_t len = strlen(node->exec[i]);
+        const yaml_node_t *at = items ? node_at(l, items[i]) : v;
+        if (len >= EXEC_ARG_LIMIT)
+            return fail_at(l, at, TSR_EINVAL, "node '%s': 'exec': argument %zu is %zu bytes, the limit is %d",
+                           node->name, i + 1, len, EXEC_ARG_LIMIT - 1);
+        total += len + 1 + sizeof(char *);
+    }
+    if (total > TSR_GRAPH_MAX_EXEC_BYTES)
+        return fail_at(l, v, TSR_EINVAL, "node '%s': 'exec': %zu bytes of arguments, more than the limit of %d",
+                       node->name, total, TSR_GRAPH_MAX_EXEC_BYTES);
+    return TSR_OK;
+}
+
 static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v)
 {
     char what[160];
     snprintf(what, sizeof what, "node '%s': 'exec'", node->name);
     if (v->type != YAML_SEQUENCE_NODE) {
         const char *text = expect_string(l, v, what);
-        return text ? split_exec(l, node, v, text) : l->err->code;
+        int rc = text ? split_exec(l, node, v, text) : l->err->code;
+        return rc == TSR_OK ? check_exec_size(l, node, v, NULL) : rc;
     }
     size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
     if (count == 0)
@@ -491,7 +519,7 @@ static int parse_exec(loader *l, tsr_graph_node *node, const yaml_node_t *v)
     }
     node->exec = argv;
     node->exec_argc = count;
-    return TSR_OK;
+    return check_exec_size(l, node, v, v->data.sequence.items.start);
 }
 
 /* An option value in the chain's text form: a scalar as written, a list
@@ -895,7 +923,10 @@ static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t
     const char *colon = strrchr(text, ':');
     if (text[0] == '[') {
         const char *close = strchr(text, ']');
-        if (!close || close[1] != ':' || close == text + 1)
+        char v6[INET6_ADDRSTRLEN];
+        struct in6_addr probe;
+        if (!close || close[1] != ':' || close == text + 1 || (size_t)(close - text - 1) >= sizeof v6 ||
+            (snprintf(v6, sizeof v6, "%.*s", (int)(close - text - 1), text + 1), inet_pton(AF_INET6, v6, &probe) != 1))
             return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': '%.80s' is not [IPv6]:PORT", node->name, text);
         port = close + 2;
     } else if (colon) {
@@ -904,6 +935,9 @@ static int check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t
                            "node '%s': 'listen': '%.80s' is not HOST:PORT (write IPv6 as "
                            "[ADDR]:PORT)",
                            node->name, text);
+        if ((size_t)(colon - text) >= LISTEN_HOST_LIMIT)
+            return fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': the host is %zu bytes, the limit is %d", node->name,
+                           (size_t)(colon - text), LISTEN_HOST_LIMIT - 1);
         port = colon + 1;
     }
     char *end;

@@ -108,6 +108,9 @@ extern "C" {
 #define TSR_GRAPH_MAX_DEPTH 64             /* nested lists and mappings */
 #define TSR_GRAPH_MAX_NODES 65536
 #define TSR_GRAPH_MAX_ANCHORS 256 /* YAML anchors (&name) in one file */
+/* An exec's arguments, each counted with its NUL and pointer, as execve
+ * will; a single argument is limited to 128 KiB - 1 as Linux limits it. */
+#define TSR_GRAPH_MAX_EXEC_BYTES (1 << 20)
 
 typedef enum tsr_transport {
     TSR_TRANSPORT_TCP,

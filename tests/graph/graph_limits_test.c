@@ -83,8 +83,8 @@ static result run(const char *command, const char *flag, const char *file)
     r.err = slurp(err_path);
     for (const char *p = r.err; *p; p++)
         r.err_lines += *p == '\n';
-    printf("tessera %s%s%s %s: exit %d, max RSS %ld KiB, stderr: %s", command, flag ? " " : "", flag ? flag : "",
-           file, r.status, r.max_rss, r.err[0] ? r.err : "(none)\n");
+    printf("tessera %s%s%s %s: exit %d, max RSS %ld KiB, stderr: %s", command, flag ? " " : "", flag ? flag : "", file,
+           r.status, r.max_rss, r.err[0] ? r.err : "(none)\n");
     return r;
 }
 
@@ -282,10 +282,33 @@ static void alias_expansion_refused_past_twice_the_file_limit(void)
     expect_refused("alias_self.yaml", NULL, "alias_self.yaml:4:25: alias *all is inside its own anchor");
 }
 
-static void directory_is_named_a_directory(void)
+/* What execve would refuse at run time is refused by check: one argument
+ * of 128 KiB, or arguments of more than 1 MiB together. */
+static void exec_arguments_execve_refuses_are_refused(void)
 {
-    expect_refused(".", NULL, "is a directory, not a graph file");
+    FILE *f = create("long_argument.yaml");
+    fprintf(f, "version: 1\nnodes:\n  app:\n    exec: [/bin/true, ");
+    for (int i = 0; i < 131072; i++)
+        fputc('x', f);
+    fprintf(f, "]\n    chain: [render]\n");
+    fclose(f);
+    expect_refused("long_argument.yaml", NULL,
+                   "long_argument.yaml:4:23: node 'app': 'exec': argument 2 is 131072 bytes, the limit is 131071");
+    f = create("many_arguments.yaml");
+    fprintf(f, "version: 1\nnodes:\n  app:\n    exec: /bin/true");
+    for (int i = 0; i < 20; i++) {
+        fputc(' ', f);
+        for (int j = 0; j < 60000; j++)
+            fputc('x', f);
+    }
+    fprintf(f, "\n    chain: [render]\n");
+    fclose(f);
+    expect_refused("many_arguments.yaml", NULL,
+                   "many_arguments.yaml:4:11: node 'app': 'exec': 1200206 bytes of arguments, more than the limit "
+                   "of 1048576");
 }
+
+static void directory_is_named_a_directory(void) { expect_refused(".", NULL, "is a directory, not a graph file"); }
 
 static const struct {
     const char *name;
@@ -300,6 +323,7 @@ static const struct {
     {"file_of_50_mb_refused_before_it_is_read", file_of_50_mb_refused_before_it_is_read},
     {"anchors_257_refused_at_the_anchor_limit", anchors_257_refused_at_the_anchor_limit},
     {"alias_expansion_refused_past_twice_the_file_limit", alias_expansion_refused_past_twice_the_file_limit},
+    {"exec_arguments_execve_refuses_are_refused", exec_arguments_execve_refuses_are_refused},
     {"directory_is_named_a_directory", directory_is_named_a_directory},
 };
 
