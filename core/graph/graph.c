@@ -1,8 +1,11 @@
-/* core/graph/graph.c — the graph file (tessera/graph.h): YAML read with libyaml's
- * document loader, every key checked and copied into the immutable model,
- * then the rules between nodes (edges, cycles, who serves whom). Owns: the
- * model's memory (one allocation list freed with the graph). Never: keeps
- * a model that failed a check, or reports an error without FILE:LINE:COL. */
+/* core/graph/graph.c — the graph file (tessera/graph.h): one pass over the
+ * YAML events to bound the work (nesting, anchors, alias expansion), then
+ * libyaml's document loader, every key checked and copied into the
+ * immutable model, then the rules between nodes (edges, cycles, who serves
+ * whom), each in n log n and without recursion. Owns: the model's memory
+ * (one allocation list freed with the graph). Never: keeps a model that
+ * failed a check, reports an error without FILE:LINE:COL, or reads a file
+ * over the size limit. */
 #include <arpa/inet.h>
 #include <ctype.h>
 #include <errno.h>

@@ -29,13 +29,16 @@
  *   exec:      the application this node runs under the faker: a string
  *              (split at blanks; "..." and '...' quote, \ escapes, as in
  *              a shell, but nothing is expanded and no shell runs) or a
- *              list of arguments. A node with
+ *              list of arguments; each shorter than 128 KiB, together at
+ *              most TSR_GRAPH_MAX_EXEC_BYTES (as execve will count them).
+ *              A node with
  *              `exec` is an *app node*; a node without is a *server* that
  *              receives streams from the nodes whose `to:` names it.
  *   chain:     required, non-empty list of SPUs, calls flowing from the
  *              first to the last. Each entry is `spu`, `spu:` or
  *              `spu: {option: value, ...}`; values are scalars, or lists
- *              of scalars for list options. Unknown SPUs and options, and
+ *              of scalars for list options (a list for another option is
+ *              a type error). Unknown SPUs and options, and
  *              bad values, are errors (checked against the installed SPUs
  *              with the same parser chains use).
  *   to:        the servers this node's network SPU sends to: a node name or
@@ -47,15 +50,16 @@
  *              "localhost"). Compared as text: "localhost" and "127.0.0.1"
  *              are different hosts here.
  *   transport: how this node's clients reach it (servers only): tcp
- *              (default), unix (Unix-domain socket, every client on the
- *              same host) or inproc (the server's chain runs in its one
- *              client's process).
+ *              (default) or unix (Unix-domain socket, every client on the
+ *              same host). inproc (the server's chain in its one client's
+ *              process) is refused: `tessera run` starts every server as
+ *              a process of its own.
  *   listen:    where a server listens (servers only). tcp: "PORT",
- *              "HOST:PORT" or "[IPv6]:PORT", PORT in [0, 65535], 0 or no
- *              `listen` = a free port on loopback chosen at run time.
- *              unix: a socket path (shorter than 108 bytes); none = chosen
- *              at run time. inproc: not allowed. Two servers on one host
- *              may not share an address.
+ *              "HOST:PORT" (HOST shorter than 160 bytes) or "[IPv6]:PORT",
+ *              PORT in [0, 65535], 0 or no `listen` = a free port on
+ *              loopback chosen at run time. unix: a socket path (shorter
+ *              than 108 bytes); none = chosen at run time. Two servers on
+ *              one host may not share an address.
  *   tiles:     list of [x, y, width, height] rectangles of the window this
  *              server draws (servers only); inside the window, positive
  *              sizes, not overlapping each other on one node.
