@@ -12,7 +12,8 @@ target_link_libraries(graph_model_test PRIVATE tessera_graph tessera)
 foreach(t reads_nodes_chain_options_edges defaults_apply_and_nodes_override
           edges_both_ways_and_start_order exec_string_is_split_like_a_shell
           list_option_values_use_chain_text chain_builds_from_the_model
-          every_truncation_fails_cleanly network_spus_are_known roles_decide_the_graph_rules)
+          every_truncation_fails_cleanly network_spus_are_known roles_decide_the_graph_rules
+          tile_overlaps_match_every_pair listen_collisions_follow_bind_addresses)
   add_test(NAME graph_model_${t} COMMAND graph_model_test ${t})
 endforeach()
 

@@ -3,6 +3,7 @@
  * exec splitting, option text, chains built from the model, and that every
  * truncation of a valid file fails cleanly. Owns nothing shared.
  * Never: checks error wording (tests/graph/bad/ does, through the CLI). */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -375,6 +376,121 @@ static void network_spus_are_known(void)
     CHECK(!tsr_spu_is_network("render") && !tsr_spu_is_network("passthrough") && !tsr_spu_is_network(NULL));
 }
 
+static bool rects_overlap(const int *a, const int *b)
+{
+    return a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3];
+}
+
+/* The overlap search (a sweep) against every pair, on random tiles of one
+ * server: it finds an overlap exactly when a pair overlaps, and the two
+ * tiles it names do. Then the same for the tiles of display senders. */
+static void tile_overlaps_match_every_pair(void)
+{
+    static char text[65536];
+    int tiles[40][4];
+    unsigned seed = 12345;
+    int overlapping = 0;
+    for (int round = 0; round < 600; round++) {
+        int n = 2 + (int)((seed = seed * 1103515245u + 12345u) >> 16) % 12;
+        size_t used = (size_t)snprintf(text, sizeof text,
+                                       "version: 1\nwindow: {width: 64, height: 48}\nnodes:\n"
+                                       "  app: {exec: a, chain: [tilesort], to: wall}\n"
+                                       "  wall:\n    chain: [render]\n    tiles:\n");
+        for (int i = 0; i < n; i++) {
+            int *t = tiles[i];
+            for (int f = 0; f < 4; f++)
+                t[f] = (int)((seed = seed * 1103515245u + 12345u) >> 16);
+            t[2] = 1 + t[2] % 12;
+            t[3] = 1 + t[3] % 12;
+            t[0] %= 64 - t[2] + 1;
+            t[1] %= 48 - t[3] + 1;
+            used +=
+                (size_t)snprintf(text + used, sizeof text - used, "      - [%d, %d, %d, %d]\n", t[0], t[1], t[2], t[3]);
+        }
+        bool any = false;
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < i; j++)
+                any |= rects_overlap(tiles[i], tiles[j]);
+        overlapping += any;
+        tsr_error err;
+        tsr_error_clear(&err);
+        tsr_graph *g = tsr_graph_parse(text, used, "tiles.yaml", 0, &err);
+        CHECK(!g == any, "round %d: overlap %d, parse: %s", round, any, g ? "ok" : err.message);
+        int a = 0, b = 0;
+        const char *at = strstr(err.message, "'tiles': tile ");
+        if (!g && at && sscanf(at, "'tiles': tile %d [%*d, %*d, %*d, %*d] overlaps tile %d", &a, &b) == 2)
+            CHECK(a > b && b >= 1 && a <= n && rects_overlap(tiles[a - 1], tiles[b - 1]), "round %d: %s", round,
+                  err.message);
+        else
+            CHECK(g, "round %d: %s", round, err.message);
+        tsr_graph_free(g);
+    }
+    CHECK(overlapping > 100 && overlapping < 500, "%d of 600 rounds overlap", overlapping);
+}
+
+/* Listen addresses on one host: equal ports collide unless the bind
+ * addresses differ; port 0 never; unix paths when equal; the first node in
+ * file order that collides is named, with the first one it collides with. */
+static void listen_collisions_follow_bind_addresses(void)
+{
+    static const struct {
+        const char *a, *b, *c; /* listen: of three servers ("" = none) */
+        const char *collision; /* "node 'X' ... collides with node 'Y'", or NULL */
+    } cases[] = {
+        {"7000", "127.0.0.1:7000", "",
+         "node 's2': 'listen' address '127.0.0.1:7000' on host 'localhost' collides "
+         "with node 's1' ('7000')"},
+        {"127.0.0.1:7000", "127.0.0.2:7000", "", NULL},
+        {"127.0.0.1:7000", "127.0.0.2:7000", "7000",
+         "node 's3': 'listen' address '7000' on host 'localhost' "
+         "collides with node 's1'"},
+        {"127.0.0.2:7000", "127.0.0.1:7000", "127.0.0.1:7000",
+         "node 's3': 'listen' address '127.0.0.1:7000' on "
+         "host 'localhost' collides with node 's2'"},
+        {"0", "0", "127.0.0.1:0", NULL},
+        {"7000", "7001", "[::1]:7000",
+         "node 's3': 'listen' address '[::1]:7000' on host 'localhost' collides with "
+         "node 's1'"},
+        {"[::1]:7000", "127.0.0.1:7000", "", NULL},
+        {"07000", "7000", "", "node 's2': 'listen' address '7000' on host 'localhost' collides with node 's1'"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[1024];
+        const char *listen[3] = {cases[i].a, cases[i].b, cases[i].c};
+        size_t used = (size_t)snprintf(text, sizeof text,
+                                       "version: 1\nnodes:\n  app: {exec: a, chain: [replicate], to: [s1, s2, s3]}\n");
+        for (int s = 0; s < 3; s++)
+            used += (size_t)snprintf(text + used, sizeof text - used, "  s%d: {chain: [render]%s%s%s}\n", s + 1,
+                                     listen[s][0] ? ", listen: '" : "", listen[s], listen[s][0] ? "'" : "");
+        tsr_error err;
+        tsr_error_clear(&err);
+        tsr_graph *g = tsr_graph_parse(text, used, "listen.yaml", TSR_GRAPH_NO_SPU_CHECK, &err);
+        if (cases[i].collision) {
+            CHECK(!g, "case %zu accepted", i);
+            CHECK_CONTAINS(err.message, cases[i].collision);
+        } else {
+            CHECK(g, "case %zu: %s", i, err.message);
+        }
+        tsr_graph_free(g);
+    }
+    /* The same ports on two hosts, and a unix path used twice. */
+    const char *hosts = "version: 1\nnodes:\n  app: {exec: a, chain: [replicate], to: [s1, s2]}\n"
+                        "  s1: {chain: [render], listen: '7000', host: a}\n"
+                        "  s2: {chain: [render], listen: '7000', host: b}\n";
+    tsr_error err;
+    tsr_error_clear(&err);
+    tsr_graph *g = tsr_graph_parse(hosts, strlen(hosts), "hosts.yaml", TSR_GRAPH_NO_SPU_CHECK, &err);
+    CHECK(g, "%s", err.message);
+    tsr_graph_free(g);
+    const char *unix_paths = "version: 1\nnodes:\n  app: {exec: a, chain: [replicate], to: [s1, s2]}\n"
+                             "  s1: {chain: [render], transport: unix, listen: /tmp/x.sock}\n"
+                             "  s2: {chain: [render], transport: unix, listen: /tmp/x.sock}\n";
+    g = tsr_graph_parse(unix_paths, strlen(unix_paths), "unix.yaml", TSR_GRAPH_NO_SPU_CHECK, &err);
+    CHECK(!g);
+    CHECK_CONTAINS(err.message, "unix.yaml:5:50: node 's2': 'listen' address '/tmp/x.sock'");
+    tsr_graph_free(g);
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -390,6 +506,8 @@ int main(int argc, char **argv)
         {"every_truncation_fails_cleanly", every_truncation_fails_cleanly},
         {"network_spus_are_known", network_spus_are_known},
         {"roles_decide_the_graph_rules", roles_decide_the_graph_rules},
+        {"tile_overlaps_match_every_pair", tile_overlaps_match_every_pair},
+        {"listen_collisions_follow_bind_addresses", listen_collisions_follow_bind_addresses},
     };
     if (argc != 2) {
         fprintf(stderr, "usage: %s TEST\n", argv[0]);
