@@ -1245,8 +1245,13 @@ static int check_role(loader *l, size_t i)
     const char *spu = src->network_spu ? scalar_text(src->network_spu) : NULL;
     switch (role_of(l, i)) {
     case TSR_SPU_ROLE_NONE:
-    case TSR_SPU_ROLE_SERVERS:
-    case TSR_SPU_ROLE_SERVER: /* more than one: `tessera run` says so */ return TSR_OK;
+    case TSR_SPU_ROLE_SERVERS: return TSR_OK;
+    case TSR_SPU_ROLE_SERVER:
+        /* The run fills in one server's address: more would fail there. */
+        if (node->to_count != 1)
+            return fail_at(l, src->to_key, TSR_EINVAL, "node '%s': %s sends to one server, but 'to' names %zu",
+                           node->name, spu, node->to_count);
+        return TSR_OK;
     case TSR_SPU_ROLE_TILED_SERVERS:
         /* Sort-first: every server draws its tiles. */
         for (size_t e = 0; e < node->to_count; e++)

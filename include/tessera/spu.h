@@ -92,8 +92,8 @@ typedef enum tsr_spu_role {
     /* Sends to no node (filters, renderers): a node whose chain has only
      * these may not have `to:`. The role of a zeroed class. */
     TSR_SPU_ROLE_NONE = 0,
-    /* Streams to one server: `to:` names one node (`tessera run` refuses
-     * more) (pack). */
+    /* Streams to one server: `to:` names one node (`tessera check`
+     * refuses more) (pack). */
     TSR_SPU_ROLE_SERVER,
     /* Streams to every server `to:` names, one or more (replicate). */
     TSR_SPU_ROLE_SERVERS,

@@ -190,11 +190,11 @@ static void tiles_131072_one_pixel_are_checked(void)
                    "node 'wall': 'tiles': tile 131073 [300, 200, 2, 1] overlaps tile 102701 [300, 200, 1, 1]");
 }
 
-/* One app sending to `servers` servers: every name is looked up. */
+/* One app replicating to `servers` servers: every name is looked up. */
 static void write_fan_out(const char *name, int servers, bool duplicate_last)
 {
     FILE *f = create(name);
-    fprintf(f, "version: 1\nnodes:\n  app:\n    exec: bin/spheres\n    chain: [pack]\n    to: [s0");
+    fprintf(f, "version: 1\nnodes:\n  app:\n    exec: bin/spheres\n    chain: [replicate]\n    to: [s0");
     for (int i = 1; i < servers; i++)
         fprintf(f, ", s%d", duplicate_last && i == servers - 1 ? 1 : i);
     fprintf(f, "]\n");

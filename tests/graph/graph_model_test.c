@@ -72,7 +72,7 @@ static void defaults_apply_and_nodes_override(void)
     tsr_graph *g = parse("version: 1\n"
                          "defaults: {host: alpha, transport: unix}\n"
                          "nodes:\n"
-                         "  app: {exec: x, chain: [pack], to: [near, far]}\n"
+                         "  app: {exec: x, chain: [replicate], to: [near, far]}\n"
                          "  near: {chain: [render], listen: /tmp/near.sock}\n"
                          "  far: {chain: [render], host: beta, transport: tcp, listen: '7000',\n"
                          "        tiles: [[0, 0, 10, 20], [10, 0, 5, 5]]}\n",
