@@ -748,6 +748,7 @@ void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats)
 {
     pthread_mutex_lock(&c->net->lock);
     *stats = c->stats;
+    stats->messages_unreturned = c->peer_window > c->send_credits ? c->peer_window - c->send_credits : 0;
     pthread_mutex_unlock(&c->net->lock);
 }
 

@@ -53,7 +53,10 @@
  * setting; BYE is empty. REFUSE payload:
  * a one-line reason (UTF-8, no terminator), after which the refusing side
  * closes. A version mismatch, a wrong or missing token, or a malformed
- * HELLO is refused; both sides report one line naming the other.
+ * HELLO is refused; both sides report one line naming the other. Each
+ * side sends at most the smaller of the peer's and its own credits and
+ * max_message_bytes: a peer announcing huge limits cannot make this side
+ * queue more than its own configuration allows.
  *
  * FLOW CONTROL counts MESSAGES. Each side grants its peer `credits`
  * messages at the handshake. Sending a data message costs one credit; a
@@ -149,6 +152,8 @@ typedef struct tsr_net_stats {
     uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
     uint64_t messages_direct;                   /* data messages the sending thread wrote itself (see SENDING) */
     uint64_t messages_direct_rest;              /* ... of which the socket took only a part */
+    uint32_t messages_unreturned;               /* data messages sent whose credit has not come back:
+                                                   not yet taken by the peer's application */
 } tsr_net_stats;
 
 TSR_API void tsr_net_config_defaults(tsr_net_config *config);
