@@ -22,8 +22,12 @@ static const struct {
      "tsr_pixel_store_set(&u->pixels, pname, (double)param);"},
     {"PixelStoref", "tsr_packer_mirror_PixelStore(tsr_p, pname, (double)param);",
      "tsr_pixel_store_set(&u->pixels, pname, (double)param);"},
-    {"BindBuffer", "tsr_packer_mirror_BindBuffer(tsr_p, target, buffer);", NULL},
-    {"DeleteBuffers", "tsr_packer_mirror_DeleteBuffers(tsr_p, n, buffers);", NULL},
+    {"BindBuffer", "tsr_packer_mirror_BindBuffer(tsr_p, target, buffer);",
+     "tsr_unpacker_note_BindBuffer(u, target, buffer);"},
+    {"DeleteBuffers", "tsr_packer_mirror_DeleteBuffers(tsr_p, n, buffers);",
+     "tsr_unpacker_note_DeleteBuffers(u, n, buffers);"},
+    /* A budgeted stream's buffer bytes (tessera/dev/unpack.h). */
+    {"BufferData", NULL, "if (tsr_unpacker_check_BufferData(u, target, size, err) != 0) return err->code;"},
     /* Commands that must reach the receiver now, not when the buffer fills. */
     {"Flush", "tsr_packer_flush(tsr_p);", NULL},
     {"Finish", "tsr_packer_flush(tsr_p);", NULL},
@@ -606,7 +610,7 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
         fprintf(f, "};\n    uint8_t *tsr_optr[%d];\n", nout);
         fprintf(
             f,
-            "    if (tsr_unpacker_outputs(u, %d, tsr_osize, tsr_optr) != 0) { tsr_why = \"outputs too large\"; goto tsr_invalid; }\n",
+            "    if (tsr_unpacker_outputs(u, %d, tsr_osize, tsr_optr) != 0) { tsr_why = u->outputs_why; goto tsr_invalid; }\n",
             nout);
         int k = 0;
         for (size_t i = 0; i < c->nparams; i++)

@@ -5,12 +5,20 @@
  * never reads outside the buffer, never dispatches an unchecked pointer. */
 #include "tessera/dev/unpack.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <GL/glext.h>
 
 #include "tessera/dev/wire.h"
 #include "wire_gen.h"
 #include "wire_internal.h"
+
+/* The unpacker decoding on this thread now, for tsr_unpacker_refuse: a
+ * thread decodes one stream at a time (nested replays save and restore). */
+static _Thread_local tsr_unpacker *decoding;
 
 static int grow(uint8_t **buf, size_t *cap, size_t need)
 {
@@ -28,6 +36,183 @@ static int grow(uint8_t **buf, size_t *cap, size_t need)
     *buf = p;
     *cap = n;
     return 0;
+}
+
+/* --- buffer objects (limits on) ------------------------------------------- */
+
+/* What a budgeted stream's buffer objects are: name -> size in bytes, an
+ * open-addressing table (name 0 marks a free slot: GL never names a
+ * buffer 0), and the names bound to the targets BufferData can size. */
+enum { BOUND_ARRAY, BOUND_ELEMENT, BOUND_PACK, BOUND_UNPACK, BOUND_TARGETS };
+
+typedef struct buffer_slot {
+    uint32_t name; /* 0: free */
+    uint32_t dead; /* deleted (a tombstone) */
+    uint64_t size;
+} buffer_slot;
+
+struct tsr_unpack_buffers {
+    buffer_slot *slots;
+    size_t cap, used; /* used counts tombstones too */
+    uint64_t total;   /* bytes of every live buffer */
+    uint32_t bound[BOUND_TARGETS];
+};
+
+static void buffers_free(struct tsr_unpack_buffers *b)
+{
+    if (b)
+        free(b->slots);
+    free(b);
+}
+
+static int bound_index(GLenum target)
+{
+    switch (target) {
+    case GL_ARRAY_BUFFER: return BOUND_ARRAY;
+    case GL_ELEMENT_ARRAY_BUFFER: return BOUND_ELEMENT;
+    case GL_PIXEL_PACK_BUFFER: return BOUND_PACK;
+    case GL_PIXEL_UNPACK_BUFFER: return BOUND_UNPACK;
+    default: return -1;
+    }
+}
+
+static size_t slot_hash(uint32_t name, size_t cap) { return (size_t)(name * 2654435761u) & (cap - 1); }
+
+/* The live slot of `name`, or NULL. */
+static buffer_slot *buffer_find(const struct tsr_unpack_buffers *b, uint32_t name)
+{
+    if (!name || !b->cap)
+        return NULL;
+    for (size_t i = slot_hash(name, b->cap), n = 0; n < b->cap; i = (i + 1) & (b->cap - 1), n++) {
+        buffer_slot *s = &b->slots[i];
+        if (!s->name)
+            return NULL;
+        if (s->name == name && !s->dead)
+            return s;
+    }
+    return NULL;
+}
+
+/* The slot for `name`, made when missing; NULL when out of memory. */
+static buffer_slot *buffer_slot_for(struct tsr_unpack_buffers *b, uint32_t name)
+{
+    buffer_slot *s = buffer_find(b, name);
+    if (s)
+        return s;
+    if ((b->used + 1) * 2 > b->cap) {
+        size_t cap = b->cap ? b->cap * 2 : 64;
+        buffer_slot *slots = calloc(cap, sizeof *slots);
+        if (!slots)
+            return NULL;
+        size_t used = 0;
+        for (size_t i = 0; i < b->cap; i++) {
+            buffer_slot *o = &b->slots[i];
+            if (!o->name || o->dead)
+                continue;
+            size_t j = slot_hash(o->name, cap);
+            while (slots[j].name)
+                j = (j + 1) & (cap - 1);
+            slots[j] = *o;
+            used++;
+        }
+        free(b->slots);
+        b->slots = slots;
+        b->cap = cap;
+        b->used = used;
+    }
+    size_t i = slot_hash(name, b->cap);
+    while (b->slots[i].name && !b->slots[i].dead)
+        i = (i + 1) & (b->cap - 1);
+    if (!b->slots[i].name)
+        b->used++;
+    b->slots[i] = (buffer_slot){.name = name};
+    return &b->slots[i];
+}
+
+/* Bytes of buffer `name` as the stream sized it; 0 when it never did. */
+static uint64_t buffer_size(const tsr_unpacker *u, uint32_t name)
+{
+    const buffer_slot *s = u->objects ? buffer_find(u->objects, name) : NULL;
+    return s ? s->size : 0;
+}
+
+void tsr_unpacker_note_BindBuffer(tsr_unpacker *u, GLenum target, GLuint buffer)
+{
+    int k = bound_index(target);
+    if (u->objects && k >= 0)
+        u->objects->bound[k] = buffer;
+}
+
+void tsr_unpacker_note_DeleteBuffers(tsr_unpacker *u, GLsizei n, const GLuint *buffers)
+{
+    struct tsr_unpack_buffers *b = u->objects;
+    for (GLsizei i = 0; b && i < n; i++) {
+        buffer_slot *s = buffer_find(b, buffers[i]);
+        if (s) {
+            b->total -= s->size;
+            s->dead = 1;
+            s->size = 0;
+        }
+        for (int k = 0; k < BOUND_TARGETS; k++)
+            if (b->bound[k] == buffers[i])
+                b->bound[k] = 0;
+    }
+}
+
+int tsr_unpacker_check_BufferData(tsr_unpacker *u, GLenum target, GLsizeiptr size, tsr_error *err)
+{
+    struct tsr_unpack_buffers *b = u->objects;
+    int k = bound_index(target);
+    /* GL refuses these itself and changes nothing. */
+    if (!b || k < 0 || size < 0 || !b->bound[k])
+        return 0;
+    uint32_t name = b->bound[k];
+    buffer_slot *s = buffer_slot_for(b, name);
+    if (!s)
+        return tsr_error_set(err, TSR_ENOMEM, "command BufferData: out of memory for the buffer table");
+    uint64_t others = b->total - s->size;
+    uint64_t max = u->limits.max_buffer_bytes;
+    if (max && (uint64_t)size > max - (others < max ? others : max))
+        return tsr_error_set(err, TSR_EPROTO,
+                             "command BufferData(target 0x%x, buffer %u, %lld bytes): over the buffer budget "
+                             "max_buffer_bytes=%llu (%llu bytes in the stream's other buffers)",
+                             target, name, (long long)size, (unsigned long long)max, (unsigned long long)others);
+    b->total = others + (uint64_t)size;
+    s->size = (uint64_t)size;
+    return 0;
+}
+
+void tsr_unpack_limits_defaults(tsr_unpack_limits *limits)
+{
+    *limits = (tsr_unpack_limits){.max_output = TSR_UNPACK_MAX_OUTPUT,
+                                  .max_vertices = TSR_UNPACK_DEFAULT_MAX_VERTICES,
+                                  .max_buffer_bytes = TSR_UNPACK_DEFAULT_MAX_BUFFER_BYTES};
+}
+
+int tsr_unpacker_set_limits(tsr_unpacker *u, const tsr_unpack_limits *limits, tsr_error *err)
+{
+    if (!u->objects && !(u->objects = calloc(1, sizeof *u->objects)))
+        return tsr_error_set(err, TSR_ENOMEM, "unpacker: out of memory");
+    u->limits = *limits;
+    u->max_output = limits->max_output ? limits->max_output : UINT64_MAX / 4;
+    u->limited = 1;
+    return TSR_OK;
+}
+
+int tsr_unpacker_refuse(const char *fmt, ...)
+{
+    tsr_unpacker *u = decoding;
+    if (!u)
+        return 0;
+    if (!u->refused) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(u->refusal, sizeof u->refusal, fmt, ap);
+        va_end(ap);
+        u->refused = 1;
+    }
+    tsr_unpacker_yield(u);
+    return 1;
 }
 
 tsr_unpacker *tsr_unpacker_create(const tsr_dispatch *target, tsr_reply_fn reply, void *reply_ctx, tsr_error *err)
@@ -53,6 +238,7 @@ void tsr_unpacker_destroy(tsr_unpacker *u)
     free(u->out);
     free(u->rbuf);
     free(u->ptrs);
+    buffers_free(u->objects);
     free(u);
 }
 
@@ -104,6 +290,7 @@ int tsr_unpacker_run(tsr_unpacker *u, const void *buf, size_t size, tsr_error *e
     const uint8_t *data = b + TSR_WIRE_HEADER_SIZE + tsr_wire_align8(nops);
     u->buffers++;
     u->commands += nops;
+    u->buffer_vertices = 0;
     u->yield = 0;
     u->resume_command = 0;
     u->resume_pos = 0;
@@ -120,7 +307,15 @@ int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err)
         err = &local;
     if (!u->paused_data)
         return tsr_error_set(err, TSR_ESTATE, "unpacker: no paused buffer to resume");
+    tsr_unpacker *outer = decoding;
+    decoding = u;
     int rc = tsr_unpack_commands(u, u->target, u->paused_data, u->paused_nops, u->paused_len, err);
+    decoding = outer;
+    if (u->refused) {
+        /* An SPU refused a command (tsr_unpacker_refuse): the stream fails. */
+        u->refused = 0;
+        rc = tsr_error_set(err, TSR_EPROTO, "%s", u->refusal);
+    }
     if (rc != TSR_UNPACK_YIELDED) {
         /* Finished or failed: nothing left to resume. */
         u->paused_data = NULL;
@@ -132,16 +327,23 @@ int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err)
 
 int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t **ptrs)
 {
-    uint64_t total = 0;
+    /* Saturating: each term and the running total stay below 2^63. */
+    uint64_t total = 0, cap = UINT64_MAX / 4;
     for (int i = 0; i < n; i++) {
-        if (sizes[i] > u->max_output || total > u->max_output)
-            return -1;
-        total += tsr_wire_align8(sizes[i]);
+        uint64_t a = sizes[i] > cap ? cap : tsr_wire_align8(sizes[i]);
+        total = total > cap ? total : total + a;
     }
-    if (total > u->max_output)
+    if (total > u->max_output) {
+        snprintf(u->outputs_why, sizeof u->outputs_why,
+                 "outputs of %llu bytes are over the reply budget max_reply_bytes=%llu",
+                 (unsigned long long)(n == 1 ? sizes[0] : total), (unsigned long long)u->max_output);
         return -1;
-    if (grow(&u->out, &u->out_cap, (size_t)total + 8) != 0)
+    }
+    if (grow(&u->out, &u->out_cap, (size_t)total + 8) != 0) {
+        snprintf(u->outputs_why, sizeof u->outputs_why, "out of memory for %llu bytes of outputs",
+                 (unsigned long long)total);
         return -1;
+    }
     memset(u->out, 0, (size_t)total + 8);
     size_t pos = 0;
     for (int i = 0; i < n; i++) {
@@ -288,6 +490,47 @@ static int range_covered(const arrays_hdr *h, uint64_t lo, uint64_t hi)
     return 1;
 }
 
+/* With limits on: a draw of `count` vertices (or indices) is charged to
+ * the buffer's vertex budget. A draw with no arrays reads nothing and is
+ * valid GL, so this alone bounds it. */
+static int charge_vertices(tsr_unpacker *u, const char *cmd, size_t at, uint64_t count, tsr_error *err)
+{
+    uint64_t max = u->limits.max_vertices;
+    if (!u->limited || !max)
+        return 0;
+    uint64_t used = u->buffer_vertices;
+    if (count > max || used > max - count)
+        BAD("command %s at data offset %zu: %llu vertices are over the vertex budget max_vertices=%llu per "
+            "buffer (%llu already drawn in this buffer)",
+            cmd, at, (unsigned long long)count, (unsigned long long)max, (unsigned long long)used);
+    u->buffer_vertices = used + count;
+    return 0;
+}
+
+/* With limits on: every array in a buffer object must hold vertex `hi`
+ * (the highest one the draw reads) inside the bytes the stream gave that
+ * buffer; GL's robustness rules let a reader refuse a draw that reads
+ * past them. */
+static int buffers_cover(const tsr_unpacker *u, const arrays_hdr *h, uint64_t hi, const char *cmd, size_t at,
+                         tsr_error *err)
+{
+    if (!u->limited)
+        return 0;
+    for (uint32_t i = 0; i < h->count; i++) {
+        const array_rec *r = &h->rec[i];
+        if (!r->buffer)
+            continue;
+        uint64_t stride = r->stride ? (uint64_t)r->stride : r->elem, end;
+        uint64_t size = buffer_size(u, r->buffer);
+        if (__builtin_mul_overflow(hi, stride, &end) || __builtin_add_overflow(end, r->offset, &end) ||
+            __builtin_add_overflow(end, r->elem, &end) || end > size)
+            BAD("command %s at data offset %zu: vertex %llu of array record %u lies past the %llu bytes of "
+                "buffer %u",
+                cmd, at, (unsigned long long)hi, i, (unsigned long long)size, r->buffer);
+    }
+    return 0;
+}
+
 static GLenum array_cap(uint32_t kind)
 {
     switch (kind) {
@@ -372,7 +615,6 @@ static const uint8_t *read_block(const uint8_t *b, size_t len, size_t *q, uint64
 int tsr_unpack_custom_DrawArrays(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len, size_t *pos,
                                  tsr_error *err)
 {
-    (void)u;
     size_t at = (size_t)tsr_wire_align8(*pos);
     if (at > len || len - at < 16)
         BAD("command DrawArrays at data offset %zu: truncated", *pos);
@@ -390,8 +632,11 @@ int tsr_unpack_custom_DrawArrays(tsr_unpacker *u, const tsr_dispatch *d, const u
     if (parse_arrays(p, plen, &h, "DrawArrays", at, err) != 0)
         return err->code;
     if (count > 0 && !range_covered(&h, (uint64_t)first, (uint64_t)first + (uint64_t)count - 1))
-        BAD("command DrawArrays at data offset %zu: vertices %d..%d lie outside the arrays sent", at, first,
-            first + count - 1);
+        BAD("command DrawArrays at data offset %zu: vertices %d..%lld lie outside the arrays sent", at, first,
+            (long long)first + count - 1);
+    if (count > 0 && (buffers_cover(u, &h, (uint64_t)first + (uint64_t)count - 1, "DrawArrays", at, err) != 0 ||
+                      charge_vertices(u, "DrawArrays", at, (uint64_t)count, err) != 0))
+        return err->code;
     set_arrays(d, &h);
     tsr_call_DrawArrays(d, mode, first, count);
     restore_arrays(d, &h);
@@ -402,7 +647,6 @@ int tsr_unpack_custom_DrawArrays(tsr_unpacker *u, const tsr_dispatch *d, const u
 int tsr_unpack_custom_DrawElements(tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len, size_t *pos,
                                    tsr_error *err)
 {
-    (void)u;
     size_t at = (size_t)tsr_wire_align8(*pos);
     if (at > len || len - at < 24)
         BAD("command DrawElements at data offset %zu: truncated", *pos);
@@ -434,10 +678,19 @@ int tsr_unpack_custom_DrawElements(tsr_unpacker *u, const tsr_dispatch *d, const
     int inline_arrays = 0;
     for (uint32_t i = 0; i < h.count; i++)
         inline_arrays |= h.rec[i].buffer == 0;
-    if (inline_arrays && count > 0) {
-        if (index_buffer)
-            BAD("command DrawElements at data offset %zu: inline arrays with indices in buffer %u", at, index_buffer);
-        /* Every index must address data that was sent. */
+    if (inline_arrays && count > 0 && index_buffer)
+        BAD("command DrawElements at data offset %zu: inline arrays with indices in buffer %u", at, index_buffer);
+    if (count > 0 && index_buffer && u->limited) {
+        /* The indices must lie inside their buffer; their values are not
+         * known here (the stream's buffer contents are not kept). */
+        uint64_t size = buffer_size(u, index_buffer), end;
+        if (__builtin_mul_overflow((uint64_t)count, (uint64_t)isize, &end) ||
+            __builtin_add_overflow(end, index_offset, &end) || end > size)
+            BAD("command DrawElements at data offset %zu: %d indices at offset %llu lie past the %llu bytes of "
+                "buffer %u",
+                at, count, (unsigned long long)index_offset, (unsigned long long)size, index_buffer);
+    } else if (count > 0 && (inline_arrays || u->limited)) {
+        /* Every index must address data that was sent (or sized). */
         uint64_t lo = UINT64_MAX, hi = 0;
         for (GLsizei i = 0; i < count; i++) {
             uint64_t v = isize == 1   ? indices[i]
@@ -446,10 +699,14 @@ int tsr_unpack_custom_DrawElements(tsr_unpacker *u, const tsr_dispatch *d, const
             lo = v < lo ? v : lo;
             hi = v > hi ? v : hi;
         }
-        if (!range_covered(&h, lo, hi))
+        if (inline_arrays && !range_covered(&h, lo, hi))
             BAD("command DrawElements at data offset %zu: indices %llu..%llu lie outside the arrays sent", at,
                 (unsigned long long)lo, (unsigned long long)hi);
+        if (buffers_cover(u, &h, hi, "DrawElements", at, err) != 0)
+            return err->code;
     }
+    if (count > 0 && charge_vertices(u, "DrawElements", at, (uint64_t)count, err) != 0)
+        return err->code;
     set_arrays(d, &h);
     tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, index_buffer);
     tsr_call_DrawElements(d, mode, count, type,

@@ -49,4 +49,13 @@ int tsr_unpacker_outputs(tsr_unpacker *u, int n, const uint64_t *sizes, uint8_t 
 int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t ret_len, int n, const uint64_t *sizes,
                        uint8_t *const *ptrs, tsr_error *err);
 
+/* Budgeted streams (tsr_unpacker_set_limits): the buffer objects the
+ * stream binds, sizes and deletes, followed before each is dispatched
+ * (generated hooks). check_BufferData fails (TSR_EPROTO, `err` naming the
+ * budget) when the new size would pass max_buffer_bytes; the command is
+ * then not dispatched. All do nothing while limits are off. */
+void tsr_unpacker_note_BindBuffer(tsr_unpacker *u, GLenum target, GLuint buffer);
+void tsr_unpacker_note_DeleteBuffers(tsr_unpacker *u, GLsizei n, const GLuint *buffers);
+int tsr_unpacker_check_BufferData(tsr_unpacker *u, GLenum target, GLsizeiptr size, tsr_error *err);
+
 #endif

@@ -41,6 +41,30 @@ typedef int (*tsr_reply_fn)(void *ctx, uint32_t id, const uint8_t *data, size_t 
  * (a lying ReadPixels must not allocate gigabytes). */
 #define TSR_UNPACK_MAX_OUTPUT ((uint64_t)1 << 30)
 
+/* A stream's resource budget: what one sender (a server node's client)
+ * may make its receiver do. Off until tsr_unpacker_set_limits: unpackers
+ * that replay a process's own streams (display lists, tilesort) need none.
+ * With limits on, the unpacker also follows the stream's buffer objects
+ * (BindBuffer, BufferData, DeleteBuffers: sizes only, never contents) and
+ * refuses a draw whose counts read past the arrays or buffers bound for
+ * it, as GL's robustness rules allow; a draw with no arrays at all reads
+ * nothing and is bounded by max_vertices alone. A refusal is TSR_EPROTO
+ * naming the command, the budget, its value and the request. 0 in a field
+ * means no limit. */
+typedef struct tsr_unpack_limits {
+    uint64_t max_output;       /* bytes of outputs (a reply) one command may ask for
+                                  (max_reply_bytes in messages) */
+    uint64_t max_vertices;     /* vertices the draws of one buffer may ask for */
+    uint64_t max_buffer_bytes; /* bytes of the stream's buffer objects alive at once */
+} tsr_unpack_limits;
+
+/* The defaults a server node uses (server/README.md states them): room for
+ * every example and benchmark. */
+#define TSR_UNPACK_DEFAULT_MAX_VERTICES ((uint64_t)1 << 24)
+#define TSR_UNPACK_DEFAULT_MAX_BUFFER_BYTES ((uint64_t)512 << 20)
+
+struct tsr_unpack_buffers; /* the buffer objects followed (unpack.c) */
+
 typedef struct tsr_unpacker {
     const tsr_dispatch *target;
     tsr_reply_fn reply;
@@ -64,6 +88,14 @@ typedef struct tsr_unpacker {
     const uint8_t *paused_data; /* NULL: nothing paused */
     uint32_t paused_nops;
     size_t paused_len;
+    /* Budget (tsr_unpacker_set_limits); `limited` 0 = off. */
+    int limited;
+    tsr_unpack_limits limits;
+    uint64_t buffer_vertices;           /* asked for by the current buffer's draws */
+    struct tsr_unpack_buffers *objects; /* buffer objects of the stream */
+    int refused;                        /* tsr_unpacker_refuse was called */
+    char refusal[400];
+    char outputs_why[160]; /* why the last command's outputs were refused */
 } tsr_unpacker;
 
 /* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when
@@ -94,6 +126,20 @@ static inline int tsr_unpacker_paused(const tsr_unpacker *u) { return u->paused_
  * when a handler yielded again, or an error as tsr_unpacker_run.
  * TSR_ESTATE when nothing is paused. */
 TSR_API int tsr_unpacker_resume(tsr_unpacker *u, tsr_error *err);
+/* Turns the budget on (or changes it). TSR_ENOMEM when the buffer-object
+ * table cannot be made. */
+TSR_API int tsr_unpacker_set_limits(tsr_unpacker *u, const tsr_unpack_limits *limits, tsr_error *err);
+/* The defaults above, max_output TSR_UNPACK_MAX_OUTPUT. */
+TSR_API void tsr_unpack_limits_defaults(tsr_unpack_limits *limits);
+/* For an SPU that handles a command of a received stream and must not do
+ * it (a budget of its own, e.g. render's texture bytes): when this thread
+ * is decoding a stream, that stream fails after this command with
+ * `fmt` as its error (a server node drops the sender with one line naming
+ * it) and 1 is returned; otherwise (the SPU runs in the application's own
+ * process) nothing happens and 0 is returned, and the SPU logs the line
+ * itself. Either way the SPU skips the command. */
+TSR_API int tsr_unpacker_refuse(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
 /* Checks a buffer's header: returns its total size, or 0 when `size` bytes
  * do not start a valid header (`err` filled). */
 TSR_API size_t tsr_wire_buffer_size(const void *buf, size_t size, tsr_error *err);
