@@ -25,6 +25,7 @@
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,6 +35,7 @@
 
 #include <GL/osmesa.h>
 
+#include "tessera/dev/unpack.h"
 #include "tessera/glprocs_gen.h"
 #include "tessera/glsl_names.h"
 #include "tessera/image.h"
@@ -41,6 +43,7 @@
 #include "tessera/spu.h"
 #include "tessera/tiles.h"
 
+#include "budget.h"
 #include "pages.h"
 #include "render.h"
 
@@ -153,6 +156,11 @@ typedef struct render_spu {
     unsigned char *tile_pixels;
     size_t tile_pixels_size;
     render_hooks hooks; /* render.h: what an SPU built on render does with each frame */
+
+    /* Budgets per context (docs/render.md, "Budgets"); 0 = no limit. */
+    uint64_t max_texture_bytes;
+    uint64_t max_window_pixels;
+    render_tex_table textures;
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
@@ -567,6 +575,141 @@ static void render_TilesTSR(void *self, GLint window, GLsizei count, const GLint
     tsr_call_TilesTSR(r->child, window, count, rects);
 }
 
+/* --- budgets ------------------------------------------------------------------ */
+
+/* A command of the stream this instance must not run: the stream fails
+ * with this line (a server node drops its client, naming it), or, in the
+ * application's own process, the line is logged. The caller skips it. */
+__attribute__((format(printf, 2, 3))) static void refuse(render_spu *r, const char *fmt, ...)
+{
+    char text[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    if (!tsr_unpacker_refuse("%s: %s", r->name, text))
+        tsr_log(TSR_LOG_ERROR, "%s: %s, skipped", r->name, text);
+}
+
+/* The context whose budget a command is charged to. */
+static GLint budget_owner(const render_spu *r) { return r->shared ? r->contexts[r->current].id : 0; }
+
+/* The glGet enum of the texture bound for a TexImage target; 0 for proxy
+ * targets (no storage) and targets GL refuses itself. */
+static GLenum binding_of(GLenum target)
+{
+    switch (target) {
+    case GL_TEXTURE_1D: return GL_TEXTURE_BINDING_1D;
+    case GL_TEXTURE_2D: return GL_TEXTURE_BINDING_2D;
+    case GL_TEXTURE_3D: return GL_TEXTURE_BINDING_3D;
+    case GL_TEXTURE_RECTANGLE: return GL_TEXTURE_BINDING_RECTANGLE;
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_X:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_X:
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_Y:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_Y:
+    case GL_TEXTURE_CUBE_MAP_POSITIVE_Z:
+    case GL_TEXTURE_CUBE_MAP_NEGATIVE_Z: return GL_TEXTURE_BINDING_CUBE_MAP;
+    default: return 0;
+    }
+}
+
+/* Whether a texture image of width x height x depth may be specified now
+ * (true: the caller runs it; the table then holds it). The texture bound
+ * is asked of GL, so display lists and attribute stacks that bound it are
+ * followed. Inside a list being compiled nothing is allocated yet: only
+ * an image larger than the whole budget is refused there. */
+static bool texture_admit(render_spu *r, const char *command, GLenum target, GLint level, GLint internalformat,
+                          GLsizei width, GLsizei height, GLsizei depth, GLint border)
+{
+    GLenum binding = binding_of(target);
+    if (!binding || level < 0 || border < 0 || border > 1)
+        return true; /* no storage, or GL's own error */
+    int64_t b2 = 2 * (int64_t)border;
+    uint64_t bytes = render_tex_image_bytes(internalformat, width + b2, height + (height > 1 || border ? b2 : 0),
+                                            depth + (depth > 1 || border ? b2 : 0));
+    if (!bytes)
+        return true;
+    GLint owner = budget_owner(r);
+    uint64_t max = r->max_texture_bytes;
+    if (current_scissor(r)->list_mode) {
+        if (max && bytes > max) {
+            refuse(r,
+                   "%s(target 0x%x, level %d, %dx%dx%d) in a display list: %llu bytes are over the texture "
+                   "budget max_texture_bytes=%llu of context %d",
+                   command, target, level, (int)width, (int)height, (int)depth, (unsigned long long)bytes,
+                   (unsigned long long)max, (int)owner);
+            return false;
+        }
+        return true;
+    }
+    GLint name = 0;
+    r->gl.GetIntegerv(binding, &name);
+    render_tex_image *old = render_tex_find(&r->textures, (GLuint)name, owner, target, level);
+    uint64_t held = render_tex_held(&r->textures, owner) - (old && old->owner == owner ? old->bytes : 0);
+    if (max && (bytes > max || held > max - bytes)) {
+        refuse(r,
+               "%s(target 0x%x, level %d, %dx%dx%d, texture %d): %llu bytes are over the texture budget "
+               "max_texture_bytes=%llu of context %d (%llu bytes held)",
+               command, target, level, (int)width, (int)height, (int)depth, (int)name, (unsigned long long)bytes,
+               (unsigned long long)max, (int)owner, (unsigned long long)held);
+        return false;
+    }
+    if (render_tex_set(&r->textures, (GLuint)name, owner, target, level, bytes) != 0) {
+        refuse(r, "%s: out of memory for the texture table", command);
+        return false;
+    }
+    return true;
+}
+
+static void render_TexImage1D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLint border,
+                              GLenum format, GLenum type, const void *pixels)
+{
+    render_spu *r = self;
+    if (texture_admit(r, "TexImage1D", target, level, internalformat, width, 1, 1, border))
+        r->gl.TexImage1D(target, level, internalformat, width, border, format, type, pixels);
+}
+
+static void render_TexImage2D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width,
+                              GLsizei height, GLint border, GLenum format, GLenum type, const void *pixels)
+{
+    render_spu *r = self;
+    if (texture_admit(r, "TexImage2D", target, level, internalformat, width, height, 1, border))
+        r->gl.TexImage2D(target, level, internalformat, width, height, border, format, type, pixels);
+}
+
+static void render_TexImage3D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width,
+                              GLsizei height, GLsizei depth, GLint border, GLenum format, GLenum type,
+                              const void *pixels)
+{
+    render_spu *r = self;
+    if (texture_admit(r, "TexImage3D", target, level, internalformat, width, height, depth, border))
+        r->gl.TexImage3D(target, level, internalformat, width, height, depth, border, format, type, pixels);
+}
+
+static void render_CopyTexImage1D(void *self, GLenum target, GLint level, GLenum internalformat, GLint x, GLint y,
+                                  GLsizei width, GLint border)
+{
+    render_spu *r = self;
+    if (texture_admit(r, "CopyTexImage1D", target, level, (GLint)internalformat, width, 1, 1, border))
+        r->gl.CopyTexImage1D(target, level, internalformat, x, y, width, border);
+}
+
+static void render_CopyTexImage2D(void *self, GLenum target, GLint level, GLenum internalformat, GLint x, GLint y,
+                                  GLsizei width, GLsizei height, GLint border)
+{
+    render_spu *r = self;
+    if (texture_admit(r, "CopyTexImage2D", target, level, (GLint)internalformat, width, height, 1, border))
+        r->gl.CopyTexImage2D(target, level, internalformat, x, y, width, height, border);
+}
+
+static void render_DeleteTextures(void *self, GLsizei n, const GLuint *textures)
+{
+    render_spu *r = self;
+    r->gl.DeleteTextures(n, textures);
+    for (GLsizei i = 0; i < n && textures; i++)
+        render_tex_forget(&r->textures, textures[i]);
+}
+
 /* --- the commands this SPU implements itself ------------------------------ */
 
 /* The scissor commands (docs/render.md, "Tiles"): the application's state
@@ -808,6 +951,14 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
         *window_seen_flag(r) = true;
         return;
     }
+    uint64_t max_pixels = r->max_window_pixels ? r->max_window_pixels : (uint64_t)RENDER_MAX_SIDE * RENDER_MAX_SIDE;
+    if (width >= 1 && height >= 1 && (uint64_t)width * (uint64_t)height > max_pixels) {
+        refuse(r, "%s(%d, %d, %d): %llu pixels are over the window budget max_window_pixels=%llu", command, r->window,
+               (int)width, (int)height, (unsigned long long)width * (unsigned long long)height,
+               (unsigned long long)max_pixels);
+        ensure_current(r);
+        return;
+    }
     if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE) {
         tsr_log(TSR_LOG_ERROR, "%s: %s(%d, %d, %d): size out of range 1..%d, ignored", r->name, command, r->window,
                 (int)width, (int)height, RENDER_MAX_SIDE);
@@ -1045,6 +1196,7 @@ static void render_ContextDestroyTSR(void *self, GLint context)
         if (shared_switch(r, index, &err) == TSR_OK)
             r->gl.Finish();
         destroy_context(r, index);
+        render_tex_forget_owner_defaults(&r->textures, context);
         r->contexts[index] = r->contexts[--r->ncontexts];
         /* Back to the context that was current, or to context 0. */
         size_t back = find_context(r, current_id);
@@ -1113,6 +1265,7 @@ static void render_destroy(void *self)
     free(r->buffer);
     free(r->tiles);
     free(r->tile_pixels);
+    render_tex_free(&r->textures);
     tsr_glsl_names_destroy(r->names);
     free(r);
 }
@@ -1134,6 +1287,8 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     r->window = (int)tsr_options_int(init->options, "window");
     r->fixed_width = (int)tsr_options_int(init->options, "width");
     r->fixed_height = (int)tsr_options_int(init->options, "height");
+    r->max_texture_bytes = (uint64_t)tsr_options_int(init->options, "max_texture_bytes");
+    r->max_window_pixels = (uint64_t)tsr_options_int(init->options, "max_window_pixels");
     if ((r->fixed_width == 0) != (r->fixed_height == 0)) {
         tsr_error_set(err, TSR_EINVAL, "%s: options width=%d and height=%d: give both or neither", r->name,
                       r->fixed_width, r->fixed_height);
@@ -1202,6 +1357,12 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     tsr_set_GetDoublev(init->table, render_GetDoublev, r);
     tsr_set_GetBooleanv(init->table, render_GetBooleanv, r);
     tsr_set_IsEnabled(init->table, render_IsEnabled, r);
+    tsr_set_TexImage1D(init->table, render_TexImage1D, r);
+    tsr_set_TexImage2D(init->table, render_TexImage2D, r);
+    tsr_set_TexImage3D(init->table, render_TexImage3D, r);
+    tsr_set_CopyTexImage1D(init->table, render_CopyTexImage1D, r);
+    tsr_set_CopyTexImage2D(init->table, render_CopyTexImage2D, r);
+    tsr_set_DeleteTextures(init->table, render_DeleteTextures, r);
     /* last: wraps the shader/program slots set above (tessera/glsl_names.h) */
     if (!(r->names = tsr_glsl_names_create(init->table, err)))
         goto fail;

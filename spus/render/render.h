@@ -21,6 +21,11 @@
 
 #define RENDER_MAX_SIDE 16384
 
+/* Per-client budgets (docs/render.md, "Budgets"): defaults with room for
+ * every example and benchmark (4096x3072 walls, 1920x1080 sort-last). */
+#define RENDER_DEFAULT_MAX_TEXTURE_BYTES "536870912"
+#define RENDER_DEFAULT_MAX_WINDOW_PIXELS "16777216"
+
 typedef struct render_hooks {
     void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height, const unsigned char *rgba);
     void *ctx;
@@ -33,38 +38,52 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
 void render_spu_destroy(void *instance);
 
 /* render's options; an SPU built on it lists them among its own. */
-#define RENDER_OPTION_SPECS                                                                   \
-    {.name = "output",                                                                        \
-     .type = TSR_OPT_STRING,                                                                  \
-     .default_value = "",                                                                     \
-     .min = 1,                                                                                \
-     .max = 0,                                                                                \
-     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "             \
-             "the directory must exist; empty: write nothing"},                               \
-        {.name = "width",                                                                     \
-         .type = TSR_OPT_INT,                                                                 \
-         .default_value = "0",                                                                \
-         .min = 0,                                                                            \
-         .max = RENDER_MAX_SIDE,                                                              \
-         .help = "framebuffer width; 0: follow the window (512 until it is known)"},          \
-        {.name = "height",                                                                    \
-         .type = TSR_OPT_INT,                                                                 \
-         .default_value = "0",                                                                \
-         .min = 0,                                                                            \
-         .max = RENDER_MAX_SIDE,                                                              \
-         .help = "framebuffer height; 0: follow the window (512 until it is known)"},         \
-        {.name = "window",                                                                    \
-         .type = TSR_OPT_INT,                                                                 \
-         .default_value = "0",                                                                \
-         .min = 0,                                                                            \
-         .max = 2147483647.0,                                                                 \
-         .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},      \
-    {                                                                                         \
-        .name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,     \
-        .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's " \
-                "tiles:); draws them at full-window coordinates, writes one PNG per tile "    \
-                "(-tN before the extension when several); a TilesTSR replaces them; empty: "  \
-                "the whole window"                                                            \
+#define RENDER_OPTION_SPECS                                                                    \
+    {.name = "output",                                                                         \
+     .type = TSR_OPT_STRING,                                                                   \
+     .default_value = "",                                                                      \
+     .min = 1,                                                                                 \
+     .max = 0,                                                                                 \
+     .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "              \
+             "the directory must exist; empty: write nothing"},                                \
+        {.name = "width",                                                                      \
+         .type = TSR_OPT_INT,                                                                  \
+         .default_value = "0",                                                                 \
+         .min = 0,                                                                             \
+         .max = RENDER_MAX_SIDE,                                                               \
+         .help = "framebuffer width; 0: follow the window (512 until it is known)"},           \
+        {.name = "height",                                                                     \
+         .type = TSR_OPT_INT,                                                                  \
+         .default_value = "0",                                                                 \
+         .min = 0,                                                                             \
+         .max = RENDER_MAX_SIDE,                                                               \
+         .help = "framebuffer height; 0: follow the window (512 until it is known)"},          \
+        {.name = "window",                                                                     \
+         .type = TSR_OPT_INT,                                                                  \
+         .default_value = "0",                                                                 \
+         .min = 0,                                                                             \
+         .max = 2147483647.0,                                                                  \
+         .help = "window id whose WindowCreate/Size/SwapBuffers this instance follows"},       \
+        {.name = "max_texture_bytes",                                                          \
+         .type = TSR_OPT_INT,                                                                  \
+         .default_value = RENDER_DEFAULT_MAX_TEXTURE_BYTES,                                    \
+         .min = 0,                                                                             \
+         .max = 9.0e15,                                                                        \
+         .help = "texture bytes each context (each client of a shared node) may hold; "        \
+                 "a TexImage beyond it fails that client's stream; 0: no limit"},              \
+        {.name = "max_window_pixels",                                                          \
+         .type = TSR_OPT_INT,                                                                  \
+         .default_value = RENDER_DEFAULT_MAX_WINDOW_PIXELS,                                    \
+         .min = 0,                                                                             \
+         .max = 268435456.0,                                                                   \
+         .help = "largest window (width x height) the stream may ask for with "                \
+                 "WindowCreateTSR/WindowSizeTSR; beyond it fails the stream; 0: 16384x16384"}, \
+    {                                                                                          \
+        .name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,      \
+        .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "  \
+                "tiles:); draws them at full-window coordinates, writes one PNG per tile "     \
+                "(-tN before the extension when several); a TilesTSR replaces them; empty: "   \
+                "the whole window"                                                             \
     }
 
 #endif
