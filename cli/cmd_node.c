@@ -14,13 +14,15 @@
 #include "mothership.h"
 #include "control.h"
 #include "node.h"
+#include "tessera/dev/unpack.h"
 
 static void node_usage(FILE *out)
 {
     fprintf(out,
             "usage: tessera node --listen ADDR --chain \"SPU CHAIN\" [--token T] [--clients N]\n"
             "                    [--timeout-ms MS] [--idle-timeout-ms MS] [--name NAME]\n"
-            "                    [--independent]\n"
+            "                    [--independent] [--max-vertices N] [--max-buffer-bytes N]\n"
+            "                    [--max-reply-bytes N] [--max-pending-reply-bytes N]\n"
             "       tessera node --mothership HOST:PORT [--name NAME | --rank N] [--token T]\n"
             "                    [--bind HOST] [--timeout-ms MS] [--connect-timeout-ms MS]\n\n"
             "Runs a server node: accepts stream clients (the pack SPU) on ADDR and feeds\n"
@@ -47,6 +49,17 @@ static void node_usage(FILE *out)
             "                    for stopped or dead, dropped and named (default 15000; 0: no\n"
             "                    limit); a client busy computing still answers heartbeats\n"
             "  --name NAME       this node's name in handshakes (default \"node\")\n"
+            "  Each client's budget (a client over it is dropped and named; the others go on;\n"
+            "  0: no limit; render's own: its options max_texture_bytes, max_window_pixels):\n"
+            "  --max-vertices N  vertices the draws of one received buffer may ask for\n"
+            "                    (default 16777216); draws reading past their arrays or\n"
+            "                    buffers are refused whatever the budget\n"
+            "  --max-buffer-bytes N  bytes of buffer objects a client may hold (default 536870912)\n"
+            "  --max-reply-bytes N   bytes one request may ask the node to send back (default\n"
+            "                    and at most 67104760: the node's message limit, whatever\n"
+            "                    limit the client announces)\n"
+            "  --max-pending-reply-bytes N  reply bytes a client may leave unread (default\n"
+            "                    268435456)\n"
             "  -h, --help        show this help\n\n"
             "Prints \"listening on ADDR\" once ready. Exit codes: 0 every client ended cleanly,\n"
             "1 runtime failure (a client dropped, none came in time, address in use),\n"
@@ -145,6 +158,13 @@ int cmd_node(int argc, char **argv)
     tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000, .idle_timeout_ms = 15000};
     const char *mothership = NULL, *rank = NULL, *bind = NULL;
     long timeout_given = -1, connect_timeout = -1, idle_given = -1;
+    tsr_unpack_limits limits;
+    tsr_unpack_limits_defaults(&limits);
+    cfg.limits = &limits;
+    uint64_t *budgets[] = {&limits.max_vertices, &limits.max_buffer_bytes, &limits.max_output,
+                           &cfg.max_pending_reply_bytes};
+    static const char *const budget_flags[] = {"--max-vertices", "--max-buffer-bytes", "--max-reply-bytes",
+                                               "--max-pending-reply-bytes"};
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
@@ -153,6 +173,24 @@ int cmd_node(int argc, char **argv)
         }
         if (!strcmp(arg, "--independent")) {
             cfg.mode = TSR_NODE_INDEPENDENT;
+            continue;
+        }
+        int budget = -1;
+        for (int k = 0; k < 4; k++)
+            if (!strcmp(arg, budget_flags[k]))
+                budget = k;
+        if (budget >= 0) {
+            char *end;
+            errno = 0;
+            unsigned long long v = i + 1 < argc ? strtoull(argv[i + 1], &end, 10) : 0;
+            if (i + 1 >= argc || errno || end == argv[i + 1] || *end || argv[i + 1][0] == '-') {
+                fprintf(stderr, "tessera node: bad %s '%s' (expected a count of 0 or more)\n", arg,
+                        i + 1 < argc ? argv[i + 1] : "");
+                return TSR_EXIT_USAGE;
+            }
+            /* 0 is no limit; pending replies have no "off" (0 = the default). */
+            *budgets[budget] = v ? v : budget == 3 ? UINT64_MAX : 0;
+            i++;
             continue;
         }
         int known = !strcmp(arg, "--listen") || !strcmp(arg, "--chain") || !strcmp(arg, "--token") ||

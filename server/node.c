@@ -30,6 +30,7 @@ typedef struct node_session {
     int started;
     uint8_t *reply; /* TSR_NODE_MSG_REPLY being sent */
     size_t reply_cap;
+    tsr_node_sent sent;
     tsr_error error;      /* why this session failed; TSR_OK when it ended cleanly */
     tsr_dispatch head;    /* the chain's head with SwapBuffersTSR counted */
     tsr_entry chain_swap; /* the chain's own SwapBuffersTSR */
@@ -190,10 +191,44 @@ void tsr_node_test_stall(tsr_node *node)
 
 /* --- one client ---------------------------------------------------------- */
 
-int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_t *cap, uint32_t id,
-                        const uint8_t *data, size_t size, tsr_error *err)
+void tsr_node_sent_add(tsr_node_sent *sent, uint64_t size)
+{
+    sent->sizes[sent->next] = size;
+    sent->next = (sent->next + 1) % TSR_NODE_SENT_RING;
+}
+
+/* Bytes of the newest `count` messages sent. */
+static uint64_t sent_newest(const tsr_node_sent *sent, uint32_t count)
+{
+    uint64_t sum = 0;
+    for (uint32_t k = 1; k <= count && k <= TSR_NODE_SENT_RING; k++)
+        sum += sent->sizes[(sent->next + TSR_NODE_SENT_RING - k) % TSR_NODE_SENT_RING];
+    return sum;
+}
+
+tsr_unpacker *tsr_node_unpacker(tsr_node *node, const tsr_dispatch *head, tsr_reply_fn reply, void *ctx, tsr_error *err)
+{
+    tsr_unpacker *u = tsr_unpacker_create(head, reply, ctx, err);
+    if (u && tsr_unpacker_set_limits(u, &node->limits, err) != TSR_OK) {
+        tsr_unpacker_destroy(u);
+        return NULL;
+    }
+    return u;
+}
+
+int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, uint8_t **buf, size_t *cap,
+                        uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
     size_t total = TSR_NODE_REPLY_HEADER + size;
+    tsr_net_stats st;
+    tsr_net_conn_stats(conn, &st);
+    uint64_t pending = sent_newest(sent, st.messages_unreturned);
+    uint64_t max = node->max_pending_reply_bytes;
+    if (total > max || pending > max - total)
+        return tsr_error_set(err, TSR_EPROTO,
+                             "the reply to request %u (%zu bytes) is over the reply budget "
+                             "max_pending_reply_bytes=%llu: %llu bytes of replies sent are not taken yet",
+                             id, total, (unsigned long long)max, (unsigned long long)pending);
     if (total > *cap) {
         uint8_t *r = realloc(*buf, total);
         if (!r)
@@ -208,6 +243,7 @@ int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_
     tsr_error cause = {0};
     if (tsr_net_send(conn, TSR_NODE_MSG_REPLY, *buf, total, TSR_NET_WAIT_FOREVER, &cause) != TSR_OK)
         return tsr_error_set(err, cause.code, "sending the reply to request %u failed: %s", id, cause.message);
+    tsr_node_sent_add(sent, total);
     tsr_node_stats delta = {.bytes_out = total};
     tsr_node_stats_add(node, &delta);
     return TSR_OK;
@@ -216,7 +252,7 @@ int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_
 static int send_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
     node_session *s = ctx;
-    int rc = tsr_node_send_reply(s->node, s->conn, &s->reply, &s->reply_cap, id, data, size, err);
+    int rc = tsr_node_send_reply(s->node, s->conn, &s->sent, &s->reply, &s->reply_cap, id, data, size, err);
     if (rc == TSR_ENOMEM)
         tsr_error_set(err, rc, "node: %s: out of memory for a %zu-byte reply", s->who, size);
     return rc;
@@ -235,9 +271,10 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
         if (got < 0)
             return tsr_error_set(&s->error, got, "%s", cause.message);
         int rc;
-        if (m.kind == TSR_NODE_MSG_FINISH)
+        if (m.kind == TSR_NODE_MSG_FINISH) {
             rc = tsr_net_send(s->conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause);
-        else if (m.kind != TSR_NODE_MSG_BUFFER)
+            tsr_node_sent_add(&s->sent, 0);
+        } else if (m.kind != TSR_NODE_MSG_BUFFER)
             rc = tsr_error_set(&cause, TSR_EPROTO, "unexpected message kind 0x%02x (%llu bytes)", m.kind,
                                (unsigned long long)m.len);
         else {
@@ -273,7 +310,7 @@ static void *session_main(void *arg)
         s->head = *tsr_chain_head(chain);
         s->chain_swap = s->head.SwapBuffersTSR;
         tsr_set_SwapBuffersTSR(&s->head, count_swap, s);
-        unpacker = tsr_unpacker_create(&s->head, send_reply, s, &err);
+        unpacker = tsr_node_unpacker(s->node, &s->head, send_reply, s, &err);
     }
     if (!unpacker) {
         tsr_error_set(&s->error, err.code, "%s", err.message);
@@ -376,6 +413,12 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
                 node->test_stall_ms, node->test_stall_ms);
     }
     node->mode = config->mode;
+    if (config->limits)
+        node->limits = *config->limits;
+    else
+        tsr_unpack_limits_defaults(&node->limits);
+    node->max_pending_reply_bytes =
+        config->max_pending_reply_bytes ? config->max_pending_reply_bytes : TSR_NODE_DEFAULT_MAX_PENDING_REPLY_BYTES;
     pthread_mutex_init(&node->stats_lock, NULL);
     node->stats_lock_ready = 1;
     if (has_chain && take_chain(node, config->chain, config->links, config->link_count, err) != TSR_OK) {
@@ -388,6 +431,12 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     cfg.node_name = config->name && config->name[0] ? config->name : "node";
     cfg.token = config->token;
     cfg.idle_timeout_ms = config->idle_timeout_ms;
+    /* A reply must fit in one message the node may send (net.h: never
+     * more than its own max_message_bytes): larger requests are refused
+     * before anything is allocated for them. */
+    uint64_t reply_room = cfg.max_message_bytes - TSR_NODE_REPLY_HEADER - 4096;
+    if (!node->limits.max_output || node->limits.max_output > reply_room)
+        node->limits.max_output = reply_room;
     node->net = tsr_net_create(&cfg, err);
     if (node->net)
         node->listener = tsr_net_listen(node->net, config->listen, err);

@@ -58,8 +58,9 @@
  * client's number (0, 1, ... in connection order), so their outputs do not
  * overwrite each other.
  *
- * In both modes a client whose stream is malformed, or whose connection
- * fails, is dropped with one logged line naming it (peer name and address)
+ * In both modes a client whose stream is malformed, goes over its budget
+ * (tsr_node_config.limits, max_pending_reply_bytes, and what the chain's
+ * SPUs refuse: tsr_unpacker_refuse), or whose connection fails, is dropped with one logged line naming it (peer name and address)
  * and sent a TSR_NODE_MSG_ERROR; other clients go on. */
 #ifndef TSR_NODE_NODE_H
 #define TSR_NODE_NODE_H
@@ -67,6 +68,7 @@
 #include <stdint.h>
 
 #include "tessera/chain.h"
+#include "tessera/dev/unpack.h"
 #include "tessera/error.h"
 
 #ifdef __cplusplus
@@ -101,7 +103,20 @@ typedef struct tsr_node_config {
                                answers heartbeats from its I/O thread while the
                                application computes (netlib/net.h, idle_timeout_ms). */
     tsr_node_mode mode;       /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
+    /* Each client's budget (server/README.md, "Budgets"): what its stream
+     * may make the node do, enforced by its unpacker (tessera/dev/unpack.h):
+     * outputs of one request, vertices per buffer, buffer-object bytes.
+     * NULL: the defaults. max_output is bounded by the node's own
+     * max_message_bytes whatever is given (a reply must fit in a message
+     * the node sends, and a client's announced limit does not raise it). */
+    const tsr_unpack_limits *limits;
+    /* Reply bytes a client may have sent to it and not yet taken (a client
+     * that asks and never reads); a reply beyond it drops the client.
+     * 0: TSR_NODE_DEFAULT_MAX_PENDING_REPLY_BYTES. */
+    uint64_t max_pending_reply_bytes;
 } tsr_node_config;
+
+#define TSR_NODE_DEFAULT_MAX_PENDING_REPLY_BYTES ((uint64_t)256 << 20)
 
 /* Checks the chain (builds and destroys client 0's chain once, so a bad
  * SPU, option or output directory fails here, not per client), then

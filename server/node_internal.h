@@ -10,6 +10,7 @@
 #include "net.h"
 #include "node.h"
 #include "tessera/chain.h"
+#include "tessera/dev/unpack.h"
 
 struct node_session;
 
@@ -18,6 +19,19 @@ struct node_session;
  * show a slow server without a huge window. Read from the environment at
  * tsr_node_create. */
 #define TSR_NODE_TEST_STALL_ENV "TESSERA_TEST_STALL_MS"
+
+/* Sizes of the last messages the node sent one client, newest last: with
+ * netlib's count of messages whose credit has not come back, the reply
+ * bytes the client has not taken yet. netlib never lets the node have more
+ * than its own credits unreturned (net.h), so the ring is that long. */
+#define TSR_NODE_SENT_RING 64
+typedef struct tsr_node_sent {
+    uint64_t sizes[TSR_NODE_SENT_RING];
+    unsigned next;
+} tsr_node_sent;
+
+/* Records a message of `size` bytes sent to the client. */
+void tsr_node_sent_add(tsr_node_sent *sent, uint64_t size);
 
 struct tsr_node {
     char *chain_text;      /* the chain as text, or NULL and ... */
@@ -28,6 +42,8 @@ struct tsr_node {
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
     unsigned clients;
     tsr_node_mode mode;
+    tsr_unpack_limits limits; /* every client's unpacker's */
+    uint64_t max_pending_reply_bytes;
     tsr_net *net;
     tsr_net_listener *listener;
     struct node_session *sessions; /* independent mode: `clients` entries */
@@ -46,9 +62,13 @@ void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta);
 /* The chain for client `index` ("{client}" replaced); NULL with `err`. */
 tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err);
 /* Sends a TSR_NODE_MSG_REPLY on `conn` through a growing buffer
- * (buf, cap); counts bytes_out. */
-int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, uint8_t **buf, size_t *cap, uint32_t id,
-                        const uint8_t *data, size_t size, tsr_error *err);
+ * (buf, cap); counts bytes_out. TSR_EPROTO (nothing sent) when the client
+ * would then have more than max_pending_reply_bytes not taken. */
+int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, uint8_t **buf, size_t *cap,
+                        uint32_t id, const uint8_t *data, size_t size, tsr_error *err);
+/* A client's unpacker, with the node's limits. */
+tsr_unpacker *tsr_node_unpacker(tsr_node *node, const tsr_dispatch *head, tsr_reply_fn reply, void *ctx,
+                                tsr_error *err);
 /* Accepts the next client; on failure fills `failure` (time-out and
  * refusals named) and returns NULL. */
 tsr_net_conn *tsr_node_accept(tsr_node *node, int timeout_ms, tsr_error *failure);

@@ -58,6 +58,7 @@ typedef struct sched_client {
     tsr_error error;      /* why it was dropped */
     uint8_t *reply;
     size_t reply_cap;
+    tsr_node_sent sent;
 } sched_client;
 
 struct sched {
@@ -267,7 +268,7 @@ static void node_MakeCurrentTSR(void *self, GLint window, GLint context) { (void
 static int client_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
     sched_client *c = ctx;
-    return tsr_node_send_reply(c->sched->node, c->conn, &c->reply, &c->reply_cap, id, data, size, err);
+    return tsr_node_send_reply(c->sched->node, c->conn, &c->sent, &c->reply, &c->reply_cap, id, data, size, err);
 }
 
 /* --- clients ----------------------------------------------------------------- */
@@ -334,7 +335,7 @@ static int add_client(sched *s, tsr_net_conn *conn)
     tsr_node_stats_add(s->node, &connected);
     tsr_call_ContextCreateTSR(s->down, c->context);
     tsr_error err = {0};
-    c->unpacker = tsr_unpacker_create(&s->head, client_reply, c, &err);
+    c->unpacker = tsr_node_unpacker(s->node, &s->head, client_reply, c, &err);
     if (!c->unpacker) {
         tsr_error_set(&c->error, err.code, "%s", err.message);
         drop(s, c);
@@ -384,6 +385,7 @@ static void run_turn(sched *s, sched_client *c)
     if (c->msg.kind == TSR_NODE_MSG_FINISH) {
         /* Every buffer before it ran: confirm. */
         int rc = tsr_net_send(c->conn, TSR_NODE_MSG_FINISH, "", 0, TSR_NET_WAIT_FOREVER, &cause);
+        tsr_node_sent_add(&c->sent, 0);
         release_msg(c);
         if (rc != TSR_OK) {
             tsr_error_set(&c->error, rc, "%s", cause.message);
