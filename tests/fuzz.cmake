@@ -61,3 +61,46 @@ if(TESSERA_FUZZ)
     COMMAND fuzz_unpack -runs=0 ${TSR_FUZZ_DIR}/corpus)
   set_tests_properties(fuzz_unpack_runs_corpus PROPERTIES TIMEOUT 300)
 endif()
+
+# --- Command buffers into render (tests/fuzz/fuzz_render.c) -------------------
+# Decoded wire buffers run into a real OSMesa render SPU with per-client
+# budgets on (issue 10, item 12). fuzz_render_seeds writes the seeds with
+# the real packer; fuzz_render_replay replays tests/fuzz/corpus-render in
+# every build; under TESSERA_FUZZ, fuzz_render is the libFuzzer target, with
+# the unpacker and render.c compiled into it with the fuzzer's coverage.
+set(tsr_fuzz_render_corpus ${TSR_FUZZ_DIR}/corpus-render)
+foreach(mode replay seeds)
+  add_executable(fuzz_render_${mode} ${TSR_FUZZ_DIR}/fuzz_render.c)
+  string(TOUPPER ${mode} tsr_mode)
+  target_compile_definitions(fuzz_render_${mode} PRIVATE FUZZ_RENDER_${tsr_mode})
+  target_link_libraries(fuzz_render_${mode} PRIVATE tessera_render_core tessera)
+endforeach()
+add_test(NAME fuzz_render_corpus_replay_budgets_on COMMAND fuzz_render_replay ${tsr_fuzz_render_corpus})
+set(tsr_fuzz_render_seed_out ${CMAKE_CURRENT_BINARY_DIR}/fuzz_render_seeds)
+file(MAKE_DIRECTORY ${tsr_fuzz_render_seed_out})
+add_test(NAME fuzz_render_seeds_pack_and_budgets_refuse
+  COMMAND fuzz_render_seeds ${tsr_fuzz_render_seed_out})
+set_tests_properties(fuzz_render_corpus_replay_budgets_on fuzz_render_seeds_pack_and_budgets_refuse
+  PROPERTIES TIMEOUT 300)
+if(TESSERA_SANITIZE)
+  set_tests_properties(fuzz_render_corpus_replay_budgets_on fuzz_render_seeds_pack_and_budgets_refuse PROPERTIES
+    ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+
+if(TESSERA_FUZZ)
+  add_executable(fuzz_render ${TSR_FUZZ_DIR}/fuzz_render.c
+    ${CMAKE_SOURCE_DIR}/spus/render/render.c ${CMAKE_SOURCE_DIR}/spus/render/budget.c
+    ${CMAKE_SOURCE_DIR}/spus/render/pages.c
+    ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
+    ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c)
+  add_dependencies(fuzz_render tessera_generated)
+  target_compile_definitions(fuzz_render PRIVATE FUZZ_RENDER_FUZZER)
+  target_include_directories(fuzz_render PRIVATE ${CMAKE_SOURCE_DIR}/spus/render ${CMAKE_SOURCE_DIR}/core
+    ${CMAKE_SOURCE_DIR}/include ${TESSERA_GEN_DIR}/include ${TESSERA_GEN_DIR}/src)
+  target_compile_options(fuzz_render PRIVATE -fsanitize=fuzzer,address,undefined
+    -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(fuzz_render PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fuzz_render PRIVATE tessera ${CMAKE_DL_LIBS} m)
+  add_test(NAME fuzz_render_runs_corpus COMMAND fuzz_render -runs=0 ${tsr_fuzz_render_corpus})
+  set_tests_properties(fuzz_render_runs_corpus PROPERTIES TIMEOUT 300)
+endif()
