@@ -37,8 +37,7 @@
 
 /* Small budgets, so inputs reach them. */
 #define FUZZ_CHAIN "fuzz_render max_texture_bytes=262144 max_window_pixels=16384"
-static const tsr_unpack_limits fuzz_limits = {
-    .max_output = 1 << 20, .max_vertices = 4096, .max_buffer_bytes = 65536};
+static const tsr_unpack_limits fuzz_limits = {.max_output = 1 << 20, .max_vertices = 4096, .max_buffer_bytes = 65536};
 
 static void *fuzz_render_create(const tsr_spu_init *init, tsr_error *err) { return render_spu_create(init, NULL, err); }
 
@@ -269,6 +268,7 @@ static void triangle(const tsr_dispatch *d)
 
 static const GLfloat quad[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
 static const GLushort quad_indices[6] = {0, 1, 2, 0, 2, 3};
+static const GLfloat small[18]; /* a 72-byte buffer */
 
 static void scenario(const char *name, const tsr_dispatch *d)
 {
@@ -342,15 +342,15 @@ static void scenario(const char *name, const tsr_dispatch *d)
         tsr_call_WindowSizeTSR(d, 0, 16384, 16384);
     } else if (!strcmp(name, "bad-draw-past-vertex-buffer")) {
         tsr_call_BindBuffer(d, GL_ARRAY_BUFFER, 1);
-        tsr_call_BufferData(d, GL_ARRAY_BUFFER, 72, quad, GL_STATIC_DRAW);
+        tsr_call_BufferData(d, GL_ARRAY_BUFFER, sizeof small, small, GL_STATIC_DRAW);
         tsr_call_VertexPointer(d, 3, GL_FLOAT, 0, NULL);
         tsr_call_EnableClientState(d, GL_VERTEX_ARRAY);
         tsr_call_DrawArrays(d, GL_POINTS, 2147483647, 2147483647);
     } else if (!strcmp(name, "bad-draw-past-index-buffer")) {
         tsr_call_BindBuffer(d, GL_ARRAY_BUFFER, 1);
-        tsr_call_BufferData(d, GL_ARRAY_BUFFER, 72, quad, GL_STATIC_DRAW);
+        tsr_call_BufferData(d, GL_ARRAY_BUFFER, sizeof small, small, GL_STATIC_DRAW);
         tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, 2);
-        tsr_call_BufferData(d, GL_ELEMENT_ARRAY_BUFFER, 72, quad, GL_STATIC_DRAW);
+        tsr_call_BufferData(d, GL_ELEMENT_ARRAY_BUFFER, sizeof small, small, GL_STATIC_DRAW);
         tsr_call_VertexPointer(d, 3, GL_FLOAT, 0, NULL);
         tsr_call_EnableClientState(d, GL_VERTEX_ARRAY);
         tsr_call_DrawElements(d, GL_POINTS, 2147483647, GL_UNSIGNED_INT, NULL);
