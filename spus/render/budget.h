@@ -14,10 +14,10 @@
 #include <GL/gl.h>
 
 typedef struct render_tex_image {
-    GLuint name;  /* texture object; 0 = a context's default texture */
-    GLint owner;  /* context that specified it (render context id) */
-    GLenum face;  /* TexImage target: GL_TEXTURE_2D, a cube face, ... */
-    GLint level;  /* mipmap level */
+    GLuint name; /* texture object; 0 = a context's default texture */
+    GLint owner; /* context that specified it (render context id) */
+    GLenum face; /* TexImage target: GL_TEXTURE_2D, a cube face, ... */
+    GLint level; /* mipmap level */
     uint64_t bytes;
 } render_tex_image;
 

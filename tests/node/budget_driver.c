@@ -88,13 +88,15 @@ static void attack(const char *what, const tsr_dispatch *d)
 
 int main(int argc, char **argv)
 {
-    static const char *const cases[] = {"readpixels", "readpixels-small", "teximage", "draw-arrays", "vbo-arrays", "vbo-elements",
-                                        "window"};
+    static const char *const cases[] = {"readpixels", "readpixels-small", "teximage", "draw-arrays",
+                                        "vbo-arrays", "vbo-elements",     "window"};
     int known = 0;
     for (size_t i = 0; argc == 3 && i < sizeof cases / sizeof cases[0]; i++)
         known |= !strcmp(argv[1], cases[i]);
     if (!known) {
-        fprintf(stderr, "usage: budget_driver readpixels|readpixels-small|teximage|draw-arrays|vbo-arrays|vbo-elements|window ADDR\n");
+        fprintf(
+            stderr,
+            "usage: budget_driver readpixels|readpixels-small|teximage|draw-arrays|vbo-arrays|vbo-elements|window ADDR\n");
         return 2;
     }
     tsr_net_config cfg;
