@@ -133,10 +133,11 @@ TSR_API const char *tsr_composite_kernel_name(void);
 
 /* ---- sparse images (active-pixel runs) ---------------------------------- */
 
-/* Layout of `data`: runs, each [uint32 inactive][uint32 active] followed by
- * the run's active colours (active * color bytes) and then their depths
- * (active floats; none for NODEPTH), each run padded to 4 bytes. The runs'
- * pixels add up to `count`. */
+/* Three planes: `runs` holds `nruns` pairs [inactive, active] of pixel
+ * counts (adding up to `count`); `color` the active pixels' colours in
+ * order, `depth` their depths (NULL for NODEPTH). Planar, so merging two
+ * active spans is one kernel call over contiguous slices, and a message is
+ * the planes back to back. */
 typedef struct tsr_sparse_image {
     int window_width, window_height;
     uint32_t start, count; /* pixel index range of the window */
@@ -146,9 +147,11 @@ typedef struct tsr_sparse_image {
     int rank_count;  /* how many positions it covers (1 before any merge) */
     uint32_t frame;  /* frame number */
     uint32_t active; /* active pixels */
-    uint32_t runs;   /* number of runs in data */
-    uint8_t *data;   /* owned */
-    size_t size, capacity;
+    uint32_t nruns;  /* run pairs in `runs` */
+    uint32_t *runs;  /* owned; 2 * nruns entries */
+    uint8_t *color;  /* owned; active * colour bytes */
+    float *depth;    /* owned; active floats */
+    size_t runs_capacity, pixel_capacity;
 } tsr_sparse_image;
 
 /* An all-background image of the range (one run). */
