@@ -85,8 +85,8 @@ static inline int32_t depth_key(float d)
     return (b & 0x7fffffffu) > 0x7f800000u ? INT32_MAX : k;
 }
 
-static void depth_rgba8_c(size_t n, const uint8_t *fc, const float *fd, const uint8_t *bc, const float *bd,
-                          uint8_t *oc, float *od)
+static void depth_rgba8_c(size_t n, const uint8_t *fc, const float *fd, const uint8_t *bc, const float *bd, uint8_t *oc,
+                          float *od)
 {
     for (size_t i = 0; i < n; i++) {
         uint32_t cf, cb, df, db;
@@ -149,7 +149,8 @@ static void depth_rgba8_sse2(size_t n, const uint8_t *fc, const float *fd, const
         /* Merging into back: spans the back wins wholly stay clean in cache. */
         if (into_back && _mm_movemask_epi8(back) == 0xffff)
             continue;
-        __m128i cf = _mm_loadu_si128((const __m128i *)(fc + 4 * i)), cb = _mm_loadu_si128((const __m128i *)(bc + 4 * i));
+        __m128i cf = _mm_loadu_si128((const __m128i *)(fc + 4 * i)),
+                cb = _mm_loadu_si128((const __m128i *)(bc + 4 * i));
         _mm_storeu_si128((__m128i *)(oc + 4 * i), sel_sse2(back, cf, cb));
         _mm_storeu_si128((__m128i *)(od + i), sel_sse2(back, f, b));
     }
@@ -165,8 +166,7 @@ __attribute__((target("avx2"))) static inline __m256i key_avx2(__m256i x)
 }
 
 __attribute__((target("avx2"))) static void depth_rgba8_avx2(size_t n, const uint8_t *fc, const float *fd,
-                                                              const uint8_t *bc, const float *bd, uint8_t *oc,
-                                                              float *od)
+                                                             const uint8_t *bc, const float *bd, uint8_t *oc, float *od)
 {
     size_t i = 0;
     int into_back = oc == bc && od == bd;
@@ -201,7 +201,8 @@ static void over_rgba8_sse2(size_t n, const uint8_t *f, const uint8_t *b, uint8_
         __m128i a = _mm_srli_epi32(vf, 24);
         a = _mm_or_si128(a, _mm_slli_epi32(a, 8));
         a = _mm_or_si128(a, _mm_slli_epi32(a, 16));
-        __m128i alo = _mm_sub_epi16(c255, _mm_unpacklo_epi8(a, zero)), ahi = _mm_sub_epi16(c255, _mm_unpackhi_epi8(a, zero));
+        __m128i alo = _mm_sub_epi16(c255, _mm_unpacklo_epi8(a, zero)),
+                ahi = _mm_sub_epi16(c255, _mm_unpackhi_epi8(a, zero));
         __m128i lo = div255_sse2(_mm_mullo_epi16(_mm_unpacklo_epi8(vb, zero), alo));
         __m128i hi = div255_sse2(_mm_mullo_epi16(_mm_unpackhi_epi8(vb, zero), ahi));
         _mm_storeu_si128((__m128i *)(o + 4 * i), _mm_adds_epu8(vf, _mm_packus_epi16(lo, hi)));
@@ -213,8 +214,7 @@ static void over_rgba8_sse2(size_t n, const uint8_t *f, const uint8_t *b, uint8_
 /* ---- public kernels ----------------------------------------------------- */
 
 void tsr_composite_depth_rgba8(size_t n, const uint8_t *front_color, const float *front_depth,
-                               const uint8_t *back_color, const float *back_depth, uint8_t *out_color,
-                               float *out_depth)
+                               const uint8_t *back_color, const float *back_depth, uint8_t *out_color, float *out_depth)
 {
 #ifdef TSR_CI_X86
     if (__builtin_cpu_supports("avx2"))
@@ -226,8 +226,8 @@ void tsr_composite_depth_rgba8(size_t n, const uint8_t *front_color, const float
 #endif
 }
 
-void tsr_composite_depth_rgba32f(size_t n, const float *front_color, const float *front_depth,
-                                 const float *back_color, const float *back_depth, float *out_color, float *out_depth)
+void tsr_composite_depth_rgba32f(size_t n, const float *front_color, const float *front_depth, const float *back_color,
+                                 const float *back_depth, float *out_color, float *out_depth)
 {
     for (size_t i = 0; i < n; i++) {
         int back = depth_key(front_depth[i]) > depth_key(back_depth[i]);
@@ -270,10 +270,10 @@ const char *tsr_composite_kernel_name(void)
 
 int tsr_cimage_merge(int mode, const tsr_cimage *front, const tsr_cimage *back, tsr_cimage *out, tsr_error *err)
 {
-    if (front->width != back->width || front->height != back->height || front->x != back->x ||
-        front->y != back->y || front->color_format != back->color_format ||
-        front->depth_format != back->depth_format || out->width != front->width || out->height != front->height ||
-        out->color_format != front->color_format || out->depth_format != front->depth_format)
+    if (front->width != back->width || front->height != back->height || front->x != back->x || front->y != back->y ||
+        front->color_format != back->color_format || front->depth_format != back->depth_format ||
+        out->width != front->width || out->height != front->height || out->color_format != front->color_format ||
+        out->depth_format != front->depth_format)
         return tsr_error_set(err, TSR_EINVAL, "composite merge: images differ in region or format (%dx%d vs %dx%d)",
                              front->width, front->height, back->width, back->height);
     size_t n = (size_t)front->width * (size_t)front->height;
@@ -281,8 +281,7 @@ int tsr_cimage_merge(int mode, const tsr_cimage *front, const tsr_cimage *back, 
         if (front->depth_format != TSR_CI_DEPTH32F)
             return tsr_error_set(err, TSR_EINVAL, "composite merge: depth mode needs depth planes");
         if (front->color_format == TSR_CI_RGBA8)
-            tsr_composite_depth_rgba8(n, front->color, front->depth, back->color, back->depth, out->color,
-                                      out->depth);
+            tsr_composite_depth_rgba8(n, front->color, front->depth, back->color, back->depth, out->color, out->depth);
         else
             tsr_composite_depth_rgba32f(n, (const float *)(void *)front->color, front->depth,
                                         (const float *)(void *)back->color, back->depth, (float *)(void *)out->color,

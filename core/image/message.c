@@ -69,8 +69,7 @@ int tsr_image_codec_parse(const char *text, tsr_image_codec *out, tsr_error *err
     if (!parts)
         return tsr_error_set(err, TSR_EINVAL, "codec '': empty (valid: none, rle, erle, yuv420, depth16, depth24)");
     if (none && parts > 1)
-        return tsr_error_set(err, TSR_EINVAL, "codec '%s': none sends every pixel raw and combines with nothing",
-                             text);
+        return tsr_error_set(err, TSR_EINVAL, "codec '%s': none sends every pixel raw and combines with nothing", text);
     if (none)
         c.runs = 0;
     *out = c;
@@ -84,7 +83,7 @@ const char *tsr_image_codec_name(tsr_image_codec c, char *buf, size_t size)
         return buf;
     }
     const char *col = c.color == TSR_CODEC_COLOR_ERLE ? "erle" : c.color == TSR_CODEC_COLOR_YUV420 ? "yuv420" : "";
-    const char *dep = c.depth == TSR_CODEC_DEPTH_ERLE   ? (c.color == TSR_CODEC_COLOR_ERLE ? "" : "erle")
+    const char *dep = c.depth == TSR_CODEC_DEPTH_ERLE  ? (c.color == TSR_CODEC_COLOR_ERLE ? "" : "erle")
                       : c.depth == TSR_CODEC_DEPTH_Q16 ? "depth16"
                       : c.depth == TSR_CODEC_DEPTH_Q24 ? "depth24"
                                                        : "";
@@ -279,7 +278,8 @@ size_t tsr_image_message_max_size(uint32_t count, int color_format, int depth_fo
 {
     size_t n = count;
     if (!c.runs)
-        return TSR_IMAGE_MESSAGE_HEADER_SIZE + n * (tsr_ci_color_bytes(color_format) + tsr_ci_depth_bytes(depth_format));
+        return TSR_IMAGE_MESSAGE_HEADER_SIZE +
+               n * (tsr_ci_color_bytes(color_format) + tsr_ci_depth_bytes(depth_format));
     /* Canonical runs: every pair but the first has an inactive pixel and
      * every pair but the last an active one, so pairs <= count / 2 + 1. */
     size_t pairs = n ? n / 2 + 1 : 0;
@@ -289,8 +289,8 @@ size_t tsr_image_message_max_size(uint32_t count, int color_format, int depth_fo
 
 /* ---- encode ------------------------------------------------------------------ */
 
-static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_codec c, uint32_t active,
-                         uint32_t nruns, uint32_t payload)
+static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_codec c, uint32_t active, uint32_t nruns,
+                         uint32_t payload)
 {
     put32(o, MSG_MAGIC);
     o[4] = MSG_VERSION;
@@ -312,8 +312,8 @@ static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_code
     put32(o + 44, payload);
 }
 
-int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap,
-                             size_t *size, tsr_error *err)
+int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap, size_t *size,
+                             tsr_error *err)
 {
     size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
     if (cap < need)
@@ -515,24 +515,23 @@ static int expect_field(const char *name, long long want, long long got, long lo
     return TSR_OK;
 }
 
-int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *e,
-                             tsr_sparse_image *out, tsr_error *err)
+int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
+                             tsr_error *err)
 {
     tsr_image_message_header h;
     int rc = tsr_image_message_header_read(data, size, &h, err);
     if (rc)
         return rc;
-    if (e &&
-        ((rc = expect_field("window width", e->window_width, h.window_width, -1, err)) ||
-         (rc = expect_field("window height", e->window_height, h.window_height, -1, err)) ||
-         (rc = expect_field("frame", e->frame, h.frame, UINT32_MAX, err)) ||
-         (rc = expect_field("rank", e->rank, h.rank, -1, err)) ||
-         (rc = expect_field("rank count", e->rank_count, h.rank_count, -1, err)) ||
-         (rc = expect_field("start pixel", e->start, h.start, UINT32_MAX, err)) ||
-         (rc = expect_field("pixel count", e->count, h.count, UINT32_MAX, err)) ||
-         (rc = expect_field("mode", e->mode, h.mode, -1, err)) ||
-         (rc = expect_field("colour format", e->color_format, h.color_format, -1, err)) ||
-         (rc = expect_field("depth format", e->depth_format, h.depth_format, -1, err))))
+    if (e && ((rc = expect_field("window width", e->window_width, h.window_width, -1, err)) ||
+              (rc = expect_field("window height", e->window_height, h.window_height, -1, err)) ||
+              (rc = expect_field("frame", e->frame, h.frame, UINT32_MAX, err)) ||
+              (rc = expect_field("rank", e->rank, h.rank, -1, err)) ||
+              (rc = expect_field("rank count", e->rank_count, h.rank_count, -1, err)) ||
+              (rc = expect_field("start pixel", e->start, h.start, UINT32_MAX, err)) ||
+              (rc = expect_field("pixel count", e->count, h.count, UINT32_MAX, err)) ||
+              (rc = expect_field("mode", e->mode, h.mode, -1, err)) ||
+              (rc = expect_field("colour format", e->color_format, h.color_format, -1, err)) ||
+              (rc = expect_field("depth format", e->depth_format, h.depth_format, -1, err))))
         return rc;
     const uint8_t *p = (const uint8_t *)data + TSR_IMAGE_MESSAGE_HEADER_SIZE, *end = p + h.payload_size;
     size_t cb = tsr_ci_color_bytes(h.color_format), db = h.depth_format ? 4 : 0;

@@ -41,8 +41,8 @@ void tsr_sparse_image_free(tsr_sparse_image *img)
     memset(img, 0, sizeof *img);
 }
 
-static void sparse_begin(tsr_sparse_image *s, int ww, int wh, uint32_t start, uint32_t count, int mode, int cf,
-                         int df, int rank, uint32_t frame)
+static void sparse_begin(tsr_sparse_image *s, int ww, int wh, uint32_t start, uint32_t count, int mode, int cf, int df,
+                         int rank, uint32_t frame)
 {
     s->window_width = ww;
     s->window_height = wh;
@@ -105,9 +105,8 @@ static int check_window(int ww, int wh, uint32_t start, uint32_t count, const ch
     return TSR_OK;
 }
 
-int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_height, uint32_t start,
-                           uint32_t count, int mode, int color_format, int depth_format, int rank, uint32_t frame,
-                           tsr_error *err)
+int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_height, uint32_t start, uint32_t count,
+                           int mode, int color_format, int depth_format, int rank, uint32_t frame, tsr_error *err)
 {
     int rc = check_window(window_width, window_height, start, count, "sparse image", err);
     if (rc || (rc = sparse_reserve(out, 1, 0, err)))
@@ -132,8 +131,8 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
     return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
 }
 
-int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
-                              tsr_sparse_image *out, tsr_error *err)
+int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                              tsr_error *err)
 {
     int rc = check_window(in->window_width, in->window_height, start, count, "sparse compress", err);
     if (rc)
@@ -169,11 +168,13 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
         uint32_t p = seg0;
         while (p < seg1) {
             uint32_t q = p;
-            while (q < seg1 && !pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
+            while (q < seg1 &&
+                   !pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
                 q++;
             put_inactive(out, q - p);
             p = q;
-            while (q < seg1 && pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
+            while (q < seg1 &&
+                   pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
                 q++;
             if (q > p) {
                 uint32_t at = put_active(out, q - p);
@@ -214,8 +215,8 @@ int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t 
     int rc = sparse_reserve(out, nr + 1, count < in->active ? count : in->active, err);
     if (rc)
         return rc;
-    sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format,
-                 in->depth_format, in->rank, in->frame);
+    sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format, in->depth_format,
+                 in->rank, in->frame);
     out->rank_count = in->rank_count;
     pos = 0;
     uint32_t aoff = 0;
@@ -324,8 +325,8 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
                 tsr_composite_depth_rgba8(n, fc, front->depth + f.at, bc, back->depth + b.at, oc, out->depth + at);
             else if (depth)
                 tsr_composite_depth_rgba32f(n, (const float *)(const void *)fc, front->depth + f.at,
-                                            (const float *)(const void *)bc, back->depth + b.at,
-                                            (float *)(void *)oc, out->depth + at);
+                                            (const float *)(const void *)bc, back->depth + b.at, (float *)(void *)oc,
+                                            out->depth + at);
             else if (!f32)
                 tsr_composite_over_rgba8(n, fc, bc, oc);
             else
@@ -360,9 +361,10 @@ int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background
                 uint32_t y = pos / w, x = pos % w, len = w - x < n ? w - x : n;
                 if ((int)y < dst->y || (int)y >= dst->y + dst->height || (int)x < dst->x ||
                     (int)(x + len) > dst->x + dst->width)
-                    return tsr_error_set(err, TSR_EINVAL,
-                                         "sparse to dense: pixels %u..%u of row %u lie outside the %dx%d region at %d,%d",
-                                         x, x + len, y, dst->width, dst->height, dst->x, dst->y);
+                    return tsr_error_set(
+                        err, TSR_EINVAL,
+                        "sparse to dense: pixels %u..%u of row %u lie outside the %dx%d region at %d,%d", x, x + len, y,
+                        dst->width, dst->height, dst->x, dst->y);
                 size_t o = (size_t)(y - (uint32_t)dst->y) * (size_t)dst->width + (x - (uint32_t)dst->x);
                 if (part) {
                     memcpy(dst->color + o * cb, in->color + (size_t)at * cb, len * cb);

@@ -33,8 +33,9 @@ int tsr_cs_choose(int nranks, int window_width, int window_height, const tsr_cs_
     } else {
         *kind = TSR_CS_RADIXK;
         *k = nranks % 8 == 0 ? 8 : 4;
-        snprintf(reason, reason_size, "auto: radixk-%d, %d peers (> 8), %llu bytes per image: few rounds of few messages",
-                 *k, nranks, (unsigned long long)bytes);
+        snprintf(reason, reason_size,
+                 "auto: radixk-%d, %d peers (> 8), %llu bytes per image: few rounds of few messages", *k, nranks,
+                 (unsigned long long)bytes);
     }
     return TSR_OK;
 }

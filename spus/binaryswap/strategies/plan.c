@@ -215,8 +215,9 @@ int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err)
                 for (int q = 0; q < o->nrecv; q++)
                     hits += o->recv[q].peer == r && same(o->recv[q].region, x->region);
                 if (hits != 1)
-                    return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d's piece %u+%u to %d is received %d times",
-                                         s->name, i, r, x->region.start, x->region.count, x->peer, hits);
+                    return tsr_error_set(err, TSR_EINVAL,
+                                         "%s: round %d: rank %d's piece %u+%u to %d is received %d times", s->name, i,
+                                         r, x->region.start, x->region.count, x->peer, hits);
             }
             for (int q = 0; q < rd->nrecv; q++) {
                 const tsr_cs_xfer *x = &rd->recv[q];
@@ -232,8 +233,8 @@ int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err)
                                          s->name, i, r, x->peer);
             }
             if (!inside(rd->keep, h[r].region))
-                return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d keeps pixels it does not hold", s->name,
-                                     i, r);
+                return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d keeps pixels it does not hold", s->name, i,
+                                     r);
             /* composite order: adjacent rank intervals, front first */
             next[r] = (held){rd->keep, h[r].lo, h[r].n};
             if (rd->keep.count && rd->nrecv) {
