@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <dirent.h>
+#include "fuzz_image_message.h"
 #include "harness.h"
 #include "strategy.h"
 #include "tessera/dev/composite.h"
@@ -53,8 +55,7 @@ typedef enum { FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SIN
 static void make_image(tsr_cimage *img, int W, int H, int x, int y, int w, int h, int rank, fill_kind kind)
 {
     tsr_error err;
-    REQUIRE(tsr_cimage_init(img, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK, "%s",
-            err.message);
+    REQUIRE(tsr_cimage_init(img, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK, "%s", err.message);
     img->rank = rank;
     img->frame = 7;
     size_t n = (size_t)w * h;
@@ -119,9 +120,11 @@ static void reference_alpha(tsr_cimage *imgs, int n, int W, int H, uint8_t *colo
                     a[k] = ref_over8(a[k], b[k], fa);
             }
     }
-    for (int p = 0; p < W * H; p++)
-        if (!(color[4 * p] | color[4 * p + 1] | color[4 * p + 2] | color[4 * p + 3]))
-            memcpy(color + 4 * p, BG, 4);
+    for (int p = 0; p < W * H; p++) {
+        uint8_t *a = color + 4 * p, fa = a[3];
+        for (int k = 0; k < 4; k++)
+            a[k] = ref_over8(a[k], BG[k], fa);
+    }
 }
 
 /* ---- kernels ----------------------------------------------------------------- */
@@ -241,7 +244,9 @@ static int test_nan_depth_never_wins(void)
     return harness_failures;
 }
 
-static void expand(const tsr_sparse_image *s, tsr_cimage *frame)
+static const uint8_t ZERO[4] = {0, 0, 0, 0};
+
+static void expand_bg(const tsr_sparse_image *s, tsr_cimage *frame, const void *bg)
 {
     tsr_error err;
     REQUIRE(tsr_cimage_init(frame, s->window_width, s->window_height, 0, 0, s->window_width, s->window_height,
@@ -251,8 +256,10 @@ static void expand(const tsr_sparse_image *s, tsr_cimage *frame)
     memset(frame->color, 0x5a, all * tsr_ci_color_bytes(s->color_format));
     for (size_t i = 0; i < all && s->depth_format; i++)
         frame->depth[i] = 2.0f;
-    REQUIRE(tsr_sparse_image_to_dense(s, BG, frame, &err) == TSR_OK, "%s", err.message);
+    REQUIRE(tsr_sparse_image_to_dense(s, bg, frame, &err) == TSR_OK, "%s", err.message);
 }
+
+static void expand(const tsr_sparse_image *s, tsr_cimage *frame) { expand_bg(s, frame, BG); }
 
 static int test_sparse_merge_equals_dense(void)
 {
@@ -271,25 +278,18 @@ static int test_sparse_merge_equals_dense(void)
         CHECK_OK(tsr_sparse_image_compress(&a, mode, 0, all, &sa, &err), err);
         CHECK_OK(tsr_sparse_image_compress(&b, mode, 0, all, &sb, &err), err);
         CHECK_OK(tsr_sparse_image_merge(&sa, &sb, &sm, &err), err);
-        expand(&sm, &ds);
-        /* dense: both as whole-window frames (inactive = background), then
-         * the dense kernel, then inactive pixels shown as background */
-        expand(&sa, &da);
-        expand(&sb, &db);
-        if (mode == TSR_COMPOSITE_ALPHA) {
-            /* background inactive pixels are transparent black for over */
-            for (uint32_t p = 0; p < all; p++) {
-                if (!memcmp(da.color + 4 * p, BG, 4))
-                    memset(da.color + 4 * p, 0, 4);
-                if (!memcmp(db.color + 4 * p, BG, 4))
-                    memset(db.color + 4 * p, 0, 4);
-            }
-        }
+        /* dense: both as whole-window frames (inactive = background:
+         * transparent black for over), the dense kernel, then inactive
+         * pixels shown as background again */
+        const uint8_t *bg = mode == TSR_COMPOSITE_ALPHA ? ZERO : BG;
+        expand_bg(&sm, &ds, bg);
+        expand_bg(&sa, &da, bg);
+        expand_bg(&sb, &db, bg);
         CHECK_OK(tsr_cimage_init(&dm, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
         CHECK_OK(tsr_cimage_merge(mode, &da, &db, &dm, &err), err);
         CHECK_OK(tsr_sparse_image_compress(&dm, mode, 0, all, &norm, &err), err);
         tsr_cimage dn = {0};
-        expand(&norm, &dn);
+        expand_bg(&norm, &dn, bg);
         CHECK(!memcmp(dn.color, ds.color, all * 4), "sparse merge colour != dense merge (%dx%d, iter %d)", W, H, iter);
         if (mode == TSR_COMPOSITE_DEPTH)
             CHECK(!memcmp(dn.depth, ds.depth, all * 4), "sparse merge depth != dense merge (iter %d)", iter);
@@ -413,8 +413,8 @@ static int test_codecs_roundtrip(void)
                 CHECK_OK(tsr_image_message_encode(src, c, buf, cap, &len, &err), err);
                 CHECK(len <= cap, "%s: %zu bytes over the bound %zu", CODECS[ci], len, cap);
                 CHECK_OK(tsr_image_message_decode(buf, len, NULL, &d, &err), err);
-                CHECK(d.start == src->start && d.count == src->count && d.active == src->active,
-                      "%s: geometry changed", CODECS[ci]);
+                CHECK(d.start == src->start && d.count == src->count && d.active == src->active, "%s: geometry changed",
+                      CODECS[ci]);
                 tsr_cimage_free(&a);
                 tsr_cimage_free(&b);
                 expand(src, &a);
@@ -427,8 +427,8 @@ static int test_codecs_roundtrip(void)
                     for (uint32_t i = 0; i < all; i++)
                         maxdz = fmax(maxdz, fabs((double)a.depth[i] - b.depth[i]));
                     if (!which && si == 3)
-                        printf("%s %dx%d: colour PSNR %.1f dB, max depth error %.2g, %zu bytes\n", CODECS[ci], W, H,
-                               p, maxdz, len);
+                        printf("%s %dx%d: colour PSNR %.1f dB, max depth error %.2g, %zu bytes\n", CODECS[ci], W, H, p,
+                               maxdz, len);
                     CHECK(p > 30.0, "%s: PSNR %.1f dB", CODECS[ci], p);
                     CHECK(maxdz <= 1.0 / 65536, "%s: depth error %g", CODECS[ci], maxdz);
                 }
@@ -505,15 +505,9 @@ static int test_message_decoder_rejects_bad_input(void)
         uint32_t value;
         const char *want;
     } cases[] = {
-        {0, 0x12345678, "bad magic"},
-        {12, 0, "impossible window"},
-        {12, 40000, "impossible window"},
-        {20, 60, "outside the"},
-        {24, 0xffffffff, "outside the"},
-        {36, 65, "cannot fit"},
-        {44, 5, "payload of"},
-        {48, 1000, "overflows the image"},
-        {52, 0, "runs cover"},
+        {0, 0x12345678, "bad magic"}, {12, 0, "impossible window"},      {12, 40000, "impossible window"},
+        {20, 60, "outside the"},      {24, 0xffffffff, "outside the"},   {36, 65, "cannot fit"},
+        {44, 5, "payload of"},        {48, 1000, "overflows the image"}, {52, 0, "runs cover"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         memcpy(bad, buf, len);
@@ -557,7 +551,9 @@ static int test_message_decoder_rejects_bad_input(void)
 
 /* ---- schedules ------------------------------------------------------------------ */
 
-typedef struct { int kind, k; } strat;
+typedef struct {
+    int kind, k;
+} strat;
 static const strat STRATS[] = {{TSR_CS_BSWAP, 0},  {TSR_CS_DIRECT, 0}, {TSR_CS_RADIXK, 2}, {TSR_CS_RADIXK, 3},
                                {TSR_CS_RADIXK, 4}, {TSR_CS_RADIXK, 8}, {TSR_CS_GATHER, 0}, {TSR_CS_AUTO, 0}};
 #define NSTRATS (sizeof STRATS / sizeof *STRATS)
@@ -602,9 +598,9 @@ typedef struct msg {
 typedef struct bus {
     pthread_mutex_t mu;
     pthread_cond_t cv;
-    int n; /* participants: peers + display */
-    msg **head, **tail;   /* [from * n + to] */
-    msg **held;           /* the buffer each receiver holds */
+    int n;              /* participants: peers + display */
+    msg **head, **tail; /* [from * n + to] */
+    msg **held;         /* the buffer each receiver holds */
 } bus;
 
 typedef struct endpoint {
@@ -739,8 +735,8 @@ static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const
 
 /* Every strategy in `which` for every peer count in [n0, n1] on W x H
  * windows: the display's frame equals the serial reference, bit for bit. */
-static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, int W, int H, fill_kind kind,
-                            int mode, const char *codec)
+static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, int W, int H, fill_kind kind, int mode,
+                            const char *codec)
 {
     tsr_error err;
     uint8_t *rc = malloc((size_t)W * H * 4);
@@ -775,8 +771,8 @@ static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, i
                 size_t bad = 0;
                 for (int p = 0; p < W * H; p++)
                     bad += memcmp(out.color + 4 * p, rc + 4 * p, 4) != 0;
-                CHECK(bad == 0, "%s n=%d %dx%d %s: %zu pixels differ from the serial reference", s.name, n, W, H,
-                      codec, bad);
+                CHECK(bad == 0, "%s n=%d %dx%d %s: %zu pixels differ from the serial reference", s.name, n, W, H, codec,
+                      bad);
             }
             tsr_cimage_free(&out);
             tsr_cs_schedule_free(&s);
@@ -823,9 +819,141 @@ static int test_blank_peers(void)
     return harness_failures;
 }
 
+/* Alpha: with every alpha 0 or 255 over is exact, so every strategy equals
+ * the serial front-to-back blend; with any alpha, the strategies that blend
+ * each pixel in one front-to-back chain (gather, direct send) still do. */
 static int test_alpha_strategies_agree(void)
 {
-    return check_strategies(STRATS, NSTRATS, 1, 24, 9, 5, FILL_OPAQUE, TSR_COMPOSITE_ALPHA, "erle");
+    static const strat chain[] = {{TSR_CS_GATHER, 0}, {TSR_CS_DIRECT, 0}};
+    check_strategies(STRATS, NSTRATS, 1, 24, 9, 5, FILL_OPAQUE, TSR_COMPOSITE_ALPHA, "erle");
+    check_strategies(chain, 2, 1, 16, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
+    return harness_failures;
+}
+
+
+/* ---- fuzz corpus ------------------------------------------------------------ */
+
+static int write_file(const char *dir, const char *name, const uint8_t *data, size_t size)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(data, 1, size, f) != size || fclose(f) != 0) {
+        fprintf(stderr, "composite_tests: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* Seeds: valid messages of every codec and format (ok-*), and the known
+ * malformations (bad-*), each checked through the fuzz entry point first. */
+static int fuzz_seeds(const char *dir)
+{
+    tsr_error err;
+    int fails = 0;
+    for (int variant = 0; variant < 3; variant++) {
+        tsr_cimage img = {0};
+        make_image(&img, 23, 5, 2, 1, 17, 3, 1, FILL_RANDOM);
+        int mode = variant == 1 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
+        if (variant == 2) {
+            /* float colour */
+            tsr_cimage f = {0};
+            REQUIRE(tsr_cimage_init(&f, 23, 5, 2, 1, 17, 3, TSR_CI_RGBA32F, TSR_CI_DEPTH32F, &err) == TSR_OK);
+            for (int i = 0; i < 17 * 3; i++) {
+                float c[4] = {img.color[4 * i] / 255.0f, 0.5f, 0.25f, 1.0f};
+                memcpy(f.color + 16 * i, c, sizeof c);
+                f.depth[i] = img.depth[i];
+            }
+            tsr_cimage_free(&img);
+            img = f;
+        }
+        tsr_sparse_image s = {0};
+        CHECK_OK(tsr_sparse_image_compress(&img, mode, 7, 100, &s, &err), err);
+        for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+            tsr_image_codec c;
+            tsr_image_codec_parse(CODECS[ci], &c, &err);
+            size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len;
+            uint8_t *buf = malloc(cap);
+            if (tsr_image_message_encode(&s, c, buf, cap, &len, &err) == TSR_OK) {
+                char name[96];
+                snprintf(name, sizeof name, "ok-%s-%s",
+                         variant == 0   ? "depth"
+                         : variant == 1 ? "alpha"
+                                        : "float",
+                         CODECS[ci]);
+                for (char *q = name; *q; q++)
+                    if (*q == '+')
+                        *q = '_';
+                CHECK(fuzz_image_message_one(buf, len) == 0, "seed %s does not decode", name);
+                fails += write_file(dir, name, buf, len);
+                if (variant == 0 && ci == 2) {
+                    /* malformations of the erle message */
+                    static const struct {
+                        const char *name;
+                        size_t off;
+                        uint32_t v;
+                    } bad[] = {{"bad-magic", 0, 1},          {"bad-window", 12, 0},
+                               {"bad-range", 24, 1u << 30},  {"bad-active", 36, 101},
+                               {"bad-payload-size", 44, 3},  {"bad-run-overflow", 48, 0x10000},
+                               {"bad-codec", 4, 0x05050501}, {"bad-rle-plane-length", 48 + 8 * 0, 0}};
+                    for (size_t b = 0; b < sizeof bad / sizeof *bad; b++) {
+                        uint8_t *m = malloc(len);
+                        memcpy(m, buf, len);
+                        size_t off = bad[b].off;
+                        if (b == sizeof bad / sizeof *bad - 1)
+                            off = 48 + 8 * (size_t)s.nruns; /* first colour plane's length */
+                        for (int k = 0; k < 4; k++)
+                            m[off + k] = (uint8_t)(bad[b].v >> (8 * k));
+                        if (b == sizeof bad / sizeof *bad - 1)
+                            m[off] = 0xff, m[off + 1] = 0xff;
+                        CHECK(fuzz_image_message_one(m, len) == 1, "seed %s is accepted", bad[b].name);
+                        fails += write_file(dir, bad[b].name, m, len);
+                        free(m);
+                    }
+                    CHECK(fuzz_image_message_one(buf, len - 1) == 1);
+                    fails += write_file(dir, "bad-truncated", buf, len - 1);
+                }
+            }
+            free(buf);
+        }
+        tsr_sparse_image_free(&s);
+        tsr_cimage_free(&img);
+    }
+    return fails + harness_failures;
+}
+
+/* Replays every file of `dir`: ok-* must decode, bad-* must be rejected,
+ * anything else (inputs libFuzzer found) must only return. */
+static int fuzz_replay(const char *dir)
+{
+    DIR *d = opendir(dir);
+    REQUIRE(d != NULL, "cannot open %s", dir);
+    struct dirent *e;
+    int files = 0;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.')
+            continue;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        FILE *f = fopen(path, "rb");
+        REQUIRE(f != NULL, "cannot read %s", path);
+        static uint8_t buf[1 << 20];
+        size_t n = fread(buf, 1, sizeof buf, f);
+        fclose(f);
+        uint8_t *copy = malloc(n ? n : 1); /* exact size, so ASan sees overreads */
+        memcpy(copy, buf, n);
+        int rc = fuzz_image_message_one(copy, n);
+        free(copy);
+        if (!strncmp(e->d_name, "ok-", 3))
+            CHECK(rc == 0, "%s does not decode", e->d_name);
+        if (!strncmp(e->d_name, "bad-", 4))
+            CHECK(rc == 1, "%s is accepted", e->d_name);
+        files++;
+    }
+    closedir(d);
+    CHECK(files > 10, "only %d corpus files in %s", files, dir);
+    printf("replayed %d files\n", files);
+    return harness_failures;
 }
 
 int main(int argc, char **argv)
@@ -849,8 +977,12 @@ int main(int argc, char **argv)
         {"blank_peers", test_blank_peers},
         {"alpha_strategies_agree", test_alpha_strategies_agree},
     };
+    if (argc == 3 && !strcmp(argv[1], "fuzz_seeds"))
+        return fuzz_seeds(argv[2]) ? 1 : 0;
+    if (argc == 3 && !strcmp(argv[1], "fuzz_replay"))
+        return fuzz_replay(argv[2]) ? 1 : 0;
     if (argc != 2) {
-        fprintf(stderr, "usage: composite_tests NAME\n");
+        fprintf(stderr, "usage: composite_tests NAME | fuzz_seeds DIR | fuzz_replay DIR\n");
         return 2;
     }
     for (size_t i = 0; i < sizeof tests / sizeof *tests; i++)
