@@ -107,49 +107,57 @@ bool tsr_image_codec_lossless(tsr_image_codec c)
 
 static size_t rle_bound(size_t n) { return 4 + n + (n + 127) / 128; }
 
-/* Encodes n bytes read with `stride` from `in` into out; returns its length. */
-static size_t rle_encode(const uint8_t *in, size_t n, size_t stride, uint8_t *out)
+/* First j >= i where three equal bytes start (n when none): eight bytes
+ * at a time, a zero byte of (x ^ y) | (y ^ z) marks the spot. */
+static size_t next_triple(const uint8_t *in, size_t i, size_t n)
 {
-    size_t o = 4, i = 0, lit = 0; /* lit: literal bytes pending before i */
-    while (i < n) {
-        size_t r = 1;
-        while (i + r < n && r < 130 && in[(i + r) * stride] == in[i * stride])
-            r++;
-        if (r >= 3) {
-            size_t l0 = i - lit;
-            while (lit) {
-                size_t k = lit > 128 ? 128 : lit;
-                out[o++] = (uint8_t)(k - 1);
-                for (size_t j = 0; j < k; j++)
-                    out[o++] = in[(l0 + j) * stride];
-                l0 += k;
-                lit -= k;
-            }
-            out[o++] = (uint8_t)(r + 125);
-            out[o++] = in[i * stride];
-            i += r;
-        } else {
-            lit++;
-            i++;
-        }
+    const uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
+    while (i + 10 <= n) {
+        uint64_t x, y, z;
+        memcpy(&x, in + i, 8);
+        memcpy(&y, in + i + 1, 8);
+        memcpy(&z, in + i + 2, 8);
+        uint64_t v = (x ^ y) | (y ^ z), t = (v - ones) & ~v & highs;
+        if (t)
+            return i + (size_t)(__builtin_ctzll(t) / 8);
+        i += 8;
     }
-    size_t l0 = n - lit;
-    while (lit) {
-        size_t k = lit > 128 ? 128 : lit;
-        out[o++] = (uint8_t)(k - 1);
-        for (size_t j = 0; j < k; j++)
-            out[o++] = in[(l0 + j) * stride];
-        l0 += k;
-        lit -= k;
+    for (; i + 2 < n; i++)
+        if (in[i] == in[i + 1] && in[i + 1] == in[i + 2])
+            return i;
+    return n;
+}
+
+/* Encodes the n bytes of a plane into out ([uint32 length][codes]);
+ * returns the bytes written. */
+static size_t rle_encode(const uint8_t *in, size_t n, uint8_t *out)
+{
+    size_t o = 4, i = 0;
+    while (i < n) {
+        size_t j = next_triple(in, i, n);
+        while (i < j) {
+            size_t k = j - i > 128 ? 128 : j - i;
+            out[o++] = (uint8_t)(k - 1);
+            memcpy(out + o, in + i, k);
+            o += k;
+            i += k;
+        }
+        if (j < n) {
+            size_t r = 3;
+            while (j + r < n && r < 130 && in[j + r] == in[j])
+                r++;
+            out[o++] = (uint8_t)(r + 125);
+            out[o++] = in[j];
+            i = j + r;
+        }
     }
     put32(out, (uint32_t)(o - 4));
     return o;
 }
 
-/* Decodes one plane of exactly n bytes (written with `stride`); *used gets
+/* Decodes one plane of exactly n bytes into out; *used gets
  * the bytes consumed. Returns 0 or -1 with *why set. */
-static int rle_decode(const uint8_t *in, size_t avail, size_t n, size_t stride, uint8_t *out, size_t *used,
-                      const char **why)
+static int rle_decode(const uint8_t *in, size_t avail, size_t n, uint8_t *out, size_t *used, const char **why)
 {
     if (avail < 4) {
         *why = "RLE plane header truncated";
@@ -170,8 +178,7 @@ static int rle_decode(const uint8_t *in, size_t avail, size_t n, size_t stride, 
                 *why = c + 1 > n - o ? "RLE literal overflows the plane" : "RLE literal truncated";
                 return -1;
             }
-            for (size_t j = 0; j < k; j++)
-                out[(o + j) * stride] = p[j];
+            memcpy(out + o, p, k);
             p += k;
             o += k;
         } else {
@@ -180,8 +187,7 @@ static int rle_decode(const uint8_t *in, size_t avail, size_t n, size_t stride, 
                 *why = p >= e ? "RLE repeat truncated" : "RLE repeat overflows the plane";
                 return -1;
             }
-            for (size_t j = 0; j < k; j++)
-                out[(o + j) * stride] = *p;
+            memset(out + o, *p, k);
             p++;
             o += k;
         }
@@ -195,28 +201,39 @@ static int rle_decode(const uint8_t *in, size_t avail, size_t n, size_t stride, 
 }
 
 /* Eilemann's bit swizzling of an RGBA8 word: output byte k holds bits
- * 7-2k and 6-2k of each channel, so the most significant bits of all four
- * channels share a byte and that plane compresses best. A bijection. */
-static inline uint32_t swizzle(uint32_t v)
+ * 7-2k and 6-2k of each channel (channel c at bits 2c, 2c+1), so the most
+ * significant bits of all four channels share a byte and that plane
+ * compresses best. A bijection, done with two 256-entry tables the caller
+ * fills (no state kept between calls). spread[b]: byte b's bit pairs from
+ * the top placed at bits 8k; gather[b]: byte b's four pairs placed at the
+ * top pair of each byte. */
+typedef struct swizzle_tables {
+    uint32_t spread[256], gather[256];
+} swizzle_tables;
+
+static void swizzle_init(swizzle_tables *t)
 {
-    uint32_t o = 0;
-    for (int k = 0; k < 4; k++)
-        for (int ch = 0; ch < 4; ch++) {
-            uint32_t two = (v >> (8 * ch + 6 - 2 * k)) & 3u;
-            o |= two << (8 * k + 2 * ch);
+    for (uint32_t b = 0; b < 256; b++) {
+        uint32_t s = 0, g = 0;
+        for (int k = 0; k < 4; k++) {
+            s |= ((b >> (6 - 2 * k)) & 3u) << (8 * k);
+            g |= ((b >> (2 * k)) & 3u) << (8 * k + 6);
         }
-    return o;
+        t->spread[b] = s;
+        t->gather[b] = g;
+    }
 }
 
-static inline uint32_t unswizzle(uint32_t o)
+static inline uint32_t swizzle(const swizzle_tables *t, uint32_t v)
 {
-    uint32_t v = 0;
-    for (int k = 0; k < 4; k++)
-        for (int ch = 0; ch < 4; ch++) {
-            uint32_t two = (o >> (8 * k + 2 * ch)) & 3u;
-            v |= two << (8 * ch + 6 - 2 * k);
-        }
-    return v;
+    return t->spread[v & 255] | t->spread[(v >> 8) & 255] << 2 | t->spread[(v >> 16) & 255] << 4 |
+           t->spread[v >> 24] << 6;
+}
+
+static inline uint32_t unswizzle(const swizzle_tables *t, uint32_t o)
+{
+    return t->gather[o & 255] | t->gather[(o >> 8) & 255] >> 2 | t->gather[(o >> 16) & 255] >> 4 |
+           t->gather[o >> 24] >> 6;
 }
 
 /* ---- YUV 4:2:0 ---------------------------------------------------------- */
@@ -371,23 +388,34 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
         memcpy(o, color, n * cb);
         o += n * cb;
     } else if (c.color == TSR_CODEC_COLOR_ERLE) {
-        if (img->color_format == TSR_CI_RGBA8) {
-            uint32_t *sw = malloc(n ? n * 4 : 4);
-            if (!sw)
-                return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
+        /* byte planes (swizzled for RGBA8), then each plane RLE-coded */
+        uint8_t *planes = malloc(n ? n * cb : 1);
+        swizzle_tables *tab = img->color_format == TSR_CI_RGBA8 ? malloc(sizeof *tab) : NULL;
+        if (!planes || (img->color_format == TSR_CI_RGBA8 && !tab)) {
+            free(planes);
+            free(tab);
+            return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
+        }
+        if (tab) {
+            swizzle_init(tab);
             for (size_t i = 0; i < n; i++) {
                 uint32_t v;
                 memcpy(&v, color + 4 * i, 4);
-                v = swizzle(v);
-                memcpy((uint8_t *)sw + 4 * i, &v, 4);
+                v = swizzle(tab, v);
+                planes[i] = (uint8_t)v;
+                planes[n + i] = (uint8_t)(v >> 8);
+                planes[2 * n + i] = (uint8_t)(v >> 16);
+                planes[3 * n + i] = (uint8_t)(v >> 24);
             }
-            for (int k = 0; k < 4; k++)
-                o += rle_encode((const uint8_t *)sw + k, n, 4, o);
-            free(sw);
         } else {
-            for (size_t k = 0; k < cb; k++)
-                o += rle_encode(color + k, n, cb, o);
+            for (size_t i = 0; i < n; i++)
+                for (size_t k = 0; k < cb; k++)
+                    planes[k * n + i] = color[i * cb + k];
         }
+        for (size_t k = 0; k < cb; k++)
+            o += rle_encode(planes + k * n, n, o);
+        free(planes);
+        free(tab);
     } else {
         uint32_t w = (uint32_t)img->window_width, half = (w + 1) / 2;
         uint32_t *slot = malloc((n ? n : 1) * sizeof *slot), *stamp = malloc(half * sizeof *stamp);
@@ -427,8 +455,18 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
             memcpy(o, depth, n * 4);
             o += n * 4;
         } else if (c.depth == TSR_CODEC_DEPTH_ERLE) {
-            for (int k = 3; k >= 0; k--) /* most significant byte first */
-                o += rle_encode((const uint8_t *)depth + k, n, 4, o);
+            uint8_t *planes = malloc(n ? 4 * n : 1);
+            if (!planes)
+                return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu depths", n);
+            for (size_t i = 0; i < n; i++) {
+                uint32_t v;
+                memcpy(&v, depth + i, 4);
+                for (int k = 0; k < 4; k++) /* most significant byte first */
+                    planes[(size_t)k * n + i] = (uint8_t)(v >> (24 - 8 * k));
+            }
+            for (int k = 0; k < 4; k++)
+                o += rle_encode(planes + (size_t)k * n, n, o);
+            free(planes);
         } else {
             int bits = c.depth == TSR_CODEC_DEPTH_Q16 ? 16 : 24;
             double scale = (double)(1u << bits);
@@ -655,19 +693,36 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
         memcpy(s->color, p, n * cb);
         p += n * cb;
     } else if (h.codec.color == TSR_CODEC_COLOR_ERLE) {
-        size_t planes = cb, stride = cb;
-        for (size_t k = 0; k < planes; k++) {
-            if (rle_decode(p, (size_t)(end - p), n, stride, s->color + k, &used, &why))
+        uint8_t *planes = malloc(n ? n * cb : 1);
+        swizzle_tables *tab = malloc(sizeof *tab);
+        if (!planes || !tab) {
+            free(planes);
+            free(tab);
+            return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
+        }
+        for (size_t k = 0; k < cb; k++) {
+            if (rle_decode(p, (size_t)(end - p), n, planes + k * n, &used, &why)) {
+                free(planes);
+                free(tab);
                 return tsr_error_set(err, TSR_EPROTO, "image message: colour plane %zu: %s", k, why);
+            }
             p += used;
         }
-        if (h.color_format == TSR_CI_RGBA8)
+        if (h.color_format == TSR_CI_RGBA8) {
+            swizzle_init(tab);
             for (size_t i = 0; i < n; i++) {
-                uint32_t v;
-                memcpy(&v, s->color + 4 * i, 4);
-                v = unswizzle(v);
+                uint32_t v = (uint32_t)planes[i] | (uint32_t)planes[n + i] << 8 | (uint32_t)planes[2 * n + i] << 16 |
+                             (uint32_t)planes[3 * n + i] << 24;
+                v = unswizzle(tab, v);
                 memcpy(s->color + 4 * i, &v, 4);
             }
+        } else {
+            for (size_t i = 0; i < n; i++)
+                for (size_t k = 0; k < cb; k++)
+                    s->color[i * cb + k] = planes[k * n + i];
+        }
+        free(planes);
+        free(tab);
     } else {
         uint32_t half = ((uint32_t)h.window_width + 1) / 2;
         uint32_t *slot = malloc((n ? n : 1) * sizeof *slot), *stamp = malloc(half * sizeof *stamp);
@@ -704,11 +759,23 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
             memcpy(s->depth, p, n * 4);
             p += n * 4;
         } else if (h.codec.depth == TSR_CODEC_DEPTH_ERLE) {
-            for (int k = 3; k >= 0; k--) {
-                if (rle_decode(p, (size_t)(end - p), n, 4, (uint8_t *)s->depth + k, &used, &why))
-                    return tsr_error_set(err, TSR_EPROTO, "image message: depth plane %d: %s", 3 - k, why);
+            uint8_t *planes = malloc(n ? 4 * n : 1);
+            if (!planes)
+                return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu depths", n);
+            for (int k = 0; k < 4; k++) {
+                if (rle_decode(p, (size_t)(end - p), n, planes + (size_t)k * n, &used, &why)) {
+                    free(planes);
+                    return tsr_error_set(err, TSR_EPROTO, "image message: depth plane %d: %s", k, why);
+                }
                 p += used;
             }
+            for (size_t i = 0; i < n; i++) {
+                uint32_t v = 0;
+                for (int k = 0; k < 4; k++)
+                    v |= (uint32_t)planes[(size_t)k * n + i] << (24 - 8 * k);
+                memcpy(s->depth + i, &v, 4);
+            }
+            free(planes);
         } else {
             int bytes = h.codec.depth == TSR_CODEC_DEPTH_Q16 ? 2 : 3;
             float scale = 1.0f / (float)(1u << (8 * bytes));

@@ -366,7 +366,22 @@ int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background
                         "sparse to dense: pixels %u..%u of row %u lie outside the %dx%d region at %d,%d", x, x + len, y,
                         dst->width, dst->height, dst->x, dst->y);
                 size_t o = (size_t)(y - (uint32_t)dst->y) * (size_t)dst->width + (x - (uint32_t)dst->x);
-                if (part) {
+                if (part && in->mode == TSR_COMPOSITE_ALPHA) {
+                    /* the background is added once, here: pixel over background */
+                    if (in->color_format == TSR_CI_RGBA8) {
+                        for (uint32_t i = 0; i < len; i++)
+                            tsr_composite_over_rgba8(1, in->color + ((size_t)at + i) * 4, background,
+                                                     dst->color + (o + i) * 4);
+                    } else {
+                        for (uint32_t i = 0; i < len; i++)
+                            tsr_composite_over_rgba32f(1,
+                                                       (const float *)(const void *)(in->color + ((size_t)at + i) * 16),
+                                                       background, (float *)(void *)(dst->color + (o + i) * 16));
+                    }
+                    if (dst->depth_format && in->depth_format)
+                        memcpy(dst->depth + o, in->depth + at, len * sizeof(float));
+                    at += len;
+                } else if (part) {
                     memcpy(dst->color + o * cb, in->color + (size_t)at * cb, len * cb);
                     if (dst->depth_format && in->depth_format)
                         memcpy(dst->depth + o, in->depth + at, len * sizeof(float));

@@ -172,9 +172,10 @@ TSR_API int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, u
 TSR_API int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
                                    tsr_error *err);
 /* Writes the image's range into `dst`, a dense image whose region covers
- * the range's pixels (the whole window for the final frame): active pixels
- * as they are, inactive ones as `background` (RGBA8: 4 bytes; RGBA32F: 4
- * floats as bytes) and depth 1.0. Pixels of dst outside the range are left
+ * the range's pixels (the whole window for the final frame): inactive
+ * pixels as `background` (RGBA8: 4 bytes; RGBA32F: 4 floats) with depth
+ * 1.0; active ones as they are in depth mode, and blended over
+ * `background` in alpha mode (so it is added once, not once per peer). Pixels of dst outside the range are left
  * alone, so the final pieces of a strategy assemble into one frame. */
 TSR_API int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background, tsr_cimage *dst,
                                       tsr_error *err);
