@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "composite_internal.h"
 #include "tessera/dev/composite.h"
 
 #define MSG_MAGIC 0x4d495354u /* "TSIM" */
@@ -114,9 +115,9 @@ static size_t next_triple(const uint8_t *in, size_t i, size_t n)
     const uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
     while (i + 10 <= n) {
         uint64_t x, y, z;
-        memcpy(&x, in + i, 8);
-        memcpy(&y, in + i + 1, 8);
-        memcpy(&z, in + i + 2, 8);
+        ci_copy(&x, in + i, 8);
+        ci_copy(&y, in + i + 1, 8);
+        ci_copy(&z, in + i + 2, 8);
         uint64_t v = (x ^ y) | (y ^ z), t = (v - ones) & ~v & highs;
         if (t)
             return i + (size_t)(__builtin_ctzll(t) / 8);
@@ -138,7 +139,7 @@ static size_t rle_encode(const uint8_t *in, size_t n, uint8_t *out)
         while (i < j) {
             size_t k = j - i > 128 ? 128 : j - i;
             out[o++] = (uint8_t)(k - 1);
-            memcpy(out + o, in + i, k);
+            ci_copy(out + o, in + i, k);
             o += k;
             i += k;
         }
@@ -178,7 +179,7 @@ static int rle_decode(const uint8_t *in, size_t avail, size_t n, uint8_t *out, s
                 *why = c + 1 > n - o ? "RLE literal overflows the plane" : "RLE literal truncated";
                 return -1;
             }
-            memcpy(out + o, p, k);
+            ci_copy(out + o, p, k);
             p += k;
             o += k;
         } else {
@@ -355,11 +356,11 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
             uint32_t ni = img->runs[2 * r], na = img->runs[2 * r + 1];
             memset(oc + p * cb, 0, (size_t)ni * cb);
             for (uint32_t i = 0; i < ni && db; i++)
-                memcpy(od + (p + i) * 4, &far, 4);
+                ci_copy(od + (p + i) * 4, &far, 4);
             p += ni;
-            memcpy(oc + p * cb, color + at * cb, (size_t)na * cb);
+            ci_copy(oc + p * cb, color + at * cb, (size_t)na * cb);
             if (db)
-                memcpy(od + p * 4, depth + at, (size_t)na * 4);
+                ci_copy(od + p * 4, depth + at, (size_t)na * 4);
             p += na;
             at += na;
         }
@@ -385,7 +386,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
     }
     o += 8 * (size_t)nr;
     if (c.color == TSR_CODEC_COLOR_RAW) {
-        memcpy(o, color, n * cb);
+        ci_copy(o, color, n * cb);
         o += n * cb;
     } else if (c.color == TSR_CODEC_COLOR_ERLE) {
         /* byte planes (swizzled for RGBA8), then each plane RLE-coded */
@@ -400,7 +401,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
             swizzle_init(tab);
             for (size_t i = 0; i < n; i++) {
                 uint32_t v;
-                memcpy(&v, color + 4 * i, 4);
+                ci_copy(&v, color + 4 * i, 4);
                 v = swizzle(tab, v);
                 planes[i] = (uint8_t)v;
                 planes[n + i] = (uint8_t)(v >> 8);
@@ -452,7 +453,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
     }
     if (img->depth_format) {
         if (c.depth == TSR_CODEC_DEPTH_RAW) {
-            memcpy(o, depth, n * 4);
+            ci_copy(o, depth, n * 4);
             o += n * 4;
         } else if (c.depth == TSR_CODEC_DEPTH_ERLE) {
             uint8_t *planes = malloc(n ? 4 * n : 1);
@@ -460,7 +461,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
                 return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu depths", n);
             for (size_t i = 0; i < n; i++) {
                 uint32_t v;
-                memcpy(&v, depth + i, 4);
+                ci_copy(&v, depth + i, 4);
                 for (int k = 0; k < 4; k++) /* most significant byte first */
                     planes[(size_t)k * n + i] = (uint8_t)(v >> (24 - 8 * k));
             }
@@ -571,6 +572,13 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
               (rc = expect_field("colour format", e->color_format, h.color_format, -1, err)) ||
               (rc = expect_field("depth format", e->depth_format, h.depth_format, -1, err))))
         return rc;
+    if (out->borrowed) {
+        /* a view's planes belong to another image: decode into new ones */
+        out->color = NULL;
+        out->depth = NULL;
+        out->pixel_capacity = 0;
+        out->borrowed = 0;
+    }
     const uint8_t *p = (const uint8_t *)data + TSR_IMAGE_MESSAGE_HEADER_SIZE, *end = p + h.payload_size;
     size_t cb = tsr_ci_color_bytes(h.color_format), db = h.depth_format ? 4 : 0;
     tsr_sparse_image *s = out;
@@ -614,7 +622,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
             const uint8_t *c = p + (size_t)i * cb;
             float d = 1.0f;
             if (db)
-                memcpy(&d, p + (size_t)h.count * cb + (size_t)i * 4, 4);
+                ci_copy(&d, p + (size_t)h.count * cb + (size_t)i * 4, 4);
             int act;
             if (h.mode == TSR_COMPOSITE_DEPTH) {
                 act = d < 1.0f;
@@ -622,7 +630,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
                 act = (c[0] | c[1] | c[2] | c[3]) != 0;
             } else {
                 float f[4];
-                memcpy(f, c, sizeof f);
+                ci_copy(f, c, sizeof f);
                 act = f[0] != 0.0f || f[1] != 0.0f || f[2] != 0.0f || f[3] != 0.0f;
             }
             if (act) {
@@ -631,7 +639,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
                     s->nruns = 1;
                 }
                 s->runs[2 * s->nruns - 1]++;
-                memcpy(s->color + (size_t)s->active * cb, c, cb);
+                ci_copy(s->color + (size_t)s->active * cb, c, cb);
                 if (db)
                     s->depth[s->active] = d;
                 s->active++;
@@ -690,7 +698,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
     if (h.codec.color == TSR_CODEC_COLOR_RAW) {
         if ((size_t)(end - p) < n * cb)
             return tsr_error_set(err, TSR_EPROTO, "image message: colour of %zu pixels truncated", n);
-        memcpy(s->color, p, n * cb);
+        ci_copy(s->color, p, n * cb);
         p += n * cb;
     } else if (h.codec.color == TSR_CODEC_COLOR_ERLE) {
         uint8_t *planes = malloc(n ? n * cb : 1);
@@ -714,7 +722,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
                 uint32_t v = (uint32_t)planes[i] | (uint32_t)planes[n + i] << 8 | (uint32_t)planes[2 * n + i] << 16 |
                              (uint32_t)planes[3 * n + i] << 24;
                 v = unswizzle(tab, v);
-                memcpy(s->color + 4 * i, &v, 4);
+                ci_copy(s->color + 4 * i, &v, 4);
             }
         } else {
             for (size_t i = 0; i < n; i++)
@@ -756,7 +764,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
         if (h.codec.depth == TSR_CODEC_DEPTH_RAW) {
             if ((size_t)(end - p) < n * 4)
                 return tsr_error_set(err, TSR_EPROTO, "image message: depth of %zu pixels truncated", n);
-            memcpy(s->depth, p, n * 4);
+            ci_copy(s->depth, p, n * 4);
             p += n * 4;
         } else if (h.codec.depth == TSR_CODEC_DEPTH_ERLE) {
             uint8_t *planes = malloc(n ? 4 * n : 1);
@@ -773,7 +781,7 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
                 uint32_t v = 0;
                 for (int k = 0; k < 4; k++)
                     v |= (uint32_t)planes[(size_t)k * n + i] << (24 - 8 * k);
-                memcpy(s->depth + i, &v, 4);
+                ci_copy(s->depth + i, &v, 4);
             }
             free(planes);
         } else {

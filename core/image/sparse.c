@@ -6,10 +6,18 @@
  * expands background while merging or splitting; keeps state. */
 #include <stdlib.h>
 #include <string.h>
+#include "composite_internal.h"
 #include "tessera/dev/composite.h"
 
 static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, tsr_error *err)
 {
+    if (s->borrowed) {
+        /* a view's planes are another image's: never freed or reused */
+        s->color = NULL;
+        s->depth = NULL;
+        s->pixel_capacity = 0;
+        s->borrowed = 0;
+    }
     if (runs > s->runs_capacity) {
         uint32_t *r = realloc(s->runs, runs * 2 * sizeof *r);
         if (!r)
@@ -36,8 +44,10 @@ static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, tsr_e
 void tsr_sparse_image_free(tsr_sparse_image *img)
 {
     free(img->runs);
-    free(img->color);
-    free(img->depth);
+    if (!img->borrowed) {
+        free(img->color);
+        free(img->depth);
+    }
     memset(img, 0, sizeof *img);
 }
 
@@ -90,9 +100,9 @@ static inline void copy_active(tsr_sparse_image *s, const tsr_sparse_image *from
 {
     size_t cb = tsr_ci_color_bytes(s->color_format);
     uint32_t at = put_active(s, n);
-    memcpy(s->color + at * cb, from->color + (size_t)from_at * cb, n * cb);
+    ci_copy(s->color + at * cb, from->color + (size_t)from_at * cb, n * cb);
     if (s->depth_format)
-        memcpy(s->depth + at, from->depth + from_at, n * sizeof(float));
+        ci_copy(s->depth + at, from->depth + from_at, n * sizeof(float));
 }
 
 static int check_window(int ww, int wh, uint32_t start, uint32_t count, const char *what, tsr_error *err)
@@ -123,11 +133,11 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
         return *depth < 1.0f;
     if (cf == TSR_CI_RGBA8) {
         uint32_t v;
-        memcpy(&v, color, 4);
+        ci_copy(&v, color, 4);
         return v != 0;
     }
     float c[4];
-    memcpy(c, color, sizeof c);
+    ci_copy(c, color, sizeof c);
     return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
 }
 
@@ -178,9 +188,9 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
                 q++;
             if (q > p) {
                 uint32_t at = put_active(out, q - p);
-                memcpy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
+                ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
                 if (in->depth_format)
-                    memcpy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                    ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
             }
             p = q;
         }
@@ -190,52 +200,86 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
     return TSR_OK;
 }
 
-int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                           tsr_error *err)
+/* The runs of in's pixels [start, start+count) into out (runs reserved
+ * here; out's header set), without touching pixel values. *first gets the
+ * index in `in` of the first active pixel inside the range; out->active
+ * the active pixels inside (contiguous in in's planes from *first). */
+static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out, size_t pixels,
+                     uint32_t *first_active, const char *what, tsr_error *err)
 {
     if (start < in->start || (uint64_t)start + count > (uint64_t)in->start + in->count)
-        return tsr_error_set(err, TSR_EINVAL, "sparse split: pixels %u+%u are outside the image's %u+%u", start, count,
+        return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u+%u are outside the image's %u+%u", what, start, count,
                              in->start, in->count);
     if (out == in)
-        return tsr_error_set(err, TSR_EINVAL, "sparse split: output aliases the input");
-    /* Count what falls inside first, so out is sized exactly. */
-    uint32_t lo = start - in->start, hi = lo + count, pos = 0, act = 0;
-    uint32_t first = 0, nr = 0;
-    for (uint32_t r = 0; r < in->nruns && pos < hi; r++) {
-        uint32_t len = in->runs[2 * r] + in->runs[2 * r + 1];
-        if (pos + len > lo) {
-            if (!nr)
-                first = r;
-            nr++;
-        }
-        pos += len;
-        act += in->runs[2 * r + 1];
+        return tsr_error_set(err, TSR_EINVAL, "%s: output aliases the input", what);
+    uint32_t lo = start - in->start, hi = lo + count, pos = 0, aoff = 0, r = 0;
+    /* skip the runs wholly before the range */
+    while (r < in->nruns && pos + in->runs[2 * r] + in->runs[2 * r + 1] <= lo) {
+        pos += in->runs[2 * r] + in->runs[2 * r + 1];
+        aoff += in->runs[2 * r + 1];
+        r++;
     }
-    (void)act;
-    int rc = sparse_reserve(out, nr + 1, count < in->active ? count : in->active, err);
+    uint32_t first = r, nr = 0;
+    for (uint32_t q = r, p = pos; q < in->nruns && p < hi; q++, nr++)
+        p += in->runs[2 * q] + in->runs[2 * q + 1];
+    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, err);
     if (rc)
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format, in->depth_format,
                  in->rank, in->frame);
     out->rank_count = in->rank_count;
-    pos = 0;
-    uint32_t aoff = 0;
-    for (uint32_t r = 0; r < first; r++) {
-        pos += in->runs[2 * r] + in->runs[2 * r + 1];
-        aoff += in->runs[2 * r + 1];
-    }
-    for (uint32_t r = first; r < in->nruns && pos < hi; r++) {
+    int have_first = 0;
+    *first_active = aoff;
+    for (r = first; r < in->nruns && pos < hi; r++) {
         uint32_t ni = in->runs[2 * r], na = in->runs[2 * r + 1];
         /* inactive [pos, pos+ni), active [pos+ni, pos+ni+na) clipped to [lo, hi) */
         uint32_t a0 = pos > lo ? pos : lo, a1 = pos + ni < hi ? pos + ni : hi;
         if (a1 > a0)
             put_inactive(out, a1 - a0);
         uint32_t b0 = pos + ni > lo ? pos + ni : lo, b1 = pos + ni + na < hi ? pos + ni + na : hi;
-        if (b1 > b0)
-            copy_active(out, in, aoff + (b0 - (pos + ni)), b1 - b0);
+        if (b1 > b0) {
+            if (!have_first) {
+                *first_active = aoff + (b0 - (pos + ni));
+                have_first = 1;
+            }
+            put_active(out, b1 - b0);
+        }
         pos += ni + na;
         aoff += na;
     }
+    return TSR_OK;
+}
+
+int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                           tsr_error *err)
+{
+    uint32_t first = 0;
+    int rc = clip_runs(in, start, count, out, count < in->active ? count : in->active, &first, "sparse split", err);
+    if (rc)
+        return rc;
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    ci_copy(out->color, in->color + (size_t)first * cb, (size_t)out->active * cb);
+    if (in->depth_format)
+        ci_copy(out->depth, in->depth + first, (size_t)out->active * sizeof(float));
+    return TSR_OK;
+}
+
+int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                          tsr_error *err)
+{
+    uint32_t first = 0;
+    int rc = clip_runs(in, start, count, out, 0, &first, "sparse view", err);
+    if (rc)
+        return rc;
+    if (!out->borrowed) {
+        free(out->color);
+        free(out->depth);
+    }
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    out->color = in->color ? in->color + (size_t)first * cb : NULL;
+    out->depth = in->depth ? in->depth + first : NULL;
+    out->pixel_capacity = 0;
+    out->borrowed = 1;
     return TSR_OK;
 }
 
@@ -333,7 +377,7 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
                 tsr_composite_over_rgba32f(n, (const float *)(const void *)fc, (const float *)(const void *)bc,
                                            (float *)(void *)oc);
             if (!depth && out->depth_format)
-                memcpy(out->depth + at, front->depth + f.at, n * sizeof(float));
+                ci_copy(out->depth + at, front->depth + f.at, n * sizeof(float));
         }
         cursor_take(&f, n);
         cursor_take(&b, n);
@@ -379,16 +423,16 @@ int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background
                                                        background, (float *)(void *)(dst->color + (o + i) * 16));
                     }
                     if (dst->depth_format && in->depth_format)
-                        memcpy(dst->depth + o, in->depth + at, len * sizeof(float));
+                        ci_copy(dst->depth + o, in->depth + at, len * sizeof(float));
                     at += len;
                 } else if (part) {
-                    memcpy(dst->color + o * cb, in->color + (size_t)at * cb, len * cb);
+                    ci_copy(dst->color + o * cb, in->color + (size_t)at * cb, len * cb);
                     if (dst->depth_format && in->depth_format)
-                        memcpy(dst->depth + o, in->depth + at, len * sizeof(float));
+                        ci_copy(dst->depth + o, in->depth + at, len * sizeof(float));
                     at += len;
                 } else {
                     for (uint32_t i = 0; i < len; i++)
-                        memcpy(dst->color + (o + i) * cb, background, cb);
+                        ci_copy(dst->color + (o + i) * cb, background, cb);
                     if (dst->depth_format)
                         for (uint32_t i = 0; i < len; i++)
                             dst->depth[o + i] = far;

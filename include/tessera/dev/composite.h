@@ -152,6 +152,7 @@ typedef struct tsr_sparse_image {
     uint8_t *color;  /* owned; active * colour bytes */
     float *depth;    /* owned; active floats */
     size_t runs_capacity, pixel_capacity;
+    int borrowed; /* 1: color/depth point into another image (a view) */
 } tsr_sparse_image;
 
 /* An all-background image of the range (one run). */
@@ -167,6 +168,12 @@ TSR_API int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t s
  * its own sparse image; background runs are cut, never expanded. */
 TSR_API int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
                                    tsr_error *err);
+/* Like split, but without copying pixels: `out` gets its own runs and
+ * points into in's colour and depth planes (out->borrowed), so it is valid
+ * only while `in` is alive and unchanged. For pieces that are encoded or
+ * merged at once (a strategy's sends and kept region). */
+TSR_API int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                                  tsr_error *err);
 /* Merges front and back (same window, range, mode and formats; adjacent
  * order intervals, front first) into `out` (must not alias either). */
 TSR_API int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,

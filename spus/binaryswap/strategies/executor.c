@@ -137,15 +137,28 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
     const tsr_cs_rank *R = &s->ranks[rank];
     for (int i = 0; i < R->nrounds; i++) {
         const tsr_cs_round *rd = &R->rounds[i];
+        /* pieces are views of the current image: encoded or merged at
+         * once, never copied */
         for (int j = 0; j < rd->nsend; j++) {
-            if ((rc = tsr_sparse_image_split(&ex->cur, rd->send[j].region.start, rd->send[j].region.count, &ex->piece,
-                                             err)) ||
+            if ((rc = tsr_sparse_image_view(&ex->cur, rd->send[j].region.start, rd->send[j].region.count, &ex->piece,
+                                            err)) ||
                 (rc = send_piece(ex, &ex->piece, rd->send[j].peer, t, err)))
                 return rc;
         }
+        if (!rd->nrecv) {
+            /* nothing to composite: keep a part (a copy), or all as it is */
+            if (rd->keep.start == ex->cur.start && rd->keep.count == ex->cur.count)
+                continue;
+            if ((rc = tsr_sparse_image_split(&ex->cur, rd->keep.start, rd->keep.count, &ex->acc, err)))
+                return rc;
+            tsr_sparse_image t0 = ex->cur;
+            ex->cur = ex->acc;
+            ex->acc = t0;
+            continue;
+        }
         tsr_sparse_image *pieces[TSR_CS_MAX_PEERS + 1];
         int np = 0;
-        if ((rc = tsr_sparse_image_split(&ex->cur, rd->keep.start, rd->keep.count, &ex->piece, err)))
+        if ((rc = tsr_sparse_image_view(&ex->cur, rd->keep.start, rd->keep.count, &ex->piece, err)))
             return rc;
         tsr_image_message_header expect;
         tsr_image_message_expect_any(&expect);
@@ -180,7 +193,7 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
     }
     if (!R->final.count)
         return TSR_OK;
-    if ((rc = tsr_sparse_image_split(&ex->cur, R->final.start, R->final.count, &ex->piece, err)))
+    if ((rc = tsr_sparse_image_view(&ex->cur, R->final.start, R->final.count, &ex->piece, err)))
         return rc;
     return send_piece(ex, &ex->piece, TSR_CS_DISPLAY(s->nranks), t, err);
 }

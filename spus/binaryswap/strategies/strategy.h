@@ -5,9 +5,10 @@
  * the strategies do not know which).
  *
  * Owns: schedules (tsr_cs_schedule, plain data, freed with
- * tsr_cs_schedule_free) and the executor's scratch images. Never: opens
- * sockets, reads clocks, logs or keeps process-wide state; a strategy is a
- * pure function of (peer count, window, k).
+ * tsr_cs_schedule_free), the executor's scratch images, and the queues of
+ * the in-process transport (tsr_cs_memnet). Never: opens sockets, logs or
+ * keeps process-wide state; a strategy is a pure function of (peer count,
+ * window, k).
  *
  * Participants: ranks 0..nranks-1 are the peers, in compositing order
  * (depth mode: rank order; alpha mode: the caller maps view order to
@@ -150,6 +151,18 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
  * or the schedule's colour format), inactive pixels as `background`. */
 int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_format, int depth_format,
                        const void *background, tsr_cimage *frame_out, const tsr_cs_transport *t, tsr_error *err);
+
+/* ---- in-process transport ----------------------------------------------- */
+
+/* Queues between `participants` endpoints in one process (threads); a
+ * receive waits at most timeout_ms. Endpoint i's transport: _transport. */
+typedef struct tsr_cs_memnet tsr_cs_memnet;
+tsr_cs_memnet *tsr_cs_memnet_new(int participants, int timeout_ms, tsr_error *err);
+void tsr_cs_memnet_transport(tsr_cs_memnet *m, int me, tsr_cs_transport *out);
+/* Drops every message still queued; returns how many (the first one's
+ * endpoints in *from, *to): a finished frame leaves none. */
+int tsr_cs_memnet_drain(tsr_cs_memnet *m, int *from, int *to);
+void tsr_cs_memnet_free(tsr_cs_memnet *m);
 
 /* Statistics of the last run (bytes and messages this executor sent). */
 typedef struct tsr_cs_stats {
