@@ -7,11 +7,23 @@
  * The merged frames are two interpenetrating shaded surfaces (each wins
  * about half the window in large coherent areas, as rendered geometry
  * does); merge_random_vs_memcpy repeats the merge with per-pixel random
- * depths, the worst case for the write traffic. */
+ * depths, the worst case for the write traffic.
+ *
+ * Then each strategy in one process (a thread per peer and the display,
+ * the in-process transport: every message copied once, as a socket would),
+ * N = 2, 4, 8 peers at 1920x1080, each peer a full-window layer winning
+ * about 1/N of the pixels: wall time from "all images read back" to the
+ * assembled frame and the CPU time of all threads together (medians of
+ * the frames), and the bytes sent per frame. On 2 shared vCPUs the threads
+ * share the cores with everything else, so the CPU time is the figure to
+ * compare. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "bench_common.h"
+#include "strategy.h"
 #include "tessera/dev/composite.h"
 
 static uint64_t rs = 0x9e3779b97f4a7c15ull;
@@ -123,6 +135,148 @@ static double psnr8(const uint8_t *a, const uint8_t *b, size_t n)
     return se == 0 ? INFINITY : 10 * log10(255.0 * 255.0 * (double)n / se);
 }
 
+/* ---- strategies in one process ------------------------------------------- */
+
+typedef struct bjob {
+    tsr_cs_executor *ex;
+    tsr_cimage *img;
+    tsr_cs_transport t;
+    int rank, rc;
+    tsr_error err;
+} bjob;
+
+static void *bpeer(void *arg)
+{
+    bjob *j = arg;
+    j->rc = tsr_cs_run_peer(j->ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &j->err);
+    return NULL;
+}
+
+static double now_wall(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec / 1e9;
+}
+
+/* CPU time of the whole process (every peer thread and the display): on
+ * a loaded machine the wall time mostly measures the other processes. */
+static double now_cpu(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec / 1e9;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Peer r's layer: depth bands so each peer is nearest on about 1/N. */
+static void layer(tsr_cimage *img, int W, int H, int r, int n, int partial)
+{
+    tsr_error err;
+    if (tsr_cimage_init(img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err))
+        abort();
+    img->rank = r;
+    img->frame = 1;
+    double cx = W * (0.3 + 0.4 * ((r * 37) % 11) / 10.0), cy = H * (0.3 + 0.4 * ((r * 53) % 7) / 6.0);
+    double ax = W * 0.36, ay = H * 0.36; /* pi * 0.36^2 = 40% of the window */
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            double u = (double)x / W - (double)r / n;
+            u -= floor(u);
+            double dx = (x - cx) / ax, dy = (y - cy) / ay;
+            int in = !partial || dx * dx + dy * dy < 1;
+            img->depth[i] = in ? (float)(0.1 + 0.8 * u) : 1.0f;
+            uint8_t *c = img->color + 4 * i;
+            c[0] = (uint8_t)(40 * r);
+            c[1] = (uint8_t)(255 * u);
+            c[2] = (uint8_t)(x ^ y);
+            c[3] = 255;
+        }
+}
+
+static void bench_strategies(const bench_args *a, FILE *csv)
+{
+    static const char *names[] = {"gather", "direct", "bswap", "radixk-4", "auto"};
+    int W = a->quick ? 64 : 1920, H = a->quick ? 36 : 1080, frames = a->quick ? 1 : 9;
+    tsr_error err;
+    tsr_image_codec codec;
+    tsr_image_codec_parse("rle", &codec, &err);
+    for (int partial = 0; partial < 2; partial++)
+        for (int n = 2; n <= 8; n *= 2) {
+            tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
+            for (int r = 0; r < n; r++)
+                layer(&imgs[r], W, H, r, n, partial);
+            for (size_t si = 0; si < sizeof names / sizeof *names; si++) {
+                int kind, k;
+                tsr_cs_kind_parse(names[si], &kind, &k, &err);
+                tsr_cs_schedule s;
+                tsr_cs_hint hint = {0, 1};
+                if (tsr_cs_plan(kind, n, W, H, k, &hint, &s, &err))
+                    abort();
+                tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+                bjob *jobs = calloc((size_t)n, sizeof *jobs);
+                pthread_t *th = calloc((size_t)n, sizeof *th);
+                for (int r = 0; r < n; r++) {
+                    jobs[r] = (bjob){.ex = tsr_cs_executor_new(&s, codec, &err), .img = &imgs[r], .rank = r};
+                    tsr_cs_memnet_transport(net, r, &jobs[r].t);
+                }
+                tsr_cs_transport dt;
+                tsr_cs_memnet_transport(net, n, &dt);
+                tsr_cs_executor *dex = tsr_cs_executor_new(&s, codec, &err);
+                tsr_cimage frame = {0};
+                static const uint8_t bg[4] = {0, 0, 0, 255};
+                double ms[32], cpu[32];
+                uint64_t bytes = 0;
+                for (int f = 0; f < frames; f++) {
+                    double t0 = now_wall(), c0 = now_cpu();
+                    for (int r = 0; r < n; r++)
+                        pthread_create(&th[r], NULL, bpeer, &jobs[r]);
+                    int rc = tsr_cs_run_display(dex, 1, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, bg, &frame,
+                                                &dt, &err);
+                    for (int r = 0; r < n; r++)
+                        pthread_join(th[r], NULL);
+                    ms[f] = (now_wall() - t0) * 1e3;
+                    cpu[f] = (now_cpu() - c0) * 1e3;
+                    if (rc) {
+                        fprintf(stderr, "bench_composite: %s n=%d: %s\n", s.name, n, err.message);
+                        exit(1);
+                    }
+                    bytes = 0;
+                    for (int r = 0; r < n; r++) {
+                        tsr_cs_stats st;
+                        tsr_cs_executor_stats(jobs[r].ex, &st);
+                        bytes += st.bytes_sent;
+                    }
+                }
+                qsort(ms, (size_t)frames, sizeof *ms, cmp_double);
+                qsort(cpu, (size_t)frames, sizeof *cpu, cmp_double);
+                printf("strategy_%s_%s_n%d: cpu_ms %.2f wall_ms %.2f bytes_per_frame %llu (%s)\n", names[si],
+                       partial ? "partial" : "full", n, cpu[frames / 2], ms[frames / 2], (unsigned long long)bytes,
+                       s.name);
+                if (csv)
+                    fprintf(csv, "%s,%s,%d,%.3f,%.3f,%llu\n", names[si], partial ? "partial" : "full", n,
+                            cpu[frames / 2], ms[frames / 2], (unsigned long long)bytes);
+                for (int r = 0; r < n; r++)
+                    tsr_cs_executor_free(jobs[r].ex);
+                tsr_cs_executor_free(dex);
+                tsr_cs_memnet_free(net);
+                tsr_cimage_free(&frame);
+                tsr_cs_schedule_free(&s);
+                free(jobs);
+                free(th);
+            }
+            for (int r = 0; r < n; r++)
+                tsr_cimage_free(&imgs[r]);
+            free(imgs);
+        }
+}
+
 int main(int argc, char **argv)
 {
     bench_args a;
@@ -195,5 +349,19 @@ int main(int argc, char **argv)
     }
     if (csv)
         fclose(csv);
+    /* strategies: a second CSV next to the first */
+    FILE *scsv = NULL;
+    if (a.csv_path) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s", a.csv_path);
+        char *dot = strrchr(path, '.');
+        if (dot)
+            *dot = 0;
+        strncat(path, "-strategies.csv", sizeof path - strlen(path) - 1);
+        scsv = bench_csv_open(path, "strategy,coverage,peers,cpu_ms,wall_ms,bytes_per_frame");
+    }
+    bench_strategies(&a, scsv);
+    if (scsv)
+        fclose(scsv);
     return 0;
 }

@@ -26,7 +26,8 @@ foreach(t
     composite_all_strategies_agree
     composite_odd_image_sizes
     composite_blank_peers
-    composite_alpha_strategies_agree)
+    composite_alpha_strategies_agree
+    composite_faults_name_the_peer)
   string(REPLACE "composite_" "" arg ${t})
   add_test(NAME ${t} COMMAND composite_tests ${arg})
   set_tests_properties(${t} PROPERTIES TIMEOUT 300)

@@ -314,7 +314,7 @@ static int test_split_at_run_edges(void)
         tsr_cimage a = {0}, whole = {0}, parts = {0};
         make_image(&a, W, H, 0, 0, W, H, 0, iter % 2 ? FILL_RANDOM : FILL_SINGLE);
         uint32_t all = (uint32_t)W * H;
-        tsr_sparse_image s = {0}, p = {0};
+        tsr_sparse_image s = {0}, p = {0}, v = {0};
         CHECK_OK(tsr_sparse_image_compress(&a, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
         expand(&s, &whole);
         CHECK_OK(tsr_cimage_init(&parts, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
@@ -333,6 +333,12 @@ static int test_split_at_run_edges(void)
         for (uint32_t c = 1; c < nc; c++) {
             uint32_t at = cuts[c] < prev ? prev : cuts[c];
             CHECK_OK(tsr_sparse_image_split(&s, prev, at - prev, &p, &err), err);
+            CHECK_OK(tsr_sparse_image_view(&s, prev, at - prev, &v, &err), err);
+            CHECK(v.active == p.active && v.nruns == p.nruns &&
+                      (!p.nruns || !memcmp(v.runs, p.runs, 8 * (size_t)p.nruns)) &&
+                      (!p.active || (!memcmp(v.color, p.color, 4 * (size_t)p.active) &&
+                                     !memcmp(v.depth, p.depth, 4 * (size_t)p.active))),
+                  "view of %u+%u differs from the split", prev, at - prev);
             CHECK_OK(tsr_sparse_image_to_dense(&p, BG, &parts, &err), err);
             active += p.active;
             prev = at;
@@ -344,6 +350,7 @@ static int test_split_at_run_edges(void)
         tsr_cimage_free(&parts);
         tsr_sparse_image_free(&s);
         tsr_sparse_image_free(&p);
+        tsr_sparse_image_free(&v);
     }
     return harness_failures;
 }
@@ -588,80 +595,12 @@ static int test_schedules_hold_invariants(void)
     return harness_failures;
 }
 
-/* In-memory transport: a queue per (from, to) pair, one thread per peer. */
-typedef struct msg {
-    struct msg *next;
-    size_t size;
-    uint8_t data[];
-} msg;
-
-typedef struct bus {
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    int n;              /* participants: peers + display */
-    msg **head, **tail; /* [from * n + to] */
-    msg **held;         /* the buffer each receiver holds */
-} bus;
-
-typedef struct endpoint {
-    bus *b;
-    int me;
-} endpoint;
-
-static int bus_send(void *user, int to, const void *data, size_t size, tsr_error *err)
-{
-    endpoint *e = user;
-    bus *b = e->b;
-    msg *m = malloc(sizeof *m + size);
-    if (!m)
-        return tsr_error_set(err, TSR_ENOMEM, "bus: no memory");
-    m->next = NULL;
-    m->size = size;
-    memcpy(m->data, data, size);
-    pthread_mutex_lock(&b->mu);
-    int q = e->me * b->n + to;
-    if (b->tail[q])
-        b->tail[q]->next = m;
-    else
-        b->head[q] = m;
-    b->tail[q] = m;
-    pthread_cond_broadcast(&b->cv);
-    pthread_mutex_unlock(&b->mu);
-    return TSR_OK;
-}
-
-static int bus_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
-{
-    endpoint *e = user;
-    bus *b = e->b;
-    struct timespec until;
-    clock_gettime(CLOCK_REALTIME, &until);
-    until.tv_sec += 60;
-    pthread_mutex_lock(&b->mu);
-    int q = from * b->n + e->me;
-    while (!b->head[q])
-        if (pthread_cond_timedwait(&b->cv, &b->mu, &until)) {
-            pthread_mutex_unlock(&b->mu);
-            return tsr_error_set(err, TSR_ETIMEDOUT, "peer %d never sent to %d", from, e->me);
-        }
-    msg *m = b->head[q];
-    b->head[q] = m->next;
-    if (!b->head[q])
-        b->tail[q] = NULL;
-    pthread_mutex_unlock(&b->mu);
-    free(b->held[e->me]);
-    b->held[e->me] = m;
-    *data = m->data;
-    *size = m->size;
-    return TSR_OK;
-}
-
 typedef struct peer_job {
     const tsr_cs_schedule *s;
     tsr_image_codec codec;
     tsr_cimage *img;
     int rank, mode, rc;
-    endpoint ep;
+    tsr_cs_transport t;
     tsr_error err;
 } peer_job;
 
@@ -669,35 +608,31 @@ static void *peer_main(void *arg)
 {
     peer_job *j = arg;
     tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
-    tsr_cs_transport t = {.user = &j->ep, .send = bus_send, .recv = bus_recv};
-    j->rc = ex ? tsr_cs_run_peer(ex, j->rank, j->img, j->mode, &t, &j->err) : TSR_ENOMEM;
+    j->rc = ex ? tsr_cs_run_peer(ex, j->rank, j->img, j->mode, &j->t, &j->err) : TSR_ENOMEM;
     tsr_cs_executor_free(ex);
     return NULL;
 }
 
-/* Runs a whole group in this process; the display's frame goes to out. */
+/* Runs a whole group in this process (a thread per peer, the display on
+ * this thread, memnet between them); the display's frame goes to out. */
 static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const char *codec_name, tsr_cimage *out,
                      char *why, size_t why_size)
 {
-    int n = s->nranks, np = n + 1;
-    bus b;
-    pthread_mutex_init(&b.mu, NULL);
-    pthread_cond_init(&b.cv, NULL);
-    b.n = np;
-    b.head = calloc((size_t)np * np, sizeof *b.head);
-    b.tail = calloc((size_t)np * np, sizeof *b.tail);
-    b.held = calloc((size_t)np, sizeof *b.held);
-    tsr_image_codec codec;
+    int n = s->nranks;
     tsr_error err;
+    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+    REQUIRE(net != NULL, "%s", err.message);
+    tsr_image_codec codec;
     tsr_image_codec_parse(codec_name, &codec, &err);
     peer_job *jobs = calloc((size_t)n, sizeof *jobs);
     pthread_t *th = calloc((size_t)n, sizeof *th);
     for (int r = 0; r < n; r++) {
-        jobs[r] = (peer_job){.s = s, .codec = codec, .img = &imgs[r], .rank = r, .mode = mode, .ep = {&b, r}};
+        jobs[r] = (peer_job){.s = s, .codec = codec, .img = &imgs[r], .rank = r, .mode = mode};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
         pthread_create(&th[r], NULL, peer_main, &jobs[r]);
     }
-    endpoint disp = {&b, n};
-    tsr_cs_transport t = {.user = &disp, .send = bus_send, .recv = bus_recv};
+    tsr_cs_transport t;
+    tsr_cs_memnet_transport(net, TSR_CS_DISPLAY(n), &t);
     tsr_cs_executor *ex = tsr_cs_executor_new(s, codec, &err);
     int rc = tsr_cs_run_display(ex, imgs[0].frame, mode, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, out, &t, &err);
     if (rc)
@@ -710,26 +645,14 @@ static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const
             snprintf(why, why_size, "rank %d: %s", r, jobs[r].err.message);
         }
     }
-    /* nothing may be left unreceived */
-    for (int q = 0; q < np * np; q++)
-        while (b.head[q]) {
-            msg *m = b.head[q];
-            b.head[q] = m->next;
-            free(m);
-            if (!rc) {
-                rc = TSR_EPROTO;
-                snprintf(why, why_size, "a message from %d to %d was never received", q / np, q % np);
-            }
-        }
-    for (int i = 0; i < np; i++)
-        free(b.held[i]);
-    free(b.head);
-    free(b.tail);
-    free(b.held);
+    int from, to;
+    if (tsr_cs_memnet_drain(net, &from, &to) && !rc) {
+        rc = TSR_EPROTO;
+        snprintf(why, why_size, "a message from %d to %d was never received", from, to);
+    }
+    tsr_cs_memnet_free(net);
     free(jobs);
     free(th);
-    pthread_mutex_destroy(&b.mu);
-    pthread_cond_destroy(&b.cv);
     return rc;
 }
 
@@ -830,6 +753,80 @@ static int test_alpha_strategies_agree(void)
     return harness_failures;
 }
 
+
+/* A peer that never sends, a frame number that does not match, a peer
+ * whose window differs: each is one error naming the peer, within the
+ * transport's time-out. */
+static int test_faults_name_the_peer(void)
+{
+    tsr_error err;
+    int n = 4, W = 8, H = 4;
+    tsr_cimage imgs[4] = {{0}};
+    for (int r = 0; r < n; r++)
+        make_image(&imgs[r], W, H, 0, 0, W, H, r, FILL_RANDOM);
+    for (int fault = 0; fault < 3; fault++) {
+        tsr_cs_schedule s;
+        CHECK_OK(tsr_cs_plan(fault == 2 ? TSR_CS_GATHER : TSR_CS_BSWAP, n, W, H, 0, NULL, &s, &err), err);
+        tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 300, &err);
+        tsr_image_codec codec;
+        tsr_image_codec_parse("rle", &codec, &err);
+        peer_job jobs[4];
+        pthread_t th[4];
+        tsr_cimage odd = {0};
+        if (fault == 2)
+            make_image(&odd, W + 1, H, 0, 0, W + 1, H, 1, FILL_RANDOM);
+        for (int r = 0; r < n; r++) {
+            jobs[r] = (peer_job){.s = &s, .codec = codec, .img = &imgs[r], .rank = r, .mode = TSR_COMPOSITE_DEPTH};
+            if (fault == 2 && r == 1)
+                jobs[r].img = &odd;
+            tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        }
+        if (fault == 1)
+            imgs[2].frame = 8;
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        for (int r = 0; r < n; r++)
+            if (!(fault == 0 && r == 3)) /* rank 3 stays silent */
+                pthread_create(&th[r], NULL, peer_main, &jobs[r]);
+        tsr_cs_transport t;
+        tsr_cs_memnet_transport(net, n, &t);
+        tsr_cs_executor *ex = tsr_cs_executor_new(&s, codec, &err);
+        tsr_cimage out = {0};
+        int rc = tsr_cs_run_display(ex, 7, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, &out, &t, &err);
+        for (int r = 0; r < n; r++)
+            if (!(fault == 0 && r == 3))
+                pthread_join(th[r], NULL);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        double secs = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) / 1e9;
+        CHECK(rc != TSR_OK, "fault %d: the display assembled a frame", fault);
+        CHECK(secs < 10, "fault %d took %.1f s", fault, secs);
+        if (fault == 0) {
+            CHECK(jobs[2].rc == TSR_ETIMEDOUT, "rank 2 (rank 3's partner) did not time out");
+            CHECK_CONTAINS(jobs[2].err.message, "peer 3 sent nothing");
+        } else if (fault == 1) {
+            int named = 0;
+            for (int r = 0; r < n; r++)
+                named +=
+                    jobs[r].rc && strstr(jobs[r].err.message, "from peer 2: image message: frame is 8, expected 7");
+            CHECK(named == 1, "no rank named peer 2's frame 8 (display: %s)", err.message);
+        } else {
+            CHECK(jobs[1].rc == TSR_EINVAL);
+            CHECK_CONTAINS(jobs[1].err.message, "rank 1's window is 9x4, the group's 8x4");
+            CHECK_CONTAINS(err.message, "peer 1 sent nothing");
+        }
+        imgs[2].frame = 7;
+        int from, to;
+        tsr_cs_memnet_drain(net, &from, &to);
+        tsr_cs_memnet_free(net);
+        tsr_cs_executor_free(ex);
+        tsr_cimage_free(&out);
+        tsr_cimage_free(&odd);
+        tsr_cs_schedule_free(&s);
+    }
+    for (int r = 0; r < n; r++)
+        tsr_cimage_free(&imgs[r]);
+    return harness_failures;
+}
 
 /* ---- fuzz corpus ------------------------------------------------------------ */
 
@@ -976,6 +973,7 @@ int main(int argc, char **argv)
         {"odd_image_sizes", test_odd_image_sizes},
         {"blank_peers", test_blank_peers},
         {"alpha_strategies_agree", test_alpha_strategies_agree},
+        {"faults_name_the_peer", test_faults_name_the_peer},
     };
     if (argc == 3 && !strcmp(argv[1], "fuzz_seeds"))
         return fuzz_seeds(argv[2]) ? 1 : 0;

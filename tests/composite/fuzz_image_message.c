@@ -62,7 +62,8 @@ int fuzz_image_message_one(const uint8_t *data, size_t size)
             if (rc == TSR_OK) {
                 must(len <= cap, "an encoding above its worst case");
                 must(tsr_image_message_decode(buf, len, NULL, &again, &err) == TSR_OK, "re-decode");
-                must(again.count == s.count && (!codec.runs || again.active == s.active), "re-decode changed the image");
+                must(again.count == s.count && (!codec.runs || again.active == s.active),
+                     "re-decode changed the image");
             }
             free(buf);
         }
