@@ -133,8 +133,7 @@ static int memnet_recv(void *user, int from, const void **data, size_t *size, ts
     memnet_end *e = user;
     tsr_cs_memnet *m = e->net;
     if (from < 0 || from >= m->n)
-        return tsr_error_set(err, TSR_EINVAL, "memnet: participant %d receives from %d (0..%d)", e->me, from,
-                             m->n - 1);
+        return tsr_error_set(err, TSR_EINVAL, "memnet: participant %d receives from %d (0..%d)", e->me, from, m->n - 1);
     struct timespec until;
     clock_gettime(CLOCK_MONOTONIC, &until);
     until.tv_sec += m->timeout_ms / 1000;
