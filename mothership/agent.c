@@ -117,70 +117,6 @@ static int make_tmpdir(agent *a, tsr_error *err)
     return TSR_OK;
 }
 
-/* The chain the mothership sent as links (control.h: "link=SPU" fields,
- * each followed by its "option=KEY=VALUE" fields). SPU names and values
- * point into the message; keys are copies. */
-typedef struct config_chain {
-    tsr_chain_link *links;
-    size_t count;
-    const char **keys, **values; /* every link's options, in order */
-    size_t option_count;
-} config_chain;
-
-static void config_chain_free(config_chain *c)
-{
-    for (size_t i = 0; c->keys && i < c->option_count; i++)
-        free((char *)c->keys[i]);
-    free(c->links);
-    free((void *)c->keys);
-    free((void *)c->values);
-    memset(c, 0, sizeof *c);
-}
-
-static int config_chain_parse(const tsr_ctl *cfg, config_chain *c, tsr_error *err)
-{
-    memset(c, 0, sizeof *c);
-    size_t links = 0, options = 0;
-    for (size_t i = 0; i < cfg->count; i++) {
-        links += !strcmp(cfg->keys[i], "link");
-        options += !strcmp(cfg->keys[i], "option");
-    }
-    if (!links)
-        return tsr_error_set(err, TSR_EPROTO, "CONFIG without link= (the chain)");
-    c->links = calloc(links, sizeof *c->links);
-    c->keys = calloc(options ? options : 1, sizeof *c->keys);
-    c->values = calloc(options ? options : 1, sizeof *c->values);
-    if (!c->links || !c->keys || !c->values) {
-        config_chain_free(c);
-        return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
-    }
-    for (size_t i = 0; i < cfg->count; i++) {
-        if (!strcmp(cfg->keys[i], "link")) {
-            c->links[c->count++] = (tsr_chain_link){
-                .spu = cfg->values[i], .keys = c->keys + c->option_count, .values = c->values + c->option_count};
-            continue;
-        }
-        if (strcmp(cfg->keys[i], "option"))
-            continue;
-        const char *v = cfg->values[i];
-        size_t key_len = strcspn(v, "=");
-        if (!c->count || !v[key_len] || !key_len) {
-            config_chain_free(c);
-            return tsr_error_set(err, TSR_EPROTO, "CONFIG: option='%.60s' %s", v,
-                                 c->count ? "is not KEY=VALUE" : "comes before any link=");
-        }
-        char *key = strndup(v, key_len);
-        if (!key) {
-            config_chain_free(c);
-            return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
-        }
-        c->keys[c->option_count] = key;
-        c->values[c->option_count++] = v + key_len + 1;
-        c->links[c->count - 1].option_count++;
-    }
-    return TSR_OK;
-}
-
 /* Waits up to `ms` for a control message and handles STOP / a lost
  * mothership. Returns 0 to go on, or the exit code (err filled). */
 static int poll_control(agent *a, int ms, tsr_error *err)
@@ -216,7 +152,7 @@ static int poll_control(agent *a, int ms, tsr_error *err)
 /* links=later (control.h): heartbeats until the mothership sends LINKS,
  * parsed into `links` (its fields point into `msg`, freed by the caller).
  * Returns 0, or the exit code (err filled) on STOP or a lost mothership. */
-static int wait_for_links(agent *a, tsr_ctl *msg, config_chain *links, tsr_error *err)
+static int wait_for_links(agent *a, tsr_ctl *msg, tsr_ctl_chain *links, tsr_error *err)
 {
     double next_beat = tsr_now_seconds();
     for (;;) {
@@ -250,7 +186,7 @@ static int wait_for_links(agent *a, tsr_ctl *msg, config_chain *links, tsr_error
         }
         if (kind != TSR_MS_MSG_LINKS)
             continue;
-        if (config_chain_parse(msg, links, err) != TSR_OK) {
+        if (tsr_ctl_chain_parse(msg, links, err) != TSR_OK) {
             tsr_ctl_free(msg);
             return 2;
         }
@@ -316,8 +252,8 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
     /* links=later: the chain comes once the peers listen (control.h). */
     const char *later = tsr_ctl_get(cfg, "links");
     int chain_later = later && !strcmp(later, "later");
-    config_chain chain = {0};
-    if (!chain_later && config_chain_parse(cfg, &chain, err) != TSR_OK) {
+    tsr_ctl_chain chain = {0};
+    if (!chain_later && tsr_ctl_chain_parse(cfg, &chain, err) != TSR_OK) {
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 2;
     }
@@ -334,7 +270,7 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
     };
     tsr_error e = {0};
     a->node = tsr_node_create(&nc, &e);
-    config_chain_free(&chain); /* the node copied it */
+    tsr_ctl_chain_free(&chain); /* the node copied it */
     if (!a->node) {
         tsr_error_set(err, e.code, "%s", plain(e.message));
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
@@ -358,7 +294,7 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
             return code;
         }
         rc = tsr_node_set_links(a->node, chain.links, chain.count, &e);
-        config_chain_free(&chain);
+        tsr_ctl_chain_free(&chain);
         tsr_ctl_free(&msg);
         if (rc != TSR_OK) {
             tsr_error_set(err, e.code, "%s", plain(e.message));
@@ -548,13 +484,13 @@ static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t 
     snprintf(stats_path, sizeof stats_path, "%s/stats.json", a->tmpdir);
     /* The application reads its chain from TESSERA_CHAIN: the links in
      * text form. */
-    config_chain links;
-    if (config_chain_parse(cfg, &links, err) != TSR_OK) {
+    tsr_ctl_chain links;
+    if (tsr_ctl_chain_parse(cfg, &links, err) != TSR_OK) {
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 2;
     }
     char *chain = tsr_chain_links_text(links.links, links.count, err);
-    config_chain_free(&links);
+    tsr_ctl_chain_free(&links);
     char *chain_var = chain ? malloc(strlen(chain) + sizeof "TESSERA_CHAIN=") : NULL;
     char stats_var[300];
     snprintf(stats_var, sizeof stats_var, "TESSERA_STATS_FILE=%s", stats_path);

@@ -78,6 +78,7 @@
 
 #include <stddef.h>
 
+#include "tessera/chain.h"
 #include "tessera/error.h"
 
 #define TSR_MS_MSG_JOIN 0x20u
@@ -127,6 +128,22 @@ void tsr_ctl_free(tsr_ctl *msg);
 const char *tsr_ctl_get(const tsr_ctl *msg, const char *key);
 /* Numeric value of `key`; `fallback` when absent or not a number. */
 double tsr_ctl_number(const tsr_ctl *msg, const char *key, double fallback);
+
+/* The chain a CONFIG or LINKS carries as links ("link=SPU" fields, each
+ * followed by its "option=KEY=VALUE" fields), ready for
+ * tsr_chain_create_links. SPU names and values point into the message
+ * (keep it until the chain is built); keys are copies. */
+typedef struct tsr_ctl_chain {
+    tsr_chain_link *links;
+    size_t count;
+    const char **keys, **values; /* every link's options, in order */
+    size_t option_count;
+} tsr_ctl_chain;
+
+/* TSR_EPROTO naming the field when there is no link= or an option= is not
+ * KEY=VALUE or comes before any link=. Free with tsr_ctl_chain_free. */
+int tsr_ctl_chain_parse(const tsr_ctl *msg, tsr_ctl_chain *chain, tsr_error *err);
+void tsr_ctl_chain_free(tsr_ctl_chain *chain);
 
 /* Human names of the message kinds, for errors. */
 const char *tsr_ctl_kind_name(unsigned kind);

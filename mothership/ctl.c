@@ -1,5 +1,6 @@
-/* mothership/ctl.c — the key=value codec of the control messages
- * (mothership/control.h). Owns nothing beyond the buffers it returns. */
+/* mothership/ctl.c — the key=value codec of the control messages and the
+ * chain their link=/option= fields carry (mothership/control.h). Owns
+ * nothing beyond the buffers it returns. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,6 +126,60 @@ double tsr_ctl_number(const tsr_ctl *msg, const char *key, double fallback)
     char *end;
     double d = strtod(v, &end);
     return *end ? fallback : d;
+}
+
+void tsr_ctl_chain_free(tsr_ctl_chain *c)
+{
+    for (size_t i = 0; c->keys && i < c->option_count; i++)
+        free((char *)c->keys[i]);
+    free(c->links);
+    free((void *)c->keys);
+    free((void *)c->values);
+    memset(c, 0, sizeof *c);
+}
+
+int tsr_ctl_chain_parse(const tsr_ctl *cfg, tsr_ctl_chain *c, tsr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    size_t links = 0, options = 0;
+    for (size_t i = 0; i < cfg->count; i++) {
+        links += !strcmp(cfg->keys[i], "link");
+        options += !strcmp(cfg->keys[i], "option");
+    }
+    if (!links)
+        return tsr_error_set(err, TSR_EPROTO, "CONFIG without link= (the chain)");
+    c->links = calloc(links, sizeof *c->links);
+    c->keys = calloc(options ? options : 1, sizeof *c->keys);
+    c->values = calloc(options ? options : 1, sizeof *c->values);
+    if (!c->links || !c->keys || !c->values) {
+        tsr_ctl_chain_free(c);
+        return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
+    }
+    for (size_t i = 0; i < cfg->count; i++) {
+        if (!strcmp(cfg->keys[i], "link")) {
+            c->links[c->count++] = (tsr_chain_link){
+                .spu = cfg->values[i], .keys = c->keys + c->option_count, .values = c->values + c->option_count};
+            continue;
+        }
+        if (strcmp(cfg->keys[i], "option"))
+            continue;
+        const char *v = cfg->values[i];
+        size_t key_len = strcspn(v, "=");
+        if (!c->count || !v[key_len] || !key_len) {
+            tsr_ctl_chain_free(c);
+            return tsr_error_set(err, TSR_EPROTO, "CONFIG: option='%.60s' %s", v,
+                                 c->count ? "is not KEY=VALUE" : "comes before any link=");
+        }
+        char *key = strndup(v, key_len);
+        if (!key) {
+            tsr_ctl_chain_free(c);
+            return tsr_error_set(err, TSR_ENOMEM, "CONFIG: out of memory for the chain");
+        }
+        c->keys[c->option_count] = key;
+        c->values[c->option_count++] = v + key_len + 1;
+        c->links[c->count - 1].option_count++;
+    }
+    return TSR_OK;
 }
 
 const char *tsr_ctl_kind_name(unsigned kind)
