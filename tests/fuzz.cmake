@@ -62,6 +62,128 @@ if(TESSERA_FUZZ)
   set_tests_properties(fuzz_unpack_runs_corpus PROPERTIES TIMEOUT 300)
 endif()
 
+# --- the other decoders (issue 10, item 12) ----------------------------------
+# One function per target NAME (tests/fuzz/fuzz_NAME.c, corpus in
+# tests/fuzz/corpus-NAME/):
+#  * fuzz_NAME_replay + ctest fuzz_NAME_corpus_replay (every build, any
+#    compiler; a sanitizer run under -DTESSERA_SANITIZE=ON): replay.c over
+#    the corpus through the target's fuzz_target_explain (fuzz_target.h);
+#  * fuzz_NAME (only -DTESSERA_FUZZ=ON, clang) + ctest fuzz_NAME_runs_corpus:
+#    the libFuzzer target. SOURCES (the code under test) are compiled into
+#    it with the fuzzer instrumentation, as fuzz_unpack does, so coverage
+#    measures the decoder; LIBS are linked as they are.
+# SOURCES are compiled into the replay too (several are internal to their
+# library), so both run the same code. Code the replay can take from a
+# library instead goes in FUZZ_SOURCES (the libFuzzer target only) and
+# that library in REPLAY_LIBS.
+function(tsr_add_fuzz_target name)
+  cmake_parse_arguments(F "" "" "SOURCES;FUZZ_SOURCES;LIBS;REPLAY_LIBS;INCLUDES;DEFINES" ${ARGN})
+  set(harness ${TSR_FUZZ_DIR}/fuzz_${name}.c)
+  set(corpus ${TSR_FUZZ_DIR}/corpus-${name})
+  set(includes ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include ${TESSERA_GEN_DIR}/include ${TESSERA_GEN_DIR}/src
+    ${F_INCLUDES})
+  add_executable(fuzz_${name}_replay ${TSR_FUZZ_DIR}/replay.c ${harness} ${F_SOURCES})
+  add_dependencies(fuzz_${name}_replay tessera_generated)
+  target_include_directories(fuzz_${name}_replay PRIVATE ${includes})
+  target_compile_definitions(fuzz_${name}_replay PRIVATE TSR_FUZZ_TARGET ${F_DEFINES})
+  target_link_libraries(fuzz_${name}_replay PRIVATE ${F_REPLAY_LIBS} ${F_LIBS})
+  # Mesa's own leaks (render's OSMesa) are suppressed, ours are checked.
+  set(env "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  add_test(NAME fuzz_${name}_corpus_replay COMMAND fuzz_${name}_replay ${corpus})
+  set_tests_properties(fuzz_${name}_corpus_replay PROPERTIES TIMEOUT 120 ENVIRONMENT "${env}")
+  if(TESSERA_FUZZ)
+    add_executable(fuzz_${name} ${harness} ${F_SOURCES} ${F_FUZZ_SOURCES})
+    add_dependencies(fuzz_${name} tessera_generated)
+    target_include_directories(fuzz_${name} PRIVATE ${includes})
+    target_compile_definitions(fuzz_${name} PRIVATE ${F_DEFINES})
+    target_compile_options(fuzz_${name} PRIVATE -fsanitize=fuzzer,address,undefined
+      -fno-sanitize-recover=all -fno-omit-frame-pointer)
+    target_link_options(fuzz_${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+    target_link_libraries(fuzz_${name} PRIVATE ${F_LIBS})
+    add_test(NAME fuzz_${name}_runs_corpus COMMAND fuzz_${name} -runs=0 ${corpus})
+    set_tests_properties(fuzz_${name}_runs_corpus PROPERTIES TIMEOUT 120 ENVIRONMENT "${env}")
+  endif()
+endfunction()
+
+# The chain text parser, the option parser and the SPU loader (internal
+# to libtessera); the loader finds the real SPU plugins of this build.
+set(tsr_fuzz_chain_sources
+  ${CMAKE_SOURCE_DIR}/core/spu/chain.c ${CMAKE_SOURCE_DIR}/core/spu/options.c
+  ${CMAKE_SOURCE_DIR}/core/spu/spu_loader.c ${CMAKE_SOURCE_DIR}/core/util/names.c
+  ${CMAKE_SOURCE_DIR}/core/util/error.c ${CMAKE_SOURCE_DIR}/core/util/log.c
+  ${TESSERA_GEN_DIR}/src/dispatch_gen.c)
+set(tsr_fuzz_chain_defines TESSERA_BUILD_SPU_DIR="${TESSERA_SPU_BUILD_DIR}" TESSERA_INSTALL_SPU_DIR="")
+
+tsr_add_fuzz_target(ctl
+  SOURCES ${CMAKE_SOURCE_DIR}/mothership/ctl.c ${tsr_fuzz_chain_sources}
+  INCLUDES ${CMAKE_SOURCE_DIR}/mothership ${CMAKE_SOURCE_DIR}/core/spu
+  DEFINES ${tsr_fuzz_chain_defines}
+  LIBS Threads::Threads ${CMAKE_DL_LIBS} m)
+
+# The client's reply parser: the packer's reply decoding (core/wire,
+# generated pack_gen.c), driven by the generated wire-test calls.
+# fuzz_reply_seeds OUTDIR rewrites corpus-reply/ok-* with real replies.
+set(tsr_fuzz_wire_sources
+  ${CMAKE_SOURCE_DIR}/core/wire/pack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
+  ${CMAKE_SOURCE_DIR}/core/wire/dlist.c ${CMAKE_SOURCE_DIR}/core/wire/unpack.c
+  ${CMAKE_SOURCE_DIR}/core/util/map.c ${CMAKE_SOURCE_DIR}/core/util/error.c
+  ${CMAKE_SOURCE_DIR}/core/util/log.c ${TESSERA_GEN_DIR}/src/pack_gen.c
+  ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c
+  ${TESSERA_GEN_DIR}/src/dispatch_gen.c)
+tsr_add_fuzz_target(reply
+  SOURCES ${TESSERA_GEN_TEST_SOURCES}
+  FUZZ_SOURCES ${tsr_fuzz_wire_sources}
+  INCLUDES ${CMAKE_SOURCE_DIR}/core
+  REPLAY_LIBS tessera
+  LIBS m)
+add_executable(fuzz_reply_seeds ${TSR_FUZZ_DIR}/fuzz_reply.c ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(fuzz_reply_seeds tessera_generated)
+target_compile_definitions(fuzz_reply_seeds PRIVATE TSR_FUZZ_SEEDS)
+target_include_directories(fuzz_reply_seeds PRIVATE ${TSR_FUZZ_DIR} ${TESSERA_GEN_DIR}/src)
+target_link_libraries(fuzz_reply_seeds PRIVATE tessera)
+
+# The graph YAML loader (core/graph) with the SPU checks on.
+tsr_add_fuzz_target(graph
+  FUZZ_SOURCES ${CMAKE_SOURCE_DIR}/core/graph/graph.c ${tsr_fuzz_chain_sources}
+  INCLUDES ${CMAKE_SOURCE_DIR}/core/spu
+  DEFINES ${tsr_fuzz_chain_defines}
+  REPLAY_LIBS tessera_graph
+  LIBS PkgConfig::YAML Threads::Threads ${CMAKE_DL_LIBS} m)
+
+# The chain text and option parsers, links checked against the real SPUs.
+tsr_add_fuzz_target(chain
+  SOURCES ${tsr_fuzz_chain_sources}
+  INCLUDES ${CMAKE_SOURCE_DIR}/core/spu
+  DEFINES ${tsr_fuzz_chain_defines}
+  LIBS Threads::Threads ${CMAKE_DL_LIBS} m)
+
+# The PNG reader of imgdiff (core/image). fuzz_png_seeds OUTDIR writes the
+# ok-* seeds with the project's writer.
+tsr_add_fuzz_target(png
+  FUZZ_SOURCES ${CMAKE_SOURCE_DIR}/core/image/image.c ${CMAKE_SOURCE_DIR}/core/util/error.c
+  REPLAY_LIBS tessera
+  LIBS PkgConfig::PNG m)
+add_executable(fuzz_png_seeds ${TSR_FUZZ_DIR}/fuzz_png.c)
+target_compile_definitions(fuzz_png_seeds PRIVATE TSR_FUZZ_SEEDS)
+target_include_directories(fuzz_png_seeds PRIVATE ${TSR_FUZZ_DIR})
+target_link_libraries(fuzz_png_seeds PRIVATE tessera)
+
+# The tessera extension commands into the render SPU (its sources compiled
+# in and registered, so coverage measures its handlers). fuzz_ext_seeds
+# OUTDIR writes the ok-* seeds with the real packer.
+set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${CMAKE_SOURCE_DIR}/spus/render/render.c
+  ${CMAKE_SOURCE_DIR}/spus/render/budget.c
+  ${CMAKE_SOURCE_DIR}/spus/render/pages.c)
+tsr_add_fuzz_target(ext
+  SOURCES ${tsr_fuzz_render_sources}
+  INCLUDES ${CMAKE_SOURCE_DIR}/spus/render
+  LIBS tessera ${CMAKE_DL_LIBS} m)
+add_executable(fuzz_ext_seeds ${TSR_FUZZ_DIR}/fuzz_ext.c ${tsr_fuzz_render_sources})
+add_dependencies(fuzz_ext_seeds tessera_generated)
+target_compile_definitions(fuzz_ext_seeds PRIVATE TSR_FUZZ_SEEDS)
+target_include_directories(fuzz_ext_seeds PRIVATE ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/spus/render)
+target_link_libraries(fuzz_ext_seeds PRIVATE tessera ${CMAKE_DL_LIBS} m)
+
 # --- Command buffers into render (tests/fuzz/fuzz_render.c) -------------------
 # Decoded wire buffers run into a real OSMesa render SPU with per-client
 # budgets on (issue 10, item 12). fuzz_render_seeds writes the seeds with

@@ -1,12 +1,22 @@
-/* tests/fuzz/replay.c — runs every file of the fuzz corpus once through the
+/* tests/fuzz/replay.c — runs every file of a fuzz corpus once through the
  * same entry point the libFuzzer target uses, without libFuzzer, so any
  * compiler (and the ASan build) replays the corpus in the normal suite.
+ * Built once per target: the unpacker's (fuzz_unpack_explain) by default,
+ * any other target's fuzz_target_explain (fuzz_target.h) when compiled
+ * with TSR_FUZZ_TARGET.
  * Owns only its file reading; never skips a file it cannot read (that is a
  * failure). Seeds named ok-* (valid packed streams) must decode and bad-*
- * (known malformations) must be rejected; any other file (inputs libFuzzer
+ * (known malformations) must be rejected (each target says what valid
+ * means); any other file (inputs libFuzzer
  * found) only has to return without a crash or sanitizer report.
  * Usage: fuzz_corpus_replay DIR|FILE...  (exit 0 when every input behaved) */
+#ifdef TSR_FUZZ_TARGET
+#include "fuzz_target.h"
+#define replay_explain fuzz_target_explain
+#else
 #include "fuzz_unpack.h"
+#define replay_explain fuzz_unpack_explain
+#endif
 
 #include <dirent.h>
 #include <errno.h>
@@ -64,7 +74,7 @@ static int replay_file(const char *path, size_t *count)
     memcpy(exact, data, size);
     free(data);
     char why[512] = "";
-    int rc = fuzz_unpack_explain(exact, size, why, sizeof why);
+    int rc = replay_explain(exact, size, why, sizeof why);
     free(exact);
     (*count)++;
     const char *base = strrchr(path, '/');
