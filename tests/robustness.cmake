@@ -1,0 +1,42 @@
+# tests/robustness.cmake — what a kill, a lying peer or a crafted file must
+# not do (issue 10, defects 8 to 11): leave partial PNGs, overwrite one
+# output file every frame unasked, pass a malformed reply off as success,
+# wait on an application that is gone, print a peer's control bytes, or
+# decode a huge image imgdiff would refuse anyway. Real processes, sockets,
+# OSMesa and PNGs; every wait is bounded.
+get_property(ROBUST_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(ROBUST_OUT ${CMAKE_BINARY_DIR}/test-out/robustness)
+set(ROBUST_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+file(MAKE_DIRECTORY ${ROBUST_OUT})
+
+# --- defect 8: whole PNGs, and no silent overwriting ----------------------
+add_executable(png_kill_test ${CMAKE_CURRENT_SOURCE_DIR}/render/png_kill_test.c)
+target_link_libraries(png_kill_test PRIVATE tessera)
+add_test(NAME render_node_killed_sigkill_sigterm_leaves_only_whole_pngs
+  COMMAND png_kill_test ${CMAKE_BINARY_DIR}/bin ${ROBUST_OUT}/png-kill 12)
+set_tests_properties(render_node_killed_sigkill_sigterm_leaves_only_whole_pngs PROPERTIES TIMEOUT 180)
+
+add_test(NAME render_refuses_output_without_frame_number
+  COMMAND ${ROBUST_EXPECT} 1 ""
+          "render#1: option output=.*/one.png has no frame number: every frame would overwrite.*one-%04d.png.*output_overwrite=1"
+          $<TARGET_FILE:spheres> --frames 2 --chain "render output=${ROBUST_OUT}/one.png")
+add_test(NAME render_output_overwrite_keeps_the_last_frame
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/render/output_overwrite.sh ${CMAKE_BINARY_DIR}/bin ${ROBUST_OUT}/overwrite)
+add_test(NAME readback_refuses_output_without_frame_number
+  COMMAND ${ROBUST_EXPECT} 1 "" "readback#1: option output=tile.png has no frame number.*output_overwrite=1"
+          $<TARGET_FILE:spheres> --frames 1 --chain "readback output=tile.png server=tcp://127.0.0.1:1")
+add_test(NAME tilesort_refuses_assemble_without_frame_number
+  COMMAND ${ROBUST_EXPECT} 1 "" "tilesort#1: option assemble=wall.png has no frame number.*assemble_overwrite=1"
+          $<TARGET_FILE:spheres> --frames 1 --chain "tilesort servers=tcp://127.0.0.1:1 tiles=0:0:0:64:64 assemble=wall.png")
+add_test(NAME tilesort_refuses_assemble_with_string_conversion
+  COMMAND ${ROBUST_EXPECT} 1 "" "tilesort#1: option assemble: bad file pattern 'wall-%s.png'"
+          $<TARGET_FILE:spheres> --frames 1 --chain "tilesort servers=tcp://127.0.0.1:1 tiles=0:0:0:64:64 assemble=wall-%s.png")
+
+get_property(ROBUST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+list(REMOVE_ITEM ROBUST_TESTS_AFTER ${ROBUST_TESTS_BEFORE})
+set(ROBUST_ENV "")
+if(TESSERA_SANITIZE)
+  set(ROBUST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_property(TEST ${ROBUST_TESTS_AFTER} APPEND PROPERTY LABELS robustness)
+set_property(TEST ${ROBUST_TESTS_AFTER} APPEND PROPERTY ENVIRONMENT "${ROBUST_ENV}")
