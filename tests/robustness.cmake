@@ -32,6 +32,16 @@ add_test(NAME tilesort_refuses_assemble_with_string_conversion
   COMMAND ${ROBUST_EXPECT} 1 "" "tilesort#1: option assemble: bad file pattern 'wall-%s.png'"
           $<TARGET_FILE:spheres> --frames 1 --chain "tilesort servers=tcp://127.0.0.1:1 tiles=0:0:0:64:64 assemble=wall-%s.png")
 
+# --- defect 11: imgdiff reads headers first and bounds what a PNG claims --
+add_executable(png_claims ${CMAKE_CURRENT_SOURCE_DIR}/render/png_claims.c)
+set(ROBUST_IMGDIFF_LIMIT_KB 262144) # 256 MiB: the old whole-image read of 16384x16384 needs 1 GiB
+if(TESSERA_SANITIZE)
+  set(ROBUST_IMGDIFF_LIMIT_KB 0)
+endif()
+add_test(NAME imgdiff_huge_claimed_size_refused_from_headers_before_decoding
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/render/imgdiff_huge.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:png_claims>
+          ${ROBUST_OUT}/imgdiff-huge ${ROBUST_IMGDIFF_LIMIT_KB})
+
 get_property(ROBUST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 list(REMOVE_ITEM ROBUST_TESTS_AFTER ${ROBUST_TESTS_BEFORE})
 set(ROBUST_ENV "")
