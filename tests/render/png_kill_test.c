@@ -164,15 +164,15 @@ int main(int argc, char **argv)
         check_folder(frames_dir, sig, -1, &(tally){0}); /* empty it */
         unlink(sock + 5);
         unlink(log_node); /* the child truncates it only after the fork: no old line may be read */
-        char *node_argv[] = {tessera,      "node",   "--listen", sock, "--clients", "1", "--timeout-ms", "10000",
-                             "--chain",    render,   NULL};
+        char *node_argv[] = {tessera,        "node",  "--listen", sock,   "--clients", "1",
+                             "--timeout-ms", "10000", "--chain",  render, NULL};
         pid_t node = spawn(node_argv, log_node);
         /* Its "listening on" line comes after listen(): the socket file
          * exists from bind() on, when a connect is still refused. */
         for (int i = 0; i < 1000 && !file_contains(log_node, "listening on "); i++)
             sleep_ms(10);
-        REQUIRE(file_contains(log_node, "listening on "), "round %d: the node did not listen on %s within 10 s (see %s)",
-                round, sock, log_node);
+        REQUIRE(file_contains(log_node, "listening on "),
+                "round %d: the node did not listen on %s within 10 s (see %s)", round, sock, log_node);
         char *app_argv[] = {spheres, "--frames", "100000", "--size", "1024x768", "--chain", pack, NULL};
         pid_t app = spawn(app_argv, log_app);
         for (int i = 0; i < 2000 && count_frames(frames_dir) == 0; i++)
