@@ -32,6 +32,30 @@ add_test(NAME tilesort_refuses_assemble_with_string_conversion
   COMMAND ${ROBUST_EXPECT} 1 "" "tilesort#1: option assemble: bad file pattern 'wall-%s.png'"
           $<TARGET_FILE:spheres> --frames 1 --chain "tilesort servers=tcp://127.0.0.1:1 tiles=0:0:0:64:64 assemble=wall-%s.png")
 
+# --- defects 9 and 10: a lying server over a real socket ------------------
+add_executable(lying_server ${CMAKE_CURRENT_SOURCE_DIR}/node/lying_server.c)
+target_include_directories(lying_server PRIVATE ${CMAKE_SOURCE_DIR}/netlib)
+target_link_libraries(lying_server PRIVATE tessera tessera_net)
+set(ROBUST_LIAR ${CMAKE_CURRENT_SOURCE_DIR}/node/lying_server.sh)
+foreach(mode wrong-size truncated)
+  foreach(policy exit drop)
+    string(REPLACE "-" "_" mode_name ${mode})
+    add_test(NAME client_malformed_reply_${mode_name}_fails_server_on_error_${policy}
+      COMMAND ${ROBUST_LIAR} bad-reply ${CMAKE_BINARY_DIR}/bin ${ROBUST_OUT}/liar-${mode}-${policy}
+              $<TARGET_FILE:lying_server> $<TARGET_FILE:node_driver> ${mode} ${policy})
+  endforeach()
+endforeach()
+add_executable(text_sanitize_test ${CMAKE_CURRENT_SOURCE_DIR}/node/text_sanitize_test.c)
+target_link_libraries(text_sanitize_test PRIVATE tessera)
+add_test(NAME peer_text_sanitize_escapes_controls_and_invalid_utf8 COMMAND text_sanitize_test)
+add_test(NAME client_server_error_text_escape_sequences_printed_escaped
+  COMMAND ${ROBUST_LIAR} error-text ${CMAKE_BINARY_DIR}/bin ${ROBUST_OUT}/liar-error-text
+          $<TARGET_FILE:lying_server> $<TARGET_FILE:node_driver>)
+
+add_test(NAME run_app_exiting_without_connecting_ends_run_at_once_naming_it
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/run/app_exits.sh $<TARGET_FILE:tessera_cli> ${ROBUST_OUT}/app-exits)
+set_tests_properties(run_app_exiting_without_connecting_ends_run_at_once_naming_it PROPERTIES TIMEOUT 60)
+
 # --- defect 11: imgdiff reads headers first and bounds what a PNG claims --
 add_executable(png_claims ${CMAKE_CURRENT_SOURCE_DIR}/render/png_claims.c)
 set(ROBUST_IMGDIFF_LIMIT_KB 262144) # 256 MiB: the old whole-image read of 16384x16384 needs 1 GiB
