@@ -919,14 +919,10 @@ void tsr_packer_custom_GetTexImage(tsr_packer *p, GLenum target, GLint level, GL
     if (!img)
         return;
     tsr_pixel_layout lay;
-    int dims = target == GL_TEXTURE_3D ? 3 : 2;
-    if (tsr_pixel_layout_of(&p->pixels.pack, dims, w, h, depth, format, type, &lay) != 0) {
-        /* An unknown format or type is the application's (GL makes it an
-         * error); a size no layout fits is the reply's. */
-        if (tsr_pixel_layout_of(&p->pixels.pack, dims, 1, 1, 1, format, type, &lay) == 0)
-            tsr_packer_reply_bad(p, "GetTexImage", "its image size has no layout");
+    /* No layout: an empty level (0x0) or the application's unknown
+     * format or type; nothing to copy either way. */
+    if (tsr_pixel_layout_of(&p->pixels.pack, target == GL_TEXTURE_3D ? 3 : 2, w, h, depth, format, type, &lay) != 0)
         return;
-    }
     if (len != lay.extent) {
         char why[96];
         snprintf(why, sizeof why, "%llu image bytes, %llu expected", (unsigned long long)len,
