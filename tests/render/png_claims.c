@@ -36,7 +36,8 @@ static void chunk(FILE *f, const char *type, const uint8_t *data, uint32_t len)
     REQUIRE(len + 8 <= sizeof buf);
     put_u32(buf, len);
     memcpy(buf + 4, type, 4);
-    memcpy(buf + 8, data, len);
+    if (len)
+        memcpy(buf + 8, data, len);
     uint8_t crc[4];
     put_u32(crc, crc32_of(buf + 4, len + 4));
     fwrite(buf, 1, len + 8, f);
