@@ -96,7 +96,7 @@ int main(int argc, char **argv)
         return 2;
     tsr_error err = {0};
     counter cnt = {0, 0};
-    tsr_pack_sink sink = {count_buffer, NULL, &cnt};
+    tsr_pack_sink sink = {.flush = count_buffer, .ctx = &cnt};
     tsr_packer *p = tsr_packer_create(1u << 20, &sink, &err);
     tsr_state_tracker *t = tsr_state_tracker_create(&err);
     if (!p || !t) {

@@ -66,8 +66,9 @@ struct tsr_stream_client {
     tsr_packer *packer;
     tsr_net_msg reply; /* the reply handed to the packer, held until the next sink call */
     int holding_reply;
-    tsr_entry swap;   /* the packer's SwapBuffersTSR (frames are counted in front of it) */
-    buffer_pool pool; /* flushed buffers' copies; outlives the I/O thread */
+    size_t reply_server; /* whose reply it is */
+    tsr_entry swap;      /* the packer's SwapBuffersTSR (frames are counted in front of it) */
+    buffer_pool pool;    /* flushed buffers' copies; outlives the I/O thread */
     uint64_t frames, buffers, stream_bytes;
     tsr_error first_error;
     tsr_node_join *join;                     /* late servers still expected (join.h); NULL: none, nothing tracked */
@@ -152,11 +153,13 @@ static void release_reply(tsr_stream_client *c)
     }
 }
 
-/* "the server dropped this client: REASON" from a TSR_NODE_MSG_ERROR. */
+/* "the server dropped this client: REASON" from a TSR_NODE_MSG_ERROR; the
+ * reason is the server's text, so its control bytes are escaped. */
 static void dropped_reason(tsr_error *why, const tsr_net_msg *m)
 {
-    tsr_error_set(why, TSR_EPROTO, "the server dropped this client: %.*s", (int)(m->len < 400 ? m->len : 400),
-                  (const char *)m->data);
+    char reason[400];
+    tsr_text_sanitize(reason, sizeof reason, m->data, (size_t)(m->len < 400 ? m->len : 400));
+    tsr_error_set(why, TSR_EPROTO, "the server dropped this client: %s", reason);
 }
 
 /* When a server dropped us it said why (TSR_NODE_MSG_ERROR) before
@@ -319,14 +322,41 @@ static int server_sink_reply(void *ctx, uint32_t id, const uint8_t **data, size_
                              c->servers[s->index].address, id);
     c->reply = m;
     c->holding_reply = 1;
+    c->reply_server = s->index;
     *data = (const uint8_t *)c->reply.data + TSR_NODE_REPLY_HEADER;
     *size = (size_t)(c->reply.len - TSR_NODE_REPLY_HEADER);
     return TSR_OK;
 }
 
+/* The packer could not decode the reply it was handed (truncated, an item
+ * of the wrong size): the server that sent it is failing, and the call it
+ * answered returned zeros. on_error decides: exit, or go on without it. */
+static void reply_failed(tsr_stream_client *c, const tsr_error *why)
+{
+    if (!c->holding_reply || c->servers[c->reply_server].failed)
+        return;
+    tsr_error ignored = {0};
+    server_failed(c, c->reply_server, &ignored, "bad reply", why);
+}
+
+static void client_reply_failed(void *ctx, uint32_t id, const tsr_error *why)
+{
+    (void)id;
+    reply_failed(ctx, why);
+}
+
+static void server_sink_reply_failed(void *ctx, uint32_t id, const tsr_error *why)
+{
+    (void)id;
+    reply_failed(((server_sink *)ctx)->client, why);
+}
+
 void tsr_stream_client_server_sink(tsr_stream_client *c, size_t index, struct tsr_pack_sink *sink)
 {
-    *sink = (tsr_pack_sink){.flush = server_sink_flush, .reply = server_sink_reply, .ctx = &c->sinks[index]};
+    *sink = (tsr_pack_sink){.flush = server_sink_flush,
+                            .reply = server_sink_reply,
+                            .ctx = &c->sinks[index],
+                            .reply_failed = server_sink_reply_failed};
 }
 
 void tsr_stream_client_set_stats_extra(tsr_stream_client *c, void (*fn)(void *ctx, FILE *f), void *ctx)
@@ -386,6 +416,7 @@ static int client_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *si
         } else {
             c->reply = m;
             c->holding_reply = 1;
+            c->reply_server = i;
         }
     }
     if (!c->holding_reply)
@@ -640,7 +671,7 @@ tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *conf
     tsr_stream_client *c = tsr_stream_client_connect(config, err);
     if (!c)
         return NULL;
-    tsr_pack_sink sink = {.flush = client_flush, .reply = client_reply, .ctx = c};
+    tsr_pack_sink sink = {.flush = client_flush, .reply = client_reply, .ctx = c, .reply_failed = client_reply_failed};
     c->packer = tsr_packer_create(config->buffer_size, &sink, err);
     if (!c->packer) {
         c->live = 0;

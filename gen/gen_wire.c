@@ -272,10 +272,12 @@ static void emit_return_zero(FILE *f, const gen_cmd *gc)
 static void emit_outline_pack(FILE *f, const gen_cmd *gc)
 {
     const spec_command *c = gc->sc;
-    int uses_invalid = gc->nvar || gc->nout || (!gc->is_void && !gc->ret_is_string);
+    /* A reply's checks jump to tsr_bad_reply, the arguments' to tsr_invalid. */
+    int uses_bad_reply = gc->is_reply && (gc->nout || (!gc->is_void && !gc->ret_is_string));
+    int uses_invalid = gc->nvar || gc->nout || (!gc->is_void && !gc->ret_is_string && !gc->is_reply);
     emit_pack_signature(f, gc, "");
     fprintf(f, "\n{\n");
-    if (uses_invalid)
+    if (uses_invalid || uses_bad_reply)
         fprintf(f, "    const char *tsr_why = NULL;\n");
     if (pack_answer(c))
         fprintf(f, "    %s\n", pack_answer(c));
@@ -353,7 +355,7 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
             else
                 fprintf(
                     f,
-                    "    if (tsr_ilen != sizeof tsr_ret) { tsr_why = \"reply has a wrong return size\"; goto tsr_invalid; }\n"
+                    "    if (tsr_ilen != sizeof tsr_ret) { tsr_why = \"a wrong return size\"; goto tsr_bad_reply; }\n"
                     "    memcpy(&tsr_ret, tsr_item, sizeof tsr_ret);\n");
         }
         for (size_t i = 0; i < c->nparams; i++) {
@@ -370,7 +372,7 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
             gen_emit_count(f, gc, gp, "&tsr_p->pixels.pack");
             fprintf(
                 f,
-                "    if (tsr_ilen != tsr_len_%s) { tsr_why = \"reply size of %s differs from the request\"; goto tsr_invalid; }\n",
+                "    if (tsr_ilen != tsr_len_%s) { tsr_why = \"the size of %s differs from the request\"; goto tsr_bad_reply; }\n",
                 n, n);
             if (needs_layout(gp)) {
                 const spec_count *k = &gp->sp->count;
@@ -391,7 +393,16 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
     else
         fprintf(f, "    return tsr_ret;\n");
     if (uses_invalid) {
-        fprintf(f, "tsr_invalid:\n    tsr_packer_drop(tsr_p, \"%s\", tsr_why);\n    ", c->name);
+        /* unused when every count is fixed and only the reply is checked */
+        fprintf(f, "tsr_invalid: __attribute__((unused));\n    tsr_packer_drop(tsr_p, \"%s\", tsr_why);\n    ",
+                c->name);
+        emit_return_zero(f, gc);
+        fprintf(f, "\n");
+    }
+    /* A reply that does not decode is the answering server's fault, not
+     * the application's: the sink learns it (tessera/dev/pack.h). */
+    if (uses_bad_reply) {
+        fprintf(f, "tsr_bad_reply:\n    tsr_packer_reply_bad(tsr_p, \"%s\", tsr_why);\n    ", c->name);
         emit_return_zero(f, gc);
         fprintf(f, "\n");
     }

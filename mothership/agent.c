@@ -678,6 +678,11 @@ int tsr_agent_run(const tsr_agent_config *config, tsr_error *err)
     if (!a.net)
         return 1;
     int code = join_and_run(&a, err);
+    /* The reason may quote a peer (a STOP or REFUSE reason, a server's
+     * error): made safe to print here, once for every path. */
+    char raw[sizeof err->message];
+    snprintf(raw, sizeof raw, "%s", err->message);
+    tsr_text_sanitize(err->message, sizeof err->message, raw, strlen(raw));
     kill_child(&a);
     remove_tmpdir(&a);
     if (a.node && !atomic_load(&a.node_done))

@@ -72,6 +72,8 @@ typedef struct ms_node {
     char *sort_first; /* a tilesort app's "sort_first" statistics (JSON), or NULL */
     double rate_t, rate_frames, rate_bytes, fps, mbps;
     int done_status;
+    double stats_at;     /* last STATS received */
+    int check_connected; /* an app that ended well without statistics: did it reach its servers? */
 } ms_node;
 
 typedef struct pending_conn {
@@ -106,10 +108,15 @@ static void fail(ms *m, int cls, const char *fmt, ...)
     if (cls >= m->fail_class)
         return;
     m->fail_class = cls;
+    /* Failures quote peers (a node's DONE message, a JOIN's name, a
+     * control message that did not parse): the whole line is made safe
+     * to print, which leaves this file's own text as it is. */
+    char raw[sizeof m->fail_message];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m->fail_message, sizeof m->fail_message, fmt, ap);
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    tsr_text_sanitize(m->fail_message, sizeof m->fail_message, raw, strlen(raw));
 }
 
 static int is_local_host(const char *host)
@@ -564,15 +571,17 @@ static void handle_join(ms *m, size_t p, const tsr_ctl *msg)
         n = NULL;
     }
     if (!n) {
-        refuse(conn, reason);
-        fail(m, FAIL_OTHER, "%s", reason);
+        char safe[sizeof reason];
+        tsr_text_sanitize(safe, sizeof safe, reason, strlen(reason)); /* it quotes the peer's name and host */
+        refuse(conn, safe);
+        fail(m, FAIL_OTHER, "%s", safe);
         return;
     }
     n->conn = conn;
     n->state = N_JOINED;
     n->last_heard = tsr_now_seconds();
     n->remote_pid = (long)tsr_ctl_number(msg, "pid", 0);
-    snprintf(n->host, sizeof n->host, "%s", host ? host : "?");
+    tsr_text_sanitize(n->host, sizeof n->host, host ? host : "?", strlen(host ? host : "?"));
 }
 
 static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
@@ -591,12 +600,19 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         n->state = N_READY;
         break;
     }
-    case TSR_MS_MSG_STATS: take_stats(n, msg); break;
+    case TSR_MS_MSG_STATS:
+        take_stats(n, msg);
+        n->stats_at = tsr_now_seconds();
+        break;
     case TSR_MS_MSG_DONE: {
         take_stats(n, msg);
         n->state = N_DONE;
         n->done_at = tsr_now_seconds();
         n->done_status = (int)tsr_ctl_number(msg, "status", 1);
+        /* An application that ended well, but whose stream client wrote no
+         * statistics, may never have connected: its servers would wait
+         * for it until their join time-out (check_unconnected). */
+        n->check_connected = !n->server && !n->done_status && n->app_stats != 1 && n->network && n->g->to_count;
         const char *why = tsr_ctl_get(msg, "message");
         if (n->done_status)
             fail(m, tsr_ctl_number(msg, "signal", 0) ? FAIL_SIGNAL : FAIL_EXIT, "node '%s': %s", n->g->name,
@@ -714,6 +730,41 @@ static void check(ms *m)
             tsr_net_conn_close(m->pending[p].conn);
             m->pending[p--] = m->pending[--m->pending_count];
         }
+}
+
+/* An application that ended (status 0) without statistics from its
+ * stream client: once each of its servers has sent a heartbeat made after
+ * that end, a server still short of clients will never get this one.
+ * Servers accept a client's connection before its application goes on, so
+ * the count in such a heartbeat includes it if it ever connected. */
+static void check_unconnected(ms *m)
+{
+    double beat = heartbeat_ms(m) / 1000.0;
+    for (size_t i = 0; i < m->count; i++) {
+        ms_node *n = &m->nodes[i];
+        if (!n->check_connected)
+            continue;
+        int pending = 0;
+        for (size_t t = 0; t < n->g->to_count; t++) {
+            const ms_node *server = &m->nodes[n->g->to[t]];
+            if (server->state == N_DONE)
+                continue;
+            if (server->stats_at < n->done_at + beat) {
+                pending = 1;
+                continue;
+            }
+            if (server->clients < server->g->from_count) {
+                fail(m, FAIL_EXIT,
+                     "node '%s': application %s exited with status 0 without connecting to node '%s' (%u of %zu "
+                     "clients connected)",
+                     n->g->name, n->g->exec_argc ? n->g->exec[0] : "?", server->g->name, server->clients,
+                     server->g->from_count);
+                n->check_connected = 0;
+                return;
+            }
+        }
+        n->check_connected = pending;
+    }
 }
 
 /* A node whose CONFIG said links=later gets its chain once it and every
@@ -1056,6 +1107,7 @@ static int run(ms *m, tsr_error *err)
         reap(m);
         if (m->fail_class == FAIL_NONE) {
             check(m);
+            check_unconnected(m);
             if (configure(m, err) != TSR_OK)
                 fail(m, FAIL_OTHER, "%s", err->message);
         }

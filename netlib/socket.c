@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "net_internal.h"
+#include "tessera/dev/util.h"
 #include "tessera/log.h"
 
 #define NET_UNIX_SNDBUF (4 << 20) /* asked for a Unix socket's send buffer */
@@ -357,7 +358,7 @@ static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
 
 static void handshake_done(tsr_net_conn *c, const net_hello *h)
 {
-    snprintf(c->peer_name, sizeof c->peer_name, "%s", h->name);
+    tsr_text_sanitize(c->peer_name, sizeof c->peer_name, h->name, strlen(h->name)); /* printed by every user */
     /* What the peer announces is a ceiling, never a licence: this side
      * sends at most its own limits too, so its send queue (and a server's
      * replies) stays within credits x max_message_bytes of its own config. */

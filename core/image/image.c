@@ -1,16 +1,25 @@
 /* core/image/image.c — RGBA8 images: PNG I/O through libpng, compare, row flip.
  * Owns the libpng setjmp/longjmp boundary: every libpng call happens in a
  * function whose locals are not touched after setjmp, and libpng errors
- * become tsr_error values naming the file. Never prints, exits or aborts. */
+ * become tsr_error values naming the file. Owns, per process, the table of
+ * temporary PNGs being written and the handler that removes them when
+ * SIGTERM, SIGINT or SIGHUP end the process (installed only over a signal's
+ * default action, which it then takes). Never prints, exits or aborts. */
 #include "tessera/image.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <png.h>
+#include <pthread.h>
 #include <setjmp.h>
+#include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Shared by a libpng call and its error callback. Lives in the caller of
  * the function that runs setjmp, so nothing it holds is an automatic
@@ -20,8 +29,11 @@ typedef struct png_job {
     FILE *file;
     char message[256]; /* libpng's error text */
     /* reading */
-    tsr_image *out;
+    tsr_image *out; /* NULL: the header only */
     png_bytep *rows;
+    uint64_t max_pixels;
+    uint32_t width_read, height_read;
+    bool over_limit;
     /* writing */
     const uint8_t *pixels;
     int width, height;
@@ -77,8 +89,19 @@ static int read_png_guarded(png_structp png, png_infop info, png_job *job)
         return -1;
     png_init_io(png, job->file);
     png_set_sig_bytes(png, 8);
-    png_set_user_limits(png, TSR_IMAGE_MAX_SIDE, TSR_IMAGE_MAX_SIDE);
+    /* PNG's own bound (2^31 - 1 per side): the limits are checked below,
+     * so the error can name them. */
+    png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
     png_read_info(png, info);
+    job->width_read = png_get_image_width(png, info);
+    job->height_read = png_get_image_height(png, info);
+    if (job->width_read > TSR_IMAGE_MAX_SIDE || job->height_read > TSR_IMAGE_MAX_SIDE ||
+        (uint64_t)job->width_read * job->height_read > job->max_pixels) {
+        job->over_limit = true;
+        return -1;
+    }
+    if (!job->out)
+        return 0;
 
     png_byte color_type = png_get_color_type(png, info);
     png_byte bit_depth = png_get_bit_depth(png, info);
@@ -119,35 +142,64 @@ static int read_png_guarded(png_structp png, png_infop info, png_job *job)
     return 0;
 }
 
-int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err)
+/* Reads `path` into job->out, or only its header when that is NULL. */
+static int read_png(png_job *job, tsr_error *err)
 {
-    memset(img, 0, sizeof *img);
-    png_job job = {.path = path, .out = img};
-    job.file = fopen(path, "rb");
-    if (!job.file)
+    const char *path = job->path;
+    job->file = fopen(path, "rb");
+    if (!job->file)
         return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "%s: %s", path, strerror(errno));
     unsigned char sig[8];
-    size_t got = fread(sig, 1, sizeof sig, job.file);
+    size_t got = fread(sig, 1, sizeof sig, job->file);
     if (got != sizeof sig || png_sig_cmp(sig, 0, sizeof sig) != 0) {
-        fclose(job.file);
+        fclose(job->file);
         return tsr_error_set(err, TSR_EINVAL, "%s: not a PNG file", path);
     }
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error, png_job_warning);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!info) {
         png_destroy_read_struct(&png, NULL, NULL);
-        fclose(job.file);
+        fclose(job->file);
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for libpng", path);
     }
-    int rc = read_png_guarded(png, info, &job);
+    int rc = read_png_guarded(png, info, job);
     png_destroy_read_struct(&png, &info, NULL);
-    fclose(job.file);
-    free(job.rows);
-    if (rc != 0) {
-        tsr_image_free(img);
-        return tsr_error_set(err, TSR_EINVAL, "%s: bad PNG: %s", path, job.message);
-    }
+    fclose(job->file);
+    free(job->rows);
+    if (rc != 0 && job->out)
+        tsr_image_free(job->out);
+    if (job->over_limit && (job->width_read > TSR_IMAGE_MAX_SIDE || job->height_read > TSR_IMAGE_MAX_SIDE))
+        return tsr_error_set(err, TSR_EINVAL, "%s: claims %ux%u pixels, more than the limit of %d per side", path,
+                             job->width_read, job->height_read, TSR_IMAGE_MAX_SIDE);
+    if (job->over_limit)
+        return tsr_error_set(err, TSR_EINVAL, "%s: claims %ux%u = %llu pixels, more than the limit of %llu pixels",
+                             path, job->width_read, job->height_read,
+                             (unsigned long long)job->width_read * job->height_read,
+                             (unsigned long long)job->max_pixels);
+    if (rc != 0)
+        return tsr_error_set(err, TSR_EINVAL, "%s: bad PNG: %s", path, job->message);
     return TSR_OK;
+}
+
+int tsr_image_read_png_limited(tsr_image *img, const char *path, uint64_t max_pixels, tsr_error *err)
+{
+    memset(img, 0, sizeof *img);
+    png_job job = {.path = path, .out = img, .max_pixels = max_pixels};
+    return read_png(&job, err);
+}
+
+int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err)
+{
+    return tsr_image_read_png_limited(img, path, (uint64_t)TSR_IMAGE_MAX_SIDE * TSR_IMAGE_MAX_SIDE, err);
+}
+
+int tsr_image_read_png_size(const char *path, uint64_t max_pixels, int *width, int *height, tsr_error *err)
+{
+    png_job job = {.path = path, .max_pixels = max_pixels};
+    int rc = read_png(&job, err);
+    *width = rc == TSR_OK ? (int)job.width_read : 0;
+    *height = rc == TSR_OK ? (int)job.height_read : 0;
+    return rc;
 }
 
 /* --- writing ------------------------------------------------------------ */
@@ -170,6 +222,92 @@ static int write_png_guarded(png_structp png, png_infop info, png_job *job)
     return 0;
 }
 
+/* A PNG is written to a temporary file in its own directory and renamed
+ * over its name when whole, so a reader, or a kill at any moment, never
+ * sees a part of one. A terminating signal (SIGTERM, SIGINT, SIGHUP) would
+ * still leave the temporary behind: those being written are listed here,
+ * process-wide because signals are, and the handler removes them. Each
+ * slot's path is a fixed buffer (the handler may not touch freed memory);
+ * `state` is 0 free, 1 claimed, 2 listed, and `pid` keeps a forked child
+ * that is signalled before its exec from removing its parent's files. */
+#define PENDING_SLOTS 32
+typedef struct pending_png {
+    atomic_int state;
+    pid_t pid;
+    char path[PATH_MAX];
+} pending_png;
+static pending_png pending_pngs[PENDING_SLOTS];
+static const int cleanup_signals[] = {SIGTERM, SIGINT, SIGHUP};
+static pthread_once_t cleanup_once = PTHREAD_ONCE_INIT;
+
+static void remove_pending_and_die(int sig)
+{
+    int saved_errno = errno;
+    pid_t self = getpid();
+    for (size_t i = 0; i < PENDING_SLOTS; i++)
+        if (atomic_load(&pending_pngs[i].state) == 2 && pending_pngs[i].pid == self)
+            unlink(pending_pngs[i].path);
+    errno = saved_errno;
+    /* SA_RESETHAND restored the default action: the signal, raised again,
+     * ends the process as it would have without this handler. */
+    raise(sig);
+}
+
+/* Over the default action only: a program's own handler is its business. */
+static void install_cleanup(void)
+{
+    for (size_t i = 0; i < sizeof cleanup_signals / sizeof cleanup_signals[0]; i++) {
+        struct sigaction old;
+        if (sigaction(cleanup_signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
+            continue;
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = remove_pending_and_die;
+        sa.sa_flags = SA_RESETHAND;
+        sigfillset(&sa.sa_mask);
+        sigaction(cleanup_signals[i], &sa, NULL);
+    }
+}
+
+/* Lists `tmp`; returns its slot, or -1 when every slot is taken (the file
+ * is then written unlisted: still whole or absent, only a signal may leave
+ * the temporary). */
+static int pending_add(const char *tmp)
+{
+    pthread_once(&cleanup_once, install_cleanup);
+    for (int i = 0; i < PENDING_SLOTS; i++) {
+        int expected = 0;
+        if (!atomic_compare_exchange_strong(&pending_pngs[i].state, &expected, 1))
+            continue;
+        snprintf(pending_pngs[i].path, sizeof pending_pngs[i].path, "%s", tmp);
+        pending_pngs[i].pid = getpid();
+        atomic_store(&pending_pngs[i].state, 2);
+        return i;
+    }
+    return -1;
+}
+
+static void pending_remove(int slot)
+{
+    if (slot >= 0)
+        atomic_store(&pending_pngs[slot].state, 0);
+}
+
+/* "DIR/.NAME.tmp-PID-N" for `path` "DIR/NAME": hidden, in the same
+ * directory (rename is atomic only within one file system), unique per
+ * process and call. */
+static int temp_name(char *out, size_t size, const char *path)
+{
+    static atomic_uint sequence;
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    int dir_len = slash ? (int)(slash - path + 1) : 0;
+    /* Keep the name under NAME_MAX (255) whatever the final name's length. */
+    int n = snprintf(out, size, "%.*s.%.200s.tmp-%ld-%u", dir_len, path, base, (long)getpid(),
+                     atomic_fetch_add(&sequence, 1));
+    return n < 0 || (size_t)n >= size ? -1 : 0;
+}
+
 int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
                              const char *path, tsr_error *err)
 {
@@ -177,30 +315,48 @@ int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_
         stride < (size_t)width * 4)
         return tsr_error_set(err, TSR_EINVAL, "%s: cannot write a %dx%d image with stride %zu", path, width, height,
                              stride);
+    char tmp[PATH_MAX];
+    if (temp_name(tmp, sizeof tmp, path) != 0)
+        return tsr_error_set(err, TSR_EINVAL, "%s: file name too long", path);
     png_job job = {
         .path = path, .pixels = pixels, .width = width, .height = height, .stride = stride, .bottom_up = bottom_up};
-    job.file = fopen(path, "wb");
-    if (!job.file)
-        return tsr_error_set(err, errno == ENOENT ? TSR_ENOENT : TSR_EIO, "cannot create %s: %s", path,
-                             strerror(errno));
+    int slot = pending_add(tmp);
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    job.file = fd >= 0 ? fdopen(fd, "wb") : NULL;
+    if (!job.file) {
+        int saved_errno = errno;
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp);
+        }
+        pending_remove(slot);
+        return tsr_error_set(err, saved_errno == ENOENT ? TSR_ENOENT : TSR_EIO, "cannot create %s: %s", path,
+                             strerror(saved_errno));
+    }
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error, png_job_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!info) {
         png_destroy_write_struct(&png, NULL);
         fclose(job.file);
-        remove(path);
+        unlink(tmp);
+        pending_remove(slot);
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for libpng", path);
     }
     int rc = write_png_guarded(png, info, &job);
     png_destroy_write_struct(&png, &info);
     int close_failed = fclose(job.file) != 0;
-    if (rc != 0 || close_failed) {
-        int saved_errno = errno;
-        remove(path);
-        if (rc != 0)
-            return tsr_error_set(err, TSR_EIO, "%s: writing PNG failed: %s", path, job.message);
-        return tsr_error_set(err, TSR_EIO, "%s: %s", path, strerror(saved_errno));
+    int saved_errno = errno;
+    int renamed = rc == 0 && !close_failed && rename(tmp, path) == 0;
+    if (!renamed) {
+        if (rc == 0 && !close_failed)
+            saved_errno = errno; /* rename's */
+        unlink(tmp);
     }
+    pending_remove(slot);
+    if (rc != 0)
+        return tsr_error_set(err, TSR_EIO, "%s: writing PNG failed: %s", path, job.message);
+    if (!renamed)
+        return tsr_error_set(err, TSR_EIO, "%s: %s", path, strerror(saved_errno));
     return TSR_OK;
 }
 
@@ -268,7 +424,9 @@ void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride)
 
 /* --- frame file names --------------------------------------------------- */
 
-int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame, tsr_error *err)
+/* The integer conversions in `pattern` (0 or 1), or -1 when it holds any
+ * other '%' use or more than one. */
+static int frame_conversions(const char *pattern)
 {
     int conversions = 0;
     for (const char *p = pattern; *p; p++) {
@@ -285,10 +443,17 @@ int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
             width_digits++;
         }
         if ((*p != 'd' && *p != 'i') || width_digits > 2 || ++conversions > 1)
-            return tsr_error_set(err, TSR_EINVAL, "bad file pattern '%s': allowed is one %%d (e.g. %%04d) and %%%%",
-                                 pattern);
+            return -1;
     }
-    /* The pattern was checked above: at most one int conversion. */
+    return conversions;
+}
+
+int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame, tsr_error *err)
+{
+    if (frame_conversions(pattern) < 0)
+        return tsr_error_set(err, TSR_EINVAL, "bad file pattern '%s': allowed is one %%d (e.g. %%04d) and %%%%",
+                             pattern);
+        /* The pattern was checked above: at most one int conversion. */
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wformat-nonliteral"
     int n = snprintf(out, size, pattern, frame);
@@ -297,4 +462,24 @@ int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame,
         return tsr_error_set(err, TSR_EINVAL, "file pattern '%s' gives a name longer than %zu bytes", pattern,
                              size - 1);
     return TSR_OK;
+}
+
+int tsr_image_check_frame_pattern(const char *who, const char *option, const char *pattern, bool overwrite,
+                                  const char *overwrite_option, tsr_error *err)
+{
+    int conversions = frame_conversions(pattern);
+    if (conversions < 0)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "%s: option %s: bad file pattern '%s': allowed is one %%d (e.g. %%04d) and %%%%", who,
+                             option, pattern);
+    if (conversions == 1 || overwrite)
+        return TSR_OK;
+    /* The suggestion: the pattern with -%04d before its extension. */
+    const char *slash = strrchr(pattern, '/');
+    const char *dot = strrchr(slash ? slash : pattern, '.');
+    int at = dot && dot != (slash ? slash + 1 : pattern) ? (int)(dot - pattern) : (int)strlen(pattern);
+    return tsr_error_set(err, TSR_EINVAL,
+                         "%s: option %s=%s has no frame number: every frame would overwrite that one file; "
+                         "put one %%d in it (e.g. %.*s-%%04d%s) or give %s=1 to keep only the last frame",
+                         who, option, pattern, at, pattern, pattern + at, overwrite_option);
 }

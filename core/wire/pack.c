@@ -249,8 +249,19 @@ const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size)
         record(p, e.code ? e.code : TSR_EPROTO, "no reply to request %u: %s", id, e.message);
         return NULL;
     }
+    p->reply_id = id;
     *size = n;
     return r;
+}
+
+void tsr_packer_reply_bad(tsr_packer *p, const char *command, const char *why)
+{
+    tsr_error e;
+    tsr_error_set(&e, TSR_EPROTO, "reply to gl%s (request %u) is malformed: %s", command, p->reply_id,
+                  why ? why : "it does not decode");
+    record(p, e.code, "%s", e.message);
+    if (p->sink.reply_failed)
+        p->sink.reply_failed(p->sink.ctx, p->reply_id, &e);
 }
 
 const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos, uint64_t *len,
@@ -258,13 +269,15 @@ const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsi
 {
     size_t q = (size_t)tsr_wire_align8(*pos);
     if (q > rsize || rsize - q < 8) {
-        record(p, TSR_EPROTO, "reply to gl%s is truncated", command);
+        tsr_packer_reply_bad(p, command, "truncated");
         return NULL;
     }
     uint64_t n = tsr_wire_get_u64(r + q);
     q += 8;
     if (n > rsize - q) {
-        record(p, TSR_EPROTO, "reply to gl%s has an item of %llu bytes beyond its end", command, (unsigned long long)n);
+        char why[96];
+        snprintf(why, sizeof why, "an item of %llu bytes beyond its end", (unsigned long long)n);
+        tsr_packer_reply_bad(p, command, why);
         return NULL;
     }
     *len = n;
@@ -897,7 +910,7 @@ void tsr_packer_custom_GetTexImage(tsr_packer *p, GLenum target, GLint level, GL
     if (!whd)
         return;
     if (len != 12) {
-        record(p, TSR_EPROTO, "reply to glGetTexImage has a %llu-byte size item", (unsigned long long)len);
+        tsr_packer_reply_bad(p, "GetTexImage", "its size item is not 12 bytes");
         return;
     }
     int32_t w = (int32_t)tsr_wire_get_u32(whd), h = (int32_t)tsr_wire_get_u32(whd + 4),
@@ -906,11 +919,15 @@ void tsr_packer_custom_GetTexImage(tsr_packer *p, GLenum target, GLint level, GL
     if (!img)
         return;
     tsr_pixel_layout lay;
+    /* No layout: an empty level (0x0) or the application's unknown
+     * format or type; nothing to copy either way. */
     if (tsr_pixel_layout_of(&p->pixels.pack, target == GL_TEXTURE_3D ? 3 : 2, w, h, depth, format, type, &lay) != 0)
         return;
     if (len != lay.extent) {
-        record(p, TSR_EPROTO, "reply to glGetTexImage has %llu image bytes, %llu expected", (unsigned long long)len,
-               (unsigned long long)lay.extent);
+        char why[96];
+        snprintf(why, sizeof why, "%llu image bytes, %llu expected", (unsigned long long)len,
+                 (unsigned long long)lay.extent);
+        tsr_packer_reply_bad(p, "GetTexImage", why);
         return;
     }
     if (pixels)

@@ -26,8 +26,11 @@ void tsr_packer_drop(tsr_packer *p, const char *command, const char *why);
 /* Flushes and fetches the reply to request `id`; NULL on failure (error
  * recorded). */
 const uint8_t *tsr_packer_request(tsr_packer *p, uint32_t id, size_t *size);
+/* The reply being decoded is malformed (`why`): recorded, and the sink's
+ * reply_failed told, since the answering side is at fault. */
+void tsr_packer_reply_bad(tsr_packer *p, const char *command, const char *why);
 /* Reads reply item `*pos` (advancing it): returns the bytes and sets *len;
- * NULL when the reply is malformed. */
+ * NULL when the reply is malformed (tsr_packer_reply_bad). */
 const uint8_t *tsr_packer_reply_item(tsr_packer *p, const uint8_t *r, size_t rsize, size_t *pos, uint64_t *len,
                                      const char *command);
 /* Keeps a copy of a returned string for the packer's lifetime. */

@@ -47,9 +47,22 @@ TSR_API void tsr_image_free(tsr_image *img);
  * converted to RGBA8 (16-bit channels keep their high byte; missing alpha
  * becomes 255). On failure `img` is left zeroed. */
 TSR_API int tsr_image_read_png(tsr_image *img, const char *path, tsr_error *err);
+/* The same, refusing (TSR_EINVAL, naming the limit) before allocating or
+ * decoding anything a file whose header claims more than `max_pixels`
+ * (width x height) or more than TSR_IMAGE_MAX_SIDE per side. */
+TSR_API int tsr_image_read_png_limited(tsr_image *img, const char *path, uint64_t max_pixels, tsr_error *err);
+/* Reads only the signature and header: the size the file claims, under
+ * the same limits. */
+TSR_API int tsr_image_read_png_size(const char *path, uint64_t max_pixels, int *width, int *height, tsr_error *err);
 
-/* Writes `img` as an 8-bit RGBA PNG (overwriting `path`). The directory
- * must exist. A half-written file is removed on failure. */
+/* Writes `img` as an 8-bit RGBA PNG, replacing `path` only when the file
+ * is whole: it is written to a hidden temporary in the same directory
+ * (".NAME.tmp-PID-N") and renamed, so a reader, a kill or a failure never
+ * leaves a partial PNG under `path`. The temporary is removed on failure,
+ * and by SIGTERM, SIGINT and SIGHUP when those have their default action
+ * (the writer installs a handler that removes the temporaries being
+ * written, then lets the signal end the process as before); SIGKILL may
+ * leave one. The directory must exist. */
 TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err);
 
 /* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
@@ -70,6 +83,14 @@ TSR_API int tsr_image_compare(const tsr_image *a, const tsr_image *b, int tolera
  * other '%' use is an error (TSR_EINVAL) naming the pattern, so a user's
  * pattern is never handed to printf unchecked. */
 TSR_API int tsr_image_frame_path(char *out, size_t size, const char *pattern, int frame, tsr_error *err);
+
+/* Checks an output option's frame `pattern` as tsr_image_frame_path will
+ * use it, and that it holds a frame number unless `overwrite` (a pattern
+ * without one writes every frame over the same file). Errors are one line
+ * naming `who`, `option`=`pattern` and, for a missing frame number, the
+ * option `overwrite_option` that allows it. */
+TSR_API int tsr_image_check_frame_pattern(const char *who, const char *option, const char *pattern, bool overwrite,
+                                          const char *overwrite_option, tsr_error *err);
 
 /* Reverses the order of `height` rows of `stride` bytes in place. */
 TSR_API void tsr_image_flip_rows(uint8_t *pixels, int height, size_t stride);

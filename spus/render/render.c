@@ -470,12 +470,15 @@ static void ensure_current(render_spu *r)
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
 }
 
-/* The directory part of the output pattern (checked with frame 0) must be
- * an existing, writable directory. */
-static int check_output(render_spu *r, tsr_error *err)
+/* The output pattern must number its frames (or overwrite=1 say it need
+ * not), and its directory part (checked with frame 0) must be an existing,
+ * writable directory. */
+static int check_output(render_spu *r, bool overwrite, tsr_error *err)
 {
     if (!r->output[0])
         return TSR_OK;
+    if (tsr_image_check_frame_pattern(r->name, "output", r->output, overwrite, "output_overwrite", err) != TSR_OK)
+        return err->code;
     char path[PATH_MAX];
     tsr_error pattern_err = {0};
     if (tsr_image_frame_path(path, sizeof path, r->output, 0, &pattern_err) != TSR_OK)
@@ -1294,7 +1297,8 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
                       r->fixed_width, r->fixed_height);
         goto fail;
     }
-    if (check_output(r, err) != TSR_OK || load_osmesa(r, err) != TSR_OK)
+    if (check_output(r, tsr_options_bool(init->options, "output_overwrite"), err) != TSR_OK ||
+        load_osmesa(r, err) != TSR_OK)
         goto fail;
     if (tsr_gl_procs_load(&r->gl, osmesa_getproc, r, err) != TSR_OK) {
         char detail[sizeof err->message];

@@ -45,7 +45,16 @@ void render_spu_destroy(void *instance);
      .min = 1,                                                                                 \
      .max = 0,                                                                                 \
      .help = "PNG file per frame, one %d for the frame number (out/f-%04d.png); "              \
-             "the directory must exist; empty: write nothing"},                                \
+             "the directory must exist; each file is written whole under a temporary "         \
+             "name and renamed; a name without %d is refused unless output_overwrite=1; "      \
+             "empty: write nothing"},                                                          \
+        {.name = "output_overwrite",                                                           \
+         .type = TSR_OPT_BOOL,                                                                 \
+         .default_value = "false",                                                             \
+         .min = 1,                                                                             \
+         .max = 0,                                                                             \
+         .help = "allow an output name without %d: every frame replaces the one file, "        \
+                 "which holds the last frame"},                                                \
         {.name = "width",                                                                      \
          .type = TSR_OPT_INT,                                                                  \
          .default_value = "0",                                                                 \

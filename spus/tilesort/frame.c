@@ -126,9 +126,9 @@ static void assemble_frame(tilesort *t)
             memcpy(img + (size_t)r * (size_t)t->win_w * 4, raw + l.first + (size_t)r * l.row_bytes,
                    (size_t)t->win_w * 4);
         char path[4096];
-        snprintf(path, sizeof path, t->assemble, (int)t->frames);
         tsr_error err = {0};
-        if (tsr_image_write_png_rgba(img, t->win_w, t->win_h, (size_t)t->win_w * 4, 1, path, &err) != TSR_OK)
+        if (tsr_image_frame_path(path, sizeof path, t->assemble, (int)t->frames, &err) != TSR_OK ||
+            tsr_image_write_png_rgba(img, t->win_w, t->win_h, (size_t)t->win_w * 4, 1, path, &err) != TSR_OK)
             ts_report(t, &err);
     }
     free(raw);

@@ -35,6 +35,7 @@
 #include "tessera/dev/util.h"
 
 #include "instance.h"
+#include "tessera/image.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 
@@ -498,6 +499,11 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     t->tiling.damping = tsr_options_float(init->options, "damping");
     t->batch_bytes = (size_t)tsr_options_int(init->options, "batch_bytes");
     const char *assemble = tsr_options_string(init->options, "assemble");
+    if (assemble && assemble[0] &&
+        tsr_image_check_frame_pattern(t->name, "assemble", assemble,
+                                      tsr_options_bool(init->options, "assemble_overwrite"), "assemble_overwrite",
+                                      err) != TSR_OK)
+        goto fail;
     if (assemble && assemble[0] && !(t->assemble = strdup(assemble))) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", t->name);
         goto fail;
@@ -609,7 +615,14 @@ static const tsr_option_spec tilesort_options[] = {
      .min = 1,
      .max = 0,
      .help = "also gather every frame from the servers and write the whole window as PNG files with "
-             "this printf pattern (frame number), e.g. out/wall-%04d.png"},
+             "this pattern, one %d for the frame number, e.g. out/wall-%04d.png; each file is written whole "
+             "under a temporary name and renamed; a name without %d is refused unless assemble_overwrite=1"},
+    {.name = "assemble_overwrite",
+     .type = TSR_OPT_BOOL,
+     .default_value = "false",
+     .min = 1,
+     .max = 0,
+     .help = "allow an assemble name without %d: every frame replaces the one file, which holds the last frame"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
 

@@ -981,7 +981,7 @@ static wire *wire_open(const tsr_dispatch *target)
 {
     wire *w = calloc(1, sizeof *w);
     tsr_error err = {0};
-    tsr_pack_sink sink = {wire_flush, NULL, w};
+    tsr_pack_sink sink = {.flush = wire_flush, .ctx = w};
     w->p = tsr_packer_create(1 << 16, &sink, &err);
     if (target)
         w->u = tsr_unpacker_create(target, NULL, NULL, &err);

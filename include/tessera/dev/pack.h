@@ -50,11 +50,15 @@ extern "C" {
 /* Where buffers go. flush: one complete buffer [buf, buf+size) (valid only
  * during the call; copy it to keep it). reply: after a request was flushed,
  * return the reply bytes of request `id` (tessera/dev/wire.h section 5), valid
- * until the next call into the sink; NULL when the sink cannot answer. */
+ * until the next call into the sink; NULL when the sink cannot answer.
+ * reply_failed (optional): the reply `reply` returned for request `id` did
+ * not decode (truncated, an item of the wrong size): whoever answered sent
+ * a malformed reply, and the call it answered returned zeros. */
 typedef struct tsr_pack_sink {
     int (*flush)(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
     int (*reply)(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err);
     void *ctx;
+    void (*reply_failed)(void *ctx, uint32_t id, const tsr_error *why);
 } tsr_pack_sink;
 
 #define TSR_PACK_MIN_BUFFER 256u
@@ -104,7 +108,8 @@ typedef struct tsr_packer {
     } stack[TSR_PACK_STACK];
     uint32_t stack_depth;
     uint32_t next_request;
-    char **strings; /* GetString results, owned; freed on destroy */
+    uint32_t reply_id; /* the request whose reply is being decoded */
+    char **strings;    /* GetString results, owned; freed on destroy */
     size_t nstrings;
     tsr_error error; /* first error (sticky until tsr_packer_clear_error) */
     uint64_t buffers_sent, bytes_sent, commands_dropped;

@@ -1,6 +1,7 @@
 /* tessera/dev/util.h — small helpers that servers, coordinators and SPUs
  * share, so each exists once: a monotonic clock, a JSON string writer
- * (statistics files) and "did you mean" suggestions for error messages.
+ * (statistics files), peer text made safe to print, and "did you mean"
+ * suggestions for error messages.
  * Part of libtessera (pkg-config tessera).
  *
  * Owns nothing: every function is pure or writes only where it is told.
@@ -31,6 +32,15 @@ TSR_API double tsr_now_seconds(void);
 /* Writes `s` to `f` as a JSON string: quoted, with quotes, backslashes and
  * control bytes escaped. */
 TSR_API void tsr_json_string(FILE *f, const char *s);
+
+/* Copies `len` bytes of text that came from a peer (a server's ERROR
+ * reason, a node's DONE message, a name from a handshake) into `out`, made
+ * safe for a terminal or a log: control bytes (C0, DEL, and C1 controls
+ * U+0080..U+009F) and bytes that are not valid UTF-8 become "\xNN"; valid
+ * UTF-8 is kept. Always NUL-terminates `out` (size > 0), cutting at a
+ * whole character or escape when it is full. Returns the bytes written,
+ * without the NUL. Use it on every peer's text before printing it. */
+TSR_API size_t tsr_text_sanitize(char *out, size_t size, const void *in, size_t len);
 
 /* Longest word the suggestions consider. */
 #define TSR_SUGGEST_MAX_LEN 64
