@@ -287,6 +287,7 @@ int cmd_node(int argc, char **argv)
         return TSR_EXIT_USAGE;
     }
     tsr_error err = {0};
+    const char *warning = NULL;
     if (!cfg.token || !*cfg.token) {
         /* (An address that does not parse or resolve is reported below.) */
         int local = tsr_net_address_is_local(cfg.listen, &err);
@@ -297,16 +298,20 @@ int cmd_node(int argc, char **argv)
                     cfg.listen);
             return TSR_EXIT_USAGE;
         }
-        if (local == 1)
-            fprintf(stderr, "tessera node: warning: no --token: any local user can connect to %s\n", cfg.listen);
-        else if (local == 0)
-            fprintf(stderr, "tessera node: warning: --insecure: anyone who reaches %s can use this node\n", cfg.listen);
+        /* Warned once the node listens (a bad address is one line). A
+         * unix: socket is guarded by its file's permissions instead. */
+        if (local == 0)
+            warning = "--insecure: anyone who reaches it can use this node";
+        else if (local == 1 && !strncmp(cfg.listen, "tcp://", 6))
+            warning = "no --token: any local user can connect to it";
     }
     tsr_node *node = tsr_node_create(&cfg, &err);
     if (!node) {
         fprintf(stderr, "tessera node: %s\n", without_prefix(err.message));
         return err.code == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
     }
+    if (warning)
+        fprintf(stderr, "tessera node: warning: %s (%s)\n", warning, tsr_node_address(node));
     printf("listening on %s\n", tsr_node_address(node));
     fflush(stdout);
     int rc = tsr_node_run(node, &err);

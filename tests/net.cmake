@@ -70,10 +70,10 @@ add_test(NAME node_cli_no_token_non_loopback_refused_without_insecure_exit_2
   COMMAND ${NET_EXPECT} 2 "" "refusing to listen on tcp://0.0.0.0:0 without --token.*--insecure"
           $<TARGET_FILE:tessera_cli> node --listen tcp://0.0.0.0:0 --chain render)
 add_test(NAME node_cli_no_token_non_loopback_starts_with_insecure_and_warns
-  COMMAND ${NET_EXPECT} 1 "^listening on tcp://0.0.0.0:[1-9]" "warning: --insecure: anyone who reaches"
+  COMMAND ${NET_EXPECT} 1 "^listening on tcp://0.0.0.0:[1-9]" "warning: --insecure: anyone who reaches it"
           $<TARGET_FILE:tessera_cli> node --listen tcp://0.0.0.0:0 --chain render --insecure --timeout-ms 300)
 add_test(NAME node_cli_no_token_loopback_warns
-  COMMAND ${NET_EXPECT} 1 "^listening on tcp://127.0.0.1:[1-9]" "warning: no --token: any local user"
+  COMMAND ${NET_EXPECT} 1 "^listening on tcp://127.0.0.1:[1-9]" "warning: no --token: any local user can connect to it .tcp://127.0.0.1:[1-9]"
           $<TARGET_FILE:tessera_cli> node --listen tcp://127.0.0.1:0 --chain render --timeout-ms 300)
 add_test(NAME node_cli_token_non_loopback_starts_without_warning
   COMMAND ${NET_EXPECT} 1 "^listening on tcp://0.0.0.0:[1-9]" "^tessera node: 0 of 1 clients"
@@ -81,3 +81,11 @@ add_test(NAME node_cli_token_non_loopback_starts_without_warning
 set_tests_properties(node_cli_no_token_non_loopback_refused_without_insecure_exit_2
   node_cli_no_token_non_loopback_starts_with_insecure_and_warns node_cli_no_token_loopback_warns
   node_cli_token_non_loopback_starts_without_warning PROPERTIES TIMEOUT 60 LABELS net)
+
+# The mothership's control listener is netlib's too: the same flood, the
+# nodes of a real run must still join (defect 7).
+add_test(NAME net_mothership_idle_connections_do_not_lock_out_nodes
+  COMMAND ${NET_TEST_SRC}/mothership_flood.sh ${CMAKE_BINARY_DIR}/bin
+          ${CMAKE_BINARY_DIR}/test-out/net/mothership-flood ${CMAKE_SOURCE_DIR}/examples/graphs/tcp.yaml
+          $<TARGET_FILE:net_auth_test>)
+set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPERTIES TIMEOUT 120 LABELS net)
