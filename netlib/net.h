@@ -69,10 +69,11 @@
  * WELCOME auth=0, as before. This is authentication, not encryption:
  * everything after the handshake is clear text, and a relay in the path
  * sees and may alter it. A listener counts connections still in their
- * handshake per peer host (16) and in all (256): past a cap the OLDEST
- * such connection is closed, not the new one, and one that sent nothing
- * within min(1 s, handshake_timeout_ms) is closed, so idle connections
- * cannot lock clients out; established connections never count.
+ * handshake per peer host (16) and in all (256): past a cap an old one of
+ * them is closed (the oldest that sent nothing, else the oldest), never
+ * the newcomer, and one that sent nothing within min(1 s,
+ * handshake_timeout_ms) is closed, so idle connections cannot lock
+ * clients out; established connections never count.
  * CREDIT payload:
  * u32 count of credits returned. PING: empty asks the peer to answer with
  * a PING of one byte 0x01 (an answer is never answered), so a side hears

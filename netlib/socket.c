@@ -1061,27 +1061,36 @@ void net_io_connect(tsr_net *net, net_op *op)
 /* ---- listening ------------------------------------------------------------ */
 
 /* Before `c` joins the half-open list: connections still in their
- * handshake are capped per peer host and in all, and at a cap the OLDEST
- * one of them goes, not the newcomer. So connections that never handshake
- * (or are slow to) cannot keep a client out: its connection is the newest
- * and handshakes within a round trip, long before enough newer ones could
- * push it out. Only half-open connections count, since every local client
- * shares the loopback address: established ones are never dropped here. */
+ * handshake are capped per peer host and in all, and at a cap an OLD one
+ * of them goes, not the newcomer: the oldest that has sent nothing, else
+ * the oldest. So connections that never handshake (or are slow to) cannot
+ * keep a client out: its connection has sent its HELLO, or is the newest,
+ * and handshakes within a round trip. Only half-open connections count,
+ * since every local client shares the loopback address: established ones
+ * are never dropped here. */
+static tsr_net_conn *pick_victim(tsr_net_listener *l, const tsr_net_conn *host)
+{
+    tsr_net_conn *oldest = NULL;
+    for (tsr_net_conn *h = l->half_head; h; h = h->half_next)
+        if (!host || same_host(h, host)) {
+            if (!h->heard_any)
+                return h;
+            if (!oldest)
+                oldest = h;
+        }
+    return oldest;
+}
+
 static void make_room(tsr_net_listener *l, tsr_net_conn *c)
 {
     unsigned from_host = 0;
-    tsr_net_conn *oldest_of_host = NULL;
     for (tsr_net_conn *h = l->half_head; h; h = h->half_next)
-        if (same_host(h, c)) {
-            if (!oldest_of_host)
-                oldest_of_host = h;
-            from_host++;
-        }
+        from_host += same_host(h, c);
     tsr_net_conn *victim = NULL;
     if (from_host >= NET_HALF_OPEN_PER_HOST)
-        victim = oldest_of_host;
+        victim = pick_victim(l, c);
     else if (l->half_open >= NET_HALF_OPEN_MAX)
-        victim = l->half_head;
+        victim = pick_victim(l, NULL);
     if (!victim)
         return;
     net_conn_fail(victim, TSR_EIO,

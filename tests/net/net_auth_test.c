@@ -358,9 +358,9 @@ static int test_replayed_proof(void)
 /* ---- a fake server that does not know the token -------------------------- */
 
 enum fake_mode {
-    FAKE_WELCOME_AT_ONCE,  /* WELCOME auth=0 right after the HELLO */
-    FAKE_CHALLENGE_GUESS,  /* CHALLENGE, takes the PROOF, WELCOME with a guessed proof */
-    FAKE_WELCOME_UNASKED,  /* WELCOME auth=1 without any CHALLENGE */
+    FAKE_WELCOME_AT_ONCE, /* WELCOME auth=0 right after the HELLO */
+    FAKE_CHALLENGE_GUESS, /* CHALLENGE, takes the PROOF, WELCOME with a guessed proof */
+    FAKE_WELCOME_UNASKED, /* WELCOME auth=1 without any CHALLENGE */
     FAKE_MODES
 };
 
@@ -546,9 +546,9 @@ static int test_address_scope(void)
         const char *address;
         int local;
     } cases[] = {
-        {"tcp://:7000", 1},          {"tcp://127.0.0.1:0", 1}, {"tcp://127.3.2.1:0", 1}, {"tcp://[::1]:0", 1},
-        {"tcp://localhost:0", 1},    {"unix:/tmp/x.sock", 1},  {"inproc:x", 1},          {"tcp://0.0.0.0:0", 0},
-        {"tcp://[::]:0", 0},
+        {"tcp://:7000", 1},   {"tcp://127.0.0.1:0", 1}, {"tcp://127.3.2.1:0", 1},
+        {"tcp://[::1]:0", 1}, {"tcp://localhost:0", 1}, {"unix:/tmp/x.sock", 1},
+        {"inproc:x", 1},      {"tcp://0.0.0.0:0", 0},   {"tcp://[::]:0", 0},
     };
     tsr_error err = {0};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -574,8 +574,40 @@ static int test_address_scope(void)
     return 0;
 }
 
+/* hold_idle PORT N MS: keeps N connections to 127.0.0.1:PORT open that
+ * never send a byte, for MS milliseconds, reopening (up to 20 per 20 ms)
+ * those the server closes, as a flood would; prints "holding N" once all
+ * are open. For tests/net/mothership_flood.sh. */
+static int hold_idle(unsigned port, int n, int ms)
+{
+    int *fds = calloc((size_t)n, sizeof *fds);
+    CHECK(fds, "out of memory");
+    for (int i = 0; i < n; i++)
+        fds[i] = raw_connect_loopback(port);
+    printf("holding %d\n", n);
+    fflush(stdout);
+    unsigned reopened = 0;
+    for (uint64_t end = test_now_ms() + (uint64_t)ms; test_now_ms() < end; usleep(20000)) {
+        int budget = 20;
+        for (int i = 0; i < n && budget; i++)
+            if (peer_closed(fds[i])) {
+                close(fds[i]);
+                fds[i] = raw_connect_loopback(port);
+                reopened++;
+                budget--;
+            }
+    }
+    printf("reopened %u closed connections\n", reopened);
+    for (int i = 0; i < n; i++)
+        close(fds[i]);
+    free(fds);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 5 && !strcmp(argv[1], "hold_idle"))
+        return hold_idle((unsigned)atoi(argv[2]), atoi(argv[3]), atoi(argv[4]));
     static const struct {
         const char *name;
         int (*run)(void);
