@@ -475,13 +475,13 @@ static void write_seeds(const char *dir)
     seed s;
     uint8_t nonce[NET_AUTH_BYTES], reason[] = "token mismatch";
     net_auth_nonce(nonce);
-#define SEED(name, mode, ...)                                                                                          \
-    do {                                                                                                               \
-        s.n = 0;                                                                                                       \
-        uint8_t m = (mode);                                                                                            \
-        put(&s, &m, 1);                                                                                                \
-        __VA_ARGS__;                                                                                                   \
-        write_seed(dir, name, &s);                                                                                     \
+#define SEED(name, mode, ...)      \
+    do {                           \
+        s.n = 0;                   \
+        uint8_t m = (mode);        \
+        put(&s, &m, 1);            \
+        __VA_ARGS__;               \
+        write_seed(dir, name, &s); \
     } while (0)
     /* a netlib server reads */
     SEED("server-hello-auth", M_SERVER, hello(&s, NET_HELLO, 1));
