@@ -105,6 +105,8 @@ if(TESSERA_FUZZ)
   # OSMesa keeps process-lifetime allocations LeakSanitizer would report.
   set_tests_properties(fuzz_render_runs_corpus PROPERTIES TIMEOUT 300
     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+
 # ---- netlib frames and handshake (tests/fuzz/fuzz_net.c) -------------------
 #  * fuzz_net_corpus_replay (every build): runs each seed of
 #    tests/fuzz/corpus_net through real netlib connections.
