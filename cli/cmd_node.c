@@ -13,16 +13,18 @@
 #include "commands.h"
 #include "mothership.h"
 #include "control.h"
+#include "net.h"
 #include "node.h"
 #include "tessera/dev/unpack.h"
 
 static void node_usage(FILE *out)
 {
     fprintf(out,
-            "usage: tessera node --listen ADDR --chain \"SPU CHAIN\" [--token T] [--clients N]\n"
-            "                    [--timeout-ms MS] [--idle-timeout-ms MS] [--name NAME]\n"
-            "                    [--independent] [--max-vertices N] [--max-buffer-bytes N]\n"
-            "                    [--max-reply-bytes N] [--max-pending-reply-bytes N]\n"
+            "usage: tessera node --listen ADDR --chain \"SPU CHAIN\" [--token T | --insecure]\n"
+            "                    [--clients N] [--timeout-ms MS] [--idle-timeout-ms MS]\n"
+            "                    [--name NAME] [--independent] [--max-vertices N]\n"
+            "                    [--max-buffer-bytes N] [--max-reply-bytes N]\n"
+            "                    [--max-pending-reply-bytes N]\n"
             "       tessera node --mothership HOST:PORT [--name NAME | --rank N] [--token T]\n"
             "                    [--bind HOST] [--timeout-ms MS] [--connect-timeout-ms MS]\n\n"
             "Runs a server node: accepts stream clients (the pack SPU) on ADDR and feeds\n"
@@ -42,7 +44,12 @@ static void node_usage(FILE *out)
             "  --independent     one chain and thread per client instead: unrelated apps, each\n"
             "                    swapping on its own; {client} in the chain text becomes the\n"
             "                    client's number (0, 1, ...), e.g. output=out/c{client}-%%04d.png\n"
-            "  --token T         shared token clients must present (default: none)\n"
+            "  --token T         shared token clients must prove they know (default: none);\n"
+            "                    never sent: each side proves it to the other (HMAC of the\n"
+            "                    other's nonce). Authentication only: traffic is not encrypted\n"
+            "  --insecure        listen on an address other hosts reach (not loopback)\n"
+            "                    without --token: anyone reaching it can use the node.\n"
+            "                    Without it, such a node refuses to start\n"
             "  --clients N       clients to serve before ending (default 1)\n"
             "  --timeout-ms MS   longest wait for the next client (default 60000; 0: no limit)\n"
             "  --idle-timeout-ms MS  longest silence of a connected client, which is then taken\n"
@@ -157,6 +164,7 @@ int cmd_node(int argc, char **argv)
 {
     tsr_node_config cfg = {.clients = 1, .timeout_ms = 60000, .idle_timeout_ms = 15000};
     const char *mothership = NULL, *rank = NULL, *bind = NULL;
+    int insecure = 0;
     long timeout_given = -1, connect_timeout = -1, idle_given = -1;
     tsr_unpack_limits limits;
     tsr_unpack_limits_defaults(&limits);
@@ -173,6 +181,10 @@ int cmd_node(int argc, char **argv)
         }
         if (!strcmp(arg, "--independent")) {
             cfg.mode = TSR_NODE_INDEPENDENT;
+            continue;
+        }
+        if (!strcmp(arg, "--insecure")) {
+            insecure = 1;
             continue;
         }
         int budget = -1;
@@ -254,6 +266,11 @@ int cmd_node(int argc, char **argv)
             fprintf(stderr, "tessera node: --mothership gives the node its role: no --listen or --chain\n");
             return TSR_EXIT_USAGE;
         }
+        if (insecure) {
+            fprintf(stderr, "tessera node: --insecure is for a standalone node (with --mothership, the run's "
+                            "token decides)\n");
+            return TSR_EXIT_USAGE;
+        }
         if (idle_given >= 0) {
             fprintf(stderr, "tessera node: with --mothership, the run's --timeout-ms is the servers' "
                             "--idle-timeout-ms\n");
@@ -270,11 +287,31 @@ int cmd_node(int argc, char **argv)
         return TSR_EXIT_USAGE;
     }
     tsr_error err = {0};
+    const char *warning = NULL;
+    if (!cfg.token || !*cfg.token) {
+        /* (An address that does not parse or resolve is reported below.) */
+        int local = tsr_net_address_is_local(cfg.listen, &err);
+        if (local == 0 && !insecure) {
+            fprintf(stderr,
+                    "tessera node: refusing to listen on %s without --token: other hosts reach it and could "
+                    "drive this node (give --token T, listen on 127.0.0.1, or pass --insecure)\n",
+                    cfg.listen);
+            return TSR_EXIT_USAGE;
+        }
+        /* Warned once the node listens (a bad address is one line). A
+         * unix: socket is guarded by its file's permissions instead. */
+        if (local == 0)
+            warning = "--insecure: anyone who reaches it can use this node";
+        else if (local == 1 && !strncmp(cfg.listen, "tcp://", 6))
+            warning = "no --token: any local user can connect to it";
+    }
     tsr_node *node = tsr_node_create(&cfg, &err);
     if (!node) {
         fprintf(stderr, "tessera node: %s\n", without_prefix(err.message));
         return err.code == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
     }
+    if (warning)
+        fprintf(stderr, "tessera node: warning: %s (%s)\n", warning, tsr_node_address(node));
     printf("listening on %s\n", tsr_node_address(node));
     fflush(stdout);
     int rc = tsr_node_run(node, &err);

@@ -311,6 +311,36 @@ tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *e
     return l;
 }
 
+int tsr_net_address_is_local(const char *address, tsr_error *err)
+{
+    net_address a;
+    int rc = net_address_parse(address, &a, err);
+    if (rc)
+        return rc;
+    if (a.transport != NET_TCP || !a.host[0])
+        return 1;
+    struct addrinfo *list;
+    rc = resolve(&a, true, &list, address, "listen on", err);
+    if (rc)
+        return rc;
+    int local = 1;
+    for (struct addrinfo *ai = list; ai; ai = ai->ai_next) {
+        if (ai->ai_family == AF_INET) {
+            const struct sockaddr_in *in = (const struct sockaddr_in *)ai->ai_addr;
+            if ((ntohl(in->sin_addr.s_addr) >> 24) != 127)
+                local = 0;
+        } else if (ai->ai_family == AF_INET6) {
+            const struct sockaddr_in6 *in6 = (const struct sockaddr_in6 *)ai->ai_addr;
+            if (!IN6_IS_ADDR_LOOPBACK(&in6->sin6_addr))
+                local = 0;
+        } else {
+            local = 0;
+        }
+    }
+    freeaddrinfo(list);
+    return local;
+}
+
 const char *tsr_net_listener_address(const tsr_net_listener *l) { return l->address; }
 
 tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err)

@@ -1,5 +1,6 @@
-/* netlib/frame.c — the 16-byte message header and the HELLO/WELCOME
- * payload (layouts in net.h). Owns: their little-endian encoding.
+/* netlib/frame.c — the 16-byte message header and the handshake payloads
+ * (HELLO/WELCOME, CHALLENGE, PROOF; layouts in net.h). Owns: their
+ * little-endian encoding and decoding.
  * Never: trusts a length it decodes without checking it against the
  * bytes actually present. */
 #include <string.h>
@@ -24,13 +25,12 @@ void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out)
     out->len = net_get_u64(in + 8);
 }
 
-size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name, const char *token)
+size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name,
+                        const uint8_t *auth)
 {
-    size_t name_len = strlen(name), token_len = token ? strlen(token) : 0;
+    size_t name_len = strlen(name);
     if (name_len > TSR_NET_NAME_MAX)
         name_len = TSR_NET_NAME_MAX;
-    if (token_len > TSR_NET_TOKEN_MAX)
-        token_len = TSR_NET_TOKEN_MAX;
     size_t at = 0;
     net_put_u32(out + at, credits);
     at += 4;
@@ -40,37 +40,50 @@ size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_byt
     at += 2;
     memcpy(out + at, name, name_len);
     at += name_len;
-    net_put_u16(out + at, (uint16_t)token_len);
-    at += 2;
-    if (token_len)
-        memcpy(out + at, token, token_len);
-    return at + token_len;
+    out[at++] = auth ? 1 : 0;
+    if (auth) {
+        memcpy(out + at, auth, NET_AUTH_BYTES);
+        at += NET_AUTH_BYTES;
+    }
+    return at;
 }
 
 int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (len < 16)
+    if (len < 15)
         return tsr_error_set(err, TSR_EPROTO, "handshake payload of %llu bytes is too short", (unsigned long long)len);
     out->credits = net_get_u32(in);
     out->max_message_bytes = net_get_u64(in + 4);
     uint64_t at = 12;
     uint16_t name_len = net_get_u16(in + at);
     at += 2;
-    if (name_len > TSR_NET_NAME_MAX || at + name_len + 2 > len)
+    if (name_len > TSR_NET_NAME_MAX || at + name_len + 1 > len)
         return tsr_error_set(err, TSR_EPROTO, "handshake node name length %u does not fit", name_len);
     memcpy(out->name, in + at, name_len);
     at += name_len;
     for (size_t i = 0; i < name_len; i++) /* names appear in one-line messages */
         if ((unsigned char)out->name[i] < 0x20 || out->name[i] == 0x7f)
             out->name[i] = '?';
-    uint16_t token_len = net_get_u16(in + at);
-    at += 2;
-    if (token_len > TSR_NET_TOKEN_MAX || at + token_len != len)
-        return tsr_error_set(err, TSR_EPROTO, "handshake token length %u does not fit", token_len);
-    memcpy(out->token, in + at, token_len);
-    out->token_len = token_len;
+    uint8_t auth = in[at++];
+    if (auth > 1)
+        return tsr_error_set(err, TSR_EPROTO, "handshake authentication mode %u is unknown", auth);
+    out->has_auth = auth == 1;
+    if (at + (out->has_auth ? NET_AUTH_BYTES : 0) != len)
+        return tsr_error_set(err, TSR_EPROTO, "handshake payload of %llu bytes does not match its fields",
+                             (unsigned long long)len);
+    if (out->has_auth)
+        memcpy(out->auth, in + at, NET_AUTH_BYTES);
     if (out->credits == 0)
         return tsr_error_set(err, TSR_EPROTO, "handshake grants 0 credits");
+    return TSR_OK;
+}
+
+int net_auth_decode(const uint8_t *in, uint64_t len, uint8_t out[NET_AUTH_BYTES], const char *what, tsr_error *err)
+{
+    if (len != NET_AUTH_BYTES)
+        return tsr_error_set(err, TSR_EPROTO, "%s of %llu bytes (not %d)", what, (unsigned long long)len,
+                             NET_AUTH_BYTES);
+    memcpy(out, in, NET_AUTH_BYTES);
     return TSR_OK;
 }

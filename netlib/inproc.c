@@ -49,7 +49,7 @@ tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *
                       address);
         return NULL;
     }
-    if (l->pending >= NET_PENDING_ACCEPT_MAX) {
+    if (l->pending >= NET_READY_MAX) { /* inproc peers are ready at once: pending counts ready ones */
         tsr_error_set(err, TSR_EIO, "net: cannot connect to %s: %u connections wait to be accepted", address,
                       l->pending);
         return NULL;

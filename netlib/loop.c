@@ -152,6 +152,8 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err)
         tsr_error_set(err, TSR_EINVAL, "net: token is longer than %d bytes", TSR_NET_TOKEN_MAX);
         return NULL;
     }
+    if (net_auth_init(err)) /* before any handshake may need a nonce */
+        return NULL;
     if (config->credits == 0 || config->max_message_bytes == 0) {
         tsr_error_set(err, TSR_EINVAL, "net: credits and max_message_bytes must be above 0");
         return NULL;

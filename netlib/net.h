@@ -37,16 +37,44 @@
  *   offset 0  u32 magic   0x314E5354 ("TSN1" in memory order)
  *   offset 4  u16 version TSR_NET_PROTOCOL_VERSION
  *   offset 6  u8  type    0x01 HELLO, 0x02 WELCOME, 0x03 REFUSE, 0x04 CREDIT,
- *                         0x05 PING, 0x06 BYE; 0x10..0xff application messages
+ *                         0x05 PING, 0x06 BYE, 0x07 CHALLENGE, 0x08 PROOF;
+ *                         0x10..0xff application messages
  *   offset 7  u8  flags   0 (receivers reject anything else)
  *   offset 8  u64 length  payload bytes; a data message longer than the
  *                         receiver's max_message_bytes (or a control
- *                         message longer than 4 KiB) fails that connection
- *                         before any allocation.
- * Handshake: the connecting side sends HELLO; the accepting side answers
- * WELCOME or REFUSE. HELLO/WELCOME payload: u32 credits granted to the
- * peer, u64 max_message_bytes accepted, u16 name length + node name bytes,
- * u16 token length + token bytes (WELCOME sends no token). CREDIT payload:
+ *                         message longer than 4 KiB; CHALLENGE and PROOF
+ *                         exactly 32) fails that connection before any
+ *                         allocation.
+ * HANDSHAKE. The connecting side sends HELLO; the accepting side answers
+ * WELCOME or REFUSE, with a challenge-response between them when it has a
+ * token. HELLO/WELCOME payload: u32 credits granted to the peer, u64
+ * max_message_bytes accepted, u16 name length + node name bytes, u8 auth
+ * (0 or 1), and when auth is 1 32 bytes: in HELLO the client's nonce (it
+ * has a token), in WELCOME the server's proof. The token itself is never
+ * sent. With a token on both sides:
+ *   client -> HELLO auth=1, nonce Nc (32 fresh random bytes)
+ *   server -> CHALLENGE  Ns (32 fresh random bytes)
+ *   client -> PROOF      HMAC-SHA256(token, L "client\0" Nc Ns)
+ *   server -> WELCOME auth=1, HMAC-SHA256(token, L "server\0" Nc Ns)
+ *             (or REFUSE "token mismatch")
+ * where L is "tessera-net-2 handshake proof ". Both nonces are in both
+ * proofs, so a proof replayed on another connection fails (the other
+ * side's nonce is new), and the role is, so a proof cannot be reflected
+ * back as the other side's. The server proves only after the client did,
+ * so a stranger connecting to a node gets no proof to attack offline. A client with a token
+ * refuses a WELCOME without the right proof, naming the address (a server
+ * without the token, or an impostor on the port); a server with a token
+ * refuses a HELLO without auth ("a token is required"), a server without
+ * one a HELLO with it. Without a token on either side: HELLO auth=0,
+ * WELCOME auth=0, as before. This is authentication, not encryption:
+ * everything after the handshake is clear text, and a relay in the path
+ * sees and may alter it. A listener counts connections still in their
+ * handshake per peer host (16) and in all (256): past a cap an old one of
+ * them is closed (the oldest that sent nothing, else the oldest), never
+ * the newcomer, and one that sent nothing within min(1 s,
+ * handshake_timeout_ms) is closed, so idle connections cannot lock
+ * clients out; established connections never count.
+ * CREDIT payload:
  * u32 count of credits returned. PING: empty asks the peer to answer with
  * a PING of one byte 0x01 (an answer is never answered), so a side hears
  * from an idle peer within its own idle_timeout_ms whatever the peer's
@@ -111,7 +139,7 @@
 extern "C" {
 #endif
 
-#define TSR_NET_PROTOCOL_VERSION 1
+#define TSR_NET_PROTOCOL_VERSION 2 /* 2: challenge-response handshake */
 #define TSR_NET_HEADER_BYTES 16
 #define TSR_NET_MAGIC 0x314E5354u
 #define TSR_NET_KIND_FIRST_USER 0x10 /* message kinds 0x10..0xff are the caller's */
@@ -126,7 +154,8 @@ typedef struct tsr_net_listener tsr_net_listener; /* one listening address */
 
 typedef struct tsr_net_config {
     const char *node_name;         /* sent in the handshake; default "node" */
-    const char *token;             /* shared token; NULL/"" = none required */
+    const char *token;             /* shared token, proven (never sent) in every handshake;
+                                      NULL/"" = none (peers that have one are refused) */
     uint32_t credits;              /* messages a peer may have in flight; default 8 */
     uint64_t max_message_bytes;    /* largest message accepted; default 64 MiB */
     uint32_t connect_timeout_ms;   /* socket connect; default 5000 */
@@ -167,6 +196,11 @@ TSR_API void tsr_net_destroy(tsr_net *net);
 
 /* Listens on `address`. Errors name the address ("address already in use"). */
 TSR_API tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err);
+/* Whether a listen address can be reached from this host only: 1 for
+ * loopback (tcp://:PORT, 127.0.0.0/8, ::1, a name resolving only to them),
+ * unix: and inproc:; 0 when other hosts may reach it (0.0.0.0, another
+ * interface's address); or an error (bad address, unknown host). */
+TSR_API int tsr_net_address_is_local(const char *address, tsr_error *err);
 /* The address actually bound, e.g. "tcp://127.0.0.1:41234" for port 0. */
 TSR_API const char *tsr_net_listener_address(const tsr_net_listener *listener);
 /* Waits for a connection whose handshake succeeded. Returns NULL with

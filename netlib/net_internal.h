@@ -18,7 +18,11 @@
 
 #define NET_CONTROL_MAX 4096      /* largest control payload accepted */
 #define NET_STAGING_BYTES 65536   /* per-connection socket read buffer */
-#define NET_PENDING_ACCEPT_MAX 64 /* handshaking + unaccepted per listener */
+#define NET_READY_MAX 64          /* handshaken, not yet accepted, per listener */
+#define NET_HALF_OPEN_MAX 256     /* connections in their handshake, per listener */
+#define NET_HALF_OPEN_PER_HOST 16 /* ... of them from one peer address */
+#define NET_SILENT_MS 1000        /* a connection that sent nothing this long is closed */
+#define NET_AUTH_BYTES 32         /* nonce and proof sizes */
 #define NET_SPARE_MAX 8           /* released receive buffers kept per connection */
 
 enum net_wire_type {
@@ -28,6 +32,8 @@ enum net_wire_type {
     NET_CREDIT = 0x04,
     NET_PING = 0x05,
     NET_BYE = 0x06,
+    NET_CHALLENGE = 0x07,
+    NET_PROOF = 0x08,
 };
 
 enum net_transport { NET_TCP, NET_UNIX, NET_INPROC };
@@ -64,6 +70,14 @@ typedef struct net_msg {
     uint8_t header[TSR_NET_HEADER_BYTES];
     uv_write_t write_req;
 } net_msg;
+
+typedef struct net_hello {
+    uint32_t credits;
+    uint64_t max_message_bytes;
+    char name[TSR_NET_NAME_MAX + 1];
+    bool has_auth;                /* HELLO: the peer has a token; WELCOME: it proved it */
+    uint8_t auth[NET_AUTH_BYTES]; /* HELLO: the client's nonce; WELCOME: the server's proof */
+} net_hello;
 
 typedef enum net_conn_state {
     NET_CONNECTING, /* socket connect in progress (client) */
@@ -136,8 +150,20 @@ struct tsr_net_conn {
     struct tsr_net_conn *next_all, *prev_all;
     struct tsr_net_listener *listener; /* server side until accepted */
     struct tsr_net_conn *next_ready;
-    bool ready;                       /* (L) in listener->ready queue */
-    uint16_t hello_version;           /* (IO) version of the peer's HELLO header */
+    bool ready;             /* (L) in listener->ready queue */
+    uint16_t hello_version; /* (IO) version of the peer's HELLO header */
+    /* (IO) the handshake's challenge-response (net.h, HANDSHAKE): step 0
+     * before the CHALLENGE, 1 after it (client: PROOF sent; server: PROOF
+     * awaited, the peer's HELLO kept in peer_hello) */
+    unsigned auth_step;
+    uint8_t client_nonce[NET_AUTH_BYTES], server_nonce[NET_AUTH_BYTES];
+    struct net_hello peer_hello;
+    bool heard_any; /* (IO) server: the peer sent at least one byte */
+    /* (L) server side, while the handshake is not done: in its listener's
+     * half-open list, oldest first (the one dropped when a newer one
+     * needs its place) */
+    bool half_listed;
+    struct tsr_net_conn *half_prev, *half_next;
     struct tsr_net_conn *inproc_peer; /* (L) */
 
     /* (IO) socket state */
@@ -171,6 +197,9 @@ struct tsr_net_listener {
     pthread_cond_t cond;                   /* (L) accept waits on it */
     tsr_net_conn *ready_head, *ready_tail; /* (L) handshaken, not accepted */
     unsigned pending;                      /* (L) handshaking + ready */
+    tsr_net_conn *half_head, *half_tail;   /* (L) in their handshake, oldest first */
+    unsigned half_open;                    /* (L) ... how many */
+    unsigned dropped;                      /* (L) closed before completing a handshake */
     unsigned refusals;                     /* (L) */
     tsr_error last_refusal;                /* (L) */
     bool app_ref, io_ref, closing;         /* (L) */
@@ -227,17 +256,24 @@ typedef struct net_header {
     uint64_t len;
 } net_header;
 void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out);
-typedef struct net_hello {
-    uint32_t credits;
-    uint64_t max_message_bytes;
-    char name[TSR_NET_NAME_MAX + 1];
-    char token[TSR_NET_TOKEN_MAX + 1];
-    size_t token_len;
-} net_hello;
-/* Returns the payload size written into out (at most NET_CONTROL_MAX). */
+/* Returns the payload size written into out (at most NET_CONTROL_MAX);
+ * `auth` NULL = no authentication field (mode 0). */
 size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name,
-                        const char *token);
+                        const uint8_t *auth);
 int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err);
+/* CHALLENGE (a nonce) and PROOF (an HMAC): exactly NET_AUTH_BYTES. `what`
+ * names the message in the error. */
+int net_auth_decode(const uint8_t *in, uint64_t len, uint8_t out[NET_AUTH_BYTES], const char *what, tsr_error *err);
+
+/* auth.c: the challenge-response (libsodium) */
+int net_auth_init(tsr_error *err);                /* once per process; thread-safe */
+void net_auth_nonce(uint8_t out[NET_AUTH_BYTES]); /* fresh random bytes */
+/* HMAC-SHA256 keyed with the token over the role ("client" or "server")
+ * and both nonces, so a proof is valid for one connection and one
+ * direction only. */
+void net_auth_proof(const char *token, const char *role, const uint8_t client_nonce[NET_AUTH_BYTES],
+                    const uint8_t server_nonce[NET_AUTH_BYTES], uint8_t out[NET_AUTH_BYTES]);
+bool net_auth_equal(const uint8_t a[NET_AUTH_BYTES], const uint8_t b[NET_AUTH_BYTES]); /* constant time */
 static inline void net_put_u16(uint8_t *p, uint16_t v)
 {
     p[0] = (uint8_t)v;

@@ -133,13 +133,78 @@ static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, si
     write_msg(c, m);
 }
 
-static void send_hello(tsr_net_conn *c, uint8_t type, bool with_token)
+/* HELLO carries the client's nonce when it has a token, WELCOME the
+ * server's proof when the client asked for one (net.h, HANDSHAKE). */
+static void send_hello(tsr_net_conn *c, uint8_t type, const uint8_t *auth)
 {
     tsr_net *net = c->net;
     uint8_t payload[NET_CONTROL_MAX];
-    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes, net->node_name,
-                                with_token ? net->token : NULL);
+    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes, net->node_name, auth);
     write_control(c, type, payload, n);
+}
+
+/* ---- connections in their handshake (server side) ------------------------ */
+
+/* The peer's host: its address without the port (every Unix-domain peer
+ * has the listener's address, so they count as one host). */
+static size_t host_len(const tsr_net_conn *c)
+{
+    const char *colon = c->transport == NET_TCP ? strrchr(c->address, ':') : NULL;
+    return colon ? (size_t)(colon - c->address) : strlen(c->address);
+}
+
+static bool same_host(const tsr_net_conn *a, const tsr_net_conn *b)
+{
+    size_t n = host_len(a);
+    return n == host_len(b) && !memcmp(a->address, b->address, n);
+}
+
+static void half_open_add(tsr_net_listener *l, tsr_net_conn *c)
+{
+    c->half_listed = true;
+    c->half_prev = l->half_tail;
+    c->half_next = NULL;
+    if (l->half_tail)
+        l->half_tail->half_next = c;
+    else
+        l->half_head = c;
+    l->half_tail = c;
+    l->half_open++;
+}
+
+/* Leaves the list when the handshake is done, the connection closes or
+ * its listener does. */
+static void half_open_remove(tsr_net_conn *c)
+{
+    tsr_net_listener *l = c->listener;
+    if (!c->half_listed || !l)
+        return;
+    if (c->half_prev)
+        c->half_prev->half_next = c->half_next;
+    else
+        l->half_head = c->half_next;
+    if (c->half_next)
+        c->half_next->half_prev = c->half_prev;
+    else
+        l->half_tail = c->half_prev;
+    c->half_prev = c->half_next = NULL;
+    c->half_listed = false;
+    l->half_open--;
+}
+
+/* Connections that never complete a handshake are closed in numbers under
+ * a flood: the log says so at the 1st, 2nd, 4th, 8th... one, not for each. */
+static void note_dropped(tsr_net_conn *c, const char *why)
+{
+    tsr_net_listener *l = c->listener;
+    if (!l) {
+        tsr_log(TSR_LOG_WARN, "%s", why);
+        return;
+    }
+    unsigned n = ++l->dropped;
+    if ((n & (n - 1)) == 0)
+        tsr_log(TSR_LOG_WARN, "%s (%u connection%s without a handshake closed on %s so far)", why, n, n == 1 ? "" : "s",
+                l->address);
 }
 
 static void flush_outbox(tsr_net_conn *c)
@@ -180,6 +245,7 @@ static void close_handles(tsr_net_conn *c)
     if (c->handles_closing)
         return;
     net_direct_await(c); /* an application thread may be writing on the descriptor */
+    half_open_remove(c);
     c->handles_closing = true;
     c->fd = -1;
     c->reading = false;
@@ -233,6 +299,15 @@ static void begin_shutdown(tsr_net_conn *c)
 
 /* ---- timers --------------------------------------------------------------- */
 
+/* A client sends its HELLO as soon as its connect completes, so a
+ * connection that said nothing for this long is not one: it is closed
+ * before the full handshake time-out, and cannot hold a place for long. */
+static uint32_t silent_ms(const tsr_net *net)
+{
+    uint32_t h = net->config.handshake_timeout_ms;
+    return h < NET_SILENT_MS ? h : NET_SILENT_MS;
+}
+
 static void on_timer(uv_timer_t *t)
 {
     tsr_net_conn *c = t->data;
@@ -247,11 +322,16 @@ static void on_timer(uv_timer_t *t)
         net_conn_fail(c, TSR_ETIMEDOUT, "net: cannot connect to %s: timed out after %u ms", c->address,
                       net->config.connect_timeout_ms);
         close_handles(c);
+    } else if (c->state == NET_HANDSHAKE && c->is_server && !c->heard_any) {
+        net_conn_fail(c, TSR_ETIMEDOUT, "net: %s sent nothing within %u ms of connecting: closed", c->address,
+                      silent_ms(net));
+        note_dropped(c, c->error.message);
+        close_handles(c);
     } else if (c->state == NET_HANDSHAKE) {
         net_conn_fail(c, TSR_ETIMEDOUT, "net: handshake with %s timed out after %u ms (is it a tessera node?)",
                       c->address, net->config.handshake_timeout_ms);
         if (c->is_server)
-            tsr_log(TSR_LOG_WARN, "%s", c->error.message);
+            note_dropped(c, c->error.message);
         close_handles(c);
     } else if (c->state == NET_OPEN && net->config.idle_timeout_ms) {
         int queued;
@@ -290,6 +370,8 @@ static void arm_timer(tsr_net_conn *c)
         uv_timer_start(&c->timer, on_timer, cfg->close_timeout_ms, 0);
     else if (c->state == NET_CONNECTING)
         uv_timer_start(&c->timer, on_timer, cfg->connect_timeout_ms, 0);
+    else if (c->state == NET_HANDSHAKE && c->is_server && !c->heard_any)
+        uv_timer_start(&c->timer, on_timer, silent_ms(c->net), 0);
     else if (c->state == NET_HANDSHAKE)
         uv_timer_start(&c->timer, on_timer, cfg->handshake_timeout_ms, 0);
     else if (c->state == NET_OPEN && cfg->idle_timeout_ms) {
@@ -385,6 +467,37 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h)
     net_conn_signal(c);
 }
 
+/* Server: the handshake succeeded (with the token proven, when this node
+ * has one): answer WELCOME and queue the connection for accept. */
+static void server_accept(tsr_net_conn *c, const net_hello *h, const uint8_t *proof)
+{
+    tsr_net_listener *l = c->listener;
+    if (!l || l->closing) {
+        net_conn_fail(c, TSR_ESTATE, "net: %s: listener closed during the handshake", c->address);
+        close_handles(c);
+        return;
+    }
+    unsigned waiting = 0;
+    for (tsr_net_conn *r = l->ready_head; r; r = r->next_ready)
+        waiting++;
+    if (waiting >= NET_READY_MAX) {
+        refuse(c, h->name, "%u connections already wait to be accepted on this node", waiting);
+        return;
+    }
+    half_open_remove(c);
+    send_hello(c, NET_WELCOME, proof);
+    handshake_done(c, h);
+    c->app_ref = true; /* held by the ready queue until accepted */
+    c->ready = true;
+    if (l->ready_tail)
+        l->ready_tail->next_ready = c;
+    else
+        l->ready_head = c;
+    l->ready_tail = c;
+    pthread_cond_broadcast(&l->cond);
+    tsr_log(TSR_LOG_INFO, "net: accepted peer '%s' from %s on %s", c->peer_name, c->address, l->address);
+}
+
 static void deliver_hello(tsr_net_conn *c, net_msg *m)
 {
     tsr_net *net = c->net;
@@ -400,28 +513,96 @@ static void deliver_hello(tsr_net_conn *c, net_msg *m)
         refuse(c, "?", "malformed handshake: %s", e.message);
         return;
     }
-    size_t want = strlen(net->token);
-    if (want && (h.token_len != want || memcmp(h.token, net->token, want))) {
-        refuse(c, h.name, "%s", h.token_len ? "token mismatch" : "a token is required");
+    if (!net->token[0]) {
+        if (h.has_auth) /* the peer would refuse a WELCOME without proof */
+            refuse(c, h.name, "this node has no token, the peer has one (give both the same token, or neither)");
+        else
+            server_accept(c, &h, NULL);
         return;
     }
-    tsr_net_listener *l = c->listener;
-    if (!l || l->closing) {
-        net_conn_fail(c, TSR_ESTATE, "net: %s: listener closed during the handshake", c->address);
+    if (!h.has_auth) {
+        refuse(c, h.name, "a token is required");
+        return;
+    }
+    /* The client proves the token first, over both nonces; only then does
+     * this side prove it (in WELCOME), so a stranger gets no proof at all. */
+    c->peer_hello = h;
+    memcpy(c->client_nonce, h.auth, NET_AUTH_BYTES);
+    net_auth_nonce(c->server_nonce);
+    c->auth_step = 1;
+    write_control(c, NET_CHALLENGE, c->server_nonce, NET_AUTH_BYTES);
+}
+
+static void deliver_proof(tsr_net_conn *c, net_msg *m)
+{
+    tsr_net *net = c->net;
+    uint8_t got[NET_AUTH_BYTES], want[NET_AUTH_BYTES];
+    tsr_error e;
+    if (net_auth_decode(m->data, m->len, got, "PROOF", &e)) {
+        refuse(c, c->peer_hello.name, "malformed handshake: %s", e.message);
+        return;
+    }
+    net_auth_proof(net->token, "client", c->client_nonce, c->server_nonce, want);
+    if (!net_auth_equal(got, want)) {
+        refuse(c, c->peer_hello.name, "token mismatch");
+        return;
+    }
+    net_auth_proof(net->token, "server", c->client_nonce, c->server_nonce, want);
+    server_accept(c, &c->peer_hello, want);
+}
+
+/* Client: the server sent its nonce; prove the token over both. */
+static void deliver_challenge(tsr_net_conn *c, net_msg *m)
+{
+    tsr_net *net = c->net;
+    tsr_error e;
+    if (!net->token[0]) {
+        net_conn_fail(c, TSR_EPROTO, "net: %s asks for a token (CHALLENGE), and this node ('%s') has none", c->address,
+                      net->node_name);
         close_handles(c);
         return;
     }
-    send_hello(c, NET_WELCOME, false);
+    if (net_auth_decode(m->data, m->len, c->server_nonce, "CHALLENGE", &e)) {
+        net_conn_fail(c, TSR_EPROTO, "net: %s sent a malformed handshake: %s", c->address, e.message);
+        close_handles(c);
+        return;
+    }
+    uint8_t proof[NET_AUTH_BYTES];
+    net_auth_proof(net->token, "client", c->client_nonce, c->server_nonce, proof);
+    c->auth_step = 1;
+    write_control(c, NET_PROOF, proof, NET_AUTH_BYTES);
+}
+
+/* Client: WELCOME. With a token, it must carry the server's proof over
+ * this connection's nonces: a server that does not know the token (or an
+ * impostor on the port) cannot make one, and is refused. */
+static void deliver_welcome(tsr_net_conn *c, net_msg *m)
+{
+    tsr_net *net = c->net;
+    net_hello h;
+    tsr_error e;
+    if (net_hello_decode(m->data, m->len, &h, &e)) {
+        net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: %s", c->address, e.message);
+        close_handles(c);
+        return;
+    }
+    if (net->token[0]) {
+        uint8_t want[NET_AUTH_BYTES];
+        net_auth_proof(net->token, "server", c->client_nonce, c->server_nonce, want);
+        if (c->auth_step != 1 || !h.has_auth || !net_auth_equal(h.auth, want)) {
+            net_conn_fail(c, TSR_EPROTO,
+                          "net: refused the server at %s: it did not prove it knows the token (not the node "
+                          "meant, or it has another token or none)",
+                          c->address);
+            close_handles(c);
+            return;
+        }
+    } else if (h.has_auth) {
+        net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: a proof nobody asked for", c->address);
+        close_handles(c);
+        return;
+    }
     handshake_done(c, &h);
-    c->app_ref = true; /* held by the ready queue until accepted */
-    c->ready = true;
-    if (l->ready_tail)
-        l->ready_tail->next_ready = c;
-    else
-        l->ready_head = c;
-    l->ready_tail = c;
-    pthread_cond_broadcast(&l->cond);
-    tsr_log(TSR_LOG_INFO, "net: accepted peer '%s' from %s on %s", c->peer_name, c->address, l->address);
 }
 
 /* A complete message arrived. Takes ownership of m. */
@@ -433,18 +614,18 @@ static void deliver(tsr_net_conn *c, net_msg *m)
         deliver_hello(c, m);
         net_msg_free(m);
         return;
-    case NET_WELCOME: {
-        net_hello h;
-        tsr_error e;
-        if (net_hello_decode(m->data, m->len, &h, &e)) {
-            net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: %s", c->address, e.message);
-            close_handles(c);
-        } else {
-            handshake_done(c, &h);
-        }
+    case NET_WELCOME:
+        deliver_welcome(c, m);
         net_msg_free(m);
         return;
-    }
+    case NET_CHALLENGE:
+        deliver_challenge(c, m);
+        net_msg_free(m);
+        return;
+    case NET_PROOF:
+        deliver_proof(c, m);
+        net_msg_free(m);
+        return;
     case NET_REFUSE: {
         char reason[400];
         size_t n = m->len < sizeof reason - 1 ? (size_t)m->len : sizeof reason - 1;
@@ -530,7 +711,7 @@ static void handle_header(tsr_net_conn *c)
     /* A HELLO of another version is still read (within the control limit),
      * so the refusal can name the peer when its payload parses; a REFUSE is
      * read whatever its version, so the reason reaches this side. */
-    bool other_version_hello = handshaking && c->is_server && h.type == NET_HELLO;
+    bool other_version_hello = handshaking && c->is_server && h.type == NET_HELLO && c->auth_step == 0;
     bool refusal = handshaking && !c->is_server && h.type == NET_REFUSE;
     if (other_version_hello)
         c->hello_version = h.version;
@@ -550,7 +731,15 @@ static void handle_header(tsr_net_conn *c)
     bool expected;
     uint64_t limit = NET_CONTROL_MAX;
     switch (h.type) {
-    case NET_HELLO: expected = handshaking && c->is_server; break;
+    case NET_HELLO: expected = handshaking && c->is_server && c->auth_step == 0; break;
+    case NET_PROOF:
+        expected = handshaking && c->is_server && c->auth_step == 1;
+        limit = NET_AUTH_BYTES;
+        break;
+    case NET_CHALLENGE:
+        expected = handshaking && !c->is_server && c->auth_step == 0;
+        limit = NET_AUTH_BYTES;
+        break;
     case NET_WELCOME:
     case NET_REFUSE: expected = handshaking && !c->is_server; break;
     case NET_CREDIT:
@@ -709,6 +898,11 @@ static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf)
     pthread_mutex_lock(&net->lock);
     if (nread > 0 && !c->handles_closing) {
         c->last_heard_ms = net_now_ms();
+        if (!c->heard_any) {
+            c->heard_any = true;
+            if (c->state == NET_HANDSHAKE && c->is_server)
+                arm_timer(c); /* the full handshake time-out from here */
+        }
         if (c->partial && buf->base == (char *)c->partial->data + c->partial_fill) {
             c->partial_fill += (uint64_t)nread;
             if (c->partial_fill == c->partial->len) {
@@ -821,7 +1015,9 @@ static void on_connect(uv_connect_t *req, int status)
         c->socket_connected = true;
         c->state = NET_HANDSHAKE;
         arm_timer(c);
-        send_hello(c, NET_HELLO, true);
+        if (net->token[0])
+            net_auth_nonce(c->client_nonce);
+        send_hello(c, NET_HELLO, net->token[0] ? c->client_nonce : NULL);
         start_reading(c);
     }
     pthread_mutex_unlock(&net->lock);
@@ -865,6 +1061,47 @@ void net_io_connect(tsr_net *net, net_op *op)
 
 /* ---- listening ------------------------------------------------------------ */
 
+/* Before `c` joins the half-open list: connections still in their
+ * handshake are capped per peer host and in all, and at a cap an OLD one
+ * of them goes, not the newcomer: the oldest that has sent nothing, else
+ * the oldest. So connections that never handshake (or are slow to) cannot
+ * keep a client out: its connection has sent its HELLO, or is the newest,
+ * and handshakes within a round trip. Only half-open connections count,
+ * since every local client shares the loopback address: established ones
+ * are never dropped here. */
+static tsr_net_conn *pick_victim(tsr_net_listener *l, const tsr_net_conn *host)
+{
+    tsr_net_conn *oldest = NULL;
+    for (tsr_net_conn *h = l->half_head; h; h = h->half_next)
+        if (!host || same_host(h, host)) {
+            if (!h->heard_any)
+                return h;
+            if (!oldest)
+                oldest = h;
+        }
+    return oldest;
+}
+
+static void make_room(tsr_net_listener *l, tsr_net_conn *c)
+{
+    unsigned from_host = 0;
+    for (tsr_net_conn *h = l->half_head; h; h = h->half_next)
+        from_host += same_host(h, c);
+    tsr_net_conn *victim = NULL;
+    if (from_host >= NET_HALF_OPEN_PER_HOST)
+        victim = pick_victim(l, c);
+    else if (l->half_open >= NET_HALF_OPEN_MAX)
+        victim = pick_victim(l, NULL);
+    if (!victim)
+        return;
+    net_conn_fail(victim, TSR_EIO,
+                  "net: dropped the connection from %s: its handshake was not done when newer connections "
+                  "needed its place",
+                  victim->address);
+    note_dropped(victim, victim->error.message);
+    close_handles(victim);
+}
+
 static void on_connection(uv_stream_t *server, int status)
 {
     tsr_net_listener *l = server->data;
@@ -894,14 +1131,13 @@ static void on_connection(uv_stream_t *server, int status)
     } /* a Unix-domain peer has no address of its own: it keeps the listener's */
     c->listener = l;
     l->pending++;
-    if (rc || l->closing || l->pending > NET_PENDING_ACCEPT_MAX) {
-        if (!rc)
-            tsr_log(TSR_LOG_WARN, "net: %s: %u connections wait to be accepted; closing %s", l->address, l->pending - 1,
-                    c->address);
+    if (rc || l->closing) {
         net_conn_fail(c, TSR_EIO, "net: not accepted");
         close_handles(c);
         goto out;
     }
+    make_room(l, c);
+    half_open_add(l, c);
     arm_timer(c); /* handshake time-out */
     start_reading(c);
 out:
@@ -927,9 +1163,11 @@ static void on_listener_closed(uv_handle_t *h)
 void net_io_close_listener(tsr_net_listener *l)
 {
     l->closing = true;
-    /* Connections still in their handshake lose their listener. */
+    /* Connections still in their handshake (or refused and closing) lose
+     * their listener, which may be freed before they close. */
     for (tsr_net_conn *c = l->net->conns; c; c = c->next_all)
-        if (c->listener == l && c->state == NET_HANDSHAKE) {
+        if (c->listener == l && !c->ready) {
+            half_open_remove(c);
             c->listener = NULL;
             l->pending--;
         }

@@ -228,3 +228,31 @@ if(TESSERA_FUZZ)
   set_tests_properties(fuzz_render_runs_corpus PROPERTIES TIMEOUT 300
     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()
+
+# ---- netlib frames and handshake (tests/fuzz/fuzz_net.c) -------------------
+#  * fuzz_net_corpus_replay (every build): runs each seed of
+#    tests/fuzz/corpus_net through real netlib connections.
+#  * fuzz_net (only -DTESSERA_FUZZ=ON, clang): the libFuzzer target.
+# Both compile netlib's sources into the program (its internal encoders make
+# the seeds and the correct handshakes; the fuzzer's coverage is netlib's).
+set(tsr_fuzz_net_sources ${TSR_FUZZ_DIR}/fuzz_net.c)
+foreach(f address.c auth.c conn.c direct.c frame.c inproc.c loop.c socket.c stream.c)
+  list(APPEND tsr_fuzz_net_sources ${CMAKE_SOURCE_DIR}/netlib/${f})
+endforeach()
+add_executable(fuzz_net_replay ${tsr_fuzz_net_sources})
+target_compile_definitions(fuzz_net_replay PRIVATE FUZZ_NET_REPLAY)
+target_include_directories(fuzz_net_replay PRIVATE ${CMAKE_SOURCE_DIR}/netlib)
+target_link_libraries(fuzz_net_replay PRIVATE tessera PkgConfig::UV PkgConfig::SODIUM Threads::Threads)
+add_test(NAME fuzz_net_corpus_replay COMMAND fuzz_net_replay ${TSR_FUZZ_DIR}/corpus_net)
+set_tests_properties(fuzz_net_corpus_replay PROPERTIES TIMEOUT 120)
+
+if(TESSERA_FUZZ)
+  add_executable(fuzz_net ${tsr_fuzz_net_sources})
+  target_include_directories(fuzz_net PRIVATE ${CMAKE_SOURCE_DIR}/netlib)
+  target_compile_options(fuzz_net PRIVATE -fsanitize=fuzzer,address,undefined
+    -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(fuzz_net PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fuzz_net PRIVATE tessera PkgConfig::UV PkgConfig::SODIUM Threads::Threads)
+  add_test(NAME fuzz_net_runs_corpus COMMAND fuzz_net -runs=0 ${TSR_FUZZ_DIR}/corpus_net)
+  set_tests_properties(fuzz_net_runs_corpus PROPERTIES TIMEOUT 300)
+endif()

@@ -4,8 +4,9 @@ set(NET_TEST_SRC ${CMAKE_CURRENT_SOURCE_DIR}/net)
 add_executable(net_test ${NET_TEST_SRC}/net_test.c)
 add_executable(net_flow_test ${NET_TEST_SRC}/net_flow_test.c)
 add_executable(net_stall_server ${NET_TEST_SRC}/net_stall_server.c)
-foreach(t net_test net_flow_test net_stall_server)
-  target_link_libraries(${t} PRIVATE tessera_net Threads::Threads)
+add_executable(net_auth_test ${NET_TEST_SRC}/net_auth_test.c)
+foreach(t net_test net_flow_test net_stall_server net_auth_test)
+  target_link_libraries(${t} PRIVATE tessera_net PkgConfig::SODIUM Threads::Threads)
 endforeach()
 
 foreach(pair
@@ -46,3 +47,45 @@ add_test(NAME net_receiver_killed_while_sender_blocked_fails_send
          COMMAND net_flow_test kill $<TARGET_FILE:net_stall_server>)
 set_tests_properties(net_flow_control_stalled_receiver
   net_receiver_killed_while_sender_blocked_fails_send PROPERTIES TIMEOUT 60 LABELS net)
+
+# Who holds a place on a listener and who gets in (issue 10, defects 7, 14).
+foreach(pair
+    "net_idle_connections_do_not_lock_out_clients:idle_flood"
+    "net_handshake_token_never_on_the_wire:token_not_on_the_wire"
+    "net_handshake_replayed_client_proof_refused:replayed_proof"
+    "net_handshake_fake_server_refused_by_client:fake_server"
+    "net_handshake_client_without_token_refused_by_server:client_without_token_knowledge"
+    "net_address_is_local_only_for_loopback:address_scope")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 sub)
+  add_test(NAME ${name} COMMAND net_auth_test ${sub})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 60 LABELS net)
+endforeach()
+
+# A standalone node without --token on an address other hosts reach
+# refuses to start unless --insecure; on loopback it warns (defect 14).
+set(NET_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+add_test(NAME node_cli_no_token_non_loopback_refused_without_insecure_exit_2
+  COMMAND ${NET_EXPECT} 2 "" "refusing to listen on tcp://0.0.0.0:0 without --token.*--insecure"
+          $<TARGET_FILE:tessera_cli> node --listen tcp://0.0.0.0:0 --chain render)
+add_test(NAME node_cli_no_token_non_loopback_starts_with_insecure_and_warns
+  COMMAND ${NET_EXPECT} 1 "^listening on tcp://0.0.0.0:[1-9]" "warning: --insecure: anyone who reaches it"
+          $<TARGET_FILE:tessera_cli> node --listen tcp://0.0.0.0:0 --chain render --insecure --timeout-ms 300)
+add_test(NAME node_cli_no_token_loopback_warns
+  COMMAND ${NET_EXPECT} 1 "^listening on tcp://127.0.0.1:[1-9]" "warning: no --token: any local user can connect to it .tcp://127.0.0.1:[1-9]"
+          $<TARGET_FILE:tessera_cli> node --listen tcp://127.0.0.1:0 --chain render --timeout-ms 300)
+add_test(NAME node_cli_token_non_loopback_starts_without_warning
+  COMMAND ${NET_EXPECT} 1 "^listening on tcp://0.0.0.0:[1-9]" "^tessera node: 0 of 1 clients"
+          $<TARGET_FILE:tessera_cli> node --listen tcp://0.0.0.0:0 --chain render --token t0k --timeout-ms 300)
+set_tests_properties(node_cli_no_token_non_loopback_refused_without_insecure_exit_2
+  node_cli_no_token_non_loopback_starts_with_insecure_and_warns node_cli_no_token_loopback_warns
+  node_cli_token_non_loopback_starts_without_warning PROPERTIES TIMEOUT 60 LABELS net)
+
+# The mothership's control listener is netlib's too: the same flood, the
+# nodes of a real run must still join (defect 7).
+add_test(NAME net_mothership_idle_connections_do_not_lock_out_nodes
+  COMMAND ${NET_TEST_SRC}/mothership_flood.sh ${CMAKE_BINARY_DIR}/bin
+          ${CMAKE_BINARY_DIR}/test-out/net/mothership-flood ${CMAKE_SOURCE_DIR}/examples/graphs/tcp.yaml
+          $<TARGET_FILE:net_auth_test>)
+set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPERTIES TIMEOUT 120 LABELS net)

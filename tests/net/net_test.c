@@ -335,6 +335,7 @@ static int test_large_message_rejected(void)
  * naming the problem, and the server goes on serving a good client. */
 static int test_malformed_frames(void)
 {
+    enum { V = TSR_NET_PROTOCOL_VERSION };
     tsr_net *server_net = make_net("strict-server", NULL, 2);
     tsr_net *good_net = make_net("good-client", NULL, 4);
     tsr_error err = {0};
@@ -352,15 +353,17 @@ static int test_malformed_frames(void)
         uint64_t len;
         int count; /* how many such frames */
     } cases[] = {
-        {"bad magic", "not speaking the tessera protocol", 1, 0x10, 0, 0, 1},
-        {"unknown flags", "unknown flags 0x80", 1, 0x10, 0x80, 0, 1},
-        {"reserved type", "type 0x09", 1, 0x09, 0, 0, 1},
-        {"second HELLO", "type 0x01", 1, 0x01, 0, 16, 1},
-        {"CREDIT of 3 bytes", "CREDIT of 3 bytes", 1, 0x04, 0, 3, 1},
-        {"credits returned that were never granted", "more credits than it granted", 1, 0x04, 0, 4, 1},
+        {"bad magic", "not speaking the tessera protocol", V, 0x10, 0, 0, 1},
+        {"unknown flags", "unknown flags 0x80", V, 0x10, 0x80, 0, 1},
+        {"reserved type", "type 0x09", V, 0x09, 0, 0, 1},
+        {"second HELLO", "type 0x01", V, 0x01, 0, 16, 1},
+        {"CHALLENGE to a server", "type 0x07", V, 0x07, 0, 32, 1},
+        {"PROOF after the handshake", "type 0x08", V, 0x08, 0, 32, 1},
+        {"CREDIT of 3 bytes", "CREDIT of 3 bytes", V, 0x04, 0, 3, 1},
+        {"credits returned that were never granted", "more credits than it granted", V, 0x04, 0, 4, 1},
         {"wrong version after the handshake", "protocol version 9", 9, 0x10, 0, 0, 1},
-        {"three messages on two credits", "more messages than the 2 credits", 1, 0x10, 0, 1, 3},
-        {"end of stream inside a message", "inside a message", 1, 0x10, 0, 100, 1},
+        {"three messages on two credits", "more messages than the 2 credits", V, 0x10, 0, 1, 3},
+        {"end of stream inside a message", "inside a message", V, 0x10, 0, 100, 1},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         int fd = raw_connect_loopback(port);
@@ -1277,8 +1280,7 @@ static int test_tcp_direct_write_rest(void)
     at += 2;
     memcpy(welcome + at, "raw-slow", 8);
     at += 8;
-    put_le(welcome + at, 0, 2);
-    at += 2;
+    welcome[at++] = 0; /* auth: none (no token) */
     raw_header(welcome, TSR_NET_PROTOCOL_VERSION, 0x02, at - 16);
     raw_write_all(fd, welcome, at);
 

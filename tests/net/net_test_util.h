@@ -21,6 +21,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <sodium.h>
+
 #include "net.h"
 
 /* A failed check ends the program: the helpers below return nothing to
@@ -131,12 +133,26 @@ static inline void raw_header(uint8_t out[16], unsigned version, unsigned type, 
     put_le(out + 8, len, 8);
 }
 
-/* Sends a HELLO (credits, max, name, token) and reads the answer's header;
- * returns its type (2 WELCOME, 3 REFUSE) and skips its payload. */
-static inline int raw_handshake(int fd, const char *name, const char *token, uint32_t credits)
+/* The handshake's proof, computed here from net.h's HANDSHAKE text with
+ * libsodium directly (not netlib's code), so the tests hold netlib to it. */
+static inline void spec_proof(const char *token, const char *role, const uint8_t nc[32], const uint8_t ns[32],
+                              uint8_t out[32])
 {
-    uint8_t msg[16 + 512];
-    size_t at = 16, nl = strlen(name), tl = token ? strlen(token) : 0;
+    static const char label[] = "tessera-net-2 handshake proof ";
+    crypto_auth_hmacsha256_state st;
+    crypto_auth_hmacsha256_init(&st, (const unsigned char *)token, strlen(token));
+    crypto_auth_hmacsha256_update(&st, (const unsigned char *)label, sizeof label - 1);
+    crypto_auth_hmacsha256_update(&st, (const unsigned char *)role, strlen(role) + 1);
+    crypto_auth_hmacsha256_update(&st, nc, 32);
+    crypto_auth_hmacsha256_update(&st, ns, 32);
+    crypto_auth_hmacsha256_final(&st, out);
+}
+
+/* A HELLO frame (header included) written by hand: credits, max, name,
+ * auth (0, or 1 followed by the 32-byte nonce). Returns its size. */
+static inline size_t raw_hello(uint8_t *msg, const char *name, uint32_t credits, const uint8_t *nonce)
+{
+    size_t at = 16, nl = strlen(name);
     put_le(msg + at, credits, 4);
     at += 4;
     put_le(msg + at, 1u << 20, 8);
@@ -145,20 +161,48 @@ static inline int raw_handshake(int fd, const char *name, const char *token, uin
     at += 2;
     memcpy(msg + at, name, nl);
     at += nl;
-    put_le(msg + at, tl, 2);
-    at += 2;
-    memcpy(msg + at, token ? token : "", tl);
-    at += tl;
+    msg[at++] = nonce ? 1 : 0;
+    if (nonce) {
+        memcpy(msg + at, nonce, 32);
+        at += 32;
+    }
     raw_header(msg, TSR_NET_PROTOCOL_VERSION, 0x01, at - 16);
-    raw_write_all(fd, msg, at);
+    return at;
+}
+
+/* Reads one message: its type, and its payload into buf (at most 4096
+ * bytes; *len set). */
+static inline int raw_read_msg(int fd, uint8_t *buf, size_t *len)
+{
     uint8_t h[16];
-    CHECK(raw_read_exact(fd, h, 16, 5000) == 0, "no handshake answer within 5 s");
-    CHECK(get_le(h, 4) == 0x314E5354u, "answer magic 0x%08llx", (unsigned long long)get_le(h, 4));
-    uint64_t len = get_le(h + 8, 8);
-    CHECK(len <= 4096, "handshake answer of %llu bytes", (unsigned long long)len);
-    uint8_t skip[4096];
-    CHECK(raw_read_exact(fd, skip, (size_t)len, 5000) == 0, "handshake answer payload missing");
+    CHECK(raw_read_exact(fd, h, 16, 5000) == 0, "no message within 5 s");
+    CHECK(get_le(h, 4) == 0x314E5354u, "magic 0x%08llx", (unsigned long long)get_le(h, 4));
+    uint64_t n = get_le(h + 8, 8);
+    CHECK(n <= 4096, "control message of %llu bytes", (unsigned long long)n);
+    CHECK(raw_read_exact(fd, buf, (size_t)n, 5000) == 0, "payload of %llu bytes missing", (unsigned long long)n);
+    *len = (size_t)n;
     return h[6];
+}
+
+/* Sends a HELLO (with a token: auth=1 and a fresh nonce, then the PROOF
+ * the server's CHALLENGE asks for) and returns the type of the final
+ * answer (2 WELCOME, 3 REFUSE). */
+static inline int raw_handshake(int fd, const char *name, const char *token, uint32_t credits)
+{
+    uint8_t msg[16 + 512], nonce[32], buf[4096];
+    randombytes_buf(nonce, sizeof nonce);
+    size_t n = raw_hello(msg, name, credits, token ? nonce : NULL);
+    raw_write_all(fd, msg, n);
+    size_t len;
+    int type = raw_read_msg(fd, buf, &len);
+    if (type != 0x07)
+        return type;
+    CHECK(token && len == 32, "CHALLENGE of %zu bytes", len);
+    uint8_t frame[16 + 32];
+    raw_header(frame, TSR_NET_PROTOCOL_VERSION, 0x08, 32);
+    spec_proof(token, "client", nonce, buf, frame + 16);
+    raw_write_all(fd, frame, sizeof frame);
+    return raw_read_msg(fd, buf, &len);
 }
 
 #endif
