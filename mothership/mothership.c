@@ -662,7 +662,13 @@ static void receive(ms *m)
                              rc == 0 ? "closed its control connection before reporting its end" : e.message);
                 }
             }
-            return; /* arrays changed */
+            /* Every connection that ended is seen in this round, before
+             * reap() judges the exits that follow from it. */
+            conns[which] = conns[--count];
+            owners[which] = owners[count];
+            if (!count)
+                return;
+            continue;
         }
         tsr_ctl ctl;
         tsr_error perr = {0};

@@ -717,7 +717,7 @@ int main(int argc, char **argv)
         if (mothership)
             snprintf(want, sizeof want, "^tessera run: node '[^']+'.*control connection (was )?lost");
         else
-            snprintf(want, sizeof want, "^tessera run: node '[^']+'.* (exited with status 1|dropped)");
+            snprintf(want, sizeof want, "^tessera run: node '[^']+'.*(exited with status 1|dropped)");
         if (application)
             snprintf(cause, sizeof cause, "client [0-9]+ '[^']*-pid%d' at [^ ]+ dropped: .*(%s)", (int)victim, CUT);
         else if (!mothership)
