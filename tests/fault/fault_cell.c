@@ -42,6 +42,8 @@
 #include <string.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
+#include <netinet/in.h>
+#include <arpa/inet.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -269,49 +271,6 @@ static pid_t application_pid(char *node, size_t size)
 
 /* --- close: the target's connections --------------------------------- */
 
-typedef struct sock_info {
-    unsigned long inode;
-    int connected, listening;
-    unsigned remote_port; /* TCP only; 0 for unix */
-} sock_info;
-
-/* Looks `inode` up in the target's /proc/PID/net/{tcp,tcp6,unix}. */
-static int socket_info(pid_t pid, unsigned long inode, sock_info *out)
-{
-    static const char *const tables[] = {"tcp", "tcp6", "unix"};
-    static char text[1 << 20];
-    for (size_t t = 0; t < 3; t++) {
-        char path[64];
-        snprintf(path, sizeof path, "/proc/%d/net/%s", (int)pid, tables[t]);
-        read_file(path, text, sizeof text);
-        for (char *line = strchr(text, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
-            memset(out, 0, sizeof *out);
-            if (t < 2) {
-                char local[64], remote[64];
-                unsigned st;
-                unsigned long ino;
-                if (sscanf(line + 1, "%*d: %63s %63s %x %*s %*s %*s %*u %*d %lu", local, remote, &st, &ino) != 4 ||
-                    ino != inode)
-                    continue;
-                const char *colon = strrchr(remote, ':');
-                out->remote_port = colon ? (unsigned)strtoul(colon + 1, NULL, 16) : 0;
-                out->connected = st == 0x01; /* TCP_ESTABLISHED */
-                out->listening = st == 0x0A; /* TCP_LISTEN */
-            } else {
-                unsigned long flags, ino;
-                unsigned st;
-                if (sscanf(line + 1, "%*s %*s %*s %lx %*x %x %lu", &flags, &st, &ino) != 3 || ino != inode)
-                    continue;
-                out->listening = (flags & 0x10000) != 0; /* __SO_ACCEPTCON */
-                out->connected = st == 3;                /* SS_CONNECTED */
-            }
-            out->inode = inode;
-            return 1;
-        }
-    }
-    return 0;
-}
-
 /* The control port a node process was given (--mothership tcp://H:PORT). */
 static unsigned control_port(pid_t pid)
 {
@@ -329,9 +288,10 @@ static unsigned control_port(pid_t pid)
 
 /* Shuts down every connected socket of `pid` except its control
  * connection (`skip_port`: the mothership's port; 0 = none). Every socket
- * is copied out first and only then shut down, all at once: the target
- * reacts to the first (closes the others, or exits) within milliseconds.
- * Returns the number shut down, or -1 with a message. */
+ * is copied out first (and asked, on the copy, whether it is connected and
+ * to where) and only then shut down, all at once: the target reacts to the
+ * first (closes the others, or exits) within milliseconds. Returns the
+ * number shut down, or -1 with a message. */
 static int close_connections(pid_t pid, unsigned skip_port, char *why, size_t why_size)
 {
     int pidfd = (int)syscall(SYS_pidfd_open, pid, 0);
@@ -347,10 +307,10 @@ static int close_connections(pid_t pid, unsigned skip_port, char *why, size_t wh
         close(pidfd);
         return -1;
     }
-    int fds[256];
-    size_t count = 0;
+    int copies[256];
+    size_t count = 0, sockets = 0;
     struct dirent *e;
-    while ((e = readdir(d)) != NULL && count < sizeof fds / sizeof fds[0]) {
+    while ((e = readdir(d)) != NULL && count < sizeof copies / sizeof copies[0]) {
         char *end;
         long fd = strtol(e->d_name, &end, 10);
         if (*end || fd < 0)
@@ -361,30 +321,43 @@ static int close_connections(pid_t pid, unsigned skip_port, char *why, size_t wh
         if (n <= 0)
             continue;
         link[n] = '\0';
-        unsigned long inode;
-        sock_info info;
-        if (sscanf(link, "socket:[%lu]", &inode) == 1 && socket_info(pid, inode, &info) && info.connected &&
-            !(skip_port && info.remote_port == skip_port))
-            fds[count++] = (int)fd;
+        if (strncmp(link, "socket:", 7))
+            continue;
+        sockets++;
+        int copy = (int)syscall(SYS_pidfd_getfd, pidfd, (int)fd, 0);
+        if (copy < 0) {
+            printf("  fd %ld of pid %d: pidfd_getfd: %s\n", fd, (int)pid, strerror(errno));
+            continue;
+        }
+        int type = 0, listening = 0;
+        socklen_t len = sizeof type;
+        struct sockaddr_storage peer;
+        socklen_t peer_len = sizeof peer;
+        getsockopt(copy, SOL_SOCKET, SO_TYPE, &type, &len);
+        len = sizeof listening;
+        getsockopt(copy, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len);
+        int connected =
+            type == SOCK_STREAM && !listening && getpeername(copy, (struct sockaddr *)&peer, &peer_len) == 0;
+        unsigned port = 0;
+        if (connected && peer.ss_family == AF_INET)
+            port = ntohs(((struct sockaddr_in *)&peer)->sin_port);
+        else if (connected && peer.ss_family == AF_INET6)
+            port = ntohs(((struct sockaddr_in6 *)&peer)->sin6_port);
+        if (connected && !(skip_port && port == skip_port))
+            copies[count++] = copy;
+        else
+            close(copy);
     }
     closedir(d);
-    int copies[256], closed = 0;
-    size_t copied = 0;
+    close(pidfd);
+    int closed = 0;
     for (size_t i = 0; i < count; i++) {
-        int copy = (int)syscall(SYS_pidfd_getfd, pidfd, fds[i], 0);
-        if (copy >= 0)
-            copies[copied++] = copy;
-        else
-            printf("  fd %d of pid %d: pidfd_getfd: %s\n", fds[i], (int)pid, strerror(errno));
-    }
-    for (size_t i = 0; i < copied; i++) {
         if (shutdown(copies[i], SHUT_RDWR) == 0)
             closed++;
         close(copies[i]);
     }
-    close(pidfd);
     if (closed == 0)
-        snprintf(why, why_size, "process %d: no connection could be shut down (%zu found)", (int)pid, count);
+        snprintf(why, why_size, "process %d: no connection could be shut down (%zu sockets)", (int)pid, sockets);
     return closed;
 }
 
