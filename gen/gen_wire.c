@@ -32,13 +32,6 @@ static const struct {
     {"Flush", "tsr_packer_flush(tsr_p);", NULL},
     {"Finish", "tsr_packer_flush(tsr_p);", NULL},
     {"SwapBuffersTSR", "tsr_packer_flush(tsr_p);", NULL},
-    /* The receiver holds other clients at a barrier or semaphore until
-     * this one's exec / P / V arrives: left in a buffer that fills only
-     * later (a client that sends little per frame and never swaps, like a
-     * small readback tile), it would wait on them for ever. */
-    {"BarrierExecTSR", "tsr_packer_flush(tsr_p);", NULL},
-    {"SemaphorePTSR", "tsr_packer_flush(tsr_p);", NULL},
-    {"SemaphoreVTSR", "tsr_packer_flush(tsr_p);", NULL},
 };
 
 /* Queries the packer answers itself because the receiver never sees the
