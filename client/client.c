@@ -66,9 +66,10 @@ struct tsr_stream_client {
     tsr_packer *packer;
     tsr_net_msg reply; /* the reply handed to the packer, held until the next sink call */
     int holding_reply;
-    size_t reply_server; /* whose reply it is */
-    tsr_entry swap;      /* the packer's SwapBuffersTSR (frames are counted in front of it) */
-    buffer_pool pool;    /* flushed buffers' copies; outlives the I/O thread */
+    size_t reply_server;             /* whose reply it is */
+    tsr_entry swap;                  /* the packer's SwapBuffersTSR (frames are counted in front of it) */
+    tsr_entry barrier, sem_p, sem_v; /* the packer's: flushed after (client_BarrierExecTSR) */
+    buffer_pool pool;                /* flushed buffers' copies; outlives the I/O thread */
     uint64_t frames, buffers, stream_bytes;
     tsr_error first_error;
     tsr_node_join *join;                     /* late servers still expected (join.h); NULL: none, nothing tracked */
@@ -481,6 +482,31 @@ static void admit_late_servers(tsr_stream_client *c)
     }
 }
 
+/* A server holds its other clients at a barrier or semaphore until this
+ * one's exec / P / V arrives: sent now, not when the buffer fills. A
+ * client that never swaps and sends little per frame (a readback tile
+ * server with small tiles) would otherwise leave it unsent for ever. */
+static void client_BarrierExecTSR(void *self, GLuint name)
+{
+    tsr_stream_client *c = self;
+    ((tsr_fn_BarrierExecTSR)c->barrier.fn)(c->barrier.self, name);
+    tsr_packer_flush(c->packer);
+}
+
+static void client_SemaphorePTSR(void *self, GLuint name)
+{
+    tsr_stream_client *c = self;
+    ((tsr_fn_SemaphorePTSR)c->sem_p.fn)(c->sem_p.self, name);
+    tsr_packer_flush(c->packer);
+}
+
+static void client_SemaphoreVTSR(void *self, GLuint name)
+{
+    tsr_stream_client *c = self;
+    ((tsr_fn_SemaphoreVTSR)c->sem_v.fn)(c->sem_v.self, name);
+    tsr_packer_flush(c->packer);
+}
+
 static void client_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     tsr_stream_client *c = self;
@@ -682,6 +708,12 @@ tsr_stream_client *tsr_stream_client_create(const tsr_stream_client_config *conf
     tsr_packer_fill_dispatch(c->packer, table);
     c->swap = table->SwapBuffersTSR;
     tsr_set_SwapBuffersTSR(table, client_SwapBuffersTSR, c);
+    c->barrier = table->BarrierExecTSR;
+    c->sem_p = table->SemaphorePTSR;
+    c->sem_v = table->SemaphoreVTSR;
+    tsr_set_BarrierExecTSR(table, client_BarrierExecTSR, c);
+    tsr_set_SemaphorePTSR(table, client_SemaphorePTSR, c);
+    tsr_set_SemaphoreVTSR(table, client_SemaphoreVTSR, c);
     if (config->late_count && start_late(c, config, err) != TSR_OK) {
         tsr_stream_client_destroy(c);
         return NULL;

@@ -485,6 +485,10 @@ static void reap(ms *m)
         describe_status(st, what, sizeof what);
         if (WIFSIGNALED(st))
             fail(m, FAIL_SIGNAL, "node '%s' (pid %ld) %s", n->g->name, (long)n->pid, what);
+        else if (n->state != N_DONE && WEXITSTATUS(st) && n->lost_at)
+            /* No DONE could come: say what the node saw end first. */
+            fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s after its control connection was lost (%s)", n->g->name,
+                 (long)n->pid, what, n->lost_why);
         else if (n->state != N_DONE && WEXITSTATUS(st))
             fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s%s", n->g->name, (long)n->pid, what,
                  n->state == N_WAITING ? " before joining" : "");
@@ -674,7 +678,13 @@ static void receive(ms *m)
                              rc == 0 ? "closed its control connection before reporting its end" : e.message);
                 }
             }
-            return; /* arrays changed */
+            /* Every connection that ended is seen in this round, before
+             * reap() judges the exits that follow from it. */
+            conns[which] = conns[--count];
+            owners[which] = owners[count];
+            if (!count)
+                return;
+            continue;
         }
         tsr_ctl ctl;
         tsr_error perr = {0};
@@ -1094,10 +1104,21 @@ static int run(ms *m, tsr_error *err)
             return TSR_EIO;
 
     int done = 0;
-    double all_done_at = 0;
+    double all_done_at = 0, last_round = tsr_now_seconds();
     while (!done) {
         if (m->cfg->interrupted && *m->cfg->interrupted)
             fail(m, FAIL_INTERRUPT, "interrupted by signal %d", (int)*m->cfg->interrupted);
+        /* A round takes about POLL_MS. One that took longer than the nodes
+         * wait for a silent mothership (3 x timeout_ms, agent.c) means this
+         * process was stopped (SIGSTOP) or starved: its nodes have given
+         * up on it, and their ends are the echo, not the cause. */
+        double round_start = tsr_now_seconds();
+        if ((round_start - last_round) * 1000.0 > 3.0 * m->cfg->timeout_ms)
+            fail(m, FAIL_SIGNAL,
+                 "the mothership was stopped or starved for %.0f ms (its nodes take %u ms of silence "
+                 "for a lost mothership: 3 x --timeout-ms)",
+                 (round_start - last_round) * 1000.0, 3 * m->cfg->timeout_ms);
+        last_round = round_start;
         tsr_net_conn *c;
         while (m->pending_count < MAX_PENDING && (c = tsr_net_accept(m->listener, 0, &e)) != NULL) {
             m->pending[m->pending_count].conn = c;

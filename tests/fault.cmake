@@ -1,0 +1,89 @@
+# tests/fault.cmake — the fault matrix (issue 10, item 13): one test per
+# cell, fault_GRAPH_TARGET_FAULT. Faults: sigkill, sigstop, sigterm and
+# close (the target's connections shut down from outside); targets: the
+# application, every kind of server the graph has (render server, replicate
+# target, render tile server, readback tile server, display) and the
+# mothership (the `tessera run` process); graphs: small-window copies of
+# examples/graphs/ tcp, replicate, wall and wall_display (tests/fault/*.yaml,
+# same topology). tests/fault/fault_cell.c runs one cell and says what it
+# checks. Cells share no port (every server listens on port 0) and no file
+# (one output folder each), so they run in parallel.
+#
+# Plain build only: the matrix counts in issue 10's CI minutes, and the
+# sanitizer build runs the same code paths in tests/run.cmake's failure
+# tests. -DTESSERA_FAULT_MATRIX=ON adds it to a sanitizer build.
+# Included by tests/CMakeLists.txt.
+get_property(FAULT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(FAULT_DIR ${CMAKE_CURRENT_SOURCE_DIR}/fault)
+set(FAULT_OUT ${CMAKE_BINARY_DIR}/test-out/fault)
+file(MAKE_DIRECTORY ${FAULT_OUT})
+
+# Found by the matrix, in every build: the matrix's wall_display graph
+# (64x48 tiles) hung before its first window, because a tile server that
+# never swaps left its frame barrier in an unflushed wire buffer.
+if(TARGET spu_readback)
+  add_test(NAME readback_small_tiles_frame_barrier_reaches_display_exact
+    COMMAND ${FAULT_DIR}/small_tiles.sh ${CMAKE_BINARY_DIR}/bin ${FAULT_DIR}/wall_display.yaml
+            ${FAULT_OUT}/small-tiles 20)
+endif()
+
+if(NOT TESSERA_SANITIZE OR TESSERA_FAULT_MATRIX)
+
+add_executable(fault_cell ${FAULT_DIR}/fault_cell.c)
+target_link_libraries(fault_cell PRIVATE tessera)
+
+# The run's time-out: a SIGSTOPped node or application is found after this
+# much silence (a stopped mothership after 3 x this, by its nodes).
+set(FAULT_TIMEOUT_MS 1500)
+set(FAULTS sigkill sigstop sigterm close)
+
+# fault_cells(GRAPH KIND TARGET READY...): the four faults on TARGET
+# (mothership, application or a node's name) of tests/fault/GRAPH.yaml,
+# named fault_GRAPH_KIND_FAULT; READY: files that show frames flow.
+function(fault_cells graph kind target)
+  foreach(fault ${FAULTS})
+    set(name fault_${graph}_${kind}_${fault})
+    add_test(NAME ${name}
+      COMMAND fault_cell $<TARGET_FILE:tessera_cli> ${FAULT_DIR}/${graph}.yaml ${FAULT_OUT}/${name}
+              ${target} ${fault} ${FAULT_TIMEOUT_MS} ${ARGN})
+  endforeach()
+endfunction()
+
+set(FAULT_TCP_READY out/tcp-000002.png)
+fault_cells(tcp app application ${FAULT_TCP_READY})
+fault_cells(tcp server server ${FAULT_TCP_READY})
+fault_cells(tcp mothership mothership ${FAULT_TCP_READY})
+
+if(TARGET spu_replicate)
+  set(FAULT_REPLICATE_READY out/replicate-s0-000002.png out/replicate-s1-000002.png out/replicate-s2-000002.png)
+  fault_cells(replicate app application ${FAULT_REPLICATE_READY})
+  fault_cells(replicate target s1 ${FAULT_REPLICATE_READY})
+  fault_cells(replicate mothership mothership ${FAULT_REPLICATE_READY})
+endif()
+
+if(TARGET spu_tilesort)
+  # The assembled window: every tile server has drawn its part.
+  fault_cells(wall app application out/wall-000002.png)
+  fault_cells(wall tileserver wall10 out/wall-000002.png)
+  fault_cells(wall mothership mothership out/wall-000002.png)
+  if(TARGET spu_readback)
+    # The display's window: every readback tile server streams to it.
+    fault_cells(wall_display app application out/wall-000002.png)
+    fault_cells(wall_display readback wall00 out/wall-000002.png)
+    fault_cells(wall_display display display out/wall-000002.png)
+    fault_cells(wall_display mothership mothership out/wall-000002.png)
+  endif()
+endif()
+
+endif() # the matrix
+
+get_property(FAULT_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(FAULT_TESTS_BEFORE)
+  list(REMOVE_ITEM FAULT_TESTS_AFTER ${FAULT_TESTS_BEFORE})
+endif()
+# One llvmpipe thread per renderer: two cells at once on two cores.
+set(FAULT_ENV "LP_NUM_THREADS=0")
+if(TESSERA_SANITIZE)
+  list(APPEND FAULT_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${FAULT_TESTS_AFTER} PROPERTIES TIMEOUT 90 LABELS fault ENVIRONMENT "${FAULT_ENV}")
