@@ -1,0 +1,33 @@
+# tests/sortlast.cmake — sort-last compositing (issue 11): the examples'
+# --part K/N shares, the binaryswap SPU against a real display node, the
+# sort-last graphs under `tessera run`, and their mistakes as one clear
+# line. Every accuracy test compares every frame with the single-process
+# native render of the whole scene (0 differing pixels). Small windows;
+# the full peer-count sweep runs in the plain build only.
+get_property(SORTLAST_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(SORTLAST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/sortlast)
+set(SORTLAST_OUT ${CMAKE_BINARY_DIR}/test-out/sortlast)
+set(SORTLAST_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+
+foreach(app spheres isosurface)
+  add_test(NAME sortlast_${app}_part_out_of_range_is_a_clear_error
+    COMMAND ${SORTLAST_EXPECT} 2 "" "^${app}: bad --part \\(expected K/N"
+            $<TARGET_FILE:${app}-native> --frames 1 --size 32x32 --part 2/2 --out "")
+  add_test(NAME sortlast_${app}_parts_each_draw_less_than_the_whole
+    COMMAND ${SORTLAST_DIR}/parts.sh ${CMAKE_BINARY_DIR}/bin ${app} ${SORTLAST_OUT}/parts-${app})
+endforeach()
+add_test(NAME sortlast_spheres_help_lists_part_and_overlap
+  COMMAND ${SORTLAST_EXPECT} 0 "--overlap" "" $<TARGET_FILE:spheres-native> --help)
+set_tests_properties(sortlast_spheres_help_lists_part_and_overlap PROPERTIES
+  PASS_REGULAR_EXPRESSION "--part K/N")
+
+get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(SORTLAST_TESTS_BEFORE)
+  list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})
+endif()
+set(SORTLAST_ENV "LP_NUM_THREADS=0")
+if(TESSERA_SANITIZE)
+  list(APPEND SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
+  TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")
