@@ -993,7 +993,9 @@ static int prepare(ms *m, tsr_error *err)
             if (cls->network.role != TSR_SPU_ROLE_NONE) {
                 n->network = cls;
                 n->network_link = l;
-                n->links_later = cls->network.peers != NULL;
+                /* An application peer (in situ) has no address to wait
+                 * for: its peers' are derived from the display's. */
+                n->links_later = cls->network.peers != NULL && n->server;
             }
         }
         if (n->server && n->g->transport == TSR_TRANSPORT_INPROC)

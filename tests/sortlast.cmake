@@ -21,6 +21,33 @@ add_test(NAME sortlast_spheres_help_lists_part_and_overlap
 set_tests_properties(sortlast_spheres_help_lists_part_and_overlap PROPERTIES
   PASS_REGULAR_EXPRESSION "--part K/N")
 
+# Accuracy: both forms, every frame against the native whole scene, 0
+# differing pixels (tests/sortlast/sortlast.sh). The isosurface is split
+# into N shares of its triangles; `overlap` is spheres --overlap, whose
+# interpenetrating spheres are cut by the share borders. The full sweep of
+# peer counts in the plain build; a sanitizer build runs N = 1 and 3.
+set(SORTLAST_SH ${SORTLAST_DIR}/sortlast.sh)
+if(TESSERA_SANITIZE)
+  set(SORTLAST_COUNTS 1 3)
+else()
+  set(SORTLAST_COUNTS 1 2 3 4 5 7 8)
+endif()
+foreach(n ${SORTLAST_COUNTS})
+  foreach(form insitu servers)
+    add_test(NAME composite_${form}_depth_exact_n${n}
+      COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-iso-${n} ${n} isosurface)
+    add_test(NAME composite_${form}_interpenetrating_depth_exact_n${n}
+      COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-overlap-${n} ${n} overlap)
+  endforeach()
+endforeach()
+# A peer that draws nothing sends the image header alone and the frame is
+# still exact; when no peer draws anything the display shows the
+# background the applications cleared to, nothing else.
+add_test(NAME composite_blank_peers
+  COMMAND ${SORTLAST_SH} insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/blank 2 overlap blank)
+add_test(NAME composite_display_draws_nothing
+  COMMAND ${SORTLAST_SH} servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/nothing 3 overlap nothing)
+
 get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 if(SORTLAST_TESTS_BEFORE)
   list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})

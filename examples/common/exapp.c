@@ -100,7 +100,7 @@ static bool parse_part(const char *text, int *part, int *parts)
         return false;
     memcpy(buf, text, (size_t)(slash - text));
     buf[slash - text] = '\0';
-    return parse_int(slash + 1, 1, 4096, parts) && parse_int(buf, 0, *parts - 1, part);
+    return parse_int(slash + 1, 1, 1048576, parts) && parse_int(buf, 0, *parts - 1, part);
 }
 
 long exapp_part_range(const exapp *app, long total, long *first)
@@ -182,7 +182,7 @@ bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int de
                 return fail(app, 2, "bad --detail (expected 1..8)", value);
         } else if (!strcmp(arg, "--part")) {
             if (!parse_part(value, &app->part, &app->parts))
-                return fail(app, 2, "bad --part (expected K/N, 0 <= K < N <= 4096)", value);
+                return fail(app, 2, "bad --part (expected K/N, 0 <= K < N <= 1048576)", value);
         }
 #ifndef EXAPP_NATIVE
         else {

@@ -1,0 +1,684 @@
+/* spus/binaryswap — one peer of a sort-last compositing group: renders
+ * exactly like `render` (it IS render: spus/render's library, render.h,
+ * with a frame hook), and at every SwapBuffers of its window reads back the
+ * colour and depth of its region of interest, composites it with its
+ * peers' images, and the group's final frame goes to a display node (an
+ * ordinary `tessera node` whose render chain writes the PNG). Owns, per
+ * instance: the render instance, the peer connections (netlib, one
+ * tsr_net), the stream to the display (a `pack` chain of its own), the
+ * read-back and frame buffers. Never: keeps state outside the instance,
+ * sends the display anything but the window, the final image and the swap,
+ * or sends a peer a full frame of background (an empty peer's image is a
+ * header).
+ *
+ * Group. `rank` (0..N-1) and `peers` (every peer's node address, rank
+ * order) come from the graph (TSR_SPU_ROLE_PEERS); N is the number of
+ * peers. Peers exchange images on their own listening sockets, one per
+ * peer: `exchange` gives their addresses in rank order, else each is
+ * derived from the peer's node address (unix:PATH -> unix:PATH.x;
+ * tcp://HOST:PORT -> tcp://HOST:PORT+1) or, in situ (application peers
+ * have no address: the graph run gives empty ones), from the display's
+ * and the rank R (unix:PATH.peerR; tcp://HOST:PORT+1+R). The mesh is made at the first
+ * swap: every peer listens, connects to every lower rank (retrying until
+ * timeout_ms while that peer is not listening yet) and accepts the higher
+ * ranks; the first message on a connection names the connecting rank.
+ *
+ * Region of interest. At a swap the depth buffer of the window is read
+ * (GL_DEPTH_COMPONENT/GL_FLOAT, as OSMesa gives it) and the box of pixels
+ * with depth < 1.0 (the cleared value) found; only the box's colour is
+ * read and sent. A peer that drew nothing sends the header alone. Geometry
+ * partly behind the viewer (w <= 0) is clipped by GL before it reaches the
+ * depth buffer, so the box is what was drawn whatever the vertices' w.
+ * (The chain's bounding boxes are not used yet: issue 11, item 2.)
+ *
+ * Compositing (composite_frame below, the one place a strategy runs):
+ * gather to one. Every peer sends its image to rank 0, which composites
+ * them in rank order, nearest depth winning and equal depth going to the
+ * lower rank (strict <), so the result is the single-process render of
+ * the parts drawn in rank order with GL_LESS, bit for bit, whatever the
+ * arrival order. Pixels no peer drew get the background colour, read
+ * from a pixel some peer left at depth 1.0 (so it is exactly what GL's
+ * clear produced). The display participant lives in rank 0's process:
+ * rank 0 draws the frame on the display (WindowPos2i, DrawPixels) and
+ * swaps. Ranks other than 0 also connect to the display (a graph's
+ * display node counts every peer among its clients) but send nothing.
+ *
+ * Failures: a peer that does not answer within timeout_ms, a connection
+ * that breaks, a message whose frame, rank, window size or region is not
+ * what it must be: one line naming the peer (rank and address), then the
+ * process ends with status 1 (on_error=exit, the default, as readback
+ * does: a frame that cannot be composited is a failed run). */
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "net.h"
+#include "render.h"
+#include "tessera/chain.h"
+#include "tessera/dev/client.h"
+#include "tessera/log.h"
+#include "tessera/spu.h"
+
+#define BSWAP_MAX_PEERS 64
+#define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
+#define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
+#define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
+
+/* Image message header (host order: peers of one group run one build). */
+typedef struct layer_header {
+    uint32_t magic, frame;
+    int32_t rank, window_width, window_height;
+    int32_t x, y, width, height; /* the region of interest; 0x0: nothing drawn */
+    uint32_t has_background;     /* background[] is a pixel the peer left cleared */
+    uint8_t background[4];
+} layer_header;
+
+/* One peer's read-back layer: header, then width*height RGBA8 colours and
+ * width*height float depths, rows bottom first, packed. */
+typedef struct layer {
+    layer_header h;
+    const uint8_t *color;
+    const float *depth;
+} layer;
+
+typedef struct bswap_spu {
+    char name[96];
+    void *render;
+    tsr_dispatch down;
+    const tsr_dispatch *child;
+    const tsr_options *options;
+    int window, rank, nranks, timeout_ms;
+    char exchange[BSWAP_MAX_PEERS][TSR_NET_ADDRESS_MAX];
+
+    tsr_net *net;
+    tsr_net_listener *listener;
+    tsr_net_conn *conns[BSWAP_MAX_PEERS]; /* conns[rank] stays NULL */
+    bool linked;
+
+    tsr_chain *out; /* pack to the display; NULL until first needed */
+    const tsr_dispatch *display;
+    bool display_failed;
+
+    uint32_t frames; /* frames composited */
+    float *window_depth;
+    size_t window_depth_size;
+    uint8_t *message; /* this peer's message: header + colour + depth */
+    size_t message_size;
+    uint8_t *frame_color; /* rank 0: the composited frame */
+    float *frame_depth;
+    size_t frame_size, frame_depth_size;
+} bswap_spu;
+
+/* Ends the process after one line: other threads (netlib's, llvmpipe's)
+ * are running, so _exit. */
+static void bswap_fatal(bswap_spu *b, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+static void bswap_fatal(bswap_spu *b, const char *fmt, ...)
+{
+    char what[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    tsr_log(TSR_LOG_ERROR, "%s: %s", b->name, what);
+    tsr_log(TSR_LOG_ERROR, "%s: ending (a frame that cannot be composited fails the run)", b->name);
+    fflush(NULL);
+    _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+}
+
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* --- addresses ----------------------------------------------------------- */
+
+/* The exchange address of a peer whose node listens at `node` (header). */
+static int derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err)
+{
+    if (!strncmp(node, "unix:", 5)) {
+        int n = display_rank ? snprintf(out, size, "%s.peer%d", node, display_rank - 1) : snprintf(out, size, "%s.x", node);
+        if (n < 0 || (size_t)n >= size)
+            return tsr_error_set(err, TSR_EINVAL, "address too long: %s", node);
+        return TSR_OK;
+    }
+    const char *colon = strrchr(node, ':');
+    if (!strncmp(node, "tcp://", 6) && colon && colon > node + 5) {
+        char *end;
+        long port = strtol(colon + 1, &end, 10);
+        if (*end || port <= 0 || port >= 65535)
+            return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+        long to = display_rank ? port + display_rank : port + 1;
+        if (to >= 65536)
+            return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+        if ((size_t)snprintf(out, size, "%.*s:%ld", (int)(colon - node), node, to) >= size)
+            return tsr_error_set(err, TSR_EINVAL, "address too long: %s", node);
+        return TSR_OK;
+    }
+    return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+}
+
+static const char *peer_address(const bswap_spu *b, int rank) { return b->exchange[rank]; }
+
+/* --- the display ------------------------------------------------------------ */
+
+static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeout_ms", "on_error"};
+#define PACK_KEYS (sizeof pack_keys / sizeof pack_keys[0])
+
+/* The display stream, created on first use (not in create: a node builds
+ * its chain once at start-up only to check it). */
+static const tsr_dispatch *display(bswap_spu *b)
+{
+    if (b->display || b->display_failed)
+        return b->display;
+    char numbers[2][24];
+    snprintf(numbers[0], sizeof numbers[0], "%" PRId64, tsr_options_int(b->options, "buffer_size"));
+    snprintf(numbers[1], sizeof numbers[1], "%" PRId64, tsr_options_int(b->options, "timeout_ms"));
+    const char *values[PACK_KEYS] = {tsr_options_string(b->options, "display"),
+                                     tsr_options_string(b->options, "token"), numbers[0], numbers[1],
+                                     tsr_options_string(b->options, "on_error")};
+    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
+    tsr_error err = {0};
+    b->out = tsr_chain_create_links(&link, 1, &err);
+    if (!b->out) {
+        bswap_fatal(b, "display %s: %s", values[0], err.message);
+    }
+    b->display = tsr_chain_head(b->out);
+    return b->display;
+}
+
+static void bswap_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
+    bswap_spu *b = self;
+    const tsr_dispatch *d = window == b->window ? display(b) : NULL;
+    if (d && b->rank == 0)
+        tsr_call_WindowCreateTSR(d, window, width, height);
+    tsr_call_WindowCreateTSR(b->child, window, width, height);
+}
+
+static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
+    bswap_spu *b = self;
+    const tsr_dispatch *d = window == b->window ? display(b) : NULL;
+    if (d && b->rank == 0)
+        tsr_call_WindowSizeTSR(d, window, width, height);
+    tsr_call_WindowSizeTSR(b->child, window, width, height);
+}
+
+/* --- the peer mesh ---------------------------------------------------------- */
+
+static void link_peers(bswap_spu *b)
+{
+    if (b->linked)
+        return;
+    b->linked = true;
+    if (b->rank == 0)
+        tsr_log(TSR_LOG_INFO, "%s: strategy gather (%s) for %d peers", b->name,
+                strcmp(tsr_options_string(b->options, "strategy"), "auto")
+                    ? "as asked"
+                    : "auto: the only one in this build (issue 11, item 3 brings the others)",
+                b->nranks);
+    if (b->nranks == 1)
+        return;
+    tsr_error err = {0};
+    char node_name[64];
+    snprintf(node_name, sizeof node_name, "binaryswap-rank-%d", b->rank);
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = node_name;
+    cfg.token = tsr_options_string(b->options, "token");
+    cfg.max_message_bytes = (uint64_t)1 << 31;
+    if (b->timeout_ms > 0) {
+        cfg.idle_timeout_ms = (uint32_t)b->timeout_ms;
+        cfg.connect_timeout_ms = cfg.handshake_timeout_ms = (uint32_t)b->timeout_ms;
+    }
+    if (!(b->net = tsr_net_create(&cfg, &err)))
+        bswap_fatal(b, "%s", err.message);
+    if (!(b->listener = tsr_net_listen(b->net, peer_address(b, b->rank), &err))) {
+        bswap_fatal(b, "rank %d cannot listen for its peers: %s", b->rank, err.message);
+    }
+    int64_t deadline = now_ms() + (b->timeout_ms > 0 ? b->timeout_ms : 10000);
+    for (int i = 0; i < b->rank; i++) {
+        for (;;) {
+            /* A Unix socket that is not there yet would be one more logged
+             * refusal per try: wait for the file instead. */
+            const char *a = peer_address(b, i);
+            struct stat st;
+            if (!strncmp(a, "unix:", 5) && stat(a + 5, &st) != 0 && now_ms() < deadline) {
+                usleep(10000);
+                continue;
+            }
+            b->conns[i] = tsr_net_connect(b->net, peer_address(b, i), &err);
+            if (b->conns[i] || now_ms() >= deadline)
+                break;
+            usleep(20000); /* that peer does not listen yet */
+        }
+        if (!b->conns[i]) {
+            bswap_fatal(b, "peer rank %d (%s) cannot be reached: %s", i, peer_address(b, i), err.message);
+        }
+        int32_t me = b->rank;
+        if (tsr_net_send(b->conns[i], BSWAP_KIND_HELLO, &me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
+            bswap_fatal(b, "peer rank %d (%s): %s", i, peer_address(b, i), err.message);
+        }
+    }
+    for (int n = b->rank + 1; n < b->nranks; n++) {
+        int64_t left = deadline - now_ms();
+        tsr_net_conn *c = tsr_net_accept(b->listener, left > 0 ? (int)left : 1, &err);
+        if (!c) {
+            int missing = -1;
+            for (int k = b->rank + 1; k < b->nranks && missing < 0; k++)
+                if (!b->conns[k])
+                    missing = k;
+            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms: %s", missing,
+                     peer_address(b, missing), b->timeout_ms, err.message);
+        }
+        tsr_net_msg msg;
+        int32_t who = -1;
+        int rc = tsr_net_recv(c, &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
+        if (rc == 1) {
+            if (msg.kind == BSWAP_KIND_HELLO && msg.len == sizeof who)
+                memcpy(&who, msg.data, sizeof who);
+            tsr_net_msg_release(&msg);
+        }
+        if (who <= b->rank || who >= b->nranks || b->conns[who]) {
+            bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)",
+                     tsr_net_conn_address(c), who);
+        }
+        b->conns[who] = c;
+    }
+    tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
+}
+
+/* --- read-back -------------------------------------------------------------- */
+
+static bool grow(void **p, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return true;
+    void *q = realloc(*p, need);
+    if (!q)
+        return false;
+    *p = q;
+    *cap = need;
+    return true;
+}
+
+/* Reads this frame's layer into b->message (header). */
+static void read_layer(bswap_spu *b, uint32_t frame)
+{
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    tsr_error err = {0};
+    size_t pixels = (size_t)W * (size_t)H;
+    if (!grow((void **)&b->window_depth, &b->window_depth_size, pixels * sizeof(float) + 1))
+        bswap_fatal(b, "%s", "out of memory for the depth buffer");
+    if (render_spu_read(b->render, 0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, b->window_depth, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    int x0 = W, y0 = H, x1 = -1, y1 = -1;
+    size_t bg_index = SIZE_MAX;
+    for (int y = 0; y < H; y++) {
+        const float *row = b->window_depth + (size_t)y * (size_t)W;
+        for (int x = 0; x < W; x++) {
+            if (row[x] < 1.0f) {
+                if (x < x0)
+                    x0 = x;
+                if (x > x1)
+                    x1 = x;
+                if (y < y0)
+                    y0 = y;
+                y1 = y;
+            } else if (bg_index == SIZE_MAX) {
+                bg_index = (size_t)y * (size_t)W + (size_t)x;
+            }
+        }
+    }
+    layer_header h = {.magic = BSWAP_MAGIC, .frame = frame, .rank = b->rank, .window_width = W, .window_height = H};
+    if (x1 >= 0) {
+        h.x = x0;
+        h.y = y0;
+        h.width = x1 - x0 + 1;
+        h.height = y1 - y0 + 1;
+    }
+    size_t box = (size_t)h.width * (size_t)h.height;
+    size_t need = sizeof h + box * 8;
+    if (!grow((void **)&b->message, &b->message_size, need))
+        bswap_fatal(b, "%s", "out of memory for the image");
+    uint8_t *color = b->message + sizeof h;
+    float *depth = (float *)(color + box * 4);
+    if (box && render_spu_read(b->render, h.x, h.y, h.width, h.height, GL_RGBA, GL_UNSIGNED_BYTE, color, &err) !=
+                   TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    for (int y = 0; y < h.height; y++)
+        memcpy(depth + (size_t)y * (size_t)h.width,
+               b->window_depth + (size_t)(h.y + y) * (size_t)W + (size_t)h.x, (size_t)h.width * sizeof(float));
+    if (bg_index != SIZE_MAX) {
+        if (render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1, GL_RGBA,
+                            GL_UNSIGNED_BYTE, h.background, &err) != TSR_OK)
+            bswap_fatal(b, "%s", err.message);
+        h.has_background = 1;
+    }
+    memcpy(b->message, &h, sizeof h);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d, %zu bytes", b->name, frame,
+            b->rank, h.x, h.y, h.width, h.height, W, H, need);
+}
+
+/* Checks a received layer against what it must be; NULL when it is good,
+ * else why not. */
+static const char *check_layer(const bswap_spu *b, const void *data, size_t size, int from, uint32_t frame,
+                               layer *out, char *why, size_t why_size)
+{
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    layer_header h;
+    if (size < sizeof h) {
+        snprintf(why, why_size, "an image message of %zu bytes (shorter than its header)", size);
+        return why;
+    }
+    memcpy(&h, data, sizeof h);
+    if (h.magic != BSWAP_MAGIC)
+        snprintf(why, why_size, "a message that is not an image (magic 0x%08" PRIx32 ")", h.magic);
+    else if (h.rank != from)
+        snprintf(why, why_size, "an image of rank %" PRId32 " on rank %d's connection", h.rank, from);
+    else if (h.frame != frame)
+        snprintf(why, why_size, "frame %" PRIu32 " while frame %" PRIu32 " is composited", h.frame, frame);
+    else if (h.window_width != W || h.window_height != H)
+        snprintf(why, why_size, "a %" PRId32 "x%" PRId32 " window, not %dx%d (window sizes differ)", h.window_width,
+                 h.window_height, W, H);
+    else if (h.width < 0 || h.height < 0 || h.x < 0 || h.y < 0 || h.x > W - h.width || h.y > H - h.height)
+        snprintf(why, why_size, "region [%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 "] outside the %dx%d window",
+                 h.x, h.y, h.width, h.height, W, H);
+    else if (size != sizeof h + (size_t)h.width * (size_t)h.height * 8)
+        snprintf(why, why_size, "%zu bytes for a %" PRId32 "x%" PRId32 " region", size, h.width, h.height);
+    else {
+        out->h = h;
+        out->color = (const uint8_t *)data + sizeof h;
+        out->depth = (const float *)(out->color + (size_t)h.width * (size_t)h.height * 4);
+        return NULL;
+    }
+    return why;
+}
+
+/* Depth-merges `l` behind everything merged before it (lower ranks): a
+ * pixel wins only when strictly nearer, so equal depth stays with the
+ * lower rank; NaN never wins. */
+static void merge_layer(bswap_spu *b, const layer *l, int W)
+{
+    for (int y = 0; y < l->h.height; y++) {
+        size_t at = (size_t)(l->h.y + y) * (size_t)W + (size_t)l->h.x;
+        const float *src_depth = l->depth + (size_t)y * (size_t)l->h.width;
+        const uint8_t *src_color = l->color + (size_t)y * (size_t)l->h.width * 4;
+        float *dst_depth = b->frame_depth + at;
+        uint8_t *dst_color = b->frame_color + at * 4;
+        for (int x = 0; x < l->h.width; x++)
+            if (src_depth[x] < dst_depth[x]) {
+                dst_depth[x] = src_depth[x];
+                memcpy(dst_color + 4 * x, src_color + 4 * x, 4);
+            }
+    }
+}
+
+/* Gather to one (header): the one place the group composites a frame. */
+static void composite_frame(bswap_spu *b, uint32_t frame)
+{
+    char why[300];
+    tsr_error err = {0};
+    size_t size = sizeof(layer_header);
+    {
+        layer_header h;
+        memcpy(&h, b->message, sizeof h);
+        size += (size_t)h.width * (size_t)h.height * 8;
+    }
+    if (b->rank != 0) {
+        if (tsr_net_send(b->conns[0], BSWAP_KIND_IMAGE, b->message, size,
+                         b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err) != TSR_OK) {
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank 0 (%s): %s", frame, peer_address(b, 0),
+                     err.message);
+        }
+        return;
+    }
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    size_t pixels = (size_t)W * (size_t)H;
+    if (!grow((void **)&b->frame_color, &b->frame_size, pixels * 4 + 1) ||
+        !grow((void **)&b->frame_depth, &b->frame_depth_size, pixels * sizeof(float) + 1))
+        bswap_fatal(b, "%s", "out of memory for the frame");
+    for (size_t i = 0; i < pixels; i++)
+        b->frame_depth[i] = 1.0f;
+    layer own;
+    memcpy(&own.h, b->message, sizeof own.h);
+    own.color = b->message + sizeof own.h;
+    own.depth = (const float *)(own.color + (size_t)own.h.width * (size_t)own.h.height * 4);
+    merge_layer(b, &own, W);
+    bool has_background = own.h.has_background != 0;
+    uint8_t background[4];
+    memcpy(background, own.h.background, 4);
+    for (int r = 1; r < b->nranks; r++) {
+        tsr_net_msg msg;
+        int rc = tsr_net_recv(b->conns[r], &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
+        if (rc != 1) {
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, peer_address(b, r),
+                     rc == 0                ? "ended before sending its image"
+                     : rc == TSR_ETIMEDOUT ? "sent no image in time (timeout_ms)"
+                                           : err.message);
+        }
+        layer l;
+        if (check_layer(b, msg.data, msg.len, r, frame, &l, why, sizeof why)) {
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) sent %s", frame, r, peer_address(b, r),
+                     why);
+        }
+        merge_layer(b, &l, W);
+        if (!has_background && l.h.has_background) {
+            has_background = true;
+            memcpy(background, l.h.background, 4);
+        }
+        tsr_net_msg_release(&msg);
+    }
+    /* A peer without a background pixel covered the whole window: then no
+     * pixel of the frame is background. */
+    if (has_background)
+        for (size_t i = 0; i < pixels; i++)
+            if (!(b->frame_depth[i] < 1.0f))
+                memcpy(b->frame_color + 4 * i, background, 4);
+    const tsr_dispatch *d = display(b);
+    tsr_call_WindowPos2i(d, 0, 0);
+    tsr_call_DrawPixels(d, W, H, GL_RGBA, GL_UNSIGNED_BYTE, b->frame_color);
+    tsr_call_SwapBuffersTSR(d, b->window, 0);
+}
+
+/* render's frame hook: the frame is finished and still in the framebuffer. */
+static void bswap_frame(void *ctx, int frame, void *render)
+{
+    (void)render;
+    bswap_spu *b = ctx;
+    display(b);
+    link_peers(b);
+    read_layer(b, (uint32_t)frame);
+    composite_frame(b, (uint32_t)frame);
+    b->frames++;
+}
+
+/* --- the class -------------------------------------------------------------- */
+
+static void bswap_destroy(void *self)
+{
+    bswap_spu *b = self;
+    if (!b)
+        return;
+    render_spu_destroy(b->render);
+    tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
+    for (int i = 0; i < b->nranks; i++)
+        if (b->conns[i])
+            tsr_net_conn_close(b->conns[i]);
+    if (b->listener)
+        tsr_net_listener_close(b->listener);
+    tsr_net_destroy(b->net);
+    free(b->window_depth);
+    free(b->message);
+    free(b->frame_color);
+    free(b->frame_depth);
+    free(b);
+}
+
+static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
+{
+    bswap_spu *b = calloc(1, sizeof *b);
+    if (!b) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
+        return NULL;
+    }
+    snprintf(b->name, sizeof b->name, "%s", init->instance_name);
+    b->child = init->child;
+    b->options = init->options;
+    b->window = (int)tsr_options_int(init->options, "window");
+    b->rank = (int)tsr_options_int(init->options, "rank");
+    b->timeout_ms = (int)tsr_options_int(init->options, "timeout_ms");
+    size_t npeers = tsr_options_count(init->options, "peers");
+    size_t nexchange = tsr_options_count(init->options, "exchange");
+    const char *display_address = tsr_options_string(init->options, "display");
+    const char *mode = tsr_options_string(init->options, "mode");
+    const char *strategy = tsr_options_string(init->options, "strategy");
+    if (!display_address || !display_address[0]) {
+        tsr_error_set(err, TSR_EINVAL,
+                      "%s: option display is required: the display node (e.g. display=tcp://127.0.0.1:7000)", b->name);
+        goto fail;
+    }
+    if (nexchange && npeers && nexchange != npeers) {
+        tsr_error_set(err, TSR_EINVAL, "%s: exchange gives %zu addresses for %zu peers", b->name, nexchange, npeers);
+        goto fail;
+    }
+    size_t n = nexchange ? nexchange : npeers ? npeers : 1;
+    if (n > BSWAP_MAX_PEERS) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %zu peers; at most %d", b->name, n, BSWAP_MAX_PEERS);
+        goto fail;
+    }
+    b->nranks = (int)n;
+    if (b->rank >= b->nranks) {
+        tsr_error_set(err, TSR_EINVAL, "%s: rank %d, but the group has %d peers (0..%d)", b->name, b->rank, b->nranks,
+                      b->nranks - 1);
+        goto fail;
+    }
+    for (size_t i = 0; i < n && b->nranks > 1; i++) {
+        const char *a = nexchange ? tsr_options_string_at(init->options, "exchange", i) : NULL;
+        if (a && (size_t)snprintf(b->exchange[i], sizeof b->exchange[i], "%s", a) >= sizeof b->exchange[i]) {
+            tsr_error_set(err, TSR_EINVAL, "%s: exchange address too long: %s", b->name, a);
+            goto fail;
+        }
+        tsr_error e = {0};
+        const char *node = a ? NULL : tsr_options_string_at(init->options, "peers", i);
+        if (node && !node[0]) {
+            /* In situ: application peers have no address of their own. */
+            char from_display[TSR_NET_ADDRESS_MAX + 16];
+            snprintf(from_display, sizeof from_display, "%s", display_address);
+            if (derive_exchange(from_display, b->exchange[i], sizeof b->exchange[i], (int)i + 1, &e) != TSR_OK) {
+                tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
+                goto fail;
+            }
+        } else if (node && derive_exchange(node, b->exchange[i], sizeof b->exchange[i], 0, &e) != TSR_OK) {
+            tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
+            goto fail;
+        }
+        for (size_t j = 0; j < i; j++)
+            if (!strcmp(b->exchange[i], b->exchange[j])) {
+                tsr_error_set(err, TSR_EINVAL, "%s: peers %zu and %zu have one exchange address %s", b->name, j, i,
+                              b->exchange[i]);
+                goto fail;
+            }
+    }
+    if (strcmp(mode, "depth")) {
+        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: mode=%s is not implemented yet (depth only)", b->name, mode);
+        goto fail;
+    }
+    if (strcmp(strategy, "auto") && strcmp(strategy, "gather")) {
+        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: strategy=%s is not available in this build (auto, gather)", b->name,
+                      strategy);
+        goto fail;
+    }
+    b->down = *init->child;
+    tsr_set_WindowCreateTSR(&b->down, bswap_WindowCreateTSR, b);
+    tsr_set_WindowSizeTSR(&b->down, bswap_WindowSizeTSR, b);
+    tsr_spu_init render_init = *init;
+    render_init.child = &b->down;
+    render_hooks hooks = {.frame = bswap_frame, .ctx = b};
+    b->render = render_spu_create(&render_init, &hooks, err);
+    if (!b->render)
+        goto fail;
+    return b;
+fail:
+    free(b);
+    return NULL;
+}
+
+static const tsr_option_spec bswap_options[] = {
+    RENDER_OPTION_SPECS,
+    {.name = "display",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
+     .help = "the display node the composited frame goes to: tcp://HOST:PORT or unix:PATH "
+             "(required; a graph's to: fills it)"},
+    {.name = "rank",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = BSWAP_MAX_PEERS - 1,
+     .help = "this peer's place in the group, 0..N-1: depth ties go to the lower rank; rank 0 "
+             "sends the frame to the display (a graph run sets it)"},
+    {.name = "peers",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "every peer's node address in rank order, this one's included (a graph run sets "
+             "it); the group has as many peers"},
+    {.name = "exchange",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "where each peer listens for the others' images, in rank order; empty: derived "
+             "from peers (unix:PATH.x, tcp://HOST:PORT+1). Without peers it gives the group"},
+    {.name = "strategy",
+     .type = TSR_OPT_STRING,
+     .default_value = "auto",
+     .min = 1,
+     .max = 0,
+     .help = "how the group composites: auto (gather) or gather (every peer sends its region "
+             "to rank 0)"},
+    {.name = "mode",
+     .type = TSR_OPT_STRING,
+     .default_value = "depth",
+     .min = 1,
+     .max = 0,
+     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank"},
+    /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
+     * display stream's; a failing peer always ends the process). */
+    TSR_NODE_CLIENT_OPTION_SPECS,
+};
+
+static const tsr_spu_class bswap_class = {
+    .abi = TSR_SPU_ABI,
+    .dispatch_count = TSR_DISPATCH_COUNT,
+    .name = "binaryswap",
+    .summary = "renders like render, then composites each frame's colour+depth with its peers "
+               "(sort-last) and sends the final frame to a display node",
+    .options = bswap_options,
+    .option_count = sizeof bswap_options / sizeof bswap_options[0],
+    .create = bswap_create,
+    .destroy = bswap_destroy,
+    .network = {.role = TSR_SPU_ROLE_PEERS,
+                .display = "display",
+                .rank = "rank",
+                .peers = "peers",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+};
+
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &bswap_class; }
