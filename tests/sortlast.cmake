@@ -48,6 +48,30 @@ add_test(NAME composite_blank_peers
 add_test(NAME composite_display_draws_nothing
   COMMAND ${SORTLAST_SH} servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/nothing 3 overlap nothing)
 
+# `tessera check` and the compositing groups (core/graph/groups.c): one
+# line with file:line:column naming the node at fault, exit status 2.
+set(SORTLAST_GRAPHS ${SORTLAST_DIR}/graphs)
+foreach(case
+    "missing_peer|missing_peer.yaml:8:3: node 'p0': peers names peer 'p3', but no node has that name \\(a missing peer\\)"
+    "unlisted_peer|unlisted_peer.yaml:8:3: node 'p0': peers misses peer 'p2', which also sends to display 'display'"
+    "two_displays|two_displays.yaml:8:3: node 'p0': peers names 'p2', which sends to display 'display2': one group has one display node"
+    "window_sizes|window_sizes.yaml:9:3: node 'p1': its binaryswap draws 32x48, but the group's window is 64x48"
+    "listed_twice|listed_twice.yaml:8:3: node 'p0': peers lists peer 'p1' twice"
+    "mixed|mixed.yaml:7:3: node 'p0': it and 'app1' are peers of display 'display', but one is a server and the other an application")
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 name)
+  list(GET case 1 message)
+  add_test(NAME composite_check_rejects_${name}
+    COMMAND ${SORTLAST_EXPECT} 2 "" "^${SORTLAST_GRAPHS}/${message}"
+            $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/${name}.yaml)
+endforeach()
+add_test(NAME composite_check_accepts_a_group_listed_in_rank_order
+  COMMAND ${SORTLAST_EXPECT} 0 "^ok: 7 nodes" "" $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/listed_ok.yaml)
+foreach(g sortlast sortlast_servers)
+  add_test(NAME composite_example_graph_${g}_checks
+    COMMAND ${SORTLAST_EXPECT} 0 "^ok: " "" $<TARGET_FILE:tessera_cli> check ${CMAKE_SOURCE_DIR}/examples/graphs/${g}.yaml)
+endforeach()
+
 get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 if(SORTLAST_TESTS_BEFORE)
   list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})

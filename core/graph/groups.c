@@ -88,8 +88,8 @@ static int rank_in(const tsr_graph *g, const tsr_graph_node *display, const tsr_
 }
 
 /* The explicit peers list of `member` (rules in the header comment). */
-static int check_list(const tsr_graph *g, const tsr_graph_node *display, const tsr_graph_node *member,
-                      const char *list, const char *option, tsr_error *err)
+static int check_list(const tsr_graph *g, const tsr_graph_node *display, const tsr_graph_node *member, const char *list,
+                      const char *option, tsr_error *err)
 {
     char *copy = strdup(list);
     if (!copy)
@@ -112,8 +112,8 @@ static int check_list(const tsr_graph *g, const tsr_graph_node *display, const t
         if (nseen < GROUP_MAX_LISTED)
             seen[nseen++] = name;
         if (!p) {
-            rc = fail_at(g, member, err, "%s names peer '%s', but no node has that name (a missing peer)", option,
-                         name, "");
+            rc = fail_at(g, member, err, "%s names peer '%s', but no node has that name (a missing peer)", option, name,
+                         "");
         } else if (!is_peer(p, &link, &cls)) {
             rc = fail_at(g, member, err, "%s names '%s', which is not a peer (its network SPU has not the peers role)",
                          option, name, "");
@@ -123,17 +123,15 @@ static int check_list(const tsr_graph *g, const tsr_graph_node *display, const t
         } else if (rank_in(g, display, p) != expected) {
             char at[24];
             snprintf(at, sizeof at, "%d", expected);
-            rc = fail_at(g, member, err, "%s lists '%s' at rank %s: list the peers in the graph's order (which gives "
-                                         "their ranks)",
+            rc = fail_at(g, member, err,
+                         "%s lists '%s' at rank %s: list the peers in the graph's order (which gives "
+                         "their ranks)",
                          option, name, at);
         }
         expected++;
     }
-    free(copy);
-    if (rc != TSR_OK)
-        return rc;
-    /* Every peer of the display must be listed. */
-    for (size_t f = 0; f < display->from_count; f++) {
+    /* Every peer of the display must be listed (seen[] points into copy). */
+    for (size_t f = 0; f < display->from_count && rc == TSR_OK; f++) {
         const tsr_graph_node *m = tsr_graph_node_at(g, display->from[f]);
         size_t link;
         const tsr_spu_class *cls;
@@ -143,10 +141,11 @@ static int check_list(const tsr_graph *g, const tsr_graph_node *display, const t
         for (size_t i = 0; i < nseen; i++)
             listed = listed || !strcmp(seen[i], m->name);
         if (!listed && nseen < GROUP_MAX_LISTED)
-            return fail_at(g, member, err, "%s misses peer '%s', which also sends to display '%s'", option, m->name,
-                           display->name);
+            rc = fail_at(g, member, err, "%s misses peer '%s', which also sends to display '%s'", option, m->name,
+                         display->name);
     }
-    return TSR_OK;
+    free(copy);
+    return rc;
 }
 
 static int check_group(const tsr_graph *g, const tsr_graph_node *display, tsr_error *err)
@@ -161,8 +160,9 @@ static int check_group(const tsr_graph *g, const tsr_graph_node *display, tsr_er
         if (!first)
             first = m;
         if ((first->exec == NULL) != (m->exec == NULL))
-            return fail_at(g, m, err, "it and '%s' are peers of display '%s', but one is a server and the other an "
-                                      "application: a group's peers are all render servers or all applications%s",
+            return fail_at(g, m, err,
+                           "it and '%s' are peers of display '%s', but one is a server and the other an "
+                           "application: a group's peers are all render servers or all applications%s",
                            first->name, display->name, "");
         const tsr_chain_link *l = &m->chain[link];
         const char *w = option_value(l, "width"), *h = option_value(l, "height");
@@ -171,8 +171,9 @@ static int check_group(const tsr_graph *g, const tsr_graph_node *display, tsr_er
             char size[64], window[64];
             snprintf(size, sizeof size, "%sx%s", w && atoi(w) ? w : "(window)", h && atoi(h) ? h : "(window)");
             snprintf(window, sizeof window, "%dx%d", gw, gh);
-            return fail_at(g, m, err, "its %s draws %s, but the group's window is %s: the peers' window sizes must "
-                                      "match",
+            return fail_at(g, m, err,
+                           "its %s draws %s, but the group's window is %s: the peers' window sizes must "
+                           "match",
                            l->spu, size, window);
         }
         const char *list = option_value(l, cls->network.peers);

@@ -145,7 +145,8 @@ static int64_t now_ms(void)
 static int derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err)
 {
     if (!strncmp(node, "unix:", 5)) {
-        int n = display_rank ? snprintf(out, size, "%s.peer%d", node, display_rank - 1) : snprintf(out, size, "%s.x", node);
+        int n =
+            display_rank ? snprintf(out, size, "%s.peer%d", node, display_rank - 1) : snprintf(out, size, "%s.x", node);
         if (n < 0 || (size_t)n >= size)
             return tsr_error_set(err, TSR_EINVAL, "address too long: %s", node);
         return TSR_OK;
@@ -182,9 +183,8 @@ static const tsr_dispatch *display(bswap_spu *b)
     char numbers[2][24];
     snprintf(numbers[0], sizeof numbers[0], "%" PRId64, tsr_options_int(b->options, "buffer_size"));
     snprintf(numbers[1], sizeof numbers[1], "%" PRId64, tsr_options_int(b->options, "timeout_ms"));
-    const char *values[PACK_KEYS] = {tsr_options_string(b->options, "display"),
-                                     tsr_options_string(b->options, "token"), numbers[0], numbers[1],
-                                     tsr_options_string(b->options, "on_error")};
+    const char *values[PACK_KEYS] = {tsr_options_string(b->options, "display"), tsr_options_string(b->options, "token"),
+                                     numbers[0], numbers[1], tsr_options_string(b->options, "on_error")};
     tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
     tsr_error err = {0};
     b->out = tsr_chain_create_links(&link, 1, &err);
@@ -277,8 +277,8 @@ static void link_peers(bswap_spu *b)
             for (int k = b->rank + 1; k < b->nranks && missing < 0; k++)
                 if (!b->conns[k])
                     missing = k;
-            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms: %s", missing,
-                     peer_address(b, missing), b->timeout_ms, err.message);
+            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms: %s", missing, peer_address(b, missing),
+                        b->timeout_ms, err.message);
         }
         tsr_net_msg msg;
         int32_t who = -1;
@@ -289,8 +289,7 @@ static void link_peers(bswap_spu *b)
             tsr_net_msg_release(&msg);
         }
         if (who <= b->rank || who >= b->nranks || b->conns[who]) {
-            bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)",
-                     tsr_net_conn_address(c), who);
+            bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)", tsr_net_conn_address(c), who);
         }
         b->conns[who] = c;
     }
@@ -353,12 +352,12 @@ static void read_layer(bswap_spu *b, uint32_t frame)
         bswap_fatal(b, "%s", "out of memory for the image");
     uint8_t *color = b->message + sizeof h;
     float *depth = (float *)(color + box * 4);
-    if (box && render_spu_read(b->render, h.x, h.y, h.width, h.height, GL_RGBA, GL_UNSIGNED_BYTE, color, &err) !=
-                   TSR_OK)
+    if (box &&
+        render_spu_read(b->render, h.x, h.y, h.width, h.height, GL_RGBA, GL_UNSIGNED_BYTE, color, &err) != TSR_OK)
         bswap_fatal(b, "%s", err.message);
     for (int y = 0; y < h.height; y++)
-        memcpy(depth + (size_t)y * (size_t)h.width,
-               b->window_depth + (size_t)(h.y + y) * (size_t)W + (size_t)h.x, (size_t)h.width * sizeof(float));
+        memcpy(depth + (size_t)y * (size_t)h.width, b->window_depth + (size_t)(h.y + y) * (size_t)W + (size_t)h.x,
+               (size_t)h.width * sizeof(float));
     if (bg_index != SIZE_MAX) {
         if (render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1, GL_RGBA,
                             GL_UNSIGNED_BYTE, h.background, &err) != TSR_OK)
@@ -372,8 +371,8 @@ static void read_layer(bswap_spu *b, uint32_t frame)
 
 /* Checks a received layer against what it must be; NULL when it is good,
  * else why not. */
-static const char *check_layer(const bswap_spu *b, const void *data, size_t size, int from, uint32_t frame,
-                               layer *out, char *why, size_t why_size)
+static const char *check_layer(const bswap_spu *b, const void *data, size_t size, int from, uint32_t frame, layer *out,
+                               char *why, size_t why_size)
 {
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
@@ -439,8 +438,7 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     if (b->rank != 0) {
         if (tsr_net_send(b->conns[0], BSWAP_KIND_IMAGE, b->message, size,
                          b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err) != TSR_OK) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank 0 (%s): %s", frame, peer_address(b, 0),
-                     err.message);
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank 0 (%s): %s", frame, peer_address(b, 0), err.message);
         }
         return;
     }
@@ -465,14 +463,13 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
         int rc = tsr_net_recv(b->conns[r], &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
         if (rc != 1) {
             bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, peer_address(b, r),
-                     rc == 0                ? "ended before sending its image"
-                     : rc == TSR_ETIMEDOUT ? "sent no image in time (timeout_ms)"
-                                           : err.message);
+                        rc == 0               ? "ended before sending its image"
+                        : rc == TSR_ETIMEDOUT ? "sent no image in time (timeout_ms)"
+                                              : err.message);
         }
         layer l;
         if (check_layer(b, msg.data, msg.len, r, frame, &l, why, sizeof why)) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) sent %s", frame, r, peer_address(b, r),
-                     why);
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) sent %s", frame, r, peer_address(b, r), why);
         }
         merge_layer(b, &l, W);
         if (!has_background && l.h.has_background) {
