@@ -72,6 +72,15 @@ foreach(g sortlast sortlast_servers)
     COMMAND ${SORTLAST_EXPECT} 0 "^ok: " "" $<TARGET_FILE:tessera_cli> check ${CMAKE_SOURCE_DIR}/examples/graphs/${g}.yaml)
 endforeach()
 
+# Faults: a peer killed (kill -9) or stopped (SIGSTOP: it never sends
+# again) mid-run; rank 0 names it, everyone ends non-zero, nothing is left.
+add_test(NAME composite_peer_killed_mid_run_ends_group_naming_it
+  COMMAND ${SORTLAST_DIR}/faults.sh kill ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-kill)
+add_test(NAME composite_peer_that_never_sends_times_out_naming_it
+  COMMAND ${SORTLAST_DIR}/faults.sh stop ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-stop)
+add_test(NAME composite_peer_window_size_differs_names_it
+  COMMAND ${SORTLAST_DIR}/faults.sh sizes ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-sizes)
+
 get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 if(SORTLAST_TESTS_BEFORE)
   list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})

@@ -462,9 +462,9 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
         tsr_net_msg msg;
         int rc = tsr_net_recv(b->conns[r], &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
         if (rc != 1) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, peer_address(b, r),
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s): %s", frame, r, peer_address(b, r),
                         rc == 0               ? "ended before sending its image"
-                        : rc == TSR_ETIMEDOUT ? "sent no image in time (timeout_ms)"
+                        : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
                                               : err.message);
         }
         layer l;
