@@ -43,7 +43,7 @@ endforeach()
 # A peer that draws nothing sends the image header alone and the frame is
 # still exact; when no peer draws anything the display shows the
 # background the applications cleared to, nothing else.
-add_test(NAME composite_blank_peers
+add_test(NAME composite_blank_peer_sends_header_only_exact
   COMMAND ${SORTLAST_SH} insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/blank 2 overlap blank)
 add_test(NAME composite_display_draws_nothing
   COMMAND ${SORTLAST_SH} servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/nothing 3 overlap nothing)

@@ -1,0 +1,446 @@
+/* core/image/sparse.c — sparse compositing images (active-pixel runs,
+ * tessera/dev/composite.h): compress a read-back region, split a range,
+ * merge two images run by run, expand into a dense frame.
+ *
+ * Owns: the three planes of the tsr_sparse_image values it fills. Never:
+ * expands background while merging or splitting; keeps state. */
+#include <stdlib.h>
+#include <string.h>
+#include "composite_internal.h"
+#include "tessera/dev/composite.h"
+
+static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, tsr_error *err)
+{
+    if (s->borrowed) {
+        /* a view's planes are another image's: never freed or reused */
+        s->color = NULL;
+        s->depth = NULL;
+        s->pixel_capacity = 0;
+        s->borrowed = 0;
+    }
+    if (runs > s->runs_capacity) {
+        uint32_t *r = realloc(s->runs, runs * 2 * sizeof *r);
+        if (!r)
+            return tsr_error_set(err, TSR_ENOMEM, "sparse image: no memory for %zu runs", runs);
+        s->runs = r;
+        s->runs_capacity = runs;
+    }
+    if (pixels > s->pixel_capacity || (!s->color && pixels)) {
+        size_t cb = 16; /* room for either colour format, so reuse never shrinks */
+        void *c = NULL, *d = NULL;
+        if (posix_memalign(&c, 64, pixels * cb) != 0 || posix_memalign(&d, 64, pixels * 4) != 0) {
+            free(c);
+            return tsr_error_set(err, TSR_ENOMEM, "sparse image: no memory for %zu pixels", pixels);
+        }
+        free(s->color);
+        free(s->depth);
+        s->color = c;
+        s->depth = d;
+        s->pixel_capacity = pixels;
+    }
+    return TSR_OK;
+}
+
+void tsr_sparse_image_free(tsr_sparse_image *img)
+{
+    free(img->runs);
+    if (!img->borrowed) {
+        free(img->color);
+        free(img->depth);
+    }
+    memset(img, 0, sizeof *img);
+}
+
+static void sparse_begin(tsr_sparse_image *s, int ww, int wh, uint32_t start, uint32_t count, int mode, int cf, int df,
+                         int rank, uint32_t frame)
+{
+    s->window_width = ww;
+    s->window_height = wh;
+    s->start = start;
+    s->count = count;
+    s->mode = mode;
+    s->color_format = cf;
+    s->depth_format = df;
+    s->rank = rank;
+    s->rank_count = 1;
+    s->frame = frame;
+    s->active = 0;
+    s->nruns = 0;
+}
+
+/* Appends n inactive pixels (the runs stay canonical: no empty pairs). */
+static inline void put_inactive(tsr_sparse_image *s, uint32_t n)
+{
+    if (!n)
+        return;
+    if (s->nruns && s->runs[2 * s->nruns - 1] == 0) {
+        s->runs[2 * s->nruns - 2] += n;
+    } else {
+        s->runs[2 * s->nruns] = n;
+        s->runs[2 * s->nruns + 1] = 0;
+        s->nruns++;
+    }
+}
+
+/* Makes room for n active pixels at the end; returns their index. */
+static inline uint32_t put_active(tsr_sparse_image *s, uint32_t n)
+{
+    uint32_t at = s->active;
+    if (!s->nruns) {
+        s->runs[0] = 0;
+        s->runs[1] = 0;
+        s->nruns = 1;
+    }
+    s->runs[2 * s->nruns - 1] += n;
+    s->active += n;
+    return at;
+}
+
+static inline void copy_active(tsr_sparse_image *s, const tsr_sparse_image *from, uint32_t from_at, uint32_t n)
+{
+    size_t cb = tsr_ci_color_bytes(s->color_format);
+    uint32_t at = put_active(s, n);
+    ci_copy(s->color + at * cb, from->color + (size_t)from_at * cb, n * cb);
+    if (s->depth_format)
+        ci_copy(s->depth + at, from->depth + from_at, n * sizeof(float));
+}
+
+static int check_window(int ww, int wh, uint32_t start, uint32_t count, const char *what, tsr_error *err)
+{
+    if (ww < 1 || wh < 1 || ww > TSR_CI_MAX_SIDE || wh > TSR_CI_MAX_SIDE)
+        return tsr_error_set(err, TSR_EINVAL, "%s: window %dx%d is outside 1..%d", what, ww, wh, TSR_CI_MAX_SIDE);
+    if ((uint64_t)start + count > (uint64_t)ww * (uint64_t)wh)
+        return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u..%u are outside the %dx%d window", what, start,
+                             (unsigned)((uint64_t)start + count), ww, wh);
+    return TSR_OK;
+}
+
+int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_height, uint32_t start, uint32_t count,
+                           int mode, int color_format, int depth_format, int rank, uint32_t frame, tsr_error *err)
+{
+    int rc = check_window(window_width, window_height, start, count, "sparse image", err);
+    if (rc || (rc = sparse_reserve(out, 1, 0, err)))
+        return rc;
+    sparse_begin(out, window_width, window_height, start, count, mode, color_format, depth_format, rank, frame);
+    put_inactive(out, count);
+    return TSR_OK;
+}
+
+/* Active-pixel test of one pixel (the definition in composite.h). */
+static inline int pixel_active(int mode, int cf, const uint8_t *color, const float *depth)
+{
+    if (mode == TSR_COMPOSITE_DEPTH)
+        return *depth < 1.0f;
+    if (cf == TSR_CI_RGBA8) {
+        uint32_t v;
+        ci_copy(&v, color, 4);
+        return v != 0;
+    }
+    float c[4];
+    ci_copy(c, color, sizeof c);
+    return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
+}
+
+int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                              tsr_error *err)
+{
+    int rc = check_window(in->window_width, in->window_height, start, count, "sparse compress", err);
+    if (rc)
+        return rc;
+    if (mode == TSR_COMPOSITE_DEPTH && in->depth_format != TSR_CI_DEPTH32F)
+        return tsr_error_set(err, TSR_EINVAL, "sparse compress: depth mode needs a depth plane");
+    if (mode != TSR_COMPOSITE_DEPTH && mode != TSR_COMPOSITE_ALPHA)
+        return tsr_error_set(err, TSR_EINVAL, "sparse compress: unknown mode %d", mode);
+    uint32_t w = (uint32_t)in->window_width, end = start + count;
+    size_t roi = (size_t)in->width * (size_t)in->height;
+    /* Runs: at most one per two region pixels, plus the row edges. */
+    size_t max_runs = roi / 2 + (size_t)in->height + 2;
+    if ((rc = sparse_reserve(out, max_runs, roi < count ? roi : count, err)))
+        return rc;
+    sparse_begin(out, in->window_width, in->window_height, start, count, mode, in->color_format, in->depth_format,
+                 in->rank, in->frame);
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    uint32_t pos = start;
+    for (int row = 0; row < in->height && pos < end; row++) {
+        uint32_t seg0 = (uint32_t)(in->y + row) * w + (uint32_t)in->x, seg1 = seg0 + (uint32_t)in->width;
+        if (seg1 <= start)
+            continue;
+        if (seg0 < start)
+            seg0 = start;
+        if (seg1 > end)
+            seg1 = end;
+        if (seg0 >= seg1)
+            break;
+        put_inactive(out, seg0 - pos);
+        size_t base = (size_t)row * (size_t)in->width - ((size_t)(in->y + row) * w + (size_t)in->x);
+        const uint8_t *color = in->color;
+        const float *depth = in->depth;
+        uint32_t p = seg0;
+        while (p < seg1) {
+            uint32_t q = p;
+            while (q < seg1 &&
+                   !pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
+                q++;
+            put_inactive(out, q - p);
+            p = q;
+            while (q < seg1 &&
+                   pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
+                q++;
+            if (q > p) {
+                uint32_t at = put_active(out, q - p);
+                ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
+                if (in->depth_format)
+                    ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+            }
+            p = q;
+        }
+        pos = seg1;
+    }
+    put_inactive(out, end - pos);
+    return TSR_OK;
+}
+
+/* The runs of in's pixels [start, start+count) into out (runs reserved
+ * here; out's header set), without touching pixel values. *first gets the
+ * index in `in` of the first active pixel inside the range; out->active
+ * the active pixels inside (contiguous in in's planes from *first). */
+static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out, size_t pixels,
+                     uint32_t *first_active, const char *what, tsr_error *err)
+{
+    if (start < in->start || (uint64_t)start + count > (uint64_t)in->start + in->count)
+        return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u+%u are outside the image's %u+%u", what, start, count,
+                             in->start, in->count);
+    if (out == in)
+        return tsr_error_set(err, TSR_EINVAL, "%s: output aliases the input", what);
+    uint32_t lo = start - in->start, hi = lo + count, pos = 0, aoff = 0, r = 0;
+    /* skip the runs wholly before the range */
+    while (r < in->nruns && pos + in->runs[2 * r] + in->runs[2 * r + 1] <= lo) {
+        pos += in->runs[2 * r] + in->runs[2 * r + 1];
+        aoff += in->runs[2 * r + 1];
+        r++;
+    }
+    uint32_t first = r, nr = 0;
+    for (uint32_t q = r, p = pos; q < in->nruns && p < hi; q++, nr++)
+        p += in->runs[2 * q] + in->runs[2 * q + 1];
+    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, err);
+    if (rc)
+        return rc;
+    sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format, in->depth_format,
+                 in->rank, in->frame);
+    out->rank_count = in->rank_count;
+    int have_first = 0;
+    *first_active = aoff;
+    for (r = first; r < in->nruns && pos < hi; r++) {
+        uint32_t ni = in->runs[2 * r], na = in->runs[2 * r + 1];
+        /* inactive [pos, pos+ni), active [pos+ni, pos+ni+na) clipped to [lo, hi) */
+        uint32_t a0 = pos > lo ? pos : lo, a1 = pos + ni < hi ? pos + ni : hi;
+        if (a1 > a0)
+            put_inactive(out, a1 - a0);
+        uint32_t b0 = pos + ni > lo ? pos + ni : lo, b1 = pos + ni + na < hi ? pos + ni + na : hi;
+        if (b1 > b0) {
+            if (!have_first) {
+                *first_active = aoff + (b0 - (pos + ni));
+                have_first = 1;
+            }
+            put_active(out, b1 - b0);
+        }
+        pos += ni + na;
+        aoff += na;
+    }
+    return TSR_OK;
+}
+
+int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                           tsr_error *err)
+{
+    uint32_t first = 0;
+    int rc = clip_runs(in, start, count, out, count < in->active ? count : in->active, &first, "sparse split", err);
+    if (rc)
+        return rc;
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    ci_copy(out->color, in->color + (size_t)first * cb, (size_t)out->active * cb);
+    if (in->depth_format)
+        ci_copy(out->depth, in->depth + first, (size_t)out->active * sizeof(float));
+    return TSR_OK;
+}
+
+int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                          tsr_error *err)
+{
+    uint32_t first = 0;
+    int rc = clip_runs(in, start, count, out, 0, &first, "sparse view", err);
+    if (rc)
+        return rc;
+    if (!out->borrowed) {
+        free(out->color);
+        free(out->depth);
+    }
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    out->color = in->color ? in->color + (size_t)first * cb : NULL;
+    out->depth = in->depth ? in->depth + first : NULL;
+    out->pixel_capacity = 0;
+    out->borrowed = 1;
+    return TSR_OK;
+}
+
+/* A reader over one image's runs: the current span is inactive or active
+ * with `left` pixels remaining; `at` indexes the next active pixel. */
+typedef struct run_cursor {
+    const uint32_t *runs;
+    uint32_t nruns, r, left, at;
+    int active;
+} run_cursor;
+
+static inline void cursor_norm(run_cursor *c)
+{
+    while (!c->left && c->r < c->nruns) {
+        if (!c->active) {
+            c->active = 1;
+            c->left = c->runs[2 * c->r + 1];
+        } else {
+            c->r++;
+            c->active = 0;
+            c->left = c->r < c->nruns ? c->runs[2 * c->r] : 0;
+        }
+    }
+}
+
+static void cursor_init(run_cursor *c, const tsr_sparse_image *s)
+{
+    c->runs = s->runs;
+    c->nruns = s->nruns;
+    c->r = 0;
+    c->at = 0;
+    c->active = 0;
+    c->left = s->nruns ? s->runs[0] : 0;
+    cursor_norm(c);
+}
+
+static inline void cursor_take(run_cursor *c, uint32_t n)
+{
+    c->left -= n;
+    if (c->active)
+        c->at += n;
+    cursor_norm(c);
+}
+
+int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
+                           tsr_error *err)
+{
+    if (front->window_width != back->window_width || front->window_height != back->window_height ||
+        front->start != back->start || front->count != back->count || front->mode != back->mode ||
+        front->color_format != back->color_format || front->depth_format != back->depth_format)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "sparse merge: images differ (pixels %u+%u of %dx%d vs %u+%u of %dx%d, or formats)",
+                             front->start, front->count, front->window_width, front->window_height, back->start,
+                             back->count, back->window_width, back->window_height);
+    if (out == front || out == back)
+        return tsr_error_set(err, TSR_EINVAL, "sparse merge: output aliases an input");
+    if (front->mode == TSR_COMPOSITE_DEPTH && front->depth_format != TSR_CI_DEPTH32F)
+        return tsr_error_set(err, TSR_EINVAL, "sparse merge: depth mode needs depth planes");
+    size_t pixels = (size_t)front->active + back->active;
+    if (pixels > front->count)
+        pixels = front->count;
+    int rc = sparse_reserve(out, (size_t)front->nruns + back->nruns + 1, pixels, err);
+    if (rc)
+        return rc;
+    sparse_begin(out, front->window_width, front->window_height, front->start, front->count, front->mode,
+                 front->color_format, front->depth_format, front->rank < back->rank ? front->rank : back->rank,
+                 front->frame);
+    out->rank_count = front->rank_count + back->rank_count;
+    size_t cb = tsr_ci_color_bytes(front->color_format);
+    int depth = front->mode == TSR_COMPOSITE_DEPTH, f32 = front->color_format == TSR_CI_RGBA32F;
+    run_cursor f, b;
+    cursor_init(&f, front);
+    cursor_init(&b, back);
+    while (f.left && b.left) {
+        uint32_t n = f.left < b.left ? f.left : b.left;
+        if (!f.active && !b.active) {
+            put_inactive(out, n);
+        } else if (!b.active) {
+            copy_active(out, front, f.at, n);
+        } else if (!f.active) {
+            copy_active(out, back, b.at, n);
+        } else {
+            uint32_t at = put_active(out, n);
+            uint8_t *oc = out->color + at * cb;
+            const uint8_t *fc = front->color + (size_t)f.at * cb, *bc = back->color + (size_t)b.at * cb;
+            if (depth && !f32)
+                tsr_composite_depth_rgba8(n, fc, front->depth + f.at, bc, back->depth + b.at, oc, out->depth + at);
+            else if (depth)
+                tsr_composite_depth_rgba32f(n, (const float *)(const void *)fc, front->depth + f.at,
+                                            (const float *)(const void *)bc, back->depth + b.at, (float *)(void *)oc,
+                                            out->depth + at);
+            else if (!f32)
+                tsr_composite_over_rgba8(n, fc, bc, oc);
+            else
+                tsr_composite_over_rgba32f(n, (const float *)(const void *)fc, (const float *)(const void *)bc,
+                                           (float *)(void *)oc);
+            if (!depth && out->depth_format)
+                ci_copy(out->depth + at, front->depth + f.at, n * sizeof(float));
+        }
+        cursor_take(&f, n);
+        cursor_take(&b, n);
+    }
+    if (f.left || b.left)
+        return tsr_error_set(err, TSR_EPROTO, "sparse merge: the images' runs do not add up to %u pixels",
+                             front->count);
+    return TSR_OK;
+}
+
+int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background, tsr_cimage *dst, tsr_error *err)
+{
+    if (dst->window_width != in->window_width || dst->window_height != in->window_height ||
+        dst->color_format != in->color_format)
+        return tsr_error_set(err, TSR_EINVAL, "sparse to dense: %dx%d image into a %dx%d frame (or formats differ)",
+                             in->window_width, in->window_height, dst->window_width, dst->window_height);
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    uint32_t w = (uint32_t)in->window_width;
+    uint32_t pos = in->start, at = 0;
+    static const float far = 1.0f;
+    for (uint32_t r = 0; r < in->nruns; r++) {
+        for (int part = 0; part < 2; part++) {
+            uint32_t n = in->runs[2 * r + part];
+            while (n) {
+                uint32_t y = pos / w, x = pos % w, len = w - x < n ? w - x : n;
+                if ((int)y < dst->y || (int)y >= dst->y + dst->height || (int)x < dst->x ||
+                    (int)(x + len) > dst->x + dst->width)
+                    return tsr_error_set(
+                        err, TSR_EINVAL,
+                        "sparse to dense: pixels %u..%u of row %u lie outside the %dx%d region at %d,%d", x, x + len, y,
+                        dst->width, dst->height, dst->x, dst->y);
+                size_t o = (size_t)(y - (uint32_t)dst->y) * (size_t)dst->width + (x - (uint32_t)dst->x);
+                if (part && in->mode == TSR_COMPOSITE_ALPHA) {
+                    /* the background is added once, here: pixel over background */
+                    if (in->color_format == TSR_CI_RGBA8) {
+                        for (uint32_t i = 0; i < len; i++)
+                            tsr_composite_over_rgba8(1, in->color + ((size_t)at + i) * 4, background,
+                                                     dst->color + (o + i) * 4);
+                    } else {
+                        for (uint32_t i = 0; i < len; i++)
+                            tsr_composite_over_rgba32f(1,
+                                                       (const float *)(const void *)(in->color + ((size_t)at + i) * 16),
+                                                       background, (float *)(void *)(dst->color + (o + i) * 16));
+                    }
+                    if (dst->depth_format && in->depth_format)
+                        ci_copy(dst->depth + o, in->depth + at, len * sizeof(float));
+                    at += len;
+                } else if (part) {
+                    ci_copy(dst->color + o * cb, in->color + (size_t)at * cb, len * cb);
+                    if (dst->depth_format && in->depth_format)
+                        ci_copy(dst->depth + o, in->depth + at, len * sizeof(float));
+                    at += len;
+                } else {
+                    for (uint32_t i = 0; i < len; i++)
+                        ci_copy(dst->color + (o + i) * cb, background, cb);
+                    if (dst->depth_format)
+                        for (uint32_t i = 0; i < len; i++)
+                            dst->depth[o + i] = far;
+                }
+                pos += len;
+                n -= len;
+            }
+        }
+    }
+    return TSR_OK;
+}

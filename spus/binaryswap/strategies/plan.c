@@ -1,0 +1,285 @@
+/* spus/binaryswap/strategies/plan.c — what every strategy shares: the
+ * schedule's memory, the mixed-radix round builder (binary swap, direct
+ * send and radix-k are all instances of it), the name parser and the
+ * invariant checker. Pure computation: no I/O, no clocks, no state. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "strategy.h"
+#include "strategy_internal.h"
+
+int cs_alloc(tsr_cs_schedule *s, int nrounds, tsr_error *err)
+{
+    s->ranks = calloc((size_t)s->nranks, sizeof *s->ranks);
+    s->gather = calloc((size_t)s->nranks, sizeof *s->gather);
+    if (!s->ranks || !s->gather)
+        return tsr_error_set(err, TSR_ENOMEM, "composite schedule: no memory for %d ranks", s->nranks);
+    for (int r = 0; r < s->nranks; r++) {
+        s->ranks[r].nrounds = nrounds;
+        if (!nrounds)
+            continue;
+        s->ranks[r].rounds = calloc((size_t)nrounds, sizeof *s->ranks[r].rounds);
+        if (!s->ranks[r].rounds)
+            return tsr_error_set(err, TSR_ENOMEM, "composite schedule: no memory for %d rounds", nrounds);
+        for (int i = 0; i < nrounds; i++) {
+            tsr_cs_round *rd = &s->ranks[r].rounds[i];
+            rd->send = calloc((size_t)s->nranks, sizeof *rd->send);
+            rd->recv = calloc((size_t)s->nranks, sizeof *rd->recv);
+            if (!rd->send || !rd->recv)
+                return tsr_error_set(err, TSR_ENOMEM, "composite schedule: no memory for round %d", i);
+        }
+    }
+    return TSR_OK;
+}
+
+void tsr_cs_schedule_free(tsr_cs_schedule *s)
+{
+    if (s->ranks)
+        for (int r = 0; r < s->nranks; r++) {
+            for (int i = 0; i < s->ranks[r].nrounds && s->ranks[r].rounds; i++) {
+                free(s->ranks[r].rounds[i].send);
+                free(s->ranks[r].rounds[i].recv);
+            }
+            free(s->ranks[r].rounds);
+        }
+    free(s->ranks);
+    free(s->gather);
+    memset(s, 0, sizeof *s);
+}
+
+/* Piece j of k of a region: index arithmetic in 64 bits, so every pixel
+ * lands in exactly one piece for any size (some pieces may be empty). */
+static tsr_cs_region piece(tsr_cs_region r, int j, int k)
+{
+    uint64_t a = (uint64_t)r.count * (uint64_t)j / (uint64_t)k, b = (uint64_t)r.count * (uint64_t)(j + 1) / (uint64_t)k;
+    tsr_cs_region p = {r.start + (uint32_t)a, (uint32_t)(b - a)};
+    return p;
+}
+
+int cs_build_rounds(tsr_cs_schedule *s, int first_round, const int *vrank, int nv, const int *factors, int nf)
+{
+    tsr_cs_region whole = {0, (uint32_t)s->window_width * (uint32_t)s->window_height};
+    tsr_cs_region cur[TSR_CS_MAX_PEERS];
+    for (int v = 0; v < nv; v++)
+        cur[v] = whole;
+    int stride = 1;
+    for (int f = 0; f < nf; f++) {
+        int k = factors[f];
+        for (int v = 0; v < nv; v++) {
+            int d = (v / stride) % k, base = v - d * stride;
+            tsr_cs_round *rd = &s->ranks[vrank[v]].rounds[first_round + f];
+            tsr_cs_region keep = piece(cur[v], d, k);
+            rd->keep = keep;
+            rd->nsend = rd->nrecv = 0;
+            rd->self_index = 0;
+            for (int j = 0; j < k; j++) {
+                if (j == d) {
+                    rd->self_index = keep.count ? rd->nrecv : 0;
+                    continue;
+                }
+                tsr_cs_region give = piece(cur[v], j, k);
+                int peer = vrank[base + j * stride];
+                if (give.count)
+                    rd->send[rd->nsend++] = (tsr_cs_xfer){peer, give};
+                if (keep.count)
+                    rd->recv[rd->nrecv++] = (tsr_cs_xfer){peer, keep};
+            }
+        }
+        for (int v = 0; v < nv; v++)
+            cur[v] = s->ranks[vrank[v]].rounds[first_round + f].keep;
+        stride *= k;
+    }
+    /* Final pieces partition the window; gather them in window order. */
+    s->ngather = 0;
+    for (int v = 0; v < nv; v++)
+        s->ranks[vrank[v]].final = cur[v];
+    for (uint32_t at = 0; at < whole.count;) {
+        int found = -1;
+        for (int v = 0; v < nv; v++)
+            if (cur[v].count && cur[v].start == at)
+                found = v;
+        if (found < 0)
+            return -1;
+        s->gather[s->ngather++] = (tsr_cs_xfer){vrank[found], cur[found]};
+        at += cur[found].count;
+    }
+    return 0;
+}
+
+void cs_empty_round(tsr_cs_round *rd, tsr_cs_region keep)
+{
+    rd->nsend = rd->nrecv = 0;
+    rd->self_index = 0;
+    rd->keep = keep;
+}
+
+int tsr_cs_plan(int kind, int nranks, int window_width, int window_height, int k, const tsr_cs_hint *hint,
+                tsr_cs_schedule *out, tsr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (nranks < 1 || nranks > TSR_CS_MAX_PEERS)
+        return tsr_error_set(err, TSR_EINVAL, "composite schedule: %d peers (1..%d)", nranks, TSR_CS_MAX_PEERS);
+    if (window_width < 1 || window_height < 1 || window_width > TSR_CI_MAX_SIDE || window_height > TSR_CI_MAX_SIDE)
+        return tsr_error_set(err, TSR_EINVAL, "composite schedule: window %dx%d", window_width, window_height);
+    out->nranks = nranks;
+    out->window_width = window_width;
+    out->window_height = window_height;
+    char reason[sizeof out->reason] = "";
+    if (kind == TSR_CS_AUTO) {
+        tsr_cs_choose(nranks, window_width, window_height, hint, &kind, &k, reason, sizeof reason);
+    }
+    int rc;
+    switch (kind) {
+    case TSR_CS_BSWAP: rc = tsr_cs_plan_bswap(out, err); break;
+    case TSR_CS_DIRECT: rc = tsr_cs_plan_direct(out, err); break;
+    case TSR_CS_RADIXK: rc = tsr_cs_plan_radixk(out, k, err); break;
+    case TSR_CS_GATHER: rc = tsr_cs_plan_gather(out, err); break;
+    default: return tsr_error_set(err, TSR_EINVAL, "composite schedule: unknown strategy %d", kind);
+    }
+    if (rc) {
+        tsr_cs_schedule_free(out);
+        return rc;
+    }
+    if (*reason)
+        snprintf(out->reason, sizeof out->reason, "%s", reason);
+    else
+        snprintf(out->reason, sizeof out->reason, "%s requested", out->name);
+    return TSR_OK;
+}
+
+int tsr_cs_kind_parse(const char *text, int *kind, int *k, tsr_error *err)
+{
+    *k = 0;
+    if (!strcmp(text, "auto"))
+        *kind = TSR_CS_AUTO;
+    else if (!strcmp(text, "bswap") || !strcmp(text, "binaryswap"))
+        *kind = TSR_CS_BSWAP;
+    else if (!strcmp(text, "direct"))
+        *kind = TSR_CS_DIRECT;
+    else if (!strcmp(text, "gather"))
+        *kind = TSR_CS_GATHER;
+    else if (!strcmp(text, "radixk") || !strcmp(text, "radix-k"))
+        *kind = TSR_CS_RADIXK;
+    else if (!strncmp(text, "radixk-", 7) || !strncmp(text, "radix-k-", 8)) {
+        const char *n = text + (text[5] == '-' ? 8 : 7);
+        char *end;
+        long v = strtol(n, &end, 10);
+        if (!*n || *end || v < 2 || v > TSR_CS_MAX_PEERS)
+            return tsr_error_set(err, TSR_EINVAL, "strategy '%s': k must be 2..%d", text, TSR_CS_MAX_PEERS);
+        *kind = TSR_CS_RADIXK;
+        *k = (int)v;
+    } else {
+        return tsr_error_set(err, TSR_EINVAL,
+                             "strategy '%s': unknown (valid: auto, bswap, direct, radixk, radixk-K, gather)", text);
+    }
+    return TSR_OK;
+}
+
+/* ---- invariants ---------------------------------------------------------- */
+
+typedef struct held {
+    tsr_cs_region region;
+    int lo, n; /* ranks lo..lo+n-1 composited into it */
+} held;
+
+static int inside(tsr_cs_region a, tsr_cs_region outer)
+{
+    return !a.count || (a.start >= outer.start && (uint64_t)a.start + a.count <= (uint64_t)outer.start + outer.count);
+}
+
+static int same(tsr_cs_region a, tsr_cs_region b) { return a.start == b.start && a.count == b.count; }
+
+int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err)
+{
+    int n = s->nranks;
+    tsr_cs_region whole = {0, (uint32_t)s->window_width * (uint32_t)s->window_height};
+    held h[TSR_CS_MAX_PEERS], next[TSR_CS_MAX_PEERS];
+    int rounds = n ? s->ranks[0].nrounds : 0;
+    for (int r = 0; r < n; r++) {
+        h[r] = (held){whole, r, 1};
+        if (s->ranks[r].nrounds != rounds)
+            return tsr_error_set(err, TSR_EINVAL, "%s: rank %d has %d rounds, rank 0 %d", s->name, r,
+                                 s->ranks[r].nrounds, rounds);
+    }
+    for (int i = 0; i < rounds; i++) {
+        for (int r = 0; r < n; r++) {
+            const tsr_cs_round *rd = &s->ranks[r].rounds[i];
+            /* every send has its receive, and the other way round */
+            for (int j = 0; j < rd->nsend; j++) {
+                const tsr_cs_xfer *x = &rd->send[j];
+                if (x->peer < 0 || x->peer >= n || x->peer == r || !inside(x->region, h[r].region))
+                    return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d sends a bad piece to %d", s->name, i,
+                                         r, x->peer);
+                const tsr_cs_round *o = &s->ranks[x->peer].rounds[i];
+                int hits = 0;
+                for (int q = 0; q < o->nrecv; q++)
+                    hits += o->recv[q].peer == r && same(o->recv[q].region, x->region);
+                if (hits != 1)
+                    return tsr_error_set(err, TSR_EINVAL,
+                                         "%s: round %d: rank %d's piece %u+%u to %d is received %d times", s->name, i,
+                                         r, x->region.start, x->region.count, x->peer, hits);
+            }
+            for (int q = 0; q < rd->nrecv; q++) {
+                const tsr_cs_xfer *x = &rd->recv[q];
+                if (x->peer < 0 || x->peer >= n || !same(x->region, rd->keep))
+                    return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d receives a bad piece from %d", s->name,
+                                         i, r, x->peer);
+                const tsr_cs_round *o = &s->ranks[x->peer].rounds[i];
+                int hits = 0;
+                for (int j = 0; j < o->nsend; j++)
+                    hits += o->send[j].peer == r && same(o->send[j].region, x->region);
+                if (hits != 1)
+                    return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d expects a piece %d never sends",
+                                         s->name, i, r, x->peer);
+            }
+            if (!inside(rd->keep, h[r].region))
+                return tsr_error_set(err, TSR_EINVAL, "%s: round %d: rank %d keeps pixels it does not hold", s->name, i,
+                                     r);
+            /* composite order: adjacent rank intervals, front first */
+            next[r] = (held){rd->keep, h[r].lo, h[r].n};
+            if (rd->keep.count && rd->nrecv) {
+                int lo = -1, end = -1;
+                for (int q = 0; q <= rd->nrecv; q++) {
+                    held p = q == rd->self_index ? h[r] : h[rd->recv[q < rd->self_index ? q : q - 1].peer];
+                    if (q > 0 && p.lo != end)
+                        return tsr_error_set(err, TSR_EINVAL,
+                                             "%s: round %d: rank %d composites ranks %d.. after ..%d (not adjacent)",
+                                             s->name, i, r, p.lo, end - 1);
+                    if (q == 0)
+                        lo = p.lo;
+                    end = p.lo + p.n;
+                }
+                next[r] = (held){rd->keep, lo, end - lo};
+            }
+        }
+        memcpy(h, next, sizeof(held) * (size_t)n);
+    }
+    /* gather: pieces in window order cover every pixel once, each with all ranks */
+    uint32_t at = 0;
+    for (int g = 0; g < s->ngather;) {
+        tsr_cs_region reg = s->gather[g].region;
+        if (reg.start != at || !reg.count)
+            return tsr_error_set(err, TSR_EINVAL, "%s: gather piece %d starts at %u, expected %u", s->name, g,
+                                 reg.start, at);
+        int lo = -1, end = -1;
+        for (; g < s->ngather && same(s->gather[g].region, reg); g++) {
+            int r = s->gather[g].peer;
+            if (r < 0 || r >= n || !same(s->ranks[r].final, reg) || !inside(reg, h[r].region))
+                return tsr_error_set(err, TSR_EINVAL, "%s: gather piece %d from rank %d is not its final piece",
+                                     s->name, g, r);
+            if (lo < 0)
+                lo = h[r].lo;
+            else if (h[r].lo != end)
+                return tsr_error_set(err, TSR_EINVAL, "%s: gather of %u+%u composites rank %d after ..%d", s->name,
+                                     reg.start, reg.count, h[r].lo, end - 1);
+            end = h[r].lo + h[r].n;
+        }
+        if (lo != 0 || end != n)
+            return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u+%u hold ranks %d..%d of 0..%d", s->name, reg.start,
+                                 reg.count, lo, end - 1, n - 1);
+        at += reg.count;
+    }
+    if (at != whole.count)
+        return tsr_error_set(err, TSR_EINVAL, "%s: gather covers %u of %u pixels", s->name, at, whole.count);
+    return TSR_OK;
+}

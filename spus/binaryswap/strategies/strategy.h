@@ -1,0 +1,174 @@
+/* spus/binaryswap/strategies/strategy.h — sort-last compositing schedules
+ * (binary swap, direct send, radix-k, gather to one, auto) and the executor
+ * that runs one rank's part of a schedule over a transport the caller
+ * supplies (send/receive callbacks: TCP, shared memory or in-memory queues,
+ * the strategies do not know which).
+ *
+ * Owns: schedules (tsr_cs_schedule, plain data, freed with
+ * tsr_cs_schedule_free), the executor's scratch images, and the queues of
+ * the in-process transport (tsr_cs_memnet). Never: opens sockets, logs or
+ * keeps process-wide state; a strategy is a pure function of (peer count,
+ * window, k).
+ *
+ * Participants: ranks 0..nranks-1 are the peers, in compositing order
+ * (depth mode: rank order; alpha mode: the caller maps view order to
+ * ranks). The display is participant TSR_CS_DISPLAY(nranks) == nranks; in
+ * situ it may live in the same process as rank 0 (the transport then
+ * delivers to itself).
+ *
+ * Regions are pixel index ranges of the window (tessera/dev/composite.h).
+ * In each round a rank sends pieces of its current image, receives pieces
+ * of its kept region from others, and composites them in the listed order
+ * (each piece covers an interval of ranks adjacent to the next, front
+ * first). After the last round each rank owns its final piece (maybe
+ * empty), and the display receives every final piece and assembles the
+ * frame (gather: compositing there in order when pieces overlap, as the
+ * gather-to-one strategy does).
+ *
+ * Use (in an SPU, per frame):
+ *
+ *   tsr_cs_schedule s;                      // once per (N, window, strategy)
+ *   tsr_cs_plan(TSR_CS_AUTO, N, W, H, 0, &hint, &s, &err);  // s.reason says why
+ *   tsr_cs_executor *ex = tsr_cs_executor_new(&s, codec, &err);
+ *   tsr_cs_transport t = {.user = me, .send = my_send, .recv = my_recv};
+ *   tsr_cs_run_peer(ex, rank, &mine, &t, &err);          // every peer
+ *   tsr_cs_run_display(ex, background, &frame, &t, &err);  // display only
+ */
+#ifndef TSR_SPUS_BINARYSWAP_STRATEGY_H
+#define TSR_SPUS_BINARYSWAP_STRATEGY_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "tessera/dev/composite.h"
+#include "tessera/error.h"
+
+#define TSR_CS_MAX_PEERS 64
+#define TSR_CS_DISPLAY(nranks) (nranks)
+
+typedef enum tsr_cs_kind {
+    TSR_CS_AUTO = 0,
+    TSR_CS_BSWAP = 1,  /* binary swap, extra peers folded first */
+    TSR_CS_DIRECT = 2, /* direct send: every peer composites one strip from everyone */
+    TSR_CS_RADIXK = 3, /* radix-k with k (k=2: binary swap, k=N: direct send) */
+    TSR_CS_GATHER = 4, /* every peer sends its whole image to the display */
+} tsr_cs_kind;
+
+typedef struct tsr_cs_region {
+    uint32_t start, count;
+} tsr_cs_region;
+
+typedef struct tsr_cs_xfer {
+    int peer;             /* to (send) or from (recv) */
+    tsr_cs_region region; /* the pixels sent or received */
+} tsr_cs_xfer;
+
+typedef struct tsr_cs_round {
+    int nsend;
+    tsr_cs_xfer *send; /* pieces of this rank's current image */
+    int nrecv;
+    tsr_cs_xfer *recv;  /* pieces of `keep`, all with region == keep, in composite order */
+    int self_index;     /* where this rank's own piece goes in that order (0..nrecv) */
+    tsr_cs_region keep; /* this rank's image covers this after the round */
+} tsr_cs_round;
+
+typedef struct tsr_cs_rank {
+    int nrounds;
+    tsr_cs_round *rounds;
+    tsr_cs_region final; /* piece owned after the last round (count 0: none) */
+} tsr_cs_rank;
+
+typedef struct tsr_cs_schedule {
+    int kind; /* the strategy that made it (never AUTO) */
+    int k;    /* radix (radix-k), 2 for bswap, nranks for direct */
+    int nranks;
+    int window_width, window_height;
+    tsr_cs_rank *ranks; /* nranks entries */
+    /* Display gather: pieces received, in composite order (final pieces of
+     * ranks; overlapping pieces are composited front first). */
+    int ngather;
+    tsr_cs_xfer *gather;
+    char reason[160]; /* why this strategy (for AUTO: from the inputs) */
+    char name[32];    /* "bswap", "direct", "radixk-4", "gather" */
+} tsr_cs_schedule;
+
+/* What `auto` weighs: the bytes one peer's image encoded to last frame
+ * (0 when unknown: assume a full frame) and whether the display is a
+ * separate process. */
+typedef struct tsr_cs_hint {
+    uint64_t image_bytes;
+    int display_separate;
+} tsr_cs_hint;
+
+/* Builds the schedule of `kind` for nranks (1..64) peers in a window.
+ * `k` is radix-k's radix (2..nranks; 0 picks one); other kinds ignore it.
+ * Bad arguments are TSR_EINVAL naming them. */
+int tsr_cs_plan(int kind, int nranks, int window_width, int window_height, int k, const tsr_cs_hint *hint,
+                tsr_cs_schedule *out, tsr_error *err);
+void tsr_cs_schedule_free(tsr_cs_schedule *s);
+/* Parses "auto", "bswap", "direct", "radixk", "radixk-K" ("radix-k" too),
+ * "gather"; *k gets K (0 when not given). */
+int tsr_cs_kind_parse(const char *text, int *kind, int *k, tsr_error *err);
+/* Checks the invariants every schedule must hold (sends match receives,
+ * regions inside the window, each pixel of the window ends in exactly one
+ * final piece with all ranks composited into it, composite orders are
+ * adjacent intervals). TSR_EINVAL naming the first violation. */
+int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err);
+
+/* Per-strategy builders (one file each); tsr_cs_plan dispatches to them. */
+int tsr_cs_plan_bswap(tsr_cs_schedule *s, tsr_error *err);
+int tsr_cs_plan_direct(tsr_cs_schedule *s, tsr_error *err);
+int tsr_cs_plan_radixk(tsr_cs_schedule *s, int k, tsr_error *err);
+int tsr_cs_plan_gather(tsr_cs_schedule *s, tsr_error *err);
+int tsr_cs_choose(int nranks, int window_width, int window_height, const tsr_cs_hint *hint, int *kind, int *k,
+                  char *reason, size_t reason_size);
+
+/* ---- executor ------------------------------------------------------------ */
+
+typedef struct tsr_cs_transport {
+    void *user;
+    /* Sends a message to participant `to`. `data` is the executor's and is
+     * reused after the call returns: send or copy it before returning. */
+    int (*send)(void *user, int to, const void *data, size_t size, tsr_error *err);
+    /* Receives the next message from participant `from` (blocking, with the
+     * transport's own time-out; an error names the peer). The buffer stays
+     * valid until the next recv call. */
+    int (*recv)(void *user, int from, const void **data, size_t *size, tsr_error *err);
+} tsr_cs_transport;
+
+typedef struct tsr_cs_executor tsr_cs_executor;
+
+/* An executor for schedule `s` (which must outlive it) and codec `c`. */
+tsr_cs_executor *tsr_cs_executor_new(const tsr_cs_schedule *s, tsr_image_codec c, tsr_error *err);
+void tsr_cs_executor_free(tsr_cs_executor *ex);
+
+/* Runs rank `rank`'s rounds for one frame on its read-back image `mine`
+ * (any region of interest of the schedule's window; rank and frame taken
+ * from it) and sends its final piece to the display. */
+int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                    tsr_error *err);
+/* The display's part: receives the final pieces of frame `frame` and writes
+ * the whole window into `frame_out` (initialised here to the window, RGBA8
+ * or the schedule's colour format), inactive pixels as `background`. */
+int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_format, int depth_format,
+                       const void *background, tsr_cimage *frame_out, const tsr_cs_transport *t, tsr_error *err);
+
+/* ---- in-process transport ----------------------------------------------- */
+
+/* Queues between `participants` endpoints in one process (threads); a
+ * receive waits at most timeout_ms. Endpoint i's transport: _transport. */
+typedef struct tsr_cs_memnet tsr_cs_memnet;
+tsr_cs_memnet *tsr_cs_memnet_new(int participants, int timeout_ms, tsr_error *err);
+void tsr_cs_memnet_transport(tsr_cs_memnet *m, int me, tsr_cs_transport *out);
+/* Drops every message still queued; returns how many (the first one's
+ * endpoints in *from, *to): a finished frame leaves none. */
+int tsr_cs_memnet_drain(tsr_cs_memnet *m, int *from, int *to);
+void tsr_cs_memnet_free(tsr_cs_memnet *m);
+
+/* Statistics of the last run (bytes and messages this executor sent). */
+typedef struct tsr_cs_stats {
+    uint64_t bytes_sent, messages_sent, bytes_received, messages_received;
+    uint64_t pixels_merged; /* active pixels composited */
+} tsr_cs_stats;
+void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out);
+
+#endif

@@ -1,0 +1,993 @@
+/* tests/composite/composite_tests.c — sort-last compositing: the kernels
+ * of tessera/dev/composite.h against plain reference loops written here,
+ * sparse against dense, the codecs and the message decoder, and every
+ * strategy of spus/binaryswap/strategies for 1..64 peers run in one process
+ * (a thread per peer, in-memory queues as the transport) against a serial
+ * reference composite. `composite_tests NAME` runs one test. */
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <dirent.h>
+#include "fuzz_image_message.h"
+#include "harness.h"
+#include "strategy.h"
+#include "tessera/dev/composite.h"
+
+static uint64_t rng_state = 88172645463325252ull;
+static uint32_t rnd(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (uint32_t)(rng_state >> 11);
+}
+static float rndf(void) { return (float)(rnd() % 1000000) / 1000000.0f; }
+
+/* ---- references ----------------------------------------------------------- */
+
+/* "back wins": the rule composite.h states, written out plainly. */
+static int ref_back_wins(float f, float b)
+{
+    if (isnan(b))
+        return 0;
+    if (isnan(f))
+        return 1;
+    if (b < f)
+        return 1;
+    return b == f && signbit(b) && !signbit(f);
+}
+
+static uint8_t ref_over8(uint8_t f, uint8_t b, uint8_t fa)
+{
+    double exact = (double)b * (255 - fa) / 255.0;
+    int v = f + (int)floor(exact + 0.5);
+    return (uint8_t)(v > 255 ? 255 : v);
+}
+
+static const uint8_t BG[4] = {10, 20, 30, 40};
+
+typedef enum { FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN, FILL_OPAQUE } fill_kind;
+
+/* A peer's read-back image: region x,y,w,h of a W x H window. */
+static void make_image(tsr_cimage *img, int W, int H, int x, int y, int w, int h, int rank, fill_kind kind)
+{
+    tsr_error err;
+    REQUIRE(tsr_cimage_init(img, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK, "%s", err.message);
+    img->rank = rank;
+    img->frame = 7;
+    size_t n = (size_t)w * h;
+    size_t single = n ? rnd() % n : 0;
+    for (size_t i = 0; i < n; i++) {
+        uint8_t *c = img->color + 4 * i;
+        for (int k = 0; k < 4; k++)
+            c[k] = (uint8_t)rnd();
+        float d;
+        switch (kind) {
+        case FILL_BACKGROUND: d = 1.0f; break;
+        case FILL_EQUAL: d = 0.5f; break;
+        case FILL_EXTREMES: d = (rnd() & 1) ? 0.0f : 1.0f; break;
+        case FILL_SINGLE: d = i == single ? 0.25f : 1.0f; break;
+        case FILL_NAN: d = (rnd() % 3 == 0) ? NAN : (rnd() % 2 ? 1.0f : rndf()); break;
+        case FILL_OPAQUE:
+        default:
+            /* runs of background and of depth, coarse so ties happen */
+            d = (i / 5 + (size_t)rank) % 3 == 0 ? 1.0f : (float)(rnd() % 8) / 8.0f;
+            break;
+        }
+        if (kind == FILL_OPAQUE)
+            c[3] = (rnd() & 1) ? 255 : 0;
+        img->depth[i] = d;
+    }
+}
+
+/* The serial reference: the whole window, peers drawn in rank order with
+ * GL_LESS over a cleared frame (background colour, depth 1). */
+static void reference_depth(tsr_cimage *imgs, int n, int W, int H, uint8_t *color, float *depth)
+{
+    for (int p = 0; p < W * H; p++) {
+        memcpy(color + 4 * p, BG, 4);
+        depth[p] = 1.0f;
+    }
+    for (int r = 0; r < n; r++) {
+        tsr_cimage *im = &imgs[r];
+        for (int yy = 0; yy < im->height; yy++)
+            for (int xx = 0; xx < im->width; xx++) {
+                size_t i = (size_t)yy * im->width + xx, p = (size_t)(im->y + yy) * W + im->x + xx;
+                float d = im->depth[i];
+                if (d < depth[p]) {
+                    depth[p] = d;
+                    memcpy(color + 4 * p, im->color + 4 * i, 4);
+                }
+            }
+    }
+}
+
+/* Alpha reference: front to back over, rank 0 in front, background last. */
+static void reference_alpha(tsr_cimage *imgs, int n, int W, int H, uint8_t *color)
+{
+    memset(color, 0, (size_t)W * H * 4);
+    for (int r = 0; r < n; r++) {
+        tsr_cimage *im = &imgs[r];
+        for (int yy = 0; yy < im->height; yy++)
+            for (int xx = 0; xx < im->width; xx++) {
+                size_t i = (size_t)yy * im->width + xx, p = (size_t)(im->y + yy) * W + im->x + xx;
+                uint8_t *a = color + 4 * p, *b = im->color + 4 * i;
+                uint8_t fa = a[3];
+                for (int k = 0; k < 4; k++)
+                    a[k] = ref_over8(a[k], b[k], fa);
+            }
+    }
+    for (int p = 0; p < W * H; p++) {
+        uint8_t *a = color + 4 * p, fa = a[3];
+        for (int k = 0; k < 4; k++)
+            a[k] = ref_over8(a[k], BG[k], fa);
+    }
+}
+
+/* ---- kernels ----------------------------------------------------------------- */
+
+static float adversarial_depth(void)
+{
+    static const float v[] = {0.0f, -0.0f, 1.0f, 0.5f, 0.5f, 1e-38f, 1e-45f, INFINITY, -INFINITY, NAN, -NAN, 2.0f};
+    return rnd() % 3 ? v[rnd() % (sizeof v / sizeof v[0])] : rndf();
+}
+
+static int test_depth_kernel_matches_reference(void)
+{
+    for (int iter = 0; iter < 400; iter++) {
+        size_t n = rnd() % 70, off = rnd() % 4;
+        uint8_t fc[300], bc[300], oc[300], rc[300];
+        float fd[80], bd[80], od[80], rd[80];
+        for (size_t i = 0; i < n + off; i++) {
+            for (int k = 0; k < 4; k++) {
+                fc[4 * i + k] = (uint8_t)rnd();
+                bc[4 * i + k] = (uint8_t)rnd();
+            }
+            fd[i] = adversarial_depth();
+            bd[i] = iter % 5 == 0 ? fd[i] : adversarial_depth();
+        }
+        for (size_t i = off; i < n + off; i++) {
+            int back = ref_back_wins(fd[i], bd[i]);
+            memcpy(rc + 4 * i, back ? bc + 4 * i : fc + 4 * i, 4);
+            memcpy(rd + i, back ? bd + i : fd + i, 4);
+        }
+        int alias = iter % 3;
+        if (alias == 0) {
+            tsr_composite_depth_rgba8(n, fc + 4 * off, fd + off, bc + 4 * off, bd + off, oc + 4 * off, od + off);
+        } else if (alias == 1) {
+            tsr_composite_depth_rgba8(n, fc + 4 * off, fd + off, bc + 4 * off, bd + off, bc + 4 * off, bd + off);
+            memcpy(oc, bc, sizeof oc);
+            memcpy(od, bd, sizeof od);
+        } else {
+            tsr_composite_depth_rgba8(n, fc + 4 * off, fd + off, bc + 4 * off, bd + off, fc + 4 * off, fd + off);
+            memcpy(oc, fc, sizeof oc);
+            memcpy(od, fd, sizeof od);
+        }
+        CHECK(!memcmp(oc + 4 * off, rc + 4 * off, 4 * n), "colour differs (n %zu, alias %d)", n, alias);
+        CHECK(!memcmp(od + off, rd + off, 4 * n), "depth differs (n %zu, alias %d)", n, alias);
+    }
+    printf("kernel: %s\n", tsr_composite_kernel_name());
+    return harness_failures;
+}
+
+static int test_over_kernel_matches_reference(void)
+{
+    for (int iter = 0; iter < 400; iter++) {
+        size_t n = rnd() % 70;
+        uint8_t f[280], b[280], o[280], r[280];
+        for (size_t i = 0; i < n; i++) {
+            uint8_t fa = (uint8_t)rnd(), ba = (uint8_t)rnd();
+            if (iter % 4 == 0)
+                fa = (rnd() & 1) ? 255 : 0;
+            for (int k = 0; k < 3; k++) {
+                f[4 * i + k] = iter % 2 ? (uint8_t)(rnd() % (fa + 1u)) : (uint8_t)rnd();
+                b[4 * i + k] = (uint8_t)(rnd() % (ba + 1u));
+            }
+            f[4 * i + 3] = fa;
+            b[4 * i + 3] = ba;
+            for (int k = 0; k < 4; k++)
+                r[4 * i + k] = ref_over8(f[4 * i + k], b[4 * i + k], fa);
+        }
+        tsr_composite_over_rgba8(n, f, b, o);
+        CHECK(!memcmp(o, r, 4 * n), "over differs from round(b*(255-fa)/255) (n %zu)", n);
+        tsr_composite_over_rgba8(n, f, b, b); /* in place into back */
+        CHECK(!memcmp(b, r, 4 * n), "in-place over differs (n %zu)", n);
+    }
+    /* associative where it must be: every alpha 0 or 255 */
+    for (int iter = 0; iter < 200; iter++) {
+        uint8_t L[3][64 * 4], ab[256], abc1[256], bc[256], abc2[256];
+        for (int l = 0; l < 3; l++)
+            for (int i = 0; i < 64; i++) {
+                uint8_t a = (rnd() & 1) ? 255 : 0;
+                for (int k = 0; k < 3; k++)
+                    L[l][4 * i + k] = a ? (uint8_t)rnd() : 0;
+                L[l][4 * i + 3] = a;
+            }
+        tsr_composite_over_rgba8(64, L[0], L[1], ab);
+        tsr_composite_over_rgba8(64, ab, L[2], abc1);
+        tsr_composite_over_rgba8(64, L[1], L[2], bc);
+        tsr_composite_over_rgba8(64, L[0], bc, abc2);
+        CHECK(!memcmp(abc1, abc2, sizeof abc1), "(a over b) over c != a over (b over c) with binary alpha");
+    }
+    return harness_failures;
+}
+
+static int test_nan_depth_never_wins(void)
+{
+    uint8_t fc[4] = {1, 1, 1, 1}, bc[4] = {2, 2, 2, 2}, oc[4];
+    float fd, bd, od;
+    fd = NAN, bd = 0.5f;
+    tsr_composite_depth_rgba8(1, fc, &fd, bc, &bd, oc, &od);
+    CHECK(oc[0] == 2 && od == 0.5f, "NaN front beat 0.5");
+    fd = 0.5f, bd = NAN;
+    tsr_composite_depth_rgba8(1, fc, &fd, bc, &bd, oc, &od);
+    CHECK(oc[0] == 1 && od == 0.5f, "NaN back beat 0.5");
+    fd = 1.0f, bd = -NAN;
+    tsr_composite_depth_rgba8(1, fc, &fd, bc, &bd, oc, &od);
+    CHECK(oc[0] == 1, "negative NaN beat the background depth 1.0");
+    fd = 0.5f, bd = 0.5f;
+    tsr_composite_depth_rgba8(1, fc, &fd, bc, &bd, oc, &od);
+    CHECK(oc[0] == 1, "equal depth did not go to the front (lower rank)");
+    /* a NaN pixel is background in the sparse form */
+    tsr_cimage img = {0};
+    tsr_error err;
+    make_image(&img, 4, 4, 0, 0, 4, 4, 0, FILL_NAN);
+    tsr_sparse_image s = {0};
+    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, 16, &s, &err), err);
+    for (uint32_t i = 0; i < s.active; i++)
+        CHECK(!isnan(s.depth[i]) && s.depth[i] < 1.0f, "active pixel with depth %g", s.depth[i]);
+    tsr_sparse_image_free(&s);
+    tsr_cimage_free(&img);
+    return harness_failures;
+}
+
+static const uint8_t ZERO[4] = {0, 0, 0, 0};
+
+static void expand_bg(const tsr_sparse_image *s, tsr_cimage *frame, const void *bg)
+{
+    tsr_error err;
+    REQUIRE(tsr_cimage_init(frame, s->window_width, s->window_height, 0, 0, s->window_width, s->window_height,
+                            s->color_format, s->depth_format, &err) == TSR_OK);
+    /* pixels outside the image's range: a fixed fill, so frames compare */
+    size_t all = (size_t)s->window_width * s->window_height;
+    memset(frame->color, 0x5a, all * tsr_ci_color_bytes(s->color_format));
+    for (size_t i = 0; i < all && s->depth_format; i++)
+        frame->depth[i] = 2.0f;
+    REQUIRE(tsr_sparse_image_to_dense(s, bg, frame, &err) == TSR_OK, "%s", err.message);
+}
+
+static void expand(const tsr_sparse_image *s, tsr_cimage *frame) { expand_bg(s, frame, BG); }
+
+static int test_sparse_merge_equals_dense(void)
+{
+    tsr_error err;
+    for (int iter = 0; iter < 300; iter++) {
+        int W = 1 + rnd() % 40, H = 1 + rnd() % 20;
+        fill_kind kinds[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN};
+        tsr_cimage a = {0}, b = {0}, da = {0}, db = {0}, dm = {0}, ds = {0};
+        int x = rnd() % W, y = rnd() % H;
+        make_image(&a, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), 0, kinds[rnd() % 6]);
+        x = rnd() % W, y = rnd() % H;
+        make_image(&b, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), 1, kinds[rnd() % 6]);
+        int mode = iter % 4 == 3 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
+        uint32_t all = (uint32_t)W * H;
+        tsr_sparse_image sa = {0}, sb = {0}, sm = {0}, norm = {0};
+        CHECK_OK(tsr_sparse_image_compress(&a, mode, 0, all, &sa, &err), err);
+        CHECK_OK(tsr_sparse_image_compress(&b, mode, 0, all, &sb, &err), err);
+        CHECK_OK(tsr_sparse_image_merge(&sa, &sb, &sm, &err), err);
+        /* dense: both as whole-window frames (inactive = background:
+         * transparent black for over), the dense kernel, then inactive
+         * pixels shown as background again */
+        const uint8_t *bg = mode == TSR_COMPOSITE_ALPHA ? ZERO : BG;
+        expand_bg(&sm, &ds, bg);
+        expand_bg(&sa, &da, bg);
+        expand_bg(&sb, &db, bg);
+        CHECK_OK(tsr_cimage_init(&dm, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        CHECK_OK(tsr_cimage_merge(mode, &da, &db, &dm, &err), err);
+        CHECK_OK(tsr_sparse_image_compress(&dm, mode, 0, all, &norm, &err), err);
+        tsr_cimage dn = {0};
+        expand_bg(&norm, &dn, bg);
+        CHECK(!memcmp(dn.color, ds.color, all * 4), "sparse merge colour != dense merge (%dx%d, iter %d)", W, H, iter);
+        if (mode == TSR_COMPOSITE_DEPTH)
+            CHECK(!memcmp(dn.depth, ds.depth, all * 4), "sparse merge depth != dense merge (iter %d)", iter);
+        CHECK(sm.active <= sa.active + sb.active, "merge grew the active pixels");
+        tsr_cimage *imgs[] = {&a, &b, &da, &db, &dm, &ds, &dn};
+        for (size_t i = 0; i < sizeof imgs / sizeof *imgs; i++)
+            tsr_cimage_free(imgs[i]);
+        tsr_sparse_image *ss[] = {&sa, &sb, &sm, &norm};
+        for (size_t i = 0; i < 4; i++)
+            tsr_sparse_image_free(ss[i]);
+        if (harness_failures)
+            break;
+    }
+    return harness_failures;
+}
+
+static int test_split_at_run_edges(void)
+{
+    tsr_error err;
+    for (int iter = 0; iter < 200; iter++) {
+        int W = 1 + rnd() % 50, H = 1 + rnd() % 10;
+        tsr_cimage a = {0}, whole = {0}, parts = {0};
+        make_image(&a, W, H, 0, 0, W, H, 0, iter % 2 ? FILL_RANDOM : FILL_SINGLE);
+        uint32_t all = (uint32_t)W * H;
+        tsr_sparse_image s = {0}, p = {0}, v = {0};
+        CHECK_OK(tsr_sparse_image_compress(&a, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
+        expand(&s, &whole);
+        CHECK_OK(tsr_cimage_init(&parts, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        memset(parts.color, 0xee, all * 4);
+        /* cut at every run edge (inactive/active boundary) and at random */
+        uint32_t cuts[1024], nc = 0, pos = 0;
+        cuts[nc++] = 0;
+        for (uint32_t r = 0; r < s.nruns && nc < 1000; r++) {
+            pos += s.runs[2 * r];
+            cuts[nc++] = pos;
+            pos += s.runs[2 * r + 1];
+            cuts[nc++] = pos;
+        }
+        cuts[nc++] = all;
+        uint32_t prev = 0, active = 0;
+        for (uint32_t c = 1; c < nc; c++) {
+            uint32_t at = cuts[c] < prev ? prev : cuts[c];
+            CHECK_OK(tsr_sparse_image_split(&s, prev, at - prev, &p, &err), err);
+            CHECK_OK(tsr_sparse_image_view(&s, prev, at - prev, &v, &err), err);
+            CHECK(v.active == p.active && v.nruns == p.nruns &&
+                      (!p.nruns || !memcmp(v.runs, p.runs, 8 * (size_t)p.nruns)) &&
+                      (!p.active || (!memcmp(v.color, p.color, 4 * (size_t)p.active) &&
+                                     !memcmp(v.depth, p.depth, 4 * (size_t)p.active))),
+                  "view of %u+%u differs from the split", prev, at - prev);
+            CHECK_OK(tsr_sparse_image_to_dense(&p, BG, &parts, &err), err);
+            active += p.active;
+            prev = at;
+        }
+        CHECK(prev == all && active == s.active, "pieces hold %u of %u active pixels", active, s.active);
+        CHECK(!memcmp(parts.color, whole.color, all * 4), "pieces cut at run edges do not reassemble (%dx%d)", W, H);
+        tsr_cimage_free(&a);
+        tsr_cimage_free(&whole);
+        tsr_cimage_free(&parts);
+        tsr_sparse_image_free(&s);
+        tsr_sparse_image_free(&p);
+        tsr_sparse_image_free(&v);
+    }
+    return harness_failures;
+}
+
+/* ---- codecs ----------------------------------------------------------------- */
+
+static const char *CODECS[] = {"none", "rle", "erle", "yuv420", "depth16", "depth24", "erle+depth16", "yuv420+depth24"};
+
+static double psnr8(const uint8_t *a, const uint8_t *b, size_t n)
+{
+    double se = 0;
+    for (size_t i = 0; i < n; i++)
+        se += ((double)a[i] - b[i]) * ((double)a[i] - b[i]);
+    return se == 0 ? INFINITY : 10 * log10(255.0 * 255.0 * n / se);
+}
+
+/* A smooth scene: a shaded disc per peer over background. */
+static void make_smooth(tsr_cimage *img, int W, int H, int rank)
+{
+    tsr_error err;
+    REQUIRE(tsr_cimage_init(img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK);
+    img->rank = rank;
+    img->frame = 3;
+    double cx = W * (0.3 + 0.1 * rank), cy = H * 0.5, rad = W * 0.25;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            double dx = (x - cx) / rad, dy = (y - cy) / rad, r2 = dx * dx + dy * dy;
+            uint8_t *c = img->color + 4 * i;
+            if (r2 < 1) {
+                double z = sqrt(1 - r2);
+                c[0] = (uint8_t)(40 + 200 * z);
+                c[1] = (uint8_t)(30 + 150 * z * (x % 7 == 0 ? 0.9 : 1));
+                c[2] = (uint8_t)(100 + 50 * dx * dx);
+                c[3] = 255;
+                img->depth[i] = (float)(0.5 - 0.3 * z);
+            } else {
+                memcpy(c, BG, 4);
+                img->depth[i] = 1.0f;
+            }
+        }
+}
+
+static int test_codecs_roundtrip(void)
+{
+    tsr_error err;
+    int sizes[][2] = {{1, 1}, {997, 1}, {61, 37}, {256, 192}};
+    for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
+        int W = sizes[si][0], H = sizes[si][1];
+        tsr_cimage img = {0}, a = {0}, b = {0};
+        make_smooth(&img, W, H, 0);
+        uint32_t all = (uint32_t)W * H;
+        tsr_sparse_image s = {0}, d = {0}, piece = {0};
+        CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
+        /* also a piece that starts and ends mid-row */
+        uint32_t ps = all / 3, pc = all / 2;
+        CHECK_OK(tsr_sparse_image_split(&s, ps, pc, &piece, &err), err);
+        for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+            tsr_image_codec c;
+            CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+            char name[64];
+            CHECK_STR(tsr_image_codec_name(c, name, sizeof name), CODECS[ci]);
+            for (int which = 0; which < 2; which++) {
+                tsr_sparse_image *src = which ? &piece : &s;
+                size_t cap = tsr_image_message_max_size(src->count, src->color_format, src->depth_format, c), len;
+                uint8_t *buf = malloc(cap);
+                CHECK_OK(tsr_image_message_encode(src, c, buf, cap, &len, &err), err);
+                CHECK(len <= cap, "%s: %zu bytes over the bound %zu", CODECS[ci], len, cap);
+                CHECK_OK(tsr_image_message_decode(buf, len, NULL, &d, &err), err);
+                CHECK(d.start == src->start && d.count == src->count && d.active == src->active, "%s: geometry changed",
+                      CODECS[ci]);
+                tsr_cimage_free(&a);
+                tsr_cimage_free(&b);
+                expand(src, &a);
+                expand(&d, &b);
+                if (tsr_image_codec_lossless(c)) {
+                    CHECK(!memcmp(a.color, b.color, all * 4) && !memcmp(a.depth, b.depth, all * 4),
+                          "%s (%dx%d): lossless round trip differs", CODECS[ci], W, H);
+                } else {
+                    double p = psnr8(a.color, b.color, all * 4), maxdz = 0;
+                    for (uint32_t i = 0; i < all; i++)
+                        maxdz = fmax(maxdz, fabs((double)a.depth[i] - b.depth[i]));
+                    if (!which && si == 3)
+                        printf("%s %dx%d: colour PSNR %.1f dB, max depth error %.2g, %zu bytes\n", CODECS[ci], W, H, p,
+                               maxdz, len);
+                    CHECK(p > 30.0, "%s: PSNR %.1f dB", CODECS[ci], p);
+                    CHECK(maxdz <= 1.0 / 65536, "%s: depth error %g", CODECS[ci], maxdz);
+                }
+                if (!which && si == 3 && tsr_image_codec_lossless(c))
+                    printf("%s %dx%d: lossless, %zu bytes\n", CODECS[ci], W, H, len);
+                free(buf);
+            }
+        }
+        tsr_image_codec def;
+        CHECK_OK(tsr_image_codec_parse("rle", &def, &err), err);
+        CHECK(tsr_image_codec_lossless(def), "the default codec is lossy");
+        CHECK(tsr_image_codec_parse("jpeg", &def, &err) == TSR_EINVAL);
+        CHECK_CONTAINS(err.message, "unknown part 'jpeg'");
+        CHECK(tsr_image_codec_parse("none+erle", &def, &err) == TSR_EINVAL);
+        tsr_cimage_free(&img);
+        tsr_cimage_free(&a);
+        tsr_cimage_free(&b);
+        tsr_sparse_image_free(&s);
+        tsr_sparse_image_free(&d);
+        tsr_sparse_image_free(&piece);
+    }
+    return harness_failures;
+}
+
+static int test_codec_worst_case_size(void)
+{
+    tsr_error err;
+    /* alternating active/inactive (the most runs) with noise (RLE expands
+     * every plane), and all active noise; odd and even counts */
+    for (int pattern = 0; pattern < 3; pattern++)
+        for (int W = 1; W <= 130; W += 43) {
+            int H = 3;
+            tsr_cimage img = {0};
+            REQUIRE(tsr_cimage_init(&img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK);
+            for (int i = 0; i < W * H; i++) {
+                for (int k = 0; k < 4; k++)
+                    img.color[4 * i + k] = (uint8_t)rnd();
+                img.depth[i] = pattern == 2 || i % 2 == pattern ? (float)(rnd() % 1000) / 1001.0f : 1.0f;
+            }
+            tsr_sparse_image s = {0};
+            CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, (uint32_t)(W * H), &s, &err), err);
+            for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+                tsr_image_codec c;
+                tsr_image_codec_parse(CODECS[ci], &c, &err);
+                size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len = 0;
+                uint8_t *buf = malloc(cap);
+                CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
+                CHECK(len <= cap, "%s: %zu bytes over the advertised %zu (pattern %d, %d px)", CODECS[ci], len, cap,
+                      pattern, W * H);
+                CHECK(tsr_image_message_encode(&s, c, buf, cap - 1, &len, &err) == TSR_EINVAL,
+                      "a buffer below the bound is accepted");
+                free(buf);
+            }
+            tsr_sparse_image_free(&s);
+            tsr_cimage_free(&img);
+        }
+    return harness_failures;
+}
+
+static int test_message_decoder_rejects_bad_input(void)
+{
+    tsr_error err;
+    tsr_cimage img = {0};
+    make_image(&img, 16, 4, 0, 0, 16, 4, 2, FILL_RANDOM);
+    tsr_sparse_image s = {0}, d = {0};
+    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, 64, &s, &err), err);
+    tsr_image_codec c;
+    tsr_image_codec_parse("erle", &c, &err);
+    size_t cap = tsr_image_message_max_size(64, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), len;
+    uint8_t *buf = malloc(cap), *bad = malloc(cap);
+    CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
+    struct {
+        size_t off;
+        uint32_t value;
+        const char *want;
+    } cases[] = {
+        {0, 0x12345678, "bad magic"}, {12, 0, "impossible window"},      {12, 40000, "impossible window"},
+        {20, 60, "outside the"},      {24, 0xffffffff, "outside the"},   {36, 65, "cannot fit"},
+        {44, 5, "payload of"},        {48, 1000, "overflows the image"}, {52, 0, "runs cover"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        memcpy(bad, buf, len);
+        uint32_t v = cases[i].value;
+        for (int b = 0; b < 4; b++)
+            bad[cases[i].off + b] = (uint8_t)(v >> (8 * b));
+        CHECK(tsr_image_message_decode(bad, len, NULL, &d, &err) == TSR_EPROTO, "case %zu accepted", i);
+        CHECK_CONTAINS(err.message, cases[i].want);
+    }
+    CHECK(tsr_image_message_decode(buf, len - 1, NULL, &d, &err) == TSR_EPROTO);
+    CHECK(tsr_image_message_decode(buf, 10, NULL, &d, &err) == TSR_EPROTO);
+    CHECK_CONTAINS(err.message, "shorter than its");
+    tsr_image_message_header e;
+    tsr_image_message_expect_any(&e);
+    e.frame = 8;
+    CHECK(tsr_image_message_decode(buf, len, &e, &d, &err) == TSR_EPROTO);
+    CHECK_CONTAINS(err.message, "frame is 7, expected 8");
+    tsr_image_message_expect_any(&e);
+    e.rank = 2;
+    e.window_width = 16;
+    CHECK_OK(tsr_image_message_decode(buf, len, &e, &d, &err), err);
+    /* random corruption of the payload: an error or a valid image, never a crash */
+    for (int iter = 0; iter < 3000; iter++) {
+        memcpy(bad, buf, len);
+        int flips = 1 + rnd() % 4;
+        for (int f = 0; f < flips; f++)
+            bad[48 + rnd() % (len - 48)] ^= (uint8_t)(1u << (rnd() % 8));
+        size_t cut = iter % 7 == 0 ? rnd() % len : len;
+        if (cut != len)
+            bad[44] = (uint8_t)(cut - 48);
+        if (tsr_image_message_decode(bad, cut, NULL, &d, &err) == TSR_OK)
+            CHECK(d.active <= d.count);
+    }
+    free(buf);
+    free(bad);
+    tsr_sparse_image_free(&s);
+    tsr_sparse_image_free(&d);
+    tsr_cimage_free(&img);
+    return harness_failures;
+}
+
+/* ---- schedules ------------------------------------------------------------------ */
+
+typedef struct {
+    int kind, k;
+} strat;
+static const strat STRATS[] = {{TSR_CS_BSWAP, 0},  {TSR_CS_DIRECT, 0}, {TSR_CS_RADIXK, 2}, {TSR_CS_RADIXK, 3},
+                               {TSR_CS_RADIXK, 4}, {TSR_CS_RADIXK, 8}, {TSR_CS_GATHER, 0}, {TSR_CS_AUTO, 0}};
+#define NSTRATS (sizeof STRATS / sizeof *STRATS)
+
+static int test_schedules_hold_invariants(void)
+{
+    tsr_error err;
+    int wins[][2] = {{1, 1}, {7, 5}, {997, 1}, {509, 503}};
+    for (size_t w = 0; w < 4; w++)
+        for (size_t si = 0; si < NSTRATS; si++)
+            for (int n = 1; n <= 64; n++) {
+                tsr_cs_schedule s;
+                CHECK_OK(tsr_cs_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err), err);
+                if (tsr_cs_schedule_check(&s, &err) != TSR_OK) {
+                    CHECK(0, "%s n=%d %dx%d: %s", s.name, n, wins[w][0], wins[w][1], err.message);
+                    tsr_cs_schedule_free(&s);
+                    return harness_failures;
+                }
+                CHECK(s.reason[0] != 0);
+                tsr_cs_schedule_free(&s);
+            }
+    int kind, k;
+    CHECK_OK(tsr_cs_kind_parse("radixk-5", &kind, &k, &err), err);
+    CHECK(kind == TSR_CS_RADIXK && k == 5);
+    CHECK(tsr_cs_kind_parse("tree", &kind, &k, &err) == TSR_EINVAL);
+    CHECK_CONTAINS(err.message, "unknown (valid: auto");
+    tsr_cs_schedule s;
+    CHECK(tsr_cs_plan(TSR_CS_BSWAP, 65, 4, 4, 0, NULL, &s, &err) == TSR_EINVAL);
+    CHECK_OK(tsr_cs_plan(TSR_CS_AUTO, 16, 1920, 1080, 0, NULL, &s, &err), err);
+    printf("auto 16 x 1920x1080: %s (%s)\n", s.name, s.reason);
+    tsr_cs_schedule_free(&s);
+    return harness_failures;
+}
+
+typedef struct peer_job {
+    const tsr_cs_schedule *s;
+    tsr_image_codec codec;
+    tsr_cimage *img;
+    int rank, mode, rc;
+    tsr_cs_transport t;
+    tsr_error err;
+} peer_job;
+
+static void *peer_main(void *arg)
+{
+    peer_job *j = arg;
+    tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
+    j->rc = ex ? tsr_cs_run_peer(ex, j->rank, j->img, j->mode, &j->t, &j->err) : TSR_ENOMEM;
+    tsr_cs_executor_free(ex);
+    return NULL;
+}
+
+/* Runs a whole group in this process (a thread per peer, the display on
+ * this thread, memnet between them); the display's frame goes to out. */
+static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const char *codec_name, tsr_cimage *out,
+                     char *why, size_t why_size)
+{
+    int n = s->nranks;
+    tsr_error err;
+    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+    REQUIRE(net != NULL, "%s", err.message);
+    tsr_image_codec codec;
+    tsr_image_codec_parse(codec_name, &codec, &err);
+    peer_job *jobs = calloc((size_t)n, sizeof *jobs);
+    pthread_t *th = calloc((size_t)n, sizeof *th);
+    for (int r = 0; r < n; r++) {
+        jobs[r] = (peer_job){.s = s, .codec = codec, .img = &imgs[r], .rank = r, .mode = mode};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        pthread_create(&th[r], NULL, peer_main, &jobs[r]);
+    }
+    tsr_cs_transport t;
+    tsr_cs_memnet_transport(net, TSR_CS_DISPLAY(n), &t);
+    tsr_cs_executor *ex = tsr_cs_executor_new(s, codec, &err);
+    int rc = tsr_cs_run_display(ex, imgs[0].frame, mode, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, out, &t, &err);
+    if (rc)
+        snprintf(why, why_size, "display: %s", err.message);
+    tsr_cs_executor_free(ex);
+    for (int r = 0; r < n; r++) {
+        pthread_join(th[r], NULL);
+        if (jobs[r].rc && !rc) {
+            rc = jobs[r].rc;
+            snprintf(why, why_size, "rank %d: %s", r, jobs[r].err.message);
+        }
+    }
+    int from, to;
+    if (tsr_cs_memnet_drain(net, &from, &to) && !rc) {
+        rc = TSR_EPROTO;
+        snprintf(why, why_size, "a message from %d to %d was never received", from, to);
+    }
+    tsr_cs_memnet_free(net);
+    free(jobs);
+    free(th);
+    return rc;
+}
+
+/* Every strategy in `which` for every peer count in [n0, n1] on W x H
+ * windows: the display's frame equals the serial reference, bit for bit. */
+static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, int W, int H, fill_kind kind, int mode,
+                            const char *codec)
+{
+    tsr_error err;
+    uint8_t *rc = malloc((size_t)W * H * 4);
+    float *rd = malloc((size_t)W * H * 4);
+    for (int n = n0; n <= n1; n++) {
+        tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
+        for (int r = 0; r < n; r++) {
+            int x = rnd() % W, y = rnd() % H;
+            int w = r % 4 == 0 ? W - x : (int)(rnd() % (uint32_t)(W - x + 1));
+            int h = r % 4 == 0 ? H - y : (int)(rnd() % (uint32_t)(H - y + 1));
+            fill_kind k = kind;
+            if (kind == FILL_RANDOM && r % 5 == 4)
+                k = FILL_BACKGROUND;
+            make_image(&imgs[r], W, H, x, y, w, h, r, k);
+        }
+        if (mode == TSR_COMPOSITE_DEPTH)
+            reference_depth(imgs, n, W, H, rc, rd);
+        else
+            reference_alpha(imgs, n, W, H, rc);
+        for (size_t si = 0; si < nwhich; si++) {
+            tsr_cs_schedule s;
+            if (tsr_cs_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err) != TSR_OK) {
+                CHECK(0, "plan: %s", err.message);
+                continue;
+            }
+            CHECK_OK(tsr_cs_schedule_check(&s, &err), err);
+            tsr_cimage out = {0};
+            char why[600] = "";
+            int r = run_group(&s, imgs, mode, codec, &out, why, sizeof why);
+            CHECK(r == TSR_OK, "%s n=%d %dx%d: %s", s.name, n, W, H, why);
+            if (r == TSR_OK) {
+                size_t bad = 0;
+                for (int p = 0; p < W * H; p++)
+                    bad += memcmp(out.color + 4 * p, rc + 4 * p, 4) != 0;
+                CHECK(bad == 0, "%s n=%d %dx%d %s: %zu pixels differ from the serial reference", s.name, n, W, H, codec,
+                      bad);
+            }
+            tsr_cimage_free(&out);
+            tsr_cs_schedule_free(&s);
+        }
+        for (int r = 0; r < n; r++)
+            tsr_cimage_free(&imgs[r]);
+        free(imgs);
+        if (harness_failures)
+            break;
+    }
+    free(rc);
+    free(rd);
+    return harness_failures;
+}
+
+static int test_binaryswap_odd_peer_counts(void)
+{
+    static const strat bs[] = {{TSR_CS_BSWAP, 0}, {TSR_CS_RADIXK, 2}};
+    return check_strategies(bs, 2, 1, 64, 13, 7, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "rle");
+}
+
+static int test_all_strategies_agree(void)
+{
+    check_strategies(STRATS, NSTRATS, 1, 64, 9, 5, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "rle");
+    check_strategies(STRATS, NSTRATS, 1, 12, 9, 5, FILL_EQUAL, TSR_COMPOSITE_DEPTH, "erle");
+    check_strategies(STRATS, NSTRATS, 1, 9, 9, 5, FILL_EXTREMES, TSR_COMPOSITE_DEPTH, "none");
+    check_strategies(STRATS, NSTRATS, 1, 9, 9, 5, FILL_NAN, TSR_COMPOSITE_DEPTH, "rle");
+    return harness_failures;
+}
+
+static int test_odd_image_sizes(void)
+{
+    check_strategies(STRATS, NSTRATS, 1, 64, 1, 1, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "rle");
+    check_strategies(STRATS, NSTRATS, 1, 64, 997, 1, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "rle");
+    for (int n = 1; n <= 8; n += (n < 3 ? 1 : 2))
+        check_strategies(STRATS, NSTRATS, n, n, 509, 503, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "erle");
+    return harness_failures;
+}
+
+static int test_blank_peers(void)
+{
+    check_strategies(STRATS, NSTRATS, 1, 17, 11, 3, FILL_BACKGROUND, TSR_COMPOSITE_DEPTH, "rle");
+    check_strategies(STRATS, NSTRATS, 1, 17, 11, 3, FILL_SINGLE, TSR_COMPOSITE_DEPTH, "rle");
+    return harness_failures;
+}
+
+/* Alpha: with every alpha 0 or 255 over is exact, so every strategy equals
+ * the serial front-to-back blend; with any alpha, the strategies that blend
+ * each pixel in one front-to-back chain (gather, direct send) still do. */
+static int test_alpha_strategies_agree(void)
+{
+    static const strat chain[] = {{TSR_CS_GATHER, 0}, {TSR_CS_DIRECT, 0}};
+    check_strategies(STRATS, NSTRATS, 1, 24, 9, 5, FILL_OPAQUE, TSR_COMPOSITE_ALPHA, "erle");
+    check_strategies(chain, 2, 1, 16, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
+    return harness_failures;
+}
+
+
+/* A peer that never sends, a frame number that does not match, a peer
+ * whose window differs: each is one error naming the peer, within the
+ * transport's time-out. */
+static int test_faults_name_the_peer(void)
+{
+    tsr_error err;
+    int n = 4, W = 8, H = 4;
+    tsr_cimage imgs[4] = {{0}};
+    for (int r = 0; r < n; r++)
+        make_image(&imgs[r], W, H, 0, 0, W, H, r, FILL_RANDOM);
+    for (int fault = 0; fault < 3; fault++) {
+        tsr_cs_schedule s;
+        CHECK_OK(tsr_cs_plan(fault == 2 ? TSR_CS_GATHER : TSR_CS_BSWAP, n, W, H, 0, NULL, &s, &err), err);
+        tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 300, &err);
+        tsr_image_codec codec;
+        tsr_image_codec_parse("rle", &codec, &err);
+        peer_job jobs[4];
+        pthread_t th[4];
+        tsr_cimage odd = {0};
+        if (fault == 2)
+            make_image(&odd, W + 1, H, 0, 0, W + 1, H, 1, FILL_RANDOM);
+        for (int r = 0; r < n; r++) {
+            jobs[r] = (peer_job){.s = &s, .codec = codec, .img = &imgs[r], .rank = r, .mode = TSR_COMPOSITE_DEPTH};
+            if (fault == 2 && r == 1)
+                jobs[r].img = &odd;
+            tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        }
+        if (fault == 1)
+            imgs[2].frame = 8;
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        for (int r = 0; r < n; r++)
+            if (!(fault == 0 && r == 3)) /* rank 3 stays silent */
+                pthread_create(&th[r], NULL, peer_main, &jobs[r]);
+        tsr_cs_transport t;
+        tsr_cs_memnet_transport(net, n, &t);
+        tsr_cs_executor *ex = tsr_cs_executor_new(&s, codec, &err);
+        tsr_cimage out = {0};
+        int rc = tsr_cs_run_display(ex, 7, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, &out, &t, &err);
+        for (int r = 0; r < n; r++)
+            if (!(fault == 0 && r == 3))
+                pthread_join(th[r], NULL);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        double secs = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) / 1e9;
+        CHECK(rc != TSR_OK, "fault %d: the display assembled a frame", fault);
+        CHECK(secs < 10, "fault %d took %.1f s", fault, secs);
+        if (fault == 0) {
+            CHECK(jobs[2].rc == TSR_ETIMEDOUT, "rank 2 (rank 3's partner) did not time out");
+            CHECK_CONTAINS(jobs[2].err.message, "peer 3 sent nothing");
+        } else if (fault == 1) {
+            int named = 0;
+            for (int r = 0; r < n; r++)
+                named +=
+                    jobs[r].rc && strstr(jobs[r].err.message, "from peer 2: image message: frame is 8, expected 7");
+            CHECK(named == 1, "no rank named peer 2's frame 8 (display: %s)", err.message);
+        } else {
+            CHECK(jobs[1].rc == TSR_EINVAL);
+            CHECK_CONTAINS(jobs[1].err.message, "rank 1's window is 9x4, the group's 8x4");
+            CHECK_CONTAINS(err.message, "peer 1 sent nothing");
+        }
+        imgs[2].frame = 7;
+        int from, to;
+        tsr_cs_memnet_drain(net, &from, &to);
+        tsr_cs_memnet_free(net);
+        tsr_cs_executor_free(ex);
+        tsr_cimage_free(&out);
+        tsr_cimage_free(&odd);
+        tsr_cs_schedule_free(&s);
+    }
+    for (int r = 0; r < n; r++)
+        tsr_cimage_free(&imgs[r]);
+    return harness_failures;
+}
+
+/* ---- fuzz corpus ------------------------------------------------------------ */
+
+static int write_file(const char *dir, const char *name, const uint8_t *data, size_t size)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(data, 1, size, f) != size || fclose(f) != 0) {
+        fprintf(stderr, "composite_tests: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* Seeds: valid messages of every codec and format (ok-*), and the known
+ * malformations (bad-*), each checked through the fuzz entry point first. */
+static int fuzz_seeds(const char *dir)
+{
+    tsr_error err;
+    int fails = 0;
+    for (int variant = 0; variant < 3; variant++) {
+        tsr_cimage img = {0};
+        make_image(&img, 23, 5, 2, 1, 17, 3, 1, FILL_RANDOM);
+        int mode = variant == 1 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
+        if (variant == 2) {
+            /* float colour */
+            tsr_cimage f = {0};
+            REQUIRE(tsr_cimage_init(&f, 23, 5, 2, 1, 17, 3, TSR_CI_RGBA32F, TSR_CI_DEPTH32F, &err) == TSR_OK);
+            for (int i = 0; i < 17 * 3; i++) {
+                float c[4] = {img.color[4 * i] / 255.0f, 0.5f, 0.25f, 1.0f};
+                memcpy(f.color + 16 * i, c, sizeof c);
+                f.depth[i] = img.depth[i];
+            }
+            tsr_cimage_free(&img);
+            img = f;
+        }
+        tsr_sparse_image s = {0};
+        CHECK_OK(tsr_sparse_image_compress(&img, mode, 7, 100, &s, &err), err);
+        for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+            tsr_image_codec c;
+            tsr_image_codec_parse(CODECS[ci], &c, &err);
+            size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len;
+            uint8_t *buf = malloc(cap);
+            if (tsr_image_message_encode(&s, c, buf, cap, &len, &err) == TSR_OK) {
+                char name[96];
+                snprintf(name, sizeof name, "ok-%s-%s",
+                         variant == 0   ? "depth"
+                         : variant == 1 ? "alpha"
+                                        : "float",
+                         CODECS[ci]);
+                for (char *q = name; *q; q++)
+                    if (*q == '+')
+                        *q = '_';
+                CHECK(fuzz_image_message_one(buf, len) == 0, "seed %s does not decode", name);
+                fails += write_file(dir, name, buf, len);
+                if (variant == 0 && ci == 2) {
+                    /* malformations of the erle message */
+                    static const struct {
+                        const char *name;
+                        size_t off;
+                        uint32_t v;
+                    } bad[] = {{"bad-magic", 0, 1},          {"bad-window", 12, 0},
+                               {"bad-range", 24, 1u << 30},  {"bad-active", 36, 101},
+                               {"bad-payload-size", 44, 3},  {"bad-run-overflow", 48, 0x10000},
+                               {"bad-codec", 4, 0x05050501}, {"bad-rle-plane-length", 48 + 8 * 0, 0}};
+                    for (size_t b = 0; b < sizeof bad / sizeof *bad; b++) {
+                        uint8_t *m = malloc(len);
+                        memcpy(m, buf, len);
+                        size_t off = bad[b].off;
+                        if (b == sizeof bad / sizeof *bad - 1)
+                            off = 48 + 8 * (size_t)s.nruns; /* first colour plane's length */
+                        for (int k = 0; k < 4; k++)
+                            m[off + k] = (uint8_t)(bad[b].v >> (8 * k));
+                        if (b == sizeof bad / sizeof *bad - 1)
+                            m[off] = 0xff, m[off + 1] = 0xff;
+                        CHECK(fuzz_image_message_one(m, len) == 1, "seed %s is accepted", bad[b].name);
+                        fails += write_file(dir, bad[b].name, m, len);
+                        free(m);
+                    }
+                    CHECK(fuzz_image_message_one(buf, len - 1) == 1);
+                    fails += write_file(dir, "bad-truncated", buf, len - 1);
+                }
+            }
+            free(buf);
+        }
+        tsr_sparse_image_free(&s);
+        tsr_cimage_free(&img);
+    }
+    return fails + harness_failures;
+}
+
+/* Replays every file of `dir`: ok-* must decode, bad-* must be rejected,
+ * anything else (inputs libFuzzer found) must only return. */
+static int fuzz_replay(const char *dir)
+{
+    DIR *d = opendir(dir);
+    REQUIRE(d != NULL, "cannot open %s", dir);
+    struct dirent *e;
+    int files = 0;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.')
+            continue;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        FILE *f = fopen(path, "rb");
+        REQUIRE(f != NULL, "cannot read %s", path);
+        static uint8_t buf[1 << 20];
+        size_t n = fread(buf, 1, sizeof buf, f);
+        fclose(f);
+        uint8_t *copy = malloc(n ? n : 1); /* exact size, so ASan sees overreads */
+        memcpy(copy, buf, n);
+        int rc = fuzz_image_message_one(copy, n);
+        free(copy);
+        if (!strncmp(e->d_name, "ok-", 3))
+            CHECK(rc == 0, "%s does not decode", e->d_name);
+        if (!strncmp(e->d_name, "bad-", 4))
+            CHECK(rc == 1, "%s is accepted", e->d_name);
+        files++;
+    }
+    closedir(d);
+    CHECK(files > 10, "only %d corpus files in %s", files, dir);
+    printf("replayed %d files\n", files);
+    return harness_failures;
+}
+
+int main(int argc, char **argv)
+{
+    static const struct {
+        const char *name;
+        int (*fn)(void);
+    } tests[] = {
+        {"depth_kernel_matches_reference", test_depth_kernel_matches_reference},
+        {"over_kernel_matches_reference", test_over_kernel_matches_reference},
+        {"nan_depth_never_wins", test_nan_depth_never_wins},
+        {"sparse_merge_equals_dense", test_sparse_merge_equals_dense},
+        {"split_at_run_edges", test_split_at_run_edges},
+        {"codecs_roundtrip", test_codecs_roundtrip},
+        {"codec_worst_case_size", test_codec_worst_case_size},
+        {"message_decoder_rejects_bad_input", test_message_decoder_rejects_bad_input},
+        {"schedules_hold_invariants", test_schedules_hold_invariants},
+        {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
+        {"all_strategies_agree", test_all_strategies_agree},
+        {"odd_image_sizes", test_odd_image_sizes},
+        {"blank_peers", test_blank_peers},
+        {"alpha_strategies_agree", test_alpha_strategies_agree},
+        {"faults_name_the_peer", test_faults_name_the_peer},
+    };
+    if (argc == 3 && !strcmp(argv[1], "fuzz_seeds"))
+        return fuzz_seeds(argv[2]) ? 1 : 0;
+    if (argc == 3 && !strcmp(argv[1], "fuzz_replay"))
+        return fuzz_replay(argv[2]) ? 1 : 0;
+    if (argc != 2) {
+        fprintf(stderr, "usage: composite_tests NAME | fuzz_seeds DIR | fuzz_replay DIR\n");
+        return 2;
+    }
+    for (size_t i = 0; i < sizeof tests / sizeof *tests; i++)
+        if (!strcmp(argv[1], tests[i].name)) {
+            int f = tests[i].fn();
+            return f ? 1 : 0;
+        }
+    fprintf(stderr, "composite_tests: unknown test '%s'\n", argv[1]);
+    return 2;
+}
