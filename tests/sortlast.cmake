@@ -40,6 +40,25 @@ foreach(n ${SORTLAST_COUNTS})
       COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-overlap-${n} ${n} overlap)
   endforeach()
 endforeach()
+# Every strategy of the SPU (spus/binaryswap/strategies) gives the same
+# exact frames; and a lossless codec other than the default.
+if(TESSERA_SANITIZE)
+  set(SORTLAST_STRATEGY_CASES "insitu|3|bswap|strategy: bswap")
+else()
+  set(SORTLAST_STRATEGY_CASES
+    "insitu|5|bswap|strategy: bswap" "insitu|8|bswap|strategy: bswap" "servers|7|bswap|strategy: bswap"
+    "insitu|5|direct|strategy: direct" "servers|4|direct|strategy: direct"
+    "insitu|7|radixk3|strategy: radixk-3" "insitu|4|gather_erle|strategy: gather, codec: erle")
+endif()
+foreach(case ${SORTLAST_STRATEGY_CASES})
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 form)
+  list(GET case 1 n)
+  list(GET case 2 name)
+  list(GET case 3 options)
+  add_test(NAME composite_${form}_${name}_depth_exact_n${n}
+    COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-${name}-${n} ${n} overlap - "${options}")
+endforeach()
 # A peer that draws nothing sends the image header alone and the frame is
 # still exact; when no peer draws anything the display shows the
 # background the applications cleared to, nothing else.

@@ -61,6 +61,7 @@
 
 #include "net.h"
 #include "render.h"
+#include "strategy.h"
 #include "tessera/chain.h"
 #include "tessera/dev/client.h"
 #include "tessera/log.h"
@@ -71,22 +72,13 @@
 #define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
 
-/* Image message header (host order: peers of one group run one build). */
-typedef struct layer_header {
-    uint32_t magic, frame;
-    int32_t rank, window_width, window_height;
-    int32_t x, y, width, height; /* the region of interest; 0x0: nothing drawn */
-    uint32_t has_background;     /* background[] is a pixel the peer left cleared */
-    uint8_t background[4];
-} layer_header;
-
-/* One peer's read-back layer: header, then width*height RGBA8 colours and
- * width*height float depths, rows bottom first, packed. */
-typedef struct layer {
-    layer_header h;
-    const uint8_t *color;
-    const float *depth;
-} layer;
+/* A message queued for this process's own display participant (rank 0
+ * sends its final piece to itself). */
+typedef struct local_msg {
+    struct local_msg *next;
+    size_t size;
+    uint8_t data[];
+} local_msg;
 
 typedef struct bswap_spu {
     char name[96];
@@ -106,14 +98,24 @@ typedef struct bswap_spu {
     const tsr_dispatch *display;
     bool display_failed;
 
+    int kind, k;           /* strategy asked for (tsr_cs_kind) and radix */
+    tsr_image_codec codec; /* of image messages */
+    tsr_cs_schedule plan;  /* for plan_width x plan_height; kind 0: none yet */
+    int plan_width, plan_height;
+    tsr_cs_executor *peer_ex, *display_ex; /* display_ex: rank 0 only */
+    uint64_t last_bytes;                   /* this peer's bytes sent last frame (auto's hint) */
+    tsr_net_msg held;                      /* the message recv handed out last */
+    bool holding;
+    local_msg *local_head, *local_tail; /* rank 0 -> its own display participant */
+    local_msg *local_given;             /* handed out by recv, freed at the next */
+
     uint32_t frames; /* frames composited */
     float *window_depth;
     size_t window_depth_size;
-    uint8_t *message; /* this peer's message: header + colour + depth */
-    size_t message_size;
-    uint8_t *frame_color; /* rank 0: the composited frame */
-    float *frame_depth;
-    size_t frame_size, frame_depth_size;
+    tsr_cimage mine;  /* this frame's region of interest */
+    tsr_cimage frame; /* rank 0: the assembled frame */
+    uint8_t background[4];
+    bool has_background; /* background[] is a pixel this peer left cleared */
 } bswap_spu;
 
 /* Ends the process after one line: other threads (netlib's, llvmpipe's)
@@ -215,17 +217,11 @@ static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei
 
 /* --- the peer mesh ---------------------------------------------------------- */
 
-static void link_peers(bswap_spu *b)
+static void link_peers(bswap_spu *b, int W, int H)
 {
     if (b->linked)
         return;
     b->linked = true;
-    if (b->rank == 0)
-        tsr_log(TSR_LOG_INFO, "%s: strategy gather (%s) for %d peers", b->name,
-                strcmp(tsr_options_string(b->options, "strategy"), "auto")
-                    ? "as asked"
-                    : "auto: the only one in this build (issue 11, item 3 brings the others)",
-                b->nranks);
     if (b->nranks == 1)
         return;
     tsr_error err = {0};
@@ -264,8 +260,8 @@ static void link_peers(bswap_spu *b)
         if (!b->conns[i]) {
             bswap_fatal(b, "peer rank %d (%s) cannot be reached: %s", i, peer_address(b, i), err.message);
         }
-        int32_t me = b->rank;
-        if (tsr_net_send(b->conns[i], BSWAP_KIND_HELLO, &me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
+        int32_t me[3] = {b->rank, W, H};
+        if (tsr_net_send(b->conns[i], BSWAP_KIND_HELLO, me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
             bswap_fatal(b, "peer rank %d (%s): %s", i, peer_address(b, i), err.message);
         }
     }
@@ -281,17 +277,22 @@ static void link_peers(bswap_spu *b)
                         b->timeout_ms, err.message);
         }
         tsr_net_msg msg;
-        int32_t who = -1;
+        int32_t hello[3] = {-1, 0, 0}, who = -1;
         int rc = tsr_net_recv(c, &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
         if (rc == 1) {
-            if (msg.kind == BSWAP_KIND_HELLO && msg.len == sizeof who)
-                memcpy(&who, msg.data, sizeof who);
+            if (msg.kind == BSWAP_KIND_HELLO && msg.len == sizeof hello)
+                memcpy(hello, msg.data, sizeof hello);
             tsr_net_msg_release(&msg);
         }
+        who = hello[0];
         if (who <= b->rank || who >= b->nranks || b->conns[who]) {
             bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)", tsr_net_conn_address(c), who);
         }
         b->conns[who] = c;
+        if (hello[1] != W || hello[2] != H)
+            bswap_fatal(
+                b, "frame 0: peer rank %d (%s) draws a %" PRId32 "x%" PRId32 " window, not %dx%d (window sizes differ)",
+                who, peer_address(b, who), hello[1], hello[2], W, H);
     }
     tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
 }
@@ -310,7 +311,7 @@ static bool grow(void **p, size_t *cap, size_t need)
     return true;
 }
 
-/* Reads this frame's layer into b->message (header). */
+/* Reads this frame's region of interest into b->mine (header comment). */
 static void read_layer(bswap_spu *b, uint32_t frame)
 {
     int W = 0, H = 0;
@@ -339,154 +340,158 @@ static void read_layer(bswap_spu *b, uint32_t frame)
             }
         }
     }
-    layer_header h = {.magic = BSWAP_MAGIC, .frame = frame, .rank = b->rank, .window_width = W, .window_height = H};
+    int x = 0, y = 0, w = 0, h = 0;
     if (x1 >= 0) {
-        h.x = x0;
-        h.y = y0;
-        h.width = x1 - x0 + 1;
-        h.height = y1 - y0 + 1;
+        x = x0;
+        y = y0;
+        w = x1 - x0 + 1;
+        h = y1 - y0 + 1;
     }
-    size_t box = (size_t)h.width * (size_t)h.height;
-    size_t need = sizeof h + box * 8;
-    if (!grow((void **)&b->message, &b->message_size, need))
-        bswap_fatal(b, "%s", "out of memory for the image");
-    uint8_t *color = b->message + sizeof h;
-    float *depth = (float *)(color + box * 4);
-    if (box &&
-        render_spu_read(b->render, h.x, h.y, h.width, h.height, GL_RGBA, GL_UNSIGNED_BYTE, color, &err) != TSR_OK)
+    if (tsr_cimage_init(&b->mine, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) != TSR_OK)
         bswap_fatal(b, "%s", err.message);
-    for (int y = 0; y < h.height; y++)
-        memcpy(depth + (size_t)y * (size_t)h.width, b->window_depth + (size_t)(h.y + y) * (size_t)W + (size_t)h.x,
-               (size_t)h.width * sizeof(float));
-    if (bg_index != SIZE_MAX) {
-        if (render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1, GL_RGBA,
-                            GL_UNSIGNED_BYTE, h.background, &err) != TSR_OK)
-            bswap_fatal(b, "%s", err.message);
-        h.has_background = 1;
-    }
-    memcpy(b->message, &h, sizeof h);
-    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d, %zu bytes", b->name, frame,
-            b->rank, h.x, h.y, h.width, h.height, W, H, need);
+    b->mine.rank = b->rank;
+    b->mine.frame = frame;
+    if (w && render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    for (int r = 0; r < h; r++)
+        memcpy(b->mine.depth + (size_t)r * (size_t)w, b->window_depth + (size_t)(y + r) * (size_t)W + (size_t)x,
+               (size_t)w * sizeof(float));
+    b->has_background = bg_index != SIZE_MAX;
+    if (b->has_background && render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1,
+                                             GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
+            x, y, w, h, W, H);
 }
 
-/* Checks a received layer against what it must be; NULL when it is good,
- * else why not. */
-static const char *check_layer(const bswap_spu *b, const void *data, size_t size, int from, uint32_t frame, layer *out,
-                               char *why, size_t why_size)
+/* --- the transport the strategies run over ---------------------------------- */
+
+static void release_held(bswap_spu *b)
 {
-    int W = 0, H = 0;
-    render_spu_size(b->render, &W, &H);
-    layer_header h;
-    if (size < sizeof h) {
-        snprintf(why, why_size, "an image message of %zu bytes (shorter than its header)", size);
-        return why;
-    }
-    memcpy(&h, data, sizeof h);
-    if (h.magic != BSWAP_MAGIC)
-        snprintf(why, why_size, "a message that is not an image (magic 0x%08" PRIx32 ")", h.magic);
-    else if (h.rank != from)
-        snprintf(why, why_size, "an image of rank %" PRId32 " on rank %d's connection", h.rank, from);
-    else if (h.frame != frame)
-        snprintf(why, why_size, "frame %" PRIu32 " while frame %" PRIu32 " is composited", h.frame, frame);
-    else if (h.window_width != W || h.window_height != H)
-        snprintf(why, why_size, "a %" PRId32 "x%" PRId32 " window, not %dx%d (window sizes differ)", h.window_width,
-                 h.window_height, W, H);
-    else if (h.width < 0 || h.height < 0 || h.x < 0 || h.y < 0 || h.x > W - h.width || h.y > H - h.height)
-        snprintf(why, why_size, "region [%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 "] outside the %dx%d window",
-                 h.x, h.y, h.width, h.height, W, H);
-    else if (size != sizeof h + (size_t)h.width * (size_t)h.height * 8)
-        snprintf(why, why_size, "%zu bytes for a %" PRId32 "x%" PRId32 " region", size, h.width, h.height);
-    else {
-        out->h = h;
-        out->color = (const uint8_t *)data + sizeof h;
-        out->depth = (const float *)(out->color + (size_t)h.width * (size_t)h.height * 4);
-        return NULL;
-    }
-    return why;
+    if (b->holding)
+        tsr_net_msg_release(&b->held);
+    b->holding = false;
+    free(b->local_given);
+    b->local_given = NULL;
 }
 
-/* Depth-merges `l` behind everything merged before it (lower ranks): a
- * pixel wins only when strictly nearer, so equal depth stays with the
- * lower rank; NaN never wins. */
-static void merge_layer(bswap_spu *b, const layer *l, int W)
+/* Participant `to`: a peer rank over its connection, or the display
+ * participant (nranks), which lives in rank 0's process. */
+static int transport_send(void *user, int to, const void *data, size_t size, tsr_error *err)
 {
-    for (int y = 0; y < l->h.height; y++) {
-        size_t at = (size_t)(l->h.y + y) * (size_t)W + (size_t)l->h.x;
-        const float *src_depth = l->depth + (size_t)y * (size_t)l->h.width;
-        const uint8_t *src_color = l->color + (size_t)y * (size_t)l->h.width * 4;
-        float *dst_depth = b->frame_depth + at;
-        uint8_t *dst_color = b->frame_color + at * 4;
-        for (int x = 0; x < l->h.width; x++)
-            if (src_depth[x] < dst_depth[x]) {
-                dst_depth[x] = src_depth[x];
-                memcpy(dst_color + 4 * x, src_color + 4 * x, 4);
-            }
+    bswap_spu *b = user;
+    if (to == b->nranks && b->rank == 0) {
+        local_msg *m = malloc(sizeof *m + size);
+        if (!m)
+            return tsr_error_set(err, TSR_ENOMEM, "out of memory for a %zu-byte image", size);
+        m->next = NULL;
+        m->size = size;
+        memcpy(m->data, data, size);
+        if (b->local_tail)
+            b->local_tail->next = m;
+        else
+            b->local_head = m;
+        b->local_tail = m;
+        return TSR_OK;
+    }
+    int peer = to == b->nranks ? 0 : to;
+    if (peer < 0 || peer >= b->nranks || !b->conns[peer])
+        return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
+    tsr_error e = {0};
+    int rc = tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size,
+                          b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    if (rc != TSR_OK)
+        return tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
+                             rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
+    b->last_bytes += size;
+    return TSR_OK;
+}
+
+static int transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
+{
+    bswap_spu *b = user;
+    release_held(b);
+    if (from == b->rank) {
+        local_msg *m = b->local_head;
+        if (!m)
+            return tsr_error_set(err, TSR_EPROTO, "rank %d waits for an image from itself that was never sent",
+                                 b->rank);
+        b->local_head = m->next;
+        if (!b->local_head)
+            b->local_tail = NULL;
+        b->local_given = m;
+        *data = m->data;
+        *size = m->size;
+        return TSR_OK;
+    }
+    if (from < 0 || from >= b->nranks || !b->conns[from])
+        return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", from);
+    tsr_error e = {0};
+    int rc = tsr_net_recv(b->conns[from], &b->held, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    if (rc != 1)
+        return tsr_error_set(err, rc == 0 ? TSR_EIO : rc, "peer rank %d (%s): %s", from, peer_address(b, from),
+                             rc == 0               ? "ended before sending its image"
+                             : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
+                                                   : e.message);
+    b->holding = true;
+    if (b->held.kind != BSWAP_KIND_IMAGE)
+        return tsr_error_set(err, TSR_EPROTO, "peer rank %d (%s): a message of kind %u, not an image", from,
+                             peer_address(b, from), b->held.kind);
+    *data = b->held.data;
+    *size = (size_t)b->held.len;
+    return TSR_OK;
+}
+
+/* The schedule for this window (planned again when the size changes). */
+static void plan(bswap_spu *b, int W, int H)
+{
+    if (b->plan.kind && b->plan_width == W && b->plan_height == H)
+        return;
+    tsr_error err = {0};
+    tsr_cs_executor_free(b->peer_ex);
+    tsr_cs_executor_free(b->display_ex);
+    b->peer_ex = b->display_ex = NULL;
+    if (b->plan.kind)
+        tsr_cs_schedule_free(&b->plan);
+    tsr_cs_hint hint = {.image_bytes = b->last_bytes, .display_separate = 0};
+    if (tsr_cs_plan(b->kind, b->nranks, W, H, b->k, &hint, &b->plan, &err) != TSR_OK ||
+        !(b->peer_ex = tsr_cs_executor_new(&b->plan, b->codec, &err)) ||
+        (b->rank == 0 && !(b->display_ex = tsr_cs_executor_new(&b->plan, b->codec, &err))))
+        bswap_fatal(b, "%s", err.message);
+    b->plan_width = W;
+    b->plan_height = H;
+    if (b->rank == 0) {
+        char codec[64];
+        tsr_log(TSR_LOG_INFO, "%s: strategy %s for %d peers, %dx%d window, codec %s: %s", b->name, b->plan.name,
+                b->nranks, W, H, tsr_image_codec_name(b->codec, codec, sizeof codec), b->plan.reason);
     }
 }
 
-/* Gather to one (header): the one place the group composites a frame. */
+/* Composites this frame with the group (the strategy's schedule); rank 0
+ * then draws the assembled frame on the display and swaps. */
 static void composite_frame(bswap_spu *b, uint32_t frame)
 {
-    char why[300];
     tsr_error err = {0};
-    size_t size = sizeof(layer_header);
-    {
-        layer_header h;
-        memcpy(&h, b->message, sizeof h);
-        size += (size_t)h.width * (size_t)h.height * 8;
-    }
+    plan(b, b->mine.window_width, b->mine.window_height);
+    b->last_bytes = 0;
+    tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
+    if (tsr_cs_run_peer(b->peer_ex, b->rank, &b->mine, TSR_COMPOSITE_DEPTH, &t, &err) != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
+            b->rank, b->last_bytes);
     if (b->rank != 0) {
-        if (tsr_net_send(b->conns[0], BSWAP_KIND_IMAGE, b->message, size,
-                         b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err) != TSR_OK) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank 0 (%s): %s", frame, peer_address(b, 0), err.message);
-        }
+        release_held(b);
         return;
     }
-    int W = 0, H = 0;
-    render_spu_size(b->render, &W, &H);
-    size_t pixels = (size_t)W * (size_t)H;
-    if (!grow((void **)&b->frame_color, &b->frame_size, pixels * 4 + 1) ||
-        !grow((void **)&b->frame_depth, &b->frame_depth_size, pixels * sizeof(float) + 1))
-        bswap_fatal(b, "%s", "out of memory for the frame");
-    for (size_t i = 0; i < pixels; i++)
-        b->frame_depth[i] = 1.0f;
-    layer own;
-    memcpy(&own.h, b->message, sizeof own.h);
-    own.color = b->message + sizeof own.h;
-    own.depth = (const float *)(own.color + (size_t)own.h.width * (size_t)own.h.height * 4);
-    merge_layer(b, &own, W);
-    bool has_background = own.h.has_background != 0;
-    uint8_t background[4];
-    memcpy(background, own.h.background, 4);
-    for (int r = 1; r < b->nranks; r++) {
-        tsr_net_msg msg;
-        int rc = tsr_net_recv(b->conns[r], &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
-        if (rc != 1) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s): %s", frame, r, peer_address(b, r),
-                        rc == 0               ? "ended before sending its image"
-                        : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
-                                              : err.message);
-        }
-        layer l;
-        if (check_layer(b, msg.data, msg.len, r, frame, &l, why, sizeof why)) {
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) sent %s", frame, r, peer_address(b, r), why);
-        }
-        merge_layer(b, &l, W);
-        if (!has_background && l.h.has_background) {
-            has_background = true;
-            memcpy(background, l.h.background, 4);
-        }
-        tsr_net_msg_release(&msg);
-    }
-    /* A peer without a background pixel covered the whole window: then no
-     * pixel of the frame is background. */
-    if (has_background)
-        for (size_t i = 0; i < pixels; i++)
-            if (!(b->frame_depth[i] < 1.0f))
-                memcpy(b->frame_color + 4 * i, background, 4);
+    /* A peer without a background pixel covered the whole window, so no
+     * pixel of the frame is background and any colour does. */
+    if (tsr_cs_run_display(b->display_ex, frame, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->background,
+                           &b->frame, &t, &err) != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    release_held(b);
     const tsr_dispatch *d = display(b);
     tsr_call_WindowPos2i(d, 0, 0);
-    tsr_call_DrawPixels(d, W, H, GL_RGBA, GL_UNSIGNED_BYTE, b->frame_color);
+    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, b->frame.color);
     tsr_call_SwapBuffersTSR(d, b->window, 0);
 }
 
@@ -496,7 +501,9 @@ static void bswap_frame(void *ctx, int frame, void *render)
     (void)render;
     bswap_spu *b = ctx;
     display(b);
-    link_peers(b);
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    link_peers(b, W, H);
     read_layer(b, (uint32_t)frame);
     composite_frame(b, (uint32_t)frame);
     b->frames++;
@@ -510,6 +517,7 @@ static void bswap_destroy(void *self)
     if (!b)
         return;
     render_spu_destroy(b->render);
+    release_held(b);
     tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
@@ -517,10 +525,17 @@ static void bswap_destroy(void *self)
     if (b->listener)
         tsr_net_listener_close(b->listener);
     tsr_net_destroy(b->net);
+    for (local_msg *m = b->local_head, *next; m; m = next) {
+        next = m->next;
+        free(m);
+    }
+    tsr_cs_executor_free(b->peer_ex);
+    tsr_cs_executor_free(b->display_ex);
+    if (b->plan.kind)
+        tsr_cs_schedule_free(&b->plan);
+    tsr_cimage_free(&b->mine);
+    tsr_cimage_free(&b->frame);
     free(b->window_depth);
-    free(b->message);
-    free(b->frame_color);
-    free(b->frame_depth);
     free(b);
 }
 
@@ -593,9 +608,16 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         tsr_error_set(err, TSR_EUNSUPPORTED, "%s: mode=%s is not implemented yet (depth only)", b->name, mode);
         goto fail;
     }
-    if (strcmp(strategy, "auto") && strcmp(strategy, "gather")) {
-        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: strategy=%s is not available in this build (auto, gather)", b->name,
-                      strategy);
+    tsr_error e = {0};
+    if (tsr_cs_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
+        tsr_error_set(err, TSR_EINVAL, "%s: strategy=%s: %s", b->name, strategy, e.message);
+        goto fail;
+    }
+    if (tsr_options_int(init->options, "k"))
+        b->k = (int)tsr_options_int(init->options, "k");
+    if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
+        tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
+                      e.message);
         goto fail;
     }
     b->down = *init->child;
@@ -648,8 +670,22 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "auto",
      .min = 1,
      .max = 0,
-     .help = "how the group composites: auto (gather) or gather (every peer sends its region "
-             "to rank 0)"},
+     .help = "how the group composites: auto (chosen from the peer count, window and last "
+             "frame's bytes; logged), bswap (binary swap, any peer count), direct (direct "
+             "send), radixk or radixk-K (radix-k), gather (all to rank 0)"},
+    {.name = "k",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = BSWAP_MAX_PEERS,
+     .help = "radix-k's radix (2..N; 2 is binary swap, N direct send); 0: radix-k chooses"},
+    {.name = "codec",
+     .type = TSR_OPT_STRING,
+     .default_value = "rle",
+     .min = 1,
+     .max = 0,
+     .help = "image messages: none, rle (active-pixel runs), erle (lossless per-channel RLE), "
+             "lossy yuv420, depth16, depth24, or '+'-joined (erle+depth24)"},
     {.name = "mode",
      .type = TSR_OPT_STRING,
      .default_value = "depth",

@@ -63,7 +63,7 @@ echo "--- display:"; cat "$out/display.err"
 [ $took -le $bound ] || fail "rank 0 took $took ms to end (bound $bound ms)"
 # The display drops a stopped peer after its --idle-timeout-ms (2 s).
 [ $took_all -le $((bound + 3000)) ] || fail "rank 2 and the display took $took_all ms to end"
-[ "$case_name" != sizes ] || grep -q "binaryswap#1: frame 0: peer rank 1 (unix:$out/x1) sent a 64x40 window, not 64x48 (window sizes differ)" "$out/peer0.err" ||
+[ "$case_name" != sizes ] || grep -q "binaryswap#1: frame 0: peer rank 1 (unix:$out/x1) draws a 64x40 window, not 64x48 (window sizes differ)" "$out/peer0.err" ||
   fail "rank 0 does not say that rank 1's window size differs"
 grep -Eq "binaryswap#1: frame [0-9]+: peer rank 1 \\(unix:$out/x1\\)" "$out/peer0.err" ||
   fail "rank 0's message does not name rank 1 and its address"

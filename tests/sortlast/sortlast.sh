@@ -4,14 +4,17 @@
 # processes, real sockets, real OSMesa, real PNGs. Every frame the display
 # writes is compared with the single-process native render of the whole
 # scene: 0 differing pixels, and exactly FRAMES frames.
-# usage: sortlast.sh FORM BIN_DIR OUT_DIR N SCENE [EXTRA]
+# usage: sortlast.sh FORM BIN_DIR OUT_DIR N SCENE [EXTRA [OPTIONS]]
 #   FORM   insitu  (N apps, each running the chain `binaryswap`)
 #          servers (N apps -> pack -> N render servers ending in binaryswap)
 #   SCENE  isosurface | overlap (spheres --overlap: interpenetrating)
-#   EXTRA  blank: one more peer that draws nothing (an empty share) first
+#   EXTRA  blank: one more peer, the last rank, that draws nothing (an
+#          empty share): its region is empty and it sends no pixel
 #          nothing: every peer draws nothing (the display shows background)
+#          -: neither
+#   OPTIONS binaryswap's options as YAML flow entries ("strategy: bswap")
 set -u
-form=$1 bin=$2 out=$3 n=$4 scene=$5 extra=${6:-}
+form=$1 bin=$2 out=$3 n=$4 scene=$5 extra=${6:--} options=${7:-}
 fail() { echo "FAIL: $*" >&2; bad=1; }
 bad=0
 rm -rf "$out" && mkdir -p "$out/native" || exit 1
@@ -24,11 +27,11 @@ esac
 # Peer i draws share part[i] of parts[i]; the reference draws the whole.
 shares=
 k=0
-[ "$extra" = blank ] && shares="0/1000000"
 while [ $k -lt "$n" ]; do
   if [ "$extra" = nothing ]; then shares="$shares 0/1000000"; else shares="$shares $k/$n"; fi
   k=$((k + 1))
 done
+[ "$extra" = blank ] && shares="$shares 0/1000000"
 if [ "$extra" = nothing ]; then
   "$bin/$app-native" $args --frames $frames --size $size --part 0/1000000 --out "$out/native/f-%04d.png" || exit 1
 else
@@ -45,13 +48,13 @@ graph=$out/graph.yaml
     echo "  app$i:"
     echo "    exec: bin/$app $args --frames $frames --size $size --part $share"
     if [ "$form" = insitu ]; then
-      echo "    chain: [binaryswap]"
+      echo "    chain: [{binaryswap: {$options}}]"
       echo "    to: display"
     else
       echo "    chain: [pack]"
       echo "    to: peer$i"
       echo "  peer$i:"
-      echo "    chain: [binaryswap]"
+      echo "    chain: [{binaryswap: {$options}}]"
       echo "    to: display"
     fi
     i=$((i + 1))
@@ -73,10 +76,16 @@ while [ $f -lt $frames ]; do
 done
 [ -e "$out/run/out/$(printf 'f-%04d.png' $frames)" ] && fail "the display wrote more than $frames frames"
 if [ "$extra" = blank ] || [ "$extra" = nothing ]; then
-  # An empty peer sends the image header alone, every frame.
-  empty=$(grep -c 'rank 0 region \[0, 0, 0, 0\] of 96x72, 44 bytes' "$out/run.err")
-  echo "empty images of rank 0: $empty"
-  [ "$empty" = $frames ] || fail "the blank peer sent $empty header-only images, not $frames"
+  # An empty peer's region is empty and what it sends is headers and one
+  # background run (a few dozen bytes), never a frame of background.
+  blank=$n
+  [ "$extra" = nothing ] && blank=1
+  empty=$(grep -c "rank $blank region \[0, 0, 0, 0\] of 96x72" "$out/run.err")
+  sent=$(sed -n "s/.*: rank $blank sent \([0-9]*\) bytes to its peers/\1/p" "$out/run.err" | sort -n | tail -n 1)
+  echo "empty regions of rank $blank: $empty, at most $sent bytes sent per frame"
+  [ "$empty" = $frames ] || fail "rank $blank had $empty empty regions, not $frames"
+  [ -n "$sent" ] && [ "$sent" -le 128 ] || fail "the blank rank $blank sent ${sent:-?} bytes in a frame"
 fi
+grep -o 'strategy [^ ]* for [0-9]* peers.*' "$out/run.err" | head -n 1
 [ $bad = 0 ] && echo PASS
 exit $bad
