@@ -31,17 +31,21 @@
  * depth buffer, so the box is what was drawn whatever the vertices' w.
  * (The chain's bounding boxes are not used yet: issue 11, item 2.)
  *
- * Compositing (composite_frame below, the one place a strategy runs):
- * gather to one. Every peer sends its image to rank 0, which composites
- * them in rank order, nearest depth winning and equal depth going to the
- * lower rank (strict <), so the result is the single-process render of
- * the parts drawn in rank order with GL_LESS, bit for bit, whatever the
- * arrival order. Pixels no peer drew get the background colour, read
- * from a pixel some peer left at depth 1.0 (so it is exactly what GL's
- * clear produced). The display participant lives in rank 0's process:
- * rank 0 draws the frame on the display (WindowPos2i, DrawPixels) and
- * swaps. Ranks other than 0 also connect to the display (a graph's
- * display node counts every peer among its clients) but send nothing.
+ * Compositing (composite_frame below): one of the strategies of
+ * strategies/ (strategy.h: binary swap for any peer count, direct send,
+ * radix-k, gather to one, auto), planned once per window size and run by
+ * its executor over this SPU's transport (transport_send/recv): peers are
+ * participants 0..N-1 over the mesh, and the display participant N lives
+ * in rank 0's process (rank 0's own final piece is queued locally). Depth
+ * mode: the nearest depth wins, equal depth goes to the lower rank, so the
+ * result is the single-process render of the parts drawn in rank order
+ * with GL_LESS, bit for bit, for every strategy and arrival order. Pixels
+ * no peer drew get the background colour, read from a pixel rank 0 left
+ * at depth 1.0 (exactly what GL's clear produced; when rank 0 left none,
+ * it covered the window and no pixel is background). Rank 0 then draws
+ * the frame on the display (WindowPos2i, DrawPixels) and swaps; the other
+ * ranks also connect to the display (a graph's display node counts every
+ * peer among its clients) but send it nothing.
  *
  * Failures: a peer that does not answer within timeout_ms, a connection
  * that breaks, a message whose frame, rank, window size or region is not
