@@ -97,6 +97,8 @@ add_test(NAME composite_peer_killed_mid_run_ends_group_naming_it
   COMMAND ${SORTLAST_DIR}/faults.sh kill ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-kill)
 add_test(NAME composite_peer_that_never_sends_times_out_naming_it
   COMMAND ${SORTLAST_DIR}/faults.sh stop ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-stop)
+add_test(NAME composite_peer_that_never_connects_names_it
+  COMMAND ${SORTLAST_DIR}/faults.sh absent ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-absent)
 add_test(NAME composite_peer_window_size_differs_names_it
   COMMAND ${SORTLAST_DIR}/faults.sh sizes ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-sizes)
 

@@ -245,7 +245,10 @@ static void link_peers(bswap_spu *b, int W, int H)
     if (!(b->listener = tsr_net_listen(b->net, peer_address(b, b->rank), &err))) {
         bswap_fatal(b, "rank %d cannot listen for its peers: %s", b->rank, err.message);
     }
-    int64_t deadline = now_ms() + (b->timeout_ms > 0 ? b->timeout_ms : 10000);
+    /* Peers reach their first frame at different times (start-up, their
+     * share's first draw): the mesh has its own, longer limit. */
+    int link_ms = (int)tsr_options_int(b->options, "link_timeout_ms");
+    int64_t deadline = now_ms() + link_ms;
     for (int i = 0; i < b->rank; i++) {
         for (;;) {
             /* A Unix socket that is not there yet would be one more logged
@@ -277,8 +280,8 @@ static void link_peers(bswap_spu *b, int W, int H)
             for (int k = b->rank + 1; k < b->nranks && missing < 0; k++)
                 if (!b->conns[k])
                     missing = k;
-            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms: %s", missing, peer_address(b, missing),
-                        b->timeout_ms, err.message);
+            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms (link_timeout_ms): %s", missing,
+                        peer_address(b, missing), link_ms, err.message);
         }
         tsr_net_msg msg;
         int32_t hello[3] = {-1, 0, 0}, who = -1;
@@ -669,6 +672,13 @@ static const tsr_option_spec bswap_options[] = {
      .max = 0,
      .help = "where each peer listens for the others' images, in rank order; empty: derived "
              "from peers (unix:PATH.x, tcp://HOST:PORT+1). Without peers it gives the group"},
+    {.name = "link_timeout_ms",
+     .type = TSR_OPT_INT,
+     .default_value = "60000",
+     .min = 1,
+     .max = 3600000.0,
+     .help = "how long the peers wait for each other at the first frame (the mesh); later "
+             "frames wait at most timeout_ms"},
     {.name = "strategy",
      .type = TSR_OPT_STRING,
      .default_value = "auto",
