@@ -51,7 +51,7 @@ while [ "$case_name" != sizes ] && [ "$case_name" != absent ] && [ ! -e "$out/d/
 [ "$case_name" = sizes ] || [ "$case_name" = absent ] || [ -e "$out/d/f-0003.png" ] || fail "the display wrote no 4 frames in 30 s"
 case $case_name in
   sizes) sig=CONT bound=$((link_ms + 5000)) ;;
-  absent) sig=CONT bound=$((link_ms + 5000)) ;;
+  absent) sig=CONT bound=$((link_ms + 10000)) ;; # from the start: includes start-up
   kill) sig=KILL bound=5000 ;;
   stop) sig=STOP bound=$((timeout_ms + 5000)) ;;
   *) echo "faults.sh: unknown case '$case_name'" >&2; kill -9 $p0 $p1 $p2 $display; exit 2 ;;
