@@ -2,7 +2,12 @@
  * drawn with client vertex arrays: moving metaballs (shared vertices,
  * glDrawElements) and a slab of a gyroid (flat triangle list with a colour
  * array, glDrawArrays). Ordinary GL 1.x code; owns the field, the mesh and
- * its drawing. Deterministic per frame (the field depends only on it). */
+ * its drawing. Deterministic per frame (the field depends only on it).
+ *
+ * --part K/N (sort-last): the primitives are the triangles, numbered in
+ * draw order (the metaballs' then the gyroid's); share K draws the run
+ * exapp_part_range gives it, from whichever of the two meshes it covers,
+ * so a share may end in the middle of a surface. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -323,7 +328,7 @@ static void setup(const exapp *app)
     glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 32.0f);
 }
 
-static void draw(const mc_case table[256], int frame, int detail)
+static void draw(const exapp *app, const mc_case table[256], int frame, int detail)
 {
     float t = 0.25f * (float)frame;
     metaballs mb;
@@ -357,6 +362,16 @@ static void draw(const mc_case table[256], int frame, int detail)
         flat_col[4 * i + 3] = 1.0f;
     }
 
+    /* This process's share of the triangles (header comment). */
+    long ball_tris = (long)balls.index_count / 3, first = 0;
+    long count = exapp_part_range(app, ball_tris + (long)flat_count / 3, &first);
+    long ball_first = first < ball_tris ? first : ball_tris;
+    long ball_count = (first + count < ball_tris ? first + count : ball_tris) - ball_first;
+    long flat_first = (first > ball_tris ? first : ball_tris) - ball_tris;
+    long flat_tris = first + count - ball_tris - flat_first;
+    if (flat_tris < 0)
+        flat_tris = 0;
+
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glLoadIdentity();
     GLfloat l0[4] = {2, 3, 4, 0}, l1[4] = {-3, -1, 1, 0};
@@ -376,7 +391,8 @@ static void draw(const mc_case table[256], int frame, int detail)
     glColor3f(0.95f, 0.55f, 0.2f);
     glVertexPointer(3, GL_FLOAT, 0, balls.positions);
     glNormalPointer(GL_FLOAT, 0, balls.normals);
-    glDrawElements(GL_TRIANGLES, (GLsizei)balls.index_count, GL_UNSIGNED_INT, balls.indices);
+    if (ball_count > 0)
+        glDrawElements(GL_TRIANGLES, (GLsizei)(3 * ball_count), GL_UNSIGNED_INT, balls.indices + 3 * ball_first);
     glPopMatrix();
 
     /* Gyroid slab: flat triangle list with a colour array. */
@@ -387,7 +403,8 @@ static void draw(const mc_case table[256], int frame, int detail)
     glVertexPointer(3, GL_FLOAT, 0, flat_pos);
     glNormalPointer(GL_FLOAT, 0, flat_nrm);
     glColorPointer(4, GL_FLOAT, 0, flat_col);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)flat_count);
+    if (flat_tris > 0)
+        glDrawArrays(GL_TRIANGLES, (GLint)(3 * flat_first), (GLsizei)(3 * flat_tris));
     glDisableClientState(GL_COLOR_ARRAY);
     glPopMatrix();
 
@@ -411,7 +428,7 @@ int main(int argc, char **argv)
     build_mc_table(table);
     setup(&app);
     for (int f = 0; f < app.frames; f++) {
-        draw(table, f, app.detail);
+        draw(&app, table, f, app.detail);
         if (!exapp_swap(&app))
             break;
     }

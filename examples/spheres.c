@@ -1,8 +1,16 @@
 /* examples/spheres.c — lit spheres from display lists: a ring of spheres
  * with different materials under three coloured lights, rotating a little
  * every frame. Ordinary GL 1.x code; owns only its drawing (the harness in
- * common/exapp.c owns the context and output). Deterministic per frame. */
+ * common/exapp.c owns the context and output). Deterministic per frame.
+ *
+ * --part K/N (sort-last): the primitives are the quad strips (one latitude
+ * band of one sphere), numbered in draw order: the ring's spheres, then the
+ * centre sphere, SPHERE_STACKS bands each; share K draws the run
+ * exapp_part_range gives it, so shares end in the middle of spheres.
+ * --overlap pulls the ring in until its spheres cut into each other and
+ * into the centre sphere: interpenetrating objects across share borders. */
 #include <math.h>
+#include <stdbool.h>
 
 #include <GL/gl.h>
 
@@ -10,26 +18,27 @@
 
 #define SPHERE_COUNT 7
 #define PI_F 3.14159265358979f
+#define SPHERE_SLICES 32
+#define SPHERE_STACKS 20
+#define STRIP_COUNT ((SPHERE_COUNT + 1) * SPHERE_STACKS)
 
-/* A unit sphere as latitude quad strips with per-vertex normals. */
-static void emit_sphere(int slices, int stacks)
+/* Band i of a unit sphere: one latitude quad strip with per-vertex normals. */
+static void emit_band(int i, int slices, int stacks)
 {
-    for (int i = 0; i < stacks; i++) {
-        float lat0 = PI_F * (-0.5f + (float)i / (float)stacks);
-        float lat1 = PI_F * (-0.5f + (float)(i + 1) / (float)stacks);
-        glBegin(GL_QUAD_STRIP);
-        for (int j = 0; j <= slices; j++) {
-            float lon = 2.0f * PI_F * (float)j / (float)slices;
-            float cx = cosf(lon), sy = sinf(lon);
-            float x0 = cosf(lat0) * cx, y0 = cosf(lat0) * sy, z0 = sinf(lat0);
-            float x1 = cosf(lat1) * cx, y1 = cosf(lat1) * sy, z1 = sinf(lat1);
-            glNormal3f(x1, y1, z1);
-            glVertex3f(x1, y1, z1);
-            glNormal3f(x0, y0, z0);
-            glVertex3f(x0, y0, z0);
-        }
-        glEnd();
+    float lat0 = PI_F * (-0.5f + (float)i / (float)stacks);
+    float lat1 = PI_F * (-0.5f + (float)(i + 1) / (float)stacks);
+    glBegin(GL_QUAD_STRIP);
+    for (int j = 0; j <= slices; j++) {
+        float lon = 2.0f * PI_F * (float)j / (float)slices;
+        float cx = cosf(lon), sy = sinf(lon);
+        float x0 = cosf(lat0) * cx, y0 = cosf(lat0) * sy, z0 = sinf(lat0);
+        float x1 = cosf(lat1) * cx, y1 = cosf(lat1) * sy, z1 = sinf(lat1);
+        glNormal3f(x1, y1, z1);
+        glVertex3f(x1, y1, z1);
+        glNormal3f(x0, y0, z0);
+        glVertex3f(x0, y0, z0);
     }
+    glEnd();
 }
 
 static void set_material(int i)
@@ -45,7 +54,19 @@ static void set_material(int i)
     glMaterialf(GL_FRONT, GL_SHININESS, 8.0f + 16.0f * (float)i);
 }
 
-static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list)
+/* Sphere number `sphere` (in draw order) from its band lists, only the
+ * bands of this process's share (header comment). */
+static void call_sphere(const exapp *app, GLuint band_lists, int sphere)
+{
+    long first = 0, count = exapp_part_range(app, STRIP_COUNT, &first);
+    for (int i = 0; i < SPHERE_STACKS; i++) {
+        long strip = (long)sphere * SPHERE_STACKS + i;
+        if (strip >= first && strip < first + count)
+            glCallList(band_lists + (GLuint)i);
+    }
+}
+
+static void setup(const exapp *app, bool overlap, GLuint *sphere_list, GLuint *ring_list)
 {
     glViewport(0, 0, app->width, app->height);
     glMatrixMode(GL_PROJECTION);
@@ -74,11 +95,13 @@ static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list)
     glLightf(GL_LIGHT2, GL_CONSTANT_ATTENUATION, 0.5f);
     glLightf(GL_LIGHT2, GL_LINEAR_ATTENUATION, 0.1f);
 
-    *sphere_list = glGenLists(2);
-    *ring_list = *sphere_list + 1;
-    glNewList(*sphere_list, GL_COMPILE);
-    emit_sphere(32, 20);
-    glEndList();
+    *sphere_list = glGenLists(SPHERE_STACKS + 1);
+    *ring_list = *sphere_list + SPHERE_STACKS;
+    for (int i = 0; i < SPHERE_STACKS; i++) {
+        glNewList(*sphere_list + (GLuint)i, GL_COMPILE);
+        emit_band(i, SPHERE_SLICES, SPHERE_STACKS);
+        glEndList();
+    }
 
     /* The ring nests the sphere list: display lists calling lists. */
     glNewList(*ring_list, GL_COMPILE);
@@ -86,16 +109,16 @@ static void setup(const exapp *app, GLuint *sphere_list, GLuint *ring_list)
         float angle = 360.0f * (float)i / (float)SPHERE_COUNT;
         glPushMatrix();
         glRotatef(angle, 0, 1, 0);
-        glTranslatef(2.2f, 0.35f * (float)(i % 3) - 0.35f, 0);
+        glTranslatef(overlap ? 1.2f : 2.2f, 0.35f * (float)(i % 3) - 0.35f, 0);
         glScalef(0.55f, 0.55f, 0.55f);
         set_material(i);
-        glCallList(*sphere_list);
+        call_sphere(app, *sphere_list, i);
         glPopMatrix();
     }
     glEndList();
 }
 
-static void draw(GLuint sphere_list, GLuint ring_list, int frame)
+static void draw(const exapp *app, GLuint sphere_list, GLuint ring_list, int frame)
 {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glLoadIdentity();
@@ -119,22 +142,24 @@ static void draw(GLuint sphere_list, GLuint ring_list, int frame)
     glRotatef(-30.0f * (float)frame, 0, 0, 1);
     glScalef(1.1f, 1.1f, 1.1f);
     set_material(SPHERE_COUNT - 1);
-    glCallList(sphere_list);
+    call_sphere(app, sphere_list, SPHERE_COUNT);
     glPopMatrix();
 }
 
 int main(int argc, char **argv)
 {
     exapp app;
-    if (!exapp_init(&app, "spheres", argc, argv, 640, 480))
+    bool overlap = false;
+    if (!exapp_init_flag(&app, "spheres", argc, argv, 640, 480, "--overlap",
+                         "  --overlap       pull the ring in: spheres cut into each other and the centre", &overlap))
         return exapp_finish(&app);
     GLuint sphere_list, ring_list;
-    setup(&app, &sphere_list, &ring_list);
+    setup(&app, overlap, &sphere_list, &ring_list);
     for (int f = 0; f < app.frames; f++) {
-        draw(sphere_list, ring_list, f);
+        draw(&app, sphere_list, ring_list, f);
         if (!exapp_swap(&app))
             break;
     }
-    glDeleteLists(sphere_list, 2);
+    glDeleteLists(sphere_list, SPHERE_STACKS + 1);
     return exapp_finish(&app);
 }

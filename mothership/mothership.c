@@ -470,6 +470,8 @@ static void describe_status(int wstatus, char *out, size_t size)
         snprintf(out, size, "exited with status %d", WEXITSTATUS(wstatus));
 }
 
+static void receive(ms *m);
+
 static void reap(ms *m)
 {
     for (size_t i = 0; i < m->count; i++) {
@@ -492,8 +494,14 @@ static void reap(ms *m)
         else if (n->state != N_DONE && WEXITSTATUS(st))
             fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s%s", n->g->name, (long)n->pid, what,
                  n->state == N_WAITING ? " before joining" : "");
-        else if (n->state != N_DONE)
-            fail(m, FAIL_OTHER, "node '%s' (pid %ld) ended without reporting its end", n->g->name, (long)n->pid);
+        else if (n->state != N_DONE) {
+            /* A node sends DONE and exits at once: its DONE may still be
+             * queued here when the exit is seen (many nodes ending
+             * together, e.g. a sort-last group). Read what is queued first. */
+            receive(m);
+            if (n->state != N_DONE)
+                fail(m, FAIL_OTHER, "node '%s' (pid %ld) ended without reporting its end", n->g->name, (long)n->pid);
+        }
     }
 }
 
@@ -1054,7 +1062,9 @@ static int prepare(ms *m, tsr_error *err)
             if (cls->network.role != TSR_SPU_ROLE_NONE) {
                 n->network = cls;
                 n->network_link = l;
-                n->links_later = cls->network.peers != NULL;
+                /* An application peer (in situ) has no address to wait
+                 * for: its peers' are derived from the display's. */
+                n->links_later = cls->network.peers != NULL && n->server;
             }
         }
         if (n->server && n->g->transport == TSR_TRANSPORT_INPROC)

@@ -21,6 +21,8 @@
 #include "tessera/graph.h"
 #include "tessera/spu.h"
 
+#include "groups.h"
+
 /* Unix-domain socket paths must fit sockaddr_un.sun_path (108 on Linux). */
 #define UNIX_PATH_LIMIT 108
 /* A tcp listen HOST must fit netlib's parsed address (TSR_NET_ADDRESS_MAX,
@@ -1268,13 +1270,8 @@ static int check_role(loader *l, size_t i)
                            "node '%s': %s sends with its peers to one display node, but 'to' "
                            "names %zu",
                            node->name, spu, node->to_count);
-        /* Peers reach each other at their nodes' addresses. */
-        if (node->exec)
-            return fail_at(l, src->network_spu, TSR_EINVAL,
-                           "node '%s': %s is one of the peers of display '%s', which reach each "
-                           "other at their addresses, so the node must be a server (it has "
-                           "'exec')",
-                           node->name, spu, g->nodes[node->to[0]].name);
+        /* Servers or, in situ, applications: the group's rules are
+         * tsr_graph_check_groups' (groups.c). */
         return TSR_OK;
     }
     return TSR_OK;
@@ -1561,6 +1558,8 @@ static int load_document(loader *l)
         rc = resolve_edges(l);
     if (rc == TSR_OK)
         rc = check_roles(l);
+    if (rc == TSR_OK)
+        rc = tsr_graph_check_groups(l->graph, l->flags, l->err);
     if (rc == TSR_OK)
         rc = check_cycles(l);
     if (rc == TSR_OK)

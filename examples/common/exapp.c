@@ -39,10 +39,10 @@ struct exapp_backend {
 #endif
 };
 
-static void exapp_usage(const exapp *app, FILE *out)
+static void exapp_usage(const exapp *app, FILE *out, const char *flag_help)
 {
     fprintf(out,
-            "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--detail N]"
+            "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--detail N] [--part K/N]"
 #ifndef EXAPP_NATIVE
             " [--chain \"SPU CHAIN\"]"
 #endif
@@ -55,14 +55,19 @@ static void exapp_usage(const exapp *app, FILE *out)
             "                  (default out/%s-%%04d.png; out/ is created)\n"
             "  --detail N      scene detail, 1..8 (default 1): the isosurface's grids are\n"
             "                  N times finer (about N*N times the triangles)\n"
+            "  --part K/N      sort-last: draw only share K (0..N-1) of N disjoint shares\n"
+            "                  of the scene's primitives (contiguous runs in draw order;\n"
+            "                  the union of all N equals the whole scene)\n"
 #ifndef EXAPP_NATIVE
             "  --chain TEXT    SPU chain the GL calls enter (default: $TESSERA_CHAIN,\n"
             "                  else \"render output=PATTERN\")\n"
 #else
             "                  This is the native build: OSMesa renders directly.\n"
 #endif
+            "%s%s"
             "  -h, --help      show this help\n",
-            app->name, app->name, EXAPP_DEFAULT_FRAMES, app->width, app->height, app->name);
+            app->name, app->name, EXAPP_DEFAULT_FRAMES, app->width, app->height, app->name, flag_help ? flag_help : "",
+            flag_help ? "\n" : "");
 }
 
 static bool parse_int(const char *text, int min, int max, int *out)
@@ -87,6 +92,26 @@ static bool parse_size(const char *text, int *w, int *h)
     return parse_int(buf, 1, 8192, w) && parse_int(x + 1, 1, 8192, h);
 }
 
+static bool parse_part(const char *text, int *part, int *parts)
+{
+    char buf[64];
+    const char *slash = strchr(text, '/');
+    if (!slash || (size_t)(slash - text) >= sizeof buf)
+        return false;
+    memcpy(buf, text, (size_t)(slash - text));
+    buf[slash - text] = '\0';
+    return parse_int(slash + 1, 1, 1048576, parts) && parse_int(buf, 0, *parts - 1, part);
+}
+
+long exapp_part_range(const exapp *app, long total, long *first)
+{
+    /* long long: total * parts must not overflow for big meshes. */
+    long long lo = (long long)total * app->part / app->parts;
+    long long hi = (long long)total * (app->part + 1) / app->parts;
+    *first = (long)lo;
+    return (long)(hi - lo);
+}
+
 static bool fail(exapp *app, int code, const char *msg, const char *detail)
 {
     fprintf(stderr, "%s: %s%s%s\n", app->name, msg, detail ? ": " : "", detail ? detail : "");
@@ -98,12 +123,22 @@ static bool backend_start(exapp *app);
 
 bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height)
 {
+    return exapp_init_flag(app, name, argc, argv, default_width, default_height, NULL, NULL, NULL);
+}
+
+bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
+                     const char *flag, const char *help, bool *on)
+{
+    if (on)
+        *on = false;
     memset(app, 0, sizeof *app);
     app->name = name;
     app->width = default_width;
     app->height = default_height;
     app->frames = EXAPP_DEFAULT_FRAMES;
     app->detail = 1;
+    app->part = 0;
+    app->parts = 1;
     app->backend = calloc(1, sizeof *app->backend);
     if (!app->backend)
         return fail(app, 1, "out of memory", NULL);
@@ -116,12 +151,16 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
-            exapp_usage(app, stdout);
+            exapp_usage(app, stdout, help);
             app->exit_code = 0;
             return false;
         }
-        bool known =
-            !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") || !strcmp(arg, "--detail");
+        if (flag && !strcmp(arg, flag)) {
+            *on = true;
+            continue;
+        }
+        bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") ||
+                     !strcmp(arg, "--detail") || !strcmp(arg, "--part");
 #ifndef EXAPP_NATIVE
         known = known || !strcmp(arg, "--chain");
 #endif
@@ -141,6 +180,9 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
         } else if (!strcmp(arg, "--detail")) {
             if (!parse_int(value, 1, 8, &app->detail))
                 return fail(app, 2, "bad --detail (expected 1..8)", value);
+        } else if (!strcmp(arg, "--part")) {
+            if (!parse_part(value, &app->part, &app->parts))
+                return fail(app, 2, "bad --part (expected K/N, 0 <= K < N <= 1048576)", value);
         }
 #ifndef EXAPP_NATIVE
         else {

@@ -28,6 +28,7 @@ typedef struct exapp {
     int frames;        /* frames to draw (--frames N) */
     int frame;         /* number of the next frame to be swapped, from 0 */
     int detail;        /* --detail N (1..8): how finely examples that can vary it draw */
+    int part, parts;   /* --part K/N (sort-last): draw only share K of N; 0/1 by default */
     int exit_code;     /* what main returns: 0, 1 runtime failure, 2 usage */
     exapp_backend *backend;
 } exapp;
@@ -38,10 +39,24 @@ typedef struct exapp {
  * context or chain could not be made; a one-line message was printed). */
 bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height);
 
+/* As exapp_init, with one example-specific flag (no value): `flag`
+ * (e.g. "--overlap") sets *on, and `help` (one line, indented like the
+ * others) is added to --help. */
+bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
+                     const char *flag, const char *help, bool *on);
+
 /* Ends the frame: the native build finishes and writes the PNG, the
  * tessera build sends SwapBuffersTSR(0, 0). Returns false (exit_code = 1,
  * message printed) when the frame could not be written. */
 bool exapp_swap(exapp *app);
+
+/* Sort-last parts (--part K/N): the example numbers its primitives
+ * 0..total-1 in the order the whole scene draws them; share K is the
+ * contiguous run [K*total/N, (K+1)*total/N), so the N shares are disjoint,
+ * cover every primitive, and drawn in rank order give the whole scene's
+ * draw order. Sets *first and returns how many of the `total` are this
+ * process's (all of them without --part). */
+long exapp_part_range(const exapp *app, long total, long *first);
 
 /* Releases the context / chain; returns app->exit_code. */
 int exapp_finish(exapp *app);

@@ -1108,10 +1108,71 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
                     TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
         }
+        if (r->hooks.frame)
+            r->hooks.frame(r->hooks.ctx, frame, r);
         if (r->hooks.image && r->buffer)
             r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
     }
     tsr_call_SwapBuffersTSR(r->child, window, flags);
+}
+
+void render_spu_size(const void *instance, int *width, int *height)
+{
+    const render_spu *r = instance;
+    *width = r->width;
+    *height = r->height;
+}
+
+/* Reads with the current context's client state saved and GL's defaults
+ * set, so the client's pack and transfer state never applies. */
+static void read_default_state(render_spu *r, int x, int y, int w, int h, GLenum format, GLenum type, void *pixels)
+{
+    GLint pack_buffer = 0;
+    r->gl.GetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
+    if (pack_buffer)
+        r->gl.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    r->gl.PushClientAttrib(GL_CLIENT_PIXEL_STORE_BIT);
+    r->gl.PushAttrib(GL_PIXEL_MODE_BIT);
+    static const GLenum zero[] = {GL_PACK_ROW_LENGTH, GL_PACK_SKIP_ROWS,    GL_PACK_SKIP_PIXELS, GL_PACK_SWAP_BYTES,
+                                  GL_PACK_LSB_FIRST,  GL_PACK_IMAGE_HEIGHT, GL_PACK_SKIP_IMAGES};
+    for (size_t i = 0; i < sizeof zero / sizeof zero[0]; i++)
+        r->gl.PixelStorei(zero[i], 0);
+    r->gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    static const GLenum one[] = {GL_RED_SCALE, GL_GREEN_SCALE, GL_BLUE_SCALE, GL_ALPHA_SCALE, GL_DEPTH_SCALE};
+    static const GLenum none[] = {GL_RED_BIAS, GL_GREEN_BIAS, GL_BLUE_BIAS, GL_ALPHA_BIAS, GL_DEPTH_BIAS};
+    for (size_t i = 0; i < 5; i++) {
+        r->gl.PixelTransferf(one[i], 1.0f);
+        r->gl.PixelTransferf(none[i], 0.0f);
+    }
+    r->gl.PixelTransferi(GL_MAP_COLOR, GL_FALSE);
+    r->gl.PixelTransferi(GL_MAP_STENCIL, GL_FALSE);
+    r->gl.ReadPixels(x, y, w, h, format, type, pixels);
+    r->gl.PopAttrib();
+    r->gl.PopClientAttrib();
+    if (pack_buffer)
+        r->gl.BindBuffer(GL_PIXEL_PACK_BUFFER, (GLuint)pack_buffer);
+}
+
+int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format, unsigned type, void *pixels,
+                    tsr_error *err)
+{
+    render_spu *r = instance;
+    if (x < 0 || y < 0 || w < 0 || h < 0 || x > r->width - w || y > r->height - h)
+        return tsr_error_set(err, TSR_EINVAL, "%s: read [%d, %d, %d, %d] outside the %dx%d window", r->name, x, y, w, h,
+                             r->width, r->height);
+    if (!w || !h)
+        return TSR_OK;
+    ensure_current(r);
+    if (!r->shared) {
+        read_default_state(r, x, y, w, h, format, type, pixels);
+        return TSR_OK;
+    }
+    /* Shared mode: context 0's pixel state is never a client's. */
+    size_t back = r->current;
+    if (shared_switch(r, 0, err) != TSR_OK)
+        return err->code;
+    r->gl.ReadPixels(x, y, w, h, format, type, pixels);
+    return shared_switch(r, back, err);
 }
 
 /* Room for one more context; false when out of memory. */

@@ -11,7 +11,12 @@
  * goes on to the child: once per owned tile (its rectangle in window
  * pixels, origin bottom-left, and its RGBA8 pixels, bottom row first,
  * rows packed), or once with the whole window when there are no tiles.
- * The pixels are valid during the call only. */
+ * The pixels are valid during the call only.
+ *
+ * `frame` is called at every swap of the instance's window when it has no
+ * tiles, after the frame was finished and written out, before `image`:
+ * the place to read more of the frame than its colour (depth, a region)
+ * with render_spu_read while the frame is still in the framebuffer. */
 #ifndef TSR_SPUS_RENDER_RENDER_H
 #define TSR_SPUS_RENDER_RENDER_H
 
@@ -28,6 +33,7 @@
 
 typedef struct render_hooks {
     void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height, const unsigned char *rgba);
+    void (*frame)(void *ctx, int frame, void *render);
     void *ctx;
 } render_hooks;
 
@@ -36,6 +42,16 @@ typedef struct render_hooks {
  * on (window, swap, context and tiles commands). */
 void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err);
 void render_spu_destroy(void *instance);
+
+/* The window's framebuffer size. */
+void render_spu_size(const void *instance, int *width, int *height);
+/* Reads the rectangle [x, y, w, h] of the current frame (from a `frame`
+ * hook) as glReadPixels(format, type) would with GL's default pixel-store
+ * and pixel-transfer state, rows packed, whatever state the client set:
+ * e.g. GL_DEPTH_COMPONENT/GL_FLOAT for depth. The rectangle must lie in
+ * the window. */
+int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format, unsigned type, void *pixels,
+                    tsr_error *err);
 
 /* render's options; an SPU built on it lists them among its own. */
 #define RENDER_OPTION_SPECS                                                                    \

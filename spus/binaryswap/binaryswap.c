@@ -1,0 +1,731 @@
+/* spus/binaryswap — one peer of a sort-last compositing group: renders
+ * exactly like `render` (it IS render: spus/render's library, render.h,
+ * with a frame hook), and at every SwapBuffers of its window reads back the
+ * colour and depth of its region of interest, composites it with its
+ * peers' images, and the group's final frame goes to a display node (an
+ * ordinary `tessera node` whose render chain writes the PNG). Owns, per
+ * instance: the render instance, the peer connections (netlib, one
+ * tsr_net), the stream to the display (a `pack` chain of its own), the
+ * read-back and frame buffers. Never: keeps state outside the instance,
+ * sends the display anything but the window, the final image and the swap,
+ * or sends a peer a full frame of background (an empty peer's image is a
+ * header).
+ *
+ * Group. `rank` (0..N-1) and `peers` (every peer's node address, rank
+ * order) come from the graph (TSR_SPU_ROLE_PEERS); N is the number of
+ * peers. Peers exchange images on their own listening sockets, one per
+ * peer: `exchange` gives their addresses in rank order, else each is
+ * derived from the peer's node address (unix:PATH -> unix:PATH.x;
+ * tcp://HOST:PORT -> tcp://HOST:PORT+1) or, in situ (application peers
+ * have no address: the graph run gives empty ones), from the display's
+ * and the rank R (unix:PATH.peerR; tcp://HOST:PORT+1+R). The mesh is made at the first
+ * swap: every peer listens, connects to every lower rank (retrying until
+ * timeout_ms while that peer is not listening yet) and accepts the higher
+ * ranks; the first message on a connection names the connecting rank.
+ *
+ * Region of interest. At a swap the depth buffer of the window is read
+ * (GL_DEPTH_COMPONENT/GL_FLOAT, as OSMesa gives it) and the box of pixels
+ * with depth < 1.0 (the cleared value) found; only the box's colour is
+ * read and sent. A peer that drew nothing sends the header alone. Geometry
+ * partly behind the viewer (w <= 0) is clipped by GL before it reaches the
+ * depth buffer, so the box is what was drawn whatever the vertices' w.
+ * (The chain's bounding boxes are not used yet: issue 11, item 2.)
+ *
+ * Compositing (composite_frame below): one of the strategies of
+ * strategies/ (strategy.h: binary swap for any peer count, direct send,
+ * radix-k, gather to one, auto), planned once per window size and run by
+ * its executor over this SPU's transport (transport_send/recv): peers are
+ * participants 0..N-1 over the mesh, and the display participant N lives
+ * in rank 0's process (rank 0's own final piece is queued locally). Depth
+ * mode: the nearest depth wins, equal depth goes to the lower rank, so the
+ * result is the single-process render of the parts drawn in rank order
+ * with GL_LESS, bit for bit, for every strategy and arrival order. Pixels
+ * no peer drew get the background colour, read from a pixel rank 0 left
+ * at depth 1.0 (exactly what GL's clear produced; when rank 0 left none,
+ * it covered the window and no pixel is background). Rank 0 then draws
+ * the frame on the display (WindowPos2i, DrawPixels) and swaps; the other
+ * ranks also connect to the display (a graph's display node counts every
+ * peer among its clients) but send it nothing.
+ *
+ * Failures: a peer that does not answer within timeout_ms, a connection
+ * that breaks, a message whose frame, rank, window size or region is not
+ * what it must be: one line naming the peer (rank and address), then the
+ * process ends with status 1 (on_error=exit, the default, as readback
+ * does: a frame that cannot be composited is a failed run). */
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "net.h"
+#include "render.h"
+#include "strategy.h"
+#include "tessera/chain.h"
+#include "tessera/dev/client.h"
+#include "tessera/log.h"
+#include "tessera/spu.h"
+
+#define BSWAP_MAX_PEERS 64
+#define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
+#define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
+#define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
+
+/* A message queued for this process's own display participant (rank 0
+ * sends its final piece to itself). */
+typedef struct local_msg {
+    struct local_msg *next;
+    size_t size;
+    uint8_t data[];
+} local_msg;
+
+typedef struct bswap_spu {
+    char name[96];
+    void *render;
+    tsr_dispatch down;
+    const tsr_dispatch *child;
+    const tsr_options *options;
+    int window, rank, nranks, timeout_ms;
+    char exchange[BSWAP_MAX_PEERS][TSR_NET_ADDRESS_MAX];
+
+    tsr_net *net;
+    tsr_net_listener *listener;
+    tsr_net_conn *conns[BSWAP_MAX_PEERS]; /* conns[rank] stays NULL */
+    bool linked;
+
+    tsr_chain *out; /* pack to the display; NULL until first needed */
+    const tsr_dispatch *display;
+    bool display_failed;
+
+    int kind, k;           /* strategy asked for (tsr_cs_kind) and radix */
+    tsr_image_codec codec; /* of image messages */
+    tsr_cs_schedule plan;  /* for plan_width x plan_height; kind 0: none yet */
+    int plan_width, plan_height;
+    tsr_cs_executor *peer_ex, *display_ex; /* display_ex: rank 0 only */
+    uint64_t last_bytes;                   /* this peer's bytes sent last frame (auto's hint) */
+    tsr_net_msg held;                      /* the message recv handed out last */
+    bool holding;
+    local_msg *local_head, *local_tail; /* rank 0 -> its own display participant */
+    local_msg *local_given;             /* handed out by recv, freed at the next */
+
+    uint32_t frames; /* frames composited */
+    float *window_depth;
+    size_t window_depth_size;
+    tsr_cimage mine;  /* this frame's region of interest */
+    tsr_cimage frame; /* rank 0: the assembled frame */
+    uint8_t background[4];
+    bool has_background; /* background[] is a pixel this peer left cleared */
+} bswap_spu;
+
+/* Ends the process after one line: other threads (netlib's, llvmpipe's)
+ * are running, so _exit. */
+static void bswap_fatal(bswap_spu *b, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+static void bswap_fatal(bswap_spu *b, const char *fmt, ...)
+{
+    char what[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    tsr_log(TSR_LOG_ERROR, "%s: %s", b->name, what);
+    tsr_log(TSR_LOG_ERROR, "%s: ending (a frame that cannot be composited fails the run)", b->name);
+    fflush(NULL);
+    _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+}
+
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* --- addresses ----------------------------------------------------------- */
+
+/* The exchange address of a peer whose node listens at `node` (header). */
+static int derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err)
+{
+    if (!strncmp(node, "unix:", 5)) {
+        int n =
+            display_rank ? snprintf(out, size, "%s.peer%d", node, display_rank - 1) : snprintf(out, size, "%s.x", node);
+        if (n < 0 || (size_t)n >= size)
+            return tsr_error_set(err, TSR_EINVAL, "address too long: %s", node);
+        return TSR_OK;
+    }
+    const char *colon = strrchr(node, ':');
+    if (!strncmp(node, "tcp://", 6) && colon && colon > node + 5) {
+        char *end;
+        long port = strtol(colon + 1, &end, 10);
+        if (*end || port <= 0 || port >= 65535)
+            return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+        long to = display_rank ? port + display_rank : port + 1;
+        if (to >= 65536)
+            return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+        if ((size_t)snprintf(out, size, "%.*s:%ld", (int)(colon - node), node, to) >= size)
+            return tsr_error_set(err, TSR_EINVAL, "address too long: %s", node);
+        return TSR_OK;
+    }
+    return tsr_error_set(err, TSR_EINVAL, "cannot derive an exchange address from %s (give exchange=)", node);
+}
+
+static const char *peer_address(const bswap_spu *b, int rank) { return b->exchange[rank]; }
+
+/* --- the display ------------------------------------------------------------ */
+
+static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeout_ms", "on_error"};
+#define PACK_KEYS (sizeof pack_keys / sizeof pack_keys[0])
+
+/* The display stream, created on first use (not in create: a node builds
+ * its chain once at start-up only to check it). */
+static const tsr_dispatch *display(bswap_spu *b)
+{
+    if (b->display || b->display_failed)
+        return b->display;
+    char numbers[2][24];
+    snprintf(numbers[0], sizeof numbers[0], "%" PRId64, tsr_options_int(b->options, "buffer_size"));
+    snprintf(numbers[1], sizeof numbers[1], "%" PRId64, tsr_options_int(b->options, "timeout_ms"));
+    const char *values[PACK_KEYS] = {tsr_options_string(b->options, "display"), tsr_options_string(b->options, "token"),
+                                     numbers[0], numbers[1], tsr_options_string(b->options, "on_error")};
+    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
+    tsr_error err = {0};
+    b->out = tsr_chain_create_links(&link, 1, &err);
+    if (!b->out) {
+        bswap_fatal(b, "display %s: %s", values[0], err.message);
+    }
+    b->display = tsr_chain_head(b->out);
+    return b->display;
+}
+
+static void bswap_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
+    bswap_spu *b = self;
+    const tsr_dispatch *d = window == b->window ? display(b) : NULL;
+    if (d && b->rank == 0)
+        tsr_call_WindowCreateTSR(d, window, width, height);
+    tsr_call_WindowCreateTSR(b->child, window, width, height);
+}
+
+static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
+{
+    bswap_spu *b = self;
+    const tsr_dispatch *d = window == b->window ? display(b) : NULL;
+    if (d && b->rank == 0)
+        tsr_call_WindowSizeTSR(d, window, width, height);
+    tsr_call_WindowSizeTSR(b->child, window, width, height);
+}
+
+/* --- the peer mesh ---------------------------------------------------------- */
+
+static void link_peers(bswap_spu *b, int W, int H)
+{
+    if (b->linked)
+        return;
+    b->linked = true;
+    if (b->nranks == 1)
+        return;
+    tsr_error err = {0};
+    char node_name[64];
+    snprintf(node_name, sizeof node_name, "binaryswap-rank-%d", b->rank);
+    tsr_net_config cfg;
+    tsr_net_config_defaults(&cfg);
+    cfg.node_name = node_name;
+    cfg.token = tsr_options_string(b->options, "token");
+    cfg.max_message_bytes = (uint64_t)1 << 31;
+    if (b->timeout_ms > 0) {
+        cfg.idle_timeout_ms = (uint32_t)b->timeout_ms;
+        cfg.connect_timeout_ms = cfg.handshake_timeout_ms = (uint32_t)b->timeout_ms;
+    }
+    if (!(b->net = tsr_net_create(&cfg, &err)))
+        bswap_fatal(b, "%s", err.message);
+    if (!(b->listener = tsr_net_listen(b->net, peer_address(b, b->rank), &err))) {
+        bswap_fatal(b, "rank %d cannot listen for its peers: %s", b->rank, err.message);
+    }
+    /* Peers reach their first frame at different times (start-up, their
+     * share's first draw): the mesh has its own, longer limit. */
+    int link_ms = (int)tsr_options_int(b->options, "link_timeout_ms");
+    int64_t deadline = now_ms() + link_ms;
+    for (int i = 0; i < b->rank; i++) {
+        for (;;) {
+            /* A Unix socket that is not there yet would be one more logged
+             * refusal per try: wait for the file instead. */
+            const char *a = peer_address(b, i);
+            struct stat st;
+            if (!strncmp(a, "unix:", 5) && stat(a + 5, &st) != 0 && now_ms() < deadline) {
+                usleep(10000);
+                continue;
+            }
+            b->conns[i] = tsr_net_connect(b->net, peer_address(b, i), &err);
+            if (b->conns[i] || now_ms() >= deadline)
+                break;
+            usleep(20000); /* that peer does not listen yet */
+        }
+        if (!b->conns[i]) {
+            bswap_fatal(b, "peer rank %d (%s) cannot be reached: %s", i, peer_address(b, i), err.message);
+        }
+        int32_t me[3] = {b->rank, W, H};
+        if (tsr_net_send(b->conns[i], BSWAP_KIND_HELLO, me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
+            bswap_fatal(b, "peer rank %d (%s): %s", i, peer_address(b, i), err.message);
+        }
+    }
+    for (int n = b->rank + 1; n < b->nranks; n++) {
+        int64_t left = deadline - now_ms();
+        tsr_net_conn *c = tsr_net_accept(b->listener, left > 0 ? (int)left : 1, &err);
+        if (!c) {
+            int missing = -1;
+            for (int k = b->rank + 1; k < b->nranks && missing < 0; k++)
+                if (!b->conns[k])
+                    missing = k;
+            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms (link_timeout_ms): %s", missing,
+                        peer_address(b, missing), link_ms, err.message);
+        }
+        tsr_net_msg msg;
+        int32_t hello[3] = {-1, 0, 0}, who = -1;
+        int rc = tsr_net_recv(c, &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
+        if (rc == 1) {
+            if (msg.kind == BSWAP_KIND_HELLO && msg.len == sizeof hello)
+                memcpy(hello, msg.data, sizeof hello);
+            tsr_net_msg_release(&msg);
+        }
+        who = hello[0];
+        if (who <= b->rank || who >= b->nranks || b->conns[who]) {
+            bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)", tsr_net_conn_address(c), who);
+        }
+        b->conns[who] = c;
+        if (hello[1] != W || hello[2] != H)
+            bswap_fatal(
+                b, "frame 0: peer rank %d (%s) draws a %" PRId32 "x%" PRId32 " window, not %dx%d (window sizes differ)",
+                who, peer_address(b, who), hello[1], hello[2], W, H);
+    }
+    tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
+}
+
+/* --- read-back -------------------------------------------------------------- */
+
+static bool grow(void **p, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return true;
+    void *q = realloc(*p, need);
+    if (!q)
+        return false;
+    *p = q;
+    *cap = need;
+    return true;
+}
+
+/* Reads this frame's region of interest into b->mine (header comment). */
+static void read_layer(bswap_spu *b, uint32_t frame)
+{
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    tsr_error err = {0};
+    size_t pixels = (size_t)W * (size_t)H;
+    if (!grow((void **)&b->window_depth, &b->window_depth_size, pixels * sizeof(float) + 1))
+        bswap_fatal(b, "%s", "out of memory for the depth buffer");
+    if (render_spu_read(b->render, 0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, b->window_depth, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    int x0 = W, y0 = H, x1 = -1, y1 = -1;
+    size_t bg_index = SIZE_MAX;
+    for (int y = 0; y < H; y++) {
+        const float *row = b->window_depth + (size_t)y * (size_t)W;
+        for (int x = 0; x < W; x++) {
+            if (row[x] < 1.0f) {
+                if (x < x0)
+                    x0 = x;
+                if (x > x1)
+                    x1 = x;
+                if (y < y0)
+                    y0 = y;
+                y1 = y;
+            } else if (bg_index == SIZE_MAX) {
+                bg_index = (size_t)y * (size_t)W + (size_t)x;
+            }
+        }
+    }
+    int x = 0, y = 0, w = 0, h = 0;
+    if (x1 >= 0) {
+        x = x0;
+        y = y0;
+        w = x1 - x0 + 1;
+        h = y1 - y0 + 1;
+    }
+    if (tsr_cimage_init(&b->mine, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    b->mine.rank = b->rank;
+    b->mine.frame = frame;
+    if (w && render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    for (int r = 0; r < h; r++)
+        memcpy(b->mine.depth + (size_t)r * (size_t)w, b->window_depth + (size_t)(y + r) * (size_t)W + (size_t)x,
+               (size_t)w * sizeof(float));
+    b->has_background = bg_index != SIZE_MAX;
+    if (b->has_background && render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1,
+                                             GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
+            x, y, w, h, W, H);
+}
+
+/* --- the transport the strategies run over ---------------------------------- */
+
+static void release_held(bswap_spu *b)
+{
+    if (b->holding)
+        tsr_net_msg_release(&b->held);
+    b->holding = false;
+    free(b->local_given);
+    b->local_given = NULL;
+}
+
+/* Participant `to`: a peer rank over its connection, or the display
+ * participant (nranks), which lives in rank 0's process. */
+static int transport_send(void *user, int to, const void *data, size_t size, tsr_error *err)
+{
+    bswap_spu *b = user;
+    if (to == b->nranks && b->rank == 0) {
+        local_msg *m = malloc(sizeof *m + size);
+        if (!m)
+            return tsr_error_set(err, TSR_ENOMEM, "out of memory for a %zu-byte image", size);
+        m->next = NULL;
+        m->size = size;
+        memcpy(m->data, data, size);
+        if (b->local_tail)
+            b->local_tail->next = m;
+        else
+            b->local_head = m;
+        b->local_tail = m;
+        return TSR_OK;
+    }
+    int peer = to == b->nranks ? 0 : to;
+    if (peer < 0 || peer >= b->nranks || !b->conns[peer])
+        return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
+    tsr_error e = {0};
+    int rc = tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size,
+                          b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    if (rc != TSR_OK)
+        return tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
+                             rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
+    b->last_bytes += size;
+    return TSR_OK;
+}
+
+static int transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
+{
+    bswap_spu *b = user;
+    release_held(b);
+    if (from == b->rank) {
+        local_msg *m = b->local_head;
+        if (!m)
+            return tsr_error_set(err, TSR_EPROTO, "rank %d waits for an image from itself that was never sent",
+                                 b->rank);
+        b->local_head = m->next;
+        if (!b->local_head)
+            b->local_tail = NULL;
+        b->local_given = m;
+        *data = m->data;
+        *size = m->size;
+        return TSR_OK;
+    }
+    if (from < 0 || from >= b->nranks || !b->conns[from])
+        return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", from);
+    tsr_error e = {0};
+    int rc = tsr_net_recv(b->conns[from], &b->held, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    if (rc != 1)
+        return tsr_error_set(err, rc == 0 ? TSR_EIO : rc, "peer rank %d (%s): %s", from, peer_address(b, from),
+                             rc == 0               ? "ended before sending its image"
+                             : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
+                                                   : e.message);
+    b->holding = true;
+    if (b->held.kind != BSWAP_KIND_IMAGE)
+        return tsr_error_set(err, TSR_EPROTO, "peer rank %d (%s): a message of kind %u, not an image", from,
+                             peer_address(b, from), b->held.kind);
+    *data = b->held.data;
+    *size = (size_t)b->held.len;
+    return TSR_OK;
+}
+
+/* The schedule for this window (planned again when the size changes). */
+static void plan(bswap_spu *b, int W, int H)
+{
+    if (b->plan.kind && b->plan_width == W && b->plan_height == H)
+        return;
+    tsr_error err = {0};
+    tsr_cs_executor_free(b->peer_ex);
+    tsr_cs_executor_free(b->display_ex);
+    b->peer_ex = b->display_ex = NULL;
+    if (b->plan.kind)
+        tsr_cs_schedule_free(&b->plan);
+    tsr_cs_hint hint = {.image_bytes = b->last_bytes, .display_separate = 0};
+    if (tsr_cs_plan(b->kind, b->nranks, W, H, b->k, &hint, &b->plan, &err) != TSR_OK ||
+        !(b->peer_ex = tsr_cs_executor_new(&b->plan, b->codec, &err)) ||
+        (b->rank == 0 && !(b->display_ex = tsr_cs_executor_new(&b->plan, b->codec, &err))))
+        bswap_fatal(b, "%s", err.message);
+    b->plan_width = W;
+    b->plan_height = H;
+    if (b->rank == 0) {
+        char codec[64];
+        tsr_log(TSR_LOG_INFO, "%s: strategy %s for %d peers, %dx%d window, codec %s: %s", b->name, b->plan.name,
+                b->nranks, W, H, tsr_image_codec_name(b->codec, codec, sizeof codec), b->plan.reason);
+    }
+}
+
+/* Composites this frame with the group (the strategy's schedule); rank 0
+ * then draws the assembled frame on the display and swaps. */
+static void composite_frame(bswap_spu *b, uint32_t frame)
+{
+    tsr_error err = {0};
+    plan(b, b->mine.window_width, b->mine.window_height);
+    b->last_bytes = 0;
+    tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
+    if (tsr_cs_run_peer(b->peer_ex, b->rank, &b->mine, TSR_COMPOSITE_DEPTH, &t, &err) != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
+            b->rank, b->last_bytes);
+    if (b->rank != 0) {
+        release_held(b);
+        return;
+    }
+    /* A peer without a background pixel covered the whole window, so no
+     * pixel of the frame is background and any colour does. */
+    if (tsr_cs_run_display(b->display_ex, frame, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->background,
+                           &b->frame, &t, &err) != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    release_held(b);
+    const tsr_dispatch *d = display(b);
+    tsr_call_WindowPos2i(d, 0, 0);
+    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, b->frame.color);
+    tsr_call_SwapBuffersTSR(d, b->window, 0);
+}
+
+/* render's frame hook: the frame is finished and still in the framebuffer. */
+static void bswap_frame(void *ctx, int frame, void *render)
+{
+    (void)render;
+    bswap_spu *b = ctx;
+    display(b);
+    int W = 0, H = 0;
+    render_spu_size(b->render, &W, &H);
+    link_peers(b, W, H);
+    read_layer(b, (uint32_t)frame);
+    composite_frame(b, (uint32_t)frame);
+    b->frames++;
+}
+
+/* --- the class -------------------------------------------------------------- */
+
+static void bswap_destroy(void *self)
+{
+    bswap_spu *b = self;
+    if (!b)
+        return;
+    render_spu_destroy(b->render);
+    release_held(b);
+    tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
+    for (int i = 0; i < b->nranks; i++)
+        if (b->conns[i])
+            tsr_net_conn_close(b->conns[i]);
+    if (b->listener)
+        tsr_net_listener_close(b->listener);
+    tsr_net_destroy(b->net);
+    for (local_msg *m = b->local_head, *next; m; m = next) {
+        next = m->next;
+        free(m);
+    }
+    tsr_cs_executor_free(b->peer_ex);
+    tsr_cs_executor_free(b->display_ex);
+    if (b->plan.kind)
+        tsr_cs_schedule_free(&b->plan);
+    tsr_cimage_free(&b->mine);
+    tsr_cimage_free(&b->frame);
+    free(b->window_depth);
+    free(b);
+}
+
+static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
+{
+    bswap_spu *b = calloc(1, sizeof *b);
+    if (!b) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
+        return NULL;
+    }
+    snprintf(b->name, sizeof b->name, "%s", init->instance_name);
+    b->child = init->child;
+    b->options = init->options;
+    b->window = (int)tsr_options_int(init->options, "window");
+    b->rank = (int)tsr_options_int(init->options, "rank");
+    b->timeout_ms = (int)tsr_options_int(init->options, "timeout_ms");
+    size_t npeers = tsr_options_count(init->options, "peers");
+    size_t nexchange = tsr_options_count(init->options, "exchange");
+    const char *display_address = tsr_options_string(init->options, "display");
+    const char *mode = tsr_options_string(init->options, "mode");
+    const char *strategy = tsr_options_string(init->options, "strategy");
+    if (!display_address || !display_address[0]) {
+        tsr_error_set(err, TSR_EINVAL,
+                      "%s: option display is required: the display node (e.g. display=tcp://127.0.0.1:7000)", b->name);
+        goto fail;
+    }
+    if (nexchange && npeers && nexchange != npeers) {
+        tsr_error_set(err, TSR_EINVAL, "%s: exchange gives %zu addresses for %zu peers", b->name, nexchange, npeers);
+        goto fail;
+    }
+    size_t n = nexchange ? nexchange : npeers ? npeers : 1;
+    if (n > BSWAP_MAX_PEERS) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %zu peers; at most %d", b->name, n, BSWAP_MAX_PEERS);
+        goto fail;
+    }
+    b->nranks = (int)n;
+    if (b->rank >= b->nranks) {
+        tsr_error_set(err, TSR_EINVAL, "%s: rank %d, but the group has %d peers (0..%d)", b->name, b->rank, b->nranks,
+                      b->nranks - 1);
+        goto fail;
+    }
+    for (size_t i = 0; i < n && b->nranks > 1; i++) {
+        const char *a = nexchange ? tsr_options_string_at(init->options, "exchange", i) : NULL;
+        if (a && (size_t)snprintf(b->exchange[i], sizeof b->exchange[i], "%s", a) >= sizeof b->exchange[i]) {
+            tsr_error_set(err, TSR_EINVAL, "%s: exchange address too long: %s", b->name, a);
+            goto fail;
+        }
+        tsr_error e = {0};
+        const char *node = a ? NULL : tsr_options_string_at(init->options, "peers", i);
+        if (node && !node[0]) {
+            /* In situ: application peers have no address of their own. */
+            char from_display[TSR_NET_ADDRESS_MAX + 16];
+            snprintf(from_display, sizeof from_display, "%s", display_address);
+            if (derive_exchange(from_display, b->exchange[i], sizeof b->exchange[i], (int)i + 1, &e) != TSR_OK) {
+                tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
+                goto fail;
+            }
+        } else if (node && derive_exchange(node, b->exchange[i], sizeof b->exchange[i], 0, &e) != TSR_OK) {
+            tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
+            goto fail;
+        }
+        for (size_t j = 0; j < i; j++)
+            if (!strcmp(b->exchange[i], b->exchange[j])) {
+                tsr_error_set(err, TSR_EINVAL, "%s: peers %zu and %zu have one exchange address %s", b->name, j, i,
+                              b->exchange[i]);
+                goto fail;
+            }
+    }
+    if (strcmp(mode, "depth")) {
+        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: mode=%s is not implemented yet (depth only)", b->name, mode);
+        goto fail;
+    }
+    tsr_error e = {0};
+    if (tsr_cs_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
+        tsr_error_set(err, TSR_EINVAL, "%s: strategy=%s: %s", b->name, strategy, e.message);
+        goto fail;
+    }
+    if (tsr_options_int(init->options, "k"))
+        b->k = (int)tsr_options_int(init->options, "k");
+    if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
+        tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
+                      e.message);
+        goto fail;
+    }
+    b->down = *init->child;
+    tsr_set_WindowCreateTSR(&b->down, bswap_WindowCreateTSR, b);
+    tsr_set_WindowSizeTSR(&b->down, bswap_WindowSizeTSR, b);
+    tsr_spu_init render_init = *init;
+    render_init.child = &b->down;
+    render_hooks hooks = {.frame = bswap_frame, .ctx = b};
+    b->render = render_spu_create(&render_init, &hooks, err);
+    if (!b->render)
+        goto fail;
+    return b;
+fail:
+    free(b);
+    return NULL;
+}
+
+static const tsr_option_spec bswap_options[] = {
+    RENDER_OPTION_SPECS,
+    {.name = "display",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
+     .help = "the display node the composited frame goes to: tcp://HOST:PORT or unix:PATH "
+             "(required; a graph's to: fills it)"},
+    {.name = "rank",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = BSWAP_MAX_PEERS - 1,
+     .help = "this peer's place in the group, 0..N-1: depth ties go to the lower rank; rank 0 "
+             "sends the frame to the display (a graph run sets it)"},
+    {.name = "peers",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "every peer's node address in rank order, this one's included (a graph run sets "
+             "it); the group has as many peers"},
+    {.name = "exchange",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "where each peer listens for the others' images, in rank order; empty: derived "
+             "from peers (unix:PATH.x, tcp://HOST:PORT+1). Without peers it gives the group"},
+    {.name = "link_timeout_ms",
+     .type = TSR_OPT_INT,
+     .default_value = "60000",
+     .min = 1,
+     .max = 3600000.0,
+     .help = "how long the peers wait for each other at the first frame (the mesh); later "
+             "frames wait at most timeout_ms"},
+    {.name = "strategy",
+     .type = TSR_OPT_STRING,
+     .default_value = "auto",
+     .min = 1,
+     .max = 0,
+     .help = "how the group composites: auto (chosen from the peer count, window and last "
+             "frame's bytes; logged), bswap (binary swap, any peer count), direct (direct "
+             "send), radixk or radixk-K (radix-k), gather (all to rank 0)"},
+    {.name = "k",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = BSWAP_MAX_PEERS,
+     .help = "radix-k's radix (2..N; 2 is binary swap, N direct send); 0: radix-k chooses"},
+    {.name = "codec",
+     .type = TSR_OPT_STRING,
+     .default_value = "rle",
+     .min = 1,
+     .max = 0,
+     .help = "image messages: none, rle (active-pixel runs), erle (lossless per-channel RLE), "
+             "lossy yuv420, depth16, depth24, or '+'-joined (erle+depth24)"},
+    {.name = "mode",
+     .type = TSR_OPT_STRING,
+     .default_value = "depth",
+     .min = 1,
+     .max = 0,
+     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank"},
+    /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
+     * display stream's; a failing peer always ends the process). */
+    TSR_NODE_CLIENT_OPTION_SPECS,
+};
+
+static const tsr_spu_class bswap_class = {
+    .abi = TSR_SPU_ABI,
+    .dispatch_count = TSR_DISPATCH_COUNT,
+    .name = "binaryswap",
+    .summary = "renders like render, then composites each frame's colour+depth with its peers "
+               "(sort-last) and sends the final frame to a display node",
+    .options = bswap_options,
+    .option_count = sizeof bswap_options / sizeof bswap_options[0],
+    .create = bswap_create,
+    .destroy = bswap_destroy,
+    .network = {.role = TSR_SPU_ROLE_PEERS,
+                .display = "display",
+                .rank = "rank",
+                .peers = "peers",
+                .token = TSR_NODE_CLIENT_TOKEN_OPTION},
+};
+
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &bswap_class; }

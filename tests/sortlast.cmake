@@ -1,0 +1,114 @@
+# tests/sortlast.cmake — sort-last compositing (issue 11): the examples'
+# --part K/N shares, the binaryswap SPU against a real display node, the
+# sort-last graphs under `tessera run`, and their mistakes as one clear
+# line. Every accuracy test compares every frame with the single-process
+# native render of the whole scene (0 differing pixels). Small windows;
+# the full peer-count sweep runs in the plain build only.
+get_property(SORTLAST_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+set(SORTLAST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/sortlast)
+set(SORTLAST_OUT ${CMAKE_BINARY_DIR}/test-out/sortlast)
+set(SORTLAST_EXPECT ${CMAKE_CURRENT_SOURCE_DIR}/render/expect.sh)
+
+foreach(app spheres isosurface)
+  add_test(NAME sortlast_${app}_part_out_of_range_is_a_clear_error
+    COMMAND ${SORTLAST_EXPECT} 2 "" "^${app}: bad --part \\(expected K/N"
+            $<TARGET_FILE:${app}-native> --frames 1 --size 32x32 --part 2/2 --out "")
+  add_test(NAME sortlast_${app}_parts_each_draw_less_than_the_whole
+    COMMAND ${SORTLAST_DIR}/parts.sh ${CMAKE_BINARY_DIR}/bin ${app} ${SORTLAST_OUT}/parts-${app})
+endforeach()
+add_test(NAME sortlast_spheres_help_lists_part_and_overlap
+  COMMAND ${SORTLAST_EXPECT} 0 "--overlap" "" $<TARGET_FILE:spheres-native> --help)
+set_tests_properties(sortlast_spheres_help_lists_part_and_overlap PROPERTIES
+  PASS_REGULAR_EXPRESSION "--part K/N")
+
+# Accuracy: both forms, every frame against the native whole scene, 0
+# differing pixels (tests/sortlast/sortlast.sh). The isosurface is split
+# into N shares of its triangles; `overlap` is spheres --overlap, whose
+# interpenetrating spheres are cut by the share borders. The full sweep of
+# peer counts in the plain build; a sanitizer build runs N = 1 and 3.
+set(SORTLAST_SH ${SORTLAST_DIR}/sortlast.sh)
+if(TESSERA_SANITIZE)
+  set(SORTLAST_COUNTS 1 3)
+else()
+  set(SORTLAST_COUNTS 1 2 3 4 5 7 8)
+endif()
+foreach(n ${SORTLAST_COUNTS})
+  foreach(form insitu servers)
+    add_test(NAME composite_${form}_depth_exact_n${n}
+      COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-iso-${n} ${n} isosurface)
+    add_test(NAME composite_${form}_interpenetrating_depth_exact_n${n}
+      COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-overlap-${n} ${n} overlap)
+  endforeach()
+endforeach()
+# Every strategy of the SPU (spus/binaryswap/strategies) gives the same
+# exact frames; and a lossless codec other than the default.
+if(TESSERA_SANITIZE)
+  set(SORTLAST_STRATEGY_CASES "insitu|3|bswap|strategy: bswap")
+else()
+  set(SORTLAST_STRATEGY_CASES
+    "insitu|5|bswap|strategy: bswap" "insitu|8|bswap|strategy: bswap" "servers|7|bswap|strategy: bswap"
+    "insitu|5|direct|strategy: direct" "servers|4|direct|strategy: direct"
+    "insitu|7|radixk3|strategy: radixk-3" "insitu|4|gather_erle|strategy: gather, codec: erle")
+endif()
+foreach(case ${SORTLAST_STRATEGY_CASES})
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 form)
+  list(GET case 1 n)
+  list(GET case 2 name)
+  list(GET case 3 options)
+  add_test(NAME composite_${form}_${name}_depth_exact_n${n}
+    COMMAND ${SORTLAST_SH} ${form} ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/${form}-${name}-${n} ${n} overlap - "${options}")
+endforeach()
+# A peer that draws nothing sends the image header alone and the frame is
+# still exact; when no peer draws anything the display shows the
+# background the applications cleared to, nothing else.
+add_test(NAME composite_blank_peer_sends_header_only_exact
+  COMMAND ${SORTLAST_SH} insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/blank 2 overlap blank)
+add_test(NAME composite_display_draws_nothing
+  COMMAND ${SORTLAST_SH} servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/nothing 3 overlap nothing)
+
+# `tessera check` and the compositing groups (core/graph/groups.c): one
+# line with file:line:column naming the node at fault, exit status 2.
+set(SORTLAST_GRAPHS ${SORTLAST_DIR}/graphs)
+foreach(case
+    "missing_peer|missing_peer.yaml:8:3: node 'p0': peers names peer 'p3', but no node has that name \\(a missing peer\\)"
+    "unlisted_peer|unlisted_peer.yaml:8:3: node 'p0': peers misses peer 'p2', which also sends to display 'display'"
+    "two_displays|two_displays.yaml:8:3: node 'p0': peers names 'p2', which sends to display 'display2': one group has one display node"
+    "window_sizes|window_sizes.yaml:9:3: node 'p1': its binaryswap draws 32x48, but the group's window is 64x48"
+    "listed_twice|listed_twice.yaml:8:3: node 'p0': peers lists peer 'p1' twice"
+    "mixed|mixed.yaml:7:3: node 'p0': it and 'app1' are peers of display 'display', but one is a server and the other an application")
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 name)
+  list(GET case 1 message)
+  add_test(NAME composite_check_rejects_${name}
+    COMMAND ${SORTLAST_EXPECT} 2 "" "^${SORTLAST_GRAPHS}/${message}"
+            $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/${name}.yaml)
+endforeach()
+add_test(NAME composite_check_accepts_a_group_listed_in_rank_order
+  COMMAND ${SORTLAST_EXPECT} 0 "^ok: 7 nodes" "" $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/listed_ok.yaml)
+foreach(g sortlast sortlast_servers)
+  add_test(NAME composite_example_graph_${g}_checks
+    COMMAND ${SORTLAST_EXPECT} 0 "^ok: " "" $<TARGET_FILE:tessera_cli> check ${CMAKE_SOURCE_DIR}/examples/graphs/${g}.yaml)
+endforeach()
+
+# Faults: a peer killed (kill -9) or stopped (SIGSTOP: it never sends
+# again) mid-run; rank 0 names it, everyone ends non-zero, nothing is left.
+add_test(NAME composite_peer_killed_mid_run_ends_group_naming_it
+  COMMAND ${SORTLAST_DIR}/faults.sh kill ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-kill)
+add_test(NAME composite_peer_that_never_sends_times_out_naming_it
+  COMMAND ${SORTLAST_DIR}/faults.sh stop ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-stop)
+add_test(NAME composite_peer_that_never_connects_names_it
+  COMMAND ${SORTLAST_DIR}/faults.sh absent ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-absent)
+add_test(NAME composite_peer_window_size_differs_names_it
+  COMMAND ${SORTLAST_DIR}/faults.sh sizes ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-sizes)
+
+get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
+if(SORTLAST_TESTS_BEFORE)
+  list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})
+endif()
+set(SORTLAST_ENV "LP_NUM_THREADS=0")
+if(TESSERA_SANITIZE)
+  list(APPEND SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
+  TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")

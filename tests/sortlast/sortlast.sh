@@ -1,0 +1,91 @@
+#!/bin/sh
+# tests/sortlast/sortlast.sh — a sort-last graph (binaryswap peers and a
+# display node) written for N peers and run with `tessera run`: real
+# processes, real sockets, real OSMesa, real PNGs. Every frame the display
+# writes is compared with the single-process native render of the whole
+# scene: 0 differing pixels, and exactly FRAMES frames.
+# usage: sortlast.sh FORM BIN_DIR OUT_DIR N SCENE [EXTRA [OPTIONS]]
+#   FORM   insitu  (N apps, each running the chain `binaryswap`)
+#          servers (N apps -> pack -> N render servers ending in binaryswap)
+#   SCENE  isosurface | overlap (spheres --overlap: interpenetrating)
+#   EXTRA  blank: one more peer, the last rank, that draws nothing (an
+#          empty share): its region is empty and it sends no pixel
+#          nothing: every peer draws nothing (the display shows background)
+#          -: neither
+#   OPTIONS binaryswap's options as YAML flow entries ("strategy: bswap")
+set -u
+form=$1 bin=$2 out=$3 n=$4 scene=$5 extra=${6:--} options=${7:-}
+fail() { echo "FAIL: $*" >&2; bad=1; }
+bad=0
+rm -rf "$out" && mkdir -p "$out/native" || exit 1
+frames=2 size=96x72
+case $scene in
+isosurface) app=isosurface args="" ;;
+overlap) app=spheres args="--overlap" ;;
+*) echo "unknown scene $scene" >&2; exit 2 ;;
+esac
+# Peer i draws share part[i] of parts[i]; the reference draws the whole.
+shares=
+k=0
+while [ $k -lt "$n" ]; do
+  if [ "$extra" = nothing ]; then shares="$shares 0/1000000"; else shares="$shares $k/$n"; fi
+  k=$((k + 1))
+done
+[ "$extra" = blank ] && shares="$shares 0/1000000"
+if [ "$extra" = nothing ]; then
+  "$bin/$app-native" $args --frames $frames --size $size --part 0/1000000 --out "$out/native/f-%04d.png" || exit 1
+else
+  "$bin/$app-native" $args --frames $frames --size $size --out "$out/native/f-%04d.png" || exit 1
+fi
+graph=$out/graph.yaml
+{
+  echo "version: 1"
+  echo "window: {width: 96, height: 72}"
+  echo "defaults: {transport: unix}"
+  echo "nodes:"
+  i=0
+  for share in $shares; do
+    echo "  app$i:"
+    echo "    exec: bin/$app $args --frames $frames --size $size --part $share"
+    if [ "$form" = insitu ]; then
+      echo "    chain: [{binaryswap: {$options}}]"
+      echo "    to: display"
+    else
+      echo "    chain: [pack]"
+      echo "    to: peer$i"
+      echo "  peer$i:"
+      echo "    chain: [{binaryswap: {$options}}]"
+      echo "    to: display"
+    fi
+    i=$((i + 1))
+  done
+  echo "  display:"
+  echo "    chain:"
+  echo "      - render: {output: \"out/f-%04d.png\"}"
+} >"$graph"
+TESSERA_LOG=debug timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
+rc=$?
+[ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
+f=0
+while [ $f -lt $frames ]; do
+  name=$(printf 'f-%04d.png' $f)
+  diff=$("$bin/tessera" imgdiff "$out/native/$name" "$out/run/out/$name" 2>&1 | head -n 1)
+  echo "frame $f: $diff"
+  [ "$diff" = "differing_pixels: 0" ] || fail "frame $f differs from the native render ($diff)"
+  f=$((f + 1))
+done
+[ -e "$out/run/out/$(printf 'f-%04d.png' $frames)" ] && fail "the display wrote more than $frames frames"
+if [ "$extra" = blank ] || [ "$extra" = nothing ]; then
+  # An empty peer's region is empty and what it sends is headers and one
+  # background run (a few dozen bytes), never a frame of background.
+  blank=$n
+  [ "$extra" = nothing ] && blank=1
+  empty=$(grep -c "rank $blank region \[0, 0, 0, 0\] of 96x72" "$out/run.err")
+  sent=$(sed -n "s/.*: rank $blank sent \([0-9]*\) bytes to its peers/\1/p" "$out/run.err" | sort -n | tail -n 1)
+  echo "empty regions of rank $blank: $empty, at most $sent bytes sent per frame"
+  [ "$empty" = $frames ] || fail "rank $blank had $empty empty regions, not $frames"
+  [ -n "$sent" ] && [ "$sent" -le 128 ] || fail "the blank rank $blank sent ${sent:-?} bytes in a frame"
+fi
+grep -o 'strategy [^ ]* for [0-9]* peers.*' "$out/run.err" | head -n 1
+[ $bad = 0 ] && echo PASS
+exit $bad
