@@ -1,7 +1,6 @@
 /* tessera/dev/composite.h — sort-last compositing images, kernels and image
  * messages: what a compositing SPU (and the readback-to-display path) moves
- * between peers. Part of libtessera (core/image/composite*.c, codec.c,
- * message.c).
+ * between peers. Part of libtessera.
  *
  * Owns: the pixel memory of the images it allocates (64-byte aligned);
  * nothing else, and no process-wide state (the vector kernels are chosen by
