@@ -82,9 +82,12 @@
  * a one-line reason (UTF-8, no terminator), after which the refusing side
  * closes. A version mismatch, a wrong or missing token, or a malformed
  * HELLO is refused; both sides report one line naming the other. Each
- * side sends at most the smaller of the peer's and its own credits and
- * max_message_bytes: a peer announcing huge limits cannot make this side
- * queue more than its own configuration allows.
+ * side sends messages of at most the smaller of the peer's and its own
+ * max_message_bytes: a peer announcing a huge limit cannot make this side
+ * build larger messages than its own configuration allows. Credits are the
+ * receiver's to grant (its window); a sender that must bound what it queues
+ * for a peer that never reads (a node's replies) does so with
+ * tsr_net_stats.messages_unreturned (the node's pending-reply budget).
  *
  * FLOW CONTROL counts MESSAGES. Each side grants its peer `credits`
  * messages at the handshake. Sending a data message costs one credit; a

@@ -444,9 +444,8 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h)
     /* What the peer announces is a ceiling, never a licence: this side
      * sends at most its own limits too, so its send queue (and a server's
      * replies) stays within credits x max_message_bytes of its own config. */
-    uint32_t credits = h->credits < c->net->config.credits ? h->credits : c->net->config.credits;
-    c->send_credits = credits;
-    c->peer_window = credits;
+    c->send_credits = h->credits;
+    c->peer_window = h->credits;
     c->peer_max_message = h->max_message_bytes < c->net->config.max_message_bytes ? h->max_message_bytes
                                                                                   : c->net->config.max_message_bytes;
     c->state = NET_OPEN;
