@@ -106,6 +106,11 @@ typedef struct render_scissor {
 } render_scissor;
 
 /* One context of shared mode; contexts[0] is the instance's own. */
+/* Left clients' contexts kept before the window is given new storage to
+ * free them (shared_resize): bounds their memory on a node that serves
+ * many clients in turn at one window size. */
+#define RENDER_RETIRED_MAX 8
+
 typedef struct render_context {
     int id;
     OSMesaContext osmesa;
@@ -141,8 +146,17 @@ typedef struct render_spu {
     size_t ncontexts, contexts_cap;
     size_t current;            /* index into contexts */
     GLuint color_rb, depth_rb; /* the window: shared by every context */
-    unsigned generation;       /* bumped when the renderbuffers are resized */
-    unsigned char dummy[4];    /* 1x1 drawable: contexts draw through FBOs */
+    /* Contexts of clients that left, kept alive until the shared
+     * renderbuffers are next given new storage (or deleted): Mesa caches a
+     * renderbuffer's surface with the context that last validated it and
+     * releases it through that context when the storage changes, so a
+     * context destroyed before then leaves a dangling pointer that the next
+     * resize calls through (a crash seen when a dropped client was followed
+     * by another client's WindowCreateTSR). */
+    OSMesaContext *retired;
+    size_t nretired, retired_cap;
+    unsigned generation;    /* bumped when the renderbuffers are resized */
+    unsigned char dummy[4]; /* 1x1 drawable: contexts draw through FBOs */
 
     /* Tiles (docs/render.md, "Tiles"): none = the whole window. */
     tsr_tile *tiles;
@@ -354,6 +368,18 @@ static int shared_switch(render_spu *r, size_t index, tsr_error *err)
     return shared_make_current(r, index, err);
 }
 
+/* The surfaces the retired contexts made were released (through them)
+ * when the storage they viewed was replaced or deleted, so they can go. */
+static void destroy_retired(render_spu *r)
+{
+    for (size_t i = 0; i < r->nretired; i++) {
+        if (r->osmesa.GetCurrentContext() == r->retired[i])
+            r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);
+        r->osmesa.DestroyContext(r->retired[i]);
+    }
+    r->nretired = 0;
+}
+
 /* (Re)allocates the shared renderbuffers at width x height, in context 0
  * (renderbuffers belong to the share group), and the readback buffer;
  * then makes the current context current again. */
@@ -390,6 +416,7 @@ static int shared_resize(render_spu *r, int width, int height, tsr_error *err)
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    destroy_retired(r);
     if (release) {
         size_t given = render_pages_release(&before, bytes);
         render_pages_free(&before);
@@ -1245,7 +1272,18 @@ static void destroy_context(render_spu *r, size_t index)
     }
     if (r->osmesa.GetCurrentContext() == c->osmesa)
         r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);
-    r->osmesa.DestroyContext(c->osmesa);
+    if (r->nretired == r->retired_cap) {
+        size_t cap = r->retired_cap ? 2 * r->retired_cap : RENDER_RETIRED_MAX;
+        OSMesaContext *more = realloc(r->retired, cap * sizeof *more);
+        if (!more) {
+            /* Out of memory: destroyed now, as before this list existed. */
+            r->osmesa.DestroyContext(c->osmesa);
+            return;
+        }
+        r->retired = more;
+        r->retired_cap = cap;
+    }
+    r->retired[r->nretired++] = c->osmesa;
 }
 
 static void render_ContextDestroyTSR(void *self, GLint context)
@@ -1266,6 +1304,14 @@ static void render_ContextDestroyTSR(void *self, GLint context)
         size_t back = find_context(r, current_id);
         if (shared_make_current(r, back == SIZE_MAX ? 0 : back, &err) != TSR_OK)
             tsr_log(TSR_LOG_ERROR, "%s", err.message);
+        if (r->nretired >= RENDER_RETIRED_MAX) {
+            /* New storage at the same size frees them; the window's pixels
+             * go with it, which is why this waits for this many to leave. */
+            int width = r->width, height = r->height;
+            r->width = r->height = 0;
+            if (shared_resize(r, width, height, &err) != TSR_OK)
+                tsr_log(TSR_LOG_ERROR, "%s", err.message);
+        }
     }
     tsr_call_ContextDestroyTSR(r->child, context);
 }
@@ -1316,6 +1362,8 @@ static void render_destroy(void *self)
             GLuint rbs[2] = {r->color_rb, r->depth_rb};
             r->fbo.DeleteRenderbuffers(2, rbs);
         }
+        destroy_retired(r);
+        free(r->retired);
         free(r->contexts);
     }
     if (r->context) {
