@@ -224,6 +224,14 @@ int tsr_node_send_reply(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent,
     tsr_net_conn_stats(conn, &st);
     uint64_t pending = sent_newest(sent, st.messages_unreturned);
     uint64_t max = node->max_pending_reply_bytes;
+    /* The credit window is the client's to grant (net.h), so it may let
+     * far more replies be in flight than the ring has sizes of: past the
+     * ring, the bytes pending could no longer be counted. */
+    if (st.messages_unreturned >= TSR_NODE_SENT_RING)
+        return tsr_error_set(err, TSR_EPROTO,
+                             "the reply to request %u is over the reply budget max_pending_reply_bytes=%llu: "
+                             "%u replies sent are not taken yet (at most %d may be)",
+                             id, (unsigned long long)max, st.messages_unreturned, TSR_NODE_SENT_RING);
     if (total > max || pending > max - total)
         return tsr_error_set(err, TSR_EPROTO,
                              "the reply to request %u (%zu bytes) is over the reply budget "

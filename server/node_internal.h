@@ -22,8 +22,9 @@ struct node_session;
 
 /* Sizes of the last messages the node sent one client, newest last: with
  * netlib's count of messages whose credit has not come back, the reply
- * bytes the client has not taken yet. netlib never lets the node have more
- * than its own credits unreturned (net.h), so the ring is that long. */
+ * bytes the client has not taken yet. The client grants the credits
+ * (net.h), so it could let more be in flight: a reply past the ring's
+ * length of unreturned ones is refused (tsr_node_send_reply). */
 #define TSR_NODE_SENT_RING 64
 typedef struct tsr_node_sent {
     uint64_t sizes[TSR_NODE_SENT_RING];

@@ -72,6 +72,10 @@ add_test(NAME node_shared_dropped_reader_then_resize_does_not_crash
   COMMAND sh -c "for i in 1 2 3; do \"$0\" readpixels-small \"$1\" \"$2/$i\" \"$3\" \"$4\" --max-pending-reply-bytes 1048576 || exit 1; done"
     ${NODE_TEST_DIR}/budget.sh ${NODE_BIN} ${NODE_OUT}/shared-dropped-reader $<TARGET_FILE:budget_driver>
     "over the reply budget max_pending_reply_bytes=1048576")
+# A client granting a huge credit window has far more replies in flight
+# than the node keeps sizes of; each one still counts against the budget.
+node_budget_test(node_budget_pending_replies_many_small_unread_dropped readpixels-many
+  "over the reply budget max_pending_reply_bytes=1048576" --max-pending-reply-bytes 1048576)
 node_budget_test(node_budget_teximage_null_over_texture_budget teximage "max_texture_bytes=536870912")
 node_budget_test(node_draw_arrays_no_arrays_over_vertex_budget draw-arrays "max_vertices=16777216")
 node_budget_test(node_draw_arrays_past_vertex_buffer_refused vbo-arrays "lies past the 72 bytes of buffer 1")

@@ -6,6 +6,9 @@
  * waits (bounded) for the node's ERROR message and prints it.
  *   readpixels ADDR     4 x glReadPixels 16384x16384 RGBA, no reply read
  *   readpixels-small ADDR  8 x glReadPixels 256x256 RGBA, no reply read
+ *   readpixels-many ADDR   400 x glReadPixels 62x64 RGBA (15,872 bytes), no
+ *                       reply read: any 64 of them fit a 1 MiB pending
+ *                       budget, 400 do not (the node must count them all)
  *   teximage ADDR       4 x glTexImage2D 16384x16384 RGBA NULL, one buffer
  *   draw-arrays ADDR    glDrawArrays(first 2^31-1, count 2^31-1), no arrays
  *   vbo-arrays ADDR     the same from a 72-byte vertex buffer object
@@ -58,6 +61,11 @@ static void attack(const char *what, const tsr_dispatch *d)
             static unsigned char sink[16];
             tsr_call_ReadPixels(d, 0, 0, 256, 256, GL_RGBA, GL_UNSIGNED_BYTE, sink);
         }
+    } else if (!strcmp(what, "readpixels-many")) {
+        for (int i = 0; i < 400; i++) {
+            static unsigned char sink[16];
+            tsr_call_ReadPixels(d, 0, 0, 62, 64, GL_RGBA, GL_UNSIGNED_BYTE, sink);
+        }
     } else if (!strcmp(what, "teximage")) {
         GLuint names[4] = {1, 2, 3, 4};
         for (int i = 0; i < 4; i++) {
@@ -88,15 +96,15 @@ static void attack(const char *what, const tsr_dispatch *d)
 
 int main(int argc, char **argv)
 {
-    static const char *const cases[] = {"readpixels", "readpixels-small", "teximage", "draw-arrays",
-                                        "vbo-arrays", "vbo-elements",     "window"};
+    static const char *const cases[] = {"readpixels",  "readpixels-small", "readpixels-many", "teximage",
+                                        "draw-arrays", "vbo-arrays",       "vbo-elements",    "window"};
     int known = 0;
     for (size_t i = 0; argc == 3 && i < sizeof cases / sizeof cases[0]; i++)
         known |= !strcmp(argv[1], cases[i]);
     if (!known) {
         fprintf(
             stderr,
-            "usage: budget_driver readpixels|readpixels-small|teximage|draw-arrays|vbo-arrays|vbo-elements|window ADDR\n");
+            "usage: budget_driver readpixels|readpixels-small|readpixels-many|teximage|draw-arrays|vbo-arrays|vbo-elements|window ADDR\n");
         return 2;
     }
     tsr_net_config cfg;
@@ -128,11 +136,15 @@ int main(int argc, char **argv)
     struct timespec second = {1, 0};
     nanosleep(&second, NULL); /* replies, if any, stay unread meanwhile */
     int status = 1;
-    for (int waited = 0; waited < 60 && status; waited++) {
+    /* Replies before the ERROR are read and dropped; only silence counts
+     * against the 60 s. */
+    for (int waited = 0; waited < 60 && status;) {
         tsr_net_msg m;
         int got = tsr_net_recv(conn, &m, 1000, &err);
-        if (got == TSR_ETIMEDOUT)
+        if (got == TSR_ETIMEDOUT) {
+            waited++;
             continue;
+        }
         if (got != 1) {
             printf("budget_driver: the connection ended without an error message: %s\n",
                    got == 0 ? "clean close" : err.message);
