@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "net_internal.h"
+#include "tessera/dev/util.h"
 
 void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint64_t len)
 {
@@ -60,11 +61,9 @@ int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error 
     at += 2;
     if (name_len > TSR_NET_NAME_MAX || at + name_len + 1 > len)
         return tsr_error_set(err, TSR_EPROTO, "handshake node name length %u does not fit", name_len);
-    memcpy(out->name, in + at, name_len);
+    /* The name appears in one-line messages, refusals included. */
+    tsr_text_sanitize(out->name, sizeof out->name, in + at, name_len);
     at += name_len;
-    for (size_t i = 0; i < name_len; i++) /* names appear in one-line messages */
-        if ((unsigned char)out->name[i] < 0x20 || out->name[i] == 0x7f)
-            out->name[i] = '?';
     uint8_t auth = in[at++];
     if (auth > 1)
         return tsr_error_set(err, TSR_EPROTO, "handshake authentication mode %u is unknown", auth);

@@ -147,7 +147,10 @@ extern "C" {
 #define TSR_NET_MAGIC 0x314E5354u
 #define TSR_NET_KIND_FIRST_USER 0x10 /* message kinds 0x10..0xff are the caller's */
 #define TSR_NET_WAIT_FOREVER (-1)
-#define TSR_NET_NAME_MAX 64   /* node name bytes */
+#define TSR_NET_NAME_MAX 64 /* node name bytes */
+/* A peer's name as this side keeps and prints it: made safe with
+ * tsr_text_sanitize, where each byte may become "\xNN". */
+#define TSR_NET_PEER_NAME_MAX (4 * TSR_NET_NAME_MAX)
 #define TSR_NET_TOKEN_MAX 256 /* shared token bytes */
 #define TSR_NET_ADDRESS_MAX 160
 
@@ -254,7 +257,8 @@ TSR_API int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *w
                              tsr_error *err);
 TSR_API void tsr_net_msg_release(tsr_net_msg *msg);
 
-/* The peer's node name (from its handshake) and address. */
+/* The peer's node name (from its handshake, escaped by tsr_text_sanitize:
+ * at most TSR_NET_PEER_NAME_MAX bytes) and address. */
 TSR_API const char *tsr_net_conn_peer_name(const tsr_net_conn *conn);
 TSR_API const char *tsr_net_conn_address(const tsr_net_conn *conn);
 TSR_API void tsr_net_conn_stats(tsr_net_conn *conn, tsr_net_stats *stats);

@@ -74,9 +74,9 @@ typedef struct net_msg {
 typedef struct net_hello {
     uint32_t credits;
     uint64_t max_message_bytes;
-    char name[TSR_NET_NAME_MAX + 1];
-    bool has_auth;                /* HELLO: the peer has a token; WELCOME: it proved it */
-    uint8_t auth[NET_AUTH_BYTES]; /* HELLO: the client's nonce; WELCOME: the server's proof */
+    char name[TSR_NET_PEER_NAME_MAX + 1]; /* escaped: printed in every line naming the peer */
+    bool has_auth;                        /* HELLO: the peer has a token; WELCOME: it proved it */
+    uint8_t auth[NET_AUTH_BYTES];         /* HELLO: the client's nonce; WELCOME: the server's proof */
 } net_hello;
 
 typedef enum net_conn_state {
@@ -91,9 +91,9 @@ struct tsr_net_conn {
     tsr_net *net;
     enum net_transport transport;
     bool is_server;
-    char address[TSR_NET_ADDRESS_MAX]; /* the peer's address, for messages */
-    char peer_name[TSR_NET_NAME_MAX + 1];
-    pthread_cond_t cond; /* (L) any change an app thread may wait for */
+    char address[TSR_NET_ADDRESS_MAX];         /* the peer's address, for messages */
+    char peer_name[TSR_NET_PEER_NAME_MAX + 1]; /* escaped (net_hello.name) */
+    pthread_cond_t cond;                       /* (L) any change an app thread may wait for */
 
     /* lifetime (L): freed when nobody holds it */
     bool app_ref;  /* the application (or a listener's queue) holds it */

@@ -440,10 +440,10 @@ static void refuse(tsr_net_conn *c, const char *peer_name, const char *fmt, ...)
 
 static void handshake_done(tsr_net_conn *c, const net_hello *h)
 {
-    tsr_text_sanitize(c->peer_name, sizeof c->peer_name, h->name, strlen(h->name)); /* printed by every user */
-    /* What the peer announces is a ceiling, never a licence: this side
-     * sends at most its own limits too, so its send queue (and a server's
-     * replies) stays within credits x max_message_bytes of its own config. */
+    snprintf(c->peer_name, sizeof c->peer_name, "%s", h->name); /* escaped by net_hello_decode */
+    /* The credits are the peer's window to grant; a message size it
+     * announces is a ceiling, never a licence: this side builds none
+     * larger than its own max_message_bytes either. */
     c->send_credits = h->credits;
     c->peer_window = h->credits;
     c->peer_max_message = h->max_message_bytes < c->net->config.max_message_bytes ? h->max_message_bytes
@@ -627,12 +627,7 @@ static void deliver(tsr_net_conn *c, net_msg *m)
         return;
     case NET_REFUSE: {
         char reason[400];
-        size_t n = m->len < sizeof reason - 1 ? (size_t)m->len : sizeof reason - 1;
-        memcpy(reason, m->data, n);
-        reason[n] = '\0';
-        for (size_t i = 0; i < n; i++)
-            if ((unsigned char)reason[i] < 0x20)
-                reason[i] = ' ';
+        tsr_text_sanitize(reason, sizeof reason, m->data, (size_t)m->len);
         net_conn_fail(c, TSR_EPROTO, "net: %s refused this node ('%s'): %s", c->address, net->node_name, reason);
         close_handles(c);
         net_msg_free(m);

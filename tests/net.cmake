@@ -31,7 +31,8 @@ foreach(pair
     "net_tcp_direct_writes_under_credit_exhaustion_exact:tcp_direct_writes"
     "net_unix_direct_writes_under_credit_exhaustion_exact:unix_direct_writes"
     "net_tcp_direct_write_rest_finished_by_io_thread_exact:tcp_direct_write_rest"
-    "net_peer_closes_during_direct_writes_fails_send_in_time:peer_closes_during_direct_writes")
+    "net_peer_closes_during_direct_writes_fails_send_in_time:peer_closes_during_direct_writes"
+    "net_peer_name_and_refuse_reason_escaped:peer_text_escaped")
   string(REPLACE ":" ";" pair "${pair}")
   list(GET pair 0 name)
   list(GET pair 1 sub)

@@ -6,6 +6,7 @@
 #include <pthread.h>
 #include <signal.h>
 #include <sys/un.h>
+#include <sys/wait.h>
 
 #include "net_test_util.h"
 
@@ -974,6 +975,97 @@ static int test_recv_any_round_robin(void)
     return 0;
 }
 
+/* ---- text from peers ------------------------------------------------------
+ * A peer's name (HELLO) and a REFUSE reason reach terminals and logs: each
+ * is escaped by tsr_text_sanitize (ESC, BEL, a C1 CSI and a stray byte
+ * become \xNN), on an accepted connection, in a refusal the listener logs,
+ * and in the error of a client a hostile server refuses. */
+#define EVIL "\x1b[2J\x07\xc2\x9b\xff"
+#define EVIL_ESCAPED "\\x1b[2J\\x07\\xc2\\x9b\\xff"
+
+static int raw_control_free(const char *text)
+{
+    for (const unsigned char *p = (const unsigned char *)text; *p; p++)
+        if (*p < 0x20 || *p == 0x7f || *p >= 0x80)
+            return 0;
+    return 1;
+}
+
+static int test_peer_text_escaped(void)
+{
+    tsr_net *server_net = make_net("text-server", NULL, 4);
+    tsr_error err = {0};
+    tsr_net_listener *l = tsr_net_listen(server_net, "tcp://127.0.0.1:0", &err);
+    CHECK(l, "listen: %s", err.message);
+    unsigned port = address_port(tsr_net_listener_address(l));
+
+    /* An accepted peer's name. */
+    int fd = raw_connect_loopback(port);
+    CHECK(raw_handshake(fd, "evil" EVIL "name", NULL, 4) == 0x02, "the raw peer was not welcomed");
+    tsr_net_conn *c = tsr_net_accept(l, 2000, &err);
+    CHECK(c, "accept: %s", err.message);
+    const char *name = tsr_net_conn_peer_name(c);
+    printf("accepted peer: '%s'\n", name);
+    CHECK_STR(name, "evil" EVIL_ESCAPED "name");
+    tsr_net_conn_close(c);
+    close(fd);
+
+    /* A refused peer's name, in the line the listener logs. */
+    fd = raw_connect_loopback(port);
+    uint8_t msg[16 + 512], buf[4096];
+    size_t n = raw_hello(msg, "old" EVIL, 4, NULL);
+    raw_header(msg, TSR_NET_PROTOCOL_VERSION + 1, 0x01, n - 16);
+    raw_write_all(fd, msg, n);
+    size_t len;
+    CHECK(raw_read_msg(fd, buf, &len) == 0x03, "a HELLO of another version was not refused");
+    close(fd);
+    tsr_error refusal = {0};
+    for (int i = 0; i < 200 && !tsr_net_listener_refusals(l, &refusal); i++)
+        usleep(10000);
+    printf("refusal: %s\n", refusal.message);
+    CHECK(contains(refusal.message, "'old" EVIL_ESCAPED "'") && raw_control_free(refusal.message),
+          "the refusal does not name the peer escaped: %s", refusal.message);
+    tsr_net_listener_close(l);
+    tsr_net_destroy(server_net);
+
+    /* A hostile server's REFUSE reason, in the client's error. */
+    int ls = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in sa = {.sin_family = AF_INET};
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t sl = sizeof sa;
+    CHECK(bind(ls, (struct sockaddr *)&sa, sizeof sa) == 0 && listen(ls, 1) == 0 &&
+              getsockname(ls, (struct sockaddr *)&sa, &sl) == 0,
+          "raw listener: %s", strerror(errno));
+    char address[64];
+    snprintf(address, sizeof address, "tcp://127.0.0.1:%u", ntohs(sa.sin_port));
+    pid_t pid = fork(); /* before the client's I/O thread exists */
+    CHECK(pid >= 0, "fork: %s", strerror(errno));
+    if (pid == 0) { /* the hostile server: reads the HELLO, refuses */
+        int s = accept(ls, NULL, NULL);
+        uint8_t h[16], hello[4096];
+        if (s < 0 || raw_read_exact(s, h, 16, 5000) || raw_read_exact(s, hello, (size_t)get_le(h + 8, 8), 5000))
+            _exit(1);
+        static const char reason[] = "go away" EVIL "\n\rnow";
+        uint8_t frame[16 + sizeof reason];
+        raw_header(frame, TSR_NET_PROTOCOL_VERSION, 0x03, sizeof reason - 1);
+        memcpy(frame + 16, reason, sizeof reason - 1);
+        raw_write_all(s, frame, 16 + sizeof reason - 1);
+        usleep(200000);
+        _exit(0);
+    }
+    close(ls);
+    tsr_net *client_net = make_net("text-client", NULL, 4);
+    c = tsr_net_connect(client_net, address, &err);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    printf("client: %s\n", err.message);
+    CHECK(!c, "a refused client connected");
+    CHECK(contains(err.message, "go away" EVIL_ESCAPED "\\x0a\\x0dnow") && raw_control_free(err.message),
+          "the client's error does not carry the reason escaped: %s", err.message);
+    tsr_net_destroy(client_net);
+    return 0;
+}
+
 /* ---- shutdown ----------------------------------------------------------------- */
 
 /* tsr_net_destroy with connections and a listener the application never
@@ -1417,6 +1509,7 @@ int main(int argc, char **argv)
         {"unix_direct_writes", test_unix_direct_writes},
         {"peer_closes_during_direct_writes", test_peer_closes_during_direct_writes},
         {"tcp_direct_write_rest", test_tcp_direct_write_rest},
+        {"peer_text_escaped", test_peer_text_escaped},
     };
     setvbuf(stdout, NULL, _IOLBF, 0);
     for (size_t i = 0; argc == 2 && i < sizeof tests / sizeof tests[0]; i++)
