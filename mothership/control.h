@@ -47,7 +47,7 @@
  *                       a socket the node places itself) or listen_port=
  *                       (TCP on the node's --bind host, default
  *                       127.0.0.1: the graph named no host), clients=,
- *                       token= (clients must present it), timeout_ms=
+ *                       token= (clients must prove it), timeout_ms=
  *                       (longest wait for a client), idle_timeout_ms=
  *                       (longest silence of a connected client: the
  *                       run's timeout_ms).

@@ -61,7 +61,9 @@ int main(int argc, char **argv)
     rc = send_ctl(conn, TSR_MS_MSG_READY, &out, &err);
     tsr_ctl_out_init(&out);
     tsr_ctl_add(&out, "status", "1");
-    tsr_ctl_add(&out, "message", "render failed\x1b[2J\x07\xc2\x9b" "31mgotcha");
+    tsr_ctl_add(&out, "message",
+                "render failed\x1b[2J\x07\xc2\x9b"
+                "31mgotcha");
     tsr_ctl_add(&out, "signal", "0");
     rc = rc ? rc : send_ctl(conn, TSR_MS_MSG_DONE, &out, &err);
     if (rc) {
