@@ -620,7 +620,14 @@ int main(int argc, char **argv)
               elapsed, bound);
         if (!ended)
             list_processes("still running", run_pid);
-        /* ... and the mothership, continued, ends its run. */
+        /* ... and the mothership, continued, ends its run, naming its own
+         * stop: it does so when it was stopped longer than its nodes wait
+         * for it (3 x the time-out). The nodes' silence starts at the last
+         * message they had, a little before the stop, so they may give up
+         * a few ms short of that: the stop lasts at least that long. */
+        double stopped_long_enough = t0 + 3.0 * timeout_ms + 250.0;
+        while (now_ms() < stopped_long_enough)
+            usleep(10 * 1000);
         double t1 = now_ms();
         kill(run_pid, SIGCONT);
         ended = wait_until(run_ended, t1 + MARGIN_MS + HARD_EXTRA_MS);
