@@ -14,6 +14,7 @@
  * message), and whatever ASan/UBSan see in the handlers.
  * Built with TSR_FUZZ_SEEDS it is fuzz_ext_seeds OUTDIR: streams of every
  * extension command made by the real packer, named ok-*.bin. */
+#include "fuzz_bytes.h"
 #include "fuzz_target.h"
 
 #include <stdlib.h>
@@ -154,27 +155,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 #else /* TSR_FUZZ_SEEDS */
 
-typedef struct capture {
-    uint8_t *bytes;
-    size_t len, cap;
-} capture;
+typedef fuzz_bytes capture;
 
 static int capture_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
 {
-    capture *c = ctx;
-    if (c->len + size > c->cap) {
-        size_t cap = c->cap ? c->cap : 4096;
-        while (cap < c->len + size)
-            cap *= 2;
-        uint8_t *p = realloc(c->bytes, cap);
-        if (!p)
-            return tsr_error_set(err, TSR_ENOMEM, "fuzz_ext_seeds: out of memory");
-        c->bytes = p;
-        c->cap = cap;
-    }
-    memcpy(c->bytes + c->len, buf, size);
-    c->len += size;
-    return 0;
+    return fuzz_bytes_append(ctx, buf, size, "fuzz_ext_seeds", err);
 }
 
 static void tiles(const tsr_dispatch *gl)

@@ -27,6 +27,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include "fuzz_bytes.h"
 #include "render.h"
 #include "tessera/chain.h"
 #include "tessera/dev/pack.h"
@@ -225,27 +226,11 @@ int main(int argc, char **argv)
 
 #ifdef FUZZ_RENDER_SEEDS
 /* What the packer flushed for one scenario. */
-typedef struct capture {
-    uint8_t *bytes;
-    size_t len, cap;
-} capture;
+typedef fuzz_bytes capture;
 
 static int capture_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
 {
-    capture *c = ctx;
-    if (c->len + size > c->cap) {
-        size_t cap = c->cap ? c->cap : 4096;
-        while (cap < c->len + size)
-            cap *= 2;
-        uint8_t *p = realloc(c->bytes, cap);
-        if (!p)
-            return tsr_error_set(err, TSR_ENOMEM, "fuzz_render_seeds: out of memory");
-        c->bytes = p;
-        c->cap = cap;
-    }
-    memcpy(c->bytes + c->len, buf, size);
-    c->len += size;
-    return 0;
+    return fuzz_bytes_append(ctx, buf, size, "fuzz_render_seeds", err);
 }
 
 /* The seeds never read a reply (a server would answer; the fuzz input is
