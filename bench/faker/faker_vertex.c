@@ -162,8 +162,7 @@ int main(int argc, char **argv)
             best_table = (double)calls / tt;
         if (csv) {
             fprintf(csv, "faker_vertex3f,%d,%llu,%.6f,%.3f\n", r, (unsigned long long)calls, tf, calls / tf * 1e-6);
-            fprintf(csv, "pack_vertex3f_bbox,%d,%llu,%.6f,%.3f\n", r, (unsigned long long)calls, tt,
-                    calls / tt * 1e-6);
+            fprintf(csv, "pack_vertex3f_bbox,%d,%llu,%.6f,%.3f\n", r, (unsigned long long)calls, tt, calls / tt * 1e-6);
         }
     }
     glEnd();
