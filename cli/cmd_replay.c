@@ -70,12 +70,17 @@ static void replay_usage(FILE *out)
 typedef struct replay {
     tsr_capfile file;
     const tsr_dispatch *chain;
-    tsr_dispatch filter; /* the chain's head with the slots below in front */
+    /* What the unpacker calls: every slot forwards to the chain's head as
+     * it is at that call (an SPU may switch its own table while it runs,
+     * as tilesort does while it records a display list, so a copy of the
+     * head would go stale), and the five slots below come first. */
+    tsr_dispatch filter;
+    tsr_hook live[TSR_DISPATCH_COUNT];
     tsr_unpacker *unpacker;
     long first, last; /* frames fed with their swap */
     long pass;
-    long frame; /* index in the stream of the next swap */
-    int stop;   /* frame `last` was swapped */
+    long frame;                         /* index in the stream of the next swap */
+    int stop;                           /* frame `last` was swapped */
     uint64_t start_offset, start_index; /* the record frame `first` starts at */
     GLint windows[REPLAY_MAX_IDS], contexts[REPLAY_MAX_IDS];
     size_t nwindows, ncontexts;
@@ -86,6 +91,12 @@ typedef struct replay {
     uint64_t replies, differ, frames_out;
     uint32_t first_differ;
 } replay;
+
+static void rp_live(void *ctx, int slot)
+{
+    replay *r = ctx;
+    r->live[slot].next = r->chain->slots[slot];
+}
 
 static void rp_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
@@ -212,7 +223,7 @@ static int run_replay(const char *path, const char *chain_text, long first, long
         fprintf(stderr, "tessera replay: %s\n", err.message);
         free(r);
         return err.code == TSR_EPROTO || err.code == TSR_ENOENT || err.code == TSR_EINVAL ? TSR_EXIT_USAGE
-                                                                                            : TSR_EXIT_FAIL;
+                                                                                          : TSR_EXIT_FAIL;
     }
     long frames = (long)r->file.header.frames;
     if (first >= 0 && last >= frames) {
@@ -231,7 +242,11 @@ static int run_replay(const char *path, const char *chain_text, long first, long
         goto out;
     }
     r->chain = tsr_chain_head(chain);
-    r->filter = *r->chain;
+    tsr_dispatch_fill_nop(&r->filter);
+    for (int i = 0; i < TSR_DISPATCH_COUNT; i++) {
+        r->live[i] = (tsr_hook){.before = rp_live, .ctx = r};
+        tsr_dispatch_hook(&r->filter, i, &r->live[i]);
+    }
     tsr_set_SwapBuffersTSR(&r->filter, rp_SwapBuffersTSR, r);
     tsr_set_WindowCreateTSR(&r->filter, rp_WindowCreateTSR, r);
     tsr_set_WindowDestroyTSR(&r->filter, rp_WindowDestroyTSR, r);
@@ -252,8 +267,8 @@ static int run_replay(const char *path, const char *chain_text, long first, long
         r->stop = 0;
         rc = feed(r, 1, &err);
         if (rc == TSR_OK && !r->stop)
-            rc = tsr_error_set(&err, TSR_EPROTO, "%s: byte %zu: the file ended before frame %ld", path, r->file.pos,
-                               r->last);
+            rc = tsr_error_set(&err, TSR_EPROTO, "%s: byte 24: the header says %ld frames, the stream has %ld", path,
+                               frames, r->frame);
     }
     /* The stream's end (or all of a stream without frames), once. */
     if (rc == TSR_OK && r->last == frames - 1)
@@ -490,7 +505,7 @@ int cmd_replay(int argc, char **argv)
         ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
         if (n <= 0 || !realpath(file, abs_file)) {
             fprintf(stderr, "tessera replay: cannot resolve %s: %s\n", n <= 0 ? "/proc/self/exe" : file,
-                        strerror(errno));
+                    strerror(errno));
             return TSR_EXIT_FAIL;
         }
         self[n] = '\0';

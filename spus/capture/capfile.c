@@ -103,7 +103,8 @@ int tsr_capfile_writer_close(tsr_capfile_writer *w, tsr_error *err)
         return tsr_error_set(err, TSR_ESTATE, "%s: the capture is closed", w->path);
     uint8_t h[TSR_CAPFILE_HEADER_SIZE];
     encode_header(h, &w->header);
-    int failed = fflush(w->file) != 0 || fseek(w->file, 0, SEEK_SET) != 0 || fwrite(h, 1, sizeof h, w->file) != sizeof h;
+    int failed =
+        fflush(w->file) != 0 || fseek(w->file, 0, SEEK_SET) != 0 || fwrite(h, 1, sizeof h, w->file) != sizeof h;
     int e = errno;
     failed |= fclose(w->file) != 0;
     w->file = NULL;
@@ -146,19 +147,17 @@ int tsr_capfile_parse(tsr_capfile *f, const uint8_t *data, size_t size, const ch
         return tsr_error_set(err, TSR_EPROTO, "%s: byte 8: capture format version %u, this tessera reads version %u",
                              name, h->version, TSR_CAPFILE_VERSION);
     if (h->wire_magic != TSR_WIRE_MAGIC)
-        return tsr_error_set(err, TSR_EPROTO,
-                             "%s: byte 12: wire format 0x%08x, this tessera speaks 0x%08x (\"TSW1\")", name,
-                             h->wire_magic, TSR_WIRE_MAGIC);
+        return tsr_error_set(err, TSR_EPROTO, "%s: byte 12: wire format 0x%08x, this tessera speaks 0x%08x (\"TSW1\")",
+                             name, h->wire_magic, TSR_WIRE_MAGIC);
     if (tsr_wire_get_u32(data + 28) != 0 || tsr_wire_get_u64(data + 56) != 0)
         return tsr_error_set(err, TSR_EPROTO, "%s: byte %d: reserved header field is not 0", name,
                              tsr_wire_get_u32(data + 28) != 0 ? 28 : 56);
     if (h->width > 16384 || h->height > 16384)
-        return tsr_error_set(err, TSR_EPROTO, "%s: byte 16: window %ux%u, larger than 16384 on a side", name,
-                             h->width, h->height);
+        return tsr_error_set(err, TSR_EPROTO, "%s: byte 16: window %ux%u, larger than 16384 on a side", name, h->width,
+                             h->height);
     if (h->bytes != size - TSR_CAPFILE_HEADER_SIZE)
-        return tsr_error_set(err, TSR_EPROTO,
-                             "%s: byte %zu: the header says %llu bytes of records, the file has %zu%s", name, size,
-                             (unsigned long long)h->bytes, size - TSR_CAPFILE_HEADER_SIZE,
+        return tsr_error_set(err, TSR_EPROTO, "%s: byte %zu: the header says %llu bytes of records, the file has %zu%s",
+                             name, size, (unsigned long long)h->bytes, size - TSR_CAPFILE_HEADER_SIZE,
                              h->bytes > size - TSR_CAPFILE_HEADER_SIZE ? " (truncated)" : "");
     return TSR_OK;
 }
@@ -237,8 +236,8 @@ int tsr_capfile_next(tsr_capfile *f, tsr_capfile_record *rec, tsr_error *err)
                              f->pos + 4, id);
     size_t room = left - TSR_CAPFILE_RECORD_HEADER;
     if (len > room || tsr_wire_align8(len) > room)
-        return tsr_error_set(err, TSR_EPROTO, "%s: byte %zu: record of %llu bytes, only %zu left in the file",
-                             f->name, f->pos + 8, (unsigned long long)len, room);
+        return tsr_error_set(err, TSR_EPROTO, "%s: byte %zu: record of %llu bytes, only %zu left in the file", f->name,
+                             f->pos + 8, (unsigned long long)len, room);
     const uint8_t *body = p + TSR_CAPFILE_RECORD_HEADER;
     for (uint64_t i = len; i < tsr_wire_align8(len); i++)
         if (body[i])
@@ -252,8 +251,8 @@ int tsr_capfile_next(tsr_capfile *f, tsr_capfile_record *rec, tsr_error *err)
                                  f->pos + TSR_CAPFILE_RECORD_HEADER, why.message);
         if (want != len)
             return tsr_error_set(err, TSR_EPROTO,
-                                 "%s: byte %zu: buffer record of %llu bytes holds a wire buffer of %zu bytes",
-                                 f->name, f->pos + 8, (unsigned long long)len, want);
+                                 "%s: byte %zu: buffer record of %llu bytes holds a wire buffer of %zu bytes", f->name,
+                                 f->pos + 8, (unsigned long long)len, want);
     }
     rec->kind = kind;
     rec->id = id;

@@ -29,8 +29,8 @@ typedef struct capture_spu {
     tsr_packer *packer;
     tsr_unpacker *unpacker;
     tsr_capfile_writer writer;
-    int writing;   /* the file is open */
-    long frames;   /* frames=: finish the file after this many (0: at the end) */
+    int writing;                                /* the file is open */
+    long frames;                                /* frames=: finish the file after this many (0: at the end) */
     tsr_entry swap, window_create, window_size; /* the packer's own slots */
     uint8_t *reply;
     size_t reply_len, reply_cap;
