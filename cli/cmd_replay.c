@@ -486,7 +486,13 @@ int cmd_replay(int argc, char **argv)
             fprintf(stderr, "tessera replay: %s\n", err.message);
             return TSR_EXIT_USAGE;
         }
+        long frames_in_file = (long)f.header.frames;
         tsr_capfile_close(&f);
+        if (first >= 0 && last >= frames_in_file) {
+            fprintf(stderr, "tessera replay: --frames %ld-%ld: %s has %ld frames (0-%ld)\n", first, last, file,
+                    frames_in_file, frames_in_file - 1);
+            return TSR_EXIT_USAGE;
+        }
         tsr_graph *g = tsr_graph_load(graph, 0, &err);
         if (!g) {
             fprintf(stderr, "%s\n", err.message);

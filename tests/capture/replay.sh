@@ -9,7 +9,8 @@
 #           servers): every frame of every output bit-identical
 #   ranges  --frames 1-3 (frames 1..3 as the chain's 0..2), --frames 4,
 #           --loop 3 (15 frames: the 5 three times) and --frames 2-3
-#           --loop 2 (2,3,2,3)
+#           --loop 2 (2,3,2,3); a range past the end and a graph with two
+#           app nodes refused before anything runs
 #   info    --info: frames, buffers, replies, and every command count equal
 #           to a print trace of the same run (print after capture)
 set -euo pipefail
@@ -56,6 +57,15 @@ ranges)
   s=0; "$tessera" replay sp.tsrcap --frames 3-5 --chain "render output=g-%04d.png" 2> g.err || s=$?
   cat g.err
   [ "$s" -eq 2 ] && grep -q "has 5 frames" g.err && [ ! -e g-0000.png ] || { echo "FAIL: --frames 3-5 not refused"; exit 1; }
+  # In graph mode too, before any node starts; and a graph whose app
+  # nodes are several is refused (a replay is one application).
+  s=0; "$tessera" replay sp.tsrcap --frames 3-5 --graph "$graphs/tcp.yaml" --out "$out/gr" 2> gr.err || s=$?
+  cat gr.err
+  [ "$s" -eq 2 ] && grep -q "has 5 frames" gr.err && [ ! -e gr ] || { echo "FAIL: --graph --frames 3-5 not refused"; exit 1; }
+  printf 'version: 1\nnodes:\n  a: {exec: x, chain: [pack], to: s}\n  b: {exec: y, chain: [pack], to: s}\n  s: {chain: [render]}\n' > two.yaml
+  s=0; "$tessera" replay sp.tsrcap --graph two.yaml 2> two.err || s=$?
+  cat two.err
+  [ "$s" -eq 2 ] && grep -q "has 2 app nodes" two.err || { echo "FAIL: a graph with two app nodes not refused"; exit 1; }
   ;;
 info)
   "$tessera" replay --info sp.tsrcap | tee info.txt
