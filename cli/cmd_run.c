@@ -168,7 +168,12 @@ static int check_stats_path(const char *who, const char *path)
 
 int tsr_cli_run_graph(int argc, char **argv, int launch)
 {
-    const char *who = launch ? "tessera run" : "tessera mothership";
+    return tsr_cli_run_graph_as(argc, argv, launch, NULL, NULL);
+}
+
+int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *app_exec, const char *as)
+{
+    const char *who = as ? as : launch ? "tessera run" : "tessera mothership";
     void (*usage)(FILE *) = launch ? run_usage : mothership_usage;
     const char *graph_path = NULL, *out_dir = NULL, *stats = NULL, *listen = NULL, *token = NULL;
     long timeout = TSR_MS_DEFAULT_TIMEOUT_MS, join_timeout = TSR_MS_DEFAULT_JOIN_TIMEOUT_MS;
@@ -281,6 +286,7 @@ int tsr_cli_run_graph(int argc, char **argv, int launch)
         .who = who,
         .on_listening = launch ? NULL : print_listening,
         .interrupted = &interrupted,
+        .app_exec = app_exec,
     };
     int rc = tsr_mothership_run(graph, &cfg, &err);
     tsr_graph_free(graph);

@@ -24,6 +24,11 @@ int cmd_mothership(int argc, char **argv);
 int cmd_exec(int argc, char **argv);
 /* `tessera run` (launch = 1) and `tessera mothership` (0): cli/cmd_run.c. */
 int tsr_cli_run_graph(int argc, char **argv, int launch);
+/* The same, every app node running `app_exec` (NULL-terminated) instead
+ * of its graph exec when it is not NULL, messages prefixed with `as`
+ * (NULL: the command's own name): `tessera replay --graph`. */
+int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *app_exec, const char *as);
+int cmd_replay(int argc, char **argv);
 
 
 #include <stdio.h>

@@ -15,6 +15,7 @@ static const tsr_cli_command commands[] = {
     {"node", "run a server node: accept stream clients (network SPUs), run them through an SPU chain", cmd_node},
     {"imgdiff", "compare two PNG images: differing pixels, max channel error, PSNR", cmd_imgdiff},
     {"exec", "run an unmodified OpenGL program (glxgears, ...) under the faker libGL/libEGL", cmd_exec},
+    {"replay", "feed a capture file (capture SPU) into a chain or graph; --info lists what it holds", cmd_replay},
 };
 
 static void print_usage(FILE *out)

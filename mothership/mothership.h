@@ -73,6 +73,9 @@ typedef struct tsr_ms_config {
      * prints it for launchers). May be NULL. */
     void (*on_listening)(const char *address, void *ctx);
     void *ctx;
+    /* NULL-terminated argv every app node runs instead of its graph exec,
+     * or NULL (`tessera replay --graph`: the replay is the application). */
+    const char *const *app_exec;
 } tsr_ms_config;
 
 /* Runs the graph to its end. TSR_OK when every node ended cleanly; else

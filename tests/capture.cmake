@@ -1,0 +1,70 @@
+# tests/capture.cmake — the capture SPU and `tessera replay` (issue 12,
+# item 5): captures replay bit-identically through a chain and as the app
+# node of graphs (pack, a 2x2 tilesort wall, replicate), frame ranges and
+# loops, --info against a print trace, answers captured from a server
+# replayed with none, malformed files refused naming file and offset, the
+# capture decoder's fuzz corpus, and glxgears captured under Xvfb. Windows
+# are 64x48 and runs a few frames: about 5 s in all.
+set(CAPTURE_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/capture)
+set(CAPTURE_OUT ${CMAKE_BINARY_DIR}/test-out/capture)
+file(MAKE_DIRECTORY ${CAPTURE_OUT})
+
+add_executable(capture_asks ${CAPTURE_TEST_DIR}/asks.c)
+target_link_libraries(capture_asks PRIVATE tessera tessera_gl)
+
+foreach(mode_name
+    "chain;capture_replay_through_render_every_frame_bit_identical"
+    "graphs;capture_replay_as_graph_app_pack_wall_2x2_replicate_every_frame_bit_identical"
+    "ranges;capture_replay_frames_ranges_and_loops_bit_identical"
+    "info;capture_replay_info_counts_equal_a_print_trace_of_the_run")
+  list(GET mode_name 0 mode)
+  list(GET mode_name 1 name)
+  add_test(NAME ${name}
+           COMMAND bash ${CAPTURE_TEST_DIR}/replay.sh ${mode} $<TARGET_FILE:tessera_cli> $<TARGET_FILE:spheres>
+                   ${CAPTURE_TEST_DIR} ${CAPTURE_OUT}/${mode})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 120)
+endforeach()
+
+add_test(NAME capture_answers_from_a_server_replay_with_no_server
+         COMMAND bash ${CAPTURE_TEST_DIR}/answers.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:capture_asks>
+                 ${CAPTURE_OUT}/answers)
+set_tests_properties(capture_answers_from_a_server_replay_with_no_server PROPERTIES TIMEOUT 120)
+
+add_test(NAME capture_bad_files_refused_in_one_line_naming_file_and_offset
+         COMMAND bash ${CAPTURE_TEST_DIR}/bad.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:capture_asks>
+                 ${CAPTURE_OUT}/bad)
+set_tests_properties(capture_bad_files_refused_in_one_line_naming_file_and_offset PROPERTIES TIMEOUT 120)
+
+# The capture decoder's fuzz target (tests/fuzz/README.md, "Capture files").
+tsr_add_fuzz_target(capture
+  SOURCES ${CMAKE_SOURCE_DIR}/spus/capture/capfile.c
+  FUZZ_SOURCES ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
+    ${CMAKE_SOURCE_DIR}/core/util/error.c ${CMAKE_SOURCE_DIR}/core/util/log.c
+    ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c
+    ${TESSERA_GEN_DIR}/src/dispatch_gen.c
+  INCLUDES ${CMAKE_SOURCE_DIR}/spus/capture ${CMAKE_SOURCE_DIR}/core
+  REPLAY_LIBS tessera
+  LIBS m)
+
+# glxgears, unmodified, captured under Xvfb by `tessera exec`.
+if(TARGET tessera_faker_gl)
+  add_test(NAME capture_glxgears_under_xvfb_replays_bit_identically_through_render_pack_wall_replicate
+           COMMAND bash ${CAPTURE_TEST_DIR}/glxgears.sh $<TARGET_FILE:tessera_cli> ${CAPTURE_TEST_DIR}
+                   ${CAPTURE_OUT}/glxgears)
+  set_tests_properties(capture_glxgears_under_xvfb_replays_bit_identically_through_render_pack_wall_replicate
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
+endif()
+
+# Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations
+# (tests/lsan.supp); tessera's own are still checked.
+if(TESSERA_SANITIZE)
+  set_property(TEST
+    capture_replay_through_render_every_frame_bit_identical
+    capture_replay_as_graph_app_pack_wall_2x2_replicate_every_frame_bit_identical
+    capture_replay_frames_ranges_and_loops_bit_identical
+    capture_replay_info_counts_equal_a_print_trace_of_the_run
+    capture_answers_from_a_server_replay_with_no_server
+    capture_bad_files_refused_in_one_line_naming_file_and_offset
+    APPEND PROPERTY ENVIRONMENT
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()

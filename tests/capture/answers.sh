@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# tests/capture/answers.sh TESSERA ASKS OUTDIR
+# The capture of a program whose stream depends on the answers it gets
+# (asks: glGenLists, glGetIntegerv, glGetFloatv, glReadPixels each frame)
+# is made in a graph, chain "capture ! pack" to a server that renders, so
+# every answer comes from that server. The replay then runs with no
+# server: through "render" it must draw the server's frames exactly; through
+# "passthrough" (which answers every request with zeros) it must still feed
+# the whole stream, end cleanly and say how many answers differed.
+set -euo pipefail
+tessera=$1 asks=$2 out=$3
+. "$(dirname "$0")/common.sh"
+rm -rf "$out"; mkdir -p "$out"; cd "$out"
+cat > asks.yaml <<YAML
+version: 1
+window: {width: 64, height: 48}
+nodes:
+  app:
+    exec: ["$asks", "-", "4"]
+    chain:
+      - capture: {file: asks.tsrcap}
+      - pack
+    to: server
+  server:
+    chain:
+      - render: {output: "srv-%04d.png"}
+YAML
+"$tessera" run asks.yaml --out "$out/run" --no-progress | tee run.txt
+grep -q "^glGenLists: 1$" run.txt || { echo "FAIL: asks did not get its list names from the server"; exit 1; }
+# frame 3 reads the modelview of frame 2: three 17-degree turns, cos(51) = 0.6293
+grep -q "^frame 3: viewport 0 0 64 48, m\[0\] 0.6293[0-9]*, pixel [1-9]" run.txt || { echo "FAIL: asks did not get its answers"; exit 1; }
+"$tessera" replay --info run/asks.tsrcap | tee info.txt
+# 1 glGenLists + 4 frames x (glGetIntegerv, glGetFloatv, glReadPixels)
+grep -qx "replies: 13" info.txt || { echo "FAIL: expected 13 replies in the capture"; exit 1; }
+"$tessera" replay run/asks.tsrcap --chain "render output=rp-%04d.png" 2> rp.err
+cat rp.err
+[ ! -s rp.err ] || { echo "FAIL: render's answers should all equal the server's"; exit 1; }
+same_frames "$tessera" run/srv-%04d.png rp-%04d.png 4
+timeout 20 "$tessera" replay run/asks.tsrcap --chain passthrough 2> pt.err | tee pt.txt
+cat pt.err
+grep -q "4 frames fed" pt.txt || { echo "FAIL: the passthrough replay did not feed every frame"; exit 1; }
+grep -q "note: 13 of 13 answers of this chain differ" pt.err || { echo "FAIL: the differing answers were not counted"; exit 1; }
