@@ -4,10 +4,13 @@
 # application, every kind of server the graph has (render server, replicate
 # target, render tile server, readback tile server, display) and the
 # mothership (the `tessera run` process); graphs: small-window copies of
-# examples/graphs/ tcp, replicate, wall and wall_display (tests/fault/*.yaml,
-# same topology). tests/fault/fault_cell.c runs one cell and says what it
-# checks. Cells share no port (every server listens on port 0) and no file
-# (one output folder each), so they run in parallel.
+# examples/graphs/ tcp, replicate, wall, wall_display, sortlast and
+# sortlast_servers (tests/fault/*.yaml, same topology; the sort-last ones
+# fault a peer, the display and the application). tests/fault/fault_cell.c
+# runs one cell and says what it checks. Cells share no port (every server
+# listens on port 0, the sort-last graphs use unix sockets in the cell's
+# own TMPDIR) and no file (one output folder each), so they run in
+# parallel.
 #
 # Plain build only: the matrix counts in issue 10's CI minutes, and the
 # sanitizer build runs the same code paths in tests/run.cmake's failure
