@@ -266,8 +266,8 @@ static int is_boxed(int slot)
  * and current attributes, and Accum). */
 static int is_unknown(int slot)
 {
-    static const char *const prefixes[] = {"Eval", "CallList", "Rect", "Bitmap", "DrawPixels", "CopyPixels",
-                                           "Accum", "VertexAttrib"};
+    static const char *const prefixes[] = {"Eval",       "CallList",   "Rect",  "Bitmap",
+                                           "DrawPixels", "CopyPixels", "Accum", "VertexAttrib"};
     const char *name = tsr_dispatch_name(slot);
     if (!strncmp(name, "VertexAttribPointer", 19))
         return 0;
@@ -307,7 +307,7 @@ bswap_roi *bswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, 
             tsr_dispatch_tee(table, slot, &r->tees[slot]);
             if (slot == TSR_SLOT_Begin || slot == TSR_SLOT_End || !strcmp(name, "DrawArrays") ||
                 !strcmp(name, "DrawElements")) {
-                r->hooks[slot] = (tsr_hook){.before = slot == TSR_SLOT_End ? NULL
+                r->hooks[slot] = (tsr_hook){.before = slot == TSR_SLOT_End     ? NULL
                                                       : slot == TSR_SLOT_Begin ? before_begin
                                                                                : before_draw,
                                             .after = slot == TSR_SLOT_End ? after_end : NULL,
@@ -323,8 +323,8 @@ bswap_roi *bswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, 
         }
     }
     r->next = *table;
-#define ROI_WRAP(name)                                \
-    if (r->next.slots[TSR_SLOT_##name].fn)           \
+#define ROI_WRAP(name)                     \
+    if (r->next.slots[TSR_SLOT_##name].fn) \
     tsr_set_##name(table, roi_##name, r)
     ROI_WRAP(Clear);
     ROI_WRAP(UseProgram);
