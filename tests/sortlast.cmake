@@ -115,6 +115,8 @@ target_include_directories(behind_viewer PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(behind_viewer PRIVATE tessera_gl tessera m)
 add_test(NAME composite_bounds_behind_viewer
   COMMAND ${SORTLAST_DIR}/roi.sh insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-behind 8 behind_viewer behind)
+add_test(NAME composite_roi_bounds_info_is_honoured
+  COMMAND ${SORTLAST_DIR}/roi.sh insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-bounds 2 behind_viewer bounds --bounds)
 add_test(NAME composite_roi_reads_only_the_box
   COMMAND ${SORTLAST_DIR}/roi.sh servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-box 3 isosurface box)
 

@@ -5,11 +5,19 @@
  * (examples/common/exapp.h): behind_viewer-native is the reference,
  * behind_viewer enters a chain. With --part K/N it draws share K of the
  * triangles (exapp_part_range), immediate mode and client arrays alike.
- * The frames turn the scene a little, so boxes move. Used by
- * tests/sortlast.cmake (composite_bounds_behind_viewer). */
+ * The frames turn the scene a little, so boxes move. --bounds (the tessera
+ * build; the native one ignores it) also sends BoundsInfoTSR with a box
+ * around the eye, which covers the whole window. Used by
+ * tests/sortlast.cmake (composite_bounds_behind_viewer,
+ * composite_roi_bounds_info_is_honoured). */
 #include <GL/gl.h>
+#include <stdbool.h>
 
 #include "common/exapp.h"
+
+#ifndef EXAPP_NATIVE
+void glBoundsInfoTSR(const GLfloat *bounds); /* libtessera_gl's, not in GL/gl.h */
+#endif
 
 #define TRIS 8
 
@@ -37,7 +45,7 @@ static const float colors[TRIS][3] = {
     {1, 1, 0},          {0.2f, 0.3f, 0.9f}, {0.9f, 0.6f, 0.1f}, {0.6f, 0.6f, 0.9f},
 };
 
-static void draw(const exapp *app, int frame)
+static void draw(const exapp *app, int frame, bool bounds)
 {
     glClearColor(0.05f, 0.05f, 0.1f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -50,6 +58,14 @@ static void draw(const exapp *app, int frame)
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
     glRotatef(6.0f * (float)frame, 0, 1, 0);
+#ifndef EXAPP_NATIVE
+    if (bounds) {
+        static const GLfloat around_the_eye[6] = {-1, -1, -1, 1, 1, 1};
+        glBoundsInfoTSR(around_the_eye);
+    }
+#else
+    (void)bounds;
+#endif
     long first = 0, n = exapp_part_range(app, TRIS, &first);
     /* the first half of the share immediate, the rest from client arrays */
     long half = n / 2;
@@ -82,10 +98,12 @@ static void draw(const exapp *app, int frame)
 int main(int argc, char **argv)
 {
     exapp app;
-    if (!exapp_init(&app, "behind_viewer", argc, argv, 96, 72))
+    bool bounds = false;
+    if (!exapp_init_flag(&app, "behind_viewer", argc, argv, 96, 72, "--bounds",
+                         "  --bounds        send BoundsInfoTSR with a box around the eye (the tessera build)", &bounds))
         return exapp_finish(&app);
     for (int f = 0; f < app.frames; f++) {
-        draw(&app, f);
+        draw(&app, f, bounds);
         if (!exapp_swap(&app))
             break;
     }

@@ -11,12 +11,16 @@
 #           region came from the geometry's box (none from the depth
 #           buffer), and rank 4 (its triangle is behind the viewer) read
 #           nothing: an empty region, a header only.
+#   bounds  APP is behind_viewer --bounds with N = 2: rank 1 sends a
+#           BoundsInfoTSR box around the eye, so its region is the whole
+#           window (the box is united with its geometry's, the part behind
+#           the eye clipped conservatively), in every frame.
 #   box     every region came from the geometry's box and each peer read
 #           fewer pixels than the window (colour and depth: no
 #           full-window depth read); the pixels read per frame are printed.
-# usage: roi.sh FORM BIN_DIR OUT_DIR N APP CHECK
+# usage: roi.sh FORM BIN_DIR OUT_DIR N APP CHECK [ARGS for the peers' APP]
 set -u
-form=$1 bin=$2 out=$3 n=$4 app=$5 check=$6
+form=$1 bin=$2 out=$3 n=$4 app=$5 check=$6 args=${7:-}
 bad=0
 fail() { echo "FAIL: $*" >&2; bad=1; }
 rm -rf "$out" && mkdir -p "$out/native" || exit 1
@@ -31,7 +35,7 @@ graph=$out/graph.yaml
   k=0
   while [ $k -lt "$n" ]; do
     echo "  app$k:"
-    echo "    exec: bin/$app --frames $frames --size $size --part $k/$n"
+    echo "    exec: bin/$app $args --frames $frames --size $size --part $k/$n"
     if [ "$form" = insitu ]; then
       echo "    chain: [binaryswap]"
       echo "    to: display"
@@ -70,6 +74,10 @@ case $check in
 behind)
   empty=$(grep -c "rank 4 region \[0, 0, 0, 0\] of 96x72 from the geometry's box; read 0x0 depth, 0x0 colour" "$regions")
   [ "$empty" = $frames ] || fail "rank 4 (behind the viewer) read something in $((frames - empty)) of $frames frames"
+  ;;
+bounds)
+  whole=$(grep -c "rank 1 region \[0, 0, 96, 72\] of 96x72 from the geometry's box" "$regions")
+  [ "$whole" = $frames ] || fail "rank 1's BoundsInfoTSR box made its region the window in $whole of $frames frames"
   ;;
 box)
   # read WxH depth, WxH colour: both smaller than the 96x72 window
