@@ -102,6 +102,24 @@ add_test(NAME composite_peer_that_never_connects_names_it
 add_test(NAME composite_peer_window_size_differs_names_it
   COMMAND ${SORTLAST_DIR}/faults.sh sizes ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/fault-sizes)
 
+# The region of interest from the geometry's boxes (issue 11, item 2;
+# spus/binaryswap/roi.c, tests/sortlast/roi.sh). behind_viewer: one
+# triangle per peer, straddling the eye plane, behind the viewer, cut by
+# the near or far plane; built twice like the examples. Both exact.
+add_executable(behind_viewer-native ${SORTLAST_DIR}/behind_viewer.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_compile_definitions(behind_viewer-native PRIVATE EXAPP_NATIVE)
+target_include_directories(behind_viewer-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(behind_viewer-native PRIVATE PkgConfig::OSMESA tessera m)
+add_executable(behind_viewer ${SORTLAST_DIR}/behind_viewer.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_include_directories(behind_viewer PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(behind_viewer PRIVATE tessera_gl tessera m)
+add_test(NAME composite_bounds_behind_viewer
+  COMMAND ${SORTLAST_DIR}/roi.sh insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-behind 8 behind_viewer behind)
+add_test(NAME composite_roi_bounds_info_is_honoured
+  COMMAND ${SORTLAST_DIR}/roi.sh insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-bounds 2 behind_viewer bounds --bounds)
+add_test(NAME composite_roi_reads_only_the_box
+  COMMAND ${SORTLAST_DIR}/roi.sh servers ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/roi-box 3 isosurface box)
+
 get_property(SORTLAST_TESTS_AFTER DIRECTORY PROPERTY TESTS)
 if(SORTLAST_TESTS_BEFORE)
   list(REMOVE_ITEM SORTLAST_TESTS_AFTER ${SORTLAST_TESTS_BEFORE})

@@ -23,13 +23,15 @@
  * timeout_ms while that peer is not listening yet) and accepts the higher
  * ranks; the first message on a connection names the connecting rank.
  *
- * Region of interest. At a swap the depth buffer of the window is read
+ * Region of interest (read_layer). At a swap only the colour and depth
+ * of the window-space box of the frame's geometry are read and sent
+ * (roi.c: the box of every vertex render was given, placed with the
+ * matrices it was drawn with, clipped in homogeneous space where it
+ * reaches behind the viewer, never dropped). When the frame drew
+ * something no box covers, the depth buffer of the whole window is read
  * (GL_DEPTH_COMPONENT/GL_FLOAT, as OSMesa gives it) and the box of pixels
- * with depth < 1.0 (the cleared value) found; only the box's colour is
- * read and sent. A peer that drew nothing sends the header alone. Geometry
- * partly behind the viewer (w <= 0) is clipped by GL before it reaches the
- * depth buffer, so the box is what was drawn whatever the vertices' w.
- * (The chain's bounding boxes are not used yet: issue 11, item 2.)
+ * with depth < 1.0 (the cleared value) found instead. A peer that drew
+ * nothing sends the header alone.
  *
  * Compositing (composite_frame below): one of the strategies of
  * strategies/ (strategy.h: binary swap for any peer count, direct send,
@@ -65,6 +67,7 @@
 
 #include "net.h"
 #include "render.h"
+#include "roi.h"
 #include "strategy.h"
 #include "tessera/chain.h"
 #include "tessera/dev/client.h"
@@ -87,6 +90,7 @@ typedef struct local_msg {
 typedef struct bswap_spu {
     char name[96];
     void *render;
+    bswap_roi *roi; /* the region of interest from the geometry (roi.c) */
     tsr_dispatch down;
     const tsr_dispatch *child;
     const tsr_options *options;
@@ -318,12 +322,60 @@ static bool grow(void **p, size_t *cap, size_t need)
     return true;
 }
 
-/* Reads this frame's region of interest into b->mine (header comment). */
+/* Reads the box [box[0], box[2]) x [box[1], box[3]) that holds all this
+ * frame drew (roi.c): its colour and depth, nothing else. */
+static void read_box(bswap_spu *b, uint32_t frame, int W, int H, const int box[4])
+{
+    tsr_error err = {0};
+    int x = box[0], y = box[1], w = box[2] - box[0], h = box[3] - box[1];
+    if (tsr_cimage_init(&b->mine, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) != TSR_OK)
+        bswap_fatal(b, "%s", err.message);
+    b->mine.rank = b->rank;
+    b->mine.frame = frame;
+    if (w && (render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK ||
+              render_spu_read(b->render, x, y, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, b->mine.depth, &err) != TSR_OK))
+        bswap_fatal(b, "%s", err.message);
+    /* The background: a pixel outside the box (nothing was drawn there
+     * since the clear), else one inside it that kept the cleared depth. */
+    int bx = -1, by = -1;
+    if (x > 0 || !w)
+        bx = 0, by = 0;
+    else if (x + w < W)
+        bx = x + w, by = y;
+    else if (y > 0)
+        bx = 0, by = 0;
+    else if (y + h < H)
+        bx = 0, by = y + h;
+    b->has_background = bx >= 0;
+    if (b->has_background) {
+        if (render_spu_read(b->render, bx, by, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
+            bswap_fatal(b, "%s", err.message);
+    } else {
+        for (size_t i = 0; i < (size_t)w * (size_t)h && !b->has_background; i++)
+            if (!(b->mine.depth[i] < 1.0f)) {
+                memcpy(b->background, b->mine.color + 4 * i, 4);
+                b->has_background = true;
+            }
+    }
+    tsr_log(TSR_LOG_DEBUG,
+            "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d from the geometry's box; read %dx%d "
+            "depth, %dx%d colour",
+            b->name, frame, b->rank, x, y, w, h, W, H, w, h, w, h);
+}
+
+/* Reads this frame's region of interest into b->mine (header comment):
+ * the box of what was drawn (roi.c) when it is known, else the box of the
+ * pixels with depth < 1.0, found in the whole window's depth. */
 static void read_layer(bswap_spu *b, uint32_t frame)
 {
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
     tsr_error err = {0};
+    int box[4];
+    if (bswap_roi_frame(b->roi, box)) {
+        read_box(b, frame, W, H, box);
+        return;
+    }
     size_t pixels = (size_t)W * (size_t)H;
     if (!grow((void **)&b->window_depth, &b->window_depth_size, pixels * sizeof(float) + 1))
         bswap_fatal(b, "%s", "out of memory for the depth buffer");
@@ -367,8 +419,10 @@ static void read_layer(bswap_spu *b, uint32_t frame)
     if (b->has_background && render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1,
                                              GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
         bswap_fatal(b, "%s", err.message);
-    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
-            x, y, w, h, W, H);
+    tsr_log(TSR_LOG_DEBUG,
+            "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d from the depth buffer; read %dx%d depth, "
+            "%dx%d colour",
+            b->name, frame, b->rank, x, y, w, h, W, H, W, H, w, h);
 }
 
 /* --- the transport the strategies run over ---------------------------------- */
@@ -518,12 +572,15 @@ static void bswap_frame(void *ctx, int frame, void *render)
 
 /* --- the class -------------------------------------------------------------- */
 
+static void window_size(void *ctx, int *w, int *h) { render_spu_size(((bswap_spu *)ctx)->render, w, h); }
+
 static void bswap_destroy(void *self)
 {
     bswap_spu *b = self;
     if (!b)
         return;
     render_spu_destroy(b->render);
+    bswap_roi_destroy(b->roi);
     release_held(b);
     tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
     for (int i = 0; i < b->nranks; i++)
@@ -636,6 +693,10 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     b->render = render_spu_create(&render_init, &hooks, err);
     if (!b->render)
         goto fail;
+    if (!(b->roi = bswap_roi_create(init->table, window_size, b, err))) {
+        render_spu_destroy(b->render);
+        goto fail;
+    }
     return b;
 fail:
     free(b);

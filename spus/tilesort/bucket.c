@@ -416,70 +416,31 @@ int ts_tiling_rebalance(ts_tiling *t)
 
 /* --- window-space box --------------------------------------------------------- */
 
-void ts_clip_matrix(const GLfloat *p, const GLfloat *m, double pm[16])
+/* The box code is the core's (core/wire/box.c, shared with binaryswap);
+ * a corner at w <= 0 stays unknown here: every server gets the buffer. */
+void ts_clip_matrix(const GLfloat *p, const GLfloat *m, double pm[16]) { tsr_box_clip_matrix(p, m, pm); }
+
+static int unpack_box(int ok, const int box[4], int *x0, int *y0, int *x1, int *y1)
 {
-    /* in double: the box only has to contain what the renderer draws, and
-     * the margin absorbs rounding */
-    for (int c = 0; c < 4; c++)
-        for (int r = 0; r < 4; r++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += (double)p[k * 4 + r] * (double)m[c * 4 + k];
-            pm[c * 4 + r] = s;
-        }
+    if (ok) {
+        *x0 = box[0];
+        *y0 = box[1];
+        *x1 = box[2];
+        *y1 = box[3];
+    }
+    return ok;
 }
 
 int ts_window_box(const GLfloat *p, const GLfloat *m, const GLint *vp, const float mn[3], const float mx[3],
                   double margin, int win_w, int win_h, int *x0, int *y0, int *x1, int *y1)
 {
-    double pm[16];
-    ts_clip_matrix(p, m, pm);
-    float corners[8][4];
-    for (int corner = 0; corner < 8; corner++) {
-        corners[corner][0] = (corner & 1) ? mx[0] : mn[0];
-        corners[corner][1] = (corner & 2) ? mx[1] : mn[1];
-        corners[corner][2] = (corner & 4) ? mx[2] : mn[2];
-        corners[corner][3] = 1.0f;
-    }
-    return ts_points_box(pm, vp, corners, 8, margin, win_w, win_h, x0, y0, x1, y1);
+    int box[4];
+    return unpack_box(tsr_box_window(p, m, vp, mn, mx, margin, 0, win_w, win_h, box), box, x0, y0, x1, y1);
 }
 
 int ts_points_box(const double pm[16], const GLint *vp, const float (*pts)[4], int n, double margin, int win_w,
                   int win_h, int *x0, int *y0, int *x1, int *y1)
 {
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (int i = 0; i < n; i++) {
-        const float *v = pts[i];
-        double clip[4];
-        for (int r = 0; r < 4; r++)
-            clip[r] = pm[r] * v[0] + pm[4 + r] * v[1] + pm[8 + r] * v[2] + pm[12 + r] * v[3];
-        if (!(clip[3] > 0) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3]))
-            return 0;
-        for (int a = 0; a < 2; a++) {
-            double ndc = clip[a] / clip[3];
-            if (!isfinite(ndc))
-                return 0;
-            lo[a] = fmin(lo[a], ndc);
-            hi[a] = fmax(hi[a], ndc);
-        }
-    }
-    /* Only what lies inside the clip volume is drawn (wide points and
-     * lines reach out of it by the margin, added below). */
-    for (int a = 0; a < 2; a++) {
-        lo[a] = fmax(lo[a], -1.0);
-        hi[a] = fmin(hi[a], 1.0);
-        if (lo[a] > hi[a]) {
-            *x0 = *y0 = *x1 = *y1 = 0;
-            return 1;
-        }
-    }
-    double wx0 = vp[0] + (lo[0] + 1.0) * 0.5 * vp[2], wx1 = vp[0] + (hi[0] + 1.0) * 0.5 * vp[2];
-    double wy0 = vp[1] + (lo[1] + 1.0) * 0.5 * vp[3], wy1 = vp[1] + (hi[1] + 1.0) * 0.5 * vp[3];
-    double fx0 = floor(wx0 - margin), fy0 = floor(wy0 - margin);
-    double fx1 = ceil(wx1 + margin) + 1, fy1 = ceil(wy1 + margin) + 1;
-    *x0 = fx0 < 0 ? 0 : fx0 > win_w ? win_w : (int)fx0;
-    *y0 = fy0 < 0 ? 0 : fy0 > win_h ? win_h : (int)fy0;
-    *x1 = fx1 < 0 ? 0 : fx1 > win_w ? win_w : (int)fx1;
-    *y1 = fy1 < 0 ? 0 : fy1 > win_h ? win_h : (int)fy1;
-    return 1;
+    int box[4];
+    return unpack_box(tsr_box_points_window(pm, vp, pts, n, margin, 0, win_w, win_h, box), box, x0, y0, x1, y1);
 }

@@ -141,6 +141,23 @@ TSR_API void tsr_packer_fill_dispatch(tsr_packer *p, tsr_dispatch *d);
  * infinite too (where such a vertex lands is up to the renderer). */
 TSR_API int tsr_packer_bbox(const tsr_packer *p, float min[3], float max[3]);
 TSR_API void tsr_packer_bbox_reset(tsr_packer *p);
+/* The window-space box of geometry: an object-space box
+ * [mn, mx] (e.g. the packer's) or n homogeneous object-space points, under
+ * projection * modelview (column-major; pm = their product in double, from
+ * tsr_box_clip_matrix) and the viewport [x, y, w, h], grown by `margin`
+ * pixels and clamped to the win_w x win_h window. Returns 1 with the box
+ * [box[0], box[2]) x [box[1], box[3]) in whole pixels (possibly empty: all
+ * of it off screen), or 0 when it is unknown (a non-finite value; or a
+ * point at w <= 0 when `clip` is 0). With `clip`, points behind the eye
+ * are handled: the hull of the (at most 8) points is clipped against the
+ * near and far planes in homogeneous space, as GL clips what it draws,
+ * and the box is that of what is left. */
+TSR_API void tsr_box_clip_matrix(const GLfloat *projection, const GLfloat *modelview, double pm[16]);
+TSR_API int tsr_box_window(const GLfloat *projection, const GLfloat *modelview, const GLint *viewport,
+                           const float mn[3], const float mx[3], double margin, int clip, int win_w, int win_h,
+                           int box[4]);
+TSR_API int tsr_box_points_window(const double pm[16], const GLint *viewport, const float (*pts)[4], int n,
+                                  double margin, int clip, int win_w, int win_h, int box[4]);
 /* Element i's position from a client vertex array (GL_FLOAT, GL_DOUBLE,
  * GL_INT or GL_SHORT, 1 to 4 components; missing ones are 0, 0, 1) into
  * out; returns 0 for other types and arrays in buffer objects. */
