@@ -63,6 +63,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "layers.h"
 #include "net.h"
 #include "render.h"
 #include "strategy.h"
@@ -120,6 +121,15 @@ typedef struct bswap_spu {
     tsr_cimage frame; /* rank 0: the assembled frame */
     uint8_t background[4];
     bool has_background; /* background[] is a pixel this peer left cleared */
+
+    /* alpha mode and float colour (layers.h) */
+    int mode, colour;                                /* tsr_composite_mode, tsr_ci_color_format */
+    int view[BSWAP_MAX_PEERS], pos[BSWAP_MAX_PEERS]; /* position -> rank, rank -> position */
+    tsr_entry gl_clear_color;                        /* render's ClearColor */
+    float clear[4];                                  /* the application's clear colour (alpha mode) */
+    tsr_cimage layer;                                /* alpha or float: what is composited */
+    uint8_t *frame8;                                 /* float colour: the frame as RGBA8 */
+    size_t frame8_size;
 } bswap_spu;
 
 /* Ends the process after one line: other threads (netlib's, llvmpipe's)
@@ -401,7 +411,7 @@ static int transport_send(void *user, int to, const void *data, size_t size, tsr
         b->local_tail = m;
         return TSR_OK;
     }
-    int peer = to == b->nranks ? 0 : to;
+    int peer = to == b->nranks ? 0 : to >= 0 && to < b->nranks ? b->view[to] : -1;
     if (peer < 0 || peer >= b->nranks || !b->conns[peer])
         return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
     tsr_error e = {0};
@@ -418,6 +428,8 @@ static int transport_recv(void *user, int from, const void **data, size_t *size,
 {
     bswap_spu *b = user;
     release_held(b);
+    if (from >= 0 && from < b->nranks)
+        from = b->view[from]; /* a position in the compositing order: its rank */
     if (from == b->rank) {
         local_msg *m = b->local_head;
         if (!m)
@@ -482,7 +494,10 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     plan(b, b->mine.window_width, b->mine.window_height);
     b->last_bytes = 0;
     tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
-    if (tsr_cs_run_peer(b->peer_ex, b->rank, &b->mine, TSR_COMPOSITE_DEPTH, &t, &err) != TSR_OK)
+    const tsr_cimage *mine = &b->mine;
+    if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_CI_RGBA8)
+        mine = &b->layer;
+    if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
             b->rank, b->last_bytes);
@@ -492,13 +507,26 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     }
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
-    if (tsr_cs_run_display(b->display_ex, frame, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->background,
+    if (b->mode == TSR_COMPOSITE_ALPHA)
+        bswap_background_rgba8(b->clear, b->background);
+    float background_f[4];
+    for (int c = 0; c < 4; c++)
+        background_f[c] = (float)b->background[c] / 255.0f;
+    if (tsr_cs_run_display(b->display_ex, frame, b->mode, b->colour,
+                           b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH,
+                           b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f,
                            &b->frame, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     release_held(b);
+    const uint8_t *pixels = b->frame.color;
+    if (b->colour != TSR_CI_RGBA8) {
+        if (bswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        pixels = b->frame8;
+    }
     const tsr_dispatch *d = display(b);
     tsr_call_WindowPos2i(d, 0, 0);
-    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, b->frame.color);
+    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     tsr_call_SwapBuffersTSR(d, b->window, 0);
 }
 
@@ -511,9 +539,62 @@ static void bswap_frame(void *ctx, int frame, void *render)
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
     link_peers(b, W, H);
-    read_layer(b, (uint32_t)frame);
+    tsr_error err = {0};
+    if (b->mode == TSR_COMPOSITE_ALPHA) {
+        /* Translucent geometry often leaves depth alone (DepthMask false):
+         * the whole window's colour, of which compress keeps the non-zero
+         * pixels. */
+        if (bswap_read_colour(render_spu_read, b->render, W, H, 0, 0, W, H, b->colour, NULL, &b->layer, &err))
+            bswap_fatal(b, "%s", err.message);
+    } else {
+        read_layer(b, (uint32_t)frame);
+        if (b->colour != TSR_CI_RGBA8 &&
+            bswap_read_colour(render_spu_read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width, b->mine.height,
+                              b->colour, b->mine.depth, &b->layer, &err))
+            bswap_fatal(b, "%s", err.message);
+    }
+    b->layer.rank = b->rank;
+    b->layer.frame = b->mine.frame = (uint32_t)frame;
     composite_frame(b, (uint32_t)frame);
     b->frames++;
+}
+
+/* Alpha mode: the application's clear colour is the background the
+ * display adds once; the peer itself clears to transparent black, so its
+ * layer holds only what it drew. */
+static void bswap_ClearColor(void *self, GLfloat red, GLfloat green, GLfloat blue, GLfloat alpha)
+{
+    bswap_spu *b = self;
+    if (b->mode == TSR_COMPOSITE_ALPHA) {
+        b->clear[0] = red;
+        b->clear[1] = green;
+        b->clear[2] = blue;
+        b->clear[3] = alpha;
+        red = green = blue = alpha = 0.0f;
+    }
+    ((tsr_fn_ClearColor)b->gl_clear_color.fn)(b->gl_clear_color.self, red, green, blue, alpha);
+}
+
+/* Alpha mode is exact only with a schedule that blends each pixel's layers
+ * back to front in one place (tsr_cs_schedule_keeps_order): auto picks
+ * among those, an explicit strategy that regroups the blend is refused.
+ * The shape of a schedule depends on the peer count, not the window. */
+static int alpha_strategy(bswap_spu *b, tsr_error *err)
+{
+    tsr_cs_schedule s;
+    char why[160];
+    int kind = b->kind == TSR_CS_AUTO && b->nranks > 8 ? TSR_CS_DIRECT : b->kind;
+    if (tsr_cs_plan(kind, b->nranks, 64, 64, b->k, NULL, &s, err) != TSR_OK)
+        return err->code;
+    int ok = tsr_cs_schedule_keeps_order(&s, why, sizeof why);
+    tsr_cs_schedule_free(&s);
+    if (!ok)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "mode=alpha with strategy %s for %d peers: %s; 8-bit and float rounding make that differ "
+                             "from the back-to-front blend, use direct, gather or auto",
+                             tsr_options_string(b->options, "strategy"), b->nranks, why);
+    b->kind = kind;
+    return TSR_OK;
 }
 
 /* --- the class -------------------------------------------------------------- */
@@ -542,6 +623,8 @@ static void bswap_destroy(void *self)
         tsr_cs_schedule_free(&b->plan);
     tsr_cimage_free(&b->mine);
     tsr_cimage_free(&b->frame);
+    tsr_cimage_free(&b->layer);
+    free(b->frame8);
     free(b->window_depth);
     free(b);
 }
@@ -611,10 +694,11 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
                 goto fail;
             }
     }
-    if (strcmp(mode, "depth")) {
-        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: mode=%s is not implemented yet (depth only)", b->name, mode);
+    if (strcmp(mode, "depth") && strcmp(mode, "alpha")) {
+        tsr_error_set(err, TSR_EINVAL, "%s: mode=%s: expected depth or alpha", b->name, mode);
         goto fail;
     }
+    b->mode = strcmp(mode, "alpha") ? TSR_COMPOSITE_DEPTH : TSR_COMPOSITE_ALPHA;
     tsr_error e = {0};
     if (tsr_cs_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: strategy=%s: %s", b->name, strategy, e.message);
@@ -622,6 +706,12 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     }
     if (tsr_options_int(init->options, "k"))
         b->k = (int)tsr_options_int(init->options, "k");
+    if (bswap_colour_parse(tsr_options_string(init->options, "colour"), &b->colour, &e) != TSR_OK ||
+        bswap_view_order(init->options, b->mode == TSR_COMPOSITE_ALPHA, b->nranks, b->view, b->pos, &e) != TSR_OK ||
+        (b->mode == TSR_COMPOSITE_ALPHA && alpha_strategy(b, &e) != TSR_OK)) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
+        goto fail;
+    }
     if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
                       e.message);
@@ -636,6 +726,9 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     b->render = render_spu_create(&render_init, &hooks, err);
     if (!b->render)
         goto fail;
+    /* alpha mode: the peers clear to transparent black (colour.c) */
+    b->gl_clear_color = init->table->ClearColor;
+    tsr_set_ClearColor(init->table, bswap_ClearColor, b);
     return b;
 fail:
     free(b);
@@ -705,7 +798,25 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "depth",
      .min = 1,
      .max = 0,
-     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank"},
+     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank; alpha: "
+             "premultiplied layers (draw with BlendFunc(ONE, ONE_MINUS_SRC_ALPHA)) blended back to "
+             "front in view_order, the application's ClearColor added once on the display (peers "
+             "clear to 0); exact with direct, gather, auto (bswap and radix-k of several rounds "
+             "regroup the blend and are refused for 3 or more peers)"},
+    {.name = "view_order",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "mode=alpha: the ranks from front to back, e.g. [2, 0, 1]; empty: rank order, rank 0 "
+             "in front"},
+    {.name = "colour",
+     .type = TSR_OPT_STRING,
+     .default_value = "rgba8",
+     .min = 1,
+     .max = 0,
+     .help = "rgba8 (as OSMesa holds it) or rgba32f (read as GL_FLOAT, composited in float, "
+             "rounded once to RGBA8 on the display; codecs: none, rle, erle)"},
     /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
      * display stream's; a failing peer always ends the process). */
     TSR_NODE_CLIENT_OPTION_SPECS,
