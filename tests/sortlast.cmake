@@ -112,3 +112,55 @@ if(TESSERA_SANITIZE)
 endif()
 set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
   TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")
+
+# Alpha mode (issue 11, items 4 and 8): N peers each draw a convex,
+# depth-sorted share of a translucent scene (spheres --alpha); every frame
+# equals the serial back-to-front blend of the same layers, computed by
+# alpha_blend from each share rendered natively: 0 differing pixels. The
+# strategies that blend each pixel in one place agree; those that regroup
+# the blend are refused (tsr_cs_schedule_keeps_order). Own block: its
+# tests take the common properties below.
+get_property(ALPHA_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+add_executable(alpha_blend ${SORTLAST_DIR}/alpha_blend.c)
+target_link_libraries(alpha_blend PRIVATE tessera m)
+set(ALPHA_SH ${SORTLAST_DIR}/alpha.sh)
+set(ALPHA_ARGS ${CMAKE_BINARY_DIR}/bin $<TARGET_FILE:alpha_blend>)
+if(TESSERA_SANITIZE)
+  set(ALPHA_COUNTS 1 3)
+else()
+  set(ALPHA_COUNTS 1 2 3 4 5 7 8)
+endif()
+foreach(n ${ALPHA_COUNTS})
+  add_test(NAME composite_alpha_matches_serial_blend_n${n}
+    COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${n} ${n})
+endforeach()
+if(NOT TESSERA_SANITIZE)
+  foreach(case
+      "gather|4|strategy: gather" "direct|5|strategy: direct" "radixk3|3|strategy: radixk-3"
+      "bswap|2|strategy: bswap" "servers_direct|3|strategy: direct")
+    string(REPLACE "|" ";" case "${case}")
+    list(GET case 0 name)
+    list(GET case 1 n)
+    list(GET case 2 options)
+    set(form insitu)
+    if(name MATCHES "^servers")
+      set(form servers)
+    endif()
+    add_test(NAME composite_alpha_${name}_matches_serial_blend_n${n}
+      COMMAND ${ALPHA_SH} ${form} ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${name}-${n} ${n} "${options}")
+  endforeach()
+  add_test(NAME composite_alpha_float_colour_matches_serial_float_blend_n4
+    COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-float-4 4 "colour: rgba32f")
+endif()
+add_test(NAME composite_alpha_background_added_once
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-bg-3 3 "" background)
+add_test(NAME composite_alpha_view_order_from_graph
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-reversed-3 3 "" reversed)
+add_test(NAME composite_alpha_regrouping_strategy_refused
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-refused-4 4 "strategy: bswap" refused)
+get_property(ALPHA_TESTS DIRECTORY PROPERTY TESTS)
+if(ALPHA_TESTS_BEFORE)
+  list(REMOVE_ITEM ALPHA_TESTS ${ALPHA_TESTS_BEFORE})
+endif()
+set_tests_properties(${ALPHA_TESTS} PROPERTIES
+  TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")

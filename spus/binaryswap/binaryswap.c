@@ -491,12 +491,12 @@ static void plan(bswap_spu *b, int W, int H)
 static void composite_frame(bswap_spu *b, uint32_t frame)
 {
     tsr_error err = {0};
-    plan(b, b->mine.window_width, b->mine.window_height);
-    b->last_bytes = 0;
-    tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
     const tsr_cimage *mine = &b->mine;
     if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_CI_RGBA8)
         mine = &b->layer;
+    plan(b, mine->window_width, mine->window_height);
+    b->last_bytes = 0;
+    tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
     if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,

@@ -36,8 +36,8 @@ int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int
             return tsr_error_set(err, TSR_EINVAL, "view_order entry %zu is '%s', not a rank 0..%d", p + 1, text,
                                  nranks - 1);
         if (pos[r] >= 0)
-            return tsr_error_set(err, TSR_EINVAL, "view_order lists rank %ld twice (entries %d and %zu)", r,
-                                 pos[r] + 1, p + 1);
+            return tsr_error_set(err, TSR_EINVAL, "view_order lists rank %ld twice (entries %d and %zu)", r, pos[r] + 1,
+                                 p + 1);
         pos[r] = (int)p;
         view[p] = (int)r;
     }
