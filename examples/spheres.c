@@ -195,7 +195,7 @@ static void draw_alpha(const exapp *app, float alpha, int frame)
     long first = 0, count = exapp_part_range(app, ALPHA_SPHERES, &first);
     for (long s = first + count - 1; s >= first; s--) {
         glPushMatrix();
-        glTranslatef(-1.6f + 0.45f * (float)s, 0.9f - 0.25f * (float)s, 1.6f - 1.1f * (float)s);
+        glTranslatef(-0.9f + 0.22f * (float)s, 0.5f - 0.12f * (float)s, 1.6f - 1.1f * (float)s);
         glScalef(0.55f, 0.55f, 0.55f);
         for (int i = 0; i < SPHERE_STACKS; i++)
             emit_alpha_band((int)s, i, alpha);

@@ -99,13 +99,22 @@ while [ $f -lt $frames ]; do
   f=$((f + 1))
 done
 [ -e "$out/run/out/$(printf 'f-%04d.png' $frames)" ] && fail "the display wrote more than $frames frames"
+# $layers and $name are the last frame's now.
 # not vacuous: the layers overlap (two or more peers drew translucent
 # pixels somewhere), and the background, when given, shows once
 if [ "$n" -gt 1 ]; then
   # shellcheck disable=SC2086
-  over=$("$blend" rgba8 "$out/native/layer0-0000.png" none $layers 2>&1 | head -n 1)
+  over=$("$blend" rgba8 "$out/native/layer0-$name" none $layers 2>&1 | head -n 1)
   echo "blending the layers changes layer 0 at: $over"
   [ "$over" != "differing_pixels: 0" ] || fail "the layers do not overlap: the test shows nothing"
+fi
+# and where three or more layers meet, the grouping of the 8-bit blend
+# shows: the same steps front to back give another frame
+if [ "$n" -ge 4 ] && [ $colour = rgba8 ]; then
+  # shellcheck disable=SC2086
+  regrouped=$("$blend" rgba8-front-to-back "$out/run/out/f-$name" "$bgpng" $layers 2>&1 | head -n 1)
+  echo "the front-to-back grouping would differ at: $regrouped"
+  [ "$regrouped" != "differing_pixels: 0" ] || fail "the scene does not tell the blend's groupings apart"
 fi
 grep -o 'strategy [^ ]* for [0-9]* peers.*' "$out/run.err" | head -n 1
 [ $bad = 0 ] && echo PASS

@@ -13,7 +13,11 @@
  * rgba32f: the bytes as c / 255.0f, over in float (f + b * (1 - fa)), one
  *          rounding at the end: round(clamp(v, 0, 1) * 255).
  *
- * usage: alpha_blend rgba8|rgba32f DISPLAY.png BACKGROUND.png|none
+ * rgba8-front-to-back: the same steps grouped the other way, acc = acc over
+ *          layer from the front, as a regrouping schedule (binary swap)
+ *          would: the test shows its scene tells the two apart.
+ *
+ * usage: alpha_blend rgba8|rgba32f|rgba8-front-to-back DISPLAY.png BACKGROUND.png|none
  *        LAYER0.png [LAYER1.png ...]   (layers in view order, front first;
  *        BACKGROUND.png: its pixel (0, 0) is the background colour)
  * Prints "differing_pixels: N" and the first differing pixel; exit status
@@ -54,11 +58,14 @@ static int load(tsr_image *img, const char *path)
 
 int main(int argc, char **argv)
 {
-    if (argc < 5 || (strcmp(argv[1], "rgba8") && strcmp(argv[1], "rgba32f")) || argc - 4 > MAX_LAYERS) {
-        fprintf(stderr, "usage: alpha_blend rgba8|rgba32f DISPLAY.png BACKGROUND.png|none LAYER0.png ...\n");
+    if (argc < 5 ||
+        (strcmp(argv[1], "rgba8") && strcmp(argv[1], "rgba32f") && strcmp(argv[1], "rgba8-front-to-back")) ||
+        argc - 4 > MAX_LAYERS) {
+        fprintf(stderr, "usage: alpha_blend rgba8|rgba32f|rgba8-front-to-back DISPLAY.png BACKGROUND.png|none "
+                        "LAYER0.png ...\n");
         return 2;
     }
-    int f32 = !strcmp(argv[1], "rgba32f"), n = argc - 4;
+    int f32 = !strcmp(argv[1], "rgba32f"), ftb = !strcmp(argv[1], "rgba8-front-to-back"), n = argc - 4;
     tsr_image shown = {0}, layers[MAX_LAYERS] = {{0}};
     unsigned bg[4] = {0, 0, 0, 0};
     if (!load(&shown, argv[2]))
@@ -85,7 +92,18 @@ int main(int argc, char **argv)
     size_t pixels = (size_t)shown.width * (size_t)shown.height;
     for (size_t p = 0; p < pixels; p++) {
         unsigned out[4];
-        if (!f32) {
+        if (ftb) {
+            unsigned acc[4] = {0, 0, 0, 0};
+            for (int i = 0; i < n; i++) {
+                const uint8_t *L = layers[i].pixels + 4 * p;
+                unsigned next[4];
+                for (int c = 0; c < 4; c++)
+                    next[c] = over8(acc[c], L[c], acc[3]);
+                memcpy(acc, next, sizeof acc);
+            }
+            for (int c = 0; c < 4; c++)
+                out[c] = over8(acc[c], bg[c], acc[3]);
+        } else if (!f32) {
             unsigned acc[4] = {0, 0, 0, 0};
             for (int i = n - 1; i >= 0; i--) {
                 const uint8_t *L = layers[i].pixels + 4 * p;
