@@ -86,7 +86,7 @@ foreach(case
 endforeach()
 add_test(NAME composite_check_accepts_a_group_listed_in_rank_order
   COMMAND ${SORTLAST_EXPECT} 0 "^ok: 7 nodes" "" $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/listed_ok.yaml)
-foreach(g sortlast sortlast_servers)
+foreach(g sortlast sortlast_servers sortlast_alpha)
   add_test(NAME composite_example_graph_${g}_checks
     COMMAND ${SORTLAST_EXPECT} 0 "^ok: " "" $<TARGET_FILE:tessera_cli> check ${CMAKE_SOURCE_DIR}/examples/graphs/${g}.yaml)
 endforeach()
@@ -158,6 +158,32 @@ add_test(NAME composite_alpha_view_order_from_graph
   COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-reversed-3 3 "" reversed)
 add_test(NAME composite_alpha_regrouping_strategy_refused
   COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-refused-4 4 "strategy: bswap" refused)
+add_test(NAME composite_alpha_options_in_binaryswap_help
+  COMMAND ${SORTLAST_EXPECT} 0 "view_order" "" $<TARGET_FILE:tessera_cli> spus binaryswap)
+set_tests_properties(composite_alpha_options_in_binaryswap_help PROPERTIES
+  PASS_REGULAR_EXPRESSION "rgba32f")
+add_test(NAME composite_alpha_spheres_help_lists_alpha
+  COMMAND ${SORTLAST_EXPECT} 0 "--alpha A" "" $<TARGET_FILE:spheres-native> --help)
+set_tests_properties(composite_alpha_spheres_help_lists_alpha PROPERTIES
+  PASS_REGULAR_EXPRESSION "--background R,G,B")
+add_test(NAME composite_alpha_spheres_bad_alpha_is_a_clear_error
+  COMMAND ${SORTLAST_EXPECT} 2 "" "^spheres: bad --alpha \\(expected 0 < A <= 1\\): 1.5"
+          $<TARGET_FILE:spheres-native> --alpha 1.5 --frames 1 --size 32x32 --out "")
+foreach(case
+    "twice|mode=alpha view_order=0,0|view_order lists rank 0 twice \\(entries 1 and 2\\)"
+    "short|mode=alpha view_order=1|view_order lists 1 ranks, the group has 2"
+    "not_a_rank|mode=alpha view_order=0,x|view_order entry 2 is 'x', not a rank 0..1"
+    "depth_mode|view_order=1,0|view_order is for mode=alpha"
+    "colour|colour=rgb565|colour=rgb565: expected rgba8 or rgba32f")
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 name)
+  list(GET case 1 options)
+  list(GET case 2 message)
+  add_test(NAME composite_alpha_bad_${name}_is_one_clear_line
+    COMMAND ${SORTLAST_EXPECT} 1 "" "^spheres: binaryswap#1: ${message}"
+            $<TARGET_FILE:spheres> --alpha 0.5 --frames 1 --size 32x32
+            --chain "binaryswap display=unix:${SORTLAST_OUT}/none.sock ${options} exchange=unix:${SORTLAST_OUT}/a,unix:${SORTLAST_OUT}/b")
+endforeach()
 get_property(ALPHA_TESTS DIRECTORY PROPERTY TESTS)
 if(ALPHA_TESTS_BEFORE)
   list(REMOVE_ITEM ALPHA_TESTS ${ALPHA_TESTS_BEFORE})

@@ -47,6 +47,13 @@
  * ranks also connect to the display (a graph's display node counts every
  * peer among its clients) but send it nothing.
  *
+ * Alpha mode and float colour (layers.h, order.c, colour.c; README.md):
+ * the whole window's colour is composited as a premultiplied layer, in
+ * view_order, folded back to front (the serial blend's grouping) by a
+ * schedule that keeps that grouping; the peer clears to transparent black
+ * (ClearColor is taken here) and the display adds the application's clear
+ * colour once. colour=rgba32f composites GL_FLOAT colour.
+ *
  * Failures: a peer that does not answer within timeout_ms, a connection
  * that breaks, a message whose frame, rank, window size or region is not
  * what it must be: one line naming the peer (rank and address), then the
@@ -816,7 +823,7 @@ static const tsr_option_spec bswap_options[] = {
      .min = 1,
      .max = 0,
      .help = "rgba8 (as OSMesa holds it) or rgba32f (read as GL_FLOAT, composited in float, "
-             "rounded once to RGBA8 on the display; codecs: none, rle, erle)"},
+             "rounded once to RGBA8 on the display; the lossy yuv420 codec does not apply)"},
     /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
      * display stream's; a failing peer always ends the process). */
     TSR_NODE_CLIENT_OPTION_SPECS,
