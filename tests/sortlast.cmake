@@ -149,6 +149,9 @@ if(NOT TESSERA_SANITIZE)
     add_test(NAME composite_alpha_${name}_matches_serial_blend_n${n}
       COMMAND ${ALPHA_SH} ${form} ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${name}-${n} ${n} "${options}")
   endforeach()
+  # float colour in depth mode selects pixels: the native render, exactly
+  add_test(NAME composite_insitu_float_colour_depth_exact_n3
+    COMMAND ${SORTLAST_SH} insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/insitu-float-3 3 overlap - "colour: rgba32f")
   add_test(NAME composite_alpha_float_colour_matches_serial_float_blend_n4
     COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-float-4 4 "colour: rgba32f")
 endif()
