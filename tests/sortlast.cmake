@@ -159,6 +159,8 @@ add_test(NAME composite_alpha_background_added_once
   COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-bg-3 3 "" background)
 add_test(NAME composite_alpha_view_order_from_graph
   COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-reversed-3 3 "" reversed)
+add_test(NAME composite_alpha_view_order_from_boxes
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-boxes-4 4 "" boxes)
 add_test(NAME composite_alpha_regrouping_strategy_refused
   COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-refused-4 4 "strategy: bswap" refused)
 add_test(NAME composite_alpha_options_in_binaryswap_help
@@ -177,7 +179,9 @@ foreach(case
     "short|mode=alpha view_order=1|view_order lists 1 ranks, the group has 2"
     "not_a_rank|mode=alpha view_order=0,x|view_order entry 2 is 'x', not a rank 0..1"
     "depth_mode|view_order=1,0|view_order is for mode=alpha"
-    "colour|colour=rgb565|colour=rgb565: expected rgba8 or rgba32f")
+    "colour|colour=rgb565|colour=rgb565: expected rgba8 or rgba32f"
+    "box_size|mode=alpha box=1,2,3|box has 3 numbers, not 6 \\(xmin, ymin, zmin, xmax, ymax, zmax\\)"
+    "box_inverted|mode=alpha box=0,0,1,1,1,0|box: its minimum z \\(1\\) is above its maximum \\(0\\)")
   string(REPLACE "|" ";" case "${case}")
   list(GET case 0 name)
   list(GET case 1 options)

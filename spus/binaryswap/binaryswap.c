@@ -83,6 +83,7 @@
 #define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
 #define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
+#define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2) /* alpha mode: a box's distance */
 
 /* A message queued for this process's own display participant (rank 0
  * sends its final piece to itself). */
@@ -133,6 +134,9 @@ typedef struct bswap_spu {
     int mode, colour;                                /* tsr_composite_mode, tsr_ci_color_format */
     int view[BSWAP_MAX_PEERS], pos[BSWAP_MAX_PEERS]; /* position -> rank, rank -> position */
     tsr_entry gl_clear_color;                        /* render's ClearColor */
+    const tsr_dispatch *table;                       /* this instance's (GetFloatv) */
+    float box[6];                                    /* this part's object-space box */
+    bool order_from_boxes;                           /* box given, view_order not */
     float clear[4];                                  /* the application's clear colour (alpha mode) */
     tsr_cimage layer;                                /* alpha or float: what is composited */
     uint8_t *frame8;                                 /* float colour: the frame as RGBA8 */
@@ -537,6 +541,8 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     tsr_call_SwapBuffersTSR(d, b->window, 0);
 }
 
+static void exchange_order(bswap_spu *b, uint32_t frame);
+
 /* render's frame hook: the frame is finished and still in the framebuffer. */
 static void bswap_frame(void *ctx, int frame, void *render)
 {
@@ -547,6 +553,8 @@ static void bswap_frame(void *ctx, int frame, void *render)
     render_spu_size(b->render, &W, &H);
     link_peers(b, W, H);
     tsr_error err = {0};
+    if (b->order_from_boxes && b->nranks > 1)
+        exchange_order(b, (uint32_t)frame);
     if (b->mode == TSR_COMPOSITE_ALPHA) {
         /* Translucent geometry often leaves depth alone (DepthMask false):
          * the whole window's colour, of which compress keeps the non-zero
@@ -564,6 +572,56 @@ static void bswap_frame(void *ctx, int frame, void *render)
     b->layer.frame = b->mine.frame = (uint32_t)frame;
     composite_frame(b, (uint32_t)frame);
     b->frames++;
+}
+
+/* Alpha mode with boxes: this frame's view order (layers.h). Every peer
+ * sends every other its box's distance, then reads theirs: a few bytes
+ * on each connection, before the frame's images. */
+static void exchange_order(bswap_spu *b, uint32_t frame)
+{
+    float mv[16], dist[BSWAP_MAX_PEERS];
+    tsr_call_GetFloatv(b->table, GL_MODELVIEW_MATRIX, mv);
+    dist[b->rank] = bswap_box_distance(b->box, mv);
+    uint32_t bits;
+    memcpy(&bits, &dist[b->rank], 4);
+    uint8_t msg8[8];
+    for (int i = 0; i < 4; i++) {
+        msg8[i] = (uint8_t)(frame >> (8 * i));
+        msg8[4 + i] = (uint8_t)(bits >> (8 * i));
+    }
+    int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
+    tsr_error err = {0};
+    for (int r = 0; r < b->nranks; r++)
+        if (r != b->rank && tsr_net_send(b->conns[r], BSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s): %s", frame, r, peer_address(b, r), err.message);
+    for (int r = 0; r < b->nranks; r++) {
+        if (r == b->rank)
+            continue;
+        tsr_net_msg msg;
+        int rc = tsr_net_recv(b->conns[r], &msg, wait, &err);
+        bool ok = false;
+        uint32_t their_frame = 0, their_bits = 0;
+        if (rc == 1) {
+            if (msg.kind == BSWAP_KIND_ORDER && msg.len == 8) {
+                const uint8_t *m = msg.data;
+                for (int i = 0; i < 4; i++) {
+                    their_frame |= (uint32_t)m[i] << (8 * i);
+                    their_bits |= (uint32_t)m[4 + i] << (8 * i);
+                }
+                memcpy(&dist[r], &their_bits, 4);
+                ok = their_frame == frame && dist[r] == dist[r];
+            }
+            tsr_net_msg_release(&msg);
+        }
+        if (!ok)
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, peer_address(b, r),
+                        rc == 1   ? "sent no box distance for this frame (does every peer have a box?)"
+                        : rc == 0 ? "ended before sending its box distance"
+                                  : "sent no box distance within timeout_ms");
+    }
+    bswap_order_by_distance(dist, b->nranks, b->view, b->pos);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d is at position %d of the view order (distance %g)", b->name,
+            frame, b->rank, b->pos[b->rank], (double)dist[b->rank]);
 }
 
 /* Alpha mode: the application's clear colour is the background the
@@ -719,6 +777,13 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
         goto fail;
     }
+    int has_box = 0;
+    if (bswap_box_parse(init->options, b->box, &has_box, &e) != TSR_OK ||
+        (has_box && b->mode != TSR_COMPOSITE_ALPHA &&
+         tsr_error_set(&e, TSR_EINVAL, "box is for mode=alpha (depth mode composites in rank order)"))) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
+        goto fail;
+    }
     if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
                       e.message);
@@ -734,6 +799,8 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     if (!b->render)
         goto fail;
     /* alpha mode: the peers clear to transparent black (colour.c) */
+    b->order_from_boxes = has_box && !tsr_options_count(init->options, "view_order");
+    b->table = init->table;
     b->gl_clear_color = init->table->ClearColor;
     tsr_set_ClearColor(init->table, bswap_ClearColor, b);
     return b;
@@ -815,8 +882,17 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "",
      .min = 0,
      .max = 0,
-     .help = "mode=alpha: the ranks from front to back, e.g. [2, 0, 1]; empty: rank order, rank 0 "
-             "in front"},
+     .help = "mode=alpha: the ranks from front to back, e.g. [2, 0, 1]; empty: computed from "
+             "every peer's box, else rank order (rank 0 in front)"},
+    {.name = "box",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "mode=alpha: this peer's part's object-space bounding box [xmin, ymin, zmin, xmax, "
+             "ymax, zmax] under the modelview at SwapBuffers; when every peer has one and "
+             "view_order is empty, the view order is computed every frame (box centres, nearest "
+             "first)"},
     {.name = "colour",
      .type = TSR_OPT_STRING,
      .default_value = "rgba8",

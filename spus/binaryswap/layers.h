@@ -19,6 +19,17 @@
  * TSR_EINVAL naming the entry. */
 int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int *pos, tsr_error *err);
 
+/* The view order computed per frame (order.c): `box` is this peer's
+ * object-space bounding box (xmin, ymin, zmin, xmax, ymax, zmax) under the
+ * modelview current at SwapBuffers. Each peer sends the others the
+ * distance of its box's centre in front of the eye (-z in eye space) and
+ * every peer sorts the same numbers: nearest first, equal distance in rank
+ * order. Right for parts that are separable along the view axis (convex
+ * parts in depth slabs); the graph's view_order, when given, wins. */
+int bswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err);
+float bswap_box_distance(const float box[6], const float modelview[16]);
+void bswap_order_by_distance(const float *distance, int nranks, int *view, int *pos);
+
 /* `colour`: "rgba8" or "rgba32f" (colour.c). */
 int bswap_colour_parse(const char *text, int *color_format, tsr_error *err);
 

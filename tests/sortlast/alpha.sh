@@ -13,6 +13,9 @@
 #   CASE    -: rank r draws share r, rank order is view order
 #           background: the applications clear to an opaque colour
 #           reversed: rank r draws share N-1-r, view_order lists N-1..0
+#           boxes: rank r draws share N-1-r, each peer has the `box` of
+#                    its share's spheres and no view_order: the order is
+#                    computed from the boxes every frame
 #           refused: the options must be refused with one line naming the
 #                    regrouped blend (exit non-zero, no frame)
 set -u
@@ -52,17 +55,27 @@ graph=$out/graph.yaml
   i=0
   while [ $i -lt "$n" ]; do
     share=$i
-    [ "$case" = reversed ] && share=$((n - 1 - i))
+    [ "$case" = reversed ] || [ "$case" = boxes ] && share=$((n - 1 - i))
+    peer_entries=$entries
+    if [ "$case" = boxes ]; then
+      # spheres.c's alpha scene: sphere s at (-0.9 + 0.22 s, 0.5 - 0.12 s,
+      # 1.6 - 1.1 s), radius 0.55; share K has spheres [8K/N, 8(K+1)/N)
+      box=$(awk -v k=$share -v n="$n" 'BEGIN {
+        a = int(8 * k / n); b = int(8 * (k + 1) / n) - 1
+        printf "%g, %g, %g, %g, %g, %g", -0.9 + 0.22 * a - 0.55, 0.5 - 0.12 * b - 0.55, 1.6 - 1.1 * b - 0.55,
+               -0.9 + 0.22 * b + 0.55, 0.5 - 0.12 * a + 0.55, 1.6 - 1.1 * a + 0.55 }')
+      peer_entries="$entries, box: [$box]"
+    fi
     echo "  app$i:"
     echo "    exec: bin/spheres --alpha $alpha $bgargs --frames $frames --size $size --part $share/$n"
     if [ "$form" = insitu ]; then
-      echo "    chain: [{binaryswap: {$entries}}]"
+      echo "    chain: [{binaryswap: {$peer_entries}}]"
       echo "    to: display"
     else
       echo "    chain: [pack]"
       echo "    to: peer$i"
       echo "  peer$i:"
-      echo "    chain: [{binaryswap: {$entries}}]"
+      echo "    chain: [{binaryswap: {$peer_entries}}]"
       echo "    to: display"
     fi
     i=$((i + 1))
@@ -115,6 +128,17 @@ if [ "$n" -ge 4 ] && [ $colour = rgba8 ]; then
   regrouped=$("$blend" rgba8-front-to-back "$out/run/out/f-$name" "$bgpng" $layers 2>&1 | head -n 1)
   echo "the front-to-back grouping would differ at: $regrouped"
   [ "$regrouped" != "differing_pixels: 0" ] || fail "the scene does not tell the blend's groupings apart"
+fi
+if [ "$case" = boxes ]; then
+  # rank r drew the share at position N-1-r: the computed order says so
+  r=0
+  while [ $r -lt "$n" ]; do
+    want="rank $r is at position $((n - 1 - r)) of the view order"
+    got=$(grep -c "$want" "$out/run.err")
+    echo "$want: $got frames"
+    [ "$got" = $frames ] || fail "rank $r was not at position $((n - 1 - r)) in every frame"
+    r=$((r + 1))
+  done
 fi
 grep -o 'strategy [^ ]* for [0-9]* peers.*' "$out/run.err" | head -n 1
 [ $bad = 0 ] && echo PASS
