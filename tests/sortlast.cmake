@@ -180,6 +180,7 @@ foreach(case
     "not_a_rank|mode=alpha view_order=0,x|view_order entry 2 is 'x', not a rank 0..1"
     "depth_mode|view_order=1,0|view_order is for mode=alpha"
     "colour|colour=rgb565|colour=rgb565: expected rgba8 or rgba32f"
+    "float_yuv|colour=rgba32f codec=yuv420|codec=yuv420 is for RGBA8 colour, not colour=rgba32f"
     "box_size|mode=alpha box=1,2,3|box has 3 numbers, not 6 \\(xmin, ymin, zmin, xmax, ymax, zmax\\)"
     "box_inverted|mode=alpha box=0,0,1,1,1,0|box: its minimum z \\(1\\) is above its maximum \\(0\\)")
   string(REPLACE "|" ";" case "${case}")

@@ -789,6 +789,11 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
                       e.message);
         goto fail;
     }
+    if (b->colour == TSR_CI_RGBA32F && b->codec.color == TSR_CODEC_COLOR_YUV420) {
+        tsr_error_set(err, TSR_EINVAL, "%s: codec=%s is for RGBA8 colour, not colour=rgba32f", b->name,
+                      tsr_options_string(init->options, "codec"));
+        goto fail;
+    }
     b->down = *init->child;
     tsr_set_WindowCreateTSR(&b->down, bswap_WindowCreateTSR, b);
     tsr_set_WindowSizeTSR(&b->down, bswap_WindowSizeTSR, b);
