@@ -8,9 +8,24 @@
  * centre sphere, SPHERE_STACKS bands each; share K draws the run
  * exapp_part_range gives it, so shares end in the middle of spheres.
  * --overlap pulls the ring in until its spheres cut into each other and
- * into the centre sphere: interpenetrating objects across share borders. */
+ * into the centre sphere: interpenetrating objects across share borders.
+ *
+ * --alpha A (sort-last alpha mode): another scene, ALPHA_SPHERES
+ * translucent spheres of opacity A in a diagonal row receding from the
+ * viewer, sphere 0 nearest, each in its own depth slab, turning about the
+ * view axis (so the view order never changes). The primitives are whole
+ * spheres (convex: with back faces culled each pixel gets at most one
+ * fragment of each), share K takes a contiguous run, so rank order is
+ * front-to-back order, and each share draws its spheres back to front,
+ * premultiplied (colour times A, BlendFunc(ONE, ONE_MINUS_SRC_ALPHA)),
+ * shaded per vertex by the program (no GL lighting: its colour could not
+ * be premultiplied). Cleared to transparent black, or to --background
+ * R,G,B (opaque) when given. */
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include <GL/gl.h>
 
@@ -21,6 +36,7 @@
 #define SPHERE_SLICES 32
 #define SPHERE_STACKS 20
 #define STRIP_COUNT ((SPHERE_COUNT + 1) * SPHERE_STACKS)
+#define ALPHA_SPHERES 8
 
 /* Band i of a unit sphere: one latitude quad strip with per-vertex normals. */
 static void emit_band(int i, int slices, int stacks)
@@ -146,13 +162,120 @@ static void draw(const exapp *app, GLuint sphere_list, GLuint ring_list, int fra
     glPopMatrix();
 }
 
+/* The alpha scene's band i of sphere s: colour per vertex, lit by one
+ * eye-space direction, premultiplied by the opacity. */
+static void emit_alpha_band(int s, int i, float alpha)
+{
+    static const float colour[ALPHA_SPHERES][3] = {{0.9f, 0.2f, 0.2f},    {0.2f, 0.8f, 0.3f}, {0.2f, 0.3f, 0.9f},
+                                                   {0.9f, 0.8f, 0.2f},    {0.8f, 0.3f, 0.8f}, {0.2f, 0.8f, 0.8f},
+                                                   {0.85f, 0.85f, 0.85f}, {0.9f, 0.5f, 0.1f}};
+    float lat0 = PI_F * (-0.5f + (float)i / (float)SPHERE_STACKS);
+    float lat1 = PI_F * (-0.5f + (float)(i + 1) / (float)SPHERE_STACKS);
+    glBegin(GL_QUAD_STRIP);
+    for (int j = 0; j <= SPHERE_SLICES; j++) {
+        float lon = 2.0f * PI_F * (float)j / (float)SPHERE_SLICES;
+        for (int e = 0; e < 2; e++) {
+            float lat = e ? lat0 : lat1;
+            float x = cosf(lat) * cosf(lon), y = cosf(lat) * sinf(lon), z = sinf(lat);
+            float lit = 0.35f + 0.65f * fmaxf(0.0f, 0.4f * x + 0.5f * y + 0.77f * z);
+            glColor4f(colour[s][0] * lit * alpha, colour[s][1] * lit * alpha, colour[s][2] * lit * alpha, alpha);
+            glVertex3f(x, y, z);
+        }
+    }
+    glEnd();
+}
+
+/* The alpha scene (header comment): this share's spheres, back to front. */
+static void draw_alpha(const exapp *app, float alpha, int frame)
+{
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glLoadIdentity();
+    glTranslatef(0, 0, -6.0f);
+    glRotatef(9.0f * (float)frame, 0, 0, 1);
+    long first = 0, count = exapp_part_range(app, ALPHA_SPHERES, &first);
+    for (long s = first + count - 1; s >= first; s--) {
+        glPushMatrix();
+        glTranslatef(-0.9f + 0.22f * (float)s, 0.5f - 0.12f * (float)s, 1.6f - 1.1f * (float)s);
+        glScalef(0.55f, 0.55f, 0.55f);
+        for (int i = 0; i < SPHERE_STACKS; i++)
+            emit_alpha_band((int)s, i, alpha);
+        glPopMatrix();
+    }
+}
+
+static void setup_alpha(const exapp *app, const float *background)
+{
+    glViewport(0, 0, app->width, app->height);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    double aspect = (double)app->width / (double)app->height;
+    glFrustum(-0.5 * aspect, 0.5 * aspect, -0.5, 0.5, 1.0, 30.0);
+    glMatrixMode(GL_MODELVIEW);
+    if (background)
+        glClearColor(background[0], background[1], background[2], 1.0f);
+    else
+        glClearColor(0, 0, 0, 0);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+}
+
+/* Takes --alpha A and --background R,G,B out of argv (the harness knows
+ * one flag of its own); false with a message on a bad value. */
+static bool take_alpha_options(int *argc, char **argv, float *alpha, float *background, bool *has_background)
+{
+    int out = 1;
+    for (int i = 1; i < *argc; i++) {
+        char *end = NULL;
+        if (!strcmp(argv[i], "--alpha") && i + 1 < *argc) {
+            *alpha = strtof(argv[++i], &end);
+            if (*end || !(*alpha > 0.0f && *alpha <= 1.0f)) {
+                fprintf(stderr, "spheres: bad --alpha (expected 0 < A <= 1): %s\n", argv[i]);
+                return false;
+            }
+        } else if (!strcmp(argv[i], "--background") && i + 1 < *argc) {
+            const char *text = argv[++i];
+            int used = 0;
+            if (sscanf(text, "%f,%f,%f%n", &background[0], &background[1], &background[2], &used) != 3 || text[used]) {
+                fprintf(stderr, "spheres: bad --background (expected R,G,B in 0..1): %s\n", text);
+                return false;
+            }
+            *has_background = true;
+        } else {
+            argv[out++] = argv[i];
+        }
+    }
+    *argc = out;
+    return true;
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
-    bool overlap = false;
+    bool overlap = false, has_background = false;
+    float alpha = 0.0f, background[3] = {0, 0, 0};
+    if (!take_alpha_options(&argc, argv, &alpha, background, &has_background))
+        return 2;
     if (!exapp_init_flag(&app, "spheres", argc, argv, 640, 480, "--overlap",
-                         "  --overlap       pull the ring in: spheres cut into each other and the centre", &overlap))
+                         "  --overlap       pull the ring in: spheres cut into each other and the centre\n"
+                         "  --alpha A       translucent scene of opacity A, premultiplied, back to front per\n"
+                         "                  share (sort-last alpha mode; cleared to transparent black)\n"
+                         "  --background R,G,B  with --alpha: clear to this opaque colour instead",
+                         &overlap))
         return exapp_finish(&app);
+    if (alpha > 0.0f) {
+        setup_alpha(&app, has_background ? background : NULL);
+        for (int f = 0; f < app.frames; f++) {
+            draw_alpha(&app, alpha, f);
+            if (!exapp_swap(&app))
+                break;
+        }
+        return exapp_finish(&app);
+    }
     GLuint sphere_list, ring_list;
     setup(&app, overlap, &sphere_list, &ring_list);
     for (int f = 0; f < app.frames; f++) {

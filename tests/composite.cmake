@@ -27,7 +27,9 @@ foreach(t
     composite_odd_image_sizes
     composite_blank_peers
     composite_alpha_strategies_agree
-    composite_faults_name_the_peer)
+    composite_faults_name_the_peer
+    composite_alpha_schedules_keep_order
+    composite_over_float_kernel_matches_reference)
   string(REPLACE "composite_" "" arg ${t})
   add_test(NAME ${t} COMMAND composite_tests ${arg})
   set_tests_properties(${t} PROPERTIES TIMEOUT 300)

@@ -86,7 +86,7 @@ foreach(case
 endforeach()
 add_test(NAME composite_check_accepts_a_group_listed_in_rank_order
   COMMAND ${SORTLAST_EXPECT} 0 "^ok: 7 nodes" "" $<TARGET_FILE:tessera_cli> check ${SORTLAST_GRAPHS}/listed_ok.yaml)
-foreach(g sortlast sortlast_servers)
+foreach(g sortlast sortlast_servers sortlast_alpha)
   add_test(NAME composite_example_graph_${g}_checks
     COMMAND ${SORTLAST_EXPECT} 0 "^ok: " "" $<TARGET_FILE:tessera_cli> check ${CMAKE_SOURCE_DIR}/examples/graphs/${g}.yaml)
 endforeach()
@@ -129,4 +129,90 @@ if(TESSERA_SANITIZE)
   list(APPEND SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()
 set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
+  TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")
+
+# Alpha mode (issue 11, items 4 and 8): N peers each draw a convex,
+# depth-sorted share of a translucent scene (spheres --alpha); every frame
+# equals the serial back-to-front blend of the same layers, computed by
+# alpha_blend from each share rendered natively: 0 differing pixels. The
+# strategies that blend each pixel in one place agree; those that regroup
+# the blend are refused (tsr_cs_schedule_keeps_order). Own block: its
+# tests take the common properties below.
+get_property(ALPHA_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+add_executable(alpha_blend ${SORTLAST_DIR}/alpha_blend.c)
+target_link_libraries(alpha_blend PRIVATE tessera m)
+set(ALPHA_SH ${SORTLAST_DIR}/alpha.sh)
+set(ALPHA_ARGS ${CMAKE_BINARY_DIR}/bin $<TARGET_FILE:alpha_blend>)
+if(TESSERA_SANITIZE)
+  set(ALPHA_COUNTS 1 3)
+else()
+  set(ALPHA_COUNTS 1 2 3 4 5 7 8)
+endif()
+foreach(n ${ALPHA_COUNTS})
+  add_test(NAME composite_alpha_matches_serial_blend_n${n}
+    COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${n} ${n})
+endforeach()
+if(NOT TESSERA_SANITIZE)
+  foreach(case
+      "gather|4|strategy: gather" "direct|5|strategy: direct" "radixk3|3|strategy: radixk-3"
+      "bswap|2|strategy: bswap" "servers_direct|3|strategy: direct")
+    string(REPLACE "|" ";" case "${case}")
+    list(GET case 0 name)
+    list(GET case 1 n)
+    list(GET case 2 options)
+    set(form insitu)
+    if(name MATCHES "^servers")
+      set(form servers)
+    endif()
+    add_test(NAME composite_alpha_${name}_matches_serial_blend_n${n}
+      COMMAND ${ALPHA_SH} ${form} ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${name}-${n} ${n} "${options}")
+  endforeach()
+  # float colour in depth mode selects pixels: the native render, exactly
+  add_test(NAME composite_insitu_float_colour_depth_exact_n3
+    COMMAND ${SORTLAST_SH} insitu ${CMAKE_BINARY_DIR}/bin ${SORTLAST_OUT}/insitu-float-3 3 overlap - "colour: rgba32f")
+  add_test(NAME composite_alpha_float_colour_matches_serial_float_blend_n4
+    COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-float-4 4 "colour: rgba32f")
+endif()
+add_test(NAME composite_alpha_background_added_once
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-bg-3 3 "" background)
+add_test(NAME composite_alpha_view_order_from_graph
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-reversed-3 3 "" reversed)
+add_test(NAME composite_alpha_view_order_from_boxes
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-boxes-4 4 "" boxes)
+add_test(NAME composite_alpha_regrouping_strategy_refused
+  COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-refused-4 4 "strategy: bswap" refused)
+add_test(NAME composite_alpha_options_in_binaryswap_help
+  COMMAND ${SORTLAST_EXPECT} 0 "view_order" "" $<TARGET_FILE:tessera_cli> spus binaryswap)
+set_tests_properties(composite_alpha_options_in_binaryswap_help PROPERTIES
+  PASS_REGULAR_EXPRESSION "rgba32f")
+add_test(NAME composite_alpha_spheres_help_lists_alpha
+  COMMAND ${SORTLAST_EXPECT} 0 "--alpha A" "" $<TARGET_FILE:spheres-native> --help)
+set_tests_properties(composite_alpha_spheres_help_lists_alpha PROPERTIES
+  PASS_REGULAR_EXPRESSION "--background R,G,B")
+add_test(NAME composite_alpha_spheres_bad_alpha_is_a_clear_error
+  COMMAND ${SORTLAST_EXPECT} 2 "" "^spheres: bad --alpha \\(expected 0 < A <= 1\\): 1.5"
+          $<TARGET_FILE:spheres-native> --alpha 1.5 --frames 1 --size 32x32 --out "")
+foreach(case
+    "twice|mode=alpha view_order=0,0|view_order lists rank 0 twice \\(entries 1 and 2\\)"
+    "short|mode=alpha view_order=1|view_order lists 1 ranks, the group has 2"
+    "not_a_rank|mode=alpha view_order=0,x|view_order entry 2 is 'x', not a rank 0..1"
+    "depth_mode|view_order=1,0|view_order is for mode=alpha"
+    "colour|colour=rgb565|colour=rgb565: expected rgba8 or rgba32f"
+    "float_yuv|colour=rgba32f codec=yuv420|codec=yuv420 is for RGBA8 colour, not colour=rgba32f"
+    "box_size|mode=alpha box=1,2,3|box has 3 numbers, not 6 \\(xmin, ymin, zmin, xmax, ymax, zmax\\)"
+    "box_inverted|mode=alpha box=0,0,1,1,1,0|box: its minimum z \\(1\\) is above its maximum \\(0\\)")
+  string(REPLACE "|" ";" case "${case}")
+  list(GET case 0 name)
+  list(GET case 1 options)
+  list(GET case 2 message)
+  add_test(NAME composite_alpha_bad_${name}_is_one_clear_line
+    COMMAND ${SORTLAST_EXPECT} 1 "" "^spheres: binaryswap#1: ${message}"
+            $<TARGET_FILE:spheres> --alpha 0.5 --frames 1 --size 32x32
+            --chain "binaryswap display=unix:${SORTLAST_OUT}/none.sock ${options} exchange=unix:${SORTLAST_OUT}/a,unix:${SORTLAST_OUT}/b")
+endforeach()
+get_property(ALPHA_TESTS DIRECTORY PROPERTY TESTS)
+if(ALPHA_TESTS_BEFORE)
+  list(REMOVE_ITEM ALPHA_TESTS ${ALPHA_TESTS_BEFORE})
+endif()
+set_tests_properties(${ALPHA_TESTS} PROPERTIES
   TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")

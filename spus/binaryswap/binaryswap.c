@@ -49,6 +49,13 @@
  * ranks also connect to the display (a graph's display node counts every
  * peer among its clients) but send it nothing.
  *
+ * Alpha mode and float colour (layers.h, order.c, colour.c; README.md):
+ * the whole window's colour is composited as a premultiplied layer, in
+ * view_order, folded back to front (the serial blend's grouping) by a
+ * schedule that keeps that grouping; the peer clears to transparent black
+ * (ClearColor is taken here) and the display adds the application's clear
+ * colour once. colour=rgba32f composites GL_FLOAT colour.
+ *
  * Failures: a peer that does not answer within timeout_ms, a connection
  * that breaks, a message whose frame, rank, window size or region is not
  * what it must be: one line naming the peer (rank and address), then the
@@ -65,6 +72,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "layers.h"
 #include "net.h"
 #include "render.h"
 #include "roi.h"
@@ -78,6 +86,7 @@
 #define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
 #define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
+#define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2) /* alpha mode: a box's distance */
 
 /* A message queued for this process's own display participant (rank 0
  * sends its final piece to itself). */
@@ -124,6 +133,18 @@ typedef struct bswap_spu {
     tsr_cimage frame; /* rank 0: the assembled frame */
     uint8_t background[4];
     bool has_background; /* background[] is a pixel this peer left cleared */
+
+    /* alpha mode and float colour (layers.h) */
+    int mode, colour;                                /* tsr_composite_mode, tsr_ci_color_format */
+    int view[BSWAP_MAX_PEERS], pos[BSWAP_MAX_PEERS]; /* position -> rank, rank -> position */
+    tsr_entry gl_clear_color;                        /* render's ClearColor */
+    const tsr_dispatch *table;                       /* this instance's (GetFloatv) */
+    float box[6];                                    /* this part's object-space box */
+    bool order_from_boxes;                           /* box given, view_order not */
+    float clear[4];                                  /* the application's clear colour (alpha mode) */
+    tsr_cimage layer;                                /* alpha or float: what is composited */
+    uint8_t *frame8;                                 /* float colour: the frame as RGBA8 */
+    size_t frame8_size;
 } bswap_spu;
 
 /* Ends the process after one line: other threads (netlib's, llvmpipe's)
@@ -455,7 +476,7 @@ static int transport_send(void *user, int to, const void *data, size_t size, tsr
         b->local_tail = m;
         return TSR_OK;
     }
-    int peer = to == b->nranks ? 0 : to;
+    int peer = to == b->nranks ? 0 : to >= 0 && to < b->nranks ? b->view[to] : -1;
     if (peer < 0 || peer >= b->nranks || !b->conns[peer])
         return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
     tsr_error e = {0};
@@ -472,6 +493,8 @@ static int transport_recv(void *user, int from, const void **data, size_t *size,
 {
     bswap_spu *b = user;
     release_held(b);
+    if (from >= 0 && from < b->nranks)
+        from = b->view[from]; /* a position in the compositing order: its rank */
     if (from == b->rank) {
         local_msg *m = b->local_head;
         if (!m)
@@ -533,10 +556,13 @@ static void plan(bswap_spu *b, int W, int H)
 static void composite_frame(bswap_spu *b, uint32_t frame)
 {
     tsr_error err = {0};
-    plan(b, b->mine.window_width, b->mine.window_height);
+    const tsr_cimage *mine = &b->mine;
+    if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_CI_RGBA8)
+        mine = &b->layer;
+    plan(b, mine->window_width, mine->window_height);
     b->last_bytes = 0;
     tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
-    if (tsr_cs_run_peer(b->peer_ex, b->rank, &b->mine, TSR_COMPOSITE_DEPTH, &t, &err) != TSR_OK)
+    if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
             b->rank, b->last_bytes);
@@ -546,15 +572,30 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     }
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
-    if (tsr_cs_run_display(b->display_ex, frame, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->background,
+    if (b->mode == TSR_COMPOSITE_ALPHA)
+        bswap_background_rgba8(b->clear, b->background);
+    float background_f[4];
+    for (int c = 0; c < 4; c++)
+        background_f[c] = (float)b->background[c] / 255.0f;
+    if (tsr_cs_run_display(b->display_ex, frame, b->mode, b->colour,
+                           b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH,
+                           b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f,
                            &b->frame, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     release_held(b);
+    const uint8_t *pixels = b->frame.color;
+    if (b->colour != TSR_CI_RGBA8) {
+        if (bswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        pixels = b->frame8;
+    }
     const tsr_dispatch *d = display(b);
     tsr_call_WindowPos2i(d, 0, 0);
-    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, b->frame.color);
+    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     tsr_call_SwapBuffersTSR(d, b->window, 0);
 }
+
+static void exchange_order(bswap_spu *b, uint32_t frame);
 
 /* render's frame hook: the frame is finished and still in the framebuffer. */
 static void bswap_frame(void *ctx, int frame, void *render)
@@ -565,9 +606,114 @@ static void bswap_frame(void *ctx, int frame, void *render)
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
     link_peers(b, W, H);
-    read_layer(b, (uint32_t)frame);
+    tsr_error err = {0};
+    if (b->order_from_boxes && b->nranks > 1)
+        exchange_order(b, (uint32_t)frame);
+    if (b->mode == TSR_COMPOSITE_ALPHA) {
+        /* Translucent geometry often leaves depth alone (DepthMask false):
+         * the whole window's colour, of which compress keeps the non-zero
+         * pixels. */
+        if (bswap_read_colour(render_spu_read, b->render, W, H, 0, 0, W, H, b->colour, NULL, &b->layer, &err))
+            bswap_fatal(b, "%s", err.message);
+    } else {
+        read_layer(b, (uint32_t)frame);
+        if (b->colour != TSR_CI_RGBA8 &&
+            bswap_read_colour(render_spu_read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width, b->mine.height,
+                              b->colour, b->mine.depth, &b->layer, &err))
+            bswap_fatal(b, "%s", err.message);
+    }
+    b->layer.rank = b->rank;
+    b->layer.frame = b->mine.frame = (uint32_t)frame;
     composite_frame(b, (uint32_t)frame);
     b->frames++;
+}
+
+/* Alpha mode with boxes: this frame's view order (layers.h). Every peer
+ * sends every other its box's distance, then reads theirs: a few bytes
+ * on each connection, before the frame's images. */
+static void exchange_order(bswap_spu *b, uint32_t frame)
+{
+    float mv[16], dist[BSWAP_MAX_PEERS];
+    tsr_call_GetFloatv(b->table, GL_MODELVIEW_MATRIX, mv);
+    dist[b->rank] = bswap_box_distance(b->box, mv);
+    uint32_t bits;
+    memcpy(&bits, &dist[b->rank], 4);
+    uint8_t msg8[8];
+    for (int i = 0; i < 4; i++) {
+        msg8[i] = (uint8_t)(frame >> (8 * i));
+        msg8[4 + i] = (uint8_t)(bits >> (8 * i));
+    }
+    int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
+    tsr_error err = {0};
+    for (int r = 0; r < b->nranks; r++)
+        if (r != b->rank && tsr_net_send(b->conns[r], BSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s): %s", frame, r, peer_address(b, r), err.message);
+    for (int r = 0; r < b->nranks; r++) {
+        if (r == b->rank)
+            continue;
+        tsr_net_msg msg;
+        int rc = tsr_net_recv(b->conns[r], &msg, wait, &err);
+        bool ok = false;
+        uint32_t their_frame = 0, their_bits = 0;
+        if (rc == 1) {
+            if (msg.kind == BSWAP_KIND_ORDER && msg.len == 8) {
+                const uint8_t *m = msg.data;
+                for (int i = 0; i < 4; i++) {
+                    their_frame |= (uint32_t)m[i] << (8 * i);
+                    their_bits |= (uint32_t)m[4 + i] << (8 * i);
+                }
+                memcpy(&dist[r], &their_bits, 4);
+                ok = their_frame == frame && dist[r] == dist[r];
+            }
+            tsr_net_msg_release(&msg);
+        }
+        if (!ok)
+            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, peer_address(b, r),
+                        rc == 1   ? "sent no box distance for this frame (does every peer have a box?)"
+                        : rc == 0 ? "ended before sending its box distance"
+                                  : "sent no box distance within timeout_ms");
+    }
+    bswap_order_by_distance(dist, b->nranks, b->view, b->pos);
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d is at position %d of the view order (distance %g)", b->name,
+            frame, b->rank, b->pos[b->rank], (double)dist[b->rank]);
+}
+
+/* Alpha mode: the application's clear colour is the background the
+ * display adds once; the peer itself clears to transparent black, so its
+ * layer holds only what it drew. */
+static void bswap_ClearColor(void *self, GLfloat red, GLfloat green, GLfloat blue, GLfloat alpha)
+{
+    bswap_spu *b = self;
+    if (b->mode == TSR_COMPOSITE_ALPHA) {
+        b->clear[0] = red;
+        b->clear[1] = green;
+        b->clear[2] = blue;
+        b->clear[3] = alpha;
+        red = green = blue = alpha = 0.0f;
+    }
+    ((tsr_fn_ClearColor)b->gl_clear_color.fn)(b->gl_clear_color.self, red, green, blue, alpha);
+}
+
+/* Alpha mode is exact only with a schedule that blends each pixel's layers
+ * back to front in one place (tsr_cs_schedule_keeps_order): auto picks
+ * among those, an explicit strategy that regroups the blend is refused.
+ * The shape of a schedule depends on the peer count, not the window. */
+static int alpha_strategy(bswap_spu *b, tsr_error *err)
+{
+    tsr_cs_schedule s;
+    char why[160];
+    int kind = b->kind == TSR_CS_AUTO && b->nranks > 8 ? TSR_CS_DIRECT : b->kind;
+    if (tsr_cs_plan(kind, b->nranks, 64, 64, b->k, NULL, &s, err) != TSR_OK)
+        return err->code;
+    int ok = tsr_cs_schedule_keeps_order(&s, why, sizeof why);
+    tsr_cs_schedule_free(&s);
+    if (!ok)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "mode=alpha with strategy %s for %d peers: %s; 8-bit and float rounding make that differ "
+                             "from the back-to-front blend, use direct, gather or auto",
+                             tsr_options_string(b->options, "strategy"), b->nranks, why);
+    b->kind = kind;
+    return TSR_OK;
 }
 
 /* --- the class -------------------------------------------------------------- */
@@ -599,6 +745,8 @@ static void bswap_destroy(void *self)
         tsr_cs_schedule_free(&b->plan);
     tsr_cimage_free(&b->mine);
     tsr_cimage_free(&b->frame);
+    tsr_cimage_free(&b->layer);
+    free(b->frame8);
     free(b->window_depth);
     free(b);
 }
@@ -668,10 +816,11 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
                 goto fail;
             }
     }
-    if (strcmp(mode, "depth")) {
-        tsr_error_set(err, TSR_EUNSUPPORTED, "%s: mode=%s is not implemented yet (depth only)", b->name, mode);
+    if (strcmp(mode, "depth") && strcmp(mode, "alpha")) {
+        tsr_error_set(err, TSR_EINVAL, "%s: mode=%s: expected depth or alpha", b->name, mode);
         goto fail;
     }
+    b->mode = strcmp(mode, "alpha") ? TSR_COMPOSITE_DEPTH : TSR_COMPOSITE_ALPHA;
     tsr_error e = {0};
     if (tsr_cs_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: strategy=%s: %s", b->name, strategy, e.message);
@@ -679,9 +828,27 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     }
     if (tsr_options_int(init->options, "k"))
         b->k = (int)tsr_options_int(init->options, "k");
+    if (bswap_colour_parse(tsr_options_string(init->options, "colour"), &b->colour, &e) != TSR_OK ||
+        bswap_view_order(init->options, b->mode == TSR_COMPOSITE_ALPHA, b->nranks, b->view, b->pos, &e) != TSR_OK ||
+        (b->mode == TSR_COMPOSITE_ALPHA && alpha_strategy(b, &e) != TSR_OK)) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
+        goto fail;
+    }
+    int has_box = 0;
+    if (bswap_box_parse(init->options, b->box, &has_box, &e) != TSR_OK ||
+        (has_box && b->mode != TSR_COMPOSITE_ALPHA &&
+         tsr_error_set(&e, TSR_EINVAL, "box is for mode=alpha (depth mode composites in rank order)"))) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
+        goto fail;
+    }
     if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
                       e.message);
+        goto fail;
+    }
+    if (b->colour == TSR_CI_RGBA32F && b->codec.color == TSR_CODEC_COLOR_YUV420) {
+        tsr_error_set(err, TSR_EINVAL, "%s: codec=%s is for RGBA8 colour, not colour=rgba32f", b->name,
+                      tsr_options_string(init->options, "codec"));
         goto fail;
     }
     b->down = *init->child;
@@ -697,6 +864,11 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         render_spu_destroy(b->render);
         goto fail;
     }
+    /* alpha mode: the peers clear to transparent black (colour.c) */
+    b->order_from_boxes = has_box && !tsr_options_count(init->options, "view_order");
+    b->table = init->table;
+    b->gl_clear_color = init->table->ClearColor;
+    tsr_set_ClearColor(init->table, bswap_ClearColor, b);
     return b;
 fail:
     free(b);
@@ -766,7 +938,34 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "depth",
      .min = 1,
      .max = 0,
-     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank"},
+     .help = "depth: the nearest fragment wins, equal depth goes to the lower rank; alpha: "
+             "premultiplied layers (draw with BlendFunc(ONE, ONE_MINUS_SRC_ALPHA)) blended back to "
+             "front in view_order, the application's ClearColor added once on the display (peers "
+             "clear to 0); exact with direct, gather, auto (bswap and radix-k of several rounds "
+             "regroup the blend and are refused for 3 or more peers)"},
+    {.name = "view_order",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "mode=alpha: the ranks from front to back, e.g. [2, 0, 1]; empty: computed from "
+             "every peer's box, else rank order (rank 0 in front)"},
+    {.name = "box",
+     .type = TSR_OPT_STRING_LIST,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "mode=alpha: this peer's part's object-space bounding box [xmin, ymin, zmin, xmax, "
+             "ymax, zmax] under the modelview at SwapBuffers; when every peer has one and "
+             "view_order is empty, the view order is computed every frame (box centres, nearest "
+             "first)"},
+    {.name = "colour",
+     .type = TSR_OPT_STRING,
+     .default_value = "rgba8",
+     .min = 1,
+     .max = 0,
+     .help = "rgba8 (as OSMesa holds it) or rgba32f (read as GL_FLOAT, composited in float, "
+             "rounded once to RGBA8 on the display; the lossy yuv420 codec does not apply)"},
     /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
      * display stream's; a failing peer always ends the process). */
     TSR_NODE_CLIENT_OPTION_SPECS,

@@ -105,19 +105,21 @@ static void reference_depth(tsr_cimage *imgs, int n, int W, int H, uint8_t *colo
     }
 }
 
-/* Alpha reference: front to back over, rank 0 in front, background last. */
+/* Alpha reference: the serial back-to-front blend, written out pixel by
+ * pixel: acc = transparent black; acc = layer over acc from the last rank
+ * to rank 0; then acc over the background, added once. */
 static void reference_alpha(tsr_cimage *imgs, int n, int W, int H, uint8_t *color)
 {
     memset(color, 0, (size_t)W * H * 4);
-    for (int r = 0; r < n; r++) {
+    for (int r = n - 1; r >= 0; r--) {
         tsr_cimage *im = &imgs[r];
         for (int yy = 0; yy < im->height; yy++)
             for (int xx = 0; xx < im->width; xx++) {
                 size_t i = (size_t)yy * im->width + xx, p = (size_t)(im->y + yy) * W + im->x + xx;
-                uint8_t *a = color + 4 * p, *b = im->color + 4 * i;
-                uint8_t fa = a[3];
+                uint8_t *a = color + 4 * p, *f = im->color + 4 * i;
+                uint8_t fa = f[3];
                 for (int k = 0; k < 4; k++)
-                    a[k] = ref_over8(a[k], b[k], fa);
+                    a[k] = ref_over8(f[k], a[k], fa);
             }
     }
     for (int p = 0; p < W * H; p++) {
@@ -743,16 +745,92 @@ static int test_blank_peers(void)
 }
 
 /* Alpha: with every alpha 0 or 255 over is exact, so every strategy equals
- * the serial front-to-back blend; with any alpha, the strategies that blend
- * each pixel in one front-to-back chain (gather, direct send) still do. */
+ * the serial back-to-front blend; with any alpha, the schedules that blend
+ * each pixel's layers in one place, back to front (gather, direct send,
+ * one round of radix-k, bswap of two), still do, bit for bit. */
 static int test_alpha_strategies_agree(void)
 {
     static const strat chain[] = {{TSR_CS_GATHER, 0}, {TSR_CS_DIRECT, 0}};
+    static const strat one_round[] = {{TSR_CS_RADIXK, 3}, {TSR_CS_BSWAP, 0}};
     check_strategies(STRATS, NSTRATS, 1, 24, 9, 5, FILL_OPAQUE, TSR_COMPOSITE_ALPHA, "erle");
     check_strategies(chain, 2, 1, 16, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
+    check_strategies(&one_round[0], 1, 3, 3, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
+    check_strategies(&one_round[1], 1, 2, 2, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
     return harness_failures;
 }
 
+
+/* Which schedules alpha mode may use (tsr_cs_schedule_keeps_order): those
+ * that blend every pixel's layers back to front in one place. The claim is
+ * also checked by running them: alpha_strategies_agree above. */
+static int test_alpha_schedules_keep_order(void)
+{
+    tsr_error err;
+    char why[160];
+    for (int n = 1; n <= 64; n++) {
+        int prime = n > 1;
+        for (int d = 2; d * d <= n; d++)
+            prime = prime && n % d;
+        /* radix-k of a prime peer count is one round of all (radixk.c) */
+        struct {
+            int kind, k, keeps;
+        } cases[] = {{TSR_CS_GATHER, 0, 1},
+                     {TSR_CS_DIRECT, 0, 1},
+                     {TSR_CS_BSWAP, 0, n <= 2},
+                     {TSR_CS_RADIXK, n, 1},
+                     {TSR_CS_RADIXK, 2, n <= 2 || prime}};
+        for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+            if (cases[c].kind == TSR_CS_RADIXK && cases[c].k < 2)
+                continue;
+            tsr_cs_schedule s;
+            CHECK_OK(tsr_cs_plan(cases[c].kind, n, 13, 7, cases[c].k, NULL, &s, &err), err);
+            int keeps = tsr_cs_schedule_keeps_order(&s, why, sizeof why);
+            CHECK(keeps == cases[c].keeps, "%s for %d peers: keeps_order says %d (%s), expected %d", s.name, n, keeps,
+                  why, cases[c].keeps);
+            tsr_cs_schedule_free(&s);
+        }
+    }
+    return harness_failures;
+}
+
+/* Float over against a plain loop: random, all transparent, all opaque,
+ * a single pixel; bit for bit (the same expression, in float). */
+static int test_over_float_kernel_matches_reference(void)
+{
+    uint32_t seed = 7;
+    for (int pattern = 0; pattern < 4; pattern++) {
+        size_t n = pattern == 3 ? 1 : 257;
+        float *f = malloc(n * 16), *b = malloc(n * 16), *o = malloc(n * 16), *r = malloc(n * 16);
+        for (size_t i = 0; i < 4 * n; i++) {
+            seed = seed * 1664525u + 1013904223u;
+            float v = (float)(seed >> 8) / 16777216.0f;
+            f[i] = pattern == 1 ? 0.0f : v;
+            b[i] = v * 0.5f;
+        }
+        for (size_t i = 0; i < n; i++) {
+            if (pattern == 2)
+                f[4 * i + 3] = 1.0f;
+            for (int k = 0; k < 3 && pattern != 1; k++)
+                f[4 * i + k] *= f[4 * i + 3]; /* premultiplied */
+            for (int k = 0; k < 4; k++) {
+                float keep = 1.0f - f[4 * i + 3];
+                r[4 * i + k] = f[4 * i + k] + b[4 * i + k] * keep;
+            }
+        }
+        tsr_composite_over_rgba32f(n, f, b, o);
+        CHECK(!memcmp(o, r, n * 16), "float over differs from the plain loop (pattern %d)", pattern);
+        if (pattern == 1)
+            CHECK(!memcmp(o, b, n * 16), "transparent over back is not back");
+        if (pattern == 2)
+            for (size_t i = 0; i < 4 * n; i++)
+                CHECK(o[i] == f[i], "opaque over back is not front (float %zu)", i);
+        free(f);
+        free(b);
+        free(o);
+        free(r);
+    }
+    return harness_failures;
+}
 
 /* A peer that never sends, a frame number that does not match (ahead,
  * or gone backwards: a stale image), a peer whose window differs: each is
@@ -977,6 +1055,8 @@ int main(int argc, char **argv)
         {"blank_peers", test_blank_peers},
         {"alpha_strategies_agree", test_alpha_strategies_agree},
         {"faults_name_the_peer", test_faults_name_the_peer},
+        {"alpha_schedules_keep_order", test_alpha_schedules_keep_order},
+        {"over_float_kernel_matches_reference", test_over_float_kernel_matches_reference},
     };
     if (argc == 3 && !strcmp(argv[1], "fuzz_seeds"))
         return fuzz_seeds(argv[2]) ? 1 : 0;

@@ -40,7 +40,12 @@
  * RGBA8 over: out = front + round(back * (255 - front_alpha) / 255), per
  * channel, saturated at 255. It is exact (and associative) whenever every
  * alpha is 0 or 255; otherwise rounding may differ by 1 between groupings.
- * RGBA32F over: out = front + back * (1 - front_alpha), in float.
+ * RGBA32F over: out = front + back * (1 - front_alpha), in float (not
+ * associative either). So alpha mode's frame is defined as the serial
+ * back-to-front blend, (L0 over (L1 over (... over Ln-1))) over background;
+ * the compositing executor folds in that grouping and accepts only
+ * schedules that keep it (spus/binaryswap/strategies/strategy.h,
+ * tsr_cs_schedule_keeps_order).
  *
  * Use (one peer, one round of a strategy, transport elided):
  *

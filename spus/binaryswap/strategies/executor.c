@@ -91,26 +91,34 @@ static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_hea
 }
 
 /* Composites pieces[0..n) (front first) into *result; the intervals must
- * be adjacent, or the schedule and the messages disagree. */
+ * be adjacent, or the schedule and the messages disagree. Depth mode folds
+ * front to back (the merge is associative: any grouping gives the same
+ * bits). Alpha mode folds back to front, acc = pieces[i] over acc from the
+ * last piece: with 8-bit (or float) rounding at every step "over" is not
+ * associative, and this is the grouping of a serial back-to-front blend;
+ * a schedule that keeps it exact (tsr_cs_schedule_keeps_order) hands this
+ * fold single layers in front of a blended suffix. */
 static int composite_in_order(tsr_cs_executor *ex, tsr_sparse_image **pieces, int n, tsr_sparse_image **result,
                               tsr_error *err)
 {
-    tsr_sparse_image *acc = pieces[0];
+    int back_first = n > 1 && pieces[0]->mode == TSR_COMPOSITE_ALPHA;
+    tsr_sparse_image *acc = pieces[back_first ? n - 1 : 0];
     tsr_sparse_image *bufs[2] = {&ex->acc, &ex->tmp};
     int which = 0;
-    for (int i = 1; i < n; i++) {
-        if (acc->rank + acc->rank_count != pieces[i]->rank)
-            return tsr_error_set(err, TSR_EPROTO,
-                                 "composite: piece of ranks %d..%d follows ranks %d..%d (not adjacent in the order)",
-                                 pieces[i]->rank, pieces[i]->rank + pieces[i]->rank_count - 1, acc->rank,
-                                 acc->rank + acc->rank_count - 1);
+    for (int j = 1; j < n; j++) {
+        tsr_sparse_image *next = pieces[back_first ? n - 1 - j : j];
+        tsr_sparse_image *front = back_first ? next : acc, *back = back_first ? acc : next;
+        if (front->rank + front->rank_count != back->rank)
+            return tsr_error_set(
+                err, TSR_EPROTO, "composite: piece of ranks %d..%d follows ranks %d..%d (not adjacent in the order)",
+                back->rank, back->rank + back->rank_count - 1, front->rank, front->rank + front->rank_count - 1);
         tsr_sparse_image *out = bufs[which];
         if (out == acc)
             out = bufs[which ^= 1];
-        int rc = tsr_sparse_image_merge(acc, pieces[i], out, err);
+        int rc = tsr_sparse_image_merge(front, back, out, err);
         if (rc)
             return rc;
-        ex->stats.pixels_merged += acc->active + pieces[i]->active;
+        ex->stats.pixels_merged += front->active + back->active;
         acc = out;
         which ^= 1;
     }

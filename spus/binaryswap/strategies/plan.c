@@ -283,3 +283,60 @@ int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err)
         return tsr_error_set(err, TSR_EINVAL, "%s: gather covers %u of %u pixels", s->name, at, whole.count);
     return TSR_OK;
 }
+
+/* Replays the schedule on rank intervals: every rank starts holding its
+ * own layer; a round's composite takes the senders' intervals as they were
+ * before the round (rounds are aligned: every rank has nrounds). */
+int tsr_cs_schedule_keeps_order(const tsr_cs_schedule *s, char *why, size_t why_size)
+{
+    int first[TSR_CS_MAX_PEERS], count[TSR_CS_MAX_PEERS], nfirst[TSR_CS_MAX_PEERS], ncount[TSR_CS_MAX_PEERS];
+    for (int r = 0; r < s->nranks; r++) {
+        first[r] = r;
+        count[r] = 1;
+    }
+    int nrounds = s->nranks ? s->ranks[0].nrounds : 0;
+    for (int i = 0; i < nrounds; i++) {
+        for (int r = 0; r < s->nranks; r++) {
+            nfirst[r] = first[r];
+            ncount[r] = count[r];
+            const tsr_cs_round *rd = &s->ranks[r].rounds[i];
+            if (!rd->nrecv)
+                continue;
+            /* the fold runs from the last piece: every piece before it
+             * must be one layer */
+            int n = rd->nrecv + 1, lo = TSR_CS_MAX_PEERS, total = 0;
+            for (int q = 0; q < n; q++) {
+                int who = q == rd->self_index ? r : rd->recv[q < rd->self_index ? q : q - 1].peer;
+                if (q < n - 1 && count[who] > 1) {
+                    snprintf(why, why_size,
+                             "round %d: rank %d blends ranks %d..%d, already blended, in front of others (the "
+                             "blend would be regrouped)",
+                             i, r, first[who], first[who] + count[who] - 1);
+                    return 0;
+                }
+                lo = first[who] < lo ? first[who] : lo;
+                total += count[who];
+            }
+            nfirst[r] = lo;
+            ncount[r] = total;
+        }
+        memcpy(first, nfirst, sizeof first);
+        memcpy(count, ncount, sizeof count);
+    }
+    /* the display: pieces of one region composited (gather) */
+    for (int g = 0; g < s->ngather;) {
+        int h = g;
+        while (h < s->ngather && s->gather[h].region.start == s->gather[g].region.start &&
+               s->gather[h].region.count == s->gather[g].region.count)
+            h++;
+        for (int q = g; q < h - 1; q++)
+            if (count[s->gather[q].peer] > 1) {
+                snprintf(why, why_size, "the display blends ranks %d..%d, already blended, in front of others",
+                         first[s->gather[q].peer], first[s->gather[q].peer] + count[s->gather[q].peer] - 1);
+                return 0;
+            }
+        g = h;
+    }
+    snprintf(why, why_size, "every pixel's layers are blended in one place, back to front");
+    return 1;
+}

@@ -114,6 +114,18 @@ int tsr_cs_kind_parse(const char *text, int *kind, int *k, tsr_error *err);
  * adjacent intervals). TSR_EINVAL naming the first violation. */
 int tsr_cs_schedule_check(const tsr_cs_schedule *s, tsr_error *err);
 
+/* Whether the schedule keeps alpha mode exact: every composite it makes,
+ * folded back to front (the executor's alpha order), puts only single
+ * layers in front of the accumulated suffix, so every pixel is the serial
+ * back-to-front blend L0 over (L1 over (... over Ln-1)) bit for bit,
+ * whatever the rounding of "over". True for gather, direct send, one round
+ * of radix-k (k >= N) and any schedule for 1 or 2 peers; false for binary
+ * swap and multi-round radix-k with 3 or more peers, which regroup the
+ * blend ((L0 over L1) over (L2 over L3)) and, with 8-bit or float
+ * rounding, differ from the serial blend in the last bit. Writes the
+ * reason (the first regrouping composite) into why. */
+int tsr_cs_schedule_keeps_order(const tsr_cs_schedule *s, char *why, size_t why_size);
+
 /* Per-strategy builders (one file each); tsr_cs_plan dispatches to them. */
 int tsr_cs_plan_bswap(tsr_cs_schedule *s, tsr_error *err);
 int tsr_cs_plan_direct(tsr_cs_schedule *s, tsr_error *err);
