@@ -152,6 +152,14 @@ foreach(n ${ALPHA_COUNTS})
   add_test(NAME composite_alpha_matches_serial_blend_n${n}
     COMMAND ${ALPHA_SH} insitu ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-${n} ${n})
 endforeach()
+# Alpha mode reads only the box of what each peer drew (roi.c), not the
+# whole window: the frames stay the serial blend, and every peer's logged
+# region of every frame is smaller than the 96x72 window.
+add_test(NAME composite_alpha_reads_only_the_box
+  COMMAND sh -c "TESSERA_LOG=debug \"$0\" insitu \"$1\" \"$2\" \"$3\" 3 || exit 1; \
+    n=$(grep -c 'alpha region' \"$3/run.err\"); full=$(grep -c 'alpha region \\[0, 0, 96, 72\\]' \"$3/run.err\"); \
+    echo \"alpha regions: $n, whole-window: $full\"; [ $n -eq 6 ] && [ $full -eq 0 ]"
+    ${ALPHA_SH} ${ALPHA_ARGS} ${SORTLAST_OUT}/alpha-box)
 if(NOT TESSERA_SANITIZE)
   foreach(case
       "gather|4|strategy: gather" "direct|5|strategy: direct" "radixk3|3|strategy: radixk-3"

@@ -50,7 +50,8 @@
  * peer among its clients) but send it nothing.
  *
  * Alpha mode and float colour (layers.h, order.c, colour.c; README.md):
- * the whole window's colour is composited as a premultiplied layer, in
+ * the colour of the geometry's box (or of the whole window when that is
+ * unknown) is composited as a premultiplied layer, in
  * view_order, folded back to front (the serial blend's grouping) by a
  * schedule that keeps that grouping; the peer clears to transparent black
  * (ClearColor is taken here) and the display adds the application's clear
@@ -610,11 +611,21 @@ static void bswap_frame(void *ctx, int frame, void *render)
     if (b->order_from_boxes && b->nranks > 1)
         exchange_order(b, (uint32_t)frame);
     if (b->mode == TSR_COMPOSITE_ALPHA) {
-        /* Translucent geometry often leaves depth alone (DepthMask false):
-         * the whole window's colour, of which compress keeps the non-zero
-         * pixels. */
-        if (bswap_read_colour(render_spu_read, b->render, W, H, 0, 0, W, H, b->colour, NULL, &b->layer, &err))
+        /* Translucent geometry often leaves depth alone (DepthMask false),
+         * so the depth buffer cannot find the region: the geometry's box
+         * (roi.c) when known, else the whole window; outside what was
+         * drawn the layer is the transparent clear, which compress drops. */
+        int box[4] = {0, 0, W, H};
+        if (!bswap_roi_frame(b->roi, box)) {
+            box[0] = box[1] = 0;
+            box[2] = W;
+            box[3] = H;
+        }
+        if (bswap_read_colour(render_spu_read, b->render, W, H, box[0], box[1], box[2] - box[0], box[3] - box[1],
+                              b->colour, NULL, &b->layer, &err))
             bswap_fatal(b, "%s", err.message);
+        tsr_log(TSR_LOG_DEBUG, "%s: frame %d: rank %d alpha region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
+                box[0], box[1], box[2] - box[0], box[3] - box[1], W, H);
     } else {
         read_layer(b, (uint32_t)frame);
         if (b->colour != TSR_CI_RGBA8 &&
