@@ -42,6 +42,22 @@ endforeach()
 set_tests_properties(net_tcp_roundtrip_ipv6 net_connect_timeout_unanswered_syn
   PROPERTIES SKIP_RETURN_CODE 77)
 
+# Shared memory between the ends of a Unix-socket connection (net.h,
+# SHARED MEMORY; issue 11, item 7).
+add_executable(net_shm_test ${NET_TEST_SRC}/net_shm_test.c)
+target_link_libraries(net_shm_test PRIVATE tessera_net PkgConfig::SODIUM Threads::Threads)
+foreach(pair
+    "net_shm_unix_messages_travel_through_the_ring_exact:roundtrip"
+    "net_shm_ring_space_is_the_credit:ring_is_the_credit"
+    "net_shm_only_when_both_ask_and_only_on_unix:negotiation"
+    "net_shm_lying_peer_fails_only_its_connection_naming_it:lying_peer")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 sub)
+  add_test(NAME ${name} COMMAND net_shm_test ${sub})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 60 LABELS net)
+endforeach()
+
 add_test(NAME net_flow_control_stalled_receiver
          COMMAND net_flow_test stall $<TARGET_FILE:net_stall_server>)
 add_test(NAME net_receiver_killed_while_sender_blocked_fails_send

@@ -191,7 +191,7 @@ static void drain_until_closed(int fd)
 static void send_frame(int fd, uint8_t type, const uint8_t *payload, size_t len)
 {
     uint8_t msg[TSR_NET_HEADER_BYTES + NET_CONTROL_MAX];
-    net_header_encode(msg, TSR_NET_PROTOCOL_VERSION, type, len);
+    net_header_encode(msg, TSR_NET_PROTOCOL_VERSION, type, 0, len);
     memcpy(msg + TSR_NET_HEADER_BYTES, payload, len);
     write_all(fd, msg, TSR_NET_HEADER_BYTES + len);
 }
@@ -231,7 +231,7 @@ static void client_handshake(int fd, int t)
 {
     uint8_t payload[NET_CONTROL_MAX], nonce[NET_AUTH_BYTES], buf[4096];
     net_auth_nonce(nonce);
-    size_t n = net_hello_encode(payload, 4, 1 << 16, "fuzz-peer", t == 0 ? nonce : NULL);
+    size_t n = net_hello_encode(payload, 4, 1 << 16, "fuzz-peer", t == 0 ? nonce : NULL, 0);
     send_frame(fd, NET_HELLO, payload, n);
     size_t len;
     int type = read_msg(fd, buf, &len);
@@ -300,9 +300,9 @@ static void *fake_server_main(void *arg)
             if (!net_auth_equal(buf, want))
                 die("netlib's client sent a wrong proof");
             net_auth_proof(FUZZ_TOKEN, "server", h.auth, nonce, proof);
-            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", proof);
+            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", proof, 0);
         } else {
-            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", NULL);
+            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", NULL, 0);
         }
         send_frame(fd, NET_WELCOME, payload, n);
     }
@@ -429,7 +429,7 @@ static void put(seed *s, const void *p, size_t n)
 static void frame(seed *s, uint16_t version, uint8_t type, const void *payload, size_t len)
 {
     uint8_t h[TSR_NET_HEADER_BYTES];
-    net_header_encode(h, version, type, len);
+    net_header_encode(h, version, type, 0, len);
     put(s, h, sizeof h);
     put(s, payload, len);
 }
@@ -438,7 +438,7 @@ static void hello(seed *s, uint8_t type, int with_auth)
 {
     uint8_t payload[NET_CONTROL_MAX], nonce[NET_AUTH_BYTES];
     net_auth_nonce(nonce);
-    size_t n = net_hello_encode(payload, 4, 1 << 16, "seed-peer", with_auth ? nonce : NULL);
+    size_t n = net_hello_encode(payload, 4, 1 << 16, "seed-peer", with_auth ? nonce : NULL, 0);
     frame(s, TSR_NET_PROTOCOL_VERSION, type, payload, n);
 }
 
