@@ -106,3 +106,19 @@ add_test(NAME net_mothership_idle_connections_do_not_lock_out_nodes
           ${CMAKE_BINARY_DIR}/test-out/net/mothership-flood ${CMAKE_SOURCE_DIR}/examples/graphs/tcp.yaml
           $<TARGET_FILE:net_auth_test>)
 set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPERTIES TIMEOUT 120 LABELS net)
+
+# Sort-last peers on one host (issue 11, item 7): their own per-pair
+# statistics prove unix: peers exchange images through shared memory, and
+# that shm=0 and tcp:// peers do not; every frame exact.
+foreach(pair
+    "composite_same_host_unix_peers_use_shared_memory_exact:unix"
+    "composite_same_host_shm_off_uses_the_unix_socket_exact:noshm"
+    "composite_same_host_tcp_peers_use_tcp_exact:tcp")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 mode)
+  add_test(NAME ${name} COMMAND ${NET_TEST_SRC}/sortlast_transport.sh ${mode} ${CMAKE_BINARY_DIR}/bin
+           ${CMAKE_BINARY_DIR}/test-out/net/${name})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 120 LABELS net FAIL_REGULAR_EXPRESSION "FAIL:"
+                       ENVIRONMENT "LP_NUM_THREADS=0")
+endforeach()

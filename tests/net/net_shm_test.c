@@ -135,11 +135,12 @@ static int test_roundtrip(void)
            (unsigned long long)cs.messages_sent, (unsigned long long)cs.bytes_sent,
            (unsigned long long)cs.messages_sent_shm, (unsigned long long)cs.bytes_sent_shm,
            (unsigned long long)ss.messages_received_shm);
-    CHECK(cs.messages_sent == 2 * n && cs.bytes_sent == total, "sent %llu messages", (unsigned long long)cs.messages_sent);
+    CHECK(cs.messages_sent == 2 * n && cs.bytes_sent == total, "sent %llu messages",
+          (unsigned long long)cs.messages_sent);
     CHECK(cs.messages_sent_shm == ring_msgs && cs.bytes_sent_shm == ring_bytes, "ring: %llu messages %llu bytes",
           (unsigned long long)cs.messages_sent_shm, (unsigned long long)cs.bytes_sent_shm);
-    CHECK(ss.messages_received_shm == ring_msgs && ss.bytes_received_shm == ring_bytes, "received through the ring: %llu",
-          (unsigned long long)ss.messages_received_shm);
+    CHECK(ss.messages_received_shm == ring_msgs && ss.bytes_received_shm == ring_bytes,
+          "received through the ring: %llu", (unsigned long long)ss.messages_received_shm);
     CHECK(ss.messages_received == 2 * n, "received %llu", (unsigned long long)ss.messages_received);
     /* The other direction has its own ring. */
     uint8_t back[5000];
