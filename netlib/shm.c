@@ -77,9 +77,8 @@ int net_shm_credit(tsr_net_conn *c, uint64_t pos)
 {
     net_ring *r = &c->tx;
     if (pos > r->head) {
-        net_conn_fail(c, TSR_EPROTO,
-                      "net: peer '%s' at %s returned ring position %llu, past the %llu sent to it", c->peer_name,
-                      c->address, (unsigned long long)pos, (unsigned long long)r->head);
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s returned ring position %llu, past the %llu sent to it",
+                      c->peer_name, c->address, (unsigned long long)pos, (unsigned long long)r->head);
         return -1;
     }
     /* Lower: a CREDIT written before this side rewound its empty ring (or
