@@ -110,6 +110,10 @@ set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPE
 # Sort-last peers on one host (issue 11, item 7): their own per-pair
 # statistics prove unix: peers exchange images through shared memory, and
 # that shm=0 and tcp:// peers do not; every frame exact.
+set(NET_SORTLAST_ENV "LP_NUM_THREADS=0")
+if(TESSERA_SANITIZE) # OSMesa/LLVM keep state for the process lifetime
+  list(APPEND NET_SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
 foreach(pair
     "composite_same_host_unix_peers_use_shared_memory_exact:unix"
     "composite_same_host_shm_off_uses_the_unix_socket_exact:noshm"
@@ -120,5 +124,5 @@ foreach(pair
   add_test(NAME ${name} COMMAND ${NET_TEST_SRC}/sortlast_transport.sh ${mode} ${CMAKE_BINARY_DIR}/bin
            ${CMAKE_BINARY_DIR}/test-out/net/${name})
   set_tests_properties(${name} PROPERTIES TIMEOUT 120 LABELS net FAIL_REGULAR_EXPRESSION "FAIL:"
-                       ENVIRONMENT "LP_NUM_THREADS=0")
+                       ENVIRONMENT "${NET_SORTLAST_ENV}")
 endforeach()
