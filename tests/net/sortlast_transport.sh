@@ -11,6 +11,10 @@
 #   noshm the same graph with shm=0: every pair "unix", nothing through
 #         shared memory
 #   tcp   defaults transport tcp: every pair "tcp", nothing through it
+#         (explicit exchange ports below Linux's ephemeral range, 32768..,
+#         so no client's port can hold one; a run that still finds one
+#         taken by another program is run again on other ports, twice at
+#         most)
 # usage: sortlast_transport.sh MODE BIN_DIR OUT_DIR [N]
 set -u
 mode=$1 bin=$2 out=$3 n=${4:-3}
@@ -26,6 +30,7 @@ tcp) transport=tcp options="strategy: direct" want=tcp ;;
 esac
 "$bin/spheres-native" --overlap --frames $frames --size $size --out "$out/native/f-%04d.png" || exit 1
 graph=$out/graph.yaml
+write_graph() {
 {
   echo "version: 1"
   echo "window: {width: 96, height: 72}"
@@ -43,8 +48,23 @@ graph=$out/graph.yaml
   echo "    chain:"
   echo "      - render: {output: \"out/f-%04d.png\"}"
 } >"$graph"
-TESSERA_LOG=info timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
-rc=$?
+}
+try=0
+while :; do
+  if [ "$mode" = tcp ]; then
+    base=$((20000 + ($$ * 7 + try * 1009) % 12000))
+    ex= i=0
+    while [ $i -lt "$n" ]; do ex="$ex${ex:+, }tcp://127.0.0.1:$((base + i))"; i=$((i + 1)); done
+    options="strategy: direct, exchange: [$ex]"
+  fi
+  write_graph
+  rm -rf "$out/run"
+  TESSERA_LOG=info timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
+  rc=$?
+  try=$((try + 1))
+  [ $rc != 0 ] && [ $try -lt 3 ] && grep -q "cannot listen for its peers.*address already in use" "$out/run.err" || break
+  echo "an exchange port was taken by another program: again on other ports"
+done
 [ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
 f=0
 while [ $f -lt $frames ]; do
