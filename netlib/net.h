@@ -222,7 +222,7 @@ typedef struct tsr_net_msg {
 typedef struct tsr_net_stats {
     uint64_t messages_sent, bytes_sent;         /* payload bytes */
     uint64_t messages_received, bytes_received; /* payload bytes */
-    uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
+    uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits (or ring space) */
     uint64_t messages_direct;                   /* data messages the sending thread wrote itself (see SENDING) */
     uint64_t messages_direct_rest;              /* ... of which the socket took only a part */
     uint32_t messages_unreturned;               /* data messages sent whose credit has not come back:
