@@ -46,8 +46,8 @@ int tsr_synthetic_layer(int mode, int width, int height, int rank, int nranks, t
     if (mode != TSR_SYNTHETIC_FULL && mode != TSR_SYNTHETIC_ELLIPSE)
         return tsr_error_set(err, TSR_EINVAL, "synthetic layer: mode %d is neither full nor ellipse", mode);
     if (nranks < 1 || rank < 0 || rank >= nranks || width < 1 || height < 1)
-        return tsr_error_set(err, TSR_EINVAL, "synthetic layer: rank %d of %d peers, %dx%d window", rank, nranks,
-                             width, height);
+        return tsr_error_set(err, TSR_EINVAL, "synthetic layer: rank %d of %d peers, %dx%d window", rank, nranks, width,
+                             height);
     if (mode == TSR_SYNTHETIC_FULL) {
         if (tsr_cimage_init(out, width, height, 0, 0, width, height, TSR_CI_RGBA8, TSR_CI_DEPTH32F, err) != TSR_OK)
             return err->code;

@@ -25,8 +25,7 @@ int main(int argc, char **argv)
     }
     tsr_error err = {0};
     int mode, W = atoi(argv[2]), H = atoi(argv[3]), n = atoi(argv[4]);
-    if (tsr_synthetic_parse(argv[1], &mode, &err) || mode == TSR_SYNTHETIC_OFF || W < 1 || H < 1 || n < 1 ||
-        n > 64) {
+    if (tsr_synthetic_parse(argv[1], &mode, &err) || mode == TSR_SYNTHETIC_OFF || W < 1 || H < 1 || n < 1 || n > 64) {
         fprintf(stderr, "synthetic_check: bad arguments (%s)\n", err.message);
         return 2;
     }
