@@ -538,6 +538,7 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     tsr_call_WindowPos2i(d, 0, 0);
     tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, b->frame.color);
     tsr_call_SwapBuffersTSR(d, b->window, 0);
+    b->st.sent_ns = tsr_bswap_now_ns();
     if (b->stats_fd >= 0) {
         /* A reply comes after the display node drew the frame: the time
          * the frame is there (costs one round trip per frame, stats only). */
