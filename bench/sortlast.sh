@@ -17,7 +17,10 @@
 # (+ composite_8x1080p_assembled_ms: up to the frame assembled on rank 0,
 # before the display path; composite_8x1080p_display_path_ms: from there to
 # the display's answer (DrawPixels of the frame through rank 0's pack
-# stream, the display's render drawing it, the swap, the round trip); memcpy_frame_ms, the reference, measured before
+# stream, the display's render drawing it, the swap, the round trip);
+# composite_8x1080p_peers_cpu_ms: CPU ms per frame of all peer processes
+# together (their applications' empty frames included, the display's not),
+# which other load on the machine does not inflate; memcpy_frame_ms, the reference, measured before
 # and after the runs, best of both). Writes sortlast.csv (one row per
 # frame), sortlast-summary.csv and sortlast.png.
 # usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
@@ -36,7 +39,7 @@ work=$out/sortlast.work
 rm -rf "$work" && mkdir -p "$work"
 csv=$out/sortlast.csv summary=$out/sortlast-summary.csv
 echo "peers,coverage,frame,ready_to_displayed_ms,ready_to_assembled_ms,swap_to_displayed_ms,bytes_sent,assembled_to_sent_ms,sent_to_displayed_ms" >"$csv"
-echo "peers,coverage,frames,median_ms,median_assembled_ms,median_bytes_sent,peer_hwm_mib_max,peer_hwm_mib_rank1,median_display_path_ms" >"$summary"
+echo "peers,coverage,frames,median_ms,median_assembled_ms,median_bytes_sent,peer_hwm_mib_max,peer_hwm_mib_rank1,median_display_path_ms,median_peers_cpu_ms" >"$summary"
 
 memcpy_ms() { "$bin/bench_memcpy" "${memcpy_args[@]}" | sed -n 's/^memcpy_frame_ms: //p'; }
 cpy0=$(memcpy_ms)
@@ -71,6 +74,8 @@ run_group() {
           if (!(f in ready) || v["ready_ns"] > ready[f]) ready[f] = v["ready_ns"]
           if (!(f in swap) || v["swap_ns"] > swap[f]) swap[f] = v["swap_ns"]
           bytes[f] += v["bytes_sent"]
+          if (r in lastcpu) cpu[f] += v["cpu_ns"] - lastcpu[r]
+          lastcpu[r] = v["cpu_ns"]
           if (r == 0) { shown[f] = v["displayed_ns"]; asm[f] = v["assembled_ns"]; sent[f] = v["sent_ns"] }
           if (v["vmhwm_kb"] > hwm) hwm = v["vmhwm_kb"]
           if (r == 1 && v["vmhwm_kb"] > hwm1) hwm1 = v["vmhwm_kb"]
@@ -81,17 +86,19 @@ run_group() {
               if (!(f in shown)) continue
               d = (shown[f] - ready[f]) / 1e6; a = (asm[f] - ready[f]) / 1e6
               printf "%d,%s,%d,%.3f,%.3f,%.3f,%d,%.3f,%.3f\n", n, cov, f, d, a, (shown[f] - swap[f]) / 1e6, bytes[f], (sent[f] - asm[f]) / 1e6, (shown[f] - sent[f]) / 1e6 >> csv
-              ds[m] = d; as[m] = a; bs[m] = bytes[f]; ps[m] = (shown[f] - asm[f]) / 1e6; m++
+              ds[m] = d; as[m] = a; bs[m] = bytes[f]; ps[m] = (shown[f] - asm[f]) / 1e6; cs[m] = cpu[f] / 1e6; m++
           }
           # medians (insertion sort: a few dozen frames)
           for (i = 1; i < m; i++) for (j = i; j > 0 && ds[j - 1] > ds[j]; j--) { t = ds[j]; ds[j] = ds[j - 1]; ds[j - 1] = t }
           for (i = 1; i < m; i++) for (j = i; j > 0 && as[j - 1] > as[j]; j--) { t = as[j]; as[j] = as[j - 1]; as[j - 1] = t }
           for (i = 1; i < m; i++) for (j = i; j > 0 && bs[j - 1] > bs[j]; j--) { t = bs[j]; bs[j] = bs[j - 1]; bs[j - 1] = t }
           for (i = 1; i < m; i++) for (j = i; j > 0 && ps[j - 1] > ps[j]; j--) { t = ps[j]; ps[j] = ps[j - 1]; ps[j - 1] = t }
+          for (i = 1; i < m; i++) for (j = i; j > 0 && cs[j - 1] > cs[j]; j--) { t = cs[j]; cs[j] = cs[j - 1]; cs[j - 1] = t }
           med = m % 2 ? ds[int(m / 2)] : (ds[m / 2 - 1] + ds[m / 2]) / 2
           amed = m % 2 ? as[int(m / 2)] : (as[m / 2 - 1] + as[m / 2]) / 2
           pmed = m % 2 ? ps[int(m / 2)] : (ps[m / 2 - 1] + ps[m / 2]) / 2
-          printf "%.3f %.3f %d %.1f %.1f %d %.3f\n", med, amed, bs[int(m / 2)], hwm / 1024, hwm1 / 1024, m, pmed
+          cmed = m % 2 ? cs[int(m / 2)] : (cs[m / 2 - 1] + cs[m / 2]) / 2
+          printf "%.3f %.3f %d %.1f %.1f %d %.3f %.3f\n", med, amed, bs[int(m / 2)], hwm / 1024, hwm1 / 1024, m, pmed, cmed
         }' "$dir/stats.txt"
 }
 
@@ -100,13 +107,13 @@ run_group() {
 render_hwm_kb=$(LP_NUM_THREADS=0 /usr/bin/time -f '%M' "$bin/spheres" --frames "$frames" --size "$size" \
     --part 0/1000000 --chain 'render output=""' 2>&1 >/dev/null | tail -n 1)
 
-declare -A med asm_med path_med
+declare -A med asm_med path_med cpu_med
 for cov in full ellipse; do
     for n in "${counts[@]}"; do
         [[ $cov == ellipse && $n != 8 ]] && continue
-        read -r m a b hmax h1 count p < <(run_group "$n" "$cov") || exit 1
-        med[$n-$cov]=$m asm_med[$n-$cov]=$a path_med[$n-$cov]=$p
-        echo "$n,$cov,$count,$m,$a,$b,$hmax,$h1,$p" >>"$summary"
+        read -r m a b hmax h1 count p c < <(run_group "$n" "$cov") || exit 1
+        med[$n-$cov]=$m asm_med[$n-$cov]=$a path_med[$n-$cov]=$p cpu_med[$n-$cov]=$c
+        echo "$n,$cov,$count,$m,$a,$b,$hmax,$h1,$p,$c" >>"$summary"
         if [[ $cov == full ]]; then
             echo "composite_scaling_n$n: $m"
         fi
@@ -120,6 +127,7 @@ frame_mib=$(awk -v w="$width" -v h="$height" 'BEGIN { printf "%.1f", w * h * 8 /
 echo "composite_8x1080p_ms: ${med[8-full]}"
 echo "composite_8x1080p_assembled_ms: ${asm_med[8-full]}"
 echo "composite_8x1080p_display_path_ms: ${path_med[8-full]}"
+echo "composite_8x1080p_peers_cpu_ms: ${cpu_med[8-full]}"
 echo "composite_8x1080p_partial_ms: ${med[8-ellipse]}"
 echo "composite_8x1080p_partial_assembled_ms: ${asm_med[8-ellipse]}"
 echo "memcpy_frame_ms: $cpy"

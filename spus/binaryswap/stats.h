@@ -27,7 +27,9 @@ typedef struct tsr_bswap_frame_stats {
 int64_t tsr_bswap_now_ns(void);
 /* Opens (creates, appends to) `path`; -1 and TSR_EIO naming it on failure. */
 int tsr_bswap_stats_open(const char *path, tsr_error *err);
-/* Appends the frame's line, with this process's VmHWM and VmRSS. */
+/* Appends the frame's line, with this process's VmHWM, VmRSS and CPU time
+ * (CLOCK_PROCESS_CPUTIME_ID, every thread: the part of a frame a loaded
+ * machine's other processes do not inflate). */
 void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s);
 
 #endif
