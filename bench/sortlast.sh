@@ -20,7 +20,9 @@
 # stream, the display's render drawing it, the swap, the round trip);
 # composite_8x1080p_peers_cpu_ms: CPU ms per frame of all peer processes
 # together (their applications' empty frames included, the display's not),
-# which other load on the machine does not inflate; memcpy_frame_ms, the reference, measured before
+# which other load on the machine does not inflate, and
+# composite_8x1080p_compositing_cpu_ms: that minus 8 x the render-only
+# application's CPU per frame (render_only_cpu_ms_per_frame); memcpy_frame_ms, the reference, measured before
 # and after the runs, best of both). Writes sortlast.csv (one row per
 # frame), sortlast-summary.csv and sortlast.png.
 # usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
@@ -104,8 +106,15 @@ run_group() {
 
 # The render SPU's own memory for the same application and window: VmHWM
 # (ru_maxrss) of the process with the chain `render` alone.
-render_hwm_kb=$(LP_NUM_THREADS=0 /usr/bin/time -f '%M' "$bin/spheres" --frames "$frames" --size "$size" \
-    --part 0/1000000 --chain 'render output=""' 2>&1 >/dev/null | tail -n 1)
+# Its CPU per frame (runs of F and 2F frames: start-up cancels) is what
+# each peer's application spends outside compositing.
+render_only() { # FRAMES: "maxrss_kb cpu_s"
+    LP_NUM_THREADS=0 /usr/bin/time -f '%M %U %S' "$bin/spheres" --frames "$1" --size "$size" \
+        --part 0/1000000 --chain 'render output=""' 2>&1 >/dev/null | tail -n 1 | awk '{ print $1, $2 + $3 }'
+}
+read -r render_hwm_kb render_cpu1 < <(render_only "$frames")
+read -r _ render_cpu2 < <(render_only $((2 * frames)))
+render_cpu_ms=$(awk -v a="$render_cpu1" -v b="$render_cpu2" -v f="$frames" 'BEGIN { d = (b - a) / f * 1e3; printf "%.3f", d < 0 ? 0 : d }')
 
 declare -A med asm_med path_med cpu_med
 for cov in full ellipse; do
@@ -128,6 +137,8 @@ echo "composite_8x1080p_ms: ${med[8-full]}"
 echo "composite_8x1080p_assembled_ms: ${asm_med[8-full]}"
 echo "composite_8x1080p_display_path_ms: ${path_med[8-full]}"
 echo "composite_8x1080p_peers_cpu_ms: ${cpu_med[8-full]}"
+echo "render_only_cpu_ms_per_frame: $render_cpu_ms"
+awk -v c="${cpu_med[8-full]}" -v r="$render_cpu_ms" 'BEGIN { printf "composite_8x1080p_compositing_cpu_ms: %.3f\n", c - 8 * r }'
 echo "composite_8x1080p_partial_ms: ${med[8-ellipse]}"
 echo "composite_8x1080p_partial_assembled_ms: ${asm_med[8-ellipse]}"
 echo "memcpy_frame_ms: $cpy"
