@@ -153,7 +153,7 @@ if command -v gnuplot >/dev/null && [[ $quick != --quick ]]; then
 set terminal pngcairo size 800,480
 set output "$out/sortlast.png"
 set datafile separator ","
-set title "Multi-process sort-last ($size, synthetic layers, strategy $strategy, rle):\nlast peer's layer ready -> frame drawn on the display node (median)"
+set title "MULTI-PROCESS (real processes, Unix sockets) sort-last ($size, synthetic layers, strategy $strategy, rle):\nlast peer's layer ready -> frame drawn on the display node (median)"
 set xlabel "peer processes (plus one display process; 2 vCPUs)"
 set ylabel "ms per frame"
 set logscale x 2
@@ -162,6 +162,7 @@ set yrange [0:*]
 plot "< grep ',full,' $summary" using 1:4 with linespoints pt 7 title "full layers", \
      "< grep ',full,' $summary" using 1:5 with linespoints pt 5 title "full, assembled on rank 0 (before the display path)", \
      "< grep ',ellipse,' $summary" using 1:4 with points pt 9 ps 2 title "ellipse 40% layers", \
+     "< grep ',full,' $summary" using 1:10 with linespoints dt 4 pt 6 title "full, CPU ms of all peer processes per frame", \
      30 with lines dt 2 title "target N=8 full (30 ms)", 15 with lines dt 3 title "target N=8 ellipse (15 ms)"
 EOF
 fi
