@@ -27,10 +27,12 @@
 # frame), sortlast-summary.csv and sortlast.png.
 # usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
 # Environment: SORTLAST_SIZE (default 1920x1080), SORTLAST_FRAMES (24),
-# SORTLAST_COUNTS (default "2 4 8 16"; 8 is the figure), SORTLAST_STRATEGY (auto).
+# SORTLAST_COUNTS (default "2 4 8 16"; 8 is the figure), SORTLAST_STRATEGY (auto),
+# SORTLAST_OPTIONS (more binaryswap options as YAML flow entries: "codec: erle").
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${SORTLAST_SIZE:-1920x1080} frames=${SORTLAST_FRAMES:-24} strategy=${SORTLAST_STRATEGY:-auto}
+extra=${SORTLAST_OPTIONS:+, $SORTLAST_OPTIONS}
 read -r -a counts <<<"${SORTLAST_COUNTS:-2 4 8 16}"
 memcpy_args=()
 if [[ $quick == --quick ]]; then
@@ -58,7 +60,7 @@ run_group() {
         for ((i = 0; i < n; i++)); do
             echo "  app$i:"
             echo "    exec: bin/spheres --frames $frames --size $size --part 0/1000000"
-            echo "    chain: [{binaryswap: {synthetic: $cov, strategy: $strategy, stats: \"$dir/stats.txt\"}}]"
+            echo "    chain: [{binaryswap: {synthetic: $cov, strategy: $strategy, stats: \"$dir/stats.txt\"$extra}}]"
             echo "    to: display"
         done
         echo "  display:"
