@@ -24,6 +24,7 @@
 #include <time.h>
 #include "bench_common.h"
 #include "strategy.h"
+#include "synthetic.h"
 #include "tessera/dev/composite.h"
 
 static uint64_t rs = 0x9e3779b97f4a7c15ull;
@@ -174,107 +175,171 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Peer r's layer: depth bands so each peer is nearest on about 1/N. */
-static void layer(tsr_cimage *img, int W, int H, int r, int n, int partial)
+/* One group of n peers (a thread each) and the display over the in-memory
+ * transport, `frames` frames: medians of CPU and wall ms per frame, the
+ * bytes all peers sent per frame, and the last frame in *final. */
+typedef struct group_result {
+    double cpu_ms, wall_ms;
+    uint64_t bytes;
+    char name[32];
+} group_result;
+
+static void run_group(const char *strategy, tsr_image_codec codec, int n, int W, int H, tsr_cimage *imgs, int frames,
+                      tsr_cimage *final, group_result *res)
 {
-    tsr_error err;
-    if (tsr_cimage_init(img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err))
+    tsr_error err = {0};
+    int kind, k;
+    if (tsr_cs_kind_parse(strategy, &kind, &k, &err))
         abort();
-    img->rank = r;
-    img->frame = 1;
-    double cx = W * (0.3 + 0.4 * ((r * 37) % 11) / 10.0), cy = H * (0.3 + 0.4 * ((r * 53) % 7) / 6.0);
-    double ax = W * 0.36, ay = H * 0.36; /* pi * 0.36^2 = 40% of the window */
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            size_t i = (size_t)y * W + x;
-            double u = (double)x / W - (double)r / n;
-            u -= floor(u);
-            double dx = (x - cx) / ax, dy = (y - cy) / ay;
-            int in = !partial || dx * dx + dy * dy < 1;
-            img->depth[i] = in ? (float)(0.1 + 0.8 * u) : 1.0f;
-            uint8_t *c = img->color + 4 * i;
-            c[0] = (uint8_t)(40 * r);
-            c[1] = (uint8_t)(255 * u);
-            c[2] = (uint8_t)(x ^ y);
-            c[3] = 255;
+    tsr_cs_schedule s;
+    tsr_cs_hint hint = {0, 1};
+    if (tsr_cs_plan(kind, n, W, H, k, &hint, &s, &err)) {
+        fprintf(stderr, "bench_composite: %s n=%d: %s\n", strategy, n, err.message);
+        exit(1);
+    }
+    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 120000, &err);
+    bjob *jobs = calloc((size_t)n, sizeof *jobs);
+    pthread_t *th = calloc((size_t)n, sizeof *th);
+    for (int r = 0; r < n; r++) {
+        jobs[r] = (bjob){.ex = tsr_cs_executor_new(&s, codec, &err), .img = &imgs[r], .rank = r};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+    }
+    tsr_cs_transport dt;
+    tsr_cs_memnet_transport(net, n, &dt);
+    tsr_cs_executor *dex = tsr_cs_executor_new(&s, codec, &err);
+    static const uint8_t bg[4] = {0, 0, 0, 255};
+    double ms[64], cpu[64];
+    uint64_t bytes = 0;
+    for (int f = 0; f < frames; f++) {
+        double t0 = now_wall(), c0 = now_cpu();
+        for (int r = 0; r < n; r++)
+            pthread_create(&th[r], NULL, bpeer, &jobs[r]);
+        int rc = tsr_cs_run_display(dex, 1, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, bg, final, &dt, &err);
+        for (int r = 0; r < n; r++)
+            pthread_join(th[r], NULL);
+        ms[f] = (now_wall() - t0) * 1e3;
+        cpu[f] = (now_cpu() - c0) * 1e3;
+        if (rc) {
+            fprintf(stderr, "bench_composite: %s n=%d: %s\n", s.name, n, err.message);
+            exit(1);
         }
+        for (int r = 0; r < n; r++)
+            if (jobs[r].rc) {
+                fprintf(stderr, "bench_composite: %s n=%d rank %d: %s\n", s.name, n, r, jobs[r].err.message);
+                exit(1);
+            }
+        bytes = 0;
+        for (int r = 0; r < n; r++) {
+            tsr_cs_stats st;
+            tsr_cs_executor_stats(jobs[r].ex, &st);
+            bytes += st.bytes_sent;
+        }
+    }
+    qsort(ms, (size_t)frames, sizeof *ms, cmp_double);
+    qsort(cpu, (size_t)frames, sizeof *cpu, cmp_double);
+    res->cpu_ms = cpu[frames / 2];
+    res->wall_ms = ms[frames / 2];
+    res->bytes = bytes;
+    snprintf(res->name, sizeof res->name, "%s", s.name);
+    for (int r = 0; r < n; r++)
+        tsr_cs_executor_free(jobs[r].ex);
+    tsr_cs_executor_free(dex);
+    tsr_cs_memnet_free(net);
+    tsr_cs_schedule_free(&s);
+    free(jobs);
+    free(th);
 }
 
+static tsr_cimage *make_layers(int mode, int n, int W, int H)
+{
+    tsr_error err = {0};
+    tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
+    for (int r = 0; r < n; r++) {
+        if (tsr_synthetic_layer(mode, W, H, r, n, &imgs[r], &err))
+            abort();
+        imgs[r].frame = 1;
+    }
+    return imgs;
+}
+
+static void free_layers(tsr_cimage *imgs, int n)
+{
+    for (int r = 0; r < n; r++)
+        tsr_cimage_free(&imgs[r]);
+    free(imgs);
+}
+
+/* Every strategy at N = 2, 4, 8, 16 on synthetic full and ellipse layers
+ * (spus/binaryswap/synthetic.h, the multi-process benchmark's input). */
 static void bench_strategies(const bench_args *a, FILE *csv)
 {
     static const char *names[] = {"gather", "direct", "bswap", "radixk-4", "auto"};
-    int W = a->quick ? 64 : 1920, H = a->quick ? 36 : 1080, frames = a->quick ? 1 : 9;
+    int W = a->quick ? 64 : 1920, H = a->quick ? 36 : 1080, frames = a->quick ? 1 : 5;
     tsr_error err;
     tsr_image_codec codec;
     tsr_image_codec_parse("rle", &codec, &err);
     for (int partial = 0; partial < 2; partial++)
-        for (int n = 2; n <= 8; n *= 2) {
-            tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
-            for (int r = 0; r < n; r++)
-                layer(&imgs[r], W, H, r, n, partial);
+        for (int n = 2; n <= 16; n *= 2) {
+            tsr_cimage *imgs = make_layers(partial ? TSR_SYNTHETIC_ELLIPSE : TSR_SYNTHETIC_FULL, n, W, H);
             for (size_t si = 0; si < sizeof names / sizeof *names; si++) {
-                int kind, k;
-                tsr_cs_kind_parse(names[si], &kind, &k, &err);
-                tsr_cs_schedule s;
-                tsr_cs_hint hint = {0, 1};
-                if (tsr_cs_plan(kind, n, W, H, k, &hint, &s, &err))
-                    abort();
-                tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
-                bjob *jobs = calloc((size_t)n, sizeof *jobs);
-                pthread_t *th = calloc((size_t)n, sizeof *th);
-                for (int r = 0; r < n; r++) {
-                    jobs[r] = (bjob){.ex = tsr_cs_executor_new(&s, codec, &err), .img = &imgs[r], .rank = r};
-                    tsr_cs_memnet_transport(net, r, &jobs[r].t);
-                }
-                tsr_cs_transport dt;
-                tsr_cs_memnet_transport(net, n, &dt);
-                tsr_cs_executor *dex = tsr_cs_executor_new(&s, codec, &err);
                 tsr_cimage frame = {0};
-                static const uint8_t bg[4] = {0, 0, 0, 255};
-                double ms[32], cpu[32];
-                uint64_t bytes = 0;
-                for (int f = 0; f < frames; f++) {
-                    double t0 = now_wall(), c0 = now_cpu();
-                    for (int r = 0; r < n; r++)
-                        pthread_create(&th[r], NULL, bpeer, &jobs[r]);
-                    int rc = tsr_cs_run_display(dex, 1, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, bg, &frame,
-                                                &dt, &err);
-                    for (int r = 0; r < n; r++)
-                        pthread_join(th[r], NULL);
-                    ms[f] = (now_wall() - t0) * 1e3;
-                    cpu[f] = (now_cpu() - c0) * 1e3;
-                    if (rc) {
-                        fprintf(stderr, "bench_composite: %s n=%d: %s\n", s.name, n, err.message);
-                        exit(1);
-                    }
-                    bytes = 0;
-                    for (int r = 0; r < n; r++) {
-                        tsr_cs_stats st;
-                        tsr_cs_executor_stats(jobs[r].ex, &st);
-                        bytes += st.bytes_sent;
-                    }
-                }
-                qsort(ms, (size_t)frames, sizeof *ms, cmp_double);
-                qsort(cpu, (size_t)frames, sizeof *cpu, cmp_double);
+                group_result g;
+                run_group(names[si], codec, n, W, H, imgs, frames, &frame, &g);
                 printf("strategy_%s_%s_n%d: cpu_ms %.2f wall_ms %.2f bytes_per_frame %llu (%s)\n", names[si],
-                       partial ? "partial" : "full", n, cpu[frames / 2], ms[frames / 2], (unsigned long long)bytes,
-                       s.name);
+                       partial ? "partial" : "full", n, g.cpu_ms, g.wall_ms, (unsigned long long)g.bytes, g.name);
                 if (csv)
-                    fprintf(csv, "%s,%s,%d,%.3f,%.3f,%llu\n", names[si], partial ? "partial" : "full", n,
-                            cpu[frames / 2], ms[frames / 2], (unsigned long long)bytes);
-                for (int r = 0; r < n; r++)
-                    tsr_cs_executor_free(jobs[r].ex);
-                tsr_cs_executor_free(dex);
-                tsr_cs_memnet_free(net);
+                    fprintf(csv, "%s,%s,%d,%.3f,%.3f,%llu,%s\n", names[si], partial ? "partial" : "full", n, g.cpu_ms,
+                            g.wall_ms, (unsigned long long)g.bytes, g.name);
                 tsr_cimage_free(&frame);
-                tsr_cs_schedule_free(&s);
-                free(jobs);
-                free(th);
             }
-            for (int r = 0; r < n; r++)
-                tsr_cimage_free(&imgs[r]);
-            free(imgs);
+            free_layers(imgs, n);
         }
+}
+
+/* Every codec at N = 2, 4, 8 and 1024x768 / 1920x1080 (strategy auto,
+ * synthetic full layers): time per frame against the colour PSNR of the
+ * final frame relative to the lossless one (codec none) of the same run. */
+static void bench_codec_sweep(const bench_args *a, FILE *csv)
+{
+    static const char *codecs[] = {"none", "rle", "erle", "yuv420", "depth16", "depth24"};
+    int sizes[2][2] = {{1024, 768}, {1920, 1080}}, frames = a->quick ? 1 : 5;
+    for (int si = 0; si < 2; si++)
+        for (int n = 2; n <= 8; n *= 2) {
+            int W = a->quick ? sizes[si][0] / 16 : sizes[si][0], H = a->quick ? sizes[si][1] / 16 : sizes[si][1];
+            tsr_cimage *imgs = make_layers(TSR_SYNTHETIC_FULL, n, W, H);
+            tsr_cimage lossless = {0};
+            for (size_t ci = 0; ci < sizeof codecs / sizeof *codecs; ci++) {
+                tsr_error err;
+                tsr_image_codec c;
+                tsr_image_codec_parse(codecs[ci], &c, &err);
+                tsr_cimage frame = {0};
+                group_result g;
+                run_group("auto", c, n, W, H, imgs, frames, ci ? &frame : &lossless, &g);
+                double p = ci ? psnr8(lossless.color, frame.color, (size_t)W * H * 4) : INFINITY;
+                printf("sweep_%s_%dx%d_n%d: cpu_ms %.2f wall_ms %.2f bytes_per_frame %llu psnr_db %.1f (%s)\n",
+                       codecs[ci], W, H, n, g.cpu_ms, g.wall_ms, (unsigned long long)g.bytes, p, g.name);
+                if (csv)
+                    fprintf(csv, "%s,%dx%d,%d,%.3f,%.3f,%llu,%.2f,%s\n", codecs[ci], W, H, n, g.cpu_ms, g.wall_ms,
+                            (unsigned long long)g.bytes, isinf(p) ? 99.0 : p, g.name);
+                tsr_cimage_free(&frame);
+            }
+            tsr_cimage_free(&lossless);
+            free_layers(imgs, n);
+        }
+}
+
+/* The path of a second CSV next to the first: NAME.csv -> NAME-SUFFIX.csv. */
+static FILE *side_csv(const char *csv_path, const char *suffix, const char *header)
+{
+    if (!csv_path)
+        return NULL;
+    char path[1024];
+    snprintf(path, sizeof path, "%s", csv_path);
+    char *dot = strrchr(path, '.');
+    if (dot)
+        *dot = 0;
+    strncat(path, suffix, sizeof path - strlen(path) - 1);
+    return bench_csv_open(path, header);
 }
 
 int main(int argc, char **argv)
@@ -349,19 +414,15 @@ int main(int argc, char **argv)
     }
     if (csv)
         fclose(csv);
-    /* strategies: a second CSV next to the first */
-    FILE *scsv = NULL;
-    if (a.csv_path) {
-        char path[1024];
-        snprintf(path, sizeof path, "%s", a.csv_path);
-        char *dot = strrchr(path, '.');
-        if (dot)
-            *dot = 0;
-        strncat(path, "-strategies.csv", sizeof path - strlen(path) - 1);
-        scsv = bench_csv_open(path, "strategy,coverage,peers,cpu_ms,wall_ms,bytes_per_frame");
-    }
+    /* strategies and the codec sweep: CSVs next to the first */
+    FILE *scsv =
+        side_csv(a.csv_path, "-strategies.csv", "strategy,coverage,peers,cpu_ms,wall_ms,bytes_per_frame,chosen");
     bench_strategies(&a, scsv);
     if (scsv)
         fclose(scsv);
+    FILE *ccsv = side_csv(a.csv_path, "-codecs.csv", "codec,size,peers,cpu_ms,wall_ms,bytes_per_frame,psnr_db,chosen");
+    bench_codec_sweep(&a, ccsv);
+    if (ccsv)
+        fclose(ccsv);
     return 0;
 }

@@ -77,7 +77,9 @@
 #include "net.h"
 #include "render.h"
 #include "roi.h"
+#include "stats.h"
 #include "strategy.h"
+#include "synthetic.h"
 #include "tessera/chain.h"
 #include "tessera/dev/client.h"
 #include "tessera/log.h"
@@ -148,6 +150,9 @@ typedef struct bswap_spu {
     tsr_cimage layer;                                /* alpha or float: what is composited */
     uint8_t *frame8;                                 /* float colour: the frame as RGBA8 */
     size_t frame8_size;
+    int synthetic;            /* TSR_SYNTHETIC_*: a generated layer instead of the read-back */
+    int stats_fd;             /* stats= file, or -1 */
+    tsr_bswap_frame_stats st; /* this frame's times */
 } bswap_spu;
 
 /* Ends the process after one line: other threads (netlib's, llvmpipe's)
@@ -467,6 +472,24 @@ static void read_layer(bswap_spu *b, uint32_t frame)
             b->name, frame, b->rank, x, y, w, h, W, H, W, H, w, h);
 }
 
+/* The synthetic layer (synthetic.h) in place of the read-back: made once
+ * per window size (the compositor only reads it), so a frame costs no
+ * read-back and no generation, only compositing. No pixel of the layer
+ * came from GL, so the background is opaque black. */
+static void synthetic_layer(bswap_spu *b, int W, int H, uint32_t frame)
+{
+    tsr_error err = {0};
+    if (b->mine.window_width != W || b->mine.window_height != H || !b->mine.color) {
+        if (tsr_synthetic_layer(b->synthetic, W, H, b->rank, b->nranks, &b->mine, &err) != TSR_OK)
+            bswap_fatal(b, "%s", err.message);
+    }
+    b->mine.rank = b->rank;
+    b->mine.frame = frame;
+    static const uint8_t black[4] = {0, 0, 0, 255};
+    memcpy(b->background, black, sizeof black);
+    b->has_background = true;
+}
+
 /* --- the transport the strategies run over ---------------------------------- */
 
 static void release_held(bswap_spu *b)
@@ -610,6 +633,17 @@ static void plan(bswap_spu *b, int W, int H)
     }
 }
 
+static void stats_frame(bswap_spu *b, uint32_t frame)
+{
+    if (b->stats_fd < 0)
+        return;
+    b->st.frame = frame;
+    b->st.rank = b->rank;
+    b->st.nranks = b->nranks;
+    b->st.bytes_sent = b->last_bytes;
+    tsr_bswap_stats_write(b->stats_fd, &b->st);
+}
+
 /* Composites this frame with the group (the strategy's schedule); rank 0
  * then draws the assembled frame on the display and swaps. */
 static void composite_frame(bswap_spu *b, uint32_t frame)
@@ -624,10 +658,12 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
         .user = b, .send = transport_send, .recv = transport_recv, .send_buffer = transport_send_buffer};
     if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    b->st.composited_ns = tsr_bswap_now_ns();
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
             b->rank, b->last_bytes);
     if (b->rank != 0) {
         release_held(b);
+        stats_frame(b, frame);
         return;
     }
     /* A peer without a background pixel covered the whole window, so no
@@ -649,10 +685,20 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
             bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
         pixels = b->frame8;
     }
+    b->st.assembled_ns = tsr_bswap_now_ns();
     const tsr_dispatch *d = display(b);
     tsr_call_WindowPos2i(d, 0, 0);
     tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     tsr_call_SwapBuffersTSR(d, b->window, 0);
+    b->st.sent_ns = tsr_bswap_now_ns();
+    if (b->stats_fd >= 0) {
+        /* A reply comes after the display node drew the frame: the time
+         * the frame is there (costs one round trip per frame, stats only). */
+        GLint viewport[4];
+        tsr_call_GetIntegerv(d, GL_VIEWPORT, viewport);
+        b->st.displayed_ns = tsr_bswap_now_ns();
+    }
+    stats_frame(b, frame);
 }
 
 static void exchange_order(bswap_spu *b, uint32_t frame);
@@ -662,6 +708,7 @@ static void bswap_frame(void *ctx, int frame, void *render)
 {
     (void)render;
     bswap_spu *b = ctx;
+    b->st = (tsr_bswap_frame_stats){.swap_ns = tsr_bswap_now_ns()};
     display(b);
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
@@ -685,6 +732,8 @@ static void bswap_frame(void *ctx, int frame, void *render)
             bswap_fatal(b, "%s", err.message);
         tsr_log(TSR_LOG_DEBUG, "%s: frame %d: rank %d alpha region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
                 box[0], box[1], box[2] - box[0], box[3] - box[1], W, H);
+    } else if (b->synthetic) {
+        synthetic_layer(b, W, H, (uint32_t)frame);
     } else {
         read_layer(b, (uint32_t)frame);
         if (b->colour != TSR_CI_RGBA8 &&
@@ -694,6 +743,7 @@ static void bswap_frame(void *ctx, int frame, void *render)
     }
     b->layer.rank = b->rank;
     b->layer.frame = b->mine.frame = (uint32_t)frame;
+    b->st.ready_ns = tsr_bswap_now_ns();
     composite_frame(b, (uint32_t)frame);
     b->frames++;
 }
@@ -839,6 +889,8 @@ static void bswap_destroy(void *self)
     tsr_cimage_free(&b->layer);
     free(b->frame8);
     free(b->window_depth);
+    if (b->stats_fd >= 0)
+        close(b->stats_fd);
     free(b);
 }
 
@@ -850,6 +902,7 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         return NULL;
     }
     snprintf(b->name, sizeof b->name, "%s", init->instance_name);
+    b->stats_fd = -1;
     b->child = init->child;
     b->options = init->options;
     b->window = (int)tsr_options_int(init->options, "window");
@@ -942,6 +995,21 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
                       tsr_options_string(init->options, "codec"));
         goto fail;
     }
+    if (tsr_synthetic_parse(tsr_options_string(init->options, "synthetic"), &b->synthetic, &e) != TSR_OK) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
+        goto fail;
+    }
+    if (b->synthetic && (b->mode != TSR_COMPOSITE_DEPTH || b->colour != TSR_CI_RGBA8)) {
+        tsr_error_set(err, TSR_EINVAL,
+                      "%s: synthetic=%s is a depth-mode RGBA8 layer: not with mode=alpha or colour=rgba32f", b->name,
+                      tsr_options_string(init->options, "synthetic"));
+        goto fail;
+    }
+    const char *stats = tsr_options_string(init->options, "stats");
+    if (stats && stats[0] && (b->stats_fd = tsr_bswap_stats_open(stats, &e)) < 0) {
+        tsr_error_set(err, TSR_EIO, "%s: %s", b->name, e.message);
+        goto fail;
+    }
     b->down = *init->child;
     tsr_set_WindowCreateTSR(&b->down, bswap_WindowCreateTSR, b);
     tsr_set_WindowSizeTSR(&b->down, bswap_WindowSizeTSR, b);
@@ -962,6 +1030,8 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     tsr_set_ClearColor(init->table, bswap_ClearColor, b);
     return b;
 fail:
+    if (b->stats_fd >= 0)
+        close(b->stats_fd);
     free(b);
     return NULL;
 }
@@ -1065,6 +1135,22 @@ static const tsr_option_spec bswap_options[] = {
      .max = 0,
      .help = "rgba8 (as OSMesa holds it) or rgba32f (read as GL_FLOAT, composited in float, "
              "rounded once to RGBA8 on the display; the lossy yuv420 codec does not apply)"},
+    {.name = "synthetic",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "benchmarks: composite a generated layer instead of the read-back, so only "
+             "compositing is timed: full (every pixel; each of N peers nearest on about 1/N) "
+             "or ellipse (40% of the window, placed per rank); empty or off: the render's"},
+    {.name = "stats",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 0,
+     .max = 0,
+     .help = "append one timing line per frame to this file (CLOCK_MONOTONIC ns of the swap, "
+             "layer ready, rounds done; rank 0: frame assembled and drawn on the display, "
+             "one round trip per frame), bytes sent, VmHWM/VmRSS; peers may share one file"},
     /* token, buffer_size, timeout_ms (also the peers' limit), on_error (the
      * display stream's; a failing peer always ends the process). */
     TSR_NODE_CLIENT_OPTION_SPECS,

@@ -1,0 +1,61 @@
+/* spus/binaryswap/stats.c — the per-frame timing lines of stats.h. */
+#include "stats.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+int64_t tsr_bswap_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+int tsr_bswap_stats_open(const char *path, tsr_error *err)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0)
+        tsr_error_set(err, TSR_EIO, "stats=%s: %s", path, strerror(errno));
+    return fd;
+}
+
+/* VmHWM and VmRSS of this process in KiB (0 when /proc is not there). */
+static void memory_kb(long *hwm, long *rss)
+{
+    *hwm = *rss = 0;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f)
+        return;
+    char line[256];
+    while (fgets(line, sizeof line, f)) {
+        if (!strncmp(line, "VmHWM:", 6))
+            sscanf(line + 6, "%ld", hwm);
+        else if (!strncmp(line, "VmRSS:", 6))
+            sscanf(line + 6, "%ld", rss);
+    }
+    fclose(f);
+}
+
+void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s)
+{
+    long hwm, rss;
+    memory_kb(&hwm, &rss);
+    struct timespec cpu;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
+    char line[512];
+    int n =
+        snprintf(line, sizeof line,
+                 "frame %" PRIu32 " rank %d nranks %d swap_ns %" PRId64 " ready_ns %" PRId64 " composited_ns %" PRId64
+                 " assembled_ns %" PRId64 " sent_ns %" PRId64 " displayed_ns %" PRId64 " bytes_sent %" PRIu64
+                 " vmhwm_kb %ld vmrss_kb %ld cpu_ns %" PRId64 "\n",
+                 s->frame, s->rank, s->nranks, s->swap_ns, s->ready_ns, s->composited_ns, s->assembled_ns, s->sent_ns,
+                 s->displayed_ns, s->bytes_sent, hwm, rss, (int64_t)cpu.tv_sec * 1000000000 + cpu.tv_nsec);
+    if (n > 0 && (size_t)n < sizeof line && write(fd, line, (size_t)n) != n) {
+        /* A full disk loses a timing line, never the frame. */
+    }
+}

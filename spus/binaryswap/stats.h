@@ -1,0 +1,35 @@
+/* spus/binaryswap/stats.h — binaryswap's `stats` option: one line per
+ * composited frame per peer, appended to a file every peer of a group may
+ * share (each line is one write(2) on an O_APPEND descriptor, so lines of
+ * different processes never interleave). Times are CLOCK_MONOTONIC
+ * nanoseconds, one clock for every process of the host, so a reader can
+ * line up the peers' swaps with rank 0's frame-complete time (bench/run
+ * sortlast does). Owns the descriptor; never decides anything from the
+ * figures, never prints them. */
+#ifndef TSR_SPUS_BINARYSWAP_STATS_H
+#define TSR_SPUS_BINARYSWAP_STATS_H
+
+#include <stdint.h>
+#include "tessera/error.h"
+
+typedef struct tsr_bswap_frame_stats {
+    uint32_t frame;
+    int rank, nranks;
+    int64_t swap_ns;       /* the frame hook ran: the render's SwapBuffers */
+    int64_t ready_ns;      /* this peer's layer handed to the compositor */
+    int64_t composited_ns; /* this peer's rounds done, final piece sent */
+    int64_t assembled_ns;  /* rank 0: the display participant assembled the frame (else 0) */
+    int64_t sent_ns;       /* rank 0: DrawPixels and the swap packed and handed to the display stream (else 0) */
+    int64_t displayed_ns;  /* rank 0: the display node answered after drawing it (else 0) */
+    uint64_t bytes_sent;   /* image bytes this peer sent */
+} tsr_bswap_frame_stats;
+
+int64_t tsr_bswap_now_ns(void);
+/* Opens (creates, appends to) `path`; -1 and TSR_EIO naming it on failure. */
+int tsr_bswap_stats_open(const char *path, tsr_error *err);
+/* Appends the frame's line, with this process's VmHWM, VmRSS and CPU time
+ * (CLOCK_PROCESS_CPUTIME_ID, every thread: the part of a frame a loaded
+ * machine's other processes do not inflate). */
+void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s);
+
+#endif
