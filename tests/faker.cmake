@@ -94,3 +94,17 @@ if(NOT TESSERA_SANITIZE)
   set_tests_properties(faker_every_xscreensaver_gl_hack_and_glxgears_draw_frames_and_end_on_sigterm
                        PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
 endif()
+
+# Share lists: a display list and a texture of one GLX context drawn by a
+# context made with it as share list.
+add_executable(faker_glx_share ${FAKER_TEST_DIR}/glx_share.c)
+target_link_libraries(faker_glx_share PRIVATE tessera_faker_gl tessera PkgConfig::X11)
+add_test(NAME faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+         COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_share> ${FAKER_OUT}/share)
+set_tests_properties(faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+                     PROPERTIES SKIP_RETURN_CODE 77)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
