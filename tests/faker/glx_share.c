@@ -40,8 +40,8 @@ static void pixel_is(const char *dir, int frame, int x, int y, const unsigned ch
         return;
     const unsigned char *p = img.pixels + (size_t)y * img.stride + 4 * (size_t)x;
     printf("frame %d (%d, %d): RGB %u %u %u\n", frame, x, y, p[0], p[1], p[2]);
-    CHECK(!memcmp(p, want, 3), "frame %d at (%d, %d) is RGB %u %u %u, expected %u %u %u", frame, x, y, p[0], p[1],
-          p[2], want[0], want[1], want[2]);
+    CHECK(!memcmp(p, want, 3), "frame %d at (%d, %d) is RGB %u %u %u, expected %u %u %u", frame, x, y, p[0], p[1], p[2],
+          want[0], want[1], want[2]);
     tsr_image_free(&img);
 }
 
@@ -52,8 +52,8 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IOLBF, 0); /* in order with the reports on stderr */
     Display *dpy = XOpenDisplay(NULL);
     REQUIRE(dpy, "no X display");
-    static const int attrs[] = {GLX_DRAWABLE_TYPE, GLX_WINDOW_BIT, GLX_RENDER_TYPE, GLX_RGBA_BIT, GLX_DOUBLEBUFFER,
-                                True,              None};
+    static const int attrs[] = {
+        GLX_DRAWABLE_TYPE, GLX_WINDOW_BIT, GLX_RENDER_TYPE, GLX_RGBA_BIT, GLX_DOUBLEBUFFER, True, None};
     int n = 0;
     GLXFBConfig *configs = glXChooseFBConfig(dpy, DefaultScreen(dpy), attrs, &n);
     REQUIRE(configs && n > 0, "glXChooseFBConfig gave %d configs", n);
