@@ -141,6 +141,10 @@ one() {  # one NAME PROGRAM ARGS...
   run "$out/$name/faker" faker "${cmd[@]}"
   judge "$name" > "$out/$name/verdict"
   cat "$out/$name/verdict"
+  # A program that ran keeps its last two frames (80 runs: 30 MB otherwise).
+  if grep -q '^ran ' "$out/$name/verdict"; then
+    find "$out/$name/faker" -maxdepth 1 -name 'f-*.png' | sort | head -n -2 | xargs -r rm -f
+  fi
 }
 
 names=()
