@@ -177,6 +177,48 @@ static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei 
     tsr_call_Viewport(head, x, y, width, height);
 }
 
+/* The application's drawable is double-buffered (its configs say so),
+ * but a tessera window has one colour buffer, which each swap ends as a
+ * frame; the renderer's is a single-buffered OSMesa window, where GL_BACK
+ * is GL_INVALID_OPERATION. So the back buffer names become the front ones:
+ * what the program draws before a swap is the frame either way (the
+ * xscreensaver hacks call glDrawBuffer(GL_BACK), then check glGetError). */
+static GLenum front_of(GLenum buf)
+{
+    switch (buf) {
+    case GL_BACK: return GL_FRONT;
+    case GL_BACK_LEFT: return GL_FRONT_LEFT;
+    case GL_BACK_RIGHT: return GL_FRONT_RIGHT;
+    case GL_FRONT_AND_BACK: return GL_FRONT;
+    default: return buf;
+    }
+}
+
+static void faker_DrawBuffer(void *self, GLenum buf)
+{
+    (void)self;
+    tsr_call_DrawBuffer(tsr_chain_head(chain), front_of(buf));
+}
+
+static void faker_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
+{
+    (void)self;
+    GLenum fronts[16];
+    if (n < 0 || n > 16 || !bufs) {
+        tsr_call_DrawBuffers(tsr_chain_head(chain), n, bufs); /* the renderer's error */
+        return;
+    }
+    for (GLsizei i = 0; i < n; i++)
+        fronts[i] = front_of(bufs[i]);
+    tsr_call_DrawBuffers(tsr_chain_head(chain), n, fronts);
+}
+
+static void faker_ReadBuffer(void *self, GLenum buf)
+{
+    (void)self;
+    tsr_call_ReadBuffer(tsr_chain_head(chain), front_of(buf));
+}
+
 /* --- contexts ------------------------------------------------------------ */
 
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
@@ -190,6 +232,9 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
         c->table = *head;
         tsr_set_GetString(&c->table, faker_GetString, c);
         tsr_set_Viewport(&c->table, faker_Viewport, c);
+        tsr_set_DrawBuffer(&c->table, faker_DrawBuffer, c);
+        tsr_set_ReadBuffer(&c->table, faker_ReadBuffer, c);
+        tsr_set_DrawBuffers(&c->table, faker_DrawBuffers, c);
         c->next = contexts;
         contexts = c;
     }

@@ -2,10 +2,20 @@
  * libGL.so.1). Platforms: X11 (EGL_PLATFORM_X11_KHR/EXT, eglGetDisplay of a
  * Display * or EGL_DEFAULT_DISPLAY, which opens $DISPLAY) and surfaceless
  * (EGL_PLATFORM_SURFACELESS_MESA; also what EGL_DEFAULT_DISPLAY becomes
- * with no X server). OpenGL only: eglBindAPI(EGL_OPENGL_ES_API) and ES
- * configs are refused with EGL_BAD_PARAMETER and a log line. Configs
- * mirror GLX's (a TrueColor visual of depth 24 or 32 each; RGB 8 8 8,
- * depth 24, stencil 8); the surfaceless display has one pbuffer config. */
+ * with no X server). OpenGL only: eglBindAPI(EGL_OPENGL_ES_API) is
+ * refused with EGL_BAD_PARAMETER and a log line, so no ES context can be
+ * made. Configs mirror GLX's (a TrueColor visual of depth 24 or 32 each;
+ * RGB 8 8 8, depth 24, stencil 8); the surfaceless display has one pbuffer
+ * config.
+ *
+ * EGL_RENDERABLE_TYPE also carries the OpenGL ES bits: xscreensaver 6 as
+ * Debian builds it (EGL with GLES3 support, no jwzgles) asks
+ * eglChooseConfig for EGL_OPENGL_ES_BIT (EGL_OPENGL_ES3_BIT for hacks
+ * preferring GLSL), then binds EGL_OPENGL_API and creates an OpenGL 1.3
+ * context on that config — which Mesa allows because its configs carry
+ * every API's bit. Without the ES bits those programs find no config at
+ * all. EGL_CONFORMANT stays EGL_OPENGL_BIT alone: the only API a context
+ * can be made for. */
 #define EGL_EGLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -19,6 +29,8 @@
 #include "tessera/log.h"
 
 #define MAX_CONFIGS 16
+/* See the header comment: matching, not what a context can be. */
+#define RENDERABLE_BITS (EGL_OPENGL_BIT | EGL_OPENGL_ES_BIT | EGL_OPENGL_ES2_BIT | EGL_OPENGL_ES3_BIT)
 #define MAX_DISPLAYS 8
 
 typedef struct egl_config {
@@ -224,7 +236,7 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
     case EGL_TRANSPARENT_RED_VALUE:
     case EGL_TRANSPARENT_GREEN_VALUE:
     case EGL_TRANSPARENT_BLUE_VALUE: return 0;
-    case EGL_RENDERABLE_TYPE:
+    case EGL_RENDERABLE_TYPE: return RENDERABLE_BITS;
     case EGL_CONFORMANT: return EGL_OPENGL_BIT;
     case EGL_COLOR_BUFFER_TYPE: return EGL_RGB_BUFFER;
     case EGL_LUMINANCE_SIZE:
@@ -307,12 +319,6 @@ EGLBoolean eglChooseConfig(EGLDisplay dpy, const EGLint *attrib_list, EGLConfig 
         return EGL_FALSE;
     if (!num_config)
         return fail(EGL_BAD_PARAMETER);
-    for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2)
-        if (a[0] == EGL_RENDERABLE_TYPE && a[1] != EGL_DONT_CARE && (a[1] & ~EGL_OPENGL_BIT))
-            tsr_faker_log(TSR_LOG_WARN,
-                          "eglChooseConfig: EGL_RENDERABLE_TYPE 0x%x: only OpenGL configs "
-                          "(EGL_OPENGL_BIT); OpenGL ES is not supported",
-                          (unsigned)a[1]);
     EGLint n = 0;
     for (int i = 0; i < e->nconfigs; i++) {
         if (!config_matches(e, &e->configs[i], attrib_list))

@@ -1,7 +1,8 @@
 # tests/faker.cmake — the faker (faker/): its exports cover what Debian's GL
 # programs import, GetProcAddress agrees with dlsym, glxgears runs through
 # it under Xvfb (directly and through `tessera exec`), and `tessera exec`
-# passes status, signals and output through. About 5 s in all.
+# passes status, signals and output through (about 5 s in all); and, in
+# plain builds, every xscreensaver-gl hack draws through it (about 1.5 min).
 if(NOT TARGET tessera_faker_gl)
   return()
 endif()
@@ -79,4 +80,31 @@ if(TESSERA_SANITIZE)
     faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
     APPEND PROPERTY ENVIRONMENT
     "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+
+# The real-program sweep: every GL hack of xscreensaver-gl (about 80) and
+# glxgears through `tessera exec` with [render] 1x1, two at a time, each
+# until it has 10 frames not of one colour, then SIGTERM (about 1.5 min on
+# two busy cores). Plain builds only: uninstrumented programs loading an
+# instrumented faker 80 times would take the CI's whole budget.
+if(NOT TESSERA_SANITIZE)
+  add_test(NAME faker_every_xscreensaver_gl_hack_and_glxgears_draw_frames_and_end_on_sigterm
+           COMMAND bash ${FAKER_TEST_DIR}/xscreensaver.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_frames>
+                   ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver)
+  set_tests_properties(faker_every_xscreensaver_gl_hack_and_glxgears_draw_frames_and_end_on_sigterm
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
+endif()
+
+# Share lists: a display list and a texture of one GLX context drawn by a
+# context made with it as share list.
+add_executable(faker_glx_share ${FAKER_TEST_DIR}/glx_share.c)
+target_link_libraries(faker_glx_share PRIVATE tessera_faker_gl tessera PkgConfig::X11)
+add_test(NAME faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+         COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_share> ${FAKER_OUT}/share)
+set_tests_properties(faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+                     PROPERTIES SKIP_RETURN_CODE 77)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()

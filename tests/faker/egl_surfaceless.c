@@ -40,10 +40,21 @@ int main(void)
     CHECK(!eglBindAPI(EGL_OPENGL_ES_API) && eglGetError() == EGL_BAD_PARAMETER, EGL_SAYS);
     CHECK(eglBindAPI(EGL_OPENGL_API) && eglQueryAPI() == EGL_OPENGL_API, EGL_SAYS);
 
-    static const EGLint es_attrs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES2_BIT, EGL_NONE};
+    /* Configs match an ES renderable type (xscreensaver's way: choose for
+     * ES, bind OpenGL, make an OpenGL 1.3 context), but are conformant for
+     * OpenGL only, and no ES context can be made (the bind is refused). */
+    static const EGLint es_attrs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES_BIT, EGL_NONE};
+    static const EGLint es_conformant[] = {EGL_CONFORMANT, EGL_OPENGL_ES2_BIT, EGL_NONE};
     EGLConfig config = NULL;
     EGLint n = -1;
-    CHECK(eglChooseConfig(dpy, es_attrs, &config, 1, &n) && n == 0, EGL_SAYS);
+    CHECK(eglChooseConfig(dpy, es_conformant, &config, 1, &n) && n == 0, EGL_SAYS);
+    CHECK(eglChooseConfig(dpy, es_attrs, &config, 1, &n) && n == 1, EGL_SAYS);
+    static const EGLint gl13[] = {EGL_CONTEXT_MAJOR_VERSION, 1, EGL_CONTEXT_MINOR_VERSION, 3, EGL_NONE};
+    EGLContext es_chosen = eglCreateContext(dpy, config, EGL_NO_CONTEXT, gl13);
+    CHECK(es_chosen != EGL_NO_CONTEXT, EGL_SAYS);
+    EGLint api = 0;
+    CHECK(eglQueryContext(dpy, es_chosen, EGL_CONTEXT_CLIENT_TYPE, &api) && api == EGL_OPENGL_API, EGL_SAYS);
+    CHECK(eglDestroyContext(dpy, es_chosen), EGL_SAYS);
     static const EGLint attrs[] = {
         EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8, EGL_DEPTH_SIZE, 24,
         EGL_NONE};

@@ -1,8 +1,11 @@
-/* tests/faker/frames.c — faker_frames DIR PREFIX MIN: the PNG frames
- * DIR/PREFIX0000.png, PREFIX0001.png, ... a faker run wrote. At least MIN
- * of them, in sequence from 0, must read as PNGs, each with more than one
- * colour, and not all the same picture. Only the newest file may be
- * unreadable: the program was ended by SIGTERM, possibly mid-write. */
+/* tests/faker/frames.c — faker_frames [--some-blank] DIR PREFIX MIN: the
+ * PNG frames DIR/PREFIX0000.png, PREFIX0001.png, ... a faker run wrote. At
+ * least MIN of them, in sequence from 0, must read as PNGs, each with more
+ * than one colour, and not all the same picture. With --some-blank, frames
+ * of one colour are allowed (programs that fade in from black) and MIN
+ * counts the others. Only the newest file may be unreadable: the program
+ * was ended by SIGTERM, possibly mid-write. */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,12 +16,15 @@
 
 int main(int argc, char **argv)
 {
+    bool some_blank = argc > 1 && !strcmp(argv[1], "--some-blank");
+    if (some_blank)
+        argc--, argv++;
     if (argc != 4) {
-        fprintf(stderr, "usage: faker_frames DIR PREFIX MIN\n");
+        fprintf(stderr, "usage: faker_frames [--some-blank] DIR PREFIX MIN\n");
         return 2;
     }
     setvbuf(stdout, NULL, _IOLBF, 0); /* in order with the reports on stderr */
-    int min = atoi(argv[3]), good = 0, distinct = 0, width = 0, height = 0;
+    int min = atoi(argv[3]), good = 0, blank = 0, distinct = 0, width = 0, height = 0;
     tsr_image first = {0};
     for (int i = 0;; i++) {
         char path[4096], next[4096];
@@ -37,6 +43,11 @@ int main(int argc, char **argv)
         for (size_t k = 1; k < (size_t)img.width * (size_t)img.height && colours == 1; k++)
             if (memcmp(img.pixels + 4 * k, img.pixels, 4) != 0)
                 colours = 2;
+        if (colours == 1 && some_blank) {
+            blank++;
+            tsr_image_free(&img);
+            continue;
+        }
         REQUIRE(colours > 1, "%s is all one colour (RGBA %u %u %u %u)", path, img.pixels[0], img.pixels[1],
                 img.pixels[2], img.pixels[3]);
         if (!first.pixels) {
@@ -53,8 +64,12 @@ int main(int argc, char **argv)
         good++;
     }
     tsr_image_free(&first);
-    printf("%d readable frames of %dx%d, none of one colour, %d differing from frame 0\n", good, width, height,
-           distinct);
+    if (some_blank)
+        printf("%d readable frames of %dx%d not of one colour, %d of one colour, %d differing from the first\n", good,
+               width, height, blank, distinct);
+    else
+        printf("%d readable frames of %dx%d, none of one colour, %d differing from frame 0\n", good, width, height,
+               distinct);
     CHECK(good >= min, "fewer than %d frames", min);
     CHECK(distinct > 0, "every frame is the same picture");
     return harness_failures ? 1 : 0;

@@ -9,7 +9,10 @@
  * window is still exactly what it selected. Then EGL on X11 draws frame 2
  * into the same window: eglGetPlatformDisplay(EGL_PLATFORM_X11_KHR), a
  * config whose EGL_NATIVE_VISUAL_ID is a server visual,
- * eglCreatePlatformWindowSurface, eglSwapBuffers. */
+ * eglCreatePlatformWindowSurface, eglSwapBuffers — the way Debian's
+ * xscreensaver-gl hacks do it: the config chosen with EGL_OPENGL_ES_BIT,
+ * EGL_OPENGL_API bound, an OpenGL 1.3 context, and glDrawBuffer(GL_BACK)
+ * with no GL error. */
 #define GLX_GLXEXT_PROTOTYPES 1
 #define EGL_EGLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
@@ -133,12 +136,35 @@ int main(int argc, char **argv)
     CHECK(evi && vn == 1 && evi->class == TrueColor);
     if (evi)
         XFree(evi);
-    EGLContext ectx = eglCreateContext(edpy, ec, EGL_NO_CONTEXT, NULL);
+    const EGLint es_attrs[] = {EGL_SURFACE_TYPE,
+                               EGL_WINDOW_BIT,
+                               EGL_COLOR_BUFFER_TYPE,
+                               EGL_RGB_BUFFER,
+                               EGL_RED_SIZE,
+                               8,
+                               EGL_DEPTH_SIZE,
+                               8,
+                               EGL_STENCIL_SIZE,
+                               1,
+                               EGL_RENDERABLE_TYPE,
+                               EGL_OPENGL_ES_BIT,
+                               EGL_NATIVE_VISUAL_ID,
+                               vid,
+                               EGL_NONE};
+    EGLConfig es_config = NULL;
+    CHECK(eglChooseConfig(edpy, es_attrs, &es_config, 1, &en) && en == 1 && es_config == ec);
+    static const EGLint gl13[] = {EGL_CONTEXT_MAJOR_VERSION, 1, EGL_CONTEXT_MINOR_VERSION, 3, EGL_NONE};
+    EGLContext ectx = eglCreateContext(edpy, ec, EGL_NO_CONTEXT, gl13);
     EGLSurface esurf = eglCreatePlatformWindowSurface(edpy, ec, &win, NULL);
     CHECK(ectx != EGL_NO_CONTEXT && esurf != EGL_NO_SURFACE);
     CHECK(eglMakeCurrent(edpy, esurf, esurf, ectx));
     EGLint ew = 0;
     CHECK(eglQuerySurface(edpy, esurf, EGL_WIDTH, &ew) && ew == 160);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glDrawBuffer(GL_BACK); /* a single-buffered renderer's GL_INVALID_OPERATION, unless the faker maps it */
+    GLenum gl_error = glGetError();
+    CHECK(gl_error == GL_NO_ERROR, "glDrawBuffer(GL_BACK): GL error 0x%x", gl_error);
     glClearColor(0, 0, 1, 1);
     glClear(GL_COLOR_BUFFER_BIT);
     CHECK(eglSwapBuffers(edpy, esurf)); /* frame 2: 160x120 */

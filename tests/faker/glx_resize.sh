@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# tests/faker/glx_resize.sh PROGRAM OUTDIR — runs faker_glx_resize under a
-# private Xvfb with the chain "render output=OUTDIR/r-%04d.png".
+# tests/faker/glx_resize.sh PROGRAM OUTDIR — runs faker_glx_resize (or
+# faker_glx_share) under a private Xvfb with the chain
+# "render output=OUTDIR/r-%04d.png".
 set -euo pipefail
 prog=$1 out=$2
 rm -rf "$out"; mkdir -p "$out"

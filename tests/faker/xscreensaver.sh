@@ -1,0 +1,187 @@
+#!/usr/bin/env bash
+# tests/faker/xscreensaver.sh TESSERA FRAMES_CHECK SPEC_YAML OUTDIR
+# The real-program sweep (issue 12, item 6): EVERY GL hack of Debian's
+# xscreensaver-gl package (the programs with a config/NAME.xml in
+# `dpkg -L xscreensaver-gl`), and glxgears, run unmodified under a private
+# Xvfb through `tessera exec` with the default chain ([render] 1x1 to PNG
+# files), $FAKER_SWEEP_JOBS (default 2) at a time, each in its own session.
+#
+# A program passes ("ran") when, within $FAKER_SWEEP_SECONDS (default 30),
+# it has written at least 10 frames that are not all one colour, not all
+# the same picture (FRAMES_CHECK --some-blank: hacks fade in from black),
+# then dies of the SIGTERM it is sent (status 143) within 5 s, leaving no
+# process of its session behind, having logged no "not supported by
+# tessera" warning for a function spec/gl.yaml has. Anything else fails —
+# crashed (exited or died of another signal), hung (no frames, or still
+# alive 5 s after SIGTERM), drew only blank frames, too few frames, left
+# processes — unless the program, run natively (Mesa's EGL/GLX on the
+# same Xvfb, no faker, for as long), fails the same way: it ends by itself
+# before the time is up, or SIGTERM does not end it, or it leaves
+# processes behind too. Then it is reported, not failed. The hacks that use
+# GLSL shaders and buffer objects (the ones that ask for a GLSL context:
+# "prefersGLSL") must be among those that ran, and at least 25 must run.
+# Prints one line per program and the counts; exits 1 naming each failure.
+set -uo pipefail
+tessera=$1 frames=$2 spec=$3 out=$4
+jobs_max=${FAKER_SWEEP_JOBS:-2}
+limit=${FAKER_SWEEP_SECONDS:-30}
+want=10
+hackdir=/usr/libexec/xscreensaver
+# Found by tracing every hack through `print` (glCreateShader, glUseProgram,
+# glBindBuffer, glBufferData): these five draw with GLSL 1.20 programs and
+# vertex/index buffers on tessera's OpenGL 2.1 (each asks for 3.0 first).
+glsl_hacks="etruscanvenus hypertorus projectiveplane romanboy sphereeversion"
+
+command -v dpkg >/dev/null && dpkg -s xscreensaver-gl >/dev/null 2>&1 ||
+  { echo "SKIP: xscreensaver-gl is not installed (scripts/setup-debian installs it)"; exit 77; }
+mapfile -t hacks < <(dpkg -L xscreensaver-gl | sed -n 's|.*/config/\([^/]*\)\.xml$|\1|p' | sort -u)
+[ "${#hacks[@]}" -gt 0 ] || { echo "FAIL: dpkg -L xscreensaver-gl lists no config/*.xml"; exit 1; }
+# $FAKER_SWEEP_ONLY="NAME ...": only those hacks (to look at one by hand).
+if [ -n "${FAKER_SWEEP_ONLY:-}" ]; then
+  read -ra hacks <<< "$FAKER_SWEEP_ONLY"
+  glsl_hacks=$(for g in $glsl_hacks; do [[ " $FAKER_SWEEP_ONLY " == *" $g "* ]] && echo "$g"; done)
+fi
+rm -rf "$out"; mkdir -p "$out"
+. "$(dirname "$0")/xvfb.sh"
+start_xvfb "$out"
+
+# gl commands the spec has: "- name: Foo" is glFoo.
+sed -n 's/^  - name: \([A-Za-z0-9_]*\).*/gl\1/p' "$spec" | sort -u > "$out/spec_names.txt"
+
+alive() {  # alive PID: running, not a zombie
+  local st
+  st=$(awk '{print $3}' "/proc/$1/stat" 2>/dev/null) || return 1
+  [ -n "$st" ] && [ "$st" != Z ]
+}
+
+# run DIR MODE PROGRAM ARGS...: MODE faker or native. Writes DIR/result:
+# "STATUS FRAMES GOOD TERMED HUNG LEFT" (GOOD: FRAMES_CHECK passed).
+run() {
+  local d=$1 mode=$2; shift 2
+  mkdir -p "$d"
+  if [ "$mode" = faker ]; then
+    setsid "$tessera" exec --out "$d/f-%04d.png" -- "$@" > "$d/stdout.txt" 2> "$d/stderr.txt" &
+  else
+    setsid "$@" > "$d/stdout.txt" 2> "$d/stderr.txt" &
+  fi
+  local pid=$! start=$SECONDS good=0 n=0 checked=-1 termed=0 hung=0 left=0 status
+  while alive "$pid" && [ $((SECONDS - start)) -lt "$limit" ]; do
+    if [ "$mode" = faker ]; then
+      n=$(find "$d" -maxdepth 1 -name 'f-*.png' | wc -l)
+      # The check decodes every frame: at most once per 4 new frames.
+      if [ "$n" -ge $((want + 2)) ] && [ "$n" -ge $((checked + 4)) ]; then
+        checked=$n
+        if "$frames" --some-blank "$d" f- "$want" > "$d/frames.txt" 2>&1; then good=1; break; fi
+      fi
+    fi
+    sleep 0.2
+  done
+  if alive "$pid"; then
+    termed=1
+    kill -TERM "$pid" 2>/dev/null
+    for _ in $(seq 50); do alive "$pid" || break; sleep 0.1; done
+    if alive "$pid"; then hung=1; kill -KILL "$pid" 2>/dev/null; fi
+  fi
+  wait "$pid"; status=$?
+  sleep 0.1
+  if [ -n "$(ps -o pid= -s "$pid" 2>/dev/null)" ]; then
+    left=1
+    ps -o pid=,comm= -s "$pid" > "$d/left.txt"
+    kill -KILL -- "-$pid" 2>/dev/null
+  fi
+  if [ "$mode" = faker ]; then
+    n=$(find "$d" -maxdepth 1 -name 'f-*.png' | wc -l)
+    [ "$good" = 1 ] || { "$frames" --some-blank "$d" f- "$want" > "$d/frames.txt" 2>&1 && good=1; }
+  fi
+  echo "$status $n $good $termed $hung $left" > "$d/result"
+}
+
+# judge NAME: one line; the verdict word first (ran, native, FAIL).
+judge() {
+  local name=$1 d=$out/$1/faker status n good termed hung left why="" warned spec_warned
+  read -r status n good termed hung left < "$d/result"
+  warned=$(sed -n 's/.*faker: \(gl[A-Za-z0-9_]*\) is not supported by tessera.*/\1/p' "$d/stderr.txt" | sort -u | tr '\n' ' ')
+  spec_warned=$(for f in $warned; do grep -qx "$f" "$out/spec_names.txt" && printf '%s ' "$f"; done)
+  # kind: what natively would be the same failure (self: the program ends
+  # by itself; hung: not ended by SIGTERM; left: processes left behind).
+  local kind=self
+  if [ "$hung" = 1 ]; then why="hung: still running 5 s after SIGTERM" kind=hung
+  elif [ "$termed" = 0 ]; then why="crashed: ended by itself (status $status) after $n frames"
+  elif [ "$n" = 0 ]; then why="hung: no frame in ${limit} s"
+  elif [ "$good" != 1 ]; then why="$(tail -n 1 "$d/frames.txt" | sed 's/.*check failed: //') ($(head -n 1 "$d/frames.txt"))"
+  elif [ "$status" != 143 ]; then why="status $status after SIGTERM, not 143" kind=status
+  elif [ "$left" = 1 ]; then why="left processes behind: $(tr '\n' ' ' < "$d/left.txt")" kind=left
+  elif [ -n "$spec_warned" ]; then why="warned for functions the spec has: $spec_warned" kind=faker
+  fi
+  if [ -z "$why" ]; then
+    echo "ran $name: $(head -n 1 "$d/frames.txt")${warned:+; not in the spec, warned: $warned}"
+    return
+  fi
+  # The same program natively, for as long: does it fail that way too?
+  local nd=$out/$name/native nstatus nhung nleft ntermed same=""
+  run "$nd" native "${cmd[@]}"
+  read -r nstatus _ _ ntermed nhung nleft < "$nd/result"
+  if [ "$kind" = self ] && [ "$ntermed" = 0 ]; then
+    same="natively it also ends by itself (status $nstatus): $(head -c 200 "$nd/stderr.txt" | tr '\n' ' ')"
+  elif [ "$kind" = hung ] && [ "$nhung" = 1 ]; then same="natively SIGTERM does not end it either"
+  elif [ "$kind" = status ] && [ "$nstatus" = "$status" ]; then same="natively SIGTERM gives status $nstatus too"
+  elif [ "$kind" = left ] && [ "$nleft" = 1 ]; then
+    same="natively it leaves $(tr '\n' ' ' < "$nd/left.txt")behind too"
+  fi
+  if [ -n "$same" ]; then
+    echo "native $name: $why; $same"
+  else
+    echo "FAIL $name: $why; $(head -c 300 "$d/stderr.txt" | tr '\n' ' ')"
+  fi
+}
+
+one() {  # one NAME PROGRAM ARGS...
+  local name=$1; shift
+  cmd=("$@")
+  run "$out/$name/faker" faker "${cmd[@]}"
+  judge "$name" > "$out/$name/verdict"
+  cat "$out/$name/verdict"
+  # A program that ran keeps its last two frames (80 runs: 30 MB otherwise).
+  if grep -q '^ran ' "$out/$name/verdict"; then
+    find "$out/$name/faker" -maxdepth 1 -name 'f-*.png' | sort | head -n -2 | xargs -r rm -f
+  fi
+}
+
+names=()
+begin=$SECONDS
+if [ -z "${FAKER_SWEEP_ONLY:-}" ] && command -v glxgears >/dev/null; then
+  names+=(glxgears)
+  one glxgears glxgears -geometry 320x240 &
+fi
+for h in "${hacks[@]}"; do
+  # Xvfb is a job too: only the programs' runs count.
+  while [ "$(jobs -rp | grep -cvx "$XVFB_PID")" -ge "$jobs_max" ]; do wait -n; done
+  names+=("$h")
+  if [ -x "$hackdir/$h" ]; then
+    one "$h" "$hackdir/$h" -geometry 320x240 &
+  else
+    mkdir -p "$out/$h"; echo "FAIL $h: $hackdir/$h is not an executable" | tee "$out/$h/verdict" &
+  fi
+done
+while [ "$(jobs -rp | grep -cvx "$XVFB_PID")" -gt 0 ]; do wait -n; done
+
+ran=0 native=0 failed=()
+for n in "${names[@]}"; do
+  case $(cut -d' ' -f1 "$out/$n/verdict") in
+    ran) ran=$((ran + 1)) ;;
+    native) native=$((native + 1)) ;;
+    *) failed+=("$n") ;;
+  esac
+done
+for g in $glsl_hacks; do
+  if ! grep -q '^ran ' "$out/$g/verdict" 2>/dev/null && [[ " ${failed[*]} " != *" $g "* ]]; then
+    failed+=("$g")
+    echo "FAIL $g: a GLSL and buffer-object hack must run, not only fail natively too"
+  fi
+done
+echo "xscreensaver-gl sweep: ${#names[@]} programs (${#hacks[@]} hacks of xscreensaver-gl$([ "${names[0]}" = glxgears ] && echo ' and glxgears')) in $((SECONDS - begin)) s, $jobs_max at a time: $ran ran (>= $want frames not of one colour, ended by SIGTERM, nothing left), $native fail natively too (reported), ${#failed[@]} failed"
+[ -n "${FAKER_SWEEP_ONLY:-}" ] || [ "$ran" -ge 25 ] || { echo "FAIL: only $ran programs ran, at least 25 must"; exit 1; }
+if [ "${#failed[@]}" -gt 0 ]; then
+  echo "FAIL: ${failed[*]}"
+  exit 1
+fi
