@@ -3,7 +3,8 @@
 # gathered from the servers and compared with the native OSMesa reference
 # (0 differing pixels), in every tiling the issue names: 2x1, 2x2, 3x3 (odd
 # sizes), 4x4, irregular tiles, several tiles per server, load-balanced
-# across frames, broadcast. examples/tilescenes draws the hard cases (lit
+# across frames (kd, union, and balance, kd's alias: regions that change
+# every frame), broadcast. examples/tilescenes draws the hard cases (lit
 # and textured triangles, display lists, vertex arrays, wide lines and
 # large points just outside tile edges, polygons crossing the eye plane,
 # NaN/Inf vertices, window-covering and buffer-spanning primitives,
@@ -19,14 +20,14 @@ set(TILESORT_BIN ${CMAKE_BINARY_DIR}/bin)
 
 # 15 frames: every tilescenes scene once (frames 10-14: one long primitive
 # of each mode, cut into pieces and reopened, spus/tilesort/split.c).
-foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi balance broadcast)
+foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi kd union balance broadcast)
   add_test(NAME tilesort_exact_tilescenes_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-${config}
             tilescenes 15 ${config} batch_bytes=4096)
 endforeach()
 # 256-byte batches (the smallest): every long primitive is cut every few
 # vertices, at odd and even counts.
-foreach(config 3x3 balance)
+foreach(config 3x3 kd union)
   add_test(NAME tilesort_exact_tilescenes_cut_every_few_vertices_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-256-${config}
             tilescenes 15 ${config} batch_bytes=256)
@@ -37,7 +38,7 @@ add_test(NAME tilesort_cut_primitive_is_not_broadcast_4x4
   COMMAND ${TILESORT_SH} split ${TILESORT_BIN} ${TILESORT_OUT}/split-4x4 tilescenes 11 10 4 batch_bytes=256)
 # (2x2: tilescenes above, and spheres through the wall graphs below)
 foreach(example spheres isosurface texquads)
-  foreach(config 3x3 balance)
+  foreach(config 3x3 kd union)
     add_test(NAME tilesort_exact_${example}_${config}
       COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/${example}-${config} ${example} 3 ${config})
   endforeach()

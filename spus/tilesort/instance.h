@@ -112,9 +112,11 @@ typedef struct tilesort {
     tsr_state_shadow *solo;
     tsr_packer *solo_packer;
     tsr_dispatch solo_table;
-    uint64_t *frame_rows;  /* frames_kept rows of nservers counts */
-    double *frame_seconds; /* application time of each kept frame (swap to swap) */
-    double last_swap;      /* monotonic seconds of the last swap (or of creation) */
+    uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
+    double *frame_seconds;  /* application time of each kept frame (swap to swap) */
+    double *frame_costs;    /* frames_kept rows of nservers: seconds each server reported (< 0: none) */
+    uint64_t *frame_pixels; /* frames_kept rows of nservers: pixels of each server's tiles that frame */
+    double last_swap;       /* monotonic seconds of the last swap (or of creation) */
     size_t frames_kept, frames_cap;
     tsr_error error; /* first failure, reported once */
 } tilesort;

@@ -15,8 +15,9 @@
 #   bad TILES BUCKET WORD
 #       a tilesort with this tiles option fails at start, exit status
 #       non-zero, one message naming WORD.
-# CONFIG (window 1024x768): 1x1 2x1 2x2 3x3 4x4 irregular multi balance
-#   broadcast; OPTIONs are extra tilesort options (batch_bytes=4096 makes
+# CONFIG (window 1024x768): 1x1 2x1 2x2 3x3 4x4 irregular multi broadcast,
+#   and the load-balanced kd, union, balance (kd's alias) on 4 servers,
+#   kd8 and union8 on 8; OPTIONs are extra tilesort options (batch_bytes=4096 makes
 #   primitives span buffers).
 set -u
 mode=$1 bin=$2 out=$3
@@ -53,6 +54,9 @@ tiles_of() {
     irregular) SERVERS_N=3 BUCKET=tiles TILES=0:0:0:700:768,1:700:0:324:300,2:700:300:324:468 ;;
     multi) SERVERS_N=2 TILES=0:0:0:512:384,1:512:0:512:384,1:0:384:512:384,0:512:384:512:384 ;;
     balance) SERVERS_N=4 BUCKET=balance TILES= ;;
+    kd) SERVERS_N=4 BUCKET=kd TILES= ;;
+    union) SERVERS_N=4 BUCKET=union TILES= ;;
+    kd8|union8) SERVERS_N=8 BUCKET=${1%8} TILES= ;;
     broadcast) SERVERS_N=3 BUCKET=broadcast TILES=0:0:0:1024:256,1:0:256:1024:256,2:0:512:1024:256 ;;
     *) echo "unknown CONFIG $1" >&2; exit 2 ;;
   esac
