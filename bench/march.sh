@@ -93,7 +93,7 @@ median_ms() {
 }
 # frame_bytes STATS FRAME: bytes sent to all servers in that frame.
 frame_bytes() {
-    sed -e 's/.*"frames":\[\[//' -e 's/\]\]}.*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
+    sed -e 's/.*"frames":\[\[//' -e 's/\]\].*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
         tr ',' '\n' | awk '{ s += $1 } END { print s + 0 }'
 }
 

@@ -158,7 +158,7 @@ int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char
     t->mode = mode;
     t->servers = servers;
     t->damping = 1.0;
-    t->hysteresis = 0.05;
+    t->hysteresis = 0.1;
     t->smoothing = 0.5;
     t->tiles = calloc(servers, sizeof *t->tiles);
     t->ntiles = calloc(servers, sizeof *t->ntiles);

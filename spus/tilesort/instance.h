@@ -135,6 +135,8 @@ void ts_flush_before_state(tilesort *t);
 void ts_broadcast_next(tilesort *t);
 ts_server *ts_to_server(tilesort *t);
 double ts_box_margin(const tilesort *t);
+/* The application's viewport, or the window's while it never set one. */
+const GLint *ts_viewport(const tilesort *t, GLint out[4]);
 void ts_count_solo_diff(tilesort *t);
 int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
 int ts_server_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);

@@ -693,7 +693,7 @@ static const tsr_option_spec tilesort_options[] = {
              "frame (1: at once)"},
     {.name = "hysteresis",
      .type = TSR_OPT_FLOAT,
-     .default_value = "0.05",
+     .default_value = "0.1",
      .min = 0.0,
      .max = 10.0,
      .help = "bucket=kd/union: the split is kept while its predicted imbalance (max / mean cost of the "
