@@ -128,7 +128,7 @@ static const char *bucket_name(ts_bucket_mode m)
  * overlap = bytes_out / stream_bytes; imbalance = max / mean of the
  * servers' bytes (1 is perfect); frame_seconds: the application's time
  * from one swap to the next (the first from the SPU's creation).
- * Balanced modes (kd, union) add "server_seconds" (per frame, the render
+ * Then "server_seconds" (per frame, the render
  * time each server measured and reported, null when none came),
  * "server_pixels" (per frame, the pixels of each server's region) and
  * "time_imbalance" (per frame, max / mean of server_seconds; null unless
@@ -161,40 +161,38 @@ static void write_sort_first_stats(void *ctx, FILE *f)
         fprintf(f, "]");
     }
     fprintf(f, "]");
-    if (TS_BALANCED(t->tiling.mode)) {
-        fprintf(f, ",\"server_seconds\":[");
-        for (size_t r = 0; r < t->frames_kept; r++) {
-            fprintf(f, "%s[", r ? "," : "");
-            for (size_t i = 0; i < t->nservers; i++) {
-                double v = t->frame_costs[r * t->nservers + i];
-                fprintf(f, v >= 0 ? "%s%.9f" : "%snull", i ? "," : "", v);
-            }
-            fprintf(f, "]");
-        }
-        fprintf(f, "],\"server_pixels\":[");
-        for (size_t r = 0; r < t->frames_kept; r++) {
-            fprintf(f, "%s[", r ? "," : "");
-            for (size_t i = 0; i < t->nservers; i++)
-                fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_pixels[r * t->nservers + i]);
-            fprintf(f, "]");
-        }
-        fprintf(f, "],\"time_imbalance\":[");
-        for (size_t r = 0; r < t->frames_kept; r++) {
-            double sum = 0, max = 0;
-            int all = 1;
-            for (size_t i = 0; i < t->nservers; i++) {
-                double v = t->frame_costs[r * t->nservers + i];
-                all &= v >= 0;
-                sum += v;
-                max = v > max ? v : max;
-            }
-            if (all && sum > 0)
-                fprintf(f, "%s%.6f", r ? "," : "", max * (double)t->nservers / sum);
-            else
-                fprintf(f, "%snull", r ? "," : "");
+    fprintf(f, ",\"server_seconds\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++) {
+            double v = t->frame_costs[r * t->nservers + i];
+            fprintf(f, v >= 0 ? "%s%.9f" : "%snull", i ? "," : "", v);
         }
         fprintf(f, "]");
     }
+    fprintf(f, "],\"server_pixels\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++)
+            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_pixels[r * t->nservers + i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "],\"time_imbalance\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        double sum = 0, max = 0;
+        int all = 1;
+        for (size_t i = 0; i < t->nservers; i++) {
+            double v = t->frame_costs[r * t->nservers + i];
+            all &= v >= 0;
+            sum += v;
+            max = v > max ? v : max;
+        }
+        if (all && sum > 0)
+            fprintf(f, "%s%.6f", r ? "," : "", max * (double)t->nservers / sum);
+        else
+            fprintf(f, "%snull", r ? "," : "");
+    }
+    fprintf(f, "]");
     fprintf(f, "}");
 }
 
@@ -588,8 +586,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     if (!t->client)
         goto fail;
     tsr_stream_client_set_stats_extra(t->client, write_sort_first_stats, t);
-    if (TS_BALANCED(mode))
-        tsr_stream_client_set_cost_sink(t->client, take_cost, t);
+    tsr_stream_client_set_cost_sink(t->client, take_cost, t);
     if (!(t->tracker = tsr_state_tracker_create(err)) || !(t->ctx = tsr_state_ctx_create(t->tracker, err)) ||
         !(t->split = ts_split_create(err)))
         goto fail;
