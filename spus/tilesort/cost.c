@@ -11,15 +11,17 @@
  *     good split before any time comes back.
  *   the measurement: each server reports the thread CPU time its chain
  *     spent on each frame (server/, tessera/dev/protocol.h
- *     TSR_NODE_MSG_COST), a frame or more later. Divided by the estimate
- *     of that server's regions in that frame (kept TS_COST_HISTORY frames)
- *     it gives the server's ratio, seconds per estimate unit: how fast that
- *     server really is on what it was given. Ratios are smoothed.
+ *     TSR_NODE_MSG_COST), a frame or more later. Against the estimate of
+ *     each server's regions in that frame (kept TS_COST_HISTORY frames)
+ *     the times are fitted as a + b x estimate over the servers, and a
+ *     server's speed is its time over the fit's (learn_speeds): 2 for a
+ *     server twice as slow as the estimate says. Speeds are smoothed and
+ *     kept within 1/4 .. 4.
  * The map the split balances is the estimate with every cell multiplied by
- * the ratio of the server that drew it: where the time is spent comes from
- * the estimate, how much from the measurement. A server twice as slow has
- * twice the ratio, so its cells weigh twice and it is given half the area.
- * A server that has not reported yet (or stalls) takes the mean ratio.
+ * the speed of the server that drew it: where the time is spent comes from
+ * the estimate, how much each server's share weighs from the measurement.
+ * A server that has not reported (or stalls) keeps its speed (1 until its
+ * first report, which is taken whole).
  *
  * Owns the cost cells and the per-server history; never sends anything and
  * never waits for a report. */
@@ -36,6 +38,7 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     free(c->ratio);
     free(c->hist);
     free(c->measured);
+    free(c->learned);
     memset(c, 0, sizeof *c);
     c->cols = w < TS_COST_CELLS ? (w > 0 ? w : 1) : TS_COST_CELLS;
     c->rows = h < TS_COST_CELLS ? (h > 0 ? h : 1) : TS_COST_CELLS;
@@ -45,7 +48,8 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     c->ratio = calloc(servers, sizeof *c->ratio);
     c->hist = calloc(TS_COST_HISTORY * servers, sizeof *c->hist);
     c->measured = malloc(TS_COST_HISTORY * servers * sizeof *c->measured);
-    if (!c->est || !c->map || !c->ratio || !c->hist || !c->measured)
+    c->learned = calloc(TS_COST_HISTORY, 1);
+    if (!c->est || !c->map || !c->ratio || !c->hist || !c->measured || !c->learned)
         return -1;
     for (size_t i = 0; i < TS_COST_HISTORY * servers; i++)
         c->measured[i] = -1;
@@ -54,6 +58,7 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
 
 void ts_cost_free(ts_cost *c)
 {
+    free(c->learned);
     free(c->est);
     free(c->map);
     free(c->ratio);
@@ -117,13 +122,61 @@ void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds)
     /* only frames still in the history, and only closed ones */
     if (frame >= c->frame || c->frame - frame > TS_COST_HISTORY)
         return;
-    size_t row = (size_t)(frame % TS_COST_HISTORY) * t->servers;
-    c->measured[row + s] = seconds;
-    double est = c->hist[row + s];
-    if (!(est > 0))
-        return; /* no pixel that frame: nothing to learn the speed from */
-    double r = seconds / est;
-    c->ratio[s] = c->ratio[s] > 0 ? c->ratio[s] + t->smoothing * (r - c->ratio[s]) : r;
+    c->measured[(size_t)(frame % TS_COST_HISTORY) * t->servers + s] = seconds;
+}
+
+/* Learns the servers' speeds from the frames of the history whose reports
+ * are in (each frame once): the servers' times T against their estimates
+ * E are fitted as T = a + b E over the servers (a: what a frame costs a
+ * server whatever its region holds; b: seconds per estimate unit), and a
+ * server's speed is its T over the fit's a + b E. The fixed part matters:
+ * without it a server with a small region looks slow (its T is mostly
+ * overhead), is given less, looks slower still, and the split runs away. */
+static void learn_speeds(ts_tiling *t)
+{
+    ts_cost *c = &t->cost;
+    size_t n = t->servers;
+    for (uint64_t back = 1; back <= TS_COST_HISTORY && back <= c->frame; back++) {
+        uint64_t f = c->frame - back;
+        size_t row = (size_t)(f % TS_COST_HISTORY) * n;
+        if (c->learned[f % TS_COST_HISTORY])
+            continue;
+        size_t got = 0;
+        double se = 0, st = 0, see = 0, set = 0;
+        for (size_t s = 0; s < n; s++)
+            if (c->measured[row + s] >= 0) {
+                double e = c->hist[row + s], v = c->measured[row + s];
+                got++;
+                se += e;
+                st += v;
+                see += e * e;
+                set += e * v;
+            }
+        /* a frame is learnt from once every server reported, or, when some
+         * never do (a stalled server), once it is about to leave the history */
+        if (!got || (got < n && back < TS_COST_HISTORY))
+            continue;
+        c->learned[f % TS_COST_HISTORY] = 1;
+        double k = (double)got, var = see - se * se / k, a = 0, b = 0;
+        if (got >= 2 && var > 1e-12 * see) {
+            b = (set - se * st / k) / var;
+            a = (st - b * se) / k;
+        }
+        if (!(b > 0) || !(a >= 0)) { /* no usable spread: no fixed part */
+            a = 0;
+            b = se > 0 ? st / se : 0;
+        }
+        if (!(b > 0))
+            continue;
+        for (size_t s = 0; s < n; s++) {
+            double v = c->measured[row + s], predicted = a + b * c->hist[row + s];
+            if (v < 0 || !(predicted > 0))
+                continue;
+            double speed = v / predicted;
+            speed = speed < 0.25 ? 0.25 : speed > 4.0 ? 4.0 : speed;
+            c->ratio[s] = c->ratio[s] > 0 ? c->ratio[s] + t->smoothing * (speed - c->ratio[s]) : speed;
+        }
+    }
 }
 
 void ts_cost_close_frame(ts_tiling *t)
@@ -133,24 +186,19 @@ void ts_cost_close_frame(ts_tiling *t)
     double base = TS_EST_BASE_PER_PIXEL * (double)t->window_w * (double)t->window_h / (double)cells;
     for (size_t i = 0; i < cells; i++)
         c->est[i] += base; /* never 0: every region costs something, nothing divides by 0 */
+    learn_speeds(t);
     size_t row = (size_t)(c->frame % TS_COST_HISTORY) * t->servers;
-    double sum = 0;
-    size_t known = 0;
+    c->learned[c->frame % TS_COST_HISTORY] = 0;
     for (size_t s = 0; s < t->servers; s++) {
         c->hist[row + s] = servers_cost(t, c->est, s);
         c->measured[row + s] = -1;
-        if (c->ratio[s] > 0) {
-            sum += c->ratio[s];
-            known++;
-        }
     }
-    double mean = known ? sum / (double)known : 1.0;
-    /* the map: each cell weighted by the ratio of the server that owns its
-     * centre now (unowned cells, or a server with no report: the mean) */
+    /* the map: each cell weighted by the speed of the server that owns its
+     * centre now (unowned cells: 1) */
     double cw = (double)t->window_w / c->cols, ch = (double)t->window_h / c->rows;
     for (int r = 0; r < c->rows; r++)
         for (int k = 0; k < c->cols; k++) {
-            double x = (k + 0.5) * cw, y = (r + 0.5) * ch, ratio = mean;
+            double x = (k + 0.5) * cw, y = (r + 0.5) * ch, ratio = 1.0;
             for (size_t s = 0; s < t->servers; s++)
                 for (size_t i = 0; i < t->ntiles[s]; i++) {
                     const ts_rect *q = &t->tiles[s][i];

@@ -49,9 +49,10 @@ typedef struct ts_cost {
     int cols, rows;   /* cells */
     double *est;      /* this frame's estimate per cell (cols x rows) */
     double *map;      /* what the split balances: the last frame's estimate, each cell times its server's ratio */
-    double *ratio;    /* per server: measured seconds per estimate unit, smoothed; 0 = none yet */
+    double *ratio;    /* per server: its speed, measured time / the fit's (cost.c), smoothed; 0: none yet (1 is used) */
     double *hist;     /* TS_COST_HISTORY rows of servers: each server's estimate at that frame */
     double *measured; /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
+    uint8_t *learned; /* TS_COST_HISTORY: that frame's reports were learnt from */
     uint64_t frame;   /* frames closed */
     uint64_t reports; /* reports taken */
 } ts_cost;
