@@ -151,7 +151,7 @@ set ylabel "overlap (bytes to all servers / 1x1 bytes)"
 plot for [m in "grid union kd"] "< grep ^".m.", $csv" using 3:6 with linespoints title m, 1.1 with lines dt 2 title "target 1.1"
 unset multiplot
 set output "$out/balance_servers.png"
-set terminal pngcairo size 700,460
+set terminal pngcairo size 900,480
 set title "Slowest server per frame (${ssize}): max over servers of render CPU time + bytes at ${mbps} Mbit/s\n(one machine: the servers share its cores; median frame)"
 set xlabel "servers"
 set logscale x 2

@@ -36,7 +36,14 @@ foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi kd union balance broadcast)
 endforeach()
 # 256-byte batches (the smallest): every long primitive is cut every few
 # vertices, at odd and even counts.
-foreach(config 3x3 kd union)
+# (the load-balanced repeats of these, of the examples and of the wall
+# graphs only in the plain build: CI time; the sanitized build runs the
+# balanced modes on tilescenes and balance_scenes)
+set(TILESORT_BALANCED kd union)
+if(TESSERA_SANITIZE)
+  set(TILESORT_BALANCED)
+endif()
+foreach(config 3x3 ${TILESORT_BALANCED})
   add_test(NAME tilesort_exact_tilescenes_cut_every_few_vertices_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-256-${config}
             tilescenes 15 ${config} batch_bytes=256)
@@ -47,7 +54,7 @@ add_test(NAME tilesort_cut_primitive_is_not_broadcast_4x4
   COMMAND ${TILESORT_SH} split ${TILESORT_BIN} ${TILESORT_OUT}/split-4x4 tilescenes 11 10 4 batch_bytes=256)
 # (2x2: tilescenes above, and spheres through the wall graphs below)
 foreach(example spheres isosurface texquads)
-  foreach(config 3x3 kd union)
+  foreach(config 3x3 ${TILESORT_BALANCED})
     add_test(NAME tilesort_exact_${example}_${config}
       COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/${example}-${config} ${example} 3 ${config})
   endforeach()
@@ -71,7 +78,7 @@ if(TARGET tiles_driver)
             $<TARGET_FILE:tiles_driver>)
   # Both again load-balanced (6 frames; regions change every frame): the
   # assembled window exact with assemble= and through the display node.
-  foreach(bucket kd union)
+  foreach(bucket ${TILESORT_BALANCED})
     add_test(NAME tilesort_wall_graph_${bucket}_assembled_window_exact
       COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
               ${CMAKE_SOURCE_DIR}/examples/graphs/wall.yaml ${TILESORT_OUT}/wall-${bucket}
@@ -98,6 +105,8 @@ foreach(bucket kd union)
   add_test(NAME tilesort_${bucket}_static_scene_converges_within_3_frames_and_settles
     COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/converge-${bucket} ${bucket} 10 1.2 1
             batch_bytes=1024)
+endforeach()
+foreach(bucket ${TILESORT_BALANCED})
   add_test(NAME tilesort_${bucket}_server_twice_as_slow_gets_half_the_load
     COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/slow-${bucket} ${bucket} 10 1.2 2
             batch_bytes=1024)
