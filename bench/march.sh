@@ -9,13 +9,15 @@
 #   efficiency  = bytes sent in the 1x1 configuration / bytes sent in this
 #                 one, as a percentage (100: no overlap at all)
 #   overlap     = bytes sent / stream bytes packed once
-#   imbalance   = max / mean of the servers' bytes
+#   imbalance   = max / mean of the servers' bytes (the CSV's column; the
+#                 figure is march_imbalance_bytes_*)
 #   frame_ms    = median application time per frame (frames after the first)
 # Then the stability scenes of examples/tilescenes (frame 8: every
 # primitive covers the window; frame 9: a state change between every
 # primitive) on 4x4 tiles: their overlap with tilesort next to broadcast.
 # Figures: march_efficiency_2x2 march_efficiency_4x4 march_efficiency_8x4
-# broadcast_efficiency_8x4 (+ march_overlap_8x4, march_imbalance_8x4,
+# broadcast_efficiency_8x4 (+ march_overlap_8x4, march_imbalance_bytes_8x4 (max / mean
+# of the servers' bytes; bench/balance.sh measures render time),
 # stability_all_tiles_overlap_4x4, stability_tiny_batches_overlap_4x4,
 # stability_broadcast_overlap_4x4). Writes march.csv, march.png (frame time
 # and overlap, tilesort vs broadcast), march_imbalance.png (overlap vs load
@@ -93,7 +95,7 @@ median_ms() {
 }
 # frame_bytes STATS FRAME: bytes sent to all servers in that frame.
 frame_bytes() {
-    sed -e 's/.*"frames":\[\[//' -e 's/\]\]}.*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
+    sed -e 's/.*"frames":\[\[//' -e 's/\]\].*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
         tr ',' '\n' | awk '{ s += $1 } END { print s + 0 }'
 }
 
@@ -123,7 +125,7 @@ done
 v=$(awk -F, '$1 == "8x4" && $3 == "broadcast" { print $5 }' "$csv")
 [[ -n $v ]] && echo "broadcast_efficiency_8x4: $v"
 v=$(awk -F, '$1 == "8x4" && $3 == "grid" { print $6 " " $7 }' "$csv")
-[[ -n $v ]] && echo "march_overlap_8x4: ${v% *}" && echo "march_imbalance_8x4: ${v#* }"
+[[ -n $v ]] && echo "march_overlap_8x4: ${v% *}" && echo "march_imbalance_bytes_8x4: ${v#* }"
 
 # --- stability: the scenes where sort-first degrades ------------------------
 scfg=4x4

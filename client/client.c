@@ -77,6 +77,8 @@ struct tsr_stream_client {
     int connected;                           /* every server reached: statistics are written at the end */
     void (*stats_extra)(void *ctx, FILE *f); /* the sending SPU's own members */
     void *stats_extra_ctx;
+    tsr_stream_client_cost_fn cost_fn; /* TSR_NODE_MSG_COST reports go here */
+    void *cost_ctx;
 };
 
 /* Context of a sink bound to one server. */
@@ -373,13 +375,60 @@ int tsr_stream_client_server_failed(const tsr_stream_client *c, size_t index)
     return index >= c->count || c->servers[index].failed;
 }
 
+void tsr_stream_client_set_cost_sink(tsr_stream_client *c, tsr_stream_client_cost_fn fn, void *ctx)
+{
+    c->cost_fn = fn;
+    c->cost_ctx = ctx;
+}
+
+/* A TSR_NODE_MSG_COST from server i goes to the cost sink and is released;
+ * returns 1 when m was one. */
+static int took_cost(tsr_stream_client *c, size_t i, tsr_net_msg *m)
+{
+    if (m->kind != TSR_NODE_MSG_COST)
+        return 0;
+    if (c->cost_fn && m->len >= TSR_NODE_COST_BYTES)
+        c->cost_fn(c->cost_ctx, i, tsr_wire_get_u32(m->data), tsr_wire_get_f64((const uint8_t *)m->data + 8));
+    tsr_net_msg_release(m);
+    return 1;
+}
+
+/* The next message of server s that is not a cost report. */
+static int recv_not_cost(tsr_stream_client *c, size_t i, tsr_net_msg *m, int timeout_ms, tsr_error *cause)
+{
+    for (;;) {
+        int got = tsr_net_recv(c->servers[i].conn, m, timeout_ms, cause);
+        if (got != 1 || !took_cost(c, i, m))
+            return got;
+    }
+}
+
+void tsr_stream_client_take_costs(tsr_stream_client *c)
+{
+    for (size_t i = 0; i < c->count; i++) {
+        tsr_net_msg m;
+        tsr_error cause = {0}, ignored = {0};
+        if (c->servers[i].failed || !c->servers[i].conn)
+            continue;
+        int got = recv_not_cost(c, i, &m, 0, &cause);
+        if (got != 1)
+            continue; /* nothing queued (a closed or failed connection shows at the next send) */
+        if (m.kind == TSR_NODE_MSG_ERROR)
+            dropped_reason(&cause, &m);
+        else
+            tsr_error_set(&cause, TSR_EPROTO, "unexpected message of kind 0x%02x, %llu bytes, between frames", m.kind,
+                          (unsigned long long)m.len);
+        tsr_net_msg_release(&m);
+        server_failed(c, i, &ignored, "between frames", &cause);
+    }
+}
+
 /* Takes server i's answer to request `id`: 1 with *m filled when it is the
  * reply, else reports the failure (0). */
 static int take_reply(tsr_stream_client *c, size_t i, uint32_t id, tsr_net_msg *m)
 {
-    server *s = &c->servers[i];
     tsr_error cause = {0}, ignored = {0};
-    int got = tsr_net_recv(s->conn, m, TSR_NET_WAIT_FOREVER, &cause);
+    int got = recv_not_cost(c, i, m, TSR_NET_WAIT_FOREVER, &cause);
     if (got == 0)
         tsr_error_set(&cause, TSR_EIO, "closed the connection instead of answering request %u", id);
     if (got <= 0) {
@@ -536,7 +585,7 @@ static void finish_stream(tsr_stream_client *c)
             continue;
         tsr_error cause = {0};
         tsr_net_msg m;
-        int got = tsr_net_recv(s->conn, &m, TSR_NET_WAIT_FOREVER, &cause);
+        int got = recv_not_cost(c, i, &m, TSR_NET_WAIT_FOREVER, &cause);
         if (got == 1 && m.kind == TSR_NODE_MSG_FINISH) {
             tsr_net_msg_release(&m);
             continue;

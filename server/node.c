@@ -34,6 +34,7 @@ typedef struct node_session {
     tsr_error error;      /* why this session failed; TSR_OK when it ended cleanly */
     tsr_dispatch head;    /* the chain's head with SwapBuffersTSR counted */
     tsr_entry chain_swap; /* the chain's own SwapBuffersTSR */
+    tsr_node_cost cost;   /* this frame's, for TSR_NODE_SWAP_REPORT_COST */
 } node_session;
 
 /* Adds to the node's totals under its lock (sessions run on their own
@@ -68,7 +69,9 @@ static void count_swap(void *self, GLint window, GLbitfield flags)
 {
     node_session *s = self;
     tsr_node_test_stall(s->node);
-    ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags);
+    ((tsr_fn_SwapBuffersTSR)s->chain_swap.fn)(s->chain_swap.self, window, flags & ~TSR_NODE_SWAP_REPORT_COST);
+    if (flags & TSR_NODE_SWAP_REPORT_COST)
+        tsr_node_report_cost(s->node, s->conn, &s->sent, &s->cost);
     tsr_node_stats delta = {.frames = 1};
     tsr_node_stats_add(s->node, &delta);
 }
@@ -190,6 +193,35 @@ void tsr_node_test_stall(tsr_node *node)
         ;
 }
 
+double tsr_node_thread_cpu(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0)
+        return 0;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void tsr_node_report_cost(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, tsr_node_cost *cost)
+{
+    double now = tsr_node_thread_cpu();
+    double seconds = node->test_cost_bytes ? (double)cost->bytes * 1e-9 : now - cost->cpu_at_swap;
+    uint8_t msg[TSR_NODE_COST_BYTES];
+    tsr_wire_put_u32(msg, cost->frame++);
+    tsr_wire_put_u32(msg + 4, 0);
+    tsr_wire_put_f64(msg + 8, seconds * node->test_cost_scale);
+    tsr_error ignored = {0};
+    /* never blocks the chain: without a credit the report is dropped (the
+     * balancer keeps its last figure) and a broken connection shows at the
+     * next receive */
+    if (tsr_net_send(conn, TSR_NODE_MSG_COST, msg, sizeof msg, 0, &ignored) == TSR_OK) {
+        tsr_node_sent_add(sent, sizeof msg);
+        tsr_node_stats delta = {.bytes_out = sizeof msg};
+        tsr_node_stats_add(node, &delta);
+    }
+    cost->bytes = 0;
+    cost->cpu_at_swap = tsr_node_thread_cpu(); /* the report's own cost is not the frame's */
+}
+
 /* --- one client ---------------------------------------------------------- */
 
 void tsr_node_sent_add(tsr_node_sent *sent, uint64_t size)
@@ -289,6 +321,7 @@ static int serve_client(node_session *s, tsr_unpacker *unpacker)
         else {
             uint64_t commands_before = unpacker->commands;
             double start = tsr_now_seconds();
+            s->cost.bytes += m.len;
             rc = tsr_unpacker_run(unpacker, m.data, (size_t)m.len, &cause);
             tsr_node_stats delta = {.buffers = 1,
                                     .commands = unpacker->commands - commands_before,
@@ -320,6 +353,7 @@ static void *session_main(void *arg)
         s->chain_swap = s->head.SwapBuffersTSR;
         tsr_set_SwapBuffersTSR(&s->head, count_swap, s);
         unpacker = tsr_node_unpacker(s->node, &s->head, send_reply, s, &err);
+        s->cost.cpu_at_swap = tsr_node_thread_cpu();
     }
     if (!unpacker) {
         tsr_error_set(&s->error, err.code, "%s", err.message);
@@ -423,6 +457,14 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
         tsr_log(TSR_LOG_WARN, "node: %s=%u: the first frame takes %u ms more (a test setting)", TSR_NODE_TEST_STALL_ENV,
                 node->test_stall_ms, node->test_stall_ms);
     }
+    const char *scale = getenv(TSR_NODE_TEST_COST_SCALE_ENV), *source = getenv(TSR_NODE_TEST_COST_ENV);
+    node->test_cost_scale = scale && *scale ? strtod(scale, NULL) : 1.0;
+    if (!(node->test_cost_scale > 0) || node->test_cost_scale > 1e6)
+        node->test_cost_scale = 1.0;
+    node->test_cost_bytes = source && !strcmp(source, "bytes");
+    if (node->test_cost_scale != 1.0 || node->test_cost_bytes)
+        tsr_log(TSR_LOG_WARN, "node: frame costs reported %s x %g (a test setting)",
+                node->test_cost_bytes ? "as 1 ns per byte received" : "as thread CPU time", node->test_cost_scale);
     node->mode = config->mode;
     if (config->limits)
         node->limits = *config->limits;

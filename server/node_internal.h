@@ -19,6 +19,13 @@ struct node_session;
  * show a slow server without a huge window. Read from the environment at
  * tsr_node_create. */
 #define TSR_NODE_TEST_STALL_ENV "TESSERA_TEST_STALL_MS"
+/* Tests only: the cost a swap reports (protocol.h TSR_NODE_MSG_COST) is
+ * multiplied by this (a server "twice as slow": 2), and with
+ * TSR_NODE_TEST_COST_ENV=bytes it is the bytes the frame brought at 1 ns
+ * per byte instead of the chain's CPU time, so a balancer's test does not
+ * depend on timing. Read at tsr_node_create. */
+#define TSR_NODE_TEST_COST_SCALE_ENV "TESSERA_TEST_COST_SCALE"
+#define TSR_NODE_TEST_COST_ENV "TESSERA_TEST_COST"
 
 /* Sizes of the last messages the node sent one client, newest last: with
  * netlib's count of messages whose credit has not come back, the reply
@@ -34,6 +41,14 @@ typedef struct tsr_node_sent {
 /* Records a message of `size` bytes sent to the client. */
 void tsr_node_sent_add(tsr_node_sent *sent, uint64_t size);
 
+/* One client's frame cost so far (the chain's thread CPU time since its
+ * last swap, and the bytes it ran). */
+typedef struct tsr_node_cost {
+    double cpu_at_swap; /* CLOCK_THREAD_CPUTIME_ID seconds at the last swap (or the start) */
+    uint64_t bytes;     /* buffer bytes run since the last swap */
+    uint32_t frame;     /* reports sent */
+} tsr_node_cost;
+
 struct tsr_node {
     char *chain_text;      /* the chain as text, or NULL and ... */
     tsr_chain_link *links; /* ... as links (owned copies) */
@@ -41,6 +56,8 @@ struct tsr_node {
     uint32_t timeout_ms;
     uint32_t test_stall_ms;  /* TSR_NODE_TEST_STALL_ENV; 0 = none */
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
+    double test_cost_scale;  /* TSR_NODE_TEST_COST_SCALE_ENV; 1 = none */
+    int test_cost_bytes;     /* TSR_NODE_TEST_COST_ENV=bytes */
     unsigned clients;
     tsr_node_mode mode;
     tsr_unpack_limits limits; /* every client's unpacker's */
@@ -58,6 +75,12 @@ struct tsr_node {
 /* In a SwapBuffers that reaches the chain, before the chain's: sleeps
  * for the test stall on the node's first (TSR_NODE_TEST_STALL_ENV). */
 void tsr_node_test_stall(tsr_node *node);
+/* The calling thread's CPU time in seconds (the chain runs on it). */
+double tsr_node_thread_cpu(void);
+/* In a SwapBuffersTSR whose flags asked for it, after the chain's swap:
+ * sends the frame's TSR_NODE_MSG_COST without waiting (no credit: dropped)
+ * and starts the next frame's count. */
+void tsr_node_report_cost(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, tsr_node_cost *cost);
 /* Adds `delta` to the node's totals under its lock. */
 void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta);
 /* The chain for client `index` ("{client}" replaced); NULL with `err`. */

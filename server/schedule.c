@@ -76,7 +76,8 @@ struct sched {
     sync_object *syncs;
     size_t nsyncs, syncs_cap;
     uint64_t tickets;
-    tsr_error failure; /* first client failure */
+    tsr_error failure;  /* first client failure */
+    tsr_node_cost cost; /* the chain's (all clients') since the swapper's last swap */
 };
 
 /* --- client errors inside command handlers -------------------------------- */
@@ -252,7 +253,9 @@ static void node_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     tsr_node_stats delta = {0};
     if (s->swapper == (int)s->current->index) {
         tsr_node_test_stall(s->node);
-        tsr_call_SwapBuffersTSR(s->down, window, flags);
+        tsr_call_SwapBuffersTSR(s->down, window, flags & ~TSR_NODE_SWAP_REPORT_COST);
+        if (flags & TSR_NODE_SWAP_REPORT_COST)
+            tsr_node_report_cost(s->node, s->current->conn, &s->current->sent, &s->cost);
         delta.frames = 1;
     } else {
         delta.swaps_ignored = 1;
@@ -409,6 +412,8 @@ static void run_turn(sched *s, sched_client *c)
     int rc = first ? tsr_unpacker_run(c->unpacker, c->msg.data, (size_t)c->msg.len, &cause)
                    : tsr_unpacker_resume(c->unpacker, &cause);
     c->started = 1;
+    if (first)
+        s->cost.bytes += c->msg.len;
     tsr_node_stats delta = {.buffers = first,
                             .commands = c->unpacker->commands - commands_before,
                             .bytes_in = first ? c->msg.len : 0,
@@ -602,7 +607,7 @@ static int scheduler_loop(sched *s, tsr_error *err)
 
 int tsr_node_run_shared(tsr_node *node, tsr_error *err)
 {
-    sched s = {.node = node, .swapper = -1};
+    sched s = {.node = node, .swapper = -1, .cost = {.cpu_at_swap = tsr_node_thread_cpu()}};
     s.clients = calloc(node->clients, sizeof *s.clients);
     s.conns = calloc(node->clients, sizeof *s.conns);
     s.owners = calloc(node->clients, sizeof *s.owners);

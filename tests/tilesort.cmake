@@ -3,7 +3,8 @@
 # gathered from the servers and compared with the native OSMesa reference
 # (0 differing pixels), in every tiling the issue names: 2x1, 2x2, 3x3 (odd
 # sizes), 4x4, irregular tiles, several tiles per server, load-balanced
-# across frames, broadcast. examples/tilescenes draws the hard cases (lit
+# across frames (kd, union, and balance, kd's alias: regions that change
+# every frame), broadcast. examples/tilescenes draws the hard cases (lit
 # and textured triangles, display lists, vertex arrays, wide lines and
 # large points just outside tile edges, polygons crossing the eye plane,
 # NaN/Inf vertices, window-covering and buffer-spanning primitives,
@@ -13,20 +14,36 @@
 # mode; batch_bytes=4096 and 256 make primitives span buffers, so they are
 # cut and reopened. Bounded in time.
 get_property(TILESORT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
+# tests/tilesort/balance_scenes.c: a balancer's failure cases, built twice
+# like the examples (the -native build is the reference).
+add_executable(balance_scenes-native tilesort/balance_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_compile_definitions(balance_scenes-native PRIVATE EXAPP_NATIVE)
+target_include_directories(balance_scenes-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(balance_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
+add_executable(balance_scenes tilesort/balance_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_include_directories(balance_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(balance_scenes PRIVATE tessera_gl tessera m)
 set(TILESORT_SH ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/tilesort.sh)
 set(TILESORT_OUT ${CMAKE_BINARY_DIR}/test-out/tilesort)
 set(TILESORT_BIN ${CMAKE_BINARY_DIR}/bin)
 
 # 15 frames: every tilescenes scene once (frames 10-14: one long primitive
 # of each mode, cut into pieces and reopened, spus/tilesort/split.c).
-foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi balance broadcast)
+foreach(config 1x1 2x1 2x2 3x3 4x4 irregular multi kd union balance broadcast)
   add_test(NAME tilesort_exact_tilescenes_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-${config}
             tilescenes 15 ${config} batch_bytes=4096)
 endforeach()
 # 256-byte batches (the smallest): every long primitive is cut every few
 # vertices, at odd and even counts.
-foreach(config 3x3 balance)
+# (the load-balanced repeats of these, of the examples and of the wall
+# graphs only in the plain build: CI time; the sanitized build runs the
+# balanced modes on tilescenes and balance_scenes)
+set(TILESORT_BALANCED kd union)
+if(TESSERA_SANITIZE)
+  set(TILESORT_BALANCED)
+endif()
+foreach(config 3x3 ${TILESORT_BALANCED})
   add_test(NAME tilesort_exact_tilescenes_cut_every_few_vertices_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/scenes-256-${config}
             tilescenes 15 ${config} batch_bytes=256)
@@ -37,7 +54,7 @@ add_test(NAME tilesort_cut_primitive_is_not_broadcast_4x4
   COMMAND ${TILESORT_SH} split ${TILESORT_BIN} ${TILESORT_OUT}/split-4x4 tilescenes 11 10 4 batch_bytes=256)
 # (2x2: tilescenes above, and spheres through the wall graphs below)
 foreach(example spheres isosurface texquads)
-  foreach(config 3x3 balance)
+  foreach(config 3x3 ${TILESORT_BALANCED})
     add_test(NAME tilesort_exact_${example}_${config}
       COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/${example}-${config} ${example} 3 ${config})
   endforeach()
@@ -59,7 +76,41 @@ if(TARGET tiles_driver)
     COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
             ${CMAKE_SOURCE_DIR}/examples/graphs/wall_display.yaml ${TILESORT_OUT}/wall_display
             $<TARGET_FILE:tiles_driver>)
+  # Both again load-balanced (6 frames; regions change every frame): the
+  # assembled window exact with assemble= and through the display node.
+  foreach(bucket ${TILESORT_BALANCED})
+    add_test(NAME tilesort_wall_graph_${bucket}_assembled_window_exact
+      COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
+              ${CMAKE_SOURCE_DIR}/examples/graphs/wall.yaml ${TILESORT_OUT}/wall-${bucket}
+              $<TARGET_FILE:tiles_driver> ${bucket} 6)
+    add_test(NAME tilesort_wall_display_node_${bucket}_assembles_exact_window
+      COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/wall_graph.sh ${TILESORT_BIN}
+              ${CMAKE_SOURCE_DIR}/examples/graphs/wall_display.yaml ${TILESORT_OUT}/wall_display-${bucket}
+              $<TARGET_FILE:tiles_driver> ${bucket} 6)
+  endforeach()
 endif()
+# Where the balancers' arithmetic fails (issue 13, item 5): the whole cost
+# in one pixel, one window-sized primitive, an empty frame, and a server
+# that stalls (it reports late); exact, every server keeps a region of a
+# pixel or more, the regions cover the window, no NaN or Inf. 256x192.
+foreach(bucket kd union)
+  add_test(NAME tilesort_${bucket}_one_pixel_window_quad_empty_frame_stay_exact_every_server_keeps_a_region
+    COMMAND ${TILESORT_SH} stable ${TILESORT_BIN} ${TILESORT_OUT}/stable-${bucket} ${bucket} 0)
+  add_test(NAME tilesort_${bucket}_server_that_stalls_keeps_a_region_exact
+    COMMAND ${TILESORT_SH} stable ${TILESORT_BIN} ${TILESORT_OUT}/stall-${bucket} ${bucket} 1)
+  # Convergence with deterministic costs (1 ns per byte a server receives,
+  # TESSERA_TEST_COST; item 3): a static scene is within 1.2 of perfect
+  # balance from frame 3 on and the split stops moving; a server reporting
+  # twice the time gets about half the others' load.
+  add_test(NAME tilesort_${bucket}_static_scene_converges_within_3_frames_and_settles
+    COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/converge-${bucket} ${bucket} 10 1.2 1
+            batch_bytes=1024)
+endforeach()
+foreach(bucket ${TILESORT_BALANCED})
+  add_test(NAME tilesort_${bucket}_server_twice_as_slow_gets_half_the_load
+    COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/slow-${bucket} ${bucket} 10 1.2 2
+            batch_bytes=1024)
+endforeach()
 add_test(NAME tilesort_bad_tile_is_a_clear_error
   COMMAND ${TILESORT_SH} bad ${TILESORT_BIN} ${TILESORT_OUT}/bad-tile 0:0:0:512 grid SERVER)
 add_test(NAME tilesort_grid_of_non_grid_tiles_is_a_clear_error

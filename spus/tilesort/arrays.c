@@ -235,8 +235,8 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
     tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
     d.overhead =
         (size_t)tsr_packer_draw_bytes(t->geo, 1, type ? GL_UNSIGNED_INT : 0, 1) + 8 * (enabled_arrays(a, arrays) + 1);
-    const tsr_state_values *v = tsr_state_values_of(t->ctx);
     double pm[16];
+    GLint vp[4];
     ts_clip_matrix(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), pm);
     double margin = ts_box_margin(t);
     double cost = (double)d.per * (double)(d.vertex_bytes + (type ? tsr_gl_type_size(type) : 0));
@@ -249,8 +249,8 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
             tsr_client_array_position(&a->vertex, src[k], pos[k]);
         }
         int x0, y0, x1, y1;
-        if (ts_points_box(pm, v->viewport, (const float(*)[4])pos, d.per, margin, t->win_w, t->win_h, &x0, &y0, &x1,
-                          &y1)) {
+        if (ts_points_box(pm, ts_viewport(t, vp), (const float(*)[4])pos, d.per, margin, t->win_w, t->win_h, &x0, &y0,
+                          &x1, &y1)) {
             ts_tiling_add_cost(&t->tiling, x0, y0, x1, y1, cost);
             ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);
         } else {

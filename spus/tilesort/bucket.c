@@ -10,13 +10,15 @@
  *              e.g. 3x3 of 1024x768): the box's column and row ranges are
  *              found by binary search, so the cost does not grow with the
  *              number of tiles;
- *   balance    one region per server, re-split every frame by a KD split
- *              of the window (Samanta et al.'s KD-SPLIT; Equalizer's load
- *              equalizer): the tree's shape is fixed when the window size
- *              is known, and each frame every split moves `damping` of the
- *              way towards the position that divides last frame's measured
- *              cost (bytes sent, spread over the cells each flush covered)
- *              in proportion to the servers on either side.
+ *   kd         one rectangle per server, re-split every frame by recursive
+ *              median splits of the cost (balance_kd.c; `balance` is its
+ *              alias);
+ *   union      one rectangle per server, whole cells of the cost grid
+ *              merged greedily (balance_union.c).
+ * The balanced modes (kd, union) split from cost.c's map: a per-primitive
+ * estimate of this frame, weighted per server by the render time the
+ * servers measured and reported. A new split is made only when the kept
+ * one's predicted imbalance is above 1 + hysteresis.
  * Owns the tilings; never sends anything. */
 #include <math.h>
 #include <stdio.h>
@@ -155,7 +157,9 @@ int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char
     memset(t, 0, sizeof *t);
     t->mode = mode;
     t->servers = servers;
-    t->damping = 0.5;
+    t->damping = 1.0;
+    t->hysteresis = 0.1;
+    t->smoothing = 0.5;
     t->tiles = calloc(servers, sizeof *t->tiles);
     t->ntiles = calloc(servers, sizeof *t->ntiles);
     t->cap = calloc(servers, sizeof *t->cap);
@@ -205,8 +209,9 @@ void ts_tiling_free(ts_tiling *t)
     free(t->cap);
     free(t->grid_owner);
     free(t->grid_bounds);
-    free(t->cost);
+    ts_cost_free(&t->cost);
     free(t->kd);
+    free(t->ucuts);
     memset(t, 0, sizeof *t);
 }
 
@@ -263,103 +268,26 @@ size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t
     return n;
 }
 
-/* --- load balance ---------------------------------------------------------- */
+/* --- balanced modes ---------------------------------------------------------- */
 
-/* Node k of the KD tree covers servers [first, first + count); internal
- * nodes split their region along `axis` at `at` (pixels from the window
- * origin), children 2k+1 (servers [first, first + count/2)) and 2k+2. */
-struct ts_kd {
-    int axis; /* 0: x, 1: y */
-    double at;
-};
-typedef struct ts_kd ts_kd;
-
-static size_t kd_nodes(size_t servers)
+int ts_tiling_set_one(ts_tiling *t, size_t s, ts_rect r)
 {
-    size_t n = 1;
-    while (n < servers)
-        n *= 2;
-    return 2 * n;
-}
-
-/* Cost of [x0, x1) x [y0, y1) from the cells, cells cut in part counted by
- * the area inside. */
-static double region_cost(const ts_tiling *t, double x0, double y0, double x1, double y1)
-{
-    double cw = (double)t->window_w / t->cost_cols, ch = (double)t->window_h / t->cost_rows;
-    int c0 = (int)floor(x0 / cw), c1 = (int)ceil(x1 / cw), r0 = (int)floor(y0 / ch), r1 = (int)ceil(y1 / ch);
-    double sum = 0;
-    for (int r = r0 < 0 ? 0 : r0; r < r1 && r < t->cost_rows; r++) {
-        double oy = fmin(y1, (r + 1) * ch) - fmax(y0, r * ch);
-        if (oy <= 0)
-            continue;
-        for (int c = c0 < 0 ? 0 : c0; c < c1 && c < t->cost_cols; c++) {
-            double ox = fmin(x1, (c + 1) * cw) - fmax(x0, c * cw);
-            if (ox > 0)
-                sum += t->cost[r * t->cost_cols + c] * (ox * oy) / (cw * ch);
-        }
-    }
-    return sum;
-}
-
-/* Builds (shape == 1) or re-splits the subtree at node k covering region
- * [x0, x1) x [y0, y1) and servers [first, first + count); leaves set the
- * servers' tiles. Returns 1 when a region changed. */
-static int kd_visit(ts_tiling *t, size_t k, double x0, double y0, double x1, double y1, size_t first, size_t count,
-                    int shape, int resplit)
-{
-    if (count == 1) {
-        ts_rect r = {(int)lround(x0), (int)lround(y0), (int)lround(x1) - (int)lround(x0),
-                     (int)lround(y1) - (int)lround(y0)};
-        int changed = t->ntiles[first] != 1 || memcmp(&t->tiles[first][0], &r, sizeof r) != 0;
-        t->ntiles[first] = 0;
-        if (r.w > 0 && r.h > 0)
-            push_tile(t, first, r);
-        return changed;
-    }
-    ts_kd *node = &t->kd[k];
-    size_t left = count / 2;
-    double share = (double)left / (double)count;
-    if (shape) {
-        node->axis = (x1 - x0) >= (y1 - y0) ? 0 : 1;
-        node->at = node->axis == 0 ? x0 + (x1 - x0) * share : y0 + (y1 - y0) * share;
-    } else if (resplit) {
-        double lo = node->axis == 0 ? x0 : y0, hi = node->axis == 0 ? x1 : y1;
-        double total = region_cost(t, x0, y0, x1, y1);
-        double target = node->at;
-        if (total > 0) {
-            /* bisect the position whose lower side holds `share` of the cost */
-            double a = lo, b = hi;
-            for (int it = 0; it < 40; it++) {
-                double m = 0.5 * (a + b);
-                double c = node->axis == 0 ? region_cost(t, x0, y0, m, y1) : region_cost(t, x0, y0, x1, m);
-                if (c < share * total)
-                    a = m;
-                else
-                    b = m;
-            }
-            target = 0.5 * (a + b);
-        }
-        double moved = node->at + t->damping * (target - node->at);
-        /* every server keeps at least one pixel row or column per side */
-        double min_lo = lo + (double)left, max_hi = hi - (double)(count - left);
-        node->at = fmin(fmax(moved, min_lo), max_hi);
-    }
-    double at = round(node->at);
-    int changed = 0;
-    if (node->axis == 0) {
-        changed |= kd_visit(t, 2 * k + 1, x0, y0, at, y1, first, left, shape, resplit);
-        changed |= kd_visit(t, 2 * k + 2, at, y0, x1, y1, first + left, count - left, shape, resplit);
-    } else {
-        changed |= kd_visit(t, 2 * k + 1, x0, y0, x1, at, first, left, shape, resplit);
-        changed |= kd_visit(t, 2 * k + 2, x0, at, x1, y1, first + left, count - left, shape, resplit);
-    }
+    int has = r.w > 0 && r.h > 0;
+    int changed = t->ntiles[s] != (size_t)has || (has && memcmp(&t->tiles[s][0], &r, sizeof r) != 0);
+    t->ntiles[s] = 0;
+    if (has)
+        push_tile(t, s, r);
     return changed;
+}
+
+static int split(ts_tiling *t, int shape)
+{
+    return t->mode == TS_UNION ? ts_union_split(t, shape) : ts_kd_split(t, shape);
 }
 
 void ts_tiling_window(ts_tiling *t, int w, int h)
 {
-    if (t->mode != TS_BALANCE) {
+    if (!TS_BALANCED(t->mode)) {
         for (size_t s = 0; s < t->servers; s++)
             for (size_t i = 0; i < t->ntiles[s]; i++) {
                 const ts_rect *r = &t->tiles[s][i];
@@ -374,43 +302,37 @@ void ts_tiling_window(ts_tiling *t, int w, int h)
         return;
     t->window_w = w;
     t->window_h = h;
-    free(t->cost);
-    free(t->kd);
-    t->cost_cols = w < TS_COST_CELLS ? w : TS_COST_CELLS;
-    t->cost_rows = h < TS_COST_CELLS ? h : TS_COST_CELLS;
-    t->cost = calloc((size_t)t->cost_cols * (size_t)t->cost_rows, sizeof *t->cost);
-    t->kd = calloc(kd_nodes(t->servers), sizeof *t->kd);
-    if (!t->cost || !t->kd) {
+    if (ts_cost_init(&t->cost, t->servers, w, h) != 0 || split(t, 1) < 0) {
         tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; sending to every server");
         t->mode = TS_BROADCAST;
         return;
     }
-    kd_visit(t, 0, 0, 0, w, h, 0, t->servers, 1, 0);
+    if ((size_t)w < t->servers && (size_t)h < t->servers)
+        tsr_log(TSR_LOG_WARN, "tilesort: a %dx%d window is too small to give each of %zu servers a pixel", w, h,
+                t->servers);
+    t->predicted = 1.0;
     t->split_ready = 1;
-}
-
-void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes)
-{
-    if (t->mode != TS_BALANCE || !t->cost || x1 <= x0 || y1 <= y0)
-        return;
-    double cw = (double)t->window_w / t->cost_cols, ch = (double)t->window_h / t->cost_rows;
-    int c0 = (int)(x0 / cw), c1 = (int)((x1 - 1) / cw), r0 = (int)(y0 / ch), r1 = (int)((y1 - 1) / ch);
-    if (c1 >= t->cost_cols)
-        c1 = t->cost_cols - 1;
-    if (r1 >= t->cost_rows)
-        r1 = t->cost_rows - 1;
-    double per = bytes / ((double)(c1 - c0 + 1) * (double)(r1 - r0 + 1));
-    for (int r = r0; r <= r1; r++)
-        for (int c = c0; c <= c1; c++)
-            t->cost[r * t->cost_cols + c] += per;
 }
 
 int ts_tiling_rebalance(ts_tiling *t)
 {
-    if (t->mode != TS_BALANCE || !t->split_ready)
+    if (!TS_BALANCED(t->mode) || !t->split_ready)
         return 0;
-    int changed = kd_visit(t, 0, 0, 0, t->window_w, t->window_h, 0, t->servers, 0, 1);
-    memset(t->cost, 0, (size_t)t->cost_cols * (size_t)t->cost_rows * sizeof *t->cost);
+    ts_cost_close_frame(t);
+    /* hysteresis: a split that still balances the new map within
+     * 1 + hysteresis is kept, so a static scene settles instead of
+     * trembling by a cell or a pixel */
+    double now = ts_cost_imbalance(t);
+    if (now <= 1.0 + t->hysteresis) {
+        t->predicted = now;
+        return 0;
+    }
+    int changed = split(t, 0);
+    if (changed < 0) {
+        tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; the split stays");
+        return 0;
+    }
+    t->predicted = ts_cost_imbalance(t);
     return changed;
 }
 

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "instance.h"
+#include "tessera/dev/protocol.h"
 #include "tessera/image.h"
 
 static void frame_command_done(tilesort *t) { ts_flush_geometry(t); }
@@ -141,7 +142,10 @@ void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     ts_flush_geometry(t);
     assemble_frame(t);
     t->broadcast_next = 1;
-    tsr_call_SwapBuffersTSR(&t->geo_table, window, flags);
+    /* each server is asked for its frame's render time (it comes back
+     * with a later message: tessera/dev/protocol.h): the balanced modes'
+     * cost, and every mode's statistics */
+    tsr_call_SwapBuffersTSR(&t->geo_table, window, flags | TSR_NODE_SWAP_REPORT_COST);
     ts_flush_geometry(t);
     t->frames++;
     tsr_stream_client_count_frame(t->client);
@@ -152,4 +156,5 @@ void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     }
     if (ts_tiling_rebalance(&t->tiling))
         t->tiling_version++;
+    tsr_stream_client_take_costs(t->client);
 }

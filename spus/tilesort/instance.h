@@ -112,9 +112,11 @@ typedef struct tilesort {
     tsr_state_shadow *solo;
     tsr_packer *solo_packer;
     tsr_dispatch solo_table;
-    uint64_t *frame_rows;  /* frames_kept rows of nservers counts */
-    double *frame_seconds; /* application time of each kept frame (swap to swap) */
-    double last_swap;      /* monotonic seconds of the last swap (or of creation) */
+    uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
+    double *frame_seconds;  /* application time of each kept frame (swap to swap) */
+    double *frame_costs;    /* frames_kept rows of nservers: seconds each server reported (< 0: none) */
+    uint64_t *frame_pixels; /* frames_kept rows of nservers: pixels of each server's tiles that frame */
+    double last_swap;       /* monotonic seconds of the last swap (or of creation) */
     size_t frames_kept, frames_cap;
     tsr_error error; /* first failure, reported once */
 } tilesort;
@@ -133,6 +135,8 @@ void ts_flush_before_state(tilesort *t);
 void ts_broadcast_next(tilesort *t);
 ts_server *ts_to_server(tilesort *t);
 double ts_box_margin(const tilesort *t);
+/* The application's viewport, or the window's while it never set one. */
+const GLint *ts_viewport(const tilesort *t, GLint out[4]);
 void ts_count_solo_diff(tilesort *t);
 int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);
 int ts_server_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err);

@@ -128,6 +128,19 @@ double ts_box_margin(const tilesort *t)
     return size / 2.0 + 2.0;
 }
 
+const GLint *ts_viewport(const tilesort *t, GLint out[4])
+{
+    const GLint *vp = tsr_state_values_of(t->ctx)->viewport;
+    if (vp[2] >= 0 && vp[3] >= 0)
+        return vp;
+    /* never set: GL's is the window's, from the first MakeCurrent (the
+     * tracker does not know the window) */
+    out[0] = out[1] = 0;
+    out[2] = t->win_w;
+    out[3] = t->win_h;
+    return out;
+}
+
 /* The servers this buffer must reach, into t->targets. */
 static size_t choose_targets(tilesort *t, size_t bytes)
 {
@@ -143,9 +156,9 @@ static size_t choose_targets(tilesort *t, size_t bytes)
     if (!tsr_packer_bbox(t->geo, mn, mx))
         return 0; /* no vertex: current attributes only (the tracker has them) */
     int x0, y0, x1, y1;
-    const tsr_state_values *v = tsr_state_values_of(t->ctx);
-    if (!ts_window_box(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), v->viewport, mn, mx, ts_box_margin(t),
-                       t->win_w, t->win_h, &x0, &y0, &x1, &y1))
+    GLint vp[4];
+    if (!ts_window_box(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), ts_viewport(t, vp), mn, mx,
+                       ts_box_margin(t), t->win_w, t->win_h, &x0, &y0, &x1, &y1))
         return all_servers(t);
     ts_tiling_add_cost(&t->tiling, x0, y0, x1, y1, (double)bytes);
     ts_tiling_hit(&t->tiling, x0, y0, x1, y1, t->hit);

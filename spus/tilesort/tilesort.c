@@ -75,19 +75,47 @@ void ts_keep_frame_row(tilesort *t)
         if (!secs)
             return;
         t->frame_seconds = secs;
+        double *costs = realloc(t->frame_costs, cap * t->nservers * sizeof *costs);
+        if (!costs)
+            return;
+        t->frame_costs = costs;
+        uint64_t *pixels = realloc(t->frame_pixels, cap * t->nservers * sizeof *pixels);
+        if (!pixels)
+            return;
+        t->frame_pixels = pixels;
         t->frames_cap = cap;
     }
     double now = tsr_now_seconds();
     t->frame_seconds[t->frames_kept] = now - t->last_swap;
     t->last_swap = now;
-    for (size_t i = 0; i < t->nservers; i++)
-        t->frame_rows[t->frames_kept * t->nservers + i] = t->srv[i].frame_bytes;
+    for (size_t i = 0; i < t->nservers; i++) {
+        size_t at = t->frames_kept * t->nservers + i;
+        t->frame_rows[at] = t->srv[i].frame_bytes;
+        t->frame_costs[at] = -1;
+        t->frame_pixels[at] = 0;
+        for (size_t k = 0; k < t->tiling.ntiles[i]; k++)
+            t->frame_pixels[at] += (uint64_t)t->tiling.tiles[i][k].w * (uint64_t)t->tiling.tiles[i][k].h;
+    }
     t->frames_kept++;
+}
+
+/* A server's TSR_NODE_MSG_COST (tessera/dev/client.h): to the balancer
+ * and the statistics. */
+static void take_cost(void *ctx, size_t server, uint32_t frame, double seconds)
+{
+    tilesort *t = ctx;
+    ts_tiling_report(&t->tiling, server, frame, seconds);
+    if (frame < t->frames_kept && server < t->nservers)
+        t->frame_costs[(size_t)frame * t->nservers + server] = seconds;
 }
 
 static const char *bucket_name(ts_bucket_mode m)
 {
-    return m == TS_BROADCAST ? "broadcast" : m == TS_TILES ? "tiles" : m == TS_BALANCE ? "balance" : "grid";
+    return m == TS_BROADCAST ? "broadcast"
+           : m == TS_TILES   ? "tiles"
+           : m == TS_KD      ? "kd"
+           : m == TS_UNION   ? "union"
+                             : "grid";
 }
 
 /* The sort-first members of the statistics file (tessera/dev/client.h):
@@ -99,7 +127,12 @@ static const char *bucket_name(ts_bucket_mode m)
  * one server of a 1x1 configuration gets, without its state diffs);
  * overlap = bytes_out / stream_bytes; imbalance = max / mean of the
  * servers' bytes (1 is perfect); frame_seconds: the application's time
- * from one swap to the next (the first from the SPU's creation). */
+ * from one swap to the next (the first from the SPU's creation).
+ * Then "server_seconds" (per frame, the render
+ * time each server measured and reported, null when none came),
+ * "server_pixels" (per frame, the pixels of each server's region) and
+ * "time_imbalance" (per frame, max / mean of server_seconds; null unless
+ * every server reported that frame). */
 static void write_sort_first_stats(void *ctx, FILE *f)
 {
     tilesort *t = ctx;
@@ -127,7 +160,40 @@ static void write_sort_first_stats(void *ctx, FILE *f)
             fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_rows[r * t->nservers + i]);
         fprintf(f, "]");
     }
-    fprintf(f, "]}");
+    fprintf(f, "]");
+    fprintf(f, ",\"server_seconds\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++) {
+            double v = t->frame_costs[r * t->nservers + i];
+            fprintf(f, v >= 0 ? "%s%.9f" : "%snull", i ? "," : "", v);
+        }
+        fprintf(f, "]");
+    }
+    fprintf(f, "],\"server_pixels\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++)
+            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_pixels[r * t->nservers + i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "],\"time_imbalance\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        double sum = 0, max = 0;
+        int all = 1;
+        for (size_t i = 0; i < t->nservers; i++) {
+            double v = t->frame_costs[r * t->nservers + i];
+            all &= v >= 0;
+            sum += v;
+            max = v > max ? v : max;
+        }
+        if (all && sum > 0)
+            fprintf(f, "%s%.6f", r ? "," : "", max * (double)t->nservers / sum);
+        else
+            fprintf(f, "%snull", r ? "," : "");
+    }
+    fprintf(f, "]");
+    fprintf(f, "}");
 }
 
 /* The solo packer's sink: what one server of a 1x1 configuration would
@@ -453,6 +519,8 @@ static void tilesort_destroy(void *instance)
     ts_batch_free(&t->compact);
     free(t->gathered);
     free(t->frame_rows);
+    free(t->frame_costs);
+    free(t->frame_pixels);
     free(t->frame_seconds);
     free(t->assemble);
     free(t);
@@ -492,11 +560,15 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     const char *bucket = tsr_options_string(init->options, "bucket");
     ts_bucket_mode mode = !strcmp(bucket, "broadcast") ? TS_BROADCAST
                           : !strcmp(bucket, "tiles")   ? TS_TILES
-                          : !strcmp(bucket, "balance") ? TS_BALANCE
+                          : !strcmp(bucket, "balance") ? TS_KD
+                          : !strcmp(bucket, "kd")      ? TS_KD
+                          : !strcmp(bucket, "union")   ? TS_UNION
                                                        : TS_GRID;
     if (ts_tiling_init(&t->tiling, mode, count, tiles, ntiles, t->name, err) != TSR_OK)
         goto fail;
     t->tiling.damping = tsr_options_float(init->options, "damping");
+    t->tiling.hysteresis = tsr_options_float(init->options, "hysteresis");
+    t->tiling.smoothing = tsr_options_float(init->options, "smoothing");
     t->batch_bytes = (size_t)tsr_options_int(init->options, "batch_bytes");
     const char *assemble = tsr_options_string(init->options, "assemble");
     if (assemble && assemble[0] &&
@@ -514,6 +586,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     if (!t->client)
         goto fail;
     tsr_stream_client_set_stats_extra(t->client, write_sort_first_stats, t);
+    tsr_stream_client_set_cost_sink(t->client, take_cost, t);
     if (!(t->tracker = tsr_state_tracker_create(err)) || !(t->ctx = tsr_state_ctx_create(t->tracker, err)) ||
         !(t->split = ts_split_create(err)))
         goto fail;
@@ -553,7 +626,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
         !(t->expand = tsr_unpacker_create(&t->normal, NULL, NULL, err)))
         goto fail;
     /* tiles known from the options are sent with each server's first buffer */
-    if (mode != TS_BALANCE && ntiles)
+    if (!TS_BALANCED(mode) && ntiles)
         t->tiling_version = 1;
     ts_snapshot(t);
     t->last_swap = tsr_now_seconds();
@@ -587,12 +660,17 @@ static const tsr_option_spec tilesort_options[] = {
     {.name = "bucket",
      .type = TSR_OPT_ENUM,
      .default_value = "grid",
-     .choices = "grid|tiles|broadcast|balance",
+     .choices = "grid|tiles|broadcast|kd|union|balance",
      .min = 1,
      .max = 0,
      .help = "how geometry finds its servers: grid (tiles form columns and rows; fastest), tiles (test "
-             "every tile; any layout), broadcast (every server gets everything), balance (one region per "
-             "server, re-split every frame from measured costs, damped)"},
+             "every tile; any layout), broadcast (every server gets everything); load-balanced, one rectangle "
+             "per server re-split every frame: kd (recursive median splits of the cost, Samanta's KD-SPLIT), "
+             "union (whole cells of a 64x64 cost grid merged greedily into one rectangle per server, "
+             "GRID_UNION), balance (an alias of kd). The balanced modes' cost: a per-primitive estimate "
+             "(bytes and window-box area of what this frame sent, on the 64x64 grid) weighted per server "
+             "by the render time the servers measure (thread CPU time of their chain per frame) and send "
+             "back after each swap; tiles= is ignored"},
     {.name = "batch_bytes",
      .type = TSR_OPT_INT,
      .default_value = "65536",
@@ -605,10 +683,25 @@ static const tsr_option_spec tilesort_options[] = {
              "into batches, each closed with glEnd and reopened in the next"},
     {.name = "damping",
      .type = TSR_OPT_FLOAT,
-     .default_value = "0.5",
+     .default_value = "1",
      .min = 0.0,
      .max = 1.0,
-     .help = "bucket=balance: fraction of the way each split moves towards the measured balance per frame"},
+     .help = "bucket=kd/union: fraction of the way each split moves towards the balance of the cost per "
+             "frame (1: at once)"},
+    {.name = "hysteresis",
+     .type = TSR_OPT_FLOAT,
+     .default_value = "0.1",
+     .min = 0.0,
+     .max = 10.0,
+     .help = "bucket=kd/union: the split is kept while its predicted imbalance (max / mean cost of the "
+             "servers) is at most 1 + this, so a static scene settles"},
+    {.name = "smoothing",
+     .type = TSR_OPT_FLOAT,
+     .default_value = "0.5",
+     .min = 0.01,
+     .max = 1.0,
+     .help = "bucket=kd/union: weight of a server's newest measured time in its speed (seconds per "
+             "estimated unit; 1: the newest only)"},
     {.name = "assemble",
      .type = TSR_OPT_STRING,
      .default_value = "",

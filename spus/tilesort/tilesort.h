@@ -24,12 +24,38 @@ typedef struct ts_rect {
 
 /* --- bucket.c ---------------------------------------------------------------- */
 
-typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_BALANCE } ts_bucket_mode;
+typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION } ts_bucket_mode;
 
-/* Cost cells of the load-balanced mode: the window is divided into at most
- * TS_COST_CELLS x TS_COST_CELLS cells; each flush adds its bytes to the
- * cells its window box covers. */
+/* Whether the mode re-splits the window every frame (kd, union). */
+#define TS_BALANCED(mode) ((mode) == TS_KD || (mode) == TS_UNION)
+
+/* Cost cells of the balanced modes (cost.c): the window is divided into
+ * at most TS_COST_CELLS x TS_COST_CELLS cells, finer than any server's
+ * region (32 servers at most get a few cells each way). */
 #define TS_COST_CELLS 64
+/* Frames of per-server estimates kept to meet the servers' late reports. */
+#define TS_COST_HISTORY 16
+
+/* The estimate (cost.c): what a flush or a sorted primitive of `bytes`
+ * whose window box covers `area` pixels is guessed to cost, in "estimate
+ * units" (the measured times calibrate them, per server): its vertices
+ * (bytes) and its fill (box area), plus, every frame, each pixel of the
+ * window (clear, swap, read-back: what an empty region still costs). */
+#define TS_EST_PER_BYTE 1.0
+#define TS_EST_PER_PIXEL 0.125
+#define TS_EST_BASE_PER_PIXEL 0.01
+
+typedef struct ts_cost {
+    int cols, rows;   /* cells */
+    double *est;      /* this frame's estimate per cell (cols x rows) */
+    double *map;      /* what the split balances: the last frame's estimate, each cell times its server's ratio */
+    double *ratio;    /* per server: its speed, measured time / the fit's (cost.c), smoothed; 0: none yet (1 is used) */
+    double *hist;     /* TS_COST_HISTORY rows of servers: each server's estimate at that frame */
+    double *measured; /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
+    uint8_t *learned; /* TS_COST_HISTORY: that frame's reports were learnt from */
+    uint64_t frame;   /* frames closed */
+    uint64_t reports; /* reports taken */
+} ts_cost;
 
 typedef struct ts_tiling {
     ts_bucket_mode mode;
@@ -42,31 +68,60 @@ typedef struct ts_tiling {
     int grid_cols, grid_rows, grid_nx, grid_ny;
     int *grid_owner;
     int *grid_bounds;
-    /* load balance */
+    /* balanced modes */
     int window_w, window_h;
-    double *cost; /* cost_cols x cost_rows, this frame */
-    int cost_cols, cost_rows;
-    double damping; /* fraction of the way to the new split taken per frame */
+    ts_cost cost;
+    double damping;    /* fraction of the way to the new split taken per frame */
+    double hysteresis; /* the split is kept while its predicted imbalance is within 1 + this */
+    double smoothing;  /* weight of a new measurement in a server's ratio */
     int split_ready;
-    struct ts_kd *kd; /* the KD tree's split positions */
+    struct ts_kd *kd; /* kd: the tree's split positions */
+    int *ucuts;       /* union: strip boundaries (cells), then each server's row boundaries */
+    int ustrips;      /* union: strips */
+    double predicted; /* imbalance the last rebalance predicted for the split it kept or made */
 } ts_tiling;
 
 /* Parses "S:X:Y:W:H,..." entries (already split by the options layer). */
 int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char *const *items, size_t nitems,
                    const char *who, tsr_error *err);
 void ts_tiling_free(ts_tiling *t);
-/* The window size became w x h: the load-balanced mode makes its first
+/* The window size became w x h: the balanced modes make their first
  * (uniform) split; other modes check that tiles fit (a warning otherwise). */
 void ts_tiling_window(ts_tiling *t, int w, int h);
 /* Marks in `hit` (one byte per server) the servers whose tiles meet the
  * window rectangle [x0, x1) x [y0, y1); returns how many. */
 size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t *hit);
-/* Load balance: a flush of `bytes` covered [x0, x1) x [y0, y1). */
+/* Balanced modes: a flush (or a sorted primitive) of `bytes` covered
+ * [x0, x1) x [y0, y1): its estimate is added to the cells it covers. */
 void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes);
-/* Load balance, at the end of a frame: re-split the window among the
- * servers from this frame's costs (damped), reset the costs. Returns 1 when
- * some server's region changed. */
+/* Balanced modes: server s reported `seconds` for its frame `frame`. */
+void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds);
+/* Balanced modes, at the end of a frame: re-split the window among the
+ * servers from this frame's estimate and the measured ratios (damped,
+ * kept within the hysteresis), reset the estimate. Returns 1 when some
+ * server's region changed. */
 int ts_tiling_rebalance(ts_tiling *t);
+
+/* --- cost.c: the cost model of the balanced modes ------------------------- */
+int ts_cost_init(ts_cost *c, size_t servers, int w, int h);
+void ts_cost_free(ts_cost *c);
+/* Cost of the pixel rectangle [x0, x1) x [y0, y1) in `cells` (est or map),
+ * cells cut in part counted by the area inside. */
+double ts_cost_region(const ts_cost *c, const double *cells, int w, int h, double x0, double y0, double x1, double y1);
+/* The map for the next split (ts_cost.map) from the estimate and ratios;
+ * records each server's estimate for this frame (its tiles now). */
+void ts_cost_close_frame(ts_tiling *t);
+/* max / mean of the servers' costs on the map under the current tiles. */
+double ts_cost_imbalance(const ts_tiling *t);
+
+/* --- balance_kd.c, balance_union.c: the splits ----------------------------- */
+/* (Re)builds the servers' tiles from ts_cost.map; shape: the first split
+ * (uniform, no cost yet). Returns 1 when a region changed. */
+int ts_kd_split(ts_tiling *t, int shape);
+int ts_union_split(ts_tiling *t, int shape);
+/* Replaces server s's tiles with r (or none when r is empty); returns 1
+ * when they changed. */
+int ts_tiling_set_one(ts_tiling *t, size_t s, ts_rect r);
 
 /* --- the window-space box of a geometry buffer -------------------------------- */
 /* Transforms the object-space box [mn, mx] by projection * modelview

@@ -12,14 +12,33 @@
 #       an overlap (bytes to all servers / bytes of the 1x1 run, from the
 #       sort_first statistics) below MAX: a primitive sent whole to every
 #       server would give about 16.
+#   stable CONFIG STALL
+#       balance_scenes (tests/tilesort/balance_scenes.c: the whole cost in
+#       one pixel, one window-sized primitive, an empty frame, an ordinary
+#       scene; 16 frames, 256x192) on a balanced CONFIG, every frame exact;
+#       every frame every server has a region of at least one pixel, the
+#       regions add up to the window, no NaN or Inf in the statistics. STALL
+#       1: server 1's first frame takes 1.5 s more (it reports late).
+#   converge CONFIG FRAMES MAX SLOW [OPTION...]
+#       balance_scenes --static (a static scene) with deterministic costs
+#       (each server reports 1 ns per byte received, TESSERA_TEST_COST),
+#       every frame exact: from frame 3 on the measured imbalance (max /
+#       mean of the servers' reported times) is at most MAX every frame,
+#       and the regions settle (no oscillation: the last four frames keep
+#       one split). SLOW (1: none): server 0's reported time is multiplied by SLOW
+#       (a server SLOW times as slow): its share of the bytes (its bytes
+#       over the mean of the others') over the last frames must be within
+#       0.3 of 1/SLOW.
 #   bad TILES BUCKET WORD
 #       a tilesort with this tiles option fails at start, exit status
 #       non-zero, one message naming WORD.
-# CONFIG (window 1024x768): 1x1 2x1 2x2 3x3 4x4 irregular multi balance
-#   broadcast; OPTIONs are extra tilesort options (batch_bytes=4096 makes
+# CONFIG (window 1024x768): 1x1 2x1 2x2 3x3 4x4 irregular multi broadcast,
+#   and the load-balanced kd, union, balance (kd's alias) on 4 servers,
+#   kd8 and union8 on 8; OPTIONs are extra tilesort options (batch_bytes=4096 makes
 #   primitives span buffers).
 set -u
 mode=$1 bin=$2 out=$3
+SIZE=1024x768 APP_ARGS= TILESORT_ENV=
 shift 3
 TESSERA=$bin/tessera
 . "$(dirname "$0")/../node/node_lib.sh"
@@ -52,7 +71,11 @@ tiles_of() {
          done ;;
     irregular) SERVERS_N=3 BUCKET=tiles TILES=0:0:0:700:768,1:700:0:324:300,2:700:300:324:468 ;;
     multi) SERVERS_N=2 TILES=0:0:0:512:384,1:512:0:512:384,1:0:384:512:384,0:512:384:512:384 ;;
+    small2x2) SERVERS_N=4 TILES=0:0:0:128:96,1:128:0:128:96,2:0:96:128:96,3:128:96:128:96 ;;
     balance) SERVERS_N=4 BUCKET=balance TILES= ;;
+    kd) SERVERS_N=4 BUCKET=kd TILES= ;;
+    union) SERVERS_N=4 BUCKET=union TILES= ;;
+    kd8|union8) SERVERS_N=8 BUCKET=${1%8} TILES= ;;
     broadcast) SERVERS_N=3 BUCKET=broadcast TILES=0:0:0:1024:256,1:0:256:1024:256,2:0:512:1024:256 ;;
     *) echo "unknown CONFIG $1" >&2; exit 2 ;;
   esac
@@ -72,8 +95,13 @@ run_tilesort() {
   k=0
   while [ $k -lt "$SERVERS_N" ]; do
     mkdir -p "$dir/s$k"
+    # test settings for every server and for server k (TILESORT_ENV, TILESORT_ENV_k)
+    eval "one=\${TILESORT_ENV_$k:-}"
+    env $TILESORT_ENV $one true || exit 2
+    for v in $TILESORT_ENV $one; do export "$v"; done
     start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 120000 \
       --chain "render output=\"$dir/s$k/f-%04d.png\"" || { kill_all; exit 1; }
+    for v in $TILESORT_ENV $one; do unset "${v%%=*}"; done
     PIDS="$PIDS $NODE_PID"
     SERVERS="$SERVERS${SERVERS:+,}$NODE_ADDR"
     k=$((k + 1))
@@ -81,7 +109,7 @@ run_tilesort() {
   chain="tilesort servers=$SERVERS bucket=$BUCKET assemble=\"$dir/as-%04d.png\""
   [ -n "$TILES" ] && chain="$chain tiles=$TILES"
   for o in "$@"; do chain="$chain $o"; done
-  TESSERA_STATS_FILE="$dir/stats.json" "$bin/$app" --frames "$frames" --size 1024x768 --chain "$chain" \
+  TESSERA_STATS_FILE="$dir/stats.json" "$bin/$app" $APP_ARGS --frames "$frames" --size $SIZE --chain "$chain" \
     >"$dir/app.out" 2>"$dir/app.err" &
   apid=$!
   wait_exit "$apid" 120
@@ -115,11 +143,58 @@ exact_frames() {
 
 # frame_bytes STATS FRAME: bytes sent to all servers in that frame.
 frame_bytes() {
-  sed -e 's/.*"frames":\[\[//' -e 's/\]\]}.*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
+  sed -e 's/.*"frames":\[\[//' -e 's/\]\].*//' "$1" | sed 's/\],\[/\n/g' | sed -n "$(($2 + 1))p" |
     tr ',' '\n' | awk '{ s += $1 } END { print s + 0 }'
 }
 
+# rows STATS KEY: the rows of a sort_first array of arrays, one a line.
+rows() {
+  sed -n "s/.*\"$2\":\[\[\([^]]*\(\],\[[^]]*\)*\)\]\].*/\1/p" "$1" | sed 's/\],\[/\n/g'
+}
+
 case $mode in
+stable)
+  config=$1 stall=$2
+  SIZE=256x192
+  [ "$stall" = 1 ] && TILESORT_ENV_1=TESSERA_TEST_STALL_MS=1500
+  "$bin/balance_scenes-native" --frames 16 --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
+    fail "balance_scenes-native failed"
+  run_tilesort "$out/tiled" balance_scenes 16 "$config"
+  exact_frames "$out/tiled" balance_scenes 16 "$config"
+  rows "$out/tiled/stats.json" server_pixels >"$out/pixels"
+  [ "$(wc -l <"$out/pixels")" = 16 ] || fail "server_pixels has $(wc -l <"$out/pixels") rows, not 16"
+  awk -F, -v n="$SERVERS_N" '{ s = 0; for (i = 1; i <= NF; i++) { s += $i; if ($i < 1) print "frame " NR - 1 ": server " i - 1 " has no pixel" }
+       if (NF != n) print "frame " NR - 1 ": " NF " servers"; if (s != 256 * 192) print "frame " NR - 1 ": regions cover " s " pixels" }' \
+    "$out/pixels" >"$out/bad"
+  sed 's/^/FAIL: /' "$out/bad" >&2
+  [ -s "$out/bad" ] && bad=1
+  echo "regions (pixels per server) per frame:"; cat "$out/pixels"
+  grep -i -q 'nan\|inf' "$out/tiled/stats.json" && fail "NaN or Inf in the statistics"
+  if [ "$stall" = 1 ]; then
+    grep -q "first frame takes 1500 ms more" "$out/tiled/node1.err" || fail "server 1 did not stall"
+  fi ;;
+converge)
+  config=$1 frames=$2 max=$3 slow=$4
+  shift 4
+  SIZE=256x192 APP_ARGS=--static TILESORT_ENV=TESSERA_TEST_COST=bytes
+  [ "$slow" != 1 ] && TILESORT_ENV_0=TESSERA_TEST_COST_SCALE=$slow
+  "$bin/balance_scenes-native" --static --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
+    fail "balance_scenes-native failed"
+  run_tilesort "$out/tiled" balance_scenes "$frames" "$config" "$@"
+  exact_frames "$out/tiled" balance_scenes "$frames" "$config"
+  st=$out/tiled/stats.json
+  imb=$(sed -n 's/.*"time_imbalance":\[\([^]]*\)\].*/\1/p' "$st")
+  echo "imbalance (max/mean of reported time) per frame: $imb"
+  echo "$imb" | tr ',' '\n' | awk -v m="$max" 'NR > 3 { if ($1 == "null" || $1 + 0 > m + 0) { print "frame " NR - 1 ": imbalance " $1 " above " m; b = 1 } } END { exit b }' >&2 ||
+    bad=1
+  rows "$st" server_pixels >"$out/pixels"
+  echo "regions (pixels per server) per frame:"; cat "$out/pixels"
+  [ "$(tail -n 4 "$out/pixels" | sort -u | wc -l)" = 1 ] || fail "the regions still move in the last four frames"
+  if [ "$slow" != 1 ]; then
+    rows "$st" frames | tail -n 3 | awk -F, -v s="$slow" '{ o = 0; for (i = 2; i <= NF; i++) o += $i; a += $1; m += o / (NF - 1) }
+      END { r = a / m; printf "server 0 (%s times as slow) got %.3f of the others'"'"' mean bytes (1/%s = %.3f)\n", s, r, s, 1 / s
+            exit !(r > 1 / s - 0.3 && r < 1 / s + 0.3) }' || fail "the slow server's share is not near 1/$slow"
+  fi ;;
 exact)
   app=$1 frames=$2 config=$3
   shift 3

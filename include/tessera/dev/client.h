@@ -178,6 +178,17 @@ TSR_API void tsr_stream_client_server_sink(tsr_stream_client *client, size_t ind
  * into the JSON object after "servers" (fn runs while the client is
  * destroyed or fails, so ctx must still be valid then). */
 TSR_API void tsr_stream_client_set_stats_extra(tsr_stream_client *client, void (*fn)(void *ctx, FILE *f), void *ctx);
+/* Frame costs the servers report (tessera/dev/protocol.h TSR_NODE_MSG_COST,
+ * asked for with TSR_NODE_SWAP_REPORT_COST in a swap's flags): fn gets
+ * the server's index, its frame number and the seconds, on the SPU's
+ * thread, whenever the client takes that server's messages (waiting for a
+ * reply, tsr_stream_client_take_costs, the end of the stream). Without a
+ * sink, reports are dropped. */
+typedef void (*tsr_stream_client_cost_fn)(void *ctx, size_t server, uint32_t frame, double seconds);
+TSR_API void tsr_stream_client_set_cost_sink(tsr_stream_client *client, tsr_stream_client_cost_fn fn, void *ctx);
+/* Takes every report already received from every live server, without
+ * waiting (a server's ERROR found there fails that server). */
+TSR_API void tsr_stream_client_take_costs(tsr_stream_client *client);
 /* Counts one frame (a SwapBuffersTSR the sorting SPU sent). */
 TSR_API void tsr_stream_client_count_frame(tsr_stream_client *client);
 /* Whether server `index` failed (its buffers are dropped). */

@@ -24,6 +24,18 @@
  *                        (tessera/dev/wire.h section 5). Requests are answered in
  *                        the order they were sent; the id is how the client
  *                        checks it.
+ *   TSR_NODE_MSG_COST    the server's cost of one frame, sent after a
+ *                        SwapBuffersTSR whose flags hold
+ *                        TSR_NODE_SWAP_REPORT_COST (the bit is taken off
+ *                        before the chain sees the swap): u32 frame (the
+ *                        server's count of such swaps from this client,
+ *                        from 0), u32 0, f64 seconds (the thread CPU time
+ *                        of the server's chain from the previous swap to
+ *                        the end of this one). Unsolicited and never
+ *                        waited for: the client takes it when it next looks
+ *                        (a reply, its next swap, FINISH). A server with
+ *                        no credit left for it drops it rather than block,
+ *                        so it can never hold the stream up.
  *   TSR_NODE_MSG_ERROR   one line (UTF-8, no terminator): why the server
  *                        dropped this client (malformed buffer, chain
  *                        failure, a wrong parallel-API command, or, in
@@ -38,6 +50,13 @@
 #define TSR_NODE_MSG_REPLY 0x11u
 #define TSR_NODE_MSG_ERROR 0x12u
 #define TSR_NODE_MSG_FINISH 0x13u
+#define TSR_NODE_MSG_COST 0x14u
+
+/* In SwapBuffersTSR's flags: "answer this swap with a TSR_NODE_MSG_COST"
+ * (tilesort's load balancer asks; no other sender does). */
+#define TSR_NODE_SWAP_REPORT_COST 0x1u
+/* Bytes of a TSR_NODE_MSG_COST. */
+#define TSR_NODE_COST_BYTES 16u
 
 /* Bytes before the reply data in a TSR_NODE_MSG_REPLY (keeps the data
  * 8-aligned in the receiver's message memory). */

@@ -1,0 +1,161 @@
+#!/usr/bin/env bash
+# bench/balance.sh — sort-first load balancing (issue 13): tilesort's
+# bucket=grid, union (GRID_UNION) and kd (KD-SPLIT) on the static
+# marching-cubes isosurface (examples/isosurface), one real `tessera node`
+# render server per region, llvmpipe on the chain's thread
+# (LP_NUM_THREADS=0) so the servers' thread CPU time is their render time.
+#
+# 1. 8x4 (32 servers) at BALANCE_SIZE (default 2048x1536), BALANCE_FRAMES
+#    frames (10): per frame
+#      imbalance = max / mean of the servers' measured render time (the
+#                  thread CPU time each server reports after each swap)
+#      overlap   = bytes to all servers / bytes the 1x1 run sent that frame
+#    figures balance_METHOD_imbalance_8x4_fN, balance_METHOD_overlap_8x4_fN
+#    for N = 3 and 10 (frame N counted from 1), next to the same frame's
+#    byte imbalance (balance_METHOD_imbalance_bytes_8x4_fN).
+# 2. The frame time of the slowest server against server count (1 .. 32:
+#    1x1 2x1 2x2 4x2 4x4 8x4) for grid, union, kd and broadcast at
+#    BALANCE_SWEEP_SIZE (default 1024x768), BALANCE_SWEEP_FRAMES (5): on one
+#    machine this is the maximum over servers of their measured render CPU
+#    time plus their bytes at BALANCE_NET_MBPS (default 1000 Mbit/s),
+#    the median over the frames after the first; the 1x1 run's is the
+#    reference (one server doing all). Figures balance_slowest_ms_METHOD_32.
+# Writes balance.csv, balance_servers.csv, balance.png (imbalance and
+# overlap per frame) and balance_servers.png.
+# usage: bench/balance.sh BIN_DIR OUT_DIR [--quick]
+set -euo pipefail
+bin=$1 out=$2 quick=${3:-}
+size=${BALANCE_SIZE:-2048x1536} frames=${BALANCE_FRAMES:-10} detail=${BALANCE_DETAIL:-2}
+ssize=${BALANCE_SWEEP_SIZE:-1024x768} sframes=${BALANCE_SWEEP_FRAMES:-5} mbps=${BALANCE_NET_MBPS:-1000}
+wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4)
+if [[ $quick == --quick ]]; then
+    size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2)
+fi
+work=$out/balance.work
+rm -rf "$work" && mkdir -p "$work"
+TESSERA=$bin/tessera
+. "$(dirname "$0")/../tests/node/node_lib.sh"
+
+PIDS=
+kill_all() { for p in $PIDS; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done; PIDS=; }
+trap kill_all EXIT
+
+# tiles_for COLS ROWS W H: "S:X:Y:W:H,..." splitting WxH evenly.
+tiles_for() {
+    local cols=$1 rows=$2 width=$3 height=$4 c r s=0 list=
+    for ((r = 0; r < rows; r++)); do
+        for ((c = 0; c < cols; c++)); do
+            local x0=$((c * width / cols)) x1=$(((c + 1) * width / cols))
+            local y0=$((r * height / rows)) y1=$(((r + 1) * height / rows))
+            list="$list${list:+,}$s:$x0:$y0:$((x1 - x0)):$((y1 - y0))"
+            s=$((s + 1))
+        done
+    done
+    echo "$list"
+}
+
+# run SIZE FRAMES CONFIG BUCKET STATS: servers for CONFIG, the isosurface
+# through tilesort, statistics into STATS.
+run() {
+    local sz=$1 nf=$2 config=$3 bucket=$4 stats=$5
+    local cols=${config%x*} rows=${config#*x} n servers= k dir tiles=
+    n=$((cols * rows))
+    dir=$work/$sz-$config-$bucket
+    mkdir -p "$dir"
+    PIDS=
+    for ((k = 0; k < n; k++)); do
+        LP_NUM_THREADS=0 start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 300000 \
+            --chain 'render output=""' || { echo "bench/balance: server $k did not start" >&2; exit 1; }
+        PIDS="$PIDS $NODE_PID"
+        servers="$servers${servers:+,}$NODE_ADDR"
+    done
+    case $bucket in grid | broadcast) tiles="tiles=$(tiles_for "$cols" "$rows" "${sz%x*}" "${sz#*x}")" ;; esac
+    if ! TESSERA_STATS_FILE=$stats LP_NUM_THREADS=0 "$bin/isosurface" --frames "$nf" --detail "$detail" --size "$sz" \
+        --chain "tilesort servers=$servers $tiles bucket=$bucket timeout_ms=300000" \
+        >"$dir/app.out" 2>"$dir/app.err"; then
+        cat "$dir/app.err" >&2
+        echo "bench/balance: isosurface failed ($config, $bucket)" >&2
+        exit 1
+    fi
+    for p in $PIDS; do wait "$p" || { echo "bench/balance: a server failed ($config)" >&2; exit 1; }; done
+    PIDS=
+}
+
+# rows STATS KEY: the rows of a sort_first array of arrays, one a line.
+rows() { sed -n "s/.*\"$2\":\[\[\([^]]*\(\],\[[^]]*\)*\)\]\].*/\1/p" "$1" | sed 's/\],\[/\n/g'; }
+
+# --- 1. the 8x4 wall, per frame ----------------------------------------------
+csv=$out/balance.csv
+echo "method,tiles,frame,imbalance,imbalance_bytes,overlap" >"$csv"
+run "$size" "$frames" 1x1 grid "$work/one.json"
+rows "$work/one.json" frames >"$work/one.bytes"
+for method in grid union kd; do
+    st=$work/wall-$method.json
+    run "$size" "$frames" "$wall" "$method" "$st"
+    rows "$st" server_seconds >"$work/$method.secs"
+    rows "$st" frames >"$work/$method.bytes"
+    paste -d';' "$work/$method.secs" "$work/$method.bytes" "$work/one.bytes" |
+        awk -F';' -v m="$method" -v t="$wall" '{
+            n = split($1, s, ","); split($2, b, ","); split($3, o, ",")
+            smax = 0; ssum = 0; bmax = 0; bsum = 0; ok = 1
+            for (i = 1; i <= n; i++) { if (s[i] == "null") ok = 0; ssum += s[i]; if (s[i] + 0 > smax) smax = s[i] + 0
+                                        bsum += b[i]; if (b[i] + 0 > bmax) bmax = b[i] + 0 }
+            imb = ok && ssum > 0 ? sprintf("%.4f", smax * n / ssum) : "nan"
+            printf "%s,%s,%d,%s,%.4f,%.4f\n", m, t, NR, imb, bmax * n / bsum, bsum / o[1] }' >>"$csv"
+done
+for method in grid union kd; do
+    for f in 3 10; do
+        awk -F, -v m="$method" -v f="$f" -v t="$wall" '$1 == m && $3 == f {
+            printf "balance_%s_imbalance_%s_f%d: %s\n", m, t, f, $4
+            printf "balance_%s_imbalance_bytes_%s_f%d: %s\n", m, t, f, $5
+            printf "balance_%s_overlap_%s_f%d: %s\n", m, t, f, $6 }' "$csv"
+    done
+done
+
+# --- 2. the slowest server against server count ---------------------------------
+scsv=$out/balance_servers.csv
+echo "method,tiles,servers,slowest_ms,render_ms,net_ms" >"$scsv"
+for config in "${sweep[@]}"; do
+    n=$((${config%x*} * ${config#*x}))
+    for method in grid union kd broadcast; do
+        [[ $config == 1x1 && $method != grid ]] && continue
+        st=$work/sweep-$config-$method.json
+        run "$ssize" "$sframes" "$config" "$method" "$st"
+        rows "$st" server_seconds >"$work/s.secs"
+        rows "$st" frames >"$work/s.bytes"
+        # per frame after the first: the slowest server's render + bytes at the rate; the median frame
+        line=$(paste -d';' "$work/s.secs" "$work/s.bytes" | tail -n +2 | awk -F';' -v r="$mbps" '{
+                n = split($1, s, ","); split($2, b, ","); worst = 0
+                for (i = 1; i <= n; i++) { t = s[i] + b[i] * 8 / (r * 1e6); if (t > worst) { worst = t; ws = s[i]; wb = b[i] * 8 / (r * 1e6) } }
+                printf "%.3f %.3f %.3f\n", 1000 * worst, 1000 * ws, 1000 * wb }' | sort -g | awk '{ v[NR] = $0 } END { print v[int((NR + 1) / 2)] }')
+        read -r slowest render net <<<"$line"
+        echo "$method,$config,$n,$slowest,$render,$net" >>"$scsv"
+        [[ $config == 1x1 ]] && for m in union kd broadcast; do echo "$m,$config,$n,$slowest,$render,$net" >>"$scsv"; done
+    done
+done
+awk -F, 'NR > 1 && $2 == "1x1" && $1 == "grid" { printf "balance_slowest_ms_one_server: %s\n", $4 }' "$scsv"
+last=${sweep[${#sweep[@]} - 1]}
+awk -F, -v t="$last" 'NR > 1 && $2 == t { printf "balance_slowest_ms_%s_%d: %s (render %s + net %s)\n", $1, $3, $4, $5, $6 }' "$scsv"
+
+if command -v gnuplot >/dev/null && [[ $quick != --quick ]]; then
+    gnuplot <<EOF || echo "bench/balance: gnuplot failed (charts skipped)" >&2
+set terminal pngcairo size 1000,420
+set output "$out/balance.png"
+set datafile separator ","
+set multiplot layout 1,2 title "Static isosurface (--detail $detail) on a ${size} window, $wall servers"
+set xlabel "frame"
+set key top right
+set ylabel "imbalance (max / mean server render CPU time)"
+plot for [m in "grid union kd"] "< grep ^".m.", $csv" using 3:4 with linespoints title m, 1.2 with lines dt 2 title "target 1.2"
+set ylabel "overlap (bytes to all servers / 1x1 bytes)"
+plot for [m in "grid union kd"] "< grep ^".m.", $csv" using 3:6 with linespoints title m, 1.1 with lines dt 2 title "target 1.1"
+unset multiplot
+set output "$out/balance_servers.png"
+set terminal pngcairo size 900,480
+set title "Slowest server per frame (${ssize}): max over servers of render CPU time + bytes at ${mbps} Mbit/s\n(one machine: the servers share its cores; median frame)"
+set xlabel "servers"
+set logscale x 2
+set ylabel "ms"
+plot for [m in "grid union kd broadcast"] "< grep ^".m.", $scsv" using 3:4 with linespoints title m
+EOF
+fi
