@@ -66,6 +66,7 @@ static void add_server_stats(agent *a, tsr_ctl_out *out)
     tsr_ctl_addf(out, "bytes_out", "%llu", (unsigned long long)st.bytes_out);
     tsr_ctl_addf(out, "busy_seconds", "%.6f", st.busy_seconds);
     tsr_ctl_addf(out, "clients", "%u", st.clients_connected);
+    tsr_ctl_addf(out, "clients_silent", "%u", st.clients_silent);
 }
 
 static int send_stats(agent *a, tsr_error *err)

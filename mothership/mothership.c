@@ -630,9 +630,14 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
          * for it until their join time-out (check_unconnected). */
         n->check_connected = !n->server && !n->done_status && n->app_stats != 1 && n->network && n->g->to_count;
         const char *why = tsr_ctl_get(msg, "message");
+        /* A server that dropped a client for silence found a stopped or
+         * hung process, as a missed heartbeat does: that explains the
+         * exits of the peers and applications that follow. */
+        int cls = tsr_ctl_number(msg, "signal", 0)           ? FAIL_SIGNAL
+                  : tsr_ctl_number(msg, "clients_silent", 0) ? FAIL_HEARTBEAT
+                                                             : FAIL_EXIT;
         if (n->done_status)
-            fail(m, tsr_ctl_number(msg, "signal", 0) ? FAIL_SIGNAL : FAIL_EXIT, "node '%s': %s", n->g->name,
-                 why && *why ? why : "failed (no reason given)");
+            fail(m, cls, "node '%s': %s", n->g->name, why && *why ? why : "failed (no reason given)");
         break;
     }
     default: fail(m, FAIL_OTHER, "node '%s' sent an unexpected %s message", n->g->name, tsr_ctl_kind_name(kind));

@@ -72,7 +72,7 @@ static void write_some(int fd, net_msg *m)
 net_msg *net_direct_write(tsr_net_conn *c, net_msg *m)
 {
     tsr_net *net = c->net;
-    net_header_encode(m->header, net_version(net), m->type, m->len);
+    net_header_encode(m->header, net_version(net), m->type, m->flags, m->len);
     m->conn = c;
     m->written = 0;
     m->next = NULL;

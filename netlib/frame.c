@@ -8,12 +8,12 @@
 #include "net_internal.h"
 #include "tessera/dev/util.h"
 
-void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint64_t len)
+void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint8_t flags, uint64_t len)
 {
     net_put_u32(out, TSR_NET_MAGIC);
     net_put_u16(out + 4, version);
     out[6] = type;
-    out[7] = 0;
+    out[7] = flags;
     net_put_u64(out + 8, len);
 }
 
@@ -27,7 +27,7 @@ void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out)
 }
 
 size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name,
-                        const uint8_t *auth)
+                        const uint8_t *auth, uint8_t features)
 {
     size_t name_len = strlen(name);
     if (name_len > TSR_NET_NAME_MAX)
@@ -46,6 +46,8 @@ size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_byt
         memcpy(out + at, auth, NET_AUTH_BYTES);
         at += NET_AUTH_BYTES;
     }
+    if (features) /* absent when nothing is asked for: the v2 handshake byte for byte */
+        out[at++] = features;
     return at;
 }
 
@@ -68,11 +70,19 @@ int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error 
     if (auth > 1)
         return tsr_error_set(err, TSR_EPROTO, "handshake authentication mode %u is unknown", auth);
     out->has_auth = auth == 1;
-    if (at + (out->has_auth ? NET_AUTH_BYTES : 0) != len)
+    uint64_t fields = at + (out->has_auth ? NET_AUTH_BYTES : 0);
+    if (fields != len && fields + 1 != len)
         return tsr_error_set(err, TSR_EPROTO, "handshake payload of %llu bytes does not match its fields",
                              (unsigned long long)len);
     if (out->has_auth)
         memcpy(out->auth, in + at, NET_AUTH_BYTES);
+    if (fields + 1 == len) {
+        out->features = in[fields];
+        if (out->features & ~NET_FEATURE_SHM)
+            return tsr_error_set(err, TSR_EPROTO, "handshake features 0x%02x are unknown", out->features);
+        if (!out->features)
+            return tsr_error_set(err, TSR_EPROTO, "handshake features byte 0 (absent when nothing is asked)");
+    }
     if (out->credits == 0)
         return tsr_error_set(err, TSR_EPROTO, "handshake grants 0 credits");
     return TSR_OK;

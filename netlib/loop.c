@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "net_internal.h"
@@ -156,6 +157,12 @@ tsr_net *tsr_net_create(const tsr_net_config *config, tsr_error *err)
         return NULL;
     if (config->credits == 0 || config->max_message_bytes == 0) {
         tsr_error_set(err, TSR_EINVAL, "net: credits and max_message_bytes must be above 0");
+        return NULL;
+    }
+    uint64_t ring = config->shm_ring_bytes;
+    if (ring && (ring < NET_SHM_RING_MIN || ring > NET_SHM_RING_MAX || ring % (uint64_t)sysconf(_SC_PAGESIZE))) {
+        tsr_error_set(err, TSR_EINVAL, "net: shm_ring_bytes %llu is not 0 or a page multiple of 64 KiB..16 GiB",
+                      (unsigned long long)ring);
         return NULL;
     }
     tsr_net *net = calloc(1, sizeof *net);

@@ -39,7 +39,9 @@
  *   offset 6  u8  type    0x01 HELLO, 0x02 WELCOME, 0x03 REFUSE, 0x04 CREDIT,
  *                         0x05 PING, 0x06 BYE, 0x07 CHALLENGE, 0x08 PROOF;
  *                         0x10..0xff application messages
- *   offset 7  u8  flags   0 (receivers reject anything else)
+ *   offset 7  u8  flags   0, or 0x01 on a data message of a shared-memory
+ *                         connection (SHARED MEMORY below); receivers reject
+ *                         anything else
  *   offset 8  u64 length  payload bytes; a data message longer than the
  *                         receiver's max_message_bytes (or a control
  *                         message longer than 4 KiB; CHALLENGE and PROOF
@@ -74,6 +76,38 @@
  * the newcomer, and one that sent nothing within min(1 s,
  * handshake_timeout_ms) is closed, so idle connections cannot lock
  * clients out; established connections never count.
+ * SHARED MEMORY (unix: only, when both sides set shm_ring_bytes). After
+ * the auth fields, HELLO carries one more byte, features, when the client
+ * asks for something: bit 0 = shared memory (other bits: malformed). The
+ * server answers WELCOME with the features it grants (bit 0 only on a
+ * Unix socket and when it set shm_ring_bytes too); a byte nobody asked for
+ * is malformed. Without the byte, as before. On a shared-memory connection
+ * each side, right after the handshake, creates a ring: a sealed memfd
+ * (F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL: its size cannot change, so
+ * a mapping never faults) of its shm_ring_bytes, which it maps and hands
+ * to the peer with a RING message (type 0x09, payload u64 ring size),
+ * the descriptor attached (SCM_RIGHTS). The receiver checks it is such a
+ * memfd of that size (16 GiB at most) and maps it. Every data message
+ * that fits is then written into the sender's ring and only a
+ * descriptor crosses the socket: the data header with flags 0x01 and a
+ * 16-byte payload u64 position, u64 length. Positions count ring bytes
+ * from 0 and only grow; a message takes slot(length) = length rounded up
+ * to 64 (at least 64) bytes at offset position mod size, never wrapping:
+ * it starts where the previous ring message ended, or at the next
+ * multiple of the size (the sender skips the end of the ring when the
+ * message does not fit there, and rewinds to the start whenever the ring
+ * is empty, so pages are reused). The receiver checks each descriptor
+ * against that rule, against its max_message_bytes, and that the message
+ * does not overlap one it has not released: a lying peer fails its
+ * connection (one line naming it), nothing is read outside the mapping.
+ * The receiving application gets a pointer into the mapping, valid until
+ * it releases the message. Ring space is returned with the credits: on a
+ * shared-memory connection a CREDIT is 12 bytes, u32 count and u64 the
+ * position up to which every ring message has been released (in arrival
+ * order; past what was sent fails the connection, a lower one than
+ * before is stale and ignored). A sender waits for ring space as for credits (tsr_net_send's
+ * time-out). Messages larger than the ring, or sent before the ring
+ * exists, travel inline as on any socket; order is kept either way.
  * CREDIT payload:
  * u32 count of credits returned. PING: empty asks the peer to answer with
  * a PING of one byte 0x01 (an answer is never answered), so a side hears
@@ -171,6 +205,10 @@ typedef struct tsr_net_config {
     uint32_t close_timeout_ms;     /* wait for the peer's end of stream; default 5000 */
     uint16_t protocol_version;     /* announced version; 0 = TSR_NET_PROTOCOL_VERSION.
                                       Only tests and compatibility shims set it. */
+    uint64_t shm_ring_bytes;       /* 0 = off (default). Else unix: connections with a peer
+                                      that sets it too carry data messages through a
+                                      shared-memory ring of this many bytes per direction
+                                      (see SHARED MEMORY; 64 KiB..16 GiB, a page multiple) */
 } tsr_net_config;
 
 /* A received message. `data` stays valid (and writable) until released. */
@@ -184,11 +222,15 @@ typedef struct tsr_net_msg {
 typedef struct tsr_net_stats {
     uint64_t messages_sent, bytes_sent;         /* payload bytes */
     uint64_t messages_received, bytes_received; /* payload bytes */
-    uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits */
+    uint64_t blocked_on_credits_ns;             /* time tsr_net_send waited for credits (or ring space) */
     uint64_t messages_direct;                   /* data messages the sending thread wrote itself (see SENDING) */
     uint64_t messages_direct_rest;              /* ... of which the socket took only a part */
     uint32_t messages_unreturned;               /* data messages sent whose credit has not come back:
                                                    not yet taken by the peer's application */
+    /* ... of the messages and payload bytes above, those that went through
+     * the shared-memory ring (only a descriptor crossed the socket) */
+    uint64_t messages_sent_shm, bytes_sent_shm;
+    uint64_t messages_received_shm, bytes_received_shm;
 } tsr_net_stats;
 
 TSR_API void tsr_net_config_defaults(tsr_net_config *config);
@@ -241,6 +283,17 @@ TSR_API int tsr_net_send(tsr_net_conn *conn, unsigned kind, const void *data, ui
  * On an error return, `data` was not taken and is still the caller's. */
 TSR_API int tsr_net_send_owned(tsr_net_conn *conn, unsigned kind, void *data, uint64_t len,
                                void (*release)(void *data, void *ctx), void *ctx, int timeout_ms, tsr_error *err);
+/* Zero-copy sending: a buffer of at least max_len bytes in which the
+ * caller builds its next message, then sends the first len <= max_len of
+ * them with tsr_net_send_commit. On a shared-memory connection the buffer
+ * is space in the ring the peer maps (reserve waits, within timeout_ms,
+ * for a credit and that much ring space: the message is never copied);
+ * otherwise (or when max_len does not fit in the ring) a buffer the
+ * connection keeps, sent as tsr_net_send would. One reservation at a time
+ * per connection, from its one sending thread; a new reserve or a
+ * tsr_net_send drops one not committed. Errors as tsr_net_send. */
+TSR_API int tsr_net_send_reserve(tsr_net_conn *conn, uint64_t max_len, void **buf, int timeout_ms, tsr_error *err);
+TSR_API int tsr_net_send_commit(tsr_net_conn *conn, unsigned kind, uint64_t len, int timeout_ms, tsr_error *err);
 /* Receives the next message. Returns 1 with *msg filled, 0 when the peer
  * closed cleanly and every message was received, TSR_ETIMEDOUT, or the
  * connection's error. Release every message (this returns its credit). */
@@ -262,6 +315,12 @@ TSR_API void tsr_net_msg_release(tsr_net_msg *msg);
 TSR_API const char *tsr_net_conn_peer_name(const tsr_net_conn *conn);
 TSR_API const char *tsr_net_conn_address(const tsr_net_conn *conn);
 TSR_API void tsr_net_conn_stats(tsr_net_conn *conn, tsr_net_stats *stats);
+/* How this side's data messages travel: "tcp", "unix", "unix+shm" (the
+ * shared-memory ring, see SHARED MEMORY) or "inproc". */
+TSR_API const char *tsr_net_conn_transport(tsr_net_conn *conn);
+/* 1 when the connection failed because the peer sent nothing for
+ * idle_timeout_ms (a stopped or hung peer, not one that went away). */
+TSR_API int tsr_net_conn_went_silent(tsr_net_conn *conn);
 /* Closes gracefully (see CLOSING); `conn` must not be used afterwards.
  * Messages still held by the application may be released later. */
 TSR_API void tsr_net_conn_close(tsr_net_conn *conn);

@@ -34,7 +34,14 @@ enum net_wire_type {
     NET_BYE = 0x06,
     NET_CHALLENGE = 0x07,
     NET_PROOF = 0x08,
+    NET_RING = 0x09, /* shared-memory ring handed over (shm.c) */
 };
+#define NET_FLAG_SHM 0x01     /* header flag: the payload is a ring descriptor */
+#define NET_FEATURE_SHM 0x01  /* HELLO/WELCOME features bit */
+#define NET_SHM_DESC_BYTES 16 /* u64 position, u64 length */
+#define NET_SHM_SLOT_ALIGN 64 /* ring messages start on cache lines */
+#define NET_SHM_RING_MIN (64u << 10)
+#define NET_SHM_RING_MAX ((uint64_t)16 << 30)
 
 enum net_transport { NET_TCP, NET_UNIX, NET_INPROC };
 
@@ -59,14 +66,16 @@ typedef struct net_msg {
     struct net_msg *next;
     struct tsr_net_conn *conn; /* for release: whose credit it is */
     uint8_t type;
+    uint8_t flags; /* header flags (NET_FLAG_SHM: data is a ring descriptor) */
     uint64_t len;
     uint8_t *data;
     uint64_t cap;                           /* bytes allocated at data (received messages) */
     void (*release)(void *data, void *ctx); /* NULL = free() */
     void *release_ctx;
-    uint64_t written; /* bytes of header + payload already on the socket (direct.c) */
-    bool borrowed;    /* data is the sender's memory, valid only during tsr_net_send */
-    bool copy;        /* data is tsr_net_send's copy, counted in send_copies (cap set) */
+    uint64_t written;           /* bytes of header + payload already on the socket (direct.c) */
+    bool borrowed;              /* data is the sender's memory, valid only during tsr_net_send */
+    bool copy;                  /* data is tsr_net_send's copy, counted in send_copies (cap set) */
+    struct net_ring_slot *slot; /* received through the ring: its place there (shm.c) */
     uint8_t header[TSR_NET_HEADER_BYTES];
     uv_write_t write_req;
 } net_msg;
@@ -77,7 +86,28 @@ typedef struct net_hello {
     char name[TSR_NET_PEER_NAME_MAX + 1]; /* escaped: printed in every line naming the peer */
     bool has_auth;                        /* HELLO: the peer has a token; WELCOME: it proved it */
     uint8_t auth[NET_AUTH_BYTES];         /* HELLO: the client's nonce; WELCOME: the server's proof */
+    uint8_t features;                     /* NET_FEATURE_*: asked for (HELLO), granted (WELCOME) */
 } net_hello;
+
+/* A message received through the peer's ring, oldest first: ring space
+ * returns in arrival order, up to the oldest one not released. */
+typedef struct net_ring_slot {
+    struct net_ring_slot *next;
+    uint64_t end; /* ring position after it */
+    bool released;
+} net_ring_slot;
+
+/* One direction's ring (shm.c). Positions only grow; offset = pos % size. */
+typedef struct net_ring {
+    uint8_t *map;
+    uint64_t size;
+    uint64_t head;      /* send: end of the last committed message; receive: expected next */
+    uint64_t tail;      /* send: released up to here (the peer's CREDIT); receive: the same, ours to tell */
+    bool reserved;      /* send: a reservation not yet committed */
+    bool reserved_ring; /* ... in the ring (else in reserve_buf) */
+    uint64_t reserved_pos, reserved_len;
+    net_ring_slot *slots_head, *slots_tail; /* receive */
+} net_ring;
 
 typedef enum net_conn_state {
     NET_CONNECTING, /* socket connect in progress (client) */
@@ -105,6 +135,7 @@ struct tsr_net_conn {
     bool close_requested;  /* (L) app closed; I/O thread winds down */
     bool socket_connected; /* (L) the transport connected (handshake may still fail) */
     bool handshaken;       /* (L) the handshake succeeded (the state may have moved on) */
+    bool went_silent;      /* (L) failed because the peer sent nothing for idle_timeout_ms */
 
     /* send side (L) */
     uint32_t send_credits;
@@ -165,6 +196,14 @@ struct tsr_net_conn {
     bool half_listed;
     struct tsr_net_conn *half_prev, *half_next;
     struct tsr_net_conn *inproc_peer; /* (L) */
+
+    /* shared memory (shm.c, L): negotiated in the handshake; tx is this
+     * side's ring (mapped at the handshake), rx the peer's (mapped when its
+     * RING arrives) */
+    bool shm;
+    net_ring tx, rx;
+    uint8_t *reserve_buf; /* tsr_net_send_reserve's buffer when not in the ring */
+    uint64_t reserve_cap;
 
     /* (IO) socket state */
     union {
@@ -248,7 +287,7 @@ int net_address_parse(const char *text, net_address *out, tsr_error *err);
 void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out, size_t size);
 
 /* frame.c: header and handshake encoding */
-void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint64_t len);
+void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint8_t flags, uint64_t len);
 typedef struct net_header {
     uint32_t magic;
     uint16_t version;
@@ -259,7 +298,7 @@ void net_header_decode(const uint8_t in[TSR_NET_HEADER_BYTES], net_header *out);
 /* Returns the payload size written into out (at most NET_CONTROL_MAX);
  * `auth` NULL = no authentication field (mode 0). */
 size_t net_hello_encode(uint8_t *out, uint32_t credits, uint64_t max_message_bytes, const char *name,
-                        const uint8_t *auth);
+                        const uint8_t *auth, uint8_t features);
 int net_hello_decode(const uint8_t *in, uint64_t len, net_hello *out, tsr_error *err);
 /* CHALLENGE (a nonce) and PROOF (an HMAC): exactly NET_AUTH_BYTES. `what`
  * names the message in the error. */
@@ -346,6 +385,34 @@ bool net_direct_possible(const tsr_net_conn *conn);
 net_msg *net_direct_write(tsr_net_conn *conn, net_msg *m);
 /* (I/O thread) Waits until no application thread writes on conn. */
 void net_direct_await(tsr_net_conn *conn);
+
+/* shm.c: the shared-memory rings (net.h, SHARED MEMORY); net->lock held */
+uint64_t net_shm_slot(uint64_t len); /* ring bytes a message of len takes */
+/* (IO) After the handshake of a shared-memory connection: create, map and
+ * hand over this side's ring (a RING message with the memfd attached).
+ * On failure the connection goes on without it (data inline), logged. */
+void net_shm_start(tsr_net_conn *c);
+/* (IO) A RING message arrived (its descriptor is pending on the pipe):
+ * check and map the peer's ring. Fails the connection when it lies. */
+int net_shm_ring_received(tsr_net_conn *c, const net_msg *m); /* 0, or -1: failed */
+/* (IO) Fails the connection if the peer passed descriptors out of place;
+ * called after each read. */
+int net_shm_check_stray_fds(tsr_net_conn *c); /* 0, or -1: failed */
+/* (IO) A data message whose payload is a ring descriptor: points m at the
+ * ring data (0) or fails the connection naming the peer (-1). */
+int net_shm_take_descriptor(tsr_net_conn *c, net_msg *m);
+/* A ring message released by the application: its space returns once
+ * every older one is released. */
+void net_shm_release(tsr_net_conn *c, net_msg *m);
+/* The CREDIT payload for `count` credits: 4 bytes, or 12 with the ring
+ * position on a shared-memory connection. Returns its length. */
+size_t net_credit_encode(const tsr_net_conn *c, uint32_t count, uint8_t out[12]);
+/* (IO) A CREDIT's ring position: checked and taken (0) or fails (-1). */
+int net_shm_credit(tsr_net_conn *c, uint64_t pos);
+/* (send side) Whether a message of len bytes fits in this side's ring now
+ * (credits aside); *pos gets where it goes (net.h's placement rule). */
+bool net_shm_fits(const tsr_net_conn *c, uint64_t len, uint64_t *pos);
+void net_shm_free(tsr_net_conn *c); /* unmaps both rings (conn free) */
 
 /* inproc.c: application threads, net->lock held */
 int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err);

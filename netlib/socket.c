@@ -51,7 +51,7 @@ static void on_write(uv_write_t *req, int status)
  * put on the socket) to libuv. */
 static void write_now(tsr_net_conn *c, net_msg *m)
 {
-    net_header_encode(m->header, net_version(c->net), m->type, m->len);
+    net_header_encode(m->header, net_version(c->net), m->type, m->flags, m->len);
     /* Set .len directly: uv_buf_init() takes an unsigned int, and a
      * message may be longer than 4 GiB (uv_buf_t.len is a size_t here). */
     uv_buf_t bufs[2];
@@ -135,11 +135,12 @@ static void write_control(tsr_net_conn *c, uint8_t type, const void *payload, si
 
 /* HELLO carries the client's nonce when it has a token, WELCOME the
  * server's proof when the client asked for one (net.h, HANDSHAKE). */
-static void send_hello(tsr_net_conn *c, uint8_t type, const uint8_t *auth)
+static void send_hello(tsr_net_conn *c, uint8_t type, const uint8_t *auth, uint8_t features)
 {
     tsr_net *net = c->net;
     uint8_t payload[NET_CONTROL_MAX];
-    size_t n = net_hello_encode(payload, net->config.credits, net->config.max_message_bytes, net->node_name, auth);
+    size_t n =
+        net_hello_encode(payload, net->config.credits, net->config.max_message_bytes, net->node_name, auth, features);
     write_control(c, type, payload, n);
 }
 
@@ -346,6 +347,8 @@ static void on_timer(uv_timer_t *t)
              * caller's own wait ended with the connection still fine
              * (tsr_net_recv with a time-out), and a poll loop reading it
              * as "nothing yet" would poll a dead connection forever. */
+            if (c->state != NET_FAILED)
+                c->went_silent = true;
             net_conn_fail(c, TSR_EIO,
                           "net: peer '%s' at %s sent nothing for %u ms (idle_timeout_ms): "
                           "considered dead",
@@ -462,8 +465,17 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h)
             setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
         }
     }
+    if (c->shm)
+        net_shm_start(c); /* before any data: no application thread can send yet */
     arm_timer(c);
     net_conn_signal(c);
+}
+
+/* The features this side asks for in its HELLO: shared memory on a Unix
+ * socket when configured (net.h, SHARED MEMORY). */
+static uint8_t wanted_features(const tsr_net_conn *c)
+{
+    return c->transport == NET_UNIX && c->net->config.shm_ring_bytes ? NET_FEATURE_SHM : 0;
 }
 
 /* Server: the handshake succeeded (with the token proven, when this node
@@ -484,7 +496,9 @@ static void server_accept(tsr_net_conn *c, const net_hello *h, const uint8_t *pr
         return;
     }
     half_open_remove(c);
-    send_hello(c, NET_WELCOME, proof);
+    uint8_t granted = h->features & wanted_features(c);
+    send_hello(c, NET_WELCOME, proof, granted);
+    c->shm = granted & NET_FEATURE_SHM;
     handshake_done(c, h);
     c->app_ref = true; /* held by the ready queue until accepted */
     c->ready = true;
@@ -601,6 +615,13 @@ static void deliver_welcome(tsr_net_conn *c, net_msg *m)
         close_handles(c);
         return;
     }
+    if (h.features & ~wanted_features(c)) {
+        net_conn_fail(c, TSR_EPROTO, "net: %s answered a malformed handshake: features 0x%02x nobody asked for",
+                      c->address, h.features);
+        close_handles(c);
+        return;
+    }
+    c->shm = h.features & NET_FEATURE_SHM;
     handshake_done(c, &h);
 }
 
@@ -633,12 +654,24 @@ static void deliver(tsr_net_conn *c, net_msg *m)
         net_msg_free(m);
         return;
     }
+    case NET_RING: {
+        int bad = net_shm_ring_received(c, m);
+        net_msg_free(m);
+        if (bad)
+            close_handles(c);
+        return;
+    }
     case NET_CREDIT: {
         uint32_t n = net_get_u32(m->data);
+        uint64_t pos = c->shm ? net_get_u64(m->data + 4) : 0;
         net_msg_free(m);
         if ((uint64_t)c->send_credits + n > c->peer_window) {
             net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s returned more credits than it granted (%u)",
                           c->peer_name, c->address, c->peer_window);
+            close_handles(c);
+            return;
+        }
+        if (c->shm && net_shm_credit(c, pos)) {
             close_handles(c);
             return;
         }
@@ -668,6 +701,11 @@ static void deliver(tsr_net_conn *c, net_msg *m)
     }
     if (c->close_requested) { /* the application is gone: drop */
         net_msg_free(m);
+        return;
+    }
+    if ((m->flags & NET_FLAG_SHM) && net_shm_take_descriptor(c, m)) {
+        net_msg_free(m);
+        close_handles(c);
         return;
     }
     m->conn = c;
@@ -717,7 +755,16 @@ static void handle_header(tsr_net_conn *c)
         close_handles(c);
         return;
     }
-    if (h.flags) {
+    /* A ring descriptor (net.h, SHARED MEMORY): a data message on a
+     * shared-memory connection whose peer's ring is mapped. */
+    bool descriptor = h.flags == NET_FLAG_SHM && h.type >= TSR_NET_KIND_FIRST_USER && c->shm;
+    if (descriptor && !c->rx.map) {
+        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a shared-memory descriptor before its ring", who,
+                      c->address);
+        close_handles(c);
+        return;
+    }
+    if (h.flags && !descriptor) {
         net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent unknown flags 0x%02x", who, c->address, h.flags);
         close_handles(c);
         return;
@@ -738,7 +785,11 @@ static void handle_header(tsr_net_conn *c)
     case NET_REFUSE: expected = handshaking && !c->is_server; break;
     case NET_CREDIT:
         expected = c->state == NET_OPEN;
-        limit = 4;
+        limit = c->shm ? 12 : 4;
+        break;
+    case NET_RING:
+        expected = c->state == NET_OPEN && c->shm && !c->rx.map;
+        limit = 8;
         break;
     case NET_PING:
         expected = c->state == NET_OPEN;
@@ -759,11 +810,18 @@ static void handle_header(tsr_net_conn *c)
         close_handles(c);
         return;
     }
-    if (h.type == NET_CREDIT && h.len != 4) {
-        net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a CREDIT of %llu bytes (not 4)", who, c->address,
-                      (unsigned long long)h.len);
-        close_handles(c);
-        return;
+    if ((h.type == NET_CREDIT || h.type == NET_RING || descriptor) && h.len != limit) {
+        if (descriptor)
+            limit = NET_SHM_DESC_BYTES;
+        if (h.len != limit) {
+            net_conn_fail(c, TSR_EPROTO, "net: peer '%s' at %s sent a %s of %llu bytes (not %llu)", who, c->address,
+                          h.type == NET_CREDIT ? "CREDIT"
+                          : h.type == NET_RING ? "RING"
+                                               : "shared-memory descriptor",
+                          (unsigned long long)h.len, (unsigned long long)limit);
+            close_handles(c);
+            return;
+        }
     }
     if (h.len > limit) {
         net_conn_fail(c, TSR_EPROTO,
@@ -792,6 +850,7 @@ static void handle_header(tsr_net_conn *c)
         return;
     }
     m->type = h.type;
+    m->flags = h.flags;
     m->len = h.len;
     m->data = data;
     m->cap = cap;
@@ -907,6 +966,8 @@ static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf)
         } else {
             parse_bytes(c, (const uint8_t *)buf->base, (size_t)nread);
         }
+        if (!c->handles_closing && net_shm_check_stray_fds(c))
+            close_handles(c);
         update_lowat(c);
     } else if (nread == UV_EOF) {
         on_peer_eof(c);
@@ -971,10 +1032,10 @@ void net_io_service(tsr_net_conn *c)
     if (c->state == NET_OPEN && !c->shutting_down)
         flush_outbox(c);
     if (c->credits_to_return && c->state == NET_OPEN && !c->handles_closing && !c->shutting_down) {
-        uint8_t payload[4];
-        net_put_u32(payload, c->credits_to_return);
+        uint8_t payload[12];
+        size_t n = net_credit_encode(c, c->credits_to_return, payload);
         c->credits_to_return = 0;
-        write_control(c, NET_CREDIT, payload, sizeof payload);
+        write_control(c, NET_CREDIT, payload, n);
     }
     update_reading(c);
     if (c->close_requested)
@@ -1011,7 +1072,7 @@ static void on_connect(uv_connect_t *req, int status)
         arm_timer(c);
         if (net->token[0])
             net_auth_nonce(c->client_nonce);
-        send_hello(c, NET_HELLO, net->token[0] ? c->client_nonce : NULL);
+        send_hello(c, NET_HELLO, net->token[0] ? c->client_nonce : NULL, wanted_features(c));
         start_reading(c);
     }
     pthread_mutex_unlock(&net->lock);
@@ -1019,7 +1080,10 @@ static void on_connect(uv_connect_t *req, int status)
 
 static int init_stream(tsr_net *net, tsr_net_conn *c)
 {
-    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp) : uv_pipe_init(&net->loop, &c->h.pipe, 0);
+    /* An IPC pipe when shared memory may be negotiated: libuv then reads
+     * with recvmsg and keeps descriptors the peer passes (shm.c). */
+    int ipc = net->config.shm_ring_bytes ? 1 : 0;
+    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp) : uv_pipe_init(&net->loop, &c->h.pipe, ipc);
     if (rc)
         return rc;
     c->h.handle.data = c;

@@ -51,6 +51,7 @@ void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta)
     t->clients_connected += delta->clients_connected;
     t->clients_ended += delta->clients_ended;
     t->clients_failed += delta->clients_failed;
+    t->clients_silent += delta->clients_silent;
     t->swaps_ignored += delta->swaps_ignored;
     t->blocks += delta->blocks;
     pthread_mutex_unlock(&node->stats_lock);
@@ -330,7 +331,9 @@ static void *session_main(void *arg)
     }
     if (s->error.code)
         tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
-    tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1, .clients_failed = s->error.code ? 1 : 0};
+    tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1,
+                            .clients_failed = s->error.code ? 1 : 0,
+                            .clients_silent = s->error.code && s->conn && tsr_net_conn_went_silent(s->conn)};
     tsr_node_stats_add(s->node, &ended);
     tsr_unpacker_destroy(unpacker);
     tsr_chain_destroy(chain);

@@ -151,6 +151,7 @@ typedef struct tsr_node_stats {
     unsigned clients_connected;
     unsigned clients_ended;  /* ended cleanly */
     unsigned clients_failed; /* dropped */
+    unsigned clients_silent; /* of those, dropped because they sent nothing for idle_timeout_ms */
     uint64_t swaps_ignored;  /* shared mode: swaps of clients other than the swapping one */
     uint64_t blocks;         /* shared mode: times a client blocked on a barrier or semaphore */
 } tsr_node_stats;

@@ -293,6 +293,7 @@ static void release_msg(sched_client *c)
 /* Ends a client: its context goes, its connection closes. */
 static void retire(sched *s, sched_client *c, client_state state)
 {
+    int silent = c->conn && tsr_net_conn_went_silent(c->conn);
     release_msg(c);
     c->state = state;
     if (s->current_context == c->context) {
@@ -305,7 +306,9 @@ static void retire(sched *s, sched_client *c, client_state state)
     c->conn = NULL;
     free(c->reply);
     c->reply = NULL;
-    tsr_node_stats delta = {.clients_ended = state == CLIENT_ENDED, .clients_failed = state == CLIENT_FAILED};
+    tsr_node_stats delta = {.clients_ended = state == CLIENT_ENDED,
+                            .clients_failed = state == CLIENT_FAILED,
+                            .clients_silent = state == CLIENT_FAILED && silent};
     tsr_node_stats_add(s->node, &delta);
 }
 

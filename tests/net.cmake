@@ -42,6 +42,23 @@ endforeach()
 set_tests_properties(net_tcp_roundtrip_ipv6 net_connect_timeout_unanswered_syn
   PROPERTIES SKIP_RETURN_CODE 77)
 
+# Shared memory between the ends of a Unix-socket connection (net.h,
+# SHARED MEMORY; issue 11, item 7).
+add_executable(net_shm_test ${NET_TEST_SRC}/net_shm_test.c)
+target_link_libraries(net_shm_test PRIVATE tessera_net PkgConfig::SODIUM Threads::Threads)
+foreach(pair
+    "net_shm_unix_messages_travel_through_the_ring_exact:roundtrip"
+    "net_shm_receiver_reads_the_senders_memory_no_copy:zero_copy"
+    "net_shm_ring_space_is_the_credit:ring_is_the_credit"
+    "net_shm_only_when_both_ask_and_only_on_unix:negotiation"
+    "net_shm_lying_peer_fails_only_its_connection_naming_it:lying_peer")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 sub)
+  add_test(NAME ${name} COMMAND net_shm_test ${sub})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 60 LABELS net)
+endforeach()
+
 add_test(NAME net_flow_control_stalled_receiver
          COMMAND net_flow_test stall $<TARGET_FILE:net_stall_server>)
 add_test(NAME net_receiver_killed_while_sender_blocked_fails_send
@@ -90,3 +107,23 @@ add_test(NAME net_mothership_idle_connections_do_not_lock_out_nodes
           ${CMAKE_BINARY_DIR}/test-out/net/mothership-flood ${CMAKE_SOURCE_DIR}/examples/graphs/tcp.yaml
           $<TARGET_FILE:net_auth_test>)
 set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPERTIES TIMEOUT 120 LABELS net)
+
+# Sort-last peers on one host (issue 11, item 7): their own per-pair
+# statistics prove unix: peers exchange images through shared memory, and
+# that shm=0 and tcp:// peers do not; every frame exact.
+set(NET_SORTLAST_ENV "LP_NUM_THREADS=0")
+if(TESSERA_SANITIZE) # OSMesa/LLVM keep state for the process lifetime
+  list(APPEND NET_SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
+foreach(pair
+    "composite_same_host_unix_peers_use_shared_memory_exact:unix"
+    "composite_same_host_shm_off_uses_the_unix_socket_exact:noshm"
+    "composite_same_host_tcp_peers_use_tcp_exact:tcp")
+  string(REPLACE ":" ";" pair "${pair}")
+  list(GET pair 0 name)
+  list(GET pair 1 mode)
+  add_test(NAME ${name} COMMAND ${NET_TEST_SRC}/sortlast_transport.sh ${mode} ${CMAKE_BINARY_DIR}/bin
+           ${CMAKE_BINARY_DIR}/test-out/net/${name})
+  set_tests_properties(${name} PROPERTIES TIMEOUT 120 LABELS net FAIL_REGULAR_EXPRESSION "FAIL:"
+                       ENVIRONMENT "${NET_SORTLAST_ENV}")
+endforeach()

@@ -126,6 +126,8 @@ typedef struct bswap_spu {
     bool holding;
     local_msg *local_head, *local_tail; /* rank 0 -> its own display participant */
     local_msg *local_given;             /* handed out by recv, freed at the next */
+    local_msg *local_building;          /* given by send_buffer, queued by send */
+    void *reserved;                     /* send_buffer's buffer for a peer (netlib's) */
 
     uint32_t frames; /* frames composited */
     float *window_depth;
@@ -247,6 +249,19 @@ static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei
 
 /* --- the peer mesh ---------------------------------------------------------- */
 
+/* Each direction's shared-memory ring (unix: peers): room for four of the
+ * largest messages a full window can make, so a peer a frame ahead never
+ * waits for ring space where a socket would have taken its image. Only
+ * the pages written are ever backed (netlib reuses the start of an empty
+ * ring). */
+static uint64_t ring_bytes(const bswap_spu *b, int W, int H)
+{
+    size_t one = tsr_image_message_max_size((uint32_t)W * (uint32_t)H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->codec);
+    uint64_t mib = (uint64_t)1 << 20, want = 4 * (uint64_t)one;
+    want = (want + mib - 1) / mib * mib;
+    return want < mib ? mib : want > ((uint64_t)16 << 30) ? (uint64_t)16 << 30 : want;
+}
+
 static void link_peers(bswap_spu *b, int W, int H)
 {
     if (b->linked)
@@ -262,6 +277,7 @@ static void link_peers(bswap_spu *b, int W, int H)
     cfg.node_name = node_name;
     cfg.token = tsr_options_string(b->options, "token");
     cfg.max_message_bytes = (uint64_t)1 << 31;
+    cfg.shm_ring_bytes = tsr_options_bool(b->options, "shm") ? ring_bytes(b, W, H) : 0;
     if (b->timeout_ms > 0) {
         cfg.idle_timeout_ms = (uint32_t)b->timeout_ms;
         cfg.connect_timeout_ms = cfg.handshake_timeout_ms = (uint32_t)b->timeout_ms;
@@ -328,6 +344,10 @@ static void link_peers(bswap_spu *b, int W, int H)
                 who, peer_address(b, who), hello[1], hello[2], W, H);
     }
     tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
+    for (int i = 0; i < b->nranks; i++)
+        if (b->conns[i])
+            tsr_log(TSR_LOG_INFO, "%s: transport rank %d <-> rank %d (%s): %s", b->name, b->rank, i, peer_address(b, i),
+                    tsr_net_conn_transport(b->conns[i]));
 }
 
 /* --- read-back -------------------------------------------------------------- */
@@ -458,18 +478,53 @@ static void release_held(bswap_spu *b)
     b->local_given = NULL;
 }
 
+/* Where the executor encodes its next message to `to`: shared memory the
+ * peer maps (netlib's ring on unix: peers; elsewhere a buffer netlib
+ * sends from), or the local message itself for rank 0's own display. */
+static void *transport_send_buffer(void *user, int to, size_t max_size, tsr_error *err)
+{
+    bswap_spu *b = user;
+    if (to == b->nranks && b->rank == 0) {
+        free(b->local_building);
+        if (!(b->local_building = malloc(sizeof *b->local_building + max_size))) {
+            tsr_error_set(err, TSR_ENOMEM, "out of memory for a %zu-byte image", max_size);
+            return NULL;
+        }
+        return b->local_building->data;
+    }
+    /* `to` is a position in the compositing order, as in transport_send */
+    int peer = to == b->nranks ? 0 : to >= 0 && to < b->nranks ? b->view[to] : -1;
+    if (peer < 0 || peer >= b->nranks || !b->conns[peer]) {
+        tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
+        return NULL;
+    }
+    tsr_error e = {0};
+    int rc = tsr_net_send_reserve(b->conns[peer], max_size, &b->reserved,
+                                  b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    if (rc != TSR_OK) {
+        tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
+                      rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
+        return NULL;
+    }
+    return b->reserved;
+}
+
 /* Participant `to`: a peer rank over its connection, or the display
  * participant (nranks), which lives in rank 0's process. */
 static int transport_send(void *user, int to, const void *data, size_t size, tsr_error *err)
 {
     bswap_spu *b = user;
     if (to == b->nranks && b->rank == 0) {
-        local_msg *m = malloc(sizeof *m + size);
-        if (!m)
+        local_msg *m = b->local_building;
+        if (m && data == m->data) {
+            b->local_building = NULL; /* encoded in place */
+        } else if (!(m = malloc(sizeof *m + size))) {
             return tsr_error_set(err, TSR_ENOMEM, "out of memory for a %zu-byte image", size);
+        } else {
+            memcpy(m->data, data, size);
+        }
         m->next = NULL;
         m->size = size;
-        memcpy(m->data, data, size);
         if (b->local_tail)
             b->local_tail->next = m;
         else
@@ -481,8 +536,11 @@ static int transport_send(void *user, int to, const void *data, size_t size, tsr
     if (peer < 0 || peer >= b->nranks || !b->conns[peer])
         return tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
     tsr_error e = {0};
-    int rc = tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size,
-                          b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
+    int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
+    bool in_place = b->reserved && data == b->reserved;
+    b->reserved = NULL;
+    int rc = in_place ? tsr_net_send_commit(b->conns[peer], BSWAP_KIND_IMAGE, size, wait, &e)
+                      : tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size, wait, &e);
     if (rc != TSR_OK)
         return tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
                              rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
@@ -562,7 +620,8 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
         mine = &b->layer;
     plan(b, mine->window_width, mine->window_height);
     b->last_bytes = 0;
-    tsr_cs_transport t = {.user = b, .send = transport_send, .recv = transport_recv};
+    tsr_cs_transport t = {
+        .user = b, .send = transport_send, .recv = transport_recv, .send_buffer = transport_send_buffer};
     if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
@@ -731,6 +790,25 @@ static int alpha_strategy(bswap_spu *b, tsr_error *err)
 
 static void window_size(void *ctx, int *w, int *h) { render_spu_size(((bswap_spu *)ctx)->render, w, h); }
 
+/* One line per peer pair at the end of the run: which transport carried
+ * this peer's images to each peer and back, and how much of it. */
+static void log_transport_stats(const bswap_spu *b)
+{
+    for (int i = 0; i < b->nranks; i++) {
+        if (!b->conns[i])
+            continue;
+        tsr_net_stats st;
+        tsr_net_conn_stats(b->conns[i], &st);
+        tsr_log(TSR_LOG_INFO,
+                "%s: transport stats rank %d -> rank %d: %s; sent %" PRIu64 " messages %" PRIu64 " bytes (%" PRIu64
+                " messages %" PRIu64 " bytes through shared memory); received %" PRIu64 " messages %" PRIu64
+                " bytes (%" PRIu64 " messages %" PRIu64 " bytes through shared memory)",
+                b->name, b->rank, i, tsr_net_conn_transport(b->conns[i]), st.messages_sent, st.bytes_sent,
+                st.messages_sent_shm, st.bytes_sent_shm, st.messages_received, st.bytes_received,
+                st.messages_received_shm, st.bytes_received_shm);
+    }
+}
+
 static void bswap_destroy(void *self)
 {
     bswap_spu *b = self;
@@ -740,6 +818,8 @@ static void bswap_destroy(void *self)
     bswap_roi_destroy(b->roi);
     release_held(b);
     tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
+    log_transport_stats(b);
+    free(b->local_building);
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
             tsr_net_conn_close(b->conns[i]);
@@ -944,6 +1024,14 @@ static const tsr_option_spec bswap_options[] = {
      .max = 0,
      .help = "image messages: none, rle (active-pixel runs), erle (lossless per-channel RLE), "
              "lossy yuv420, depth16, depth24, or '+'-joined (erle+depth24)"},
+    {.name = "shm",
+     .type = TSR_OPT_BOOL,
+     .default_value = "1",
+     .min = 0,
+     .max = 0,
+     .help = "peers on unix: exchange addresses (one host) pass images through shared memory "
+             "(memfd rings, only a descriptor crosses the socket); 0: through the socket. tcp:// "
+             "peers always use TCP. Each peer logs the transport of every pair at info level"},
     {.name = "mode",
      .type = TSR_OPT_STRING,
      .default_value = "depth",

@@ -14,7 +14,12 @@
  *   bit 1  1 = first a correct handshake (this harness knows the token and
  *          computes the proofs), so the bytes arrive on an open
  *          connection: data, CREDIT, PING, BYE, lying lengths;
- *   bit 2  1 = neither side has a token (the auth=0 handshake).
+ *   bit 2  1 = neither side has a token (the auth=0 handshake);
+ *   bit 3  1 = (server side only) a server with shared memory on (net.h,
+ *          SHARED MEMORY; no token): with bit 1 the harness asks for it
+ *          in its HELLO and hands over a real sealed memfd ring (RING,
+ *          SCM_RIGHTS), so the bytes are ring descriptors, 12-byte
+ *          CREDITs and the rest on a shared-memory connection.
  * Owns: two tsr_nets for the process, a private socket folder. Never:
  * filters inputs (refusing them is netlib's job); waits without a bound (a
  * connection that neither ends nor fails within 10 s aborts: a hang). */
@@ -24,6 +29,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -38,8 +45,9 @@
 typedef struct fuzz_env {
     char dir[64];
     tsr_net *server[2], *client[2]; /* [0] with the token, [1] without */
-    tsr_net_listener *listener[2];
-    char server_path[2][sizeof(((struct sockaddr_un *)0)->sun_path)];
+    tsr_net_listener *listener[3];  /* [2]: the shared-memory server */
+    tsr_net *shm_server;
+    char server_path[3][sizeof(((struct sockaddr_un *)0)->sun_path)];
     char fake_path[sizeof(((struct sockaddr_un *)0)->sun_path)];
     char fake_address[TSR_NET_ADDRESS_MAX];
     int fake_fd;
@@ -60,10 +68,13 @@ static uint64_t now_ms(void)
     return (uint64_t)ts.tv_sec * 1000u + (uint64_t)ts.tv_nsec / 1000000u;
 }
 
-static tsr_net *make_net(const char *name, const char *token)
+#define FUZZ_RING (64u << 10)
+
+static tsr_net *make_net_ring(const char *name, const char *token, uint64_t ring)
 {
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
+    cfg.shm_ring_bytes = ring;
     cfg.node_name = name;
     cfg.token = token;
     cfg.credits = 4;
@@ -76,6 +87,8 @@ static tsr_net *make_net(const char *name, const char *token)
         die(err.message);
     return net;
 }
+
+static tsr_net *make_net(const char *name, const char *token) { return make_net_ring(name, token, 0); }
 
 static int unix_socket_to(const char *path)
 {
@@ -105,6 +118,13 @@ static void setup(void)
         if (!env.listener[t])
             die(err.message);
     }
+    env.shm_server = make_net_ring("fuzz-shm-server", NULL, FUZZ_RING);
+    snprintf(env.server_path[2], sizeof env.server_path[2], "%s/server-shm", env.dir);
+    char address[TSR_NET_ADDRESS_MAX];
+    snprintf(address, sizeof address, "unix:%s", env.server_path[2]);
+    tsr_error err = {0};
+    if (!(env.listener[2] = tsr_net_listen(env.shm_server, address, &err)))
+        die(err.message);
     snprintf(env.fake_path, sizeof env.fake_path, "%s/fake", env.dir);
     snprintf(env.fake_address, sizeof env.fake_address, "unix:%s", env.fake_path);
     env.fake_fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -121,6 +141,8 @@ static void teardown(void)
         tsr_net_destroy(env.server[t]);
         tsr_net_destroy(env.client[t]);
     }
+    tsr_net_listener_close(env.listener[2]);
+    tsr_net_destroy(env.shm_server);
     close(env.fake_fd);
     unlink(env.fake_path);
     rmdir(env.dir);
@@ -191,7 +213,7 @@ static void drain_until_closed(int fd)
 static void send_frame(int fd, uint8_t type, const uint8_t *payload, size_t len)
 {
     uint8_t msg[TSR_NET_HEADER_BYTES + NET_CONTROL_MAX];
-    net_header_encode(msg, TSR_NET_PROTOCOL_VERSION, type, len);
+    net_header_encode(msg, TSR_NET_PROTOCOL_VERSION, type, 0, len);
     memcpy(msg + TSR_NET_HEADER_BYTES, payload, len);
     write_all(fd, msg, TSR_NET_HEADER_BYTES + len);
 }
@@ -231,7 +253,7 @@ static void client_handshake(int fd, int t)
 {
     uint8_t payload[NET_CONTROL_MAX], nonce[NET_AUTH_BYTES], buf[4096];
     net_auth_nonce(nonce);
-    size_t n = net_hello_encode(payload, 4, 1 << 16, "fuzz-peer", t == 0 ? nonce : NULL);
+    size_t n = net_hello_encode(payload, 4, 1 << 16, "fuzz-peer", t == 0 ? nonce : NULL, 0);
     send_frame(fd, NET_HELLO, payload, n);
     size_t len;
     int type = read_msg(fd, buf, &len);
@@ -247,11 +269,52 @@ static void client_handshake(int fd, int t)
         die("a correct handshake was not welcomed");
 }
 
+/* The correct shared-memory handshake with the shm server: HELLO asking
+ * for it, WELCOME granting it, the server's RING, then this side's ring
+ * (a sealed memfd, filled with a pattern) passed with SCM_RIGHTS. */
+static void shm_handshake(int fd)
+{
+    uint8_t payload[NET_CONTROL_MAX], buf[4096];
+    size_t n = net_hello_encode(payload, 4, 1 << 16, "fuzz-shm-peer", NULL, NET_FEATURE_SHM);
+    send_frame(fd, NET_HELLO, payload, n);
+    size_t len;
+    if (read_msg(fd, buf, &len) != NET_WELCOME || !len || buf[len - 1] != NET_FEATURE_SHM)
+        die("a correct shared-memory HELLO was not granted it");
+    if (read_msg(fd, buf, &len) != NET_RING || len != 8) /* (its descriptor is dropped here) */
+        die("the server handed over no ring");
+    int ring = memfd_create("fuzz-ring", MFD_CLOEXEC | MFD_ALLOW_SEALING);
+    if (ring < 0 || ftruncate(ring, FUZZ_RING) || fcntl(ring, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW))
+        die("memfd");
+    uint8_t msg[TSR_NET_HEADER_BYTES + 8];
+    net_header_encode(msg, TSR_NET_PROTOCOL_VERSION, NET_RING, 0, 8);
+    net_put_u64(msg + TSR_NET_HEADER_BYTES, FUZZ_RING);
+    struct iovec iov = {.iov_base = msg, .iov_len = sizeof msg};
+    union {
+        char b[CMSG_SPACE(sizeof(int))];
+        struct cmsghdr align;
+    } u;
+    memset(&u, 0, sizeof u);
+    struct msghdr mh = {.msg_iov = &iov, .msg_iovlen = 1, .msg_control = u.b, .msg_controllen = sizeof u.b};
+    struct cmsghdr *cm = CMSG_FIRSTHDR(&mh);
+    cm->cmsg_level = SOL_SOCKET;
+    cm->cmsg_type = SCM_RIGHTS;
+    cm->cmsg_len = CMSG_LEN(sizeof(int));
+    memcpy(CMSG_DATA(cm), &ring, sizeof(int));
+    if (sendmsg(fd, &mh, MSG_NOSIGNAL) != (ssize_t)sizeof msg)
+        die("sendmsg RING");
+    close(ring);
+}
+
 static void fuzz_server(const uint8_t *data, size_t size, int proven, int t)
 {
     int fd = unix_socket_to(env.server_path[t]);
     tsr_net_conn *c = NULL;
-    if (proven) {
+    if (proven && t == 2) {
+        shm_handshake(fd);
+        tsr_error err;
+        if (!(c = tsr_net_accept(env.listener[t], FUZZ_BOUND_MS, &err)))
+            die("a welcomed shared-memory connection did not reach accept");
+    } else if (proven) {
         client_handshake(fd, t);
         tsr_error err;
         c = tsr_net_accept(env.listener[t], FUZZ_BOUND_MS, &err);
@@ -300,9 +363,9 @@ static void *fake_server_main(void *arg)
             if (!net_auth_equal(buf, want))
                 die("netlib's client sent a wrong proof");
             net_auth_proof(FUZZ_TOKEN, "server", h.auth, nonce, proof);
-            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", proof);
+            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", proof, 0);
         } else {
-            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", NULL);
+            n = net_hello_encode(payload, 4, 1 << 16, "fuzz-fake", NULL, 0);
         }
         send_frame(fd, NET_WELCOME, payload, n);
     }
@@ -334,7 +397,9 @@ static void run_one(const uint8_t *data, size_t size)
         return;
     unsigned mode = data[0];
     int client = mode & 1, proven = (mode >> 1) & 1, t = (mode >> 2) & 1;
-    if (client)
+    if ((mode >> 3) & 1)
+        t = 2; /* the shared-memory server (no token) */
+    if (client && t < 2)
         fuzz_client(data + 1, size - 1, proven, t);
     else
         fuzz_server(data + 1, size - 1, proven, t);
@@ -429,7 +494,7 @@ static void put(seed *s, const void *p, size_t n)
 static void frame(seed *s, uint16_t version, uint8_t type, const void *payload, size_t len)
 {
     uint8_t h[TSR_NET_HEADER_BYTES];
-    net_header_encode(h, version, type, len);
+    net_header_encode(h, version, type, 0, len);
     put(s, h, sizeof h);
     put(s, payload, len);
 }
@@ -438,7 +503,7 @@ static void hello(seed *s, uint8_t type, int with_auth)
 {
     uint8_t payload[NET_CONTROL_MAX], nonce[NET_AUTH_BYTES];
     net_auth_nonce(nonce);
-    size_t n = net_hello_encode(payload, 4, 1 << 16, "seed-peer", with_auth ? nonce : NULL);
+    size_t n = net_hello_encode(payload, 4, 1 << 16, "seed-peer", with_auth ? nonce : NULL, 0);
     frame(s, TSR_NET_PROTOCOL_VERSION, type, payload, n);
 }
 
@@ -468,7 +533,26 @@ static void write_seed(const char *dir, const char *name, const seed *s)
     run_one(s->b, s->n); /* every seed must also run */
 }
 
-enum { M_SERVER = 0, M_CLIENT = 1, M_OPEN = 2, M_NO_TOKEN = 4 };
+enum { M_SERVER = 0, M_CLIENT = 1, M_OPEN = 2, M_NO_TOKEN = 4, M_SHM = 8 };
+
+/* A data message whose payload is a ring descriptor (net.h, SHARED MEMORY). */
+static void descriptor(seed *s, uint64_t pos, uint64_t len)
+{
+    uint8_t h[TSR_NET_HEADER_BYTES], d[NET_SHM_DESC_BYTES];
+    net_header_encode(h, TSR_NET_PROTOCOL_VERSION, 0x20, NET_FLAG_SHM, sizeof d);
+    net_put_u64(d, pos);
+    net_put_u64(d + 8, len);
+    put(s, h, sizeof h);
+    put(s, d, sizeof d);
+}
+
+static void shm_credit(seed *s, uint32_t count, uint64_t pos)
+{
+    uint8_t c[12];
+    net_put_u32(c, count);
+    net_put_u64(c + 4, pos);
+    frame(s, TSR_NET_PROTOCOL_VERSION, NET_CREDIT, c, sizeof c);
+}
 
 static void write_seeds(const char *dir)
 {
@@ -504,6 +588,27 @@ static void write_seeds(const char *dir)
          frame(&s, TSR_NET_PROTOCOL_VERSION, NET_CHALLENGE, nonce, sizeof nonce));
     SEED("client-open-traffic", M_CLIENT | M_OPEN, data_traffic(&s));
     SEED("client-open-no-token-traffic", M_CLIENT | M_OPEN | M_NO_TOKEN, data_traffic(&s));
+    /* a shared-memory server reads */
+    uint8_t hp[NET_CONTROL_MAX];
+    size_t hn = net_hello_encode(hp, 4, 1 << 16, "seed-shm", NULL, NET_FEATURE_SHM);
+    SEED("shm-hello-features", M_SERVER | M_SHM, frame(&s, TSR_NET_PROTOCOL_VERSION, NET_HELLO, hp, hn));
+    SEED("shm-hello-unknown-feature", M_SERVER | M_SHM, hp[hn - 1] = 0x82;
+         frame(&s, TSR_NET_PROTOCOL_VERSION, NET_HELLO, hp, hn); hp[hn - 1] = NET_FEATURE_SHM);
+    SEED("shm-hello-then-descriptor-before-ring", M_SERVER | M_SHM,
+         frame(&s, TSR_NET_PROTOCOL_VERSION, NET_HELLO, hp, hn);
+         descriptor(&s, 0, 10));
+    SEED("shm-open-descriptors", M_SERVER | M_SHM | M_OPEN, descriptor(&s, 0, 100); descriptor(&s, 128, 0);
+         descriptor(&s, 192, 4000));
+    SEED("shm-open-next-lap-and-rewind", M_SERVER | M_SHM | M_OPEN, descriptor(&s, 0, 40000);
+         descriptor(&s, FUZZ_RING, 20000); descriptor(&s, 2 * FUZZ_RING, 64));
+    SEED("shm-open-outside-ring", M_SERVER | M_SHM | M_OPEN, descriptor(&s, FUZZ_RING - 64, 65));
+    SEED("shm-open-huge-length", M_SERVER | M_SHM | M_OPEN, descriptor(&s, 0, UINT64_MAX));
+    SEED("shm-open-overlap", M_SERVER | M_SHM | M_OPEN, descriptor(&s, 0, FUZZ_RING / 2);
+         descriptor(&s, FUZZ_RING / 2, FUZZ_RING / 4); descriptor(&s, FUZZ_RING, 64));
+    SEED("shm-open-credits", M_SERVER | M_SHM | M_OPEN, shm_credit(&s, 1, 0); shm_credit(&s, 1, 1 << 20);
+         frame(&s, TSR_NET_PROTOCOL_VERSION, NET_CREDIT, "\1\0\0\0", 4));
+    SEED("shm-open-second-ring", M_SERVER | M_SHM | M_OPEN, shm_credit(&s, 0, 0);
+         frame(&s, TSR_NET_PROTOCOL_VERSION, NET_RING, "\0\0\1\0\0\0\0\0", 8));
 #undef SEED
 }
 

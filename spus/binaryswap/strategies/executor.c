@@ -57,15 +57,21 @@ static int send_piece(tsr_cs_executor *ex, const tsr_sparse_image *img, int to, 
                       tsr_error *err)
 {
     size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, ex->codec), len = 0;
-    if (need > ex->buf_cap) {
+    uint8_t *dst = ex->buf;
+    size_t cap = ex->buf_cap;
+    if (t->send_buffer) { /* where the transport sends from (shared memory) */
+        if (!(dst = t->send_buffer(t->user, to, need, err)))
+            return err->code ? err->code : TSR_EIO;
+        cap = need;
+    } else if (need > ex->buf_cap) {
         uint8_t *b = realloc(ex->buf, need);
         if (!b)
             return tsr_error_set(err, TSR_ENOMEM, "composite: no memory for a %zu-byte message", need);
-        ex->buf = b;
-        ex->buf_cap = need;
+        dst = ex->buf = b;
+        cap = ex->buf_cap = need;
     }
-    int rc = tsr_image_message_encode(img, ex->codec, ex->buf, ex->buf_cap, &len, err);
-    if (rc || (rc = t->send(t->user, to, ex->buf, len, err)))
+    int rc = tsr_image_message_encode(img, ex->codec, dst, cap, &len, err);
+    if (rc || (rc = t->send(t->user, to, dst, len, err)))
         return rc;
     ex->stats.bytes_sent += len;
     ex->stats.messages_sent++;

@@ -145,6 +145,12 @@ typedef struct tsr_cs_transport {
      * transport's own time-out; an error names the peer). The buffer stays
      * valid until the next recv call. */
     int (*recv)(void *user, int from, const void **data, size_t *size, tsr_error *err);
+    /* Optional (NULL: the executor encodes into a buffer of its own): a
+     * buffer of at least max_size bytes for the next message to `to`. The
+     * executor encodes straight into it and passes it to send (data == the
+     * buffer, size <= max_size), so a transport over shared memory gets
+     * the message where it travels, never copied. NULL return: the error. */
+    void *(*send_buffer)(void *user, int to, size_t max_size, tsr_error *err);
 } tsr_cs_transport;
 
 typedef struct tsr_cs_executor tsr_cs_executor;
