@@ -25,6 +25,7 @@
 #include "faker_gl.h"
 #include "spu/glapi_internal.h"
 #include "tessera/chain.h"
+#include "tessera/dev/native.h"
 #include "tessera/glapi.h"
 #include "tessera/log.h"
 
@@ -369,6 +370,7 @@ void tsr_faker_surface_destroy(tsr_faker_surface *s)
         }
     if (s->on_stream && chain)
         tsr_call_WindowDestroyTSR(tsr_chain_head(chain), s->window);
+    tsr_native_window_set(s->window, NULL, 0);
     if (cur_surface == s)
         cur_surface = NULL;
     free(s);
@@ -406,6 +408,10 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         poll_locked();
         draw->width = draw->x_width;
         draw->height = draw->x_height;
+        /* For SPUs of this process that draw back into the program's own
+         * window (render window_output=app), before they see the window. */
+        if (draw->xid)
+            tsr_native_window_set(draw->window, xconn_name, draw->xid);
         tsr_call_WindowCreateTSR(head, draw->window, draw->width, draw->height);
         draw->on_stream = true;
     } else if (draw) {
