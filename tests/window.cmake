@@ -19,3 +19,16 @@ if(TARGET tessera_faker_gl)
   set_tests_properties(window_output_app_glxgears_window_drawn_back_equals_its_png PROPERTIES
                        TIMEOUT 60 SKIP_RETURN_CODE 77 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
 endif()
+
+# `tessera exec --graph`: glxgears as the app node of examples/graphs/tcp.yaml
+# and wall_display.yaml (tests/faker/exec_graph.sh).
+if(TARGET tiles_driver AND TARGET tessera_faker_gl)
+  foreach(graph tcp)
+    add_test(NAME faker_exec_graph_${graph}_runs_glxgears_as_its_app_node
+             COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/faker/exec_graph.sh ${CMAKE_BINARY_DIR}/bin
+                     ${CMAKE_SOURCE_DIR}/examples/graphs/${graph}.yaml ${graph} ${FAKER_OUT}/exec_graph_${graph}
+                     $<TARGET_FILE:tiles_driver> $<TARGET_FILE:faker_frames>)
+    set_tests_properties(faker_exec_graph_${graph}_runs_glxgears_as_its_app_node PROPERTIES
+                         SKIP_RETURN_CODE 77 TIMEOUT 120 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
+  endforeach()
+endif()

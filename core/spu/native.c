@@ -36,7 +36,7 @@ int tsr_native_window_set(int window, const char *x_display, unsigned long xid)
             (*p)->window = window;
         if (*p) {
             (*p)->xid = xid;
-            snprintf((*p)->display, sizeof (*p)->display, "%s", x_display ? x_display : "");
+            snprintf((*p)->display, sizeof(*p)->display, "%s", x_display ? x_display : "");
         } else {
             rc = -1;
         }

@@ -37,8 +37,8 @@
 enum { XW_OWN = 1, XW_APP = 2 };
 
 typedef struct xw_tile {
-    int x, y, w, h;       /* window pixels, origin bottom-left */
-    unsigned char *rgba;  /* bottom row first, rows packed */
+    int x, y, w, h;      /* window pixels, origin bottom-left */
+    unsigned char *rgba; /* bottom row first, rows packed */
     size_t cap;
 } xw_tile;
 
@@ -126,8 +126,8 @@ static bool image_make(render_xwindow *x, int w, int h)
         return true;
     image_free(x);
     if (x->shm_ok) {
-        XImage *img = XShmCreateImage(x->dpy, x->visual, (unsigned)x->depth, ZPixmap, NULL, &x->shm, (unsigned)w,
-                                      (unsigned)h);
+        XImage *img =
+            XShmCreateImage(x->dpy, x->visual, (unsigned)x->depth, ZPixmap, NULL, &x->shm, (unsigned)w, (unsigned)h);
         if (img) {
             x->shm.shmid = shmget(IPC_PRIVATE, (size_t)img->bytes_per_line * (size_t)h, IPC_CREAT | 0600);
             if (x->shm.shmid >= 0) {
@@ -154,7 +154,8 @@ static bool image_make(render_xwindow *x, int w, int h)
                 DisplayString(x->dpy));
         x->shm_ok = false;
     }
-    XImage *img = XCreateImage(x->dpy, x->visual, (unsigned)x->depth, ZPixmap, 0, NULL, (unsigned)w, (unsigned)h, 32, 0);
+    XImage *img =
+        XCreateImage(x->dpy, x->visual, (unsigned)x->depth, ZPixmap, 0, NULL, (unsigned)w, (unsigned)h, 32, 0);
     if (!img)
         return false;
     img->data = malloc((size_t)img->bytes_per_line * (size_t)h);
@@ -209,7 +210,8 @@ static void image_put_tile(render_xwindow *x, const xw_tile *t, int dx, int dy)
             const unsigned char *p = src + (size_t)col * 4;
             unsigned long v = 0;
             for (int c = 0; c < 3; c++) {
-                unsigned long ch = bits[c] >= 8 ? (unsigned long)p[c] << (bits[c] - 8) : (unsigned long)p[c] >> (8 - bits[c]);
+                unsigned long ch =
+                    bits[c] >= 8 ? (unsigned long)p[c] << (bits[c] - 8) : (unsigned long)p[c] >> (8 - bits[c]);
                 v |= ch << shift[c];
             }
             if (fast) {
@@ -365,8 +367,7 @@ render_xwindow *render_xwindow_create(const tsr_spu_init *init, tsr_error *err)
         *vals[k][1] = (int)tsr_options_int_at(init->options, names[k], 1);
     }
     if ((x->size_w == 0) != (x->size_h == 0)) {
-        tsr_error_set(err, TSR_EINVAL, "%s: option x_size=%d,%d: give both or neither", x->name, x->size_w,
-                      x->size_h);
+        tsr_error_set(err, TSR_EINVAL, "%s: option x_size=%d,%d: give both or neither", x->name, x->size_w, x->size_h);
         free(x);
         return NULL;
     }
@@ -485,8 +486,8 @@ void render_xwindow_done(void *ctx, int frame, int window, int width, int height
     else
         XPutImage(x->dpy, x->win, x->gc, x->img, 0, 0, 0, 0, (unsigned)iw, (unsigned)ih);
     if (guard_end(x->dpy) && !x->warned) {
-        tsr_log(TSR_LOG_ERROR, "%s: frame %d: the X server refused the image for window 0x%lx (logged once)",
-                x->name, frame, x->win);
+        tsr_log(TSR_LOG_ERROR, "%s: frame %d: the X server refused the image for window 0x%lx (logged once)", x->name,
+                frame, x->win);
         x->warned = true;
     }
 }
