@@ -32,3 +32,10 @@ if(TARGET tiles_driver AND TARGET tessera_faker_gl)
                          SKIP_RETURN_CODE 77 TIMEOUT 120 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
   endforeach()
 endif()
+if(TARGET tessera_faker_gl)
+  add_test(NAME faker_exec_graph_pixel_tiles_larger_than_the_program_window_fail_naming_both_sizes
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/faker/exec_tiles_mismatch.sh ${CMAKE_BINARY_DIR}/bin
+                   ${CMAKE_SOURCE_DIR}/examples/graphs/wall.yaml ${FAKER_OUT}/exec_tiles_mismatch)
+  set_tests_properties(faker_exec_graph_pixel_tiles_larger_than_the_program_window_fail_naming_both_sizes
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 90 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
+endif()

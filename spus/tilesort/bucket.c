@@ -357,21 +357,34 @@ static int kd_visit(ts_tiling *t, size_t k, double x0, double y0, double x1, dou
     return changed;
 }
 
-void ts_tiling_window(ts_tiling *t, int w, int h)
+int ts_tiling_window(ts_tiling *t, int w, int h, char *why, size_t why_size)
 {
     if (t->mode != TS_BALANCE) {
+        int need_w = 0, need_h = 0;
+        const ts_rect *worst = NULL;
+        size_t worst_server = 0;
         for (size_t s = 0; s < t->servers; s++)
             for (size_t i = 0; i < t->ntiles[s]; i++) {
                 const ts_rect *r = &t->tiles[s][i];
-                if (r->x + r->w > w || r->y + r->h > h)
-                    tsr_log(TSR_LOG_WARN,
-                            "tilesort: tile [%d, %d, %d, %d] of server %zu reaches outside the %dx%d window", r->x,
-                            r->y, r->w, r->h, s, w, h);
+                need_w = r->x + r->w > need_w ? r->x + r->w : need_w;
+                need_h = r->y + r->h > need_h ? r->y + r->h : need_h;
+                if (!worst && (r->x + r->w > w || r->y + r->h > h)) {
+                    worst = r;
+                    worst_server = s;
+                }
             }
-        return;
+        if (worst) {
+            snprintf(why, why_size,
+                     "the program's window is %dx%d but the tiles cover %dx%d (tile [%d, %d, %d, %d] of server %zu "
+                     "reaches outside it): give the graph's window: and tiles: the size of the window the program "
+                     "opens",
+                     w, h, need_w, need_h, worst->x, worst->y, worst->w, worst->h, worst_server);
+            return -1;
+        }
+        return 0;
     }
     if (w == t->window_w && h == t->window_h && t->split_ready)
-        return;
+        return 0;
     t->window_w = w;
     t->window_h = h;
     free(t->cost);
@@ -383,10 +396,11 @@ void ts_tiling_window(ts_tiling *t, int w, int h)
     if (!t->cost || !t->kd) {
         tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; sending to every server");
         t->mode = TS_BROADCAST;
-        return;
+        return 0;
     }
     kd_visit(t, 0, 0, 0, w, h, 0, t->servers, 1, 0);
     t->split_ready = 1;
+    return 0;
 }
 
 void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes)
