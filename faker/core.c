@@ -105,6 +105,24 @@ void (*tsr_faker_gl_proc(const char *name))(void)
 
 /* --- chain --------------------------------------------------------------- */
 
+/* A program that returns from main or calls exit() ends its stream as a
+ * tessera program does: the chain is destroyed (network SPUs send FINISH
+ * and wait until their servers drew every buffer), so a graph run sees the
+ * application end cleanly instead of a dropped connection. An atexit
+ * handler made with the chain, not a destructor: it runs before the
+ * libraries' destructors (the SPUs' OSMesa must still be there). */
+static void chain_at_exit(void)
+{
+    pthread_mutex_lock(&lock);
+    tsr_chain *c = chain;
+    chain = NULL;
+    pthread_mutex_unlock(&lock);
+    if (c) {
+        tsr_gl_current_table = NULL;
+        tsr_chain_destroy(c);
+    }
+}
+
 static const tsr_dispatch *head_locked(void)
 {
     if (chain)
@@ -116,6 +134,8 @@ static const tsr_dispatch *head_locked(void)
         text = "render";
     tsr_error err = {0};
     chain = tsr_chain_create(text, &err);
+    if (chain)
+        atexit(chain_at_exit);
     if (!chain) {
         chain_failed = true;
         tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);

@@ -39,3 +39,14 @@ if(TARGET tessera_faker_gl)
   set_tests_properties(faker_exec_graph_pixel_tiles_larger_than_the_program_window_fail_naming_both_sizes
                        PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 90 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
 endif()
+if(TARGET tessera_faker_gl)
+  add_executable(window_exec_resize ${WINDOW_TEST_DIR}/exec_resize.c)
+  target_link_libraries(window_exec_resize PRIVATE tessera_faker_gl PkgConfig::RENDER_X11)
+endif()
+if(TARGET tessera_faker_gl)
+  add_test(NAME window_exec_grid_wall_follows_a_resize_and_every_frame_is_exact
+           COMMAND bash ${WINDOW_TEST_DIR}/exec_grid_resize.sh ${CMAKE_BINARY_DIR}/bin
+                   $<TARGET_FILE:window_exec_resize> ${WINDOW_TEST_DIR}/grid_wall.yaml ${WINDOW_OUT}/grid_resize)
+  set_tests_properties(window_exec_grid_wall_follows_a_resize_and_every_frame_is_exact PROPERTIES
+                       TIMEOUT 120 SKIP_RETURN_CODE 77 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
+endif()

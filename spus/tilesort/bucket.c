@@ -196,6 +196,38 @@ int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char
     return TSR_OK;
 }
 
+int ts_tiling_grid(ts_tiling *t, int cols, int rows, int w, int h, const char *who, tsr_error *err)
+{
+    if (w < cols || h < rows)
+        return tsr_error_set(err, TSR_EINVAL, "%s: grid=%d,%d: the program's window %dx%d has fewer pixels than cells",
+                             who, cols, rows, w, h);
+    size_t n = (size_t)cols * (size_t)rows;
+    char(*text)[128] = calloc(n, sizeof *text);
+    const char **items = calloc(n, sizeof *items);
+    if (!text || !items) {
+        free(text);
+        free(items);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    /* Server r * cols + c: column c from the left, row r from the bottom,
+     * as a wall's tiles: [[0, 0, ..]] is server 0 (examples/graphs). */
+    for (int r = 0; r < rows; r++)
+        for (int c = 0; c < cols; c++) {
+            size_t s = (size_t)r * (size_t)cols + (size_t)c;
+            long x0 = (long)c * w / cols, x1 = (long)(c + 1) * w / cols;
+            long y0 = (long)r * h / rows, y1 = (long)(r + 1) * h / rows;
+            snprintf(text[s], sizeof text[s], "%zu:%ld:%ld:%ld:%ld", s, x0, y0, x1 - x0, y1 - y0);
+            items[s] = text[s];
+        }
+    double damping = t->damping;
+    ts_tiling_free(t);
+    int rc = ts_tiling_init(t, TS_GRID, n, items, n, who, err);
+    t->damping = damping;
+    free(text);
+    free(items);
+    return rc;
+}
+
 void ts_tiling_free(ts_tiling *t)
 {
     for (size_t s = 0; t->tiles && s < t->servers; s++)

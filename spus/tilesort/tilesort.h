@@ -55,6 +55,9 @@ typedef struct ts_tiling {
 int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char *const *items, size_t nitems,
                    const char *who, tsr_error *err);
 void ts_tiling_free(ts_tiling *t);
+/* option grid=C,R: (re)makes the tiling as C columns x R rows dividing a
+ * w x h window (server r*C+c: column c, row r from the bottom). */
+int ts_tiling_grid(ts_tiling *t, int cols, int rows, int w, int h, const char *who, tsr_error *err);
 /* The window size became w x h: the load-balanced mode makes its first
  * (uniform) split; other modes check that the tiles fit: -1 with `why`
  * naming both sizes and the first tile outside when they do not. */
