@@ -45,7 +45,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "window_exec_resize: cannot open display\n");
         return 1;
     }
-    int attrs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
+    int attrs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8,   GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE,
+                   8,        GLX_DEPTH_SIZE,   24,           None};
     XVisualInfo *vi = glXChooseVisual(d, DefaultScreen(d), attrs);
     if (!vi) {
         fprintf(stderr, "window_exec_resize: no visual\n");
