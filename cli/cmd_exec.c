@@ -48,6 +48,9 @@ static void exec_usage(FILE *out)
             "  --graph GRAPH    run the graph (as tessera run) with PROGRAM ARGS as the exec\n"
             "                   of its app node; --out DIR is then the run's directory\n"
             "  --node NAME      that app node (default: the graph's only app node)\n"
+            "                   With --graph the exit code is the run's (0: every node ended\n"
+            "                   cleanly); any app node whose program is not linked to\n"
+            "                   libtessera_gl runs under the faker, also in tessera run.\n"
             "  -h, --help       show this help\n\n"
             "environment: TESSERA_FAKER_DIR overrides where the faker's libraries are\n"
             "(built: %s, installed: %s).\n",
