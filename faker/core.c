@@ -200,6 +200,36 @@ static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei 
 
 /* --- contexts ------------------------------------------------------------ */
 
+static void faker_NewList(void *self, GLuint list, GLenum mode);
+static void faker_EndList(void *self);
+
+/* A context's table is a copy of the chain head's, and an SPU may change
+ * its head table while the stream runs (tilesort compiles display lists
+ * through a recording table from glNewList to glEndList): the copy is
+ * taken again after those calls, so the context follows the change. */
+static void context_table(tsr_faker_context *c, const tsr_dispatch *head)
+{
+    c->table = *head;
+    tsr_set_GetString(&c->table, faker_GetString, c);
+    tsr_set_Viewport(&c->table, faker_Viewport, c);
+    tsr_set_NewList(&c->table, faker_NewList, c);
+    tsr_set_EndList(&c->table, faker_EndList, c);
+}
+
+static void faker_NewList(void *self, GLuint list, GLenum mode)
+{
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_call_NewList(head, list, mode);
+    context_table(self, head);
+}
+
+static void faker_EndList(void *self)
+{
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_call_EndList(head);
+    context_table(self, head);
+}
+
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
 {
     (void)share; /* the renderer's contexts form one share group */
@@ -208,9 +238,7 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
     tsr_faker_context *c = head ? calloc(1, sizeof *c) : NULL;
     if (c) {
         c->id = next_context_id++;
-        c->table = *head;
-        tsr_set_GetString(&c->table, faker_GetString, c);
-        tsr_set_Viewport(&c->table, faker_Viewport, c);
+        context_table(c, head);
         c->next = contexts;
         contexts = c;
     }

@@ -23,7 +23,7 @@ endif()
 # `tessera exec --graph`: glxgears as the app node of examples/graphs/tcp.yaml
 # and wall_display.yaml (tests/faker/exec_graph.sh).
 if(TARGET tiles_driver AND TARGET tessera_faker_gl)
-  foreach(graph tcp)
+  foreach(graph tcp wall_display)
     add_test(NAME faker_exec_graph_${graph}_runs_glxgears_as_its_app_node
              COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/faker/exec_graph.sh ${CMAKE_BINARY_DIR}/bin
                      ${CMAKE_SOURCE_DIR}/examples/graphs/${graph}.yaml ${graph} ${FAKER_OUT}/exec_graph_${graph}
