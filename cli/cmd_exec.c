@@ -1,10 +1,14 @@
-/* cli/cmd_exec.c — `tessera exec [--chain CHAIN] [--out PATTERN] -- PROGRAM
- * ARGS...`: runs an unmodified OpenGL program under the faker (faker/:
- * libGL.so.1, libEGL.so.1, libOpenGL.so.0). It puts the faker's directory
- * first in LD_LIBRARY_PATH, sets TESSERA_CHAIN and then exec()s the
- * program in place of itself: no process stays between the user and the
- * program, so its exit status, the signal that ends it, its standard
- * input, output and error are exactly the program's own. */
+/* cli/cmd_exec.c — `tessera exec [--chain CHAIN | --graph GRAPH [--node
+ * NAME]] [--out PATTERN|DIR] -- PROGRAM ARGS...`: runs an unmodified OpenGL
+ * program under the faker (faker/: libGL.so.1, libEGL.so.1,
+ * libOpenGL.so.0). With a chain it puts the faker's directory first in
+ * LD_LIBRARY_PATH, sets TESSERA_CHAIN and then exec()s the program in place
+ * of itself: no process stays between the user and the program, so its
+ * exit status, the signal that ends it, its standard input, output and
+ * error are exactly the program's own. With a graph it is `tessera run
+ * GRAPH` with the program as the exec of the app node (--node, or the
+ * graph's only one); the node runs it under the faker (mothership/faker.h)
+ * and the run's exit code is the run's verdict. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,7 +33,8 @@
 static void exec_usage(FILE *out)
 {
     fprintf(out,
-            "usage: tessera exec [--chain CHAIN] [--out PATTERN] -- PROGRAM [ARGS...]\n\n"
+            "usage: tessera exec [--chain CHAIN] [--out PATTERN] -- PROGRAM [ARGS...]\n"
+            "       tessera exec --graph GRAPH [--node NAME] [--out DIR] -- PROGRAM [ARGS...]\n\n"
             "Runs an unmodified OpenGL program (GLX or EGL, e.g. glxgears) with tessera's\n"
             "faker libGL.so.1 / libEGL.so.1 / libOpenGL.so.0 in place of the system's: its\n"
             "GL calls enter an SPU chain in its own process. The program replaces this\n"
@@ -40,6 +45,12 @@ static void exec_usage(FILE *out)
             "                   \"%s\", {out} = PATTERN)\n"
             "  --out PATTERN    PNG per frame of the default chain, one %%d for the frame\n"
             "                   number (default out/PROGRAM-%%04d.png; out/ is created)\n"
+            "  --graph GRAPH    run the graph (as tessera run) with PROGRAM ARGS as the exec\n"
+            "                   of its app node; --out DIR is then the run's directory\n"
+            "  --node NAME      that app node (default: the graph's only app node)\n"
+            "                   With --graph the exit code is the run's (0: every node ended\n"
+            "                   cleanly); any app node whose program is not linked to\n"
+            "                   libtessera_gl runs under the faker, also in tessera run.\n"
             "  -h, --help       show this help\n\n"
             "environment: TESSERA_FAKER_DIR overrides where the faker's libraries are\n"
             "(built: %s, installed: %s).\n",
@@ -53,9 +64,24 @@ static int has_faker(const char *dir)
     return dir[0] && access(path, R_OK) == 0;
 }
 
+const char *tsr_cli_faker_dir(void)
+{
+    const char *dir = getenv("TESSERA_FAKER_DIR");
+    if (!dir || !dir[0])
+        dir = has_faker(TESSERA_BUILD_FAKER_DIR) ? TESSERA_BUILD_FAKER_DIR : TESSERA_INSTALL_FAKER_DIR;
+    return has_faker(dir) ? dir : "";
+}
+
+void tsr_cli_export_faker_dir(void)
+{
+    const char *dir = tsr_cli_faker_dir();
+    if (dir[0] && !getenv("TESSERA_FAKER_DIR"))
+        setenv("TESSERA_FAKER_DIR", dir, 1);
+}
+
 int cmd_exec(int argc, char **argv)
 {
-    const char *chain = NULL, *out = NULL;
+    const char *chain = NULL, *out = NULL, *graph = NULL, *node = NULL;
     int i = 1;
     for (; i < argc; i++) {
         const char *a = argv[i];
@@ -67,15 +93,16 @@ int cmd_exec(int argc, char **argv)
             exec_usage(stdout);
             return TSR_EXIT_OK;
         }
-        if (!strcmp(a, "--chain") || !strcmp(a, "--out")) {
+        if (!strcmp(a, "--chain") || !strcmp(a, "--out") || !strcmp(a, "--graph") || !strcmp(a, "--node")) {
             if (i + 1 >= argc) {
                 fprintf(stderr, "tessera exec: %s needs a value (see --help)\n", a);
                 return TSR_EXIT_USAGE;
             }
-            if (!strcmp(a, "--chain"))
-                chain = argv[++i];
-            else
-                out = argv[++i];
+            const char **slot = !strcmp(a, "--chain")   ? &chain
+                                : !strcmp(a, "--out")   ? &out
+                                : !strcmp(a, "--graph") ? &graph
+                                                        : &node;
+            *slot = argv[++i];
             continue;
         }
         if (a[0] == '-') {
@@ -89,12 +116,29 @@ int cmd_exec(int argc, char **argv)
         return TSR_EXIT_USAGE;
     }
     char **program = argv + i;
+    if (node && !graph) {
+        fprintf(stderr, "tessera exec: --node needs --graph (see --help)\n");
+        return TSR_EXIT_USAGE;
+    }
+    if (graph) {
+        if (chain) {
+            fprintf(stderr, "tessera exec: --chain and --graph exclude each other: the graph gives the chains\n");
+            return TSR_EXIT_USAGE;
+        }
+        /* The node resolves a relative path against the graph's folder
+         * first: a program given on the command line is the user's. */
+        char abs[4096];
+        if (strchr(program[0], '/') && realpath(program[0], abs))
+            program[0] = abs;
+        char *run_argv[] = {"exec", (char *)graph, out ? "--out" : NULL, (char *)out, NULL};
+        return tsr_cli_run_graph_exec(out ? 4 : 2, run_argv, 1, node, program);
+    }
 
-    const char *dir = getenv("TESSERA_FAKER_DIR");
-    if (!dir || !dir[0])
-        dir = has_faker(TESSERA_BUILD_FAKER_DIR) ? TESSERA_BUILD_FAKER_DIR : TESSERA_INSTALL_FAKER_DIR;
-    if (!has_faker(dir)) {
-        fprintf(stderr, "tessera exec: the faker's libGL.so.1 is not in %s\n", dir[0] ? dir : "(no directory)");
+    const char *dir = tsr_cli_faker_dir();
+    if (!dir[0]) {
+        const char *asked = getenv("TESSERA_FAKER_DIR");
+        fprintf(stderr, "tessera exec: the faker's libGL.so.1 is not in %s\n",
+                asked && asked[0] ? asked : TESSERA_BUILD_FAKER_DIR);
         return TSR_EXIT_FAIL;
     }
 

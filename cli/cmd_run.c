@@ -171,7 +171,47 @@ int tsr_cli_run_graph(int argc, char **argv, int launch)
     return tsr_cli_run_graph_as(argc, argv, launch, NULL, NULL);
 }
 
+static int run_graph(int argc, char **argv, int launch, const char *const *app_exec, const char *as, const char *node,
+                     char **program);
+
 int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *app_exec, const char *as)
+{
+    return run_graph(argc, argv, launch, app_exec, as, NULL, NULL);
+}
+
+int tsr_cli_run_graph_exec(int argc, char **argv, int launch, const char *node, char **program)
+{
+    return run_graph(argc, argv, launch, NULL, "tessera exec", node, program);
+}
+
+/* The app node `tessera exec --graph` runs its program as: `name`, else
+ * the single app node. NULL with one line said when there is none. */
+static const tsr_graph_node *exec_node(const char *who, const tsr_graph *graph, const char *name)
+{
+    if (name) {
+        const tsr_graph_node *n = tsr_graph_find(graph, name);
+        if (!n)
+            fprintf(stderr, "%s: --node %s: %s has no node of that name\n", who, name, tsr_graph_file(graph));
+        else if (!n->exec)
+            fprintf(stderr, "%s: --node %s: in %s it is a server, not an app node (no exec:)\n", who, name,
+                    tsr_graph_file(graph));
+        return n && n->exec ? n : NULL;
+    }
+    const tsr_graph_node *app = NULL;
+    size_t apps = 0;
+    for (size_t i = 0; i < tsr_graph_node_count(graph); i++)
+        if (tsr_graph_node_at(graph, i)->exec && apps++ == 0)
+            app = tsr_graph_node_at(graph, i);
+    if (apps != 1) {
+        fprintf(stderr, "%s: %s has %zu app nodes: name the program's with --node NAME\n", who, tsr_graph_file(graph),
+                apps);
+        return NULL;
+    }
+    return app;
+}
+
+static int run_graph(int argc, char **argv, int launch, const char *const *app_exec, const char *as, const char *node,
+                     char **program)
 {
     const char *who = as ? as : launch ? "tessera run" : "tessera mothership";
     void (*usage)(FILE *) = launch ? run_usage : mothership_usage;
@@ -234,6 +274,11 @@ int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *a
         fprintf(stderr, "%s\n", err.message);
         return err.code == TSR_ENOMEM ? TSR_EXIT_FAIL : TSR_EXIT_USAGE;
     }
+    const tsr_graph_node *app = NULL;
+    if (program && !(app = exec_node(who, graph, node))) {
+        tsr_graph_free(graph);
+        return TSR_EXIT_USAGE;
+    }
     char self[PATH_MAX];
     ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
     if (n <= 0) {
@@ -287,6 +332,8 @@ int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *a
         .on_listening = launch ? NULL : print_listening,
         .interrupted = &interrupted,
         .app_exec = app_exec,
+        .exec_node = app ? app->name : NULL,
+        .exec_argv = (const char *const *)program,
     };
     int rc = tsr_mothership_run(graph, &cfg, &err);
     tsr_graph_free(graph);

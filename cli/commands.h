@@ -29,6 +29,15 @@ int tsr_cli_run_graph(int argc, char **argv, int launch);
  * (NULL: the command's own name): `tessera replay --graph`. */
 int tsr_cli_run_graph_as(int argc, char **argv, int launch, const char *const *app_exec, const char *as);
 int cmd_replay(int argc, char **argv);
+/* The same, with `program` (argv, NULL-terminated) as the exec of app node
+ * `node` (NULL: the graph's single app node): `tessera exec --graph`. */
+int tsr_cli_run_graph_exec(int argc, char **argv, int launch, const char *node, char **program);
+/* The faker's directory (cli/cmd_exec.c): $TESSERA_FAKER_DIR, else the
+ * build tree's, else the installed one; "" when none holds libGL.so.1.
+ * tsr_cli_export_faker_dir sets $TESSERA_FAKER_DIR to it for the nodes a
+ * run starts (mothership/faker.h). */
+const char *tsr_cli_faker_dir(void);
+void tsr_cli_export_faker_dir(void);
 
 
 #include <stdio.h>

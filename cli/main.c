@@ -44,6 +44,10 @@ int main(int argc, char **argv)
         printf("tessera %s\n", TESSERA_VERSION);
         return TSR_EXIT_OK;
     }
+    /* Nodes of a graph run (this process or its children) start app
+     * nodes' unmodified programs under the faker. */
+    if (!strcmp(argv[1], "run") || !strcmp(argv[1], "node") || !strcmp(argv[1], "exec"))
+        tsr_cli_export_faker_dir();
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (!strcmp(argv[1], commands[i].name))
             return commands[i].run(argc - 1, argv + 1);

@@ -25,6 +25,7 @@
 #include "faker_gl.h"
 #include "spu/glapi_internal.h"
 #include "tessera/chain.h"
+#include "tessera/dev/native.h"
 #include "tessera/glapi.h"
 #include "tessera/log.h"
 
@@ -104,6 +105,24 @@ void (*tsr_faker_gl_proc(const char *name))(void)
 
 /* --- chain --------------------------------------------------------------- */
 
+/* A program that returns from main or calls exit() ends its stream as a
+ * tessera program does: the chain is destroyed (network SPUs send FINISH
+ * and wait until their servers drew every buffer), so a graph run sees the
+ * application end cleanly instead of a dropped connection. An atexit
+ * handler made with the chain, not a destructor: it runs before the
+ * libraries' destructors (the SPUs' OSMesa must still be there). */
+static void chain_at_exit(void)
+{
+    pthread_mutex_lock(&lock);
+    tsr_chain *c = chain;
+    chain = NULL;
+    pthread_mutex_unlock(&lock);
+    if (c) {
+        tsr_gl_current_table = NULL;
+        tsr_chain_destroy(c);
+    }
+}
+
 static const tsr_dispatch *head_locked(void)
 {
     if (chain)
@@ -115,6 +134,8 @@ static const tsr_dispatch *head_locked(void)
         text = "render";
     tsr_error err = {0};
     chain = tsr_chain_create(text, &err);
+    if (chain)
+        atexit(chain_at_exit);
     if (!chain) {
         chain_failed = true;
         tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);
@@ -221,6 +242,39 @@ static void faker_ReadBuffer(void *self, GLenum buf)
 
 /* --- contexts ------------------------------------------------------------ */
 
+static void faker_NewList(void *self, GLuint list, GLenum mode);
+static void faker_EndList(void *self);
+
+/* A context's table is a copy of the chain head's, and an SPU may change
+ * its head table while the stream runs (tilesort compiles display lists
+ * through a recording table from glNewList to glEndList): the copy is
+ * taken again after those calls, so the context follows the change. */
+static void context_table(tsr_faker_context *c, const tsr_dispatch *head)
+{
+    c->table = *head;
+    tsr_set_GetString(&c->table, faker_GetString, c);
+    tsr_set_Viewport(&c->table, faker_Viewport, c);
+    tsr_set_NewList(&c->table, faker_NewList, c);
+    tsr_set_EndList(&c->table, faker_EndList, c);
+    tsr_set_DrawBuffer(&c->table, faker_DrawBuffer, c);
+    tsr_set_ReadBuffer(&c->table, faker_ReadBuffer, c);
+    tsr_set_DrawBuffers(&c->table, faker_DrawBuffers, c);
+}
+
+static void faker_NewList(void *self, GLuint list, GLenum mode)
+{
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_call_NewList(head, list, mode);
+    context_table(self, head);
+}
+
+static void faker_EndList(void *self)
+{
+    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_call_EndList(head);
+    context_table(self, head);
+}
+
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
 {
     (void)share; /* the renderer's contexts form one share group */
@@ -229,12 +283,7 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
     tsr_faker_context *c = head ? calloc(1, sizeof *c) : NULL;
     if (c) {
         c->id = next_context_id++;
-        c->table = *head;
-        tsr_set_GetString(&c->table, faker_GetString, c);
-        tsr_set_Viewport(&c->table, faker_Viewport, c);
-        tsr_set_DrawBuffer(&c->table, faker_DrawBuffer, c);
-        tsr_set_ReadBuffer(&c->table, faker_ReadBuffer, c);
-        tsr_set_DrawBuffers(&c->table, faker_DrawBuffers, c);
+        context_table(c, head);
         c->next = contexts;
         contexts = c;
     }
@@ -414,6 +463,7 @@ void tsr_faker_surface_destroy(tsr_faker_surface *s)
         }
     if (s->on_stream && chain)
         tsr_call_WindowDestroyTSR(tsr_chain_head(chain), s->window);
+    tsr_native_window_set(s->window, NULL, 0);
     if (cur_surface == s)
         cur_surface = NULL;
     free(s);
@@ -451,6 +501,10 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         poll_locked();
         draw->width = draw->x_width;
         draw->height = draw->x_height;
+        /* For SPUs of this process that draw back into the program's own
+         * window (render window_output=app), before they see the window. */
+        if (draw->xid)
+            tsr_native_window_set(draw->window, xconn_name, draw->xid);
         tsr_call_WindowCreateTSR(head, draw->window, draw->width, draw->height);
         draw->on_stream = true;
     } else if (draw) {

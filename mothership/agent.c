@@ -28,6 +28,8 @@
 #include "node.h"
 #include "control.h"
 #include "util.h"
+#include "faker.h"
+#include "tessera/log.h"
 
 #define POLL_MS 20
 
@@ -498,7 +500,20 @@ static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t 
     if (chain_var)
         sprintf(chain_var, "TESSERA_CHAIN=%s", chain);
     free(chain);
-    const char *changes[] = {chain_var ? chain_var : "TESSERA_CHAIN", stats_var, "TESSERA_TOKEN", NULL};
+    /* An unmodified program (not linked to libtessera_gl) runs under the
+     * faker as with `tessera exec` (faker.h). */
+    char *ld_var = NULL;
+    const char *faker = tsr_ms_links_tessera_gl(path) ? NULL : tsr_ms_faker_dir();
+    if (faker) {
+        const char *old = getenv("LD_LIBRARY_PATH");
+        size_t len = sizeof "LD_LIBRARY_PATH=" + strlen(faker) + (old ? strlen(old) + 1 : 0);
+        if ((ld_var = malloc(len)) != NULL)
+            snprintf(ld_var, len, "LD_LIBRARY_PATH=%s%s%s", faker, old && old[0] ? ":" : "", old && old[0] ? old : "");
+        tsr_log(TSR_LOG_INFO, "%s: %s is not linked to libtessera_gl: it runs under the faker (%s)", a->name, path,
+                faker);
+    }
+    /* ld_var last: NULL ends the list there */
+    const char *changes[] = {chain_var ? chain_var : "TESSERA_CHAIN", stats_var, "TESSERA_TOKEN", ld_var, NULL};
     char **env = chain_var ? tsr_ms_environ(changes) : NULL;
     char exec_failed[PATH_MAX + 160];
     snprintf(exec_failed, sizeof exec_failed, "tessera node: %s: cannot exec %s\n", a->name, path);
@@ -509,6 +524,7 @@ static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t 
         tsr_error_set(err, TSR_EIO, "cannot start the application: %s", env ? strerror(errno) : "out of memory");
         free(env);
         free(chain_var);
+        free(ld_var);
         send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
         return 1;
     }
@@ -525,6 +541,7 @@ static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t 
     }
     free(env);
     free(chain_var);
+    free(ld_var);
     a->child = pid;
     tsr_ctl_out out;
     tsr_ctl_out_init(&out);

@@ -409,12 +409,11 @@ static int send_config(ms *m, ms_node *n, tsr_error *err)
          * stopped or dead: the server drops it, which ends the run. */
         tsr_ctl_addf(&out, "idle_timeout_ms", "%u", m->cfg->timeout_ms);
     } else {
-        if (m->cfg->app_exec)
-            for (size_t i = 0; m->cfg->app_exec[i]; i++)
-                tsr_ctl_add(&out, "arg", m->cfg->app_exec[i]);
-        else
-            for (size_t i = 0; i < g->exec_argc; i++)
-                tsr_ctl_add(&out, "arg", g->exec[i]);
+        const char *const *argv = m->cfg->app_exec ? m->cfg->app_exec : g->exec;
+        if (m->cfg->exec_argv && m->cfg->exec_node && !strcmp(m->cfg->exec_node, g->name))
+            argv = m->cfg->exec_argv;
+        for (size_t i = 0; argv[i]; i++)
+            tsr_ctl_add(&out, "arg", argv[i]);
     }
     rc = send_ctl(n->conn, TSR_MS_MSG_CONFIG, &out, err);
     tsr_ctl_out_free(&out);

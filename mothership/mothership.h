@@ -76,6 +76,10 @@ typedef struct tsr_ms_config {
     /* NULL-terminated argv every app node runs instead of its graph exec,
      * or NULL (`tessera replay --graph`: the replay is the application). */
     const char *const *app_exec;
+    /* `tessera exec --graph`: app node `exec_node` runs exec_argv (NULL-
+     * terminated) instead of the graph's exec. NULL: the graph's. */
+    const char *exec_node;
+    const char *const *exec_argv;
 } tsr_ms_config;
 
 /* Runs the graph to its end. TSR_OK when every node ended cleanly; else

@@ -173,16 +173,16 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # OUTDIR writes the ok-* seeds with the real packer.
 set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${CMAKE_SOURCE_DIR}/spus/render/render.c
   ${CMAKE_SOURCE_DIR}/spus/render/budget.c
-  ${CMAKE_SOURCE_DIR}/spus/render/pages.c)
+  ${CMAKE_SOURCE_DIR}/spus/render/pages.c ${CMAKE_SOURCE_DIR}/spus/render/xwindow.c)
 tsr_add_fuzz_target(ext
   SOURCES ${tsr_fuzz_render_sources}
   INCLUDES ${CMAKE_SOURCE_DIR}/spus/render
-  LIBS tessera ${CMAKE_DL_LIBS} m)
+  LIBS tessera PkgConfig::RENDER_X11 ${CMAKE_DL_LIBS} m)
 add_executable(fuzz_ext_seeds ${TSR_FUZZ_DIR}/fuzz_ext.c ${tsr_fuzz_render_sources})
 add_dependencies(fuzz_ext_seeds tessera_generated)
 target_compile_definitions(fuzz_ext_seeds PRIVATE TSR_FUZZ_SEEDS)
 target_include_directories(fuzz_ext_seeds PRIVATE ${TSR_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/spus/render)
-target_link_libraries(fuzz_ext_seeds PRIVATE tessera ${CMAKE_DL_LIBS} m)
+target_link_libraries(fuzz_ext_seeds PRIVATE tessera PkgConfig::RENDER_X11 ${CMAKE_DL_LIBS} m)
 
 # --- Command buffers into render (tests/fuzz/fuzz_render.c) -------------------
 # Decoded wire buffers run into a real OSMesa render SPU with per-client

@@ -1113,6 +1113,8 @@ static void tiled_write_frame(render_spu *r, int frame)
     }
     if (shared_make_current(r, back, &err) != TSR_OK)
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
+    if (r->hooks.done)
+        r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
 }
 
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
@@ -1139,6 +1141,8 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
             r->hooks.frame(r->hooks.ctx, frame, r);
         if (r->hooks.image && r->buffer)
             r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
+        if (r->hooks.done)
+            r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
     }
     tsr_call_SwapBuffersTSR(r->child, window, flags);
 }

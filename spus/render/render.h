@@ -16,7 +16,11 @@
  * `frame` is called at every swap of the instance's window when it has no
  * tiles, after the frame was finished and written out, before `image`:
  * the place to read more of the frame than its colour (depth, a region)
- * with render_spu_read while the frame is still in the framebuffer. */
+ * with render_spu_read while the frame is still in the framebuffer.
+ *
+ * `done` is called at every swap of the instance's window after the last
+ * `image` of the frame, with the stream's window id and the window's size
+ * (window output shows the frame's tiles then, spus/render/xwindow.h). */
 #ifndef TSR_SPUS_RENDER_RENDER_H
 #define TSR_SPUS_RENDER_RENDER_H
 
@@ -34,6 +38,7 @@
 typedef struct render_hooks {
     void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height, const unsigned char *rgba);
     void (*frame)(void *ctx, int frame, void *render);
+    void (*done)(void *ctx, int frame, int window, int width, int height);
     void *ctx;
 } render_hooks;
 

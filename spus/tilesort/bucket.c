@@ -200,6 +200,38 @@ int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char
     return TSR_OK;
 }
 
+int ts_tiling_grid(ts_tiling *t, int cols, int rows, int w, int h, const char *who, tsr_error *err)
+{
+    if (w < cols || h < rows)
+        return tsr_error_set(err, TSR_EINVAL, "%s: grid=%d,%d: the program's window %dx%d has fewer pixels than cells",
+                             who, cols, rows, w, h);
+    size_t n = (size_t)cols * (size_t)rows;
+    char(*text)[128] = calloc(n, sizeof *text);
+    const char **items = calloc(n, sizeof *items);
+    if (!text || !items) {
+        free(text);
+        free(items);
+        return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", who);
+    }
+    /* Server r * cols + c: column c from the left, row r from the bottom,
+     * as a wall's tiles: [[0, 0, ..]] is server 0 (examples/graphs). */
+    for (int r = 0; r < rows; r++)
+        for (int c = 0; c < cols; c++) {
+            size_t s = (size_t)r * (size_t)cols + (size_t)c;
+            long x0 = (long)c * w / cols, x1 = (long)(c + 1) * w / cols;
+            long y0 = (long)r * h / rows, y1 = (long)(r + 1) * h / rows;
+            snprintf(text[s], sizeof text[s], "%zu:%ld:%ld:%ld:%ld", s, x0, y0, x1 - x0, y1 - y0);
+            items[s] = text[s];
+        }
+    double damping = t->damping;
+    ts_tiling_free(t);
+    int rc = ts_tiling_init(t, TS_GRID, n, items, n, who, err);
+    t->damping = damping;
+    free(text);
+    free(items);
+    return rc;
+}
+
 void ts_tiling_free(ts_tiling *t)
 {
     for (size_t s = 0; t->tiles && s < t->servers; s++)
@@ -285,33 +317,47 @@ static int split(ts_tiling *t, int shape)
     return t->mode == TS_UNION ? ts_union_split(t, shape) : ts_kd_split(t, shape);
 }
 
-void ts_tiling_window(ts_tiling *t, int w, int h)
+int ts_tiling_window(ts_tiling *t, int w, int h, char *why, size_t why_size)
 {
     if (!TS_BALANCED(t->mode)) {
+        int need_w = 0, need_h = 0;
+        const ts_rect *worst = NULL;
+        size_t worst_server = 0;
         for (size_t s = 0; s < t->servers; s++)
             for (size_t i = 0; i < t->ntiles[s]; i++) {
                 const ts_rect *r = &t->tiles[s][i];
-                if (r->x + r->w > w || r->y + r->h > h)
-                    tsr_log(TSR_LOG_WARN,
-                            "tilesort: tile [%d, %d, %d, %d] of server %zu reaches outside the %dx%d window", r->x,
-                            r->y, r->w, r->h, s, w, h);
+                need_w = r->x + r->w > need_w ? r->x + r->w : need_w;
+                need_h = r->y + r->h > need_h ? r->y + r->h : need_h;
+                if (!worst && (r->x + r->w > w || r->y + r->h > h)) {
+                    worst = r;
+                    worst_server = s;
+                }
             }
-        return;
+        if (worst) {
+            snprintf(why, why_size,
+                     "the program's window is %dx%d but the tiles cover %dx%d (tile [%d, %d, %d, %d] of server %zu "
+                     "reaches outside it): give the graph's window: and tiles: the size of the window the program "
+                     "opens",
+                     w, h, need_w, need_h, worst->x, worst->y, worst->w, worst->h, worst_server);
+            return -1;
+        }
+        return 0;
     }
     if (w == t->window_w && h == t->window_h && t->split_ready)
-        return;
+        return 0;
     t->window_w = w;
     t->window_h = h;
     if (ts_cost_init(&t->cost, t->servers, w, h) != 0 || split(t, 1) < 0) {
         tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; sending to every server");
         t->mode = TS_BROADCAST;
-        return;
+        return 0;
     }
     if ((size_t)w < t->servers && (size_t)h < t->servers)
         tsr_log(TSR_LOG_WARN, "tilesort: a %dx%d window is too small to give each of %zu servers a pixel", w, h,
                 t->servers);
     t->predicted = 1.0;
     t->split_ready = 1;
+    return 0;
 }
 
 int ts_tiling_rebalance(ts_tiling *t)

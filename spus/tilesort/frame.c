@@ -15,10 +15,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "instance.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/image.h"
+#include "tessera/log.h"
 
 static void frame_command_done(tilesort *t) { ts_flush_geometry(t); }
 
@@ -28,7 +30,22 @@ static void window_size(tilesort *t, GLsizei w, GLsizei h)
         return;
     t->win_w = w;
     t->win_h = h;
-    ts_tiling_window(&t->tiling, w, h);
+    char why[400];
+    if (t->grid_cols) {
+        tsr_error gerr = {0};
+        if (ts_tiling_grid(&t->tiling, t->grid_cols, t->grid_rows, w, h, t->name, &gerr) != TSR_OK) {
+            tsr_log(TSR_LOG_ERROR, "%s", gerr.message);
+            fflush(NULL);
+            _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+        }
+    }
+    if (ts_tiling_window(&t->tiling, w, h, why, sizeof why) != 0) {
+        /* A wall cropped or misplaced without a word is worse than no
+         * wall: the application ends as on a failed server (on_error). */
+        tsr_log(TSR_LOG_ERROR, "%s: %s", t->name, why);
+        fflush(NULL);
+        _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+    }
     t->tiling_version++;
 }
 

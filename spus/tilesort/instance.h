@@ -104,6 +104,7 @@ typedef struct tilesort {
     tsr_unpacker *expand; /* runs an expanded list's commands through the normal routes */
     /* window and frames */
     int win_w, win_h;
+    int grid_cols, grid_rows; /* option grid: tiles follow the window; 0: fixed tiles */
     uint64_t frames;
     /* statistics: the stream packed once, and bytes per server per frame */
     uint64_t stream_bytes;

@@ -564,7 +564,20 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
                           : !strcmp(bucket, "kd")      ? TS_KD
                           : !strcmp(bucket, "union")   ? TS_UNION
                                                        : TS_GRID;
-    if (ts_tiling_init(&t->tiling, mode, count, tiles, ntiles, t->name, err) != TSR_OK)
+    if (tsr_options_count(init->options, "grid") != 2) {
+        tsr_error_set(err, TSR_EINVAL, "%s: option grid takes two numbers (COLUMNS,ROWS)", t->name);
+        goto fail;
+    }
+    t->grid_cols = (int)tsr_options_int_at(init->options, "grid", 0);
+    t->grid_rows = (int)tsr_options_int_at(init->options, "grid", 1);
+    if ((t->grid_cols == 0) != (t->grid_rows == 0) ||
+        (t->grid_cols && (size_t)t->grid_cols * (size_t)t->grid_rows != count)) {
+        tsr_error_set(err, TSR_EINVAL, "%s: grid=%d,%d needs %d servers, and there are %zu", t->name, t->grid_cols,
+                      t->grid_rows, t->grid_cols * t->grid_rows, count);
+        goto fail;
+    }
+    if (t->grid_cols ? ts_tiling_grid(&t->tiling, t->grid_cols, t->grid_rows, 512, 512, t->name, err) != TSR_OK
+                     : ts_tiling_init(&t->tiling, mode, count, tiles, ntiles, t->name, err) != TSR_OK)
         goto fail;
     t->tiling.damping = tsr_options_float(init->options, "damping");
     t->tiling.hysteresis = tsr_options_float(init->options, "hysteresis");
@@ -657,6 +670,14 @@ static const tsr_option_spec tilesort_options[] = {
      .max = 0,
      .help = "the servers' tiles: SERVER:X:Y:WIDTH:HEIGHT,... (SERVER is the 0-based index in servers; "
              "window pixels, origin bottom-left; tessera run fills it from the servers' tiles:)"},
+    {.name = "grid",
+     .type = TSR_OPT_INT_LIST,
+     .default_value = "0,0",
+     .min = 0,
+     .max = 256,
+     .help = "COLUMNS,ROWS: the servers divide whatever window the program opens into a grid (server "
+             "r*COLUMNS+c: column c, row r from the bottom), re-divided at every resize; replaces tiles; "
+             "0,0: the tiles as given"},
     {.name = "bucket",
      .type = TSR_OPT_ENUM,
      .default_value = "grid",

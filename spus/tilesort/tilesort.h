@@ -85,9 +85,13 @@ typedef struct ts_tiling {
 int ts_tiling_init(ts_tiling *t, ts_bucket_mode mode, size_t servers, const char *const *items, size_t nitems,
                    const char *who, tsr_error *err);
 void ts_tiling_free(ts_tiling *t);
-/* The window size became w x h: the balanced modes make their first
- * (uniform) split; other modes check that tiles fit (a warning otherwise). */
-void ts_tiling_window(ts_tiling *t, int w, int h);
+/* option grid=C,R: (re)makes the tiling as C columns x R rows dividing a
+ * w x h window (server r*C+c: column c, row r from the bottom). */
+int ts_tiling_grid(ts_tiling *t, int cols, int rows, int w, int h, const char *who, tsr_error *err);
+/* The window size became w x h: the balanced modes make its first
+ * (uniform) split; other modes check that the tiles fit: -1 with `why`
+ * naming both sizes and the first tile outside when they do not. */
+int ts_tiling_window(ts_tiling *t, int w, int h, char *why, size_t why_size);
 /* Marks in `hit` (one byte per server) the servers whose tiles meet the
  * window rectangle [x0, x1) x [y0, y1); returns how many. */
 size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t *hit);
