@@ -956,6 +956,22 @@ const char *tsr_net_conn_transport(tsr_net_conn *c)
 }
 const char *tsr_net_conn_address(const tsr_net_conn *c) { return c->address; }
 
+int tsr_net_conn_flush(tsr_net_conn *c, int timeout_ms)
+{
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&c->net->lock);
+    c->flush_waiters++;
+    int timed_out = 0;
+    while (c->state == NET_OPEN && !c->peer_stopped_reading && !timed_out &&
+           (c->outbox_head || c->writes_in_flight || c->direct_rest || c->direct_writer))
+        timed_out = wait_until(&c->cond, &c->net->lock, dl);
+    c->flush_waiters--;
+    int rc = c->state == NET_FAILED ? c->error.code : timed_out ? TSR_ETIMEDOUT : TSR_OK;
+    pthread_mutex_unlock(&c->net->lock);
+    return rc;
+}
+
 int tsr_net_conn_went_silent(tsr_net_conn *c)
 {
     pthread_mutex_lock(&c->net->lock);

@@ -321,6 +321,11 @@ TSR_API const char *tsr_net_conn_transport(tsr_net_conn *conn);
 /* 1 when the connection failed because the peer sent nothing for
  * idle_timeout_ms (a stopped or hung peer, not one that went away). */
 TSR_API int tsr_net_conn_went_silent(tsr_net_conn *conn);
+/* Waits at most timeout_ms until everything tsr_net_send accepted on
+ * `conn` has been handed to the kernel (a process about to _exit after a
+ * fatal error flushes so its peers still read what it sent before). 0 when
+ * written, TSR_ETIMEDOUT, or the connection's error. */
+TSR_API int tsr_net_conn_flush(tsr_net_conn *conn, int timeout_ms);
 /* Closes gracefully (see CLOSING); `conn` must not be used afterwards.
  * Messages still held by the application may be released later. */
 TSR_API void tsr_net_conn_close(tsr_net_conn *conn);

@@ -136,6 +136,12 @@ struct tsr_net_conn {
     bool socket_connected; /* (L) the transport connected (handshake may still fail) */
     bool handshaken;       /* (L) the handshake succeeded (the state may have moved on) */
     bool went_silent;      /* (L) failed because the peer sent nothing for idle_timeout_ms */
+    /* (L) A write to a Unix socket met EPIPE/ECONNRESET: the peer closed,
+     * but what it sent before is still in our receive buffer. Nothing more
+     * is written; the connection fails (or ends) when the reading side
+     * reaches the peer's end of stream, after delivering all of it. */
+    bool peer_stopped_reading;
+    unsigned flush_waiters; /* (L) threads in tsr_net_conn_flush */
 
     /* send side (L) */
     uint32_t send_credits;
@@ -357,6 +363,10 @@ int net_deadline(struct timespec *ts, int timeout_ms); /* 0 = no deadline */
 tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, const char *address);
 void net_conn_maybe_free(tsr_net_conn *conn); /* (L) */
 void net_conn_signal(tsr_net_conn *conn);     /* (L) wake its waiters */
+/* (L) A failed write to a Unix socket whose peer has closed (EPIPE,
+ * ECONNRESET): marks peer_stopped_reading and returns true, so the caller
+ * does not fail the connection before its data is read. */
+bool net_write_met_closed_peer(tsr_net_conn *c, int uv_status);
 void net_conn_fail(tsr_net_conn *conn, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4))); /* (L) */
 void net_msg_free(net_msg *m);
 /* (L) A payload buffer of at least `len` bytes for a message from `c`: a

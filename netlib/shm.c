@@ -106,7 +106,7 @@ static void on_ring_written(uv_write_t *req, int status)
     tsr_net_conn *c = w->conn;
     pthread_mutex_lock(&c->net->lock);
     c->writes_in_flight--;
-    if (status < 0 && status != UV_ECANCELED && c->state == NET_OPEN)
+    if (status < 0 && status != UV_ECANCELED && c->state == NET_OPEN && !net_write_met_closed_peer(c, status))
         net_conn_fail(c, TSR_EIO, "net: handing the shared-memory ring to peer '%s' at %s failed: %s", c->peer_name,
                       c->address, uv_strerror(status));
     net_conn_signal(c);

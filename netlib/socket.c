@@ -30,6 +30,17 @@ static void update_reading(tsr_net_conn *c);
 
 /* ---- writing -------------------------------------------------------------- */
 
+bool net_write_met_closed_peer(tsr_net_conn *c, int uv_status)
+{
+    if (c->transport != NET_UNIX || (uv_status != UV_EPIPE && uv_status != UV_ECONNRESET) || c->saw_eof)
+        return false;
+    if (!c->peer_stopped_reading)
+        tsr_log(TSR_LOG_DEBUG, "net: peer '%s' at %s closed its end: reading what it sent before", c->peer_name,
+                c->address);
+    c->peer_stopped_reading = true;
+    return true;
+}
+
 static void on_write(uv_write_t *req, int status)
 {
     net_msg *m = req->data;
@@ -38,7 +49,9 @@ static void on_write(uv_write_t *req, int status)
     pthread_mutex_lock(&net->lock);
     c->writes_in_flight--;
     net_send_copy_done(c, m); /* its buffer may serve the next copy */
-    if (status < 0 && status != UV_ECANCELED && !c->handles_closing) {
+    if (c->flush_waiters)
+        pthread_cond_broadcast(&c->cond);
+    if (status < 0 && status != UV_ECANCELED && !c->handles_closing && !net_write_met_closed_peer(c, status)) {
         net_conn_fail(c, TSR_EIO, "net: writing to peer '%s' at %s failed: %s", c->peer_name, c->address,
                       uv_strerror(status));
         close_handles(c);
@@ -51,6 +64,11 @@ static void on_write(uv_write_t *req, int status)
  * put on the socket) to libuv. */
 static void write_now(tsr_net_conn *c, net_msg *m)
 {
+    if (c->peer_stopped_reading) { /* it would only meet EPIPE again */
+        net_send_copy_done(c, m);
+        net_msg_free(m);
+        return;
+    }
     net_header_encode(m->header, net_version(c->net), m->type, m->flags, m->len);
     /* Set .len directly: uv_buf_init() takes an unsigned int, and a
      * message may be longer than 4 GiB (uv_buf_t.len is a size_t here). */

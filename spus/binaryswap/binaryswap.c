@@ -168,6 +168,11 @@ static void bswap_fatal(bswap_spu *b, const char *fmt, ...)
     tsr_log(TSR_LOG_ERROR, "%s: %s", b->name, what);
     tsr_log(TSR_LOG_ERROR, "%s: ending (a frame that cannot be composited fails the run)", b->name);
     fflush(NULL);
+    /* What this peer already sent (its HELLO, an image) reaches the others
+     * before it goes, so they name the real fault, not its vanishing. */
+    for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
+        if (b->conns[r])
+            tsr_net_conn_flush(b->conns[r], 200);
     _exit(TSR_NODE_CLIENT_EXIT_STATUS);
 }
 
