@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <xcb/xcb.h>
 
@@ -111,8 +112,15 @@ void (*tsr_faker_gl_proc(const char *name))(void)
  * application end cleanly instead of a dropped connection. An atexit
  * handler made with the chain, not a destructor: it runs before the
  * libraries' destructors (the SPUs' OSMesa must still be there). */
+static pid_t chain_pid; /* the process that made the chain */
+
 static void chain_at_exit(void)
 {
+    /* A forked child (the xscreensaver image hacks fork and exit a
+     * helper) inherits the handler but not the chain's threads: its exit
+     * must not tear down, or wait for, what only the parent owns. */
+    if (getpid() != chain_pid)
+        return;
     pthread_mutex_lock(&lock);
     tsr_chain *c = chain;
     chain = NULL;
@@ -134,8 +142,10 @@ static const tsr_dispatch *head_locked(void)
         text = "render";
     tsr_error err = {0};
     chain = tsr_chain_create(text, &err);
-    if (chain)
+    if (chain) {
+        chain_pid = getpid();
         atexit(chain_at_exit);
+    }
     if (!chain) {
         chain_failed = true;
         tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);
