@@ -615,10 +615,19 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         n->state = N_READY;
         break;
     }
-    case TSR_MS_MSG_STATS:
+    case TSR_MS_MSG_STATS: {
         take_stats(n, msg);
         n->stats_at = tsr_now_seconds();
+        /* A server dropped a client for silence and serves the others:
+         * that client (a stopped or hung process) cannot finish its
+         * frames, so the run fails now, named by the drop, before the
+         * peers waiting for it time out and end (their exits are the
+         * echo). Same class as the drop in a DONE. */
+        const char *failure = tsr_ctl_get(msg, "failure");
+        if (n->server && failure && *failure)
+            fail(m, FAIL_HEARTBEAT, "node '%s': %s", n->g->name, failure);
         break;
+    }
     case TSR_MS_MSG_DONE: {
         take_stats(n, msg);
         n->state = N_DONE;
