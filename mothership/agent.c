@@ -71,12 +71,22 @@ static void add_server_stats(agent *a, tsr_ctl_out *out)
     tsr_ctl_addf(out, "clients_silent", "%u", st.clients_silent);
 }
 
+static const char *plain(const char *message) { return strncmp(message, "node: ", 6) ? message : message + 6; }
+
 static int send_stats(agent *a, tsr_error *err)
 {
     tsr_ctl_out out;
     tsr_ctl_out_init(&out);
-    if (a->node)
+    if (a->node) {
         add_server_stats(a, &out);
+        /* A client dropped for silence while the others go on: the
+         * mothership hears of it now, not when the last client ends (the
+         * silent one's peers would by then have ended for it, and be
+         * blamed). */
+        char failure[512];
+        if (tsr_node_silent_failure(a->node, failure, sizeof failure))
+            tsr_ctl_add(&out, "failure", plain(failure));
+    }
     tsr_ctl_addf(&out, "elapsed", "%.3f", tsr_now_seconds() - a->started);
     int rc = send_ctl(a, TSR_MS_MSG_STATS, &out, err);
     tsr_ctl_out_free(&out);
@@ -205,8 +215,6 @@ static void *server_thread(void *arg)
     return NULL;
 }
 
-static const char *plain(const char *message) { return strncmp(message, "node: ", 6) ? message : message + 6; }
-
 static int send_done(agent *a, int status, const char *message, int signal_number,
                      void (*extra)(agent *, tsr_ctl_out *), tsr_error *err)
 {
@@ -312,7 +320,12 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
         return 1;
     }
     double next_beat = tsr_now_seconds();
+    int silent_reported = 0;
     while (!atomic_load(&a->node_done)) {
+        if (!silent_reported && tsr_node_silent_failure(a->node, NULL, 0)) {
+            silent_reported = 1;
+            next_beat = 0; /* its STATS carries the failure: send it now */
+        }
         if (tsr_now_seconds() >= next_beat) {
             if (send_stats(a, err) != TSR_OK)
                 return 1; /* the node thread still runs: the caller ends the process */

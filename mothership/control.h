@@ -21,6 +21,10 @@
  *                       node's main thread: frames= buffers= bytes_in=
  *                       bytes_out= busy_seconds= (render time) clients=
  *                       (servers; running totals) or elapsed= (apps).
+ *                       A server that dropped a client for silence
+ *                       (idle_timeout_ms) adds clients_silent= and
+ *                       failure= (one line naming that client) and sends
+ *                       it at once: the mothership fails the run with it.
  *   TSR_MS_MSG_DONE     the node ended: status=0|1, message= (one line
  *                       naming what failed; empty when status=0), signal=
  *                       (non-zero when the application was killed by a

@@ -38,9 +38,13 @@
 
 /* Failure classes, most telling first: a killed or stalled process
  * explains the exits that follow it (an app whose server died exits 1). A
- * control connection lost without an exit status to explain it (a node
- * on another machine) most likely means that node died. */
-enum { FAIL_INTERRUPT, FAIL_SIGNAL, FAIL_HEARTBEAT, FAIL_LOST, FAIL_EXIT, FAIL_OTHER, FAIL_NONE };
+ * server's client dropped for silence is a stopped or hung process too,
+ * but when that process is a node of the run its missed heartbeat, found
+ * at about the same time (both wait the run's time-out), names it
+ * directly; so the silent client ranks just after. A control connection
+ * lost without an exit status to explain it (a node on another machine)
+ * most likely means that node died. */
+enum { FAIL_INTERRUPT, FAIL_SIGNAL, FAIL_HEARTBEAT, FAIL_SILENT, FAIL_LOST, FAIL_EXIT, FAIL_OTHER, FAIL_NONE };
 
 typedef enum { N_WAITING, N_JOINED, N_CONFIGURED, N_READY, N_DONE } node_state;
 
@@ -615,10 +619,19 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         n->state = N_READY;
         break;
     }
-    case TSR_MS_MSG_STATS:
+    case TSR_MS_MSG_STATS: {
         take_stats(n, msg);
         n->stats_at = tsr_now_seconds();
+        /* A server dropped a client for silence and serves the others:
+         * that client (a stopped or hung process) cannot finish its
+         * frames, so the run fails now, named by the drop, before the
+         * peers waiting for it time out and end (their exits are the
+         * echo). Same class as the drop in a DONE. */
+        const char *failure = tsr_ctl_get(msg, "failure");
+        if (n->server && failure && *failure)
+            fail(m, FAIL_SILENT, "node '%s': %s", n->g->name, failure);
         break;
+    }
     case TSR_MS_MSG_DONE: {
         take_stats(n, msg);
         n->state = N_DONE;
@@ -633,7 +646,7 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
          * hung process, as a missed heartbeat does: that explains the
          * exits of the peers and applications that follow. */
         int cls = tsr_ctl_number(msg, "signal", 0)           ? FAIL_SIGNAL
-                  : tsr_ctl_number(msg, "clients_silent", 0) ? FAIL_HEARTBEAT
+                  : tsr_ctl_number(msg, "clients_silent", 0) ? FAIL_SILENT
                                                              : FAIL_EXIT;
         if (n->done_status)
             fail(m, cls, "node '%s': %s", n->g->name, why && *why ? why : "failed (no reason given)");
@@ -1149,6 +1162,8 @@ static int run(ms *m, tsr_error *err)
             check_unconnected(m);
             if (configure(m, err) != TSR_OK)
                 fail(m, FAIL_OTHER, "%s", err->message);
+        } else if (m->fail_class == FAIL_SILENT) {
+            check(m); /* the silent client may be a node: its missed heartbeat names it (FAIL_GRACE_S) */
         }
         if (m->fail_class != FAIL_NONE) {
             if (tsr_now_seconds() >= m->fail_deadline)

@@ -58,6 +58,28 @@ void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta)
     pthread_mutex_unlock(&node->stats_lock);
 }
 
+void tsr_node_client_ended(tsr_node *node, int failed, int silent, const char *who, const char *why)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    tsr_node_stats *t = &node->stats;
+    t->clients_ended += !failed;
+    t->clients_failed += failed != 0;
+    t->clients_silent += failed && silent;
+    if (failed && silent && !node->silent_failure[0])
+        snprintf(node->silent_failure, sizeof node->silent_failure, "node: %s dropped: %s", who, why);
+    pthread_mutex_unlock(&node->stats_lock);
+}
+
+int tsr_node_silent_failure(tsr_node *node, char *out, size_t size)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    int found = node->silent_failure[0] != '\0';
+    if (found && size)
+        snprintf(out, size, "%s", node->silent_failure);
+    pthread_mutex_unlock(&node->stats_lock);
+    return found;
+}
+
 void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out)
 {
     pthread_mutex_lock(&node->stats_lock);
@@ -365,10 +387,8 @@ static void *session_main(void *arg)
     }
     if (s->error.code)
         tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
-    tsr_node_stats ended = {.clients_ended = s->error.code ? 0 : 1,
-                            .clients_failed = s->error.code ? 1 : 0,
-                            .clients_silent = s->error.code && s->conn && tsr_net_conn_went_silent(s->conn)};
-    tsr_node_stats_add(s->node, &ended);
+    tsr_node_client_ended(s->node, s->error.code != 0, s->error.code && s->conn && tsr_net_conn_went_silent(s->conn),
+                          s->who, s->error.message);
     tsr_unpacker_destroy(unpacker);
     tsr_chain_destroy(chain);
     tsr_net_conn_close(s->conn);

@@ -156,6 +156,14 @@ typedef struct tsr_node_stats {
     uint64_t blocks;         /* shared mode: times a client blocked on a barrier or semaphore */
 } tsr_node_stats;
 void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out);
+/* 1 once a client was dropped because it sent nothing for
+ * idle_timeout_ms (a stopped or hung process), with the first such drop
+ * in `out` as tsr_node_run's failure would name it ("node: client N
+ * 'NAME' at ADDRESS dropped: ..."); 0 while none was. The node goes on
+ * serving its other clients; this lets its owner report the drop at once
+ * (a peer that waits for the silent one would otherwise end first and
+ * be blamed). Safe to call from any thread while tsr_node_run runs. */
+int tsr_node_silent_failure(tsr_node *node, char *out, size_t size);
 
 #ifdef __cplusplus
 }

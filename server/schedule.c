@@ -309,10 +309,7 @@ static void retire(sched *s, sched_client *c, client_state state)
     c->conn = NULL;
     free(c->reply);
     c->reply = NULL;
-    tsr_node_stats delta = {.clients_ended = state == CLIENT_ENDED,
-                            .clients_failed = state == CLIENT_FAILED,
-                            .clients_silent = state == CLIENT_FAILED && silent};
-    tsr_node_stats_add(s->node, &delta);
+    tsr_node_client_ended(s->node, state == CLIENT_FAILED, silent, c->who, c->error.message);
 }
 
 static void drop(sched *s, sched_client *c)

@@ -87,15 +87,12 @@ if(TARGET spu_binaryswap)
   # a peer (binaryswap runs in its process); with servers the peer is a
   # render server whose chain is binaryswap. The display's window: every
   # peer has composited into it.
-  # Missing cell, fault_sortlast_app_sigstop (a stopped in-situ peer): the
-  # display drops its silent stream at once, naming it, but reports that
-  # only when its last client ends, and the other peers wait binaryswap's
-  # timeout_ms (10 s) for it, then end: the verdict names their exit, not
-  # the stopped peer, 11 s after the stop. Needs a node that reports a
-  # dropped client at once (issue 11, item 10: open).
-  set(FAULT_CELLS_WITHOUT sigstop)
+  # fault_sortlast_app_sigstop (a stopped in-situ peer): the display drops
+  # its silent stream after the time-out and its node reports that at once
+  # (a STATS with failure=), while the other peers would wait binaryswap's
+  # timeout_ms (10 s) for the stopped one: the verdict names the stopped
+  # peer, not their exits.
   fault_cells(sortlast app application out/sortlast-000002.png)
-  unset(FAULT_CELLS_WITHOUT)
   fault_cells(sortlast display display out/sortlast-000002.png)
   fault_cells(sortlast_servers app application out/sortlast-000002.png)
   fault_cells(sortlast_servers peer peer1 out/sortlast-000002.png)
