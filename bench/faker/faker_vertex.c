@@ -106,12 +106,15 @@ int main(int argc, char **argv)
     LOAD(egl, PFNEGLCREATEPBUFFERSURFACEPROC, eglCreatePbufferSurface);
     LOAD(egl, PFNEGLMAKECURRENTPROC, eglMakeCurrent);
     LOAD(egl, PFNEGLTERMINATEPROC, eglTerminate);
+    LOAD(egl, PFNEGLDESTROYCONTEXTPROC, eglDestroyContext);
+    LOAD(egl, PFNEGLDESTROYSURFACEPROC, eglDestroySurface);
     LOAD(gl, end_fn, glFinish);
     LOAD(gl, vertex3f_fn, glVertex3f);
     LOAD(gl, begin_fn, glBegin);
     LOAD(gl, end_fn, glEnd);
 #undef LOAD
-    if (!eglGetPlatformDisplay || !eglMakeCurrent || !glFinish || !glVertex3f || !glBegin || !glEnd) {
+    if (!eglGetPlatformDisplay || !eglMakeCurrent || !glFinish || !eglDestroyContext || !eglDestroySurface ||
+        !glVertex3f || !glBegin || !glEnd) {
         fprintf(stderr, "bench_faker_vertex: the faker lacks an EGL or GL entry point\n");
         return 1;
     }
@@ -176,6 +179,8 @@ int main(int argc, char **argv)
         return 1;
     }
     eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroySurface(dpy, pb);
+    eglDestroyContext(dpy, ctx);
     eglTerminate(dpy);
     bench_figure("faker_vertex3f_mcalls", best_faker * 1e-6, 1);
     bench_figure("pack_vertex3f_bbox_mcalls", best_table * 1e-6, 1);
