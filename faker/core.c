@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <xcb/xcb.h>
 
@@ -56,6 +57,7 @@ struct tsr_faker_surface {
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 static tsr_chain *chain;
 static bool chain_failed;
+static pid_t chain_pid; /* the process that made the chain (chain_at_exit) */
 static int next_context_id = 1, next_window_id = 0;
 static tsr_faker_context *contexts;
 static tsr_faker_surface *surfaces;
@@ -113,6 +115,14 @@ void (*tsr_faker_gl_proc(const char *name))(void)
  * libraries' destructors (the SPUs' OSMesa must still be there). */
 static void chain_at_exit(void)
 {
+    /* A forked child that calls exit() (xscreensaver's hacks fork to exec
+     * xscreensaver-getimage and exit(1) when it is not installed) shares
+     * the parent's sockets and capture files: ending the chain there would
+     * send on the parent's connections (the server then counts credits
+     * that were never granted) and finish its capture file. The chain is
+     * the parent's; the child leaves it alone. */
+    if (getpid() != chain_pid)
+        return;
     pthread_mutex_lock(&lock);
     tsr_chain *c = chain;
     chain = NULL;
@@ -134,8 +144,10 @@ static const tsr_dispatch *head_locked(void)
         text = "render";
     tsr_error err = {0};
     chain = tsr_chain_create(text, &err);
-    if (chain)
+    if (chain) {
+        chain_pid = getpid();
         atexit(chain_at_exit);
+    }
     if (!chain) {
         chain_failed = true;
         tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);
