@@ -57,6 +57,7 @@ struct tsr_faker_surface {
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 static tsr_chain *chain;
 static bool chain_failed;
+static pid_t chain_pid; /* the process that made the chain (chain_at_exit) */
 static int next_context_id = 1, next_window_id = 0;
 static tsr_faker_context *contexts;
 static tsr_faker_surface *surfaces;
@@ -112,13 +113,14 @@ void (*tsr_faker_gl_proc(const char *name))(void)
  * application end cleanly instead of a dropped connection. An atexit
  * handler made with the chain, not a destructor: it runs before the
  * libraries' destructors (the SPUs' OSMesa must still be there). */
-static pid_t chain_pid; /* the process that made the chain */
-
 static void chain_at_exit(void)
 {
-    /* A forked child (the xscreensaver image hacks fork and exit a
-     * helper) inherits the handler but not the chain's threads: its exit
-     * must not tear down, or wait for, what only the parent owns. */
+    /* A forked child that calls exit() (xscreensaver's hacks fork to exec
+     * xscreensaver-getimage and exit(1) when it is not installed) shares
+     * the parent's sockets and capture files: ending the chain there would
+     * send on the parent's connections (the server then counts credits
+     * that were never granted) and finish its capture file. The chain is
+     * the parent's; the child leaves it alone. */
     if (getpid() != chain_pid)
         return;
     pthread_mutex_lock(&lock);

@@ -62,6 +62,16 @@ target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_fa
 add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
          COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err'; s=$?; cat '${FAKER_OUT}/egl.err'; [ $s -eq 0 ] || exit 1; n=$(grep -c 'glRenderMode is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glRenderMode warnings: $n\"; [ $n -eq 1 ]")
 
+# A forked child's exit() leaves the parent's chain alone (faker/core.c
+# chain_at_exit): the capture holds the parent's 6 glClear, not the 2 before
+# the fork (xscreensaver's gflux forks such a child every run).
+add_executable(faker_fork_exit ${FAKER_TEST_DIR}/fork_exit.c)
+target_link_libraries(faker_fork_exit PRIVATE tessera_faker_egl tessera_faker_gl)
+add_test(NAME faker_forked_child_exit_leaves_the_parents_chain_and_capture_alone
+         COMMAND sh -c "rm -f '${FAKER_OUT}/fork.tsrcap' && env -u DISPLAY TESSERA_CHAIN='capture file=${FAKER_OUT}/fork.tsrcap ! render output=' '$<TARGET_FILE:faker_fork_exit>' && '$<TARGET_FILE:tessera_cli>' replay --info '${FAKER_OUT}/fork.tsrcap' > '${FAKER_OUT}/fork.info' ; s=$?; cat '${FAKER_OUT}/fork.info'; [ $s -eq 0 ] && grep -Eq '^  glClear +6$' '${FAKER_OUT}/fork.info'")
+# Before the fix the child also hung ending the parent's chain: bounded.
+set_tests_properties(faker_forked_child_exit_leaves_the_parents_chain_and_capture_alone PROPERTIES TIMEOUT 30)
+
 # GLX: configs, contexts, current state, sizes, a resize followed; then EGL
 # on X11 into the same window.
 add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize.c)
@@ -93,6 +103,17 @@ if(NOT TESSERA_SANITIZE)
                    ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver)
   set_tests_properties(faker_every_xscreensaver_gl_hack_and_glxgears_draw_frames_and_end_on_sigterm
                        PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
+  # The same for glxgears and 25 hacks (the five GLSL ones among them) as
+  # the app node of [pack -> server render] over TCP (tests/faker/
+  # sweep_pack.yaml; about 15 s). The 2x2 wall (xscreensaver.sh ... wall)
+  # and the capture exactness (sweep_exact.sh) are not in the suite yet:
+  # tilesort draws the GLSL hacks blank and differs by a few pixels on
+  # others (README, faker section).
+  add_test(NAME faker_glxgears_and_25_xscreensaver_gl_hacks_draw_through_pack_to_a_server_and_end_on_sigterm
+           COMMAND bash ${FAKER_TEST_DIR}/xscreensaver.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_frames>
+                   ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver_pack pack)
+  set_tests_properties(faker_glxgears_and_25_xscreensaver_gl_hacks_draw_through_pack_to_a_server_and_end_on_sigterm
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
 endif()
 
 # Share lists: a display list and a texture of one GLX context drawn by a

@@ -1,15 +1,23 @@
 #!/usr/bin/env bash
-# tests/faker/xscreensaver.sh TESSERA FRAMES_CHECK SPEC_YAML OUTDIR
+# tests/faker/xscreensaver.sh TESSERA FRAMES_CHECK SPEC_YAML OUTDIR [MODE]
 # The real-program sweep (issue 12, item 6): EVERY GL hack of Debian's
 # xscreensaver-gl package (the programs with a config/NAME.xml in
 # `dpkg -L xscreensaver-gl`), and glxgears, run unmodified under a private
 # Xvfb through `tessera exec` with the default chain ([render] 1x1 to PNG
 # files), $FAKER_SWEEP_JOBS (default 2) at a time, each in its own session.
+# MODE pack or wall: glxgears and 25 of the hacks (the five GLSL ones and
+# 20 others, $graph_hacks below) as the app node of a graph instead,
+# `tessera exec --graph tests/faker/sweep_MODE.yaml`: pack ->
+# server render over TCP, or tilesort grid=2,2 over four servers with the
+# tiles assembled; the frames judged are the server's, or the assembled
+# ones. Same verdicts, at least 25 must run.
 #
 # A program passes ("ran") when, within $FAKER_SWEEP_SECONDS (default 30),
 # it has written at least 10 frames that are not all one colour, not all
 # the same picture (FRAMES_CHECK --some-blank: hacks fade in from black),
-# then dies of the SIGTERM it is sent (status 143) within 5 s, leaving no
+# then dies of the SIGTERM it is sent (status 143; with a graph, the run
+# ends with status 1, "tessera exec: interrupted by signal 15", no node
+# dead of another signal) within 5 s, leaving no
 # process of its session behind, having logged no "not supported by
 # tessera" warning for a function spec/gl.yaml has. Anything else fails —
 # crashed (exited or died of another signal), hung (no frames, or still
@@ -22,7 +30,7 @@
 # "prefersGLSL") must be among those that ran, and at least 25 must run.
 # Prints one line per program and the counts; exits 1 naming each failure.
 set -uo pipefail
-tessera=$1 frames=$2 spec=$3 out=$4
+tessera=$1 frames=$2 spec=$3 out=$4 mode=${5:-render}
 jobs_max=${FAKER_SWEEP_JOBS:-2}
 limit=${FAKER_SWEEP_SECONDS:-30}
 want=10
@@ -32,10 +40,27 @@ hackdir=/usr/libexec/xscreensaver
 # vertex/index buffers on tessera's OpenGL 2.1 (each asks for 3.0 first).
 glsl_hacks="etruscanvenus hypertorus projectiveplane romanboy sphereeversion"
 
+# The graph modes: the five GLSL hacks and 20 others of different kinds
+# (display lists, textures, lighting, many small draws), 26 programs with
+# glxgears, so that both graphs fit in about 90 s together.
+graph_hacks="$glsl_hacks antinspect atunnel blinkbox bubble3d cubestorm discoball engine gears
+  geodesic gflux glknots glmatrix glsnake hexstrut moebius molecule pipes polytopes queens superquadrics"
+case $mode in
+  render) graph="" ;;
+  pack | wall) graph=$(cd "$(dirname "$0")" && pwd)/sweep_$mode.yaml ;;
+  *) echo "FAIL: mode '$mode' is not render, pack or wall"; exit 2 ;;
+esac
+
 command -v dpkg >/dev/null && dpkg -s xscreensaver-gl >/dev/null 2>&1 ||
   { echo "SKIP: xscreensaver-gl is not installed (scripts/setup-debian installs it)"; exit 77; }
 mapfile -t hacks < <(dpkg -L xscreensaver-gl | sed -n 's|.*/config/\([^/]*\)\.xml$|\1|p' | sort -u)
 [ "${#hacks[@]}" -gt 0 ] || { echo "FAIL: dpkg -L xscreensaver-gl lists no config/*.xml"; exit 1; }
+if [ -n "$graph" ]; then
+  for h in $graph_hacks; do
+    [[ " ${hacks[*]} " == *" $h "* ]] || { echo "FAIL: $h is not a hack of xscreensaver-gl"; exit 1; }
+  done
+  read -ra hacks <<< "$(echo $graph_hacks)"
+fi
 # $FAKER_SWEEP_ONLY="NAME ...": only those hacks (to look at one by hand).
 if [ -n "${FAKER_SWEEP_ONLY:-}" ]; then
   read -ra hacks <<< "$FAKER_SWEEP_ONLY"
@@ -59,7 +84,10 @@ alive() {  # alive PID: running, not a zombie
 run() {
   local d=$1 mode=$2; shift 2
   mkdir -p "$d"
-  if [ "$mode" = faker ]; then
+  if [ "$mode" = faker ] && [ -n "$graph" ]; then
+    # The graph's outputs (f-NNNN.png, tiles/) are relative to --out.
+    setsid "$tessera" exec --graph "$graph" --out "$d" -- "$@" > "$d/stdout.txt" 2> "$d/stderr.txt" &
+  elif [ "$mode" = faker ]; then
     setsid "$tessera" exec --out "$d/f-%04d.png" -- "$@" > "$d/stdout.txt" 2> "$d/stderr.txt" &
   else
     setsid "$@" > "$d/stdout.txt" 2> "$d/stderr.txt" &
@@ -111,7 +139,16 @@ judge() {
   elif [ "$termed" = 0 ]; then why="crashed: ended by itself (status $status) after $n frames"
   elif [ "$n" = 0 ]; then why="hung: no frame in ${limit} s"
   elif [ "$good" != 1 ]; then why="$(tail -n 1 "$d/frames.txt" | sed 's/.*check failed: //') ($(head -n 1 "$d/frames.txt"))"
-  elif [ "$status" != 143 ]; then why="status $status after SIGTERM, not 143" kind=status
+  elif [ -z "$graph" ] && [ "$status" != 143 ]; then why="status $status after SIGTERM, not 143" kind=status
+  # A graph run ends on SIGTERM with the run's status 1 (every node stopped
+  # by the mothership, cli/cmd_exec.c), and says so for each node.
+  elif [ -n "$graph" ] && { [ "$status" != 1 ] || ! grep -qx "tessera exec: interrupted by signal 15" "$d/stderr.txt"; }; then
+    why="status $status after SIGTERM, not 1 with 'tessera exec: interrupted by signal 15'" kind=status
+  # The run's reason is the first failure, so that line says the SIGTERM
+  # came first; a server may then see the app go before its own SIGTERM
+  # ("dropped"), but no node may die of another signal.
+  elif [ -n "$graph" ] && grep '^tessera node: ' "$d/stderr.txt" | grep 'signal' | grep -qv 'signal 15'; then
+    why="a node died of a signal: $(grep '^tessera node: ' "$d/stderr.txt" | grep signal | grep -v 'signal 15' | head -n 2 | tr '\n' ' ')"
   elif [ "$left" = 1 ]; then why="left processes behind: $(tr '\n' ' ' < "$d/left.txt")" kind=left
   elif [ -n "$spec_warned" ]; then why="warned for functions the spec has: $spec_warned" kind=faker
   fi
@@ -157,6 +194,7 @@ one() {  # one NAME PROGRAM ARGS...
   # A program that ran keeps its last two frames (80 runs: 30 MB otherwise).
   if grep -q '^ran ' "$out/$name/verdict"; then
     find "$out/$name/faker" -maxdepth 1 -name 'f-*.png' | sort | head -n -2 | xargs -r rm -f
+    rm -rf "$out/$name/faker/tiles"
   fi
 }
 
@@ -192,7 +230,7 @@ for g in $glsl_hacks; do
     echo "FAIL $g: a GLSL and buffer-object hack must run, not only fail natively too"
   fi
 done
-echo "xscreensaver-gl sweep: ${#names[@]} programs (${#hacks[@]} hacks of xscreensaver-gl$([ "${names[0]}" = glxgears ] && echo ' and glxgears')) in $((SECONDS - begin)) s, $jobs_max at a time: $ran ran (>= $want frames not of one colour, ended by SIGTERM, nothing left; $retried of them on a second try), $native fail natively too (reported), ${#failed[@]} failed"
+echo "xscreensaver-gl sweep ($([ -n "$graph" ] && echo "graph $(basename "$graph")" || echo "[render] 1x1")): ${#names[@]} programs (${#hacks[@]} hacks of xscreensaver-gl$([ "${names[0]}" = glxgears ] && echo ' and glxgears')) in $((SECONDS - begin)) s, $jobs_max at a time: $ran ran (>= $want frames not of one colour, ended by SIGTERM, nothing left; $retried of them on a second try), $native fail natively too (reported), ${#failed[@]} failed"
 [ -n "${FAKER_SWEEP_ONLY:-}" ] || [ "$ran" -ge 25 ] || { echo "FAIL: only $ran programs ran, at least 25 must"; exit 1; }
 if [ "${#failed[@]}" -gt 0 ]; then
   echo "FAIL: ${failed[*]}"

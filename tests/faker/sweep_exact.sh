@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# tests/faker/sweep_exact.sh TESSERA OUTDIR PROGRAM...
+# Exactness of the real-program sweep (issue 12, item 6): each PROGRAM
+# (glxgears, or the name of an xscreensaver-gl hack) runs unmodified at
+# 320x240 under a private Xvfb through `tessera exec --chain "capture
+# frames=10 ! render"`, so its stream is captured once; the capture is then
+# replayed with no X server through [render] 1x1 (--chain) and through the
+# 2x2 grid wall tests/faker/sweep_wall.yaml (tilesort grid=2,2, assembled):
+# 0 differing pixels (tessera imgdiff) between the two, every frame, and
+# each equal to the live run's frame (that they move and are not blank is
+# xscreensaver.sh's check). Two programs at a time. Prints one
+# line per program and the counts; exits 1 naming each that differs.
+set -uo pipefail
+tessera=$1 out=$2; shift 2
+here=$(cd "$(dirname "$0")" && pwd)
+frames=10
+rm -rf "$out"; mkdir -p "$out"
+. "$here/xvfb.sh"
+start_xvfb "$out"
+
+diff_frames() {  # diff_frames A_PATTERN B_PATTERN: "" when all equal, else the first difference
+  local i a b d
+  for ((i = 0; i < frames; i++)); do
+    a=$(printf "$1" "$i") b=$(printf "$2" "$i")
+    [ -e "$a" ] || { echo "$a is missing"; return; }
+    [ -e "$b" ] || { echo "$b is missing"; return; }
+    d=$("$tessera" imgdiff "$a" "$b" | sed -n 's/^differing_pixels: //p')
+    [ "$d" = 0 ] || { echo "frame $i: ${d:-no answer} pixels of $b differ from $a"; return; }
+  done
+}
+
+one() {  # one NAME: writes DIR/verdict
+  local name=$1 d=$out/$1 prog=$1
+  [ "$name" = glxgears ] || prog=/usr/libexec/xscreensaver/$name
+  mkdir -p "$d"
+  (
+    cd "$d" || exit 1
+    setsid "$tessera" exec --chain "capture file=$d/s.tsrcap frames=$frames ! render output=$d/orig-%04d.png" \
+      -- "$prog" -geometry 320x240 > stdout.txt 2> stderr.txt &
+    pid=$!
+    for _ in $(seq 300); do [ -e s.tsrcap ] && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+    kill -TERM $pid 2>/dev/null
+    for _ in $(seq 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+    kill -KILL -- -$pid 2>/dev/null
+    wait $pid 2>/dev/null
+    [ -e s.tsrcap ] || { echo "FAIL $name: no capture written; $(head -c 200 stderr.txt | tr '\n' ' ')"; exit; }
+    env -u DISPLAY "$tessera" replay s.tsrcap --chain "render output=$d/one-%04d.png" > replay1.txt 2>&1 ||
+      { echo "FAIL $name: replay through [render] failed: $(tail -n 1 replay1.txt)"; exit; }
+    env -u DISPLAY "$tessera" replay s.tsrcap --graph "$here/sweep_wall.yaml" --out "$d/wall" --no-progress \
+      > replay4.txt 2>&1 || { echo "FAIL $name: replay through the 2x2 wall failed: $(tail -n 1 replay4.txt)"; exit; }
+    why=$(diff_frames "$d/one-%04d.png" "$d/wall/f-%04d.png")
+    [ -z "$why" ] || { echo "FAIL $name: 1x1 against 2x2: $why"; exit; }
+    why=$(diff_frames "$d/orig-%04d.png" "$d/one-%04d.png")
+    [ -z "$why" ] || { echo "FAIL $name: the live run against its replay: $why"; exit; }
+    echo "exact $name: $frames frames, 1x1 = 2x2 = the live run (0 differing pixels each)"
+    rm -rf "$d/wall/tiles"
+  ) > "$d/verdict"
+  cat "$d/verdict"
+}
+
+begin=$SECONDS
+for p in "$@"; do
+  while [ "$(jobs -rp | grep -cvx "$XVFB_PID")" -ge 2 ]; do wait -n; done
+  one "$p" &
+done
+while [ "$(jobs -rp | grep -cvx "$XVFB_PID")" -gt 0 ]; do wait -n; done
+exact=0 failed=()
+for p in "$@"; do
+  if grep -q '^exact ' "$out/$p/verdict"; then exact=$((exact + 1)); else failed+=("$p"); fi
+done
+echo "sweep exactness: $# programs in $((SECONDS - begin)) s: $exact exact (1x1 = 2x2 wall, every frame), ${#failed[@]} failed"
+[ "${#failed[@]}" = 0 ] || { echo "FAIL: ${failed[*]}"; exit 1; }
