@@ -114,6 +114,15 @@ foreach(bucket ${TILESORT_BALANCED})
     COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/slow-${bucket} ${bucket} 12 4 1.2 2
             batch_bytes=1024)
 endforeach()
+# A moving scene (item 3): the isosurface's camera orbiting 10 degrees a
+# frame (isosurface --orbit), deterministic costs: every frame exact, and
+# the split follows the motion, the imbalance at most 1.4 every frame from
+# frame 2 on (each split is made from the frame before's cost, so it lags
+# the camera by a frame; the evenly split frame 0 is at 1.9). 512x384.
+foreach(bucket ${TILESORT_BALANCED})
+  add_test(NAME tilesort_${bucket}_tracks_an_orbiting_camera_exact_and_bounded
+    COMMAND ${TILESORT_SH} track ${TILESORT_BIN} ${TILESORT_OUT}/orbit-${bucket} ${bucket} 6 10 1.4 batch_bytes=1024)
+endforeach()
 add_test(NAME tilesort_bad_tile_is_a_clear_error
   COMMAND ${TILESORT_SH} bad ${TILESORT_BIN} ${TILESORT_OUT}/bad-tile 0:0:0:512 grid SERVER)
 add_test(NAME tilesort_grid_of_non_grid_tiles_is_a_clear_error
