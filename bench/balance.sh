@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # bench/balance.sh — sort-first load balancing (issue 13): tilesort's
 # bucket=grid, union (GRID_UNION) and kd (KD-SPLIT) on the static
-# marching-cubes isosurface (examples/isosurface), one real `tessera node`
+# marching-cubes isosurface (examples/isosurface --static: before, the
+# field moved and the camera turned 8 degrees a frame), one real `tessera node`
 # render server per region, llvmpipe on the chain's thread
 # (LP_NUM_THREADS=0) so the servers' thread CPU time is their render time.
 #
@@ -20,14 +21,25 @@
 #    time plus their bytes at BALANCE_NET_MBPS (default 1000 Mbit/s),
 #    the median over the frames after the first; the 1x1 run's is the
 #    reference (one server doing all). Figures balance_slowest_ms_METHOD_32.
-# Writes balance.csv, balance_servers.csv, balance.png (imbalance and
-# overlap per frame) and balance_servers.png.
+# 3. Frames to converge after a camera jump (isosurface --jump
+#    BALANCE_JUMP, default 4: the camera turns 90 degrees at that frame),
+#    8x4 at BALANCE_SIZE, BALANCE_JUMP_FRAMES (12) frames, for union and
+#    kd with the defaults and for kd with the alternatives of damping and
+#    hysteresis (BALANCE_ALTS): per frame the imbalance; the figure
+#    balance_VARIANT_jump_frames_8x4 is how many frames after the jump the
+#    imbalance is first back at or under 1.2 and stays there (the frame
+#    of the jump counts 1; "never" if it does not within the run).
+# Writes balance.csv, balance_servers.csv, balance_jump.csv, balance.png
+# (imbalance and overlap per frame), balance_servers.png and
+# balance_jump.png. BALANCE_PARTS (default "1 2 3") picks the parts.
 # usage: bench/balance.sh BIN_DIR OUT_DIR [--quick]
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${BALANCE_SIZE:-2048x1536} frames=${BALANCE_FRAMES:-10} detail=${BALANCE_DETAIL:-2}
 ssize=${BALANCE_SWEEP_SIZE:-1024x768} sframes=${BALANCE_SWEEP_FRAMES:-5} mbps=${BALANCE_NET_MBPS:-1000}
-wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4)
+wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4) parts=${BALANCE_PARTS:-1 2 3}
+jump=${BALANCE_JUMP:-4} jframes=${BALANCE_JUMP_FRAMES:-12}
+alts=${BALANCE_ALTS:-kd:damping=1:hysteresis=0 kd:damping=0.5:hysteresis=0.1 kd:damping=1:hysteresis=0.2 kd:damping=1:hysteresis=0.1:smoothing=1}
 if [[ $quick == --quick ]]; then
     size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2)
 fi
@@ -54,13 +66,14 @@ tiles_for() {
     echo "$list"
 }
 
-# run SIZE FRAMES CONFIG BUCKET STATS: servers for CONFIG, the isosurface
-# through tilesort, statistics into STATS.
+# run SIZE FRAMES CONFIG BUCKET STATS [SCENE [OPTIONS]]: servers for CONFIG,
+# the isosurface (SCENE: its motion options, default --static) through
+# tilesort with OPTIONS, statistics into STATS.
 run() {
-    local sz=$1 nf=$2 config=$3 bucket=$4 stats=$5
+    local sz=$1 nf=$2 config=$3 bucket=$4 stats=$5 scene=${6:---static} extra=${7:-}
     local cols=${config%x*} rows=${config#*x} n servers= k dir tiles=
     n=$((cols * rows))
-    dir=$work/$sz-$config-$bucket
+    dir=$work/$sz-$config-$bucket${extra:+-${extra// /-}}${scene// /}
     mkdir -p "$dir"
     PIDS=
     for ((k = 0; k < n; k++)); do
@@ -70,8 +83,8 @@ run() {
         servers="$servers${servers:+,}$NODE_ADDR"
     done
     case $bucket in grid | broadcast) tiles="tiles=$(tiles_for "$cols" "$rows" "${sz%x*}" "${sz#*x}")" ;; esac
-    if ! TESSERA_STATS_FILE=$stats LP_NUM_THREADS=0 "$bin/isosurface" --frames "$nf" --detail "$detail" --size "$sz" \
-        --chain "tilesort servers=$servers $tiles bucket=$bucket timeout_ms=300000" \
+    if ! TESSERA_STATS_FILE=$stats LP_NUM_THREADS=0 "$bin/isosurface" $scene --frames "$nf" --detail "$detail" --size "$sz" \
+        --chain "tilesort servers=$servers $tiles bucket=$bucket timeout_ms=300000 $extra" \
         >"$dir/app.out" 2>"$dir/app.err"; then
         cat "$dir/app.err" >&2
         echo "bench/balance: isosurface failed ($config, $bucket)" >&2
@@ -84,7 +97,15 @@ run() {
 # rows STATS KEY: the rows of a sort_first array of arrays, one a line.
 rows() { sed -n "s/.*\"$2\":\[\[\([^]]*\(\],\[[^]]*\)*\)\]\].*/\1/p" "$1" | sed 's/\],\[/\n/g'; }
 
+# imbalances STATS: the measured imbalance per frame, one a line ("nan" when a report is missing).
+imbalances() {
+    rows "$1" server_seconds | awk -F, '{ smax = 0; ssum = 0; ok = 1
+        for (i = 1; i <= NF; i++) { if ($i == "null") ok = 0; ssum += $i; if ($i + 0 > smax) smax = $i + 0 }
+        if (ok && ssum > 0) printf "%.4f\n", smax * NF / ssum; else print "nan" }'
+}
+
 # --- 1. the 8x4 wall, per frame ----------------------------------------------
+if [[ " $parts " == *" 1 "* ]]; then
 csv=$out/balance.csv
 echo "method,tiles,frame,imbalance,imbalance_bytes,overlap" >"$csv"
 run "$size" "$frames" 1x1 grid "$work/one.json"
@@ -112,7 +133,10 @@ for method in grid union kd; do
     done
 done
 
+fi
+
 # --- 2. the slowest server against server count ---------------------------------
+if [[ " $parts " == *" 2 "* ]]; then
 scsv=$out/balance_servers.csv
 echo "method,tiles,servers,slowest_ms,render_ms,net_ms" >"$scsv"
 for config in "${sweep[@]}"; do
@@ -136,8 +160,39 @@ done
 awk -F, 'NR > 1 && $2 == "1x1" && $1 == "grid" { printf "balance_slowest_ms_one_server: %s\n", $4 }' "$scsv"
 last=${sweep[${#sweep[@]} - 1]}
 awk -F, -v t="$last" 'NR > 1 && $2 == t { printf "balance_slowest_ms_%s_%d: %s (render %s + net %s)\n", $1, $3, $4, $5, $6 }' "$scsv"
+fi
 
-if command -v gnuplot >/dev/null && [[ $quick != --quick ]]; then
+# --- 3. frames to converge after a camera jump ----------------------------------
+jcsv=$out/balance_jump.csv
+if [[ " $parts " == *" 3 "* ]]; then
+    echo "variant,frame,imbalance" >"$jcsv"
+    for v in union kd $alts; do
+        method=${v%%:*} extra=
+        [[ $v == *:* ]] && extra=${v#*:} && extra=${extra//:/ }
+        st=$work/jump-${v//[:=]/_}.json
+        run "$size" "$jframes" "$wall" "$method" "$st" "--jump $jump" "$extra"
+        imbalances "$st" | awk -v v="$v" '{ printf "%s,%d,%s\n", v, NR, $1 }' >>"$jcsv"
+    done
+    # frames from the jump (frame jump+1 counted from 1) until <= 1.2 for good
+    awk -F, -v j="$jump" -v t="$wall" 'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; if ($2 + 0 > last) last = $2 + 0 }
+        END { for (k in v) { conv = "never"
+                for (f = last; f > j; f--) { if (imb[k, f] == "nan" || imb[k, f] + 0 > 1.2) break; conv = f - j }
+                n = k; gsub(/[:=]/, "_", n); printf "balance_%s_jump_frames_%s: %s\n", n, t, conv } }' "$jcsv" | sort
+fi
+
+if command -v gnuplot >/dev/null && [[ $quick != --quick && " $parts " == *" 3 "* ]]; then
+    gnuplot <<EOF || echo "bench/balance: gnuplot failed (jump chart skipped)" >&2
+set terminal pngcairo size 900,480
+set output "$out/balance_jump.png"
+set datafile separator ","
+set title "Camera turned 90 degrees at frame $((jump + 1)) (isosurface --jump $jump), ${size}, $wall servers\nimbalance = max / mean of the servers' measured render CPU time"
+set xlabel "frame"
+set ylabel "imbalance"
+set key top right
+plot for [v in "union kd $alts"] "< grep '^".v.",' $jcsv" using 2:3 with linespoints title v, 1.2 with lines dt 2 title "1.2"
+EOF
+fi
+if command -v gnuplot >/dev/null && [[ $quick != --quick && " $parts " == *" 1 "* && " $parts " == *" 2 "* ]]; then
     gnuplot <<EOF || echo "bench/balance: gnuplot failed (charts skipped)" >&2
 set terminal pngcairo size 1000,420
 set output "$out/balance.png"

@@ -7,7 +7,13 @@
  * --part K/N (sort-last): the primitives are the triangles, numbered in
  * draw order (the metaballs' then the gyroid's); share K draws the run
  * exapp_part_range gives it, from whichever of the two meshes it covers,
- * so a share may end in the middle of a surface. */
+ * so a share may end in the middle of a surface.
+ *
+ * --static, --orbit DEG, --jump K (the load balancers' scenes, issue 13):
+ * the field is frame 0's in every frame; the camera stays (--static),
+ * orbits DEG degrees a frame about the vertical axis (--orbit), and/or
+ * turns 90 degrees at once at frame K and stays there (--jump). Without
+ * them the field moves and the camera turns 8 degrees a frame. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -328,9 +334,17 @@ static void setup(const exapp *app)
     glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 32.0f);
 }
 
-static void draw(const exapp *app, const mc_case table[256], int frame, int detail)
+/* What moves: the field's time and the camera's angle per frame. */
+typedef struct motion {
+    bool still_field; /* --static, --orbit or --jump: frame 0's field */
+    double orbit;     /* degrees a frame */
+    double jump;      /* the frame from which the camera is turned 90 degrees; < 0: none */
+} motion;
+
+static void draw(const exapp *app, const mc_case table[256], int frame, int detail, const motion *mo)
 {
-    float t = 0.25f * (float)frame;
+    float t = mo->still_field ? 0.0f : 0.25f * (float)frame;
+    float angle = (float)(mo->orbit * frame + (mo->jump >= 0 && frame >= mo->jump ? 90.0 : 0.0));
     metaballs mb;
     for (int i = 0; i < 5; i++) {
         float phase = (float)i * 1.3f;
@@ -379,7 +393,7 @@ static void draw(const exapp *app, const mc_case table[256], int frame, int deta
     glLightfv(GL_LIGHT1, GL_POSITION, l1);
     glTranslatef(0, 0, -4.2f);
     glRotatef(25.0f, 1, 0, 0);
-    glRotatef(8.0f * (float)frame, 0, 1, 0);
+    glRotatef(angle, 0, 1, 0);
 
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_NORMAL_ARRAY);
@@ -422,13 +436,28 @@ static void draw(const exapp *app, const mc_case table[256], int frame, int deta
 int main(int argc, char **argv)
 {
     exapp app;
-    if (!exapp_init(&app, "isosurface", argc, argv, 640, 480))
+    motion mo = {false, 8.0, -1};
+    double orbit = 0, jump = -1;
+    bool still = false, orbits = false, jumps = false;
+    const exapp_option options[] = {
+        {"--static", "  --static        nothing moves: frame 0's field and camera in every frame", 0, 0, NULL, &still},
+        {"--orbit", "  --orbit DEG     frame 0's field, the camera orbiting DEG degrees a frame", -360, 360, &orbit,
+         &orbits},
+        {"--jump", "  --jump K        frame 0's field, the camera turned 90 degrees from frame K on", 0, 1000000, &jump,
+         &jumps},
+    };
+    if (!exapp_init_options(&app, "isosurface", argc, argv, 640, 480, options, 3))
         return exapp_finish(&app);
+    if (still || orbits || jumps) {
+        mo.still_field = true;
+        mo.orbit = orbits ? orbit : 0;
+        mo.jump = jumps ? floor(jump) : -1;
+    }
     static mc_case table[256];
     build_mc_table(table);
     setup(&app);
     for (int f = 0; f < app.frames; f++) {
-        draw(&app, table, f, app.detail);
+        draw(&app, table, f, app.detail, &mo);
         if (!exapp_swap(&app))
             break;
     }

@@ -109,6 +109,9 @@ add_test(NAME examples_reject_unknown_option_exit_2
 add_test(NAME examples_native_reject_bad_size_exit_2
   COMMAND ${EXPECT} 2 "" "isosurface: bad --size .*10by10"
           $<TARGET_FILE:isosurface-native> --size 10by10)
+add_test(NAME examples_isosurface_rejects_bad_orbit_exit_2
+  COMMAND ${EXPECT} 2 "" "isosurface: bad --orbit \\(expected a number in -360..360\\): 400"
+          $<TARGET_FILE:isosurface-native> --orbit 400)
 add_test(NAME examples_reject_bad_out_pattern_exit_2
   COMMAND ${EXPECT} 2 "" "bad file pattern 'x-%s.png'"
           $<TARGET_FILE:texquads-native> --out x-%s.png)

@@ -129,8 +129,28 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
 bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
                      const char *flag, const char *help, bool *on)
 {
-    if (on)
-        *on = false;
+    exapp_option one = {flag, help, 0, 0, NULL, on};
+    return exapp_init_options(app, name, argc, argv, default_width, default_height, &one, flag ? 1 : 0);
+}
+
+/* The options' help lines, one block (static: --help prints and exits). */
+static const char *options_help(const exapp_option *options, int count)
+{
+    static char text[2048];
+    size_t at = 0;
+    text[0] = '\0';
+    for (int k = 0; k < count; k++)
+        if (options[k].help && at < sizeof text)
+            at += (size_t)snprintf(text + at, sizeof text - at, "%s%s", k ? "\n" : "", options[k].help);
+    return count ? text : NULL;
+}
+
+bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
+                        const exapp_option *options, int count)
+{
+    for (int k = 0; k < count; k++)
+        if (options[k].given)
+            *options[k].given = false;
     memset(app, 0, sizeof *app);
     app->name = name;
     app->width = default_width;
@@ -151,12 +171,31 @@ bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int de
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
-            exapp_usage(app, stdout, help);
+            exapp_usage(app, stdout, options_help(options, count));
             app->exit_code = 0;
             return false;
         }
-        if (flag && !strcmp(arg, flag)) {
-            *on = true;
+        const exapp_option *opt = NULL;
+        for (int k = 0; k < count && !opt; k++)
+            if (options[k].name && !strcmp(arg, options[k].name))
+                opt = &options[k];
+        if (opt) {
+            if (opt->given)
+                *opt->given = true;
+            if (!opt->value)
+                continue;
+            char *end;
+            if (i + 1 >= argc)
+                return fail(app, 2, "option needs a value", arg);
+            const char *value = argv[++i];
+            errno = 0;
+            double v = strtod(value, &end);
+            if (errno || end == value || *end || !(v >= opt->min && v <= opt->max)) {
+                char why[160];
+                snprintf(why, sizeof why, "bad %s (expected a number in %g..%g)", arg, opt->min, opt->max);
+                return fail(app, 2, why, value);
+            }
+            *opt->value = v;
             continue;
         }
         bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") ||

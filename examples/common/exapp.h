@@ -45,6 +45,22 @@ bool exapp_init(exapp *app, const char *name, int argc, char **argv, int default
 bool exapp_init_flag(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
                      const char *flag, const char *help, bool *on);
 
+/* An example-specific option: `name` (e.g. "--orbit") takes a number in
+ * [min, max] into *value, or, with value NULL, is a flag; *given says
+ * whether it was on the command line. `help` is its --help text (lines
+ * indented like the others, no final newline). */
+typedef struct exapp_option {
+    const char *name, *help;
+    double min, max;
+    double *value;
+    bool *given;
+} exapp_option;
+
+/* As exapp_init, with `count` example-specific options (a bad value is a
+ * usage error naming the option and the range). */
+bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int default_width, int default_height,
+                        const exapp_option *options, int count);
+
 /* Ends the frame: the native build finishes and writes the PNG, the
  * tessera build sends SwapBuffersTSR(0, 0). Returns false (exit_code = 1,
  * message printed) when the frame could not be written. */

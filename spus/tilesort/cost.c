@@ -141,6 +141,17 @@ static void learn_speeds(ts_tiling *t)
         size_t row = (size_t)(f % TS_COST_HISTORY) * n;
         if (c->learned[f % TS_COST_HISTORY])
             continue;
+        /* frame 0 is split evenly, before any cost is known: its regions
+         * have little in common with the balanced ones, and a speed learnt
+         * there (the estimate's local error averaged over an unrelated
+         * region) threw the first balanced splits off (the 8x4 isosurface
+         * went from 1.13 to 1.71 when frame 0's reports came in, 1.31 with
+         * them learnt at a quarter weight). A server's own slowness is
+         * then learnt from frame 1, and shows from frame 3. */
+        if (f == 0) {
+            c->learned[0] = 1;
+            continue;
+        }
         size_t got = 0;
         double se = 0, st = 0, see = 0, set = 0;
         for (size_t s = 0; s < n; s++)

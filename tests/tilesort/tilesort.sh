@@ -19,16 +19,22 @@
 #       every frame every server has a region of at least one pixel, the
 #       regions add up to the window, no NaN or Inf in the statistics. STALL
 #       1: server 1's first frame takes 1.5 s more (it reports late).
-#   converge CONFIG FRAMES MAX SLOW [OPTION...]
+#   converge CONFIG FRAMES FROM MAX SLOW [OPTION...]
 #       balance_scenes --static (a static scene) with deterministic costs
 #       (each server reports 1 ns per byte received, TESSERA_TEST_COST),
-#       every frame exact: from frame 3 on the measured imbalance (max /
+#       every frame exact: from frame FROM on (counted from 0) the measured imbalance (max /
 #       mean of the servers' reported times) is at most MAX every frame,
 #       and the regions settle (no oscillation: the last four frames keep
 #       one split). SLOW (1: none): server 0's reported time is multiplied by SLOW
 #       (a server SLOW times as slow): its share of the bytes (its bytes
 #       over the mean of the others') over the last frames must be within
 #       0.3 of 1/SLOW.
+#   track CONFIG FRAMES ORBIT MAX [OPTION...]
+#       isosurface --orbit ORBIT (a still field, the camera orbiting ORBIT
+#       degrees a frame) at 512x384 with deterministic costs, every frame
+#       exact: from frame 2 on (the first split from a frame's cost is
+#       frame 1's) the measured imbalance is at most MAX every frame, so
+#       the split follows the motion.
 #   bad TILES BUCKET WORD
 #       a tilesort with this tiles option fails at start, exit status
 #       non-zero, one message naming WORD.
@@ -174,8 +180,8 @@ stable)
     grep -q "first frame takes 1500 ms more" "$out/tiled/node1.err" || fail "server 1 did not stall"
   fi ;;
 converge)
-  config=$1 frames=$2 max=$3 slow=$4
-  shift 4
+  config=$1 frames=$2 from=$3 max=$4 slow=$5
+  shift 5
   SIZE=256x192 APP_ARGS=--static TILESORT_ENV=TESSERA_TEST_COST=bytes
   [ "$slow" != 1 ] && TILESORT_ENV_0=TESSERA_TEST_COST_SCALE=$slow
   "$bin/balance_scenes-native" --static --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
@@ -185,7 +191,7 @@ converge)
   st=$out/tiled/stats.json
   imb=$(sed -n 's/.*"time_imbalance":\[\([^]]*\)\].*/\1/p' "$st")
   echo "imbalance (max/mean of reported time) per frame: $imb"
-  echo "$imb" | tr ',' '\n' | awk -v m="$max" 'NR > 3 { if ($1 == "null" || $1 + 0 > m + 0) { print "frame " NR - 1 ": imbalance " $1 " above " m; b = 1 } } END { exit b }' >&2 ||
+  echo "$imb" | tr ',' '\n' | awk -v m="$max" -v f="$from" 'NR > f { if ($1 == "null" || $1 + 0 > m + 0) { print "frame " NR - 1 ": imbalance " $1 " above " m; b = 1 } } END { exit b }' >&2 ||
     bad=1
   rows "$st" server_pixels >"$out/pixels"
   echo "regions (pixels per server) per frame:"; cat "$out/pixels"
@@ -195,6 +201,20 @@ converge)
       END { r = a / m; printf "server 0 (%s times as slow) got %.3f of the others'"'"' mean bytes (1/%s = %.3f)\n", s, r, s, 1 / s
             exit !(r > 1 / s - 0.3 && r < 1 / s + 0.3) }' || fail "the slow server's share is not near 1/$slow"
   fi ;;
+track)
+  config=$1 frames=$2 orbit=$3 max=$4
+  shift 4
+  SIZE=512x384 APP_ARGS="--orbit $orbit" TILESORT_ENV=TESSERA_TEST_COST=bytes
+  "$bin/isosurface-native" $APP_ARGS --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
+    fail "isosurface-native failed"
+  run_tilesort "$out/tiled" isosurface "$frames" "$config" "$@"
+  exact_frames "$out/tiled" isosurface "$frames" "$config"
+  imb=$(sed -n 's/.*"time_imbalance":\[\([^]]*\)\].*/\1/p' "$out/tiled/stats.json")
+  echo "imbalance (max/mean of reported time) per frame, camera orbiting $orbit degrees a frame: $imb"
+  echo "$imb" | tr ',' '\n' | awk -v m="$max" 'NR > 2 { if ($1 == "null" || $1 + 0 > m + 0) { print "frame " NR - 1 ": imbalance " $1 " above " m; b = 1 } } END { exit b }' >&2 ||
+    bad=1
+  rows "$out/tiled/stats.json" server_pixels >"$out/pixels"
+  echo "regions (pixels per server) per frame:"; cat "$out/pixels" ;;
 exact)
   app=$1 frames=$2 config=$3
   shift 3
