@@ -41,23 +41,7 @@ rm -rf "$work" && mkdir -p "$work"
 TESSERA=$bin/tessera
 . "$(dirname "$0")/../tests/node/node_lib.sh"
 
-PIDS=
-kill_all() { for p in $PIDS; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done; PIDS=; }
-trap kill_all EXIT
-
-# tiles_for COLS ROWS: "S:X:Y:W:H,..." splitting WIDTHxHEIGHT evenly.
-tiles_for() {
-    local cols=$1 rows=$2 c r s=0 list=
-    for ((r = 0; r < rows; r++)); do
-        for ((c = 0; c < cols; c++)); do
-            local x0=$((c * width / cols)) x1=$(((c + 1) * width / cols))
-            local y0=$((r * height / rows)) y1=$(((r + 1) * height / rows))
-            list="$list${list:+,}$s:$x0:$y0:$((x1 - x0)):$((y1 - y0))"
-            s=$((s + 1))
-        done
-    done
-    echo "$list"
-}
+. "$(dirname "$0")/walls.sh"
 
 # run APP ARGS CONFIG BUCKET STATS: servers for CONFIG, the app through
 # tilesort, statistics into STATS. Fails loudly when a process fails.
@@ -76,7 +60,7 @@ run() {
     done
     # shellcheck disable=SC2086
     if ! TESSERA_STATS_FILE=$stats LP_NUM_THREADS=${LP_NUM_THREADS:-1} "$bin/$app" $args --size "$size" \
-        --chain "tilesort servers=$servers tiles=$(tiles_for "$cols" "$rows") bucket=$bucket $batch timeout_ms=120000" \
+        --chain "tilesort servers=$servers tiles=$(tiles_for "$cols" "$rows" "$width" "$height") bucket=$bucket $batch timeout_ms=120000" \
         >"$dir/app.out" 2>"$dir/app.err"; then
         cat "$dir/app.err" >&2
         echo "bench/march: $app failed ($config, $bucket)" >&2
