@@ -1,19 +1,29 @@
 /* faker/core.c — the faker's contexts, surfaces and current state (see
- * faker_gl.h). One SPU chain per process, made at the first context from
- * $TESSERA_CHAIN (default "render"); every application context is a
- * tessera context of it (ContextCreateTSR at its first MakeCurrent), every
- * surface a tessera window (WindowCreateTSR with the drawable's size, read
- * over the faker's own xcb connection, which also selects StructureNotify
- * on the window for itself; the ConfigureNotify events that have arrived
- * are read without a round trip at every glViewport, swap and
- * MakeCurrent — a glViewport of another size than the window's also asks
- * the server, at most once a frame, in case that event is still on its
- * way — and a new size becomes WindowSizeTSR). A context's table is the chain head's with glGetString
- * answered here (renderer naming tessera, version 2.1, the spec's
- * extensions). Commands to the chain are serialised by one mutex only
- * around the faker's own calls; the chain itself is driven by the thread
- * whose context is current (several threads drawing at once through one
- * chain is not supported yet). */
+ * faker_gl.h). SPU chains are made from $TESSERA_CHAIN (default "render"),
+ * one per *stream*: every application context is a tessera context of one
+ * stream (ContextCreateTSR at its first MakeCurrent), every surface a
+ * tessera window of each stream that draws into it (WindowCreateTSR with
+ * the drawable's size, read over the faker's own xcb connection, which
+ * also selects StructureNotify on the window for itself; the
+ * ConfigureNotify events that have arrived are read without a round trip
+ * at every glViewport, swap and MakeCurrent — a glViewport of another size
+ * than the window's also asks the server, at most once a frame, in case
+ * that event is still on its way — and a new size becomes WindowSizeTSR).
+ * A context's table is its stream's chain head's with glGetString answered
+ * here (renderer naming tessera, version 2.1, the spec's extensions).
+ *
+ * Threads (docs/architecture.md, "The faker"): a chain is only ever driven
+ * by one thread at a time, without a lock on the call path. A context
+ * joins a stream at its first MakeCurrent: its share list's stream, else
+ * the first stream no other thread has a context current on (so a program
+ * with one drawing thread has exactly one stream, as before), else a new
+ * one. Two threads drawing at once therefore draw into two chains, each
+ * with its own renderer, framebuffer and windows, as two contexts on two
+ * surfaces are separate in GL. What is refused (MakeCurrent fails with one
+ * log line, never a corrupted stream): a context of a stream made current
+ * while another thread has a context of the same stream current (share
+ * lists across concurrently drawing threads). The faker's own lists are
+ * guarded by one mutex, never held across an application's GL call. */
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -34,31 +44,58 @@
 #define TESSERA_VERSION "0"
 #endif
 
+/* One stream: a chain and what was sent into it. */
+typedef struct faker_stream {
+    int number; /* from 0; "{stream}" in the chain text */
+    tsr_chain *chain;
+    int next_window_id;  /* tessera window ids of this stream, from 0 */
+    int current_threads; /* threads with a context of it current */
+    struct faker_stream *next;
+} faker_stream;
+
+/* A surface as one stream knows it. */
+typedef struct faker_window {
+    faker_stream *stream;
+    int window;        /* tessera window id in that stream */
+    int width, height; /* what that stream was told */
+} faker_window;
+
+#define FAKER_SURFACE_STREAMS 8
+
+/* Contexts made with each other as share lists: one stream for all. */
+typedef struct faker_group {
+    faker_stream *stream; /* NULL until one of them is first made current */
+    int refs;
+} faker_group;
+
 struct tsr_faker_context {
     int id;               /* tessera context id, from 1 */
+    faker_stream *stream; /* NULL until its first MakeCurrent */
+    faker_group *group;   /* its share group (refcounted) */
     bool on_stream;       /* ContextCreateTSR was sent */
     bool destroy_pending; /* destroyed while current somewhere */
     int current_on;       /* threads it is current on (0 or 1) */
-    tsr_dispatch table;   /* the chain head's, GetString answered here */
+    tsr_dispatch table;   /* its stream's chain head's, GetString answered here */
     char renderer[256];   /* "tessera (downstream renderer)" */
     tsr_faker_context *next;
 };
 
 struct tsr_faker_surface {
-    int window;            /* tessera window id, from 0 */
-    unsigned long xid;     /* X drawable, 0: pbuffer */
-    int width, height;     /* what the stream was told */
-    int x_width, x_height; /* the X window's, from ConfigureNotify */
-    bool on_stream;        /* WindowCreateTSR was sent */
-    bool asked;            /* its size was asked this frame (glViewport) */
+    unsigned long xid;                      /* X drawable, 0: pbuffer */
+    int width, height;                      /* its size when made (pbuffers keep it) */
+    int x_width, x_height;                  /* the X window's, from ConfigureNotify */
+    bool asked;                             /* its size was asked this frame (glViewport) */
+    faker_window on[FAKER_SURFACE_STREAMS]; /* the streams it is a window of */
+    int non;
     tsr_faker_surface *next;
 };
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static tsr_chain *chain;
+static faker_stream *streams; /* newest first */
+static int nstreams;
 static bool chain_failed;
 static pid_t chain_pid; /* the process that made the chain (chain_at_exit) */
-static int next_context_id = 1, next_window_id = 0;
+static int next_context_id = 1;
 static tsr_faker_context *contexts;
 static tsr_faker_surface *surfaces;
 static xcb_connection_t *xconn;
@@ -66,6 +103,8 @@ static char xconn_name[256];
 
 static _Thread_local tsr_faker_context *cur_ctx;
 static _Thread_local tsr_faker_surface *cur_surface;
+static _Thread_local faker_window *cur_window; /* cur_surface in cur_ctx's stream */
+static _Thread_local bool refused_busy;        /* the last MakeCurrent failed so */
 
 void tsr_faker_log(int level, const char *fmt, ...)
 {
@@ -124,37 +163,72 @@ static void chain_at_exit(void)
     if (getpid() != chain_pid)
         return;
     pthread_mutex_lock(&lock);
-    tsr_chain *c = chain;
-    chain = NULL;
+    faker_stream *list = streams;
+    streams = NULL;
     pthread_mutex_unlock(&lock);
-    if (c) {
-        tsr_gl_current_table = NULL;
-        tsr_chain_destroy(c);
+    tsr_gl_current_table = NULL;
+    while (list) {
+        faker_stream *next = list->next;
+        tsr_chain_destroy(list->chain);
+        free(list);
+        list = next;
     }
 }
 
-static const tsr_dispatch *head_locked(void)
+/* The chain text of stream `number`: $TESSERA_CHAIN with every "{stream}"
+ * replaced by the number, so the streams of a program with several
+ * drawing threads can write their own files. */
+static void chain_text(int number, char *out, size_t size)
 {
-    if (chain)
-        return tsr_chain_head(chain);
-    if (chain_failed)
-        return NULL;
     const char *text = getenv("TESSERA_CHAIN");
     if (!text || !text[0])
         text = "render";
+    size_t n = 0;
+    for (const char *p = text; *p && n + 1 < size;) {
+        if (!strncmp(p, "{stream}", 8)) {
+            int w = snprintf(out + n, size - n, "%d", number);
+            n = w < 0 || (size_t)w >= size - n ? size - 1 : n + (size_t)w;
+            p += 8;
+        } else {
+            out[n++] = *p++;
+        }
+    }
+    out[n] = '\0';
+}
+
+/* A new stream (its chain made now); NULL when the chain cannot be made
+ * (logged once; every later context fails too). */
+static faker_stream *stream_new_locked(void)
+{
+    if (chain_failed)
+        return NULL;
+    char text[4096];
+    chain_text(nstreams, text, sizeof text);
+    faker_stream *st = calloc(1, sizeof *st);
     tsr_error err = {0};
-    chain = tsr_chain_create(text, &err);
-    if (chain) {
+    tsr_chain *c = st ? tsr_chain_create(text, &err) : NULL;
+    if (!c) {
+        chain_failed = true;
+        tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, st ? err.message : "out of memory");
+        free(st);
+        return NULL;
+    }
+    if (!streams) {
         chain_pid = getpid();
         atexit(chain_at_exit);
     }
-    if (!chain) {
-        chain_failed = true;
-        tsr_faker_log(TSR_LOG_ERROR, "cannot make the SPU chain \"%s\": %s", text, err.message);
-        return NULL;
-    }
-    tsr_faker_log(TSR_LOG_INFO, "SPU chain \"%s\"", text);
-    return tsr_chain_head(chain);
+    st->number = nstreams++;
+    st->chain = c;
+    st->next = streams;
+    streams = st;
+    if (st->number == 0)
+        tsr_faker_log(TSR_LOG_INFO, "SPU chain \"%s\"", text);
+    else
+        tsr_faker_log(TSR_LOG_INFO, "SPU chain \"%s\" for stream %d (another thread draws at the same time)", text,
+                      st->number);
+    if (st->number == 1 && !strstr(getenv("TESSERA_CHAIN") ? getenv("TESSERA_CHAIN") : "", "{stream}"))
+        tsr_faker_log(TSR_LOG_WARN, "the chain text has no {stream}: the streams' outputs have the same names");
+    return st;
 }
 
 /* --- glGetString --------------------------------------------------------- */
@@ -166,7 +240,7 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
     case GL_VENDOR: return (const GLubyte *)"tessera";
     case GL_RENDERER:
         if (!c->renderer[0]) {
-            const tsr_dispatch *head = tsr_chain_head(chain);
+            const tsr_dispatch *head = tsr_chain_head(c->stream->chain);
             const GLubyte *down = tsr_call_GetString(head, GL_RENDERER);
             snprintf(c->renderer, sizeof c->renderer, "tessera (%s)",
                      down && down[0] ? (const char *)down : "no renderer");
@@ -179,7 +253,7 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
     }
 }
 
-static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t);
+static void follow_size_locked(tsr_faker_surface *s, faker_window *w, const tsr_dispatch *t);
 static void poll_locked(void);
 static bool drawable_size_locked(unsigned long xid, int *w, int *h);
 
@@ -187,8 +261,8 @@ static bool drawable_size_locked(unsigned long xid, int *w, int *h);
  * stream before the frame drawn at it (checked again at every swap). */
 static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
 {
-    (void)self;
-    const tsr_dispatch *head = tsr_chain_head(chain);
+    tsr_faker_context *c = self;
+    const tsr_dispatch *head = tsr_chain_head(c->stream->chain);
     tsr_faker_surface *sf = cur_surface;
     if (sf && sf->xid) {
         pthread_mutex_lock(&lock);
@@ -204,7 +278,7 @@ static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei 
             }
             sf->asked = true;
         }
-        follow_size_locked(sf, head);
+        follow_size_locked(sf, cur_window, head);
         pthread_mutex_unlock(&lock);
     }
     tsr_call_Viewport(head, x, y, width, height);
@@ -227,30 +301,23 @@ static GLenum front_of(GLenum buf)
     }
 }
 
-static void faker_DrawBuffer(void *self, GLenum buf)
-{
-    (void)self;
-    tsr_call_DrawBuffer(tsr_chain_head(chain), front_of(buf));
-}
+static const tsr_dispatch *head_of(void *self) { return tsr_chain_head(((tsr_faker_context *)self)->stream->chain); }
+
+static void faker_DrawBuffer(void *self, GLenum buf) { tsr_call_DrawBuffer(head_of(self), front_of(buf)); }
 
 static void faker_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
 {
-    (void)self;
     GLenum fronts[16];
     if (n < 0 || n > 16 || !bufs) {
-        tsr_call_DrawBuffers(tsr_chain_head(chain), n, bufs); /* the renderer's error */
+        tsr_call_DrawBuffers(head_of(self), n, bufs); /* the renderer's error */
         return;
     }
     for (GLsizei i = 0; i < n; i++)
         fronts[i] = front_of(bufs[i]);
-    tsr_call_DrawBuffers(tsr_chain_head(chain), n, fronts);
+    tsr_call_DrawBuffers(head_of(self), n, fronts);
 }
 
-static void faker_ReadBuffer(void *self, GLenum buf)
-{
-    (void)self;
-    tsr_call_ReadBuffer(tsr_chain_head(chain), front_of(buf));
-}
+static void faker_ReadBuffer(void *self, GLenum buf) { tsr_call_ReadBuffer(head_of(self), front_of(buf)); }
 
 /* --- contexts ------------------------------------------------------------ */
 
@@ -275,27 +342,36 @@ static void context_table(tsr_faker_context *c, const tsr_dispatch *head)
 
 static void faker_NewList(void *self, GLuint list, GLenum mode)
 {
-    const tsr_dispatch *head = tsr_chain_head(chain);
+    const tsr_dispatch *head = head_of(self);
     tsr_call_NewList(head, list, mode);
     context_table(self, head);
 }
 
 static void faker_EndList(void *self)
 {
-    const tsr_dispatch *head = tsr_chain_head(chain);
+    const tsr_dispatch *head = head_of(self);
     tsr_call_EndList(head);
     context_table(self, head);
 }
 
+/* The first stream is made with the first context, so a chain that cannot
+ * be made fails context creation (the program's own error path). */
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
 {
-    (void)share; /* the renderer's contexts form one share group */
     pthread_mutex_lock(&lock);
-    const tsr_dispatch *head = head_locked();
-    tsr_faker_context *c = head ? calloc(1, sizeof *c) : NULL;
+    bool ok = streams || stream_new_locked();
+    tsr_faker_context *c = ok ? calloc(1, sizeof *c) : NULL;
     if (c) {
         c->id = next_context_id++;
-        context_table(c, head);
+        /* A stream's renderer holds its contexts in one share group, so
+         * a context shares objects by joining its share list's stream. */
+        c->group = share ? share->group : calloc(1, sizeof *c->group);
+        if (!c->group) {
+            free(c);
+            pthread_mutex_unlock(&lock);
+            return NULL;
+        }
+        c->group->refs++;
         c->next = contexts;
         contexts = c;
     }
@@ -312,8 +388,10 @@ static void context_free_locked(tsr_faker_context *ctx)
             *p = ctx->next;
             break;
         }
-    if (ctx->on_stream && chain)
-        tsr_call_ContextDestroyTSR(tsr_chain_head(chain), ctx->id);
+    if (--ctx->group->refs == 0)
+        free(ctx->group);
+    if (ctx->on_stream && ctx->stream && streams)
+        tsr_call_ContextDestroyTSR(tsr_chain_head(ctx->stream->chain), ctx->id);
     free(ctx);
 }
 
@@ -367,15 +445,24 @@ static void poll_locked(void)
     }
 }
 
-/* Tells the stream (through `t`) about a changed size of `s`. */
-static void follow_size_locked(tsr_faker_surface *s, const tsr_dispatch *t)
+/* Tells the stream of `w` (through `t`) about a changed size of `s`. */
+static void follow_size_locked(tsr_faker_surface *s, faker_window *w, const tsr_dispatch *t)
 {
     poll_locked();
-    if (s && s->xid && s->on_stream && (s->x_width != s->width || s->x_height != s->height)) {
-        s->width = s->x_width;
-        s->height = s->x_height;
-        tsr_call_WindowSizeTSR(t, s->window, s->width, s->height);
+    if (s && w && s->xid && (s->x_width != w->width || s->x_height != w->height)) {
+        s->width = w->width = s->x_width;
+        s->height = w->height = s->x_height;
+        tsr_call_WindowSizeTSR(t, w->window, w->width, w->height);
     }
+}
+
+/* `s` as stream `st` knows it, or NULL. */
+static faker_window *window_in(tsr_faker_surface *s, const faker_stream *st)
+{
+    for (int i = 0; s && i < s->non; i++)
+        if (s->on[i].stream == st)
+            return &s->on[i];
+    return NULL;
 }
 
 static bool connect_locked(const char *display_name)
@@ -413,7 +500,6 @@ static tsr_faker_surface *surface_add_locked(unsigned long xid, int w, int h)
     tsr_faker_surface *s = calloc(1, sizeof *s);
     if (!s)
         return NULL;
-    s->window = next_window_id++;
     s->xid = xid;
     s->width = w;
     s->height = h;
@@ -473,11 +559,15 @@ void tsr_faker_surface_destroy(tsr_faker_surface *s)
             *p = s->next;
             break;
         }
-    if (s->on_stream && chain)
-        tsr_call_WindowDestroyTSR(tsr_chain_head(chain), s->window);
-    tsr_native_window_set(s->window, NULL, 0);
-    if (cur_surface == s)
+    for (int i = 0; i < s->non && streams; i++) {
+        tsr_call_WindowDestroyTSR(tsr_chain_head(s->on[i].stream->chain), s->on[i].window);
+        if (s->on[i].stream->number == 0)
+            tsr_native_window_set(s->on[i].window, NULL, 0);
+    }
+    if (cur_surface == s) {
         cur_surface = NULL;
+        cur_window = NULL;
+    }
     free(s);
     pthread_mutex_unlock(&lock);
 }
@@ -492,11 +582,64 @@ unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s) { return s ? s->
 
 /* --- current ------------------------------------------------------------- */
 
+/* Another thread has a context of `st` current (the calling thread's own
+ * current context, `mine`, is not counted). */
+static bool stream_busy_locked(const faker_stream *st, const tsr_faker_context *mine)
+{
+    return st->current_threads - (mine && mine->stream == st ? 1 : 0) > 0;
+}
+
+/* The stream `ctx` draws into: its share group's, else the oldest that no
+ * other thread draws into, else a new one (NULL: none, logged). */
+static faker_stream *stream_for_locked(tsr_faker_context *ctx)
+{
+    if (ctx->stream)
+        return ctx->stream;
+    if (ctx->group->stream)
+        return ctx->group->stream;
+    faker_stream *pick = NULL;
+    for (faker_stream *st = streams; st; st = st->next) /* newest first: the last free is the oldest */
+        if (!stream_busy_locked(st, cur_ctx))
+            pick = st;
+    return pick ? pick : stream_new_locked();
+}
+
+bool tsr_faker_make_current_refused_busy(void) { return refused_busy; }
+
 bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
 {
+    refused_busy = false;
     pthread_mutex_lock(&lock);
     tsr_faker_context *old = cur_ctx;
+    faker_stream *st = NULL;
+    faker_window *w = NULL;
+    if (ctx) {
+        st = stream_for_locked(ctx);
+        if (!st) {
+            pthread_mutex_unlock(&lock);
+            return false;
+        }
+        /* One thread at a time drives a chain: contexts of one share
+         * group current on two threads at once would interleave their
+         * commands in one stream. */
+        if (stream_busy_locked(st, old) && old != ctx) {
+            tsr_faker_log(TSR_LOG_ERROR,
+                          "context %d: another thread has a context of the same share group (stream %d) current; "
+                          "contexts sharing objects drawing from two threads at once are not supported",
+                          ctx->id, st->number);
+            refused_busy = true;
+            pthread_mutex_unlock(&lock);
+            return false;
+        }
+        if (draw && !(w = window_in(draw, st)) && draw->non == FAKER_SURFACE_STREAMS) {
+            tsr_faker_log(TSR_LOG_ERROR, "a surface drawn by contexts of more than %d streams is not supported",
+                          FAKER_SURFACE_STREAMS);
+            pthread_mutex_unlock(&lock);
+            return false;
+        }
+    }
     if (old && old != ctx) {
+        old->stream->current_threads--;
         old->current_on--;
         if (old->destroy_pending && !old->current_on)
             context_free_locked(old);
@@ -504,34 +647,46 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     if (!ctx) {
         cur_ctx = NULL;
         cur_surface = NULL;
+        cur_window = NULL;
         tsr_gl_current_table = NULL;
         pthread_mutex_unlock(&lock);
         return true;
     }
-    const tsr_dispatch *head = tsr_chain_head(chain);
-    if (draw && !draw->on_stream) {
+    if (!ctx->stream) {
+        ctx->stream = st;
+        ctx->group->stream = st;
+        context_table(ctx, tsr_chain_head(st->chain));
+    }
+    const tsr_dispatch *head = tsr_chain_head(st->chain);
+    if (draw && !w) {
         poll_locked();
-        draw->width = draw->x_width;
-        draw->height = draw->x_height;
+        w = &draw->on[draw->non++];
+        w->stream = st;
+        w->window = st->next_window_id++;
+        draw->width = w->width = draw->x_width;
+        draw->height = w->height = draw->x_height;
         /* For SPUs of this process that draw back into the program's own
-         * window (render window_output=app), before they see the window. */
-        if (draw->xid)
-            tsr_native_window_set(draw->window, xconn_name, draw->xid);
-        tsr_call_WindowCreateTSR(head, draw->window, draw->width, draw->height);
-        draw->on_stream = true;
+         * window (render window_output=app), before they see the window;
+         * the table is by window id, so only the first stream's. */
+        if (draw->xid && st->number == 0)
+            tsr_native_window_set(w->window, xconn_name, draw->xid);
+        tsr_call_WindowCreateTSR(head, w->window, w->width, w->height);
     } else if (draw) {
-        follow_size_locked(draw, head);
+        follow_size_locked(draw, w, head);
     }
     if (!ctx->on_stream) {
         tsr_call_ContextCreateTSR(head, ctx->id);
         ctx->on_stream = true;
     }
     /* Surfaceless: the commands go to the context; window -1 is none. */
-    tsr_call_MakeCurrentTSR(head, draw ? draw->window : -1, ctx->id);
-    if (old != ctx)
+    tsr_call_MakeCurrentTSR(head, w ? w->window : -1, ctx->id);
+    if (old != ctx) {
         ctx->current_on++;
+        st->current_threads++;
+    }
     cur_ctx = ctx;
     cur_surface = draw;
+    cur_window = w;
     tsr_gl_current_table = &ctx->table;
     pthread_mutex_unlock(&lock);
     return true;
@@ -546,11 +701,16 @@ void tsr_faker_swap(tsr_faker_surface *s)
     if (!s || !cur_ctx)
         return;
     const tsr_dispatch *t = &cur_ctx->table;
-    tsr_call_SwapBuffersTSR(t, s->window, 0);
+    pthread_mutex_lock(&lock);
+    faker_window *w = s == cur_surface ? cur_window : window_in(s, cur_ctx->stream);
+    pthread_mutex_unlock(&lock);
+    if (!w)
+        return; /* never drawn by this context's stream: no frame there */
+    tsr_call_SwapBuffersTSR(t, w->window, 0);
     if (!s->xid)
         return;
     pthread_mutex_lock(&lock);
-    follow_size_locked(s, t);
+    follow_size_locked(s, w, t);
     s->asked = false;
     pthread_mutex_unlock(&lock);
 }

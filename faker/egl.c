@@ -571,7 +571,7 @@ EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurface read, EGLC
     if (r && r != d)
         tsr_faker_log(TSR_LOG_WARN, "eglMakeCurrent: a read surface other than the draw one is ignored");
     if (!tsr_faker_make_current(c->ctx, d ? d->s : NULL))
-        return fail(EGL_BAD_ALLOC);
+        return fail(tsr_faker_make_current_refused_busy() ? EGL_BAD_ACCESS : EGL_BAD_ALLOC);
     release_old(c, d, r);
     cur_ctx = c;
     cur_draw = d;

@@ -1,8 +1,11 @@
 /* faker/faker_gl.h — what the faker's libraries share (libGL.so.1 holds the
  * core; libEGL.so.1 calls it). Never installed, never included outside
- * faker/. Owns: contexts (each one tessera context of the one process-wide
- * SPU chain, ContextCreateTSR/MakeCurrentTSR), surfaces (an X drawable or
- * a pbuffer: one tessera window each, WindowCreateTSR/WindowSizeTSR), the
+ * faker/. Owns: streams (one SPU chain each: one for a program drawing
+ * from one thread, one more for each thread drawing at the same time),
+ * contexts (each one tessera context of one stream, with its share group,
+ * ContextCreateTSR/MakeCurrentTSR), surfaces (an X drawable or a pbuffer:
+ * a tessera window of each stream that draws into it,
+ * WindowCreateTSR/WindowSizeTSR), the
  * calling thread's current context and surface, and the gl* name table.
  * The faker never creates a GL context on the X server: it reads drawable
  * sizes over its own xcb connection and never touches the application's. */
@@ -61,6 +64,10 @@ TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_find(unsigned long xid);
 /* Makes ctx current on this thread drawing into `draw` (NULL ctx: none
  * current; NULL draw: surfaceless). false: failed (logged). */
 TSR_FAKER_API bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw);
+/* The calling thread's last tsr_faker_make_current failed because another
+ * thread has a context of the same stream (share group) current, or the
+ * context itself (EGL_BAD_ACCESS; logged). */
+TSR_FAKER_API bool tsr_faker_make_current_refused_busy(void);
 TSR_FAKER_API tsr_faker_context *tsr_faker_current_context(void);
 TSR_FAKER_API tsr_faker_surface *tsr_faker_current_surface(void);
 /* End of frame of `s`: SwapBuffersTSR through the current context's

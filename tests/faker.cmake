@@ -129,3 +129,17 @@ if(TESSERA_SANITIZE)
                APPEND PROPERTY ENVIRONMENT
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
 endif()
+
+# Threads: 3 threads, each with its own context and pbuffer, draw 12
+# different frames at the same time; every frame read back equals the same
+# frame drawn by one thread alone (0 differing pixels), and a share-list
+# context is refused while its share list draws on another thread.
+add_executable(faker_egl_threads ${FAKER_TEST_DIR}/egl_threads.c)
+target_link_libraries(faker_egl_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
+add_test(NAME faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
+         COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_threads>' 3 12")
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+endif()
