@@ -66,5 +66,5 @@ if(TESSERA_SANITIZE)
     capture_answers_from_a_server_replay_with_no_server
     capture_bad_files_refused_in_one_line_naming_file_and_offset
     APPEND PROPERTY ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

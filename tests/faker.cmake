@@ -89,7 +89,7 @@ if(TESSERA_SANITIZE)
     faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
     faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
     APPEND PROPERTY ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
 # The real-program sweep: every GL hack of xscreensaver-gl (about 80) and
@@ -127,7 +127,7 @@ set_tests_properties(faker_glx_share_list_context_draws_the_first_contexts_displ
 if(TESSERA_SANITIZE)
   set_property(TEST faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
                APPEND PROPERTY ENVIRONMENT
-               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
 # Threads: 3 threads, each with its own context and pbuffer, draw 12
@@ -141,5 +141,5 @@ add_test(NAME faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_
 if(TESSERA_SANITIZE)
   set_property(TEST faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
                APPEND PROPERTY ENVIRONMENT
-               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

@@ -108,6 +108,6 @@ endif()
 # One llvmpipe thread per renderer: two cells at once on two cores.
 set(FAULT_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
-  list(APPEND FAULT_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND FAULT_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${FAULT_TESTS_AFTER} PROPERTIES TIMEOUT 90 LABELS fault ENVIRONMENT "${FAULT_ENV}")

@@ -88,7 +88,7 @@ function(tsr_add_fuzz_target name)
   target_compile_definitions(fuzz_${name}_replay PRIVATE TSR_FUZZ_TARGET ${F_DEFINES})
   target_link_libraries(fuzz_${name}_replay PRIVATE ${F_REPLAY_LIBS} ${F_LIBS})
   # Mesa's own leaks (render's OSMesa) are suppressed, ours are checked.
-  set(env "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  set(env "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
   add_test(NAME fuzz_${name}_corpus_replay COMMAND fuzz_${name}_replay ${corpus})
   set_tests_properties(fuzz_${name}_corpus_replay PROPERTIES TIMEOUT 120 ENVIRONMENT "${env}")
   if(TESSERA_FUZZ)
@@ -206,7 +206,7 @@ set_tests_properties(fuzz_render_corpus_replay_budgets_on fuzz_render_seeds_pack
   PROPERTIES TIMEOUT 300)
 if(TESSERA_SANITIZE)
   set_tests_properties(fuzz_render_corpus_replay_budgets_on fuzz_render_seeds_pack_and_budgets_refuse PROPERTIES
-    ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
 if(TESSERA_FUZZ)
@@ -226,7 +226,7 @@ if(TESSERA_FUZZ)
   add_test(NAME fuzz_render_runs_corpus COMMAND fuzz_render -runs=0 ${tsr_fuzz_render_corpus})
   # OSMesa keeps process-lifetime allocations LeakSanitizer would report.
   set_tests_properties(fuzz_render_runs_corpus PROPERTIES TIMEOUT 300
-    ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
 # ---- netlib frames and handshake (tests/fuzz/fuzz_net.c) -------------------

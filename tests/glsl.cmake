@@ -20,7 +20,7 @@ if(GLSL_TESTS_BEFORE)
 endif()
 set(GLSL_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
-  list(APPEND GLSL_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND GLSL_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${GLSL_TESTS_AFTER} PROPERTIES
   TIMEOUT 240 LABELS tilesort FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${GLSL_ENV}")

@@ -113,7 +113,7 @@ set_tests_properties(net_mothership_idle_connections_do_not_lock_out_nodes PROPE
 # that shm=0 and tcp:// peers do not; every frame exact.
 set(NET_SORTLAST_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE) # OSMesa/LLVM keep state for the process lifetime
-  list(APPEND NET_SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND NET_SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 foreach(pair
     "composite_same_host_unix_peers_use_shared_memory_exact:unix"

@@ -106,6 +106,6 @@ set(NODE_ENV "")
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
 # LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.
 if(TESSERA_SANITIZE)
-  set(NODE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  set(NODE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${NODE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS node ENVIRONMENT "${NODE_ENV}")

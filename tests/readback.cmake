@@ -36,7 +36,7 @@ if(READBACK_TESTS_BEFORE)
 endif()
 set(READBACK_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
-  list(APPEND READBACK_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND READBACK_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${READBACK_TESTS_AFTER} PROPERTIES
   TIMEOUT 120 LABELS readback FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${READBACK_ENV}")

@@ -213,5 +213,5 @@ if(TESSERA_SANITIZE)
     list(REMOVE_ITEM RENDER_TESTS_AFTER ${RENDER_TESTS_BEFORE})
   endif()
   set_tests_properties(${RENDER_TESTS_AFTER} PROPERTIES ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

@@ -71,7 +71,7 @@ set(REPLICATE_ENV "")
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations that
 # LeakSanitizer reports; suppress those (tests/lsan.supp), check ours.
 if(TESSERA_SANITIZE)
-  set(REPLICATE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  set(REPLICATE_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${REPLICATE_TESTS_AFTER} PROPERTIES TIMEOUT 120 LABELS replicate
   ENVIRONMENT "${REPLICATE_ENV}")

@@ -130,6 +130,6 @@ endif()
 set(RUN_ENV "")
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations (tests/lsan.supp).
 if(TESSERA_SANITIZE)
-  set(RUN_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  set(RUN_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${RUN_TESTS_AFTER} PROPERTIES TIMEOUT 180 LABELS run ENVIRONMENT "${RUN_ENV}")

@@ -126,7 +126,7 @@ if(SORTLAST_TESTS_BEFORE)
 endif()
 set(SORTLAST_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
-  list(APPEND SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
   TIMEOUT 120 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${SORTLAST_ENV}")

@@ -30,5 +30,5 @@ if(TESSERA_SANITIZE)
   set_tests_properties(state_diff_into_osmesa_queries_back_equal state_matrices_bit_identical_and_lit_pixels_equal
     state_glsl_programs_diff_into_osmesa_equal_direct
     PROPERTIES ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

@@ -24,5 +24,5 @@ set_tests_properties(binaryswap_synthetic_full_composite_exact_n3 binaryswap_syn
 if(TESSERA_SANITIZE)
   set_tests_properties(binaryswap_synthetic_full_composite_exact_n3 binaryswap_synthetic_ellipse_composite_exact_n4
     binaryswap_synthetic_bogus_refused_at_init PROPERTIES
-    ENVIRONMENT "LP_NUM_THREADS=0;LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    ENVIRONMENT "LP_NUM_THREADS=0;LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

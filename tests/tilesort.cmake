@@ -137,7 +137,7 @@ endif()
 # builds suppress OSMesa/LLVM's process-lifetime allocations.
 set(TILESORT_ENV "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
-  list(APPEND TILESORT_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+  list(APPEND TILESORT_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 set_tests_properties(${TILESORT_TESTS_AFTER} PROPERTIES
   TIMEOUT 240 LABELS tilesort FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "${TILESORT_ENV}")

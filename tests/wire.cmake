@@ -45,5 +45,5 @@ if(TESSERA_SANITIZE)
   # Mesa keeps process-lifetime caches that LeakSanitizer reports
   # (tests/lsan.supp); tessera's own allocations are still checked.
   set_tests_properties(wire_pixel_extents_match_osmesa wire_glprocs_resolve_in_osmesa PROPERTIES ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

@@ -51,6 +51,7 @@ int main(void)
      * crash there (Mesa's, whatever the faker does). */
     CHECK(waitpid(child, &status, 0) == child, "waitpid failed");
     frames(dpy, pb, 4, 0.8f);
+    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT), EGL_SAYS);
     CHECK(eglDestroySurface(dpy, pb) && eglDestroyContext(dpy, ctx), EGL_SAYS);
     return harness_failures ? 1 : 0;
 }
