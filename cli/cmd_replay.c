@@ -18,6 +18,7 @@
 #include "commands.h"
 #include "tessera/chain.h"
 #include "tessera/dev/unpack.h"
+#include "tessera/dev/wireloop.h"
 #include "tessera/dispatch.h"
 #include "tessera/graph.h"
 
@@ -84,10 +85,7 @@ typedef struct replay {
     uint64_t start_offset, start_index; /* the record frame `first` starts at */
     GLint windows[REPLAY_MAX_IDS], contexts[REPLAY_MAX_IDS];
     size_t nwindows, ncontexts;
-    uint8_t *reply; /* the chain's last answer */
-    size_t reply_len, reply_cap;
-    uint32_t reply_id;
-    int has_reply;
+    tsr_reply_slot reply; /* the chain's last answer */
     uint64_t replies, differ, frames_out;
     uint32_t first_differ;
 } replay;
@@ -161,29 +159,17 @@ static void rp_ContextDestroyTSR(void *self, GLint context)
 static int rp_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
     replay *r = ctx;
-    if (size > r->reply_cap) {
-        uint8_t *p = realloc(r->reply, size);
-        if (!p)
-            return tsr_error_set(err, TSR_ENOMEM, "out of memory for a %zu-byte reply", size);
-        r->reply = p;
-        r->reply_cap = size;
-    }
-    if (size)
-        memcpy(r->reply, data, size);
-    r->reply_len = size;
-    r->reply_id = id;
-    r->has_reply = 1;
-    return TSR_OK;
+    return tsr_reply_slot_store(&r->reply, id, data, size, err);
 }
 
 static void compare_reply(replay *r, const tsr_capfile_record *rec)
 {
     r->replies++;
-    int same = r->has_reply && r->reply_id == rec->id && r->reply_len == rec->size &&
-               (rec->size == 0 || memcmp(r->reply, rec->data, rec->size) == 0);
+    int same = r->reply.full && r->reply.id == rec->id && r->reply.size == rec->size &&
+               (rec->size == 0 || memcmp(r->reply.data, rec->data, rec->size) == 0);
     if (!same && r->differ++ == 0)
         r->first_differ = rec->id;
-    r->has_reply = 0;
+    r->reply.full = 0;
 }
 
 /* Feeds records until the end of the file, or until frame r->last was
@@ -290,7 +276,7 @@ out:
     if (chain)
         tsr_chain_destroy(chain);
     tsr_capfile_close(&r->file);
-    free(r->reply);
+    tsr_reply_slot_free(&r->reply);
     free(r);
     return code;
 }

@@ -23,7 +23,9 @@ foreach(t
     wire_unpack_rejects_negative_size
     wire_unpack_rejects_bad_header
     wire_unpack_survives_mutations
-    wire_print_spu_traces_calls)
+    wire_print_spu_traces_calls
+    wire_reply_slot_hands_out_only_the_reply_asked_for
+    wire_loop_shows_its_observer_every_buffer_and_reply_and_destroy_flushes)
   add_test(NAME ${t} COMMAND wire_tests ${t} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 endforeach()
 

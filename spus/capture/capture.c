@@ -4,15 +4,15 @@
  * counts) and passes every call on to its child. `tessera replay` feeds
  * such a file into any chain or graph.
  *
- * It works as loopback does: every call is packed by the real packer; each
- * flushed buffer is written to the file, then unpacked into the child, and
+ * It works as loopback does (tessera/dev/wireloop.h): every call is packed
+ * by the real packer; each flushed buffer is written to the file, then
+ * unpacked into the child, and
  * the child's answers to requests (glGet*, glGenLists, ReadPixels) are
  * written after it and returned to the program. So the child sees exactly
  * what the replay will later feed a chain, and the file holds exactly the
  * bytes a server would have received.
  *
- * Owns, per instance: its packer, unpacker, the last reply and the file
- * writer. Never: keeps globals (two captures in one process write two
+ * Owns, per instance: its wire loop and the file writer. Never: keeps globals (two captures in one process write two
  * files), drops or changes a call, or leaves a half-written file under the
  * final name (it is renamed into place at the end). */
 #include <stdlib.h>
@@ -20,22 +20,17 @@
 
 #include "capfile.h"
 #include "tessera/dev/pack.h"
-#include "tessera/dev/unpack.h"
+#include "tessera/dev/wireloop.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 
 typedef struct capture_spu {
     const char *name;
-    tsr_packer *packer;
-    tsr_unpacker *unpacker;
+    tsr_wire_loop *loop;
     tsr_capfile_writer writer;
     int writing;                                /* the file is open */
     long frames;                                /* frames=: finish the file after this many (0: at the end) */
     tsr_entry swap, window_create, window_size; /* the packer's own slots */
-    uint8_t *reply;
-    size_t reply_len, reply_cap;
-    uint32_t reply_id;
-    int has_reply;
 } capture_spu;
 
 /* A write that fails ends the capture (the file is removed: a capture is
@@ -66,44 +61,14 @@ static void capture_finish(capture_spu *s)
                 (unsigned long long)s->writer.header.replies);
 }
 
-static int capture_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
+static void capture_buffer(void *ctx, const uint8_t *buf, size_t size)
 {
-    capture_spu *s = ctx;
-    capture_write(s, TSR_CAPFILE_BUFFER, 0, buf, size);
-    int rc = tsr_unpacker_run(s->unpacker, buf, size, err);
-    if (rc)
-        tsr_log(TSR_LOG_ERROR, "%s: %s", s->name, err->message);
-    return rc;
+    capture_write(ctx, TSR_CAPFILE_BUFFER, 0, buf, size);
 }
 
-static int capture_store_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
+static void capture_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size)
 {
-    capture_spu *s = ctx;
-    if (size > s->reply_cap) {
-        uint8_t *r = realloc(s->reply, size);
-        if (!r)
-            return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for a %zu-byte reply", s->name, size);
-        s->reply = r;
-        s->reply_cap = size;
-    }
-    if (size)
-        memcpy(s->reply, data, size);
-    s->reply_len = size;
-    s->reply_id = id;
-    s->has_reply = 1;
-    capture_write(s, TSR_CAPFILE_REPLY, id, data, size);
-    return 0;
-}
-
-static int capture_reply(void *ctx, uint32_t id, const uint8_t **data, size_t *size, tsr_error *err)
-{
-    capture_spu *s = ctx;
-    if (!s->has_reply || s->reply_id != id)
-        return tsr_error_set(err, TSR_EPROTO, "%s: no reply to request %u", s->name, id);
-    s->has_reply = 0;
-    *data = s->reply ? s->reply : (const uint8_t *)"";
-    *size = s->reply_len;
-    return 0;
+    capture_write(ctx, TSR_CAPFILE_REPLY, id, data, size);
 }
 
 /* The header's window: the stream's first size. */
@@ -147,12 +112,10 @@ static void capture_destroy(void *instance)
     capture_spu *s = instance;
     if (!s)
         return;
-    if (s->packer)
-        tsr_packer_flush(s->packer);
+    if (s->loop)
+        tsr_wire_loop_flush(s->loop);
     capture_finish(s);
-    tsr_packer_destroy(s->packer);
-    tsr_unpacker_destroy(s->unpacker);
-    free(s->reply);
+    tsr_wire_loop_destroy(s->loop);
     free(s);
 }
 
@@ -171,11 +134,9 @@ static void *capture_create(const tsr_spu_init *init, tsr_error *err)
     s->name = init->instance_name;
     s->frames = (long)tsr_options_int(init->options, "frames");
     size_t size = (size_t)tsr_options_int(init->options, "buffer_size");
-    tsr_pack_sink sink = {.flush = capture_flush, .reply = capture_reply, .ctx = s};
-    s->packer = tsr_packer_create(size, &sink, err);
-    if (s->packer)
-        s->unpacker = tsr_unpacker_create(init->child, capture_store_reply, s, err);
-    if (!s->packer || !s->unpacker) {
+    tsr_wire_loop_observer observer = {.buffer = capture_buffer, .reply = capture_reply, .ctx = s};
+    s->loop = tsr_wire_loop_create(s->name, size, init->child, &observer, err);
+    if (!s->loop) {
         capture_destroy(s);
         return NULL;
     }
@@ -187,7 +148,7 @@ static void *capture_create(const tsr_spu_init *init, tsr_error *err)
         return NULL;
     }
     s->writing = 1;
-    tsr_packer_fill_dispatch(s->packer, init->table);
+    tsr_wire_loop_fill_dispatch(s->loop, init->table);
     s->swap = init->table->SwapBuffersTSR;
     s->window_create = init->table->WindowCreateTSR;
     s->window_size = init->table->WindowSizeTSR;

@@ -17,6 +17,7 @@
 #         most)
 # usage: sortlast_transport.sh MODE BIN_DIR OUT_DIR [N]
 set -u
+. "$(dirname "$0")/../sortlast/lib.sh"
 mode=$1 bin=$2 out=$3 n=${4:-3}
 fail() { echo "FAIL: $*" >&2; bad=1; }
 bad=0
@@ -30,25 +31,8 @@ tcp) transport=tcp options="strategy: direct" want=tcp ;;
 esac
 "$bin/spheres-native" --overlap --frames $frames --size $size --out "$out/native/f-%04d.png" || exit 1
 graph=$out/graph.yaml
-write_graph() {
-{
-  echo "version: 1"
-  echo "window: {width: 96, height: 72}"
-  echo "defaults: {transport: $transport}"
-  echo "nodes:"
-  i=0
-  while [ $i -lt "$n" ]; do
-    echo "  app$i:"
-    echo "    exec: bin/spheres --overlap --frames $frames --size $size --part $i/$n"
-    echo "    chain: [{binaryswap: {$options}}]"
-    echo "    to: display"
-    i=$((i + 1))
-  done
-  echo "  display:"
-  echo "    chain:"
-  echo "      - render: {output: \"out/f-%04d.png\"}"
-} >"$graph"
-}
+shares= i=0
+while [ $i -lt "$n" ]; do shares="$shares $i/$n"; i=$((i + 1)); done
 try=0
 while :; do
   if [ "$mode" = tcp ]; then
@@ -57,23 +41,15 @@ while :; do
     while [ $i -lt "$n" ]; do ex="$ex${ex:+, }tcp://127.0.0.1:$((base + i))"; i=$((i + 1)); done
     options="strategy: direct, exchange: [$ex]"
   fi
-  write_graph
+  sl_write_graph "$graph" insitu "$transport" "$options" "bin/spheres --overlap --frames $frames --size $size" $shares
   rm -rf "$out/run"
-  TESSERA_LOG=info timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
-  rc=$?
+  sl_run "$graph" info
   try=$((try + 1))
   [ $rc != 0 ] && [ $try -lt 3 ] && grep -q "cannot listen for its peers.*address already in use" "$out/run.err" || break
   echo "an exchange port was taken by another program: again on other ports"
 done
-[ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
-f=0
-while [ $f -lt $frames ]; do
-  name=$(printf 'f-%04d.png' $f)
-  diff=$("$bin/tessera" imgdiff "$out/native/$name" "$out/run/out/$name" 2>&1 | head -n 1)
-  echo "frame $f: $diff"
-  [ "$diff" = "differing_pixels: 0" ] || fail "frame $f differs from the native render ($diff)"
-  f=$((f + 1))
-done
+sl_check_run
+sl_compare_frames
 grep 'transport ' "$out/run.err" | sed 's/^tessera: //'
 i=0
 while [ $i -lt "$n" ]; do

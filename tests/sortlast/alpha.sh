@@ -19,6 +19,7 @@
 #           refused: the options must be refused with one line naming the
 #                    regrouped blend (exit non-zero, no frame)
 set -u
+. "$(dirname "$0")/lib.sh"
 form=$1 bin=$2 blend=$3 out=$4 n=$5 options=${6:-} case=${7:--}
 fail() { echo "FAIL: $*" >&2; bad=1; }
 bad=0
@@ -47,45 +48,26 @@ if [ "$case" = reversed ]; then
 fi
 entries="mode: alpha${options:+, }$options"
 graph=$out/graph.yaml
-{
-  echo "version: 1"
-  echo "window: {width: 96, height: 72}"
-  echo "defaults: {transport: unix}"
-  echo "nodes:"
-  i=0
-  while [ $i -lt "$n" ]; do
-    share=$i
-    [ "$case" = reversed ] || [ "$case" = boxes ] && share=$((n - 1 - i))
-    peer_entries=$entries
-    if [ "$case" = boxes ]; then
-      # spheres.c's alpha scene: sphere s at (-0.9 + 0.22 s, 0.5 - 0.12 s,
-      # 1.6 - 1.1 s), radius 0.55; share K has spheres [8K/N, 8(K+1)/N)
-      box=$(awk -v k=$share -v n="$n" 'BEGIN {
-        a = int(8 * k / n); b = int(8 * (k + 1) / n) - 1
-        printf "%g, %g, %g, %g, %g, %g", -0.9 + 0.22 * a - 0.55, 0.5 - 0.12 * b - 0.55, 1.6 - 1.1 * b - 0.55,
-               -0.9 + 0.22 * b + 0.55, 0.5 - 0.12 * a + 0.55, 1.6 - 1.1 * a + 0.55 }')
-      peer_entries="$entries, box: [$box]"
-    fi
-    echo "  app$i:"
-    echo "    exec: bin/spheres --alpha $alpha $bgargs --frames $frames --size $size --part $share/$n"
-    if [ "$form" = insitu ]; then
-      echo "    chain: [{binaryswap: {$peer_entries}}]"
-      echo "    to: display"
-    else
-      echo "    chain: [pack]"
-      echo "    to: peer$i"
-      echo "  peer$i:"
-      echo "    chain: [{binaryswap: {$peer_entries}}]"
-      echo "    to: display"
-    fi
-    i=$((i + 1))
-  done
-  echo "  display:"
-  echo "    chain:"
-  echo "      - render: {output: \"out/f-%04d.png\"}"
-} >"$graph"
-TESSERA_LOG=debug timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
-rc=$?
+set --
+i=0
+while [ $i -lt "$n" ]; do
+  share=$i
+  [ "$case" = reversed ] || [ "$case" = boxes ] && share=$((n - 1 - i))
+  peer_entries=$entries
+  if [ "$case" = boxes ]; then
+    # spheres.c's alpha scene: sphere s at (-0.9 + 0.22 s, 0.5 - 0.12 s,
+    # 1.6 - 1.1 s), radius 0.55; share K has spheres [8K/N, 8(K+1)/N)
+    box=$(awk -v k=$share -v n="$n" 'BEGIN {
+      a = int(8 * k / n); b = int(8 * (k + 1) / n) - 1
+      printf "%g, %g, %g, %g, %g, %g", -0.9 + 0.22 * a - 0.55, 0.5 - 0.12 * b - 0.55, 1.6 - 1.1 * b - 0.55,
+             -0.9 + 0.22 * b + 0.55, 0.5 - 0.12 * a + 0.55, 1.6 - 1.1 * a + 0.55 }')
+    peer_entries="$entries, box: [$box]"
+  fi
+  set -- "$@" "$share/$n;$peer_entries"
+  i=$((i + 1))
+done
+sl_write_graph "$graph" "$form" unix "$entries" "bin/spheres --alpha $alpha $bgargs --frames $frames --size $size" "$@"
+sl_run "$graph" debug
 if [ "$case" = refused ]; then
   line=$(grep -m 1 "mode=alpha with strategy" "$out/run.err")
   echo "exit $rc: $line"
@@ -98,7 +80,7 @@ if [ "$case" = refused ]; then
   [ $bad = 0 ] && echo PASS
   exit $bad
 fi
-[ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
+sl_check_run
 f=0
 while [ $f -lt $frames ]; do
   name=$(printf '%04d.png' $f)

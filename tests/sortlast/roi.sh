@@ -20,6 +20,7 @@
 #           full-window depth read); the pixels read per frame are printed.
 # usage: roi.sh FORM BIN_DIR OUT_DIR N APP CHECK [ARGS for the peers' APP]
 set -u
+. "$(dirname "$0")/lib.sh"
 form=$1 bin=$2 out=$3 n=$4 app=$5 check=$6 args=${7:-}
 bad=0
 fail() { echo "FAIL: $*" >&2; bad=1; }
@@ -27,42 +28,12 @@ rm -rf "$out" && mkdir -p "$out/native" || exit 1
 frames=2 size=96x72
 "$bin/$app-native" --frames $frames --size $size --out "$out/native/f-%04d.png" || exit 1
 graph=$out/graph.yaml
-{
-  echo "version: 1"
-  echo "window: {width: 96, height: 72}"
-  echo "defaults: {transport: unix}"
-  echo "nodes:"
-  k=0
-  while [ $k -lt "$n" ]; do
-    echo "  app$k:"
-    echo "    exec: bin/$app $args --frames $frames --size $size --part $k/$n"
-    if [ "$form" = insitu ]; then
-      echo "    chain: [binaryswap]"
-      echo "    to: display"
-    else
-      echo "    chain: [pack]"
-      echo "    to: peer$k"
-      echo "  peer$k:"
-      echo "    chain: [binaryswap]"
-      echo "    to: display"
-    fi
-    k=$((k + 1))
-  done
-  echo "  display:"
-  echo "    chain:"
-  echo "      - render: {output: \"out/f-%04d.png\"}"
-} >"$graph"
-TESSERA_LOG=debug timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
-rc=$?
-[ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
-f=0
-while [ $f -lt $frames ]; do
-  name=$(printf 'f-%04d.png' $f)
-  diff=$("$bin/tessera" imgdiff "$out/native/$name" "$out/run/out/$name" 2>&1 | head -n 1)
-  echo "frame $f: $diff"
-  [ "$diff" = "differing_pixels: 0" ] || fail "frame $f differs from the native render ($diff)"
-  f=$((f + 1))
-done
+shares= k=0
+while [ $k -lt "$n" ]; do shares="$shares $k/$n"; k=$((k + 1)); done
+sl_write_graph "$graph" "$form" unix "" "bin/$app $args --frames $frames --size $size" $shares
+sl_run "$graph" debug
+sl_check_run
+sl_compare_frames
 regions=$out/regions.txt
 sed -n 's/.*binaryswap#[0-9]*: \(frame [0-9]*: rank [0-9]* region .*\)/\1/p' "$out/run.err" | sort >"$regions"
 cat "$regions"

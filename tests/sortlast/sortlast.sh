@@ -14,6 +14,7 @@
 #          -: neither
 #   OPTIONS binaryswap's options as YAML flow entries ("strategy: bswap")
 set -u
+. "$(dirname "$0")/lib.sh"
 form=$1 bin=$2 out=$3 n=$4 scene=$5 extra=${6:--} options=${7:-}
 fail() { echo "FAIL: $*" >&2; bad=1; }
 bad=0
@@ -38,42 +39,10 @@ else
   "$bin/$app-native" $args --frames $frames --size $size --out "$out/native/f-%04d.png" || exit 1
 fi
 graph=$out/graph.yaml
-{
-  echo "version: 1"
-  echo "window: {width: 96, height: 72}"
-  echo "defaults: {transport: unix}"
-  echo "nodes:"
-  i=0
-  for share in $shares; do
-    echo "  app$i:"
-    echo "    exec: bin/$app $args --frames $frames --size $size --part $share"
-    if [ "$form" = insitu ]; then
-      echo "    chain: [{binaryswap: {$options}}]"
-      echo "    to: display"
-    else
-      echo "    chain: [pack]"
-      echo "    to: peer$i"
-      echo "  peer$i:"
-      echo "    chain: [{binaryswap: {$options}}]"
-      echo "    to: display"
-    fi
-    i=$((i + 1))
-  done
-  echo "  display:"
-  echo "    chain:"
-  echo "      - render: {output: \"out/f-%04d.png\"}"
-} >"$graph"
-TESSERA_LOG=debug timeout 120 "$bin/tessera" run "$graph" --out "$out/run" --no-progress >"$out/run.out" 2>"$out/run.err"
-rc=$?
-[ $rc = 0 ] || { fail "tessera run exited $rc"; cat "$out/run.out"; tail -n 30 "$out/run.err"; }
-f=0
-while [ $f -lt $frames ]; do
-  name=$(printf 'f-%04d.png' $f)
-  diff=$("$bin/tessera" imgdiff "$out/native/$name" "$out/run/out/$name" 2>&1 | head -n 1)
-  echo "frame $f: $diff"
-  [ "$diff" = "differing_pixels: 0" ] || fail "frame $f differs from the native render ($diff)"
-  f=$((f + 1))
-done
+sl_write_graph "$graph" "$form" unix "$options" "bin/$app $args --frames $frames --size $size" $shares
+sl_run "$graph" debug
+sl_check_run
+sl_compare_frames
 [ -e "$out/run/out/$(printf 'f-%04d.png' $frames)" ] && fail "the display wrote more than $frames frames"
 if [ "$extra" = blank ] || [ "$extra" = nothing ]; then
   # An empty peer's region is empty and what it sends is headers and one

@@ -9,6 +9,7 @@
 
 #include "roundtrip.h"
 #include "tessera/chain.h"
+#include "tessera/dev/wireloop.h"
 #include "tessera/glapi.h"
 
 /* --- every command ----------------------------------------------------------- */
@@ -698,6 +699,85 @@ static int wire_print_spu_traces_calls(void)
     return 0;
 }
 
+
+/* --- the in-process wire (tessera/dev/wireloop.h) ---------------------------------- */
+
+static int wire_reply_slot_hands_out_only_the_reply_asked_for(void)
+{
+    tsr_reply_slot slot = {0};
+    tsr_error err = {0};
+    const uint8_t *data;
+    size_t size;
+    CHECK(tsr_reply_slot_take(&slot, "loop#1", 1, &data, &size, &err) == TSR_EPROTO, "an empty slot has no reply");
+    CHECK(tsr_reply_slot_store(&slot, 5, (const uint8_t *)"abc", 3, &err) == TSR_OK, "%s", err.message);
+    CHECK(tsr_reply_slot_take(&slot, "loop#1", 4, &data, &size, &err) == TSR_EPROTO, "request 4 was not answered");
+    CHECK(strstr(err.message, "loop#1") && strstr(err.message, "request 4"), "the error names both: %s", err.message);
+    CHECK(tsr_reply_slot_take(&slot, "loop#1", 5, &data, &size, &err) == TSR_OK && size == 3 && !memcmp(data, "abc", 3),
+          "the reply to request 5");
+    CHECK(tsr_reply_slot_take(&slot, "loop#1", 5, &data, &size, &err) == TSR_EPROTO, "a reply is taken once");
+    tsr_reply_slot_free(&slot);
+    CHECK(tsr_reply_slot_store(&slot, 6, NULL, 0, &err) == TSR_OK, "%s", err.message);
+    CHECK(tsr_reply_slot_take(&slot, "loop#1", 6, &data, &size, &err) == TSR_OK && data && size == 0,
+          "an empty reply still gets a valid pointer");
+    tsr_reply_slot_free(&slot);
+    return 0;
+}
+
+typedef struct loop_watch {
+    size_t buffers, bytes, replies;
+} loop_watch;
+
+static void watch_buffer(void *ctx, const uint8_t *buf, size_t size)
+{
+    loop_watch *w = ctx;
+    (void)buf;
+    w->buffers++;
+    w->bytes += size;
+}
+
+static void watch_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size)
+{
+    (void)id, (void)data, (void)size;
+    ((loop_watch *)ctx)->replies++;
+}
+
+static int wire_loop_shows_its_observer_every_buffer_and_reply_and_destroy_flushes(void)
+{
+    const char *trace = "wire_loop_trace.txt";
+    char text[128];
+    snprintf(text, sizeof text, "print file=%s", trace);
+    tsr_error err = {0};
+    tsr_chain *child = tsr_chain_create(text, &err);
+    CHECK(child, "%s", err.message);
+    loop_watch w = {0};
+    tsr_wire_loop_observer observer = {.buffer = watch_buffer, .reply = watch_reply, .ctx = &w};
+    tsr_wire_loop *loop = tsr_wire_loop_create("loop#test", 4096, tsr_chain_head(child), &observer, &err);
+    CHECK(loop, "%s", err.message);
+    tsr_dispatch table;
+    tsr_wire_loop_fill_dispatch(loop, &table);
+    tsr_gl_make_current(&table);
+    glBegin(GL_POINTS);
+    glVertex3f(1, 2, 3);
+    glEnd();
+    CHECK(w.buffers == 0, "nothing flushed yet");
+    CHECK(tsr_wire_loop_flush(loop) == 0, "flush");
+    CHECK(w.buffers == 1 && w.bytes > 0, "one buffer seen (%zu)", w.buffers);
+    GLuint lists = glGenLists(2); /* a request: the child's answer comes back through the loop */
+    CHECK(w.replies == 1, "the reply was observed (%zu)", w.replies);
+    (void)lists;
+    glColor3ub(1, 2, 3);
+    tsr_gl_make_current(NULL);
+    size_t before_destroy = w.buffers;
+    tsr_wire_loop_destroy(loop);
+    CHECK(w.buffers == before_destroy + 1, "destroy flushed the pending colour");
+    tsr_chain_destroy(child);
+    static char got[4096];
+    CHECK(read_file(trace, got, sizeof got) == 0, "trace file");
+    CHECK(strstr(got, "glVertex3f(1, 2, 3)\n") && strstr(got, "glGenLists(2)") && strstr(got, "glColor3ub(1, 2, 3)\n"),
+          "the child got every call:\n%s", got);
+    return 0;
+}
+
 static const struct {
     const char *name;
     int (*fn)(void);
@@ -720,6 +800,9 @@ static const struct {
     {"wire_unpack_rejects_bad_header", wire_unpack_rejects_bad_header},
     {"wire_unpack_survives_mutations", wire_unpack_survives_mutations},
     {"wire_print_spu_traces_calls", wire_print_spu_traces_calls},
+    {"wire_reply_slot_hands_out_only_the_reply_asked_for", wire_reply_slot_hands_out_only_the_reply_asked_for},
+    {"wire_loop_shows_its_observer_every_buffer_and_reply_and_destroy_flushes",
+     wire_loop_shows_its_observer_every_buffer_and_reply_and_destroy_flushes},
 };
 
 int main(int argc, char **argv)
