@@ -7,7 +7,8 @@
  * instance: the render instance, the peer connections (netlib, one
  * tsr_net), the stream to the display (a `pack` chain of its own), the
  * read-back and frame buffers. Never: keeps state outside the instance,
- * sends the display anything but the window, the final image and the swap,
+ * sends the display anything but the window, its final piece (colour and
+ * scissored clears), the frame's barriers and (rank 0) the swap,
  * or sends a peer a full frame of background (an empty peer's image is a
  * header).
  *
@@ -37,17 +38,19 @@
  * strategies/ (strategy.h: binary swap for any peer count, direct send,
  * radix-k, gather to one, auto), planned once per window size and run by
  * its executor over this SPU's transport (transport_send/recv): peers are
- * participants 0..N-1 over the mesh, and the display participant N lives
- * in rank 0's process (rank 0's own final piece is queued locally). Depth
+ * participants 0..N-1 over the mesh; only when the display composites
+ * (gather to one) does the display participant N run, in rank 0's process
+ * (rank 0's own final piece is queued locally). Depth
  * mode: the nearest depth wins, equal depth goes to the lower rank, so the
  * result is the single-process render of the parts drawn in rank order
  * with GL_LESS, bit for bit, for every strategy and arrival order. Pixels
  * no peer drew get the background colour, read from a pixel rank 0 left
  * at depth 1.0 (exactly what GL's clear produced; when rank 0 left none,
- * it covered the window and no pixel is background). Rank 0 then draws
- * the frame on the display (WindowPos2i, DrawPixels) and swaps; the other
- * ranks also connect to the display (a graph's display node counts every
- * peer among its clients) but send it nothing.
+ * it covered the window and no pixel is background; every peer takes its
+ * own, as every application clears to the same colour). Every peer then
+ * puts its final piece into the display's frame itself (composite_frame:
+ * a graph's display node counts every peer among its clients), and rank
+ * 0 swaps there.
  *
  * Alpha mode and float colour (layers.h, order.c, colour.c; README.md):
  * the colour of the geometry's box (or of the whole window when that is
