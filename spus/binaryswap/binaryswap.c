@@ -723,23 +723,31 @@ static void place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_im
     if (trail)
         clear_span(d, W, last + 1, end);
     tsr_error err = {0};
-    int y0 = (int)(first / W), y1 = (int)(last / W);
-    int rx = y0 == y1 ? (int)(first % W) : 0, rw = y0 == y1 ? (int)(last - first + 1) : (int)W;
-    if (tsr_sparse_image_view(in, first, last - first + 1, &b->placed, &err) != TSR_OK ||
-        tsr_cimage_init(&b->piece, in->window_width, in->window_height, rx, y0, rw, y1 - y0 + 1, in->color_format,
-                        TSR_CI_NODEPTH, &err) != TSR_OK ||
-        tsr_sparse_image_to_dense(&b->placed, background, &b->piece, &err) != TSR_OK)
+    uint32_t y0 = first / W, y1 = last / W;
+    if (tsr_sparse_image_view(in, first, last - first + 1, &b->placed, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-    const uint8_t *px = b->piece.color;
-    if (in->color_format != TSR_CI_RGBA8) {
-        if (bswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+    /* Pixel p of the span is at px + 4 (p - origin). A depth-mode RGBA8
+     * span without inactive pixels is its colour plane as it is. */
+    const uint8_t *px = b->placed.color;
+    uint32_t origin = first;
+    if (b->placed.active != last - first + 1 || in->mode != TSR_COMPOSITE_DEPTH || in->color_format != TSR_CI_RGBA8) {
+        int rx = y0 == y1 ? (int)(first % W) : 0, rw = y0 == y1 ? (int)(last - first + 1) : (int)W;
+        if (tsr_cimage_init(&b->piece, in->window_width, in->window_height, rx, (int)y0, rw, (int)(y1 - y0 + 1),
+                            in->color_format, TSR_CI_NODEPTH, &err) != TSR_OK ||
+            tsr_sparse_image_to_dense(&b->placed, background, &b->piece, &err) != TSR_OK)
             bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-        px = b->frame8;
+        px = b->piece.color;
+        origin = y0 * W + (uint32_t)rx;
+        if (in->color_format != TSR_CI_RGBA8) {
+            if (bswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+            px = b->frame8;
+        }
     }
     int r[3][4];
     int n = span_rects(W, first, last, r);
     for (int i = 0; i < n; i++) {
-        size_t at = (size_t)(r[i][1] - y0) * (size_t)rw + (size_t)(r[i][0] - rx);
+        size_t at = (size_t)r[i][1] * W + (size_t)r[i][0] - origin;
         tsr_call_WindowPos2i(d, r[i][0], r[i][1]);
         tsr_call_DrawPixels(d, r[i][2], r[i][3], GL_RGBA, GL_UNSIGNED_BYTE, px + at * 4);
     }
