@@ -1181,7 +1181,7 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "",
      .min = 1,
      .max = 0,
-     .help = "the display node the composited frame goes to: tcp://HOST:PORT or unix:PATH "
+     .help = "the display node every peer puts its final piece on: tcp://HOST:PORT or unix:PATH "
              "(required; a graph's to: fills it)"},
     {.name = "rank",
      .type = TSR_OPT_INT,
@@ -1189,7 +1189,7 @@ static const tsr_option_spec bswap_options[] = {
      .min = 0,
      .max = BSWAP_MAX_PEERS - 1,
      .help = "this peer's place in the group, 0..N-1: depth ties go to the lower rank; rank 0 "
-             "sends the frame to the display (a graph run sets it)"},
+             "swaps the display's frame (a graph run sets it)"},
     {.name = "peers",
      .type = TSR_OPT_STRING_LIST,
      .default_value = "",
@@ -1299,7 +1299,7 @@ static const tsr_spu_class bswap_class = {
     .dispatch_count = TSR_DISPATCH_COUNT,
     .name = "binaryswap",
     .summary = "renders like render, then composites each frame's colour+depth with its peers "
-               "(sort-last) and sends the final frame to a display node",
+               "(sort-last); each peer puts its final piece on a display node",
     .options = bswap_options,
     .option_count = sizeof bswap_options / sizeof bswap_options[0],
     .create = bswap_create,
