@@ -41,8 +41,11 @@
  * `clients` connected, nobody can release them: the node fails with one
  * line naming each barrier or semaphore, the clients waiting on it, and
  * the clients that already ended (e.g. one disconnected while the others
- * waited at a barrier counting it); it sends that line to every client
- * and tsr_node_run returns TSR_ESTATE. Frames: the first client whose
+ * waited at a barrier counting it; a client dropped for silence, a
+ * stopped process, is named first, as the cause); it sends that line to
+ * every client and tsr_node_run returns TSR_ESTATE. After a client said
+ * goodbye the node waits a second before failing that way: that client's
+ * own failure, which its owner reports first, is usually the cause. Frames: the first client whose
  * SwapBuffersTSR arrives becomes the swapping client; only its swaps reach
  * the chain (and count as frames); other clients' swaps are dropped and
  * counted in swaps_ignored — a parallel program lets one rank swap, after

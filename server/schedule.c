@@ -21,6 +21,12 @@
 /* How long the scheduler sleeps in one wait for input when nothing can
  * run (it then also looks for new connections). */
 #define SCHED_POLL_MS 20
+/* A client that says goodbye while others wait at a barrier counting it
+ * has usually ended because of a failure of its own, which its owner
+ * reports: the node waits this long before failing on the barrier, so
+ * the report naming the cause comes first (a parallel program whose
+ * ranks end one by one at the last frame is not a failure either way). */
+#define SCHED_GOODBYE_GRACE_MS 1000
 
 typedef enum client_state {
     CLIENT_READY,   /* runs when it has a buffer */
@@ -78,6 +84,7 @@ struct sched {
     uint64_t tickets;
     tsr_error failure;  /* first client failure */
     tsr_node_cost cost; /* the chain's (all clients') since the swapper's last swap */
+    double goodbye;     /* when the last client said goodbye (tsr_now_seconds), or 0 */
 };
 
 /* --- client errors inside command handlers -------------------------------- */
@@ -310,6 +317,8 @@ static void retire(sched *s, sched_client *c, client_state state)
     free(c->reply);
     c->reply = NULL;
     tsr_node_client_ended(s->node, state == CLIENT_FAILED, silent, c->who, c->error.message);
+    if (state == CLIENT_ENDED)
+        s->goodbye = tsr_now_seconds();
 }
 
 static void drop(sched *s, sched_client *c)
@@ -498,8 +507,15 @@ static int check_unreachable(sched *s, unsigned live, tsr_error *err)
             continue;
         char text[sizeof err->message];
         size_t len = 0;
-        append(text, sizeof text, &len, "node: barrier %u can never be reached: it counts %u clients, %u left;",
-               o->name, o->count, left);
+        /* A client dropped for silence (a stopped process) is the cause:
+         * the line names it first, as its owner would have reported it. */
+        char silent[sizeof err->message];
+        if (tsr_node_silent_failure(s->node, silent, sizeof silent))
+            append(text, sizeof text, &len, "%s; so ", silent);
+        else
+            append(text, sizeof text, &len, "node: ");
+        append(text, sizeof text, &len, "barrier %u can never be reached: it counts %u clients, %u left;", o->name,
+               o->count, left);
         const char *sep = " waiting:";
         for (unsigned k = 0; k < s->accepted; k++) {
             const sched_client *c = &s->clients[k];
@@ -561,9 +577,10 @@ static int scheduler_loop(sched *s, tsr_error *err)
         int all_came = s->accepted == node->clients;
         if (all_came && live == 0)
             return s->failure.code ? tsr_error_set(err, s->failure.code, "%s", s->failure.message) : TSR_OK;
-        if (blocked && check_unreachable(s, live, err) != 0)
+        int settling = s->goodbye > 0 && (tsr_now_seconds() - s->goodbye) * 1000.0 < SCHED_GOODBYE_GRACE_MS;
+        if (blocked && !settling && check_unreachable(s, live, err) != 0)
             return err->code;
-        if (all_came && ready == 0 && blocked > 0) {
+        if (all_came && ready == 0 && blocked > 0 && !settling) {
             report_deadlock(s, err);
             return err->code;
         }

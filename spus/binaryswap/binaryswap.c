@@ -7,7 +7,8 @@
  * instance: the render instance, the peer connections (netlib, one
  * tsr_net), the stream to the display (a `pack` chain of its own), the
  * read-back and frame buffers. Never: keeps state outside the instance,
- * sends the display anything but the window, the final image and the swap,
+ * sends the display anything but the window, its final piece (colour and
+ * scissored clears), the frame's barriers and (rank 0) the swap,
  * or sends a peer a full frame of background (an empty peer's image is a
  * header).
  *
@@ -37,17 +38,19 @@
  * strategies/ (strategy.h: binary swap for any peer count, direct send,
  * radix-k, gather to one, auto), planned once per window size and run by
  * its executor over this SPU's transport (transport_send/recv): peers are
- * participants 0..N-1 over the mesh, and the display participant N lives
- * in rank 0's process (rank 0's own final piece is queued locally). Depth
+ * participants 0..N-1 over the mesh; only when the display composites
+ * (gather to one) does the display participant N run, in rank 0's process
+ * (rank 0's own final piece is queued locally). Depth
  * mode: the nearest depth wins, equal depth goes to the lower rank, so the
  * result is the single-process render of the parts drawn in rank order
  * with GL_LESS, bit for bit, for every strategy and arrival order. Pixels
  * no peer drew get the background colour, read from a pixel rank 0 left
  * at depth 1.0 (exactly what GL's clear produced; when rank 0 left none,
- * it covered the window and no pixel is background). Rank 0 then draws
- * the frame on the display (WindowPos2i, DrawPixels) and swaps; the other
- * ranks also connect to the display (a graph's display node counts every
- * peer among its clients) but send it nothing.
+ * it covered the window and no pixel is background; every peer takes its
+ * own, as every application clears to the same colour). Every peer then
+ * puts its final piece into the display's frame itself (composite_frame:
+ * a graph's display node counts every peer among its clients), and rank
+ * 0 swaps there.
  *
  * Alpha mode and float colour (layers.h, order.c, colour.c; README.md):
  * the colour of the geometry's box (or of the whole window when that is
@@ -90,6 +93,8 @@
 #define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
 #define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2) /* alpha mode: a box's distance */
+/* The group's frame fence on the display node (its parallel API, server/node.h). */
+#define BSWAP_DISPLAY_BARRIER 0x54534c42u /* "TSLB" */
 
 /* A message queued for this process's own display participant (rank 0
  * sends its final piece to itself). */
@@ -134,8 +139,10 @@ typedef struct bswap_spu {
     uint32_t frames; /* frames composited */
     float *window_depth;
     size_t window_depth_size;
-    tsr_cimage mine;  /* this frame's region of interest */
-    tsr_cimage frame; /* rank 0: the assembled frame */
+    tsr_cimage mine;         /* this frame's region of interest */
+    tsr_cimage frame;        /* rank 0, when the display composites (gather): the assembled frame */
+    tsr_sparse_image placed; /* this peer's final piece without its leading and trailing background */
+    tsr_cimage piece;        /* ... as the colour the display draws (rows it spans) */
     uint8_t background[4];
     bool has_background; /* background[] is a pixel this peer left cleared */
 
@@ -236,6 +243,7 @@ static const tsr_dispatch *display(bswap_spu *b)
         bswap_fatal(b, "display %s: %s", values[0], err.message);
     }
     b->display = tsr_chain_head(b->out);
+    tsr_call_BarrierCreateTSR(b->display, BSWAP_DISPLAY_BARRIER, (GLuint)b->nranks);
     return b->display;
 }
 
@@ -243,7 +251,7 @@ static void bswap_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsiz
 {
     bswap_spu *b = self;
     const tsr_dispatch *d = window == b->window ? display(b) : NULL;
-    if (d && b->rank == 0)
+    if (d)
         tsr_call_WindowCreateTSR(d, window, width, height);
     tsr_call_WindowCreateTSR(b->child, window, width, height);
 }
@@ -252,7 +260,7 @@ static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei
 {
     bswap_spu *b = self;
     const tsr_dispatch *d = window == b->window ? display(b) : NULL;
-    if (d && b->rank == 0)
+    if (d)
         tsr_call_WindowSizeTSR(d, window, width, height);
     tsr_call_WindowSizeTSR(b->child, window, width, height);
 }
@@ -649,8 +657,115 @@ static void stats_frame(bswap_spu *b, uint32_t frame)
     tsr_bswap_stats_write(b->stats_fd, &b->st);
 }
 
-/* Composites this frame with the group (the strategy's schedule); rank 0
- * then draws the assembled frame on the display and swaps. */
+/* The pixels [first, last] of a window `W` wide as at most three
+ * rectangles {x, y, w, h}: a partial first row, whole rows, a partial last
+ * row. */
+static int span_rects(uint32_t W, uint32_t first, uint32_t last, int r[3][4])
+{
+    int w = (int)W, y0 = (int)(first / W), y1 = (int)(last / W), x0 = (int)(first % W), x1 = (int)(last % W), n = 0;
+    if (y0 == y1) {
+        r[0][0] = x0, r[0][1] = y0, r[0][2] = x1 - x0 + 1, r[0][3] = 1;
+        return 1;
+    }
+    int ys = x0 ? y0 + 1 : y0, ye = x1 + 1 < w ? y1 - 1 : y1;
+    if (x0)
+        r[n][0] = x0, r[n][1] = y0, r[n][2] = w - x0, r[n][3] = 1, n++;
+    if (ys <= ye)
+        r[n][0] = 0, r[n][1] = ys, r[n][2] = w, r[n][3] = ye - ys + 1, n++;
+    if (x1 + 1 < w)
+        r[n][0] = 0, r[n][1] = y1, r[n][2] = x1 + 1, r[n][3] = 1, n++;
+    return n;
+}
+
+/* Background over pixels [first, last] of the display's window: scissored
+ * clears, a command each, no pixels. */
+static void clear_span(const tsr_dispatch *d, uint32_t W, uint32_t first, uint32_t last)
+{
+    int r[3][4];
+    int n = span_rects(W, first, last, r);
+    tsr_call_Enable(d, GL_SCISSOR_TEST);
+    for (int i = 0; i < n; i++) {
+        tsr_call_Scissor(d, r[i][0], r[i][1], r[i][2], r[i][3]);
+        tsr_call_Clear(d, GL_COLOR_BUFFER_BIT);
+    }
+    tsr_call_Disable(d, GL_SCISSOR_TEST); /* DrawPixels below must not be cut */
+}
+
+/* Puts this peer's final piece (pixels [start, start+count) of the window,
+ * composited from every peer) into the display's frame, in this peer's
+ * own context there: the span from its first to its last active pixel as
+ * WindowPos2i + DrawPixels of the rectangles it crosses (span_rects), its
+ * inactive pixels as the background; the background before and after the
+ * span as scissored clears. A piece without active pixels is clears only,
+ * so no pixel of background travels. */
+static void place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
+                        uint32_t frame)
+{
+    uint32_t W = (uint32_t)in->window_width, end = in->start + in->count - 1;
+    if (!in->active) {
+        clear_span(d, W, in->start, end);
+        return;
+    }
+    uint32_t lead = 0, trail = 0;
+    for (uint32_t r = 0; r < in->nruns; r++) {
+        lead += in->runs[2 * r];
+        if (in->runs[2 * r + 1])
+            break;
+    }
+    for (uint32_t r = in->nruns; r-- > 0;) {
+        if (in->runs[2 * r + 1])
+            break;
+        trail += in->runs[2 * r];
+    }
+    uint32_t first = in->start + lead, last = end - trail;
+    if (lead)
+        clear_span(d, W, in->start, first - 1);
+    if (trail)
+        clear_span(d, W, last + 1, end);
+    tsr_error err = {0};
+    uint32_t y0 = first / W, y1 = last / W;
+    if (tsr_sparse_image_view(in, first, last - first + 1, &b->placed, &err) != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    /* Pixel p of the span is at px + 4 (p - origin). A depth-mode RGBA8
+     * span without inactive pixels is its colour plane as it is. */
+    const uint8_t *px = b->placed.color;
+    uint32_t origin = first;
+    if (b->placed.active != last - first + 1 || in->mode != TSR_COMPOSITE_DEPTH || in->color_format != TSR_CI_RGBA8) {
+        int rx = y0 == y1 ? (int)(first % W) : 0, rw = y0 == y1 ? (int)(last - first + 1) : (int)W;
+        if (tsr_cimage_init(&b->piece, in->window_width, in->window_height, rx, (int)y0, rw, (int)(y1 - y0 + 1),
+                            in->color_format, TSR_CI_NODEPTH, &err) != TSR_OK ||
+            tsr_sparse_image_to_dense(&b->placed, background, &b->piece, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        px = b->piece.color;
+        origin = y0 * W + (uint32_t)rx;
+        if (in->color_format != TSR_CI_RGBA8) {
+            if (bswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+            px = b->frame8;
+        }
+    }
+    int r[3][4];
+    int n = span_rects(W, first, last, r);
+    for (int i = 0; i < n; i++) {
+        size_t at = (size_t)r[i][1] * W + (size_t)r[i][0] - origin;
+        tsr_call_WindowPos2i(d, r[i][0], r[i][1]);
+        tsr_call_DrawPixels(d, r[i][2], r[i][3], GL_RGBA, GL_UNSIGNED_BYTE, px + at * 4);
+    }
+}
+
+/* Composites this frame with the group (the strategy's schedule) and puts
+ * it on the display node, which is an ordinary shared-mode server with one
+ * context per peer drawing into one window (server/node.h), as readback's
+ * tile servers use it:
+ *   every peer: its final piece (place_piece), straight from its process;
+ *               the final pieces cover the window once
+ *   every peer: BarrierExecTSR     every piece has landed
+ *   rank 0: SwapBuffersTSR         the display writes the frame
+ *   every peer: BarrierExecTSR     no piece of the next frame lands before
+ * So no final piece travels twice and no peer assembles the frame. Only when
+ * the display composites (gather to one: the same pixels from every peer)
+ * does rank 0 run that part and place the frame it assembled. Colour only
+ * travels to the display. */
 static void composite_frame(bswap_spu *b, uint32_t frame)
 {
     tsr_error err = {0};
@@ -661,16 +776,15 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     b->last_bytes = 0;
     tsr_cs_transport t = {
         .user = b, .send = transport_send, .recv = transport_recv, .send_buffer = transport_send_buffer};
-    if (tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err) != TSR_OK)
+    bool at_display = tsr_cs_schedule_display_composites(&b->plan);
+    const tsr_sparse_image *final = NULL;
+    int rc = at_display ? tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err)
+                        : tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &final, &err);
+    if (rc != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     b->st.composited_ns = tsr_bswap_now_ns();
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
             b->rank, b->last_bytes);
-    if (b->rank != 0) {
-        release_held(b);
-        stats_frame(b, frame);
-        return;
-    }
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
     if (b->mode == TSR_COMPOSITE_ALPHA)
@@ -678,30 +792,47 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     float background_f[4];
     for (int c = 0; c < 4; c++)
         background_f[c] = (float)b->background[c] / 255.0f;
-    if (tsr_cs_run_display(b->display_ex, frame, b->mode, b->colour,
-                           b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH,
-                           b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f,
-                           &b->frame, &t, &err) != TSR_OK)
-        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-    release_held(b);
-    const uint8_t *pixels = b->frame.color;
-    if (b->colour != TSR_CI_RGBA8) {
-        if (bswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-        pixels = b->frame8;
-    }
-    b->st.assembled_ns = tsr_bswap_now_ns();
+    const void *background = b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f;
     const tsr_dispatch *d = display(b);
-    tsr_call_WindowPos2i(d, 0, 0);
-    tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
-    tsr_call_SwapBuffersTSR(d, b->window, 0);
-    b->st.sent_ns = tsr_bswap_now_ns();
-    if (b->stats_fd >= 0) {
-        /* A reply comes after the display node drew the frame: the time
-         * the frame is there (costs one round trip per frame, stats only). */
-        GLint viewport[4];
-        tsr_call_GetIntegerv(d, GL_VIEWPORT, viewport);
-        b->st.displayed_ns = tsr_bswap_now_ns();
+    if (!at_display) {
+        b->st.assembled_ns = b->st.composited_ns; /* the piece is final */
+        if (final) {
+            /* c / 255 is converted back to exactly c */
+            tsr_call_ClearColor(d, background_f[0], background_f[1], background_f[2], background_f[3]);
+            place_piece(b, d, final, background, frame);
+        }
+    } else if (b->rank == 0) {
+        if (tsr_cs_run_display(b->display_ex, frame, b->mode, b->colour,
+                               b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH, background, &b->frame,
+                               &t, &err) != TSR_OK)
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        const uint8_t *pixels = b->frame.color;
+        if (b->colour != TSR_CI_RGBA8) {
+            if (bswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+            pixels = b->frame8;
+        }
+        b->st.assembled_ns = tsr_bswap_now_ns();
+        tsr_call_WindowPos2i(d, 0, 0);
+        tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+    }
+    release_held(b);
+    tsr_call_BarrierExecTSR(d, BSWAP_DISPLAY_BARRIER);
+    if (b->rank == 0)
+        tsr_call_SwapBuffersTSR(d, b->window, 0);
+    tsr_call_BarrierExecTSR(d, BSWAP_DISPLAY_BARRIER);
+    if (b->rank == 0) {
+        b->st.sent_ns = tsr_bswap_now_ns();
+        if (b->stats_fd >= 0) {
+            /* A reply comes after the display node swapped, which it does
+             * after every peer's piece landed (the barrier): the time the
+             * frame is there (one round trip per frame, stats only). */
+            GLint viewport[4];
+            tsr_call_GetIntegerv(d, GL_VIEWPORT, viewport);
+            b->st.displayed_ns = tsr_bswap_now_ns();
+        }
+    } else {
+        b->st.sent_ns = tsr_bswap_now_ns();
     }
     stats_frame(b, frame);
 }
@@ -891,6 +1022,8 @@ static void bswap_destroy(void *self)
         tsr_cs_schedule_free(&b->plan);
     tsr_cimage_free(&b->mine);
     tsr_cimage_free(&b->frame);
+    tsr_cimage_free(&b->piece);
+    tsr_sparse_image_free(&b->placed);
     tsr_cimage_free(&b->layer);
     free(b->frame8);
     free(b->window_depth);
@@ -1048,7 +1181,7 @@ static const tsr_option_spec bswap_options[] = {
      .default_value = "",
      .min = 1,
      .max = 0,
-     .help = "the display node the composited frame goes to: tcp://HOST:PORT or unix:PATH "
+     .help = "the display node every peer puts its final piece on: tcp://HOST:PORT or unix:PATH "
              "(required; a graph's to: fills it)"},
     {.name = "rank",
      .type = TSR_OPT_INT,
@@ -1056,7 +1189,7 @@ static const tsr_option_spec bswap_options[] = {
      .min = 0,
      .max = BSWAP_MAX_PEERS - 1,
      .help = "this peer's place in the group, 0..N-1: depth ties go to the lower rank; rank 0 "
-             "sends the frame to the display (a graph run sets it)"},
+             "swaps the display's frame (a graph run sets it)"},
     {.name = "peers",
      .type = TSR_OPT_STRING_LIST,
      .default_value = "",
@@ -1166,7 +1299,7 @@ static const tsr_spu_class bswap_class = {
     .dispatch_count = TSR_DISPATCH_COUNT,
     .name = "binaryswap",
     .summary = "renders like render, then composites each frame's colour+depth with its peers "
-               "(sort-last) and sends the final frame to a display node",
+               "(sort-last); each peer puts its final piece on a display node",
     .options = bswap_options,
     .option_count = sizeof bswap_options / sizeof bswap_options[0],
     .create = bswap_create,

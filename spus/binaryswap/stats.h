@@ -17,10 +17,10 @@ typedef struct tsr_bswap_frame_stats {
     int rank, nranks;
     int64_t swap_ns;       /* the frame hook ran: the render's SwapBuffers */
     int64_t ready_ns;      /* this peer's layer handed to the compositor */
-    int64_t composited_ns; /* this peer's rounds done, final piece sent */
-    int64_t assembled_ns;  /* rank 0: the display participant assembled the frame (else 0) */
-    int64_t sent_ns;       /* rank 0: DrawPixels and the swap packed and handed to the display stream (else 0) */
-    int64_t displayed_ns;  /* rank 0: the display node answered after drawing it (else 0) */
+    int64_t composited_ns; /* this peer's rounds done */
+    int64_t assembled_ns;  /* this peer's final piece is final (gather: rank 0 assembled the frame; others 0) */
+    int64_t sent_ns;       /* its piece (rank 0: and the swap) packed and handed to the display stream */
+    int64_t displayed_ns;  /* rank 0: the display node answered after its swap (else 0) */
     uint64_t bytes_sent;   /* image bytes this peer sent */
 } tsr_bswap_frame_stats;
 

@@ -132,9 +132,10 @@ static int composite_in_order(tsr_cs_executor *ex, tsr_sparse_image **pieces, in
     return TSR_OK;
 }
 
-int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
-                    tsr_error *err)
+int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                           const tsr_sparse_image **final, tsr_error *err)
 {
+    *final = NULL;
     const tsr_cs_schedule *s = ex->s;
     if (rank < 0 || rank >= s->nranks)
         return tsr_error_set(err, TSR_EINVAL, "composite: rank %d outside 0..%d", rank, s->nranks - 1);
@@ -209,7 +210,18 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
         return TSR_OK;
     if ((rc = tsr_sparse_image_view(&ex->cur, R->final.start, R->final.count, &ex->piece, err)))
         return rc;
-    return send_piece(ex, &ex->piece, TSR_CS_DISPLAY(s->nranks), t, err);
+    *final = &ex->piece;
+    return TSR_OK;
+}
+
+int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                    tsr_error *err)
+{
+    const tsr_sparse_image *final = NULL;
+    int rc = tsr_cs_run_peer_rounds(ex, rank, mine, mode, t, &final, err);
+    if (rc || !final)
+        return rc;
+    return send_piece(ex, final, TSR_CS_DISPLAY(ex->s->nranks), t, err);
 }
 
 int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_format, int depth_format,

@@ -340,3 +340,11 @@ int tsr_cs_schedule_keeps_order(const tsr_cs_schedule *s, char *why, size_t why_
     snprintf(why, why_size, "every pixel's layers are blended in one place, back to front");
     return 1;
 }
+
+int tsr_cs_schedule_display_composites(const tsr_cs_schedule *s)
+{
+    for (int g = 1; g < s->ngather; g++)
+        if (same(s->gather[g].region, s->gather[g - 1].region))
+            return 1;
+    return 0;
+}

@@ -164,6 +164,18 @@ void tsr_cs_executor_free(tsr_cs_executor *ex);
  * from it) and sends its final piece to the display. */
 int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
                     tsr_error *err);
+/* The same rounds without the send to the display: *final is the rank's
+ * final piece (a view of the executor's image, valid until its next run;
+ * NULL when the rank owns none), composited from every rank whenever the
+ * schedule places pieces directly (tsr_cs_schedule_display_composites is
+ * false). A caller that puts the pieces on the display itself (the SPU's
+ * display node, one piece from each peer) uses this. */
+int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                           const tsr_sparse_image **final, tsr_error *err);
+/* Whether the display composites (some region's pieces come from more
+ * than one rank, as in gather to one) rather than only placing the final
+ * pieces, each of which then holds every rank. */
+int tsr_cs_schedule_display_composites(const tsr_cs_schedule *s);
 /* The display's part: receives the final pieces of frame `frame` and writes
  * the whole window into `frame_out` (initialised here to the window, RGBA8
  * or the schedule's colour format), inactive pixels as `background`. */
