@@ -35,7 +35,8 @@
 # 4. The noise floor (a lower bound on the measured imbalance on this
 #    machine): kd with its defaults on the static isosurface for
 #    BALANCE_FLOOR_FRAMES (20) frames at BALANCE_SIZE; once the split has
-#    settled (hysteresis), the servers' times
+#    settled (hysteresis; BALANCE_FLOOR_OPTIONS adds tilesort options,
+#    e.g. hysteresis=1 to keep a split on a loaded machine), the servers' times
 #    on unchanged regions vary only by measurement noise. Per frame from
 #    the split's last move on (at least 5 frames): max / mean over the servers of T / (the server's own mean T
 #    over those frames), which even a perfect split would show; figures
@@ -193,7 +194,7 @@ fcsv=$out/balance_floor.csv
 if [[ " $parts " == *" 4 "* ]]; then
     load 4
     st=$work/floor.json
-    run "$size" "$ffloor" "$wall" kd "$st" --static
+    run "$size" "$ffloor" "$wall" kd "$st" --static "${BALANCE_FLOOR_OPTIONS:-}"
     rows "$st" server_seconds >"$work/floor.secs"
     rows "$st" server_pixels >"$work/floor.pixels"
     # the frames from the last move of the split on (at least 5 of them)
