@@ -29,7 +29,23 @@
 #    balance_VARIANT_jump_frames_8x4 is how many frames after the jump the
 #    imbalance is first back at or under 1.2 and stays there (the frame
 #    of the jump counts 1; "never" if it does not within the run).
-# Writes balance.csv, balance_servers.csv, balance_jump.csv, balance.png
+#    Also balance_VARIANT_jump_first_8x4: frames from the jump until the
+#    imbalance is first at or under 1.2 (the noise of part 4 can lift a
+#    later frame above it again).
+# 4. The noise floor (a lower bound on the measured imbalance on this
+#    machine): kd with its defaults on the static isosurface for
+#    BALANCE_FLOOR_FRAMES (20) frames at BALANCE_SIZE; once the split has
+#    settled (hysteresis; BALANCE_FLOOR_OPTIONS adds tilesort options,
+#    e.g. hysteresis=1 to keep a split on a loaded machine), the servers' times
+#    on unchanged regions vary only by measurement noise. Per frame from
+#    the split's last move on (at least 5 frames): max / mean over the servers of T / (the server's own mean T
+#    over those frames), which even a perfect split would show; figures
+#    balance_noise_floor_8x4 (median over the frames, with the smallest
+#    and largest) and balance_kd_systematic_8x4 (max / mean of the
+#    servers' mean times: the split's own imbalance, with the noise
+#    averaged out), balance_noise_sd_8x4 (the servers' median frame-to-frame
+#    relative standard deviation) and the load average.
+# Writes balance.csv, balance_servers.csv, balance_jump.csv, balance_floor.csv, balance.png
 # (imbalance and overlap per frame), balance_servers.png and
 # balance_jump.png. BALANCE_PARTS (default "1 2 3") picks the parts.
 # usage: bench/balance.sh BIN_DIR OUT_DIR [--quick]
@@ -37,11 +53,12 @@ set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${BALANCE_SIZE:-2048x1536} frames=${BALANCE_FRAMES:-10} detail=${BALANCE_DETAIL:-2}
 ssize=${BALANCE_SWEEP_SIZE:-1024x768} sframes=${BALANCE_SWEEP_FRAMES:-5} mbps=${BALANCE_NET_MBPS:-1000}
-wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4) parts=${BALANCE_PARTS:-1 2 3}
+wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4) parts=${BALANCE_PARTS:-1 2 3 4}
+ffloor=${BALANCE_FLOOR_FRAMES:-20}
 jump=${BALANCE_JUMP:-4} jframes=${BALANCE_JUMP_FRAMES:-12}
 alts=${BALANCE_ALTS:-kd:damping=1:hysteresis=0 kd:damping=0.5:hysteresis=0.1 kd:damping=1:hysteresis=0.2 kd:damping=1:hysteresis=0.1:smoothing=1}
 if [[ $quick == --quick ]]; then
-    size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2)
+    size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2) ffloor=8
 fi
 work=$out/balance.work
 rm -rf "$work" && mkdir -p "$work"
@@ -88,8 +105,11 @@ imbalances() {
         if (ok && ssum > 0) printf "%.4f\n", smax * NF / ssum; else print "nan" }'
 }
 
+load() { echo "bench/balance: part $1, load average $(cut -d' ' -f1-3 /proc/loadavg)"; }
+
 # --- 1. the 8x4 wall, per frame ----------------------------------------------
 if [[ " $parts " == *" 1 "* ]]; then
+load 1
 csv=$out/balance.csv
 echo "method,tiles,frame,imbalance,imbalance_bytes,overlap" >"$csv"
 run "$size" "$frames" 1x1 grid "$work/one.json"
@@ -121,6 +141,7 @@ fi
 
 # --- 2. the slowest server against server count ---------------------------------
 if [[ " $parts " == *" 2 "* ]]; then
+load 2
 scsv=$out/balance_servers.csv
 echo "method,tiles,servers,slowest_ms,render_ms,net_ms" >"$scsv"
 for config in "${sweep[@]}"; do
@@ -149,6 +170,7 @@ fi
 # --- 3. frames to converge after a camera jump ----------------------------------
 jcsv=$out/balance_jump.csv
 if [[ " $parts " == *" 3 "* ]]; then
+    load 3
     echo "variant,frame,imbalance" >"$jcsv"
     for v in union kd $alts; do
         method=${v%%:*} extra=
@@ -161,7 +183,42 @@ if [[ " $parts " == *" 3 "* ]]; then
     awk -F, -v j="$jump" -v t="$wall" 'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; if ($2 + 0 > last) last = $2 + 0 }
         END { for (k in v) { conv = "never"
                 for (f = last; f > j; f--) { if (imb[k, f] == "nan" || imb[k, f] + 0 > 1.2) break; conv = f - j }
-                n = k; gsub(/[:=]/, "_", n); printf "balance_%s_jump_frames_%s: %s\n", n, t, conv } }' "$jcsv" | sort
+                first = "never"
+                for (f = j + 1; f <= last; f++) if (imb[k, f] != "nan" && imb[k, f] + 0 <= 1.2) { first = f - j; break }
+                n = k; gsub(/[:=]/, "_", n); printf "balance_%s_jump_frames_%s: %s\n", n, t, conv
+                printf "balance_%s_jump_first_%s: %s\n", n, t, first } }' "$jcsv" | sort
+fi
+
+# --- 4. the noise floor: a fixed split's frame-to-frame noise ---------------------
+fcsv=$out/balance_floor.csv
+if [[ " $parts " == *" 4 "* ]]; then
+    load 4
+    st=$work/floor.json
+    run "$size" "$ffloor" "$wall" kd "$st" --static "${BALANCE_FLOOR_OPTIONS:-}"
+    rows "$st" server_seconds >"$work/floor.secs"
+    rows "$st" server_pixels >"$work/floor.pixels"
+    # the frames from the last move of the split on (at least 5 of them)
+    total=$(wc -l <"$work/floor.pixels") from=$total
+    while ((from > 4)) && [ "$(sed -n "$((from - 1))p" "$work/floor.pixels")" = "$(tail -n 1 "$work/floor.pixels")" ]; do
+        from=$((from - 1))
+    done
+    ((total - from + 1 >= 5)) || echo "bench/balance: the floor run's split moved until frame $from (fewer than 5 frames left)" >&2
+    echo "frame,imbalance,noise_only" >"$fcsv"
+    tail -n +"$from" "$work/floor.secs" | awk -F, -v first="$from" -v csv="$fcsv" -v t="$wall" '
+        function sorted(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }; return n }
+        { nf = NF; for (i = 1; i <= NF; i++) { v[NR, i] = $i; sum[i] += $i } ; rowsn = NR }
+        END {
+            for (i = 1; i <= nf; i++) { mean[i] = sum[i] / rowsn; all += mean[i]; if (mean[i] > mx) mx = mean[i] }
+            for (r = 1; r <= rowsn; r++) {
+                zs = 0; zm = 0; ts = 0; tm = 0
+                for (i = 1; i <= nf; i++) { z = v[r, i] / mean[i]; zs += z; if (z > zm) zm = z; ts += v[r, i]; if (v[r, i] > tm) tm = v[r, i] }
+                fl[r] = zm * nf / zs; printf "%d,%.4f,%.4f\n", r + first - 1, tm * nf / ts, fl[r] >>csv }
+            n = sorted(fl, rowsn)
+            printf "balance_noise_floor_%s: %.4f (median of frames %d-%d, the split unchanged; smallest %.4f, largest %.4f)\n", t, (n % 2 ? fl[(n + 1) / 2] : (fl[n / 2] + fl[n / 2 + 1]) / 2), first, rowsn + first - 1, fl[1], fl[n]
+            printf "balance_kd_systematic_%s: %.4f (max / mean of the servers'"'"' mean times, frames %d-%d)\n", t, mx * nf / all, first, rowsn + first - 1
+            for (i = 1; i <= nf; i++) { ss = 0; for (r = 1; r <= rowsn; r++) ss += (v[r, i] / mean[i] - 1) ^ 2; sd[i] = sqrt(ss / (rowsn - 1)) }
+            m = sorted(sd, nf)
+            printf "balance_noise_sd_%s: %.4f (median over the servers of the relative sd of a server'"'"'s time)\n", t, (m % 2 ? sd[(m + 1) / 2] : (sd[m / 2] + sd[m / 2 + 1]) / 2) }'
 fi
 
 if command -v gnuplot >/dev/null && [[ $quick != --quick && " $parts " == *" 3 "* ]]; then

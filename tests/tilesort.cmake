@@ -106,12 +106,14 @@ foreach(bucket kd union)
             batch_bytes=1024)
 endforeach()
 # A server reporting twice the time gets about half the others' load: its
-# slowness is learnt from the first balanced frame's reports (frame 1; the
-# evenly split frame 0 is not learnt from, cost.c says why), so within 1.2
-# from frame 4 on; 12 frames, for the split to settle.
+# slowness shows in the first balanced frame's reports (frame 1; the
+# evenly split frame 0 is not learnt from, and frame 1 is weighed lightly
+# in the coefficients' fit, cost.c says why), so within 1.2 from frame 5
+# on (measured: 1.29 / 1.23 at frame 4, kd / union); 12 frames, for the
+# split to settle.
 foreach(bucket ${TILESORT_BALANCED})
   add_test(NAME tilesort_${bucket}_server_twice_as_slow_gets_half_the_load
-    COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/slow-${bucket} ${bucket} 12 4 1.2 2
+    COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/slow-${bucket} ${bucket} 12 5 1.2 2
             batch_bytes=1024)
 endforeach()
 # A moving scene (item 3): the isosurface's camera orbiting 10 degrees a

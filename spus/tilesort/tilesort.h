@@ -35,26 +35,50 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION }
 #define TS_COST_CELLS 64
 /* Frames of per-server estimates kept to meet the servers' late reports. */
 #define TS_COST_HISTORY 16
+/* Frames never learnt from: the even split (cost.c) */
+#define TS_COST_WARMUP 1
+/* The weight of frame 1's reports in the fit (the first frame on balanced
+ * regions: still a warm-up, cost.c) against 1 for a later frame's */
+#define TS_COST_FIRST_WEIGHT 0.1
+/* The noise of a report's log speed before any is measured: 0.1^2, a
+ * server's time varied about 10 % from frame to frame on a fixed region
+ * of the 8x4 isosurface (cost.c) */
+#define TS_COST_NOISE 0.01
 
-/* The estimate (cost.c): what a flush or a sorted primitive of `bytes`
- * whose window box covers `area` pixels is guessed to cost, in "estimate
- * units" (the measured times calibrate them, per server): its vertices
- * (bytes) and its fill (box area), plus, every frame, each pixel of the
- * window (clear, swap, read-back: what an empty region still costs). */
-#define TS_EST_PER_BYTE 1.0
-#define TS_EST_PER_PIXEL 0.125
-#define TS_EST_BASE_PER_PIXEL 0.01
+/* The cost model (cost.c). A server's render time is modelled as
+ *   c0 + c_bytes x B + c_fill x F + c_area x A
+ * B: the bytes of the primitives its region gets (their vertices), F: the
+ * window-box area of those primitives inside the region (their fill), A:
+ * the region's own pixels (clear, read-back of the tile: what an empty
+ * region still costs), c0: a frame's fixed cost. B and F are estimated per
+ * cell as the frame is sent; the coefficients are fitted to the servers'
+ * measured times (least squares over the servers and the frames kept);
+ * until the first fit they are the priors below, measured with the render
+ * SPU (llvmpipe, one thread) on the isosurface (bench/README.md). */
+enum { TS_TERM_FIXED, TS_TERM_BYTES, TS_TERM_FILL, TS_TERM_AREA, TS_TERMS };
+#define TS_PRIOR_FIXED 2.5e-3 /* seconds a frame */
+#define TS_PRIOR_BYTES 1.9e-9 /* seconds a byte */
+#define TS_PRIOR_FILL 2.2e-9  /* seconds a pixel of primitive box */
+#define TS_PRIOR_AREA 4.6e-9  /* seconds a pixel of region */
 
 typedef struct ts_cost {
-    int cols, rows;   /* cells */
-    double *est;      /* this frame's estimate per cell (cols x rows) */
-    double *map;      /* what the split balances: the last frame's estimate, each cell times its server's ratio */
-    double *ratio;    /* per server: its speed, measured time / the fit's (cost.c), smoothed; 0: none yet (1 is used) */
-    double *hist;     /* TS_COST_HISTORY rows of servers: each server's estimate at that frame */
-    double *measured; /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
-    uint8_t *learned; /* TS_COST_HISTORY: that frame's reports were learnt from */
-    uint64_t frame;   /* frames closed */
-    uint64_t reports; /* reports taken */
+    int cols, rows;    /* cells */
+    double *est_bytes; /* this frame's bytes per cell (cols x rows) */
+    double *est_fill;  /* this frame's primitive box pixels per cell */
+    double *
+        map; /* what the split balances (seconds): the last frame's modelled cost, each cell times its server's ratio */
+    double *ratio;         /* per server: its speed used by the split (1: typical; 0: none yet, 1 is used) */
+    double *log_speed;     /* per server: log of measured time / the model's, smoothed, relative to the median */
+    double *log_var;       /* per server: the noise variance left in log_speed; < 0: no report yet */
+    double *last_log;      /* per server: its last report's log speed (NAN: none) */
+    double noise;          /* variance of a report's log speed from one report to the next, smoothed */
+    double *hist;          /* TS_COST_HISTORY rows of servers x TS_TERMS: each server's terms at that frame */
+    double *measured;      /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
+    uint8_t *learned;      /* TS_COST_HISTORY rows of servers: that report was learnt from (speeds) */
+    double coef[TS_TERMS]; /* the model's coefficients (seconds per unit) */
+    uint64_t frame;        /* frames closed */
+    uint64_t reports;      /* reports taken */
+    uint64_t fits;         /* fits made */
 } ts_cost;
 
 typedef struct ts_tiling {
