@@ -7,9 +7,10 @@
  * glReadPixels and compare it with the same frame drawn beforehand by the
  * main thread alone: 0 differing pixels, every frame of every thread.
  * Then a context made with a current context of another thread as its
- * share list cannot be made current while that thread draws (one share
- * group is one stream, driven by one thread at a time): eglMakeCurrent
- * fails, and succeeds once the other thread has released its context. */
+ * share list is made current while that thread has its share list
+ * current (one share group is one stream, shared by the two threads;
+ * tests/faker/egl_share_threads.c draws with it), but a context current
+ * on another thread is not (EGL_BAD_ACCESS) until that thread releases it. */
 #include <EGL/egl.h>
 #include <GL/gl.h>
 #include <pthread.h>
@@ -196,22 +197,28 @@ int main(int argc, char **argv)
     }
     pthread_barrier_destroy(&barrier);
 
-    /* Share lists across threads drawing at once: refused, then allowed. */
+    /* Share lists across threads drawing at once: allowed; a context
+     * current on another thread: refused, then allowed once released. */
     holder_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
     EGLContext shared = eglCreateContext(dpy, config, holder_ctx, NULL);
     REQUIRE(holder_ctx != EGL_NO_CONTEXT && shared != EGL_NO_CONTEXT);
     pthread_t holder;
     REQUIRE(pthread_create(&holder, NULL, hold, NULL) == 0);
     holder_wait(1);
-    EGLBoolean refused = !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared);
-    EGLint why = eglGetError();
+    EGLBoolean made = eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared);
     printf("share-list context while its share list is current on another thread: %s (0x%x)\n",
-           refused ? "refused" : "made current", (unsigned)why);
+           made ? "made current" : "refused", (unsigned)eglGetError());
+    CHECK(made, "the share-list context was refused");
+    glClear(GL_COLOR_BUFFER_BIT);
+    EGLBoolean refused = !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, holder_ctx);
+    EGLint why = eglGetError();
+    printf("a context current on another thread: %s (0x%x)\n", refused ? "refused" : "made current", (unsigned)why);
     CHECK(refused && why == EGL_BAD_ACCESS, "eglMakeCurrent gave 0x%x", (unsigned)why);
     holder_set(2);
     holder_wait(3);
     pthread_join(holder, NULL);
-    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared), "after release: 0x%x", (unsigned)eglGetError());
+    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, holder_ctx), "after release: 0x%x",
+          (unsigned)eglGetError());
     CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
     eglDestroyContext(dpy, shared);
     eglDestroyContext(dpy, holder_ctx);
