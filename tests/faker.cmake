@@ -149,12 +149,16 @@ endif()
 # textures and display lists, and loads frame f+1's while a drawing thread
 # draws frame f with the other pair, through [render], [loopback ! render]
 # and [pack -> server render]; every frame equals the same frames drawn by
-# one thread, and the three chains' frames are the same bytes.
+# one thread, and the runs' frames are the same bytes as OSMesa's own.
 add_executable(faker_egl_share_threads ${FAKER_TEST_DIR}/egl_share_threads.c)
 target_link_libraries(faker_egl_share_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
+add_executable(faker_egl_share_threads_native ${FAKER_TEST_DIR}/egl_share_threads.c)
+target_compile_definitions(faker_egl_share_threads_native PRIVATE SHARE_NATIVE)
+target_link_libraries(faker_egl_share_threads_native PRIVATE PkgConfig::OSMESA)
 add_test(NAME faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
          COMMAND sh ${FAKER_TEST_DIR}/share_threads.sh $<TARGET_FILE:faker_egl_share_threads>
-                 $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/share_threads)
+                 $<TARGET_FILE:faker_egl_share_threads_native> $<TARGET_FILE:tessera_cli>
+                 ${FAKER_OUT}/share_threads)
 set_tests_properties(faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
                      PROPERTIES TIMEOUT 120)
 if(TESSERA_SANITIZE)

@@ -16,8 +16,16 @@
  *             drawing thread's context moves to the shared stream's locked
  *             table at one of its check points.
  * RAW: the threaded frames are also written there (one after the other,
- * RGBA), so runs through other chains can be compared byte for byte. */
+ * RGBA), so runs through other chains can be compared byte for byte.
+ * Built with SHARE_NATIVE (faker_egl_share_threads_native, linked with
+ * libOSMesa instead of the faker), `native FRAMES RAW` draws the same
+ * frames in the single-threaded order with OSMesa itself and writes them
+ * to RAW: the native render the faker's runs are compared with. */
+#ifdef SHARE_NATIVE
+#include <GL/osmesa.h>
+#else
 #include <EGL/egl.h>
+#endif
 #include <GL/gl.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -32,12 +40,16 @@
 #define MAX_FRAMES 32
 #define QUADS 6
 
+#ifndef SHARE_NATIVE
 static EGLDisplay dpy;
 static EGLConfig config;
+#endif
 static int nframes = 8;
-static int joined;
 static unsigned char *reference[MAX_FRAMES];
+#ifndef SHARE_NATIVE
+static int joined;
 static unsigned char *threaded[MAX_FRAMES];
+#endif
 
 /* The shared objects (made by whoever loads). */
 static GLuint tex[2], list_base;
@@ -119,6 +131,7 @@ static unsigned char *read_frame(void)
     return px;
 }
 
+#ifndef SHARE_NATIVE
 static long differing(const unsigned char *a, const unsigned char *b)
 {
     long n = 0;
@@ -126,7 +139,6 @@ static long differing(const unsigned char *a, const unsigned char *b)
         n += memcmp(a + 4 * i, b + 4 * i, 4) != 0;
     return n;
 }
-
 /* The hand-over: `loaded` frames have their slot ready, `drawn` frames are
  * read back (their slot may be loaded again). */
 static pthread_mutex_t mu = PTHREAD_MUTEX_INITIALIZER;
@@ -215,7 +227,6 @@ static void *drawer(void *arg)
     eglReleaseThread();
     return NULL;
 }
-
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -314,3 +325,32 @@ int main(int argc, char **argv)
     printf("%s: %d failures\n", harness_failures ? "FAIL" : "OK", harness_failures);
     return harness_failures ? 1 : 0;
 }
+#else
+int main(int argc, char **argv)
+{
+    if (argc != 4 || strcmp(argv[1], "native") || (nframes = atoi(argv[2])) < 2 || nframes > MAX_FRAMES) {
+        fprintf(stderr, "usage: faker_egl_share_threads_native native FRAMES(2-%d) RAW\n", MAX_FRAMES);
+        return 2;
+    }
+    static unsigned char buffer[W * H * 4];
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    REQUIRE(ctx && OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, W, H), "OSMesa context");
+    FILE *out = fopen(argv[3], "wb");
+    REQUIRE(out, "cannot write %s", argv[3]);
+    make_names();
+    load(0, 0);
+    for (int f = 0; f < nframes; f++) {
+        draw(f);
+        reference[f] = read_frame();
+        REQUIRE(reference[f]);
+        fwrite(reference[f], 4, (size_t)W * H, out);
+        free(reference[f]);
+        if (f + 1 < nframes)
+            load((f + 1) % 2, f + 1);
+    }
+    CHECK(fclose(out) == 0, "cannot write %s", argv[3]);
+    OSMesaDestroyContext(ctx);
+    printf("native: %d frames drawn with OSMesa into %s\n", nframes, argv[3]);
+    return harness_failures ? 1 : 0;
+}
+#endif

@@ -5,10 +5,11 @@
 # [loopback ! render] (the wire format in process) and through [pack ->
 # server render] (a `tessera node` on a Unix socket), with no X server.
 # Each run compares its frames with one thread's (0 differing pixels);
-# then the frames of every run must be the same bytes.
-# usage: share_threads.sh FAKER_EGL_SHARE_THREADS TESSERA OUT_DIR
+# then the frames of every run must be the same bytes as the same frames
+# drawn natively, by OSMesa in this process (faker_egl_share_threads_native).
+# usage: share_threads.sh FAKER_EGL_SHARE_THREADS NATIVE TESSERA OUT_DIR
 set -u
-prog=$1 TESSERA=$2 out=$3
+prog=$1 native=$2 TESSERA=$3 out=$4
 . "$(dirname "$0")/../node/node_lib.sh"
 rm -rf "$out" && mkdir -p "$out" || exit 1
 status=0
@@ -31,8 +32,10 @@ for mode in created joined; do
   wait_exit "$NODE_PID" 15
   [ "$EXIT_RC" = 0 ] || { fail "pack-$mode: the node exited $EXIT_RC"; cat "$out/node-$mode.err"; }
 done
-for r in render-joined loopback-joined pack-created pack-joined; do
-  cmp "$out/render-created.raw" "$out/$r.raw" || fail "$r: its frames differ from render-created's"
+echo "--- native: OSMesa, one thread"
+timeout 60 "$native" native $frames "$out/native.raw" || fail "native: exit $?"
+for r in render-created render-joined loopback-joined pack-created pack-joined; do
+  cmp "$out/native.raw" "$out/$r.raw" || fail "$r: its frames differ from the native render's"
 done
-[ $status -eq 0 ] && echo "OK: the frames of all 5 runs are the same bytes"
+[ $status -eq 0 ] && echo "OK: the frames of all 5 runs are the native render's bytes"
 exit $status
