@@ -710,6 +710,26 @@ tsr_faker_surface *tsr_faker_surface_window(const char *display_name, unsigned l
     return s;
 }
 
+bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height, int *depth)
+{
+    pthread_mutex_lock(&lock);
+    bool ok = false;
+    if (connect_locked(display_name)) {
+        xcb_generic_error_t *e = NULL;
+        xcb_get_geometry_reply_t *g = xcb_get_geometry_reply(xconn, xcb_get_geometry(xconn, (xcb_drawable_t)xid), &e);
+        free(e);
+        if (g) {
+            *width = g->width;
+            *height = g->height;
+            *depth = g->depth;
+            ok = true;
+            free(g);
+        }
+    }
+    pthread_mutex_unlock(&lock);
+    return ok;
+}
+
 tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height)
 {
     pthread_mutex_lock(&lock);

@@ -60,6 +60,10 @@ TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height
 TSR_FAKER_API void tsr_faker_surface_destroy(tsr_faker_surface *s);
 TSR_FAKER_API void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height);
 TSR_FAKER_API unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s);
+/* Size and depth of X drawable `xid` (a pixmap) of display `display_name`,
+ * read over the faker's own connection; false when it cannot be read. */
+TSR_FAKER_API bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height,
+                                               int *depth);
 /* Finds the surface of a drawable without creating it (NULL: none). */
 TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_find(unsigned long xid);
 

@@ -166,3 +166,16 @@ if(TESSERA_SANITIZE)
                APPEND PROPERTY ENVIRONMENT
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
+
+# GLX pbuffers and pixmaps: off-screen tessera drawables of their size.
+add_executable(faker_glx_offscreen ${FAKER_TEST_DIR}/glx_offscreen.c)
+target_link_libraries(faker_glx_offscreen PRIVATE tessera_faker_gl PkgConfig::X11)
+add_test(NAME faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
+         COMMAND bash ${FAKER_TEST_DIR}/glx_offscreen.sh $<TARGET_FILE:faker_glx_offscreen> ${FAKER_OUT}/offscreen)
+set_tests_properties(faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
+                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
+endif()
