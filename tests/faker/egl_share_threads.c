@@ -1,11 +1,14 @@
 /* tests/faker/egl_share_threads.c — faker_egl_share_threads MODE [FRAMES
  * [RAW]], with no X server, linked against the faker's libEGL.so.1 and
- * libGL.so.1: a loader thread and a drawing thread with contexts of ONE
+ * libGL.so.1 (built with SHARE_GLX, faker_glx_share_threads: the same
+ * under Xvfb through GLX, the drawing thread in an X window, the loader on
+ * a 1x1 GLX pbuffer, XInitThreads): a loader thread and a drawing thread
+ * with contexts of ONE
  * share group, drawing at the same time. The loader makes the textures
  * and display lists (glGenTextures, glGenLists) and, frame after frame,
  * uploads frame f+1's texture and compiles its list into one of two slots
  * (then glFinish and a signal) while the drawing thread draws frame f
- * from the other slot into its 64x48 pbuffer (clear, glCallList of the
+ * from the other slot into its 64x48 pbuffer or window (clear, glCallList of the
  * list, a textured quad of its own) and reads it back. Every frame must
  * equal the same frames drawn by one thread with one context (0 differing
  * pixels). MODE:
@@ -21,13 +24,17 @@
  * libOSMesa instead of the faker), `native FRAMES RAW` draws the same
  * frames in the single-threaded order with OSMesa itself and writes them
  * to RAW: the native render the faker's runs are compared with. */
-#ifdef SHARE_NATIVE
+#if defined(SHARE_NATIVE)
 #include <GL/osmesa.h>
+#elif defined(SHARE_GLX)
+#include <GL/glx.h>
+#include <X11/Xlib.h>
 #else
 #include <EGL/egl.h>
 #endif
 #include <GL/gl.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,10 +47,6 @@
 #define MAX_FRAMES 32
 #define QUADS 6
 
-#ifndef SHARE_NATIVE
-static EGLDisplay dpy;
-static EGLConfig config;
-#endif
 static int nframes = 8;
 static unsigned char *reference[MAX_FRAMES];
 #ifndef SHARE_NATIVE
@@ -139,13 +142,115 @@ static long differing(const unsigned char *a, const unsigned char *b)
         n += memcmp(a + 4 * i, b + 4 * i, 4) != 0;
     return n;
 }
+/* The window system: contexts (void *) and surfaces (uintptr_t; 0:
+ * none) of EGL or GLX, for the same threads below. */
+#ifdef SHARE_GLX
+static Display *dpy;
+static GLXFBConfig config;
+
+static int ws_init(void)
+{
+    XInitThreads();
+    dpy = XOpenDisplay(NULL);
+    if (!dpy)
+        return 0;
+    static const int attrs[] = {GLX_DRAWABLE_TYPE,
+                                GLX_WINDOW_BIT | GLX_PBUFFER_BIT,
+                                GLX_RENDER_TYPE,
+                                GLX_RGBA_BIT,
+                                GLX_DOUBLEBUFFER,
+                                True,
+                                GLX_DEPTH_SIZE,
+                                24,
+                                None};
+    int n = 0;
+    GLXFBConfig *c = glXChooseFBConfig(dpy, DefaultScreen(dpy), attrs, &n);
+    if (!c || n < 1)
+        return 0;
+    config = c[0];
+    XFree(c);
+    return 1;
+}
+
+static void *ws_context(void *share) { return glXCreateNewContext(dpy, config, GLX_RGBA_TYPE, share, True); }
+
+static uintptr_t ws_pbuffer(int w, int h)
+{
+    const int attrs[] = {GLX_PBUFFER_WIDTH, w, GLX_PBUFFER_HEIGHT, h, None};
+    return glXCreatePbuffer(dpy, config, attrs);
+}
+
+/* The drawing thread's: an X window of W x H. */
+static uintptr_t ws_frame_surface(void)
+{
+    XVisualInfo *vi = glXGetVisualFromFBConfig(dpy, config);
+    if (!vi)
+        return 0;
+    XSetWindowAttributes swa = {0};
+    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
+    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, W, H, 0, vi->depth, InputOutput, vi->visual,
+                               CWColormap, &swa);
+    XFree(vi);
+    XMapWindow(dpy, win);
+    return win;
+}
+
+static uintptr_t ws_loader_surface(void) { return ws_pbuffer(1, 1); }
+static int ws_make_current(uintptr_t s, void *ctx) { return glXMakeContextCurrent(dpy, s, s, ctx); }
+static void ws_swap(uintptr_t s) { glXSwapBuffers(dpy, s); }
+static unsigned ws_error(void) { return 0; }
+static void ws_release_thread(void) {}
+static void ws_destroy_context(void *ctx) { glXDestroyContext(dpy, ctx); }
+static void ws_destroy_pbuffer(uintptr_t s) { glXDestroyPbuffer(dpy, s); }
+static void ws_destroy_frame_surface(uintptr_t s) { XDestroyWindow(dpy, s); }
+static void ws_end(void) { XCloseDisplay(dpy); }
+#else
+static EGLDisplay dpy;
+static EGLConfig config;
+
+static int ws_init(void)
+{
+    dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+    if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, NULL, NULL) || !eglBindAPI(EGL_OPENGL_API))
+        return 0;
+    static const EGLint attrs[] = {
+        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_NONE};
+    EGLint n = 0;
+    return eglChooseConfig(dpy, attrs, &config, 1, &n) && n == 1;
+}
+
+static void *ws_context(void *share) { return eglCreateContext(dpy, config, share, NULL); }
+
+static uintptr_t ws_pbuffer(int w, int h)
+{
+    const EGLint attrs[] = {EGL_WIDTH, w, EGL_HEIGHT, h, EGL_NONE};
+    return (uintptr_t)eglCreatePbufferSurface(dpy, config, attrs);
+}
+
+static uintptr_t ws_frame_surface(void) { return ws_pbuffer(W, H); }
+static uintptr_t ws_loader_surface(void) { return 0; } /* surfaceless */
+
+static int ws_make_current(uintptr_t s, void *ctx)
+{
+    return eglMakeCurrent(dpy, (EGLSurface)s, (EGLSurface)s, ctx ? ctx : EGL_NO_CONTEXT);
+}
+
+static void ws_swap(uintptr_t s) { eglSwapBuffers(dpy, (EGLSurface)s); }
+static unsigned ws_error(void) { return (unsigned)eglGetError(); }
+static void ws_release_thread(void) { eglReleaseThread(); }
+static void ws_destroy_context(void *ctx) { eglDestroyContext(dpy, ctx); }
+static void ws_destroy_pbuffer(uintptr_t s) { eglDestroySurface(dpy, (EGLSurface)s); }
+static void ws_destroy_frame_surface(uintptr_t s) { eglDestroySurface(dpy, (EGLSurface)s); }
+static void ws_end(void) { eglTerminate(dpy); }
+#endif
+
 /* The hand-over: `loaded` frames have their slot ready, `drawn` frames are
  * read back (their slot may be loaded again). */
 static pthread_mutex_t mu = PTHREAD_MUTEX_INITIALIZER;
 static pthread_cond_t cv = PTHREAD_COND_INITIALIZER;
 static int loaded, drawn, started, loader_failed, drawer_failed;
-static EGLContext draw_ctx, load_ctx;
-static EGLSurface draw_pb;
+static void *draw_ctx, *load_ctx;
+static uintptr_t draw_surface, load_surface;
 
 static void set(int *v, int value)
 {
@@ -179,10 +284,10 @@ static void *loader(void *arg)
     (void)arg;
     if (joined) {
         wait_for(&started, 1); /* the drawing thread draws already */
-        load_ctx = eglCreateContext(dpy, config, draw_ctx, NULL);
+        load_ctx = ws_context(draw_ctx);
     }
-    if (load_ctx == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, load_ctx)) {
-        fprintf(stderr, "loader: cannot make its context current: 0x%x\n", (unsigned)eglGetError());
+    if (!load_ctx || !ws_make_current(load_surface, load_ctx)) {
+        fprintf(stderr, "loader: cannot make its context current: 0x%x\n", ws_error());
         set(&loader_failed, 1);
         return NULL;
     }
@@ -194,16 +299,16 @@ static void *loader(void *arg)
         glFinish(); /* the drawing thread may use them once this returns */
         set(&loaded, f + 1);
     }
-    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglReleaseThread();
+    ws_make_current(0, NULL);
+    ws_release_thread();
     return NULL;
 }
 
 static void *drawer(void *arg)
 {
     (void)arg;
-    if (!eglMakeCurrent(dpy, draw_pb, draw_pb, draw_ctx)) {
-        fprintf(stderr, "drawer: cannot make its context current: 0x%x\n", (unsigned)eglGetError());
+    if (!ws_make_current(draw_surface, draw_ctx)) {
+        fprintf(stderr, "drawer: cannot make its context current: 0x%x\n", ws_error());
         set(&drawer_failed, 1);
         return NULL;
     }
@@ -214,69 +319,62 @@ static void *drawer(void *arg)
         while (!get(&loaded) && !get(&loader_failed)) {
             glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
-            eglSwapBuffers(dpy, draw_pb);
+            ws_swap(draw_surface);
         }
         if (!wait_for(&loaded, f + 1))
             break;
         draw(f);
         threaded[f] = read_frame();
-        eglSwapBuffers(dpy, draw_pb);
+        ws_swap(draw_surface);
         set(&drawn, f + 1);
     }
-    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglReleaseThread();
+    ws_make_current(0, NULL);
+    ws_release_thread();
     return NULL;
 }
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (argc < 2 || (strcmp(argv[1], "created") && strcmp(argv[1], "joined"))) {
-        fprintf(stderr, "usage: faker_egl_share_threads created|joined [FRAMES 2-%d [RAW]]\n", MAX_FRAMES);
+        fprintf(stderr, "usage: %s created|joined [FRAMES 2-%d [RAW]]\n", argv[0], MAX_FRAMES);
         return 2;
     }
     joined = !strcmp(argv[1], "joined");
     if (argc > 2)
         nframes = atoi(argv[2]);
     if (nframes < 2 || nframes > MAX_FRAMES) {
-        fprintf(stderr, "faker_egl_share_threads: FRAMES %s is not 2-%d\n", argv[2], MAX_FRAMES);
+        fprintf(stderr, "%s: FRAMES %s is not 2-%d\n", argv[0], argv[2], MAX_FRAMES);
         return 2;
     }
     const char *raw = argc > 3 ? argv[3] : NULL;
-    dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-    REQUIRE(dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL), "eglInitialize: 0x%x", (unsigned)eglGetError());
-    REQUIRE(eglBindAPI(EGL_OPENGL_API));
-    static const EGLint attrs[] = {
-        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_NONE};
-    EGLint n = 0;
-    REQUIRE(eglChooseConfig(dpy, attrs, &config, 1, &n) && n == 1, "eglChooseConfig: 0x%x", (unsigned)eglGetError());
-    static const EGLint pb_attrs[] = {EGL_WIDTH, W, EGL_HEIGHT, H, EGL_NONE};
+    REQUIRE(ws_init(), "no display or config: 0x%x", ws_error());
 
     /* The reference: one thread, one context, the same order. */
-    EGLContext ref_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
-    EGLSurface ref_pb = eglCreatePbufferSurface(dpy, config, pb_attrs);
-    REQUIRE(ref_ctx != EGL_NO_CONTEXT && ref_pb != EGL_NO_SURFACE && eglMakeCurrent(dpy, ref_pb, ref_pb, ref_ctx),
-            "reference context: 0x%x", (unsigned)eglGetError());
+    void *ref_ctx = ws_context(NULL);
+    uintptr_t ref_pb = ws_pbuffer(W, H);
+    REQUIRE(ref_ctx && ref_pb && ws_make_current(ref_pb, ref_ctx), "reference context: 0x%x", ws_error());
     make_names();
     load(0, 0);
     for (int f = 0; f < nframes; f++) {
         draw(f);
         reference[f] = read_frame();
         REQUIRE(reference[f]);
-        eglSwapBuffers(dpy, ref_pb);
+        ws_swap(ref_pb);
         if (f + 1 < nframes)
             load((f + 1) % 2, f + 1);
     }
     /* Frames differ from each other, so a stale texture or list cannot pass. */
     for (int f = 1; f < nframes; f++)
         CHECK(differing(reference[f - 1], reference[f]) > 0, "frames %d and %d are alike", f - 1, f);
-    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
+    CHECK(ws_make_current(0, NULL));
 
-    draw_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
-    draw_pb = eglCreatePbufferSurface(dpy, config, pb_attrs);
-    REQUIRE(draw_ctx != EGL_NO_CONTEXT && draw_pb != EGL_NO_SURFACE);
+    draw_ctx = ws_context(NULL);
+    draw_surface = ws_frame_surface();
+    load_surface = ws_loader_surface();
+    REQUIRE(draw_ctx && draw_surface);
     if (!joined) {
-        load_ctx = eglCreateContext(dpy, config, draw_ctx, NULL);
-        REQUIRE(load_ctx != EGL_NO_CONTEXT);
+        load_ctx = ws_context(draw_ctx);
+        REQUIRE(load_ctx);
     }
     pthread_t lt, dt;
     REQUIRE(pthread_create(&dt, NULL, drawer, NULL) == 0);
@@ -316,12 +414,14 @@ int main(int argc, char **argv)
         free(reference[f]);
         free(threaded[f]);
     }
-    eglDestroyContext(dpy, load_ctx);
-    eglDestroyContext(dpy, draw_ctx);
-    eglDestroySurface(dpy, draw_pb);
-    eglDestroySurface(dpy, ref_pb);
-    eglDestroyContext(dpy, ref_ctx);
-    eglTerminate(dpy);
+    ws_destroy_context(load_ctx);
+    ws_destroy_context(draw_ctx);
+    ws_destroy_context(ref_ctx);
+    ws_destroy_pbuffer(ref_pb);
+    if (load_surface)
+        ws_destroy_pbuffer(load_surface);
+    ws_destroy_frame_surface(draw_surface);
+    ws_end();
     printf("%s: %d failures\n", harness_failures ? "FAIL" : "OK", harness_failures);
     return harness_failures ? 1 : 0;
 }

@@ -81,9 +81,12 @@ int main(int argc, char **argv)
     REQUIRE(dpy, "no X display");
     int screen = DefaultScreen(dpy);
     bool pbuffer = !strcmp(mode, "pbuffer");
-    const int attrs[] = {GLX_DRAWABLE_TYPE, pbuffer ? GLX_PBUFFER_BIT : GLX_PIXMAP_BIT,
-                         GLX_RENDER_TYPE,   GLX_RGBA_BIT,
-                         GLX_DEPTH_SIZE,    24,
+    const int attrs[] = {GLX_DRAWABLE_TYPE,
+                         pbuffer ? GLX_PBUFFER_BIT : GLX_PIXMAP_BIT,
+                         GLX_RENDER_TYPE,
+                         GLX_RGBA_BIT,
+                         GLX_DEPTH_SIZE,
+                         24,
                          None};
     int n = 0;
     GLXFBConfig *configs = glXChooseFBConfig(dpy, screen, attrs, &n);
