@@ -134,7 +134,9 @@ endif()
 # different frames at the same time; every frame read back equals the same
 # frame drawn by one thread alone (0 differing pixels); a share-list
 # context is made current while its share list is current on another
-# thread, and a context current on another thread is refused.
+# thread, and a context current on another thread is refused; a share list
+# idle on its plain table on another thread makes the MakeCurrent fail
+# after the bounded 3 s, and one glClear there lets it through.
 add_executable(faker_egl_threads ${FAKER_TEST_DIR}/egl_threads.c)
 target_link_libraries(faker_egl_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
 add_test(NAME faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
