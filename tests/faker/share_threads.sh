@@ -3,8 +3,8 @@
 # at once (egl_share_threads.c). egl: faker_egl_share_threads with no X
 # server, both orders of making the contexts through [render], the loader
 # joining a drawing thread through [loopback ! render] (the wire format in
-# process), and both through [pack -> server render] (a `tessera node
-# --independent` on a Unix socket). glx: faker_glx_share_threads under a private Xvfb (the
+# process), and both through [pack -> server render] (a shared-mode
+# `tessera node` on a Unix socket). glx: faker_glx_share_threads under a private Xvfb (the
 # drawing thread in an X window, the loader on a GLX pbuffer), both orders
 # through [render] and [pack -> server render]. Each run compares its
 # frames with one thread's (0 differing pixels); then the frames of every
@@ -36,12 +36,10 @@ run render-created created "render output="
 run render-joined joined "render output="
 [ "$api" = egl ] && run loopback-joined joined "loopback ! render output="
 for mode in created joined; do
-  # --independent: the client's stream reaches the node's chain as it is,
-  # with its ContextCreateTSR/MakeCurrentTSR (a shared-mode node gives
-  # each client ONE context of its own and ignores the client's: the two
-  # threads' contexts would then be one GL context, e.g. the drawing
-  # thread's calls compiled into the loader's open display list).
-  start_node "$out/node-$mode" --listen "unix:$out/$mode.sock" --clients 1 --independent --timeout-ms 30000 \
+  # A shared-mode node: the client's further contexts get chain contexts
+  # of their own (server/node.h); when it folded them into one, the
+  # drawing thread's calls could land in the loader's open display list.
+  start_node "$out/node-$mode" --listen "unix:$out/$mode.sock" --clients 1 --timeout-ms 30000 \
     --chain "render output=" || { fail "no node"; continue; }
   run "pack-$mode" $mode "pack server=unix:$out/$mode.sock"
   wait_exit "$NODE_PID" 15
