@@ -12,23 +12,32 @@
  * A context's table is its stream's chain head's with glGetString answered
  * here (renderer naming tessera, version 2.1, the spec's extensions).
  *
- * Threads (docs/architecture.md, "The faker"): a chain is only ever driven
- * by one thread at a time, without a lock on the call path. A context
- * joins a stream at its first MakeCurrent: its share list's stream, else
- * the first stream no other thread has a context current on (so a program
- * with one drawing thread has exactly one stream, as before), else a new
- * one. Two threads drawing at once therefore draw into two chains, each
- * with its own renderer, framebuffer and windows, as two contexts on two
- * surfaces are separate in GL. What is refused (MakeCurrent fails with one
- * log line, never a corrupted stream): a context of a stream made current
- * while another thread has a context of the same stream current (share
- * lists across concurrently drawing threads). The faker's own lists are
- * guarded by one mutex, never held across an application's GL call. */
+ * Threads (docs/architecture.md, "The faker"): a chain is driven by one
+ * thread at a time. A context joins a stream at its first MakeCurrent:
+ * its share list's stream, else the first stream no other thread has a
+ * context current on (so a program with one drawing thread has exactly
+ * one stream, as before), else a new one. Two threads drawing at once
+ * into contexts that share nothing therefore draw into two chains, each
+ * with its own renderer, framebuffer and windows, with no lock on the
+ * call path. Contexts of one share group are one stream whatever thread
+ * draws (their objects live in that stream's renderer): when two threads
+ * use it at once the stream becomes *shared* and its contexts call
+ * through their locked tables, every slot hooked to hold the faker's
+ * lock around the call and to send this thread's MakeCurrentTSR first
+ * when another thread's call came last, so the chain sees one stream of
+ * whole calls in the order they were made, as a server sees several
+ * clients' contexts. A thread still calling its plain table when another
+ * thread's MakeCurrent makes the stream shared moves to the locked one at
+ * its next check point (glClear, glFlush, glFinish, glViewport, a swap or
+ * a MakeCurrent); the MakeCurrent waits for that, at most
+ * FAKER_SWITCH_WAIT_MS, and fails (one log line) if it does not come. */
+#include <errno.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <xcb/xcb.h>
@@ -50,6 +59,13 @@ typedef struct faker_stream {
     tsr_chain *chain;
     int next_window_id;  /* tessera window ids of this stream, from 0 */
     int current_threads; /* threads with a context of it current */
+    /* Several threads call in at once (contexts of one share group, or a
+     * context made current while another thread draws into the stream):
+     * every context of the stream then calls through its locked table.
+     * Set once, never cleared; read without the lock by the check points. */
+    bool shared;
+    int direct_threads;          /* threads whose current context of it calls its plain table */
+    int chain_ctx, chain_window; /* what the chain was last made current to (chain_ctx 0: unknown) */
     struct faker_stream *next;
 } faker_stream;
 
@@ -61,6 +77,7 @@ typedef struct faker_window {
 } faker_window;
 
 #define FAKER_SURFACE_STREAMS 8
+#define FAKER_SWITCH_WAIT_MS 3000
 
 /* Contexts made with each other as share lists: one stream for all. */
 typedef struct faker_group {
@@ -76,7 +93,13 @@ struct tsr_faker_context {
     bool destroy_pending; /* destroyed while current somewhere */
     int current_on;       /* threads it is current on (0 or 1) */
     tsr_dispatch table;   /* its stream's chain head's, GetString answered here */
-    char renderer[256];   /* "tessera (downstream renderer)" */
+    /* `table` with every slot hooked by the faker's lock (and the
+     * MakeCurrentTSR of this thread's context and window when another
+     * thread's call came last): what a shared stream's threads call. */
+    tsr_dispatch locked;
+    tsr_hook *hooks;    /* TSR_DISPATCH_COUNT, made with `locked` */
+    bool locked_now;    /* its thread calls `locked` (once set, for good) */
+    char renderer[256]; /* "tessera (downstream renderer)" */
     tsr_faker_context *next;
 };
 
@@ -90,8 +113,11 @@ struct tsr_faker_surface {
     tsr_faker_surface *next;
 };
 
-static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static faker_stream *streams; /* newest first */
+/* Recursive: a shared stream's hooked call holds it while the faker's own
+ * entries of the table (glViewport, glNewList) take it again. */
+static pthread_mutex_t lock = PTHREAD_RECURSIVE_MUTEX_INITIALIZER_NP;
+static pthread_cond_t switched = PTHREAD_COND_INITIALIZER; /* a thread left its plain table */
+static faker_stream *streams;                              /* newest first */
 static int nstreams;
 static bool chain_failed;
 static pid_t chain_pid; /* the process that made the chain (chain_at_exit) */
@@ -254,6 +280,7 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
 }
 
 static void follow_size_locked(tsr_faker_surface *s, faker_window *w, const tsr_dispatch *t);
+static bool moved_to_locked(tsr_faker_context *c);
 static void poll_locked(void);
 static bool drawable_size_locked(unsigned long xid, int *w, int *h);
 
@@ -262,6 +289,10 @@ static bool drawable_size_locked(unsigned long xid, int *w, int *h);
 static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
 {
     tsr_faker_context *c = self;
+    if (moved_to_locked(c)) {
+        tsr_call_Viewport(&c->locked, x, y, width, height);
+        return;
+    }
     const tsr_dispatch *head = tsr_chain_head(c->stream->chain);
     tsr_faker_surface *sf = cur_surface;
     if (sf && sf->xid) {
@@ -323,6 +354,9 @@ static void faker_ReadBuffer(void *self, GLenum buf) { tsr_call_ReadBuffer(head_
 
 static void faker_NewList(void *self, GLuint list, GLenum mode);
 static void faker_EndList(void *self);
+static void faker_Clear(void *self, GLbitfield mask);
+static void faker_Flush(void *self);
+static void faker_Finish(void *self);
 
 /* A context's table is a copy of the chain head's, and an SPU may change
  * its head table while the stream runs (tilesort compiles display lists
@@ -338,6 +372,12 @@ static void context_table(tsr_faker_context *c, const tsr_dispatch *head)
     tsr_set_DrawBuffer(&c->table, faker_DrawBuffer, c);
     tsr_set_ReadBuffer(&c->table, faker_ReadBuffer, c);
     tsr_set_DrawBuffers(&c->table, faker_DrawBuffers, c);
+    tsr_set_Clear(&c->table, faker_Clear, c);
+    tsr_set_Flush(&c->table, faker_Flush, c);
+    tsr_set_Finish(&c->table, faker_Finish, c);
+    if (c->hooks)
+        for (int i = 0; i < TSR_DISPATCH_COUNT; i++)
+            c->hooks[i].next = c->table.slots[i];
 }
 
 static void faker_NewList(void *self, GLuint list, GLenum mode)
@@ -352,6 +392,126 @@ static void faker_EndList(void *self)
     const tsr_dispatch *head = head_of(self);
     tsr_call_EndList(head);
     context_table(self, head);
+}
+
+/* --- shared streams ------------------------------------------------------ */
+
+/* The table the thread `c` is current on calls. */
+static const tsr_dispatch *table_of(const tsr_faker_context *c) { return c->locked_now ? &c->locked : &c->table; }
+
+/* Around every call of a locked table: the chain is this thread's for
+ * the call, made current to this thread's context and window first when
+ * another's call came last. The window is the calling thread's (the hook
+ * runs on the thread the context is current on). */
+static void locked_before(void *ctx, int slot)
+{
+    (void)slot;
+    tsr_faker_context *c = ctx;
+    pthread_mutex_lock(&lock);
+    faker_stream *st = c->stream;
+    int win = cur_window ? cur_window->window : -1;
+    if (st->chain_ctx != c->id || st->chain_window != win) {
+        tsr_call_MakeCurrentTSR(tsr_chain_head(st->chain), win, c->id);
+        st->chain_ctx = c->id;
+        st->chain_window = win;
+    }
+}
+
+static void locked_after(void *ctx, int slot)
+{
+    (void)ctx;
+    (void)slot;
+    pthread_mutex_unlock(&lock);
+}
+
+/* Makes `c`'s locked table (once); false: out of memory (logged). */
+static bool locked_table_locked(tsr_faker_context *c)
+{
+    if (c->hooks)
+        return true;
+    c->hooks = calloc(TSR_DISPATCH_COUNT, sizeof *c->hooks);
+    if (!c->hooks) {
+        tsr_faker_log(TSR_LOG_ERROR, "context %d: out of memory for its locked table", c->id);
+        return false;
+    }
+    c->locked = c->table;
+    for (int i = 0; i < TSR_DISPATCH_COUNT; i++) {
+        c->hooks[i].before = locked_before;
+        c->hooks[i].after = locked_after;
+        c->hooks[i].ctx = c;
+        tsr_dispatch_hook(&c->locked, i, &c->hooks[i]);
+    }
+    return true;
+}
+
+/* `c`, current on the calling thread or on none (and not inside a call into the
+ * chain), calls its locked table from now on. */
+static void go_locked_locked(tsr_faker_context *c)
+{
+    if (c->locked_now || !locked_table_locked(c))
+        return;
+    c->locked_now = true;
+    if (c->current_on && cur_ctx == c) {
+        c->stream->direct_threads--;
+        tsr_gl_current_table = &c->locked;
+        pthread_cond_broadcast(&switched);
+    }
+}
+
+/* A check point of a plain table: true when another thread made the
+ * stream shared and `c` has just moved to its locked table (the call is
+ * then made again through it). */
+static bool moved_to_locked(tsr_faker_context *c)
+{
+    if (c->locked_now || cur_ctx != c || !__atomic_load_n(&c->stream->shared, __ATOMIC_ACQUIRE))
+        return false;
+    pthread_mutex_lock(&lock);
+    go_locked_locked(c);
+    pthread_mutex_unlock(&lock);
+    return c->locked_now;
+}
+
+static void mark_shared_locked(faker_stream *st)
+{
+    if (st && !st->shared) {
+        __atomic_store_n(&st->shared, true, __ATOMIC_RELEASE);
+        tsr_faker_log(TSR_LOG_INFO,
+                      "stream %d: contexts of one share group are used by several threads: every call "
+                      "of that stream now takes the faker's lock",
+                      st->number);
+    }
+}
+
+/* The check points: where a plain table's thread notices that the stream
+ * became shared (a program draws a frame with at least one of them). */
+static void faker_Clear(void *self, GLbitfield mask)
+{
+    if (moved_to_locked(self)) {
+        tsr_faker_context *c = self;
+        tsr_call_Clear(&c->locked, mask);
+        return;
+    }
+    tsr_call_Clear(head_of(self), mask);
+}
+
+static void faker_Flush(void *self)
+{
+    if (moved_to_locked(self)) {
+        tsr_faker_context *c = self;
+        tsr_call_Flush(&c->locked);
+        return;
+    }
+    tsr_call_Flush(head_of(self));
+}
+
+static void faker_Finish(void *self)
+{
+    if (moved_to_locked(self)) {
+        tsr_faker_context *c = self;
+        tsr_call_Finish(&c->locked);
+        return;
+    }
+    tsr_call_Finish(head_of(self));
 }
 
 /* The first stream is made with the first context, so a chain that cannot
@@ -374,6 +534,16 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
         c->group->refs++;
         c->next = contexts;
         contexts = c;
+        /* A share group that already draws: its stream becomes shared now
+         * (the new context may be made current on another thread while
+         * the group's draws), and the calling thread's own current context
+         * of it moves to its locked table at once, so a program that makes
+         * its loader's context on the drawing thread never waits. */
+        if (share && c->group->stream) {
+            mark_shared_locked(c->group->stream);
+            if (cur_ctx && cur_ctx->stream == c->group->stream)
+                go_locked_locked(cur_ctx);
+        }
     }
     pthread_mutex_unlock(&lock);
     return c;
@@ -390,8 +560,11 @@ static void context_free_locked(tsr_faker_context *ctx)
         }
     if (--ctx->group->refs == 0)
         free(ctx->group);
-    if (ctx->on_stream && ctx->stream && streams)
+    if (ctx->on_stream && ctx->stream && streams) {
         tsr_call_ContextDestroyTSR(tsr_chain_head(ctx->stream->chain), ctx->id);
+        ctx->stream->chain_ctx = 0; /* the renderer may have switched: say it again */
+    }
+    free(ctx->hooks);
     free(ctx);
 }
 
@@ -537,6 +710,26 @@ tsr_faker_surface *tsr_faker_surface_window(const char *display_name, unsigned l
     return s;
 }
 
+bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height, int *depth)
+{
+    pthread_mutex_lock(&lock);
+    bool ok = false;
+    if (connect_locked(display_name)) {
+        xcb_generic_error_t *e = NULL;
+        xcb_get_geometry_reply_t *g = xcb_get_geometry_reply(xconn, xcb_get_geometry(xconn, (xcb_drawable_t)xid), &e);
+        free(e);
+        if (g) {
+            *width = g->width;
+            *height = g->height;
+            *depth = g->depth;
+            ok = true;
+            free(g);
+        }
+    }
+    pthread_mutex_unlock(&lock);
+    return ok;
+}
+
 tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height)
 {
     pthread_mutex_lock(&lock);
@@ -561,6 +754,7 @@ void tsr_faker_surface_destroy(tsr_faker_surface *s)
         }
     for (int i = 0; i < s->non && streams; i++) {
         tsr_call_WindowDestroyTSR(tsr_chain_head(s->on[i].stream->chain), s->on[i].window);
+        s->on[i].stream->chain_ctx = 0;
         if (s->on[i].stream->number == 0)
             tsr_native_window_set(s->on[i].window, NULL, 0);
     }
@@ -606,6 +800,38 @@ static faker_stream *stream_for_locked(tsr_faker_context *ctx)
 
 bool tsr_faker_make_current_refused_busy(void) { return refused_busy; }
 
+/* Waits (the lock released meanwhile) until no other thread calls a plain
+ * table of `st`: those threads move to their locked tables at their next
+ * check point. `old`, the calling thread's current context, is not
+ * waited for. false: FAKER_SWITCH_WAIT_MS passed (logged). */
+static bool wait_direct_locked(faker_stream *st, const tsr_faker_context *old, int ctx_id)
+{
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += FAKER_SWITCH_WAIT_MS / 1000;
+    until.tv_nsec += (long)(FAKER_SWITCH_WAIT_MS % 1000) * 1000000L;
+    if (until.tv_nsec >= 1000000000L) {
+        until.tv_sec++;
+        until.tv_nsec -= 1000000000L;
+    }
+    for (;;) {
+        int own = old && old->stream == st && !old->locked_now ? 1 : 0;
+        if (st->direct_threads - own <= 0)
+            return true;
+        if (pthread_cond_timedwait(&switched, &lock, &until) == ETIMEDOUT) {
+            own = old && old->stream == st && !old->locked_now ? 1 : 0;
+            if (st->direct_threads - own <= 0)
+                return true;
+            tsr_faker_log(TSR_LOG_ERROR,
+                          "context %d: another thread has a context of the same share group (stream %d) current "
+                          "and made no glClear, glFlush, glFinish, glViewport, swap or MakeCurrent for %d ms, "
+                          "so the stream cannot be shared with it yet",
+                          ctx_id, st->number, FAKER_SWITCH_WAIT_MS);
+            return false;
+        }
+    }
+}
+
 bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
 {
     refused_busy = false;
@@ -619,17 +845,32 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
             pthread_mutex_unlock(&lock);
             return false;
         }
-        /* One thread at a time drives a chain: contexts of one share
-         * group current on two threads at once would interleave their
-         * commands in one stream. */
-        if (stream_busy_locked(st, old) && old != ctx) {
-            tsr_faker_log(TSR_LOG_ERROR,
-                          "context %d: another thread has a context of the same share group (stream %d) current; "
-                          "contexts sharing objects drawing from two threads at once are not supported",
-                          ctx->id, st->number);
+        if (ctx->current_on && old != ctx) {
+            tsr_faker_log(TSR_LOG_ERROR, "context %d is current on another thread", ctx->id);
             refused_busy = true;
             pthread_mutex_unlock(&lock);
             return false;
+        }
+        if (!ctx->stream) {
+            ctx->stream = st;
+            ctx->group->stream = st;
+            context_table(ctx, tsr_chain_head(st->chain));
+        }
+        /* Several threads on one stream: each call takes the lock (see
+         * the top of this file); a share group of several contexts is
+         * taken as such from the start, as its contexts are made for it. */
+        if (stream_busy_locked(st, old) || ctx->group->refs > 1 || st->shared) {
+            mark_shared_locked(st);
+            go_locked_locked(ctx); /* ctx itself may be the calling thread's current one */
+            if (!ctx->locked_now) {
+                pthread_mutex_unlock(&lock);
+                return false;
+            }
+            if (!wait_direct_locked(st, old, ctx->id)) {
+                refused_busy = true;
+                pthread_mutex_unlock(&lock);
+                return false;
+            }
         }
         if (draw && !(w = window_in(draw, st)) && draw->non == FAKER_SURFACE_STREAMS) {
             tsr_faker_log(TSR_LOG_ERROR, "a surface drawn by contexts of more than %d streams is not supported",
@@ -640,6 +881,8 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     }
     if (old && old != ctx) {
         old->stream->current_threads--;
+        if (!old->locked_now)
+            old->stream->direct_threads--;
         old->current_on--;
         if (old->destroy_pending && !old->current_on)
             context_free_locked(old);
@@ -649,13 +892,9 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         cur_surface = NULL;
         cur_window = NULL;
         tsr_gl_current_table = NULL;
+        pthread_cond_broadcast(&switched);
         pthread_mutex_unlock(&lock);
         return true;
-    }
-    if (!ctx->stream) {
-        ctx->stream = st;
-        ctx->group->stream = st;
-        context_table(ctx, tsr_chain_head(st->chain));
     }
     const tsr_dispatch *head = tsr_chain_head(st->chain);
     if (draw && !w) {
@@ -680,14 +919,19 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     }
     /* Surfaceless: the commands go to the context; window -1 is none. */
     tsr_call_MakeCurrentTSR(head, w ? w->window : -1, ctx->id);
+    st->chain_ctx = ctx->id;
+    st->chain_window = w ? w->window : -1;
     if (old != ctx) {
         ctx->current_on++;
         st->current_threads++;
+        if (!ctx->locked_now)
+            st->direct_threads++;
     }
     cur_ctx = ctx;
     cur_surface = draw;
     cur_window = w;
-    tsr_gl_current_table = &ctx->table;
+    tsr_gl_current_table = table_of(ctx);
+    pthread_cond_broadcast(&switched);
     pthread_mutex_unlock(&lock);
     return true;
 }
@@ -700,7 +944,8 @@ void tsr_faker_swap(tsr_faker_surface *s)
 {
     if (!s || !cur_ctx)
         return;
-    const tsr_dispatch *t = &cur_ctx->table;
+    moved_to_locked(cur_ctx);
+    const tsr_dispatch *t = table_of(cur_ctx);
     pthread_mutex_lock(&lock);
     faker_window *w = s == cur_surface ? cur_window : window_in(s, cur_ctx->stream);
     pthread_mutex_unlock(&lock);
@@ -718,5 +963,5 @@ void tsr_faker_swap(tsr_faker_surface *s)
 void tsr_faker_finish(void)
 {
     if (cur_ctx)
-        tsr_call_Finish(&cur_ctx->table);
+        tsr_call_Finish(table_of(cur_ctx));
 }

@@ -1,7 +1,9 @@
 /* faker/faker_gl.h — what the faker's libraries share (libGL.so.1 holds the
  * core; libEGL.so.1 calls it). Never installed, never included outside
  * faker/. Owns: streams (one SPU chain each: one for a program drawing
- * from one thread, one more for each thread drawing at the same time),
+ * from one thread, one more for each thread drawing at the same time into
+ * another share group; threads of one share group share its stream
+ * through a lock per call),
  * contexts (each one tessera context of one stream, with its share group,
  * ContextCreateTSR/MakeCurrentTSR), surfaces (an X drawable or a pbuffer:
  * a tessera window of each stream that draws into it,
@@ -58,15 +60,20 @@ TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height
 TSR_FAKER_API void tsr_faker_surface_destroy(tsr_faker_surface *s);
 TSR_FAKER_API void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height);
 TSR_FAKER_API unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s);
+/* Size and depth of X drawable `xid` (a pixmap) of display `display_name`,
+ * read over the faker's own connection; false when it cannot be read. */
+TSR_FAKER_API bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height,
+                                               int *depth);
 /* Finds the surface of a drawable without creating it (NULL: none). */
 TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_find(unsigned long xid);
 
 /* Makes ctx current on this thread drawing into `draw` (NULL ctx: none
  * current; NULL draw: surfaceless). false: failed (logged). */
 TSR_FAKER_API bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw);
-/* The calling thread's last tsr_faker_make_current failed because another
- * thread has a context of the same stream (share group) current, or the
- * context itself (EGL_BAD_ACCESS; logged). */
+/* The calling thread's last tsr_faker_make_current failed because the
+ * context is current on another thread, or another thread drawing into
+ * its share group's stream did not reach a check point in time to share
+ * it (core.c; EGL_BAD_ACCESS; logged). */
 TSR_FAKER_API bool tsr_faker_make_current_refused_busy(void);
 TSR_FAKER_API tsr_faker_context *tsr_faker_current_context(void);
 TSR_FAKER_API tsr_faker_surface *tsr_faker_current_surface(void);

@@ -4,7 +4,9 @@
  * single-buffered; RGB 8 8 8, alpha 8 on depth 32, depth 24, stencil 8, no
  * accum, no multisample, as the render SPU draws), read from the
  * application's Display structure without a round trip. Contexts are
- * faker contexts; GLX windows are the X windows themselves. Swap-interval
+ * faker contexts; GLX windows are the X windows themselves; GLX pbuffers
+ * and pixmaps are off-screen tessera drawables of their size, which a
+ * swap leaves alone (GLX 1.4, 3.3.10). Swap-interval
  * calls are accepted and have no effect. */
 #define GLX_GLXEXT_PROTOTYPES 1
 #include <GL/glx.h>
@@ -19,6 +21,7 @@
 #include "tessera/log.h"
 
 #define MAX_CONFIGS 64
+#define GLX_MAX_OFFSCREEN_SIDE 8192 /* pbuffers, as EGL's (egl.c) */
 #define MAX_DISPLAYS 8
 
 struct __GLXFBConfigRec {
@@ -115,7 +118,7 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
     case GLX_ACCUM_BLUE_SIZE:
     case GLX_ACCUM_ALPHA_SIZE: *value = 0; break;
     case GLX_RENDER_TYPE: *value = GLX_RGBA_BIT; break;
-    case GLX_DRAWABLE_TYPE: *value = GLX_WINDOW_BIT; break;
+    case GLX_DRAWABLE_TYPE: *value = GLX_WINDOW_BIT | GLX_PBUFFER_BIT | GLX_PIXMAP_BIT; break;
     case GLX_X_RENDERABLE: *value = True; break;
     case GLX_VISUAL_ID: *value = (int)c->visual; break;
     case GLX_X_VISUAL_TYPE: *value = GLX_TRUE_COLOR; break;
@@ -127,8 +130,8 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
     case GLX_TRANSPARENT_BLUE_VALUE:
     case GLX_TRANSPARENT_ALPHA_VALUE: *value = 0; break;
     case GLX_MAX_PBUFFER_WIDTH:
-    case GLX_MAX_PBUFFER_HEIGHT: *value = 0; break;
-    case GLX_MAX_PBUFFER_PIXELS: *value = 0; break;
+    case GLX_MAX_PBUFFER_HEIGHT: *value = GLX_MAX_OFFSCREEN_SIDE; break;
+    case GLX_MAX_PBUFFER_PIXELS: *value = GLX_MAX_OFFSCREEN_SIDE * GLX_MAX_OFFSCREEN_SIDE; break;
     case GLX_SAMPLE_BUFFERS:
     case GLX_SAMPLES: *value = 0; break;
     case GLX_SCREEN: *value = c->screen; break;
@@ -315,8 +318,47 @@ int glXGetConfig(Display *dpy, XVisualInfo *visual, int attrib, int *value)
  * are made to reach the server first (XSync on its connection, the round
  * trip a real glXMakeCurrent makes; no event is read or dropped), so a
  * window it has just created exists for the faker's own connection. */
+/* GLX pbuffers and pixmaps: off-screen tessera drawables of their size
+ * (pbuffer surfaces of the core), named by an XID the application's
+ * display allocates (XAllocID: taken from the client's own id range, no
+ * request sent, so it never collides with the program's windows and
+ * pixmaps). What is drawn into a GLX pixmap reaches the stream and its
+ * frames, never the X pixmap: the faker draws nothing on the X server. */
+typedef struct glx_offscreen {
+    XID id;
+    Display *dpy;
+    tsr_faker_surface *s;
+    const struct __GLXFBConfigRec *config;
+    int width, height; /* as the program asked (a pbuffer) or the X pixmap's */
+    bool pbuffer;      /* else a GLX pixmap */
+    bool largest;      /* GLX_LARGEST_PBUFFER */
+    bool preserved;    /* GLX_PRESERVED_CONTENTS */
+    struct glx_offscreen *next;
+} glx_offscreen;
+
+static glx_offscreen *offscreens;
+
+static glx_offscreen *offscreen_find_locked(Display *dpy, XID id)
+{
+    for (glx_offscreen *o = offscreens; o; o = o->next)
+        if (o->id == id && o->dpy == dpy)
+            return o;
+    return NULL;
+}
+
+static glx_offscreen *offscreen_find(Display *dpy, XID id)
+{
+    pthread_mutex_lock(&glx_lock);
+    glx_offscreen *o = id ? offscreen_find_locked(dpy, id) : NULL;
+    pthread_mutex_unlock(&glx_lock);
+    return o;
+}
+
 static tsr_faker_surface *drawable_surface(Display *dpy, GLXDrawable draw)
 {
+    glx_offscreen *o = offscreen_find(dpy, draw);
+    if (o)
+        return o->s;
     tsr_faker_surface *s = tsr_faker_surface_find(draw);
     if (s)
         return s;
@@ -475,6 +517,8 @@ void glXSwapBuffers(Display *dpy, GLXDrawable drawable)
             tsr_faker_log(TSR_LOG_WARN, "glXSwapBuffers with no current context: ignored (logged once)");
         return;
     }
+    if (offscreen_find(dpy, drawable))
+        return; /* a pbuffer or pixmap: no effect (GLX 1.4, 3.3.10) */
     tsr_faker_surface *s = drawable_surface(dpy, drawable);
     if (!s)
         return;
@@ -493,10 +537,176 @@ void glXDestroyWindow(Display *dpy, GLXWindow window)
     tsr_faker_surface_destroy(tsr_faker_surface_find(window));
 }
 
+/* --- pbuffers and pixmaps ------------------------------------------------ */
+
+/* A config of dpy's table, or NULL (logged, naming the caller). */
+static const struct __GLXFBConfigRec *known_config(Display *dpy, GLXFBConfig config, const char *caller)
+{
+    glx_display *d = display_of(dpy);
+    for (int i = 0; d && i < d->nconfigs; i++)
+        if (config == &d->configs[i])
+            return config;
+    tsr_faker_log(TSR_LOG_ERROR, "%s: not a GLXFBConfig of this display", caller);
+    return NULL;
+}
+
+static XID offscreen_add(Display *dpy, const struct __GLXFBConfigRec *c, int w, int h, bool pbuffer, bool largest,
+                         bool preserved, const char *caller)
+{
+    glx_offscreen *o = calloc(1, sizeof *o);
+    tsr_faker_surface *s = o ? tsr_faker_surface_pbuffer(w, h) : NULL;
+    if (!s) {
+        free(o);
+        tsr_faker_log(TSR_LOG_ERROR, "%s: out of memory", caller);
+        return None;
+    }
+    *o = (glx_offscreen){.dpy = dpy,
+                         .s = s,
+                         .config = c,
+                         .width = w,
+                         .height = h,
+                         .pbuffer = pbuffer,
+                         .largest = largest,
+                         .preserved = preserved};
+    XLockDisplay(dpy);
+    o->id = XAllocID(dpy);
+    XUnlockDisplay(dpy);
+    pthread_mutex_lock(&glx_lock);
+    o->next = offscreens;
+    offscreens = o;
+    pthread_mutex_unlock(&glx_lock);
+    return o->id;
+}
+
+/* Destroys the off-screen drawable `id` of the given kind; false: none. */
+static bool offscreen_destroy(Display *dpy, XID id, bool pbuffer)
+{
+    pthread_mutex_lock(&glx_lock);
+    glx_offscreen *o = NULL;
+    for (glx_offscreen **p = &offscreens; *p; p = &(*p)->next)
+        if ((*p)->id == id && (*p)->dpy == dpy && (*p)->pbuffer == pbuffer) {
+            o = *p;
+            *p = o->next;
+            break;
+        }
+    pthread_mutex_unlock(&glx_lock);
+    if (!o)
+        return false;
+    tsr_faker_surface_destroy(o->s);
+    free(o);
+    return true;
+}
+
+GLXPbuffer glXCreatePbuffer(Display *dpy, GLXFBConfig config, const int *attrib_list)
+{
+    const struct __GLXFBConfigRec *c = known_config(dpy, config, "glXCreatePbuffer");
+    if (!c)
+        return None;
+    int w = 0, h = 0; /* GLX 1.4's defaults */
+    bool largest = false, preserved = true;
+    for (const int *a = attrib_list; a && a[0] != None; a += 2) {
+        switch (a[0]) {
+        case GLX_PBUFFER_WIDTH: w = a[1]; break;
+        case GLX_PBUFFER_HEIGHT: h = a[1]; break;
+        case GLX_LARGEST_PBUFFER: largest = a[1] != 0; break;
+        case GLX_PRESERVED_CONTENTS: preserved = a[1] != 0; break;
+        default: tsr_faker_log(TSR_LOG_ERROR, "glXCreatePbuffer: unknown attribute 0x%x", (unsigned)a[0]); return None;
+        }
+    }
+    if (w < 0 || h < 0) {
+        tsr_faker_log(TSR_LOG_ERROR, "glXCreatePbuffer: size %dx%d", w, h);
+        return None;
+    }
+    if (w > GLX_MAX_OFFSCREEN_SIDE || h > GLX_MAX_OFFSCREEN_SIDE) {
+        if (!largest) {
+            tsr_faker_log(TSR_LOG_ERROR, "glXCreatePbuffer: %dx%d is over the largest pbuffer, %dx%d", w, h,
+                          GLX_MAX_OFFSCREEN_SIDE, GLX_MAX_OFFSCREEN_SIDE);
+            return None;
+        }
+        w = w > GLX_MAX_OFFSCREEN_SIDE ? GLX_MAX_OFFSCREEN_SIDE : w;
+        h = h > GLX_MAX_OFFSCREEN_SIDE ? GLX_MAX_OFFSCREEN_SIDE : h;
+    }
+    return offscreen_add(dpy, c, w, h, true, largest, preserved, "glXCreatePbuffer");
+}
+
+void glXDestroyPbuffer(Display *dpy, GLXPbuffer pbuf)
+{
+    if (!offscreen_destroy(dpy, pbuf, true))
+        tsr_faker_log(TSR_LOG_ERROR, "glXDestroyPbuffer: 0x%lx is not a GLXPbuffer", (unsigned long)pbuf);
+}
+
+/* A GLX pixmap of X pixmap `pixmap`: its size and depth are read over the
+ * faker's connection (after the program's requests reached the server),
+ * and its depth must be the config's, as GLX requires. */
+static GLXPixmap pixmap_new(Display *dpy, const struct __GLXFBConfigRec *c, Pixmap pixmap, const char *caller)
+{
+    int w = 0, h = 0, depth = 0;
+    XSync(dpy, False);
+    if (!tsr_faker_drawable_geometry(DisplayString(dpy), pixmap, &w, &h, &depth)) {
+        tsr_faker_log(TSR_LOG_ERROR, "%s: pixmap 0x%lx: cannot read its size (no such pixmap?)", caller,
+                      (unsigned long)pixmap);
+        return None;
+    }
+    if (depth != c->depth) {
+        tsr_faker_log(TSR_LOG_ERROR, "%s: pixmap 0x%lx has depth %d, its config depth %d", caller,
+                      (unsigned long)pixmap, depth, c->depth);
+        return None;
+    }
+    return offscreen_add(dpy, c, w, h, false, false, true, caller);
+}
+
+GLXPixmap glXCreatePixmap(Display *dpy, GLXFBConfig config, Pixmap pixmap, const int *attrib_list)
+{
+    const struct __GLXFBConfigRec *c = known_config(dpy, config, "glXCreatePixmap");
+    if (!c)
+        return None;
+    if (attrib_list && attrib_list[0] != None) {
+        tsr_faker_log(TSR_LOG_ERROR, "glXCreatePixmap: unknown attribute 0x%x", (unsigned)attrib_list[0]);
+        return None;
+    }
+    return pixmap_new(dpy, c, pixmap, "glXCreatePixmap");
+}
+
+void glXDestroyPixmap(Display *dpy, GLXPixmap pixmap)
+{
+    if (!offscreen_destroy(dpy, pixmap, false))
+        tsr_faker_log(TSR_LOG_ERROR, "glXDestroyPixmap: 0x%lx is not a GLXPixmap", (unsigned long)pixmap);
+}
+
+GLXPixmap glXCreateGLXPixmap(Display *dpy, XVisualInfo *visual, Pixmap pixmap)
+{
+    glx_display *d = display_of(dpy);
+    /* The visual's config as glXGetConfig answers for it. */
+    const struct __GLXFBConfigRec *c = visual ? find_visual_config(d, visual->visualid, true) : NULL;
+    if (!c) {
+        tsr_faker_log(TSR_LOG_ERROR, "glXCreateGLXPixmap: not a visual of the faker's configs");
+        return None;
+    }
+    return pixmap_new(dpy, c, pixmap, "glXCreateGLXPixmap");
+}
+
+void glXDestroyGLXPixmap(Display *dpy, GLXPixmap pixmap)
+{
+    if (!offscreen_destroy(dpy, pixmap, false))
+        tsr_faker_log(TSR_LOG_ERROR, "glXDestroyGLXPixmap: 0x%lx is not a GLXPixmap", (unsigned long)pixmap);
+}
+
 void glXQueryDrawable(Display *dpy, GLXDrawable draw, int attribute, unsigned int *value)
 {
     if (!value)
         return;
+    glx_offscreen *o = offscreen_find(dpy, draw);
+    if (o) {
+        switch (attribute) {
+        case GLX_WIDTH: *value = (unsigned)o->width; break;
+        case GLX_HEIGHT: *value = (unsigned)o->height; break;
+        case GLX_PRESERVED_CONTENTS: *value = o->pbuffer && o->preserved; break;
+        case GLX_LARGEST_PBUFFER: *value = o->pbuffer && o->largest; break;
+        case GLX_FBCONFIG_ID: *value = (unsigned)o->config->id; break;
+        default: *value = 0; break;
+        }
+        return;
+    }
     tsr_faker_surface *s = drawable_surface(dpy, draw);
     int w = 0, h = 0;
     tsr_faker_surface_size(s, &w, &h);
@@ -593,9 +803,15 @@ static const tsr_faker_proc glx_procs[] = {
     P(glXCopyContext),
     P(glXCreateContext),
     P(glXCreateContextAttribsARB),
+    P(glXCreateGLXPixmap),
     P(glXCreateNewContext),
+    P(glXCreatePbuffer),
+    P(glXCreatePixmap),
     P(glXCreateWindow),
     P(glXDestroyContext),
+    P(glXDestroyGLXPixmap),
+    P(glXDestroyPbuffer),
+    P(glXDestroyPixmap),
     P(glXDestroyWindow),
     P(glXGetClientString),
     P(glXGetConfig),

@@ -17,6 +17,13 @@
  * ContextCreateTSR(client + 1) when a client connects, MakeCurrentTSR(0,
  * client + 1) before running that client's commands, ContextDestroyTSR
  * when it ends (spus/render implements them; other SPUs pass them on).
+ * A client's own first context is that context; each further context the
+ * client creates in its stream (ContextCreateTSR of another id: a program
+ * whose threads draw into one share group, faker/core.c) gets a chain
+ * context of its own (ids from 0x100000, at most 8 per client), which the
+ * client's MakeCurrentTSR selects and its ContextDestroyTSR drops, so the
+ * client's contexts keep their own state in one share group; windows
+ * stay the node's.
  * Clients are scheduled round-robin, one received buffer per turn; a turn
  * also ends when the client blocks. Every connection is polled without
  * blocking, so a silent client never stalls the others.

@@ -47,10 +47,23 @@ typedef struct sync_object {
 
 typedef struct sched sched;
 
+#define SCHED_CLIENT_CONTEXTS 8         /* a client's contexts beyond its first */
+#define SCHED_SUB_CONTEXT_BASE 0x100000 /* their chain ids: above every client's own */
+
 typedef struct sched_client {
     sched *sched;
     unsigned index;
     GLint context; /* index + 1 */
+    /* A client with several contexts of its own (a program whose threads
+     * draw into one share group, faker/core.c): its first context id is
+     * `context`; each other id it creates gets a chain context of its
+     * own, so their state (bindings, an open display list) stays apart. */
+    GLint first_own; /* the client's first context id; 0: none seen */
+    GLint active;    /* the chain context its commands go to */
+    struct {
+        GLint own, chain;
+    } subs[SCHED_CLIENT_CONTEXTS];
+    int nsubs;
     char who[TSR_NET_NAME_MAX + TSR_NET_ADDRESS_MAX + 32];
     tsr_net_conn *conn;
     tsr_unpacker *unpacker;
@@ -78,6 +91,7 @@ struct sched {
     unsigned accepted;
     sched_client *current; /* whose commands run now */
     GLint current_context; /* context current in the chain; 0 = none yet */
+    GLint next_sub;        /* the next chain id of a client's further context */
     int swapper;           /* client whose swaps end frames; -1 = none yet */
     sync_object *syncs;
     size_t nsyncs, syncs_cap;
@@ -270,10 +284,73 @@ static void node_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     tsr_node_stats_add(s->node, &delta);
 }
 
-/* Contexts are the node's to manage: a client's own are ignored. */
-static void node_ContextCreateTSR(void *self, GLint context) { (void)self, (void)context; }
-static void node_ContextDestroyTSR(void *self, GLint context) { (void)self, (void)context; }
-static void node_MakeCurrentTSR(void *self, GLint window, GLint context) { (void)self, (void)window, (void)context; }
+/* Contexts are the node's to manage: a client's first context is the
+ * node's context of that client; further ones (several contexts in one
+ * stream) get chain contexts of their own; windows are the node's. */
+static int sub_index(const sched_client *c, GLint own)
+{
+    for (int i = 0; i < c->nsubs; i++)
+        if (c->subs[i].own == own)
+            return i;
+    return -1;
+}
+
+static void node_ContextCreateTSR(void *self, GLint context)
+{
+    sched *s = self;
+    sched_client *c = s->current;
+    if (!c->first_own) {
+        c->first_own = context;
+        return;
+    }
+    if (context == c->first_own || sub_index(c, context) >= 0)
+        return;
+    if (c->nsubs == SCHED_CLIENT_CONTEXTS) {
+        tsr_log(TSR_LOG_ERROR,
+                "node: %s: ContextCreateTSR(%d): more than %d contexts of one client; its commands "
+                "go to the client's first context",
+                c->who, (int)context, SCHED_CLIENT_CONTEXTS + 1);
+        return;
+    }
+    GLint id = s->next_sub++;
+    c->subs[c->nsubs].own = context;
+    c->subs[c->nsubs].chain = id;
+    c->nsubs++;
+    tsr_call_ContextCreateTSR(s->down, id);
+}
+
+static void node_MakeCurrentTSR(void *self, GLint window, GLint context)
+{
+    (void)window;
+    sched *s = self;
+    sched_client *c = s->current;
+    int i = sub_index(c, context);
+    c->active = i >= 0 ? c->subs[i].chain : c->context;
+    if (s->current_context != c->active) {
+        tsr_call_MakeCurrentTSR(s->down, 0, c->active);
+        s->current_context = c->active;
+    }
+}
+
+static void sub_destroy(sched *s, sched_client *c, int i)
+{
+    GLint id = c->subs[i].chain;
+    if (c->active == id)
+        c->active = c->context;
+    if (s->current_context == id)
+        s->current_context = 0;
+    tsr_call_ContextDestroyTSR(s->down, id);
+    c->subs[i] = c->subs[--c->nsubs];
+}
+
+static void node_ContextDestroyTSR(void *self, GLint context)
+{
+    sched *s = self;
+    sched_client *c = s->current;
+    int i = sub_index(c, context);
+    if (i >= 0)
+        sub_destroy(s, c, i);
+}
 
 static int client_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size, tsr_error *err)
 {
@@ -286,9 +363,9 @@ static int client_reply(void *ctx, uint32_t id, const uint8_t *data, size_t size
 static void make_current(sched *s, sched_client *c)
 {
     s->current = c;
-    if (s->current_context != c->context) {
-        tsr_call_MakeCurrentTSR(s->down, 0, c->context);
-        s->current_context = c->context;
+    if (s->current_context != c->active) {
+        tsr_call_MakeCurrentTSR(s->down, 0, c->active);
+        s->current_context = c->active;
     }
 }
 
@@ -306,6 +383,8 @@ static void retire(sched *s, sched_client *c, client_state state)
     int silent = c->conn && tsr_net_conn_went_silent(c->conn);
     release_msg(c);
     c->state = state;
+    while (c->nsubs)
+        sub_destroy(s, c, c->nsubs - 1);
     if (s->current_context == c->context) {
         s->current_context = 0;
     }
@@ -338,6 +417,7 @@ static int add_client(sched *s, tsr_net_conn *conn)
     c->sched = s;
     c->index = s->accepted++;
     c->context = (GLint)c->index + 1;
+    c->active = c->context;
     c->conn = conn;
     c->state = CLIENT_READY;
     snprintf(c->who, sizeof c->who, "client %u '%s' at %s", c->index, tsr_net_conn_peer_name(conn),
@@ -621,7 +701,10 @@ static int scheduler_loop(sched *s, tsr_error *err)
 
 int tsr_node_run_shared(tsr_node *node, tsr_error *err)
 {
-    sched s = {.node = node, .swapper = -1, .cost = {.cpu_at_swap = tsr_node_thread_cpu()}};
+    sched s = {.node = node,
+               .swapper = -1,
+               .next_sub = SCHED_SUB_CONTEXT_BASE,
+               .cost = {.cpu_at_swap = tsr_node_thread_cpu()}};
     s.clients = calloc(node->clients, sizeof *s.clients);
     s.conns = calloc(node->clients, sizeof *s.conns);
     s.owners = calloc(node->clients, sizeof *s.owners);

@@ -132,14 +132,62 @@ endif()
 
 # Threads: 3 threads, each with its own context and pbuffer, draw 12
 # different frames at the same time; every frame read back equals the same
-# frame drawn by one thread alone (0 differing pixels), and a share-list
-# context is refused while its share list draws on another thread.
+# frame drawn by one thread alone (0 differing pixels); a share-list
+# context is made current while its share list is current on another
+# thread, and a context current on another thread is refused; a share list
+# idle on its plain table on another thread makes the MakeCurrent fail
+# after the bounded 3 s, and one glClear there lets it through.
 add_executable(faker_egl_threads ${FAKER_TEST_DIR}/egl_threads.c)
 target_link_libraries(faker_egl_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
 add_test(NAME faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
          COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_threads>' 3 12")
 if(TESSERA_SANITIZE)
   set_property(TEST faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
+endif()
+
+# Share lists across threads drawing at once: a loader thread makes the
+# textures and display lists, and loads frame f+1's while a drawing thread
+# draws frame f with the other pair, through [render], [loopback ! render]
+# and [pack -> server render]; every frame equals the same frames drawn by
+# one thread, and the runs' frames are the same bytes as OSMesa's own;
+# the same through GLX under Xvfb (an X window and a GLX pbuffer).
+add_executable(faker_egl_share_threads ${FAKER_TEST_DIR}/egl_share_threads.c)
+target_link_libraries(faker_egl_share_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
+add_executable(faker_glx_share_threads ${FAKER_TEST_DIR}/egl_share_threads.c)
+target_compile_definitions(faker_glx_share_threads PRIVATE SHARE_GLX)
+target_link_libraries(faker_glx_share_threads PRIVATE tessera_faker_gl PkgConfig::X11 Threads::Threads)
+add_executable(faker_egl_share_threads_native ${FAKER_TEST_DIR}/egl_share_threads.c)
+target_compile_definitions(faker_egl_share_threads_native PRIVATE SHARE_NATIVE)
+target_link_libraries(faker_egl_share_threads_native PRIVATE PkgConfig::OSMESA)
+add_test(NAME faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
+         COMMAND bash ${FAKER_TEST_DIR}/share_threads.sh egl $<TARGET_FILE:faker_egl_share_threads>
+                 $<TARGET_FILE:faker_egl_share_threads_native> $<TARGET_FILE:tessera_cli>
+                 ${FAKER_OUT}/share_threads)
+add_test(NAME faker_glx_share_list_contexts_on_two_threads_window_and_pbuffer_exactly_as_one_thread
+         COMMAND bash ${FAKER_TEST_DIR}/share_threads.sh glx $<TARGET_FILE:faker_glx_share_threads>
+                 $<TARGET_FILE:faker_egl_share_threads_native> $<TARGET_FILE:tessera_cli>
+                 ${FAKER_OUT}/glx_share_threads)
+set_tests_properties(faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
+                     faker_glx_share_list_contexts_on_two_threads_window_and_pbuffer_exactly_as_one_thread
+                     PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
+               faker_glx_share_list_contexts_on_two_threads_window_and_pbuffer_exactly_as_one_thread
+               APPEND PROPERTY ENVIRONMENT
+               "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
+endif()
+
+# GLX pbuffers and pixmaps: off-screen tessera drawables of their size.
+add_executable(faker_glx_offscreen ${FAKER_TEST_DIR}/glx_offscreen.c)
+target_link_libraries(faker_glx_offscreen PRIVATE tessera_faker_gl PkgConfig::X11)
+add_test(NAME faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
+         COMMAND bash ${FAKER_TEST_DIR}/glx_offscreen.sh $<TARGET_FILE:faker_glx_offscreen> ${FAKER_OUT}/offscreen)
+set_tests_properties(faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
+                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
                APPEND PROPERTY ENVIRONMENT
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

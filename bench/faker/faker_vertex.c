@@ -6,10 +6,15 @@
  * Against it, in the same run and process, the figure of bench_pack: the
  * same calls through a dispatch table filled by tsr_packer_fill_dispatch.
  * The difference is the faker's own cost: the exported entry, the calling
- * thread's current context, its table. One thread, one core.
+ * thread's current context, its table. One thread, one core. Then a
+ * context is made with the current one as its share list, which makes the
+ * stream shared (faker/core.c): the same calls through the locked table
+ * (the faker's lock and a check of the chain's current context around
+ * each call), the cost a share group drawn from several threads pays.
  * usage: bench_faker_vertex FAKER_DIR PACKSINK_DIR [--quick] [--csv FILE]
  * Figures: faker_vertex3f_mcalls, pack_vertex3f_bbox_mcalls,
- * faker_vs_pack. Never pass/fail. */
+ * faker_vs_pack, faker_vertex3f_shared_mcalls, faker_shared_vs_plain.
+ * Never pass/fail. */
 #include "bench_common.h"
 
 #include <EGL/egl.h>
@@ -168,6 +173,22 @@ int main(int argc, char **argv)
             fprintf(csv, "pack_vertex3f_bbox,%d,%llu,%.6f,%.3f\n", r, (unsigned long long)calls, tt, calls / tt * 1e-6);
         }
     }
+    /* The shared stream: every call through the locked table from here. */
+    EGLContext share = eglCreateContext(dpy, config, ctx, NULL);
+    if (share == EGL_NO_CONTEXT) {
+        fprintf(stderr, "bench_faker_vertex: cannot make a share-list context\n");
+        return 1;
+    }
+    time_exported(glVertex3f, v, calls / 10 + 1);
+    double best_shared = 0;
+    for (int r = 0; r < args.repeats; r++) {
+        double ts = time_exported(glVertex3f, v, calls);
+        if ((double)calls / ts > best_shared)
+            best_shared = (double)calls / ts;
+        if (csv)
+            fprintf(csv, "faker_vertex3f_shared,%d,%llu,%.6f,%.3f\n", r, (unsigned long long)calls, ts,
+                    calls / ts * 1e-6);
+    }
     glEnd();
     tsr_call_End(&table);
     glFinish(); /* bench_packsink prints what it packed */
@@ -180,11 +201,14 @@ int main(int argc, char **argv)
     }
     eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroySurface(dpy, pb);
+    eglDestroyContext(dpy, share);
     eglDestroyContext(dpy, ctx);
     eglTerminate(dpy);
     bench_figure("faker_vertex3f_mcalls", best_faker * 1e-6, 1);
     bench_figure("pack_vertex3f_bbox_mcalls", best_table * 1e-6, 1);
     bench_figure("faker_vs_pack", best_faker / best_table, 3);
+    bench_figure("faker_vertex3f_shared_mcalls", best_shared * 1e-6, 1);
+    bench_figure("faker_shared_vs_plain", best_shared / best_faker, 3);
     tsr_packer_destroy(packer);
     free(v);
     return 0;

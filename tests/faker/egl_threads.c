@@ -7,9 +7,15 @@
  * glReadPixels and compare it with the same frame drawn beforehand by the
  * main thread alone: 0 differing pixels, every frame of every thread.
  * Then a context made with a current context of another thread as its
- * share list cannot be made current while that thread draws (one share
- * group is one stream, driven by one thread at a time): eglMakeCurrent
- * fails, and succeeds once the other thread has released its context. */
+ * share list is made current while that thread has its share list
+ * current (one share group is one stream, shared by the two threads;
+ * tests/faker/egl_share_threads.c draws with it), but a context current
+ * on another thread is not (EGL_BAD_ACCESS) until that thread releases it.
+ * Last, a share-list context made while its share list is already current
+ * on another thread, which calls its plain table and makes no GL call:
+ * its MakeCurrent waits the bounded 3 s and fails (EGL_BAD_ACCESS, one log
+ * line), and succeeds once that thread made one glClear (where it moves to
+ * the stream's locked table). */
 #include <EGL/egl.h>
 #include <GL/gl.h>
 #include <pthread.h>
@@ -111,7 +117,7 @@ static void *run(void *arg)
 /* The share-list refusal: thread A keeps `a` current until told to stop. */
 static pthread_mutex_t holder_mu = PTHREAD_MUTEX_INITIALIZER;
 static pthread_cond_t holder_cv = PTHREAD_COND_INITIALIZER;
-static int holder_state; /* 0 start, 1 current, 2 release, 3 released */
+static int holder_state; /* hold: 0 start, 1 current, 2 release, 3 released (hold_plain: 1-5) */
 static EGLContext holder_ctx;
 
 static void holder_set(int state)
@@ -128,6 +134,25 @@ static void holder_wait(int state)
     while (holder_state != state)
         pthread_cond_wait(&holder_cv, &holder_mu);
     pthread_mutex_unlock(&holder_mu);
+}
+
+/* The late share list: thread B keeps `plain` current, idle until told. */
+static EGLContext plain_ctx;
+
+static void *hold_plain(void *arg)
+{
+    (void)arg;
+    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, plain_ctx);
+    glClear(GL_COLOR_BUFFER_BIT);
+    holder_set(1);
+    holder_wait(2);               /* no GL call meanwhile */
+    glClear(GL_COLOR_BUFFER_BIT); /* a check point */
+    holder_set(3);
+    holder_wait(4);
+    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglReleaseThread();
+    holder_set(5);
+    return NULL;
 }
 
 static void *hold(void *arg)
@@ -196,25 +221,58 @@ int main(int argc, char **argv)
     }
     pthread_barrier_destroy(&barrier);
 
-    /* Share lists across threads drawing at once: refused, then allowed. */
-    holder_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
-    EGLContext shared = eglCreateContext(dpy, config, holder_ctx, NULL);
-    REQUIRE(holder_ctx != EGL_NO_CONTEXT && shared != EGL_NO_CONTEXT);
+    /* A share list drawing through its plain table on another thread (the
+     * first sharing of the program: its stream is not shared yet). */
+    plain_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
+    REQUIRE(plain_ctx != EGL_NO_CONTEXT);
     pthread_t holder;
-    REQUIRE(pthread_create(&holder, NULL, hold, NULL) == 0);
+    REQUIRE(pthread_create(&holder, NULL, hold_plain, NULL) == 0);
     holder_wait(1);
-    EGLBoolean refused = !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared);
+    EGLContext late = eglCreateContext(dpy, config, plain_ctx, NULL);
+    REQUIRE(late != EGL_NO_CONTEXT);
+    EGLBoolean refused = !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, late);
     EGLint why = eglGetError();
-    printf("share-list context while its share list is current on another thread: %s (0x%x)\n",
+    printf("share-list context while its share list idles on its plain table on another thread: %s (0x%x)\n",
            refused ? "refused" : "made current", (unsigned)why);
     CHECK(refused && why == EGL_BAD_ACCESS, "eglMakeCurrent gave 0x%x", (unsigned)why);
     holder_set(2);
     holder_wait(3);
+    EGLBoolean made = eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, late);
+    printf("after that thread's glClear: %s (0x%x)\n", made ? "made current" : "refused", (unsigned)eglGetError());
+    CHECK(made, "still refused after the other thread's glClear");
+    glClear(GL_COLOR_BUFFER_BIT);
+    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
+    holder_set(4);
+    holder_wait(5);
     pthread_join(holder, NULL);
-    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared), "after release: 0x%x", (unsigned)eglGetError());
+    eglDestroyContext(dpy, late);
+    eglDestroyContext(dpy, plain_ctx);
+
+    /* Share lists across threads drawing at once: allowed; a context
+     * current on another thread: refused, then allowed once released. */
+    holder_ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
+    EGLContext shared = eglCreateContext(dpy, config, holder_ctx, NULL);
+    REQUIRE(holder_ctx != EGL_NO_CONTEXT && shared != EGL_NO_CONTEXT);
+    REQUIRE(pthread_create(&holder, NULL, hold, NULL) == 0);
+    holder_wait(1);
+    made = eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, shared);
+    printf("share-list context while its share list is current on another thread: %s (0x%x)\n",
+           made ? "made current" : "refused", (unsigned)eglGetError());
+    CHECK(made, "the share-list context was refused");
+    glClear(GL_COLOR_BUFFER_BIT);
+    refused = !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, holder_ctx);
+    why = eglGetError();
+    printf("a context current on another thread: %s (0x%x)\n", refused ? "refused" : "made current", (unsigned)why);
+    CHECK(refused && why == EGL_BAD_ACCESS, "eglMakeCurrent gave 0x%x", (unsigned)why);
+    holder_set(2);
+    holder_wait(3);
+    pthread_join(holder, NULL);
+    CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, holder_ctx), "after release: 0x%x",
+          (unsigned)eglGetError());
     CHECK(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
     eglDestroyContext(dpy, shared);
     eglDestroyContext(dpy, holder_ctx);
+
 
     for (int t = 0; t < nthreads; t++)
         for (int f = 0; f < nframes; f++)

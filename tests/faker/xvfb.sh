@@ -1,7 +1,10 @@
 # tests/faker/xvfb.sh — sourced by the faker tests: start_xvfb starts a
 # private Xvfb on a display number the server picks itself (-displayfd, so
 # parallel tests never collide) and exports DISPLAY; it is stopped by the
-# EXIT trap (stop_xvfb), killed by its own pid only.
+# EXIT trap (stop_xvfb), killed by its own pid only. -noreset: by default
+# the server resets when its last client leaves, and a program started in
+# that moment cannot connect ("no X display": seen when a script runs
+# programs one after the other).
 XVFB_PID=""
 stop_xvfb() {
   if [ -n "$XVFB_PID" ]; then
@@ -14,7 +17,7 @@ start_xvfb() {  # start_xvfb WORKDIR
   command -v Xvfb >/dev/null || { echo "SKIP: Xvfb is not installed (scripts/setup-debian installs xvfb)"; exit 77; }
   local fdfile="$1/xvfb.display"
   : > "$fdfile"
-  Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>"$fdfile" 2>"$1/xvfb.log" &
+  Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp -noreset 3>"$fdfile" 2>"$1/xvfb.log" &
   XVFB_PID=$!
   trap stop_xvfb EXIT
   for _ in $(seq 100); do
