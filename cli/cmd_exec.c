@@ -7,8 +7,11 @@
  * exit status, the signal that ends it, its standard input, output and
  * error are exactly the program's own. With a graph it is `tessera run
  * GRAPH` with the program as the exec of the app node (--node, or the
- * graph's only one); the node runs it under the faker (mothership/faker.h)
- * and the run's exit code is the run's verdict. */
+ * graph's only one); the node runs it under the faker (mothership/faker.h).
+ * Its end passes through there too when it is the run's verdict (it
+ * exited non-zero or died by a signal before any node failed): this
+ * process exits with its status or dies by its signal; a node's failure
+ * gives 1 and the line naming it, as `tessera run` does. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -48,9 +51,11 @@ static void exec_usage(FILE *out)
             "  --graph GRAPH    run the graph (as tessera run) with PROGRAM ARGS as the exec\n"
             "                   of its app node; --out DIR is then the run's directory\n"
             "  --node NAME      that app node (default: the graph's only app node)\n"
-            "                   With --graph the exit code is the run's (0: every node ended\n"
-            "                   cleanly); any app node whose program is not linked to\n"
-            "                   libtessera_gl runs under the faker, also in tessera run.\n"
+            "                   With --graph the program's exit status and the signal that\n"
+            "                   killed it pass through as well; a failing node (a server,\n"
+            "                   a lost connection) gives 1 and one line naming it. Any app\n"
+            "                   node whose program is not linked to libtessera_gl runs\n"
+            "                   under the faker, also in tessera run.\n"
             "  -h, --help       show this help\n\n"
             "environment: TESSERA_FAKER_DIR overrides where the faker's libraries are\n"
             "(built: %s, installed: %s).\n",

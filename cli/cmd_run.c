@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -210,6 +211,27 @@ static const tsr_graph_node *exec_node(const char *who, const tsr_graph *graph, 
     return app;
 }
 
+/* `tessera exec --graph`: the run failed because the program itself
+ * ended badly, so this process ends as the program did, as `tessera exec
+ * --chain` (which becomes the program) would: its exit status, or death by
+ * the same signal (re-raised with the default action; no core file of
+ * this process, which did not crash), else 128 + N as a shell reports it. */
+static int pass_through(const struct tsr_ms_program_end *end)
+{
+    if (!end->signal)
+        return end->exit_code;
+    fflush(NULL);
+    struct rlimit no_core = {0, 0};
+    setrlimit(RLIMIT_CORE, &no_core);
+    signal(end->signal, SIG_DFL);
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, end->signal);
+    sigprocmask(SIG_UNBLOCK, &set, NULL);
+    raise(end->signal);
+    return 128 + end->signal; /* a signal that does not end a process (SIGCHLD, SIGCONT...) */
+}
+
 static int run_graph(int argc, char **argv, int launch, const char *const *app_exec, const char *as, const char *node,
                      char **program)
 {
@@ -335,10 +357,15 @@ static int run_graph(int argc, char **argv, int launch, const char *const *app_e
         .exec_node = app ? app->name : NULL,
         .exec_argv = (const char *const *)program,
     };
+    struct tsr_ms_program_end end = {0};
+    if (program)
+        cfg.program_end = &end;
     int rc = tsr_mothership_run(graph, &cfg, &err);
     tsr_graph_free(graph);
     if (rc != TSR_OK) {
         fprintf(stderr, "%s: %s\n", who, err.message);
+        if (end.is_verdict)
+            return pass_through(&end);
         return rc == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
     }
     return TSR_EXIT_OK;

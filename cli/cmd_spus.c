@@ -84,6 +84,8 @@ static void print_role(const tsr_spu_class *cls)
     }
     if (shown)
         printf("\n");
+    if (n->grid)
+        printf("  %s: [COLUMNS, ROWS] places the servers instead of their tiles: (one per cell)\n", n->grid);
 }
 
 static void print_class(const tsr_spu_class *cls)

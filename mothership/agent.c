@@ -49,6 +49,7 @@ typedef struct agent {
     tsr_error node_err;
     /* app */
     pid_t child;
+    int app_exit_code; /* its exit status once it ended (DONE's exit_code) */
 } agent;
 
 static int send_ctl(agent *a, unsigned kind, tsr_ctl_out *out, tsr_error *err)
@@ -415,6 +416,7 @@ static int resolve_exec(const tsr_ctl *cfg, const char *prog, char *out, size_t 
 
 static void add_app_stats(agent *a, tsr_ctl_out *out)
 {
+    tsr_ctl_addf(out, "exit_code", "%d", a->app_exit_code);
     char path[256];
     snprintf(path, sizeof path, "%s/stats.json", a->tmpdir);
     FILE *f = a->tmpdir[0] ? fopen(path, "r") : NULL;
@@ -594,6 +596,8 @@ static int run_app_args(agent *a, const tsr_ctl *cfg, const char **args, size_t 
         failed = 1;
         tsr_error_set(err, TSR_EIO, "application %s exited with status %d", args[0], WEXITSTATUS(status));
     }
+    /* The program's own status (`tessera exec --graph` passes it on). */
+    a->app_exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 0;
     send_done(a, failed, failed ? err->message : "", sig, add_app_stats, &(tsr_error){0});
     return failed;
 }

@@ -29,7 +29,9 @@
  *                       naming what failed; empty when status=0), signal=
  *                       (non-zero when the application was killed by a
  *                       signal), then its final STATS fields and, for app
- *                       nodes, app_stats=found|missing plus the fields of
+ *                       nodes, exit_code= (the application's exit status;
+ *                       0 when a signal ended it), app_stats=found|missing
+ *                       plus the fields of
  *                       the application's TESSERA_STATS_FILE (frames,
  *                       buffers, bytes_out, blocked_seconds).
  * Mothership to node:

@@ -100,6 +100,8 @@ typedef struct ms {
     int fail_class;
     double fail_deadline;
     char fail_message[512];
+    int failing_program; /* set around fail() for the exec program's own end */
+    int fail_is_program; /* the verdict is that end */
     double next_progress;
     int progress_shown;
 } ms;
@@ -112,6 +114,7 @@ static void fail(ms *m, int cls, const char *fmt, ...)
     if (cls >= m->fail_class)
         return;
     m->fail_class = cls;
+    m->fail_is_program = m->failing_program;
     /* Failures quote peers (a node's DONE message, a JOIN's name, a
      * control message that did not parse): the whole line is made safe
      * to print, which leaves this file's own text as it is. */
@@ -648,8 +651,17 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         int cls = tsr_ctl_number(msg, "signal", 0)           ? FAIL_SIGNAL
                   : tsr_ctl_number(msg, "clients_silent", 0) ? FAIL_SILENT
                                                              : FAIL_EXIT;
+        /* `tessera exec --graph`: the program's own end, for its caller. */
+        int program = !n->server && m->cfg->exec_node && !strcmp(m->cfg->exec_node, n->g->name);
+        if (program && m->cfg->program_end) {
+            m->cfg->program_end->ended = true;
+            m->cfg->program_end->exit_code = (int)tsr_ctl_number(msg, "exit_code", 0);
+            m->cfg->program_end->signal = (int)tsr_ctl_number(msg, "signal", 0);
+        }
+        m->failing_program = program;
         if (n->done_status)
             fail(m, cls, "node '%s': %s", n->g->name, why && *why ? why : "failed (no reason given)");
+        m->failing_program = 0;
         break;
     }
     default: fail(m, FAIL_OTHER, "node '%s' sent an unexpected %s message", n->g->name, tsr_ctl_kind_name(kind));
@@ -1209,6 +1221,8 @@ int tsr_mothership_run(const tsr_graph *graph, const tsr_ms_config *config, tsr_
     double wall = m.start ? tsr_now_seconds() - m.start : 0;
     if (rc == TSR_OK && m.fail_class != FAIL_NONE)
         rc = tsr_error_set(err, TSR_EIO, "%s", m.fail_message);
+    if (config->program_end)
+        config->program_end->is_verdict = m.fail_class != FAIL_NONE && m.fail_is_program;
     if (m.start) {
         if (ok)
             summary(&m, wall);

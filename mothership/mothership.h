@@ -80,6 +80,15 @@ typedef struct tsr_ms_config {
      * terminated) instead of the graph's exec. NULL: the graph's. */
     const char *exec_node;
     const char *const *exec_argv;
+    /* Filled when the run ended and exec_node's program ended by itself
+     * (its DONE came): its exit status and the signal that ended it (0:
+     * none), and whether that end is the run's failure (the verdict
+     * names the program, not a node whose failure it followed). May be
+     * NULL. */
+    struct tsr_ms_program_end {
+        bool ended, is_verdict;
+        int exit_code, signal;
+    } * program_end;
 } tsr_ms_config;
 
 /* Runs the graph to its end. TSR_OK when every node ended cleanly; else

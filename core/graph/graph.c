@@ -53,6 +53,10 @@ typedef struct node_source {
     const tsr_spu_class *network; /* its class: its role (tessera/spu.h) */
     bool role_unknown;            /* TSR_GRAPH_NO_SPU_CHECK: an SPU of the chain is not
                                  installed here, so the node's role is unknown */
+    yaml_node_t *grid_value;      /* the network SPU's declared grid option, when the
+                                     graph gives it (tsr_spu_network.grid), or NULL */
+    int grid_columns, grid_rows;  /* its value; -1, -1 when it is not two ints */
+    yaml_node_t *tiles_key;       /* `tiles:` of the node, or NULL */
     yaml_node_t *server_key;      /* first of transport/listen/tiles set on the node */
     yaml_node_t *listen_value;
     yaml_node_t **tile_values; /* one sequence per tile */
@@ -638,6 +642,18 @@ static int link_class(loader *l, const tsr_graph_node *node, node_source *src, c
     if (cls && cls->network.role != TSR_SPU_ROLE_NONE && !src->network_spu) {
         src->network_spu = spu_node;
         src->network = cls;
+        for (size_t k = 0; cls->network.grid && value_nodes && k < link->option_count; k++) {
+            if (strcmp(link->keys[k], cls->network.grid))
+                continue;
+            /* The option's text form: "C,R" (option_text). */
+            int columns, rows, end = 0;
+            src->grid_value = value_nodes[k];
+            src->grid_columns = src->grid_rows = -1;
+            if (sscanf(link->values[k], "%d,%d%n", &columns, &rows, &end) == 2 && !link->values[k][end]) {
+                src->grid_columns = columns;
+                src->grid_rows = rows;
+            }
+        }
     }
     return TSR_OK;
 }
@@ -1013,6 +1029,7 @@ static int parse_node(loader *l, yaml_node_t *name_node, yaml_node_t *v, tsr_gra
             listen = value;
         } else if (!strcmp(k, "tiles")) {
             src->server_key = src->server_key ? src->server_key : key;
+            src->tiles_key = key;
             rc = parse_tiles(l, node, src, value);
         }
     }
@@ -1238,6 +1255,39 @@ static int check_display(loader *l, size_t i)
     return rc;
 }
 
+/* A grid of tiled servers (tsr_spu_network.grid): one server per cell,
+ * and the grid, not `tiles:`, places them (the window it divides is the
+ * program's, known only at run time, and re-divided at every resize). */
+static int check_grid(loader *l, size_t i)
+{
+    tsr_graph *g = l->graph;
+    const tsr_graph_node *node = &g->nodes[i];
+    const node_source *src = &l->sources[i];
+    const char *spu = scalar_text(src->network_spu), *option = src->network->network.grid;
+    int columns = src->grid_columns, rows = src->grid_rows;
+    if (columns < 1 || rows < 1)
+        return fail_at(l, src->grid_value, TSR_EINVAL,
+                       "node '%s': %s %s: expected [COLUMNS, ROWS], both at least 1 ([0, 0]: the servers' "
+                       "tiles: as given)",
+                       node->name, spu, option);
+    if ((size_t)columns * (size_t)rows != node->to_count)
+        return fail_at(l, src->grid_value, TSR_EINVAL,
+                       "node '%s': %s %s: [%d, %d] has %lld cells, but 'to' names %zu server%s (one server per "
+                       "cell, in 'to' order)",
+                       node->name, spu, option, columns, rows, (long long)columns * rows, node->to_count,
+                       node->to_count == 1 ? "" : "s");
+    for (size_t e = 0; e < node->to_count; e++) {
+        const node_source *server = &l->sources[node->to[e]];
+        if (server->tiles_key)
+            return fail_at(l, server->tiles_key, TSR_EINVAL,
+                           "node '%s': has 'tiles', but node '%s''s %s %s: [%d, %d] places it (column %zu, "
+                           "row %zu): give the grid or the tiles, not both",
+                           g->nodes[node->to[e]].name, node->name, spu, option, columns, rows, e % (size_t)columns,
+                           e / (size_t)columns);
+    }
+    return TSR_OK;
+}
+
 /* What `to:` must hold for the node's network SPU's role (tessera/spu.h). */
 static int check_role(loader *l, size_t i)
 {
@@ -1255,6 +1305,8 @@ static int check_role(loader *l, size_t i)
                            node->name, spu, node->to_count);
         return TSR_OK;
     case TSR_SPU_ROLE_TILED_SERVERS:
+        if (src->grid_value && (src->grid_columns || src->grid_rows))
+            return check_grid(l, i);
         /* Sort-first: every server draws its tiles. */
         for (size_t e = 0; e < node->to_count; e++)
             if (g->nodes[node->to[e]].tile_count == 0)

@@ -115,7 +115,7 @@ static const struct {
     [TSR_SPU_ROLE_SERVER] = {"server", "streams to the one server its node's to: names"},
     [TSR_SPU_ROLE_SERVERS] = {"servers", "streams to every server its node's to: names"},
     [TSR_SPU_ROLE_TILED_SERVERS] = {"tiled servers", "sorts its stream among the servers its node's to: names, "
-                                                     "each of which has tiles:"},
+                                                     "each of which has tiles: or a cell of its grid"},
     [TSR_SPU_ROLE_DISPLAY] = {"display", "sends its node's tile images to the one display node "
                                          "its to: names"},
     [TSR_SPU_ROLE_PEERS] = {"peers", "one of the peers that send to the one display node their "
@@ -145,6 +145,7 @@ static int check_filled_option(const tsr_spu_class *cls, const char *what, const
         return tsr_error_set(err, TSR_EINVAL, "%s: network.%s names option '%s', which is not %s option", cls->name,
                              what, option,
                              type == TSR_OPT_INT           ? "an int"
+                             : type == TSR_OPT_INT_LIST    ? "an int list"
                              : type == TSR_OPT_STRING_LIST ? "a string list"
                                                            : "a string");
     }
@@ -180,6 +181,13 @@ static int check_network(const tsr_spu_class *cls, tsr_error *err)
                 return tsr_error_set(err, TSR_EINVAL, "%s: network.%s and network.%s both name option '%s'", cls->name,
                                      filled[j].what, filled[i].what, filled[i].option);
     }
+    /* Read by the graph check, not filled: the grid the servers form. */
+    int grc = check_filled_option(cls, "grid", n->grid, TSR_OPT_INT_LIST, TSR_OPT_INT_LIST, err);
+    if (grc != TSR_OK)
+        return grc;
+    if (n->grid && n->role != TSR_SPU_ROLE_TILED_SERVERS)
+        return tsr_error_set(err, TSR_EINVAL, "%s: network.grid places tiled servers: only role %s has it", cls->name,
+                             tsr_spu_role_name(TSR_SPU_ROLE_TILED_SERVERS));
     /* What each role needs filled to reach its nodes. */
     const char *missing = NULL;
     switch (n->role) {

@@ -73,7 +73,9 @@
  * have no cycle; every server is sent to by at least one node. The role
  * its network SPU's class declares (tsr_spu_network.role) asks more of a
  * node: tiled servers (TSR_SPU_ROLE_TILED_SERVERS, tilesort) — every server it
- * names has `tiles:`; a display (TSR_SPU_ROLE_DISPLAY, readback: a tile
+ * names has `tiles:`, or, when the graph gives the SPU's declared grid option
+ * (tsr_spu_network.grid) non-zero, COLUMNS x ROWS servers none of which has
+ * `tiles:` (the grid divides the program's window at run time); a display (TSR_SPU_ROLE_DISPLAY, readback: a tile
  * server streaming its tile images) — `to:` names exactly one node, and
  * the nodes sending to one display this way own disjoint tiles (no tiles:
  * the whole window); peers (TSR_SPU_ROLE_PEERS) — `to:` names exactly one

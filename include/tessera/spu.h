@@ -65,8 +65,9 @@ extern "C" {
  * of tsr_spu_class, so a plugin of any ABI is read that far and refused with
  * one line naming it and both versions.
  *   1  the first
- *   2  tsr_spu_class.network: roles instead of names known to the core */
-#define TSR_SPU_ABI 2u
+ *   2  tsr_spu_class.network: roles instead of names known to the core
+ *   3  tsr_spu_network.grid */
+#define TSR_SPU_ABI 3u
 
 #define TSR_SPU_EXPORT __attribute__((visibility("default")))
 #define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
@@ -98,7 +99,8 @@ typedef enum tsr_spu_role {
     /* Streams to every server `to:` names, one or more (replicate). */
     TSR_SPU_ROLE_SERVERS,
     /* Sorts its stream among tiled servers: every node `to:` names has
-     * `tiles:` (tilesort). */
+     * `tiles:`, or none has and the SPU's declared `grid` option places
+     * them (tilesort). */
     TSR_SPU_ROLE_TILED_SERVERS,
     /* Sends its node's own tile images to one display node, where the
      * final image goes: `to:` names exactly one node, and the nodes sending
@@ -137,6 +139,12 @@ typedef struct tsr_spu_network {
                                  graph's file order); rank 0 ends frames */
     const char *peers;        /* STRING_LIST: every peer's address in rank order,
                                  this node's own included (required by ROLE_PEERS) */
+    const char *grid;         /* INT_LIST COLUMNS,ROWS, read, not filled
+                                 (ROLE_TILED_SERVERS): when the graph gives it
+                                 non-zero, the servers divide whatever window the
+                                 program opens into that grid, in `to:` order, so
+                                 they have no `tiles:`; `tessera check` wants
+                                 COLUMNS x ROWS servers */
 } tsr_spu_network;
 
 typedef struct tsr_spu_class {

@@ -751,10 +751,11 @@ static const tsr_spu_class tilesort_class = {
     .create = tilesort_create,
     .destroy = tilesort_destroy,
     /* Tiled servers: the node's to: in order, and every server's tiles:
-     * as SERVER:X:Y:W:H in `tiles`. */
+     * as SERVER:X:Y:W:H in `tiles`, or none and `grid` places them. */
     .network = {.role = TSR_SPU_ROLE_TILED_SERVERS,
                 .servers = "servers",
                 .server_tiles = "tiles",
+                .grid = "grid",
                 .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 

@@ -109,8 +109,9 @@ static void test_rejects_abi_mismatch(void)
     expect_bad_plugin("oldabi", fmt);
 }
 
-/* A plugin built against the headers before roles (ABI 1): one line naming
- * the plugin and both versions, nothing past `abi` read. */
+/* A plugin built against older headers (ABI 1, before roles; an ABI 2 one,
+ * before tsr_spu_network.grid, is refused by the same comparison): one line
+ * naming the plugin and both versions, nothing past `abi` read. */
 static void test_rejects_previous_abi(void)
 {
     char fmt[256];
@@ -118,7 +119,7 @@ static void test_rejects_previous_abi(void)
              "prevabi: %%s: built for SPU ABI 1, this tessera has ABI %u (rebuild the SPU against "
              "the installed headers)",
              TSR_SPU_ABI);
-    CHECK(TSR_SPU_ABI == 2);
+    CHECK(TSR_SPU_ABI == 3);
     expect_bad_plugin("prevabi", fmt);
 }
 
