@@ -1352,7 +1352,11 @@ void tsr_state_shadow_assume(tsr_state_ctx *c, tsr_state_shadow *s, int member)
         sv->edge_flag = cv->edge_flag;
     else if (m == TSR_SM_ATTRIBS)
         SYNC(sv->attrib, cv->attrib);
-    else
+    else if (m == TSR_SM_MATERIAL) {
+        /* what the renderer's glColor drives stays its own */
+        SYNC(sv->material, cv->material);
+        st_color_material_apply(sv);
+    } else
         return;
     for (size_t i = 0; i < c->t->nctxs; i++)
         if (c->t->ctxs[i] != c)
