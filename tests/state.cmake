@@ -15,6 +15,8 @@ add_test(NAME state_context_switch_emits_only_differing_groups COMMAND state_tes
 add_test(NAME state_many_renderers_grow_dirty_bits COMMAND state_tests many_renderers)
 add_test(NAME state_textures_sent_lazily_and_once COMMAND state_tests lazy_textures)
 add_test(NAME state_list_compile_does_not_change_state COMMAND state_tests list_compile)
+add_test(NAME state_diff_sends_every_buffer_with_data_bound_or_not_once
+         COMMAND state_tests buffers_unbound_reach_renderer)
 add_test(NAME state_get_count_table_matches_the_gets COMMAND state_tests get_count_table)
 add_test(NAME state_matrices_bit_identical_and_lit_pixels_equal COMMAND state_tests matrices_bit_identical 200)
 # Shaders and programs: random object/uniform sequences diffed into a fresh

@@ -23,6 +23,16 @@ target_link_libraries(balance_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
 add_executable(balance_scenes tilesort/balance_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
 target_include_directories(balance_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(balance_scenes PRIVATE tessera_gl tessera m)
+# tests/tilesort/program_scenes.c: what unmodified programs do that the
+# examples do not (glMaterial inside glBegin, buffers bound in turn around
+# each draw), built twice the same way.
+add_executable(program_scenes-native tilesort/program_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_compile_definitions(program_scenes-native PRIVATE EXAPP_NATIVE)
+target_include_directories(program_scenes-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(program_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
+add_executable(program_scenes tilesort/program_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_include_directories(program_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(program_scenes PRIVATE tessera_gl tessera m)
 set(TILESORT_SH ${CMAKE_CURRENT_SOURCE_DIR}/tilesort/tilesort.sh)
 set(TILESORT_OUT ${CMAKE_BINARY_DIR}/test-out/tilesort)
 set(TILESORT_BIN ${CMAKE_BINARY_DIR}/bin)
@@ -58,6 +68,14 @@ foreach(example spheres isosurface texquads)
     add_test(NAME tilesort_exact_${example}_${config}
       COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/${example}-${config} ${example} 3 ${config})
   endforeach()
+endforeach()
+# glMaterial inside glBegin reaches every server in order, and one set
+# again after glEnd is not lost (moebius drew grey for red); a buffer bound
+# only between two state changes reaches the servers (romanboy drew
+# nothing). Both broken on the 2x2 wall before.
+foreach(config 2x2 broadcast)
+  add_test(NAME tilesort_exact_material_inside_begin_and_buffers_bound_in_turn_${config}
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 2 ${config})
 endforeach()
 # Large array draws are sorted primitive by primitive: on a 4x4 wall the
 # isosurface's overlap stays near 1 (broadcast: 16); measured 1.067 (1.077

@@ -1054,21 +1054,20 @@ static void sync_buffer(dctx *x, GLuint name)
     rec->hash = hash;
 }
 
+/* Every buffer the renderer lacks, not only the bound ones and those of
+ * the arrays enabled now: a diff is taken at the END of what it precedes,
+ * and that stream's draws carry their own arrays (buffer names and
+ * offsets, core/wire/pack.c), so a buffer bound, pointed at, drawn from
+ * and unbound again inside it is in no binding the diff sees (romanboy
+ * binds its three buffers in turn around each glDrawElements: the first
+ * never reached a tilesort server, which drew nothing). A buffer whose
+ * data the renderer has costs a comparison. */
 static void d_buffers(dctx *x)
 {
-    const tsr_state_client *cl = &x->c->client;
-    sync_buffer(x, x->c->v.array_buffer);
-    sync_buffer(x, x->c->v.element_buffer);
-    const tsr_state_array *arrays[4] = {&cl->vertex, &cl->normal, &cl->color, &cl->edge_flag};
-    for (int i = 0; i < 4; i++)
-        if (arrays[i]->enabled)
-            sync_buffer(x, arrays[i]->buffer);
-    for (int u = 0; u < TSR_STATE_UNITS; u++)
-        if (cl->texcoord[u].enabled)
-            sync_buffer(x, cl->texcoord[u].buffer);
-    for (int i = 0; i < TSR_STATE_ATTRIBS; i++)
-        if (cl->attrib[i].enabled)
-            sync_buffer(x, cl->attrib[i].buffer);
+    const tsr_name_map *all = &x->c->buffers;
+    for (size_t i = 0; i < all->cap; i++)
+        if (all->keys[i])
+            sync_buffer(x, all->keys[i]);
     bind_buf(x, GL_ARRAY_BUFFER, &x->s->v.array_buffer, x->c->v.array_buffer);
     bind_buf(x, GL_ELEMENT_ARRAY_BUFFER, &x->s->v.element_buffer, x->c->v.element_buffer);
 }
@@ -1353,7 +1352,11 @@ void tsr_state_shadow_assume(tsr_state_ctx *c, tsr_state_shadow *s, int member)
         sv->edge_flag = cv->edge_flag;
     else if (m == TSR_SM_ATTRIBS)
         SYNC(sv->attrib, cv->attrib);
-    else
+    else if (m == TSR_SM_MATERIAL) {
+        /* what the renderer's glColor drives stays its own */
+        SYNC(sv->material, cv->material);
+        st_color_material_apply(sv);
+    } else
         return;
     for (size_t i = 0; i < c->t->nctxs; i++)
         if (c->t->ctxs[i] != c)

@@ -55,6 +55,16 @@ typedef struct ts_server {
 /* No single target: the geometry buffer goes where its box says. */
 #define TS_ANY_TARGET SIZE_MAX
 
+/* A glMaterial call made inside glBegin/glEnd (send.c). */
+typedef struct ts_material {
+    int slot; /* which of Materialf, fv, i, iv */
+    GLenum face, pname;
+    union {
+        GLfloat f[4];
+        GLint i[4];
+    } v;
+} ts_material;
+
 typedef struct tilesort {
     char name[96];
     tsr_stream_client *client;
@@ -76,6 +86,8 @@ typedef struct tilesort {
     tsr_tee rec_tees[TSR_DISPATCH_COUNT];
     /* the geometry buffer */
     int in_begin, split_primitive, broadcast_next, program;
+    ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
+    size_t nmaterials, materials_cap;
     ts_split *split;      /* split.c: a primitive cut across buffers */
     ts_current start;     /* current attributes when this buffer started */
     size_t *buffer_lists; /* list slots called by this buffer */
@@ -134,6 +146,10 @@ void ts_prepare_server(tilesort *t, ts_server *s, int geometry);
 void ts_flush_geometry(tilesort *t);
 void ts_flush_before_state(tilesort *t);
 void ts_broadcast_next(tilesort *t);
+void ts_Materialf(void *self, GLenum face, GLenum pname, GLfloat param);
+void ts_Materialfv(void *self, GLenum face, GLenum pname, const GLfloat *params);
+void ts_Materiali(void *self, GLenum face, GLenum pname, GLint param);
+void ts_Materialiv(void *self, GLenum face, GLenum pname, const GLint *params);
 ts_server *ts_to_server(tilesort *t);
 double ts_box_margin(const tilesort *t);
 /* The application's viewport, or the window's while it never set one. */

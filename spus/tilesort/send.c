@@ -28,6 +28,15 @@
  * vertex shader in use) go to every server whole, from the buffer holding
  * their glBegin to the one holding their glEnd (split_primitive).
  *
+ * glMaterial inside glBegin/glEnd (moebius sets a diffuse colour before
+ * each vertex of its wire mesh) is a state change the tracker cannot hold
+ * for the buffer it is in: a diff goes before its buffer and is taken at
+ * the buffer's end, so tracked at once each server would get the
+ * primitive's last material before its first vertex. It goes into the
+ * geometry buffer instead (split.c then sends the primitive whole to
+ * every server), and reaches the tracker only once that buffer has been
+ * sent, its servers' shadows told they hold it.
+ *
  * Owns the geometry buffer's sending: its targets, its start attributes,
  * each server's tiles version. Never sends a server a buffer before its
  * tiles, lists and diff: the buffer's commands assume the state the
@@ -73,6 +82,85 @@ static void assume_current(tilesort *t, ts_server *s)
         tsr_state_shadow_assume(t->ctx, s->shadow, TSR_SM_TEXCOORD0 + u);
     tsr_state_shadow_assume(t->ctx, s->shadow, TSR_SM_EDGEFLAG);
     tsr_state_shadow_assume(t->ctx, s->shadow, TSR_SM_ATTRIBS);
+}
+
+/* --- glMaterial inside glBegin/glEnd ---------------------------------------- */
+
+static void track_material(tilesort *t, const ts_material *m)
+{
+    switch (m->slot) {
+    case 0: tsr_call_Materialf(&t->track_table, m->face, m->pname, m->v.f[0]); break;
+    case 1: tsr_call_Materialfv(&t->track_table, m->face, m->pname, m->v.f); break;
+    case 2: tsr_call_Materiali(&t->track_table, m->face, m->pname, m->v.i[0]); break;
+    default: tsr_call_Materialiv(&t->track_table, m->face, m->pname, m->v.i); break;
+    }
+}
+
+/* The materials of the buffer just sent to targets[0..n) reach the
+ * tracker, and those servers' shadows. */
+static void materials_sent(tilesort *t, size_t n)
+{
+    if (!t->nmaterials)
+        return;
+    for (size_t i = 0; i < t->nmaterials; i++)
+        track_material(t, &t->materials[i]);
+    t->nmaterials = 0;
+    for (size_t k = 0; k < n; k++)
+        tsr_state_shadow_assume(t->ctx, t->srv[t->targets[k]].shadow, TSR_SM_MATERIAL);
+}
+
+/* Outside glBegin: a state change as any other (tilesort.c's R_STATE).
+ * Inside: packed, and kept for materials_sent. The packer may flush the
+ * buffer before the command goes in, so it is kept after packing. */
+static void material(tilesort *t, int slot, GLenum face, GLenum pname, const void *v, size_t bytes)
+{
+    ts_material m = {.slot = slot, .face = face, .pname = pname};
+    memcpy(&m.v, v, bytes < sizeof m.v ? bytes : sizeof m.v);
+    if (!t->in_begin) {
+        ts_flush_before_state(t);
+        track_material(t, &m);
+        if (!tsr_packer_pending(t->geo))
+            ts_snapshot(t);
+        return;
+    }
+    switch (slot) {
+    case 0: tsr_call_Materialf(&t->geo_table, face, pname, m.v.f[0]); break;
+    case 1: tsr_call_Materialfv(&t->geo_table, face, pname, m.v.f); break;
+    case 2: tsr_call_Materiali(&t->geo_table, face, pname, m.v.i[0]); break;
+    default: tsr_call_Materialiv(&t->geo_table, face, pname, m.v.i); break;
+    }
+    if (t->nmaterials == t->materials_cap) {
+        size_t cap = t->materials_cap ? 2 * t->materials_cap : 64;
+        ts_material *p = realloc(t->materials, cap * sizeof *p);
+        if (!p) {
+            tsr_error e;
+            tsr_error_set(&e, TSR_ENOMEM, "out of memory keeping a glMaterial inside glBegin");
+            ts_report(t, &e);
+            return;
+        }
+        t->materials = p;
+        t->materials_cap = cap;
+    }
+    t->materials[t->nmaterials++] = m;
+}
+
+static size_t material_values(GLenum pname) { return pname == GL_SHININESS ? 1 : pname == GL_COLOR_INDEXES ? 3 : 4; }
+
+void ts_Materialf(void *self, GLenum face, GLenum pname, GLfloat param)
+{
+    material(self, 0, face, pname, &param, sizeof param);
+}
+void ts_Materialfv(void *self, GLenum face, GLenum pname, const GLfloat *params)
+{
+    material(self, 1, face, pname, params, material_values(pname) * sizeof *params);
+}
+void ts_Materiali(void *self, GLenum face, GLenum pname, GLint param)
+{
+    material(self, 2, face, pname, &param, sizeof param);
+}
+void ts_Materialiv(void *self, GLenum face, GLenum pname, const GLint *params)
+{
+    material(self, 3, face, pname, params, material_values(pname) * sizeof *params);
 }
 
 /* --- sending ------------------------------------------------------------------ */
@@ -218,6 +306,7 @@ int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err
             assume_current(t, s);
         }
     }
+    materials_sent(t, n);
     t->broadcast_next = 0;
     t->nbuffer_lists = 0;
     t->buffer_calls_any = 0;

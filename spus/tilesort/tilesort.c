@@ -426,6 +426,10 @@ static void build_tables(tilesort *t)
     SET(WindowSizeTSR);
     SET(SwapBuffersTSR);
     SET(UseProgram);
+    SET(Materialf);
+    SET(Materialfv);
+    SET(Materiali);
+    SET(Materialiv);
     SET(PixelStorei);
     SET(PixelStoref);
     SET(BindBuffer);
@@ -518,6 +522,7 @@ static void tilesort_destroy(void *instance)
     free(t->buffer_lists);
     ts_batch_free(&t->compact);
     free(t->gathered);
+    free(t->materials);
     free(t->frame_rows);
     free(t->frame_costs);
     free(t->frame_pixels);

@@ -35,16 +35,8 @@ jobs_max=${FAKER_SWEEP_JOBS:-2}
 limit=${FAKER_SWEEP_SECONDS:-30}
 want=10
 hackdir=/usr/libexec/xscreensaver
-# Found by tracing every hack through `print` (glCreateShader, glUseProgram,
-# glBindBuffer, glBufferData): these five draw with GLSL 1.20 programs and
-# vertex/index buffers on tessera's OpenGL 2.1 (each asks for 3.0 first).
-glsl_hacks="etruscanvenus hypertorus projectiveplane romanboy sphereeversion"
-
-# The graph modes: the five GLSL hacks and 20 others of different kinds
-# (display lists, textures, lighting, many small draws), 26 programs with
-# glxgears, so that both graphs fit in about 90 s together.
-graph_hacks="$glsl_hacks antinspect atunnel blinkbox bubble3d cubestorm discoball engine gears
-  geodesic gflux glknots glmatrix glsnake hexstrut moebius molecule pipes polytopes queens superquadrics"
+# glsl_hacks, graph_hacks, check_glsl_hacks
+. "$(dirname "$0")/sweep_programs.sh"
 case $mode in
   render) graph="" ;;
   pack | wall) graph=$(cd "$(dirname "$0")" && pwd)/sweep_$mode.yaml ;;
@@ -55,6 +47,7 @@ command -v dpkg >/dev/null && dpkg -s xscreensaver-gl >/dev/null 2>&1 ||
   { echo "SKIP: xscreensaver-gl is not installed (scripts/setup-debian installs it)"; exit 77; }
 mapfile -t hacks < <(dpkg -L xscreensaver-gl | sed -n 's|.*/config/\([^/]*\)\.xml$|\1|p' | sort -u)
 [ "${#hacks[@]}" -gt 0 ] || { echo "FAIL: dpkg -L xscreensaver-gl lists no config/*.xml"; exit 1; }
+check_glsl_hacks "$hackdir" "${hacks[@]}" || exit 1
 if [ -n "$graph" ]; then
   for h in $graph_hacks; do
     [[ " ${hacks[*]} " == *" $h "* ]] || { echo "FAIL: $h is not a hack of xscreensaver-gl"; exit 1; }

@@ -22,6 +22,8 @@
  *  lazy_textures         unbound textures are not sent; a changed texture
  *                        sends only the new image call
  *  list_compile          glNewList(GL_COMPILE) leaves the state alone
+ *  buffers_unbound_reach_renderer  a diff sends every buffer with data the
+ *                        renderer lacks, bound or not, once
  *  get_count_table       tsr_state_get_count's table says, for every 16-bit
  *                        enum, how many values the tracker's get writes
  *  glsl_diff_matches_osmesa  random shader/program/uniform sequences: the
@@ -1347,6 +1349,85 @@ static void test_lazy_textures(void)
     tsr_state_tracker_destroy(t);
 }
 
+/* What a diff does to buffers: which buffer each BufferData filled. */
+typedef struct buf_log {
+    GLuint bound; /* GL_ARRAY_BUFFER on the renderer */
+    GLuint filled[8];
+    GLsizeiptr size[8];
+    int n;
+} buf_log;
+static void log_BindBuffer(void *self, GLenum target, GLuint name)
+{
+    buf_log *l = self;
+    if (target == GL_ARRAY_BUFFER)
+        l->bound = name;
+}
+static void log_BufferData(void *self, GLenum target, GLsizeiptr size, const void *data, GLenum usage)
+{
+    buf_log *l = self;
+    (void)data;
+    (void)usage;
+    if (target == GL_ARRAY_BUFFER && l->n < 8) {
+        l->size[l->n] = size;
+        l->filled[l->n++] = l->bound;
+    }
+}
+static int log_filled(const buf_log *l, GLuint name, GLsizeiptr size)
+{
+    int times = 0;
+    for (int i = 0; i < l->n; i++)
+        times += l->filled[i] == name && l->size[i] == size;
+    return times;
+}
+
+/* A diff precedes a stream whose draws carry their own arrays (buffer name
+ * and offset), and is taken with the state at that stream's end: every
+ * buffer with data reaches the renderer, also one that no binding and no
+ * enabled array names at the diff (xscreensaver's romanboy binds its
+ * buffers in turn around each draw; the first never reached a tilesort
+ * server). Once each, and again after it changed. */
+static void test_buffers_unbound_reach_renderer(void)
+{
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
+    static tsr_dispatch d, out;
+    tsr_dispatch_fill_nop(&d);
+    tsr_state_fill_dispatch(c, &d);
+    buf_log l = {0};
+    tsr_dispatch_fill_nop(&out);
+    tsr_set_BindBuffer(&out, log_BindBuffer, &l);
+    tsr_set_BufferData(&out, log_BufferData, &l);
+    static uint8_t data[300];
+    GLuint names[3];
+    tsr_call_GenBuffers(&d, 3, names);
+    for (int i = 0; i < 3; i++) {
+        GLenum target = i == 2 ? GL_ELEMENT_ARRAY_BUFFER : GL_ARRAY_BUFFER;
+        tsr_call_BindBuffer(&d, target, names[i]);
+        tsr_call_BufferData(&d, target, 100 * (i + 1), data, GL_STATIC_DRAW);
+        tsr_call_BindBuffer(&d, target, 0);
+    }
+    /* romanboy's draw: the diff sees buffers 2 and 3 bound, no array on */
+    tsr_call_BindBuffer(&d, GL_ARRAY_BUFFER, names[0]);
+    tsr_call_BindBuffer(&d, GL_ARRAY_BUFFER, names[1]);
+    tsr_call_BindBuffer(&d, GL_ELEMENT_ARRAY_BUFFER, names[2]);
+    tsr_state_diff(c, r, &out, NULL);
+    for (int i = 0; i < 3; i++)
+        CHECK(log_filled(&l, names[i], 100 * (i + 1)) == 1, "buffer %u (%d bytes) filled %d times, not once", names[i],
+              100 * (i + 1), log_filled(&l, names[i], 100 * (i + 1)));
+    CHECK(l.n == 3 && l.bound == names[1], "%d BufferData, GL_ARRAY_BUFFER left at %u (want 3, %u)", l.n, l.bound,
+          names[1]);
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(l.n == 3, "a second diff sent %d BufferData", l.n - 3);
+    tsr_call_BindBuffer(&d, GL_ARRAY_BUFFER, names[0]);
+    tsr_call_BufferData(&d, GL_ARRAY_BUFFER, 50, data, GL_STATIC_DRAW);
+    tsr_call_BindBuffer(&d, GL_ARRAY_BUFFER, 0);
+    tsr_state_diff(c, r, &out, NULL);
+    CHECK(l.n == 4 && log_filled(&l, names[0], 50) == 1 && l.bound == 0,
+          "refilling unbound buffer %u: %d BufferData, GL_ARRAY_BUFFER left at %u", names[0], l.n - 3, l.bound);
+    tsr_state_tracker_destroy(t);
+}
+
 /* Inside glNewList(GL_COMPILE) state calls are recorded, not executed:
  * the tracker must not change (COMPILE_AND_EXECUTE does), while the calls
  * GL runs at once (pixel store, client state, deletes) still count. */
@@ -2274,6 +2355,7 @@ int main(int argc, char **argv)
         {"many_renderers", test_many_renderers, 0},
         {"lazy_textures", test_lazy_textures, 0},
         {"list_compile", test_list_compile, 0},
+        {"buffers_unbound_reach_renderer", test_buffers_unbound_reach_renderer, 0},
         {"get_count_table", test_get_count_table, 0},
         {"matrices_bit_identical", test_matrices_bit_identical, 1},
         {"glsl_diff_matches_osmesa", test_glsl_diff_matches_osmesa, 1},

@@ -453,8 +453,9 @@ TSR_API uint32_t tsr_state_send_glsl_all(tsr_state_ctx *c, tsr_state_shadow *s, 
 TSR_API int tsr_state_is_dirty(const tsr_state_ctx *c, const tsr_state_shadow *s);
 /* The renderer received commands (in a geometry stream) that made the
  * current-attribute `member` (TSR_SM_COLOR, _NORMAL, _TEXCOORD0 + u,
- * _EDGEFLAG, _ATTRIBS) equal to c's value: copy it into the shadow without
- * emitting. Tilesort calls it for the attributes its geometry carried.
+ * _EDGEFLAG, _ATTRIBS), or the material (TSR_SM_MATERIAL: glMaterial is
+ * allowed inside glBegin/glEnd), equal to c's value: copy it into the
+ * shadow without emitting. Tilesort calls it for what its geometry carried.
  * Other members are ignored. */
 TSR_API void tsr_state_shadow_assume(tsr_state_ctx *c, tsr_state_shadow *s, int member);
 
