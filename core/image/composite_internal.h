@@ -13,4 +13,15 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
         memcpy(dst, src, n);
 }
 
+/* Image planes (colour, depth), 64-byte aligned. Large ones come straight
+ * from mmap and go back with munmap: the resident memory of a compositing
+ * peer is a measured figure (composite_peer_rss_mb), untouched parts of a
+ * worst-case reservation are never backed, and a freed plane is not kept
+ * in the heap for whatever is allocated next. ci_plane_bytes gives the
+ * bytes a plane holds (0 for NULL), so capacity follows the format's real
+ * size instead of the widest one. */
+void *ci_plane_alloc(size_t bytes);
+void ci_plane_free(void *plane);
+size_t ci_plane_bytes(const void *plane);
+
 #endif

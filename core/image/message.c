@@ -554,6 +554,25 @@ static int expect_field(const char *name, long long want, long long got, long lo
     return TSR_OK;
 }
 
+/* Planes for n decoded pixels of cb colour bytes (reused while big
+ * enough; composite_internal.h). */
+static int reserve_planes(tsr_sparse_image *s, size_t n, size_t cb, tsr_error *err)
+{
+    if (n <= s->pixel_capacity && ci_plane_bytes(s->color) >= n * cb && s->color)
+        return TSR_OK;
+    void *c = ci_plane_alloc(n * cb), *d = c ? ci_plane_alloc(n * 4) : NULL;
+    if (!d) {
+        ci_plane_free(c);
+        return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
+    }
+    ci_plane_free(s->color);
+    ci_plane_free(s->depth);
+    s->color = c;
+    s->depth = d;
+    s->pixel_capacity = n;
+    return TSR_OK;
+}
+
 int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
                              tsr_error *err)
 {
@@ -606,18 +625,8 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
             return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for runs");
         s->runs = r;
         s->runs_capacity = maxr;
-        if (h.count > s->pixel_capacity || !s->color) {
-            void *c = NULL, *d = NULL;
-            if (posix_memalign(&c, 64, (size_t)h.count * 16 + 64) || posix_memalign(&d, 64, (size_t)h.count * 4 + 64)) {
-                free(c);
-                return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %u pixels", h.count);
-            }
-            free(s->color);
-            free(s->depth);
-            s->color = c;
-            s->depth = d;
-            s->pixel_capacity = h.count;
-        }
+        if ((rc = reserve_planes(s, h.count, cb, err)))
+            return rc;
         for (uint32_t i = 0; i < h.count; i++) {
             const uint8_t *c = p + (size_t)i * cb;
             float d = 1.0f;
@@ -680,18 +689,8 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
     s->nruns = h.runs;
     p += (size_t)h.runs * 8;
     size_t n = h.active;
-    if (n > s->pixel_capacity || !s->color) {
-        void *c = NULL, *d = NULL;
-        if (posix_memalign(&c, 64, n * 16 + 64) || posix_memalign(&d, 64, n * 4 + 64)) {
-            free(c);
-            return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
-        }
-        free(s->color);
-        free(s->depth);
-        s->color = c;
-        s->depth = d;
-        s->pixel_capacity = n;
-    }
+    if ((rc = reserve_planes(s, n, cb, err)))
+        return rc;
     s->active = (uint32_t)n;
     const char *why = NULL;
     size_t used = 0;
