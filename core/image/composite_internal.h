@@ -13,6 +13,14 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
         memcpy(dst, src, n);
 }
 
+#include "tessera/dev/composite.h"
+
+/* tsr_sparse_image_compress; with runs_only, only the runs and the active
+ * count are written (no planes reserved): the pixels stay in `in`, where
+ * tsr_image_message_encode_dense takes them straight into a message. */
+int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                       int runs_only, tsr_error *err);
+
 /* Image planes (colour, depth), 64-byte aligned. Large ones come straight
  * from mmap and go back with munmap: the resident memory of a compositing
  * peer is a measured figure (composite_peer_rss_mb), untouched parts of a

@@ -145,6 +145,12 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
 int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                               tsr_error *err)
 {
+    return ci_sparse_compress(in, mode, start, count, out, 0, err);
+}
+
+int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                       int runs_only, tsr_error *err)
+{
     int rc = check_window(in->window_width, in->window_height, start, count, "sparse compress", err);
     if (rc)
         return rc;
@@ -156,7 +162,11 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
     size_t roi = (size_t)in->width * (size_t)in->height;
     /* Runs: at most one per two region pixels, plus the row edges. */
     size_t max_runs = roi / 2 + (size_t)in->height + 2;
-    if ((rc = sparse_reserve(out, max_runs, roi < count ? roi : count, tsr_ci_color_bytes(in->color_format), err)))
+    if ((rc = sparse_reserve(out, max_runs,
+                             runs_only     ? 0
+                             : roi < count ? roi
+                                           : count,
+                             tsr_ci_color_bytes(in->color_format), err)))
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, mode, in->color_format, in->depth_format,
                  in->rank, in->frame);
@@ -189,9 +199,11 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
                 q++;
             if (q > p) {
                 uint32_t at = put_active(out, q - p);
-                ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
-                if (in->depth_format)
-                    ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                if (!runs_only) {
+                    ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
+                    if (in->depth_format)
+                        ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                }
             }
             p = q;
         }

@@ -259,6 +259,21 @@ TSR_API int tsr_image_message_header_read(const void *data, size_t size, tsr_ima
  * TSR_EPROTO naming the field, the expected and the received value. */
 TSR_API int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *expect,
                                      tsr_sparse_image *out, tsr_error *err);
+/* Like decode, but without copying pixels when the codec leaves them raw
+ * ("rle": runs, raw colour, raw depth) and `data` is 4-byte aligned: `out`
+ * gets its own runs and points into the message's colour and depth
+ * (out->borrowed), so it is valid only while the message is, and is never
+ * written through. Every check of decode is made. Other codecs decode. */
+TSR_API int tsr_image_message_view(const void *data, size_t size, const tsr_image_message_header *expect,
+                                   tsr_sparse_image *out, tsr_error *err);
+/* The message tsr_sparse_image_compress(in, mode, start, count) followed
+ * by tsr_image_message_encode would give, bit for bit, with `scratch` for
+ * the runs; with "rle" (raw planes) the active pixels go straight from
+ * `in` into `out`, one copy and no sparse planes (other codecs compress
+ * into scratch first). */
+TSR_API int tsr_image_message_encode_dense(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
+                                           tsr_image_codec c, tsr_sparse_image *scratch, uint8_t *out, size_t cap,
+                                           size_t *size, tsr_error *err);
 /* An expectation with every field unchecked (fill in what you know). */
 TSR_API void tsr_image_message_expect_any(tsr_image_message_header *expect);
 
