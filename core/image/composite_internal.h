@@ -20,6 +20,8 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
  * tsr_image_message_encode_dense takes them straight into a message. */
 int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                        int runs_only, tsr_error *err);
+/* Planes of s for `pixels` active pixels of cb colour bytes. */
+int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err);
 
 /* Image planes (colour, depth), 64-byte aligned. Large ones come straight
  * from mmap and go back with munmap: the resident memory of a compositing

@@ -351,9 +351,20 @@ static uint32_t put_runs(const tsr_sparse_image *img, uint8_t *o)
     return nr;
 }
 
+size_t tsr_image_message_bound(const tsr_sparse_image *img, tsr_image_codec c)
+{
+    if (!c.runs)
+        return tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
+    /* encode writes canonical runs: never more pairs than max_size counts */
+    size_t n = img->active, pairs = img->nruns, canonical = img->count ? (size_t)img->count / 2 + 1 : 0;
+    pairs = pairs < canonical ? pairs : canonical;
+    return TSR_IMAGE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, img->color_format, c.color) +
+           depth_section_bound(n, img->depth_format, c.depth);
+}
+
 static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t cap, tsr_error *err)
 {
-    size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
+    size_t need = tsr_image_message_bound(img, c);
     if (cap < need)
         return tsr_error_set(err, TSR_EINVAL, "image message: buffer of %zu bytes is below the worst case %zu", cap,
                              need);
@@ -392,25 +403,32 @@ static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, ui
     }
 }
 
-int tsr_image_message_encode_dense(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_image_codec c,
-                                   tsr_sparse_image *scratch, uint8_t *out, size_t cap, size_t *size, tsr_error *err)
+int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c, uint8_t *out,
+                                   size_t cap, size_t *size, tsr_error *err)
 {
-    int raw = c.runs && c.color == TSR_CODEC_COLOR_RAW && (c.depth == TSR_CODEC_DEPTH_RAW || !in->depth_format);
-    int rc = ci_sparse_compress(in, mode, start, count, scratch, raw, err);
-    if (rc)
-        return rc;
-    if (!raw)
-        return tsr_image_message_encode(scratch, c, out, cap, size, err);
-    if ((rc = check_encode(scratch, c, cap, err)))
+    if (runs->window_width != in->window_width || runs->window_height != in->window_height ||
+        runs->color_format != in->color_format || runs->depth_format != in->depth_format)
+        return tsr_error_set(err, TSR_EINVAL, "image message: runs of a %dx%d image for a %dx%d read-back",
+                             runs->window_width, runs->window_height, in->window_width, in->window_height);
+    int rc;
+    size_t n = runs->active, cb = tsr_ci_color_bytes(in->color_format);
+    if (!(c.runs && c.color == TSR_CODEC_COLOR_RAW && (c.depth == TSR_CODEC_DEPTH_RAW || !in->depth_format))) {
+        /* the codec needs the pixels together: gather them into the runs'
+         * own planes, then encode those */
+        if ((rc = ci_sparse_planes(runs, n, cb, err)))
+            return rc;
+        gather_active(in, runs, runs->color, in->depth_format ? (uint8_t *)runs->depth : NULL);
+        return tsr_image_message_encode(runs, c, out, cap, size, err);
+    }
+    if ((rc = check_encode(runs, c, cap, err)))
         return rc;
     uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
-    uint32_t nr = put_runs(scratch, o);
+    uint32_t nr = put_runs(runs, o);
     o += 8 * (size_t)nr;
-    size_t n = scratch->active, cb = tsr_ci_color_bytes(in->color_format);
-    gather_active(in, scratch, o, in->depth_format ? o + n * cb : NULL);
+    gather_active(in, runs, o, in->depth_format ? o + n * cb : NULL);
     o += n * (cb + (in->depth_format ? 4 : 0));
     size_t payload = (size_t)(o - out) - TSR_IMAGE_MESSAGE_HEADER_SIZE;
-    write_header(out, scratch, c, (uint32_t)n, nr, (uint32_t)payload);
+    write_header(out, runs, c, (uint32_t)n, nr, (uint32_t)payload);
     *size = (size_t)(o - out);
     return TSR_OK;
 }

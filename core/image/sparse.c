@@ -148,6 +148,17 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
     return ci_sparse_compress(in, mode, start, count, out, 0, err);
 }
 
+int tsr_sparse_image_compress_runs(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
+                                   tsr_sparse_image *out, tsr_error *err)
+{
+    return ci_sparse_compress(in, mode, start, count, out, 1, err);
+}
+
+int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err)
+{
+    return sparse_reserve(s, 0, pixels, cb, err);
+}
+
 int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                        int runs_only, tsr_error *err)
 {

@@ -487,8 +487,11 @@ static int test_codec_worst_case_size(void)
                 CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
                 CHECK(len <= cap, "%s: %zu bytes over the advertised %zu (pattern %d, %d px)", CODECS[ci], len, cap,
                       pattern, W * H);
-                CHECK(tsr_image_message_encode(&s, c, buf, cap - 1, &len, &err) == TSR_EINVAL,
-                      "a buffer below the bound is accepted");
+                size_t bound = tsr_image_message_bound(&s, c);
+                CHECK(len <= bound && bound <= cap, "%s: %zu bytes, the image's bound %zu, the worst case %zu",
+                      CODECS[ci], len, bound, cap);
+                CHECK(tsr_image_message_encode(&s, c, buf, bound - 1, &len, &err) == TSR_EINVAL,
+                      "a buffer below the image's bound is accepted");
                 free(buf);
             }
             tsr_sparse_image_free(&s);
@@ -588,8 +591,13 @@ static int test_encode_dense_equals_compress_encode(void)
                         uint8_t *a = malloc(cap), *b = malloc(cap);
                         CHECK_OK(tsr_sparse_image_compress(&img, mode, st, n, &sp, &err), err);
                         CHECK_OK(tsr_image_message_encode(&sp, c, a, cap, &la, &err), err);
-                        CHECK_OK(tsr_image_message_encode_dense(&img, mode, st, n, c, &scratch, b, cap, &lb, &err),
-                                 err);
+                        CHECK_OK(tsr_sparse_image_compress_runs(&img, mode, st, n, &scratch, &err), err);
+                        size_t bound = tsr_image_message_bound(&scratch, c);
+                        CHECK(bound <= cap && bound == tsr_image_message_bound(&sp, c),
+                              "%s: the image's bound %zu is over the worst case %zu or differs from its copy's",
+                              CODECS[ci], bound, cap);
+                        CHECK_OK(tsr_image_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
+                        CHECK(la <= bound, "%s: %zu bytes over the image's bound %zu", CODECS[ci], la, bound);
                         CHECK(la == lb && !memcmp(a, b, la),
                               "%s, box %zu, fill %zu, mode %d, range %u+%u: %zu bytes vs %zu, or they differ",
                               CODECS[ci], bi, fi, mode, st, n, la, lb);

@@ -88,11 +88,13 @@ static int sent(tsr_cs_executor *ex, int to, uint8_t *dst, size_t len, const tsr
     return TSR_OK;
 }
 
+/* Messages reserve the bound of the very image they carry, not the worst
+ * case of the region: in a shared-memory ring the space reserved decides
+ * where the next message goes, so the pages in use follow the bytes sent. */
 static int send_piece(tsr_cs_executor *ex, const tsr_sparse_image *img, int to, const tsr_cs_transport *t,
                       tsr_error *err)
 {
-    size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, ex->codec), cap = 0,
-           len = 0;
+    size_t need = tsr_image_message_bound(img, ex->codec), cap = 0, len = 0;
     uint8_t *dst = message_buffer(ex, to, need, t, &cap, err);
     if (!dst)
         return err->code;
@@ -106,12 +108,14 @@ static int send_piece(tsr_cs_executor *ex, const tsr_sparse_image *img, int to, 
 static int send_dense(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg, int to,
                       const tsr_cs_transport *t, tsr_error *err)
 {
-    size_t need = tsr_image_message_max_size(reg.count, mine->color_format, mine->depth_format, ex->codec), cap = 0,
-           len = 0;
+    int rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, &ex->tmp, err);
+    if (rc)
+        return rc;
+    size_t need = tsr_image_message_bound(&ex->tmp, ex->codec), cap = 0, len = 0;
     uint8_t *dst = message_buffer(ex, to, need, t, &cap, err);
     if (!dst)
         return err->code;
-    int rc = tsr_image_message_encode_dense(mine, mode, reg.start, reg.count, ex->codec, &ex->tmp, dst, cap, &len, err);
+    rc = tsr_image_message_encode_dense(mine, &ex->tmp, ex->codec, dst, cap, &len, err);
     return rc ? rc : sent(ex, to, dst, len, t, err);
 }
 
