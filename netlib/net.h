@@ -95,8 +95,10 @@
  * to 64 (at least 64) bytes at offset position mod size, never wrapping:
  * it starts where the previous ring message ended, or at the next
  * multiple of the size (the sender skips the end of the ring when the
- * message does not fit there, and rewinds to the start whenever the ring
- * is empty, so pages are reused). The receiver checks each descriptor
+ * message does not fit there or when it fits before the oldest message
+ * not yet released, and rewinds to the start whenever the ring is empty:
+ * lowest offsets first, so the pages in use are those of the messages in
+ * flight, and they are reused). The receiver checks each descriptor
  * against that rule, against its max_message_bytes, and that the message
  * does not overlap one it has not released: a lying peer fails its
  * connection (one line naming it), nothing is read outside the mapping.

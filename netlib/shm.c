@@ -51,11 +51,16 @@ bool net_shm_fits(const tsr_net_conn *c, uint64_t len, uint64_t *pos_out)
     if (slot > r->size)
         return false;
     uint64_t pos = r->head;
-    /* An empty ring starts over at offset 0: the pages just used are
-     * reused, and a message never has to skip the end. */
+    /* Lowest offsets first: an empty ring starts over at offset 0, and so
+     * does a message that fits between the start and the oldest one not
+     * released. So the pages in use stay those of the messages in flight
+     * (each one is resident in both processes), instead of creeping
+     * through the whole ring when the peer holds one message while the
+     * next is written; and a message never has to skip the end. */
     bool empty = r->head == r->tail;
-    if (empty || pos % r->size > r->size - slot)
-        pos = lap_start(pos, r->size);
+    uint64_t next_lap = lap_start(pos, r->size);
+    if (empty || pos % r->size > r->size - slot || (next_lap != pos && next_lap - r->tail <= r->size - slot))
+        pos = next_lap;
     /* Unreleased messages lie in [tail, head): the new one must not reach
      * them a lap later. (An empty ring holds nothing to reach.) */
     if (!empty && pos - r->tail > r->size - slot)

@@ -21,6 +21,8 @@ foreach(t
     composite_codecs_roundtrip
     composite_codec_worst_case_size
     composite_message_decoder_rejects_bad_input
+    composite_encode_dense_equals_compress_encode
+    composite_message_view_equals_decode
     composite_schedules_hold_invariants
     binaryswap_odd_peer_counts
     composite_all_strategies_agree

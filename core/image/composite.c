@@ -9,6 +9,8 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include "composite_internal.h"
 #include "tessera/dev/composite.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -23,12 +25,59 @@ size_t tsr_ci_color_bytes(int color_format)
 
 size_t tsr_ci_depth_bytes(int depth_format) { return depth_format == TSR_CI_DEPTH32F ? 4 : 0; }
 
-static void *aligned_alloc64(size_t bytes)
+/* ---- planes (composite_internal.h) -------------------------------------- */
+
+#define CI_PLANE_HEADER 64             /* keeps the plane 64-byte aligned */
+#define CI_PLANE_MMAP_MIN (256u << 10) /* below: the heap (small images, tests) */
+
+typedef struct ci_plane_header {
+    size_t bytes, mapped; /* mapped: the mmap length, 0 when from the heap */
+} ci_plane_header;
+
+void *ci_plane_alloc(size_t bytes)
 {
-    void *p = NULL;
-    if (posix_memalign(&p, 64, bytes ? bytes : 64) != 0)
+    if (bytes > SIZE_MAX - CI_PLANE_HEADER - 4096)
         return NULL;
-    return p;
+    size_t total = bytes + CI_PLANE_HEADER;
+    uint8_t *base = NULL;
+    size_t mapped = 0;
+    if (total >= CI_PLANE_MMAP_MIN) {
+        void *m = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (m == MAP_FAILED)
+            return NULL;
+        base = m;
+        mapped = total;
+    } else {
+        void *p = NULL;
+        if (posix_memalign(&p, 64, total) != 0)
+            return NULL;
+        base = p;
+    }
+    ci_plane_header h = {.bytes = bytes, .mapped = mapped};
+    memcpy(base, &h, sizeof h);
+    return base + CI_PLANE_HEADER;
+}
+
+void ci_plane_free(void *plane)
+{
+    if (!plane)
+        return;
+    uint8_t *base = (uint8_t *)plane - CI_PLANE_HEADER;
+    ci_plane_header h;
+    memcpy(&h, base, sizeof h);
+    if (h.mapped)
+        munmap(base, h.mapped);
+    else
+        free(base);
+}
+
+size_t ci_plane_bytes(const void *plane)
+{
+    if (!plane)
+        return 0;
+    ci_plane_header h;
+    memcpy(&h, (const uint8_t *)plane - CI_PLANE_HEADER, sizeof h);
+    return h.bytes;
 }
 
 int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x, int y, int width, int height,
@@ -43,12 +92,13 @@ int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x,
     if (!tsr_ci_color_bytes(color_format) || (depth_format != TSR_CI_NODEPTH && depth_format != TSR_CI_DEPTH32F))
         return tsr_error_set(err, TSR_EINVAL, "composite image: unknown format (colour %d, depth %d)", color_format,
                              depth_format);
-    size_t n = (size_t)width * (size_t)height;
-    if (n > img->capacity_pixels || (depth_format && !img->depth && n) || (!img->color && n)) {
-        free(img->color);
-        free(img->depth);
-        img->color = aligned_alloc64(n * 16);
-        img->depth = aligned_alloc64(n * 4);
+    size_t n = (size_t)width * (size_t)height, cb = tsr_ci_color_bytes(color_format);
+    if (n > img->capacity_pixels || ci_plane_bytes(img->color) < n * cb || (depth_format && !img->depth && n) ||
+        (!img->color && n)) {
+        ci_plane_free(img->color);
+        ci_plane_free(img->depth);
+        img->color = ci_plane_alloc(n * cb);
+        img->depth = ci_plane_alloc(n * 4);
         img->capacity_pixels = n;
         if (!img->color || !img->depth) {
             tsr_cimage_free(img);
@@ -68,8 +118,8 @@ int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x,
 
 void tsr_cimage_free(tsr_cimage *img)
 {
-    free(img->color);
-    free(img->depth);
+    ci_plane_free(img->color);
+    ci_plane_free(img->depth);
     memset(img, 0, sizeof *img);
 }
 

@@ -13,4 +13,25 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
         memcpy(dst, src, n);
 }
 
+#include "tessera/dev/composite.h"
+
+/* tsr_sparse_image_compress; with runs_only, only the runs and the active
+ * count are written (no planes reserved): the pixels stay in `in`, where
+ * tsr_image_message_encode_dense takes them straight into a message. */
+int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                       int runs_only, tsr_error *err);
+/* Planes of s for `pixels` active pixels of cb colour bytes. */
+int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err);
+
+/* Image planes (colour, depth), 64-byte aligned. Large ones come straight
+ * from mmap and go back with munmap: the resident memory of a compositing
+ * peer is a measured figure (composite_peer_rss_mb), untouched parts of a
+ * worst-case reservation are never backed, and a freed plane is not kept
+ * in the heap for whatever is allocated next. ci_plane_bytes gives the
+ * bytes a plane holds (0 for NULL), so capacity follows the format's real
+ * size instead of the widest one. */
+void *ci_plane_alloc(size_t bytes);
+void ci_plane_free(void *plane);
+size_t ci_plane_bytes(const void *plane);
+
 #endif

@@ -330,10 +330,41 @@ static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_code
     put32(o + 44, payload);
 }
 
-int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap, size_t *size,
-                             tsr_error *err)
+/* The runs section at o, re-canonicalised (a decoded image may carry empty
+ * pairs); returns the pairs written. */
+static uint32_t put_runs(const tsr_sparse_image *img, uint8_t *o)
 {
-    size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
+    uint32_t nr = 0;
+    for (uint32_t r = 0; r < img->nruns; r++) {
+        uint32_t ni = img->runs[2 * r], na = img->runs[2 * r + 1];
+        if (nr && get32(o + 8 * (nr - 1) + 4) == 0) {
+            put32(o + 8 * (nr - 1), get32(o + 8 * (nr - 1)) + ni);
+            put32(o + 8 * (nr - 1) + 4, na);
+        } else if (nr && ni == 0) {
+            put32(o + 8 * (nr - 1) + 4, get32(o + 8 * (nr - 1) + 4) + na);
+        } else if (ni || na) {
+            put32(o + 8 * nr, ni);
+            put32(o + 8 * nr + 4, na);
+            nr++;
+        }
+    }
+    return nr;
+}
+
+size_t tsr_image_message_bound(const tsr_sparse_image *img, tsr_image_codec c)
+{
+    if (!c.runs)
+        return tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
+    /* encode writes canonical runs: never more pairs than max_size counts */
+    size_t n = img->active, pairs = img->nruns, canonical = img->count ? (size_t)img->count / 2 + 1 : 0;
+    pairs = pairs < canonical ? pairs : canonical;
+    return TSR_IMAGE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, img->color_format, c.color) +
+           depth_section_bound(n, img->depth_format, c.depth);
+}
+
+static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t cap, tsr_error *err)
+{
+    size_t need = tsr_image_message_bound(img, c);
     if (cap < need)
         return tsr_error_set(err, TSR_EINVAL, "image message: buffer of %zu bytes is below the worst case %zu", cap,
                              need);
@@ -342,6 +373,72 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
     if (img->rank < 0 || img->rank > 0xffff || img->rank_count < 1 || img->rank_count > 0xffff)
         return tsr_error_set(err, TSR_EINVAL, "image message: rank %d+%d does not fit 16 bits", img->rank,
                              img->rank_count);
+    return TSR_OK;
+}
+
+/* Copies the active pixels the runs of `runs` name (window indices from
+ * runs->start) out of the dense region `in` into dst_color / dst_depth,
+ * one copy per run and row. An active run lies inside the region (outside
+ * it every pixel is background); it crosses rows only where the region
+ * is as wide as the window, and there the region's rows are contiguous. */
+static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth)
+{
+    size_t cb = tsr_ci_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
+    size_t pos = runs->start;
+    int whole_rows = in->x == 0 && in->width == in->window_width;
+    for (uint32_t r = 0; r < runs->nruns; r++) {
+        pos += runs->runs[2 * r];
+        size_t n = runs->runs[2 * r + 1];
+        while (n) {
+            size_t y = pos / W, x = pos % W, len = whole_rows ? n : (W - x < n ? W - x : n);
+            size_t src =
+                whole_rows ? pos - (size_t)in->y * W : (y - (size_t)in->y) * (size_t)in->width + (x - (size_t)in->x);
+            memcpy(dst_color + at * cb, in->color + src * cb, len * cb);
+            if (dst_depth)
+                memcpy(dst_depth + at * 4, in->depth + src, len * 4);
+            at += len;
+            pos += len;
+            n -= len;
+        }
+    }
+}
+
+int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c, uint8_t *out,
+                                   size_t cap, size_t *size, tsr_error *err)
+{
+    if (runs->window_width != in->window_width || runs->window_height != in->window_height ||
+        runs->color_format != in->color_format || runs->depth_format != in->depth_format)
+        return tsr_error_set(err, TSR_EINVAL, "image message: runs of a %dx%d image for a %dx%d read-back",
+                             runs->window_width, runs->window_height, in->window_width, in->window_height);
+    int rc;
+    size_t n = runs->active, cb = tsr_ci_color_bytes(in->color_format);
+    if (!(c.runs && c.color == TSR_CODEC_COLOR_RAW && (c.depth == TSR_CODEC_DEPTH_RAW || !in->depth_format))) {
+        /* the codec needs the pixels together: gather them into the runs'
+         * own planes, then encode those */
+        if ((rc = ci_sparse_planes(runs, n, cb, err)))
+            return rc;
+        gather_active(in, runs, runs->color, in->depth_format ? (uint8_t *)runs->depth : NULL);
+        return tsr_image_message_encode(runs, c, out, cap, size, err);
+    }
+    if ((rc = check_encode(runs, c, cap, err)))
+        return rc;
+    uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    uint32_t nr = put_runs(runs, o);
+    o += 8 * (size_t)nr;
+    gather_active(in, runs, o, in->depth_format ? o + n * cb : NULL);
+    o += n * (cb + (in->depth_format ? 4 : 0));
+    size_t payload = (size_t)(o - out) - TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    write_header(out, runs, c, (uint32_t)n, nr, (uint32_t)payload);
+    *size = (size_t)(o - out);
+    return TSR_OK;
+}
+
+int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap, size_t *size,
+                             tsr_error *err)
+{
+    int rc0 = check_encode(img, c, cap, err);
+    if (rc0)
+        return rc0;
     size_t cb = tsr_ci_color_bytes(img->color_format), n = img->active;
     uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
     const uint8_t *color = img->color;
@@ -369,21 +466,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
         *size = TSR_IMAGE_MESSAGE_HEADER_SIZE + payload;
         return TSR_OK;
     }
-    /* Runs, re-canonicalised (a decoded image may carry empty pairs). */
-    uint32_t nr = 0;
-    for (uint32_t r = 0; r < img->nruns; r++) {
-        uint32_t ni = img->runs[2 * r], na = img->runs[2 * r + 1];
-        if (nr && get32(o + 8 * (nr - 1) + 4) == 0) {
-            put32(o + 8 * (nr - 1), get32(o + 8 * (nr - 1)) + ni);
-            put32(o + 8 * (nr - 1) + 4, na);
-        } else if (nr && ni == 0) {
-            put32(o + 8 * (nr - 1) + 4, get32(o + 8 * (nr - 1) + 4) + na);
-        } else if (ni || na) {
-            put32(o + 8 * nr, ni);
-            put32(o + 8 * nr + 4, na);
-            nr++;
-        }
-    }
+    uint32_t nr = put_runs(img, o);
     o += 8 * (size_t)nr;
     if (c.color == TSR_CODEC_COLOR_RAW) {
         ci_copy(o, color, n * cb);
@@ -554,8 +637,42 @@ static int expect_field(const char *name, long long want, long long got, long lo
     return TSR_OK;
 }
 
+/* Planes for n decoded pixels of cb colour bytes (reused while big
+ * enough; composite_internal.h). */
+static int reserve_planes(tsr_sparse_image *s, size_t n, size_t cb, tsr_error *err)
+{
+    if (n <= s->pixel_capacity && ci_plane_bytes(s->color) >= n * cb && s->color)
+        return TSR_OK;
+    void *c = ci_plane_alloc(n * cb), *d = c ? ci_plane_alloc(n * 4) : NULL;
+    if (!d) {
+        ci_plane_free(c);
+        return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
+    }
+    ci_plane_free(s->color);
+    ci_plane_free(s->depth);
+    s->color = c;
+    s->depth = d;
+    s->pixel_capacity = n;
+    return TSR_OK;
+}
+
+static int decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out, int view,
+                  tsr_error *err);
+
 int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
                              tsr_error *err)
+{
+    return decode(data, size, e, out, 0, err);
+}
+
+int tsr_image_message_view(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
+                           tsr_error *err)
+{
+    return decode(data, size, e, out, 1, err);
+}
+
+static int decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out, int view,
+                  tsr_error *err)
 {
     tsr_image_message_header h;
     int rc = tsr_image_message_header_read(data, size, &h, err);
@@ -606,18 +723,8 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
             return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for runs");
         s->runs = r;
         s->runs_capacity = maxr;
-        if (h.count > s->pixel_capacity || !s->color) {
-            void *c = NULL, *d = NULL;
-            if (posix_memalign(&c, 64, (size_t)h.count * 16 + 64) || posix_memalign(&d, 64, (size_t)h.count * 4 + 64)) {
-                free(c);
-                return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %u pixels", h.count);
-            }
-            free(s->color);
-            free(s->depth);
-            s->color = c;
-            s->depth = d;
-            s->pixel_capacity = h.count;
-        }
+        if ((rc = reserve_planes(s, h.count, cb, err)))
+            return rc;
         for (uint32_t i = 0; i < h.count; i++) {
             const uint8_t *c = p + (size_t)i * cb;
             float d = 1.0f;
@@ -680,18 +787,27 @@ int tsr_image_message_decode(const void *data, size_t size, const tsr_image_mess
     s->nruns = h.runs;
     p += (size_t)h.runs * 8;
     size_t n = h.active;
-    if (n > s->pixel_capacity || !s->color) {
-        void *c = NULL, *d = NULL;
-        if (posix_memalign(&c, 64, n * 16 + 64) || posix_memalign(&d, 64, n * 4 + 64)) {
-            free(c);
-            return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
-        }
-        free(s->color);
-        free(s->depth);
-        s->color = c;
-        s->depth = d;
-        s->pixel_capacity = n;
+    if (view && h.codec.color == TSR_CODEC_COLOR_RAW && (h.codec.depth == TSR_CODEC_DEPTH_RAW || !db) &&
+        (uintptr_t)p % 4 == 0) {
+        /* The planes as they lie in the message (checked like a copy). */
+        if ((size_t)(end - p) < n * cb)
+            return tsr_error_set(err, TSR_EPROTO, "image message: colour of %zu pixels truncated", n);
+        if ((size_t)(end - p) - n * cb < n * db)
+            return tsr_error_set(err, TSR_EPROTO, "image message: depth of %zu pixels truncated", n);
+        if ((size_t)(end - p) != n * (cb + db))
+            return tsr_error_set(err, TSR_EPROTO, "image message: %zu bytes left over after the payload",
+                                 (size_t)(end - p) - n * (cb + db));
+        ci_plane_free(s->color);
+        ci_plane_free(s->depth);
+        s->color = (uint8_t *)(uintptr_t)p;
+        s->depth = db ? (float *)(uintptr_t)(p + n * cb) : NULL;
+        s->pixel_capacity = 0;
+        s->borrowed = 1;
+        s->active = (uint32_t)n;
+        return TSR_OK;
     }
+    if ((rc = reserve_planes(s, n, cb, err)))
+        return rc;
     s->active = (uint32_t)n;
     const char *why = NULL;
     size_t used = 0;

@@ -9,7 +9,9 @@
 #include "composite_internal.h"
 #include "tessera/dev/composite.h"
 
-static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, tsr_error *err)
+/* Room for `runs` run pairs and `pixels` active pixels of cb colour bytes
+ * (planes reused while big enough; composite_internal.h). */
+static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, size_t cb, tsr_error *err)
 {
     if (s->borrowed) {
         /* a view's planes are another image's: never freed or reused */
@@ -25,15 +27,14 @@ static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, tsr_e
         s->runs = r;
         s->runs_capacity = runs;
     }
-    if (pixels > s->pixel_capacity || (!s->color && pixels)) {
-        size_t cb = 16; /* room for either colour format, so reuse never shrinks */
-        void *c = NULL, *d = NULL;
-        if (posix_memalign(&c, 64, pixels * cb) != 0 || posix_memalign(&d, 64, pixels * 4) != 0) {
-            free(c);
+    if (pixels > s->pixel_capacity || ci_plane_bytes(s->color) < pixels * cb || (!s->color && pixels)) {
+        void *c = ci_plane_alloc(pixels * cb), *d = c ? ci_plane_alloc(pixels * 4) : NULL;
+        if (!d) {
+            ci_plane_free(c);
             return tsr_error_set(err, TSR_ENOMEM, "sparse image: no memory for %zu pixels", pixels);
         }
-        free(s->color);
-        free(s->depth);
+        ci_plane_free(s->color);
+        ci_plane_free(s->depth);
         s->color = c;
         s->depth = d;
         s->pixel_capacity = pixels;
@@ -45,8 +46,8 @@ void tsr_sparse_image_free(tsr_sparse_image *img)
 {
     free(img->runs);
     if (!img->borrowed) {
-        free(img->color);
-        free(img->depth);
+        ci_plane_free(img->color);
+        ci_plane_free(img->depth);
     }
     memset(img, 0, sizeof *img);
 }
@@ -119,7 +120,7 @@ int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_h
                            int mode, int color_format, int depth_format, int rank, uint32_t frame, tsr_error *err)
 {
     int rc = check_window(window_width, window_height, start, count, "sparse image", err);
-    if (rc || (rc = sparse_reserve(out, 1, 0, err)))
+    if (rc || (rc = sparse_reserve(out, 1, 0, 4, err)))
         return rc;
     sparse_begin(out, window_width, window_height, start, count, mode, color_format, depth_format, rank, frame);
     put_inactive(out, count);
@@ -144,6 +145,23 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
 int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                               tsr_error *err)
 {
+    return ci_sparse_compress(in, mode, start, count, out, 0, err);
+}
+
+int tsr_sparse_image_compress_runs(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
+                                   tsr_sparse_image *out, tsr_error *err)
+{
+    return ci_sparse_compress(in, mode, start, count, out, 1, err);
+}
+
+int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err)
+{
+    return sparse_reserve(s, 0, pixels, cb, err);
+}
+
+int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
+                       int runs_only, tsr_error *err)
+{
     int rc = check_window(in->window_width, in->window_height, start, count, "sparse compress", err);
     if (rc)
         return rc;
@@ -155,7 +173,11 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
     size_t roi = (size_t)in->width * (size_t)in->height;
     /* Runs: at most one per two region pixels, plus the row edges. */
     size_t max_runs = roi / 2 + (size_t)in->height + 2;
-    if ((rc = sparse_reserve(out, max_runs, roi < count ? roi : count, err)))
+    if ((rc = sparse_reserve(out, max_runs,
+                             runs_only     ? 0
+                             : roi < count ? roi
+                                           : count,
+                             tsr_ci_color_bytes(in->color_format), err)))
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, mode, in->color_format, in->depth_format,
                  in->rank, in->frame);
@@ -188,9 +210,11 @@ int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, ui
                 q++;
             if (q > p) {
                 uint32_t at = put_active(out, q - p);
-                ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
-                if (in->depth_format)
-                    ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                if (!runs_only) {
+                    ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
+                    if (in->depth_format)
+                        ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                }
             }
             p = q;
         }
@@ -222,7 +246,7 @@ static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count,
     uint32_t first = r, nr = 0;
     for (uint32_t q = r, p = pos; q < in->nruns && p < hi; q++, nr++)
         p += in->runs[2 * q] + in->runs[2 * q + 1];
-    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, err);
+    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, tsr_ci_color_bytes(in->color_format), err);
     if (rc)
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format, in->depth_format,
@@ -272,8 +296,8 @@ int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t c
     if (rc)
         return rc;
     if (!out->borrowed) {
-        free(out->color);
-        free(out->depth);
+        ci_plane_free(out->color);
+        ci_plane_free(out->depth);
     }
     size_t cb = tsr_ci_color_bytes(in->color_format);
     out->color = in->color ? in->color + (size_t)first * cb : NULL;
@@ -341,7 +365,8 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
     size_t pixels = (size_t)front->active + back->active;
     if (pixels > front->count)
         pixels = front->count;
-    int rc = sparse_reserve(out, (size_t)front->nruns + back->nruns + 1, pixels, err);
+    int rc = sparse_reserve(out, (size_t)front->nruns + back->nruns + 1, pixels,
+                            tsr_ci_color_bytes(front->color_format), err);
     if (rc)
         return rc;
     sparse_begin(out, front->window_width, front->window_height, front->start, front->count, front->mode,
@@ -388,6 +413,25 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
     return TSR_OK;
 }
 
+/* n pixels of the background colour: a copy of constant size per pixel,
+ * which the compiler turns into plain (vector) stores; a copy of cb bytes
+ * would be a library call per pixel, and background is most of a sparse
+ * frame. */
+static void fill_background(uint8_t *dst, const void *background, size_t cb, uint32_t n)
+{
+    if (cb == 4) {
+        uint32_t v;
+        memcpy(&v, background, 4);
+        for (uint32_t i = 0; i < n; i++)
+            memcpy(dst + 4 * (size_t)i, &v, 4);
+    } else {
+        float v[4];
+        memcpy(v, background, sizeof v);
+        for (uint32_t i = 0; i < n; i++)
+            memcpy(dst + 16 * (size_t)i, v, sizeof v);
+    }
+}
+
 int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background, tsr_cimage *dst, tsr_error *err)
 {
     if (dst->window_width != in->window_width || dst->window_height != in->window_height ||
@@ -431,8 +475,7 @@ int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background
                         ci_copy(dst->depth + o, in->depth + at, len * sizeof(float));
                     at += len;
                 } else {
-                    for (uint32_t i = 0; i < len; i++)
-                        ci_copy(dst->color + (o + i) * cb, background, cb);
+                    fill_background(dst->color + o * cb, background, cb, len);
                     if (dst->depth_format)
                         for (uint32_t i = 0; i < len; i++)
                             dst->depth[o + i] = far;

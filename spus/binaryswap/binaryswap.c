@@ -270,8 +270,8 @@ static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei
 /* Each direction's shared-memory ring (unix: peers): room for four of the
  * largest messages a full window can make, so a peer a frame ahead never
  * waits for ring space where a socket would have taken its image. Only
- * the pages written are ever backed (netlib reuses the start of an empty
- * ring). */
+ * the pages written are ever backed, and netlib writes at the lowest free
+ * offsets, so those are the pages of the messages in flight. */
 static uint64_t ring_bytes(const bswap_spu *b, int W, int H)
 {
     size_t one = tsr_image_message_max_size((uint32_t)W * (uint32_t)H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, b->codec);

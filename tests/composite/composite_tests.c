@@ -487,8 +487,11 @@ static int test_codec_worst_case_size(void)
                 CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
                 CHECK(len <= cap, "%s: %zu bytes over the advertised %zu (pattern %d, %d px)", CODECS[ci], len, cap,
                       pattern, W * H);
-                CHECK(tsr_image_message_encode(&s, c, buf, cap - 1, &len, &err) == TSR_EINVAL,
-                      "a buffer below the bound is accepted");
+                size_t bound = tsr_image_message_bound(&s, c);
+                CHECK(len <= bound && bound <= cap, "%s: %zu bytes, the image's bound %zu, the worst case %zu",
+                      CODECS[ci], len, bound, cap);
+                CHECK(tsr_image_message_encode(&s, c, buf, bound - 1, &len, &err) == TSR_EINVAL,
+                      "a buffer below the image's bound is accepted");
                 free(buf);
             }
             tsr_sparse_image_free(&s);
@@ -554,6 +557,114 @@ static int test_message_decoder_rejects_bad_input(void)
     free(bad);
     tsr_sparse_image_free(&s);
     tsr_sparse_image_free(&d);
+    tsr_cimage_free(&img);
+    return harness_failures;
+}
+
+/* ---- straight from the read-back, straight out of the message ------------------ */
+
+/* encode_dense (the peer's sends, no sparse copy) gives the very bytes of
+ * compress + encode, for every codec, region and range shape: whole
+ * window, a box inside it, a full-width band, an empty region, ranges
+ * starting and ending mid-row, all background, a single pixel, NaN. */
+static int test_encode_dense_equals_compress_encode(void)
+{
+    tsr_error err;
+    const int W = 61, H = 37;
+    const int boxes[][4] = {{0, 0, 61, 37}, {7, 5, 30, 20}, {0, 9, 61, 11}, {0, 0, 0, 0}, {60, 36, 1, 1}};
+    const fill_kind fills[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_SINGLE, FILL_NAN, FILL_OPAQUE};
+    uint32_t all = (uint32_t)W * H;
+    const uint32_t ranges[][2] = {{0, all}, {all / 3, all / 2}, {100, 1}, {all - 5, 5}, {0, 0}};
+    tsr_sparse_image sp = {0}, scratch = {0};
+    int compared = 0;
+    for (size_t bi = 0; bi < sizeof boxes / sizeof *boxes; bi++)
+        for (size_t fi = 0; fi < sizeof fills / sizeof *fills; fi++) {
+            tsr_cimage img = {0};
+            make_image(&img, W, H, boxes[bi][0], boxes[bi][1], boxes[bi][2], boxes[bi][3], 3, fills[fi]);
+            for (int mode = TSR_COMPOSITE_DEPTH; mode <= TSR_COMPOSITE_ALPHA; mode++)
+                for (size_t ri = 0; ri < sizeof ranges / sizeof *ranges; ri++)
+                    for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+                        tsr_image_codec c;
+                        CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+                        uint32_t st = ranges[ri][0], n = ranges[ri][1];
+                        size_t cap = tsr_image_message_max_size(n, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), la = 0, lb = 0;
+                        uint8_t *a = malloc(cap), *b = malloc(cap);
+                        CHECK_OK(tsr_sparse_image_compress(&img, mode, st, n, &sp, &err), err);
+                        CHECK_OK(tsr_image_message_encode(&sp, c, a, cap, &la, &err), err);
+                        CHECK_OK(tsr_sparse_image_compress_runs(&img, mode, st, n, &scratch, &err), err);
+                        size_t bound = tsr_image_message_bound(&scratch, c);
+                        CHECK(bound <= cap && bound == tsr_image_message_bound(&sp, c),
+                              "%s: the image's bound %zu is over the worst case %zu or differs from its copy's",
+                              CODECS[ci], bound, cap);
+                        CHECK_OK(tsr_image_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
+                        CHECK(la <= bound, "%s: %zu bytes over the image's bound %zu", CODECS[ci], la, bound);
+                        CHECK(la == lb && !memcmp(a, b, la),
+                              "%s, box %zu, fill %zu, mode %d, range %u+%u: %zu bytes vs %zu, or they differ",
+                              CODECS[ci], bi, fi, mode, st, n, la, lb);
+                        compared++;
+                        free(a);
+                        free(b);
+                    }
+            tsr_cimage_free(&img);
+        }
+    printf("%d messages encoded from the read-back equal compress + encode byte for byte\n", compared);
+    tsr_sparse_image_free(&sp);
+    tsr_sparse_image_free(&scratch);
+    return harness_failures;
+}
+
+/* The zero-copy view of a received message equals its decoded copy
+ * (same header, runs, pixels), points into the message for "rle", and
+ * rejects every corrupted message with decode's code and words. */
+static int test_message_view_equals_decode(void)
+{
+    tsr_error err, err2;
+    tsr_cimage img = {0};
+    make_image(&img, 64, 16, 3, 2, 50, 12, 2, FILL_RANDOM);
+    tsr_sparse_image s = {0}, d = {0}, v = {0};
+    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 64 * 3 + 5, 64 * 9, &s, &err), err);
+    for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+        tsr_image_codec c;
+        CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+        size_t cap = tsr_image_message_max_size(s.count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), len;
+        uint8_t *buf = malloc(cap), *bad = malloc(cap);
+        CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
+        CHECK_OK(tsr_image_message_decode(buf, len, NULL, &d, &err), err);
+        CHECK_OK(tsr_image_message_view(buf, len, NULL, &v, &err), err);
+        CHECK(d.start == v.start && d.count == v.count && d.active == v.active && d.nruns == v.nruns &&
+                  d.rank == v.rank && d.frame == v.frame,
+              "%s: the view's header differs from the copy's", CODECS[ci]);
+        CHECK(!memcmp(d.runs, v.runs, 8 * (size_t)d.nruns) && !memcmp(d.color, v.color, 4 * (size_t)d.active) &&
+                  !memcmp(d.depth, v.depth, 4 * (size_t)d.active),
+              "%s: the view's runs or pixels differ from the copy's", CODECS[ci]);
+        int inside = v.color >= buf && v.color < buf + len;
+        CHECK(inside == !strcmp(CODECS[ci], "rle"), "%s: the view's colour %s the message", CODECS[ci],
+              inside ? "points into" : "does not point into");
+        for (int iter = 0; iter < 1500; iter++) {
+            memcpy(bad, buf, len);
+            int flips = 1 + rnd() % 4;
+            for (int f = 0; f < flips; f++)
+                bad[rnd() % len] ^= (uint8_t)(1u << (rnd() % 8));
+            size_t cut = iter % 5 == 0 ? rnd() % (len + 1) : len;
+            int ra = tsr_image_message_decode(bad, cut, NULL, &d, &err);
+            int rb = tsr_image_message_view(bad, cut, NULL, &v, &err2);
+            CHECK(ra == rb, "%s, corruption %d: decode says %d, view %d (%s)", CODECS[ci], iter, ra, rb,
+                  rb ? err2.message : err.message);
+            if (ra && rb)
+                CHECK(!strcmp(err.message, err2.message), "%s: decode says '%s', view '%s'", CODECS[ci], err.message,
+                      err2.message);
+            if (!ra && !rb)
+                CHECK(d.active == v.active && !memcmp(d.color, v.color, 4 * (size_t)d.active),
+                      "%s: a corrupted message decodes and views differently", CODECS[ci]);
+        }
+        free(buf);
+        free(bad);
+    }
+    printf("view = decode for %zu codecs, 1500 corrupted messages each (same verdict, same words)\n",
+           sizeof CODECS / sizeof *CODECS);
+    tsr_sparse_image_free(&s);
+    tsr_sparse_image_free(&d);
+    tsr_sparse_image_free(&v);
     tsr_cimage_free(&img);
     return harness_failures;
 }
@@ -1048,6 +1159,8 @@ int main(int argc, char **argv)
         {"codecs_roundtrip", test_codecs_roundtrip},
         {"codec_worst_case_size", test_codec_worst_case_size},
         {"message_decoder_rejects_bad_input", test_message_decoder_rejects_bad_input},
+        {"encode_dense_equals_compress_encode", test_encode_dense_equals_compress_encode},
+        {"message_view_equals_decode", test_message_view_equals_decode},
         {"schedules_hold_invariants", test_schedules_hold_invariants},
         {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
         {"all_strategies_agree", test_all_strategies_agree},

@@ -3,7 +3,8 @@
  * real memfd rings and real threads: the bytes arrive whole through the
  * ring (tsr_net_send and the zero-copy reserve/commit), the statistics say
  * so, ring space is the credit (a held message stops the sender, its
- * release lets it go on), it is negotiated only when both sides ask and
+ * release lets it go on), a new message takes the ring's start whenever
+ * that is free (the pages in use are the messages in flight), it is negotiated only when both sides ask and
  * only on Unix sockets, and a peer that lies (descriptors outside the
  * ring, a ring that could be truncated, no segment, descriptors passed out
  * of place) fails its own connection with one line naming it, never the
@@ -245,6 +246,63 @@ static int test_ring_is_the_credit(void)
     return 0;
 }
 
+/* ---- lowest offsets first: the pages in use are the messages in flight ---- */
+
+/* Waits until the sender has every credit back but `held` (the receiver
+ * released the others and its CREDIT, which carries the ring position,
+ * has reached the sender's I/O thread). */
+static void wait_credits(tsr_net_conn *c, uint64_t held)
+{
+    tsr_net_stats st;
+    uint64_t t0 = test_now_ms();
+    do {
+        tsr_net_conn_stats(c, &st);
+        if (st.messages_unreturned <= held)
+            return;
+        usleep(1000);
+    } while (test_now_ms() - t0 < 3000);
+    CHECK(0, "%llu messages unreturned after 3 s, %llu held", (unsigned long long)st.messages_unreturned,
+          (unsigned long long)held);
+}
+
+static int test_ring_reuses_its_start(void)
+{
+    pair p;
+    open_pair(&p, unix_address(), RING, RING);
+    const size_t big = 300 * 1024;
+    tsr_net_msg held, m;
+    send_pattern(p.c, 0, big, 2000, TSR_OK, NULL);
+    recv_check(p.s, 0, big, &held, "m0");
+    const uint8_t *start = held.data;
+    /* The receiver holds one message while the next is written (a peer a
+     * frame ahead): each new one goes to the ring's start whenever that
+     * is free, so two places serve the whole stream. */
+    const uint8_t *seen[4] = {start};
+    int places = 1;
+    for (int i = 1; i <= 30; i++) {
+        send_pattern(p.c, (uint64_t)i * big, big, 2000, TSR_OK, NULL);
+        recv_check(p.s, (uint64_t)i * big, big, &m, "stream");
+        tsr_net_msg_release(&held);
+        held = m;
+        wait_credits(p.c, 1);
+        int known = 0;
+        for (int k = 0; k < places; k++)
+            known |= seen[k] == (const uint8_t *)m.data;
+        if (!known) {
+            CHECK(places < 4, "message %d at ring offset %td: more than 2 places used", i,
+                  (const uint8_t *)m.data - start);
+            seen[places++] = m.data;
+        }
+    }
+    tsr_net_msg_release(&held);
+    printf("31 messages of %zu bytes, one always held, used %d places of the %u-byte ring\n", big, places, RING);
+    CHECK(places == 2, "%d places, expected 2 (offset 0 and right after it)", places);
+    CHECK((size_t)(seen[1] - start) == big, "the second place is at offset %td, not %zu", seen[1] - start, big);
+    close_pair(&p);
+    printf("PASS\n");
+    return 0;
+}
+
 /* ---- negotiated only when both ask, only on Unix sockets ------------------- */
 
 static void exchange_one(pair *p, const char *want_transport, int want_shm)
@@ -456,6 +514,7 @@ int main(int argc, char **argv)
         {"roundtrip", test_roundtrip},
         {"zero_copy", test_zero_copy},
         {"ring_is_the_credit", test_ring_is_the_credit},
+        {"ring_reuses_its_start", test_ring_reuses_its_start},
         {"negotiation", test_negotiation},
         {"lying_peer", test_lying_peer},
     };

@@ -168,6 +168,11 @@ TSR_API int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int 
  * in's formats, rank and frame. `out`'s memory is reused. */
 TSR_API int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
                                       tsr_sparse_image *out, tsr_error *err);
+/* The same, but only the runs and `active`: the planes are left as they
+ * were (for tsr_image_message_encode_dense, which takes the pixels from
+ * `in` itself). */
+TSR_API int tsr_sparse_image_compress_runs(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
+                                           tsr_sparse_image *out, tsr_error *err);
 /* The sub-range [start, start+count) of `in` (which must contain it), as
  * its own sparse image; background runs are cut, never expanded. */
 TSR_API int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
@@ -243,7 +248,8 @@ typedef struct tsr_image_message_header {
  * formats with codec `c` can produce (header included). Never exceeded. */
 TSR_API size_t tsr_image_message_max_size(uint32_t count, int color_format, int depth_format, tsr_image_codec c);
 /* Encodes `img` into out[0..cap); *size is the message's length. cap below
- * tsr_image_message_max_size may fail with TSR_EINVAL, never overflow. A
+ * tsr_image_message_bound (<= tsr_image_message_max_size) fails with
+ * TSR_EINVAL, never overflows. A
  * lossy colour codec on float colour is TSR_EUNSUPPORTED. */
 TSR_API int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap,
                                      size_t *size, tsr_error *err);
@@ -259,6 +265,28 @@ TSR_API int tsr_image_message_header_read(const void *data, size_t size, tsr_ima
  * TSR_EPROTO naming the field, the expected and the received value. */
 TSR_API int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *expect,
                                      tsr_sparse_image *out, tsr_error *err);
+/* Like decode, but without copying pixels when the codec leaves them raw
+ * ("rle": runs, raw colour, raw depth) and `data` is 4-byte aligned: `out`
+ * gets its own runs and points into the message's colour and depth
+ * (out->borrowed), so it is valid only while the message is, and is never
+ * written through. Every check of decode is made. Other codecs decode. */
+TSR_API int tsr_image_message_view(const void *data, size_t size, const tsr_image_message_header *expect,
+                                   tsr_sparse_image *out, tsr_error *err);
+/* A peer's read-back straight into a message: `runs` comes from
+ * tsr_sparse_image_compress_runs of `in`, and the message is the one
+ * tsr_sparse_image_compress followed by tsr_image_message_encode would
+ * give, bit for bit. With "rle" (raw planes) the active pixels go from
+ * `in` into `out`, one copy and no sparse planes; other codecs gather them
+ * into the planes of `runs` first. cap: tsr_image_message_bound(runs). */
+TSR_API int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c,
+                                           uint8_t *out, size_t cap, size_t *size, tsr_error *err);
+/* The largest message encoding this very image (its runs and active
+ * pixels) with codec `c` can produce, header included: at most
+ * tsr_image_message_max_size of its count, and what encode needs as cap.
+ * A sender reserves this much, not the worst case of any image: in a
+ * shared-memory ring the space reserved decides where the next message
+ * goes, so the pages in use follow the bytes sent. */
+TSR_API size_t tsr_image_message_bound(const tsr_sparse_image *img, tsr_image_codec c);
 /* An expectation with every field unchecked (fill in what you know). */
 TSR_API void tsr_image_message_expect_any(tsr_image_message_header *expect);
 

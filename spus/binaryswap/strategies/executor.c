@@ -14,8 +14,12 @@
 struct tsr_cs_executor {
     const tsr_cs_schedule *s;
     tsr_image_codec codec;
-    tsr_sparse_image cur, acc, tmp, piece;
-    tsr_sparse_image *recv; /* one per possible sender */
+    /* cur: this rank's image once composited; acc/tmp: merge outputs;
+     * piece: a view or the kept part of the read-back; in: the received
+     * message (a view of it, or decoded); first: alpha mode's copy of a
+     * received piece that starts a fold. One received message at a time:
+     * each is merged as it arrives, before the next is asked for. */
+    tsr_sparse_image cur, acc, tmp, piece, in, first;
     uint8_t *buf;
     size_t buf_cap;
     tsr_cs_stats stats;
@@ -24,10 +28,7 @@ struct tsr_cs_executor {
 tsr_cs_executor *tsr_cs_executor_new(const tsr_cs_schedule *s, tsr_image_codec c, tsr_error *err)
 {
     tsr_cs_executor *ex = calloc(1, sizeof *ex);
-    if (ex)
-        ex->recv = calloc((size_t)s->nranks + 1, sizeof *ex->recv);
-    if (!ex || !ex->recv) {
-        free(ex);
+    if (!ex) {
         tsr_error_set(err, TSR_ENOMEM, "composite executor: no memory");
         return NULL;
     }
@@ -44,42 +45,85 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
     tsr_sparse_image_free(&ex->acc);
     tsr_sparse_image_free(&ex->tmp);
     tsr_sparse_image_free(&ex->piece);
-    for (int i = 0; i <= ex->s->nranks; i++)
-        tsr_sparse_image_free(&ex->recv[i]);
-    free(ex->recv);
+    tsr_sparse_image_free(&ex->in);
+    tsr_sparse_image_free(&ex->first);
     free(ex->buf);
     free(ex);
 }
 
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out) { *out = ex->stats; }
 
-static int send_piece(tsr_cs_executor *ex, const tsr_sparse_image *img, int to, const tsr_cs_transport *t,
-                      tsr_error *err)
+/* The buffer the next message to `to` is encoded into: the transport's own
+ * (shared memory) when it offers one, else the executor's. */
+static uint8_t *message_buffer(tsr_cs_executor *ex, int to, size_t need, const tsr_cs_transport *t, size_t *cap,
+                               tsr_error *err)
 {
-    size_t need = tsr_image_message_max_size(img->count, img->color_format, img->depth_format, ex->codec), len = 0;
-    uint8_t *dst = ex->buf;
-    size_t cap = ex->buf_cap;
-    if (t->send_buffer) { /* where the transport sends from (shared memory) */
-        if (!(dst = t->send_buffer(t->user, to, need, err)))
-            return err->code ? err->code : TSR_EIO;
-        cap = need;
-    } else if (need > ex->buf_cap) {
-        uint8_t *b = realloc(ex->buf, need);
-        if (!b)
-            return tsr_error_set(err, TSR_ENOMEM, "composite: no memory for a %zu-byte message", need);
-        dst = ex->buf = b;
-        cap = ex->buf_cap = need;
+    if (t->send_buffer) {
+        uint8_t *dst = t->send_buffer(t->user, to, need, err);
+        if (!dst && !err->code)
+            tsr_error_set(err, TSR_EIO, "composite: no buffer for a message to participant %d", to);
+        *cap = need;
+        return dst;
     }
-    int rc = tsr_image_message_encode(img, ex->codec, dst, cap, &len, err);
-    if (rc || (rc = t->send(t->user, to, dst, len, err)))
+    if (need > ex->buf_cap) {
+        uint8_t *b = realloc(ex->buf, need);
+        if (!b) {
+            tsr_error_set(err, TSR_ENOMEM, "composite: no memory for a %zu-byte message", need);
+            return NULL;
+        }
+        ex->buf = b;
+        ex->buf_cap = need;
+    }
+    *cap = ex->buf_cap;
+    return ex->buf;
+}
+
+static int sent(tsr_cs_executor *ex, int to, uint8_t *dst, size_t len, const tsr_cs_transport *t, tsr_error *err)
+{
+    int rc = t->send(t->user, to, dst, len, err);
+    if (rc)
         return rc;
     ex->stats.bytes_sent += len;
     ex->stats.messages_sent++;
     return TSR_OK;
 }
 
-static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_header *expect, tsr_sparse_image *out,
+/* Messages reserve the bound of the very image they carry, not the worst
+ * case of the region: in a shared-memory ring the space reserved decides
+ * where the next message goes, so the pages in use follow the bytes sent. */
+static int send_piece(tsr_cs_executor *ex, const tsr_sparse_image *img, int to, const tsr_cs_transport *t,
+                      tsr_error *err)
+{
+    size_t need = tsr_image_message_bound(img, ex->codec), cap = 0, len = 0;
+    uint8_t *dst = message_buffer(ex, to, need, t, &cap, err);
+    if (!dst)
+        return err->code;
+    int rc = tsr_image_message_encode(img, ex->codec, dst, cap, &len, err);
+    return rc ? rc : sent(ex, to, dst, len, t, err);
+}
+
+/* A region of the read-back itself (before this rank composited anything):
+ * encoded from the dense image straight into the message, so the pixels
+ * sent are copied once and never held as a sparse copy. */
+static int send_dense(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg, int to,
                       const tsr_cs_transport *t, tsr_error *err)
+{
+    int rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, &ex->tmp, err);
+    if (rc)
+        return rc;
+    size_t need = tsr_image_message_bound(&ex->tmp, ex->codec), cap = 0, len = 0;
+    uint8_t *dst = message_buffer(ex, to, need, t, &cap, err);
+    if (!dst)
+        return err->code;
+    rc = tsr_image_message_encode_dense(mine, &ex->tmp, ex->codec, dst, cap, &len, err);
+    return rc ? rc : sent(ex, to, dst, len, t, err);
+}
+
+/* Receives the next message from `from` into ex->in: a view of it when the
+ * codec leaves the pixels raw (valid until the next receive), decoded
+ * otherwise. */
+static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_header *expect, const tsr_cs_transport *t,
+                      tsr_error *err)
 {
     const void *data = NULL;
     size_t size = 0;
@@ -88,7 +132,7 @@ static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_hea
         return rc;
     ex->stats.bytes_received += size;
     ex->stats.messages_received++;
-    if ((rc = tsr_image_message_decode(data, size, expect, out, err))) {
+    if ((rc = tsr_image_message_view(data, size, expect, &ex->in, err))) {
         char why[sizeof err->message];
         memcpy(why, err->message, sizeof why);
         return tsr_error_set(err, rc, "from peer %d: %s", from, why);
@@ -96,40 +140,92 @@ static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_hea
     return TSR_OK;
 }
 
-/* Composites pieces[0..n) (front first) into *result; the intervals must
- * be adjacent, or the schedule and the messages disagree. Depth mode folds
- * front to back (the merge is associative: any grouping gives the same
- * bits). Alpha mode folds back to front, acc = pieces[i] over acc from the
- * last piece: with 8-bit (or float) rounding at every step "over" is not
- * associative, and this is the grouping of a serial back-to-front blend;
- * a schedule that keeps it exact (tsr_cs_schedule_keeps_order) hands this
- * fold single layers in front of a blended suffix. */
-static int composite_in_order(tsr_cs_executor *ex, tsr_sparse_image **pieces, int n, tsr_sparse_image **result,
-                              tsr_error *err)
+/* One step of a fold: *acc becomes `piece` merged in front of it
+ * (in_front) or behind it. The intervals must be adjacent, or the
+ * schedule and the messages disagree. The output is whichever of the two
+ * merge buffers is not an input. */
+static int fold(tsr_cs_executor *ex, tsr_sparse_image **acc, const tsr_sparse_image *piece, int in_front,
+                tsr_error *err)
 {
-    int back_first = n > 1 && pieces[0]->mode == TSR_COMPOSITE_ALPHA;
-    tsr_sparse_image *acc = pieces[back_first ? n - 1 : 0];
-    tsr_sparse_image *bufs[2] = {&ex->acc, &ex->tmp};
-    int which = 0;
-    for (int j = 1; j < n; j++) {
-        tsr_sparse_image *next = pieces[back_first ? n - 1 - j : j];
-        tsr_sparse_image *front = back_first ? next : acc, *back = back_first ? acc : next;
-        if (front->rank + front->rank_count != back->rank)
-            return tsr_error_set(
-                err, TSR_EPROTO, "composite: piece of ranks %d..%d follows ranks %d..%d (not adjacent in the order)",
-                back->rank, back->rank + back->rank_count - 1, front->rank, front->rank + front->rank_count - 1);
-        tsr_sparse_image *out = bufs[which];
-        if (out == acc)
-            out = bufs[which ^= 1];
-        int rc = tsr_sparse_image_merge(front, back, out, err);
-        if (rc)
+    const tsr_sparse_image *front = in_front ? piece : *acc, *back = in_front ? *acc : piece;
+    if (front->rank + front->rank_count != back->rank)
+        return tsr_error_set(
+            err, TSR_EPROTO, "composite: piece of ranks %d..%d follows ranks %d..%d (not adjacent in the order)",
+            back->rank, back->rank + back->rank_count - 1, front->rank, front->rank + front->rank_count - 1);
+    tsr_sparse_image *out = *acc == &ex->acc ? &ex->tmp : &ex->acc;
+    int rc = tsr_sparse_image_merge(front, back, out, err);
+    if (rc)
+        return rc;
+    ex->stats.pixels_merged += front->active + back->active;
+    *acc = out;
+    return TSR_OK;
+}
+
+/* Composites the pieces of one region, in composite order p[0..n) (front
+ * first): p[i] is from[i]'s message, or `self` where from[i] < 0. Each
+ * received piece is merged as soon as it arrives. Depth mode folds out
+ * from `self` (the merge is associative: any grouping of adjacent
+ * intervals gives the same bits), so the running image is always the
+ * executor's own. Alpha mode folds back to front, acc = p[i] over acc from
+ * the last piece: with 8-bit (or float) rounding at every step "over" is
+ * not associative, and this is the grouping of a serial back-to-front
+ * blend; a schedule that keeps it exact (tsr_cs_schedule_keeps_order)
+ * hands this fold single layers in front of a blended suffix. The result
+ * is ex->acc, ex->tmp, self, or (one received piece alone) ex->in. */
+static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_sparse_image *self, int mode,
+                            const tsr_image_message_header *expect, const tsr_cs_transport *t,
+                            tsr_sparse_image **result, tsr_error *err)
+{
+    int rc, at = -1;
+    for (int i = 0; i < n && at < 0; i++)
+        if (from[i] < 0)
+            at = i;
+    tsr_sparse_image *acc = NULL;
+    if (mode != TSR_COMPOSITE_ALPHA && at >= 0) {
+        acc = self;
+        for (int i = at - 1; i >= 0; i--)
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = fold(ex, &acc, &ex->in, 1, err)))
+                return rc;
+        for (int i = at + 1; i < n; i++)
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = fold(ex, &acc, &ex->in, 0, err)))
+                return rc;
+        *result = acc;
+        return TSR_OK;
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        const tsr_sparse_image *p = self;
+        if (from[i] >= 0) {
+            if ((rc = recv_piece(ex, from[i], expect, t, err)))
+                return rc;
+            p = &ex->in;
+        }
+        if (!acc && i > 0 && p == &ex->in) {
+            /* it must outlive the next receive: a copy of its own */
+            if ((rc = tsr_sparse_image_split(p, p->start, p->count, &ex->first, err)))
+                return rc;
+            acc = &ex->first;
+        } else if (!acc) {
+            acc = (tsr_sparse_image *)p;
+        } else if ((rc = fold(ex, &acc, p, 1, err))) { /* from the back: p is in front */
             return rc;
-        ex->stats.pixels_merged += front->active + back->active;
-        acc = out;
-        which ^= 1;
+        }
     }
     *result = acc;
     return TSR_OK;
+}
+
+static void expect_region(tsr_image_message_header *e, const tsr_cs_schedule *s, uint32_t frame, tsr_cs_region reg,
+                          int mode, int color_format, int depth_format)
+{
+    tsr_image_message_expect_any(e);
+    e->window_width = s->window_width;
+    e->window_height = s->window_height;
+    e->frame = frame;
+    e->start = reg.start;
+    e->count = reg.count;
+    e->mode = mode;
+    e->color_format = color_format;
+    e->depth_format = depth_format;
 }
 
 int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
@@ -142,27 +238,33 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
     if (mine->window_width != s->window_width || mine->window_height != s->window_height)
         return tsr_error_set(err, TSR_EINVAL, "composite: rank %d's window is %dx%d, the group's %dx%d", rank,
                              mine->window_width, mine->window_height, s->window_width, s->window_height);
+    if (mode != TSR_COMPOSITE_DEPTH && mode != TSR_COMPOSITE_ALPHA)
+        return tsr_error_set(err, TSR_EINVAL, "composite: unknown mode %d", mode);
+    if (mode == TSR_COMPOSITE_DEPTH && mine->depth_format != TSR_CI_DEPTH32F)
+        return tsr_error_set(err, TSR_EINVAL, "composite: depth mode needs a depth plane");
     memset(&ex->stats, 0, sizeof ex->stats);
-    uint32_t all = (uint32_t)s->window_width * (uint32_t)s->window_height;
     tsr_cimage me = *mine;
     me.rank = rank;
-    int rc = tsr_sparse_image_compress(&me, mode, 0, all, &ex->cur, err);
-    if (rc)
-        return rc;
+    /* Until this rank composites something its image is the read-back
+     * itself (`dense`): sends are encoded from it, the kept part of it is
+     * compressed alone. No sparse copy of the whole layer is ever made. */
+    int dense = 1, rc;
     const tsr_cs_rank *R = &s->ranks[rank];
     for (int i = 0; i < R->nrounds; i++) {
         const tsr_cs_round *rd = &R->rounds[i];
-        /* pieces are views of the current image: encoded or merged at
-         * once, never copied */
         for (int j = 0; j < rd->nsend; j++) {
-            if ((rc = tsr_sparse_image_view(&ex->cur, rd->send[j].region.start, rd->send[j].region.count, &ex->piece,
-                                            err)) ||
-                (rc = send_piece(ex, &ex->piece, rd->send[j].peer, t, err)))
+            if (dense)
+                rc = send_dense(ex, &me, mode, rd->send[j].region, rd->send[j].peer, t, err);
+            else if (!(rc = tsr_sparse_image_view(&ex->cur, rd->send[j].region.start, rd->send[j].region.count,
+                                                  &ex->piece, err)))
+                rc = send_piece(ex, &ex->piece, rd->send[j].peer, t, err); /* a view: encoded at once */
+            if (rc)
                 return rc;
         }
         if (!rd->nrecv) {
-            /* nothing to composite: keep a part (a copy), or all as it is */
-            if (rd->keep.start == ex->cur.start && rd->keep.count == ex->cur.count)
+            /* nothing to composite: keep a part (the read-back already
+             * covers it; a composited image is cut, a copy) */
+            if (dense || (rd->keep.start == ex->cur.start && rd->keep.count == ex->cur.count))
                 continue;
             if ((rc = tsr_sparse_image_split(&ex->cur, rd->keep.start, rd->keep.count, &ex->acc, err)))
                 return rc;
@@ -171,44 +273,45 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
             ex->acc = t0;
             continue;
         }
-        tsr_sparse_image *pieces[TSR_CS_MAX_PEERS + 1];
-        int np = 0;
-        if ((rc = tsr_sparse_image_view(&ex->cur, rd->keep.start, rd->keep.count, &ex->piece, err)))
+        if (dense)
+            rc = tsr_sparse_image_compress(&me, mode, rd->keep.start, rd->keep.count, &ex->piece, err);
+        else
+            rc = tsr_sparse_image_view(&ex->cur, rd->keep.start, rd->keep.count, &ex->piece, err);
+        if (rc)
             return rc;
-        tsr_image_message_header expect;
-        tsr_image_message_expect_any(&expect);
-        expect.window_width = s->window_width;
-        expect.window_height = s->window_height;
-        expect.frame = mine->frame;
-        expect.start = rd->keep.start;
-        expect.count = rd->keep.count;
-        expect.mode = mode;
-        expect.color_format = mine->color_format;
-        expect.depth_format = mine->depth_format;
+        int from[TSR_CS_MAX_PEERS + 1], np = 0;
         for (int q = 0; q <= rd->nrecv; q++) {
-            if (q == rd->self_index) {
-                pieces[np++] = &ex->piece;
-                if (q == rd->nrecv)
-                    break;
-            }
-            if (q < rd->nrecv) {
-                int from = rd->recv[q].peer;
-                if ((rc = recv_piece(ex, from, &expect, &ex->recv[from], t, err)))
-                    return rc;
-                pieces[np++] = &ex->recv[from];
-            }
+            if (q == rd->self_index)
+                from[np++] = -1;
+            if (q < rd->nrecv)
+                from[np++] = rd->recv[q].peer;
         }
+        tsr_image_message_header expect;
+        expect_region(&expect, s, mine->frame, rd->keep, mode, mine->color_format, mine->depth_format);
         tsr_sparse_image *result = NULL;
-        if ((rc = composite_in_order(ex, pieces, np, &result, err)))
+        if ((rc = composite_region(ex, from, np, &ex->piece, mode, &expect, t, &result, err)))
             return rc;
+        if (result == &ex->in || result == &ex->piece) {
+            /* a piece alone (no merge made): cur needs a copy of its own */
+            if ((rc = tsr_sparse_image_split(result, result->start, result->count, &ex->acc, err)))
+                return rc;
+            result = &ex->acc;
+        }
         /* the result becomes the current image (swap, no copy) */
         tsr_sparse_image t0 = ex->cur;
         ex->cur = *result;
         *result = t0;
+        dense = 0;
     }
     if (!R->final.count)
         return TSR_OK;
-    if ((rc = tsr_sparse_image_view(&ex->cur, R->final.start, R->final.count, &ex->piece, err)))
+    /* nothing composited (gather, one peer): the final piece is compressed
+     * from the read-back; else a view of the composited image */
+    if (dense)
+        rc = tsr_sparse_image_compress(&me, mode, R->final.start, R->final.count, &ex->piece, err);
+    else
+        rc = tsr_sparse_image_view(&ex->cur, R->final.start, R->final.count, &ex->piece, err);
+    if (rc)
         return rc;
     *final = &ex->piece;
     return TSR_OK;
@@ -217,11 +320,20 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
 int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
                     tsr_error *err)
 {
+    const tsr_cs_schedule *s = ex->s;
+    if (rank >= 0 && rank < s->nranks && !s->ranks[rank].nrounds && s->ranks[rank].final.count &&
+        mine->window_width == s->window_width && mine->window_height == s->window_height) {
+        /* the read-back as it is goes to the display: encoded from it */
+        memset(&ex->stats, 0, sizeof ex->stats);
+        tsr_cimage me = *mine;
+        me.rank = rank;
+        return send_dense(ex, &me, mode, s->ranks[rank].final, TSR_CS_DISPLAY(s->nranks), t, err);
+    }
     const tsr_sparse_image *final = NULL;
     int rc = tsr_cs_run_peer_rounds(ex, rank, mine, mode, t, &final, err);
     if (rc || !final)
         return rc;
-    return send_piece(ex, final, TSR_CS_DISPLAY(ex->s->nranks), t, err);
+    return send_piece(ex, final, TSR_CS_DISPLAY(s->nranks), t, err);
 }
 
 int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_format, int depth_format,
@@ -236,32 +348,19 @@ int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_
     frame_out->frame = frame;
     for (int g = 0; g < s->ngather;) {
         tsr_cs_region reg = s->gather[g].region;
-        tsr_sparse_image *pieces[TSR_CS_MAX_PEERS];
-        int np = 0;
+        int from[TSR_CS_MAX_PEERS], np = 0;
+        for (; g < s->ngather && s->gather[g].region.start == reg.start && s->gather[g].region.count == reg.count; g++)
+            from[np++] = s->gather[g].peer;
         tsr_image_message_header expect;
-        tsr_image_message_expect_any(&expect);
-        expect.window_width = s->window_width;
-        expect.window_height = s->window_height;
-        expect.frame = frame;
-        expect.start = reg.start;
-        expect.count = reg.count;
-        expect.mode = mode;
-        expect.color_format = color_format;
-        expect.depth_format = depth_format;
-        for (; g < s->ngather && s->gather[g].region.start == reg.start && s->gather[g].region.count == reg.count;
-             g++) {
-            int from = s->gather[g].peer;
-            if ((rc = recv_piece(ex, from, &expect, &ex->recv[from], t, err)))
-                return rc;
-            pieces[np++] = &ex->recv[from];
-        }
+        expect_region(&expect, s, frame, reg, mode, color_format, depth_format);
         tsr_sparse_image *result = NULL;
-        if ((rc = composite_in_order(ex, pieces, np, &result, err)))
+        if ((rc = composite_region(ex, from, np, NULL, mode, &expect, t, &result, err)))
             return rc;
         if (result->rank != 0 || result->rank_count != s->nranks)
             return tsr_error_set(err, TSR_EPROTO, "composite: pixels %u+%u hold ranks %d..%d, not all of 0..%d",
                                  reg.start, reg.count, result->rank, result->rank + result->rank_count - 1,
                                  s->nranks - 1);
+        /* at once: a received piece is valid until the next receive */
         if ((rc = tsr_sparse_image_to_dense(result, background, frame_out, err)))
             return rc;
     }
