@@ -62,8 +62,7 @@ struct render_fastdraw {
     void(GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
     void(GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
     void(GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
-    void(GLAPIENTRY *FramebufferTexture2D)(GLenum target, GLenum attachment, GLenum textarget, GLuint tex,
-                                           GLint level);
+    void(GLAPIENTRY *FramebufferTexture2D)(GLenum target, GLenum attachment, GLenum textarget, GLuint tex, GLint level);
     GLenum(GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
     void(GLAPIENTRY *BlitFramebuffer)(GLint sx0, GLint sy0, GLint sx1, GLint sy1, GLint dx0, GLint dy0, GLint dx1,
                                       GLint dy1, GLbitfield mask, GLenum filter);
@@ -149,15 +148,14 @@ static void probe(render_fastdraw *f, const tsr_gl_procs *gl)
 /* Every fragment stage off, so a fragment keeps the bytes it was given. */
 static bool fragments_untouched(const render_fastdraw *f, const tsr_gl_procs *gl)
 {
-    static const GLenum off[] = {GL_ALPHA_TEST,  GL_DEPTH_TEST, GL_STENCIL_TEST, GL_BLEND,
-                                 GL_COLOR_LOGIC_OP, GL_FOG,   GL_COLOR_SUM,    GL_LIGHTING};
+    static const GLenum off[] = {GL_ALPHA_TEST,     GL_DEPTH_TEST, GL_STENCIL_TEST, GL_BLEND,
+                                 GL_COLOR_LOGIC_OP, GL_FOG,        GL_COLOR_SUM,    GL_LIGHTING};
     for (size_t i = 0; i < sizeof off / sizeof off[0]; i++)
         if (gl->IsEnabled(off[i]))
             return false;
     if ((f->fragment_program && gl->IsEnabled(GL_FRAGMENT_PROGRAM_ARB)) ||
         (f->ati_fragment_shader && gl->IsEnabled(GL_FRAGMENT_SHADER_ATI)) ||
-        (f->srgb && gl->IsEnabled(GL_FRAMEBUFFER_SRGB)) ||
-        (f->depth_bounds && gl->IsEnabled(GL_DEPTH_BOUNDS_TEST_EXT)))
+        (f->srgb && gl->IsEnabled(GL_FRAMEBUFFER_SRGB)) || (f->depth_bounds && gl->IsEnabled(GL_DEPTH_BOUNDS_TEST_EXT)))
         return false;
     GLint v = 0;
     gl->GetIntegerv(GL_CURRENT_PROGRAM, &v);
@@ -200,18 +198,23 @@ static bool transfer_identity(const render_fastdraw *f, const tsr_gl_procs *gl)
             return false;
     }
     if (f->imaging) {
-        static const GLenum stages[] = {GL_COLOR_TABLE, GL_POST_CONVOLUTION_COLOR_TABLE,
-                                        GL_POST_COLOR_MATRIX_COLOR_TABLE, GL_CONVOLUTION_1D, GL_CONVOLUTION_2D,
-                                        GL_SEPARABLE_2D, GL_HISTOGRAM, GL_MINMAX};
+        static const GLenum stages[] = {GL_COLOR_TABLE,
+                                        GL_POST_CONVOLUTION_COLOR_TABLE,
+                                        GL_POST_COLOR_MATRIX_COLOR_TABLE,
+                                        GL_CONVOLUTION_1D,
+                                        GL_CONVOLUTION_2D,
+                                        GL_SEPARABLE_2D,
+                                        GL_HISTOGRAM,
+                                        GL_MINMAX};
         for (size_t i = 0; i < sizeof stages / sizeof stages[0]; i++)
             if (gl->IsEnabled(stages[i]))
                 return false;
         static const GLenum more[] = {
-            GL_POST_CONVOLUTION_RED_SCALE,    GL_POST_CONVOLUTION_GREEN_SCALE,  GL_POST_CONVOLUTION_BLUE_SCALE,
-            GL_POST_CONVOLUTION_ALPHA_SCALE,  GL_POST_COLOR_MATRIX_RED_SCALE,   GL_POST_COLOR_MATRIX_GREEN_SCALE,
-            GL_POST_COLOR_MATRIX_BLUE_SCALE,  GL_POST_COLOR_MATRIX_ALPHA_SCALE, GL_POST_CONVOLUTION_RED_BIAS,
-            GL_POST_CONVOLUTION_GREEN_BIAS,   GL_POST_CONVOLUTION_BLUE_BIAS,    GL_POST_CONVOLUTION_ALPHA_BIAS,
-            GL_POST_COLOR_MATRIX_RED_BIAS,    GL_POST_COLOR_MATRIX_GREEN_BIAS,  GL_POST_COLOR_MATRIX_BLUE_BIAS,
+            GL_POST_CONVOLUTION_RED_SCALE,   GL_POST_CONVOLUTION_GREEN_SCALE,  GL_POST_CONVOLUTION_BLUE_SCALE,
+            GL_POST_CONVOLUTION_ALPHA_SCALE, GL_POST_COLOR_MATRIX_RED_SCALE,   GL_POST_COLOR_MATRIX_GREEN_SCALE,
+            GL_POST_COLOR_MATRIX_BLUE_SCALE, GL_POST_COLOR_MATRIX_ALPHA_SCALE, GL_POST_CONVOLUTION_RED_BIAS,
+            GL_POST_CONVOLUTION_GREEN_BIAS,  GL_POST_CONVOLUTION_BLUE_BIAS,    GL_POST_CONVOLUTION_ALPHA_BIAS,
+            GL_POST_COLOR_MATRIX_RED_BIAS,   GL_POST_COLOR_MATRIX_GREEN_BIAS,  GL_POST_COLOR_MATRIX_BLUE_BIAS,
             GL_POST_COLOR_MATRIX_ALPHA_BIAS};
         for (size_t i = 0; i < sizeof more / sizeof more[0]; i++) {
             GLfloat v = 0;
@@ -267,8 +270,9 @@ static bool draw_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_w
     if (zoom[0] != 1.0f || zoom[1] != 1.0f)
         return false;
     /* An integer raster position: pixel (i, j) lands on (x+i, y+j). */
-    if (pos[0] != (GLfloat)(GLint)pos[0] || pos[1] != (GLfloat)(GLint)pos[1] || pos[0] < -(GLfloat)(1 << 24) ||
-        pos[0] > (GLfloat)(1 << 24) || pos[1] < -(GLfloat)(1 << 24) || pos[1] > (GLfloat)(1 << 24))
+    const GLfloat far = (GLfloat)(1 << 24); /* bounded first: the casts below stay defined */
+    if (!(pos[0] >= -far && pos[0] <= far && pos[1] >= -far && pos[1] <= far) || pos[0] != (GLfloat)(GLint)pos[0] ||
+        pos[1] != (GLfloat)(GLint)pos[1])
         return false;
     if (!transfer_identity(f, gl) || !fragments_untouched(f, gl))
         return false;
