@@ -144,7 +144,7 @@ int main(int argc, char **argv)
             glLogicOp(GL_XOR);
             break;
         case 13: glEnable(GL_FOG); break;
-        case 14: break; /* a fractional raster position, below */
+        case 14: break;                            /* a fractional raster position, below */
         case 15: x = 500, want_fast = true; break; /* wholly outside: nothing drawn */
         case 16: x = -3, y = -4, w = 140, h = 90, want_fast = true; break;
         case 17: list = glGenLists(1); break;
