@@ -30,11 +30,14 @@
 # usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
 # Environment: SORTLAST_SIZE (default 1920x1080), SORTLAST_FRAMES (24),
 # SORTLAST_COUNTS (default "2 4 8 16"; 8 is the figure), SORTLAST_STRATEGY (auto),
-# SORTLAST_OPTIONS (more binaryswap options as YAML flow entries: "codec: erle").
+# SORTLAST_OPTIONS (more binaryswap options as YAML flow entries: "codec: erle"),
+# SORTLAST_DISPLAY_OPTIONS (more options of the display's render, the same
+# way: "fast_drawpixels: false" times glDrawPixels instead of the blit).
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${SORTLAST_SIZE:-1920x1080} frames=${SORTLAST_FRAMES:-24} strategy=${SORTLAST_STRATEGY:-auto}
 extra=${SORTLAST_OPTIONS:+, $SORTLAST_OPTIONS}
+display_extra=${SORTLAST_DISPLAY_OPTIONS:+, $SORTLAST_DISPLAY_OPTIONS}
 read -r -a counts <<<"${SORTLAST_COUNTS:-2 4 8 16}"
 memcpy_args=()
 if [[ $quick == --quick ]]; then
@@ -66,7 +69,7 @@ run_group() {
             echo "    to: display"
         done
         echo "  display:"
-        echo "    chain: [{render: {output: \"\"}}]"
+        echo "    chain: [{render: {output: \"\"$display_extra}}]"
     } >"$dir/graph.yaml"
     if ! LP_NUM_THREADS=0 timeout 600 "$bin/tessera" run "$dir/graph.yaml" --out "$dir/run" --no-progress \
         >"$dir/run.out" 2>"$dir/run.err"; then

@@ -172,7 +172,7 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # in and registered, so coverage measures its handlers). fuzz_ext_seeds
 # OUTDIR writes the ok-* seeds with the real packer.
 set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${CMAKE_SOURCE_DIR}/spus/render/render.c
-  ${CMAKE_SOURCE_DIR}/spus/render/budget.c
+  ${CMAKE_SOURCE_DIR}/spus/render/budget.c ${CMAKE_SOURCE_DIR}/spus/render/drawpixels.c
   ${CMAKE_SOURCE_DIR}/spus/render/pages.c ${CMAKE_SOURCE_DIR}/spus/render/xwindow.c)
 tsr_add_fuzz_target(ext
   SOURCES ${tsr_fuzz_render_sources}
@@ -211,7 +211,7 @@ endif()
 
 if(TESSERA_FUZZ)
   add_executable(fuzz_render ${TSR_FUZZ_DIR}/fuzz_render.c
-    ${CMAKE_SOURCE_DIR}/spus/render/render.c ${CMAKE_SOURCE_DIR}/spus/render/budget.c
+    ${CMAKE_SOURCE_DIR}/spus/render/render.c ${CMAKE_SOURCE_DIR}/spus/render/budget.c ${CMAKE_SOURCE_DIR}/spus/render/drawpixels.c
     ${CMAKE_SOURCE_DIR}/spus/render/pages.c
     ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
     ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c)

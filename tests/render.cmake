@@ -126,6 +126,16 @@ add_test(NAME render_without_window_commands_draws_512_square
           $<TARGET_FILE:render_driver> ${RENDER_OUT}/no-window-%d.png
           ${RENDER_OUT}/no-window-0.png $<TARGET_FILE:image_test>)
 
+# render's fast DrawPixels (spus/render/drawpixels.c): every case equal to
+# glDrawPixels byte for byte, taken exactly where the state allows it.
+add_executable(drawpixels_driver ${RENDER_TEST_DIR}/drawpixels_driver.c)
+target_link_libraries(drawpixels_driver PRIVATE tessera_gl tessera)
+foreach(mode solo shared)
+  add_test(NAME render_fast_drawpixels_equals_gldrawpixels_${mode}
+    COMMAND ${RENDER_TEST_DIR}/drawpixels.sh $<TARGET_FILE:drawpixels_driver> ${TESSERA_BIN}
+            ${RENDER_OUT}/drawpixels-${mode} ${mode})
+endforeach()
+
 # --- tiles: servers that own rectangles of the window ---------------------------
 # Every tile PNG must equal the same pixels of the full-window render (0
 # differing pixels), the scene's glGet of the scissor must give the

@@ -44,6 +44,7 @@
 #include "tessera/tiles.h"
 
 #include "budget.h"
+#include "drawpixels.h"
 #include "pages.h"
 #include "render.h"
 
@@ -175,6 +176,7 @@ typedef struct render_spu {
     uint64_t max_texture_bytes;
     uint64_t max_window_pixels;
     render_tex_table textures;
+    render_fastdraw *fastdraw; /* drawpixels.h */
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
@@ -1329,6 +1331,12 @@ static GLenum shared_buffer_name(const render_spu *r, GLenum buf)
     return buf;
 }
 
+static void render_DrawPixels(void *self, GLsizei width, GLsizei height, GLenum format, GLenum type, const void *pixels)
+{
+    render_spu *r = self;
+    render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, width, height, format, type, pixels);
+}
+
 static void render_DrawBuffer(void *self, GLenum buf)
 {
     render_spu *r = self;
@@ -1382,6 +1390,7 @@ static void render_destroy(void *self)
     free(r->tiles);
     free(r->tile_pixels);
     render_tex_free(&r->textures);
+    render_fastdraw_destroy(r->fastdraw, r->name);
     tsr_glsl_names_destroy(r->names);
     free(r);
 }
@@ -1417,6 +1426,11 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
         char detail[sizeof err->message];
         snprintf(detail, sizeof detail, "%s", err->message);
         tsr_error_set(err, TSR_ENOENT, "%s: %.400s", r->name, detail);
+        goto fail;
+    }
+    if (!(r->fastdraw =
+              render_fastdraw_create(osmesa_getproc, r, tsr_options_bool(init->options, "fast_drawpixels")))) {
+        tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", r->name);
         goto fail;
     }
     /* Same attributes as the native reference: see the header comment. */
@@ -1458,6 +1472,7 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     tsr_set_ContextDestroyTSR(init->table, render_ContextDestroyTSR, r);
     tsr_set_MakeCurrentTSR(init->table, render_MakeCurrentTSR, r);
     tsr_set_DrawBuffer(init->table, render_DrawBuffer, r);
+    tsr_set_DrawPixels(init->table, render_DrawPixels, r);
     tsr_set_ReadBuffer(init->table, render_ReadBuffer, r);
     tsr_set_TilesTSR(init->table, render_TilesTSR, r);
     tsr_set_Scissor(init->table, render_Scissor, r);

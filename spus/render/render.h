@@ -108,6 +108,14 @@ int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format,
          .max = 268435456.0,                                                                   \
          .help = "largest window (width x height) the stream may ask for with "                \
                  "WindowCreateTSR/WindowSizeTSR; beyond it fails the stream; 0: 16384x16384"}, \
+        {.name = "fast_drawpixels",                                                            \
+         .type = TSR_OPT_BOOL,                                                                 \
+         .default_value = "true",                                                              \
+         .min = 1,                                                                             \
+         .max = 0,                                                                             \
+         .help = "draw RGBA8 DrawPixels as a texture upload and framebuffer blit when the "    \
+                 "GL state makes that identical (no fragment operations, zoom 1, default "     \
+                 "pixel transfer); false: always glDrawPixels"},                               \
     {                                                                                          \
         .name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,      \
         .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "  \

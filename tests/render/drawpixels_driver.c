@@ -1,0 +1,211 @@
+/* tests/render/drawpixels_driver.c — one frame per DrawPixels case through
+ * a render chain, for tests/render/drawpixels.sh to compare with
+ * fast_drawpixels=true and =false (spus/render/drawpixels.c):
+ *   drawpixels_driver solo|shared true|false PATTERN
+ * shared: the frames are drawn by a second context (ContextCreateTSR), as
+ * the sort-last display's peers draw. Random images at odd sizes and
+ * offsets, partly outside the window, under the scissor, with unpack
+ * row length/skips/alignment, BGRA; and each state that must take the
+ * plain path (blending, texturing, zoom, scale, depth test, colour mask,
+ * alpha test, logic op, fog, a fractional raster position, a display list).
+ * After each case it checks through glGet that the state the fast path
+ * touches is the application's again. Prints "expect_fast: N of M". */
+#define GL_GLEXT_PROTOTYPES
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include "tessera/chain.h"
+#include "tessera/glapi.h"
+#include "tessera/gltsr_gen.h"
+
+#define W 131
+#define H 83
+
+static unsigned rng = 12345u;
+static unsigned char next_byte(void)
+{
+    rng = rng * 1103515245u + 12345u;
+    return (unsigned char)(rng >> 16);
+}
+
+static unsigned char *random_image(size_t bytes)
+{
+    unsigned char *p = malloc(bytes);
+    if (!p) {
+        fprintf(stderr, "drawpixels_driver: out of memory\n");
+        exit(1);
+    }
+    for (size_t i = 0; i < bytes; i++)
+        p[i] = next_byte();
+    return p;
+}
+
+static int failures;
+static void expect_int(GLenum pname, GLint want, int frame, const char *what)
+{
+    GLint v = -1;
+    glGetIntegerv(pname, &v);
+    if (v != want) {
+        fprintf(stderr, "drawpixels_driver: case %d: %s is %d after DrawPixels, was %d\n", frame, what, v, want);
+        failures++;
+    }
+}
+
+/* A textured, lit-free background so texture bindings matter. */
+static void background(int frame)
+{
+    glClearColor(0.1f * (float)(frame % 7), 0.3f, 0.6f, 1.0f);
+    glClearDepth(0.5);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glBegin(GL_TRIANGLES);
+    glColor3f(0.9f, 0.2f, 0.1f);
+    glVertex2f(-1, -1);
+    glVertex2f(1, -1);
+    glVertex2f(0, 1);
+    glEnd();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 4 || (strcmp(argv[1], "solo") && strcmp(argv[1], "shared"))) {
+        fprintf(stderr, "usage: drawpixels_driver solo|shared true|false PATTERN\n");
+        return 2;
+    }
+    char text[700];
+    snprintf(text, sizeof text, "render output=\"%s\" fast_drawpixels=%s", argv[3], argv[2]);
+    tsr_error err = {0};
+    tsr_chain *chain = tsr_chain_create(text, &err);
+    if (!chain) {
+        fprintf(stderr, "drawpixels_driver: %s\n", err.message);
+        return 1;
+    }
+    tsr_gl_make_current(tsr_chain_head(chain));
+    glWindowCreateTSR(0, W, H);
+    if (!strcmp(argv[1], "shared")) {
+        glContextCreateTSR(1);
+        glMakeCurrentTSR(0, 1);
+    }
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    unsigned char texels[4 * 4 * 4];
+    for (size_t i = 0; i < sizeof texels; i++)
+        texels[i] = next_byte();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glViewport(0, 0, W, H);
+    int fast = 0, calls = 0;
+    enum { CASES = 18 };
+    for (int c = 0; c < CASES; c++) {
+        background(c);
+        int x = 7, y = 5, w = 50, h = 30;
+        GLenum format = GL_RGBA;
+        int row_length = 0, skip_rows = 0, skip_pixels = 0, alignment = 4;
+        bool want_fast = false;
+        GLuint list = 0;
+        switch (c) {
+        case 0: want_fast = true; break;
+        case 1: x = -9, y = 60, w = 151, h = 40, want_fast = true; break; /* past three edges */
+        case 2:
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(10, 11, 61, 43);
+            x = 3, y = 2, w = 91, h = 71, want_fast = true;
+            break;
+        case 3: row_length = 67, skip_rows = 2, skip_pixels = 3, alignment = 8, w = 33, h = 21, want_fast = true; break;
+        case 4: format = GL_BGRA, w = 77, h = 45, x = 20, y = 30, want_fast = true; break;
+        case 5:
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+            break;
+        case 6:
+            glActiveTexture(GL_TEXTURE1);
+            glBindTexture(GL_TEXTURE_2D, tex);
+            glEnable(GL_TEXTURE_2D);
+            glActiveTexture(GL_TEXTURE0);
+            break;
+        case 7: glPixelZoom(2.0f, 1.0f); break;
+        case 8: glPixelTransferf(GL_RED_SCALE, 0.5f); break;
+        case 9:
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            break;
+        case 10: glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_TRUE); break;
+        case 11:
+            glEnable(GL_ALPHA_TEST);
+            glAlphaFunc(GL_GREATER, 0.5f);
+            break;
+        case 12:
+            glEnable(GL_COLOR_LOGIC_OP);
+            glLogicOp(GL_XOR);
+            break;
+        case 13: glEnable(GL_FOG); break;
+        case 14: break;                            /* a fractional raster position, below */
+        case 15: x = 500, want_fast = true; break; /* wholly outside: nothing drawn */
+        case 16: x = -3, y = -4, w = 140, h = 90, want_fast = true; break;
+        case 17: list = glGenLists(1); break;
+        }
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
+        glPixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
+        glPixelStorei(GL_UNPACK_SKIP_PIXELS, skip_pixels);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+        int rl = row_length ? row_length : w;
+        size_t stride = ((size_t)rl * 4 + (size_t)alignment - 1) / (size_t)alignment * (size_t)alignment;
+        unsigned char *img = random_image(stride * (size_t)(h + skip_rows) + 64);
+        if (c == 14)
+            glWindowPos2f(10.5f, 7.25f);
+        else
+            glWindowPos2i(x, y);
+        if (list) {
+            glNewList(list, GL_COMPILE);
+            glDrawPixels(w, h, format, GL_UNSIGNED_BYTE, img);
+            glEndList();
+            glCallList(list);
+            glDeleteLists(list, 1);
+        } else {
+            glDrawPixels(w, h, format, GL_UNSIGNED_BYTE, img);
+        }
+        calls++;
+        fast += want_fast;
+        free(img);
+        /* What the fast path touches is the application's again. */
+        expect_int(GL_TEXTURE_BINDING_2D, (GLint)tex, c, "GL_TEXTURE_BINDING_2D");
+        expect_int(GL_UNPACK_ROW_LENGTH, row_length, c, "GL_UNPACK_ROW_LENGTH");
+        expect_int(GL_UNPACK_SKIP_ROWS, skip_rows, c, "GL_UNPACK_SKIP_ROWS");
+        expect_int(GL_UNPACK_SKIP_PIXELS, skip_pixels, c, "GL_UNPACK_SKIP_PIXELS");
+        expect_int(GL_UNPACK_ALIGNMENT, alignment, c, "GL_UNPACK_ALIGNMENT");
+        expect_int(GL_ACTIVE_TEXTURE, GL_TEXTURE0, c, "GL_ACTIVE_TEXTURE");
+        if (glIsEnabled(GL_SCISSOR_TEST) != (c == 2)) {
+            fprintf(stderr, "drawpixels_driver: case %d: scissor test changed\n", c);
+            failures++;
+        }
+        GLenum e = glGetError();
+        if (e != GL_NO_ERROR) {
+            fprintf(stderr, "drawpixels_driver: case %d: GL error 0x%x\n", c, e);
+            failures++;
+        }
+        glSwapBuffersTSR(0, 0);
+        /* Back to the defaults for the next case. */
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_BLEND);
+        glActiveTexture(GL_TEXTURE1);
+        glDisable(GL_TEXTURE_2D);
+        glActiveTexture(GL_TEXTURE0);
+        glPixelZoom(1.0f, 1.0f);
+        glPixelTransferf(GL_RED_SCALE, 1.0f);
+        glDisable(GL_DEPTH_TEST);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_ALPHA_TEST);
+        glDisable(GL_COLOR_LOGIC_OP);
+        glDisable(GL_FOG);
+    }
+    printf("expect_fast: %d of %d\n", fast, calls);
+    glWindowDestroyTSR(0);
+    tsr_gl_make_current(NULL);
+    tsr_chain_destroy(chain);
+    return failures ? 1 : 0;
+}
