@@ -273,10 +273,23 @@ static void st_LoadTransposeMatrixf(void *self, const GLfloat *m)
     load_matrix(c, f);
 }
 
+/* Mesa returns from glMultMatrix at once when the matrix equals the
+ * identity by value (== comparisons, so -0 counts as 0): neither the
+ * values nor the classification change. */
+static int is_identity_by_value(const GLfloat m[16])
+{
+    for (int i = 0; i < 16; i++)
+        if (m[i] != (i % 5 == 0 ? 1.0f : 0.0f))
+            return 0;
+    return 1;
+}
+
 /* Mesa classifies the product of an arbitrary glMultMatrix from its
  * values, as it does a loaded matrix: the product is the new base. */
 static void mult_matrix(tsr_state_ctx *c, const GLfloat m[16])
 {
+    if (is_identity_by_value(m))
+        return;
     mat_apply(c, m);
     recipe_rebase(c);
 }

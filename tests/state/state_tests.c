@@ -1550,7 +1550,7 @@ static void matrix_ops(uint64_t seed, const tsr_dispatch *d, int n)
     int depth = 1;
     for (int i = 0; i < n; i++) {
         float a = (float)(rnd(&r) % 720) * 0.5f - 180.0f, x = (float)(rnd(&r) % 200) / 100.0f - 1.0f;
-        switch (rnd(&r) % 14) {
+        switch (rnd(&r) % 15) {
         case 0: tsr_call_Rotatef(d, a, 1, 0, 0); break;
         case 1: tsr_call_Rotatef(d, a, 0, -1, 0); break;
         case 2: tsr_call_Rotatef(d, a, 0, 0, 1); break;
@@ -1579,6 +1579,12 @@ static void matrix_ops(uint64_t seed, const tsr_dispatch *d, int n)
         case 11: {
             GLfloat m[16] = {0.8f, 0, 0.1f, 0, 0, 1, 0, 0, -0.1f, 0, 0.8f, 0, 0, 0, -5.0f + x, 1};
             tsr_call_LoadMatrixf(d, m);
+            break;
+        }
+        case 13: {
+            /* the identity by value, with negative zeros (gears' own glMultMatrixf) */
+            GLfloat m[16] = {1, 0, -0.0f, 0, -0.0f, 1, -0.0f, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+            tsr_call_MultMatrixf(d, m);
             break;
         }
         case 12:
@@ -1677,6 +1683,50 @@ static void test_matrices_bit_identical(void)
         tsr_state_tracker_destroy(t);
     }
     printf("%d seeds: matrices bit-identical, %ld lit spheres pixel-identical\n", seeds_arg, drawn);
+}
+
+/* glxgears' view: glLoadIdentity, glMultMatrixf of the identity written
+ * with negative zeros, glTranslated. Mesa returns from a glMultMatrix of
+ * the identity by value without touching the matrix or its class, so the
+ * renderer must be given the translation alone, not a loaded product (a
+ * loaded matrix is lit with other rounding: 1 pixel of a 320x240 gears
+ * frame differed on a wall). The diff must bring B to A's bits and A's
+ * lit pixels. */
+static void test_multmatrix_of_the_identity_keeps_the_matrix_class(void)
+{
+    static const GLfloat signed_zero_identity[16] = {1, 0, -0.0f, 0, -0.0f, 1, -0.0f, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
+    tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
+    static tsr_dispatch tt;
+    tsr_dispatch_fill_nop(&tt);
+    tsr_state_fill_dispatch(c, &tt);
+    gl_env *a = gl_open();
+    const tsr_dispatch *both[2] = {&tt, &a->d};
+    for (int k = 0; k < 2; k++) {
+        if (k == 1)
+            gl_use(a);
+        tsr_call_MatrixMode(both[k], GL_MODELVIEW);
+        tsr_call_LoadIdentity(both[k]);
+        tsr_call_MultMatrixf(both[k], signed_zero_identity);
+        tsr_call_Translated(both[k], -0.0, -0.0, -5.0);
+        tsr_call_Rotatef(both[k], 20, 1, 0, 0);
+    }
+    const tsr_state_recipe *r = &tsr_state_stacks_of(c)->modelview_recipe[0];
+    CHECK(r->base_is_identity && r->count == 2,
+          "the recipe is the translation and the rotation on the identity "
+          "(base %s, %u operations)",
+          r->base_is_identity ? "identity" : "loaded", r->count);
+    gl_env *b = gl_open();
+    tsr_state_diff(c, s, &b->d, NULL);
+    if (!matrices_differ(a, b, 0, "after an identity glMultMatrixf")) {
+        lit_sphere(a);
+        lit_sphere(b);
+        CHECK(!memcmp(a->buf, b->buf, 64 * 64 * 4), "a lit sphere differs between the calls and the diff");
+    }
+    gl_close(a);
+    gl_close(b);
+    tsr_state_tracker_destroy(t);
 }
 
 /* --- shaders and programs ------------------------------------------------------------ */
@@ -2358,6 +2408,8 @@ int main(int argc, char **argv)
         {"buffers_unbound_reach_renderer", test_buffers_unbound_reach_renderer, 0},
         {"get_count_table", test_get_count_table, 0},
         {"matrices_bit_identical", test_matrices_bit_identical, 1},
+        {"multmatrix_of_the_identity_keeps_the_matrix_class", test_multmatrix_of_the_identity_keeps_the_matrix_class,
+         1},
         {"glsl_diff_matches_osmesa", test_glsl_diff_matches_osmesa, 1},
         {"glsl_lazy", test_glsl_lazy, 0},
     };
