@@ -1005,6 +1005,16 @@ static void wire_close(wire *w)
 }
 
 /* --- the tests --------------------------------------------------------------------------- */
+/* A tracker with one context, one renderer's shadow and a table that
+ * feeds the context (static: a dispatch table is large for the stack). */
+#define TRACKED(t, c, s, d)                                 \
+    tsr_state_tracker *t = tsr_state_tracker_create(NULL);  \
+    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);       \
+    tsr_state_shadow *s = tsr_state_shadow_create(t, NULL); \
+    static tsr_dispatch d;                                  \
+    tsr_dispatch_fill_nop(&d);                              \
+    tsr_state_fill_dispatch(c, &d)
+
 static int seeds_arg = 100;
 
 static void test_covers_spec(void)
@@ -1051,12 +1061,7 @@ static void test_diff_matches_osmesa(void)
     int direct_seeds = 0;
     int first_seed = getenv("STATE_SEED") ? atoi(getenv("STATE_SEED")) : 0;
     for (int seed = first_seed; seed < seeds_arg; seed++) {
-        tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-        tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-        tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
-        static tsr_dispatch tt;
-        tsr_dispatch_fill_nop(&tt);
-        tsr_state_fill_dispatch(c, &tt);
+        TRACKED(t, c, s, tt);
         int calls = 20 + seed % 200;
         run_sequence((uint64_t)seed, &tt, calls);
 
@@ -1312,12 +1317,8 @@ static void cnt_BindTexture(void *self, GLenum t, GLuint n)
 
 static void test_lazy_textures(void)
 {
-    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
-    static tsr_dispatch d, out;
-    tsr_dispatch_fill_nop(&d);
-    tsr_state_fill_dispatch(c, &d);
+    TRACKED(t, c, r, d);
+    static tsr_dispatch out;
     counter k = {0};
     tsr_dispatch_fill_nop(&out);
     tsr_set_TexImage2D(&out, cnt_TexImage2D, &k);
@@ -1388,12 +1389,8 @@ static int log_filled(const buf_log *l, GLuint name, GLsizeiptr size)
  * server). Once each, and again after it changed. */
 static void test_buffers_unbound_reach_renderer(void)
 {
-    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
-    static tsr_dispatch d, out;
-    tsr_dispatch_fill_nop(&d);
-    tsr_state_fill_dispatch(c, &d);
+    TRACKED(t, c, r, d);
+    static tsr_dispatch out;
     buf_log l = {0};
     tsr_dispatch_fill_nop(&out);
     tsr_set_BindBuffer(&out, log_BindBuffer, &l);
@@ -1653,12 +1650,7 @@ static void test_matrices_bit_identical(void)
 {
     long drawn = 0;
     for (int seed = 0; seed < seeds_arg; seed++) {
-        tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-        tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-        tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
-        static tsr_dispatch tt;
-        tsr_dispatch_fill_nop(&tt);
-        tsr_state_fill_dispatch(c, &tt);
+        TRACKED(t, c, s, tt);
         int n = 5 + seed % 40;
         matrix_ops((uint64_t)seed, &tt, n);
         gl_env *a = gl_open();
@@ -1695,12 +1687,7 @@ static void test_matrices_bit_identical(void)
 static void test_multmatrix_of_the_identity_keeps_the_matrix_class(void)
 {
     static const GLfloat signed_zero_identity[16] = {1, 0, -0.0f, 0, -0.0f, 1, -0.0f, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-    tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
-    static tsr_dispatch tt;
-    tsr_dispatch_fill_nop(&tt);
-    tsr_state_fill_dispatch(c, &tt);
+    TRACKED(t, c, s, tt);
     gl_env *a = gl_open();
     const tsr_dispatch *both[2] = {&tt, &a->d};
     for (int k = 0; k < 2; k++) {
@@ -2129,12 +2116,7 @@ static void test_glsl_diff_matches_osmesa(void)
     long compared = 0, commands = 0, drawn = 0, with_program = 0, locations = 0;
     int first_seed = getenv("STATE_SEED") ? atoi(getenv("STATE_SEED")) : 0;
     for (int seed = first_seed; seed < seeds_arg; seed++) {
-        tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-        tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-        tsr_state_shadow *s = tsr_state_shadow_create(t, NULL);
-        static tsr_dispatch tt;
-        tsr_dispatch_fill_nop(&tt);
-        tsr_state_fill_dispatch(c, &tt);
+        TRACKED(t, c, s, tt);
         gl_env *b = gl_open();
         tsr_error err = {0};
         tsr_glsl_names *bn = tsr_glsl_names_create(&b->d, &err);
@@ -2341,12 +2323,8 @@ static void lazy_expect(tsr_state_ctx *c, tsr_state_shadow *r, const tsr_dispatc
 
 static void test_glsl_lazy(void)
 {
-    tsr_state_tracker *t = tsr_state_tracker_create(NULL);
-    tsr_state_ctx *c = tsr_state_ctx_create(t, NULL);
-    tsr_state_shadow *r = tsr_state_shadow_create(t, NULL);
-    static tsr_dispatch tt, cnt;
-    tsr_dispatch_fill_nop(&tt);
-    tsr_state_fill_dispatch(c, &tt);
+    TRACKED(t, c, r, tt);
+    static tsr_dispatch cnt;
     tsr_dispatch_fill_nop(&cnt);
     tsr_set_CreateProgramTSR(&cnt, gc_CreateProgramTSR, NULL);
     tsr_set_CreateShaderTSR(&cnt, gc_CreateShaderTSR, NULL);
