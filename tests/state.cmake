@@ -21,6 +21,8 @@ add_test(NAME state_get_count_table_matches_the_gets COMMAND state_tests get_cou
 add_test(NAME state_matrices_bit_identical_and_lit_pixels_equal COMMAND state_tests matrices_bit_identical 200)
 add_test(NAME state_multmatrix_of_the_identity_keeps_the_matrix_class
          COMMAND state_tests multmatrix_of_the_identity_keeps_the_matrix_class)
+add_test(NAME state_long_matrix_history_keeps_the_matrix_class
+         COMMAND state_tests long_matrix_history_keeps_the_matrix_class)
 # Shaders and programs: random object/uniform sequences diffed into a fresh
 # OSMesa context equal OSMesa given the calls (status, locations, uniform
 # values, pixels), with different driver names on both sides.
@@ -32,7 +34,8 @@ if(TESSERA_SANITIZE)
   # Mesa keeps process-lifetime caches that LeakSanitizer reports
   # (tests/lsan.supp); tessera's own allocations are still checked.
   set_tests_properties(state_diff_into_osmesa_queries_back_equal state_matrices_bit_identical_and_lit_pixels_equal
-    state_multmatrix_of_the_identity_keeps_the_matrix_class state_glsl_programs_diff_into_osmesa_equal_direct
+    state_multmatrix_of_the_identity_keeps_the_matrix_class state_long_matrix_history_keeps_the_matrix_class
+    state_glsl_programs_diff_into_osmesa_equal_direct
     PROPERTIES ENVIRONMENT
     "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()

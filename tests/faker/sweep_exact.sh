@@ -10,12 +10,9 @@
 # each equal to the live run's frame (that they move and are not blank is
 # xscreensaver.sh's check). Two programs at a time. No PROGRAM: glxgears
 # and the graph sweeps' 25 hacks (sweep_programs.sh), every GLSL and
-# buffer-object hack among them. Not in the suite yet: in each run 2 or 3
-# of the 26 differ between 1x1 and the 2x2 wall in 1-3 pixels by one
-# level of one channel (lit scenes; which ones depends on the capture;
-# the same with a single tilesort server, so not the tile split; README,
-# faker section). Prints one line per program and the
-# counts; exits 1 naming each that differs.
+# buffer-object hack among them. In the suite (tests/faker.cmake, plain
+# builds). Prints one line per program and the counts; exits 1 naming
+# each that differs.
 set -uo pipefail
 tessera=$(cd "$(dirname "$1")" && pwd)/$(basename "$1") out=$2; shift 2
 here=$(cd "$(dirname "$0")" && pwd)

@@ -344,8 +344,11 @@ typedef struct tsr_state_values {
  * operations, and one given by glLoadMatrix from its values; lighting
  * then takes different, equally valid, rounding paths). A diff emits the
  * operations the renderer lacks; after more than TSR_STATE_RECIPE_OPS
- * operations the matrix counts as loaded (`base` = the product). */
-#define TSR_STATE_RECIPE_OPS 16
+ * operations the matrix counts as loaded (`base` = the product), which
+ * Mesa may classify otherwise (no operation gives a loaded matrix a
+ * general class back): 64 keeps every history of the 26 programs of the
+ * exactness sweep (antinspect's ant needs about 22; with 16 it differed). */
+#define TSR_STATE_RECIPE_OPS 64
 enum { TSR_RECIPE_TRANSLATE, TSR_RECIPE_SCALE, TSR_RECIPE_ROTATE, TSR_RECIPE_FRUSTUM, TSR_RECIPE_ORTHO };
 /* Mesa also keeps a matrix's classification across glLoadIdentity: the
  * kinds of operation applied since the last glLoadMatrix stick to it.
