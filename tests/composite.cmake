@@ -16,6 +16,7 @@ foreach(t
     composite_depth_kernel_matches_reference
     composite_over_kernel_matches_reference
     composite_nan_depth_never_wins
+    composite_compress_runs_match_pixel_rule
     composite_sparse_merge_equals_dense
     composite_split_at_run_edges
     composite_codecs_roundtrip

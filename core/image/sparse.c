@@ -6,6 +6,9 @@
  * expands background while merging or splitting; keeps state. */
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include "composite_internal.h"
 #include "tessera/dev/composite.h"
 
@@ -142,6 +145,49 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
     return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
 }
 
+/* The number of pixels from the first of n whose activity is `active`
+ * (pixel_active), up to n. The scan of every layer's region runs through
+ * here once per frame: the common cases (depth mode; RGBA8 colour) test
+ * 16 pixels per step with SSE2 compares, which give the same answer as
+ * pixel_active pixel by pixel (a NaN depth compares false: inactive). */
+static inline uint32_t run_length(int mode, int cf, const uint8_t *color, const float *depth, uint32_t n, int active)
+{
+    uint32_t i = 0;
+#if defined(__SSE2__)
+    unsigned flip = active ? 0xffffu : 0u;
+    if (mode == TSR_COMPOSITE_DEPTH) {
+        const __m128 one = _mm_set1_ps(1.0f);
+        for (; i + 16 <= n; i += 16) {
+            unsigned m = (unsigned)_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(depth + i), one)) |
+                         (unsigned)_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(depth + i + 4), one)) << 4 |
+                         (unsigned)_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(depth + i + 8), one)) << 8 |
+                         (unsigned)_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(depth + i + 12), one)) << 12;
+            m ^= flip; /* set where active: now where the activity differs */
+            if (m)
+                return i + (uint32_t)__builtin_ctz(m);
+        }
+    } else if (cf == TSR_CI_RGBA8) {
+        const __m128i zero = _mm_setzero_si128();
+        for (; i + 16 <= n; i += 16) {
+            const __m128i *c = (const __m128i *)(const void *)(color + (size_t)i * 4);
+            /* set where the pixel is 0 (inactive) */
+            unsigned m =
+                (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128(c), zero))) |
+                (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128(c + 1), zero))) << 4 |
+                (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128(c + 2), zero))) << 8 |
+                (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128(c + 3), zero))) << 12;
+            m ^= flip ^ 0xffffu; /* now set where the activity differs */
+            if (m)
+                return i + (uint32_t)__builtin_ctz(m);
+        }
+    }
+#endif
+    size_t cb = tsr_ci_color_bytes(cf);
+    while (i < n && pixel_active(mode, cf, color + (size_t)i * cb, depth ? depth + i : NULL) == active)
+        i++;
+    return i;
+}
+
 int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                               tsr_error *err)
 {
@@ -195,28 +241,23 @@ int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t 
             break;
         put_inactive(out, seg0 - pos);
         size_t base = (size_t)row * (size_t)in->width - ((size_t)(in->y + row) * w + (size_t)in->x);
-        const uint8_t *color = in->color;
-        const float *depth = in->depth;
-        uint32_t p = seg0;
-        while (p < seg1) {
-            uint32_t q = p;
-            while (q < seg1 &&
-                   !pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
-                q++;
-            put_inactive(out, q - p);
-            p = q;
-            while (q < seg1 &&
-                   pixel_active(mode, in->color_format, color + (base + q) * cb, depth ? depth + base + q : NULL))
-                q++;
-            if (q > p) {
-                uint32_t at = put_active(out, q - p);
+        const uint8_t *color = in->color + (base + seg0) * cb;
+        const float *depth = in->depth ? in->depth + base + seg0 : NULL;
+        uint32_t n = seg1 - seg0, i = 0;
+        while (i < n) {
+            uint32_t k = run_length(mode, in->color_format, color + (size_t)i * cb, depth ? depth + i : NULL, n - i, 0);
+            put_inactive(out, k);
+            i += k;
+            k = run_length(mode, in->color_format, color + (size_t)i * cb, depth ? depth + i : NULL, n - i, 1);
+            if (k) {
+                uint32_t at = put_active(out, k);
                 if (!runs_only) {
-                    ci_copy(out->color + at * cb, color + (base + p) * cb, (q - p) * cb);
+                    ci_copy(out->color + at * cb, color + (size_t)i * cb, (size_t)k * cb);
                     if (in->depth_format)
-                        ci_copy(out->depth + at, depth + base + p, (q - p) * sizeof(float));
+                        ci_copy(out->depth + at, depth + i, (size_t)k * sizeof(float));
                 }
             }
-            p = q;
+            i += k;
         }
         pos = seg1;
     }

@@ -246,6 +246,89 @@ static int test_nan_depth_never_wins(void)
     return harness_failures;
 }
 
+/* The runs compress finds, against a pixel-by-pixel reading of the
+ * active-pixel rule (composite.h): runs of every length around the
+ * kernel's 16-pixel steps, depth values at the edge of the rule (1.0, the
+ * largest float below it, -0, NaN, infinities), RGBA8 pixels with one byte
+ * set, float colours with one -0 or NaN channel, regions that start and end
+ * anywhere in a row. */
+static int ref_active(int mode, int cf, const tsr_cimage *img, size_t i)
+{
+    if (mode == TSR_COMPOSITE_DEPTH)
+        return img->depth[i] < 1.0f;
+    if (cf == TSR_CI_RGBA8)
+        return img->color[4 * i] || img->color[4 * i + 1] || img->color[4 * i + 2] || img->color[4 * i + 3];
+    const float *c = (const float *)(const void *)img->color + 4 * i;
+    return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
+}
+
+static int test_compress_runs_match_pixel_rule(void)
+{
+    tsr_error err;
+    static const float depths_on[] = {0.0f, -0.0f, 0.5f, 0.99999994f, -INFINITY, -1.0f};
+    static const float depths_off[] = {1.0f, 2.0f, INFINITY, NAN, -NAN};
+    for (int iter = 0; iter < 400; iter++) {
+        int mode = iter % 3 == 2 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
+        int cf = mode == TSR_COMPOSITE_ALPHA && iter % 2 ? TSR_CI_RGBA32F : TSR_CI_RGBA8;
+        int W = 1 + rnd() % 90, H = 1 + rnd() % 6;
+        int x = rnd() % W, y = rnd() % H, w = 1 + rnd() % (W - x), h = 1 + rnd() % (H - y);
+        tsr_cimage img = {0};
+        CHECK_OK(tsr_cimage_init(&img, W, H, x, y, w, h, cf, TSR_CI_DEPTH32F, &err), err);
+        size_t n = (size_t)w * h, cb = tsr_ci_color_bytes(cf);
+        memset(img.color, 0, n * cb);
+        /* runs of 1..40 pixels, alternating activity */
+        int on = rnd() % 2;
+        for (size_t i = 0; i < n;) {
+            size_t len = 1 + rnd() % (iter % 4 ? 40 : 3);
+            for (size_t j = i; j < n && j < i + len; j++) {
+                img.depth[j] = on ? depths_on[rnd() % 6] : depths_off[rnd() % 5];
+                if (cf == TSR_CI_RGBA8) {
+                    memset(img.color + 4 * j, 0, 4);
+                    if (on)
+                        img.color[4 * j + rnd() % 4] = (uint8_t)(1 + rnd() % 255);
+                } else {
+                    float *c = (float *)(void *)(img.color + 16 * j);
+                    c[0] = c[1] = c[2] = c[3] = rnd() % 2 ? 0.0f : -0.0f;
+                    if (on)
+                        c[rnd() % 4] = rnd() % 2 ? NAN : rndf() + 0.001f;
+                }
+            }
+            i += len;
+            on = !on;
+        }
+        uint32_t all = (uint32_t)W * H, start = rnd() % all, count = rnd() % (all - start + 1);
+        tsr_sparse_image s = {0};
+        CHECK_OK(tsr_sparse_image_compress(&img, mode, start, count, &s, &err), err);
+        /* walk the runs against the rule, pixel by pixel */
+        uint32_t p = start, a = 0;
+        for (uint32_t r = 0; r < s.nruns && !harness_failures; r++)
+            for (int act = 0; act < 2; act++)
+                for (uint32_t k = 0; k < s.runs[2 * r + act]; k++, p++) {
+                    int px = (int)(p % (uint32_t)W), py = (int)(p / (uint32_t)W);
+                    int inside = px >= x && px < x + w && py >= y && py < y + h;
+                    size_t i = inside ? (size_t)(py - y) * w + (size_t)(px - x) : 0;
+                    int want = inside && ref_active(mode, cf, &img, i);
+                    CHECK(want == act, "iter %d: pixel %u is %s in the runs, %s by the rule", iter, p,
+                          act ? "active" : "inactive", want ? "active" : "inactive");
+                    if (act && want) {
+                        CHECK(!memcmp(s.color + (size_t)a * cb, img.color + i * cb, cb), "iter %d: colour of pixel %u",
+                              iter, p);
+                        CHECK(!memcmp(&s.depth[a], &img.depth[i], 4), "iter %d: depth of pixel %u", iter, p);
+                    }
+                    a += act;
+                    if (harness_failures)
+                        break;
+                }
+        CHECK(p == start + count, "iter %d: runs cover %u pixels of %u", iter, p - start, count);
+        CHECK(a == s.active, "iter %d: %u active pixels in the runs, %u counted", iter, a, s.active);
+        tsr_sparse_image_free(&s);
+        tsr_cimage_free(&img);
+        if (harness_failures)
+            break;
+    }
+    return harness_failures;
+}
+
 static const uint8_t ZERO[4] = {0, 0, 0, 0};
 
 static void expand_bg(const tsr_sparse_image *s, tsr_cimage *frame, const void *bg)
@@ -1154,6 +1237,7 @@ int main(int argc, char **argv)
         {"depth_kernel_matches_reference", test_depth_kernel_matches_reference},
         {"over_kernel_matches_reference", test_over_kernel_matches_reference},
         {"nan_depth_never_wins", test_nan_depth_never_wins},
+        {"compress_runs_match_pixel_rule", test_compress_runs_match_pixel_rule},
         {"sparse_merge_equals_dense", test_sparse_merge_equals_dense},
         {"split_at_run_edges", test_split_at_run_edges},
         {"codecs_roundtrip", test_codecs_roundtrip},
