@@ -49,9 +49,8 @@ typedef struct ts_server {
     uint32_t *lists;        /* per list slot: version the server has */
     size_t lists_cap;
     uint64_t frame_bytes, bytes;
-    uint64_t
-        frame_geometry; /* of frame_bytes: geometry buffers and display lists (the rest: diffs, tiles, frame commands) */
-    ts_batch sorted;    /* primitives of a sorted array draw waiting for this server */
+    uint64_t frame_geometry; /* of frame_bytes: geometry buffers and display lists */
+    ts_batch sorted;         /* primitives of a sorted array draw waiting for this server */
 } ts_server;
 
 /* No single target: the geometry buffer goes where its box says. */

@@ -223,8 +223,8 @@ double ts_box_margin(const tilesort *t)
  * for rounding (the renderer's float transform and subpixel snap are
  * well under 1/100 of a pixel). The line width and point size matter
  * only when polygons are drawn as lines or points. The general margin's
- * 2.5 pixels around the isosurface's 3-10 pixel triangles sent 9 % more
- * bytes on a 32-server kd split (overlap 1.147 -> 1.081). */
+ * 2.5 pixels around the isosurface's small triangles sent 6 % more bytes
+ * on a 32-server kd split (overlap 1.147 -> 1.080). */
 double ts_polygon_margin(const tilesort *t)
 {
     const tsr_state_values *v = tsr_state_values_of(t->ctx);
