@@ -13,7 +13,10 @@
 #      overlap   = bytes to all servers / bytes the 1x1 run sent that frame
 #    figures balance_METHOD_imbalance_8x4_fN, balance_METHOD_overlap_8x4_fN
 #    for N = 3 and 10 (frame N counted from 1), next to the same frame's
-#    byte imbalance (balance_METHOD_imbalance_bytes_8x4_fN).
+#    byte imbalance (balance_METHOD_imbalance_bytes_8x4_fN) and the part
+#    of the overlap that is not geometry (balance_METHOD_overlap_commands_8x4_fN:
+#    the servers' state diffs, tiles, window and frame commands less the
+#    1x1 run's, over the 1x1 run's bytes; tilesort's frames_geometry).
 # 2. The frame time of the slowest server against server count (1 .. 32:
 #    1x1 2x1 2x2 4x2 4x4 8x4) for grid, union, kd and broadcast at
 #    BALANCE_SWEEP_SIZE (default 1024x768), BALANCE_SWEEP_FRAMES (5): on one
@@ -111,29 +114,33 @@ load() { echo "bench/balance: part $1, load average $(cut -d' ' -f1-3 /proc/load
 if [[ " $parts " == *" 1 "* ]]; then
 load 1
 csv=$out/balance.csv
-echo "method,tiles,frame,imbalance,imbalance_bytes,overlap" >"$csv"
+echo "method,tiles,frame,imbalance,imbalance_bytes,overlap,overlap_commands" >"$csv"
 run "$size" "$frames" 1x1 grid "$work/one.json"
 rows "$work/one.json" frames >"$work/one.bytes"
+rows "$work/one.json" frames_geometry >"$work/one.geo"
 for method in grid union kd; do
     st=$work/wall-$method.json
     run "$size" "$frames" "$wall" "$method" "$st"
     rows "$st" server_seconds >"$work/$method.secs"
     rows "$st" frames >"$work/$method.bytes"
-    paste -d';' "$work/$method.secs" "$work/$method.bytes" "$work/one.bytes" |
+    rows "$st" frames_geometry >"$work/$method.geo"
+    paste -d';' "$work/$method.secs" "$work/$method.bytes" "$work/one.bytes" "$work/$method.geo" "$work/one.geo" |
         awk -F';' -v m="$method" -v t="$wall" '{
-            n = split($1, s, ","); split($2, b, ","); split($3, o, ",")
-            smax = 0; ssum = 0; bmax = 0; bsum = 0; ok = 1
+            n = split($1, s, ","); split($2, b, ","); split($3, o, ","); split($4, g, ","); split($5, og, ",")
+            smax = 0; ssum = 0; bmax = 0; bsum = 0; gsum = 0; ok = 1
             for (i = 1; i <= n; i++) { if (s[i] == "null") ok = 0; ssum += s[i]; if (s[i] + 0 > smax) smax = s[i] + 0
-                                        bsum += b[i]; if (b[i] + 0 > bmax) bmax = b[i] + 0 }
+                                        bsum += b[i]; gsum += g[i]; if (b[i] + 0 > bmax) bmax = b[i] + 0 }
             imb = ok && ssum > 0 ? sprintf("%.4f", smax * n / ssum) : "nan"
-            printf "%s,%s,%d,%s,%.4f,%.4f\n", m, t, NR, imb, bmax * n / bsum, bsum / o[1] }' >>"$csv"
+            printf "%s,%s,%d,%s,%.4f,%.4f,%.6f\n", m, t, NR, imb, bmax * n / bsum, bsum / o[1],
+                   (bsum - gsum - (o[1] - og[1])) / o[1] }' >>"$csv"
 done
 for method in grid union kd; do
     for f in 3 10; do
         awk -F, -v m="$method" -v f="$f" -v t="$wall" '$1 == m && $3 == f {
             printf "balance_%s_imbalance_%s_f%d: %s\n", m, t, f, $4
             printf "balance_%s_imbalance_bytes_%s_f%d: %s\n", m, t, f, $5
-            printf "balance_%s_overlap_%s_f%d: %s\n", m, t, f, $6 }' "$csv"
+            printf "balance_%s_overlap_%s_f%d: %s\n", m, t, f, $6
+            printf "balance_%s_overlap_commands_%s_f%d: %s\n", m, t, f, $7 }' "$csv"
     done
 done
 

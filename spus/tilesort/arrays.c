@@ -239,7 +239,7 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
     double pm[16];
     GLint vp[4];
     ts_clip_matrix(tsr_state_projection(t->ctx), tsr_state_modelview(t->ctx), pm);
-    double margin = ts_box_margin(t);
+    double margin = d.per >= 3 ? ts_polygon_margin(t) : ts_box_margin(t);
     /* A server gets each vertex its primitives use once (batch.c), so an
      * indexed primitive costs its indices and its share of the vertices:
      * the draw's distinct vertices (its index range) over its indices.

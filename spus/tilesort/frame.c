@@ -170,6 +170,7 @@ void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     for (size_t i = 0; i < t->nservers; i++) {
         t->srv[i].bytes += t->srv[i].frame_bytes;
         t->srv[i].frame_bytes = 0;
+        t->srv[i].frame_geometry = 0;
     }
     if (ts_tiling_rebalance(&t->tiling))
         t->tiling_version++;

@@ -49,7 +49,8 @@ typedef struct ts_server {
     uint32_t *lists;        /* per list slot: version the server has */
     size_t lists_cap;
     uint64_t frame_bytes, bytes;
-    ts_batch sorted; /* primitives of a sorted array draw waiting for this server */
+    uint64_t frame_geometry; /* of frame_bytes: geometry buffers and display lists */
+    ts_batch sorted;         /* primitives of a sorted array draw waiting for this server */
 } ts_server;
 
 /* No single target: the geometry buffer goes where its box says. */
@@ -125,11 +126,12 @@ typedef struct tilesort {
     tsr_state_shadow *solo;
     tsr_packer *solo_packer;
     tsr_dispatch solo_table;
-    uint64_t *frame_rows;   /* frames_kept rows of nservers counts */
-    double *frame_seconds;  /* application time of each kept frame (swap to swap) */
-    double *frame_costs;    /* frames_kept rows of nservers: seconds each server reported (< 0: none) */
-    uint64_t *frame_pixels; /* frames_kept rows of nservers: pixels of each server's tiles that frame */
-    double last_swap;       /* monotonic seconds of the last swap (or of creation) */
+    uint64_t *frame_rows;          /* frames_kept rows of nservers counts */
+    uint64_t *frame_geometry_rows; /* frames_kept rows of nservers: their geometry part */
+    double *frame_seconds;         /* application time of each kept frame (swap to swap) */
+    double *frame_costs;           /* frames_kept rows of nservers: seconds each server reported (< 0: none) */
+    uint64_t *frame_pixels;        /* frames_kept rows of nservers: pixels of each server's tiles that frame */
+    double last_swap;              /* monotonic seconds of the last swap (or of creation) */
     size_t frames_kept, frames_cap;
     tsr_error error; /* first failure, reported once */
 } tilesort;
@@ -152,6 +154,8 @@ void ts_Materiali(void *self, GLenum face, GLenum pname, GLint param);
 void ts_Materialiv(void *self, GLenum face, GLenum pname, const GLint *params);
 ts_server *ts_to_server(tilesort *t);
 double ts_box_margin(const tilesort *t);
+/* The same for a box of filled polygons only (triangles, quads). */
+double ts_polygon_margin(const tilesort *t);
 /* The application's viewport, or the window's while it never set one. */
 const GLint *ts_viewport(const tilesort *t, GLint out[4]);
 void ts_count_solo_diff(tilesort *t);

@@ -71,6 +71,10 @@ void ts_keep_frame_row(tilesort *t)
         if (!n)
             return;
         t->frame_rows = n;
+        uint64_t *g = realloc(t->frame_geometry_rows, cap * t->nservers * sizeof *g);
+        if (!g)
+            return;
+        t->frame_geometry_rows = g;
         double *secs = realloc(t->frame_seconds, cap * sizeof *secs);
         if (!secs)
             return;
@@ -91,6 +95,7 @@ void ts_keep_frame_row(tilesort *t)
     for (size_t i = 0; i < t->nservers; i++) {
         size_t at = t->frames_kept * t->nservers + i;
         t->frame_rows[at] = t->srv[i].frame_bytes;
+        t->frame_geometry_rows[at] = t->srv[i].frame_geometry;
         t->frame_costs[at] = -1;
         t->frame_pixels[at] = 0;
         for (size_t k = 0; k < t->tiling.ntiles[i]; k++)
@@ -128,7 +133,10 @@ static const char *bucket_name(ts_bucket_mode m)
  * overlap = bytes_out / stream_bytes; imbalance = max / mean of the
  * servers' bytes (1 is perfect); frame_seconds: the application's time
  * from one swap to the next (the first from the SPU's creation).
- * Then "server_seconds" (per frame, the render
+ * Then "frames_geometry" (per frame and server, the part of "frames"
+ * that is geometry buffers and display lists: the rest is state diffs,
+ * tiles and window and frame commands, which every server gets),
+ * "server_seconds" (per frame, the render
  * time each server measured and reported, null when none came),
  * "server_pixels" (per frame, the pixels of each server's region) and
  * "time_imbalance" (per frame, max / mean of server_seconds; null unless
@@ -158,6 +166,13 @@ static void write_sort_first_stats(void *ctx, FILE *f)
         fprintf(f, "%s[", r ? "," : "");
         for (size_t i = 0; i < t->nservers; i++)
             fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_rows[r * t->nservers + i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "],\"frames_geometry\":[");
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++)
+            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_geometry_rows[r * t->nservers + i]);
         fprintf(f, "]");
     }
     fprintf(f, "]");
@@ -524,6 +539,7 @@ static void tilesort_destroy(void *instance)
     free(t->gathered);
     free(t->materials);
     free(t->frame_rows);
+    free(t->frame_geometry_rows);
     free(t->frame_costs);
     free(t->frame_pixels);
     free(t->frame_seconds);

@@ -176,6 +176,15 @@ stable)
   [ -s "$out/bad" ] && bad=1
   echo "regions (pixels per server) per frame:"; cat "$out/pixels"
   grep -i -q 'nan\|inf' "$out/tiled/stats.json" && fail "NaN or Inf in the statistics"
+  # frames_geometry: each server's geometry part of its frame's bytes
+  rows "$out/tiled/stats.json" frames >"$out/bytes"
+  rows "$out/tiled/stats.json" frames_geometry >"$out/geometry"
+  [ "$(wc -l <"$out/geometry")" = 16 ] || fail "frames_geometry has $(wc -l <"$out/geometry") rows, not 16"
+  paste -d';' "$out/bytes" "$out/geometry" | awk -F';' '{ n = split($1, b, ","); m = split($2, g, ",")
+      if (n != m) print "frame " NR - 1 ": " m " geometry counts for " n " servers"
+      for (i = 1; i <= n; i++) if (g[i] + 0 > b[i] + 0) print "frame " NR - 1 ": server " i - 1 " geometry " g[i] " above its bytes " b[i] }' >"$out/badgeo"
+  sed 's/^/FAIL: /' "$out/badgeo" >&2
+  [ -s "$out/badgeo" ] && bad=1
   if [ "$stall" = 1 ]; then
     grep -q "first frame takes 1500 ms more" "$out/tiled/node1.err" || fail "server 1 did not stall"
   fi ;;
