@@ -1,5 +1,7 @@
 /* core/wire/wireloop.c — a packer unpacked into a child in the same process
  * (tessera/dev/wireloop.h), and the one-reply slot such a loop needs. */
+#include <pthread.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,17 +47,50 @@ void tsr_reply_slot_free(tsr_reply_slot *slot)
 
 struct tsr_wire_loop {
     const char *name;
+    const tsr_dispatch *child;
     tsr_packer *packer;
     tsr_unpacker *unpacker;
     tsr_reply_slot reply;
     tsr_wire_loop_observer observer;
+    tsr_entry pack_make_current; /* the packer's own MakeCurrentTSR */
+    /* The stream's current window and context: as packed so far, and as
+     * of the start of the next buffer the child runs. */
+    GLint packed_window, packed_context, run_window, run_context;
+    bool packed_current, run_current;
+    pthread_t run_thread; /* the thread that ran the last buffer */
+    bool ran;
 };
 
+static void loop_MakeCurrentTSR(void *self, GLint window, GLint context)
+{
+    tsr_wire_loop *l = self;
+    ((tsr_fn_MakeCurrentTSR)l->pack_make_current.fn)(l->pack_make_current.self, window, context);
+    l->packed_window = window;
+    l->packed_context = context;
+    l->packed_current = true;
+}
+
+/* A buffer runs on the thread that flushed it. A child whose current
+ * context is bound to a thread (OSMesa's is) is made current again on a
+ * thread other than the last one to run a buffer, as of where the stream
+ * stands: a program whose threads draw into one stream in turn (the
+ * faker's share groups) would otherwise have another thread's calls run
+ * in whatever context this thread last had. */
 static int loop_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
 {
     tsr_wire_loop *l = ctx;
     if (l->observer.buffer)
         l->observer.buffer(l->observer.ctx, buf, size);
+    pthread_t self = pthread_self();
+    if (l->ran && !pthread_equal(self, l->run_thread) && l->run_current)
+        tsr_call_MakeCurrentTSR(l->child, l->run_window, l->run_context);
+    l->run_thread = self;
+    l->ran = true;
+    /* The packer has packed every call made so far into this buffer but
+     * the one being packed, which a MakeCurrentTSR records only after. */
+    l->run_window = l->packed_window;
+    l->run_context = l->packed_context;
+    l->run_current = l->packed_current;
     int rc = tsr_unpacker_run(l->unpacker, buf, size, err);
     if (rc)
         tsr_log(TSR_LOG_ERROR, "%s: %s", l->name, err->message);
@@ -86,6 +121,7 @@ tsr_wire_loop *tsr_wire_loop_create(const char *name, size_t buffer_size, const 
         return NULL;
     }
     l->name = name;
+    l->child = child;
     if (observer)
         l->observer = *observer;
     tsr_pack_sink sink = {.flush = loop_flush, .reply = loop_take_reply, .ctx = l};
@@ -102,6 +138,8 @@ tsr_wire_loop *tsr_wire_loop_create(const char *name, size_t buffer_size, const 
 void tsr_wire_loop_fill_dispatch(tsr_wire_loop *loop, tsr_dispatch *table)
 {
     tsr_packer_fill_dispatch(loop->packer, table);
+    loop->pack_make_current = table->MakeCurrentTSR;
+    tsr_set_MakeCurrentTSR(table, loop_MakeCurrentTSR, loop);
 }
 
 int tsr_wire_loop_flush(tsr_wire_loop *loop) { return tsr_packer_flush(loop->packer); }
