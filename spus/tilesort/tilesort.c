@@ -123,6 +123,19 @@ static const char *bucket_name(ts_bucket_mode m)
                              : "grid";
 }
 
+/* `,"NAME":[[...],...]`: one row of nservers counts per kept frame. */
+static void write_count_rows(FILE *f, const char *name, const tilesort *t, const uint64_t *rows)
+{
+    fprintf(f, ",\"%s\":[", name);
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++)
+            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)rows[r * t->nservers + i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "]");
+}
+
 /* The sort-first members of the statistics file (tessera/dev/client.h):
  *   "sort_first":{"bucket":"grid","servers":4,"stream_bytes":N,
  *     "bytes_out":N,"overlap":X,"imbalance":X,"server_bytes":[...],
@@ -161,21 +174,9 @@ static void write_sort_first_stats(void *ctx, FILE *f)
     fprintf(f, "],\"frame_seconds\":[");
     for (size_t r = 0; r < t->frames_kept; r++)
         fprintf(f, "%s%.6f", r ? "," : "", t->frame_seconds[r]);
-    fprintf(f, "],\"frames\":[");
-    for (size_t r = 0; r < t->frames_kept; r++) {
-        fprintf(f, "%s[", r ? "," : "");
-        for (size_t i = 0; i < t->nservers; i++)
-            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_rows[r * t->nservers + i]);
-        fprintf(f, "]");
-    }
-    fprintf(f, "],\"frames_geometry\":[");
-    for (size_t r = 0; r < t->frames_kept; r++) {
-        fprintf(f, "%s[", r ? "," : "");
-        for (size_t i = 0; i < t->nservers; i++)
-            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_geometry_rows[r * t->nservers + i]);
-        fprintf(f, "]");
-    }
     fprintf(f, "]");
+    write_count_rows(f, "frames", t, t->frame_rows);
+    write_count_rows(f, "frames_geometry", t, t->frame_geometry_rows);
     fprintf(f, ",\"server_seconds\":[");
     for (size_t r = 0; r < t->frames_kept; r++) {
         fprintf(f, "%s[", r ? "," : "");
@@ -185,14 +186,9 @@ static void write_sort_first_stats(void *ctx, FILE *f)
         }
         fprintf(f, "]");
     }
-    fprintf(f, "],\"server_pixels\":[");
-    for (size_t r = 0; r < t->frames_kept; r++) {
-        fprintf(f, "%s[", r ? "," : "");
-        for (size_t i = 0; i < t->nservers; i++)
-            fprintf(f, "%s%llu", i ? "," : "", (unsigned long long)t->frame_pixels[r * t->nservers + i]);
-        fprintf(f, "]");
-    }
-    fprintf(f, "],\"time_imbalance\":[");
+    fprintf(f, "]");
+    write_count_rows(f, "server_pixels", t, t->frame_pixels);
+    fprintf(f, ",\"time_imbalance\":[");
     for (size_t r = 0; r < t->frames_kept; r++) {
         double sum = 0, max = 0;
         int all = 1;
