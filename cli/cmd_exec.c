@@ -11,7 +11,8 @@
  * Its end passes through there too when it is the run's verdict (it
  * exited non-zero or died by a signal before any node failed): this
  * process exits with its status or dies by its signal; a node's failure
- * gives 1 and the line naming it, as `tessera run` does. */
+ * gives 1 and the line naming it, as `tessera run` does, and a SIGINT or
+ * SIGTERM to this process stops the run and then ends this process by it. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -53,7 +54,9 @@ static void exec_usage(FILE *out)
             "  --node NAME      that app node (default: the graph's only app node)\n"
             "                   With --graph the program's exit status and the signal that\n"
             "                   killed it pass through as well; a failing node (a server,\n"
-            "                   a lost connection) gives 1 and one line naming it. Any app\n"
+            "                   a lost connection) gives 1 and one line naming it; SIGINT\n"
+            "                   or SIGTERM to tessera exec stops the run, then ends it by\n"
+            "                   that signal. Any app\n"
             "                   node whose program is not linked to libtessera_gl runs\n"
             "                   under the faker, also in tessera run.\n"
             "  -h, --help       show this help\n\n"

@@ -51,7 +51,9 @@ static void run_usage(FILE *out)
             "Ends when every node ended. On a failure (a node exits non-zero, is killed, or\n"
             "stops answering) it stops every node, kills every process it started, and prints\n"
             "one line naming the node and what happened.\n"
-            "Exit codes: 0 ok, 1 a node failed, 2 usage error or bad graph (FILE:LINE:COL).\n",
+            "Exit codes: 0 ok, 1 a node failed, 2 usage error or bad graph (FILE:LINE:COL).\n"
+            "SIGINT or SIGTERM stops every node, then the run ends by that same signal\n"
+            "(130 or 143 in a shell's $?).\n",
             TSR_MS_DEFAULT_TIMEOUT_MS, TSR_MS_DEFAULT_JOIN_TIMEOUT_MS);
 }
 
@@ -216,20 +218,25 @@ static const tsr_graph_node *exec_node(const char *who, const tsr_graph *graph, 
  * --chain` (which becomes the program) would: its exit status, or death by
  * the same signal (re-raised with the default action; no core file of
  * this process, which did not crash), else 128 + N as a shell reports it. */
+static int die_by_signal(int sig)
+{
+    fflush(NULL);
+    struct rlimit no_core = {0, 0};
+    setrlimit(RLIMIT_CORE, &no_core);
+    signal(sig, SIG_DFL);
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, sig);
+    sigprocmask(SIG_UNBLOCK, &set, NULL);
+    raise(sig);
+    return 128 + sig; /* a signal that does not end a process (SIGCHLD, SIGCONT...) */
+}
+
 static int pass_through(const struct tsr_ms_program_end *end)
 {
     if (!end->signal)
         return end->exit_code;
-    fflush(NULL);
-    struct rlimit no_core = {0, 0};
-    setrlimit(RLIMIT_CORE, &no_core);
-    signal(end->signal, SIG_DFL);
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, end->signal);
-    sigprocmask(SIG_UNBLOCK, &set, NULL);
-    raise(end->signal);
-    return 128 + end->signal; /* a signal that does not end a process (SIGCHLD, SIGCONT...) */
+    return die_by_signal(end->signal);
 }
 
 static int run_graph(int argc, char **argv, int launch, const char *const *app_exec, const char *as, const char *node,
@@ -366,6 +373,11 @@ static int run_graph(int argc, char **argv, int launch, const char *const *app_e
         fprintf(stderr, "%s: %s\n", who, err.message);
         if (end.is_verdict)
             return pass_through(&end);
+        /* Every node is stopped by now: end by the signal that asked us
+         * to, so a shell or a batch system sees what ended the run (an
+         * interrupted script loop stops; 128+N in $?), not a failure. */
+        if (interrupted)
+            return die_by_signal((int)interrupted);
         return rc == TSR_EINVAL ? TSR_EXIT_USAGE : TSR_EXIT_FAIL;
     }
     return TSR_EXIT_OK;

@@ -37,6 +37,7 @@ grep -q "glxgears is not linked to libtessera_gl: it runs under the faker" "$out
   fail "the app node did not say it runs glxgears under the faker"
 [ "$kind" != tcp ] || grep -q "frames in" "$out/stdout.txt" || fail "glxgears' own output did not reach stdout"
 grep -q "interrupted by signal 15" "$out/stderr.txt" || fail "the run did not end on SIGTERM"
+[ "$status" = 143 ] || fail "tessera exec --graph ended with status $status after SIGTERM, not 143 (death by it)"
 [ -e "$out/run/out/$last" ] || { tail -n 20 "$out/stderr.txt"; fail "no $last"; }
 if [ "$kind" = tcp ]; then
   "$frames" "$out/run/out" tcp- 5 || bad=1

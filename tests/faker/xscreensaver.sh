@@ -16,7 +16,8 @@
 # it has written at least 10 frames that are not all one colour, not all
 # the same picture (FRAMES_CHECK --some-blank: hacks fade in from black),
 # then dies of the SIGTERM it is sent (status 143; with a graph, the run
-# ends with status 1, "tessera exec: interrupted by signal 15", no node
+# stops every node and tessera exec dies of the SIGTERM too, 143, with
+# "tessera exec: interrupted by signal 15", no node
 # dead of another signal) within 5 s, leaving no
 # process of its session behind, having logged no "not supported by
 # tessera" warning for a function spec/gl.yaml has. Anything else fails —
@@ -133,10 +134,10 @@ judge() {
   elif [ "$n" = 0 ]; then why="hung: no frame in ${limit} s"
   elif [ "$good" != 1 ]; then why="$(tail -n 1 "$d/frames.txt" | sed 's/.*check failed: //') ($(head -n 1 "$d/frames.txt"))"
   elif [ -z "$graph" ] && [ "$status" != 143 ]; then why="status $status after SIGTERM, not 143" kind=status
-  # A graph run ends on SIGTERM with the run's status 1 (every node stopped
-  # by the mothership, cli/cmd_exec.c), and says so for each node.
-  elif [ -n "$graph" ] && { [ "$status" != 1 ] || ! grep -qx "tessera exec: interrupted by signal 15" "$d/stderr.txt"; }; then
-    why="status $status after SIGTERM, not 1 with 'tessera exec: interrupted by signal 15'" kind=status
+  # A graph run stops every node on SIGTERM, says so, then ends by the
+  # same signal (cli/cmd_run.c): 143.
+  elif [ -n "$graph" ] && { [ "$status" != 143 ] || ! grep -qx "tessera exec: interrupted by signal 15" "$d/stderr.txt"; }; then
+    why="status $status after SIGTERM, not 143 with 'tessera exec: interrupted by signal 15'" kind=status
   # The run's reason is the first failure, so that line says the SIGTERM
   # came first; a server may then see the app go before its own SIGTERM
   # ("dropped"), but no node may die of another signal.

@@ -671,9 +671,10 @@ int main(int argc, char **argv)
             snprintf(want, sizeof want, "^tessera run: node '%s' \\(pid %d\\) killed by signal 9", target, (int)victim);
         break;
     case F_TERM:
-        if (mothership)
+        if (mothership) {
+            want_status = "killed by signal 15";
             snprintf(want, sizeof want, "^tessera run: interrupted by signal 15");
-        else if (application)
+        } else if (application)
             snprintf(want, sizeof want, "^tessera run: node '%s': application [^ ]* killed by signal 15", app_node);
         else
             snprintf(want, sizeof want, "^tessera run: node '%s' \\(pid %d\\) killed by signal 15", target,

@@ -5,6 +5,11 @@
  * passes) and for anything that must see a stream exactly as a server
  * would. Part of libtessera (pkg-config tessera).
  *
+ * Threads: a buffer flushed on another thread than the last one first makes
+ * the child current again in the context the stream stands in, because
+ * OSMesa (and GL generally) binds a current context to one thread; calls
+ * from two threads must still be serialised by the caller.
+ *
  * Owns: its packer, its unpacker and the one reply in flight.
  * Never: calls the child except through the unpacker, keeps globals (two
  * loops in one process are independent), or changes a buffer it hands to
