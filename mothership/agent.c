@@ -70,6 +70,8 @@ static void add_server_stats(agent *a, tsr_ctl_out *out)
     tsr_ctl_addf(out, "busy_seconds", "%.6f", st.busy_seconds);
     tsr_ctl_addf(out, "clients", "%u", st.clients_connected);
     tsr_ctl_addf(out, "clients_silent", "%u", st.clients_silent);
+    tsr_ctl_addf(out, "clients_failed", "%u", st.clients_failed);
+    tsr_ctl_addf(out, "clients_vanished", "%u", st.clients_vanished);
 }
 
 static const char *plain(const char *message) { return strncmp(message, "node: ", 6) ? message : message + 6; }

@@ -20,7 +20,9 @@
  *   TSR_MS_MSG_STATS    the heartbeat, sent every heartbeat_ms from the
  *                       node's main thread: frames= buffers= bytes_in=
  *                       bytes_out= busy_seconds= (render time) clients=
- *                       (servers; running totals) or elapsed= (apps).
+ *                       (servers; running totals, with clients_failed=
+ *                       and, of those, clients_vanished=: went away
+ *                       unclosed) or elapsed= (apps).
  *                       A server that dropped a client for silence
  *                       (idle_timeout_ms) adds clients_silent= and
  *                       failure= (one line naming that client) and sends

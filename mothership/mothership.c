@@ -43,8 +43,21 @@
  * at about the same time (both wait the run's time-out), names it
  * directly; so the silent client ranks just after. A control connection
  * lost without an exit status to explain it (a node on another machine)
- * most likely means that node died. */
-enum { FAIL_INTERRUPT, FAIL_SIGNAL, FAIL_HEARTBEAT, FAIL_SILENT, FAIL_LOST, FAIL_EXIT, FAIL_OTHER, FAIL_NONE };
+ * most likely means that node died. Last, a server whose only failures
+ * are clients that went away unclosed: that is the echo of the client's
+ * own end (an application that failed and exited), which its node reports
+ * with the reason, usually just after the server saw the socket close. */
+enum {
+    FAIL_INTERRUPT,
+    FAIL_SIGNAL,
+    FAIL_HEARTBEAT,
+    FAIL_SILENT,
+    FAIL_LOST,
+    FAIL_EXIT,
+    FAIL_OTHER,
+    FAIL_ECHO,
+    FAIL_NONE
+};
 
 typedef enum { N_WAITING, N_JOINED, N_CONFIGURED, N_READY, N_DONE } node_state;
 
@@ -648,9 +661,11 @@ static void handle_message(ms *m, ms_node *n, unsigned kind, const tsr_ctl *msg)
         /* A server that dropped a client for silence found a stopped or
          * hung process, as a missed heartbeat does: that explains the
          * exits of the peers and applications that follow. */
-        int cls = tsr_ctl_number(msg, "signal", 0)           ? FAIL_SIGNAL
-                  : tsr_ctl_number(msg, "clients_silent", 0) ? FAIL_SILENT
-                                                             : FAIL_EXIT;
+        double failed = tsr_ctl_number(msg, "clients_failed", 0);
+        int cls = tsr_ctl_number(msg, "signal", 0)                                                  ? FAIL_SIGNAL
+                  : tsr_ctl_number(msg, "clients_silent", 0)                                        ? FAIL_SILENT
+                  : n->server && failed > 0 && tsr_ctl_number(msg, "clients_vanished", 0) >= failed ? FAIL_ECHO
+                                                                                                    : FAIL_EXIT;
         /* `tessera exec --graph`: the program's own end, for its caller. */
         int program = !n->server && m->cfg->exec_node && !strcmp(m->cfg->exec_node, n->g->name);
         if (program && m->cfg->program_end) {

@@ -980,6 +980,14 @@ int tsr_net_conn_went_silent(tsr_net_conn *c)
     return silent;
 }
 
+int tsr_net_conn_vanished(tsr_net_conn *c)
+{
+    pthread_mutex_lock(&c->net->lock);
+    int vanished = c->vanished;
+    pthread_mutex_unlock(&c->net->lock);
+    return vanished;
+}
+
 void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats)
 {
     pthread_mutex_lock(&c->net->lock);

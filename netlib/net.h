@@ -323,6 +323,10 @@ TSR_API const char *tsr_net_conn_transport(tsr_net_conn *conn);
 /* 1 when the connection failed because the peer sent nothing for
  * idle_timeout_ms (a stopped or hung peer, not one that went away). */
 TSR_API int tsr_net_conn_went_silent(tsr_net_conn *conn);
+/* 1 when the connection failed because the peer's end went away without
+ * closing it (its process ended, was killed, or the connection was cut):
+ * what the peer's own end reports is the cause, this is its echo. */
+TSR_API int tsr_net_conn_vanished(tsr_net_conn *conn);
 /* Waits at most timeout_ms until everything tsr_net_send accepted on
  * `conn` has been handed to the kernel (a process about to _exit after a
  * fatal error flushes so its peers still read what it sent before). 0 when

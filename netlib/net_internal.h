@@ -136,6 +136,7 @@ struct tsr_net_conn {
     bool socket_connected; /* (L) the transport connected (handshake may still fail) */
     bool handshaken;       /* (L) the handshake succeeded (the state may have moved on) */
     bool went_silent;      /* (L) failed because the peer sent nothing for idle_timeout_ms */
+    bool vanished;         /* (L) failed because the peer's end closed or reset without a goodbye */
     /* (L) A write to a Unix socket met EPIPE/ECONNRESET: the peer closed,
      * but what it sent before is still in our receive buffer. Nothing more
      * is written; the connection fails (or ends) when the reading side

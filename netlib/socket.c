@@ -926,6 +926,7 @@ static void on_peer_eof(tsr_net_conn *c)
         return;
     }
     if (c->state == NET_OPEN && !c->peer_said_bye) {
+        c->vanished = true;
         net_conn_fail(c, TSR_EIO,
                       "net: peer '%s' at %s went away without closing the connection "
                       "(crashed, killed or cut off)",
@@ -993,9 +994,11 @@ static void on_read(uv_stream_t *s, ssize_t nread, const uv_buf_t *buf)
         if (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
             net_conn_fail(c, TSR_EIO, "net: %s closed the connection during the handshake (%s)", c->address,
                           uv_strerror((int)nread));
-        else
+        else {
+            c->vanished = nread == UV_ECONNRESET && c->state == NET_OPEN;
             net_conn_fail(c, TSR_EIO, "net: connection to peer '%s' at %s lost: %s", c->peer_name, c->address,
                           uv_strerror((int)nread));
+        }
         close_handles(c);
     }
     pthread_mutex_unlock(&net->lock);

@@ -53,18 +53,22 @@ void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta)
     t->clients_ended += delta->clients_ended;
     t->clients_failed += delta->clients_failed;
     t->clients_silent += delta->clients_silent;
+    t->clients_vanished += delta->clients_vanished;
     t->swaps_ignored += delta->swaps_ignored;
     t->blocks += delta->blocks;
     pthread_mutex_unlock(&node->stats_lock);
 }
 
-void tsr_node_client_ended(tsr_node *node, int failed, int silent, const char *who, const char *why)
+void tsr_node_client_ended(tsr_node *node, int failed, tsr_net_conn *conn, const char *who, const char *why)
 {
+    int silent = failed && conn && tsr_net_conn_went_silent(conn);
+    int vanished = failed && conn && !silent && tsr_net_conn_vanished(conn);
     pthread_mutex_lock(&node->stats_lock);
     tsr_node_stats *t = &node->stats;
     t->clients_ended += !failed;
     t->clients_failed += failed != 0;
-    t->clients_silent += failed && silent;
+    t->clients_silent += silent;
+    t->clients_vanished += vanished;
     if (failed && silent && !node->silent_failure[0])
         snprintf(node->silent_failure, sizeof node->silent_failure, "node: %s dropped: %s", who, why);
     pthread_mutex_unlock(&node->stats_lock);
@@ -387,8 +391,7 @@ static void *session_main(void *arg)
     }
     if (s->error.code)
         tsr_log(TSR_LOG_ERROR, "node: %s dropped: %s", s->who, s->error.message);
-    tsr_node_client_ended(s->node, s->error.code != 0, s->error.code && s->conn && tsr_net_conn_went_silent(s->conn),
-                          s->who, s->error.message);
+    tsr_node_client_ended(s->node, s->error.code != 0, s->conn, s->who, s->error.message);
     tsr_unpacker_destroy(unpacker);
     tsr_chain_destroy(chain);
     tsr_net_conn_close(s->conn);

@@ -159,11 +159,13 @@ typedef struct tsr_node_stats {
     uint64_t bytes_out;  /* reply bytes sent to clients */
     double busy_seconds; /* time spent running buffers through the chain (render time) */
     unsigned clients_connected;
-    unsigned clients_ended;  /* ended cleanly */
-    unsigned clients_failed; /* dropped */
-    unsigned clients_silent; /* of those, dropped because they sent nothing for idle_timeout_ms */
-    uint64_t swaps_ignored;  /* shared mode: swaps of clients other than the swapping one */
-    uint64_t blocks;         /* shared mode: times a client blocked on a barrier or semaphore */
+    unsigned clients_ended;    /* ended cleanly */
+    unsigned clients_failed;   /* dropped */
+    unsigned clients_silent;   /* of those, dropped because they sent nothing for idle_timeout_ms */
+    unsigned clients_vanished; /* of those, dropped because their end went away unclosed (the client's
+                                  own end is the cause, reported by its node) */
+    uint64_t swaps_ignored;    /* shared mode: swaps of clients other than the swapping one */
+    uint64_t blocks;           /* shared mode: times a client blocked on a barrier or semaphore */
 } tsr_node_stats;
 void tsr_node_get_stats(tsr_node *node, tsr_node_stats *out);
 /* 1 once a client was dropped because it sent nothing for

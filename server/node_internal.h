@@ -86,10 +86,12 @@ double tsr_node_thread_cpu(void);
 void tsr_node_report_cost(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, tsr_node_cost *cost);
 /* Adds `delta` to the node's totals under its lock. */
 void tsr_node_stats_add(tsr_node *node, const tsr_node_stats *delta);
-/* A client ended: `silent` when it was dropped because it sent nothing
- * for idle_timeout_ms (tsr_net_conn_went_silent); `who` and `why` name
- * it for tsr_node_silent_failure (the first such client is kept). */
-void tsr_node_client_ended(tsr_node *node, int failed, int silent, const char *who, const char *why);
+/* A client ended (`conn` still open, or NULL): a failed one is counted
+ * silent when it sent nothing for idle_timeout_ms (tsr_net_conn_went_silent)
+ * and vanished when its end went away unclosed (tsr_net_conn_vanished);
+ * `who` and `why` name a silent one for tsr_node_silent_failure (the first
+ * such client is kept). */
+void tsr_node_client_ended(tsr_node *node, int failed, tsr_net_conn *conn, const char *who, const char *why);
 /* The chain for client `index` ("{client}" replaced); NULL with `err`. */
 tsr_chain *tsr_node_create_chain(const tsr_node *node, unsigned index, tsr_error *err);
 /* Sends a TSR_NODE_MSG_REPLY on `conn` through a growing buffer

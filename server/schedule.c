@@ -380,7 +380,7 @@ static void release_msg(sched_client *c)
 /* Ends a client: its context goes, its connection closes. */
 static void retire(sched *s, sched_client *c, client_state state)
 {
-    int silent = c->conn && tsr_net_conn_went_silent(c->conn);
+    tsr_node_client_ended(s->node, state == CLIENT_FAILED, c->conn, c->who, c->error.message);
     release_msg(c);
     c->state = state;
     while (c->nsubs)
@@ -395,7 +395,6 @@ static void retire(sched *s, sched_client *c, client_state state)
     c->conn = NULL;
     free(c->reply);
     c->reply = NULL;
-    tsr_node_client_ended(s->node, state == CLIENT_FAILED, silent, c->who, c->error.message);
     if (state == CLIENT_ENDED)
         s->goodbye = tsr_now_seconds();
 }

@@ -21,6 +21,10 @@ bad=0
 [ $status -ne 0 ] && [ $status -ne 124 ] || { echo "FAIL: expected a failed run, not status $status"; bad=1; }
 grep -q "the program's window is 320x240 but the tiles cover 1024x768" "$out/stderr.txt" ||
   { echo "FAIL: no line naming both sizes"; bad=1; }
+# The verdict (the last line) names the cause, the app's exit, not a
+# server's dropped client, which only echoes it.
+tail -n 1 "$out/stderr.txt" | grep -q "^tessera exec: node 'app': application glxgears exited with status 1" ||
+  { echo "FAIL: the verdict does not name the application: $(tail -n 1 "$out/stderr.txt")"; bad=1; }
 pngs=$(find "$out/run" -name '*.png' | wc -l)
 [ "$pngs" -eq 0 ] || { echo "FAIL: $pngs PNGs were written for a wall that does not fit"; bad=1; }
 [ $bad = 0 ] && echo PASS
