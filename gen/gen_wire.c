@@ -26,6 +26,11 @@ static const struct {
      "tsr_unpacker_note_BindBuffer(u, target, buffer);"},
     {"DeleteBuffers", "tsr_packer_mirror_DeleteBuffers(tsr_p, n, buffers);",
      "tsr_unpacker_note_DeleteBuffers(u, n, buffers);"},
+    /* Pixel store and client arrays are per context; a share group's
+     * contexts share one stream (tessera/dev/pack.h). */
+    {"MakeCurrentTSR", "tsr_packer_mirror_MakeCurrent(tsr_p, context);", "tsr_unpacker_note_MakeCurrent(u, context);"},
+    {"ContextDestroyTSR", "tsr_packer_mirror_ContextDestroy(tsr_p, context);",
+     "tsr_unpacker_note_ContextDestroy(u, context);"},
     /* A budgeted stream's buffer bytes (tessera/dev/unpack.h). */
     {"BufferData", NULL, "if (tsr_unpacker_check_BufferData(u, target, size, err) != 0) return err->code;"},
     /* Commands that must reach the receiver now, not when the buffer fills. */

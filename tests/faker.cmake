@@ -190,6 +190,23 @@ if(TESSERA_SANITIZE)
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
+# Two contexts of one share group with their own pixel store and client
+# arrays, used in turn: the stream's mirrors follow its MakeCurrentTSR.
+add_executable(faker_egl_share_client_state ${FAKER_TEST_DIR}/egl_share_client_state.c)
+target_link_libraries(faker_egl_share_client_state PRIVATE tessera_faker_egl tessera_faker_gl)
+add_executable(faker_egl_share_client_state_native ${FAKER_TEST_DIR}/egl_share_client_state.c)
+target_compile_definitions(faker_egl_share_client_state_native PRIVATE SHARE_NATIVE)
+target_link_libraries(faker_egl_share_client_state_native PRIVATE PkgConfig::OSMESA)
+add_test(NAME faker_share_group_contexts_keep_their_own_pixel_store_and_client_arrays
+         COMMAND bash ${FAKER_TEST_DIR}/share_client_state.sh $<TARGET_FILE:faker_egl_share_client_state>
+                 $<TARGET_FILE:faker_egl_share_client_state_native> $<TARGET_FILE:tessera_cli>
+                 ${FAKER_OUT}/share_client_state)
+set_tests_properties(faker_share_group_contexts_keep_their_own_pixel_store_and_client_arrays PROPERTIES TIMEOUT 120)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_share_group_contexts_keep_their_own_pixel_store_and_client_arrays APPEND PROPERTY
+               ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
+endif()
+
 # GLX pbuffers and pixmaps: off-screen tessera drawables of their size.
 add_executable(faker_glx_offscreen ${FAKER_TEST_DIR}/glx_offscreen.c)
 target_link_libraries(faker_glx_offscreen PRIVATE tessera_faker_gl PkgConfig::X11)

@@ -32,6 +32,8 @@ static void record(tsr_packer *p, int code, const char *fmt, ...)
     tsr_log(TSR_LOG_WARN, "packer: %s", msg);
 }
 
+static void pack_contexts_free(struct tsr_pack_contexts *c);
+
 static void use_normal_buffer(tsr_packer *p)
 {
     p->mid = p->mem + TSR_WIRE_HEADER_SIZE + p->op_room;
@@ -115,6 +117,7 @@ void tsr_packer_destroy(tsr_packer *p)
     for (size_t i = 0; i < p->nstrings; i++)
         free(p->strings[i]);
     free(p->strings);
+    pack_contexts_free(p->contexts);
     free(p);
 }
 
@@ -304,6 +307,103 @@ const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t 
 }
 
 /* --- mirrors of client state ------------------------------------------------ */
+
+/* The mirrors of the stream's contexts other than the current one. */
+typedef struct pack_context_state {
+    GLint context;
+    tsr_pixel_store pixels;
+    tsr_client_arrays arrays;
+    uint32_t stack_depth;
+    unsigned char stack[sizeof(((tsr_packer *)0)->stack)];
+} pack_context_state;
+
+struct tsr_pack_contexts {
+    pack_context_state *states;
+    size_t count, cap;
+};
+
+static void pack_contexts_free(struct tsr_pack_contexts *c)
+{
+    if (c)
+        free(c->states);
+    free(c);
+}
+
+static pack_context_state *pack_context_find(tsr_packer *p, GLint context)
+{
+    for (size_t i = 0; p->contexts && i < p->contexts->count; i++)
+        if (p->contexts->states[i].context == context)
+            return &p->contexts->states[i];
+    return NULL;
+}
+
+static pack_context_state *pack_context_add(tsr_packer *p, GLint context)
+{
+    if (!p->contexts && !(p->contexts = calloc(1, sizeof *p->contexts)))
+        return NULL;
+    struct tsr_pack_contexts *c = p->contexts;
+    if (c->count == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 4;
+        pack_context_state *s = realloc(c->states, cap * sizeof *s);
+        if (!s)
+            return NULL;
+        c->states = s;
+        c->cap = cap;
+    }
+    pack_context_state *s = &c->states[c->count++];
+    s->context = context;
+    return s;
+}
+
+static void pack_mirrors_reset(tsr_packer *p)
+{
+    tsr_pixel_store_init(&p->pixels);
+    memset(&p->arrays, 0, sizeof p->arrays);
+    p->stack_depth = 0;
+}
+
+void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
+{
+    if (p->context_known && context == p->context)
+        return;
+    if (p->context_known) {
+        pack_context_state *s = pack_context_find(p, p->context);
+        if (!s)
+            s = pack_context_add(p, p->context);
+        if (!s) {
+            record(p, TSR_ENOMEM, "out of memory for context %d's client state", (int)p->context);
+            return;
+        }
+        s->pixels = p->pixels;
+        s->arrays = p->arrays;
+        s->stack_depth = p->stack_depth;
+        memcpy(s->stack, p->stack, sizeof s->stack);
+    }
+    const pack_context_state *s = pack_context_find(p, context);
+    if (s) {
+        p->pixels = s->pixels;
+        p->arrays = s->arrays;
+        p->stack_depth = s->stack_depth;
+        memcpy(p->stack, s->stack, sizeof p->stack);
+    } else if (p->context_known) {
+        pack_mirrors_reset(p);
+    }
+    p->context = context;
+    p->context_known = 1;
+}
+
+void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context)
+{
+    pack_context_state *s = pack_context_find(p, context);
+    if (s)
+        *s = p->contexts->states[--p->contexts->count];
+    if (p->context_known && context == p->context) {
+        /* Whatever is made current next starts from GL's initial values
+         * or its own saved state. */
+        pack_mirrors_reset(p);
+        p->context_known = 0;
+    }
+}
 
 void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value)
 {

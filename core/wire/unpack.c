@@ -159,6 +159,91 @@ void tsr_unpacker_note_DeleteBuffers(tsr_unpacker *u, GLsizei n, const GLuint *b
     }
 }
 
+/* The pixel store and buffer bindings of the stream's other contexts. */
+typedef struct unpack_context_state {
+    GLint context;
+    tsr_pixel_store pixels;
+    uint32_t bound[BOUND_TARGETS];
+} unpack_context_state;
+
+struct tsr_unpack_contexts {
+    unpack_context_state *states;
+    size_t count, cap;
+};
+
+static unpack_context_state *unpack_context_find(tsr_unpacker *u, GLint context)
+{
+    for (size_t i = 0; u->contexts && i < u->contexts->count; i++)
+        if (u->contexts->states[i].context == context)
+            return &u->contexts->states[i];
+    return NULL;
+}
+
+static unpack_context_state *unpack_context_add(tsr_unpacker *u, GLint context)
+{
+    if (!u->contexts && !(u->contexts = calloc(1, sizeof *u->contexts)))
+        return NULL;
+    struct tsr_unpack_contexts *c = u->contexts;
+    if (c->count == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 4;
+        unpack_context_state *s = realloc(c->states, cap * sizeof *s);
+        if (!s)
+            return NULL;
+        c->states = s;
+        c->cap = cap;
+    }
+    unpack_context_state *s = &c->states[c->count++];
+    memset(s, 0, sizeof *s);
+    s->context = context;
+    return s;
+}
+
+static void unpack_mirrors_reset(tsr_unpacker *u)
+{
+    tsr_pixel_store_init(&u->pixels);
+    if (u->objects)
+        memset(u->objects->bound, 0, sizeof u->objects->bound);
+}
+
+/* Out of memory for a context's state: that context then starts from GL's
+ * initial values when made current again (its commands still run). */
+void tsr_unpacker_note_MakeCurrent(tsr_unpacker *u, GLint context)
+{
+    if (u->context_known && context == u->context)
+        return;
+    if (u->context_known) {
+        unpack_context_state *s = unpack_context_find(u, u->context);
+        if (!s)
+            s = unpack_context_add(u, u->context);
+        if (s) {
+            s->pixels = u->pixels;
+            if (u->objects)
+                memcpy(s->bound, u->objects->bound, sizeof s->bound);
+        }
+    }
+    const unpack_context_state *s = unpack_context_find(u, context);
+    if (s) {
+        u->pixels = s->pixels;
+        if (u->objects)
+            memcpy(u->objects->bound, s->bound, sizeof s->bound);
+    } else if (u->context_known) {
+        unpack_mirrors_reset(u);
+    }
+    u->context = context;
+    u->context_known = 1;
+}
+
+void tsr_unpacker_note_ContextDestroy(tsr_unpacker *u, GLint context)
+{
+    unpack_context_state *s = unpack_context_find(u, context);
+    if (s)
+        *s = u->contexts->states[--u->contexts->count];
+    if (u->context_known && context == u->context) {
+        unpack_mirrors_reset(u);
+        u->context_known = 0;
+    }
+}
+
 int tsr_unpacker_check_BufferData(tsr_unpacker *u, GLenum target, GLsizeiptr size, tsr_error *err)
 {
     struct tsr_unpack_buffers *b = u->objects;
@@ -239,6 +324,9 @@ void tsr_unpacker_destroy(tsr_unpacker *u)
     free(u->rbuf);
     free(u->ptrs);
     buffers_free(u->objects);
+    if (u->contexts)
+        free(u->contexts->states);
+    free(u->contexts);
     free(u);
 }
 

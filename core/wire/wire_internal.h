@@ -60,5 +60,9 @@ int tsr_unpacker_reply(tsr_unpacker *u, uint32_t id, const void *ret, uint64_t r
 void tsr_unpacker_note_BindBuffer(tsr_unpacker *u, GLenum target, GLuint buffer);
 void tsr_unpacker_note_DeleteBuffers(tsr_unpacker *u, GLsizei n, const GLuint *buffers);
 int tsr_unpacker_check_BufferData(tsr_unpacker *u, GLenum target, GLsizeiptr size, tsr_error *err);
+/* Pixel store and buffer bindings are per context (tessera/dev/unpack.h):
+ * MakeCurrentTSR swaps them in, ContextDestroyTSR drops a context's. */
+void tsr_unpacker_note_MakeCurrent(tsr_unpacker *u, GLint context);
+void tsr_unpacker_note_ContextDestroy(tsr_unpacker *u, GLint context);
 
 #endif

@@ -114,6 +114,12 @@ typedef struct tsr_packer {
     tsr_error error; /* first error (sticky until tsr_packer_clear_error) */
     uint64_t buffers_sent, bytes_sent, commands_dropped;
     uint8_t discard[TSR_PACK_MAX_FIXED] __attribute__((aligned(16)));
+    /* The mirrors above are the current context's: a share group's
+     * contexts travel in one stream, and each keeps its own pixel store
+     * and client arrays, swapped at MakeCurrentTSR (pack.c). */
+    int32_t context;   /* the stream's current context, once context_known */
+    int context_known; /* a MakeCurrentTSR was packed */
+    struct tsr_pack_contexts *contexts;
 } tsr_packer;
 
 /* buffer_size: bytes of a buffer including header and opcodes (at least
@@ -252,6 +258,12 @@ static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, fl
 TSR_API void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value);
 TSR_API void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer);
 TSR_API void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers);
+/* The stream's current context became `context`: the mirrors become that
+ * context's (GL's initial values for one not seen before; the first
+ * context of a stream keeps what was mirrored before it). */
+TSR_API void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context);
+/* `context` is gone: its mirrors are dropped. */
+TSR_API void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context);
 
 #ifdef __cplusplus
 }

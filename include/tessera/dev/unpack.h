@@ -96,6 +96,11 @@ typedef struct tsr_unpacker {
     int refused;                        /* tsr_unpacker_refuse was called */
     char refusal[400];
     char outputs_why[160]; /* why the last command's outputs were refused */
+    /* `pixels` and the buffer bindings are the current context's; other
+     * contexts of the stream keep theirs here, swapped at MakeCurrentTSR. */
+    int32_t context;
+    int context_known;
+    struct tsr_unpack_contexts *contexts;
 } tsr_unpacker;
 
 /* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when
