@@ -136,6 +136,20 @@ foreach(mode solo shared)
             ${RENDER_OUT}/drawpixels-${mode} ${mode})
 endforeach()
 
+# render's depth clears that also clear a never-used stencil (render.c,
+# render_Clear): colour, depth and stencil read-backs equal OSMesa's own,
+# before and after the stencil test writes, alone and in shared mode.
+add_executable(render_stencil_clear ${RENDER_TEST_DIR}/stencil_clear.c)
+target_link_libraries(render_stencil_clear PRIVATE tessera_gl tessera)
+add_executable(render_stencil_clear_native ${RENDER_TEST_DIR}/stencil_clear.c)
+target_compile_definitions(render_stencil_clear_native PRIVATE STENCIL_NATIVE)
+target_link_libraries(render_stencil_clear_native PRIVATE PkgConfig::OSMESA)
+foreach(mode solo shared)
+  add_test(NAME render_depth_clears_keep_the_stencil_exactly_as_osmesa_${mode}
+    COMMAND sh -c "mkdir -p \"$2\" && \"$0\" native \"$2/native.raw\" && \"$1\" ${mode} \"$2/render.raw\" && cmp \"$2/native.raw\" \"$2/render.raw\""
+            $<TARGET_FILE:render_stencil_clear_native> $<TARGET_FILE:render_stencil_clear> ${RENDER_OUT}/stencil-${mode})
+endforeach()
+
 # --- tiles: servers that own rectangles of the window ---------------------------
 # Every tile PNG must equal the same pixels of the full-window render (0
 # differing pixels), the scene's glGet of the scissor must give the

@@ -177,6 +177,9 @@ typedef struct render_spu {
     uint64_t max_window_pixels;
     render_tex_table textures;
     render_fastdraw *fastdraw; /* drawpixels.h */
+    /* The stream may have put a stencil value other than 0 in the window
+     * (render_Clear says why it matters). */
+    bool stencil_written;
 } render_spu;
 
 static const char *const osmesa_library_names[] = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
@@ -765,6 +768,8 @@ static void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei 
 static void enable_cap(render_spu *r, GLenum cap, bool on)
 {
     render_scissor *s = current_scissor(r);
+    if (cap == GL_STENCIL_TEST && on)
+        r->stencil_written = true; /* (also when compiled into a list: it may run) */
     if (cap != GL_SCISSOR_TEST || s->list_mode || !r->ntiles) {
         if (on)
             r->gl.Enable(cap);
@@ -1331,9 +1336,48 @@ static GLenum shared_buffer_name(const render_spu *r, GLenum buf)
     return buf;
 }
 
+/* A depth clear that keeps the stencil (no GL_STENCIL_BUFFER_BIT) makes
+ * llvmpipe rewrite every packed 24/8 depth-stencil word through a mask,
+ * about 1.6 times a clear of both (bench/results/sortlast/README.md).
+ * The stencil changes only through the stencil test, a stencil clear, or
+ * stencil DrawPixels/CopyPixels (the commands tessera carries); while the
+ * stream has done none of them with another value than 0, every stencil
+ * value is 0 (or undefined, never yet written), so clearing it to 0 too
+ * changes no pixel, and the clear is one fill. A clear compiled into a
+ * display list is left as it is: the list may run after the stencil was
+ * used. */
+static void render_Clear(void *self, GLbitfield mask)
+{
+    render_spu *r = self;
+    bool compiling = current_scissor(r)->list_mode != 0;
+    if (mask & GL_STENCIL_BUFFER_BIT) {
+        GLint value = 0;
+        if (!compiling && !r->stencil_written)
+            r->gl.GetIntegerv(GL_STENCIL_CLEAR_VALUE, &value);
+        if (compiling || value != 0)
+            r->stencil_written = true;
+    } else if ((mask & GL_DEPTH_BUFFER_BIT) && !compiling && !r->stencil_written) {
+        GLint value = -1;
+        r->gl.GetIntegerv(GL_STENCIL_CLEAR_VALUE, &value);
+        if (value == 0)
+            mask |= GL_STENCIL_BUFFER_BIT;
+    }
+    r->gl.Clear(mask);
+}
+
+static void render_CopyPixels(void *self, GLint x, GLint y, GLsizei width, GLsizei height, GLenum type)
+{
+    render_spu *r = self;
+    if (type != GL_COLOR && type != GL_DEPTH)
+        r->stencil_written = true;
+    r->gl.CopyPixels(x, y, width, height, type);
+}
+
 static void render_DrawPixels(void *self, GLsizei width, GLsizei height, GLenum format, GLenum type, const void *pixels)
 {
     render_spu *r = self;
+    if (format == GL_STENCIL_INDEX || format == GL_DEPTH_STENCIL)
+        r->stencil_written = true;
     render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, width, height, format, type, pixels);
 }
 
@@ -1473,6 +1517,8 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     tsr_set_MakeCurrentTSR(init->table, render_MakeCurrentTSR, r);
     tsr_set_DrawBuffer(init->table, render_DrawBuffer, r);
     tsr_set_DrawPixels(init->table, render_DrawPixels, r);
+    tsr_set_Clear(init->table, render_Clear, r);
+    tsr_set_CopyPixels(init->table, render_CopyPixels, r);
     tsr_set_ReadBuffer(init->table, render_ReadBuffer, r);
     tsr_set_TilesTSR(init->table, render_TilesTSR, r);
     tsr_set_Scissor(init->table, render_Scissor, r);
