@@ -61,12 +61,12 @@ if [[ ! -f $build/CMakeCache.txt ]]; then
         -DTESSERA_SANITIZE=OFF -DTESSERA_FUZZ=OFF >"$build/bench-configure.log" 2>&1 ||
         { cat "$build/bench-configure.log" >&2; echo "bench/icet/build.sh: configure failed" >&2; exit 1; }
 fi
+mkdir -p "$build/icet"
 cmake --build "$build" -j"$jobs" --target tessera >"$build/icet/tessera-build.log" 2>&1 ||
     { tail -30 "$build/icet/tessera-build.log" >&2; echo "bench/icet/build.sh: libtessera build failed" >&2; exit 1; }
 
 libdir=$prefix/lib
 [[ -d $libdir ]] || libdir=$prefix/lib64
-mkdir -p "$build/icet"
 mpicc -std=c11 -O2 -DNDEBUG -Wall -Wextra -Werror -D_GNU_SOURCE \
     -I"$prefix/include" -I"$root/include" -I"$build/generated/include" -I"$root/spus/binaryswap" \
     "$root/bench/icet/icet_composite.c" "$root/spus/binaryswap/synthetic.c" \
