@@ -32,8 +32,6 @@ static void record(tsr_packer *p, int code, const char *fmt, ...)
     tsr_log(TSR_LOG_WARN, "packer: %s", msg);
 }
 
-static void pack_contexts_free(struct tsr_pack_contexts *c);
-
 static void use_normal_buffer(tsr_packer *p)
 {
     p->mid = p->mem + TSR_WIRE_HEADER_SIZE + p->op_room;
@@ -117,7 +115,7 @@ void tsr_packer_destroy(tsr_packer *p)
     for (size_t i = 0; i < p->nstrings; i++)
         free(p->strings[i]);
     free(p->strings);
-    pack_contexts_free(p->contexts);
+    tsr_wire_contexts_free(p->contexts);
     free(p);
 }
 
@@ -317,44 +315,6 @@ typedef struct pack_context_state {
     unsigned char stack[sizeof(((tsr_packer *)0)->stack)];
 } pack_context_state;
 
-struct tsr_pack_contexts {
-    pack_context_state *states;
-    size_t count, cap;
-};
-
-static void pack_contexts_free(struct tsr_pack_contexts *c)
-{
-    if (c)
-        free(c->states);
-    free(c);
-}
-
-static pack_context_state *pack_context_find(tsr_packer *p, GLint context)
-{
-    for (size_t i = 0; p->contexts && i < p->contexts->count; i++)
-        if (p->contexts->states[i].context == context)
-            return &p->contexts->states[i];
-    return NULL;
-}
-
-static pack_context_state *pack_context_add(tsr_packer *p, GLint context)
-{
-    if (!p->contexts && !(p->contexts = calloc(1, sizeof *p->contexts)))
-        return NULL;
-    struct tsr_pack_contexts *c = p->contexts;
-    if (c->count == c->cap) {
-        size_t cap = c->cap ? 2 * c->cap : 4;
-        pack_context_state *s = realloc(c->states, cap * sizeof *s);
-        if (!s)
-            return NULL;
-        c->states = s;
-        c->cap = cap;
-    }
-    pack_context_state *s = &c->states[c->count++];
-    s->context = context;
-    return s;
-}
-
 static void pack_mirrors_reset(tsr_packer *p)
 {
     tsr_pixel_store_init(&p->pixels);
@@ -367,9 +327,9 @@ void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
     if (p->context_known && context == p->context)
         return;
     if (p->context_known) {
-        pack_context_state *s = pack_context_find(p, p->context);
+        pack_context_state *s = tsr_wire_contexts_find(p->contexts, p->context);
         if (!s)
-            s = pack_context_add(p, p->context);
+            s = tsr_wire_contexts_add(&p->contexts, p->context, sizeof *s);
         if (!s) {
             record(p, TSR_ENOMEM, "out of memory for context %d's client state", (int)p->context);
             return;
@@ -379,7 +339,7 @@ void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
         s->stack_depth = p->stack_depth;
         memcpy(s->stack, p->stack, sizeof s->stack);
     }
-    const pack_context_state *s = pack_context_find(p, context);
+    const pack_context_state *s = tsr_wire_contexts_find(p->contexts, context);
     if (s) {
         p->pixels = s->pixels;
         p->arrays = s->arrays;
@@ -394,9 +354,7 @@ void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
 
 void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context)
 {
-    pack_context_state *s = pack_context_find(p, context);
-    if (s)
-        *s = p->contexts->states[--p->contexts->count];
+    tsr_wire_contexts_remove(p->contexts, context);
     if (p->context_known && context == p->context) {
         /* Whatever is made current next starts from GL's initial values
          * or its own saved state. */

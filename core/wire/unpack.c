@@ -166,38 +166,6 @@ typedef struct unpack_context_state {
     uint32_t bound[BOUND_TARGETS];
 } unpack_context_state;
 
-struct tsr_unpack_contexts {
-    unpack_context_state *states;
-    size_t count, cap;
-};
-
-static unpack_context_state *unpack_context_find(tsr_unpacker *u, GLint context)
-{
-    for (size_t i = 0; u->contexts && i < u->contexts->count; i++)
-        if (u->contexts->states[i].context == context)
-            return &u->contexts->states[i];
-    return NULL;
-}
-
-static unpack_context_state *unpack_context_add(tsr_unpacker *u, GLint context)
-{
-    if (!u->contexts && !(u->contexts = calloc(1, sizeof *u->contexts)))
-        return NULL;
-    struct tsr_unpack_contexts *c = u->contexts;
-    if (c->count == c->cap) {
-        size_t cap = c->cap ? 2 * c->cap : 4;
-        unpack_context_state *s = realloc(c->states, cap * sizeof *s);
-        if (!s)
-            return NULL;
-        c->states = s;
-        c->cap = cap;
-    }
-    unpack_context_state *s = &c->states[c->count++];
-    memset(s, 0, sizeof *s);
-    s->context = context;
-    return s;
-}
-
 static void unpack_mirrors_reset(tsr_unpacker *u)
 {
     tsr_pixel_store_init(&u->pixels);
@@ -212,16 +180,16 @@ void tsr_unpacker_note_MakeCurrent(tsr_unpacker *u, GLint context)
     if (u->context_known && context == u->context)
         return;
     if (u->context_known) {
-        unpack_context_state *s = unpack_context_find(u, u->context);
+        unpack_context_state *s = tsr_wire_contexts_find(u->contexts, u->context);
         if (!s)
-            s = unpack_context_add(u, u->context);
+            s = tsr_wire_contexts_add(&u->contexts, u->context, sizeof *s);
         if (s) {
             s->pixels = u->pixels;
             if (u->objects)
                 memcpy(s->bound, u->objects->bound, sizeof s->bound);
         }
     }
-    const unpack_context_state *s = unpack_context_find(u, context);
+    const unpack_context_state *s = tsr_wire_contexts_find(u->contexts, context);
     if (s) {
         u->pixels = s->pixels;
         if (u->objects)
@@ -235,9 +203,7 @@ void tsr_unpacker_note_MakeCurrent(tsr_unpacker *u, GLint context)
 
 void tsr_unpacker_note_ContextDestroy(tsr_unpacker *u, GLint context)
 {
-    unpack_context_state *s = unpack_context_find(u, context);
-    if (s)
-        *s = u->contexts->states[--u->contexts->count];
+    tsr_wire_contexts_remove(u->contexts, context);
     if (u->context_known && context == u->context) {
         unpack_mirrors_reset(u);
         u->context_known = 0;
@@ -324,9 +290,7 @@ void tsr_unpacker_destroy(tsr_unpacker *u)
     free(u->rbuf);
     free(u->ptrs);
     buffers_free(u->objects);
-    if (u->contexts)
-        free(u->contexts->states);
-    free(u->contexts);
+    tsr_wire_contexts_free(u->contexts);
     free(u);
 }
 

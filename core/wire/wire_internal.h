@@ -16,6 +16,18 @@
 #include "tessera/dev/pack.h"
 #include "tessera/dev/unpack.h"
 
+/* --- per-context client state (contexts.c) ------------------------------------ */
+
+/* Records of one size, each beginning with its GLint context number: the
+ * mirrors of a stream's contexts other than the current one. */
+typedef struct tsr_wire_contexts tsr_wire_contexts;
+void *tsr_wire_contexts_find(tsr_wire_contexts *t, GLint context);
+/* A zeroed record of `size` bytes for `context` (the table made at the
+ * first); NULL when out of memory. */
+void *tsr_wire_contexts_add(tsr_wire_contexts **t, GLint context, size_t size);
+void tsr_wire_contexts_remove(tsr_wire_contexts *t, GLint context);
+void tsr_wire_contexts_free(tsr_wire_contexts *t);
+
 /* --- packer ------------------------------------------------------------------ */
 
 /* Reserves `size` data bytes (aligned) for opcode and records the opcode;

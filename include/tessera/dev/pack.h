@@ -119,7 +119,7 @@ typedef struct tsr_packer {
      * and client arrays, swapped at MakeCurrentTSR (pack.c). */
     int32_t context;   /* the stream's current context, once context_known */
     int context_known; /* a MakeCurrentTSR was packed */
-    struct tsr_pack_contexts *contexts;
+    struct tsr_wire_contexts *contexts;
 } tsr_packer;
 
 /* buffer_size: bytes of a buffer including header and opcodes (at least

@@ -100,7 +100,7 @@ typedef struct tsr_unpacker {
      * contexts of the stream keep theirs here, swapped at MakeCurrentTSR. */
     int32_t context;
     int context_known;
-    struct tsr_unpack_contexts *contexts;
+    struct tsr_wire_contexts *contexts;
 } tsr_unpacker;
 
 /* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when
