@@ -387,8 +387,14 @@ static int took_cost(tsr_stream_client *c, size_t i, tsr_net_msg *m)
 {
     if (m->kind != TSR_NODE_MSG_COST)
         return 0;
-    if (c->cost_fn && m->len >= TSR_NODE_COST_BYTES)
-        c->cost_fn(c->cost_ctx, i, tsr_wire_get_u32(m->data), tsr_wire_get_f64((const uint8_t *)m->data + 8));
+    if (c->cost_fn && m->len >= TSR_NODE_COST_BYTES) {
+        const uint8_t *d = m->data;
+        tsr_frame_cost cost = {.frame = tsr_wire_get_u32(d),
+                               .faults = tsr_wire_get_u32(d + 4),
+                               .seconds = tsr_wire_get_f64(d + 8),
+                               .fault_seconds = tsr_wire_get_f64(d + 16)};
+        c->cost_fn(c->cost_ctx, i, &cost);
+    }
     tsr_net_msg_release(m);
     return 1;
 }

@@ -44,9 +44,10 @@ void tsr_node_sent_add(tsr_node_sent *sent, uint64_t size);
 /* One client's frame cost so far (the chain's thread CPU time since its
  * last swap, and the bytes it ran). */
 typedef struct tsr_node_cost {
-    double cpu_at_swap; /* CLOCK_THREAD_CPUTIME_ID seconds at the last swap (or the start) */
-    uint64_t bytes;     /* buffer bytes run since the last swap */
-    uint32_t frame;     /* reports sent */
+    double cpu_at_swap;  /* CLOCK_THREAD_CPUTIME_ID seconds at the last swap (or the start) */
+    long faults_at_swap; /* the thread's minor page faults then */
+    uint64_t bytes;      /* buffer bytes run since the last swap */
+    uint32_t frame;      /* reports sent */
 } tsr_node_cost;
 
 struct tsr_node {
@@ -58,6 +59,7 @@ struct tsr_node {
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
     double test_cost_scale;  /* TSR_NODE_TEST_COST_SCALE_ENV; 1 = none */
     int test_cost_bytes;     /* TSR_NODE_TEST_COST_ENV=bytes */
+    double fault_seconds;    /* thread CPU seconds of one minor page fault, measured at creation */
     unsigned clients;
     tsr_node_mode mode;
     tsr_unpack_limits limits; /* every client's unpacker's */
@@ -80,6 +82,10 @@ struct tsr_node {
 void tsr_node_test_stall(tsr_node *node);
 /* The calling thread's CPU time in seconds (the chain runs on it). */
 double tsr_node_thread_cpu(void);
+/* The calling thread's minor page faults so far. */
+long tsr_node_thread_faults(void);
+/* Starts a frame's count (CPU time and faults) on the calling thread. */
+void tsr_node_cost_start(tsr_node_cost *cost);
 /* In a SwapBuffersTSR whose flags asked for it, after the chain's swap:
  * sends the frame's TSR_NODE_MSG_COST without waiting (no credit: dropped)
  * and starts the next frame's count. */

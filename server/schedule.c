@@ -700,10 +700,8 @@ static int scheduler_loop(sched *s, tsr_error *err)
 
 int tsr_node_run_shared(tsr_node *node, tsr_error *err)
 {
-    sched s = {.node = node,
-               .swapper = -1,
-               .next_sub = SCHED_SUB_CONTEXT_BASE,
-               .cost = {.cpu_at_swap = tsr_node_thread_cpu()}};
+    sched s = {.node = node, .swapper = -1, .next_sub = SCHED_SUB_CONTEXT_BASE};
+    tsr_node_cost_start(&s.cost);
     s.clients = calloc(node->clients, sizeof *s.clients);
     s.conns = calloc(node->clients, sizeof *s.conns);
     s.owners = calloc(node->clients, sizeof *s.owners);

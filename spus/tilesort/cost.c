@@ -15,7 +15,9 @@
  *     from a good split before any time comes back.
  *   the measurement: each server reports the thread CPU time its chain
  *     spent on each frame (server/, tessera/dev/protocol.h
- *     TSR_NODE_MSG_COST), a frame or more later. Against each server's
+ *     TSR_NODE_MSG_COST), a frame or more later, less what its page
+ *     faults cost (a one-time cost of moving onto new pixels); a server's
+ *     first frame with geometry is not learnt from. Against each server's
  *     B, F, A in that frame (kept TS_COST_HISTORY frames) the coefficients
  *     are fitted by least squares over the servers and the frames kept
  *     (fit: non-negative, drawn towards the priors' mix where the data
@@ -43,15 +45,27 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tessera/log.h"
 #include "tilesort.h"
 
 static const double prior[TS_TERMS] = {TS_PRIOR_FIXED, TS_PRIOR_BYTES, TS_PRIOR_FILL, TS_PRIOR_AREA};
 
+/* Cells across `pixels`: one a pixel up to TS_COST_CELLS_MIN, then
+ * TS_COST_CELLS_MIN up to TS_COST_CELL_PIXELS x that, finer beyond
+ * (cells of TS_COST_CELL_PIXELS) up to TS_COST_CELLS. */
+static int cost_cells(int pixels)
+{
+    if (pixels <= TS_COST_CELLS_MIN)
+        return pixels > 0 ? pixels : 1;
+    int cells = pixels / TS_COST_CELL_PIXELS;
+    return cells < TS_COST_CELLS_MIN ? TS_COST_CELLS_MIN : cells > TS_COST_CELLS ? TS_COST_CELLS : cells;
+}
+
 int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
 {
     ts_cost_free(c);
-    c->cols = w < TS_COST_CELLS ? (w > 0 ? w : 1) : TS_COST_CELLS;
-    c->rows = h < TS_COST_CELLS ? (h > 0 ? h : 1) : TS_COST_CELLS;
+    c->cols = cost_cells(w);
+    c->rows = cost_cells(h);
     size_t cells = (size_t)c->cols * (size_t)c->rows;
     c->est_bytes = calloc(cells, sizeof *c->est_bytes);
     c->est_fill = calloc(cells, sizeof *c->est_fill);
@@ -63,8 +77,11 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     c->hist = calloc(TS_COST_HISTORY * servers * TS_TERMS, sizeof *c->hist);
     c->measured = malloc(TS_COST_HISTORY * servers * sizeof *c->measured);
     c->learned = calloc(TS_COST_HISTORY * servers, 1);
+    c->first_draw = calloc(TS_COST_HISTORY * servers, 1);
+    c->drew = calloc(servers, 1);
+    c->geometry = calloc(servers, sizeof *c->geometry);
     if (!c->est_bytes || !c->est_fill || !c->map || !c->ratio || !c->log_speed || !c->log_var || !c->last_log ||
-        !c->hist || !c->measured || !c->learned)
+        !c->hist || !c->measured || !c->learned || !c->first_draw || !c->drew || !c->geometry)
         return -1;
     for (size_t s = 0; s < servers; s++) {
         c->log_var[s] = -1;
@@ -80,6 +97,9 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
 void ts_cost_free(ts_cost *c)
 {
     free(c->learned);
+    free(c->first_draw);
+    free(c->drew);
+    free(c->geometry);
     free(c->est_bytes);
     free(c->est_fill);
     free(c->map);
@@ -148,16 +168,28 @@ static double servers_area(const ts_tiling *t, size_t s)
     return sum;
 }
 
-void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds)
+void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds, double fault_seconds)
 {
     ts_cost *c = &t->cost;
     if (!TS_BALANCED(t->mode) || !c->hist || s >= t->servers || !(seconds >= 0) || !isfinite(seconds))
         return;
+    /* what the region costs once its pages are in: the faults of moving
+     * onto pixels the server had not drawn are paid once, not per frame */
+    if (fault_seconds > 0 && isfinite(fault_seconds))
+        seconds -= fmin(fault_seconds, 0.9 * seconds);
     c->reports++;
     /* only frames still in the history, and only closed ones */
     if (frame >= c->frame || c->frame - frame > TS_COST_HISTORY || frame < TS_COST_WARMUP)
         return;
-    c->measured[(size_t)(frame % TS_COST_HISTORY) * t->servers + s] = seconds;
+    size_t at = (size_t)(frame % TS_COST_HISTORY) * t->servers + s;
+    if (!c->first_draw[at])
+        c->measured[at] = seconds;
+}
+
+void ts_tiling_add_geometry(ts_tiling *t, size_t s, uint64_t bytes)
+{
+    if (TS_BALANCED(t->mode) && t->cost.geometry && s < t->servers)
+        t->cost.geometry[s] += bytes;
 }
 
 /* The estimate of a region from its terms: what varies with the region. */
@@ -204,7 +236,7 @@ static int solve(int k, double a[TS_TERMS][TS_TERMS], double b[TS_TERMS], double
 #define TS_PRIOR_WEIGHT 0.01
 
 /* Fits the coefficients to every report of the history (frame 0
- * excepted, frame 1 weighed lightly), each server's time over its speed: in units of the priors
+ * excepted), each server's time over its speed: in units of the priors
  * (x_j = prior_j x term_j, so every column is in seconds), least squares
  * with a ridge drawing each towards its prior, non-negative (a negative
  * one is fixed at 0 and the rest fitted again). 0 when no frame is learnt. */
@@ -217,7 +249,7 @@ static int fit(ts_tiling *t)
     for (uint64_t back = 1; back <= TS_COST_HISTORY && back <= c->frame; back++) {
         uint64_t f = c->frame - back;
         if (f < TS_COST_WARMUP)
-            continue; /* frame 1 is weighed lightly (TS_COST_FIRST_WEIGHT) */
+            continue;
         size_t row = (size_t)(f % TS_COST_HISTORY) * n;
         for (size_t s = 0; s < n; s++) {
             double v = c->measured[row + s];
@@ -230,7 +262,7 @@ static int fit(ts_tiling *t)
              * the tests, given less, made the fixed part look larger
              * every frame until the split moved again) */
             double r = c->ratio[s] > 0 ? c->ratio[s] : 1.0, q = log(r) / 0.15;
-            double x[TS_TERMS], y = v / r, w = (f == 1 ? TS_COST_FIRST_WEIGHT : 1.0) / (1.0 + q * q * q * q);
+            double x[TS_TERMS], y = v / r, w = 1.0 / (1.0 + q * q * q * q);
             for (int j = 0; j < TS_TERMS; j++)
                 x[j] = prior[j] * (j == TS_TERM_FIXED ? 1.0 : terms[j]);
             for (int i = 0; i < TS_TERMS; i++) {
@@ -241,7 +273,11 @@ static int fit(ts_tiling *t)
             rows++;
         }
     }
-    if (!rows)
+    /* a fit on a few reports swings wide (measured on the 8x4
+     * isosurface: on 3 reports the area coefficient came out 3 times what
+     * 200 gave, and the split it made was the run's worst): the priors
+     * stay until a frame's worth of servers, or TS_COST_MIN_FIT, are in */
+    if (!rows || rows < (n < TS_COST_MIN_FIT ? n : TS_COST_MIN_FIT))
         return 0;
     double scale = 0;
     for (int j = 0; j < TS_TERMS; j++)
@@ -296,6 +332,11 @@ static int fit(ts_tiling *t)
     /* every pixel costs something: no region's cost is ever 0 */
     c->coef[TS_TERM_AREA] = fmax(c->coef[TS_TERM_AREA], 1e-3 * prior[TS_TERM_AREA]);
     c->fits++;
+    tsr_log(
+        TSR_LOG_DEBUG,
+        "tilesort: fit %llu at frame %llu on %zu reports: fixed %.3g s, %.3g s a byte, %.3g s a box pixel, %.3g s a region pixel",
+        (unsigned long long)c->fits, (unsigned long long)c->frame, rows, c->coef[TS_TERM_FIXED], c->coef[TS_TERM_BYTES],
+        c->coef[TS_TERM_FILL], c->coef[TS_TERM_AREA]);
     return 1;
 }
 
@@ -410,11 +451,14 @@ static void learn_speeds(ts_tiling *t, const uint64_t *frames, size_t nframes)
  * coefficients are fitted again, then the servers' speeds. Frame 0 is
  * never learnt from: it is split evenly before any cost is known and
  * holds each server's start-up (50-120 ms against 7-10 for a later frame
- * on the 8x4 isosurface). Frame 1, the first on the balanced regions, is
- * still 1.7 times a later frame, unevenly (the pages of a region's new
- * pixels are touched for the first time; fitted on it alone, the area
- * coefficient came out 5 times the later frames'), so the fit weighs it
- * at TS_COST_FIRST_WEIGHT. */
+ * on the 8x4 isosurface). Frame 1, the first on the balanced regions,
+ * once cost 1.7 times a later frame, unevenly; two causes, both now taken
+ * out of what is learnt: the servers that had drawn nothing in frame 0
+ * compile their shaders then (those first frames with geometry are not
+ * learnt from: ts_cost_close_frame), and a region's new pixels fault
+ * their pages in (the servers' fault seconds are taken off:
+ * ts_tiling_report). Fitted on frame 1 as it came, the area coefficient
+ * came out 5 times the later frames'. */
 static void learn(ts_tiling *t)
 {
     ts_cost *c = &t->cost;
@@ -452,6 +496,15 @@ void ts_cost_close_frame(ts_tiling *t)
         terms[TS_TERM_AREA] = servers_area(t, s);
         c->measured[row + s] = -1;
         c->learned[row + s] = 0;
+        /* A server's first frame with geometry costs it two to three
+         * times a later one on the same region (measured on the 8x4
+         * isosurface: 23-37 ms against 9-11; servers that had drawn in the
+         * even split took 10-14), whatever its region: llvmpipe compiles
+         * its shaders then. Learnt from, it made every fresh server look
+         * slow and the next split worse than the estimate's. */
+        c->first_draw[row + s] = c->geometry[s] > 0 && !c->drew[s];
+        c->drew[s] |= c->geometry[s] > 0;
+        c->geometry[s] = 0;
     }
     c->frame++;
     learn(t);

@@ -168,6 +168,7 @@ void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     tsr_stream_client_count_frame(t->client);
     ts_keep_frame_row(t);
     for (size_t i = 0; i < t->nservers; i++) {
+        ts_tiling_add_geometry(&t->tiling, i, t->srv[i].frame_geometry);
         t->srv[i].bytes += t->srv[i].frame_bytes;
         t->srv[i].frame_bytes = 0;
         t->srv[i].frame_geometry = 0;

@@ -130,6 +130,7 @@ typedef struct tilesort {
     uint64_t *frame_geometry_rows; /* frames_kept rows of nservers: their geometry part */
     double *frame_seconds;         /* application time of each kept frame (swap to swap) */
     double *frame_costs;           /* frames_kept rows of nservers: seconds each server reported (< 0: none) */
+    double *frame_fault_costs;     /* the same rows: the part of those seconds that were page faults */
     uint64_t *frame_pixels;        /* frames_kept rows of nservers: pixels of each server's tiles that frame */
     double last_swap;              /* monotonic seconds of the last swap (or of creation) */
     size_t frames_kept, frames_cap;

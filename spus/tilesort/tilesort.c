@@ -83,6 +83,10 @@ void ts_keep_frame_row(tilesort *t)
         if (!costs)
             return;
         t->frame_costs = costs;
+        double *faults = realloc(t->frame_fault_costs, cap * t->nservers * sizeof *faults);
+        if (!faults)
+            return;
+        t->frame_fault_costs = faults;
         uint64_t *pixels = realloc(t->frame_pixels, cap * t->nservers * sizeof *pixels);
         if (!pixels)
             return;
@@ -97,6 +101,7 @@ void ts_keep_frame_row(tilesort *t)
         t->frame_rows[at] = t->srv[i].frame_bytes;
         t->frame_geometry_rows[at] = t->srv[i].frame_geometry;
         t->frame_costs[at] = -1;
+        t->frame_fault_costs[at] = -1;
         t->frame_pixels[at] = 0;
         for (size_t k = 0; k < t->tiling.ntiles[i]; k++)
             t->frame_pixels[at] += (uint64_t)t->tiling.tiles[i][k].w * (uint64_t)t->tiling.tiles[i][k].h;
@@ -106,12 +111,14 @@ void ts_keep_frame_row(tilesort *t)
 
 /* A server's TSR_NODE_MSG_COST (tessera/dev/client.h): to the balancer
  * and the statistics. */
-static void take_cost(void *ctx, size_t server, uint32_t frame, double seconds)
+static void take_cost(void *ctx, size_t server, const tsr_frame_cost *cost)
 {
     tilesort *t = ctx;
-    ts_tiling_report(&t->tiling, server, frame, seconds);
-    if (frame < t->frames_kept && server < t->nservers)
-        t->frame_costs[(size_t)frame * t->nservers + server] = seconds;
+    ts_tiling_report(&t->tiling, server, cost->frame, cost->seconds, cost->fault_seconds);
+    if (cost->frame < t->frames_kept && server < t->nservers) {
+        t->frame_costs[(size_t)cost->frame * t->nservers + server] = cost->seconds;
+        t->frame_fault_costs[(size_t)cost->frame * t->nservers + server] = cost->fault_seconds;
+    }
 }
 
 static const char *bucket_name(ts_bucket_mode m)
@@ -136,6 +143,21 @@ static void write_count_rows(FILE *f, const char *name, const tilesort *t, const
     fprintf(f, "]");
 }
 
+/* Rows of seconds per frame and server, null where none came. */
+static void write_second_rows(FILE *f, const char *name, const tilesort *t, const double *rows)
+{
+    fprintf(f, ",\"%s\":[", name);
+    for (size_t r = 0; r < t->frames_kept; r++) {
+        fprintf(f, "%s[", r ? "," : "");
+        for (size_t i = 0; i < t->nservers; i++) {
+            double v = rows[r * t->nservers + i];
+            fprintf(f, v >= 0 ? "%s%.9f" : "%snull", i ? "," : "", v);
+        }
+        fprintf(f, "]");
+    }
+    fprintf(f, "]");
+}
+
 /* The sort-first members of the statistics file (tessera/dev/client.h):
  *   "sort_first":{"bucket":"grid","servers":4,"stream_bytes":N,
  *     "bytes_out":N,"overlap":X,"imbalance":X,"server_bytes":[...],
@@ -151,6 +173,8 @@ static void write_count_rows(FILE *f, const char *name, const tilesort *t, const
  * tiles and window and frame commands, which every server gets),
  * "server_seconds" (per frame, the render
  * time each server measured and reported, null when none came),
+ * "server_fault_seconds" (the part of it the server put down to minor
+ * page faults: its faults that frame at its measured cost of one),
  * "server_pixels" (per frame, the pixels of each server's region) and
  * "time_imbalance" (per frame, max / mean of server_seconds; null unless
  * every server reported that frame). */
@@ -177,16 +201,8 @@ static void write_sort_first_stats(void *ctx, FILE *f)
     fprintf(f, "]");
     write_count_rows(f, "frames", t, t->frame_rows);
     write_count_rows(f, "frames_geometry", t, t->frame_geometry_rows);
-    fprintf(f, ",\"server_seconds\":[");
-    for (size_t r = 0; r < t->frames_kept; r++) {
-        fprintf(f, "%s[", r ? "," : "");
-        for (size_t i = 0; i < t->nservers; i++) {
-            double v = t->frame_costs[r * t->nservers + i];
-            fprintf(f, v >= 0 ? "%s%.9f" : "%snull", i ? "," : "", v);
-        }
-        fprintf(f, "]");
-    }
-    fprintf(f, "]");
+    write_second_rows(f, "server_seconds", t, t->frame_costs);
+    write_second_rows(f, "server_fault_seconds", t, t->frame_fault_costs);
     write_count_rows(f, "server_pixels", t, t->frame_pixels);
     fprintf(f, ",\"time_imbalance\":[");
     for (size_t r = 0; r < t->frames_kept; r++) {
@@ -537,6 +553,7 @@ static void tilesort_destroy(void *instance)
     free(t->frame_rows);
     free(t->frame_geometry_rows);
     free(t->frame_costs);
+    free(t->frame_fault_costs);
     free(t->frame_pixels);
     free(t->frame_seconds);
     free(t->assemble);
@@ -701,14 +718,16 @@ static const tsr_option_spec tilesort_options[] = {
      .choices = "grid|tiles|broadcast|kd|union|balance",
      .min = 1,
      .max = 0,
-     .help = "how geometry finds its servers: grid (tiles form columns and rows; fastest), tiles (test "
-             "every tile; any layout), broadcast (every server gets everything); load-balanced, one rectangle "
-             "per server re-split every frame: kd (recursive median splits of the cost, Samanta's KD-SPLIT), "
-             "union (whole cells of a 64x64 cost grid merged greedily into one rectangle per server, "
-             "GRID_UNION), balance (an alias of kd). The balanced modes' cost: a per-primitive estimate "
-             "(bytes and window-box area of what this frame sent, on the 64x64 grid) weighted per server "
-             "by the render time the servers measure (thread CPU time of their chain per frame) and send "
-             "back after each swap; tiles= is ignored"},
+     .help =
+         "how geometry finds its servers: grid (tiles form columns and rows; fastest), tiles (test "
+         "every tile; any layout), broadcast (every server gets everything); load-balanced, one rectangle "
+         "per server re-split every frame: kd (recursive median splits of the cost, Samanta's KD-SPLIT), "
+         "union (whole cells of a cost grid, 64 to 128 cells each way, merged greedily into one rectangle per server, "
+         "GRID_UNION), balance (an alias of kd). The balanced modes' cost: a per-primitive estimate "
+         "(bytes and window-box area of what this frame sent, on that grid) weighted per server "
+         "by the render time the servers measure (thread CPU time of their chain per frame, less its "
+         "page faults' cost; a server's first frame with geometry is not learnt from) and send "
+         "back after each swap; tiles= is ignored"},
     {.name = "batch_bytes",
      .type = TSR_OPT_INT,
      .default_value = "65536",

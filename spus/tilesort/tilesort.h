@@ -29,17 +29,23 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION }
 /* Whether the mode re-splits the window every frame (kd, union). */
 #define TS_BALANCED(mode) ((mode) == TS_KD || (mode) == TS_UNION)
 
-/* Cost cells of the balanced modes (cost.c): the window is divided into
- * at most TS_COST_CELLS x TS_COST_CELLS cells, finer than any server's
- * region (32 servers at most get a few cells each way). */
-#define TS_COST_CELLS 64
+/* Cost cells of the balanced modes (cost.c): at least TS_COST_CELLS_MIN
+ * each way (one a pixel in a smaller window), cells of
+ * TS_COST_CELL_PIXELS in a larger one, at most TS_COST_CELLS. Finer than
+ * any server's region: with 32 servers on a 2048x1536 window the dense
+ * regions are about 100 pixels wide, and union's whole-cell regions need
+ * cells of 16 pixels to come within several percent of their share (64
+ * cells of 32 pixels gave them 3 cells a region). */
+#define TS_COST_CELLS_MIN 64
+#define TS_COST_CELL_PIXELS 16
+#define TS_COST_CELLS 128
 /* Frames of per-server estimates kept to meet the servers' late reports. */
 #define TS_COST_HISTORY 16
 /* Frames never learnt from: the even split (cost.c) */
 #define TS_COST_WARMUP 1
-/* The weight of frame 1's reports in the fit (the first frame on balanced
- * regions: still a warm-up, cost.c) against 1 for a later frame's */
-#define TS_COST_FIRST_WEIGHT 0.1
+/* Reports needed before the first fit of the coefficients (fewer when
+ * there are fewer servers: cost.c) */
+#define TS_COST_MIN_FIT 8
 /* The noise of a report's log speed before any is measured: 0.1^2, a
  * server's time varied about 10 % from frame to frame on a fixed region
  * of the 8x4 isosurface (cost.c) */
@@ -56,10 +62,10 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION }
  * until the first fit they are the priors below, measured with the render
  * SPU (llvmpipe, one thread) on the isosurface (bench/README.md). */
 enum { TS_TERM_FIXED, TS_TERM_BYTES, TS_TERM_FILL, TS_TERM_AREA, TS_TERMS };
-#define TS_PRIOR_FIXED 2.5e-3 /* seconds a frame */
-#define TS_PRIOR_BYTES 1.9e-9 /* seconds a byte */
-#define TS_PRIOR_FILL 2.2e-9  /* seconds a pixel of primitive box */
-#define TS_PRIOR_AREA 4.6e-9  /* seconds a pixel of region */
+#define TS_PRIOR_FIXED 4.8e-3 /* seconds a frame */
+#define TS_PRIOR_BYTES 2.7e-9 /* seconds a byte */
+#define TS_PRIOR_FILL 6.0e-9  /* seconds a pixel of primitive box */
+#define TS_PRIOR_AREA 1.35e-8 /* seconds a pixel of region */
 
 typedef struct ts_cost {
     int cols, rows;    /* cells */
@@ -75,6 +81,9 @@ typedef struct ts_cost {
     double *hist;          /* TS_COST_HISTORY rows of servers x TS_TERMS: each server's terms at that frame */
     double *measured;      /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
     uint8_t *learned;      /* TS_COST_HISTORY rows of servers: that report was learnt from (speeds) */
+    uint8_t *first_draw;   /* TS_COST_HISTORY rows of servers: its first frame with geometry (not learnt from) */
+    uint8_t *drew;         /* per server: it has been sent geometry in a closed frame */
+    uint64_t *geometry;    /* per server: geometry bytes sent to it in the frame being built */
     double coef[TS_TERMS]; /* the model's coefficients (seconds per unit) */
     uint64_t frame;        /* frames closed */
     uint64_t reports;      /* reports taken */
@@ -122,8 +131,12 @@ size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t
 /* Balanced modes: a flush (or a sorted primitive) of `bytes` covered
  * [x0, x1) x [y0, y1): its estimate is added to the cells it covers. */
 void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes);
-/* Balanced modes: server s reported `seconds` for its frame `frame`. */
-void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds);
+/* Balanced modes: `bytes` of geometry went to server s in the frame being
+ * built (its first frame with any is a warm-up: cost.c). */
+void ts_tiling_add_geometry(ts_tiling *t, size_t s, uint64_t bytes);
+/* Balanced modes: server s reported `seconds` for its frame `frame`, of
+ * which `fault_seconds` were minor page faults. */
+void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds, double fault_seconds);
 /* Balanced modes, at the end of a frame: re-split the window among the
  * servers from this frame's estimate and the measured ratios (damped,
  * kept within the hysteresis), reset the estimate. Returns 1 when some

@@ -180,11 +180,17 @@ TSR_API void tsr_stream_client_server_sink(tsr_stream_client *client, size_t ind
 TSR_API void tsr_stream_client_set_stats_extra(tsr_stream_client *client, void (*fn)(void *ctx, FILE *f), void *ctx);
 /* Frame costs the servers report (tessera/dev/protocol.h TSR_NODE_MSG_COST,
  * asked for with TSR_NODE_SWAP_REPORT_COST in a swap's flags): fn gets
- * the server's index, its frame number and the seconds, on the SPU's
- * thread, whenever the client takes that server's messages (waiting for a
- * reply, tsr_stream_client_take_costs, the end of the stream). Without a
- * sink, reports are dropped. */
-typedef void (*tsr_stream_client_cost_fn)(void *ctx, size_t server, uint32_t frame, double seconds);
+ * the server's index and its report, on the SPU's thread, whenever the
+ * client takes that server's messages (waiting for a reply,
+ * tsr_stream_client_take_costs, the end of the stream). Without a sink,
+ * reports are dropped. */
+typedef struct tsr_frame_cost {
+    uint32_t frame;       /* the server's count of reporting swaps from this client, from 0 */
+    uint32_t faults;      /* minor page faults of the server's chain in that frame */
+    double seconds;       /* thread CPU time of the server's chain in that frame */
+    double fault_seconds; /* the part of `seconds` those faults cost, at the server's measured cost of one */
+} tsr_frame_cost;
+typedef void (*tsr_stream_client_cost_fn)(void *ctx, size_t server, const tsr_frame_cost *cost);
 TSR_API void tsr_stream_client_set_cost_sink(tsr_stream_client *client, tsr_stream_client_cost_fn fn, void *ctx);
 /* Takes every report already received from every live server, without
  * waiting (a server's ERROR found there fails that server). */

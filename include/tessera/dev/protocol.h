@@ -29,9 +29,16 @@
  *                        TSR_NODE_SWAP_REPORT_COST (the bit is taken off
  *                        before the chain sees the swap): u32 frame (the
  *                        server's count of such swaps from this client,
- *                        from 0), u32 0, f64 seconds (the thread CPU time
- *                        of the server's chain from the previous swap to
- *                        the end of this one). Unsolicited and never
+ *                        from 0), u32 faults (the minor page faults of
+ *                        the chain's thread in that frame), f64 seconds
+ *                        (the thread CPU time of the server's chain from
+ *                        the previous swap to the end of this one), f64
+ *                        fault seconds (the part of those seconds the
+ *                        faults cost: faults times the server's own
+ *                        measured cost of one, so a balancer can tell a
+ *                        region's steady cost from the one-time cost of
+ *                        moving onto pixels the server had not drawn).
+ *                        Unsolicited and never
  *                        waited for: the client takes it when it next looks
  *                        (a reply, its next swap, FINISH). A server with
  *                        no credit left for it drops it rather than block,
@@ -56,7 +63,7 @@
  * (tilesort's load balancer asks; no other sender does). */
 #define TSR_NODE_SWAP_REPORT_COST 0x1u
 /* Bytes of a TSR_NODE_MSG_COST. */
-#define TSR_NODE_COST_BYTES 16u
+#define TSR_NODE_COST_BYTES 24u
 
 /* Bytes before the reply data in a TSR_NODE_MSG_REPLY (keeps the data
  * 8-aligned in the receiver's message memory). */
