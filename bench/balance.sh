@@ -16,7 +16,10 @@
 #    byte imbalance (balance_METHOD_imbalance_bytes_8x4_fN) and the part
 #    of the overlap that is not geometry (balance_METHOD_overlap_commands_8x4_fN:
 #    the servers' state diffs, tiles, window and frame commands less the
-#    1x1 run's, over the 1x1 run's bytes; tilesort's frames_geometry).
+#    1x1 run's, over the 1x1 run's bytes; tilesort's frames_geometry),
+#    and the cost model each balanced run's fit reached at its end
+#    (balance_METHOD_fitted_model_8x4: seconds fixed, a byte, a box pixel,
+#    a region pixel; tilesort.h's priors are kd's on a quiet machine).
 # 2. The frame time of the slowest server against server count (1 .. 32:
 #    1x1 2x1 2x2 4x2 4x4 8x4) for grid, union, kd and broadcast at
 #    BALANCE_SWEEP_SIZE (default 1024x768), BALANCE_SWEEP_FRAMES (5): on one
@@ -142,6 +145,11 @@ for method in grid union kd; do
             printf "balance_%s_overlap_%s_f%d: %s\n", m, t, f, $6
             printf "balance_%s_overlap_commands_%s_f%d: %s\n", m, t, f, $7 }' "$csv"
     done
+done
+# the coefficients each balanced run's fit reached (tilesort.h's priors are this on a quiet machine)
+for method in union kd; do
+    sed -n 's/.*"cost_model":{\([^}]*\)}.*/\1/p' "$work/wall-$method.json" | tr -d '"' |
+        awk -v m="$method" -v t="$wall" '{ printf "balance_%s_fitted_model_%s: %s\n", m, t, $0 }'
 done
 
 fi

@@ -177,7 +177,9 @@ static void write_second_rows(FILE *f, const char *name, const tilesort *t, cons
  * page faults: its faults that frame at its measured cost of one),
  * "server_pixels" (per frame, the pixels of each server's region) and
  * "time_imbalance" (per frame, max / mean of server_seconds; null unless
- * every server reported that frame). */
+ * every server reported that frame) and, in the balanced modes,
+ * "cost_model" (the coefficients the last fit reached, or the priors
+ * when "fits" is 0). */
 static void write_sort_first_stats(void *ctx, FILE *f)
 {
     tilesort *t = ctx;
@@ -220,6 +222,14 @@ static void write_sort_first_stats(void *ctx, FILE *f)
             fprintf(f, "%snull", r ? "," : "");
     }
     fprintf(f, "]");
+    if (TS_BALANCED(t->tiling.mode)) {
+        const ts_cost *c = &t->tiling.cost;
+        fprintf(f,
+                ",\"cost_model\":{\"fits\":%llu,\"fixed_seconds\":%.6g,\"seconds_per_byte\":%.6g,"
+                "\"seconds_per_box_pixel\":%.6g,\"seconds_per_region_pixel\":%.6g}",
+                (unsigned long long)c->fits, c->coef[TS_TERM_FIXED], c->coef[TS_TERM_BYTES], c->coef[TS_TERM_FILL],
+                c->coef[TS_TERM_AREA]);
+    }
     fprintf(f, "}");
 }
 
