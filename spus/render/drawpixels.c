@@ -55,6 +55,7 @@
 #endif
 
 #define FASTDRAW_MAX_UNITS 32
+#define FILL_ROWS 32 /* rows of a clear's fill texture */
 #define FASTDRAW_MAX_DRAW_BUFFERS 16
 
 struct render_fastdraw {
@@ -290,6 +291,8 @@ static void clip(GLint *x0, GLint *y0, GLint *x1, GLint *y1, GLint bx, GLint by,
  * the blit; the texture binding, unpack state (`unpack`: the
  * application's row length, skip rows, skip pixels, alignment), read
  * framebuffer and scissor test are the application's again after it.
+ * ch may be less than y1 - y0 when every row is the same (a fill): the
+ * ch rows are then blitted again until [y0, y1) is covered.
  * False when the framebuffer is incomplete (nothing drawn). */
 static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, const unsigned char *rows, size_t cw, size_t ch,
                         GLenum format, GLint x0, GLint y0, GLint x1, GLint y1, const GLint unpack[4], bool scissor)
@@ -316,7 +319,10 @@ static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, const unsign
     if (complete) {
         if (scissor)
             gl->Disable(GL_SCISSOR_TEST);
-        f->BlitFramebuffer(0, 0, (GLint)cw, (GLint)ch, x0, y1, x1, y0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        for (GLint yb = y0; yb < y1; yb += (GLint)ch) {
+            GLint h = y1 - yb < (GLint)ch ? y1 - yb : (GLint)ch;
+            f->BlitFramebuffer(0, 0, (GLint)cw, h, x0, yb + h, x1, yb, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        }
         if (scissor)
             gl->Enable(GL_SCISSOR_TEST);
     }
@@ -448,7 +454,8 @@ static bool clear_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_
     clip(&x0, &y0, &x1, &y1, box[0], box[1], box[2], box[3]);
     if (x1 <= x0 || y1 <= y0)
         return true; /* nothing inside the scissor box */
-    size_t cw = (size_t)(x1 - x0), ch = (size_t)(y1 - y0), n = cw * ch;
+    /* At most FILL_ROWS rows are uploaded, then blitted again down the box. */
+    size_t cw = (size_t)(x1 - x0), ch = (size_t)(y1 - y0) < FILL_ROWS ? (size_t)(y1 - y0) : FILL_ROWS, n = cw * ch;
     if (n > f->fill_pixels || memcmp(rgba, f->fill_rgba, 4)) {
         if (n > f->fill_pixels) {
             unsigned char *fill = realloc(f->fill, n * 4);
