@@ -22,7 +22,7 @@ for f in "$out/plain"/f-*.png; do
   [ $rc -eq 0 ] || status=1
   n=$((n + 1))
 done
-[ "$n" -eq 30 ] || { echo "FAIL: $n frames, expected 30" >&2; status=1; }
+[ "$n" -eq 32 ] || { echo "FAIL: $n frames, expected 32" >&2; status=1; }
 want=$(sed -n 's/^expect_fast: \([0-9]*\) of \([0-9]*\)$/\1 of \2/p' "$out/fast.out")
 echo "expected fast: $want"
 grep "DrawPixels: .* calls took the texture-blit path" "$out/fast.err" "$out/plain.err"

@@ -7,11 +7,13 @@
  * offsets, partly outside the window, under the scissor, with unpack
  * row length/skips/alignment, BGRA; and each state that must take the
  * plain path (blending, texturing, zoom, scale, depth test, colour mask,
- * alpha test, logic op, fog, a fractional raster position, a display list).
+ * alpha test, logic op, fog, a fractional raster position, a display list,
+ * rasterizer discard).
  * Then scissored colour clears (render_fastdraw_clear): byte-valued and
  * other colours, partly outside the window, an empty box, a colour mask,
  * colour with depth, a display list, fragment state Clear ignores, no draw
- * buffer, clamped values, and 256 clears of every channel value.
+ * buffer, clamped values, rasterizer discard, and 256 clears of every
+ * channel value.
  * After each case it checks through glGet that the state the fast path
  * touches is the application's again. Prints "expect_fast: N of M" and
  * "expect_fast_clear: N of M". */
@@ -105,7 +107,7 @@ int main(int argc, char **argv)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glViewport(0, 0, W, H);
     int fast = 0, calls = 0;
-    enum { CASES = 18 };
+    enum { CASES = 19 };
     for (int c = 0; c < CASES; c++) {
         background(c);
         int x = 7, y = 5, w = 50, h = 30;
@@ -153,6 +155,7 @@ int main(int argc, char **argv)
         case 15: x = 500, want_fast = true; break; /* wholly outside: nothing drawn */
         case 16: x = -3, y = -4, w = 140, h = 90, want_fast = true; break;
         case 17: list = glGenLists(1); break;
+        case 18: glEnable(GL_RASTERIZER_DISCARD); break; /* GL 3.0: nothing is drawn */
         }
         glPixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
         glPixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
@@ -207,12 +210,13 @@ int main(int argc, char **argv)
         glDisable(GL_ALPHA_TEST);
         glDisable(GL_COLOR_LOGIC_OP);
         glDisable(GL_FOG);
+        glDisable(GL_RASTERIZER_DISCARD);
     }
     /* Scissored colour clears (render_fastdraw_clear): one frame each. */
     int clear_fast = 0, clears = 0;
     GLint draw_buffer = GL_NONE;
     glGetIntegerv(GL_DRAW_BUFFER, &draw_buffer);
-    enum { CLEAR_CASES = 12 };
+    enum { CLEAR_CASES = 13 };
     for (int c = 0; c < CLEAR_CASES; c++) {
         background(c);
         bool want_fast = false, scissor = true, colour_only = true;
@@ -242,6 +246,7 @@ int main(int argc, char **argv)
             break;
         case 10: glDrawBuffer(GL_NONE); break;                                 /* no colour buffer */
         case 11: colour[0] = 1.5f, colour[3] = -1.0f, want_fast = true; break; /* clamped to 1 and 0 */
+        case 12: glEnable(GL_RASTERIZER_DISCARD); break;                       /* nothing is cleared */
         }
         glClearColor(colour[0], colour[1], colour[2], colour[3]);
         if (scissor)
@@ -293,6 +298,7 @@ int main(int argc, char **argv)
         glDisable(GL_TEXTURE_2D);
         glActiveTexture(GL_TEXTURE0);
         glDrawBuffer((GLenum)draw_buffer);
+        glDisable(GL_RASTERIZER_DISCARD);
     }
     printf("expect_fast: %d of %d\n", fast, calls);
     printf("expect_fast_clear: %d of %d\n", clear_fast, clears);
