@@ -76,6 +76,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bands.h"
 #include "layers.h"
 #include "net.h"
 #include "render.h"
@@ -95,6 +96,10 @@
 #define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2) /* alpha mode: a box's distance */
 /* The group's frame fence on the display node (its parallel API, server/node.h). */
 #define BSWAP_DISPLAY_BARRIER 0x54534c42u /* "TSLB" */
+/* What one more DrawPixels of a partial piece costs, in pixels sent (the
+ * display's per-call state checks and texture, a command): a band of the
+ * piece grows while that is cheaper than a call (bands.h). */
+#define BSWAP_CALL_PIXELS 8192u
 
 /* A message queued for this process's own display participant (rank 0
  * sends its final piece to itself). */
@@ -141,8 +146,10 @@ typedef struct bswap_spu {
     size_t window_depth_size;
     tsr_cimage mine;         /* this frame's region of interest */
     tsr_cimage frame;        /* rank 0, when the display composites (gather): the assembled frame */
-    tsr_sparse_image placed; /* this peer's final piece without its leading and trailing background */
-    tsr_cimage piece;        /* ... as the colour the display draws (rows it spans) */
+    bswap_bands bands;       /* how this peer's final piece is drawn (partial pieces) */
+    tsr_sparse_image placed; /* the rows of one box of the final piece (a view) */
+    tsr_sparse_image row;    /* one row of it (a view of placed) */
+    tsr_cimage piece;        /* ... as the colour the display draws (the box) */
     uint8_t background[4];
     bool has_background; /* background[] is a pixel this peer left cleared */
 
@@ -691,13 +698,31 @@ static void clear_span(const tsr_dispatch *d, uint32_t W, uint32_t first, uint32
     tsr_call_Disable(d, GL_SCISSOR_TEST); /* DrawPixels below must not be cut */
 }
 
+/* Scissored clears of the rectangles (the background: a command each, no
+ * pixels); the scissor test is off again after them. */
+static void clear_rects(const tsr_dispatch *d, const bswap_rect *r, size_t n)
+{
+    if (!n)
+        return;
+    tsr_call_Enable(d, GL_SCISSOR_TEST);
+    for (size_t i = 0; i < n; i++) {
+        tsr_call_Scissor(d, r[i].x, r[i].y, r[i].w, r[i].h);
+        tsr_call_Clear(d, GL_COLOR_BUFFER_BIT);
+    }
+    tsr_call_Disable(d, GL_SCISSOR_TEST); /* DrawPixels must not be cut */
+}
+
 /* Puts this peer's final piece (pixels [start, start+count) of the window,
  * composited from every peer) into the display's frame, in this peer's
- * own context there: the span from its first to its last active pixel as
- * WindowPos2i + DrawPixels of the rectangles it crosses (span_rects), its
- * inactive pixels as the background; the background before and after the
- * span as scissored clears. A piece without active pixels is clears only,
- * so no pixel of background travels. */
+ * own context there. A depth-mode RGBA8 piece whose pixels from the first
+ * to the last active one are all active is that span's colour plane as it
+ * is: WindowPos2i + DrawPixels of the rectangles it crosses (span_rects),
+ * the background before and after it as scissored clears. Any other piece
+ * is drawn in bands (bands.h): one box per band around its active pixels
+ * (inactive ones in it as the background), the rest of the piece as
+ * scissored clears, so the display draws and the stream carries little
+ * more than the active pixels. A piece without active pixels is clears
+ * only, so no pixel of background travels. */
 static void place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
                         uint32_t frame)
 {
@@ -718,38 +743,47 @@ static void place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_im
         trail += in->runs[2 * r];
     }
     uint32_t first = in->start + lead, last = end - trail;
-    if (lead)
-        clear_span(d, W, in->start, first - 1);
-    if (trail)
-        clear_span(d, W, last + 1, end);
     tsr_error err = {0};
-    uint32_t y0 = first / W, y1 = last / W;
-    if (tsr_sparse_image_view(in, first, last - first + 1, &b->placed, &err) != TSR_OK)
+    if (in->active == last - first + 1 && in->mode == TSR_COMPOSITE_DEPTH && in->color_format == TSR_CI_RGBA8) {
+        if (lead)
+            clear_span(d, W, in->start, first - 1);
+        if (trail)
+            clear_span(d, W, last + 1, end);
+        /* The active pixels are in's colour plane, in order. */
+        int r[3][4];
+        int n = span_rects(W, first, last, r);
+        for (int i = 0; i < n; i++) {
+            size_t at = (size_t)r[i][1] * W + (size_t)r[i][0] - first;
+            tsr_call_WindowPos2i(d, r[i][0], r[i][1]);
+            tsr_call_DrawPixels(d, r[i][2], r[i][3], GL_RGBA, GL_UNSIGNED_BYTE, in->color + at * 4);
+        }
+        return;
+    }
+    if (bswap_bands_plan(&b->bands, in, BSWAP_CALL_PIXELS, &err) != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-    /* Pixel p of the span is at px + 4 (p - origin). A depth-mode RGBA8
-     * span without inactive pixels is its colour plane as it is. */
-    const uint8_t *px = b->placed.color;
-    uint32_t origin = first;
-    if (b->placed.active != last - first + 1 || in->mode != TSR_COMPOSITE_DEPTH || in->color_format != TSR_CI_RGBA8) {
-        int rx = y0 == y1 ? (int)(first % W) : 0, rw = y0 == y1 ? (int)(last - first + 1) : (int)W;
-        if (tsr_cimage_init(&b->piece, in->window_width, in->window_height, rx, (int)y0, rw, (int)(y1 - y0 + 1),
+    clear_rects(d, b->bands.clears, b->bands.nclears);
+    for (size_t i = 0; i < b->bands.nboxes; i++) {
+        const bswap_rect *box = &b->bands.boxes[i];
+        /* The box's rows: one view of them all, then each row's columns. */
+        uint32_t from = (uint32_t)box->y * W + (uint32_t)box->x;
+        uint32_t to = (uint32_t)(box->y + box->h - 1) * W + (uint32_t)(box->x + box->w - 1);
+        if (tsr_cimage_init(&b->piece, in->window_width, in->window_height, box->x, box->y, box->w, box->h,
                             in->color_format, TSR_CI_NODEPTH, &err) != TSR_OK ||
-            tsr_sparse_image_to_dense(&b->placed, background, &b->piece, &err) != TSR_OK)
+            tsr_sparse_image_view(in, from, to - from + 1, &b->placed, &err) != TSR_OK)
             bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-        px = b->piece.color;
-        origin = y0 * W + (uint32_t)rx;
+        for (int y = box->y; y < box->y + box->h; y++)
+            if (tsr_sparse_image_view(&b->placed, (uint32_t)y * W + (uint32_t)box->x, (uint32_t)box->w, &b->row,
+                                      &err) != TSR_OK ||
+                tsr_sparse_image_to_dense(&b->row, background, &b->piece, &err) != TSR_OK)
+                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        const uint8_t *px = b->piece.color;
         if (in->color_format != TSR_CI_RGBA8) {
             if (bswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
                 bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
             px = b->frame8;
         }
-    }
-    int r[3][4];
-    int n = span_rects(W, first, last, r);
-    for (int i = 0; i < n; i++) {
-        size_t at = (size_t)r[i][1] * W + (size_t)r[i][0] - origin;
-        tsr_call_WindowPos2i(d, r[i][0], r[i][1]);
-        tsr_call_DrawPixels(d, r[i][2], r[i][3], GL_RGBA, GL_UNSIGNED_BYTE, px + at * 4);
+        tsr_call_WindowPos2i(d, box->x, box->y);
+        tsr_call_DrawPixels(d, box->w, box->h, GL_RGBA, GL_UNSIGNED_BYTE, px);
     }
 }
 
@@ -1024,6 +1058,8 @@ static void bswap_destroy(void *self)
     tsr_cimage_free(&b->frame);
     tsr_cimage_free(&b->piece);
     tsr_sparse_image_free(&b->placed);
+    tsr_sparse_image_free(&b->row);
+    bswap_bands_free(&b->bands);
     tsr_cimage_free(&b->layer);
     free(b->frame8);
     free(b->window_depth);

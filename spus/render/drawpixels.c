@@ -50,14 +50,18 @@
 #ifndef GL_TEXTURE_RECTANGLE_ARB
 #define GL_TEXTURE_RECTANGLE_ARB 0x84F5
 #endif
+#ifndef GL_RASTERIZER_DISCARD
+#define GL_RASTERIZER_DISCARD 0x8C89
+#endif
 
 #define FASTDRAW_MAX_UNITS 32
+#define FILL_ROWS 32 /* rows of a clear's fill texture */
 #define FASTDRAW_MAX_DRAW_BUFFERS 16
 
 struct render_fastdraw {
     bool enabled, probed, usable;
     /* What the context knows (probed at the first call, current then). */
-    bool imaging, fragment_program, ati_fragment_shader, srgb, depth_bounds, rectangle;
+    bool imaging, fragment_program, ati_fragment_shader, srgb, depth_bounds, rectangle, discard;
     GLint units, draw_buffers, max_texture;
     void(GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
     void(GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
@@ -70,7 +74,10 @@ struct render_fastdraw {
     void *lookup_ctx;
     unsigned char *rows; /* the clipped rectangle, rows reversed */
     size_t rows_size;
-    uint64_t fast, total;
+    unsigned char *fill; /* fill_pixels pixels of the colour fill_rgba */
+    size_t fill_pixels;
+    unsigned char fill_rgba[4];
+    uint64_t fast, total, clears_fast, clears;
 };
 
 render_fastdraw *render_fastdraw_create(tsr_proc (*lookup)(const char *name, void *ctx), void *ctx, bool enabled)
@@ -91,7 +98,11 @@ void render_fastdraw_destroy(render_fastdraw *f, const char *instance_name)
     if (f->total)
         tsr_log(TSR_LOG_INFO, "%s: DrawPixels: %llu of %llu calls took the texture-blit path", instance_name,
                 (unsigned long long)f->fast, (unsigned long long)f->total);
+    if (f->clears)
+        tsr_log(TSR_LOG_INFO, "%s: scissored colour Clear: %llu of %llu calls took the texture-blit path",
+                instance_name, (unsigned long long)f->clears_fast, (unsigned long long)f->clears);
     free(f->rows);
+    free(f->fill);
     free(f);
 }
 
@@ -99,6 +110,12 @@ void render_fastdraw_counts(const render_fastdraw *f, uint64_t *fast, uint64_t *
 {
     *fast = f->fast;
     *total = f->total;
+}
+
+void render_fastdraw_clear_counts(const render_fastdraw *f, uint64_t *fast, uint64_t *total)
+{
+    *fast = f->clears_fast;
+    *total = f->clears;
 }
 
 static bool has_extension(const char *list, const char *name)
@@ -136,6 +153,9 @@ static void probe(render_fastdraw *f, const tsr_gl_procs *gl)
     f->srgb = has_extension(ext, "GL_EXT_framebuffer_sRGB") || has_extension(ext, "GL_ARB_framebuffer_sRGB");
     f->depth_bounds = has_extension(ext, "GL_EXT_depth_bounds_test");
     f->rectangle = has_extension(ext, "GL_ARB_texture_rectangle") || has_extension(ext, "GL_NV_texture_rectangle");
+    const char *version = (const char *)gl->GetString(GL_VERSION);
+    f->discard = (version && version[0] >= '3' && version[0] <= '9' && version[1] == '.') ||
+                 has_extension(ext, "GL_EXT_transform_feedback");
     gl->GetIntegerv(GL_MAX_TEXTURE_UNITS, &f->units);
     gl->GetIntegerv(GL_MAX_DRAW_BUFFERS, &f->draw_buffers);
     gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &f->max_texture);
@@ -143,6 +163,34 @@ static void probe(render_fastdraw *f, const tsr_gl_procs *gl)
         f->draw_buffers < 1)
         return;
     f->usable = true;
+}
+
+/* What a blit shares with a colour Clear: both write every pixel of the
+ * (scissored) window rectangle once, in one colour buffer, all channels,
+ * with no multisample resolve or sRGB encoding on the way, and neither is
+ * discarded. */
+static bool writes_one_buffer(const render_fastdraw *f, const tsr_gl_procs *gl)
+{
+    if ((f->srgb && gl->IsEnabled(GL_FRAMEBUFFER_SRGB)) || (f->discard && gl->IsEnabled(GL_RASTERIZER_DISCARD)))
+        return false;
+    GLint v = 0;
+    gl->GetIntegerv(GL_SAMPLE_BUFFERS, &v);
+    if (v)
+        return false;
+    GLboolean mask[4] = {0, 0, 0, 0};
+    gl->GetBooleanv(GL_COLOR_WRITEMASK, mask);
+    if (!mask[0] || !mask[1] || !mask[2] || !mask[3])
+        return false;
+    GLint buffer = GL_NONE;
+    gl->GetIntegerv(GL_DRAW_BUFFER0, &buffer);
+    if (buffer == GL_NONE)
+        return false;
+    for (GLint i = 1; i < f->draw_buffers; i++) {
+        gl->GetIntegerv((GLenum)(GL_DRAW_BUFFER0 + i), &buffer);
+        if (buffer != GL_NONE)
+            return false;
+    }
+    return true;
 }
 
 /* Every fragment stage off, so a fragment keeps the bytes it was given. */
@@ -155,18 +203,11 @@ static bool fragments_untouched(const render_fastdraw *f, const tsr_gl_procs *gl
             return false;
     if ((f->fragment_program && gl->IsEnabled(GL_FRAGMENT_PROGRAM_ARB)) ||
         (f->ati_fragment_shader && gl->IsEnabled(GL_FRAGMENT_SHADER_ATI)) ||
-        (f->srgb && gl->IsEnabled(GL_FRAMEBUFFER_SRGB)) || (f->depth_bounds && gl->IsEnabled(GL_DEPTH_BOUNDS_TEST_EXT)))
+        (f->depth_bounds && gl->IsEnabled(GL_DEPTH_BOUNDS_TEST_EXT)) || !writes_one_buffer(f, gl))
         return false;
     GLint v = 0;
     gl->GetIntegerv(GL_CURRENT_PROGRAM, &v);
     if (v)
-        return false;
-    gl->GetIntegerv(GL_SAMPLE_BUFFERS, &v);
-    if (v)
-        return false;
-    GLboolean mask[4] = {0, 0, 0, 0};
-    gl->GetBooleanv(GL_COLOR_WRITEMASK, mask);
-    if (!mask[0] || !mask[1] || !mask[2] || !mask[3])
         return false;
     /* Texturing on any unit (fixed function uses each enabled one). */
     GLint active = GL_TEXTURE0;
@@ -244,6 +285,54 @@ static void clip(GLint *x0, GLint *y0, GLint *x1, GLint *y1, GLint bx, GLint by,
         *y1 = by + bh;
 }
 
+/* Uploads `rows` (cw x ch pixels of `format`, tightly packed, the top row
+ * first) into a texture and blits it 1:1 to [x0, x1) x [y0, y1) given
+ * flipped in y (llvmpipe's plain copy), with the scissor test off around
+ * the blit; the texture binding, unpack state (`unpack`: the
+ * application's row length, skip rows, skip pixels, alignment), read
+ * framebuffer and scissor test are the application's again after it.
+ * ch may be less than y1 - y0 when every row is the same (a fill): the
+ * ch rows are then blitted again until [y0, y1) is covered.
+ * False when the framebuffer is incomplete (nothing drawn). */
+static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, const unsigned char *rows, size_t cw, size_t ch,
+                        GLenum format, GLint x0, GLint y0, GLint x1, GLint y1, const GLint unpack[4], bool scissor)
+{
+    GLint texture = 0, read_fb = 0;
+    gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &texture);
+    gl->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb);
+    GLuint tex = 0, fb = 0;
+    gl->GenTextures(1, &tex);
+    gl->BindTexture(GL_TEXTURE_2D, tex);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, (GLsizei)cw, (GLsizei)ch, 0, format, GL_UNSIGNED_BYTE, rows);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, unpack[0]);
+    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, unpack[1]);
+    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, unpack[2]);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, unpack[3]);
+    f->GenFramebuffers(1, &fb);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, fb);
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    bool complete = f->CheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (complete) {
+        if (scissor)
+            gl->Disable(GL_SCISSOR_TEST);
+        for (GLint yb = y0; yb < y1; yb += (GLint)ch) {
+            GLint h = y1 - yb < (GLint)ch ? y1 - yb : (GLint)ch;
+            f->BlitFramebuffer(0, 0, (GLint)cw, h, x0, yb + h, x1, yb, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        }
+        if (scissor)
+            gl->Enable(GL_SCISSOR_TEST);
+    }
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fb);
+    f->DeleteFramebuffers(1, &fb);
+    gl->BindTexture(GL_TEXTURE_2D, (GLuint)texture);
+    gl->DeleteTextures(1, &tex);
+    return complete;
+}
+
 /* The fast path; false (having changed nothing) when the state does not
  * allow it. */
 static bool draw_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_width, GLint window_height,
@@ -276,16 +365,6 @@ static bool draw_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_w
         return false;
     if (!transfer_identity(f, gl) || !fragments_untouched(f, gl))
         return false;
-    /* Exactly one colour buffer is drawn to. */
-    GLint buffer = GL_NONE;
-    gl->GetIntegerv(GL_DRAW_BUFFER0, &buffer);
-    if (buffer == GL_NONE)
-        return false;
-    for (GLint i = 1; i < f->draw_buffers; i++) {
-        gl->GetIntegerv((GLenum)(GL_DRAW_BUFFER0 + i), &buffer);
-        if (buffer != GL_NONE)
-            return false;
-    }
     GLint unpack[4]; /* row length, skip rows, skip pixels, alignment */
     gl->GetIntegerv(GL_UNPACK_ROW_LENGTH, &unpack[0]);
     gl->GetIntegerv(GL_UNPACK_SKIP_ROWS, &unpack[1]);
@@ -324,37 +403,89 @@ static bool draw_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_w
     for (size_t j = 0; j < ch; j++)
         memcpy(f->rows + (ch - 1 - j) * cw * 4, src + (sy + j) * stride + sx * 4, cw * 4);
 
-    GLint texture = 0, read_fb = 0;
-    gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &texture);
-    gl->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb);
-    GLuint tex = 0, fb = 0;
-    gl->GenTextures(1, &tex);
-    gl->BindTexture(GL_TEXTURE_2D, tex);
-    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
-    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, (GLsizei)cw, (GLsizei)ch, 0, format, GL_UNSIGNED_BYTE, f->rows);
-    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, unpack[0]);
-    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, unpack[1]);
-    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, unpack[2]);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, unpack[3]);
-    f->GenFramebuffers(1, &fb);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, fb);
-    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
-    bool complete = f->CheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    if (complete) {
-        if (scissor)
-            gl->Disable(GL_SCISSOR_TEST);
-        f->BlitFramebuffer(0, 0, (GLint)cw, (GLint)ch, x0, y1, x1, y0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        if (scissor)
-            gl->Enable(GL_SCISSOR_TEST);
+    return upload_blit(f, gl, f->rows, cw, ch, format, x0, y0, x1, y1, unpack, scissor);
+}
+
+/* Clear: the clear colour, when it is a value the 8-bit buffer holds
+ * exactly (each channel, clamped to [0, 1], k / 255.0f as a float, which GL 2.1 2.14.9's
+ * conversion, f * 255 rounded to the nearest integer, gives back as k, and
+ * which dithering therefore cannot move), as the bytes RGBA. */
+static bool clear_bytes(const tsr_gl_procs *gl, unsigned char rgba[4])
+{
+    GLfloat c[4] = {-1, -1, -1, -1};
+    gl->GetFloatv(GL_COLOR_CLEAR_VALUE, c);
+    for (int i = 0; i < 4; i++) {
+        if (c[i] != c[i]) /* NaN */
+            return false;
+        /* a fixed-point buffer takes the value clamped (GL 3.0 keeps it unclamped until then) */
+        if (c[i] < 0.0f)
+            c[i] = 0.0f;
+        if (c[i] > 1.0f)
+            c[i] = 1.0f;
+        long k = (long)(c[i] * 255.0f + 0.5f);
+        if ((GLfloat)k / 255.0f != c[i])
+            return false;
+        rgba[i] = (unsigned char)k;
     }
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fb);
-    f->DeleteFramebuffers(1, &fb);
-    gl->BindTexture(GL_TEXTURE_2D, (GLuint)texture);
-    gl->DeleteTextures(1, &tex);
-    return complete;
+    return true;
+}
+
+static bool clear_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_width, GLint window_height)
+{
+    /* Unscissored, llvmpipe clears with a fill already. */
+    if (gl->IsEnabled(GL_SCISSOR_TEST) != GL_TRUE)
+        return false;
+    GLint v = 0;
+    gl->GetIntegerv(GL_LIST_INDEX, &v);
+    if (v)
+        return false;
+    gl->GetIntegerv(GL_RENDER_MODE, &v);
+    if (v != GL_RENDER)
+        return false;
+    gl->GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &v); /* the upload would read it */
+    if (v)
+        return false;
+    unsigned char rgba[4];
+    if (!writes_one_buffer(f, gl) || !clear_bytes(gl, rgba))
+        return false;
+    GLint x0 = 0, y0 = 0, x1 = window_width, y1 = window_height;
+    GLint box[4] = {0, 0, 0, 0};
+    gl->GetIntegerv(GL_SCISSOR_BOX, box);
+    clip(&x0, &y0, &x1, &y1, box[0], box[1], box[2], box[3]);
+    if (x1 <= x0 || y1 <= y0)
+        return true; /* nothing inside the scissor box */
+    /* At most FILL_ROWS rows are uploaded, then blitted again down the box. */
+    size_t cw = (size_t)(x1 - x0), ch = (size_t)(y1 - y0) < FILL_ROWS ? (size_t)(y1 - y0) : FILL_ROWS, n = cw * ch;
+    if (n > f->fill_pixels || memcmp(rgba, f->fill_rgba, 4)) {
+        if (n > f->fill_pixels) {
+            unsigned char *fill = realloc(f->fill, n * 4);
+            if (!fill)
+                return false;
+            f->fill = fill;
+            f->fill_pixels = n;
+        }
+        for (size_t i = 0; i < f->fill_pixels; i++)
+            memcpy(f->fill + i * 4, rgba, 4);
+        memcpy(f->fill_rgba, rgba, 4);
+    }
+    GLint unpack[4];
+    gl->GetIntegerv(GL_UNPACK_ROW_LENGTH, &unpack[0]);
+    gl->GetIntegerv(GL_UNPACK_SKIP_ROWS, &unpack[1]);
+    gl->GetIntegerv(GL_UNPACK_SKIP_PIXELS, &unpack[2]);
+    gl->GetIntegerv(GL_UNPACK_ALIGNMENT, &unpack[3]);
+    return upload_blit(f, gl, f->fill, cw, ch, GL_RGBA, x0, y0, x1, y1, unpack, true);
+}
+
+bool render_fastdraw_clear(render_fastdraw *f, const tsr_gl_procs *gl, int window_width, int window_height)
+{
+    f->clears++;
+    if (f->enabled && !f->probed)
+        probe(f, gl);
+    if (f->enabled && f->usable && clear_fast(f, gl, window_width, window_height)) {
+        f->clears_fast++;
+        return true;
+    }
+    return false;
 }
 
 void render_fastdraw_draw(render_fastdraw *f, const tsr_gl_procs *gl, int window_width, int window_height,

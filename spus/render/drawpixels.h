@@ -6,7 +6,8 @@
  * 1:1 blit flipped in y is a plain copy into its top-down colour buffer.
  *
  * Owns, per render instance: the resolved framebuffer-object entries, the
- * reversed-rows staging buffer and the counts of calls taken fast / plain.
+ * reversed-rows staging buffer, the clear colour's fill and the counts of
+ * calls taken fast / plain.
  * Never: leaves any GL binding or pixel-store value it touched changed;
  * keeps a GL object beyond one call (texture and FBO names belong to the
  * client's share group, which may bind any name without generating it);
@@ -33,7 +34,15 @@ void render_fastdraw_destroy(render_fastdraw *f, const char *instance_name);
 void render_fastdraw_draw(render_fastdraw *f, const tsr_gl_procs *gl, int window_width, int window_height,
                           GLsizei width, GLsizei height, GLenum format, GLenum type, const void *pixels);
 
+/* A glClear(GL_COLOR_BUFFER_BIT) under the scissor test (llvmpipe draws
+ * that as a quad through its fragment shader, 5-6 times the time of the
+ * blit per pixel) as the same upload and blit of the clear colour, when
+ * the state makes it identical; true when it cleared, false when the
+ * caller must call glClear. */
+bool render_fastdraw_clear(render_fastdraw *f, const tsr_gl_procs *gl, int window_width, int window_height);
+
 /* Calls so far that took the fast path, and all calls. */
 void render_fastdraw_counts(const render_fastdraw *f, uint64_t *fast, uint64_t *total);
+void render_fastdraw_clear_counts(const render_fastdraw *f, uint64_t *fast, uint64_t *total);
 
 #endif

@@ -1133,7 +1133,10 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     } else if (window == r->window) {
         ensure_current(r);
         r->gl.Finish();
-        if (r->shared)
+        /* Only a PNG or the image hook reads the copy; without them the
+         * frame stays in the shared renderbuffers (a `frame` hook reads
+         * from there with render_spu_read). */
+        if (r->shared && (r->output[0] || r->hooks.image))
             shared_read_frame(r);
         int frame = r->frame++;
         if (r->output[0]) {
@@ -1362,6 +1365,8 @@ static void render_Clear(void *self, GLbitfield mask)
         if (value == 0)
             mask |= GL_STENCIL_BUFFER_BIT;
     }
+    if (mask == GL_COLOR_BUFFER_BIT && !compiling && render_fastdraw_clear(r->fastdraw, &r->gl, r->width, r->height))
+        return;
     r->gl.Clear(mask);
 }
 

@@ -113,9 +113,10 @@ int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format,
          .default_value = "true",                                                              \
          .min = 1,                                                                             \
          .max = 0,                                                                             \
-         .help = "draw RGBA8 DrawPixels as a texture upload and framebuffer blit when the "    \
-                 "GL state makes that identical (no fragment operations, zoom 1, default "     \
-                 "pixel transfer); false: always glDrawPixels"},                               \
+         .help = "draw RGBA8 DrawPixels, and scissored colour Clears, as a texture upload "    \
+                 "and framebuffer blit when the GL state makes that identical (no fragment "   \
+                 "operations, zoom 1, default pixel transfer); false: always glDrawPixels "    \
+                 "and glClear"},                                                               \
     {                                                                                          \
         .name = "tiles", .type = TSR_OPT_STRING, .default_value = "", .min = 1, .max = 0,      \
         .help = "rectangles of the window this server owns, X:Y:W:H,X:Y:W:H (a graph node's "  \

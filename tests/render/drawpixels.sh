@@ -1,8 +1,9 @@
 #!/bin/sh
-# tests/render/drawpixels.sh — render's fast DrawPixels (texture upload and
-# blit, spus/render/drawpixels.c) must give every frame byte for byte what
-# glDrawPixels gives (fast_drawpixels=false), and must be the path taken
-# exactly in the cases the driver says allow it.
+# tests/render/drawpixels.sh — render's fast DrawPixels and scissored
+# colour Clear (texture upload and blit, spus/render/drawpixels.c) must
+# give every frame byte for byte what glDrawPixels and glClear give
+# (fast_drawpixels=false), and must be the path taken exactly in the cases
+# the driver says allow it.
 # usage: drawpixels.sh DRIVER TESSERA_BIN OUT_DIR solo|shared
 set -u
 driver=$1 tessera=$2 out=$3 mode=$4
@@ -21,7 +22,7 @@ for f in "$out/plain"/f-*.png; do
   [ $rc -eq 0 ] || status=1
   n=$((n + 1))
 done
-[ "$n" -eq 18 ] || { echo "FAIL: $n frames, expected 18" >&2; status=1; }
+[ "$n" -eq 32 ] || { echo "FAIL: $n frames, expected 32" >&2; status=1; }
 want=$(sed -n 's/^expect_fast: \([0-9]*\) of \([0-9]*\)$/\1 of \2/p' "$out/fast.out")
 echo "expected fast: $want"
 grep "DrawPixels: .* calls took the texture-blit path" "$out/fast.err" "$out/plain.err"
@@ -30,4 +31,12 @@ grep -q "DrawPixels: $want calls took the texture-blit path" "$out/fast.err" ||
 total=${want#* of }
 grep -q "DrawPixels: 0 of $total calls took the texture-blit path" "$out/plain.err" ||
   { echo "FAIL: fast_drawpixels=false still took the fast path" >&2; status=1; }
+want=$(sed -n 's/^expect_fast_clear: \([0-9]*\) of \([0-9]*\)$/\1 of \2/p' "$out/fast.out")
+echo "expected fast clears: $want"
+grep "scissored colour Clear: .* calls took the texture-blit path" "$out/fast.err" "$out/plain.err"
+grep -q "scissored colour Clear: $want calls took the texture-blit path" "$out/fast.err" ||
+  { echo "FAIL: the fast run did not take the fast clear $want times" >&2; status=1; }
+total=${want#* of }
+grep -q "scissored colour Clear: 0 of $total calls took the texture-blit path" "$out/plain.err" ||
+  { echo "FAIL: fast_drawpixels=false still took the fast clear" >&2; status=1; }
 exit $status

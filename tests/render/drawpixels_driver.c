@@ -7,9 +7,16 @@
  * offsets, partly outside the window, under the scissor, with unpack
  * row length/skips/alignment, BGRA; and each state that must take the
  * plain path (blending, texturing, zoom, scale, depth test, colour mask,
- * alpha test, logic op, fog, a fractional raster position, a display list).
+ * alpha test, logic op, fog, a fractional raster position, a display list,
+ * rasterizer discard).
+ * Then scissored colour clears (render_fastdraw_clear): byte-valued and
+ * other colours, partly outside the window, an empty box, a colour mask,
+ * colour with depth, a display list, fragment state Clear ignores, no draw
+ * buffer, clamped values, rasterizer discard, and 256 clears of every
+ * channel value.
  * After each case it checks through glGet that the state the fast path
- * touches is the application's again. Prints "expect_fast: N of M". */
+ * touches is the application's again. Prints "expect_fast: N of M" and
+ * "expect_fast_clear: N of M". */
 #define GL_GLEXT_PROTOTYPES
 #include <stdbool.h>
 #include <stdio.h>
@@ -100,7 +107,7 @@ int main(int argc, char **argv)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glViewport(0, 0, W, H);
     int fast = 0, calls = 0;
-    enum { CASES = 18 };
+    enum { CASES = 19 };
     for (int c = 0; c < CASES; c++) {
         background(c);
         int x = 7, y = 5, w = 50, h = 30;
@@ -148,6 +155,7 @@ int main(int argc, char **argv)
         case 15: x = 500, want_fast = true; break; /* wholly outside: nothing drawn */
         case 16: x = -3, y = -4, w = 140, h = 90, want_fast = true; break;
         case 17: list = glGenLists(1); break;
+        case 18: glEnable(GL_RASTERIZER_DISCARD); break; /* GL 3.0: nothing is drawn */
         }
         glPixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
         glPixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
@@ -202,8 +210,98 @@ int main(int argc, char **argv)
         glDisable(GL_ALPHA_TEST);
         glDisable(GL_COLOR_LOGIC_OP);
         glDisable(GL_FOG);
+        glDisable(GL_RASTERIZER_DISCARD);
+    }
+    /* Scissored colour clears (render_fastdraw_clear): one frame each. */
+    int clear_fast = 0, clears = 0;
+    GLint draw_buffer = GL_NONE;
+    glGetIntegerv(GL_DRAW_BUFFER, &draw_buffer);
+    enum { CLEAR_CASES = 13 };
+    for (int c = 0; c < CLEAR_CASES; c++) {
+        background(c);
+        bool want_fast = false, scissor = true, colour_only = true;
+        GLfloat colour[4] = {37 / 255.0f, 1.0f, 0.0f, 200 / 255.0f};
+        int box[4] = {9, 7, 61, 43};
+        GLuint list = 0;
+        switch (c) {
+        case 0: want_fast = true; break;
+        case 1: box[0] = -20, box[1] = 50, box[2] = 400, box[3] = 400, want_fast = true; break; /* past the window */
+        case 2: box[2] = 0, want_fast = true; break;                                            /* empty: nothing */
+        case 3: colour[1] = 0.3f; break; /* not a byte value: GL's clear */
+        case 4: scissor = false; break;  /* a fill already */
+        case 5: glColorMask(GL_TRUE, GL_TRUE, GL_FALSE, GL_TRUE); break;
+        case 6: colour_only = false; break; /* colour and depth */
+        case 7: list = glGenLists(1); break;
+        case 8: /* every byte value, one row of boxes per channel value: below */ want_fast = true; break;
+        case 9: /* fragment state that Clear ignores, so the fast path too */
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_ZERO, GL_ONE);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_NEVER);
+            glActiveTexture(GL_TEXTURE1);
+            glBindTexture(GL_TEXTURE_2D, tex);
+            glEnable(GL_TEXTURE_2D);
+            glActiveTexture(GL_TEXTURE0);
+            want_fast = true;
+            break;
+        case 10: glDrawBuffer(GL_NONE); break;                                 /* no colour buffer */
+        case 11: colour[0] = 1.5f, colour[3] = -1.0f, want_fast = true; break; /* clamped to 1 and 0 */
+        case 12: glEnable(GL_RASTERIZER_DISCARD); break;                       /* nothing is cleared */
+        }
+        glClearColor(colour[0], colour[1], colour[2], colour[3]);
+        if (scissor)
+            glEnable(GL_SCISSOR_TEST);
+        if (c == 8) {
+            /* 256 clears: channel values k / 255 for every k */
+            for (int k = 0; k < 256; k++) {
+                glClearColor((GLfloat)k / 255.0f, (GLfloat)(255 - k) / 255.0f, (GLfloat)((k * 7) % 256) / 255.0f,
+                             (GLfloat)((k * 13) % 256) / 255.0f);
+                glScissor((k % 32) * 4, (k / 32) * 10, 3, 9);
+                glClear(GL_COLOR_BUFFER_BIT);
+                clears++;
+                clear_fast++;
+            }
+        } else {
+            glScissor(box[0], box[1], box[2], box[3]);
+            if (list) {
+                glNewList(list, GL_COMPILE);
+                glClear(GL_COLOR_BUFFER_BIT);
+                glEndList();
+                glCallList(list);
+                glDeleteLists(list, 1);
+            } else {
+                glClear(colour_only ? GL_COLOR_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            }
+            /* GL's own clear of colour alone is the only one render sees
+             * as a colour clear (a list's runs inside GL). */
+            clears += colour_only && !list;
+            clear_fast += want_fast;
+        }
+        expect_int(GL_TEXTURE_BINDING_2D, (GLint)tex, CASES + c, "GL_TEXTURE_BINDING_2D");
+        expect_int(GL_UNPACK_ALIGNMENT, 4, CASES + c, "GL_UNPACK_ALIGNMENT");
+        expect_int(GL_UNPACK_ROW_LENGTH, 0, CASES + c, "GL_UNPACK_ROW_LENGTH");
+        if (glIsEnabled(GL_SCISSOR_TEST) != scissor) {
+            fprintf(stderr, "drawpixels_driver: clear case %d: scissor test changed\n", c);
+            failures++;
+        }
+        GLenum e = glGetError();
+        if (e != GL_NO_ERROR) {
+            fprintf(stderr, "drawpixels_driver: clear case %d: GL error 0x%x\n", c, e);
+            failures++;
+        }
+        glSwapBuffersTSR(0, 0);
+        glDisable(GL_SCISSOR_TEST);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_BLEND);
+        glDisable(GL_DEPTH_TEST);
+        glActiveTexture(GL_TEXTURE1);
+        glDisable(GL_TEXTURE_2D);
+        glActiveTexture(GL_TEXTURE0);
+        glDrawBuffer((GLenum)draw_buffer);
+        glDisable(GL_RASTERIZER_DISCARD);
     }
     printf("expect_fast: %d of %d\n", fast, calls);
+    printf("expect_fast_clear: %d of %d\n", clear_fast, clears);
     glWindowDestroyTSR(0);
     tsr_gl_make_current(NULL);
     tsr_chain_destroy(chain);

@@ -4,10 +4,10 @@
 # benchmarks' input) under `tessera run`, with stats= on: every frame the
 # display writes must equal the composite of those layers computed by
 # synthetic_check, and every peer must have written a timing line per frame.
-# usage: synthetic.sh BIN_DIR OUT_DIR N full|ellipse
+# usage: synthetic.sh BIN_DIR OUT_DIR N full|ellipse [WxH (96x72)]
 set -u
-bin=$1 out=$2 n=$3 mode=$4
-frames=2 w=96 h=72
+bin=$1 out=$2 n=$3 mode=$4 size=${5:-96x72}
+frames=2 w=${size%x*} h=${size#*x}
 bad=0
 fail() { echo "FAIL: $*" >&2; bad=1; }
 rm -rf "$out" && mkdir -p "$out" || exit 1
