@@ -152,7 +152,7 @@ awk -v c="${cpu_med[8-full]}" -v r="$render_cpu_ms" 'BEGIN { printf "composite_8
 echo "composite_8x1080p_partial_ms: ${med[8-ellipse]}"
 echo "composite_8x1080p_partial_assembled_ms: ${asm_med[8-ellipse]}"
 echo "memcpy_frame_ms: $cpy"
-awk -v c="${med[8-full]}" -v m="$cpy" 'BEGIN { printf "composite_vs_memcpy: %.3f\n", c / (8 * m) }'
+awk -v c="${med[8-full]}" -v m="$cpy" 'BEGIN { if (m > 0) printf "composite_vs_memcpy: %.3f\n", c / (8 * m); else print "composite_vs_memcpy: unmeasured (memcpy_frame_ms is 0)" }'
 awk -v p="$hwm_max" -v r="$render_mib" -v f="$frame_mib" -v p1="$hwm_1" 'BEGIN {
     printf "composite_peer_rss_mb: %.1f\n", p - r
     printf "composite_peer_rss_mb_rank1: %.1f\n", p1 - r

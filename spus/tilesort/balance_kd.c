@@ -78,14 +78,38 @@ static int kd_visit(ts_tiling *t, size_t k, double x0, double y0, double x1, dou
     return changed;
 }
 
+static size_t kd_nodes(const ts_tiling *t)
+{
+    size_t n = 1;
+    while (n < t->servers)
+        n *= 2;
+    return 2 * n;
+}
+
+void *ts_kd_save(const ts_tiling *t)
+{
+    if (!t->kd)
+        return NULL;
+    void *copy = malloc(kd_nodes(t) * sizeof *t->kd);
+    if (copy)
+        memcpy(copy, t->kd, kd_nodes(t) * sizeof *t->kd);
+    return copy;
+}
+
+void ts_kd_restore(ts_tiling *t, void *saved)
+{
+    if (saved && t->kd)
+        memcpy(t->kd, saved, kd_nodes(t) * sizeof *t->kd);
+    else if (!saved) { /* there were none: a split made since starts afresh */
+        free(t->kd);
+        t->kd = NULL;
+    }
+    free(saved);
+}
+
 int ts_kd_split(ts_tiling *t, int shape)
 {
-    if (!t->kd) {
-        size_t n = 1;
-        while (n < t->servers)
-            n *= 2;
-        if (!(t->kd = calloc(2 * n, sizeof *t->kd)))
-            return -1;
-    }
+    if (!t->kd && !(t->kd = calloc(kd_nodes(t), sizeof *t->kd)))
+        return -1;
     return kd_visit(t, 0, 0, 0, t->window_w, t->window_h, 0, t->servers, shape);
 }

@@ -360,6 +360,63 @@ int ts_tiling_window(ts_tiling *t, int w, int h, char *why, size_t why_size)
     return 0;
 }
 
+/* The balanced modes' split as it is (one rectangle or none per server,
+ * and kd's or union's own positions), to put back when a new one is not
+ * worth its move. */
+typedef struct split_saved {
+    ts_rect *rects;
+    uint8_t *has;
+    void *kd;
+    int *ucuts;
+    int ustrips;
+} split_saved;
+
+static int save_split(const ts_tiling *t, split_saved *v)
+{
+    memset(v, 0, sizeof *v);
+    size_t ncuts = t->ucuts ? (size_t)t->ustrips + 1 + t->servers + (size_t)t->ustrips : 0;
+    v->rects = malloc(t->servers * sizeof *v->rects);
+    v->has = malloc(t->servers);
+    v->ucuts = ncuts ? malloc(ncuts * sizeof *v->ucuts) : NULL;
+    v->kd = ts_kd_save(t);
+    if (!v->rects || !v->has || (ncuts && !v->ucuts) || (t->kd && !v->kd)) {
+        free(v->rects);
+        free(v->has);
+        free(v->ucuts);
+        free(v->kd);
+        return -1;
+    }
+    for (size_t s = 0; s < t->servers; s++) {
+        v->has[s] = t->ntiles[s] > 0;
+        v->rects[s] = v->has[s] ? t->tiles[s][0] : (ts_rect){0, 0, 0, 0};
+    }
+    if (ncuts)
+        memcpy(v->ucuts, t->ucuts, ncuts * sizeof *v->ucuts);
+    v->ustrips = t->ustrips;
+    return 0;
+}
+
+static void drop_split(split_saved *v)
+{
+    free(v->rects);
+    free(v->has);
+    free(v->ucuts);
+    free(v->kd);
+}
+
+static void restore_split(ts_tiling *t, split_saved *v)
+{
+    for (size_t s = 0; s < t->servers; s++)
+        ts_tiling_set_one(t, s, v->has[s] ? v->rects[s] : (ts_rect){0, 0, 0, 0});
+    ts_kd_restore(t, v->kd);
+    v->kd = NULL;
+    free(t->ucuts);
+    t->ucuts = v->ucuts;
+    t->ustrips = v->ustrips;
+    v->ucuts = NULL;
+    drop_split(v);
+}
+
 int ts_tiling_rebalance(ts_tiling *t)
 {
     if (!TS_BALANCED(t->mode) || !t->split_ready)
@@ -367,18 +424,34 @@ int ts_tiling_rebalance(ts_tiling *t)
     ts_cost_close_frame(t);
     /* hysteresis: a split that still balances the new map within
      * 1 + hysteresis is kept, so a static scene settles instead of
-     * trembling by a cell or a pixel */
+     * trembling by a cell or a pixel; and when even a new split would not
+     * come within that, so is one the new split would not beat by more
+     * than 1 + hysteresis times (union's whole cells balance the 8x4
+     * isosurface to about 1.11, above 1.1: its split moved every frame
+     * between equally good ones) */
     double now = ts_cost_imbalance(t);
     if (now <= 1.0 + t->hysteresis) {
         t->predicted = now;
         return 0;
     }
+    split_saved saved;
+    int have_saved = save_split(t, &saved) == 0;
     int changed = split(t, 0);
     if (changed < 0) {
+        if (have_saved)
+            restore_split(t, &saved);
         tsr_log(TSR_LOG_ERROR, "tilesort: out of memory for the load balancer; the split stays");
         return 0;
     }
-    t->predicted = ts_cost_imbalance(t);
+    double next = ts_cost_imbalance(t);
+    if (have_saved && changed && next > 1.0 + t->hysteresis && now <= next * (1.0 + t->hysteresis)) {
+        restore_split(t, &saved);
+        t->predicted = now;
+        return 0;
+    }
+    if (have_saved)
+        drop_split(&saved);
+    t->predicted = next;
     return changed;
 }
 

@@ -74,6 +74,7 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     c->log_speed = calloc(servers, sizeof *c->log_speed);
     c->log_var = malloc(servers * sizeof *c->log_var);
     c->last_log = malloc(servers * sizeof *c->last_log);
+    c->prev_log = malloc(servers * sizeof *c->prev_log);
     c->hist = calloc(TS_COST_HISTORY * servers * TS_TERMS, sizeof *c->hist);
     c->measured = malloc(TS_COST_HISTORY * servers * sizeof *c->measured);
     c->learned = calloc(TS_COST_HISTORY * servers, 1);
@@ -81,11 +82,12 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     c->drew = calloc(servers, 1);
     c->geometry = calloc(servers, sizeof *c->geometry);
     if (!c->est_bytes || !c->est_fill || !c->map || !c->ratio || !c->log_speed || !c->log_var || !c->last_log ||
-        !c->hist || !c->measured || !c->learned || !c->first_draw || !c->drew || !c->geometry)
+        !c->prev_log || !c->hist || !c->measured || !c->learned || !c->first_draw || !c->drew || !c->geometry)
         return -1;
     for (size_t s = 0; s < servers; s++) {
         c->log_var[s] = -1;
         c->last_log[s] = NAN;
+        c->prev_log[s] = NAN;
     }
     c->noise = TS_COST_NOISE;
     for (size_t i = 0; i < TS_COST_HISTORY * servers; i++)
@@ -107,6 +109,7 @@ void ts_cost_free(ts_cost *c)
     free(c->log_speed);
     free(c->log_var);
     free(c->last_log);
+    free(c->prev_log);
     free(c->hist);
     free(c->measured);
     memset(c, 0, sizeof *c);
@@ -372,6 +375,24 @@ static double median_of(double *v, size_t k)
  * carry the scale (fitted on times over speeds, the two would otherwise
  * drift apart: measured, every speed sank to 0.3-0.5 in 12 frames while
  * the coefficients grew). */
+/* What a server's newest log speed says once a lone outlier is set aside:
+ * the median of it and the two before (with one before, the one nearer
+ * 0). On the 8x4 isosurface a server on an unchanged region took twice
+ * its usual time in one frame of three to ten, a different server each
+ * time (20.0, 21.4, 19.8 ms against a median of 10-11); taken as a speed,
+ * each such frame moved the split twice, there and back. A server that is
+ * slower for good is slower in every report and is learnt as before (its
+ * first report is taken whole). */
+static double robust_log(double x, double last, double prev)
+{
+    if (!isfinite(last))
+        return x;
+    if (!isfinite(prev))
+        return fabs(x) < fabs(last) ? x : last;
+    double lo = fmin(x, fmin(last, prev)), hi = fmax(x, fmax(last, prev));
+    return x + last + prev - lo - hi;
+}
+
 static void learn_speeds(ts_tiling *t, const uint64_t *frames, size_t nframes)
 {
     ts_cost *c = &t->cost;
@@ -416,10 +437,12 @@ static void learn_speeds(ts_tiling *t, const uint64_t *frames, size_t nframes)
             if (!isfinite(logs[s]) || c->learned[row + s])
                 continue; /* each report is taken once */
             c->learned[row + s] = 1;
-            double x = fmin(fmax(logs[s] - mid, log(0.25)), log(4.0)), w = t->smoothing;
+            double raw = fmin(fmax(logs[s] - mid, log(0.25)), log(4.0)), w = t->smoothing;
+            double x = robust_log(raw, c->last_log[s], c->prev_log[s]);
             if (isfinite(c->last_log[s]))
-                pairs[np++] = 0.5 * (x - c->last_log[s]) * (x - c->last_log[s]);
-            c->last_log[s] = x;
+                pairs[np++] = 0.5 * (raw - c->last_log[s]) * (raw - c->last_log[s]);
+            c->prev_log[s] = c->last_log[s];
+            c->last_log[s] = raw;
             if (c->log_var[s] < 0) {
                 c->log_speed[s] = x;
                 c->log_var[s] = c->noise;

@@ -62,10 +62,10 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION }
  * until the first fit they are the priors below, measured with the render
  * SPU (llvmpipe, one thread) on the isosurface (bench/README.md). */
 enum { TS_TERM_FIXED, TS_TERM_BYTES, TS_TERM_FILL, TS_TERM_AREA, TS_TERMS };
-#define TS_PRIOR_FIXED 4.8e-3 /* seconds a frame */
-#define TS_PRIOR_BYTES 2.7e-9 /* seconds a byte */
-#define TS_PRIOR_FILL 6.0e-9  /* seconds a pixel of primitive box */
-#define TS_PRIOR_AREA 1.35e-8 /* seconds a pixel of region */
+#define TS_PRIOR_FIXED 3.5e-3 /* seconds a frame */
+#define TS_PRIOR_BYTES 2.8e-9 /* seconds a byte */
+#define TS_PRIOR_FILL 7.8e-9  /* seconds a pixel of primitive box */
+#define TS_PRIOR_AREA 9.2e-9  /* seconds a pixel of region */
 
 typedef struct ts_cost {
     int cols, rows;    /* cells */
@@ -77,6 +77,7 @@ typedef struct ts_cost {
     double *log_speed;     /* per server: log of measured time / the model's, smoothed, relative to the median */
     double *log_var;       /* per server: the noise variance left in log_speed; < 0: no report yet */
     double *last_log;      /* per server: its last report's log speed (NAN: none) */
+    double *prev_log;      /* per server: the one before (NAN: none) */
     double noise;          /* variance of a report's log speed from one report to the next, smoothed */
     double *hist;          /* TS_COST_HISTORY rows of servers x TS_TERMS: each server's terms at that frame */
     double *measured;      /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
@@ -159,6 +160,10 @@ double ts_cost_imbalance(const ts_tiling *t);
 /* (Re)builds the servers' tiles from ts_cost.map; shape: the first split
  * (uniform, no cost yet). Returns 1 when a region changed. */
 int ts_kd_split(ts_tiling *t, int shape);
+/* A copy of kd's split positions (NULL when none or out of memory), and
+ * putting it back (freed either way; NULL: there were none). */
+void *ts_kd_save(const ts_tiling *t);
+void ts_kd_restore(ts_tiling *t, void *saved);
 int ts_union_split(ts_tiling *t, int shape);
 /* Replaces server s's tiles with r (or none when r is empty); returns 1
  * when they changed. */
