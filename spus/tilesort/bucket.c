@@ -447,8 +447,12 @@ int ts_tiling_rebalance(ts_tiling *t)
     if (have_saved && changed && next > 1.0 + t->hysteresis && now <= next * (1.0 + t->hysteresis)) {
         restore_split(t, &saved);
         t->predicted = now;
+        tsr_log(TSR_LOG_DEBUG, "tilesort: frame %llu: split kept at a predicted %.3f (a new one: %.3f)",
+                (unsigned long long)t->cost.frame, now, next);
         return 0;
     }
+    tsr_log(TSR_LOG_DEBUG, "tilesort: frame %llu: %s at a predicted %.3f (the old one: %.3f)",
+            (unsigned long long)t->cost.frame, changed ? "split again" : "split unchanged", next, now);
     if (have_saved)
         drop_split(&saved);
     t->predicted = next;
