@@ -273,14 +273,31 @@ static double measure_fault_seconds(void)
     return best;
 }
 
+/* The node's cost of one fault, measured at the first report that has
+ * faults in it (a node nobody asks for costs never spends the 2-3 ms);
+ * the sessions of independent mode share it, under the stats lock. */
+static double fault_cost(tsr_node *node)
+{
+    pthread_mutex_lock(&node->stats_lock);
+    if (!node->fault_measured) {
+        node->fault_seconds = measure_fault_seconds();
+        node->fault_measured = 1;
+        tsr_log(TSR_LOG_DEBUG, "node: a minor page fault costs %.2f us of thread CPU here", node->fault_seconds * 1e6);
+    }
+    double seconds = node->fault_seconds;
+    pthread_mutex_unlock(&node->stats_lock);
+    return seconds;
+}
+
 void tsr_node_report_cost(tsr_node *node, tsr_net_conn *conn, tsr_node_sent *sent, tsr_node_cost *cost)
 {
     double now = tsr_node_thread_cpu();
     long faults = tsr_node_thread_faults() - cost->faults_at_swap;
     faults = faults < 0 ? 0 : faults;
     double seconds = node->test_cost_bytes ? (double)cost->bytes * 1e-9 : now - cost->cpu_at_swap;
-    /* deterministic test costs have no faults in them */
-    double fault_seconds = node->test_cost_bytes ? 0 : (double)faults * node->fault_seconds;
+    /* deterministic test costs have no faults in them; the measurement
+     * comes after the frame's count and before the next one starts */
+    double fault_seconds = node->test_cost_bytes || !faults ? 0 : (double)faults * fault_cost(node);
     fault_seconds = fault_seconds < seconds ? fault_seconds : seconds;
     uint8_t msg[TSR_NODE_COST_BYTES];
     tsr_wire_put_u32(msg, cost->frame++);
@@ -540,8 +557,6 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     if (node->test_cost_scale != 1.0 || node->test_cost_bytes)
         tsr_log(TSR_LOG_WARN, "node: frame costs reported %s x %g (a test setting)",
                 node->test_cost_bytes ? "as 1 ns per byte received" : "as thread CPU time", node->test_cost_scale);
-    node->fault_seconds = measure_fault_seconds();
-    tsr_log(TSR_LOG_DEBUG, "node: a minor page fault costs %.2f us of thread CPU here", node->fault_seconds * 1e6);
     node->mode = config->mode;
     if (config->limits)
         node->limits = *config->limits;

@@ -59,7 +59,8 @@ struct tsr_node {
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
     double test_cost_scale;  /* TSR_NODE_TEST_COST_SCALE_ENV; 1 = none */
     int test_cost_bytes;     /* TSR_NODE_TEST_COST_ENV=bytes */
-    double fault_seconds;    /* thread CPU seconds of one minor page fault, measured at creation */
+    double fault_seconds;    /* thread CPU seconds of one minor page fault (under stats_lock) ... */
+    int fault_measured;      /* ... measured at the first cost report with faults */
     unsigned clients;
     tsr_node_mode mode;
     tsr_unpack_limits limits; /* every client's unpacker's */

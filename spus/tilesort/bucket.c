@@ -417,11 +417,11 @@ static void restore_split(ts_tiling *t, split_saved *v)
     drop_split(v);
 }
 
-int ts_tiling_rebalance(ts_tiling *t)
+int ts_tiling_rebalance(ts_tiling *t, const uint64_t *geometry)
 {
     if (!TS_BALANCED(t->mode) || !t->split_ready)
         return 0;
-    ts_cost_close_frame(t);
+    ts_cost_close_frame(t, geometry);
     /* hysteresis: a split that still balances the new map within
      * 1 + hysteresis is kept, so a static scene settles instead of
      * trembling by a cell or a pixel; and when even a new split would not

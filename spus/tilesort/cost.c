@@ -80,9 +80,8 @@ int ts_cost_init(ts_cost *c, size_t servers, int w, int h)
     c->learned = calloc(TS_COST_HISTORY * servers, 1);
     c->first_draw = calloc(TS_COST_HISTORY * servers, 1);
     c->drew = calloc(servers, 1);
-    c->geometry = calloc(servers, sizeof *c->geometry);
     if (!c->est_bytes || !c->est_fill || !c->map || !c->ratio || !c->log_speed || !c->log_var || !c->last_log ||
-        !c->prev_log || !c->hist || !c->measured || !c->learned || !c->first_draw || !c->drew || !c->geometry)
+        !c->prev_log || !c->hist || !c->measured || !c->learned || !c->first_draw || !c->drew)
         return -1;
     for (size_t s = 0; s < servers; s++) {
         c->log_var[s] = -1;
@@ -101,7 +100,6 @@ void ts_cost_free(ts_cost *c)
     free(c->learned);
     free(c->first_draw);
     free(c->drew);
-    free(c->geometry);
     free(c->est_bytes);
     free(c->est_fill);
     free(c->map);
@@ -187,12 +185,6 @@ void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds, do
     size_t at = (size_t)(frame % TS_COST_HISTORY) * t->servers + s;
     if (!c->first_draw[at])
         c->measured[at] = seconds;
-}
-
-void ts_tiling_add_geometry(ts_tiling *t, size_t s, uint64_t bytes)
-{
-    if (TS_BALANCED(t->mode) && t->cost.geometry && s < t->servers)
-        t->cost.geometry[s] += bytes;
 }
 
 /* The estimate of a region from its terms: what varies with the region. */
@@ -506,7 +498,7 @@ static void learn(ts_tiling *t)
     learn_speeds(t, fresh, nfresh);
 }
 
-void ts_cost_close_frame(ts_tiling *t)
+void ts_cost_close_frame(ts_tiling *t, const uint64_t *geometry)
 {
     ts_cost *c = &t->cost;
     size_t cells = (size_t)c->cols * (size_t)c->rows;
@@ -525,9 +517,8 @@ void ts_cost_close_frame(ts_tiling *t)
          * even split took 10-14), whatever its region: llvmpipe compiles
          * its shaders then. Learnt from, it made every fresh server look
          * slow and the next split worse than the estimate's. */
-        c->first_draw[row + s] = c->geometry[s] > 0 && !c->drew[s];
-        c->drew[s] |= c->geometry[s] > 0;
-        c->geometry[s] = 0;
+        c->first_draw[row + s] = geometry[s] > 0 && !c->drew[s];
+        c->drew[s] |= geometry[s] > 0;
     }
     c->frame++;
     learn(t);

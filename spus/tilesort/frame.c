@@ -168,12 +168,11 @@ void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
     tsr_stream_client_count_frame(t->client);
     ts_keep_frame_row(t);
     for (size_t i = 0; i < t->nservers; i++) {
-        ts_tiling_add_geometry(&t->tiling, i, t->srv[i].frame_geometry);
         t->srv[i].bytes += t->srv[i].frame_bytes;
         t->srv[i].frame_bytes = 0;
-        t->srv[i].frame_geometry = 0;
     }
-    if (ts_tiling_rebalance(&t->tiling))
+    if (ts_tiling_rebalance(&t->tiling, t->frame_geometry))
         t->tiling_version++;
+    memset(t->frame_geometry, 0, t->nservers * sizeof *t->frame_geometry);
     tsr_stream_client_take_costs(t->client);
 }

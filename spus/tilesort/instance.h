@@ -49,8 +49,7 @@ typedef struct ts_server {
     uint32_t *lists;        /* per list slot: version the server has */
     size_t lists_cap;
     uint64_t frame_bytes, bytes;
-    uint64_t frame_geometry; /* of frame_bytes: geometry buffers and display lists */
-    ts_batch sorted;         /* primitives of a sorted array draw waiting for this server */
+    ts_batch sorted; /* primitives of a sorted array draw waiting for this server */
 } ts_server;
 
 /* No single target: the geometry buffer goes where its box says. */
@@ -71,6 +70,7 @@ typedef struct tilesort {
     tsr_stream_client *client;
     size_t nservers;
     ts_server *srv;
+    uint64_t *frame_geometry; /* per server: of its frame_bytes, geometry buffers and display lists */
     ts_tiling tiling;
     uint32_t tiling_version;
     char *assemble;     /* PNG pattern of the gathered window, or NULL */

@@ -265,7 +265,7 @@ static void ensure_list(tilesort *t, ts_server *s, size_t slot, int depth)
     }
     for (size_t i = 0; i < l->nchunks; i++) {
         s->frame_bytes += l->chunks[i].size;
-        s->frame_geometry += l->chunks[i].size;
+        t->frame_geometry[s->index] += l->chunks[i].size;
         if (tsr_stream_client_send(t->client, &s->index, 1, l->chunks[i].data, l->chunks[i].size, &err) != TSR_OK)
             ts_report(t, &err);
     }

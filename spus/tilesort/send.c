@@ -321,7 +321,7 @@ int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err
             ts_server *s = &t->srv[t->targets[k]];
             s->frame_bytes += size;
             if (!t->broadcast_next) /* window and frame commands ride the geometry buffer to all */
-                s->frame_geometry += size;
+                t->frame_geometry[s->index] += size;
             assume_current(t, s);
         }
     }

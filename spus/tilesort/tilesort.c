@@ -99,7 +99,7 @@ void ts_keep_frame_row(tilesort *t)
     for (size_t i = 0; i < t->nservers; i++) {
         size_t at = t->frames_kept * t->nservers + i;
         t->frame_rows[at] = t->srv[i].frame_bytes;
-        t->frame_geometry_rows[at] = t->srv[i].frame_geometry;
+        t->frame_geometry_rows[at] = t->frame_geometry[i];
         t->frame_costs[at] = -1;
         t->frame_fault_costs[at] = -1;
         t->frame_pixels[at] = 0;
@@ -554,6 +554,7 @@ static void tilesort_destroy(void *instance)
     ts_split_destroy(t->split);
     ts_tiling_free(&t->tiling);
     free(t->srv);
+    free(t->frame_geometry);
     free(t->hit);
     free(t->targets);
     free(t->buffer_lists);
@@ -588,12 +589,13 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     t->only_target = TS_ANY_TARGET;
     t->nservers = count;
     t->srv = calloc(count, sizeof *t->srv);
+    t->frame_geometry = calloc(count, sizeof *t->frame_geometry);
     t->hit = calloc(count, 1);
     t->targets = calloc(count, sizeof *t->targets);
     const char **servers = calloc(count, sizeof *servers);
     size_t ntiles = tsr_options_count(init->options, "tiles");
     const char **tiles = calloc(ntiles ? ntiles : 1, sizeof *tiles);
-    if (!t->srv || !t->hit || !t->targets || !servers || !tiles) {
+    if (!t->srv || !t->frame_geometry || !t->hit || !t->targets || !servers || !tiles) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", t->name);
         goto fail;
     }

@@ -84,7 +84,6 @@ typedef struct ts_cost {
     uint8_t *learned;      /* TS_COST_HISTORY rows of servers: that report was learnt from (speeds) */
     uint8_t *first_draw;   /* TS_COST_HISTORY rows of servers: its first frame with geometry (not learnt from) */
     uint8_t *drew;         /* per server: it has been sent geometry in a closed frame */
-    uint64_t *geometry;    /* per server: geometry bytes sent to it in the frame being built */
     double coef[TS_TERMS]; /* the model's coefficients (seconds per unit) */
     uint64_t frame;        /* frames closed */
     uint64_t reports;      /* reports taken */
@@ -132,17 +131,16 @@ size_t ts_tiling_hit(const ts_tiling *t, int x0, int y0, int x1, int y1, uint8_t
 /* Balanced modes: a flush (or a sorted primitive) of `bytes` covered
  * [x0, x1) x [y0, y1): its estimate is added to the cells it covers. */
 void ts_tiling_add_cost(ts_tiling *t, int x0, int y0, int x1, int y1, double bytes);
-/* Balanced modes: `bytes` of geometry went to server s in the frame being
- * built (its first frame with any is a warm-up: cost.c). */
-void ts_tiling_add_geometry(ts_tiling *t, size_t s, uint64_t bytes);
 /* Balanced modes: server s reported `seconds` for its frame `frame`, of
  * which `fault_seconds` were minor page faults. */
 void ts_tiling_report(ts_tiling *t, size_t s, uint64_t frame, double seconds, double fault_seconds);
 /* Balanced modes, at the end of a frame: re-split the window among the
  * servers from this frame's estimate and the measured ratios (damped,
- * kept within the hysteresis), reset the estimate. Returns 1 when some
- * server's region changed. */
-int ts_tiling_rebalance(ts_tiling *t);
+ * kept within the hysteresis), reset the estimate. geometry[s]: the bytes
+ * of geometry server s was sent in the frame (its first frame with any is
+ * a warm-up, not learnt from: cost.c). Returns 1 when some server's region
+ * changed. */
+int ts_tiling_rebalance(ts_tiling *t, const uint64_t *geometry);
 
 /* --- cost.c: the cost model of the balanced modes ------------------------- */
 int ts_cost_init(ts_cost *c, size_t servers, int w, int h);
@@ -152,7 +150,7 @@ void ts_cost_free(ts_cost *c);
 double ts_cost_region(const ts_cost *c, const double *cells, int w, int h, double x0, double y0, double x1, double y1);
 /* The map for the next split (ts_cost.map) from the estimate and ratios;
  * records each server's estimate for this frame (its tiles now). */
-void ts_cost_close_frame(ts_tiling *t);
+void ts_cost_close_frame(ts_tiling *t, const uint64_t *geometry);
 /* max / mean of the servers' costs on the map under the current tiles. */
 double ts_cost_imbalance(const ts_tiling *t);
 

@@ -44,10 +44,11 @@ static const double truth[TS_TERMS] = {TS_PRIOR_FIXED, TS_PRIOR_BYTES, TS_PRIOR_
 
 /* The frame's primitives: 4x4-pixel boxes of 60000 bytes (a server's
  * share about 10 ms, twice the fixed cost) on a disc of radius 110
- * around (170, 300), every 6 pixels. */
-static void send_frame(ts_tiling *t)
+ * around (170, 300), every 6 pixels; geometry[s]: the bytes server s got. */
+static void send_frame(ts_tiling *t, uint64_t geometry[SERVERS])
 {
     uint8_t hit[SERVERS];
+    memset(geometry, 0, SERVERS * sizeof *geometry);
     for (int y = 190; y <= 410; y += 6)
         for (int x = 60; x <= 280; x += 6) {
             double dx = x - 170, dy = y - 300;
@@ -58,7 +59,7 @@ static void send_frame(ts_tiling *t)
             ts_tiling_hit(t, x, y, x + 4, y + 4, hit);
             for (size_t s = 0; s < SERVERS; s++)
                 if (hit[s])
-                    ts_tiling_add_geometry(t, s, 60000);
+                    geometry[s] += 60000;
         }
 }
 
@@ -101,12 +102,13 @@ static int run(ts_bucket_mode mode, run_kind kind, split_log *log)
     for (uint64_t f = 0; f < FRAMES; f++) {
         for (size_t s = 0; s < SERVERS; s++)
             log->tiles[f][s] = t.ntiles[s] ? t.tiles[s][0] : (ts_rect){0, 0, 0, 0};
-        send_frame(&t);
+        uint64_t geometry[SERVERS];
+        send_frame(&t, geometry);
         uint8_t first_draw[SERVERS];
         /* the frame closes (ts_cost_close_frame marks first frames with
          * geometry); its reports come in during the next one */
         size_t row = (size_t)(f % TS_COST_HISTORY) * SERVERS;
-        ts_tiling_rebalance(&t);
+        ts_tiling_rebalance(&t, geometry);
         memcpy(first_draw, &t.cost.first_draw[row], SERVERS);
         for (size_t s = 0; s < SERVERS && f > 0; s++)
             log->late_first_draws += first_draw[s];
