@@ -20,6 +20,12 @@
 #    and the cost model each balanced run's fit reached at its end
 #    (balance_METHOD_fitted_model_8x4: seconds fixed, a byte, a box pixel,
 #    a region pixel; tilesort.h's priors are kd's on a quiet machine).
+#    union and kd run BALANCE_REPEATS times (default 3; balance_repeats.csv):
+#    balance_METHOD_imbalance_8x4_fN_median is the median of frame N over the
+#    runs (a single frame holds the machine's noise, part 4), and per run
+#    balance_METHOD_after_f3_8x4_runK: the median imbalance of frames 4..N,
+#    how many are above 1.2 and how often the split moved after frame 3
+#    (the servers' pixel counts changed).
 # 2. The frame time of the slowest server against server count (1 .. 32:
 #    1x1 2x1 2x2 4x2 4x4 8x4) for grid, union, kd and broadcast at
 #    BALANCE_SWEEP_SIZE (default 1024x768), BALANCE_SWEEP_FRAMES (5): on one
@@ -37,7 +43,9 @@
 #    of the jump counts 1; "never" if it does not within the run).
 #    Also balance_VARIANT_jump_first_8x4: frames from the jump until the
 #    imbalance is first at or under 1.2 (the noise of part 4 can lift a
-#    later frame above it again).
+#    later frame above it again), and balance_VARIANT_jump_settled_8x4:
+#    frames from the jump to the split's last move in the run (it stays from
+#    there on), with the median imbalance of the frames after it.
 # 4. The noise floor (a lower bound on the measured imbalance on this
 #    machine): kd with its defaults on the static isosurface for
 #    BALANCE_FLOOR_FRAMES (20) frames at BALANCE_SIZE; once the split has
@@ -49,22 +57,23 @@
 #    balance_noise_floor_8x4 (median over the frames, with the smallest
 #    and largest) and balance_kd_systematic_8x4 (max / mean of the
 #    servers' mean times: the split's own imbalance, with the noise
-#    averaged out), balance_noise_sd_8x4 (the servers' median frame-to-frame
+#    averaged out), balance_noise_floor_over_1_2_8x4 (how many of those
+#    frames a perfect split would see above 1.2), balance_noise_sd_8x4 (the servers' median frame-to-frame
 #    relative standard deviation) and the load average.
-# Writes balance.csv, balance_servers.csv, balance_jump.csv, balance_floor.csv, balance.png
+# Writes balance.csv, balance_repeats.csv, balance_servers.csv, balance_jump.csv, balance_floor.csv, balance.png
 # (imbalance and overlap per frame), balance_servers.png and
-# balance_jump.png. BALANCE_PARTS (default "1 2 3") picks the parts.
+# balance_jump.png. BALANCE_PARTS (default "1 2 3 4") picks the parts.
 # usage: bench/balance.sh BIN_DIR OUT_DIR [--quick]
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
 size=${BALANCE_SIZE:-2048x1536} frames=${BALANCE_FRAMES:-10} detail=${BALANCE_DETAIL:-2}
 ssize=${BALANCE_SWEEP_SIZE:-1024x768} sframes=${BALANCE_SWEEP_FRAMES:-5} mbps=${BALANCE_NET_MBPS:-1000}
 wall=8x4 sweep=(1x1 2x1 2x2 4x2 4x4 8x4) parts=${BALANCE_PARTS:-1 2 3 4}
-ffloor=${BALANCE_FLOOR_FRAMES:-20}
+ffloor=${BALANCE_FLOOR_FRAMES:-20} repeats=${BALANCE_REPEATS:-3}
 jump=${BALANCE_JUMP:-4} jframes=${BALANCE_JUMP_FRAMES:-12}
 alts=${BALANCE_ALTS:-kd:damping=1:hysteresis=0 kd:damping=0.5:hysteresis=0.1 kd:damping=1:hysteresis=0.2 kd:damping=1:hysteresis=0.1:smoothing=1}
 if [[ $quick == --quick ]]; then
-    size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2) ffloor=8
+    size=256x192 frames=10 detail=1 ssize=256x192 sframes=3 wall=2x2 sweep=(1x1 2x1 2x2) ffloor=8 repeats=1
 fi
 work=$out/balance.work
 rm -rf "$work" && mkdir -p "$work"
@@ -146,6 +155,36 @@ for method in grid union kd; do
             printf "balance_%s_overlap_commands_%s_f%d: %s\n", m, t, f, $7 }' "$csv"
     done
 done
+# The balanced methods again, BALANCE_REPEATS runs in all: a single frame's
+# imbalance holds the machine's noise (part 4: a perfect split's frames
+# reach 1.2-1.6 here now and then), so f3 and f10 are the median over the
+# runs, each run's value beside it; and per run, what follows frame 3: the
+# median imbalance of frames 4..N, how many of them are above 1.2, and how
+# often the split moved after frame 3 (an oscillating balancer moves it
+# every frame or two).
+rcsv=$out/balance_repeats.csv
+echo "method,run,frame,imbalance,moved" >"$rcsv"
+for method in union kd; do
+    for ((r = 1; r <= repeats; r++)); do
+        st=$work/wall-$method.json
+        ((r > 1)) && st=$work/wall-$method-run$r.json && run "$size" "$frames" "$wall" "$method" "$st"
+        rows "$st" server_pixels >"$work/$method.pixels"
+        imbalances "$st" | paste -d, - "$work/$method.pixels" | awk -F, -v m="$method" -v r="$r" '{
+            key = $0; sub(/^[^,]*,/, "", key); moved = NR > 1 && key != prev; prev = key
+            printf "%s,%d,%d,%s,%d\n", m, r, NR, $1, moved }' >>"$rcsv"
+    done
+    for f in 3 10; do
+        awk -F, -v m="$method" -v f="$f" -v t="$wall" 'function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
+                return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
+            $1 == m && $3 == f { v[++n] = $4; runs = runs (runs == "" ? "" : " ") $4 }
+            END { printf "balance_%s_imbalance_%s_f%d_median: %.4f (%d runs: %s)\n", m, t, f, med(v, n), n, runs }' "$rcsv"
+    done
+    awk -F, -v m="$method" -v t="$wall" 'function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
+            return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
+        $1 == m && $3 > 3 { k = $2; n[k]++; v[k, n[k]] = $4; over[k] += $4 + 0 > 1.2 || $4 == "nan"; moves[k] += $5; if (k > runs) runs = k }
+        END { for (k = 1; k <= runs; k++) { for (i = 1; i <= n[k]; i++) w[i] = v[k, i]
+                printf "balance_%s_after_f3_%s_run%d: median %.4f, %d of %d frames above 1.2, the split moved %d times\n", m, t, k, med(w, n[k]), over[k], n[k], moves[k] } }' "$rcsv"
+done
 # the coefficients each balanced run's fit reached (tilesort.h's priors are this on a quiet machine)
 for method in union kd; do
     sed -n 's/.*"cost_model":{\([^}]*\)}.*/\1/p' "$work/wall-$method.json" | tr -d '"' |
@@ -186,21 +225,29 @@ fi
 jcsv=$out/balance_jump.csv
 if [[ " $parts " == *" 3 "* ]]; then
     load 3
-    echo "variant,frame,imbalance" >"$jcsv"
+    echo "variant,frame,imbalance,moved" >"$jcsv"
     for v in union kd $alts; do
         method=${v%%:*} extra=
         [[ $v == *:* ]] && extra=${v#*:} && extra=${extra//:/ }
         st=$work/jump-${v//[:=]/_}.json
         run "$size" "$jframes" "$wall" "$method" "$st" "--jump $jump" "$extra"
-        imbalances "$st" | awk -v v="$v" '{ printf "%s,%d,%s\n", v, NR, $1 }' >>"$jcsv"
+        rows "$st" server_pixels >"$work/jump.pixels"
+        imbalances "$st" | paste -d, - "$work/jump.pixels" | awk -F, -v v="$v" '{
+            key = $0; sub(/^[^,]*,/, "", key); moved = NR > 1 && key != prev; prev = key
+            printf "%s,%d,%s,%d\n", v, NR, $1, moved }' >>"$jcsv"
     done
     # frames from the jump (frame jump+1 counted from 1) until <= 1.2 for good
-    awk -F, -v j="$jump" -v t="$wall" 'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; if ($2 + 0 > last) last = $2 + 0 }
+    awk -F, -v j="$jump" -v t="$wall" 'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; mv[$1, $2] = $4; if ($2 + 0 > last) last = $2 + 0 }
         END { for (k in v) { conv = "never"
                 for (f = last; f > j; f--) { if (imb[k, f] == "nan" || imb[k, f] + 0 > 1.2) break; conv = f - j }
                 first = "never"
                 for (f = j + 1; f <= last; f++) if (imb[k, f] != "nan" && imb[k, f] + 0 <= 1.2) { first = f - j; break }
+                settled = 0; for (f = j + 1; f <= last; f++) if (mv[k, f]) settled = f - j
+                cnt = 0; for (f = j + settled + 1; f <= last; f++) if (imb[k, f] != "nan") w[++cnt] = imb[k, f] + 0
+                for (a = 2; a <= cnt; a++) { x = w[a]; for (b = a - 1; b >= 1 && w[b] > x; b--) w[b + 1] = w[b]; w[b + 1] = x }
+                after = cnt ? sprintf("%.4f", cnt % 2 ? w[(cnt + 1) / 2] : (w[cnt / 2] + w[cnt / 2 + 1]) / 2) : "none"
                 n = k; gsub(/[:=]/, "_", n); printf "balance_%s_jump_frames_%s: %s\n", n, t, conv
+                printf "balance_%s_jump_settled_%s: %d (the split last moved that many frames after the jump; median imbalance after: %s)\n", n, t, settled, after
                 printf "balance_%s_jump_first_%s: %s\n", n, t, first } }' "$jcsv" | sort
 fi
 
@@ -230,6 +277,8 @@ if [[ " $parts " == *" 4 "* ]]; then
                 fl[r] = zm * nf / zs; printf "%d,%.4f,%.4f\n", r + first - 1, tm * nf / ts, fl[r] >>csv }
             n = sorted(fl, rowsn)
             printf "balance_noise_floor_%s: %.4f (median of frames %d-%d, the split unchanged; smallest %.4f, largest %.4f)\n", t, (n % 2 ? fl[(n + 1) / 2] : (fl[n / 2] + fl[n / 2 + 1]) / 2), first, rowsn + first - 1, fl[1], fl[n]
+            for (r = 1; r <= rowsn; r++) over += fl[r] > 1.2
+            printf "balance_noise_floor_over_1_2_%s: %d of %d frames (a perfect split'"'"'s imbalance above 1.2 from noise alone)\n", t, over, rowsn
             printf "balance_kd_systematic_%s: %.4f (max / mean of the servers'"'"' mean times, frames %d-%d)\n", t, mx * nf / all, first, rowsn + first - 1
             for (i = 1; i <= nf; i++) { ss = 0; for (r = 1; r <= rowsn; r++) ss += (v[r, i] / mean[i] - 1) ^ 2; sd[i] = sqrt(ss / (rowsn - 1)) }
             m = sorted(sd, nf)
