@@ -972,6 +972,32 @@ int tsr_net_conn_flush(tsr_net_conn *c, int timeout_ms)
     return rc;
 }
 
+int tsr_net_conn_wait_returned(tsr_net_conn *c, int timeout_ms, tsr_error *err)
+{
+    tsr_net *net = c->net;
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&net->lock);
+    bool returned = c->send_credits >= c->peer_window && c->tx.head == c->tx.tail;
+    if (!returned) {
+        c->send_waiters++;
+        net_mark_dirty(c); /* the I/O thread must read, to see the peer's credits */
+        while (c->state == NET_OPEN && !c->close_requested &&
+               !(returned = c->send_credits >= c->peer_window && c->tx.head == c->tx.tail))
+            if (wait_until(&c->cond, &net->lock, dl))
+                break;
+        c->send_waiters--;
+    }
+    int rc = TSR_OK;
+    if (c->state != NET_OPEN || c->close_requested)
+        rc = conn_unusable(c, "wait for the peer's releases", err);
+    else if (!returned)
+        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: peer '%s' at %s released not all of %u messages within %d ms",
+                           c->peer_name, c->address, c->peer_window - c->send_credits, timeout_ms);
+    pthread_mutex_unlock(&net->lock);
+    return rc;
+}
+
 int tsr_net_conn_went_silent(tsr_net_conn *c)
 {
     pthread_mutex_lock(&c->net->lock);

@@ -93,7 +93,7 @@ typedef struct net_hello {
  * returns in arrival order, up to the oldest one not released. */
 typedef struct net_ring_slot {
     struct net_ring_slot *next;
-    uint64_t end; /* ring position after it */
+    uint64_t start, end; /* ring positions of it and after it */
     bool released;
 } net_ring_slot;
 
