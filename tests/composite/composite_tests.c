@@ -791,6 +791,80 @@ static int test_schedules_hold_invariants(void)
     return harness_failures;
 }
 
+/* A message's ring slot: its largest encoding rounded to 64 bytes. */
+static uint64_t slot_of(uint32_t count, tsr_image_codec c)
+{
+    return (tsr_image_message_max_size(count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c) + 63) / 64 * 64;
+}
+
+/* tsr_cs_schedule_link_bytes, which sizes binaryswap's shared-memory
+ * rings: every pair's messages of a frame fit (so no sender waits for its
+ * partner within a frame), and no more than that, so a frame's messages
+ * cannot be written behind the last frame's on fresh pages: direct send
+ * of 8 peers at 1920x1080 gets one piece (1/8 frame), where the rings
+ * used to take four whole frames (66 MB). */
+static int test_link_bytes_hold_one_frame(void)
+{
+    tsr_error err;
+    tsr_image_codec rle;
+    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
+    int wins[][2] = {{7, 5}, {509, 503}};
+    for (size_t w = 0; w < 2; w++)
+        for (size_t si = 0; si < NSTRATS; si++)
+            for (int n = 1; n <= 64; n++) {
+                tsr_cs_schedule s;
+                CHECK_OK(tsr_cs_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err), err);
+                uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle), most = 0;
+                int display = tsr_cs_schedule_display_composites(&s);
+                for (int p = 0; p < n; p++) {
+                    uint64_t to[TSR_CS_MAX_PEERS + 1] = {0};
+                    const tsr_cs_rank *R = &s.ranks[p];
+                    for (int i = 0; i < R->nrounds; i++)
+                        for (int j = 0; j < R->rounds[i].nsend; j++)
+                            to[R->rounds[i].send[j].peer] += slot_of(R->rounds[i].send[j].region.count, rle);
+                    uint64_t fin = display && R->final.count ? slot_of(R->final.count, rle) : 0;
+                    for (int q = 0; q < n; q++)
+                        if (to[q] + fin > most)
+                            most = to[q] + fin;
+                }
+                CHECK(link == most, "%s n=%d %dx%d: link bytes %llu, the busiest pair sends up to %llu", s.name, n,
+                      wins[w][0], wins[w][1], (unsigned long long)link, (unsigned long long)most);
+                tsr_cs_schedule_free(&s);
+            }
+    tsr_cs_schedule s;
+    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, 8, 1920, 1080, 0, NULL, &s, &err), err);
+    uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle);
+    uint64_t piece = slot_of(1920 * 1080 / 8, rle), smallest = UINT64_MAX;
+    /* a full layer's pieces (every pixel active), as bench/sortlast.sh sends */
+    tsr_cimage full = {0};
+    CHECK_OK(tsr_cimage_init(&full, 1920, 1080, 0, 0, 1920, 1080, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+    for (size_t i = 0; i < (size_t)1920 * 1080; i++)
+        full.depth[i] = 0.5f;
+    tsr_sparse_image sp = {0};
+    for (int p = 0; p < 8; p++)
+        for (int j = 0; j < s.ranks[p].rounds[0].nsend; j++) {
+            tsr_cs_region r = s.ranks[p].rounds[0].send[j].region;
+            CHECK_OK(tsr_sparse_image_compress(&full, TSR_COMPOSITE_DEPTH, r.start, r.count, &sp, &err), err);
+            uint64_t b = tsr_image_message_bound(&sp, rle);
+            if (b < smallest)
+                smallest = b;
+        }
+    tsr_sparse_image_free(&sp);
+    tsr_cimage_free(&full);
+    printf("direct 8 x 1920x1080: link %llu bytes, one piece at its largest %llu, a full piece %llu\n",
+           (unsigned long long)link, (unsigned long long)piece, (unsigned long long)smallest);
+    CHECK(link == piece, "direct 8 x 1920x1080: link bytes %llu, not one piece (%llu)", (unsigned long long)link,
+          (unsigned long long)piece);
+    CHECK(link < 2 * smallest, "direct 8 x 1920x1080: %llu link bytes hold two full pieces of %llu",
+          (unsigned long long)link, (unsigned long long)smallest);
+    tsr_cs_schedule_free(&s);
+    CHECK_OK(tsr_cs_plan(TSR_CS_GATHER, 4, 640, 480, 0, NULL, &s, &err), err);
+    CHECK(tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle) == slot_of(640 * 480, rle),
+          "gather: a whole frame to the display");
+    tsr_cs_schedule_free(&s);
+    return harness_failures;
+}
+
 typedef struct peer_job {
     const tsr_cs_schedule *s;
     tsr_image_codec codec;
@@ -1246,6 +1320,7 @@ int main(int argc, char **argv)
         {"encode_dense_equals_compress_encode", test_encode_dense_equals_compress_encode},
         {"message_view_equals_decode", test_message_view_equals_decode},
         {"schedules_hold_invariants", test_schedules_hold_invariants},
+        {"link_bytes_hold_one_frame", test_link_bytes_hold_one_frame},
         {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
         {"all_strategies_agree", test_all_strategies_agree},
         {"odd_image_sizes", test_odd_image_sizes},

@@ -17,7 +17,8 @@ struct tsr_cs_executor {
     /* cur: this rank's image once composited; acc/tmp: merge outputs;
      * piece: the kept part of the read-back (planes of its own, kept from
      * frame to frame: turning it into a view would free them, and the next frame
-     * would map and fault in fresh pages); view: a view of cur; in: the received
+     * would map and fault in fresh pages; merged in place it trades planes
+     * with cur instead of being copied); view: a view of cur; in: the received
      * message (a view of it, or decoded); first: alpha mode's copy of a
      * received piece that starts a fold. One received message at a time:
      * each is merged as it arrives, before the next is asked for. */
@@ -311,6 +312,16 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
         tsr_sparse_image *result = NULL;
         if ((rc = composite_region(ex, from, np, keep, mode, &expect, t, &result, err)))
             return rc;
+        if (result == keep && keep == &ex->piece) {
+            /* The kept piece, merged in place (full layers), becomes the
+             * current image; the old current image's planes serve the next
+             * frame's kept piece. No copy, and no third piece-sized buffer. */
+            tsr_sparse_image t0 = ex->cur;
+            ex->cur = ex->piece;
+            ex->piece = t0;
+            dense = 0;
+            continue;
+        }
         if (result == &ex->in || result == keep) {
             /* a piece alone (no merge made): cur needs a copy of its own */
             if ((rc = tsr_sparse_image_split(result, result->start, result->count, &ex->acc, err)))
