@@ -923,6 +923,7 @@ void tsr_net_msg_release(tsr_net_msg *msg)
     msg->data = NULL;
     tsr_net_conn *c = m->conn;
     tsr_net *net = c->net;
+    net_shm_drop_read(c, m);
     pthread_mutex_lock(&net->lock);
     c->held--;
     net_shm_release(c, m); /* before the credit, which tells the ring position */

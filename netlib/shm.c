@@ -344,13 +344,21 @@ static void drop_read_pages(net_ring *r, const net_ring_slot *s)
         madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
 }
 
+void net_shm_drop_read(tsr_net_conn *c, net_msg *m)
+{
+    /* Without the lock: the message is still held, so its slot and the
+     * ring's mapping stay (a connection is freed only once nothing is
+     * held), and the zap of its page table entries, with the TLB flush it
+     * takes, holds up no other thread of this side. */
+    if (m->slot && c->net->config.shm_drop_released && m->slot->end - m->slot->start >= NET_SHM_DROP_MIN)
+        drop_read_pages(&c->rx, m->slot);
+}
+
 void net_shm_release(tsr_net_conn *c, net_msg *m)
 {
     if (!m->slot)
         return;
     m->slot->released = true;
-    if (c->net->config.shm_drop_released && m->slot->end - m->slot->start >= NET_SHM_DROP_MIN)
-        drop_read_pages(&c->rx, m->slot);
     m->slot = NULL;
     net_ring *r = &c->rx;
     while (r->slots_head && r->slots_head->released) {
