@@ -926,6 +926,79 @@ static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const
     return rc;
 }
 
+typedef struct frames_job {
+    const tsr_cs_schedule *s;
+    tsr_image_codec codec;
+    tsr_cimage *img;
+    int rank, frames, rc;
+    size_t pixel_bytes; /* the executor's planes after the last frame */
+    tsr_cs_transport t;
+    tsr_error err;
+} frames_job;
+
+static void *frames_main(void *arg)
+{
+    frames_job *j = arg;
+    tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
+    j->rc = ex ? TSR_OK : TSR_ENOMEM;
+    for (int f = 0; f < j->frames && !j->rc; f++) {
+        const tsr_sparse_image *final = NULL;
+        j->img->frame = (uint32_t)f;
+        j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &final, &j->err);
+    }
+    j->pixel_bytes = ex ? tsr_cs_executor_pixel_bytes(ex) : 0;
+    tsr_cs_executor_free(ex);
+    return NULL;
+}
+
+/* A peer's executor keeps one piece of pixels from frame to frame, not
+ * three (bench/README.md, "Peer memory"): with full layers (every pixel
+ * active) the kept part is a view of the read-back and the merges write
+ * into the executor's one image. Direct send, 8 peers, 3 frames. */
+static int test_executor_keeps_one_piece(void)
+{
+    enum { N = 8, W = 64, H = 48 };
+    tsr_error err;
+    tsr_cs_schedule s;
+    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, N, W, H, 0, NULL, &s, &err), err);
+    tsr_image_codec rle;
+    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
+    tsr_cs_memnet *net = tsr_cs_memnet_new(N + 1, 60000, &err);
+    CHECK(net != NULL, "%s", err.message);
+    tsr_cimage imgs[N] = {{0}};
+    frames_job jobs[N];
+    pthread_t th[N];
+    for (int r = 0; r < N; r++) {
+        CHECK_OK(tsr_cimage_init(&imgs[r], W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        imgs[r].rank = r;
+        for (int p = 0; p < W * H; p++) {
+            memset(imgs[r].color + 4 * p, 16 * r + 1, 4);
+            imgs[r].depth[p] = (float)((rnd() % 1000) + 1) / 1002.0f;
+        }
+        jobs[r] = (frames_job){.s = &s, .codec = rle, .img = &imgs[r], .rank = r, .frames = 3};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        pthread_create(&th[r], NULL, frames_main, &jobs[r]);
+    }
+    size_t most = 0;
+    for (int r = 0; r < N; r++) {
+        pthread_join(th[r], NULL);
+        CHECK(jobs[r].rc == TSR_OK, "rank %d: %s", r, jobs[r].err.message);
+        if (jobs[r].pixel_bytes > most)
+            most = jobs[r].pixel_bytes;
+    }
+    size_t piece = (size_t)s.ranks[0].final.count * 8;
+    printf("direct %d x %dx%d, 3 frames: the largest executor owns %zu bytes of planes, one piece is %zu\n", N, W, H,
+           most, piece);
+    CHECK(most <= piece + piece / 4, "an executor keeps %zu bytes of planes, more than one piece (%zu)", most, piece);
+    int from, to;
+    CHECK(tsr_cs_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
+    tsr_cs_memnet_free(net);
+    for (int r = 0; r < N; r++)
+        tsr_cimage_free(&imgs[r]);
+    tsr_cs_schedule_free(&s);
+    return harness_failures;
+}
+
 /* Every strategy in `which` for every peer count in [n0, n1] on W x H
  * windows: the display's frame equals the serial reference, bit for bit. */
 static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, int W, int H, fill_kind kind, int mode,
@@ -1321,6 +1394,7 @@ int main(int argc, char **argv)
         {"message_view_equals_decode", test_message_view_equals_decode},
         {"schedules_hold_invariants", test_schedules_hold_invariants},
         {"link_bytes_hold_one_frame", test_link_bytes_hold_one_frame},
+        {"executor_keeps_one_piece", test_executor_keeps_one_piece},
         {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
         {"all_strategies_agree", test_all_strategies_agree},
         {"odd_image_sizes", test_odd_image_sizes},

@@ -59,6 +59,20 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
 
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out) { *out = ex->stats; }
 
+static size_t owned_pixel_bytes(const tsr_sparse_image *img)
+{
+    if (img->borrowed || !img->pixel_capacity)
+        return 0;
+    return img->pixel_capacity * (tsr_ci_color_bytes(img->color_format) + (img->depth ? sizeof(float) : 0));
+}
+
+size_t tsr_cs_executor_pixel_bytes(const tsr_cs_executor *ex)
+{
+    return owned_pixel_bytes(&ex->cur) + owned_pixel_bytes(&ex->acc) + owned_pixel_bytes(&ex->tmp) +
+           owned_pixel_bytes(&ex->piece) + owned_pixel_bytes(&ex->view) + owned_pixel_bytes(&ex->in) +
+           owned_pixel_bytes(&ex->first) + owned_pixel_bytes(&ex->layer_view);
+}
+
 /* The buffer the next message to `to` is encoded into: the transport's own
  * (shared memory) when it offers one, else the executor's. */
 static uint8_t *message_buffer(tsr_cs_executor *ex, int to, size_t need, const tsr_cs_transport *t, size_t *cap,

@@ -209,5 +209,8 @@ typedef struct tsr_cs_stats {
     uint64_t pixels_merged; /* active pixels composited */
 } tsr_cs_stats;
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out);
+/* Bytes of pixel planes (colour and depth) the executor's images own now,
+ * views excluded: what it keeps from frame to frame. */
+size_t tsr_cs_executor_pixel_bytes(const tsr_cs_executor *ex);
 
 #endif
