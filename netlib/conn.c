@@ -923,6 +923,7 @@ void tsr_net_msg_release(tsr_net_msg *msg)
     msg->data = NULL;
     tsr_net_conn *c = m->conn;
     tsr_net *net = c->net;
+    net_shm_drop_read(c, m);
     pthread_mutex_lock(&net->lock);
     c->held--;
     net_shm_release(c, m); /* before the credit, which tells the ring position */
@@ -969,6 +970,32 @@ int tsr_net_conn_flush(tsr_net_conn *c, int timeout_ms)
     c->flush_waiters--;
     int rc = c->state == NET_FAILED ? c->error.code : timed_out ? TSR_ETIMEDOUT : TSR_OK;
     pthread_mutex_unlock(&c->net->lock);
+    return rc;
+}
+
+int tsr_net_conn_wait_returned(tsr_net_conn *c, int timeout_ms, tsr_error *err)
+{
+    tsr_net *net = c->net;
+    struct timespec ts;
+    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
+    pthread_mutex_lock(&net->lock);
+    bool returned = c->send_credits >= c->peer_window && c->tx.head == c->tx.tail;
+    if (!returned) {
+        c->send_waiters++;
+        net_mark_dirty(c); /* the I/O thread must read, to see the peer's credits */
+        while (c->state == NET_OPEN && !c->close_requested &&
+               !(returned = c->send_credits >= c->peer_window && c->tx.head == c->tx.tail))
+            if (wait_until(&c->cond, &net->lock, dl))
+                break;
+        c->send_waiters--;
+    }
+    int rc = TSR_OK;
+    if (c->state != NET_OPEN || c->close_requested)
+        rc = conn_unusable(c, "wait for the peer's releases", err);
+    else if (!returned)
+        rc = tsr_error_set(err, TSR_ETIMEDOUT, "net: peer '%s' at %s released not all of %u messages within %d ms",
+                           c->peer_name, c->address, c->peer_window - c->send_credits, timeout_ms);
+    pthread_mutex_unlock(&net->lock);
     return rc;
 }
 

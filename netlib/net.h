@@ -103,7 +103,9 @@
  * does not overlap one it has not released: a lying peer fails its
  * connection (one line naming it), nothing is read outside the mapping.
  * The receiving application gets a pointer into the mapping, valid until
- * it releases the message. Ring space is returned with the credits: on a
+ * it releases the message (with shm_drop_released the receiver then drops
+ * its mapping of a message of 256 KiB or more, MADV_DONTNEED, so the
+ * pages stay resident in the sender only). Ring space is returned with the credits: on a
  * shared-memory connection a CREDIT is 12 bytes, u32 count and u64 the
  * position up to which every ring message has been released (in arrival
  * order; past what was sent fails the connection, a lower one than
@@ -211,6 +213,11 @@ typedef struct tsr_net_config {
                                       that sets it too carry data messages through a
                                       shared-memory ring of this many bytes per direction
                                       (see SHARED MEMORY; 64 KiB..16 GiB, a page multiple) */
+    int shm_drop_released;         /* 0 (default) or 1: the receiving side drops its mapping of
+                                      a released ring message of 256 KiB or more (its page table
+                                      entries; the sender still maps the pages), so a ring page
+                                      is resident in one process, not counted in both; the next
+                                      read of it faults the pages back in */
 } tsr_net_config;
 
 /* A received message. `data` stays valid (and writable) until released. */
@@ -332,6 +339,14 @@ TSR_API int tsr_net_conn_vanished(tsr_net_conn *conn);
  * fatal error flushes so its peers still read what it sent before). 0 when
  * written, TSR_ETIMEDOUT, or the connection's error. */
 TSR_API int tsr_net_conn_flush(tsr_net_conn *conn, int timeout_ms);
+/* Waits at most timeout_ms until the peer's application has released
+ * every data message sent on `conn` and its credits (and, with shared
+ * memory, the ring space) are back, so the next ring message goes at the
+ * ring's start. A caller that knows the peer released everything (the
+ * peer said so on another connection) uses it to stop racing the CREDIT
+ * in flight. TSR_OK, TSR_ETIMEDOUT naming the peer, or the connection's
+ * error. */
+TSR_API int tsr_net_conn_wait_returned(tsr_net_conn *conn, int timeout_ms, tsr_error *err);
 /* Closes gracefully (see CLOSING); `conn` must not be used afterwards.
  * Messages still held by the application may be released later. */
 TSR_API void tsr_net_conn_close(tsr_net_conn *conn);

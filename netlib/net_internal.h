@@ -93,7 +93,7 @@ typedef struct net_hello {
  * returns in arrival order, up to the oldest one not released. */
 typedef struct net_ring_slot {
     struct net_ring_slot *next;
-    uint64_t end; /* ring position after it */
+    uint64_t start, end; /* ring positions of it and after it */
     bool released;
 } net_ring_slot;
 
@@ -414,6 +414,9 @@ int net_shm_check_stray_fds(tsr_net_conn *c); /* 0, or -1: failed */
 int net_shm_take_descriptor(tsr_net_conn *c, net_msg *m);
 /* A ring message released by the application: its space returns once
  * every older one is released. */
+/* Before a held ring message is released, without the lock: with
+ * shm_drop_released, drops this side's mapping of its pages. */
+void net_shm_drop_read(tsr_net_conn *c, net_msg *m);
 void net_shm_release(tsr_net_conn *c, net_msg *m);
 /* The CREDIT payload for `count` credits: 4 bytes, or 12 with the ring
  * position on a shared-memory connection. Returns its length. */

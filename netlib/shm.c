@@ -4,7 +4,9 @@
  * messages are written so that only a 16-byte descriptor crosses the socket.
  * Owns: creating, handing over, checking and mapping the rings; the
  * position arithmetic both sides must agree on; the receive side's record
- * of which ring messages are released.
+ * of which ring messages are released, and (shm_drop_released) dropping
+ * its mapping of the large ones once released (a ring page stays resident
+ * in the sender's process only, not in both).
  * Never: maps a segment whose size could change under the mapping (a
  * memfd without F_SEAL_SHRINK and F_SEAL_GROW could be truncated and make
  * a read fault), trusts a descriptor or a returned position before
@@ -28,6 +30,11 @@
 
 #include "net_internal.h"
 #include "tessera/log.h"
+
+/* Messages from this size on have their pages dropped by the receiver
+ * once released (drop_read_pages); small ones cost more to drop than
+ * they hold. */
+#define NET_SHM_DROP_MIN (256u << 10)
 
 uint64_t net_shm_slot(uint64_t len)
 {
@@ -298,6 +305,7 @@ int net_shm_take_descriptor(tsr_net_conn *c, net_msg *m)
         return -1;
     }
     s->next = NULL;
+    s->start = pos;
     s->end = pos + slot;
     s->released = false;
     if (r->slots_tail)
@@ -317,6 +325,33 @@ int net_shm_take_descriptor(tsr_net_conn *c, net_msg *m)
     c->stats.messages_received_shm++;
     c->stats.bytes_received_shm += len;
     return 0;
+}
+
+/* The receiver's mapping of a released message is dropped (its page table
+ * entries only: the memfd keeps the data, and the sender, which wrote the
+ * pages, still maps them). Each ring page is then resident in one process,
+ * the sender's, instead of being counted in both; the next read of it
+ * faults the pages back in, 16 at a time (the kernel's fault-around for
+ * shared file pages). A page shared with a neighbouring message still held
+ * is dropped too: its bytes are intact, the next touch maps it again. */
+static void drop_read_pages(net_ring *r, const net_ring_slot *s)
+{
+    uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
+    uintptr_t a = (uintptr_t)(r->map + s->start % r->size), b = a + (uintptr_t)(s->end - s->start);
+    a &= ~(page - 1);
+    b = (b + page - 1) & ~(page - 1);
+    if (b > a)
+        madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
+}
+
+void net_shm_drop_read(tsr_net_conn *c, net_msg *m)
+{
+    /* Without the lock: the message is still held, so its slot and the
+     * ring's mapping stay (a connection is freed only once nothing is
+     * held), and the zap of its page table entries, with the TLB flush it
+     * takes, holds up no other thread of this side. */
+    if (m->slot && c->net->config.shm_drop_released && m->slot->end - m->slot->start >= NET_SHM_DROP_MIN)
+        drop_read_pages(&c->rx, m->slot);
 }
 
 void net_shm_release(tsr_net_conn *c, net_msg *m)

@@ -25,6 +25,8 @@ foreach(t
     composite_encode_dense_equals_compress_encode
     composite_message_view_equals_decode
     composite_schedules_hold_invariants
+    composite_link_bytes_hold_one_frame
+    composite_executor_keeps_one_piece
     binaryswap_odd_peer_counts
     composite_all_strategies_agree
     composite_odd_image_sizes

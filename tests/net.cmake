@@ -51,6 +51,8 @@ foreach(pair
     "net_shm_receiver_reads_the_senders_memory_no_copy:zero_copy"
     "net_shm_ring_space_is_the_credit:ring_is_the_credit"
     "net_shm_ring_reuses_its_start_while_one_is_held:ring_reuses_its_start"
+    "net_shm_sender_waiting_for_releases_writes_at_the_ring_start:wait_returned"
+    "net_shm_receiver_drops_released_pages_only_when_asked:drop_released"
     "net_shm_only_when_both_ask_and_only_on_unix:negotiation"
     "net_shm_lying_peer_fails_only_its_connection_naming_it:lying_peer")
   string(REPLACE ":" ";" pair "${pair}")

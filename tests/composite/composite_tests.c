@@ -791,6 +791,80 @@ static int test_schedules_hold_invariants(void)
     return harness_failures;
 }
 
+/* A message's ring slot: its largest encoding rounded to 64 bytes. */
+static uint64_t slot_of(uint32_t count, tsr_image_codec c)
+{
+    return (tsr_image_message_max_size(count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c) + 63) / 64 * 64;
+}
+
+/* tsr_cs_schedule_link_bytes, which sizes binaryswap's shared-memory
+ * rings: every pair's messages of a frame fit (so no sender waits for its
+ * partner within a frame), and no more than that, so a frame's messages
+ * cannot be written behind the last frame's on fresh pages: direct send
+ * of 8 peers at 1920x1080 gets one piece (1/8 frame), where the rings
+ * used to take four whole frames (66 MB). */
+static int test_link_bytes_hold_one_frame(void)
+{
+    tsr_error err;
+    tsr_image_codec rle;
+    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
+    int wins[][2] = {{7, 5}, {509, 503}};
+    for (size_t w = 0; w < 2; w++)
+        for (size_t si = 0; si < NSTRATS; si++)
+            for (int n = 1; n <= 64; n++) {
+                tsr_cs_schedule s;
+                CHECK_OK(tsr_cs_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err), err);
+                uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle), most = 0;
+                int display = tsr_cs_schedule_display_composites(&s);
+                for (int p = 0; p < n; p++) {
+                    uint64_t to[TSR_CS_MAX_PEERS + 1] = {0};
+                    const tsr_cs_rank *R = &s.ranks[p];
+                    for (int i = 0; i < R->nrounds; i++)
+                        for (int j = 0; j < R->rounds[i].nsend; j++)
+                            to[R->rounds[i].send[j].peer] += slot_of(R->rounds[i].send[j].region.count, rle);
+                    uint64_t fin = display && R->final.count ? slot_of(R->final.count, rle) : 0;
+                    for (int q = 0; q < n; q++)
+                        if (to[q] + fin > most)
+                            most = to[q] + fin;
+                }
+                CHECK(link == most, "%s n=%d %dx%d: link bytes %llu, the busiest pair sends up to %llu", s.name, n,
+                      wins[w][0], wins[w][1], (unsigned long long)link, (unsigned long long)most);
+                tsr_cs_schedule_free(&s);
+            }
+    tsr_cs_schedule s;
+    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, 8, 1920, 1080, 0, NULL, &s, &err), err);
+    uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle);
+    uint64_t piece = slot_of(1920 * 1080 / 8, rle), smallest = UINT64_MAX;
+    /* a full layer's pieces (every pixel active), as bench/sortlast.sh sends */
+    tsr_cimage full = {0};
+    CHECK_OK(tsr_cimage_init(&full, 1920, 1080, 0, 0, 1920, 1080, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+    for (size_t i = 0; i < (size_t)1920 * 1080; i++)
+        full.depth[i] = 0.5f;
+    tsr_sparse_image sp = {0};
+    for (int p = 0; p < 8; p++)
+        for (int j = 0; j < s.ranks[p].rounds[0].nsend; j++) {
+            tsr_cs_region r = s.ranks[p].rounds[0].send[j].region;
+            CHECK_OK(tsr_sparse_image_compress(&full, TSR_COMPOSITE_DEPTH, r.start, r.count, &sp, &err), err);
+            uint64_t b = tsr_image_message_bound(&sp, rle);
+            if (b < smallest)
+                smallest = b;
+        }
+    tsr_sparse_image_free(&sp);
+    tsr_cimage_free(&full);
+    printf("direct 8 x 1920x1080: link %llu bytes, one piece at its largest %llu, a full piece %llu\n",
+           (unsigned long long)link, (unsigned long long)piece, (unsigned long long)smallest);
+    CHECK(link == piece, "direct 8 x 1920x1080: link bytes %llu, not one piece (%llu)", (unsigned long long)link,
+          (unsigned long long)piece);
+    CHECK(link < 2 * smallest, "direct 8 x 1920x1080: %llu link bytes hold two full pieces of %llu",
+          (unsigned long long)link, (unsigned long long)smallest);
+    tsr_cs_schedule_free(&s);
+    CHECK_OK(tsr_cs_plan(TSR_CS_GATHER, 4, 640, 480, 0, NULL, &s, &err), err);
+    CHECK(tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle) == slot_of(640 * 480, rle),
+          "gather: a whole frame to the display");
+    tsr_cs_schedule_free(&s);
+    return harness_failures;
+}
+
 typedef struct peer_job {
     const tsr_cs_schedule *s;
     tsr_image_codec codec;
@@ -850,6 +924,79 @@ static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const
     free(jobs);
     free(th);
     return rc;
+}
+
+typedef struct frames_job {
+    const tsr_cs_schedule *s;
+    tsr_image_codec codec;
+    tsr_cimage *img;
+    int rank, frames, rc;
+    size_t pixel_bytes; /* the executor's planes after the last frame */
+    tsr_cs_transport t;
+    tsr_error err;
+} frames_job;
+
+static void *frames_main(void *arg)
+{
+    frames_job *j = arg;
+    tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
+    j->rc = ex ? TSR_OK : TSR_ENOMEM;
+    for (int f = 0; f < j->frames && !j->rc; f++) {
+        const tsr_sparse_image *final = NULL;
+        j->img->frame = (uint32_t)f;
+        j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &final, &j->err);
+    }
+    j->pixel_bytes = ex ? tsr_cs_executor_pixel_bytes(ex) : 0;
+    tsr_cs_executor_free(ex);
+    return NULL;
+}
+
+/* A peer's executor keeps one piece of pixels from frame to frame, not
+ * three (bench/README.md, "Peer memory"): with full layers (every pixel
+ * active) the kept part is a view of the read-back and the merges write
+ * into the executor's one image. Direct send, 8 peers, 3 frames. */
+static int test_executor_keeps_one_piece(void)
+{
+    enum { N = 8, W = 64, H = 48 };
+    tsr_error err;
+    tsr_cs_schedule s;
+    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, N, W, H, 0, NULL, &s, &err), err);
+    tsr_image_codec rle;
+    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
+    tsr_cs_memnet *net = tsr_cs_memnet_new(N + 1, 60000, &err);
+    CHECK(net != NULL, "%s", err.message);
+    tsr_cimage imgs[N] = {{0}};
+    frames_job jobs[N];
+    pthread_t th[N];
+    for (int r = 0; r < N; r++) {
+        CHECK_OK(tsr_cimage_init(&imgs[r], W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        imgs[r].rank = r;
+        for (int p = 0; p < W * H; p++) {
+            memset(imgs[r].color + 4 * p, 16 * r + 1, 4);
+            imgs[r].depth[p] = (float)((rnd() % 1000) + 1) / 1002.0f;
+        }
+        jobs[r] = (frames_job){.s = &s, .codec = rle, .img = &imgs[r], .rank = r, .frames = 3};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        pthread_create(&th[r], NULL, frames_main, &jobs[r]);
+    }
+    size_t most = 0;
+    for (int r = 0; r < N; r++) {
+        pthread_join(th[r], NULL);
+        CHECK(jobs[r].rc == TSR_OK, "rank %d: %s", r, jobs[r].err.message);
+        if (jobs[r].pixel_bytes > most)
+            most = jobs[r].pixel_bytes;
+    }
+    size_t piece = (size_t)s.ranks[0].final.count * 8;
+    printf("direct %d x %dx%d, 3 frames: the largest executor owns %zu bytes of planes, one piece is %zu\n", N, W, H,
+           most, piece);
+    CHECK(most <= piece + piece / 4, "an executor keeps %zu bytes of planes, more than one piece (%zu)", most, piece);
+    int from, to;
+    CHECK(tsr_cs_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
+    tsr_cs_memnet_free(net);
+    for (int r = 0; r < N; r++)
+        tsr_cimage_free(&imgs[r]);
+    tsr_cs_schedule_free(&s);
+    return harness_failures;
 }
 
 /* Every strategy in `which` for every peer count in [n0, n1] on W x H
@@ -1246,6 +1393,8 @@ int main(int argc, char **argv)
         {"encode_dense_equals_compress_encode", test_encode_dense_equals_compress_encode},
         {"message_view_equals_decode", test_message_view_equals_decode},
         {"schedules_hold_invariants", test_schedules_hold_invariants},
+        {"link_bytes_hold_one_frame", test_link_bytes_hold_one_frame},
+        {"executor_keeps_one_piece", test_executor_keeps_one_piece},
         {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
         {"all_strategies_agree", test_all_strategies_agree},
         {"odd_image_sizes", test_odd_image_sizes},

@@ -20,6 +20,7 @@
 #define RING (1u << 20)
 
 static char sock_path[108];
+static int drop_released; /* make_net's shm_drop_released */
 
 static tsr_net *make_net(const char *name, uint64_t ring)
 {
@@ -32,6 +33,7 @@ static tsr_net *make_net(const char *name, uint64_t ring)
     cfg.handshake_timeout_ms = 2000;
     cfg.close_timeout_ms = 2000;
     cfg.shm_ring_bytes = ring;
+    cfg.shm_drop_released = drop_released;
     tsr_error err = {0};
     tsr_net *net = tsr_net_create(&cfg, &err);
     CHECK(net, "tsr_net_create(%s): %s", name, err.message);
@@ -303,6 +305,106 @@ static int test_ring_reuses_its_start(void)
     return 0;
 }
 
+/* ---- a sender that waits for the releases writes at the ring's start ---- */
+
+/* A sort-last peer knows (from its display's barrier) that its partner
+ * released every image, but the CREDIT saying so may still be on its way:
+ * without waiting for it the next message goes behind the released one, on
+ * pages of its own, and over a run every ring comes to hold two messages'
+ * pages in both processes. tsr_net_conn_wait_returned waits for it (and
+ * times out naming the peer while a message is really held). */
+static int test_wait_returned(void)
+{
+    pair p;
+    open_pair(&p, unix_address(), RING, RING);
+    const size_t big = 200 * 1024; /* the ring holds five */
+    tsr_net_msg m;
+    tsr_error err = {0};
+    send_pattern(p.c, 0, big, 2000, TSR_OK, NULL);
+    recv_check(p.s, 0, big, &m, "m0");
+    const uint8_t *start = m.data;
+    int rc = tsr_net_conn_wait_returned(p.c, 200, &err);
+    CHECK(rc == TSR_ETIMEDOUT, "waiting while the receiver holds a message: %d (%s), not a time-out", rc, err.message);
+    CHECK_CONTAINS(err.message, "shm-server");
+    tsr_net_msg_release(&m);
+    int behind = 0;
+    const int n = 300;
+    for (int i = 1; i <= n; i++) {
+        rc = tsr_net_conn_wait_returned(p.c, 2000, &err);
+        CHECK(rc == TSR_OK, "wait_returned after every release: %d (%s)", rc, err.message);
+        send_pattern(p.c, (uint64_t)i * big, big, 2000, TSR_OK, NULL);
+        recv_check(p.s, (uint64_t)i * big, big, &m, "stream");
+        behind += (const uint8_t *)m.data != start;
+        tsr_net_msg_release(&m);
+    }
+    printf("%d messages of %zu bytes, each sent right after the last one's release: %d behind the ring's start\n", n,
+           big, behind);
+    CHECK(behind == 0, "%d of %d messages went behind a released one (fresh pages)", behind, n);
+    close_pair(&p);
+    printf("PASS\n");
+    return 0;
+}
+
+/* ---- shm_drop_released: a ring page resident in the sender only --------- */
+
+/* Rss (kB) of this process's mapping that holds addr (/proc/self/smaps). */
+static long mapping_rss_kb(const void *addr)
+{
+    FILE *f = fopen("/proc/self/smaps", "r");
+    CHECK(f, "cannot open /proc/self/smaps");
+    char line[512];
+    int inside = 0;
+    long kb = -1;
+    uintptr_t a = (uintptr_t)addr;
+    while (kb < 0 && fgets(line, sizeof line, f)) {
+        unsigned long lo, hi;
+        if (sscanf(line, "%lx-%lx ", &lo, &hi) == 2 && strchr(line, '-') < strchr(line, ' '))
+            inside = a >= lo && a < hi;
+        else if (inside && sscanf(line, "Rss: %ld kB", &kb) == 1)
+            break;
+    }
+    fclose(f);
+    CHECK(kb >= 0, "no mapping holds %p", addr);
+    return kb;
+}
+
+static int drop_case(int drop, long *held_kb, long *released_kb)
+{
+    drop_released = drop;
+    pair p;
+    open_pair(&p, unix_address(), RING, RING);
+    const size_t big = 768 * 1024;
+    tsr_net_msg m;
+    for (int i = 0; i < 3; i++) { /* the bytes survive the drop: read again through the same pages */
+        send_pattern(p.c, (uint64_t)i * big, big, 2000, TSR_OK, NULL);
+        recv_check(p.s, (uint64_t)i * big, big, &m, "message");
+        const void *at = m.data;
+        *held_kb = mapping_rss_kb(at);
+        tsr_net_msg_release(&m);
+        *released_kb = mapping_rss_kb(at);
+        tsr_error err = {0};
+        CHECK(tsr_net_conn_wait_returned(p.c, 2000, &err) == TSR_OK, "%s", err.message);
+    }
+    close_pair(&p);
+    drop_released = 0;
+    return 0;
+}
+
+static int test_drop_released(void)
+{
+    long held, released;
+    drop_case(1, &held, &released);
+    printf("shm_drop_released=1: the receiver's ring mapping %ld kB while held, %ld kB once released\n", held,
+           released);
+    CHECK(held >= 768, "the received message is not resident while read (%ld kB)", held);
+    CHECK(released == 0, "%ld kB of the receiver's mapping stay resident after the release", released);
+    drop_case(0, &held, &released);
+    printf("shm_drop_released=0: %ld kB while held, %ld kB once released\n", held, released);
+    CHECK(released >= 768, "without the option the pages stay mapped (%ld kB)", released);
+    printf("PASS\n");
+    return 0;
+}
+
 /* ---- negotiated only when both ask, only on Unix sockets ------------------- */
 
 static void exchange_one(pair *p, const char *want_transport, int want_shm)
@@ -515,6 +617,8 @@ int main(int argc, char **argv)
         {"zero_copy", test_zero_copy},
         {"ring_is_the_credit", test_ring_is_the_credit},
         {"ring_reuses_its_start", test_ring_reuses_its_start},
+        {"wait_returned", test_wait_returned},
+        {"drop_released", test_drop_released},
         {"negotiation", test_negotiation},
         {"lying_peer", test_lying_peer},
     };

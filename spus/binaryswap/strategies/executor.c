@@ -17,11 +17,13 @@ struct tsr_cs_executor {
     /* cur: this rank's image once composited; acc/tmp: merge outputs;
      * piece: the kept part of the read-back (planes of its own, kept from
      * frame to frame: turning it into a view would free them, and the next frame
-     * would map and fault in fresh pages); view: a view of cur; in: the received
+     * would map and fault in fresh pages; merged in place it trades planes
+     * with cur instead of being copied); view: a view of cur; in: the received
      * message (a view of it, or decoded); first: alpha mode's copy of a
      * received piece that starts a fold. One received message at a time:
      * each is merged as it arrives, before the next is asked for. */
     tsr_sparse_image cur, acc, tmp, piece, view, in, first;
+    tsr_sparse_image layer_view; /* the kept part as a view of a full read-back (keep_of_readback) */
     uint8_t *buf;
     size_t buf_cap;
     tsr_cs_stats stats;
@@ -50,11 +52,26 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
     tsr_sparse_image_free(&ex->view);
     tsr_sparse_image_free(&ex->in);
     tsr_sparse_image_free(&ex->first);
+    tsr_sparse_image_free(&ex->layer_view);
     free(ex->buf);
     free(ex);
 }
 
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out) { *out = ex->stats; }
+
+static size_t owned_pixel_bytes(const tsr_sparse_image *img)
+{
+    if (img->borrowed || !img->pixel_capacity)
+        return 0;
+    return img->pixel_capacity * (tsr_ci_color_bytes(img->color_format) + (img->depth ? sizeof(float) : 0));
+}
+
+size_t tsr_cs_executor_pixel_bytes(const tsr_cs_executor *ex)
+{
+    return owned_pixel_bytes(&ex->cur) + owned_pixel_bytes(&ex->acc) + owned_pixel_bytes(&ex->tmp) +
+           owned_pixel_bytes(&ex->piece) + owned_pixel_bytes(&ex->view) + owned_pixel_bytes(&ex->in) +
+           owned_pixel_bytes(&ex->first) + owned_pixel_bytes(&ex->layer_view);
+}
 
 /* The buffer the next message to `to` is encoded into: the transport's own
  * (shared memory) when it offers one, else the executor's. */
@@ -120,6 +137,33 @@ static int send_dense(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr
         return err->code;
     rc = tsr_image_message_encode_dense(mine, &ex->tmp, ex->codec, dst, cap, &len, err);
     return rc ? rc : sent(ex, to, dst, len, t, err);
+}
+
+/* The kept part of the read-back, to composite into. When the read-back
+ * is the whole window and every pixel of the part is active (full layers,
+ * depth mode, RGBA8), a view of the read-back's own planes: no copy is
+ * made, and the first merge writes the composite straight into the
+ * executor's image. Else compressed into ex->piece. */
+static int keep_of_readback(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg,
+                            tsr_sparse_image **keep, tsr_error *err)
+{
+    int rc;
+    if (mode == TSR_COMPOSITE_DEPTH && mine->color_format == TSR_CI_RGBA8 && mine->x == 0 && mine->y == 0 &&
+        mine->width == mine->window_width && mine->height == mine->window_height) {
+        tsr_sparse_image *v = &ex->layer_view;
+        if ((rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, v, err)))
+            return rc;
+        if (v->active == reg.count) {
+            v->color = (uint8_t *)mine->color + (size_t)reg.start * 4;
+            v->depth = mine->depth + reg.start;
+            v->pixel_capacity = 0;
+            v->borrowed = 1;
+            *keep = v;
+            return TSR_OK;
+        }
+    }
+    *keep = &ex->piece;
+    return tsr_sparse_image_compress(mine, mode, reg.start, reg.count, &ex->piece, err);
 }
 
 /* Receives the next message from `from` into ex->in: a view of it when the
@@ -292,13 +336,21 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
             ex->acc = t0;
             continue;
         }
-        tsr_sparse_image *keep = dense ? &ex->piece : &ex->view;
+        tsr_sparse_image *keep = &ex->view;
         if (dense)
-            rc = tsr_sparse_image_compress(&me, mode, rd->keep.start, rd->keep.count, keep, err);
+            rc = keep_of_readback(ex, &me, mode, rd->keep, &keep, err);
         else
             rc = tsr_sparse_image_view(&ex->cur, rd->keep.start, rd->keep.count, keep, err);
         if (rc)
             return rc;
+        if (keep == &ex->layer_view) {
+            /* cur is no input of this round: its planes take the first
+             * merge (into ex->acc, swapped back below), so one piece-sized
+             * buffer serves frame after frame */
+            tsr_sparse_image t0 = ex->acc;
+            ex->acc = ex->cur;
+            ex->cur = t0;
+        }
         int from[TSR_CS_MAX_PEERS + 1], np = 0;
         for (int q = 0; q <= rd->nrecv; q++) {
             if (q == rd->self_index)
@@ -311,6 +363,16 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
         tsr_sparse_image *result = NULL;
         if ((rc = composite_region(ex, from, np, keep, mode, &expect, t, &result, err)))
             return rc;
+        if (result == keep && keep == &ex->piece) {
+            /* The kept piece, merged in place (full layers), becomes the
+             * current image; the old current image's planes serve the next
+             * frame's kept piece. No copy, and no third piece-sized buffer. */
+            tsr_sparse_image t0 = ex->cur;
+            ex->cur = ex->piece;
+            ex->piece = t0;
+            dense = 0;
+            continue;
+        }
         if (result == &ex->in || result == keep) {
             /* a piece alone (no merge made): cur needs a copy of its own */
             if ((rc = tsr_sparse_image_split(result, result->start, result->count, &ex->acc, err)))

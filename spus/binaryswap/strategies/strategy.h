@@ -176,6 +176,15 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
  * than one rank, as in gather to one) rather than only placing the final
  * pieces, each of which then holds every rank. */
 int tsr_cs_schedule_display_composites(const tsr_cs_schedule *s);
+/* The most bytes one participant sends another in one frame of this
+ * schedule, every message at its largest (tsr_image_message_max_size of
+ * its region, rounded to netlib's 64-byte ring slot), over every ordered
+ * pair of peers (participants are positions: the caller may map them to
+ * any ranks); when the display composites, a peer's final piece on top
+ * (it travels to rank 0, which may be any position). A shared-memory
+ * ring of this size (plus room for small messages) holds a frame's
+ * messages on its connection, and no second frame behind them. */
+uint64_t tsr_cs_schedule_link_bytes(const tsr_cs_schedule *s, int color_format, int depth_format, tsr_image_codec c);
 /* The display's part: receives the final pieces of frame `frame` and writes
  * the whole window into `frame_out` (initialised here to the window, RGBA8
  * or the schedule's colour format), inactive pixels as `background`. */
@@ -200,5 +209,8 @@ typedef struct tsr_cs_stats {
     uint64_t pixels_merged; /* active pixels composited */
 } tsr_cs_stats;
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out);
+/* Bytes of pixel planes (colour and depth) the executor's images own now,
+ * views excluded: what it keeps from frame to frame. */
+size_t tsr_cs_executor_pixel_bytes(const tsr_cs_executor *ex);
 
 #endif
