@@ -49,15 +49,16 @@ start_xvfb "$out"
 # sides (the servers' streams recorded with print floats=hex and replayed
 # into OSMesa directly), so the light positions, the matrices and the
 # scissor play no part. Even the 1x1 render depends on it: 16 points added
-# at the end of frame 7 changed 7 pixels of frame 8. Avoiding it needs the
-# render SPU to draw every quad as two triangles along 0-2 itself (immediate
-# mode, display lists and arrays; GL_QUAD_STRIP likewise), which would also
-# part it from a native OSMesa render wherever llvmpipe itself cut along
-# 1-3. For engine's 1x1-against-2x2 comparison only, up to
-# KNOWN_ENGINE_PIXELS pixels (2 % of the 320x240 frame) within
-# KNOWN_ENGINE_LEVELS are reported as "known" (counted apart) instead of
-# failing; anything more, any other program, and every live-against-replay
-# comparison stay exact.
+# at the end of frame 7 changed 7 pixels of frame 8. Only GL_QUADS does it
+# (the same check with GL_QUAD_STRIP, GL_POLYGON, GL_TRIANGLE_FAN and
+# GL_TRIANGLE_STRIP pairs changed no pixel). Avoiding it needs the render
+# SPU to draw every GL_QUADS quad as two triangles along 0-2 itself
+# (immediate mode, display lists and arrays), which would also part it from
+# a native OSMesa render wherever llvmpipe itself cut along 1-3. For
+# engine's 1x1-against-2x2 comparison only, up to KNOWN_ENGINE_PIXELS pixels
+# (2 % of the 320x240 frame) within KNOWN_ENGINE_LEVELS are reported as
+# "known" (counted apart) instead of failing; anything more, any other
+# program, and every live-against-replay comparison stay exact.
 KNOWN_ENGINE_PIXELS=1536 KNOWN_ENGINE_LEVELS=3
 diff_frames() {  # diff_frames A_PATTERN B_PATTERN [TOLERATE]: "" when all equal, else the first difference
   local i a b r d e known=""

@@ -19,7 +19,10 @@
  * clipping. A wall server gets a subset of the stream, with state diffs
  * in between, so its draws differ from the whole window's: engine's lit
  * quads came out 1-3 levels off (every failing capture became exact with
- * each glBegin/glEnd made its own draw on both sides).
+ * each glBegin/glEnd made its own draw on both sides). Only GL_QUADS:
+ * the same pair (A then B, each its own glBegin/glEnd, one draw) as
+ * GL_QUAD_STRIP, GL_POLYGON, GL_TRIANGLE_FAN or GL_TRIANGLE_STRIP changed
+ * no pixel of A; as GL_QUADS, 4888.
  *
  * Exits 0 while llvmpipe behaves so, 1 (saying so) when it no longer does:
  * then sweep_exact.sh's tolerance for engine may be removable. */
