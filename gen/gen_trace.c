@@ -1,6 +1,7 @@
 /* gen/gen_trace.c — emits the call tracer of the print SPU
  * (src/trace_gen.h, src/trace_gen.c): one readable line per call, enums by
- * name (table generated from the GL headers), floats with %g, small
+ * name (table generated from the GL headers), floats with %g (or %a,
+ * bit-exact, when the tracer's hex_floats is set), small
  * fixed-size vectors and strings by content, then the call goes on to the
  * child table. The generated code keeps no state outside the tracer
  * object it is given. */
@@ -40,7 +41,7 @@ static void emit_scalar_print(FILE *f, const spec_param *p, const gen_type *t, c
     } else if (t->is_enum) {
         fprintf(f, "    tsr_trace_print_enum(tsr_t->out, %s);\n", expr);
     } else if (t->is_float) {
-        fprintf(f, "    fprintf(tsr_t->out, \"%%g\", (double)%s);\n", expr);
+        fprintf(f, "    tsr_trace_print_float(tsr_t, (double)%s);\n", expr);
     } else if (!strcmp(p->base_type, "GLbitfield")) {
         fprintf(f, "    fprintf(tsr_t->out, \"0x%%x\", (unsigned)%s);\n", expr);
     } else if (!strcmp(p->base_type, "GLboolean")) {
@@ -104,6 +105,7 @@ void gen_emit_trace(const gen *g)
                "typedef struct tsr_tracer {\n"
                "    FILE *out;                  /* one line per call */\n"
                "    const tsr_dispatch *child;  /* every call is forwarded here */\n"
+               "    int hex_floats;             /* floats with %%a (exact bits), else %%g */\n"
                "} tsr_tracer;\n\n"
                "/* Sets every slot of `table` to a tracing function with self = t. */\n"
                "void tsr_trace_fill(tsr_dispatch *table, tsr_tracer *t);\n"
@@ -111,7 +113,8 @@ void gen_emit_trace(const gen *g)
                " * value), NULL when unknown. */\n"
                "const char *tsr_trace_enum_name(GLenum value);\n"
                "void tsr_trace_print_enum(FILE *out, GLenum value);\n"
-               "void tsr_trace_print_string(FILE *out, const char *s);\n\n#endif\n");
+               "void tsr_trace_print_string(FILE *out, const char *s);\n"
+               "void tsr_trace_print_float(const tsr_tracer *t, double v);\n\n#endif\n");
     gen_close(f);
 
     f = gen_open(g, "src/trace_gen.c");
@@ -141,6 +144,8 @@ void gen_emit_trace(const gen *g)
         "void tsr_trace_print_enum(FILE *out, GLenum value)\n{\n"
         "    const char *name = tsr_trace_enum_name(value);\n"
         "    if (name)\n        fputs(name, out);\n    else\n        fprintf(out, \"0x%%x\", (unsigned)value);\n}\n\n"
+        "void tsr_trace_print_float(const tsr_tracer *t, double v)\n{\n"
+        "    if (t->hex_floats)\n        fprintf(t->out, \"%%a\", v);\n    else\n        fprintf(t->out, \"%%g\", v);\n}\n\n"
         "void tsr_trace_print_string(FILE *out, const char *s)\n{\n"
         "    if (!s) {\n        fputs(\"NULL\", out);\n        return;\n    }\n"
         "    fputc('\"', out);\n"

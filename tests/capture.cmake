@@ -1,7 +1,8 @@
 # tests/capture.cmake — the capture SPU and `tessera replay` (issue 12,
 # item 5): captures replay bit-identically through a chain and as the app
 # node of graphs (pack, a 2x2 tilesort wall, replicate), frame ranges and
-# loops, --info against a print trace, answers captured from a server
+# loops, --info against a print trace, print floats=hex against the %g
+# trace, answers captured from a server
 # replayed with none, malformed files refused naming file and offset, the
 # capture decoder's fuzz corpus, and glxgears captured under Xvfb. Windows
 # are 64x48 and runs a few frames: about 5 s in all.
@@ -16,7 +17,8 @@ foreach(mode_name
     "chain;capture_replay_through_render_every_frame_bit_identical"
     "graphs;capture_replay_as_graph_app_pack_wall_2x2_replicate_every_frame_bit_identical"
     "ranges;capture_replay_frames_ranges_and_loops_bit_identical"
-    "info;capture_replay_info_counts_equal_a_print_trace_of_the_run")
+    "info;capture_replay_info_counts_equal_a_print_trace_of_the_run"
+    "hexfloats;capture_replay_print_floats_hex_exact_and_equal_to_the_g_trace")
   list(GET mode_name 0 mode)
   list(GET mode_name 1 name)
   add_test(NAME ${name}
@@ -63,6 +65,7 @@ if(TESSERA_SANITIZE)
     capture_replay_as_graph_app_pack_wall_2x2_replicate_every_frame_bit_identical
     capture_replay_frames_ranges_and_loops_bit_identical
     capture_replay_info_counts_equal_a_print_trace_of_the_run
+    capture_replay_print_floats_hex_exact_and_equal_to_the_g_trace
     capture_answers_from_a_server_replay_with_no_server
     capture_bad_files_refused_in_one_line_naming_file_and_offset
     APPEND PROPERTY ENVIRONMENT

@@ -150,6 +150,14 @@ foreach(mode solo shared)
             $<TARGET_FILE:render_stencil_clear_native> $<TARGET_FILE:render_stencil_clear> ${RENDER_OUT}/stencil-${mode})
 endforeach()
 
+# OSMesa alone, no tessera: the llvmpipe behaviour behind engine's known
+# wall inexactness (quad_diagonal.c; tests/faker/sweep_exact.sh). Fails
+# when llvmpipe stops cutting a quad by what else its draw holds.
+add_executable(render_llvmpipe_quad_diagonal ${RENDER_TEST_DIR}/quad_diagonal.c)
+target_link_libraries(render_llvmpipe_quad_diagonal PRIVATE PkgConfig::OSMESA)
+add_test(NAME render_llvmpipe_cuts_a_quad_by_what_else_its_draw_holds
+         COMMAND $<TARGET_FILE:render_llvmpipe_quad_diagonal>)
+
 # --- tiles: servers that own rectangles of the window ---------------------------
 # Every tile PNG must equal the same pixels of the full-window render (0
 # differing pixels), the scene's glGet of the scissor must give the

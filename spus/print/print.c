@@ -1,7 +1,9 @@
 /* spus/print/print.c — the "print" SPU: writes one readable line per GL call
  * (generated tracer, enums by name) to a file, stdout or stderr, and
- * forwards every call unchanged to its child. Owns its output file; never
- * changes, drops or reorders a call. */
+ * forwards every call unchanged to its child. floats=hex writes every float
+ * with %a, so two traces can be compared bit for bit (%g keeps 6 digits,
+ * and a matrix or light position that differs in its last bit looks equal).
+ * Owns its output file; never changes, drops or reorders a call. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +41,7 @@ static void *print_create(const tsr_spu_init *init, tsr_error *err)
     }
     s->tracer.out = s->file;
     s->tracer.child = init->child;
+    s->tracer.hex_floats = !strcmp(tsr_options_string(init->options, "floats"), "hex");
     tsr_trace_fill(init->table, &s->tracer);
     return s;
 }
@@ -62,6 +65,14 @@ static const tsr_option_spec print_options[] = {
      .min = 1,
      .max = 0,
      .help = "where to write the trace: a path, \"stdout\", or \"-\"/\"stderr\""},
+    {.name = "floats",
+     .type = TSR_OPT_ENUM,
+     .default_value = "g",
+     .choices = "g|hex",
+     .min = 1,
+     .max = 0,
+     .help = "how floats are written: g (printf %g, 6 significant digits) or hex (printf %a: every bit, so "
+             "traces compare exactly)"},
 };
 
 static const tsr_spu_class print_class = {

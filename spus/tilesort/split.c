@@ -60,7 +60,9 @@
  * cut into pieces of a few vertices were lit slightly differently by Mesa
  * (tilescenes frame 14 with 256-byte batches: 39568 pixels, at most 14 of
  * 255 off; lit triangles, unlit quads and every other case were exact);
- * the cause inside Mesa is not found yet.
+ * probably the cause found for engine (tests/render/quad_diagonal.c:
+ * llvmpipe cuts a quad along 0-2 or 1-3 by what else its draw holds, and
+ * the diagonals light differently), not re-measured on tilescenes.
  *
  * Owns: the scratch tracker, the scan table and unpacker, the small packer
  * and the piece's bytes. No globals. */

@@ -13,6 +13,11 @@
 #           app nodes refused before anything runs
 #   info    --info: frames, buffers, replies, and every command count equal
 #           to a print trace of the same run (print after capture)
+#   hexfloats  the replay traced by print floats=hex: each %a float read
+#           back and written with %g gives the default trace line for line,
+#           every float is written exactly (%a of its value is the token),
+#           and some float of the stream is not what its %g text reads as
+#           (the bits the default trace loses)
 set -euo pipefail
 mode=$1 tessera=$2 spheres=$3 graphs=$4 out=$5
 . "$(dirname "$0")/common.sh"
@@ -80,6 +85,28 @@ info)
   echo "ok: $(wc -l < info-counts.txt) commands counted as the trace has them"
   calls=$(sed -n 's/^calls: //p' info.txt)
   [ "$calls" -eq "$(wc -l < trace.txt)" ] || { echo "FAIL: calls $calls, trace has $(wc -l < trace.txt)"; exit 1; }
+  ;;
+hexfloats)
+  "$tessera" replay sp.tsrcap --chain "print file=g.txt ! render output=g-%04d.png" > /dev/null
+  "$tessera" replay sp.tsrcap --chain "print file=hex.txt floats=hex ! render output=hex-%04d.png" > /dev/null
+  same_frames "$tessera" orig-%04d.png hex-%04d.png 5
+  cmp -s g.txt hex.txt && { echo "FAIL: floats=hex wrote the %g trace"; exit 1; }
+  # shellcheck disable=SC2016
+  perl -MPOSIX=strtod -ne '
+    BEGIN { $floats = $inexact = $bad = 0 }
+    s{(-?0x[0-9a-f]+(?:\.[0-9a-f]*)?p[-+][0-9]+)}{
+      my ($v) = strtod($1); $floats++;
+      $bad++ if sprintf("%a", $v) ne $1;
+      my $g = sprintf("%g", $v); $inexact++ if $g + 0 != $v; $g
+    }ge;
+    print;
+    END { print STDERR "floats=$floats inexact_as_g=$inexact not_exact=$bad\n" }' hex.txt > hex-as-g.txt 2> counts.txt
+  cat counts.txt
+  diff -q g.txt hex-as-g.txt > /dev/null || { echo "FAIL: the hex trace read back with %g differs from the default trace"; diff g.txt hex-as-g.txt | head -5; exit 1; }
+  grep -q ' not_exact=0$' counts.txt || { echo "FAIL: a hex float does not hold its value exactly"; exit 1; }
+  grep -q ' inexact_as_g=0 ' counts.txt && { echo "FAIL: no float of the stream needs more than %g (the test proves nothing)"; exit 1; }
+  grep -q '^floats=0 ' counts.txt && { echo "FAIL: no floats in the trace"; exit 1; }
+  echo "ok: hex trace = the %g trace when read back; $(cat counts.txt)"
   ;;
 *) echo "unknown mode $mode"; exit 2 ;;
 esac

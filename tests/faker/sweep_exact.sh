@@ -30,19 +30,36 @@ rm -rf "$out"; mkdir -p "$out"
 . "$here/xvfb.sh"
 start_xvfb "$out"
 
-# A KNOWN, NOT YET FIXED defect (stop 18's note): a capture of engine
-# replayed through the 2x2 wall can differ from its 1x1 replay in a frame
-# or two by pixels a level or two apart (20 captures on one machine, stop
-# 19: 17 exact; 2 with 1-7 pixels within 1 level; 1 with 764 pixels of
-# frame 8 within 2 levels, all in the top-right server's tile; the same
-# capture is exact through tilesort 1x1, 2x1 and 1x2, and the top-right
-# server's light positions given under their modelview recipes instead of
-# in eye space did not change it). For engine's 1x1-against-2x2
-# comparison only, up to KNOWN_ENGINE_PIXELS pixels (2 % of the 320x240
-# frame) within KNOWN_ENGINE_LEVELS are reported as "known" (counted
-# apart) instead of failing; anything more, any other program, and every
-# live-against-replay comparison stay exact.
-KNOWN_ENGINE_PIXELS=1536 KNOWN_ENGINE_LEVELS=2
+# A KNOWN defect, its cause inside Mesa (llvmpipe), not fixed: a capture of
+# engine replayed through the 2x2 wall can differ from its 1x1 replay in a
+# frame by pixels 1-3 levels apart (stop 19: 3 of 20 captures, up to 764
+# pixels within 2 levels; stop 20: 4 of 60, 8-172 pixels, one with 111
+# pixels within 3 levels; the two looked at in the top-right and the
+# top-left server's tiles). The cause, shown with OSMesa alone
+# (tests/render/quad_diagonal.c, in the suite): llvmpipe cuts a GL_QUADS
+# quad into triangles along its 0-2 diagonal, but along 1-3 when the draw
+# Mesa makes of it holds a vertex that needs clipping, and lit quads have
+# other colours along the other diagonal. Mesa makes one draw of consecutive
+# glBegin/glEnd pairs up to a state change or the end of its immediate-mode
+# buffer; a server gets only the pairs near its tile, with state diffs
+# between them, so its draws are not the whole window's: engine's
+# translucent lit housing is 16 such pairs, three of which cross the
+# window's top edge. Both failing captures kept were exact (0 differing
+# pixels in every tile) with every glBegin/glEnd made its own draw on both
+# sides (the servers' streams recorded with print floats=hex and replayed
+# into OSMesa directly), so the light positions, the matrices and the
+# scissor play no part. Even the 1x1 render depends on it: 16 points added
+# at the end of frame 7 changed 7 pixels of frame 8. Only GL_QUADS does it
+# (the same check with GL_QUAD_STRIP, GL_POLYGON, GL_TRIANGLE_FAN and
+# GL_TRIANGLE_STRIP pairs changed no pixel). Avoiding it needs the render
+# SPU to draw every GL_QUADS quad as two triangles along 0-2 itself
+# (immediate mode, display lists and arrays), which would also part it from
+# a native OSMesa render wherever llvmpipe itself cut along 1-3. For
+# engine's 1x1-against-2x2 comparison only, up to KNOWN_ENGINE_PIXELS pixels
+# (2 % of the 320x240 frame) within KNOWN_ENGINE_LEVELS are reported as
+# "known" (counted apart) instead of failing; anything more, any other
+# program, and every live-against-replay comparison stay exact.
+KNOWN_ENGINE_PIXELS=1536 KNOWN_ENGINE_LEVELS=3
 diff_frames() {  # diff_frames A_PATTERN B_PATTERN [TOLERATE]: "" when all equal, else the first difference
   local i a b r d e known=""
   for ((i = 0; i < frames; i++)); do

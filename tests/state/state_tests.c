@@ -1068,7 +1068,7 @@ static void test_diff_matches_osmesa(void)
         gl_env *b = gl_open();
         if (getenv("STATE_TRACE")) {
             static tsr_dispatch traced;
-            tsr_tracer tr = {stderr, &b->d};
+            tsr_tracer tr = {.out = stderr, .child = &b->d};
             tsr_trace_fill(&traced, &tr);
             run_sequence((uint64_t)seed, &traced, calls);
         } else {
@@ -1087,7 +1087,7 @@ static void test_diff_matches_osmesa(void)
             wire_close(w);
         } else if (getenv("STATE_TRACE")) { /* print what the diff sends */
             static tsr_dispatch traced;
-            tsr_tracer tr = {stderr, &a->d};
+            tsr_tracer tr = {.out = stderr, .child = &a->d};
             tsr_trace_fill(&traced, &tr);
             n = tsr_state_diff(c, s, &traced, &st);
         } else {
@@ -2232,7 +2232,7 @@ static void test_glsl_diff_matches_osmesa(void)
         CHECK(again == 0, "seed %d: sending unchanged objects again emitted %u calls", seed, again);
         if (again && getenv("STATE_TRACE")) {
             static tsr_dispatch traced;
-            tsr_tracer tr = {stderr, &a->d};
+            tsr_tracer tr = {.out = stderr, .child = &a->d};
             tsr_trace_fill(&traced, &tr);
             fprintf(stderr, "--- a third send:\n");
             tsr_state_diff(c, s, &traced, NULL);
