@@ -290,7 +290,9 @@ static void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei
  * display's pieces (when the display composites, they travel to rank 0)
  * on top (tsr_cs_schedule_link_bytes). BSWAP_RING_SPARE is room for the
  * small messages beside the images (the mesh's hello, alpha mode's box
- * distances). The rings are made at the first frame; after the window
+ * distances) and for netlib rounding each ring message up to 64 bytes (a
+ * link carries a few messages a frame: at most one per round and the
+ * final piece). The rings are made at the first frame; after the window
  * grows, a message larger than its ring goes through the socket. */
 #define BSWAP_RING_SPARE ((uint64_t)64 << 10)
 

@@ -794,7 +794,7 @@ static int test_schedules_hold_invariants(void)
 /* A message's ring slot: its largest encoding rounded to 64 bytes. */
 static uint64_t slot_of(uint32_t count, tsr_image_codec c)
 {
-    return (tsr_image_message_max_size(count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c) + 63) / 64 * 64;
+    return tsr_image_message_max_size(count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c);
 }
 
 /* tsr_cs_schedule_link_bytes, which sizes binaryswap's shared-memory

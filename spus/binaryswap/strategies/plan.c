@@ -349,14 +349,6 @@ int tsr_cs_schedule_display_composites(const tsr_cs_schedule *s)
     return 0;
 }
 
-/* A message's bytes at its largest, as a ring slot takes them (netlib
- * rounds each shared-memory message up to 64 bytes). */
-static uint64_t message_slot(uint32_t pixels, int color_format, int depth_format, tsr_image_codec c)
-{
-    uint64_t m = tsr_image_message_max_size(pixels, color_format, depth_format, c);
-    return (m + 63) / 64 * 64;
-}
-
 uint64_t tsr_cs_schedule_link_bytes(const tsr_cs_schedule *s, int color_format, int depth_format, tsr_image_codec c)
 {
     uint64_t busiest = 0;
@@ -368,10 +360,10 @@ uint64_t tsr_cs_schedule_link_bytes(const tsr_cs_schedule *s, int color_format, 
             for (int j = 0; j < R->rounds[i].nsend; j++) {
                 const tsr_cs_xfer *x = &R->rounds[i].send[j];
                 if (x->peer >= 0 && x->peer < s->nranks)
-                    to[x->peer] += message_slot(x->region.count, color_format, depth_format, c);
+                    to[x->peer] += tsr_image_message_max_size(x->region.count, color_format, depth_format, c);
             }
         if (display && R->final.count)
-            to_display = message_slot(R->final.count, color_format, depth_format, c);
+            to_display = tsr_image_message_max_size(R->final.count, color_format, depth_format, c);
         for (int q = 0; q < s->nranks; q++)
             if (q != p && to[q] + to_display > busiest)
                 busiest = to[q] + to_display;

@@ -178,11 +178,12 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
 int tsr_cs_schedule_display_composites(const tsr_cs_schedule *s);
 /* The most bytes one participant sends another in one frame of this
  * schedule, every message at its largest (tsr_image_message_max_size of
- * its region, rounded to netlib's 64-byte ring slot), over every ordered
+ * its region), over every ordered
  * pair of peers (participants are positions: the caller may map them to
  * any ranks); when the display composites, a peer's final piece on top
  * (it travels to rank 0, which may be any position). A shared-memory
- * ring of this size (plus room for small messages) holds a frame's
+ * ring of this size (plus room for small messages and the transport's
+ * per-message rounding) holds a frame's
  * messages on its connection, and no second frame behind them. */
 uint64_t tsr_cs_schedule_link_bytes(const tsr_cs_schedule *s, int color_format, int depth_format, tsr_image_codec c);
 /* The display's part: receives the final pieces of frame `frame` and writes
