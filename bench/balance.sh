@@ -82,6 +82,11 @@ TESSERA=$bin/tessera
 
 . "$(dirname "$0")/walls.sh"
 
+# awk: med(a, n), the median of a[1..n] (sorts a in place)
+awk_median='function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
+    return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
+'
+
 # run SIZE FRAMES CONFIG BUCKET STATS [SCENE [OPTIONS]]: servers for CONFIG,
 # the isosurface (SCENE: its motion options, default --static) through
 # tilesort with OPTIONS, statistics into STATS.
@@ -174,13 +179,11 @@ for method in union kd; do
             printf "%s,%d,%d,%s,%d\n", m, r, NR, $1, moved }' >>"$rcsv"
     done
     for f in 3 10; do
-        awk -F, -v m="$method" -v f="$f" -v t="$wall" 'function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
-                return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
+        awk -F, -v m="$method" -v f="$f" -v t="$wall" "$awk_median"'
             $1 == m && $3 == f { v[++n] = $4; runs = runs (runs == "" ? "" : " ") $4 }
             END { printf "balance_%s_imbalance_%s_f%d_median: %.4f (%d runs: %s)\n", m, t, f, med(v, n), n, runs }' "$rcsv"
     done
-    awk -F, -v m="$method" -v t="$wall" 'function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
-            return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
+    awk -F, -v m="$method" -v t="$wall" "$awk_median"'
         $1 == m && $3 > 3 { k = $2; n[k]++; v[k, n[k]] = $4; over[k] += $4 + 0 > 1.2 || $4 == "nan"; moves[k] += $5; if (k > runs) runs = k }
         END { for (k = 1; k <= runs; k++) { for (i = 1; i <= n[k]; i++) w[i] = v[k, i]
                 printf "balance_%s_after_f3_%s_run%d: median %.4f, %d of %d frames above 1.2, the split moved %d times\n", m, t, k, med(w, n[k]), over[k], n[k], moves[k] } }' "$rcsv"
@@ -237,15 +240,14 @@ if [[ " $parts " == *" 3 "* ]]; then
             printf "%s,%d,%s,%d\n", v, NR, $1, moved }' >>"$jcsv"
     done
     # frames from the jump (frame jump+1 counted from 1) until <= 1.2 for good
-    awk -F, -v j="$jump" -v t="$wall" 'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; mv[$1, $2] = $4; if ($2 + 0 > last) last = $2 + 0 }
+    awk -F, -v j="$jump" -v t="$wall" "$awk_median"'NR > 1 { v[$1] = 1; imb[$1, $2] = $3; mv[$1, $2] = $4; if ($2 + 0 > last) last = $2 + 0 }
         END { for (k in v) { conv = "never"
                 for (f = last; f > j; f--) { if (imb[k, f] == "nan" || imb[k, f] + 0 > 1.2) break; conv = f - j }
                 first = "never"
                 for (f = j + 1; f <= last; f++) if (imb[k, f] != "nan" && imb[k, f] + 0 <= 1.2) { first = f - j; break }
                 settled = 0; for (f = j + 1; f <= last; f++) if (mv[k, f]) settled = f - j
                 cnt = 0; for (f = j + settled + 1; f <= last; f++) if (imb[k, f] != "nan") w[++cnt] = imb[k, f] + 0
-                for (a = 2; a <= cnt; a++) { x = w[a]; for (b = a - 1; b >= 1 && w[b] > x; b--) w[b + 1] = w[b]; w[b + 1] = x }
-                after = cnt ? sprintf("%.4f", cnt % 2 ? w[(cnt + 1) / 2] : (w[cnt / 2] + w[cnt / 2 + 1]) / 2) : "none"
+                after = cnt ? sprintf("%.4f", med(w, cnt)) : "none"
                 n = k; gsub(/[:=]/, "_", n); printf "balance_%s_jump_frames_%s: %s\n", n, t, conv
                 printf "balance_%s_jump_settled_%s: %d (the split last moved that many frames after the jump; median imbalance after: %s)\n", n, t, settled, after
                 printf "balance_%s_jump_first_%s: %s\n", n, t, first } }' "$jcsv" | sort
