@@ -1124,6 +1124,24 @@ static void tiled_write_frame(render_spu *r, int frame)
         r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
 }
 
+static void read_default_state(render_spu *r, int x, int y, int w, int h, GLenum format, GLenum type, void *pixels);
+
+/* The frame's drawing done before it is read or shown. glFinish would do,
+ * but in solo mode OSMesa then copies the whole window into the user
+ * buffer (docs/render.md), which only a PNG and the image hook read; a
+ * `frame` hook reads with render_spu_read. Without those readers a
+ * one-pixel read waits for the rasteriser as glFinish does and copies 4
+ * bytes: a 1920x1080 frame skips an 8 MB copy. */
+static void finish_frame(render_spu *r)
+{
+    if (r->shared || r->output[0] || r->hooks.image || r->width < 1 || r->height < 1) {
+        r->gl.Finish();
+        return;
+    }
+    unsigned char pixel[4];
+    read_default_state(r, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+}
+
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     render_spu *r = self;
@@ -1132,7 +1150,7 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
         tiled_write_frame(r, r->frame++);
     } else if (window == r->window) {
         ensure_current(r);
-        r->gl.Finish();
+        finish_frame(r);
         /* Only a PNG or the image hook reads the copy; without them the
          * frame stays in the shared renderbuffers (a `frame` hook reads
          * from there with render_spu_read). */
