@@ -1323,12 +1323,13 @@ static const tsr_option_spec bswap_options[] = {
              "peers always use TCP. Each peer logs the transport of every pair at info level"},
     {.name = "shm_drop",
      .type = TSR_OPT_BOOL,
-     .default_value = "1",
+     .default_value = "0",
      .min = 0,
      .max = 0,
      .help = "with shm: a peer drops its mapping of each received image once composited (the sender's "
              "pages stay), so a ring page is resident in one process, not in both (8 peers at 1920x1080: "
-             "about 12 MiB less per peer, for some 0.1 ms of CPU per received piece to map it again)"},
+             "about 12 MiB less per peer, for re-faulting those pages every frame: about 1 ms of CPU per "
+             "peer and frame there); off by default"},
     {.name = "mode",
      .type = TSR_OPT_STRING,
      .default_value = "depth",
