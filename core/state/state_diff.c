@@ -1171,20 +1171,20 @@ static void sync_stack(dctx *x, GLenum mode, GLuint unit, const GLfloat (*cm)[16
     if (k == 0) {
         replay_recipe(x, &cr[0], &sr[0], recipe_from(&cr[0], &sr[0]));
         memcpy(sm[0], cm[0], sizeof sm[0]);
-        sr[0] = cr[0];
+        st_recipe_copy(&sr[0], &cr[0]);
         emitted(x);
     }
     while (*sd < cd) {
         uint32_t i = *sd;
         tsr_call_PushMatrix(x->d);
         memcpy(sm[i], sm[i - 1], sizeof sm[i]);
-        sr[i] = sr[i - 1];
+        st_recipe_copy(&sr[i], &sr[i - 1]);
         (*sd)++;
         emitted(x);
         if (memcmp(cm[i], sm[i], sizeof cm[i]) != 0 || !recipe_equal(&cr[i], &sr[i])) {
             replay_recipe(x, &cr[i], &sr[i], recipe_from(&cr[i], &sr[i]));
             memcpy(sm[i], cm[i], sizeof sm[i]);
-            sr[i] = cr[i];
+            st_recipe_copy(&sr[i], &cr[i]);
             emitted(x);
         }
     }

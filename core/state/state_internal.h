@@ -231,6 +231,9 @@ void st_stacks_init(tsr_state_stacks *s);
 /* Classification bits (tsr_state_recipe.sticky's kind) recipe r leaves on
  * a Mesa matrix: its sticky bits, its base, its operations. */
 unsigned st_recipe_bits(const tsr_state_recipe *r);
+/* dst = src, copying only the operations src holds (a recipe is some
+ * 6 KB at its longest; a push copies one). */
+void st_recipe_copy(tsr_state_recipe *dst, const tsr_state_recipe *src);
 void st_texparams_init(st_texparams *p, int target);
 /* Enable index of cap for the active unit (-1: not a tracked cap). */
 int st_enable_index(GLenum cap, GLuint unit);

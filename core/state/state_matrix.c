@@ -43,6 +43,18 @@ unsigned st_recipe_bits(const tsr_state_recipe *r)
     return k;
 }
 
+void st_recipe_copy(tsr_state_recipe *dst, const tsr_state_recipe *src)
+{
+    if (dst == src)
+        return;
+    memcpy(dst->base, src->base, sizeof dst->base);
+    dst->base_is_identity = src->base_is_identity;
+    dst->sticky = src->sticky;
+    dst->count = src->count;
+    memcpy(dst->kind, src->kind, src->count * sizeof dst->kind[0]);
+    memcpy(dst->arg, src->arg, src->count * sizeof dst->arg[0]);
+}
+
 /* A fresh matrix level: identity, no history. */
 static void recipe_init(tsr_state_recipe *r)
 {
@@ -511,7 +523,7 @@ static void st_PushMatrix(void *self)
     if (d >= k.max)
         return;
     memcpy(k.m[d], k.m[d - 1], sizeof k.m[0]);
-    k.r[d] = k.r[d - 1];
+    st_recipe_copy(&k.r[d], &k.r[d - 1]);
     *k.depth = d + 1;
     st_mark(c, k.member);
 }

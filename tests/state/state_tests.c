@@ -1726,7 +1726,8 @@ static void test_multmatrix_of_the_identity_keeps_the_matrix_class(void)
  * (The recipe held 16 operations and sent the 17th product loaded: 1 pixel
  * of antinspect's frames 4 and 9 differed on a wall.) glClipPlane shows the
  * inverse modelview's bits; the lit sphere, the pixels. Checked for
- * antinspect's length and for the longest history a recipe keeps. */
+ * antinspect's length, glsnake's (124) and for the longest history a
+ * recipe keeps. */
 static void long_history(int n)
 {
     static const GLfloat ops[][5] = {
@@ -1791,9 +1792,10 @@ static void long_history(int n)
 static void test_long_matrix_history_keeps_the_matrix_class(void)
 {
     long_history(22);
+    long_history(124); /* glsnake's longest (64 operations sent it loaded: 1 pixel of a wall differed) */
     long_history(TSR_STATE_RECIPE_OPS);
     if (!harness_failures)
-        printf("histories of 22 and %d operations: inverse modelview bits and lit pixels equal\n",
+        printf("histories of 22, 124 and %d operations: inverse modelview bits and lit pixels equal\n",
                TSR_STATE_RECIPE_OPS);
 }
 

@@ -346,9 +346,12 @@ typedef struct tsr_state_values {
  * operations the renderer lacks; after more than TSR_STATE_RECIPE_OPS
  * operations the matrix counts as loaded (`base` = the product), which
  * Mesa may classify otherwise (no operation gives a loaded matrix a
- * general class back): 64 keeps every history of the 26 programs of the
- * exactness sweep (antinspect's ant needs about 22; with 16 it differed). */
-#define TSR_STATE_RECIPE_OPS 64
+ * general class back). The longest histories of the 26 programs of the
+ * exactness sweep: glsnake 124, blinkbox 105, queens 79, antinspect 31
+ * (with 16 antinspect differed on a wall, with 64 glsnake did); 255 is
+ * what `count` holds. A recipe is about 6 KB at its longest, copied only
+ * as far as it is used (st_recipe_copy). */
+#define TSR_STATE_RECIPE_OPS 255
 enum { TSR_RECIPE_TRANSLATE, TSR_RECIPE_SCALE, TSR_RECIPE_ROTATE, TSR_RECIPE_FRUSTUM, TSR_RECIPE_ORTHO };
 /* Mesa also keeps a matrix's classification across glLoadIdentity: the
  * kinds of operation applied since the last glLoadMatrix stick to it.
