@@ -1124,8 +1124,6 @@ static void tiled_write_frame(render_spu *r, int frame)
         r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
 }
 
-static void read_default_state(render_spu *r, int x, int y, int w, int h, GLenum format, GLenum type, void *pixels);
-
 /* The frame's drawing done before it is read or shown. glFinish would do,
  * but in solo mode OSMesa then copies the whole window into the user
  * buffer (docs/render.md), which only a PNG and the image hook read; a
@@ -1139,7 +1137,9 @@ static void finish_frame(render_spu *r)
         return;
     }
     unsigned char pixel[4];
-    read_default_state(r, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+    tsr_error err = {0};
+    if (render_spu_read(r, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel, &err) != TSR_OK)
+        r->gl.Finish();
 }
 
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
