@@ -5,8 +5,8 @@
 # and depth renderbuffers outside the tile are 15/16 of 96 MiB = 90 MiB;
 # neither instance writes PNGs, so OSMesa's 48 MiB window buffer stays
 # untouched in both: render finishes such frames without its copy;
-# measured: 74-80 MiB below; about 0 if the zero pages llvmpipe writes
-# were kept). Resident memory
+# measured: 74-80 MiB below; with the zero pages llvmpipe writes kept,
+# the tile instance would hold most of those 90 MiB). Resident memory
 # after the last frame (VmRSS, tiles_driver rss); the figures go to bench/
 # (bench/run tiles).
 # usage: tile_memory.sh TILES_DRIVER
