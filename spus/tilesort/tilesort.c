@@ -763,7 +763,8 @@ static const tsr_option_spec tilesort_options[] = {
      .min = 0.0,
      .max = 10.0,
      .help = "bucket=kd/union: the split is kept while its predicted imbalance (max / mean cost of the "
-             "servers) is at most 1 + this, so a static scene settles"},
+             "servers) is at most 1 + this, so a static scene settles, and while the servers' measured times "
+             "on it are within 1 + 2 x this unless the prediction is above 1 + 3 x this"},
     {.name = "smoothing",
      .type = TSR_OPT_FLOAT,
      .default_value = "0.5",

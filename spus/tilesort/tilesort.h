@@ -83,7 +83,9 @@ typedef struct ts_cost {
     double *measured;      /* TS_COST_HISTORY rows of servers: the seconds reported for that frame; < 0: none */
     uint8_t *learned;      /* TS_COST_HISTORY rows of servers: that report was learnt from (speeds) */
     uint8_t *first_draw;   /* TS_COST_HISTORY rows of servers: its first frame with geometry (not learnt from) */
+    uint8_t *moved;        /* TS_COST_HISTORY rows of servers: its region differed from the frame before (cost.c) */
     uint8_t *drew;         /* per server: it has been sent geometry in a closed frame */
+    uint64_t *region_sig;  /* per server: a hash of its tiles in the last closed frame */
     double coef[TS_TERMS]; /* the model's coefficients (seconds per unit) */
     uint64_t frame;        /* frames closed */
     uint64_t reports;      /* reports taken */
@@ -108,10 +110,11 @@ typedef struct ts_tiling {
     double hysteresis; /* the split is kept while its predicted imbalance is within 1 + this */
     double smoothing;  /* weight of a new measurement in a server's ratio */
     int split_ready;
-    struct ts_kd *kd; /* kd: the tree's split positions */
-    int *ucuts;       /* union: strip boundaries (cells), then each server's row boundaries */
-    int ustrips;      /* union: strips */
-    double predicted; /* imbalance the last rebalance predicted for the split it kept or made */
+    struct ts_kd *kd;     /* kd: the tree's split positions */
+    int *ucuts;           /* union: strip boundaries (cells), then each server's row boundaries */
+    int ustrips;          /* union: strips */
+    double predicted;     /* imbalance the last rebalance predicted for the split it kept or made */
+    uint64_t split_frame; /* the first frame sent with the current split */
 } ts_tiling;
 
 /* Parses "S:X:Y:W:H,..." entries (already split by the options layer). */
@@ -153,6 +156,11 @@ double ts_cost_region(const ts_cost *c, const double *cells, int w, int h, doubl
 void ts_cost_close_frame(ts_tiling *t, const uint64_t *geometry);
 /* max / mean of the servers' costs on the map under the current tiles. */
 double ts_cost_imbalance(const ts_tiling *t);
+/* max / mean over the servers of the median time each reported for the
+ * frames since `since` still in the history, leaving out a server's
+ * first frame on a moved region; < 0 while some server has no such
+ * report. */
+double ts_cost_measured_imbalance(const ts_tiling *t, uint64_t since);
 
 /* --- balance_kd.c, balance_union.c: the splits ----------------------------- */
 /* (Re)builds the servers' tiles from ts_cost.map; shape: the first split
