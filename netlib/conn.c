@@ -1015,6 +1015,16 @@ int tsr_net_conn_vanished(tsr_net_conn *c)
     return vanished;
 }
 
+int tsr_net_conn_failure(tsr_net_conn *c, tsr_error *why)
+{
+    pthread_mutex_lock(&c->net->lock);
+    int failed = c->state == NET_FAILED;
+    if (failed)
+        tsr_error_set(why, c->error.code, "%s", c->error.message);
+    pthread_mutex_unlock(&c->net->lock);
+    return failed;
+}
+
 void tsr_net_conn_stats(tsr_net_conn *c, tsr_net_stats *stats)
 {
     pthread_mutex_lock(&c->net->lock);

@@ -334,6 +334,12 @@ TSR_API int tsr_net_conn_went_silent(tsr_net_conn *conn);
  * closing it (its process ended, was killed, or the connection was cut):
  * what the peer's own end reports is the cause, this is its echo. */
 TSR_API int tsr_net_conn_vanished(tsr_net_conn *conn);
+/* 1 with *why set when the connection has failed (the peer went away, was
+ * cut or fell silent), even while messages it sent before are still
+ * unread: a caller about to give up on a peer it is not reading (one
+ * waiting at a barrier) names every end that is already gone. 0 while it
+ * is open or ended cleanly. */
+TSR_API int tsr_net_conn_failure(tsr_net_conn *conn, tsr_error *why);
 /* Waits at most timeout_ms until everything tsr_net_send accepted on
  * `conn` has been handed to the kernel (a process about to _exit after a
  * fatal error flushes so its peers still read what it sent before). 0 when

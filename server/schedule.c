@@ -584,6 +584,17 @@ static int check_unreachable(sched *s, unsigned live, tsr_error *err)
         const sync_object *o = &s->syncs[i];
         if (o->kind != SYNC_BARRIER || !o->arrived || o->count <= left)
             continue;
+        /* A waiter's stream is not read, so its end may be gone unnoticed:
+         * a cut that ended others (peers of one compositing group) often
+         * reaches this node through them first. Each gone end gets its
+         * own line, naming the cause, before the node gives up. */
+        for (unsigned k = 0; k < s->accepted; k++) {
+            sched_client *c = &s->clients[k];
+            if (c->state == CLIENT_BLOCKED && tsr_net_conn_failure(c->conn, &c->error)) {
+                drop(s, c);
+                left--;
+            }
+        }
         char text[sizeof err->message];
         size_t len = 0;
         /* A client dropped for silence (a stopped process) is the cause:
@@ -593,9 +604,9 @@ static int check_unreachable(sched *s, unsigned live, tsr_error *err)
             append(text, sizeof text, &len, "%s; so ", silent);
         else
             append(text, sizeof text, &len, "node: ");
-        append(text, sizeof text, &len, "barrier %u can never be reached: it counts %u clients, %u left;", o->name,
+        append(text, sizeof text, &len, "barrier %u can never be reached: it counts %u clients, %u left", o->name,
                o->count, left);
-        const char *sep = " waiting:";
+        const char *sep = "; waiting:";
         for (unsigned k = 0; k < s->accepted; k++) {
             const sched_client *c = &s->clients[k];
             if (c->state == CLIENT_BLOCKED && c->wait_kind == SYNC_BARRIER && c->wait_name == o->name) {

@@ -28,6 +28,9 @@ add_test(NAME psubmit_deadlock_names_barrier_and_semaphore
 add_test(NAME psubmit_barrier_client_disconnects_clear_error
   COMMAND ${PSUBMIT_DIR}/psubmit.sh barrier-left ${PSUBMIT_BIN} ${PSUBMIT_OUT}/barrier-left
           $<TARGET_FILE:psubmit_driver>)
+add_test(NAME psubmit_barrier_waiter_cut_named_when_another_drops
+  COMMAND ${PSUBMIT_DIR}/psubmit.sh barrier-cut ${PSUBMIT_BIN} ${PSUBMIT_OUT}/barrier-cut
+          $<TARGET_FILE:psubmit_driver>)
 add_test(NAME psubmit_only_first_swapping_client_ends_frames
   COMMAND ${PSUBMIT_DIR}/psubmit.sh one-swapper ${PSUBMIT_BIN} ${PSUBMIT_OUT}/one-swapper
           $<TARGET_FILE:psubmit_driver>)

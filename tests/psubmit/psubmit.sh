@@ -11,6 +11,10 @@
 #                               node fails within the bound, naming both
 #   barrier-left BIN OUT DRIVER one client waits at a barrier for two, the
 #                               other ends without reaching it: clear error
+#   barrier-cut BIN OUT DRIVER  one client waits at a barrier for two and
+#                               is killed there (the node does not read a
+#                               waiter's stream), then the other is killed:
+#                               both get a line saying they went away
 #   one-swapper BIN OUT DRIVER  two clients swap; only the first to swap
 #                               ends frames, the other's swap is ignored
 #   graph BIN OUT GRAPH         `tessera run GRAPH` (examples/graphs/
@@ -87,6 +91,35 @@ graph)
     f=$((f + 1))
   done
   compare_frames "$bin" "$out/native" "$out/chain" 10 "psubmit graph" || status=1
+  ;;
+barrier-cut)
+  driver=$4
+  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
+    --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  "$driver" barrier-wait "pack server=$NODE_ADDR" 2>"$out/wait.err" &
+  waiter=$!
+  i=0
+  while ! grep -q "client 0 .* connected" "$out/node.err" && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
+  "$driver" barrier-hold "pack server=$NODE_ADDR" 2>"$out/hold.err" &
+  holder=$!
+  while ! grep -q "client 1 .* connected" "$out/node.err" && [ $i -lt 400 ]; do sleep 0.05; i=$((i + 1)); done
+  sleep 0.5 # the waiter is at the barrier, the holder has finished
+  kill -9 $waiter
+  wait $waiter 2>/dev/null
+  sleep 0.5 # the waiter's end is gone, unread
+  alive "$NODE_PID" || fail "the node ended before the second client went away"
+  kill -9 $holder
+  wait $holder 2>/dev/null
+  wait_exit "$NODE_PID" 20
+  node_rc=$EXIT_RC
+  show "$out/node.err"
+  [ "$node_rc" = 1 ] || fail "node exited $node_rc; expected 1"
+  for k in 0 1; do
+    grep -q "node: client $k 'pack[^']*' at [^ ]* dropped: .*went away without closing" "$out/node.err" \
+      || fail "no line says client $k went away"
+  done
+  grep -q "barrier 3 can never be reached: it counts 2 clients, 0 left; gone: client 0 .*(dropped), client 1 .*(dropped)" \
+    "$out/node.err" || fail "the verdict does not name both clients as gone"
   ;;
 one-swapper)
   driver=$4

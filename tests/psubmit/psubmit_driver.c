@@ -13,6 +13,8 @@
  *   barrier-wait CHAIN creates barrier 3 for 2 clients and waits at it
  *   barrier-leave CHAIN  creates barrier 3 for 2 clients and ends without
  *                      reaching it
+ *   barrier-hold CHAIN creates barrier 3 for 2 clients, finishes (the node
+ *                      has run it) and sleeps 30 s without reaching it
  *   swap-owner CHAIN   swaps, waits at barrier 4 (2 clients), swaps again
  *   swap-other CHAIN   waits at barrier 4, then swaps: the server must
  *                      ignore it (swap-owner swapped first)
@@ -107,6 +109,10 @@ int main(int argc, char **argv)
         glBarrierExecTSR(BARRIER_PAIR);
     } else if (!strcmp(role, "barrier-leave")) {
         glBarrierCreateTSR(BARRIER_PAIR, 2);
+    } else if (!strcmp(role, "barrier-hold")) {
+        glBarrierCreateTSR(BARRIER_PAIR, 2);
+        glFinish();
+        sleep(30);
     } else if (!strcmp(role, "swap-owner")) {
         glBarrierCreateTSR(BARRIER_SWAP, 2);
         first_part();
