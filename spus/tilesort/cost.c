@@ -273,11 +273,14 @@ static int fit(ts_tiling *t)
             rows++;
         }
     }
-    /* a fit on a few reports swings wide (measured on the 8x4
-     * isosurface: on 3 reports the area coefficient came out 3 times what
-     * 200 gave, and the split it made was the run's worst): the priors
-     * stay until a frame's worth of servers, or TS_COST_MIN_FIT, are in */
-    if (!rows || rows < (n < TS_COST_MIN_FIT ? n : TS_COST_MIN_FIT))
+    /* a fit on a few reports swings wide: the first reports to come in
+     * are of the servers with the least to draw, all alike, and say
+     * little about the terms (on the 8x4 isosurface, fitted on 9 to 19
+     * of them, the region pixel's coefficient came out 0.3 to 18 times
+     * what 200 gave, and the split made from it was the run's worst;
+     * bench/README.md): the priors stay until a frame's worth of reports
+     * (as many as there are servers) is in */
+    if (!rows || rows < n)
         return 0;
     double scale = 0;
     for (int j = 0; j < TS_TERMS; j++)

@@ -43,9 +43,6 @@ typedef enum ts_bucket_mode { TS_BROADCAST, TS_TILES, TS_GRID, TS_KD, TS_UNION }
 #define TS_COST_HISTORY 16
 /* Frames never learnt from: the even split (cost.c) */
 #define TS_COST_WARMUP 1
-/* Reports needed before the first fit of the coefficients (fewer when
- * there are fewer servers: cost.c) */
-#define TS_COST_MIN_FIT 8
 /* The noise of a report's log speed before any is measured: 0.1^2, a
  * server's time varied about 10 % from frame to frame on a fixed region
  * of the 8x4 isosurface (cost.c) */

@@ -17,8 +17,10 @@
  *   spikes:    from frame 3 on, one server a frame (a different one each
  *              time) takes twice its time, as servers on this machine do.
  * The announced run must split every frame as the clean one does (each
- * region within a pixel of it each way), and the hidden run must not (it
- * shows the test would catch the faults being learnt as a region's cost),
+ * region within a pixel of it each way) and fit the same coefficients,
+ * and the hidden run must not (it shows the test would catch the faults
+ * being learnt as a region's cost: a split that moves, or, since a moved
+ * region's report counts a tenth in the fit, coefficients that differ),
  * and the spiky run may move its split once at most once the spikes begin,
  * staying within 0.05 of the clean run's true imbalance (a lone slow frame
  * is not a slow server; taken as a speed, each moved the split).
@@ -38,6 +40,7 @@ typedef struct split_log {
     int late_first_draws;           /* servers whose first frame with geometry came after frame 0 */
     ts_rect tiles[FRAMES][SERVERS]; /* each server's first region per frame */
     double imbalance[FRAMES];       /* max / mean of the true times */
+    double coef[FRAMES][TS_TERMS];  /* the fitted coefficients after each frame's reports */
 } split_log;
 
 static const double truth[TS_TERMS] = {TS_PRIOR_FIXED, TS_PRIOR_BYTES, TS_PRIOR_FILL, TS_PRIOR_AREA};
@@ -135,6 +138,7 @@ static int run(ts_bucket_mode mode, run_kind kind, split_log *log)
         }
         have_pending = 1;
         log->imbalance[f] = max * SERVERS / sum;
+        memcpy(log->coef[f], t.cost.coef, sizeof log->coef[f]);
     }
     ts_tiling_free(&t);
     return 0;
@@ -153,6 +157,17 @@ static int first_difference(const split_log *a, const split_log *b)
     for (int f = 0; f < FRAMES; f++)
         for (int s = 0; s < SERVERS; s++)
             if (!near_rect(&a->tiles[f][s], &b->tiles[f][s]))
+                return f;
+    return FRAMES;
+}
+
+/* First frame after which a fitted coefficient differs from the clean
+ * run's by more than 0.1 %; FRAMES when none does. */
+static int first_coef_difference(const split_log *a, const split_log *b)
+{
+    for (int f = 0; f < FRAMES; f++)
+        for (int j = 0; j < TS_TERMS; j++)
+            if (fabs(a->coef[f][j] - b->coef[f][j]) > 1e-3 * fmax(fabs(a->coef[f][j]), fabs(b->coef[f][j])))
                 return f;
     return FRAMES;
 }
@@ -205,19 +220,30 @@ int main(void)
             printf("FAIL: %s: no server drew first after frame 0: the first-draw case is not tested\n", modes[m].name);
             failed = 1;
         }
-        int d = first_difference(&clean, &announced);
+        int d = first_difference(&clean, &announced), dc = first_coef_difference(&clean, &announced);
         if (d < FRAMES) {
             printf("FAIL: %s: with first-draw and fault costs announced, frame %d is split otherwise than with none\n",
                    modes[m].name, d);
             failed = 1;
         }
-        int h = first_difference(&clean, &hidden);
-        if (h == FRAMES) {
-            printf("FAIL: %s: fault costs not announced as such left every split as it was: the test cannot tell\n",
+        if (dc < FRAMES) {
+            printf("FAIL: %s: with first-draw and fault costs announced, the coefficients fitted after frame %d differ "
+                   "from those with none\n",
+                   modes[m].name, dc);
+            failed = 1;
+        }
+        int h = first_difference(&clean, &hidden), hc = first_coef_difference(&clean, &hidden);
+        if (h == FRAMES && hc == FRAMES) {
+            printf("FAIL: %s: fault costs not announced as such left every split and every coefficient as it was: "
+                   "the test cannot tell\n",
                    modes[m].name);
             failed = 1;
         } else {
-            printf("%s: unannounced fault costs first change the split at frame %d\n", modes[m].name, h);
+            printf("%s: unannounced fault costs first change the split at frame %d, the coefficients after frame %d "
+                   "(%d: never)\n",
+                   modes[m].name, h, hc, FRAMES);
+            printf("%s: region pixel coefficient at the end: clean %.3g, hidden %.3g\n", modes[m].name,
+                   clean.coef[FRAMES - 1][TS_TERM_AREA], hidden.coef[FRAMES - 1][TS_TERM_AREA]);
         }
         if (clean.imbalance[FRAMES - 1] > 1.2) {
             printf("FAIL: %s: the clean run ends at a true imbalance of %.3f (above 1.2)\n", modes[m].name,
