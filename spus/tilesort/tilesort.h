@@ -155,8 +155,8 @@ void ts_cost_close_frame(ts_tiling *t, const uint64_t *geometry);
 double ts_cost_imbalance(const ts_tiling *t);
 /* max / mean over the servers of the median time each reported for the
  * frames since `since` still in the history, leaving out a server's
- * first frame on a moved region; < 0 while some server has no such
- * report. */
+ * first frame on a moved region, over the servers with such a report;
+ * < 0 while fewer than three quarters of them (or than two) have one. */
 double ts_cost_measured_imbalance(const ts_tiling *t, uint64_t since);
 
 /* --- balance_kd.c, balance_union.c: the splits ----------------------------- */
