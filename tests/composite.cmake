@@ -15,6 +15,7 @@ target_link_libraries(composite_tests PRIVATE tessera_composite_strategies tesse
 foreach(t
     composite_depth_kernel_matches_reference
     composite_over_kernel_matches_reference
+    composite_large_messages_any_alignment
     composite_nan_depth_never_wins
     composite_compress_runs_match_pixel_rule
     composite_sparse_merge_equals_dense

@@ -309,6 +309,78 @@ void tsr_composite_over_rgba32f(size_t n, const float *front, const float *back,
     }
 }
 
+/* ---- outgoing message copies -------------------------------------------- */
+
+/* A message is written once here and read by another process (or the
+ * display) later, never by this one: ordinary stores would first read
+ * every destination line into the cache (the read-for-ownership) and then
+ * push this peer's working set (the layer, the pieces it still merges) out
+ * of it. Streaming stores skip both. Below the threshold the fence and the
+ * unaligned edges cost more than they save, and the lines are likely still
+ * cached by the reader when it comes, so memcpy stays. */
+#define CI_STREAM_MIN ((size_t)64 * 1024)
+
+#ifdef TSR_CI_X86
+/* dst is advanced to a 16-byte boundary with memcpy first: the streaming
+ * stores need aligned destinations, the loads take any source. */
+static void copy_stream_sse2(uint8_t *dst, const uint8_t *src, size_t n)
+{
+    size_t head = (16 - ((uintptr_t)dst & 15)) & 15;
+    memcpy(dst, src, head);
+    dst += head, src += head, n -= head;
+    for (; n >= 64; n -= 64, dst += 64, src += 64) {
+        __m128i a = _mm_loadu_si128((const __m128i *)src), b = _mm_loadu_si128((const __m128i *)(src + 16));
+        __m128i c = _mm_loadu_si128((const __m128i *)(src + 32)), d = _mm_loadu_si128((const __m128i *)(src + 48));
+        _mm_stream_si128((__m128i *)dst, a);
+        _mm_stream_si128((__m128i *)(dst + 16), b);
+        _mm_stream_si128((__m128i *)(dst + 32), c);
+        _mm_stream_si128((__m128i *)(dst + 48), d);
+    }
+    /* streamed stores are weakly ordered: the fence makes them visible
+     * before whatever tells the reader the message is complete */
+    _mm_sfence();
+    memcpy(dst, src, n);
+}
+
+__attribute__((target("avx2"))) static void copy_stream_avx2(uint8_t *dst, const uint8_t *src, size_t n)
+{
+    size_t head = (32 - ((uintptr_t)dst & 31)) & 31;
+    memcpy(dst, src, head);
+    dst += head, src += head, n -= head;
+    for (; n >= 128; n -= 128, dst += 128, src += 128) {
+        __m256i a = _mm256_loadu_si256((const __m256i *)src), b = _mm256_loadu_si256((const __m256i *)(src + 32));
+        __m256i c = _mm256_loadu_si256((const __m256i *)(src + 64));
+        __m256i d = _mm256_loadu_si256((const __m256i *)(src + 96));
+        _mm256_stream_si256((__m256i *)dst, a);
+        _mm256_stream_si256((__m256i *)(dst + 32), b);
+        _mm256_stream_si256((__m256i *)(dst + 64), c);
+        _mm256_stream_si256((__m256i *)(dst + 96), d);
+    }
+    _mm_sfence();
+    memcpy(dst, src, n);
+}
+#endif
+
+void tsr_composite_copy_using(const char *kernel, void *dst, const void *src, size_t n)
+{
+    if (n < CI_STREAM_MIN || (kernel && !strcmp(kernel, "c"))) {
+        ci_copy(dst, src, n);
+        return;
+    }
+#ifdef TSR_CI_X86
+    int avx2 = __builtin_cpu_supports("avx2") && (!kernel || !strcmp(kernel, "avx2"));
+    if (avx2)
+        copy_stream_avx2(dst, src, n);
+    else
+        copy_stream_sse2(dst, src, n);
+#else
+    (void)kernel;
+    memcpy(dst, src, n);
+#endif
+}
+
+void tsr_composite_copy(void *dst, const void *src, size_t n) { tsr_composite_copy_using(NULL, dst, src, n); }
+
 const char *tsr_composite_kernel_name(void)
 {
 #ifdef TSR_CI_X86

@@ -380,9 +380,14 @@ static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t c
  * runs->start) out of the dense region `in` into dst_color / dst_depth,
  * one copy per run and row. An active run lies inside the region (outside
  * it every pixel is background); it crosses rows only where the region
- * is as wide as the window, and there the region's rows are contiguous. */
-static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth)
+ * is as wide as the window, and there the region's rows are contiguous.
+ * `out`: the destination is the message itself, which this process does
+ * not read again (tsr_composite_copy); else the planes a codec reads next,
+ * which must stay in the cache. */
+static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth,
+                          int out)
 {
+    void (*copy)(void *, const void *, size_t) = out ? tsr_composite_copy : ci_copy;
     size_t cb = tsr_ci_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
     size_t pos = runs->start;
     int whole_rows = in->x == 0 && in->width == in->window_width;
@@ -393,9 +398,9 @@ static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, ui
             size_t y = pos / W, x = pos % W, len = whole_rows ? n : (W - x < n ? W - x : n);
             size_t src =
                 whole_rows ? pos - (size_t)in->y * W : (y - (size_t)in->y) * (size_t)in->width + (x - (size_t)in->x);
-            memcpy(dst_color + at * cb, in->color + src * cb, len * cb);
+            copy(dst_color + at * cb, in->color + src * cb, len * cb);
             if (dst_depth)
-                memcpy(dst_depth + at * 4, in->depth + src, len * 4);
+                copy(dst_depth + at * 4, in->depth + src, len * 4);
             at += len;
             pos += len;
             n -= len;
@@ -417,7 +422,7 @@ int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs,
          * own planes, then encode those */
         if ((rc = ci_sparse_planes(runs, n, cb, err)))
             return rc;
-        gather_active(in, runs, runs->color, in->depth_format ? (uint8_t *)runs->depth : NULL);
+        gather_active(in, runs, runs->color, in->depth_format ? (uint8_t *)runs->depth : NULL, 0);
         return tsr_image_message_encode(runs, c, out, cap, size, err);
     }
     if ((rc = check_encode(runs, c, cap, err)))
@@ -425,7 +430,7 @@ int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs,
     uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
     uint32_t nr = put_runs(runs, o);
     o += 8 * (size_t)nr;
-    gather_active(in, runs, o, in->depth_format ? o + n * cb : NULL);
+    gather_active(in, runs, o, in->depth_format ? o + n * cb : NULL, 1);
     o += n * (cb + (in->depth_format ? 4 : 0));
     size_t payload = (size_t)(o - out) - TSR_IMAGE_MESSAGE_HEADER_SIZE;
     write_header(out, runs, c, (uint32_t)n, nr, (uint32_t)payload);
@@ -469,7 +474,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
     uint32_t nr = put_runs(img, o);
     o += 8 * (size_t)nr;
     if (c.color == TSR_CODEC_COLOR_RAW) {
-        ci_copy(o, color, n * cb);
+        tsr_composite_copy(o, color, n * cb);
         o += n * cb;
     } else if (c.color == TSR_CODEC_COLOR_ERLE) {
         /* byte planes (swizzled for RGBA8), then each plane RLE-coded */
@@ -536,7 +541,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
     }
     if (img->depth_format) {
         if (c.depth == TSR_CODEC_DEPTH_RAW) {
-            ci_copy(o, depth, n * 4);
+            tsr_composite_copy(o, depth, n * 4);
             o += n * 4;
         } else if (c.depth == TSR_CODEC_DEPTH_ERLE) {
             uint8_t *planes = malloc(n ? 4 * n : 1);

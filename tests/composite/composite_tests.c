@@ -175,6 +175,67 @@ static int test_depth_kernel_matches_reference(void)
     return harness_failures;
 }
 
+/* One copy through `kernel` into dst (cap bytes, all 0xa5 outside what
+ * earlier copies wrote): the bytes equal memcpy's, the 64 before and after
+ * are untouched. */
+static int copy_matches(const char *kernel, uint8_t *dst, size_t cap, const uint8_t *src, size_t dof, size_t n)
+{
+    size_t guard_end = dof + n + 64 < cap ? dof + n + 64 : cap;
+    memset(dst, 0xa5, dof);
+    memset(dst + dof + n, 0xa5, guard_end - dof - n);
+    tsr_composite_copy_using(kernel, dst + dof, src, n);
+    if (n && memcmp(dst + dof, src, n))
+        return 0;
+    for (size_t i = 0; i < dof; i++)
+        if (dst[i] != 0xa5)
+            return 0;
+    for (size_t i = dof + n; i < guard_end; i++)
+        if (dst[i] != 0xa5)
+            return 0;
+    return 1;
+}
+
+/* The message copy's streaming path starts at 64 KiB: every destination
+ * start and end alignment within a cache line (sizes from just below to
+ * just above that), the source's alignment varied with them, then a few
+ * sizes far from it; through each kernel, against memcpy. */
+static int test_large_messages_any_alignment(void)
+{
+    static const char *kernels[] = {"avx2", "sse2", "c", NULL};
+    size_t cap = (1u << 20) + 256;
+    uint8_t *src = malloc(cap), *dst = malloc(cap);
+    REQUIRE(src && dst, "no memory");
+    for (size_t i = 0; i < cap; i++)
+        src[i] = (uint8_t)rnd();
+    for (size_t k = 0; k < sizeof kernels / sizeof *kernels; k++) {
+        const char *name = kernels[k] ? kernels[k] : "auto";
+        for (size_t dof = 0; dof < 64; dof++)
+            for (size_t end = 0; end < 64; end++) {
+                size_t n = 65536 - dof + end, so = (dof * 5 + end * 3 + k) % 64;
+                if (!copy_matches(kernels[k], dst, cap, src + so, dof, n)) {
+                    CHECK(0, "kernel %s: %zu bytes from offset %zu to offset %zu differ from memcpy", name, n, so, dof);
+                    goto out;
+                }
+            }
+        static const size_t sizes[] = {0, 1, 63, 64, 4095, 65535, 65536, 65537, 200003, 1u << 20};
+        static const size_t offs[] = {0, 1, 15, 16, 31, 32, 63};
+        for (size_t z = 0; z < sizeof sizes / sizeof *sizes; z++)
+            for (size_t a = 0; a < sizeof offs / sizeof *offs; a++)
+                for (size_t b = 0; b < sizeof offs / sizeof *offs; b++)
+                    if (!copy_matches(kernels[k], dst, cap, src + offs[a], offs[b], sizes[z])) {
+                        CHECK(0, "kernel %s: %zu bytes from offset %zu to offset %zu differ from memcpy", name,
+                              sizes[z], offs[a], offs[b]);
+                        goto out;
+                    }
+    }
+    tsr_composite_copy(NULL, NULL, 0); /* an empty image has no planes */
+out:
+    free(src);
+    free(dst);
+    printf("kernel: %s\n", tsr_composite_kernel_name());
+    return harness_failures;
+}
+
 static int test_over_kernel_matches_reference(void)
 {
     for (int iter = 0; iter < 400; iter++) {
@@ -1383,6 +1444,7 @@ int main(int argc, char **argv)
     } tests[] = {
         {"depth_kernel_matches_reference", test_depth_kernel_matches_reference},
         {"over_kernel_matches_reference", test_over_kernel_matches_reference},
+        {"large_messages_any_alignment", test_large_messages_any_alignment},
         {"nan_depth_never_wins", test_nan_depth_never_wins},
         {"compress_runs_match_pixel_rule", test_compress_runs_match_pixel_rule},
         {"sparse_merge_equals_dense", test_sparse_merge_equals_dense},

@@ -134,6 +134,14 @@ TSR_API void tsr_composite_over_rgba8(size_t n, const uint8_t *front, const uint
 TSR_API void tsr_composite_over_rgba32f(size_t n, const float *front, const float *back, float *out);
 /* Which implementation the loader picked for this CPU ("avx2", "sse2"...). */
 TSR_API const char *tsr_composite_kernel_name(void);
+/* memcpy for bytes going out in a message (no overlap): large copies use
+ * streaming stores, so the destination is not read into the cache and
+ * does not evict what this process still works on. Any alignment, any n
+ * (0 with NULL pointers too). _using takes the kernel by name ("avx2",
+ * "sse2", "c"; NULL: as the CPU allows; one the CPU lacks falls back) so
+ * the tests reach every path. */
+TSR_API void tsr_composite_copy(void *dst, const void *src, size_t n);
+TSR_API void tsr_composite_copy_using(const char *kernel, void *dst, const void *src, size_t n);
 
 /* ---- sparse images (active-pixel runs) ---------------------------------- */
 
