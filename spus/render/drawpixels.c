@@ -57,6 +57,12 @@
 #define FASTDRAW_MAX_UNITS 32
 #define FILL_ROWS 32 /* rows of a clear's fill texture */
 #define FASTDRAW_MAX_DRAW_BUFFERS 16
+#define FASTDRAW_GEN_TRIES 8 /* names refused for being a list's, at most, before the texture is per call again */
+
+typedef struct render_fastdraw_tex {
+    GLuint name; /* 0: none yet */
+    GLsizei width, height;
+} render_fastdraw_tex;
 
 struct render_fastdraw {
     bool enabled, probed, usable;
@@ -77,6 +83,19 @@ struct render_fastdraw {
     unsigned char *fill; /* fill_pixels pixels of the colour fill_rgba */
     size_t fill_pixels;
     unsigned char fill_rgba[4];
+    /* The textures the rows and the fill are uploaded into, kept from call
+     * to call: llvmpipe zeroes a texture's storage when it is created, a
+     * cost as large as the upload itself for a full window. They grow to
+     * the largest rectangle drawn. The fill texture holds fill_rgba over
+     * fill_w x fill_h once uploaded. */
+    render_fastdraw_tex draw_tex, fill_tex;
+    GLsizei fill_w, fill_h;
+    unsigned char fill_tex_rgba[4];
+    /* Names the client bound while compiling a list: a CallList may bind
+     * them at any time later, so a texture of ours never takes one. */
+    GLuint *list_names;
+    size_t nlist_names, list_names_cap;
+    bool per_call; /* no memory to record them: textures live for one call again */
     uint64_t fast, total, clears_fast, clears;
 };
 
@@ -103,7 +122,93 @@ void render_fastdraw_destroy(render_fastdraw *f, const char *instance_name)
                 instance_name, (unsigned long long)f->clears_fast, (unsigned long long)f->clears);
     free(f->rows);
     free(f->fill);
+    free(f->list_names);
     free(f);
+}
+
+static void forget_tex(render_fastdraw_tex *t) { memset(t, 0, sizeof *t); }
+
+void render_fastdraw_release(render_fastdraw *f, const tsr_gl_procs *gl)
+{
+    if (!f)
+        return;
+    GLuint names[2];
+    GLsizei n = 0;
+    if (f->draw_tex.name)
+        names[n++] = f->draw_tex.name;
+    if (f->fill_tex.name)
+        names[n++] = f->fill_tex.name;
+    if (n)
+        gl->DeleteTextures(n, names);
+    forget_tex(&f->draw_tex);
+    forget_tex(&f->fill_tex);
+    f->fill_w = f->fill_h = 0;
+}
+
+static bool in_list_names(const render_fastdraw *f, GLuint name)
+{
+    for (size_t i = 0; i < f->nlist_names; i++)
+        if (f->list_names[i] == name)
+            return true;
+    return false;
+}
+
+bool render_fastdraw_owns(const render_fastdraw *f, GLuint name)
+{
+    return f && name && (name == f->draw_tex.name || name == f->fill_tex.name);
+}
+
+void render_fastdraw_client_name(render_fastdraw *f, const tsr_gl_procs *gl, GLuint name, bool compiling)
+{
+    if (!f || !name)
+        return;
+    if (compiling && !in_list_names(f, name)) {
+        if (f->nlist_names == f->list_names_cap) {
+            size_t cap = f->list_names_cap ? 2 * f->list_names_cap : 16;
+            GLuint *more = realloc(f->list_names, cap * sizeof *more);
+            if (more) {
+                f->list_names = more;
+                f->list_names_cap = cap;
+            }
+        }
+        if (f->nlist_names < f->list_names_cap)
+            f->list_names[f->nlist_names++] = name;
+        else
+            f->per_call = true; /* a name not recorded could be ours later */
+    }
+    /* The client takes the name (it may bind a name it never generated):
+     * it must find the default object GL would give it, not ours. Ours is
+     * bound nowhere between calls, so deleting it unbinds nothing. */
+    render_fastdraw_tex *t = name == f->draw_tex.name ? &f->draw_tex : name == f->fill_tex.name ? &f->fill_tex : NULL;
+    if (t) {
+        gl->DeleteTextures(1, &t->name);
+        forget_tex(t);
+        if (t == &f->fill_tex)
+            f->fill_w = f->fill_h = 0;
+    }
+}
+
+/* A name for a texture of ours: none a list of the client binds, none the
+ * client holds (GenTextures never returns a name in use). False when no
+ * such name came (the caller uses the names it got for one call). */
+static bool gen_name(render_fastdraw *f, const tsr_gl_procs *gl, GLuint *out)
+{
+    GLuint refused[FASTDRAW_GEN_TRIES];
+    int n = 0;
+    bool ok = false;
+    for (; n < FASTDRAW_GEN_TRIES; n++) {
+        GLuint name = 0;
+        gl->GenTextures(1, &name);
+        if (!f->per_call && !in_list_names(f, name)) {
+            *out = name;
+            ok = true;
+            break;
+        }
+        refused[n] = name;
+    }
+    if (n)
+        gl->DeleteTextures(n, refused);
+    return ok;
 }
 
 void render_fastdraw_counts(const render_fastdraw *f, uint64_t *fast, uint64_t *total)
@@ -294,27 +399,44 @@ static void clip(GLint *x0, GLint *y0, GLint *x1, GLint *y1, GLint bx, GLint by,
  * ch may be less than y1 - y0 when every row is the same (a fill): the
  * ch rows are then blitted again until [y0, y1) is covered.
  * False when the framebuffer is incomplete (nothing drawn). */
-static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, const unsigned char *rows, size_t cw, size_t ch,
-                        GLenum format, GLint x0, GLint y0, GLint x1, GLint y1, const GLint unpack[4], bool scissor)
+/* Uploads cw x ch pixels `rows` (NULL: the texture already holds them)
+ * into the kept texture *t, grown first when smaller, and blits them down
+ * x0..x1, y0..y1. Without a kept texture (no name fit for one) the upload
+ * goes into one made and deleted here. */
+static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, render_fastdraw_tex *t, const unsigned char *rows,
+                        size_t cw, size_t ch, GLenum format, GLint x0, GLint y0, GLint x1, GLint y1,
+                        const GLint unpack[4], bool scissor)
 {
     GLint texture = 0, read_fb = 0;
     gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &texture);
     gl->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb);
-    GLuint tex = 0, fb = 0;
-    gl->GenTextures(1, &tex);
-    gl->BindTexture(GL_TEXTURE_2D, tex);
+    render_fastdraw_tex once = {0, 0, 0};
+    if (!t->name && !gen_name(f, gl, &t->name))
+        t = &once;
+    if (!t->name)
+        gl->GenTextures(1, &t->name);
+    gl->BindTexture(GL_TEXTURE_2D, t->name);
     gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     gl->PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
     gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, (GLsizei)cw, (GLsizei)ch, 0, format, GL_UNSIGNED_BYTE, rows);
+    if ((size_t)t->width < cw || (size_t)t->height < ch) {
+        GLsizei w = (size_t)t->width < cw ? (GLsizei)cw : t->width,
+                h = (size_t)t->height < ch ? (GLsizei)ch : t->height;
+        gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, format, GL_UNSIGNED_BYTE, NULL);
+        t->width = w;
+        t->height = h;
+    }
+    if (rows)
+        gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)cw, (GLsizei)ch, format, GL_UNSIGNED_BYTE, rows);
     gl->PixelStorei(GL_UNPACK_ROW_LENGTH, unpack[0]);
     gl->PixelStorei(GL_UNPACK_SKIP_ROWS, unpack[1]);
     gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, unpack[2]);
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, unpack[3]);
+    GLuint fb = 0;
     f->GenFramebuffers(1, &fb);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, fb);
-    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->name, 0);
     bool complete = f->CheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     if (complete) {
         if (scissor)
@@ -329,7 +451,8 @@ static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, const unsign
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fb);
     f->DeleteFramebuffers(1, &fb);
     gl->BindTexture(GL_TEXTURE_2D, (GLuint)texture);
-    gl->DeleteTextures(1, &tex);
+    if (t == &once)
+        gl->DeleteTextures(1, &once.name);
     return complete;
 }
 
@@ -403,7 +526,7 @@ static bool draw_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_w
     for (size_t j = 0; j < ch; j++)
         memcpy(f->rows + (ch - 1 - j) * cw * 4, src + (sy + j) * stride + sx * 4, cw * 4);
 
-    return upload_blit(f, gl, f->rows, cw, ch, format, x0, y0, x1, y1, unpack, scissor);
+    return upload_blit(f, gl, &f->draw_tex, f->rows, cw, ch, format, x0, y0, x1, y1, unpack, scissor);
 }
 
 /* Clear: the clear colour, when it is a value the 8-bit buffer holds
@@ -473,7 +596,17 @@ static bool clear_fast(render_fastdraw *f, const tsr_gl_procs *gl, GLint window_
     gl->GetIntegerv(GL_UNPACK_SKIP_ROWS, &unpack[1]);
     gl->GetIntegerv(GL_UNPACK_SKIP_PIXELS, &unpack[2]);
     gl->GetIntegerv(GL_UNPACK_ALIGNMENT, &unpack[3]);
-    return upload_blit(f, gl, f->fill, cw, ch, GL_RGBA, x0, y0, x1, y1, unpack, true);
+    /* The fill texture already holds this colour over cw x ch: no upload. */
+    bool held =
+        f->fill_tex.name && !memcmp(rgba, f->fill_tex_rgba, 4) && (size_t)f->fill_w >= cw && (size_t)f->fill_h >= ch;
+    if (!upload_blit(f, gl, &f->fill_tex, held ? NULL : f->fill, cw, ch, GL_RGBA, x0, y0, x1, y1, unpack, true))
+        return false;
+    if (!held && f->fill_tex.name) {
+        memcpy(f->fill_tex_rgba, rgba, 4);
+        f->fill_w = (GLsizei)cw;
+        f->fill_h = (GLsizei)ch;
+    }
+    return true;
 }
 
 bool render_fastdraw_clear(render_fastdraw *f, const tsr_gl_procs *gl, int window_width, int window_height)

@@ -6,13 +6,19 @@
  * 1:1 blit flipped in y is a plain copy into its top-down colour buffer.
  *
  * Owns, per render instance: the resolved framebuffer-object entries, the
- * reversed-rows staging buffer, the clear colour's fill and the counts of
- * calls taken fast / plain.
+ * reversed-rows staging buffer, the clear colour's fill, the two textures
+ * they are uploaded into (kept between calls: a new texture's storage is
+ * zeroed by llvmpipe, as costly as the upload) and the counts of calls
+ * taken fast / plain. The textures' names are in the client's share group
+ * (the instance's contexts share one), which may bind any name without
+ * generating it: render tells this module every name the client binds or
+ * deletes (render_fastdraw_client_name), and a texture of ours whose name
+ * the client takes is deleted first, so the client finds GL's default
+ * object; a name a display list binds is never taken for ours; IsTexture
+ * of ours answers false (render_fastdraw_owns).
  * Never: leaves any GL binding or pixel-store value it touched changed;
- * keeps a GL object beyond one call (texture and FBO names belong to the
- * client's share group, which may bind any name without generating it);
- * queries an enum the context does not know (that would set the client's
- * glGetError). */
+ * keeps a framebuffer object beyond one call; queries an enum the context
+ * does not know (that would set the client's glGetError). */
 #ifndef TSR_SPUS_RENDER_DRAWPIXELS_H
 #define TSR_SPUS_RENDER_DRAWPIXELS_H
 
@@ -27,6 +33,14 @@ typedef struct render_fastdraw render_fastdraw;
  * enabled=false: every call takes the plain path (option fast_drawpixels). */
 render_fastdraw *render_fastdraw_create(tsr_proc (*lookup)(const char *name, void *ctx), void *ctx, bool enabled);
 void render_fastdraw_destroy(render_fastdraw *f, const char *instance_name);
+/* Deletes the kept textures; a context of the instance's share group must
+ * be current. (Destroying the group's last context frees them too.) */
+void render_fastdraw_release(render_fastdraw *f, const tsr_gl_procs *gl);
+/* The client binds or deletes texture `name` (compiling: into a display
+ * list); called before the command reaches GL, in a context of the group. */
+void render_fastdraw_client_name(render_fastdraw *f, const tsr_gl_procs *gl, GLuint name, bool compiling);
+/* True when `name` is a texture this module keeps. */
+bool render_fastdraw_owns(const render_fastdraw *f, GLuint name);
 
 /* Draws like gl->DrawPixels(width, height, format, type, pixels) in the
  * current context, whose draw framebuffer is window_width x window_height;

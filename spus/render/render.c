@@ -737,9 +737,26 @@ static void render_CopyTexImage2D(void *self, GLenum target, GLint level, GLenum
         r->gl.CopyTexImage2D(target, level, internalformat, x, y, width, height, border);
 }
 
+/* Texture names the client binds or deletes may be ones the fast
+ * DrawPixels keeps (drawpixels.h): it lets go of them first. */
+static void render_BindTexture(void *self, GLenum target, GLuint texture)
+{
+    render_spu *r = self;
+    render_fastdraw_client_name(r->fastdraw, &r->gl, texture, current_scissor(r)->list_mode != 0);
+    r->gl.BindTexture(target, texture);
+}
+
+static GLboolean render_IsTexture(void *self, GLuint texture)
+{
+    render_spu *r = self;
+    return render_fastdraw_owns(r->fastdraw, texture) ? GL_FALSE : r->gl.IsTexture(texture);
+}
+
 static void render_DeleteTextures(void *self, GLsizei n, const GLuint *textures)
 {
     render_spu *r = self;
+    for (GLsizei i = 0; i < n && textures; i++)
+        render_fastdraw_client_name(r->fastdraw, &r->gl, textures[i], false);
     r->gl.DeleteTextures(n, textures);
     for (GLsizei i = 0; i < n && textures; i++)
         render_tex_forget(&r->textures, textures[i]);
@@ -1436,6 +1453,7 @@ static void render_destroy(void *self)
             destroy_context(r, i);
         tsr_error err = {0};
         if (shared_make_current(r, 0, &err) == TSR_OK) {
+            render_fastdraw_release(r->fastdraw, &r->gl);
             if (r->contexts[0].fbo)
                 r->fbo.DeleteFramebuffers(1, &r->contexts[0].fbo);
             GLuint rbs[2] = {r->color_rb, r->depth_rb};
@@ -1447,8 +1465,10 @@ static void render_destroy(void *self)
     }
     if (r->context) {
         /* Leave no thread pointing at a context about to be freed. */
-        if (r->osmesa.GetCurrentContext() == r->context)
+        if (r->osmesa.GetCurrentContext() == r->context) {
+            render_fastdraw_release(r->fastdraw, &r->gl);
             r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);
+        }
         r->osmesa.DestroyContext(r->context);
     }
     if (r->library)
@@ -1564,6 +1584,8 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     tsr_set_CopyTexImage1D(init->table, render_CopyTexImage1D, r);
     tsr_set_CopyTexImage2D(init->table, render_CopyTexImage2D, r);
     tsr_set_DeleteTextures(init->table, render_DeleteTextures, r);
+    tsr_set_BindTexture(init->table, render_BindTexture, r);
+    tsr_set_IsTexture(init->table, render_IsTexture, r);
     /* last: wraps the shader/program slots set above (tessera/glsl_names.h) */
     if (!(r->names = tsr_glsl_names_create(init->table, err)))
         goto fail;

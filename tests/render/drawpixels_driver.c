@@ -300,6 +300,78 @@ int main(int argc, char **argv)
         glDrawBuffer((GLenum)draw_buffer);
         glDisable(GL_RASTERIZER_DISCARD);
     }
+    /* The texture names the fast path keeps are the client's share
+     * group's: a client that binds names it never generated (legal in
+     * GL 2.1) must find GL's default objects there, in either run, and
+     * the fast path must never overwrite what it put in them. Names 9-12
+     * are bound by display lists compiled before the fast path makes its
+     * textures anew (after the names below 9 are taken), run after. */
+    GLuint lists = glGenLists(4);
+    for (GLuint k = 0; k < 4; k++) {
+        glNewList(lists + k, GL_COMPILE);
+        glBindTexture(GL_TEXTURE_2D, 9 + k);
+        glEndList();
+    }
+    unsigned char mine[2 * 2 * 4];
+    for (size_t i = 0; i < sizeof mine; i++)
+        mine[i] = next_byte();
+    for (GLuint name = 1; name <= 8; name++) {
+        if (name == tex)
+            continue;
+        if (glIsTexture(name)) {
+            fprintf(stderr, "drawpixels_driver: texture %u exists before the client bound it\n", name);
+            failures++;
+        }
+        glBindTexture(GL_TEXTURE_2D, name);
+        GLint width = -1;
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
+        if (width != 0) {
+            fprintf(stderr, "drawpixels_driver: texture %u, bound first, is %d wide, not GL's default\n", name, width);
+            failures++;
+        }
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 2, 2, 0, GL_RGBA, GL_UNSIGNED_BYTE, mine);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        /* the fast paths again: they make their textures anew */
+        unsigned char *img = random_image(4 * 50 * 30);
+        glWindowPos2i(7, 5);
+        glDrawPixels(50, 30, GL_RGBA, GL_UNSIGNED_BYTE, img);
+        free(img);
+        calls++;
+        fast++;
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(9, 7, 61, 43);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glDisable(GL_SCISSOR_TEST);
+        clears++;
+        clear_fast++;
+    }
+    for (GLuint k = 0; k < 4; k++) {
+        glCallList(lists + k);
+        GLint width = -1;
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
+        if (width != 0) {
+            fprintf(stderr, "drawpixels_driver: a list bound texture %u as %d wide, not GL's default\n", 9 + k, width);
+            failures++;
+        }
+    }
+    glDeleteLists(lists, 4);
+    for (GLuint name = 1; name <= 8; name++) {
+        if (name == tex)
+            continue;
+        glBindTexture(GL_TEXTURE_2D, name);
+        unsigned char got[sizeof mine];
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, got);
+        if (memcmp(got, mine, sizeof mine)) {
+            fprintf(stderr, "drawpixels_driver: the client's texture %u changed under DrawPixels/Clear\n", name);
+            failures++;
+        }
+    }
+    glBindTexture(GL_TEXTURE_2D, tex);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        fprintf(stderr, "drawpixels_driver: client texture names: GL error 0x%x\n", e);
+        failures++;
+    }
     printf("expect_fast: %d of %d\n", fast, calls);
     printf("expect_fast_clear: %d of %d\n", clear_fast, clears);
     glWindowDestroyTSR(0);
