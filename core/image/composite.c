@@ -318,14 +318,16 @@ void tsr_composite_over_rgba32f(size_t n, const float *front, const float *back,
  * of it. Streaming stores skip both. Below the threshold the fence and the
  * unaligned edges cost more than they save, and the lines are likely still
  * cached by the reader when it comes, so memcpy stays. */
-#define CI_STREAM_MIN ((size_t)64 * 1024)
+/* The threshold is CI_STREAM_MIN (composite_internal.h). */
 
 #ifdef TSR_CI_X86
 /* dst is advanced to a 16-byte boundary with memcpy first: the streaming
- * stores need aligned destinations, the loads take any source. */
+ * stores need aligned destinations, the loads take any source. No fence:
+ * the caller fences once after its last streamed copy. */
 static void copy_stream_sse2(uint8_t *dst, const uint8_t *src, size_t n)
 {
     size_t head = (16 - ((uintptr_t)dst & 15)) & 15;
+    head = head < n ? head : n;
     memcpy(dst, src, head);
     dst += head, src += head, n -= head;
     for (; n >= 64; n -= 64, dst += 64, src += 64) {
@@ -336,15 +338,13 @@ static void copy_stream_sse2(uint8_t *dst, const uint8_t *src, size_t n)
         _mm_stream_si128((__m128i *)(dst + 32), c);
         _mm_stream_si128((__m128i *)(dst + 48), d);
     }
-    /* streamed stores are weakly ordered: the fence makes them visible
-     * before whatever tells the reader the message is complete */
-    _mm_sfence();
     memcpy(dst, src, n);
 }
 
 __attribute__((target("avx2"))) static void copy_stream_avx2(uint8_t *dst, const uint8_t *src, size_t n)
 {
     size_t head = (32 - ((uintptr_t)dst & 31)) & 31;
+    head = head < n ? head : n;
     memcpy(dst, src, head);
     dst += head, src += head, n -= head;
     for (; n >= 128; n -= 128, dst += 128, src += 128) {
@@ -356,27 +356,49 @@ __attribute__((target("avx2"))) static void copy_stream_avx2(uint8_t *dst, const
         _mm256_stream_si256((__m256i *)(dst + 64), c);
         _mm256_stream_si256((__m256i *)(dst + 96), d);
     }
-    _mm_sfence();
     memcpy(dst, src, n);
 }
 #endif
 
-void tsr_composite_copy_using(const char *kernel, void *dst, const void *src, size_t n)
+static void copy_streamed(const char *kernel, void *dst, const void *src, size_t n)
 {
-    if (n < CI_STREAM_MIN || (kernel && !strcmp(kernel, "c"))) {
+    if (kernel && !strcmp(kernel, "c")) {
         ci_copy(dst, src, n);
         return;
     }
 #ifdef TSR_CI_X86
-    int avx2 = __builtin_cpu_supports("avx2") && (!kernel || !strcmp(kernel, "avx2"));
-    if (avx2)
+    if (__builtin_cpu_supports("avx2") && (!kernel || !strcmp(kernel, "avx2")))
         copy_stream_avx2(dst, src, n);
     else
         copy_stream_sse2(dst, src, n);
 #else
-    (void)kernel;
     memcpy(dst, src, n);
 #endif
+}
+
+void ci_copy_stream(void *dst, const void *src, size_t n)
+{
+    if (n)
+        copy_streamed(NULL, dst, src, n);
+}
+
+void ci_copy_fence(void)
+{
+#ifdef TSR_CI_X86
+    /* streamed stores are weakly ordered: the fence makes them visible
+     * before whatever tells the reader the message is complete */
+    _mm_sfence();
+#endif
+}
+
+void tsr_composite_copy_using(const char *kernel, void *dst, const void *src, size_t n)
+{
+    if (n < CI_STREAM_MIN) {
+        ci_copy(dst, src, n);
+        return;
+    }
+    copy_streamed(kernel, dst, src, n);
+    ci_copy_fence();
 }
 
 void tsr_composite_copy(void *dst, const void *src, size_t n) { tsr_composite_copy_using(NULL, dst, src, n); }

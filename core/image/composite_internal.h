@@ -15,6 +15,14 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
 
 #include "tessera/dev/composite.h"
 
+/* Outgoing message bytes (tsr_composite_copy): from this many bytes on,
+ * a copy uses streaming stores. ci_copy_stream streams whatever its size
+ * (for a message gathered in many small pieces: the threshold is the
+ * message's), with no fence; ci_copy_fence after the last one. */
+#define CI_STREAM_MIN ((size_t)64 * 1024)
+void ci_copy_stream(void *dst, const void *src, size_t n);
+void ci_copy_fence(void);
+
 /* tsr_sparse_image_compress; with runs_only, only the runs and the active
  * count are written (no planes reserved): the pixels stay in `in`, where
  * tsr_image_message_encode_dense takes them straight into a message. */

@@ -382,12 +382,15 @@ static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t c
  * it every pixel is background); it crosses rows only where the region
  * is as wide as the window, and there the region's rows are contiguous.
  * `out`: the destination is the message itself, which this process does
- * not read again (tsr_composite_copy); else the planes a codec reads next,
+ * not read again: streamed when the message is large (CI_STREAM_MIN, the
+ * pieces may be rows of a few KiB); else the planes a codec reads next,
  * which must stay in the cache. */
 static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth,
                           int out)
 {
-    void (*copy)(void *, const void *, size_t) = out ? tsr_composite_copy : ci_copy;
+    size_t bytes = (size_t)runs->active * (tsr_ci_color_bytes(in->color_format) + (dst_depth ? 4 : 0));
+    int stream = out && bytes >= CI_STREAM_MIN;
+    void (*copy)(void *, const void *, size_t) = stream ? ci_copy_stream : ci_copy;
     size_t cb = tsr_ci_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
     size_t pos = runs->start;
     int whole_rows = in->x == 0 && in->width == in->window_width;
@@ -406,6 +409,8 @@ static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, ui
             n -= len;
         }
     }
+    if (stream)
+        ci_copy_fence();
 }
 
 int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c, uint8_t *out,

@@ -711,46 +711,55 @@ static int test_message_decoder_rejects_bad_input(void)
  * compress + encode, for every codec, region and range shape: whole
  * window, a box inside it, a full-width band, an empty region, ranges
  * starting and ending mid-row, all background, a single pixel, NaN. */
+/* Small windows, then one whose messages pass the streaming threshold
+ * (CI_STREAM_MIN) gathered from rows far below it (a box narrower than
+ * the window: one copy per row and run). */
 static int test_encode_dense_equals_compress_encode(void)
 {
     tsr_error err;
-    const int W = 61, H = 37;
-    const int boxes[][4] = {{0, 0, 61, 37}, {7, 5, 30, 20}, {0, 9, 61, 11}, {0, 0, 0, 0}, {60, 36, 1, 1}};
-    const fill_kind fills[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_SINGLE, FILL_NAN, FILL_OPAQUE};
-    uint32_t all = (uint32_t)W * H;
-    const uint32_t ranges[][2] = {{0, all}, {all / 3, all / 2}, {100, 1}, {all - 5, 5}, {0, 0}};
     tsr_sparse_image sp = {0}, scratch = {0};
     int compared = 0;
-    for (size_t bi = 0; bi < sizeof boxes / sizeof *boxes; bi++)
-        for (size_t fi = 0; fi < sizeof fills / sizeof *fills; fi++) {
-            tsr_cimage img = {0};
-            make_image(&img, W, H, boxes[bi][0], boxes[bi][1], boxes[bi][2], boxes[bi][3], 3, fills[fi]);
-            for (int mode = TSR_COMPOSITE_DEPTH; mode <= TSR_COMPOSITE_ALPHA; mode++)
-                for (size_t ri = 0; ri < sizeof ranges / sizeof *ranges; ri++)
-                    for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-                        tsr_image_codec c;
-                        CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
-                        uint32_t st = ranges[ri][0], n = ranges[ri][1];
-                        size_t cap = tsr_image_message_max_size(n, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), la = 0, lb = 0;
-                        uint8_t *a = malloc(cap), *b = malloc(cap);
-                        CHECK_OK(tsr_sparse_image_compress(&img, mode, st, n, &sp, &err), err);
-                        CHECK_OK(tsr_image_message_encode(&sp, c, a, cap, &la, &err), err);
-                        CHECK_OK(tsr_sparse_image_compress_runs(&img, mode, st, n, &scratch, &err), err);
-                        size_t bound = tsr_image_message_bound(&scratch, c);
-                        CHECK(bound <= cap && bound == tsr_image_message_bound(&sp, c),
-                              "%s: the image's bound %zu is over the worst case %zu or differs from its copy's",
-                              CODECS[ci], bound, cap);
-                        CHECK_OK(tsr_image_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
-                        CHECK(la <= bound, "%s: %zu bytes over the image's bound %zu", CODECS[ci], la, bound);
-                        CHECK(la == lb && !memcmp(a, b, la),
-                              "%s, box %zu, fill %zu, mode %d, range %u+%u: %zu bytes vs %zu, or they differ",
-                              CODECS[ci], bi, fi, mode, st, n, la, lb);
-                        compared++;
-                        free(a);
-                        free(b);
-                    }
-            tsr_cimage_free(&img);
-        }
+    for (int geo = 0; geo < 2; geo++) {
+        const int W = geo ? 509 : 61, H = geo ? 203 : 37;
+        const int small_boxes[][4] = {{0, 0, 61, 37}, {7, 5, 30, 20}, {0, 9, 61, 11}, {0, 0, 0, 0}, {60, 36, 1, 1}};
+        const int large_boxes[][4] = {
+            {0, 0, 509, 203}, {13, 7, 301, 190}, {0, 50, 509, 100}, {1, 1, 507, 201}, {3, 2, 1, 1}};
+        const int(*boxes)[4] = geo ? large_boxes : small_boxes;
+        const fill_kind fills[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_SINGLE, FILL_NAN, FILL_OPAQUE};
+        uint32_t all = (uint32_t)W * H;
+        const uint32_t ranges[][2] = {{0, all}, {all / 3, all / 2}, {100, 1}, {all - 5, 5}, {0, 0}};
+        for (size_t bi = 0; bi < 5; bi++)
+            for (size_t fi = 0; fi < sizeof fills / sizeof *fills; fi++) {
+                tsr_cimage img = {0};
+                make_image(&img, W, H, boxes[bi][0], boxes[bi][1], boxes[bi][2], boxes[bi][3], 3, fills[fi]);
+                for (int mode = TSR_COMPOSITE_DEPTH; mode <= TSR_COMPOSITE_ALPHA; mode++)
+                    for (size_t ri = 0; ri < sizeof ranges / sizeof *ranges; ri++)
+                        for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
+                            tsr_image_codec c;
+                            CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+                            uint32_t st = ranges[ri][0], n = ranges[ri][1];
+                            size_t cap = tsr_image_message_max_size(n, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), la = 0,
+                                   lb = 0;
+                            uint8_t *a = malloc(cap), *b = malloc(cap);
+                            CHECK_OK(tsr_sparse_image_compress(&img, mode, st, n, &sp, &err), err);
+                            CHECK_OK(tsr_image_message_encode(&sp, c, a, cap, &la, &err), err);
+                            CHECK_OK(tsr_sparse_image_compress_runs(&img, mode, st, n, &scratch, &err), err);
+                            size_t bound = tsr_image_message_bound(&scratch, c);
+                            CHECK(bound <= cap && bound == tsr_image_message_bound(&sp, c),
+                                  "%s: the image's bound %zu is over the worst case %zu or differs from its copy's",
+                                  CODECS[ci], bound, cap);
+                            CHECK_OK(tsr_image_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
+                            CHECK(la <= bound, "%s: %zu bytes over the image's bound %zu", CODECS[ci], la, bound);
+                            CHECK(la == lb && !memcmp(a, b, la),
+                                  "%s, box %zu, fill %zu, mode %d, range %u+%u: %zu bytes vs %zu, or they differ",
+                                  CODECS[ci], bi, fi, mode, st, n, la, lb);
+                            compared++;
+                            free(a);
+                            free(b);
+                        }
+                tsr_cimage_free(&img);
+            }
+    }
     printf("%d messages encoded from the read-back equal compress + encode byte for byte\n", compared);
     tsr_sparse_image_free(&sp);
     tsr_sparse_image_free(&scratch);
