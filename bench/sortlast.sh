@@ -24,7 +24,15 @@
 # together (their applications' empty frames included, the display's not),
 # which other load on the machine does not inflate, and
 # composite_8x1080p_compositing_cpu_ms: that minus 8 x the render-only
-# application's CPU per frame (render_only_cpu_ms_per_frame); memcpy_frame_ms, the reference, measured before
+# application's CPU per frame (render_only_cpu_ms_per_frame, measured
+# alone, so it understates what the peers' applications spend among 8
+# peers and a display on 2 cores); composite_8x1080p_hook_cpu_ms: the
+# peers' CPU from the start of binaryswap's frame hook to the frame's
+# stats line, measured in the same run, and composite_8x1080p_app_cpu_ms:
+# the rest of peers_cpu (the applications' frames, their full-window
+# clears and the render's one-pixel finish; a stats line without
+# hook_cpu_ns, from an older build, leaves both unmeasured);
+# memcpy_frame_ms, the reference, measured before
 # and after the runs, best of both). Writes sortlast.csv (one row per
 # frame), sortlast-summary.csv and sortlast.png.
 # usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
@@ -48,12 +56,13 @@ work=$out/sortlast.work
 rm -rf "$work" && mkdir -p "$work"
 csv=$out/sortlast.csv summary=$out/sortlast-summary.csv
 echo "peers,coverage,frame,ready_to_displayed_ms,ready_to_assembled_ms,swap_to_displayed_ms,bytes_sent,assembled_to_sent_ms,sent_to_displayed_ms" >"$csv"
-echo "peers,coverage,frames,median_ms,median_assembled_ms,median_bytes_sent,peer_hwm_mib_max,peer_hwm_mib_rank1,median_display_path_ms,median_peers_cpu_ms" >"$summary"
+echo "peers,coverage,frames,median_ms,median_assembled_ms,median_bytes_sent,peer_hwm_mib_max,peer_hwm_mib_rank1,median_display_path_ms,median_peers_cpu_ms,median_hook_cpu_ms" >"$summary"
 
 memcpy_ms() { "$bin/bench_memcpy" "${memcpy_args[@]}" | sed -n 's/^memcpy_frame_ms: //p'; }
 cpy0=$(memcpy_ms)
 
-# One run: N peers, coverage full|ellipse. Prints "median assembled hwm_max hwm_rank1".
+# One run: N peers, coverage full|ellipse. Prints "median assembled bytes hwm_max hwm_rank1 frames
+# display_path peers_cpu hook_cpu" (hook_cpu "-" when the lines have no hook_cpu_ns).
 run_group() {
     local n=$1 cov=$2 dir=$work/$1-$2 i
     mkdir -p "$dir"
@@ -85,6 +94,7 @@ run_group() {
           bytes[f] += v["bytes_sent"]
           if (r in lastcpu) cpu[f] += v["cpu_ns"] - lastcpu[r]
           lastcpu[r] = v["cpu_ns"]
+          if ("hook_cpu_ns" in v) hook[f] += v["cpu_ns"] - v["hook_cpu_ns"]; else nohook = 1
           # assembled: the last final piece is final (every peer places its
           # own on the display; under gather rank 0 assembles the frame)
           if (v["assembled_ns"] > asm[f]) asm[f] = v["assembled_ns"]
@@ -98,7 +108,7 @@ run_group() {
               if (!(f in shown)) continue
               d = (shown[f] - ready[f]) / 1e6; a = (asm[f] - ready[f]) / 1e6
               printf "%d,%s,%d,%.3f,%.3f,%.3f,%d,%.3f,%.3f\n", n, cov, f, d, a, (shown[f] - swap[f]) / 1e6, bytes[f], (sent[f] - asm[f]) / 1e6, (shown[f] - sent[f]) / 1e6 >> csv
-              ds[m] = d; as[m] = a; bs[m] = bytes[f]; ps[m] = (shown[f] - asm[f]) / 1e6; cs[m] = cpu[f] / 1e6; m++
+              ds[m] = d; as[m] = a; bs[m] = bytes[f]; ps[m] = (shown[f] - asm[f]) / 1e6; cs[m] = cpu[f] / 1e6; hs[m] = hook[f] / 1e6; m++
           }
           # medians (insertion sort: a few dozen frames)
           for (i = 1; i < m; i++) for (j = i; j > 0 && ds[j - 1] > ds[j]; j--) { t = ds[j]; ds[j] = ds[j - 1]; ds[j - 1] = t }
@@ -106,11 +116,13 @@ run_group() {
           for (i = 1; i < m; i++) for (j = i; j > 0 && bs[j - 1] > bs[j]; j--) { t = bs[j]; bs[j] = bs[j - 1]; bs[j - 1] = t }
           for (i = 1; i < m; i++) for (j = i; j > 0 && ps[j - 1] > ps[j]; j--) { t = ps[j]; ps[j] = ps[j - 1]; ps[j - 1] = t }
           for (i = 1; i < m; i++) for (j = i; j > 0 && cs[j - 1] > cs[j]; j--) { t = cs[j]; cs[j] = cs[j - 1]; cs[j - 1] = t }
+          for (i = 1; i < m; i++) for (j = i; j > 0 && hs[j - 1] > hs[j]; j--) { t = hs[j]; hs[j] = hs[j - 1]; hs[j - 1] = t }
           med = m % 2 ? ds[int(m / 2)] : (ds[m / 2 - 1] + ds[m / 2]) / 2
           amed = m % 2 ? as[int(m / 2)] : (as[m / 2 - 1] + as[m / 2]) / 2
           pmed = m % 2 ? ps[int(m / 2)] : (ps[m / 2 - 1] + ps[m / 2]) / 2
           cmed = m % 2 ? cs[int(m / 2)] : (cs[m / 2 - 1] + cs[m / 2]) / 2
-          printf "%.3f %.3f %d %.1f %.1f %d %.3f %.3f\n", med, amed, bs[int(m / 2)], hwm / 1024, hwm1 / 1024, m, pmed, cmed
+          hmed = m % 2 ? hs[int(m / 2)] : (hs[m / 2 - 1] + hs[m / 2]) / 2
+          printf "%.3f %.3f %d %.1f %.1f %d %.3f %.3f %s\n", med, amed, bs[int(m / 2)], hwm / 1024, hwm1 / 1024, m, pmed, cmed, nohook ? "-" : sprintf("%.3f", hmed)
         }' "$dir/stats.txt"
 }
 
@@ -126,13 +138,13 @@ read -r render_hwm_kb render_cpu1 < <(render_only "$frames")
 read -r _ render_cpu2 < <(render_only $((2 * frames)))
 render_cpu_ms=$(awk -v a="$render_cpu1" -v b="$render_cpu2" -v f="$frames" 'BEGIN { d = (b - a) / f * 1e3; printf "%.3f", d < 0 ? 0 : d }')
 
-declare -A med asm_med path_med cpu_med
+declare -A med asm_med path_med cpu_med hook_med
 for cov in full ellipse; do
     for n in "${counts[@]}"; do
         [[ $cov == ellipse && $n != 8 ]] && continue
-        read -r m a b hmax h1 count p c < <(run_group "$n" "$cov") || exit 1
-        med[$n-$cov]=$m asm_med[$n-$cov]=$a path_med[$n-$cov]=$p cpu_med[$n-$cov]=$c
-        echo "$n,$cov,$count,$m,$a,$b,$hmax,$h1,$p,$c" >>"$summary"
+        read -r m a b hmax h1 count p c hk < <(run_group "$n" "$cov") || exit 1
+        med[$n-$cov]=$m asm_med[$n-$cov]=$a path_med[$n-$cov]=$p cpu_med[$n-$cov]=$c hook_med[$n-$cov]=$hk
+        echo "$n,$cov,$count,$m,$a,$b,$hmax,$h1,$p,$c,$hk" >>"$summary"
         if [[ $cov == full ]]; then
             echo "composite_scaling_n$n: $m"
         fi
@@ -149,6 +161,16 @@ echo "composite_8x1080p_display_path_ms: ${path_med[8-full]}"
 echo "composite_8x1080p_peers_cpu_ms: ${cpu_med[8-full]}"
 echo "render_only_cpu_ms_per_frame: $render_cpu_ms"
 awk -v c="${cpu_med[8-full]}" -v r="$render_cpu_ms" 'BEGIN { printf "composite_8x1080p_compositing_cpu_ms: %.3f\n", c - 8 * r }'
+for cov in full ellipse; do
+    key=composite_8x1080p; [[ $cov == ellipse ]] && key=composite_8x1080p_partial
+    if [[ ${hook_med[8-$cov]} == - ]]; then
+        echo "${key}_hook_cpu_ms: unmeasured (stats lines without hook_cpu_ns)"
+        echo "${key}_app_cpu_ms: unmeasured (stats lines without hook_cpu_ns)"
+    else
+        echo "${key}_hook_cpu_ms: ${hook_med[8-$cov]}"
+        awk -v c="${cpu_med[8-$cov]}" -v h="${hook_med[8-$cov]}" -v k="$key" 'BEGIN { printf "%s_app_cpu_ms: %.3f\n", k, c - h }'
+    fi
+done
 echo "composite_8x1080p_partial_ms: ${med[8-ellipse]}"
 echo "composite_8x1080p_partial_assembled_ms: ${asm_med[8-ellipse]}"
 echo "memcpy_frame_ms: $cpy"

@@ -921,7 +921,8 @@ static void bswap_frame(void *ctx, int frame, void *render)
 {
     (void)render;
     bswap_spu *b = ctx;
-    b->st = (tsr_bswap_frame_stats){.swap_ns = tsr_bswap_now_ns()};
+    b->st = (tsr_bswap_frame_stats){.swap_ns = tsr_bswap_now_ns(),
+                                    .hook_cpu_ns = b->stats_fd >= 0 ? tsr_bswap_cpu_ns() : 0};
     display(b);
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);

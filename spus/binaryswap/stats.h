@@ -15,7 +15,11 @@
 typedef struct tsr_bswap_frame_stats {
     uint32_t frame;
     int rank, nranks;
-    int64_t swap_ns;       /* the frame hook ran: the render's SwapBuffers */
+    int64_t swap_ns; /* the frame hook ran: the render's SwapBuffers */
+    /* this process's CPU time (as cpu_ns) when the frame hook began: what
+     * it spent before, since the last line, is the application's frame and
+     * the render's finish, not compositing */
+    int64_t hook_cpu_ns;
     int64_t ready_ns;      /* this peer's layer handed to the compositor */
     int64_t composited_ns; /* this peer's rounds done */
     int64_t assembled_ns;  /* this peer's final piece is final (gather: rank 0 assembled the frame; others 0) */
@@ -25,6 +29,8 @@ typedef struct tsr_bswap_frame_stats {
 } tsr_bswap_frame_stats;
 
 int64_t tsr_bswap_now_ns(void);
+/* CLOCK_PROCESS_CPUTIME_ID in nanoseconds (every thread of the process). */
+int64_t tsr_bswap_cpu_ns(void);
 /* Opens (creates, appends to) `path`; -1 and TSR_EIO naming it on failure. */
 int tsr_bswap_stats_open(const char *path, tsr_error *err);
 /* Appends the frame's line, with this process's VmHWM, VmRSS and CPU time
