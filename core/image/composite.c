@@ -317,8 +317,8 @@ void tsr_composite_over_rgba32f(size_t n, const float *front, const float *back,
  * push this peer's working set (the layer, the pieces it still merges) out
  * of it. Streaming stores skip both. Below the threshold the fence and the
  * unaligned edges cost more than they save, and the lines are likely still
- * cached by the reader when it comes, so memcpy stays. */
-/* The threshold is CI_STREAM_MIN (composite_internal.h). */
+ * cached by the reader when it comes, so memcpy stays (the threshold is
+ * CI_STREAM_MIN, composite_internal.h). */
 
 #ifdef TSR_CI_X86
 /* dst is advanced to a 16-byte boundary with memcpy first: the streaming

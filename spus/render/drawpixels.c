@@ -193,13 +193,15 @@ void render_fastdraw_client_name(render_fastdraw *f, const tsr_gl_procs *gl, GLu
  * such name came (the caller uses the names it got for one call). */
 static bool gen_name(render_fastdraw *f, const tsr_gl_procs *gl, GLuint *out)
 {
+    if (f->per_call)
+        return false;
     GLuint refused[FASTDRAW_GEN_TRIES];
     int n = 0;
     bool ok = false;
     for (; n < FASTDRAW_GEN_TRIES; n++) {
         GLuint name = 0;
         gl->GenTextures(1, &name);
-        if (!f->per_call && !in_list_names(f, name)) {
+        if (!in_list_names(f, name)) {
             *out = name;
             ok = true;
             break;
@@ -391,18 +393,17 @@ static void clip(GLint *x0, GLint *y0, GLint *x1, GLint *y1, GLint bx, GLint by,
 }
 
 /* Uploads `rows` (cw x ch pixels of `format`, tightly packed, the top row
- * first) into a texture and blits it 1:1 to [x0, x1) x [y0, y1) given
- * flipped in y (llvmpipe's plain copy), with the scissor test off around
- * the blit; the texture binding, unpack state (`unpack`: the
- * application's row length, skip rows, skip pixels, alignment), read
- * framebuffer and scissor test are the application's again after it.
+ * first; NULL: the texture holds them already) into the kept texture *t,
+ * grown first when smaller (the texture's other texels are never read),
+ * and blits them 1:1 to [x0, x1) x [y0, y1) given flipped in y (llvmpipe's
+ * plain copy), with the scissor test off around the blit; the texture
+ * binding, unpack state (`unpack`: the application's row length, skip
+ * rows, skip pixels, alignment), read framebuffer and scissor test are the
+ * application's again after it. Without a name fit for a kept texture the
+ * upload goes into one made and deleted here.
  * ch may be less than y1 - y0 when every row is the same (a fill): the
  * ch rows are then blitted again until [y0, y1) is covered.
  * False when the framebuffer is incomplete (nothing drawn). */
-/* Uploads cw x ch pixels `rows` (NULL: the texture already holds them)
- * into the kept texture *t, grown first when smaller, and blits them down
- * x0..x1, y0..y1. Without a kept texture (no name fit for one) the upload
- * goes into one made and deleted here. */
 static bool upload_blit(render_fastdraw *f, const tsr_gl_procs *gl, render_fastdraw_tex *t, const unsigned char *rows,
                         size_t cw, size_t ch, GLenum format, GLint x0, GLint y0, GLint x1, GLint y1,
                         const GLint unpack[4], bool scissor)
