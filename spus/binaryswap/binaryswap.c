@@ -86,6 +86,7 @@
 #include "synthetic.h"
 #include "tessera/chain.h"
 #include "tessera/dev/client.h"
+#include "tessera/dev/util.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 
@@ -93,7 +94,8 @@
 #define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
 #define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
-#define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2) /* alpha mode: a box's distance */
+#define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2)  /* alpha mode: a box's distance */
+#define BSWAP_KIND_ENDING (TSR_NET_KIND_FIRST_USER + 3) /* a peer's last word: the line it ends on */
 /* The group's frame fence on the display node (its parallel API, server/node.h). */
 #define BSWAP_DISPLAY_BARRIER 0x54534c42u /* "TSLB" */
 /* What one more DrawPixels of a partial piece costs, in pixels sent (the
@@ -183,8 +185,13 @@ static void bswap_fatal(bswap_spu *b, const char *fmt, ...)
     tsr_log(TSR_LOG_ERROR, "%s: %s", b->name, what);
     tsr_log(TSR_LOG_ERROR, "%s: ending (a frame that cannot be composited fails the run)", b->name);
     fflush(NULL);
-    /* What this peer already sent (its HELLO, an image) reaches the others
-     * before it goes, so they name the real fault, not its vanishing. */
+    /* What this peer already sent (its HELLO, an image) and the line it
+     * ends on reach the others before it goes, so they name the real
+     * fault (a peer killed before this one), not its vanishing. */
+    tsr_error ignored = {0};
+    for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
+        if (b->conns[r])
+            tsr_net_send(b->conns[r], BSWAP_KIND_ENDING, what, strlen(what), 100, &ignored);
     for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
         if (b->conns[r])
             tsr_net_conn_flush(b->conns[r], 200);
@@ -543,6 +550,57 @@ static void release_held(bswap_spu *b)
     b->local_given = NULL;
 }
 
+/* The line a peer ended on (bswap_fatal sends it to every other peer),
+ * from `msg`, or else from what `peer` sent before its link failed (looked
+ * through without waiting); false when there is none. */
+static bool last_word(bswap_spu *b, int peer, const tsr_net_msg *msg, char *out, size_t size)
+{
+    if (msg && msg->kind == BSWAP_KIND_ENDING) {
+        tsr_text_sanitize(out, size, msg->data, (size_t)msg->len);
+        return true;
+    }
+    if (peer < 0 || peer >= b->nranks || !b->conns[peer])
+        return false;
+    tsr_net_msg m;
+    tsr_error ignored = {0};
+    while (tsr_net_recv(b->conns[peer], &m, 0, &ignored) == 1) {
+        bool ending = m.kind == BSWAP_KIND_ENDING;
+        if (ending)
+            tsr_text_sanitize(out, size, m.data, (size_t)m.len);
+        tsr_net_msg_release(&m);
+        if (ending)
+            return true;
+    }
+    return false;
+}
+
+/* True with *err set when `peer` ended on a fault of its own and said
+ * so (in `msg`, or before its link failed): the fault comes first, then
+ * who passed it on. */
+static bool peer_ended_on(bswap_spu *b, int peer, const tsr_net_msg *msg, tsr_error *err)
+{
+    char said[sizeof err->message / 2];
+    if (!last_word(b, peer, msg, said, sizeof said))
+        return false;
+    /* its frame is this one's: the caller names it once */
+    const char *fault = said;
+    unsigned frame;
+    int at = 0;
+    if (sscanf(said, "frame %u: %n", &frame, &at) == 1 && at > 0)
+        fault += at;
+    tsr_error_set(err, TSR_EIO, "%s (said peer rank %d (%s), which ended on it)", fault, peer, peer_address(b, peer));
+    return true;
+}
+
+/* A failure on the link to `peer` (`what`: how it showed here), unless
+ * `peer` ended on a fault of its own (peer_ended_on). */
+static int peer_failed(bswap_spu *b, int peer, int code, const tsr_net_msg *msg, const char *what, tsr_error *err)
+{
+    if (peer_ended_on(b, peer, msg, err))
+        return err->code;
+    return tsr_error_set(err, code ? code : TSR_EIO, "peer rank %d (%s): %s", peer, peer_address(b, peer), what);
+}
+
 /* Where the executor encodes its next message to `to`: shared memory the
  * peer maps (netlib's ring on unix: peers; elsewhere a buffer netlib
  * sends from), or the local message itself for rank 0's own display. */
@@ -567,8 +625,7 @@ static void *transport_send_buffer(void *user, int to, size_t max_size, tsr_erro
     int rc = tsr_net_send_reserve(b->conns[peer], max_size, &b->reserved,
                                   b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
     if (rc != TSR_OK) {
-        tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
-                      rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
+        peer_failed(b, peer, rc, NULL, rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message, err);
         return NULL;
     }
     return b->reserved;
@@ -607,8 +664,7 @@ static int transport_send(void *user, int to, const void *data, size_t size, tsr
     int rc = in_place ? tsr_net_send_commit(b->conns[peer], BSWAP_KIND_IMAGE, size, wait, &e)
                       : tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size, wait, &e);
     if (rc != TSR_OK)
-        return tsr_error_set(err, rc, "peer rank %d (%s): %s", peer, peer_address(b, peer),
-                             rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message);
+        return peer_failed(b, peer, rc, NULL, rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message, err);
     b->last_bytes += size;
     return TSR_OK;
 }
@@ -637,11 +693,14 @@ static int transport_recv(void *user, int from, const void **data, size_t *size,
     tsr_error e = {0};
     int rc = tsr_net_recv(b->conns[from], &b->held, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &e);
     if (rc != 1)
-        return tsr_error_set(err, rc == 0 ? TSR_EIO : rc, "peer rank %d (%s): %s", from, peer_address(b, from),
-                             rc == 0               ? "ended before sending its image"
-                             : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
-                                                   : e.message);
+        return peer_failed(b, from, rc == 0 ? TSR_EIO : rc, NULL,
+                           rc == 0               ? "ended before sending its image"
+                           : rc == TSR_ETIMEDOUT ? "sent no image within timeout_ms"
+                                                 : e.message,
+                           err);
     b->holding = true;
+    if (b->held.kind == BSWAP_KIND_ENDING)
+        return peer_failed(b, from, TSR_EIO, &b->held, "", err);
     if (b->held.kind != BSWAP_KIND_IMAGE)
         return tsr_error_set(err, TSR_EPROTO, "peer rank %d (%s): a message of kind %u, not an image", from,
                              peer_address(b, from), b->held.kind);
@@ -814,16 +873,18 @@ static void place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_im
  * way: waiting for it here (no peer's progress is needed) starts this
  * frame's messages at their rings' start (ring_bytes), on the pages the
  * last frame used. */
-static void await_releases(bswap_spu *b)
+static void await_releases(bswap_spu *b, uint32_t frame)
 {
     if (!b->composited)
         return;
     for (int i = 0; i < b->nranks; i++) {
-        tsr_error err = {0};
+        tsr_error err = {0}, why = {0};
         if (i != b->rank && b->conns[i] &&
             tsr_net_conn_wait_returned(b->conns[i], b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err) !=
-                TSR_OK)
-            bswap_fatal(b, "peer rank %d (%s): %s", i, peer_address(b, i), err.message);
+                TSR_OK) {
+            peer_failed(b, i, err.code, NULL, err.message, &why);
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
+        }
     }
     b->composited = false;
 }
@@ -844,7 +905,7 @@ static void await_releases(bswap_spu *b)
 static void composite_frame(bswap_spu *b, uint32_t frame)
 {
     tsr_error err = {0};
-    await_releases(b);
+    await_releases(b, frame);
     const tsr_cimage *mine = &b->mine;
     if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_CI_RGBA8)
         mine = &b->layer;
@@ -929,7 +990,7 @@ static void bswap_frame(void *ctx, int frame, void *render)
     link_peers(b, W, H);
     tsr_error err = {0};
     if (b->order_from_boxes && b->nranks > 1) {
-        await_releases(b); /* the box distances go at the rings' start too */
+        await_releases(b, (uint32_t)frame); /* the box distances go at the rings' start too */
         exchange_order(b, (uint32_t)frame);
     }
     if (b->mode == TSR_COMPOSITE_ALPHA) {
@@ -982,8 +1043,11 @@ static void exchange_order(bswap_spu *b, uint32_t frame)
     int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
     tsr_error err = {0};
     for (int r = 0; r < b->nranks; r++)
-        if (r != b->rank && tsr_net_send(b->conns[r], BSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK)
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s): %s", frame, r, peer_address(b, r), err.message);
+        if (r != b->rank && tsr_net_send(b->conns[r], BSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK) {
+            tsr_error why = {0};
+            peer_failed(b, r, err.code, NULL, err.message, &why);
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
+        }
     for (int r = 0; r < b->nranks; r++) {
         if (r == b->rank)
             continue;
@@ -991,6 +1055,9 @@ static void exchange_order(bswap_spu *b, uint32_t frame)
         int rc = tsr_net_recv(b->conns[r], &msg, wait, &err);
         bool ok = false;
         uint32_t their_frame = 0, their_bits = 0;
+        tsr_error why = {0};
+        if ((rc != 1 || msg.kind == BSWAP_KIND_ENDING) && peer_ended_on(b, r, rc == 1 ? &msg : NULL, &why))
+            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
         if (rc == 1) {
             if (msg.kind == BSWAP_KIND_ORDER && msg.len == 8) {
                 const uint8_t *m = msg.data;
