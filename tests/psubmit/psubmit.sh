@@ -30,6 +30,12 @@ rm -rf "$out" && mkdir -p "$out/native" "$out/chain" || exit 1
 status=0
 fail() { echo "FAIL: $*"; status=1; }
 show() { [ -s "$1" ] && sed 's/^/  | /' "$1"; }
+# A shared-mode node for two driver clients, logging at info level (the
+# tests wait for its "connected" lines), rendering into $out/chain.
+start_pair_node() {
+  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
+    --chain "render output=\"$out/chain/f-%04d.png\""
+}
 
 case "$mode" in
 accuracy)
@@ -61,8 +67,7 @@ accuracy)
 semaphore)
   driver=$4
   timeout 30 "$driver" sem-reference "render output=\"$out/native/f-%04d.png\"" || exit 1
-  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
-    --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  start_pair_node || exit 1
   # The waiting client connects first and is blocked before the other
   # even starts (it also sleeps before drawing).
   "$driver" sem-second "pack server=$NODE_ADDR" 2>"$out/second.err" &
@@ -94,8 +99,7 @@ graph)
   ;;
 barrier-cut)
   driver=$4
-  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
-    --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  start_pair_node || exit 1
   "$driver" barrier-wait "pack server=$NODE_ADDR" 2>"$out/wait.err" &
   waiter=$!
   i=0
@@ -123,8 +127,7 @@ barrier-cut)
   ;;
 one-swapper)
   driver=$4
-  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
-    --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
+  start_pair_node || exit 1
   "$driver" swap-other "pack server=$NODE_ADDR" 2>"$out/other.err" &
   other=$!
   timeout 30 "$driver" swap-owner "pack server=$NODE_ADDR" 2>"$out/owner.err" || fail "swap-owner exited $?"
