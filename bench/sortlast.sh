@@ -2,7 +2,8 @@
 # bench/sortlast.sh — sort-last compositing timed across real processes:
 # N in-situ binaryswap peers (each its own process, an application that
 # draws nothing, `synthetic=full|ellipse` handing the compositor a generated
-# 1920x1080 colour+depth layer instead of the read-back) and a separate
+# 1920x1080 colour+depth layer instead of the read-back, and skipping the
+# application's clears, which the layer replaces) and a separate
 # display process (`tessera node`, render writing no PNG), launched by
 # `tessera run` over Unix sockets; depth mode, the default lossless codec
 # (rle) and strategy (auto). Every peer writes a `stats=` line per frame
@@ -25,12 +26,13 @@
 # which other load on the machine does not inflate, and
 # composite_8x1080p_compositing_cpu_ms: that minus 8 x the render-only
 # application's CPU per frame (render_only_cpu_ms_per_frame, measured
-# alone, so it understates what the peers' applications spend among 8
-# peers and a display on 2 cores); composite_8x1080p_hook_cpu_ms: the
+# alone, with the full-window clears that synthetic peers skip, so it
+# understates the compositing: the measured figure is the next one);
+# composite_8x1080p_hook_cpu_ms: the
 # peers' CPU from the start of binaryswap's frame hook to the frame's
 # stats line, measured in the same run, and composite_8x1080p_app_cpu_ms:
-# the rest of peers_cpu (the applications' frames, their full-window
-# clears and the render's one-pixel finish; a stats line without
+# the rest of peers_cpu (the applications' frames and the render's
+# one-pixel finish; their clears are skipped; a stats line without
 # hook_cpu_ns, from an older build, leaves both unmeasured);
 # memcpy_frame_ms, the reference, measured before
 # and after the runs, best of both). Writes sortlast.csv (one row per
