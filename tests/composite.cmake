@@ -19,6 +19,7 @@ foreach(t
     composite_nan_depth_never_wins
     composite_compress_runs_match_pixel_rule
     composite_sparse_merge_equals_dense
+    composite_sparse_fold_equals_merges
     composite_split_at_run_edges
     composite_codecs_roundtrip
     composite_codec_worst_case_size

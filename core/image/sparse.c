@@ -454,6 +454,150 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
     return TSR_OK;
 }
 
+static int fold_check(const tsr_sparse_image *a, const tsr_sparse_image *b, const char *what, tsr_error *err)
+{
+    if (a->window_width != b->window_width || a->window_height != b->window_height || a->start != b->start ||
+        a->count != b->count || a->mode != b->mode || a->color_format != b->color_format ||
+        a->depth_format != b->depth_format)
+        return tsr_error_set(err, TSR_EINVAL, "%s: images differ (pixels %u+%u of %dx%d vs %u+%u of %dx%d, or formats)",
+                             what, a->start, a->count, a->window_width, a->window_height, b->start, b->count,
+                             b->window_width, b->window_height);
+    return TSR_OK;
+}
+
+int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err)
+{
+    if (first->mode != TSR_COMPOSITE_DEPTH || first->depth_format != TSR_CI_DEPTH32F)
+        return tsr_error_set(err, TSR_EINVAL, "sparse fold: depth mode with depth planes only");
+    size_t cb = tsr_ci_color_bytes(first->color_format);
+    tsr_sparse_image *a = &f->acc;
+    int rc = sparse_reserve(a, (size_t)first->nruns + 1, first->count, cb, err);
+    if (rc)
+        return rc;
+    sparse_begin(a, first->window_width, first->window_height, first->start, first->count, first->mode,
+                 first->color_format, first->depth_format, first->rank, first->frame);
+    a->rank_count = first->rank_count;
+    uint32_t pos = 0, at = 0;
+    for (uint32_t r = 0; r < first->nruns; r++) {
+        uint32_t ni = first->runs[2 * r], na = first->runs[2 * r + 1];
+        if ((uint64_t)pos + ni + na > first->count || (uint64_t)at + na > first->active)
+            return tsr_error_set(err, TSR_EPROTO, "sparse fold: the image's runs do not add up to %u pixels",
+                                 first->count);
+        pos += ni;
+        ci_copy(a->color + (size_t)pos * cb, first->color + (size_t)at * cb, (size_t)na * cb);
+        ci_copy(a->depth + pos, first->depth + at, (size_t)na * sizeof(float));
+        pos += na;
+        at += na;
+    }
+    if (pos != first->count)
+        return tsr_error_set(err, TSR_EPROTO, "sparse fold: the image's runs do not add up to %u pixels", first->count);
+    ci_copy(a->runs, first->runs, (size_t)first->nruns * 2 * sizeof *a->runs);
+    a->nruns = first->nruns;
+    a->active = at;
+    return TSR_OK;
+}
+
+int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err)
+{
+    tsr_sparse_image *a = &f->acc, *nx = &f->next;
+    int rc = fold_check(a, piece, "sparse fold", err);
+    if (rc || (rc = sparse_reserve(nx, (size_t)a->nruns + piece->nruns + 1, 0, 4, err)))
+        return rc;
+    sparse_begin(nx, a->window_width, a->window_height, a->start, a->count, a->mode, a->color_format, a->depth_format,
+                 a->rank, a->frame);
+    size_t cb = tsr_ci_color_bytes(a->color_format);
+    int f32 = a->color_format == TSR_CI_RGBA32F;
+    run_cursor u, p;
+    cursor_init(&u, a);
+    cursor_init(&p, piece);
+    uint32_t pos = 0;
+    while (u.left && p.left) {
+        uint32_t n = u.left < p.left ? u.left : p.left;
+        if (!p.active) {
+            if (u.active)
+                put_active(nx, n);
+            else
+                put_inactive(nx, n);
+        } else {
+            uint8_t *dc = a->color + (size_t)pos * cb;
+            float *dd = a->depth + pos;
+            const uint8_t *pc = piece->color + (size_t)p.at * cb;
+            const float *pd = piece->depth + p.at;
+            if (!u.active) {
+                ci_copy(dc, pc, (size_t)n * cb);
+                ci_copy(dd, pd, (size_t)n * sizeof(float));
+            } else if (!f32) {
+                if (in_front)
+                    tsr_composite_depth_rgba8(n, pc, pd, dc, dd, dc, dd);
+                else
+                    tsr_composite_depth_rgba8(n, dc, dd, pc, pd, dc, dd);
+            } else {
+                const float *pcf = (const float *)(const void *)pc;
+                float *dcf = (float *)(void *)dc;
+                if (in_front)
+                    tsr_composite_depth_rgba32f(n, pcf, pd, dcf, dd, dcf, dd);
+                else
+                    tsr_composite_depth_rgba32f(n, dcf, dd, pcf, pd, dcf, dd);
+            }
+            put_active(nx, n);
+        }
+        pos += n;
+        cursor_take(&u, n);
+        cursor_take(&p, n);
+    }
+    if (u.left || p.left)
+        return tsr_error_set(err, TSR_EPROTO, "sparse merge: the images' runs do not add up to %u pixels", a->count);
+    /* the new runs become the composite's; the old array builds the next */
+    uint32_t *r = a->runs;
+    size_t rcap = a->runs_capacity;
+    a->runs = nx->runs;
+    a->runs_capacity = nx->runs_capacity;
+    a->nruns = nx->nruns;
+    a->active = nx->active;
+    nx->runs = r;
+    nx->runs_capacity = rcap;
+    nx->nruns = 0;
+    if (piece->rank < a->rank)
+        a->rank = piece->rank;
+    a->rank_count += piece->rank_count;
+    if (in_front)
+        a->frame = piece->frame;
+    return TSR_OK;
+}
+
+int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *err)
+{
+    const tsr_sparse_image *a = &f->acc;
+    size_t cb = tsr_ci_color_bytes(a->color_format);
+    if (out == a || out == &f->next)
+        return tsr_error_set(err, TSR_EINVAL, "sparse fold: output aliases the fold");
+    int rc = sparse_reserve(out, (size_t)a->nruns + 1, a->active, cb, err);
+    if (rc)
+        return rc;
+    sparse_begin(out, a->window_width, a->window_height, a->start, a->count, a->mode, a->color_format, a->depth_format,
+                 a->rank, a->frame);
+    out->rank_count = a->rank_count;
+    ci_copy(out->runs, a->runs, (size_t)a->nruns * 2 * sizeof *a->runs);
+    out->nruns = a->nruns;
+    out->active = a->active;
+    uint32_t pos = 0, at = 0;
+    for (uint32_t r = 0; r < a->nruns; r++) {
+        uint32_t ni = a->runs[2 * r], na = a->runs[2 * r + 1];
+        pos += ni;
+        ci_copy(out->color + (size_t)at * cb, a->color + (size_t)pos * cb, (size_t)na * cb);
+        ci_copy(out->depth + at, a->depth + pos, (size_t)na * sizeof(float));
+        pos += na;
+        at += na;
+    }
+    return TSR_OK;
+}
+
+void tsr_sparse_fold_free(tsr_sparse_fold *f)
+{
+    tsr_sparse_image_free(&f->acc);
+    tsr_sparse_image_free(&f->next);
+}
+
 /* n pixels of the background colour: a copy of constant size per pixel,
  * which the compiler turns into plain (vector) stores; a copy of cb bytes
  * would be a library call per pixel, and background is most of a sparse

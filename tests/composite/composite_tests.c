@@ -452,6 +452,102 @@ static int test_sparse_merge_equals_dense(void)
     return harness_failures;
 }
 
+/* The dense-strip fold against the chain of merges it replaces, grouped
+ * the same way (out from one piece, in front then behind): runs, header
+ * and every byte equal. Pieces are cut from whole-window images at random
+ * split lines (so runs end there), of every fill (all background, a single
+ * pixel, equal depths, NaN), some with adversarial depths written into
+ * their active pixels (NaN, infinities, 1.0, ties), as a message could
+ * carry; one fold is reused across sizes, as an executor's is. */
+static int test_sparse_fold_equals_merges(void)
+{
+    tsr_error err;
+    tsr_sparse_fold fold = {0};
+    for (int iter = 0; iter < 400 && !harness_failures; iter++) {
+        enum { MAXN = 7 };
+        int W = 1 + rnd() % 60, H = 1 + rnd() % 12, n = 1 + rnd() % MAXN;
+        uint32_t all = (uint32_t)W * H, start = rnd() % all, count = rnd() % (all - start + 1);
+        int cf = iter % 5 == 4 ? TSR_CI_RGBA32F : TSR_CI_RGBA8;
+        size_t cb = tsr_ci_color_bytes(cf);
+        fill_kind kinds[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN};
+        tsr_sparse_image p[MAXN] = {{0}}, whole = {0}, ref = {0}, tmp = {0}, got = {0};
+        for (int r = 0; r < n; r++) {
+            tsr_cimage img = {0}, wide = {0};
+            int x = rnd() % W, y = rnd() % H;
+            make_image(&img, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), r, kinds[rnd() % 6]);
+            const tsr_cimage *src = &img;
+            if (cf == TSR_CI_RGBA32F) {
+                CHECK_OK(tsr_cimage_init(&wide, W, H, img.x, img.y, img.width, img.height, cf, TSR_CI_DEPTH32F, &err),
+                         err);
+                wide.rank = img.rank;
+                wide.frame = img.frame;
+                size_t np = (size_t)img.width * img.height;
+                for (size_t i = 0; i < np; i++) {
+                    float v[4];
+                    for (int k = 0; k < 4; k++)
+                        v[k] = (float)img.color[4 * i + k] / 255.0f;
+                    memcpy(wide.color + 16 * i, v, sizeof v);
+                    wide.depth[i] = img.depth[i];
+                }
+                src = &wide;
+            }
+            CHECK_OK(tsr_sparse_image_compress(src, TSR_COMPOSITE_DEPTH, 0, all, &whole, &err), err);
+            CHECK_OK(tsr_sparse_image_split(&whole, start, count, &p[r], &err), err);
+            if (rnd() % 3 == 0)
+                for (uint32_t i = 0; i < p[r].active; i++)
+                    if (rnd() % 2)
+                        p[r].depth[i] = adversarial_depth();
+            tsr_cimage_free(&img);
+            tsr_cimage_free(&wide);
+        }
+        int at = rnd() % n;
+        /* the reference: merges into fresh images, alternating buffers */
+        tsr_sparse_image *acc = &p[at], *bufs[2] = {&ref, &tmp};
+        int b = 0;
+        for (int i = at - 1; i >= 0; i--, b ^= 1) {
+            CHECK_OK(tsr_sparse_image_merge(&p[i], acc, bufs[b], &err), err);
+            acc = bufs[b];
+        }
+        for (int i = at + 1; i < n; i++, b ^= 1) {
+            CHECK_OK(tsr_sparse_image_merge(acc, &p[i], bufs[b], &err), err);
+            acc = bufs[b];
+        }
+        CHECK_OK(tsr_sparse_fold_begin(&fold, &p[at], &err), err);
+        for (int i = at - 1; i >= 0; i--)
+            CHECK_OK(tsr_sparse_fold_add(&fold, &p[i], 1, &err), err);
+        for (int i = at + 1; i < n; i++)
+            CHECK_OK(tsr_sparse_fold_add(&fold, &p[i], 0, &err), err);
+        CHECK_OK(tsr_sparse_fold_end(&fold, &got, &err), err);
+        CHECK(got.start == acc->start && got.count == acc->count && got.rank == acc->rank &&
+                  got.rank_count == acc->rank_count && got.frame == acc->frame && got.color_format == acc->color_format,
+              "fold header differs (iter %d)", iter);
+        CHECK(got.nruns == acc->nruns && got.active == acc->active, "fold runs %u/%u active %u/%u (iter %d)", got.nruns,
+              acc->nruns, got.active, acc->active, iter);
+        if (got.nruns == acc->nruns && got.active == acc->active) {
+            CHECK(!got.nruns || !memcmp(got.runs, acc->runs, (size_t)got.nruns * 8), "fold runs differ (iter %d)",
+                  iter);
+            CHECK(!got.active || !memcmp(got.color, acc->color, (size_t)got.active * cb),
+                  "fold colour differs (iter %d)", iter);
+            CHECK(!got.active || !memcmp(got.depth, acc->depth, (size_t)got.active * 4), "fold depth differs (iter %d)",
+                  iter);
+        }
+        /* a piece of another range is refused, as merge refuses it */
+        if (count && start) {
+            tsr_sparse_image other = {0};
+            CHECK_OK(tsr_sparse_image_split(&whole, start - 1, count, &other, &err), err);
+            CHECK(tsr_sparse_fold_add(&fold, &other, 0, &err) == TSR_EINVAL, "fold took a piece of another range");
+            tsr_sparse_image_free(&other);
+        }
+        for (int r = 0; r < n; r++)
+            tsr_sparse_image_free(&p[r]);
+        tsr_sparse_image *ss[] = {&whole, &ref, &tmp, &got};
+        for (size_t i = 0; i < 4; i++)
+            tsr_sparse_image_free(ss[i]);
+    }
+    tsr_sparse_fold_free(&fold);
+    return harness_failures;
+}
+
 static int test_split_at_run_edges(void)
 {
     tsr_error err;
@@ -1457,6 +1553,7 @@ int main(int argc, char **argv)
         {"nan_depth_never_wins", test_nan_depth_never_wins},
         {"compress_runs_match_pixel_rule", test_compress_runs_match_pixel_rule},
         {"sparse_merge_equals_dense", test_sparse_merge_equals_dense},
+        {"sparse_fold_equals_merges", test_sparse_fold_equals_merges},
         {"split_at_run_edges", test_split_at_run_edges},
         {"codecs_roundtrip", test_codecs_roundtrip},
         {"codec_worst_case_size", test_codec_worst_case_size},

@@ -195,6 +195,26 @@ TSR_API int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, ui
  * order intervals, front first) into `out` (must not alias either). */
 TSR_API int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
                                    tsr_error *err);
+/* A depth-mode fold of many pieces of one range: the running composite
+ * keeps its pixels dense (pixel i of the range at index i) with its
+ * active runs beside them, so merging a piece writes only the piece's
+ * active pixels, not the whole union as a merge into a fresh image
+ * would; one gather at the end gives the sparse image. The result is the
+ * very image a chain of tsr_sparse_image_merge calls with the same
+ * grouping would give (same runs, same bits). Planes are reused from one
+ * fold to the next. */
+typedef struct tsr_sparse_fold {
+    tsr_sparse_image acc;  /* header and union runs; planes dense over the range */
+    tsr_sparse_image next; /* the runs of the next step, built aside */
+} tsr_sparse_fold;
+/* Starts a fold from `first` (depth mode, DEPTH32F). */
+TSR_API int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err);
+/* Merges `piece` in front of (in_front) or behind the running composite;
+ * the checks of tsr_sparse_image_merge apply. */
+TSR_API int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err);
+/* The running composite as a sparse image in `out`. */
+TSR_API int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *err);
+TSR_API void tsr_sparse_fold_free(tsr_sparse_fold *f);
 /* Writes the image's range into `dst`, a dense image whose region covers
  * the range's pixels (the whole window for the final frame): inactive
  * pixels as `background` (RGBA8: 4 bytes; RGBA32F: 4 floats) with depth
