@@ -24,6 +24,7 @@ struct tsr_cs_executor {
      * each is merged as it arrives, before the next is asked for. */
     tsr_sparse_image cur, acc, tmp, piece, view, in, first;
     tsr_sparse_image layer_view; /* the kept part as a view of a full read-back (keep_of_readback) */
+    tsr_sparse_fold strip;       /* depth mode's running composite of a region that takes many pieces */
     uint8_t *buf;
     size_t buf_cap;
     tsr_cs_stats stats;
@@ -53,6 +54,7 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
     tsr_sparse_image_free(&ex->in);
     tsr_sparse_image_free(&ex->first);
     tsr_sparse_image_free(&ex->layer_view);
+    tsr_sparse_fold_free(&ex->strip);
     free(ex->buf);
     free(ex);
 }
@@ -70,7 +72,7 @@ size_t tsr_cs_executor_pixel_bytes(const tsr_cs_executor *ex)
 {
     return owned_pixel_bytes(&ex->cur) + owned_pixel_bytes(&ex->acc) + owned_pixel_bytes(&ex->tmp) +
            owned_pixel_bytes(&ex->piece) + owned_pixel_bytes(&ex->view) + owned_pixel_bytes(&ex->in) +
-           owned_pixel_bytes(&ex->first) + owned_pixel_bytes(&ex->layer_view);
+           owned_pixel_bytes(&ex->first) + owned_pixel_bytes(&ex->layer_view) + owned_pixel_bytes(&ex->strip.acc);
 }
 
 /* The buffer the next message to `to` is encoded into: the transport's own
@@ -191,14 +193,22 @@ static int recv_piece(tsr_cs_executor *ex, int from, const tsr_image_message_hea
  * (in_front) or behind it. The intervals must be adjacent, or the
  * schedule and the messages disagree. The output is whichever of the two
  * merge buffers is not an input. */
-static int fold(tsr_cs_executor *ex, tsr_sparse_image **acc, const tsr_sparse_image *piece, int in_front,
-                tsr_error *err)
+static int adjacent(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_error *err)
 {
-    const tsr_sparse_image *front = in_front ? piece : *acc, *back = in_front ? *acc : piece;
     if (front->rank + front->rank_count != back->rank)
         return tsr_error_set(
             err, TSR_EPROTO, "composite: piece of ranks %d..%d follows ranks %d..%d (not adjacent in the order)",
             back->rank, back->rank + back->rank_count - 1, front->rank, front->rank + front->rank_count - 1);
+    return TSR_OK;
+}
+
+static int fold(tsr_cs_executor *ex, tsr_sparse_image **acc, const tsr_sparse_image *piece, int in_front,
+                tsr_error *err)
+{
+    const tsr_sparse_image *front = in_front ? piece : *acc, *back = in_front ? *acc : piece;
+    int rc = adjacent(front, back, err);
+    if (rc)
+        return rc;
     tsr_sparse_image *a = *acc;
     if (a->mode == TSR_COMPOSITE_DEPTH && a->color_format == TSR_CI_RGBA8 && !a->borrowed && a->runs &&
         piece->mode == a->mode && piece->color_format == a->color_format && piece->depth_format == a->depth_format &&
@@ -216,7 +226,7 @@ static int fold(tsr_cs_executor *ex, tsr_sparse_image **acc, const tsr_sparse_im
         return TSR_OK;
     }
     tsr_sparse_image *out = *acc == &ex->acc ? &ex->tmp : &ex->acc;
-    int rc = tsr_sparse_image_merge(front, back, out, err);
+    rc = tsr_sparse_image_merge(front, back, out, err);
     if (rc)
         return rc;
     ex->stats.pixels_merged += front->active + back->active;
@@ -244,6 +254,33 @@ static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_spa
         if (from[i] < 0)
             at = i;
     tsr_sparse_image *acc = NULL;
+    if (mode != TSR_COMPOSITE_ALPHA && at >= 0 && n >= 3 && self->active < self->count) {
+        /* Two or more pieces into a partly covered region (a merge of the
+         * same runs is in place already, and one piece is one merge): the
+         * dense strip writes each piece's pixels once instead of the
+         * growing union at every step. */
+        tsr_sparse_fold *f = &ex->strip;
+        if ((rc = tsr_sparse_fold_begin(f, self, err)))
+            return rc;
+        for (int i = at - 1; i >= 0; i--) {
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = adjacent(&ex->in, &f->acc, err)))
+                return rc;
+            ex->stats.pixels_merged += ex->in.active + f->acc.active;
+            if ((rc = tsr_sparse_fold_add(f, &ex->in, 1, err)))
+                return rc;
+        }
+        for (int i = at + 1; i < n; i++) {
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = adjacent(&f->acc, &ex->in, err)))
+                return rc;
+            ex->stats.pixels_merged += ex->in.active + f->acc.active;
+            if ((rc = tsr_sparse_fold_add(f, &ex->in, 0, err)))
+                return rc;
+        }
+        if ((rc = tsr_sparse_fold_end(f, &ex->acc, err)))
+            return rc;
+        *result = &ex->acc;
+        return TSR_OK;
+    }
     if (mode != TSR_COMPOSITE_ALPHA && at >= 0) {
         acc = self;
         for (int i = at - 1; i >= 0; i--)
