@@ -388,10 +388,9 @@ static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t c
 static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth,
                           int out)
 {
-    size_t bytes = (size_t)runs->active * (tsr_ci_color_bytes(in->color_format) + (dst_depth ? 4 : 0));
-    int stream = out && bytes >= CI_STREAM_MIN;
-    void (*copy)(void *, const void *, size_t) = stream ? ci_copy_stream : ci_copy;
     size_t cb = tsr_ci_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
+    int stream = out && (size_t)runs->active * (cb + (dst_depth ? 4 : 0)) >= CI_STREAM_MIN;
+    void (*copy)(void *, const void *, size_t) = stream ? ci_copy_stream : ci_copy;
     size_t pos = runs->start;
     int whole_rows = in->x == 0 && in->width == in->window_width;
     for (uint32_t r = 0; r < runs->nruns; r++) {

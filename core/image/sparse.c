@@ -389,16 +389,24 @@ static inline void cursor_take(run_cursor *c, uint32_t n)
     cursor_norm(c);
 }
 
+/* The two images cover the same pixels of one window, in one mode and
+ * format: what a merge or a fold of them needs. */
+static int same_range(const tsr_sparse_image *a, const tsr_sparse_image *b, const char *what, tsr_error *err)
+{
+    if (a->window_width != b->window_width || a->window_height != b->window_height || a->start != b->start ||
+        a->count != b->count || a->mode != b->mode || a->color_format != b->color_format ||
+        a->depth_format != b->depth_format)
+        return tsr_error_set(err, TSR_EINVAL, "%s: images differ (pixels %u+%u of %dx%d vs %u+%u of %dx%d, or formats)",
+                             what, a->start, a->count, a->window_width, a->window_height, b->start, b->count,
+                             b->window_width, b->window_height);
+    return TSR_OK;
+}
+
 int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
                            tsr_error *err)
 {
-    if (front->window_width != back->window_width || front->window_height != back->window_height ||
-        front->start != back->start || front->count != back->count || front->mode != back->mode ||
-        front->color_format != back->color_format || front->depth_format != back->depth_format)
-        return tsr_error_set(err, TSR_EINVAL,
-                             "sparse merge: images differ (pixels %u+%u of %dx%d vs %u+%u of %dx%d, or formats)",
-                             front->start, front->count, front->window_width, front->window_height, back->start,
-                             back->count, back->window_width, back->window_height);
+    if (same_range(front, back, "sparse merge", err))
+        return err->code;
     if (out == front || out == back)
         return tsr_error_set(err, TSR_EINVAL, "sparse merge: output aliases an input");
     if (front->mode == TSR_COMPOSITE_DEPTH && front->depth_format != TSR_CI_DEPTH32F)
@@ -454,17 +462,6 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
     return TSR_OK;
 }
 
-static int fold_check(const tsr_sparse_image *a, const tsr_sparse_image *b, const char *what, tsr_error *err)
-{
-    if (a->window_width != b->window_width || a->window_height != b->window_height || a->start != b->start ||
-        a->count != b->count || a->mode != b->mode || a->color_format != b->color_format ||
-        a->depth_format != b->depth_format)
-        return tsr_error_set(err, TSR_EINVAL, "%s: images differ (pixels %u+%u of %dx%d vs %u+%u of %dx%d, or formats)",
-                             what, a->start, a->count, a->window_width, a->window_height, b->start, b->count,
-                             b->window_width, b->window_height);
-    return TSR_OK;
-}
-
 int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err)
 {
     if (first->mode != TSR_COMPOSITE_DEPTH || first->depth_format != TSR_CI_DEPTH32F)
@@ -500,7 +497,7 @@ int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr
 int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err)
 {
     tsr_sparse_image *a = &f->acc, *nx = &f->next;
-    int rc = fold_check(a, piece, "sparse fold", err);
+    int rc = same_range(a, piece, "sparse fold", err);
     if (rc || (rc = sparse_reserve(nx, (size_t)a->nruns + piece->nruns + 1, 0, 4, err)))
         return rc;
     sparse_begin(nx, a->window_width, a->window_height, a->start, a->count, a->mode, a->color_format, a->depth_format,
@@ -546,7 +543,7 @@ int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int i
         cursor_take(&p, n);
     }
     if (u.left || p.left)
-        return tsr_error_set(err, TSR_EPROTO, "sparse merge: the images' runs do not add up to %u pixels", a->count);
+        return tsr_error_set(err, TSR_EPROTO, "sparse fold: the images' runs do not add up to %u pixels", a->count);
     /* the new runs become the composite's; the old array builds the next */
     uint32_t *r = a->runs;
     size_t rcap = a->runs_capacity;

@@ -234,6 +234,17 @@ static int fold(tsr_cs_executor *ex, tsr_sparse_image **acc, const tsr_sparse_im
     return TSR_OK;
 }
 
+/* fold's step for the dense strip (ex->strip, tsr_sparse_fold). */
+static int strip_add(tsr_cs_executor *ex, const tsr_sparse_image *piece, int in_front, tsr_error *err)
+{
+    tsr_sparse_fold *f = &ex->strip;
+    int rc = in_front ? adjacent(piece, &f->acc, err) : adjacent(&f->acc, piece, err);
+    if (rc)
+        return rc;
+    ex->stats.pixels_merged += piece->active + f->acc.active;
+    return tsr_sparse_fold_add(f, piece, in_front, err);
+}
+
 /* Composites the pieces of one region, in composite order p[0..n) (front
  * first): p[i] is from[i]'s message, or `self` where from[i] < 0. Each
  * received piece is merged as soon as it arrives. Depth mode folds out
@@ -254,41 +265,28 @@ static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_spa
         if (from[i] < 0)
             at = i;
     tsr_sparse_image *acc = NULL;
-    if (mode != TSR_COMPOSITE_ALPHA && at >= 0 && n >= 3 && self->active < self->count) {
+    if (mode != TSR_COMPOSITE_ALPHA && at >= 0) {
         /* Two or more pieces into a partly covered region (a merge of the
          * same runs is in place already, and one piece is one merge): the
          * dense strip writes each piece's pixels once instead of the
          * growing union at every step. */
-        tsr_sparse_fold *f = &ex->strip;
-        if ((rc = tsr_sparse_fold_begin(f, self, err)))
+        int strip = n >= 3 && self->active < self->count;
+        if (strip && (rc = tsr_sparse_fold_begin(&ex->strip, self, err)))
             return rc;
-        for (int i = at - 1; i >= 0; i--) {
-            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = adjacent(&ex->in, &f->acc, err)))
-                return rc;
-            ex->stats.pixels_merged += ex->in.active + f->acc.active;
-            if ((rc = tsr_sparse_fold_add(f, &ex->in, 1, err)))
-                return rc;
-        }
-        for (int i = at + 1; i < n; i++) {
-            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = adjacent(&f->acc, &ex->in, err)))
-                return rc;
-            ex->stats.pixels_merged += ex->in.active + f->acc.active;
-            if ((rc = tsr_sparse_fold_add(f, &ex->in, 0, err)))
-                return rc;
-        }
-        if ((rc = tsr_sparse_fold_end(f, &ex->acc, err)))
-            return rc;
-        *result = &ex->acc;
-        return TSR_OK;
-    }
-    if (mode != TSR_COMPOSITE_ALPHA && at >= 0) {
         acc = self;
         for (int i = at - 1; i >= 0; i--)
-            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = fold(ex, &acc, &ex->in, 1, err)))
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) ||
+                (rc = strip ? strip_add(ex, &ex->in, 1, err) : fold(ex, &acc, &ex->in, 1, err)))
                 return rc;
         for (int i = at + 1; i < n; i++)
-            if ((rc = recv_piece(ex, from[i], expect, t, err)) || (rc = fold(ex, &acc, &ex->in, 0, err)))
+            if ((rc = recv_piece(ex, from[i], expect, t, err)) ||
+                (rc = strip ? strip_add(ex, &ex->in, 0, err) : fold(ex, &acc, &ex->in, 0, err)))
                 return rc;
+        if (strip) {
+            if ((rc = tsr_sparse_fold_end(&ex->strip, &ex->acc, err)))
+                return rc;
+            acc = &ex->acc;
+        }
         *result = acc;
         return TSR_OK;
     }
