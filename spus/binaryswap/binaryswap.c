@@ -125,6 +125,7 @@ typedef struct bswap_spu {
     tsr_net_listener *listener;
     tsr_net_conn *conns[BSWAP_MAX_PEERS]; /* conns[rank] stays NULL */
     bool linked;
+    bool meshed;     /* every peer linked and its HELLO read: a peer's last word may follow */
     bool composited; /* a frame's messages went out and their releases are not yet awaited */
 
     tsr_chain *out; /* pack to the display; NULL until first needed */
@@ -188,8 +189,10 @@ static void bswap_fatal(bswap_spu *b, const char *fmt, ...)
     /* What this peer already sent (its HELLO, an image) and the line it
      * ends on reach the others before it goes, so they name the real
      * fault (a peer killed before this one), not its vanishing. */
+    /* While the mesh forms, a peer reads a HELLO first from each link and
+     * names a failure there itself: only a formed mesh hears last words. */
     tsr_error ignored = {0};
-    for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
+    for (int r = 0; b->meshed && r < b->nranks && r < BSWAP_MAX_PEERS; r++)
         if (b->conns[r])
             tsr_net_send(b->conns[r], BSWAP_KIND_ENDING, what, strlen(what), 100, &ignored);
     for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
@@ -398,6 +401,7 @@ static void link_peers(bswap_spu *b, int W, int H)
                 who, peer_address(b, who), hello[1], hello[2], W, H);
     }
     tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
+    b->meshed = true;
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
             tsr_log(TSR_LOG_INFO, "%s: transport rank %d <-> rank %d (%s): %s", b->name, b->rank, i, peer_address(b, i),
