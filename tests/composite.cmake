@@ -29,6 +29,7 @@ foreach(t
     composite_schedules_hold_invariants
     composite_link_bytes_hold_one_frame
     composite_executor_keeps_one_piece
+    composite_filled_final_pieces_equal_gathered
     binaryswap_odd_peer_counts
     composite_all_strategies_agree
     composite_odd_image_sizes

@@ -16,6 +16,10 @@ add_test(NAME binaryswap_synthetic_ellipse_composite_exact_n4
 # clears beside them.
 add_test(NAME binaryswap_synthetic_ellipse_banded_composite_exact_n4
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/sortlast/synthetic.sh ${CMAKE_BINARY_DIR}/bin ${SYNTHETIC_OUT}/ellipse4-banded 4 ellipse 1024x768)
+# Eight ellipses leave little background: strips folded from eight pieces
+# go to the display filled with it, not gathered (final_filled).
+add_test(NAME binaryswap_synthetic_ellipse_filled_composite_exact_n8
+  COMMAND env FILLED=1 ${CMAKE_CURRENT_SOURCE_DIR}/sortlast/synthetic.sh ${CMAKE_BINARY_DIR}/bin ${SYNTHETIC_OUT}/ellipse8 8 ellipse)
 # No peer exists at this display address: a value that waited for peers
 # would hang until link_timeout_ms instead of failing.
 add_test(NAME binaryswap_synthetic_bogus_refused_at_init
@@ -24,11 +28,13 @@ add_test(NAME binaryswap_synthetic_bogus_refused_at_init
           $<TARGET_FILE:spheres> --frames 1 --size 32x32
           --chain "binaryswap display=unix:${SYNTHETIC_OUT}/nobody synthetic=bogus rank=1 peers=unix:${SYNTHETIC_OUT}/p0,unix:${SYNTHETIC_OUT}/p1")
 set_tests_properties(binaryswap_synthetic_full_composite_exact_n3 binaryswap_synthetic_ellipse_composite_exact_n4
-  binaryswap_synthetic_ellipse_banded_composite_exact_n4 binaryswap_synthetic_bogus_refused_at_init PROPERTIES
+  binaryswap_synthetic_ellipse_banded_composite_exact_n4 binaryswap_synthetic_ellipse_filled_composite_exact_n8
+  binaryswap_synthetic_bogus_refused_at_init PROPERTIES
   TIMEOUT 60 LABELS sortlast FAIL_REGULAR_EXPRESSION "FAIL:" ENVIRONMENT "LP_NUM_THREADS=0")
 if(TESSERA_SANITIZE)
   set_tests_properties(binaryswap_synthetic_full_composite_exact_n3 binaryswap_synthetic_ellipse_composite_exact_n4
-    binaryswap_synthetic_ellipse_banded_composite_exact_n4 binaryswap_synthetic_bogus_refused_at_init PROPERTIES
+    binaryswap_synthetic_ellipse_banded_composite_exact_n4 binaryswap_synthetic_ellipse_filled_composite_exact_n8
+    binaryswap_synthetic_bogus_refused_at_init PROPERTIES
     ENVIRONMENT "LP_NUM_THREADS=0;LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 

@@ -462,6 +462,8 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
     return TSR_OK;
 }
 
+static void fill_background(uint8_t *dst, const void *background, size_t cb, uint32_t n);
+
 int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err)
 {
     if (first->mode != TSR_COMPOSITE_DEPTH || first->depth_format != TSR_CI_DEPTH32F)
@@ -490,6 +492,59 @@ int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr
         return tsr_error_set(err, TSR_EPROTO, "sparse fold: the image's runs do not add up to %u pixels", first->count);
     ci_copy(a->runs, first->runs, (size_t)first->nruns * 2 * sizeof *a->runs);
     a->nruns = first->nruns;
+    a->active = at;
+    return TSR_OK;
+}
+
+int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const tsr_sparse_image *runs, tsr_error *err)
+{
+    if (runs->mode != TSR_COMPOSITE_DEPTH || in->depth_format != TSR_CI_DEPTH32F ||
+        runs->depth_format != TSR_CI_DEPTH32F)
+        return tsr_error_set(err, TSR_EINVAL, "sparse fold: depth mode with depth planes only");
+    if (runs->window_width != in->window_width || runs->window_height != in->window_height ||
+        runs->color_format != in->color_format)
+        return tsr_error_set(err, TSR_EINVAL,
+                             "sparse fold: runs of a %dx%d window for a %dx%d read-back (or formats differ)",
+                             runs->window_width, runs->window_height, in->window_width, in->window_height);
+    size_t cb = tsr_ci_color_bytes(in->color_format);
+    tsr_sparse_image *a = &f->acc;
+    int rc = check_window(runs->window_width, runs->window_height, runs->start, runs->count, "sparse fold", err);
+    if (rc || (rc = sparse_reserve(a, (size_t)runs->nruns + 1, runs->count, cb, err)))
+        return rc;
+    sparse_begin(a, runs->window_width, runs->window_height, runs->start, runs->count, runs->mode, runs->color_format,
+                 runs->depth_format, runs->rank, runs->frame);
+    a->rank_count = runs->rank_count;
+    uint32_t w = (uint32_t)in->window_width, pos = 0, at = 0;
+    for (uint32_t r = 0; r < runs->nruns; r++) {
+        uint32_t ni = runs->runs[2 * r], na = runs->runs[2 * r + 1];
+        if ((uint64_t)pos + ni + na > runs->count)
+            return tsr_error_set(err, TSR_EPROTO, "sparse fold: the image's runs do not add up to %u pixels",
+                                 runs->count);
+        pos += ni;
+        if (na) {
+            /* an active run lies in one row of the read-back's region, or
+             * in whole rows of a region as wide as the window */
+            uint32_t p = runs->start + pos, y = p / w, x = p % w;
+            int inside = in->x == 0 && in->width == in->window_width
+                             ? (int)y >= in->y && (uint64_t)(p - (uint32_t)in->y * w) + na <=
+                                                      (uint64_t)in->width * (uint64_t)in->height
+                             : (int)y >= in->y && (int)y < in->y + in->height && (int)x >= in->x &&
+                                   (uint64_t)x + na <= (uint64_t)in->x + (uint64_t)in->width;
+            if (!inside)
+                return tsr_error_set(err, TSR_EPROTO,
+                                     "sparse fold: an active run at pixel %u lies outside the %dx%d region at %d,%d", p,
+                                     in->width, in->height, in->x, in->y);
+            size_t src = (size_t)(y - (uint32_t)in->y) * (size_t)in->width + (x - (uint32_t)in->x);
+            ci_copy(a->color + (size_t)pos * cb, in->color + src * cb, (size_t)na * cb);
+            ci_copy(a->depth + pos, in->depth + src, (size_t)na * sizeof(float));
+        }
+        pos += na;
+        at += na;
+    }
+    if (pos != runs->count || at != runs->active)
+        return tsr_error_set(err, TSR_EPROTO, "sparse fold: the image's runs do not add up to %u pixels", runs->count);
+    ci_copy(a->runs, runs->runs, (size_t)runs->nruns * 2 * sizeof *a->runs);
+    a->nruns = runs->nruns;
     a->active = at;
     return TSR_OK;
 }
@@ -586,6 +641,29 @@ int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *er
         pos += na;
         at += na;
     }
+    return TSR_OK;
+}
+
+int tsr_sparse_fold_fill(tsr_sparse_fold *f, const void *background, tsr_error *err)
+{
+    tsr_sparse_image *a = &f->acc;
+    size_t cb = tsr_ci_color_bytes(a->color_format);
+    if (a->count && !a->runs)
+        return tsr_error_set(err, TSR_EINVAL, "sparse fold: fill before the fold began");
+    uint32_t pos = 0;
+    for (uint32_t r = 0; r < a->nruns; r++) {
+        uint32_t ni = a->runs[2 * r], na = a->runs[2 * r + 1];
+        fill_background(a->color + (size_t)pos * cb, background, cb, ni);
+        for (uint32_t i = 0; i < ni; i++)
+            a->depth[pos + i] = 1.0f;
+        pos += ni + na;
+    }
+    a->nruns = a->count ? 1 : 0;
+    if (a->count) {
+        a->runs[0] = 0;
+        a->runs[1] = a->count;
+    }
+    a->active = a->count;
     return TSR_OK;
 }
 

@@ -917,15 +917,6 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     b->last_bytes = 0;
     tsr_cs_transport t = {
         .user = b, .send = transport_send, .recv = transport_recv, .send_buffer = transport_send_buffer};
-    bool at_display = tsr_cs_schedule_display_composites(&b->plan);
-    const tsr_sparse_image *final = NULL;
-    int rc = at_display ? tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err)
-                        : tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &final, &err);
-    if (rc != TSR_OK)
-        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-    b->st.composited_ns = tsr_bswap_now_ns();
-    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
-            b->rank, b->last_bytes);
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
     if (b->mode == TSR_COMPOSITE_ALPHA)
@@ -934,6 +925,25 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     for (int c = 0; c < 4; c++)
         background_f[c] = (float)b->background[c] / 255.0f;
     const void *background = b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f;
+    bool at_display = tsr_cs_schedule_display_composites(&b->plan);
+    const tsr_sparse_image *final = NULL;
+    int rc;
+    if (at_display) {
+        rc = tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err);
+    } else {
+        /* place_piece draws the final piece as it is */
+        tsr_cs_executor_fill_final(b->peer_ex, background);
+        rc = tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &final, &err);
+        tsr_cs_executor_fill_final(b->peer_ex, NULL);
+    }
+    if (rc != TSR_OK)
+        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    b->st.composited_ns = tsr_bswap_now_ns();
+    tsr_cs_stats cs;
+    tsr_cs_executor_stats(b->peer_ex, &cs);
+    b->st.final_filled = cs.final_filled;
+    tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
+            b->rank, b->last_bytes);
     const tsr_dispatch *d = display(b);
     if (!at_display) {
         b->st.assembled_ns = b->st.composited_ns; /* the piece is final */

@@ -53,12 +53,13 @@ void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s)
     long hwm, rss;
     memory_kb(&hwm, &rss);
     char line[512];
-    int n = snprintf(line, sizeof line,
-                     "frame %" PRIu32 " rank %d nranks %d swap_ns %" PRId64 " ready_ns %" PRId64
-                     " composited_ns %" PRId64 " assembled_ns %" PRId64 " sent_ns %" PRId64 " displayed_ns %" PRId64
-                     " bytes_sent %" PRIu64 " vmhwm_kb %ld vmrss_kb %ld cpu_ns %" PRId64 " hook_cpu_ns %" PRId64 "\n",
-                     s->frame, s->rank, s->nranks, s->swap_ns, s->ready_ns, s->composited_ns, s->assembled_ns,
-                     s->sent_ns, s->displayed_ns, s->bytes_sent, hwm, rss, tsr_bswap_cpu_ns(), s->hook_cpu_ns);
+    int n =
+        snprintf(line, sizeof line,
+                 "frame %" PRIu32 " rank %d nranks %d swap_ns %" PRId64 " ready_ns %" PRId64 " composited_ns %" PRId64
+                 " assembled_ns %" PRId64 " sent_ns %" PRId64 " displayed_ns %" PRId64 " bytes_sent %" PRIu64
+                 " vmhwm_kb %ld vmrss_kb %ld cpu_ns %" PRId64 " hook_cpu_ns %" PRId64 " final_filled %" PRIu64 "\n",
+                 s->frame, s->rank, s->nranks, s->swap_ns, s->ready_ns, s->composited_ns, s->assembled_ns, s->sent_ns,
+                 s->displayed_ns, s->bytes_sent, hwm, rss, tsr_bswap_cpu_ns(), s->hook_cpu_ns, s->final_filled);
     if (n > 0 && (size_t)n < sizeof line && write(fd, line, (size_t)n) != n) {
         /* A full disk loses a timing line, never the frame. */
     }

@@ -26,6 +26,7 @@ typedef struct tsr_bswap_frame_stats {
     int64_t sent_ns;       /* its piece (rank 0: and the swap) packed and handed to the display stream */
     int64_t displayed_ns;  /* rank 0: the display node answered after its swap (else 0) */
     uint64_t bytes_sent;   /* image bytes this peer sent */
+    uint64_t final_filled; /* its final piece went to the display filled, not gathered (0 or 1) */
 } tsr_bswap_frame_stats;
 
 int64_t tsr_bswap_now_ns(void);

@@ -462,7 +462,7 @@ static int test_sparse_merge_equals_dense(void)
 static int test_sparse_fold_equals_merges(void)
 {
     tsr_error err;
-    tsr_sparse_fold fold = {0};
+    tsr_sparse_fold fold = {0}, dfold = {0};
     for (int iter = 0; iter < 400 && !harness_failures; iter++) {
         enum { MAXN = 7 };
         int W = 1 + rnd() % 60, H = 1 + rnd() % 12, n = 1 + rnd() % MAXN;
@@ -470,7 +470,11 @@ static int test_sparse_fold_equals_merges(void)
         int cf = iter % 5 == 4 ? TSR_CI_RGBA32F : TSR_CI_RGBA8;
         size_t cb = tsr_ci_color_bytes(cf);
         fill_kind kinds[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN};
-        tsr_sparse_image p[MAXN] = {{0}}, whole = {0}, ref = {0}, tmp = {0}, got = {0};
+        tsr_sparse_image p[MAXN] = {{0}}, whole = {0}, ref = {0}, tmp = {0}, got = {0}, runs = {0}, dgot = {0};
+        /* the fold from `at` also begins from its read-back itself
+         * (tsr_sparse_fold_begin_dense) when that piece is as read back */
+        int at = rnd() % n, dense_at = rnd() % 2;
+        tsr_cimage at_img = {0}, at_wide = {0};
         for (int r = 0; r < n; r++) {
             tsr_cimage img = {0}, wide = {0};
             int x = rnd() % W, y = rnd() % H;
@@ -493,6 +497,12 @@ static int test_sparse_fold_equals_merges(void)
             }
             CHECK_OK(tsr_sparse_image_compress(src, TSR_COMPOSITE_DEPTH, 0, all, &whole, &err), err);
             CHECK_OK(tsr_sparse_image_split(&whole, start, count, &p[r], &err), err);
+            if (r == at && dense_at) {
+                CHECK_OK(tsr_sparse_image_compress_runs(src, TSR_COMPOSITE_DEPTH, start, count, &runs, &err), err);
+                at_img = img;
+                at_wide = wide;
+                continue;
+            }
             if (rnd() % 3 == 0)
                 for (uint32_t i = 0; i < p[r].active; i++)
                     if (rnd() % 2)
@@ -500,7 +510,6 @@ static int test_sparse_fold_equals_merges(void)
             tsr_cimage_free(&img);
             tsr_cimage_free(&wide);
         }
-        int at = rnd() % n;
         /* the reference: merges into fresh images, alternating buffers */
         tsr_sparse_image *acc = &p[at], *bufs[2] = {&ref, &tmp};
         int b = 0;
@@ -518,6 +527,22 @@ static int test_sparse_fold_equals_merges(void)
         for (int i = at + 1; i < n; i++)
             CHECK_OK(tsr_sparse_fold_add(&fold, &p[i], 0, &err), err);
         CHECK_OK(tsr_sparse_fold_end(&fold, &got, &err), err);
+        if (dense_at) {
+            CHECK_OK(tsr_sparse_fold_begin_dense(&dfold, cf == TSR_CI_RGBA32F ? &at_wide : &at_img, &runs, &err), err);
+            for (int i = at - 1; i >= 0; i--)
+                CHECK_OK(tsr_sparse_fold_add(&dfold, &p[i], 1, &err), err);
+            for (int i = at + 1; i < n; i++)
+                CHECK_OK(tsr_sparse_fold_add(&dfold, &p[i], 0, &err), err);
+            CHECK_OK(tsr_sparse_fold_end(&dfold, &dgot, &err), err);
+            CHECK(dgot.nruns == got.nruns && dgot.active == got.active && dgot.rank == got.rank &&
+                      dgot.rank_count == got.rank_count && dgot.frame == got.frame &&
+                      (!got.nruns || !memcmp(dgot.runs, got.runs, (size_t)got.nruns * 8)) &&
+                      (!got.active || (!memcmp(dgot.color, got.color, (size_t)got.active * cb) &&
+                                       !memcmp(dgot.depth, got.depth, (size_t)got.active * 4))),
+                  "a fold begun from the read-back differs from one begun from its sparse copy (iter %d)", iter);
+            tsr_cimage_free(&at_img);
+            tsr_cimage_free(&at_wide);
+        }
         CHECK(got.start == acc->start && got.count == acc->count && got.rank == acc->rank &&
                   got.rank_count == acc->rank_count && got.frame == acc->frame && got.color_format == acc->color_format,
               "fold header differs (iter %d)", iter);
@@ -540,11 +565,12 @@ static int test_sparse_fold_equals_merges(void)
         }
         for (int r = 0; r < n; r++)
             tsr_sparse_image_free(&p[r]);
-        tsr_sparse_image *ss[] = {&whole, &ref, &tmp, &got};
-        for (size_t i = 0; i < 4; i++)
+        tsr_sparse_image *ss[] = {&whole, &ref, &tmp, &got, &runs, &dgot};
+        for (size_t i = 0; i < sizeof ss / sizeof *ss; i++)
             tsr_sparse_image_free(ss[i]);
     }
     tsr_sparse_fold_free(&fold);
+    tsr_sparse_fold_free(&dfold);
     return harness_failures;
 }
 
@@ -1098,6 +1124,9 @@ typedef struct frames_job {
     tsr_cimage *img;
     int rank, frames, rc;
     size_t pixel_bytes; /* the executor's planes after the last frame */
+    const void *fill;   /* tsr_cs_executor_fill_final's background, or NULL */
+    tsr_cimage *placed; /* the last frame's final piece is drawn into it (to_dense over BG), or NULL */
+    int filled;         /* that piece came back filled: one active run */
     tsr_cs_transport t;
     tsr_error err;
 } frames_job;
@@ -1107,10 +1136,16 @@ static void *frames_main(void *arg)
     frames_job *j = arg;
     tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
     j->rc = ex ? TSR_OK : TSR_ENOMEM;
+    if (ex)
+        tsr_cs_executor_fill_final(ex, j->fill);
     for (int f = 0; f < j->frames && !j->rc; f++) {
         const tsr_sparse_image *final = NULL;
         j->img->frame = (uint32_t)f;
         j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &final, &j->err);
+        if (!j->rc && final && f == j->frames - 1 && j->placed) {
+            j->filled = final->active == final->count && final->nruns == 1;
+            j->rc = tsr_sparse_image_to_dense(final, BG, j->placed, &j->err);
+        }
     }
     j->pixel_bytes = ex ? tsr_cs_executor_pixel_bytes(ex) : 0;
     tsr_cs_executor_free(ex);
@@ -1162,6 +1197,103 @@ static int test_executor_keeps_one_piece(void)
     for (int r = 0; r < N; r++)
         tsr_cimage_free(&imgs[r]);
     tsr_cs_schedule_free(&s);
+    return harness_failures;
+}
+
+/* One group of frames_job peers (memnet, a thread each); the last
+ * frame's final pieces drawn into `placed`. Returns how many came back
+ * without a background pixel (filled, or covered). */
+static int run_frames(const tsr_cs_schedule *s, tsr_cimage *imgs, const void *fill, tsr_cimage *placed)
+{
+    int n = s->nranks, filled = 0;
+    tsr_error err;
+    tsr_image_codec rle;
+    REQUIRE(tsr_image_codec_parse("rle", &rle, &err) == TSR_OK, "%s", err.message);
+    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+    REQUIRE(net != NULL, "%s", err.message);
+    frames_job jobs[TSR_CS_MAX_PEERS];
+    pthread_t th[TSR_CS_MAX_PEERS];
+    for (int r = 0; r < n; r++) {
+        jobs[r] =
+            (frames_job){.s = s, .codec = rle, .img = &imgs[r], .rank = r, .frames = 2, .fill = fill, .placed = placed};
+        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        pthread_create(&th[r], NULL, frames_main, &jobs[r]);
+    }
+    for (int r = 0; r < n; r++) {
+        pthread_join(th[r], NULL);
+        CHECK(jobs[r].rc == TSR_OK, "rank %d: %s", r, jobs[r].err.message);
+        filled += jobs[r].filled;
+    }
+    int from, to;
+    CHECK(tsr_cs_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
+    tsr_cs_memnet_free(net);
+    return filled;
+}
+
+/* A final piece that a dense strip composited may come back with its
+ * background filled in (tsr_cs_executor_fill_final) instead of gathered:
+ * drawn, it gives the very pixels (colour, and depth 1.0 where nothing was
+ * drawn) the gathered piece gives, for direct send and radix-k, full-window
+ * and region-of-interest layers, mostly covered (filled) and sparse
+ * (gathered: more than 1/8 of the strip is background). */
+static int test_filled_final_pieces_equal_gathered(void)
+{
+    enum { W = 67, H = 29 };
+    tsr_error err;
+    const strat which[] = {{TSR_CS_DIRECT, 0}, {TSR_CS_RADIXK, 4}};
+    const char *names[] = {"direct", "radixk-4"};
+    int holes_filled = 0;
+    for (size_t si = 0; si < sizeof which / sizeof *which; si++)
+        for (int n = 3; n <= 8; n++)
+            for (int dense = 0; dense < 2; dense++) {
+                tsr_cs_schedule s;
+                CHECK_OK(tsr_cs_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err), err);
+                tsr_cimage imgs[8] = {{0}}, placed[2] = {{0}};
+                for (int r = 0; r < n; r++) {
+                    /* odd ranks: a region of interest, not the window */
+                    int x = r % 2 ? 3 : 0, y = r % 2 ? 2 : 0;
+                    CHECK_OK(tsr_cimage_init(&imgs[r], W, H, x, y, W - x, H - y, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err),
+                             err);
+                    imgs[r].rank = r;
+                    for (int p = 0; p < (W - x) * (H - y); p++) {
+                        int active = (int)(rnd() % 100) < (dense ? 80 : 30);
+                        for (int c = 0; c < 4; c++)
+                            imgs[r].color[4 * p + c] = active ? (uint8_t)(rnd() % 255 + 1) : 0;
+                        imgs[r].depth[p] = active ? (float)(rnd() % 4000) / 4001.0f : 1.0f;
+                    }
+                }
+                for (int v = 0; v < 2; v++) {
+                    CHECK_OK(tsr_cimage_init(&placed[v], W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+                    memset(placed[v].color, 0x5a, (size_t)W * H * 4);
+                    for (int p = 0; p < W * H; p++)
+                        placed[v].depth[p] = 2.0f;
+                }
+                int filled = run_frames(&s, imgs, BG, &placed[0]);
+                int covered = run_frames(&s, imgs, NULL, &placed[1]);
+                /* direct send: every rank's one round folds n pieces */
+                if (which[si].kind == TSR_CS_DIRECT && dense) {
+                    CHECK(filled == n, "direct n=%d, mostly covered: %d of %d final pieces filled", n, filled, n);
+                    holes_filled += filled - covered;
+                }
+                if (which[si].kind == TSR_CS_DIRECT && !dense && n == 3)
+                    CHECK(filled == covered, "direct n=3, sparse: %d final pieces filled, none expected",
+                          filled - covered);
+                CHECK(!memcmp(placed[0].color, placed[1].color, (size_t)W * H * 4),
+                      "%s n=%d %s: filled pieces draw other colours than gathered ones", names[si], n,
+                      dense ? "dense" : "sparse");
+                CHECK(!memcmp(placed[0].depth, placed[1].depth, (size_t)W * H * 4),
+                      "%s n=%d %s: filled pieces draw other depths than gathered ones", names[si], n,
+                      dense ? "dense" : "sparse");
+                for (int r = 0; r < n; r++)
+                    tsr_cimage_free(&imgs[r]);
+                tsr_cimage_free(&placed[0]);
+                tsr_cimage_free(&placed[1]);
+                tsr_cs_schedule_free(&s);
+                if (harness_failures)
+                    return harness_failures;
+            }
+    CHECK(holes_filled > 0, "no final piece with background pixels came back filled");
+    printf("final pieces with background filled in: %d\n", holes_filled);
     return harness_failures;
 }
 
@@ -1563,6 +1695,7 @@ int main(int argc, char **argv)
         {"schedules_hold_invariants", test_schedules_hold_invariants},
         {"link_bytes_hold_one_frame", test_link_bytes_hold_one_frame},
         {"executor_keeps_one_piece", test_executor_keeps_one_piece},
+        {"filled_final_pieces_equal_gathered", test_filled_final_pieces_equal_gathered},
         {"binaryswap_odd_peer_counts", test_binaryswap_odd_peer_counts},
         {"all_strategies_agree", test_all_strategies_agree},
         {"odd_image_sizes", test_odd_image_sizes},

@@ -4,6 +4,9 @@
 # benchmarks' input) under `tessera run`, with stats= on: every frame the
 # display writes must equal the composite of those layers computed by
 # synthetic_check, and every peer must have written a timing line per frame.
+# With FILLED=1 some peer must also have drawn a final piece filled with
+# background (final_filled 1: a strip folded from many pieces, drawn as it
+# is rather than gathered).
 # usage: synthetic.sh BIN_DIR OUT_DIR N full|ellipse [WxH (96x72)]
 set -u
 bin=$1 out=$2 n=$3 mode=$4 size=${5:-96x72}
@@ -41,4 +44,7 @@ done
 lines=$(grep -c '^frame [0-9]* rank [0-9]* nranks '"$n"' swap_ns [0-9]* ready_ns' "$out/stats.txt" 2>/dev/null)
 [ "${lines:-0}" = $((n * frames)) ] || fail "stats.txt has ${lines:-0} frame lines, not $((n * frames))"
 grep -Eq '^frame 1 rank 0 .* displayed_ns [1-9]' "$out/stats.txt" || fail "rank 0 wrote no displayed_ns"
+if [ "${FILLED:-0}" = 1 ]; then
+  grep -Eq ' final_filled 1$' "$out/stats.txt" || fail "no peer drew a final piece filled with background"
+fi
 exit $bad

@@ -209,11 +209,23 @@ typedef struct tsr_sparse_fold {
 } tsr_sparse_fold;
 /* Starts a fold from `first` (depth mode, DEPTH32F). */
 TSR_API int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err);
+/* The same from a read-back itself: `runs` holds the runs of the range
+ * (tsr_sparse_image_compress_runs of `in`; its planes are not read) and
+ * the active pixels are copied once, from `in`, to their places: no
+ * sparse copy of the read-back is made first. */
+TSR_API int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const tsr_sparse_image *runs,
+                                        tsr_error *err);
 /* Merges `piece` in front of (in_front) or behind the running composite;
  * the checks of tsr_sparse_image_merge apply. */
 TSR_API int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err);
 /* The running composite as a sparse image in `out`. */
 TSR_API int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *err);
+/* Ends a fold where the composite is drawn as it is (a final piece): its
+ * inactive pixels take `background` (as tsr_sparse_image_to_dense writes
+ * them, depth 1.0) and f->acc becomes a sparse image of one active run,
+ * its planes dense, with no gather. Not for images merged further: their
+ * background would count as pixels drawn at depth 1.0. */
+TSR_API int tsr_sparse_fold_fill(tsr_sparse_fold *f, const void *background, tsr_error *err);
 TSR_API void tsr_sparse_fold_free(tsr_sparse_fold *f);
 /* Writes the image's range into `dst`, a dense image whose region covers
  * the range's pixels (the whole window for the final frame): inactive

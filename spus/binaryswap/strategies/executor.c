@@ -11,6 +11,12 @@
 #include <string.h>
 #include "strategy.h"
 
+/* A final strip is filled with background rather than gathered when at
+ * most 1/this of it is background: those pixels then travel to the
+ * display (4 bytes each), as a box around scattered holes would send them
+ * anyway. */
+#define FILL_FINAL_BACKGROUND_SHARE 8
+
 struct tsr_cs_executor {
     const tsr_cs_schedule *s;
     tsr_image_codec codec;
@@ -23,8 +29,9 @@ struct tsr_cs_executor {
      * received piece that starts a fold. One received message at a time:
      * each is merged as it arrives, before the next is asked for. */
     tsr_sparse_image cur, acc, tmp, piece, view, in, first;
-    tsr_sparse_image layer_view; /* the kept part as a view of a full read-back (keep_of_readback) */
-    tsr_sparse_fold strip;       /* depth mode's running composite of a region that takes many pieces */
+    tsr_sparse_image layer_view;  /* the kept part as a view of a full read-back (keep_of_readback) */
+    tsr_sparse_fold strip;        /* depth mode's running composite of a region that takes many pieces */
+    const void *final_background; /* tsr_cs_executor_fill_final: a final strip's inactive pixels become it */
     uint8_t *buf;
     size_t buf_cap;
     tsr_cs_stats stats;
@@ -60,6 +67,8 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
 }
 
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out) { *out = ex->stats; }
+
+void tsr_cs_executor_fill_final(tsr_cs_executor *ex, const void *background) { ex->final_background = background; }
 
 static size_t owned_pixel_bytes(const tsr_sparse_image *img)
 {
@@ -145,17 +154,36 @@ static int send_dense(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr
  * is the whole window and every pixel of the part is active (full layers,
  * depth mode, RGBA8), a view of the read-back's own planes: no copy is
  * made, and the first merge writes the composite straight into the
- * executor's image. Else compressed into ex->piece. */
-static int keep_of_readback(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg,
-                            tsr_sparse_image **keep, tsr_error *err)
+ * executor's image. When a dense strip will fold the part (depth mode,
+ * `pieces` >= 3, some pixel inactive), only its runs, in ex->piece, with
+ * *readback set: the strip takes the pixels from the read-back itself.
+ * Else compressed into ex->piece. */
+static int keep_of_readback(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg, int pieces,
+                            tsr_sparse_image **keep, const tsr_cimage **readback, tsr_error *err)
 {
     int rc;
-    if (mode == TSR_COMPOSITE_DEPTH && mine->color_format == TSR_CI_RGBA8 && mine->x == 0 && mine->y == 0 &&
-        mine->width == mine->window_width && mine->height == mine->window_height) {
-        tsr_sparse_image *v = &ex->layer_view;
-        if ((rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, v, err)))
+    *readback = NULL;
+    int whole = mine->color_format == TSR_CI_RGBA8 && mine->x == 0 && mine->y == 0 &&
+                mine->width == mine->window_width && mine->height == mine->window_height;
+    if (mode == TSR_COMPOSITE_DEPTH && (whole || pieces >= 3)) {
+        tsr_sparse_image *runs = &ex->piece; /* its planes are left as they are */
+        if ((rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, runs, err)))
             return rc;
-        if (v->active == reg.count) {
+        if (pieces >= 3 && runs->active < reg.count) {
+            *keep = runs;
+            *readback = mine;
+            return TSR_OK;
+        }
+        if (whole && runs->active == reg.count) {
+            tsr_sparse_image *v = &ex->layer_view;
+            if ((rc = tsr_sparse_image_blank(v, mine->window_width, mine->window_height, reg.start, reg.count, mode,
+                                             mine->color_format, mine->depth_format, mine->rank, mine->frame, err)))
+                return rc;
+            if (reg.count) { /* one active run */
+                v->runs[0] = 0;
+                v->runs[1] = reg.count;
+                v->active = reg.count;
+            }
             v->color = (uint8_t *)mine->color + (size_t)reg.start * 4;
             v->depth = mine->depth + reg.start;
             v->pixel_capacity = 0;
@@ -256,7 +284,8 @@ static int strip_add(tsr_cs_executor *ex, const tsr_sparse_image *piece, int in_
  * blend; a schedule that keeps it exact (tsr_cs_schedule_keeps_order)
  * hands this fold single layers in front of a blended suffix. The result
  * is ex->acc, ex->tmp, self, or (one received piece alone) ex->in. */
-static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_sparse_image *self, int mode,
+static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_sparse_image *self,
+                            const tsr_cimage *readback, const void *fill, int mode,
                             const tsr_image_message_header *expect, const tsr_cs_transport *t,
                             tsr_sparse_image **result, tsr_error *err)
 {
@@ -271,7 +300,10 @@ static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_spa
          * dense strip writes each piece's pixels once instead of the
          * growing union at every step. */
         int strip = n >= 3 && self->active < self->count;
-        if (strip && (rc = tsr_sparse_fold_begin(&ex->strip, self, err)))
+        if (readback && !strip)
+            return tsr_error_set(err, TSR_EINVAL, "composite: a read-back's runs alone, and no strip to fold them");
+        if (strip && (rc = readback ? tsr_sparse_fold_begin_dense(&ex->strip, readback, self, err)
+                                    : tsr_sparse_fold_begin(&ex->strip, self, err)))
             return rc;
         acc = self;
         for (int i = at - 1; i >= 0; i--)
@@ -283,9 +315,19 @@ static int composite_region(tsr_cs_executor *ex, const int *from, int n, tsr_spa
                 (rc = strip ? strip_add(ex, &ex->in, 0, err) : fold(ex, &acc, &ex->in, 0, err)))
                 return rc;
         if (strip) {
-            if ((rc = tsr_sparse_fold_end(&ex->strip, &ex->acc, err)))
-                return rc;
-            acc = &ex->acc;
+            /* A final piece with little background is drawn as the strip
+             * is (its background filled in), not gathered first. */
+            tsr_sparse_fold *f = &ex->strip;
+            if (fill && f->acc.count - f->acc.active <= f->acc.count / FILL_FINAL_BACKGROUND_SHARE) {
+                if ((rc = tsr_sparse_fold_fill(f, fill, err)))
+                    return rc;
+                ex->stats.final_filled++;
+                acc = &f->acc;
+            } else {
+                if ((rc = tsr_sparse_fold_end(f, &ex->acc, err)))
+                    return rc;
+                acc = &ex->acc;
+            }
         }
         *result = acc;
         return TSR_OK;
@@ -326,8 +368,8 @@ static void expect_region(tsr_image_message_header *e, const tsr_cs_schedule *s,
     e->depth_format = depth_format;
 }
 
-int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
-                           const tsr_sparse_image **final, tsr_error *err)
+static int run_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                      const void *fill, const tsr_sparse_image **final, tsr_error *err)
 {
     *final = NULL;
     const tsr_cs_schedule *s = ex->s;
@@ -371,9 +413,17 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
             ex->acc = t0;
             continue;
         }
+        int from[TSR_CS_MAX_PEERS + 1], np = 0;
+        for (int q = 0; q <= rd->nrecv; q++) {
+            if (q == rd->self_index)
+                from[np++] = -1;
+            if (q < rd->nrecv)
+                from[np++] = rd->recv[q].peer;
+        }
         tsr_sparse_image *keep = &ex->view;
+        const tsr_cimage *readback = NULL;
         if (dense)
-            rc = keep_of_readback(ex, &me, mode, rd->keep, &keep, err);
+            rc = keep_of_readback(ex, &me, mode, rd->keep, np, &keep, &readback, err);
         else
             rc = tsr_sparse_image_view(&ex->cur, rd->keep.start, rd->keep.count, keep, err);
         if (rc)
@@ -386,17 +436,12 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
             ex->acc = ex->cur;
             ex->cur = t0;
         }
-        int from[TSR_CS_MAX_PEERS + 1], np = 0;
-        for (int q = 0; q <= rd->nrecv; q++) {
-            if (q == rd->self_index)
-                from[np++] = -1;
-            if (q < rd->nrecv)
-                from[np++] = rd->recv[q].peer;
-        }
         tsr_image_message_header expect;
         expect_region(&expect, s, mine->frame, rd->keep, mode, mine->color_format, mine->depth_format);
+        /* the last round's composite is the final piece itself */
+        int last = i == R->nrounds - 1 && R->final.start == rd->keep.start && R->final.count == rd->keep.count;
         tsr_sparse_image *result = NULL;
-        if ((rc = composite_region(ex, from, np, keep, mode, &expect, t, &result, err)))
+        if ((rc = composite_region(ex, from, np, keep, readback, last ? fill : NULL, mode, &expect, t, &result, err)))
             return rc;
         if (result == keep && keep == &ex->piece) {
             /* The kept piece, merged in place (full layers), becomes the
@@ -435,6 +480,12 @@ int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine
     return TSR_OK;
 }
 
+int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                           const tsr_sparse_image **final, tsr_error *err)
+{
+    return run_rounds(ex, rank, mine, mode, t, ex->final_background, final, err);
+}
+
 int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
                     tsr_error *err)
 {
@@ -448,7 +499,7 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
         return send_dense(ex, &me, mode, s->ranks[rank].final, TSR_CS_DISPLAY(s->nranks), t, err);
     }
     const tsr_sparse_image *final = NULL;
-    int rc = tsr_cs_run_peer_rounds(ex, rank, mine, mode, t, &final, err);
+    int rc = run_rounds(ex, rank, mine, mode, t, NULL, &final, err); /* the display may merge it: no fill */
     if (rc || !final)
         return rc;
     return send_piece(ex, final, TSR_CS_DISPLAY(s->nranks), t, err);
@@ -472,7 +523,7 @@ int tsr_cs_run_display(tsr_cs_executor *ex, uint32_t frame, int mode, int color_
         tsr_image_message_header expect;
         expect_region(&expect, s, frame, reg, mode, color_format, depth_format);
         tsr_sparse_image *result = NULL;
-        if ((rc = composite_region(ex, from, np, NULL, mode, &expect, t, &result, err)))
+        if ((rc = composite_region(ex, from, np, NULL, NULL, NULL, mode, &expect, t, &result, err)))
             return rc;
         if (result->rank != 0 || result->rank_count != s->nranks)
             return tsr_error_set(err, TSR_EPROTO, "composite: pixels %u+%u hold ranks %d..%d, not all of 0..%d",
