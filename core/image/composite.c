@@ -47,6 +47,10 @@ void *ci_plane_alloc(size_t bytes)
             return NULL;
         base = m;
         mapped = total;
+        /* whole frames are streamed through: huge pages, where the
+         * system gives them (transparent_hugepage=madvise), spare the TLB */
+        if (total >= (size_t)4 << 20)
+            madvise(m, total, MADV_HUGEPAGE);
     } else {
         void *p = NULL;
         if (posix_memalign(&p, 64, total) != 0)
