@@ -28,6 +28,15 @@ void ci_copy_fence(void);
  * tsr_image_message_encode_dense takes them straight into a message. */
 int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
                        int runs_only, tsr_error *err);
+/* The index in a dense region's planes of window pixel `pos`, which lies
+ * in the region (a run of pixels from there stays in one of its rows, or,
+ * in a region as wide as the window, runs on through its rows). */
+static inline size_t ci_region_index(const tsr_cimage *in, size_t pos)
+{
+    size_t w = (size_t)in->window_width;
+    return (pos / w - (size_t)in->y) * (size_t)in->width + (pos % w - (size_t)in->x);
+}
+
 /* Planes of s for `pixels` active pixels of cb colour bytes. */
 int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err);
 

@@ -397,9 +397,8 @@ static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, ui
         pos += runs->runs[2 * r];
         size_t n = runs->runs[2 * r + 1];
         while (n) {
-            size_t y = pos / W, x = pos % W, len = whole_rows ? n : (W - x < n ? W - x : n);
-            size_t src =
-                whole_rows ? pos - (size_t)in->y * W : (y - (size_t)in->y) * (size_t)in->width + (x - (size_t)in->x);
+            size_t x = pos % W, len = whole_rows ? n : (W - x < n ? W - x : n);
+            size_t src = ci_region_index(in, pos);
             copy(dst_color + at * cb, in->color + src * cb, len * cb);
             if (dst_depth)
                 copy(dst_depth + at * 4, in->depth + src, len * 4);

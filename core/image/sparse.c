@@ -534,7 +534,7 @@ int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const 
                 return tsr_error_set(err, TSR_EPROTO,
                                      "sparse fold: an active run at pixel %u lies outside the %dx%d region at %d,%d", p,
                                      in->width, in->height, in->x, in->y);
-            size_t src = (size_t)(y - (uint32_t)in->y) * (size_t)in->width + (x - (uint32_t)in->x);
+            size_t src = ci_region_index(in, p);
             ci_copy(a->color + (size_t)pos * cb, in->color + src * cb, (size_t)na * cb);
             ci_copy(a->depth + pos, in->depth + src, (size_t)na * sizeof(float));
         }

@@ -927,15 +927,10 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
     const void *background = b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f;
     bool at_display = tsr_cs_schedule_display_composites(&b->plan);
     const tsr_sparse_image *final = NULL;
-    int rc;
-    if (at_display) {
-        rc = tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err);
-    } else {
-        /* place_piece draws the final piece as it is */
-        tsr_cs_executor_fill_final(b->peer_ex, background);
-        rc = tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &final, &err);
-        tsr_cs_executor_fill_final(b->peer_ex, NULL);
-    }
+    /* place_piece draws the final piece as it is: it may come back filled */
+    int rc = at_display
+                 ? tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err)
+                 : tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, background, &final, &err);
     if (rc != TSR_OK)
         bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     b->st.composited_ns = tsr_bswap_now_ns();

@@ -1124,7 +1124,7 @@ typedef struct frames_job {
     tsr_cimage *img;
     int rank, frames, rc;
     size_t pixel_bytes; /* the executor's planes after the last frame */
-    const void *fill;   /* tsr_cs_executor_fill_final's background, or NULL */
+    const void *fill;   /* tsr_cs_run_peer_rounds' fill background, or NULL */
     tsr_cimage *placed; /* the last frame's final piece is drawn into it (to_dense over BG), or NULL */
     int filled;         /* that piece came back filled: one active run */
     tsr_cs_transport t;
@@ -1136,12 +1136,10 @@ static void *frames_main(void *arg)
     frames_job *j = arg;
     tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
     j->rc = ex ? TSR_OK : TSR_ENOMEM;
-    if (ex)
-        tsr_cs_executor_fill_final(ex, j->fill);
     for (int f = 0; f < j->frames && !j->rc; f++) {
         const tsr_sparse_image *final = NULL;
         j->img->frame = (uint32_t)f;
-        j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &final, &j->err);
+        j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, j->fill, &final, &j->err);
         if (!j->rc && final && f == j->frames - 1 && j->placed) {
             j->filled = final->active == final->count && final->nruns == 1;
             j->rc = tsr_sparse_image_to_dense(final, BG, j->placed, &j->err);
@@ -1231,7 +1229,7 @@ static int run_frames(const tsr_cs_schedule *s, tsr_cimage *imgs, const void *fi
 }
 
 /* A final piece that a dense strip composited may come back with its
- * background filled in (tsr_cs_executor_fill_final) instead of gathered:
+ * background filled in (tsr_cs_run_peer_rounds' fill) instead of gathered:
  * drawn, it gives the very pixels (colour, and depth 1.0 where nothing was
  * drawn) the gathered piece gives, for direct send and radix-k, full-window
  * and region-of-interest layers, mostly covered (filled) and sparse

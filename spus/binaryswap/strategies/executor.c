@@ -29,9 +29,8 @@ struct tsr_cs_executor {
      * received piece that starts a fold. One received message at a time:
      * each is merged as it arrives, before the next is asked for. */
     tsr_sparse_image cur, acc, tmp, piece, view, in, first;
-    tsr_sparse_image layer_view;  /* the kept part as a view of a full read-back (keep_of_readback) */
-    tsr_sparse_fold strip;        /* depth mode's running composite of a region that takes many pieces */
-    const void *final_background; /* tsr_cs_executor_fill_final: a final strip's inactive pixels become it */
+    tsr_sparse_image layer_view; /* the kept part as a view of a full read-back (keep_of_readback) */
+    tsr_sparse_fold strip;       /* depth mode's running composite of a region that takes many pieces */
     uint8_t *buf;
     size_t buf_cap;
     tsr_cs_stats stats;
@@ -67,8 +66,6 @@ void tsr_cs_executor_free(tsr_cs_executor *ex)
 }
 
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out) { *out = ex->stats; }
-
-void tsr_cs_executor_fill_final(tsr_cs_executor *ex, const void *background) { ex->final_background = background; }
 
 static size_t owned_pixel_bytes(const tsr_sparse_image *img)
 {
@@ -155,8 +152,8 @@ static int send_dense(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr
  * depth mode, RGBA8), a view of the read-back's own planes: no copy is
  * made, and the first merge writes the composite straight into the
  * executor's image. When a dense strip will fold the part (depth mode,
- * `pieces` >= 3, some pixel inactive), only its runs, in ex->piece, with
- * *readback set: the strip takes the pixels from the read-back itself.
+ * `pieces` >= 3, some pixel inactive), only its runs, with *readback set:
+ * the strip takes the pixels from the read-back itself.
  * Else compressed into ex->piece. */
 static int keep_of_readback(tsr_cs_executor *ex, const tsr_cimage *mine, int mode, tsr_cs_region reg, int pieces,
                             tsr_sparse_image **keep, const tsr_cimage **readback, tsr_error *err)
@@ -166,24 +163,15 @@ static int keep_of_readback(tsr_cs_executor *ex, const tsr_cimage *mine, int mod
     int whole = mine->color_format == TSR_CI_RGBA8 && mine->x == 0 && mine->y == 0 &&
                 mine->width == mine->window_width && mine->height == mine->window_height;
     if (mode == TSR_COMPOSITE_DEPTH && (whole || pieces >= 3)) {
-        tsr_sparse_image *runs = &ex->piece; /* its planes are left as they are */
-        if ((rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, runs, err)))
+        tsr_sparse_image *v = whole ? &ex->layer_view : &ex->piece;
+        if ((rc = tsr_sparse_image_compress_runs(mine, mode, reg.start, reg.count, v, err)))
             return rc;
-        if (pieces >= 3 && runs->active < reg.count) {
-            *keep = runs;
+        if (pieces >= 3 && v->active < reg.count) {
+            *keep = v;
             *readback = mine;
             return TSR_OK;
         }
-        if (whole && runs->active == reg.count) {
-            tsr_sparse_image *v = &ex->layer_view;
-            if ((rc = tsr_sparse_image_blank(v, mine->window_width, mine->window_height, reg.start, reg.count, mode,
-                                             mine->color_format, mine->depth_format, mine->rank, mine->frame, err)))
-                return rc;
-            if (reg.count) { /* one active run */
-                v->runs[0] = 0;
-                v->runs[1] = reg.count;
-                v->active = reg.count;
-            }
+        if (whole && v->active == reg.count) {
             v->color = (uint8_t *)mine->color + (size_t)reg.start * 4;
             v->depth = mine->depth + reg.start;
             v->pixel_capacity = 0;
@@ -368,8 +356,8 @@ static void expect_region(tsr_image_message_header *e, const tsr_cs_schedule *s,
     e->depth_format = depth_format;
 }
 
-static int run_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
-                      const void *fill, const tsr_sparse_image **final, tsr_error *err)
+int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
+                           const void *fill, const tsr_sparse_image **final, tsr_error *err)
 {
     *final = NULL;
     const tsr_cs_schedule *s = ex->s;
@@ -480,12 +468,6 @@ static int run_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int
     return TSR_OK;
 }
 
-int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
-                           const tsr_sparse_image **final, tsr_error *err)
-{
-    return run_rounds(ex, rank, mine, mode, t, ex->final_background, final, err);
-}
-
 int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
                     tsr_error *err)
 {
@@ -499,7 +481,7 @@ int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int m
         return send_dense(ex, &me, mode, s->ranks[rank].final, TSR_CS_DISPLAY(s->nranks), t, err);
     }
     const tsr_sparse_image *final = NULL;
-    int rc = run_rounds(ex, rank, mine, mode, t, NULL, &final, err); /* the display may merge it: no fill */
+    int rc = tsr_cs_run_peer_rounds(ex, rank, mine, mode, t, NULL, &final, err); /* the display may merge it: no fill */
     if (rc || !final)
         return rc;
     return send_piece(ex, final, TSR_CS_DISPLAY(s->nranks), t, err);

@@ -164,20 +164,18 @@ void tsr_cs_executor_free(tsr_cs_executor *ex);
  * from it) and sends its final piece to the display. */
 int tsr_cs_run_peer(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
                     tsr_error *err);
-/* From now on run_peer_rounds may hand back a final piece that a dense
- * strip composited with its background pixels filled in (`background`:
- * the colour tsr_sparse_image_to_dense would give them) and counted as
- * active: for a caller that draws the final piece as it is and merges it
- * with nothing (the SPU's display path). NULL: never (the default). */
-void tsr_cs_executor_fill_final(tsr_cs_executor *ex, const void *background);
 /* The same rounds without the send to the display: *final is the rank's
  * final piece (a view of the executor's image, valid until its next run;
  * NULL when the rank owns none), composited from every rank whenever the
  * schedule places pieces directly (tsr_cs_schedule_display_composites is
  * false). A caller that puts the pieces on the display itself (the SPU's
- * display node, one piece from each peer) uses this. */
+ * display node, one piece from each peer) uses this. With `fill` (the
+ * background colour, as tsr_sparse_image_to_dense writes it) the final
+ * piece may come back from a dense strip with its background pixels
+ * filled in and counted as active: for a caller that draws it as it is
+ * and merges it with nothing; NULL: never. */
 int tsr_cs_run_peer_rounds(tsr_cs_executor *ex, int rank, const tsr_cimage *mine, int mode, const tsr_cs_transport *t,
-                           const tsr_sparse_image **final, tsr_error *err);
+                           const void *fill, const tsr_sparse_image **final, tsr_error *err);
 /* Whether the display composites (some region's pieces come from more
  * than one rank, as in gather to one) rather than only placing the final
  * pieces, each of which then holds every rank. */
@@ -214,7 +212,7 @@ void tsr_cs_memnet_free(tsr_cs_memnet *m);
 typedef struct tsr_cs_stats {
     uint64_t bytes_sent, messages_sent, bytes_received, messages_received;
     uint64_t pixels_merged; /* active pixels composited */
-    uint64_t final_filled;  /* final pieces handed back filled (tsr_cs_executor_fill_final) */
+    uint64_t final_filled;  /* final pieces handed back filled (tsr_cs_run_peer_rounds' fill) */
 } tsr_cs_stats;
 void tsr_cs_executor_stats(const tsr_cs_executor *ex, tsr_cs_stats *out);
 /* Bytes of pixel planes (colour and depth) the executor's images own now,
