@@ -33,6 +33,15 @@ target_link_libraries(program_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
 add_executable(program_scenes tilesort/program_scenes.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
 target_include_directories(program_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(program_scenes PRIVATE tessera_gl tessera m)
+# tests/tilesort/read_pixels.c: glReadPixels of rectangles meeting only
+# some tiles (piglit's probes), built twice the same way.
+add_executable(read_pixels-native tilesort/read_pixels.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_compile_definitions(read_pixels-native PRIVATE EXAPP_NATIVE)
+target_include_directories(read_pixels-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(read_pixels-native PRIVATE PkgConfig::OSMESA tessera m)
+add_executable(read_pixels tilesort/read_pixels.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_include_directories(read_pixels PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(read_pixels PRIVATE tessera_gl tessera m)
 # tests/tilesort/cost_learning.c: the balancer's cost model with
 # deterministic times, in one process (the tiling sources themselves).
 set(TILESORT_SRC ${CMAKE_SOURCE_DIR}/spus/tilesort)
@@ -84,6 +93,15 @@ endforeach()
 foreach(config 2x2 broadcast)
   add_test(NAME tilesort_exact_material_inside_begin_and_buffers_bound_in_turn_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 2 ${config})
+endforeach()
+# glReadPixels of one pixel beside the first server's tile, in its rows,
+# copied a row of negative width (piglit's gl-1.0-texgen died with SIGSEGV
+# in its probes on a 2x2 wall): every read of read_pixels (single pixels,
+# both sides of the tile edges, rectangles in one, two and four tiles, as
+# bytes and as floats) equals OSMesa's and writes nothing past the buffer.
+foreach(config 2x2 3x3 multi)
+  add_test(NAME tilesort_read_pixels_beside_a_servers_tiles_exact_and_in_bounds_${config}
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/read-pixels-${config} read_pixels 2 ${config})
 endforeach()
 # Large array draws are sorted primitive by primitive: on a 4x4 wall the
 # isosurface's overlap stays near 1 (broadcast: 16); measured 1.038 with

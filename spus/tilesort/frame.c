@@ -113,6 +113,11 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
             const ts_rect *r = &t->tiling.tiles[i][k];
             int cx0 = r->x > x ? r->x : x, cy0 = r->y > y ? r->y : y;
             int cx1 = r->x + r->w < x + w ? r->x + r->w : x + w, cy1 = r->y + r->h < y + h ? r->y + r->h : y + h;
+            /* a tile beside the rectangle (the first server's always
+             * answers) shares rows with it but no columns: nothing to
+             * copy, not a row of negative width */
+            if (cx1 <= cx0 || cy1 <= cy0)
+                continue;
             for (int row = cy0; row < cy1; row++) {
                 size_t at = (size_t)(l.first + (uint64_t)(row - y) * l.row_bytes + (uint64_t)(cx0 - x) * l.group_bytes);
                 memcpy((uint8_t *)pixels + at, tmp + at, (size_t)((uint64_t)(cx1 - cx0) * l.group_bytes));
