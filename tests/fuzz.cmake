@@ -171,9 +171,13 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # The tessera extension commands into the render SPU (its sources compiled
 # in and registered, so coverage measures its handlers). fuzz_ext_seeds
 # OUTDIR writes the ok-* seeds with the real packer.
-set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${CMAKE_SOURCE_DIR}/spus/render/render.c
-  ${CMAKE_SOURCE_DIR}/spus/render/budget.c ${CMAKE_SOURCE_DIR}/spus/render/drawpixels.c
-  ${CMAKE_SOURCE_DIR}/spus/render/pages.c ${CMAKE_SOURCE_DIR}/spus/render/xwindow.c)
+# tessera_render_core's sources (spus/render/CMakeLists.txt), compiled in.
+set(tsr_fuzz_render_core_sources)
+foreach(tsr_file render contexts scissor textures pixels frame pages budget drawpixels)
+  list(APPEND tsr_fuzz_render_core_sources ${CMAKE_SOURCE_DIR}/spus/render/${tsr_file}.c)
+endforeach()
+set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${tsr_fuzz_render_core_sources}
+  ${CMAKE_SOURCE_DIR}/spus/render/xwindow.c)
 tsr_add_fuzz_target(ext
   SOURCES ${tsr_fuzz_render_sources}
   INCLUDES ${CMAKE_SOURCE_DIR}/spus/render
@@ -211,8 +215,7 @@ endif()
 
 if(TESSERA_FUZZ)
   add_executable(fuzz_render ${TSR_FUZZ_DIR}/fuzz_render.c
-    ${CMAKE_SOURCE_DIR}/spus/render/render.c ${CMAKE_SOURCE_DIR}/spus/render/budget.c ${CMAKE_SOURCE_DIR}/spus/render/drawpixels.c
-    ${CMAKE_SOURCE_DIR}/spus/render/pages.c
+    ${tsr_fuzz_render_core_sources}
     ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
     ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c)
   add_dependencies(fuzz_render tessera_generated)

@@ -1,0 +1,198 @@
+/* spus/render/instance.h — the render instance (render_spu) and the
+ * functions its files call in one another. Private to tessera_render_core:
+ * only the .c files of spus/render include it; other SPUs use render.h.
+ *
+ * The files, one job each:
+ *   render.c   — life cycle: OSMesa loading, options, creation, destruction
+ *   contexts.c — shared mode: several contexts on one window's FBOs
+ *   scissor.c  — tiles and the application's scissor fitted to them
+ *   textures.c — the texture budget and the texture names the fast
+ *                DrawPixels keeps
+ *   pixels.c   — Clear, CopyPixels, DrawPixels: the stencil record and
+ *                the fast paths
+ *   frame.c    — window size, swap: the frame read back and written out
+ *
+ * Owns the types only. Never: state outside an instance. */
+#ifndef RENDER_INSTANCE_H
+#define RENDER_INSTANCE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <GL/osmesa.h>
+
+#include "tessera/glprocs_gen.h"
+#include "tessera/glsl_names.h"
+#include "tessera/spu.h"
+#include "tessera/tiles.h"
+
+#include "budget.h"
+#include "drawpixels.h"
+#include "render.h"
+
+/* The OSMesa functions this SPU calls, resolved with dlsym. */
+typedef struct osmesa_api {
+    OSMesaContext (*CreateContextExt)(GLenum format, GLint depth, GLint stencil, GLint accum, OSMesaContext sharelist);
+    GLboolean (*MakeCurrent)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei width, GLsizei height);
+    void (*DestroyContext)(OSMesaContext ctx);
+    OSMesaContext (*GetCurrentContext)(void);
+    OSMESAproc (*GetProcAddress)(const char *name);
+} osmesa_api;
+
+/* Framebuffer-object entries for shared mode; not in the spec (clients
+ * never send them), so resolved here. */
+typedef struct fbo_api {
+    void(GLAPIENTRY *GenRenderbuffers)(GLsizei n, GLuint *ids);
+    void(GLAPIENTRY *DeleteRenderbuffers)(GLsizei n, const GLuint *ids);
+    void(GLAPIENTRY *BindRenderbuffer)(GLenum target, GLuint id);
+    void(GLAPIENTRY *RenderbufferStorage)(GLenum target, GLenum format, GLsizei w, GLsizei h);
+    void(GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
+    void(GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
+    void(GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
+    void(GLAPIENTRY *FramebufferRenderbuffer)(GLenum target, GLenum attachment, GLenum rbtarget, GLuint rb);
+    void(GLAPIENTRY *FramebufferParameteri)(GLenum target, GLenum pname, GLint value);
+    GLenum(GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
+} fbo_api;
+
+#ifndef GL_FRAMEBUFFER_FLIP_Y_MESA
+#define GL_FRAMEBUFFER_FLIP_Y_MESA 0x8BBB
+#endif
+
+/* A rectangle of window pixels, origin bottom-left. */
+typedef struct render_box {
+    int x, y, w, h;
+} render_box;
+
+/* Deeper than any GL attribute stack (Mesa: 16); the real depth is
+ * GL_MAX_ATTRIB_STACK_DEPTH, read at creation. */
+#define RENDER_ATTRIB_DEPTH 64
+
+/* What one PushAttrib saved of the scissor (docs/render.md, "Tiles"). */
+typedef struct scissor_saved {
+    GLbitfield mask;
+    render_box box;
+    bool enabled;
+} scissor_saved;
+
+/* The application's scissor state of one context, as it set it (the real
+ * GL scissor may be narrowed to the tiles). */
+typedef struct render_scissor {
+    render_box box;
+    bool enabled;
+    scissor_saved stack[RENDER_ATTRIB_DEPTH];
+    int depth;
+    GLenum list_mode; /* mode of the display list being compiled, 0: none */
+    unsigned applied; /* tiles generation the real scissor was last set for */
+    bool fitted;      /* the real scissor is fitted to tiles (else: the application's) */
+} render_scissor;
+
+/* One context of shared mode; contexts[0] is the instance's own. */
+/* Left clients' contexts kept before the window is given new storage to
+ * free them (shared_resize): bounds their memory on a node that serves
+ * many clients in turn at one window size. */
+#define RENDER_RETIRED_MAX 8
+
+typedef struct render_context {
+    int id;
+    OSMesaContext osmesa;
+    GLuint fbo;        /* this context's FBO on the shared renderbuffers */
+    unsigned attached; /* renderbuffer generation the FBO was attached at */
+    bool window_seen;  /* its first window command reset viewport/scissor */
+    render_scissor sc;
+} render_context;
+
+typedef struct render_spu {
+    char name[96];
+    void *library; /* dlopen handle of libOSMesa */
+    osmesa_api osmesa;
+    OSMesaContext context;
+    tsr_gl_procs gl;       /* every GL entry, through OSMesaGetProcAddress */
+    tsr_glsl_names *names; /* the stream's shader/program names -> the driver's */
+    const tsr_dispatch *child;
+
+    const char *output; /* option; owned by the chain, valid until destroy */
+    int window;         /* which window id this instance renders */
+    int fixed_width, fixed_height;
+    bool window_seen; /* a WindowCreate/Size arrived for `window` */
+
+    unsigned char *buffer; /* width * height RGBA, bottom row first */
+    int width, height;
+    int frame; /* number of the next frame written */
+
+    /* Shared mode (docs/render.md, "Several contexts, one window"): entered
+     * by the first ContextCreateTSR. */
+    bool shared;
+    fbo_api fbo;
+    render_context *contexts; /* [0] = `context` */
+    size_t ncontexts, contexts_cap;
+    size_t current;            /* index into contexts */
+    GLuint color_rb, depth_rb; /* the window: shared by every context */
+    /* Contexts of clients that left, kept alive until the shared
+     * renderbuffers are next given new storage (or deleted): Mesa caches a
+     * renderbuffer's surface with the context that last validated it and
+     * releases it through that context when the storage changes, so a
+     * context destroyed before then leaves a dangling pointer that the next
+     * resize calls through (a crash seen when a dropped client was followed
+     * by another client's WindowCreateTSR). */
+    OSMesaContext *retired;
+    size_t nretired, retired_cap;
+    unsigned generation;    /* bumped when the renderbuffers are resized */
+    unsigned char dummy[4]; /* 1x1 drawable: contexts draw through FBOs */
+
+    /* Tiles (docs/render.md, "Tiles"): none = the whole window. */
+    tsr_tile *tiles;
+    size_t ntiles;
+    render_box bounds;      /* bounding rectangle of the tiles */
+    unsigned tiles_gen;     /* bumped whenever the tiles change; starts at 1 */
+    bool released;          /* the renderbuffers were allocated tiled */
+    render_scissor solo_sc; /* the scissor before shared mode */
+    int max_attrib_depth;
+    render_context reader; /* reads the tiles back; never gets client commands */
+    unsigned char *tile_pixels;
+    size_t tile_pixels_size;
+    render_hooks hooks; /* render.h: what an SPU built on render does with each frame */
+
+    /* Budgets per context (docs/render.md, "Budgets"); 0 = no limit. */
+    uint64_t max_texture_bytes;
+    uint64_t max_window_pixels;
+    render_tex_table textures;
+    render_fastdraw *fastdraw; /* drawpixels.h */
+    /* The stream may have put a stencil value other than 0 in the window
+     * (render_Clear says why it matters). */
+    bool stencil_written;
+} render_spu;
+
+/* render.c */
+int render_bind_framebuffer(render_spu *r, int width, int height, tsr_error *err);
+__attribute__((format(printf, 2, 3))) void render_refuse(render_spu *r, const char *fmt, ...);
+
+/* contexts.c */
+int render_attach_context(render_spu *r, render_context *c, tsr_error *err);
+int render_shared_make_current(render_spu *r, size_t index, tsr_error *err);
+int render_shared_switch(render_spu *r, size_t index, tsr_error *err);
+void render_destroy_retired(render_spu *r);
+int render_shared_resize(render_spu *r, int width, int height, tsr_error *err);
+int render_shared_enter(render_spu *r, tsr_error *err);
+void render_ensure_current(render_spu *r);
+void render_destroy_context(render_spu *r, size_t index);
+void render_contexts_install(render_spu *r, tsr_dispatch *table);
+
+/* scissor.c */
+render_scissor *render_current_scissor(render_spu *r);
+render_box render_box_intersect(render_box a, render_box b);
+void render_scissor_refresh(render_spu *r, render_scissor *s);
+int render_set_tiles(render_spu *r, tsr_tile *tiles, size_t count, tsr_error *err);
+void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height);
+void render_scissor_install(render_spu *r, tsr_dispatch *table);
+
+/* textures.c */
+void render_textures_install(render_spu *r, tsr_dispatch *table);
+
+/* pixels.c */
+void render_pixels_install(render_spu *r, tsr_dispatch *table);
+
+/* frame.c */
+void render_frame_install(render_spu *r, tsr_dispatch *table);
+
+#endif
