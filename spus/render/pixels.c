@@ -11,7 +11,7 @@
 
 /* A depth clear that keeps the stencil (no GL_STENCIL_BUFFER_BIT) makes
  * llvmpipe rewrite every packed 24/8 depth-stencil word through a mask,
- * about 1.6 times a clear of both (bench/results/sortlast/README.md).
+ * about 1.6 times a clear of both (git show 56d9c59:bench/results/sortlast/README.md).
  * The stencil changes only through the stencil test, a stencil clear, or
  * stencil DrawPixels/CopyPixels (the commands tessera carries); while the
  * stream has done none of them with another value than 0, every stencil
