@@ -48,7 +48,33 @@ static const struct {
 } pack_answers[] = {
     {"IsEnabled",
      "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
+    /* glEnable/glDisable of a client array is glEnable/DisableClientState
+     * (Mesa takes both): the mirror's, never the receiver's (whose arrays
+     * are the ones each draw carries inline) */
+    {"Enable", "if (tsr_packer_local_enable_array(tsr_p, cap, 1)) return;"},
+    {"Disable", "if (tsr_packer_local_enable_array(tsr_p, cap, 0)) return;"},
 };
+
+/* Commands the unpacker drops when the condition holds, with the
+ * arguments decoded (inline-decoded commands only): a client array's
+ * enable never comes from the wire (the packer keeps it local), and one
+ * that did would leave the receiver's array enabled at a pointer it does
+ * not own. */
+static const struct {
+    const char *name;
+    const char *when;
+} unpack_drops[] = {
+    {"Enable", "tsr_wire_is_client_array(cap)"},
+    {"Disable", "tsr_wire_is_client_array(cap)"},
+};
+
+static const char *unpack_drop(const spec_command *c)
+{
+    for (size_t i = 0; i < sizeof unpack_drops / sizeof unpack_drops[0]; i++)
+        if (!strcmp(unpack_drops[i].name, c->name))
+            return unpack_drops[i].when;
+    return NULL;
+}
 
 static const char *pack_answer(const spec_command *c)
 {
@@ -483,7 +509,12 @@ static void emit_pack_c(const gen *g)
         const spec_command *c = gc->sc;
         fprintf(f, "static %s pk_%s(", c->ret, c->name);
         gen_print_params(f, c, 1, 0);
-        fprintf(f, ")\n{\n    %s", gc->is_void ? "" : "return ");
+        fprintf(f, ")\n{\n");
+        /* an inline packer's early answer runs here, where the packer's
+         * internal header is seen */
+        if (gc->packable && is_inline_pack(gc) && pack_answer(c))
+            fprintf(f, "    tsr_packer *tsr_p = (tsr_packer *)self;\n    %s\n", pack_answer(c));
+        fprintf(f, "    %s", gc->is_void ? "" : "return ");
         if (gc->packable)
             fprintf(f, "tsr_pack_%s((tsr_packer *)self", c->name);
         else
@@ -540,7 +571,10 @@ static void emit_inline_case(FILE *f, const gen_cmd *gc)
     const char *hook = unpack_hook(c);
     if (hook)
         fprintf(f, "        %s\n", hook);
-    fprintf(f, "    ");
+    if (unpack_drop(c))
+        fprintf(f, "        if (!(%s))\n        ", unpack_drop(c));
+    else
+        fprintf(f, "    ");
     emit_call(f, gc, "tsr_d", 0);
     fprintf(f, "        tsr_pos += %zuu;\n        break;\n    }\n", gc->fixed_size);
 }

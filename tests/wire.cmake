@@ -14,6 +14,7 @@ foreach(t
     wire_begin_end_split_across_buffers
     wire_client_arrays_draw_arrays_rebuild
     wire_client_arrays_draw_elements_rebuild
+    wire_enable_of_a_client_array_is_client_state
     wire_shader_source_roundtrip
     wire_pixel_store_shapes_image_payloads
     wire_unpack_rejects_unknown_opcode

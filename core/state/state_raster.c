@@ -16,6 +16,14 @@
 /* --- enables ------------------------------------------------------------------------ */
 static void set_enable(tsr_state_ctx *c, GLenum cap, int on)
 {
+    /* glEnable of a client array is glEnableClientState in Mesa (its
+     * compatibility contexts take both; piglit's gl-1.1-color-material-array
+     * enables its arrays so): the arrays a draw reads are the tracker's */
+    tsr_state_array *a = st_client_array(c, cap);
+    if (a) {
+        a->enabled = on ? GL_TRUE : GL_FALSE;
+        return;
+    }
     int idx = st_enable_index(cap, c->v.active_texture);
     if (idx < 0)
         return;

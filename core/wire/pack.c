@@ -454,6 +454,16 @@ int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
     return 1;
 }
 
+int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on)
+{
+    if (!tsr_wire_is_client_array(cap))
+        return 0;
+    tsr_client_array *a = array_of(p, cap);
+    if (a)
+        a->enabled = on != 0;
+    return 1;
+}
+
 void tsr_packer_local_EnableClientState(tsr_packer *p, GLenum array)
 {
     tsr_client_array *a = array_of(p, array);

@@ -50,6 +50,9 @@ const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t 
 /* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
  * mirror (returns 1); other caps go to the receiver (returns 0). */
 int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
+/* glEnable/glDisable (on 1/0) of a client array: the mirror's enable set,
+ * returns 1 (nothing is sent); other caps return 0. */
+int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);
 
 /* --- unpacker ---------------------------------------------------------------- */
 

@@ -317,6 +317,31 @@ static void ts_UseProgram(void *self, GLuint program)
         ts_snapshot(t);
 }
 
+/* glEnable/glDisable of a client array is glEnable/DisableClientState
+ * (Mesa takes both): the geometry packer's mirror and the tracker's, as
+ * the client route has it, never a state change for the servers. Any
+ * other cap takes the state route. */
+static void enable(tilesort *t, GLenum cap, int on)
+{
+    if (tsr_wire_is_client_array(cap)) {
+        if (on)
+            tsr_call_EnableClientState(&t->normal, cap);
+        else
+            tsr_call_DisableClientState(&t->normal, cap);
+        return;
+    }
+    ts_flush_before_state(t);
+    if (on)
+        tsr_call_Enable(&t->track_table, cap);
+    else
+        tsr_call_Disable(&t->track_table, cap);
+    if (!tsr_packer_pending(t->geo))
+        ts_snapshot(t);
+}
+
+static void ts_Enable(void *self, GLenum cap) { enable(self, cap, 1); }
+static void ts_Disable(void *self, GLenum cap) { enable(self, cap, 0); }
+
 static void ts_PixelStorei(void *self, GLenum pname, GLint value)
 {
     tilesort *t = self;
@@ -468,6 +493,8 @@ static void build_tables(tilesort *t)
     SET(Materiali);
     SET(Materialiv);
     SET(PixelStorei);
+    SET(Enable);
+    SET(Disable);
     SET(PixelStoref);
     SET(BindBuffer);
     SET(DeleteBuffers);

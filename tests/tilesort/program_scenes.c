@@ -10,6 +10,10 @@
  *     position buffer, points at it, binds the colour buffer, points at
  *     it, binds the index buffer, draws and unbinds, so no binding names
  *     the first buffer when the next state change comes
+ *   2 client arrays enabled with glEnable(GL_VERTEX_ARRAY) and
+ *     glEnable(GL_COLOR_ARRAY) instead of glEnableClientState, as piglit's
+ *     gl-1.1-color-material-array does (Mesa takes both; tilesort drew
+ *     nothing, a pack server died of SIGSEGV), disabled with glDisable
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -103,6 +107,29 @@ static void buffers_in_turn(void)
     glDeleteBuffers(3, b);
 }
 
+static void arrays_enabled_by_glenable(void)
+{
+    enum { N = 24 };
+    GLfloat pos[N][2], col[N][4];
+    for (int i = 0; i < N; i++) {
+        pos[i][0] = -0.9f + 1.8f * (float)(i / 2) / (N / 2 - 1);
+        pos[i][1] = i % 2 ? 0.8f : -0.7f + 0.05f * (float)i;
+        col[i][0] = (float)(i % 3) / 2.0f;
+        col[i][1] = (float)(i % 5) / 4.0f;
+        col[i][2] = 1.0f - (float)i / N;
+        col[i][3] = 1;
+    }
+    glVertexPointer(2, GL_FLOAT, 0, pos);
+    glColorPointer(4, GL_FLOAT, 0, col);
+    glEnable(GL_VERTEX_ARRAY);
+    glEnable(GL_COLOR_ARRAY);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, N);
+    glDisable(GL_COLOR_ARRAY);
+    glColor3f(1, 1, 0);
+    glDrawArrays(GL_LINE_STRIP, 0, N);
+    glDisable(GL_VERTEX_ARRAY);
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -111,10 +138,12 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 2 == 0)
+        if (f % 3 == 0)
             lit_mesh();
-        else
+        else if (f % 3 == 1)
             buffers_in_turn();
+        else
+            arrays_enabled_by_glenable();
         if (!exapp_swap(&app))
             break;
     }

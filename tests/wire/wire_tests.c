@@ -327,6 +327,49 @@ static int wire_client_arrays_draw_arrays_rebuild(void)
     return 0;
 }
 
+/* glEnable(GL_VERTEX_ARRAY) is glEnableClientState (Mesa takes both;
+ * piglit's gl-1.1-color-material-array enables its arrays so): the
+ * packer's mirror, never the wire, so the draw carries the arrays; and an
+ * Enable of a client array that does come from the wire (a packer that
+ * sent it, a forged stream) is dropped: the receiver would keep the array
+ * enabled at a pointer it does not own and crash drawing (the server
+ * node died with SIGSEGV). Other caps travel as before. */
+static int wire_enable_of_a_client_array_is_client_state(void)
+{
+    roundtrip rt;
+    CHECK(rt_init(&rt, 1024) == 0, "init");
+    static const float pos[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+    static const GLubyte col[3][4] = {{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 11, 12}};
+    const tsr_dispatch *t = &rt.pack_table;
+    tsr_call_VertexPointer(t, 2, GL_FLOAT, 0, pos);
+    tsr_call_ColorPointer(t, 4, GL_UNSIGNED_BYTE, 0, col);
+    tsr_call_Enable(t, GL_VERTEX_ARRAY);
+    tsr_call_Enable(t, GL_COLOR_ARRAY);
+    tsr_call_Enable(t, GL_DEPTH_TEST);
+    CHECK(tsr_call_IsEnabled(t, GL_VERTEX_ARRAY) == GL_TRUE && tsr_call_IsEnabled(t, GL_COLOR_ARRAY) == GL_TRUE &&
+              rt.nbufs == 0,
+          "glEnable of client arrays is answered by the packer's mirror");
+    tsr_call_DrawArrays(t, GL_TRIANGLES, 0, 3);
+    tsr_call_Disable(t, GL_COLOR_ARRAY);
+    CHECK(tsr_call_IsEnabled(t, GL_COLOR_ARRAY) == GL_FALSE, "glDisable of a client array reaches the mirror");
+    tsr_pack_Enable(rt.packer, GL_NORMAL_ARRAY); /* on the wire as a forged stream has it */
+    tsr_pack_Disable(rt.packer, GL_VERTEX_ARRAY);
+    tsr_packer_flush(rt.packer);
+    CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
+    const char *const names[] = {
+        "Enable",     "BindBuffer",        "VertexPointer",      "EnableClientState",  "BindBuffer",
+        "ColorPointer", "EnableClientState", "DrawArrays",       "DisableClientState", "DisableClientState",
+        "BindBuffer",
+    };
+    if (check_sequence(&rt.actual, names, sizeof names / sizeof names[0]))
+        return 1;
+    GLenum cap;
+    memcpy(&cap, rt.actual.calls[0].bytes + sizeof "Enable", sizeof cap); /* after the recorded name */
+    CHECK(cap == GL_DEPTH_TEST, "the one glEnable on the wire is GL_DEPTH_TEST's, not 0x%x", cap);
+    rt_free(&rt);
+    return 0;
+}
+
 static int wire_client_arrays_draw_elements_rebuild(void)
 {
     roundtrip rt;
@@ -790,6 +833,7 @@ static const struct {
     {"wire_begin_end_split_across_buffers", wire_begin_end_split_across_buffers},
     {"wire_client_arrays_draw_arrays_rebuild", wire_client_arrays_draw_arrays_rebuild},
     {"wire_client_arrays_draw_elements_rebuild", wire_client_arrays_draw_elements_rebuild},
+    {"wire_enable_of_a_client_array_is_client_state", wire_enable_of_a_client_array_is_client_state},
     {"wire_shader_source_roundtrip", wire_shader_source_roundtrip},
     {"wire_pixel_store_shapes_image_payloads", wire_pixel_store_shapes_image_payloads},
     {"wire_unpack_rejects_unknown_opcode", wire_unpack_rejects_unknown_opcode},

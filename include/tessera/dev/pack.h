@@ -122,6 +122,27 @@ typedef struct tsr_packer {
     struct tsr_wire_contexts *contexts;
 } tsr_packer;
 
+/* Whether cap names a client array (GL_VERTEX_ARRAY, ...). glEnable and
+ * glDisable of one are glEnableClientState/glDisableClientState (Mesa's
+ * compatibility contexts take both): the packer keeps them in its mirror,
+ * the unpacker drops one that comes from the wire (arrays come inline with
+ * each draw), and an SPU that routes glEnable as state routes these as
+ * client state. */
+static inline int tsr_wire_is_client_array(GLenum cap)
+{
+    switch (cap) {
+    case GL_VERTEX_ARRAY:
+    case GL_NORMAL_ARRAY:
+    case GL_COLOR_ARRAY:
+    case GL_INDEX_ARRAY:
+    case GL_TEXTURE_COORD_ARRAY:
+    case GL_EDGE_FLAG_ARRAY:
+    case GL_FOG_COORD_ARRAY:
+    case GL_SECONDARY_COLOR_ARRAY: return 1;
+    default: return 0;
+    }
+}
+
 /* buffer_size: bytes of a buffer including header and opcodes (at least
  * TSR_PACK_MIN_BUFFER). The sink is copied. */
 TSR_API tsr_packer *tsr_packer_create(size_t buffer_size, const tsr_pack_sink *sink, tsr_error *err);
