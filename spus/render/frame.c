@@ -33,9 +33,9 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
     }
     uint64_t max_pixels = r->max_window_pixels ? r->max_window_pixels : (uint64_t)RENDER_MAX_SIDE * RENDER_MAX_SIDE;
     if (width >= 1 && height >= 1 && (uint64_t)width * (uint64_t)height > max_pixels) {
-        render_refuse(r, "%s(%d, %d, %d): %llu pixels are over the window budget max_window_pixels=%llu", command, r->window,
-               (int)width, (int)height, (unsigned long long)width * (unsigned long long)height,
-               (unsigned long long)max_pixels);
+        render_refuse(r, "%s(%d, %d, %d): %llu pixels are over the window budget max_window_pixels=%llu", command,
+                      r->window, (int)width, (int)height, (unsigned long long)width * (unsigned long long)height,
+                      (unsigned long long)max_pixels);
         render_ensure_current(r);
         return;
     }
@@ -46,7 +46,8 @@ static void resize_window(render_spu *r, GLsizei width, GLsizei height, const ch
         return;
     }
     tsr_error err = {0};
-    if ((r->shared ? render_shared_resize(r, width, height, &err) : render_bind_framebuffer(r, width, height, &err)) != TSR_OK) {
+    if ((r->shared ? render_shared_resize(r, width, height, &err) : render_bind_framebuffer(r, width, height, &err)) !=
+        TSR_OK) {
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
         return;
     }

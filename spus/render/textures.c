@@ -52,10 +52,10 @@ static bool texture_admit(render_spu *r, const char *command, GLenum target, GLi
     if (render_current_scissor(r)->list_mode) {
         if (max && bytes > max) {
             render_refuse(r,
-                   "%s(target 0x%x, level %d, %dx%dx%d) in a display list: %llu bytes are over the texture "
-                   "budget max_texture_bytes=%llu of context %d",
-                   command, target, level, (int)width, (int)height, (int)depth, (unsigned long long)bytes,
-                   (unsigned long long)max, (int)owner);
+                          "%s(target 0x%x, level %d, %dx%dx%d) in a display list: %llu bytes are over the texture "
+                          "budget max_texture_bytes=%llu of context %d",
+                          command, target, level, (int)width, (int)height, (int)depth, (unsigned long long)bytes,
+                          (unsigned long long)max, (int)owner);
             return false;
         }
         return true;
@@ -66,10 +66,10 @@ static bool texture_admit(render_spu *r, const char *command, GLenum target, GLi
     uint64_t held = render_tex_held(&r->textures, owner) - (old && old->owner == owner ? old->bytes : 0);
     if (max && (bytes > max || held > max - bytes)) {
         render_refuse(r,
-               "%s(target 0x%x, level %d, %dx%dx%d, texture %d): %llu bytes are over the texture budget "
-               "max_texture_bytes=%llu of context %d (%llu bytes held)",
-               command, target, level, (int)width, (int)height, (int)depth, (int)name, (unsigned long long)bytes,
-               (unsigned long long)max, (int)owner, (unsigned long long)held);
+                      "%s(target 0x%x, level %d, %dx%dx%d, texture %d): %llu bytes are over the texture budget "
+                      "max_texture_bytes=%llu of context %d (%llu bytes held)",
+                      command, target, level, (int)width, (int)height, (int)depth, (int)name, (unsigned long long)bytes,
+                      (unsigned long long)max, (int)owner, (unsigned long long)held);
         return false;
     }
     if (render_tex_set(&r->textures, (GLuint)name, owner, target, level, bytes) != 0) {
