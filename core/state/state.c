@@ -6,7 +6,8 @@
  * state_matrix.c, the setters by group (state_light.c, state_fragment.c,
  * state_raster.c, state_texenv.c), state_attrib.c (push/pop attributes),
  * state_client.c (client state), state_obj.c (objects), state_glsl.c
- * (shaders and programs), state_diff.c, state_get.c; state_internal.h is
+ * (shaders and programs), state_diff.c (with state_diff_members.c and
+ * state_diff_objects.c), state_get.c; state_internal.h is
  * what they share. Setters follow GL (and Mesa where GL leaves room): an
  * invalid enum or a value out of range changes nothing, as GL ignores it
  * with an error.
