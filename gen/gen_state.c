@@ -26,6 +26,7 @@ typedef struct attr_cmd {
     int n;              /* components given */
     const char *suffix; /* "b", "ub", "f", ... */
     int vector;         /* the v form */
+    int normalized;     /* VertexAttrib4N*: integers mapped to [-1, 1] / [0, 1] */
 } attr_cmd;
 
 /* Parses NAME = PREFIX N? SUFFIX v? for the attribute prefixes. */
@@ -39,7 +40,7 @@ static int parse_attr(const char *name, attr_cmd *a)
     };
     static const char *const suffixes[] = {"ub", "us", "ui", "b", "s", "i", "f", "d"};
     if (!strcmp(name, "EdgeFlag") || !strcmp(name, "EdgeFlagv")) {
-        *a = (attr_cmd){"edgeflag", 1, "", name[8] == 'v'};
+        *a = (attr_cmd){"edgeflag", 1, "", name[8] == 'v', 0};
         return 1;
     }
     for (size_t i = 0; i < sizeof prefixes / sizeof prefixes[0]; i++) {
@@ -51,6 +52,9 @@ static int parse_attr(const char *name, attr_cmd *a)
             return 0;
         a->kind = prefixes[i].kind;
         a->n = *p++ - '0';
+        a->normalized = !strcmp(a->kind, "attrib") && *p == 'N';
+        if (a->normalized)
+            p++;
         for (size_t s = 0; s < sizeof suffixes / sizeof suffixes[0]; s++) {
             size_t sl = strlen(suffixes[s]);
             if (!strncmp(p, suffixes[s], sl) && (!p[sl] || !strcmp(p + sl, "v"))) {
@@ -68,7 +72,7 @@ static int parse_attr(const char *name, attr_cmd *a)
  * command's type to GLfloat. */
 static void conv(char *buf, size_t size, const attr_cmd *a, const char *e)
 {
-    int norm = !strcmp(a->kind, "color") || !strcmp(a->kind, "normal");
+    int norm = !strcmp(a->kind, "color") || !strcmp(a->kind, "normal") || a->normalized;
     const char *s = a->suffix;
     if (!norm || !strcmp(s, "f") || !strcmp(s, "d"))
         snprintf(buf, size, "(GLfloat)(%s)", e);

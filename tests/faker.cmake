@@ -219,3 +219,16 @@ if(TESSERA_SANITIZE)
                APPEND PROPERTY ENVIRONMENT
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
+
+# The GL 1.0-2.1 commands added to complete the spec (issue 27), each where
+# its effect shows: pixels and gets through [render], [pack -> node render]
+# and a 2x2 tilesort wall equal OSMesa's own.
+add_executable(faker_gl21_commands ${FAKER_TEST_DIR}/gl21_commands.c)
+target_link_libraries(faker_gl21_commands PRIVATE tessera_faker_egl tessera_faker_gl)
+add_executable(faker_gl21_commands_native ${FAKER_TEST_DIR}/gl21_commands.c)
+target_compile_definitions(faker_gl21_commands_native PRIVATE GL21_NATIVE)
+target_link_libraries(faker_gl21_commands_native PRIVATE PkgConfig::OSMESA)
+add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall
+         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_gl21_commands>
+                 $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
+set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)

@@ -9,7 +9,7 @@ add_library(tsr_test_glxml STATIC ${CMAKE_CURRENT_LIST_DIR}/spec/glxml.c ${CMAKE
 target_include_directories(tsr_test_glxml PUBLIC ${CMAKE_CURRENT_LIST_DIR}/spec)
 target_link_libraries(tsr_test_glxml PUBLIC tsr_spec)
 
-foreach(t spec_matches_khronos spec_enums_are_gl_enums spec_pname_counts_cover_gl21
+foreach(t spec_matches_khronos spec_enums_are_gl_enums spec_pname_counts_cover_gl21 spec_covers_gl21
           spec_covers_imports spec_opcodes_frozen spec_loader_rejects_bad_specs)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/spec/${t}.c)
   target_link_libraries(test_${t} PRIVATE tsr_spec tsr_test_glxml)
@@ -19,6 +19,7 @@ add_test(NAME spec_matches_khronos COMMAND test_spec_matches_khronos ${TSR_SPEC_
 add_test(NAME spec_enums_are_gl_enums COMMAND test_spec_enums_are_gl_enums ${TSR_SPEC_YAML} ${TESSERA_GL_XML})
 add_test(NAME spec_pname_counts_cover_gl21
          COMMAND test_spec_pname_counts_cover_gl21 ${TSR_SPEC_YAML} ${TESSERA_GL_XML})
+add_test(NAME spec_covers_gl21 COMMAND test_spec_covers_gl21 ${TSR_SPEC_YAML} ${TESSERA_GL_XML})
 add_test(NAME spec_covers_imports COMMAND test_spec_covers_imports ${TSR_SPEC_YAML} ${TSR_SPEC_DATA}/gl_imports.txt)
 add_test(NAME spec_opcodes_frozen COMMAND test_spec_opcodes_frozen ${TSR_SPEC_YAML} ${TSR_SPEC_DATA}/opcodes.txt)
 add_test(NAME spec_loader_rejects_bad_specs COMMAND test_spec_loader_rejects_bad_specs)

@@ -196,6 +196,44 @@ static void n_GetDoublev(void *self, GLenum pname, GLdouble *out)
     if (pname == GL_CURRENT_PROGRAM)
         out[0] = (GLdouble)stream_of(m, (GLuint)out[0]);
 }
+static void n_GetActiveAttrib(void *self, GLuint p, GLuint i, GLsizei size, GLsizei *len, GLint *n, GLenum *type,
+                              GLchar *name)
+{
+    M;
+    tsr_call_GetActiveAttrib(&m->drv, drv_of(m, p), i, size, len, n, type, name);
+}
+static void n_GetActiveUniform(void *self, GLuint p, GLuint i, GLsizei size, GLsizei *len, GLint *n, GLenum *type,
+                               GLchar *name)
+{
+    M;
+    tsr_call_GetActiveUniform(&m->drv, drv_of(m, p), i, size, len, n, type, name);
+}
+static void n_GetShaderSource(void *self, GLuint s, GLsizei size, GLsizei *len, GLchar *src)
+{
+    M;
+    tsr_call_GetShaderSource(&m->drv, drv_of(m, s), size, len, src);
+}
+static GLboolean n_IsShader(void *self, GLuint s)
+{
+    M;
+    return s ? tsr_call_IsShader(&m->drv, drv_of(m, s)) : GL_FALSE;
+}
+static GLboolean n_IsProgram(void *self, GLuint p)
+{
+    M;
+    return p ? tsr_call_IsProgram(&m->drv, drv_of(m, p)) : GL_FALSE;
+}
+/* The driver's names of the attached shaders go back as the stream's. */
+static void n_GetAttachedShaders(void *self, GLuint p, GLsizei max, GLsizei *count, GLuint *shaders)
+{
+    M;
+    GLsizei n = 0;
+    tsr_call_GetAttachedShaders(&m->drv, drv_of(m, p), max, &n, shaders);
+    for (GLsizei i = 0; shaders && i < n && i < max; i++)
+        shaders[i] = stream_of(m, shaders[i]);
+    if (count)
+        *count = n;
+}
 #undef M
 
 tsr_glsl_names *tsr_glsl_names_create(tsr_dispatch *table, tsr_error *err)
@@ -230,6 +268,12 @@ tsr_glsl_names *tsr_glsl_names_create(tsr_dispatch *table, tsr_error *err)
     SET(GetIntegerv);
     SET(GetFloatv);
     SET(GetDoublev);
+    SET(GetActiveAttrib);
+    SET(GetActiveUniform);
+    SET(GetShaderSource);
+    SET(IsShader);
+    SET(IsProgram);
+    SET(GetAttachedShaders);
 #undef SET
     return m;
 }

@@ -768,6 +768,17 @@ static void g_GetPointerv(void *self, GLenum pname, void **out)
         *out = (void *)a->pointer;
 }
 static GLboolean g_IsTexture(void *self, GLuint n) { return tsr_state_is_texture(self, n); }
+/* Mesa keeps every texture resident: GL_TRUE when every name is a texture
+ * object (glGenTextures makes them), and `residences` untouched. */
+static GLboolean g_AreTexturesResident(void *self, GLsizei n, const GLuint *names, GLboolean *residences)
+{
+    const tsr_state_ctx *c = self;
+    (void)residences;
+    for (GLsizei i = 0; i < n && names; i++)
+        if (!names[i] || !tsr_name_map_get(&c->textures, names[i]))
+            return GL_FALSE;
+    return n >= 0 && names ? GL_TRUE : GL_FALSE;
+}
 static GLboolean g_IsList(void *self, GLuint n) { return tsr_state_is_list(self, n); }
 static GLboolean g_IsBuffer(void *self, GLuint n) { return tsr_state_is_buffer(self, n); }
 
@@ -789,6 +800,7 @@ void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(GetPolygonStipple);
     SET(GetBufferParameteriv);
     SET(IsTexture);
+    SET(AreTexturesResident);
     SET(IsList);
     SET(IsBuffer);
     SET(GetPointerv);

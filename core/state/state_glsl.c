@@ -417,7 +417,8 @@ static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei cou
     st_program *p = c->program ? tsr_name_map_get(&c->programs, c->program) : NULL;
     if (!p || loc < 0 || count <= 0 || !data)
         return;
-    size_t values = (size_t)count * (size_t)(base == ST_U_M ? size * size : size);
+    size_t per = base == ST_U_M ? (size_t)(size * size) : base == ST_U_MX ? (size_t)((size >> 4) * (size & 15)) : (size_t)size;
+    size_t values = (size_t)count * per;
     void *copy = malloc(values ? values * 4 : 1);
     if (!copy)
         return;
@@ -492,6 +493,21 @@ static void st_Uniform1f(void *self, GLint loc, GLfloat a)
     }
                                                 UM(UniformMatrix2fv, 2) UM(UniformMatrix3fv, 3) UM(UniformMatrix4fv, 4)
 #undef UM
+/* GL 2.1's non-square matrices: COLSxROWS, kept as columns << 4 | rows. */
+#define UMX(name, cols, rows)                                                                          \
+    static void st_##name(void *self, GLint loc, GLsizei count, GLboolean transpose, const GLfloat *v) \
+    {                                                                                                  \
+        tsr_state_ctx *c = st_exec_ctx(self);                                                          \
+        if (c)                                                                                         \
+            uniform(c, ST_U_MX, (cols) << 4 | (rows), loc, count, transpose, v);                       \
+    }
+UMX(UniformMatrix2x3fv, 2, 3)
+UMX(UniformMatrix3x2fv, 3, 2)
+UMX(UniformMatrix2x4fv, 2, 4)
+UMX(UniformMatrix4x2fv, 4, 2)
+UMX(UniformMatrix3x4fv, 3, 4)
+UMX(UniformMatrix4x3fv, 4, 3)
+#undef UMX
 
                                                     void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
 {
@@ -529,6 +545,12 @@ static void st_Uniform1f(void *self, GLint loc, GLfloat a)
     SET(UniformMatrix2fv);
     SET(UniformMatrix3fv);
     SET(UniformMatrix4fv);
+    SET(UniformMatrix2x3fv);
+    SET(UniformMatrix3x2fv);
+    SET(UniformMatrix2x4fv);
+    SET(UniformMatrix4x2fv);
+    SET(UniformMatrix3x4fv);
+    SET(UniformMatrix4x3fv);
 #undef SET
 }
 
@@ -636,6 +658,19 @@ static void r_program_gone(gx *x, GLuint program)
     }
     free(sp->attached);
     free(sp);
+}
+
+/* A logged non-square matrix uniform, sent again. */
+static void replay_nonsquare(const tsr_dispatch *d, const st_uniform *u, const GLfloat *f)
+{
+    switch (u->size) {
+    case 2 << 4 | 3: tsr_call_UniformMatrix2x3fv(d, u->loc, u->count, u->transpose, f); break;
+    case 3 << 4 | 2: tsr_call_UniformMatrix3x2fv(d, u->loc, u->count, u->transpose, f); break;
+    case 2 << 4 | 4: tsr_call_UniformMatrix2x4fv(d, u->loc, u->count, u->transpose, f); break;
+    case 4 << 4 | 2: tsr_call_UniformMatrix4x2fv(d, u->loc, u->count, u->transpose, f); break;
+    case 3 << 4 | 4: tsr_call_UniformMatrix3x4fv(d, u->loc, u->count, u->transpose, f); break;
+    default: tsr_call_UniformMatrix4x3fv(d, u->loc, u->count, u->transpose, f); break;
+    }
 }
 
 static void r_use(gx *x, GLuint program)
@@ -759,6 +794,11 @@ static st_shadow_program *sync_program_draw(gx *x, const st_program *p)
                 continue;
             const GLfloat *f = u->data;
             const GLint *iv = u->data;
+            if (u->base == ST_U_MX) {
+                replay_nonsquare(x->d, u, f);
+                x->n++;
+                continue;
+            }
             switch (u->base * 8 + u->size) {
             case ST_U_F * 8 + 1: tsr_call_Uniform1fv(x->d, u->loc, u->count, f); break;
             case ST_U_F * 8 + 2: tsr_call_Uniform2fv(x->d, u->loc, u->count, f); break;

@@ -107,13 +107,13 @@ typedef struct st_link_shader {
 
 /* One uniform call, kept as its vector form (Uniform3f = Uniform3fv with
  * count 1: Mesa treats them alike). It covers locations [loc, loc+count). */
-enum { ST_U_F, ST_U_I, ST_U_M };
+enum { ST_U_F, ST_U_I, ST_U_M, ST_U_MX };
 typedef struct st_uniform {
     uint64_t seq;
     GLint loc;
     GLsizei count;
-    uint8_t base; /* ST_U_F, ST_U_I, ST_U_M */
-    uint8_t size; /* components (1..4) or matrix side (2..4) */
+    uint8_t base; /* ST_U_F, ST_U_I, ST_U_M, ST_U_MX (non-square matrix) */
+    uint8_t size; /* components (1..4), matrix side (2..4), or columns << 4 | rows (ST_U_MX) */
     GLboolean transpose;
     void *data; /* count * values floats or ints */
 } st_uniform;

@@ -334,6 +334,29 @@ static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
     mult_matrix(c, f);
 }
 
+/* The double forms: Mesa converts to float first, then transposes. */
+static void st_LoadTransposeMatrixd(void *self, const GLdouble *m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    GLfloat f[16], t[16];
+    to_float16(f, m);
+    transpose(t, f);
+    load_matrix(c, t);
+}
+
+static void st_MultTransposeMatrixd(void *self, const GLdouble *m)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c)
+        return;
+    GLfloat f[16], t[16];
+    to_float16(f, m);
+    transpose(t, f);
+    mult_matrix(c, t);
+}
+
 /* Mesa's _math_matrix_translate/scale: only the affected columns change. */
 static void translate(tsr_state_ctx *c, GLfloat x, GLfloat y, GLfloat z)
 {
@@ -568,6 +591,8 @@ void st_matrix_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(LoadIdentity);
     SET(LoadMatrixf);
     SET(LoadMatrixd);
+    SET(LoadTransposeMatrixd);
+    SET(MultTransposeMatrixd);
     SET(LoadTransposeMatrixf);
     SET(MultMatrixf);
     SET(MultMatrixd);

@@ -247,6 +247,22 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
     st_tex_changed(c, o);
 }
 
+/* As Mesa: names that are no texture object are skipped. */
+static void st_PrioritizeTextures(void *self, GLsizei n, const GLuint *names, const GLfloat *priorities)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (!c || n < 0 || !names || !priorities)
+        return;
+    for (GLsizei i = 0; i < n; i++) {
+        st_texobj *o = names[i] ? tsr_name_map_get(&c->textures, names[i]) : NULL;
+        if (!o)
+            continue;
+        GLfloat p = priorities[i];
+        o->params.priority = p < 0 ? 0 : p > 1 ? 1 : p;
+        st_tex_changed(c, o);
+    }
+}
+
 static void st_TexParameterf(void *self, GLenum target, GLenum pname, GLfloat p)
 {
     tsr_state_ctx *c = st_exec_ctx(self);
@@ -707,6 +723,7 @@ void st_obj_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(GenTextures);
     SET(BindTexture);
     SET(DeleteTextures);
+    SET(PrioritizeTextures);
     SET(TexParameterf);
     SET(TexParameterfv);
     SET(TexParameteri);

@@ -12,6 +12,17 @@
 #define COPY \
     "the texels come from the renderer's own framebuffer, which the client never sees; a sender must send the call to every renderer"
 
+#define NAMES \
+    "the name stack only matters in GL_SELECT mode, which the renderers run; a sender forwards it to every renderer"
+#define INDEX \
+    "colour-index state: tessera's contexts are RGBA, where GL keeps it and ignores it; a sender forwards it to every renderer"
+#define PIXELMAP \
+    "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
+#define COMPRESSED \
+    "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
+#define QUERY \
+    "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
+
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"RasterPos2f", RASTER},
     {"RasterPos2i", RASTER},
@@ -39,5 +50,52 @@ const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"CopyTexImage2D", COPY},
     {"CopyTexSubImage1D", COPY},
     {"CopyTexSubImage2D", COPY},
+    {"RasterPos2dv", RASTER},
+    {"RasterPos2s", RASTER},
+    {"RasterPos2sv", RASTER},
+    {"RasterPos3dv", RASTER},
+    {"RasterPos3s", RASTER},
+    {"RasterPos3sv", RASTER},
+    {"RasterPos4d", RASTER},
+    {"RasterPos4dv", RASTER},
+    {"RasterPos4i", RASTER},
+    {"RasterPos4iv", RASTER},
+    {"RasterPos4s", RASTER},
+    {"RasterPos4sv", RASTER},
+    {"WindowPos2d", RASTER},
+    {"WindowPos2dv", RASTER},
+    {"WindowPos2fv", RASTER},
+    {"WindowPos2iv", RASTER},
+    {"WindowPos2s", RASTER},
+    {"WindowPos2sv", RASTER},
+    {"WindowPos3d", RASTER},
+    {"WindowPos3dv", RASTER},
+    {"WindowPos3f", RASTER},
+    {"WindowPos3fv", RASTER},
+    {"WindowPos3i", RASTER},
+    {"WindowPos3iv", RASTER},
+    {"WindowPos3s", RASTER},
+    {"WindowPos3sv", RASTER},
+    {"InitNames", NAMES},
+    {"LoadName", NAMES},
+    {"PassThrough", NAMES},
+    {"PopName", NAMES},
+    {"PushName", NAMES},
+    {"ClearIndex", INDEX},
+    {"IndexMask", INDEX},
+    {"PixelMapfv", PIXELMAP},
+    {"PixelMapuiv", PIXELMAP},
+    {"PixelMapusv", PIXELMAP},
+    {"CopyTexSubImage3D", COPY},
+    {"CompressedTexImage3D", COMPRESSED},
+    {"CompressedTexImage2D", COMPRESSED},
+    {"CompressedTexImage1D", COMPRESSED},
+    {"CompressedTexSubImage3D", COMPRESSED},
+    {"CompressedTexSubImage2D", COMPRESSED},
+    {"CompressedTexSubImage1D", COMPRESSED},
+    {"GenQueries", QUERY},
+    {"DeleteQueries", QUERY},
+    {"BeginQuery", QUERY},
+    {"EndQuery", QUERY},
     {NULL, NULL},
 };

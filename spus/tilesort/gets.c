@@ -127,3 +127,36 @@ GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name)
 {
     return tsr_call_GetAttribLocation(&glsl_server(self, program, 1)->table, program, name);
 }
+
+void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
+                        GLenum *type, GLchar *name)
+{
+    tsr_call_GetActiveAttrib(&glsl_server(self, program, 1)->table, program, index, size, length, n, type, name);
+}
+
+void ts_GetActiveUniform(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
+                         GLenum *type, GLchar *name)
+{
+    tsr_call_GetActiveUniform(&glsl_server(self, program, 1)->table, program, index, size, length, n, type, name);
+}
+
+void ts_GetAttachedShaders(void *self, GLuint program, GLsizei max, GLsizei *count, GLuint *shaders)
+{
+    tsr_call_GetAttachedShaders(&glsl_server(self, program, 1)->table, program, max, count, shaders);
+}
+
+void ts_GetShaderSource(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *source)
+{
+    tsr_call_GetShaderSource(&glsl_server(self, shader, 0)->table, shader, size, length, source);
+}
+
+/* A server that was never given the object would say GL_FALSE. */
+GLboolean ts_IsShader(void *self, GLuint shader)
+{
+    return tsr_call_IsShader(&glsl_server(self, shader, 0)->table, shader);
+}
+
+GLboolean ts_IsProgram(void *self, GLuint program)
+{
+    return tsr_call_IsProgram(&glsl_server(self, program, 1)->table, program);
+}

@@ -214,5 +214,16 @@ void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *lengt
 void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log);
 GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name);
 GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name);
+void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
+                        GLenum *type, GLchar *name);
+void ts_GetActiveUniform(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
+                         GLenum *type, GLchar *name);
+void ts_GetAttachedShaders(void *self, GLuint program, GLsizei max, GLsizei *count, GLuint *shaders);
+void ts_GetShaderSource(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *source);
+GLboolean ts_IsShader(void *self, GLuint shader);
+GLboolean ts_IsProgram(void *self, GLuint program);
+/* queries.c */
+void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
+void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);
 
 #endif

@@ -524,6 +524,14 @@ static void build_tables(tilesort *t)
     SET(GetProgramInfoLog);
     SET(GetUniformLocation);
     SET(GetAttribLocation);
+    SET(GetActiveAttrib);
+    SET(GetActiveUniform);
+    SET(GetAttachedShaders);
+    SET(GetShaderSource);
+    SET(IsShader);
+    SET(IsProgram);
+    SET(GetQueryObjectuiv);
+    SET(GetQueryObjectiv);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also

@@ -93,6 +93,7 @@ typedef struct scanner {
     struct required {
         char *name;
         int version;
+        int is_command; /* <command> (else <enum>) */
     } * required;
     size_t nrequired, required_cap;
 } scanner;
@@ -249,7 +250,7 @@ static int push_enum(scanner *s)
     return 0;
 }
 
-static int push_required(scanner *s)
+static int push_required(scanner *s, int is_command)
 {
     const char *name = attr_value(s, "name");
     if (!name)
@@ -264,6 +265,7 @@ static int push_required(scanner *s)
     }
     if (!(s->required[s->nrequired].name = dup_trimmed(name)))
         return fail(s, "out of memory");
+    s->required[s->nrequired].is_command = is_command;
     s->required[s->nrequired++].version = s->feature_version;
     return 0;
 }
@@ -367,7 +369,9 @@ static int on_start(scanner *s, const char *tag)
         const char *api = attr_value(s, "api");
         s->feature_version = api && !strcmp(api, "gl") ? parse_version(attr_value(s, "number")) : 0;
     } else if (s->feature_version && !strcmp(tag, "enum") && !strcmp(parent(s), "require")) {
-        return push_required(s);
+        return push_required(s, 0);
+    } else if (s->feature_version && !strcmp(tag, "command") && !strcmp(parent(s), "require")) {
+        return push_required(s, 1);
     }
     return 0;
 }
@@ -555,9 +559,16 @@ int glxml_load(const char *path, glxml *out, char *err, size_t errsz)
     if (rc == 0) {
         qsort(out->enums, out->nenums, sizeof *out->enums, compare_enum_names);
         for (size_t i = 0; i < s.nrequired; i++) {
-            glxml_enum *e = (glxml_enum *)glxml_find_enum(out, s.required[i].name);
-            if (e && (e->gl_version == 0 || s.required[i].version < e->gl_version))
-                e->gl_version = s.required[i].version;
+            int *version;
+            if (s.required[i].is_command) {
+                glxml_command *c = (glxml_command *)glxml_find_command(out, s.required[i].name);
+                version = c ? &c->gl_version : NULL;
+            } else {
+                glxml_enum *e = (glxml_enum *)glxml_find_enum(out, s.required[i].name);
+                version = e ? &e->gl_version : NULL;
+            }
+            if (version && (*version == 0 || s.required[i].version < *version))
+                *version = s.required[i].version;
         }
     }
     for (size_t i = 0; i < s.nrequired; i++)

@@ -18,7 +18,8 @@ typedef struct glxml_command {
     char *ret;  /* "void", "const GLubyte *" */
     glxml_param *params;
     size_t nparams;
-    int line; /* line of <command> in gl.xml */
+    int line;       /* line of <command> in gl.xml */
+    int gl_version; /* first GL version requiring it, major*10+minor; 0 if none */
 } glxml_command;
 
 typedef struct glxml_enum {
