@@ -147,6 +147,10 @@ const GLenum st_enable_caps[128] = {
     GL_MAP2_TEXTURE_COORD_4,
     GL_MAP2_VERTEX_3,
     GL_MAP2_VERTEX_4,
+    /* Mesa's GL_MAX_CLIP_PLANES is 8 (after the 62 above, so their
+     * indices stay) */
+    GL_CLIP_PLANE0 + 6,
+    GL_CLIP_PLANE0 + 7,
     EN_UNIT(0, 0),
     EN_UNIT(1, 0),
     EN_UNIT(2, 0),

@@ -14,6 +14,9 @@
  *     glEnable(GL_COLOR_ARRAY) instead of glEnableClientState, as piglit's
  *     gl-1.1-color-material-array does (Mesa takes both; tilesort drew
  *     nothing, a pack server died of SIGSEGV), disabled with glDisable
+ *   3 user clip planes 6 and 7 (Mesa has 8; piglit's
+ *     gl-1.0-user-clip-all-planes uses every one): the tracker kept 6, so
+ *     the wall's servers never clipped with the last two
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -130,6 +133,24 @@ static void arrays_enabled_by_glenable(void)
     glDisable(GL_VERTEX_ARRAY);
 }
 
+static void last_clip_planes(void)
+{
+    static const GLdouble right_of[4] = {1, 0, 0, 0.3}, below[4] = {0, -1, 0, 0.5};
+    glPushMatrix();
+    glRotatef(20, 0, 0, 1); /* planes are taken in eye space at glClipPlane */
+    glClipPlane(GL_CLIP_PLANE0 + 6, right_of);
+    glClipPlane(GL_CLIP_PLANE0 + 7, below);
+    glPopMatrix();
+    glEnable(GL_CLIP_PLANE0 + 6);
+    glEnable(GL_CLIP_PLANE0 + 7);
+    glColor3f(0.2f, 0.9f, 0.4f);
+    glRectf(-0.95f, -0.95f, 0.95f, 0.95f);
+    glDisable(GL_CLIP_PLANE0 + 7);
+    glColor3f(0.9f, 0.2f, 0.6f);
+    glRectf(-0.9f, 0.6f, 0.9f, 0.9f);
+    glDisable(GL_CLIP_PLANE0 + 6);
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -138,12 +159,14 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 3 == 0)
+        if (f % 4 == 0)
             lit_mesh();
-        else if (f % 3 == 1)
+        else if (f % 4 == 1)
             buffers_in_turn();
-        else
+        else if (f % 4 == 2)
             arrays_enabled_by_glenable();
+        else
+            last_clip_planes();
         if (!exapp_swap(&app))
             break;
     }

@@ -116,7 +116,7 @@ extern "C" {
  * values; a call beyond them is ignored, as GL ignores it with an error). */
 #define TSR_STATE_UNITS 8
 #define TSR_STATE_LIGHTS 8
-#define TSR_STATE_CLIP_PLANES 6
+#define TSR_STATE_CLIP_PLANES 8 /* GL_MAX_CLIP_PLANES of Mesa (the spec asks at least 6) */
 #define TSR_STATE_ATTRIBS 16
 #define TSR_STATE_MODELVIEW_DEPTH 32
 #define TSR_STATE_PROJECTION_DEPTH 32
