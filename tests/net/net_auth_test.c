@@ -323,7 +323,9 @@ static int test_replayed_proof(void)
     tsr_net_listener *l;
     tsr_net *server_net;
     capture_handshake(&r, &l, &server_net);
-    size_t hello_size, proof_size;
+    /* Set by find_msg whenever it finds the message, which the CHECK
+     * below asserts; zero before, for the optimiser's flow analysis. */
+    size_t hello_size = 0, proof_size = 0;
     long hello_at = find_msg(r.c2s, r.c2s_len, 0x01, &hello_size);
     long proof_at = find_msg(r.c2s, r.c2s_len, 0x08, &proof_size);
     CHECK(hello_at >= 0 && proof_at > 0, "handshake not recorded");
