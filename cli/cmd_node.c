@@ -24,7 +24,8 @@ static void node_usage(FILE *out)
             "                    [--clients N] [--timeout-ms MS] [--idle-timeout-ms MS]\n"
             "                    [--name NAME] [--independent] [--max-vertices N]\n"
             "                    [--max-buffer-bytes N] [--max-reply-bytes N]\n"
-            "                    [--max-pending-reply-bytes N]\n"
+            "                    [--max-pending-reply-bytes N] [--cost cpu|bytes]\n"
+            "                    [--cost-scale X] [--stall-first-frame-ms MS]\n"
             "       tessera node --mothership HOST:PORT [--name NAME | --rank N] [--token T]\n"
             "                    [--bind HOST] [--timeout-ms MS] [--connect-timeout-ms MS]\n\n"
             "Runs a server node: accepts stream clients (the pack SPU) on ADDR and feeds\n"
@@ -67,6 +68,14 @@ static void node_usage(FILE *out)
             "                    limit the client announces)\n"
             "  --max-pending-reply-bytes N  reply bytes a client may leave unread (default\n"
             "                    268435456)\n"
+            "  Settings for testing a balancer (tilesort's balanced modes; each is logged):\n"
+            "  --cost cpu|bytes  the frame cost a swap reports: the chain's thread CPU time\n"
+            "                    (cpu, the default) or 1 ns per byte received (bytes: the\n"
+            "                    same on any machine and load)\n"
+            "  --cost-scale X    multiply the reported cost by X (2: a server twice as slow;\n"
+            "                    default 1)\n"
+            "  --stall-first-frame-ms MS  the node's first frame takes MS longer (a slow\n"
+            "                    server without a huge window; default 0)\n"
             "  -h, --help        show this help\n\n"
             "Prints \"listening on ADDR\" once ready. Exit codes: 0 every client ended cleanly,\n"
             "1 runtime failure (a client dropped, none came in time, address in use),\n"
@@ -100,6 +109,38 @@ static int parse_count(const char *text, long min, long max, long *out)
         return -1;
     *out = v;
     return 0;
+}
+
+/* --cost, --cost-scale or --stall-first-frame-ms `value` into `cfg`; 0, or
+ * -1 after one line naming the option and value. */
+static int parse_cost_setting(tsr_node_config *cfg, const char *option, const char *value)
+{
+    long n;
+    if (!strcmp(option, "--cost")) {
+        if (!strcmp(value, "cpu") || !strcmp(value, "bytes")) {
+            cfg->cost_source = !strcmp(value, "bytes") ? TSR_NODE_COST_FROM_BYTES : TSR_NODE_COST_FROM_CPU;
+            return 0;
+        }
+        fprintf(stderr, "tessera node: bad --cost '%s' (expected cpu or bytes)\n", value);
+        return -1;
+    }
+    if (!strcmp(option, "--cost-scale")) {
+        char *end;
+        errno = 0;
+        double x = strtod(value, &end);
+        if (!errno && end != value && !*end && x > 0 && x <= 1e6) {
+            cfg->cost_scale = x;
+            return 0;
+        }
+        fprintf(stderr, "tessera node: bad --cost-scale '%s' (expected a number over 0, at most 1e6)\n", value);
+        return -1;
+    }
+    if (parse_count(value, 0, 3600000, &n) == 0) {
+        cfg->stall_first_frame_ms = (uint32_t)n;
+        return 0;
+    }
+    fprintf(stderr, "tessera node: bad --stall-first-frame-ms '%s' (expected 0..3600000)\n", value);
+    return -1;
 }
 
 /* Node errors start with "node: "; after "tessera node: " that is noise. */
@@ -166,6 +207,7 @@ int cmd_node(int argc, char **argv)
     const char *mothership = NULL, *rank = NULL, *bind = NULL;
     int insecure = 0;
     long timeout_given = -1, connect_timeout = -1, idle_given = -1;
+    int cost_given = 0;
     tsr_unpack_limits limits;
     tsr_unpack_limits_defaults(&limits);
     cfg.limits = &limits;
@@ -203,6 +245,13 @@ int cmd_node(int argc, char **argv)
             /* 0 is no limit; pending replies have no "off" (0 = the default). */
             *budgets[budget] = v ? v : budget == 3 ? UINT64_MAX : 0;
             i++;
+            continue;
+        }
+        if (!strcmp(arg, "--cost") || !strcmp(arg, "--cost-scale") || !strcmp(arg, "--stall-first-frame-ms")) {
+            const char *value = i + 1 < argc ? argv[++i] : "";
+            if (parse_cost_setting(&cfg, arg, value) != 0)
+                return TSR_EXIT_USAGE;
+            cost_given = 1;
             continue;
         }
         int known = !strcmp(arg, "--listen") || !strcmp(arg, "--chain") || !strcmp(arg, "--token") ||
@@ -274,6 +323,11 @@ int cmd_node(int argc, char **argv)
         if (idle_given >= 0) {
             fprintf(stderr, "tessera node: with --mothership, the run's --timeout-ms is the servers' "
                             "--idle-timeout-ms\n");
+            return TSR_EXIT_USAGE;
+        }
+        if (cost_given) {
+            fprintf(stderr, "tessera node: --cost, --cost-scale and --stall-first-frame-ms are for a standalone "
+                            "node (not with --mothership)\n");
             return TSR_EXIT_USAGE;
         }
         return node_with_mothership(mothership, cfg.name, rank, cfg.token, timeout_given, connect_timeout, bind);

@@ -543,19 +543,14 @@ tsr_node *tsr_node_create(const tsr_node_config *config, tsr_error *err)
     }
     node->clients = config->clients;
     node->timeout_ms = config->timeout_ms;
-    const char *stall = getenv(TSR_NODE_TEST_STALL_ENV);
-    if (stall && *stall) {
-        node->test_stall_ms = (uint32_t)strtoul(stall, NULL, 10);
-        tsr_log(TSR_LOG_WARN, "node: %s=%u: the first frame takes %u ms more (a test setting)", TSR_NODE_TEST_STALL_ENV,
-                node->test_stall_ms, node->test_stall_ms);
-    }
-    const char *scale = getenv(TSR_NODE_TEST_COST_SCALE_ENV), *source = getenv(TSR_NODE_TEST_COST_ENV);
-    node->test_cost_scale = scale && *scale ? strtod(scale, NULL) : 1.0;
-    if (!(node->test_cost_scale > 0) || node->test_cost_scale > 1e6)
-        node->test_cost_scale = 1.0;
-    node->test_cost_bytes = source && !strcmp(source, "bytes");
+    node->test_stall_ms = config->stall_first_frame_ms;
+    if (node->test_stall_ms)
+        tsr_log(TSR_LOG_WARN, "node: the first frame takes %u ms more (--stall-first-frame-ms, a test setting)",
+                node->test_stall_ms);
+    node->test_cost_scale = config->cost_scale > 0 ? config->cost_scale : 1.0;
+    node->test_cost_bytes = config->cost_source == TSR_NODE_COST_FROM_BYTES;
     if (node->test_cost_scale != 1.0 || node->test_cost_bytes)
-        tsr_log(TSR_LOG_WARN, "node: frame costs reported %s x %g (a test setting)",
+        tsr_log(TSR_LOG_WARN, "node: frame costs reported %s x %g (--cost, --cost-scale: a test setting)",
                 node->test_cost_bytes ? "as 1 ns per byte received" : "as thread CPU time", node->test_cost_scale);
     node->mode = config->mode;
     if (config->limits)

@@ -92,6 +92,11 @@ typedef enum tsr_node_mode {
     TSR_NODE_INDEPENDENT = 1, /* a thread and a chain per client */
 } tsr_node_mode;
 
+typedef enum tsr_node_cost_source {
+    TSR_NODE_COST_FROM_CPU = 0, /* the chain's thread CPU time (the default) */
+    TSR_NODE_COST_FROM_BYTES,   /* 1 ns per byte received: independent of timing */
+} tsr_node_cost_source;
+
 typedef struct tsr_node_config {
     const char *listen; /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
     const char *chain;  /* chain text, "{client}" replaced by the client's number */
@@ -124,6 +129,18 @@ typedef struct tsr_node_config {
      * that asks and never reads); a reply beyond it drops the client.
      * 0: TSR_NODE_DEFAULT_MAX_PENDING_REPLY_BYTES. */
     uint64_t max_pending_reply_bytes;
+    /* Settings for testing a balancer (`tessera node --cost`, --cost-scale,
+     * --stall-first-frame-ms; server/README.md, "Frame costs"), each logged
+     * when set. The cost a swap reports (protocol.h TSR_NODE_MSG_COST) is
+     * the chain's thread CPU time, or with cost_source BYTES the bytes the
+     * frame brought at 1 ns per byte, so a balancer's test does not depend
+     * on timing; it is multiplied by cost_scale (a server "twice as slow":
+     * 2; 0: 1). The node's first frame takes stall_first_frame_ms longer
+     * (the first SwapBuffers to reach the chain waits before it does): a
+     * slow server without a huge window. */
+    tsr_node_cost_source cost_source;
+    double cost_scale;
+    uint32_t stall_first_frame_ms;
 } tsr_node_config;
 
 #define TSR_NODE_DEFAULT_MAX_PENDING_REPLY_BYTES ((uint64_t)256 << 20)

@@ -14,19 +14,6 @@
 
 struct node_session;
 
-/* Tests only: a chain that takes this long over the node's first frame
- * (the first SwapBuffers to reach the chain sleeps before it does), to
- * show a slow server without a huge window. Read from the environment at
- * tsr_node_create. */
-#define TSR_NODE_TEST_STALL_ENV "TESSERA_TEST_STALL_MS"
-/* Tests only: the cost a swap reports (protocol.h TSR_NODE_MSG_COST) is
- * multiplied by this (a server "twice as slow": 2), and with
- * TSR_NODE_TEST_COST_ENV=bytes it is the bytes the frame brought at 1 ns
- * per byte instead of the chain's CPU time, so a balancer's test does not
- * depend on timing. Read at tsr_node_create. */
-#define TSR_NODE_TEST_COST_SCALE_ENV "TESSERA_TEST_COST_SCALE"
-#define TSR_NODE_TEST_COST_ENV "TESSERA_TEST_COST"
-
 /* Sizes of the last messages the node sent one client, newest last: with
  * netlib's count of messages whose credit has not come back, the reply
  * bytes the client has not taken yet. The client grants the credits
@@ -55,10 +42,10 @@ struct tsr_node {
     tsr_chain_link *links; /* ... as links (owned copies) */
     size_t link_count;
     uint32_t timeout_ms;
-    uint32_t test_stall_ms;  /* TSR_NODE_TEST_STALL_ENV; 0 = none */
+    uint32_t test_stall_ms;  /* tsr_node_config.stall_first_frame_ms; 0 = none */
     atomic_int test_stalled; /* it did (sessions of independent mode race for it) */
-    double test_cost_scale;  /* TSR_NODE_TEST_COST_SCALE_ENV; 1 = none */
-    int test_cost_bytes;     /* TSR_NODE_TEST_COST_ENV=bytes */
+    double test_cost_scale;  /* tsr_node_config.cost_scale; 1 = none */
+    int test_cost_bytes;     /* tsr_node_config.cost_source BYTES */
     double fault_seconds;    /* thread CPU seconds of one minor page fault (under stats_lock) ... */
     int fault_measured;      /* ... measured at the first cost report with faults */
     unsigned clients;
@@ -79,7 +66,7 @@ struct tsr_node {
 };
 
 /* In a SwapBuffers that reaches the chain, before the chain's: sleeps
- * for the test stall on the node's first (TSR_NODE_TEST_STALL_ENV). */
+ * for the test stall on the node's first (tsr_node_config.stall_first_frame_ms). */
 void tsr_node_test_stall(tsr_node *node);
 /* The calling thread's CPU time in seconds (the chain runs on it). */
 double tsr_node_thread_cpu(void);

@@ -146,7 +146,7 @@ foreach(bucket kd union)
   add_test(NAME tilesort_${bucket}_server_that_stalls_keeps_a_region_exact
     COMMAND ${TILESORT_SH} stable ${TILESORT_BIN} ${TILESORT_OUT}/stall-${bucket} ${bucket} 1)
   # Convergence with deterministic costs (1 ns per byte a server receives,
-  # TESSERA_TEST_COST; item 3): a static scene is within 1.2 of perfect
+  # tessera node --cost bytes; item 3): a static scene is within 1.2 of perfect
   # balance from frame 3 on (counted from 0) and the split stops moving.
   add_test(NAME tilesort_${bucket}_static_scene_converges_within_3_frames_and_settles
     COMMAND ${TILESORT_SH} converge ${TILESORT_BIN} ${TILESORT_OUT}/converge-${bucket} ${bucket} 10 3 1.2 1

@@ -22,7 +22,7 @@
 #                   must not poll the dead connection forever)
 #   server-slow     two psubmit ranks (pack timeout_ms=1000) into a shared
 #                   node whose chain takes 3 s over its first frame
-#                   (TESSERA_TEST_STALL_MS): meanwhile both fill their credit
+#                   (--stall-first-frame-ms): meanwhile both fill their credit
 #                   windows, rank 1 only waiting for rank 0's slow frame;
 #                   neither may be taken for dead: both exit 0, every frame
 #                   is drawn
@@ -186,7 +186,7 @@ client-stopped)
   ;;
 server-slow)
   frames=8
-  TESSERA_TEST_STALL_MS=3000 start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 \
+  start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --stall-first-frame-ms 3000 \
     --timeout-ms 20000 --chain "render output=\"$out/chain/f-%04d.png\"" || exit 1
   start=$(now_ms)
   pids=""

@@ -21,7 +21,7 @@
 #       1: server 1's first frame takes 1.5 s more (it reports late).
 #   converge CONFIG FRAMES FROM MAX SLOW [OPTION...]
 #       balance_scenes --static (a static scene) with deterministic costs
-#       (each server reports 1 ns per byte received, TESSERA_TEST_COST),
+#       (each server reports 1 ns per byte received, tessera node --cost bytes),
 #       every frame exact: from frame FROM on (counted from 0) the measured imbalance (max /
 #       mean of the servers' reported times) is at most MAX every frame,
 #       and the regions settle (no oscillation: the last four frames keep
@@ -44,7 +44,7 @@
 #   primitives span buffers).
 set -u
 mode=$1 bin=$2 out=$3
-SIZE=1024x768 APP_ARGS= TILESORT_ENV=
+SIZE=1024x768 APP_ARGS= TILESORT_NODE_ARGS=
 shift 3
 TESSERA=$bin/tessera
 . "$(dirname "$0")/../node/node_lib.sh"
@@ -101,13 +101,11 @@ run_tilesort() {
   k=0
   while [ $k -lt "$SERVERS_N" ]; do
     mkdir -p "$dir/s$k"
-    # test settings for every server and for server k (TILESORT_ENV, TILESORT_ENV_k)
-    eval "one=\${TILESORT_ENV_$k:-}"
-    env $TILESORT_ENV $one true || exit 2
-    for v in $TILESORT_ENV $one; do export "$v"; done
-    start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 120000 \
+    # test settings (tessera node --cost ...) for every server and for
+    # server k (TILESORT_NODE_ARGS, TILESORT_NODE_ARGS_k)
+    eval "one=\${TILESORT_NODE_ARGS_$k:-}"
+    start_node "$dir/node$k" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 120000 $TILESORT_NODE_ARGS $one \
       --chain "render output=\"$dir/s$k/f-%04d.png\"" || { kill_all; exit 1; }
-    for v in $TILESORT_ENV $one; do unset "${v%%=*}"; done
     PIDS="$PIDS $NODE_PID"
     SERVERS="$SERVERS${SERVERS:+,}$NODE_ADDR"
     k=$((k + 1))
@@ -162,7 +160,7 @@ case $mode in
 stable)
   config=$1 stall=$2
   SIZE=256x192
-  [ "$stall" = 1 ] && TILESORT_ENV_1=TESSERA_TEST_STALL_MS=1500
+  [ "$stall" = 1 ] && TILESORT_NODE_ARGS_1="--stall-first-frame-ms 1500"
   "$bin/balance_scenes-native" --frames 16 --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
     fail "balance_scenes-native failed"
   run_tilesort "$out/tiled" balance_scenes 16 "$config"
@@ -191,8 +189,8 @@ stable)
 converge)
   config=$1 frames=$2 from=$3 max=$4 slow=$5
   shift 5
-  SIZE=256x192 APP_ARGS=--static TILESORT_ENV=TESSERA_TEST_COST=bytes
-  [ "$slow" != 1 ] && TILESORT_ENV_0=TESSERA_TEST_COST_SCALE=$slow
+  SIZE=256x192 APP_ARGS=--static TILESORT_NODE_ARGS="--cost bytes"
+  [ "$slow" != 1 ] && TILESORT_NODE_ARGS_0="--cost-scale $slow"
   "$bin/balance_scenes-native" --static --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
     fail "balance_scenes-native failed"
   run_tilesort "$out/tiled" balance_scenes "$frames" "$config" "$@"
@@ -213,7 +211,7 @@ converge)
 track)
   config=$1 frames=$2 orbit=$3 max=$4
   shift 4
-  SIZE=512x384 APP_ARGS="--orbit $orbit" TILESORT_ENV=TESSERA_TEST_COST=bytes
+  SIZE=512x384 APP_ARGS="--orbit $orbit" TILESORT_NODE_ARGS="--cost bytes"
   "$bin/isosurface-native" $APP_ARGS --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >/dev/null ||
     fail "isosurface-native failed"
   run_tilesort "$out/tiled" isosurface "$frames" "$config" "$@"
