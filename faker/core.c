@@ -549,7 +549,6 @@ tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
     return c;
 }
 
-int tsr_faker_context_id(const tsr_faker_context *ctx) { return ctx ? ctx->id : 0; }
 
 static void context_free_locked(tsr_faker_context *ctx)
 {
@@ -772,7 +771,6 @@ void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height)
     *height = s ? s->height : 0;
 }
 
-unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s) { return s ? s->xid : 0; }
 
 /* --- current ------------------------------------------------------------- */
 
@@ -938,7 +936,6 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
 
 tsr_faker_context *tsr_faker_current_context(void) { return cur_ctx; }
 
-tsr_faker_surface *tsr_faker_current_surface(void) { return cur_surface; }
 
 void tsr_faker_swap(tsr_faker_surface *s)
 {

@@ -50,7 +50,6 @@ TSR_FAKER_API void tsr_faker_log(int level, const char *fmt, ...) __attribute__(
 TSR_FAKER_API tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share);
 /* Destroyed now, or when it stops being current (as GLX/EGL say). */
 TSR_FAKER_API void tsr_faker_context_destroy(tsr_faker_context *ctx);
-TSR_FAKER_API int tsr_faker_context_id(const tsr_faker_context *ctx);
 
 /* A surface for X drawable `xid` of the display named `display_name`
  * (the same surface for the same drawable), or a pbuffer (xid 0) of the
@@ -59,7 +58,6 @@ TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_window(const char *display_na
 TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height);
 TSR_FAKER_API void tsr_faker_surface_destroy(tsr_faker_surface *s);
 TSR_FAKER_API void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height);
-TSR_FAKER_API unsigned long tsr_faker_surface_xid(const tsr_faker_surface *s);
 /* Size and depth of X drawable `xid` (a pixmap) of display `display_name`,
  * read over the faker's own connection; false when it cannot be read. */
 TSR_FAKER_API bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height,
@@ -76,7 +74,6 @@ TSR_FAKER_API bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surf
  * it (core.c; EGL_BAD_ACCESS; logged). */
 TSR_FAKER_API bool tsr_faker_make_current_refused_busy(void);
 TSR_FAKER_API tsr_faker_context *tsr_faker_current_context(void);
-TSR_FAKER_API tsr_faker_surface *tsr_faker_current_surface(void);
 /* End of frame of `s`: SwapBuffersTSR through the current context's
  * table, then the drawable's size is checked (resize: WindowSizeTSR). */
 TSR_FAKER_API void tsr_faker_swap(tsr_faker_surface *s);

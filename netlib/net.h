@@ -357,14 +357,6 @@ TSR_API int tsr_net_conn_wait_returned(tsr_net_conn *conn, int timeout_ms, tsr_e
  * Messages still held by the application may be released later. */
 TSR_API void tsr_net_conn_close(tsr_net_conn *conn);
 
-/* Streaming helpers (tests, benchmarks): send `total_bytes` as messages of
- * `message_bytes` (the last may be shorter) of kind `kind`, filled with
- * tsr_net_pattern_fill(seed 0) by stream position; and receive such a
- * stream until `total_bytes` arrived, verifying every byte. Both return TSR_OK
- * or an error naming the connection and, for a mismatch, the offset. */
-TSR_API int tsr_net_stream_send(tsr_net_conn *conn, unsigned kind, uint64_t total_bytes, size_t message_bytes,
-                                int timeout_ms, tsr_error *err);
-TSR_API int tsr_net_stream_recv(tsr_net_conn *conn, uint64_t total_bytes, int timeout_ms, tsr_error *err);
 /* Deterministic bytes for stream position [offset, offset+len) of `seed`. */
 TSR_API void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed);
 /* FNV-1a 64 over `len` bytes, continuing from `hash` (start: TSR_NET_FNV_START). */
