@@ -1,5 +1,9 @@
-/* spus/binaryswap/stats.c — the per-frame timing lines of stats.h. */
+/* spus/binaryswap/stats.c — the per-frame timing lines of stats.h, and
+ * the instance's figures: its stats= line per frame, its transport
+ * statistics at the end. Owns nothing; never decides from the figures. */
 #include "stats.h"
+#include "instance.h"
+#include "tessera/log.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -62,5 +66,35 @@ void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s)
                  s->displayed_ns, s->bytes_sent, hwm, rss, tsr_bswap_cpu_ns(), s->hook_cpu_ns, s->final_filled);
     if (n > 0 && (size_t)n < sizeof line && write(fd, line, (size_t)n) != n) {
         /* A full disk loses a timing line, never the frame. */
+    }
+}
+
+void bswap_stats_frame(bswap_spu *b, uint32_t frame)
+{
+    if (b->stats_fd < 0)
+        return;
+    b->st.frame = frame;
+    b->st.rank = b->rank;
+    b->st.nranks = b->nranks;
+    b->st.bytes_sent = b->last_bytes;
+    tsr_bswap_stats_write(b->stats_fd, &b->st);
+}
+
+/* One line per peer pair at the end of the run: which transport carried
+ * this peer's images to each peer and back, and how much of it. */
+void bswap_log_transport_stats(const bswap_spu *b)
+{
+    for (int i = 0; i < b->nranks; i++) {
+        if (!b->conns[i])
+            continue;
+        tsr_net_stats st;
+        tsr_net_conn_stats(b->conns[i], &st);
+        tsr_log(TSR_LOG_INFO,
+                "%s: transport stats rank %d -> rank %d: %s; sent %" PRIu64 " messages %" PRIu64 " bytes (%" PRIu64
+                " messages %" PRIu64 " bytes through shared memory); received %" PRIu64 " messages %" PRIu64
+                " bytes (%" PRIu64 " messages %" PRIu64 " bytes through shared memory)",
+                b->name, b->rank, i, tsr_net_conn_transport(b->conns[i]), st.messages_sent, st.bytes_sent,
+                st.messages_sent_shm, st.bytes_sent_shm, st.messages_received, st.bytes_received,
+                st.messages_received_shm, st.bytes_received_shm);
     }
 }
