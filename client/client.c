@@ -193,6 +193,12 @@ static void write_stats_if_asked(tsr_stream_client *c)
         tsr_log(TSR_LOG_ERROR, "%s: %s", c->name, err.message);
 }
 
+void tsr_stream_client_exit(void)
+{
+    fflush(NULL);
+    _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+}
+
 /* Server `i` is unusable: one line naming it, then the on_error policy.
  * Returns the error code (fills `err`). */
 static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const char *what, const tsr_error *cause)
@@ -213,10 +219,7 @@ static int server_failed(tsr_stream_client *c, size_t i, tsr_error *err, const c
     if (c->exit_on_error) {
         tsr_log(TSR_LOG_ERROR, "%s: ending the application (on_error=exit)", c->name);
         write_stats_if_asked(c);
-        fflush(NULL);
-        /* _exit, not exit: other threads (the renderer's, netlib's) are
-         * running and must not see library destructors run under them. */
-        _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+        tsr_stream_client_exit();
     }
     if (c->live)
         tsr_log(TSR_LOG_ERROR, "%s: going on without server %s (on_error=drop)", c->name, s->address);

@@ -86,7 +86,7 @@ static void bswap_destroy(void *self)
     render_spu_destroy(b->render);
     bswap_roi_destroy(b->roi);
     bswap_release_held(b);
-    tsr_chain_destroy(b->out); /* sends what is left, waits for the display to run it */
+    display_stream_close(&b->display); /* sends what is left, waits for the display to run it */
     bswap_log_transport_stats(b);
     free(b->local_building);
     for (int i = 0; i < b->nranks; i++)
@@ -234,8 +234,7 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         goto fail;
     }
     b->down = *init->child;
-    tsr_set_WindowCreateTSR(&b->down, bswap_WindowCreateTSR, b);
-    tsr_set_WindowSizeTSR(&b->down, bswap_WindowSizeTSR, b);
+    bswap_display_init(b, &b->down);
     tsr_spu_init render_init = *init;
     render_init.child = &b->down;
     render_hooks hooks = {.frame = bswap_frame, .ctx = b};

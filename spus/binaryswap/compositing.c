@@ -27,8 +27,9 @@
  * unknown) is composited as a premultiplied layer, in
  * view_order, folded back to front (the serial blend's grouping) by a
  * schedule that keeps that grouping; the peer clears to transparent black
- * (ClearColor is taken in binaryswap.c) and the display adds the application's clear
- * colour once. colour=rgba32f composites GL_FLOAT colour. */
+ * (ClearColor is taken in binaryswap.c) and the display adds the
+ * application's clear colour once. colour=rgba32f composites GL_FLOAT
+ * colour. */
 #include <inttypes.h>
 #include <stdint.h>
 #include <string.h>

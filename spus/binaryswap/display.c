@@ -1,58 +1,33 @@
-/* spus/binaryswap/display.c — the stream to the display node (a `pack`
- * chain of its own, made at first use) and the final piece drawn on it:
- * window commands, DrawPixels of the piece's active pixels, scissored
- * clears of its background. Owns the instance's chain to the display.
+/* spus/binaryswap/display.c — the final piece drawn on the display node:
+ * DrawPixels of the piece's active pixels, scissored clears of its
+ * background, over the display stream readback uses too
+ * (spus/readback/display_stream.h). Owns nothing beyond its scratch images.
  * Never sends the display anything but the window, the final piece, the
  * frame's barriers and (rank 0) the swap. */
 #include <inttypes.h>
-#include <stdio.h>
 
 #include "instance.h"
 #include "layers.h"
-#include "tessera/dev/client.h"
 
-static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeout_ms", "on_error"};
-#define PACK_KEYS (sizeof pack_keys / sizeof pack_keys[0])
+/* A peer that cannot reach the display fails the run whatever on_error
+ * says (its piece of every frame would be missing). */
+static void display_failed(void *ctx, const tsr_error *err) { bswap_fatal(ctx, "%s", err->message); }
 
-/* The display stream, created on first use (not in create: a node builds
- * its chain once at start-up only to check it). */
-const tsr_dispatch *bswap_display(bswap_spu *b)
+void bswap_display_init(bswap_spu *b, tsr_dispatch *down)
 {
-    if (b->display || b->display_failed)
-        return b->display;
-    char numbers[2][24];
-    snprintf(numbers[0], sizeof numbers[0], "%" PRId64, tsr_options_int(b->options, "buffer_size"));
-    snprintf(numbers[1], sizeof numbers[1], "%" PRId64, tsr_options_int(b->options, "timeout_ms"));
-    const char *values[PACK_KEYS] = {tsr_options_string(b->options, "display"), tsr_options_string(b->options, "token"),
-                                     numbers[0], numbers[1], tsr_options_string(b->options, "on_error")};
-    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
-    tsr_error err = {0};
-    b->out = tsr_chain_create_links(&link, 1, &err);
-    if (!b->out) {
-        bswap_fatal(b, "display %s: %s", values[0], err.message);
-    }
-    b->display = tsr_chain_head(b->out);
-    tsr_call_BarrierCreateTSR(b->display, BSWAP_DISPLAY_BARRIER, (GLuint)b->nranks);
-    return b->display;
+    b->display = (display_stream){.name = b->name,
+                                  .options = b->options,
+                                  .address_option = "display",
+                                  .window = b->window,
+                                  .barrier = BSWAP_DISPLAY_BARRIER,
+                                  .barrier_clients = (unsigned)b->nranks,
+                                  .child = b->child,
+                                  .on_failure = display_failed,
+                                  .ctx = b};
+    display_stream_follow_window(&b->display, down);
 }
 
-void bswap_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
-{
-    bswap_spu *b = self;
-    const tsr_dispatch *d = window == b->window ? bswap_display(b) : NULL;
-    if (d)
-        tsr_call_WindowCreateTSR(d, window, width, height);
-    tsr_call_WindowCreateTSR(b->child, window, width, height);
-}
-
-void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
-{
-    bswap_spu *b = self;
-    const tsr_dispatch *d = window == b->window ? bswap_display(b) : NULL;
-    if (d)
-        tsr_call_WindowSizeTSR(d, window, width, height);
-    tsr_call_WindowSizeTSR(b->child, window, width, height);
-}
+const tsr_dispatch *bswap_display(bswap_spu *b) { return display_stream_get(&b->display); }
 
 /* The pixels [first, last] of a window `W` wide as at most three
  * rectangles {x, y, w, h}: a partial first row, whole rows, a partial last

@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "bands.h"
+#include "display_stream.h"
 #include "net.h"
 #include "roi.h"
 #include "stats.h"
@@ -58,9 +59,7 @@ typedef struct bswap_spu {
     bool meshed;     /* every peer linked and its HELLO read: a peer's last word may follow */
     bool composited; /* a frame's messages went out and their releases are not yet awaited */
 
-    tsr_chain *out; /* pack to the display; NULL until first needed */
-    const tsr_dispatch *display;
-    bool display_failed;
+    display_stream display; /* to the display node (display_stream.h, readback's too) */
 
     int kind, k;           /* strategy asked for (tsr_cs_kind) and radix */
     tsr_image_codec codec; /* of image messages */
@@ -129,9 +128,11 @@ void bswap_plan(bswap_spu *b, int W, int H);
 void bswap_frame(void *ctx, int frame, void *render);
 
 /* display.c */
+/* Sets up the display stream (made at first use) and points `down`'s
+ * window commands at it. */
+void bswap_display_init(bswap_spu *b, tsr_dispatch *down);
+/* The display's table (a peer that cannot reach it ends). */
 const tsr_dispatch *bswap_display(bswap_spu *b);
-void bswap_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height);
-void bswap_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height);
 void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
                        uint32_t frame);
 

@@ -37,8 +37,7 @@
 #include "tessera/dev/util.h"
 #include "tessera/log.h"
 
-/* Ends the process after one line: other threads (netlib's, llvmpipe's)
- * are running, so _exit. */
+/* Ends the process after one line (tsr_stream_client_exit). */
 void bswap_fatal(bswap_spu *b, const char *fmt, ...)
 {
     char what[1024];
@@ -61,7 +60,7 @@ void bswap_fatal(bswap_spu *b, const char *fmt, ...)
     for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
         if (b->conns[r])
             tsr_net_conn_flush(b->conns[r], 200);
-    _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+    tsr_stream_client_exit();
 }
 
 static int64_t now_ms(void)

@@ -26,7 +26,7 @@
  * Clear of depth to a value other than 1.0 or under a scissor, a frame
  * without a Clear of the whole colour and depth buffers) makes the
  * frame's box unknown: binaryswap then finds the region from the depth
- * buffer instead (binaryswap.c, read_layer).
+ * buffer instead (layer.c, bswap_read_layer).
  *
  * Owns: its packer, the saved render table and the hook/tee records (they
  * are the slots' `self`). Never: changes what render draws or any GL state

@@ -22,10 +22,9 @@
  * no swap: the display's node would drop them anyway (only one client's
  * swaps end frames), but sending none keeps which one counts fixed.
  *
- * The stream to the display is created at the first window command, image
- * or swap, not with the instance: a node builds its chain once at start-up
- * only to check it (server/node.h), and that probe must not count as one of
- * the display's clients. Failing to reach the display follows on_error,
+ * The stream to the display (display_stream.h, shared with binaryswap) is
+ * created at the first window command, image or swap, not with the
+ * instance. Failing to reach the display follows on_error,
  * like a display that fails later (pack's policy, tessera/dev/client.h): exit
  * (the default) ends the process with status 1 after one line naming the
  * display; drop logs it once and goes on, writing only the tile PNGs.
@@ -35,16 +34,12 @@
  * tile pixels are read inside render's swap by its own reader context
  * (no client's pixel-store state applies), which no dispatch slot exposes,
  * and render would pass the node's context commands on to the display. */
-#include <inttypes.h>
-#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
 
-#include "tessera/dev/client.h"
+#include "display_stream.h"
 #include "render.h"
-#include "tessera/chain.h"
+#include "tessera/dev/client.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 
@@ -53,51 +48,10 @@ typedef struct readback_spu {
     void *render;              /* render.h instance: draws, writes tile PNGs, calls image() */
     tsr_dispatch down;         /* render's child: the chain's child, window and swap seen here */
     const tsr_dispatch *child; /* the chain's child */
-    const tsr_options *options;
     int window, rank;
-    unsigned peers, barrier;
-    tsr_chain *out; /* pack to the display; NULL until first needed */
-    const tsr_dispatch *display;
-    bool failed; /* the display could not be reached: images are dropped */
+    unsigned barrier;
+    display_stream display; /* the stream to the display (display_stream.h) */
 } readback_spu;
-
-/* The options passed through to the pack SPU that carries the images. */
-static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeout_ms", "on_error"};
-#define PACK_KEYS (sizeof pack_keys / sizeof pack_keys[0])
-
-/* The display stream, created on first use (header comment); NULL when it
- * cannot be. */
-static const tsr_dispatch *display(readback_spu *rb)
-{
-    if (rb->display || rb->failed)
-        return rb->display;
-    char numbers[2][24];
-    snprintf(numbers[0], sizeof numbers[0], "%" PRId64, tsr_options_int(rb->options, "buffer_size"));
-    snprintf(numbers[1], sizeof numbers[1], "%" PRId64, tsr_options_int(rb->options, "timeout_ms"));
-    const char *values[PACK_KEYS] = {tsr_options_string(rb->options, "server"),
-                                     tsr_options_string(rb->options, "token"), numbers[0], numbers[1],
-                                     tsr_options_string(rb->options, "on_error")};
-    tsr_chain_link link = {.spu = "pack", .keys = pack_keys, .values = values, .option_count = PACK_KEYS};
-    tsr_error err = {0};
-    rb->out = tsr_chain_create_links(&link, 1, &err);
-    if (!rb->out) {
-        rb->failed = true;
-        tsr_log(TSR_LOG_ERROR, "%s: display %s: %s", rb->name, values[0], err.message);
-        if (!strcmp(values[4], "exit")) {
-            /* The failure policy of a display that fails later (pack's,
-             * tessera/dev/client.h): frames that reach no display are a failed
-             * run. _exit: other threads (netlib's, llvmpipe's) are running. */
-            tsr_log(TSR_LOG_ERROR, "%s: ending the server (on_error=exit)", rb->name);
-            fflush(NULL);
-            _exit(TSR_NODE_CLIENT_EXIT_STATUS);
-        }
-        tsr_log(TSR_LOG_ERROR, "%s: on_error=drop: tile images are not sent", rb->name);
-        return NULL;
-    }
-    rb->display = tsr_chain_head(rb->out);
-    tsr_call_BarrierCreateTSR(rb->display, rb->barrier, rb->peers);
-    return rb->display;
-}
 
 static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
                            const unsigned char *rgba)
@@ -105,29 +59,11 @@ static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int 
     (void)frame;
     (void)tile;
     readback_spu *rb = ctx;
-    const tsr_dispatch *d = display(rb);
+    const tsr_dispatch *d = display_stream_get(&rb->display);
     if (!d)
         return;
     tsr_call_WindowPos2i(d, x, y);
     tsr_call_DrawPixels(d, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-}
-
-static void readback_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
-{
-    readback_spu *rb = self;
-    const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
-    if (d)
-        tsr_call_WindowCreateTSR(d, window, width, height);
-    tsr_call_WindowCreateTSR(rb->child, window, width, height);
-}
-
-static void readback_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
-{
-    readback_spu *rb = self;
-    const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
-    if (d)
-        tsr_call_WindowSizeTSR(d, window, width, height);
-    tsr_call_WindowSizeTSR(rb->child, window, width, height);
 }
 
 /* render has read and sent this frame's tiles (readback_image): fence the
@@ -135,7 +71,7 @@ static void readback_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsi
 static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     readback_spu *rb = self;
-    const tsr_dispatch *d = window == rb->window ? display(rb) : NULL;
+    const tsr_dispatch *d = window == rb->window ? display_stream_get(&rb->display) : NULL;
     if (d) {
         tsr_call_BarrierExecTSR(d, rb->barrier);
         if (rb->rank == 0)
@@ -153,7 +89,7 @@ static void readback_destroy(void *self)
     render_spu_destroy(rb->render);
     /* No BarrierDestroyTSR: another tile server may not have reached the
      * frame's last barrier yet; the display forgets it when it ends. */
-    tsr_chain_destroy(rb->out); /* sends what is left, waits for the display to run it */
+    display_stream_close(&rb->display); /* sends what is left, waits for the display to run it */
     free(rb);
 }
 
@@ -166,11 +102,18 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
     }
     snprintf(rb->name, sizeof rb->name, "%s", init->instance_name);
     rb->child = init->child;
-    rb->options = init->options;
     rb->window = (int)tsr_options_int(init->options, "window");
     rb->rank = (int)tsr_options_int(init->options, "rank");
-    rb->peers = (unsigned)tsr_options_int(init->options, "peers");
     rb->barrier = (unsigned)tsr_options_int(init->options, "barrier");
+    rb->display = (display_stream){.name = rb->name,
+                                   .options = init->options,
+                                   .address_option = "server",
+                                   .window = rb->window,
+                                   .barrier = rb->barrier,
+                                   .barrier_clients = (unsigned)tsr_options_int(init->options, "peers"),
+                                   .child = init->child,
+                                   .on_failure = display_stream_on_error};
+    rb->display.ctx = &rb->display;
     const char *server = tsr_options_string(init->options, "server");
     if (!server || !server[0]) {
         tsr_error_set(err, TSR_EINVAL,
@@ -181,8 +124,7 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
     /* render passes what it does not keep to `down`: the chain's child,
      * with the window and swap commands seen here first. */
     rb->down = *init->child;
-    tsr_set_WindowCreateTSR(&rb->down, readback_WindowCreateTSR, rb);
-    tsr_set_WindowSizeTSR(&rb->down, readback_WindowSizeTSR, rb);
+    display_stream_follow_window(&rb->display, &rb->down);
     tsr_set_SwapBuffersTSR(&rb->down, readback_SwapBuffersTSR, rb);
     tsr_spu_init render_init = *init;
     render_init.child = &rb->down;

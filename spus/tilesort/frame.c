@@ -35,16 +35,14 @@ static void window_size(tilesort *t, GLsizei w, GLsizei h)
         tsr_error gerr = {0};
         if (ts_tiling_grid(&t->tiling, t->grid_cols, t->grid_rows, w, h, t->name, &gerr) != TSR_OK) {
             tsr_log(TSR_LOG_ERROR, "%s", gerr.message);
-            fflush(NULL);
-            _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+            tsr_stream_client_exit();
         }
     }
     if (ts_tiling_window(&t->tiling, w, h, why, sizeof why) != 0) {
         /* A wall cropped or misplaced without a word is worse than no
          * wall: the application ends as on a failed server (on_error). */
         tsr_log(TSR_LOG_ERROR, "%s: %s", t->name, why);
-        fflush(NULL);
-        _exit(TSR_NODE_CLIENT_EXIT_STATUS);
+        tsr_stream_client_exit();
     }
     t->tiling_version++;
 }

@@ -146,6 +146,14 @@ typedef struct tsr_stream_client_config {
                 "goes on without that server (every call is dropped once none is left)"                                \
     }
 
+/* The end of a process under on_error=exit, the one place it is written
+ * (the stream client, and every SPU that ends a run it cannot serve:
+ * tilesort's wall, readback's and binaryswap's display): flushes stdio and
+ * ends with TSR_NODE_CLIENT_EXIT_STATUS. _exit, not exit: other threads
+ * (the renderer's, netlib's) are running and must not see library
+ * destructors run under them. The caller has logged its line. */
+TSR_API void tsr_stream_client_exit(void) __attribute__((noreturn));
+
 /* Fills token, timeout_ms, buffer_size and exit_on_error from options
  * declared with TSR_NODE_CLIENT_OPTION_SPECS. */
 TSR_API void tsr_stream_client_config_from_options(tsr_stream_client_config *config, const tsr_options *options);
