@@ -408,4 +408,3 @@ static const tsr_spu_class bswap_class = {
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &bswap_class; }
-

@@ -86,8 +86,10 @@ static void composite_frame(bswap_spu *b, uint32_t frame)
         mine = &b->layer;
     bswap_plan(b, mine->window_width, mine->window_height);
     b->last_bytes = 0;
-    tsr_cs_transport t = {
-        .user = b, .send = bswap_transport_send, .recv = bswap_transport_recv, .send_buffer = bswap_transport_send_buffer};
+    tsr_cs_transport t = {.user = b,
+                          .send = bswap_transport_send,
+                          .recv = bswap_transport_recv,
+                          .send_buffer = bswap_transport_send_buffer};
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
     if (b->mode == TSR_COMPOSITE_ALPHA)

@@ -89,7 +89,7 @@ static void clear_rects(const tsr_dispatch *d, const bswap_rect *r, size_t n)
  * more than the active pixels. A piece without active pixels is clears
  * only, so no pixel of background travels. */
 void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
-                        uint32_t frame)
+                       uint32_t frame)
 {
     uint32_t W = (uint32_t)in->window_width, end = in->start + in->count - 1;
     if (!in->active) {

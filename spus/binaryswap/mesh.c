@@ -213,8 +213,8 @@ void bswap_link_peers(bswap_spu *b, int W, int H)
     b->meshed = true;
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
-            tsr_log(TSR_LOG_INFO, "%s: transport rank %d <-> rank %d (%s): %s", b->name, b->rank, i, bswap_peer_address(b, i),
-                    tsr_net_conn_transport(b->conns[i]));
+            tsr_log(TSR_LOG_INFO, "%s: transport rank %d <-> rank %d (%s): %s", b->name, b->rank, i,
+                    bswap_peer_address(b, i), tsr_net_conn_transport(b->conns[i]));
 }
 
 void bswap_release_held(bswap_spu *b)
@@ -264,7 +264,8 @@ static bool peer_ended_on(bswap_spu *b, int peer, const tsr_net_msg *msg, tsr_er
     int at = 0;
     if (sscanf(said, "frame %u: %n", &frame, &at) == 1 && at > 0)
         fault += at;
-    tsr_error_set(err, TSR_EIO, "%s (said peer rank %d (%s), which ended on it)", fault, peer, bswap_peer_address(b, peer));
+    tsr_error_set(err, TSR_EIO, "%s (said peer rank %d (%s), which ended on it)", fault, peer,
+                  bswap_peer_address(b, peer));
     return true;
 }
 
