@@ -64,10 +64,10 @@ static void fill(uint8_t *c, float *d, int W, int H, int s, int random)
 }
 
 /* A rendered-looking peer image: shaded spheres over background. */
-static void scene(tsr_cimage *img, int W, int H)
+static void scene(tsr_composite_image *img, int W, int H)
 {
     tsr_error err;
-    if (tsr_cimage_init(img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err))
+    if (tsr_composite_image_init(img, W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err))
         abort();
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
@@ -139,9 +139,9 @@ static double psnr8(const uint8_t *a, const uint8_t *b, size_t n)
 /* ---- strategies in one process ------------------------------------------- */
 
 typedef struct bjob {
-    tsr_cs_executor *ex;
-    tsr_cimage *img;
-    tsr_cs_transport t;
+    tsr_composite_executor *ex;
+    tsr_composite_image *img;
+    tsr_composite_transport t;
     int rank, rc;
     tsr_error err;
 } bjob;
@@ -149,7 +149,7 @@ typedef struct bjob {
 static void *bpeer(void *arg)
 {
     bjob *j = arg;
-    j->rc = tsr_cs_run_peer(j->ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &j->err);
+    j->rc = tsr_composite_run_peer(j->ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, &j->err);
     return NULL;
 }
 
@@ -184,29 +184,29 @@ typedef struct group_result {
     char name[32];
 } group_result;
 
-static void run_group(const char *strategy, tsr_image_codec codec, int n, int W, int H, tsr_cimage *imgs, int frames,
-                      tsr_cimage *final, group_result *res)
+static void run_group(const char *strategy, tsr_composite_codec codec, int n, int W, int H, tsr_composite_image *imgs,
+                      int frames, tsr_composite_image *final, group_result *res)
 {
     tsr_error err = {0};
     int kind, k;
-    if (tsr_cs_kind_parse(strategy, &kind, &k, &err))
+    if (tsr_composite_kind_parse(strategy, &kind, &k, &err))
         abort();
-    tsr_cs_schedule s;
-    tsr_cs_hint hint = {0, 1};
-    if (tsr_cs_plan(kind, n, W, H, k, &hint, &s, &err)) {
+    tsr_composite_schedule s;
+    tsr_composite_hint hint = {0, 1};
+    if (tsr_composite_plan(kind, n, W, H, k, &hint, &s, &err)) {
         fprintf(stderr, "bench_composite: %s n=%d: %s\n", strategy, n, err.message);
         exit(1);
     }
-    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 120000, &err);
+    tsr_composite_memnet *net = tsr_composite_memnet_new(n + 1, 120000, &err);
     bjob *jobs = calloc((size_t)n, sizeof *jobs);
     pthread_t *th = calloc((size_t)n, sizeof *th);
     for (int r = 0; r < n; r++) {
-        jobs[r] = (bjob){.ex = tsr_cs_executor_new(&s, codec, &err), .img = &imgs[r], .rank = r};
-        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        jobs[r] = (bjob){.ex = tsr_composite_executor_new(&s, codec, &err), .img = &imgs[r], .rank = r};
+        tsr_composite_memnet_transport(net, r, &jobs[r].t);
     }
-    tsr_cs_transport dt;
-    tsr_cs_memnet_transport(net, n, &dt);
-    tsr_cs_executor *dex = tsr_cs_executor_new(&s, codec, &err);
+    tsr_composite_transport dt;
+    tsr_composite_memnet_transport(net, n, &dt);
+    tsr_composite_executor *dex = tsr_composite_executor_new(&s, codec, &err);
     static const uint8_t bg[4] = {0, 0, 0, 255};
     double ms[64], cpu[64];
     uint64_t bytes = 0;
@@ -214,7 +214,8 @@ static void run_group(const char *strategy, tsr_image_codec codec, int n, int W,
         double t0 = now_wall(), c0 = now_cpu();
         for (int r = 0; r < n; r++)
             pthread_create(&th[r], NULL, bpeer, &jobs[r]);
-        int rc = tsr_cs_run_display(dex, 1, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, bg, final, &dt, &err);
+        int rc = tsr_composite_run_display(dex, 1, TSR_COMPOSITE_DEPTH, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, bg,
+                                           final, &dt, &err);
         for (int r = 0; r < n; r++)
             pthread_join(th[r], NULL);
         ms[f] = (now_wall() - t0) * 1e3;
@@ -230,8 +231,8 @@ static void run_group(const char *strategy, tsr_image_codec codec, int n, int W,
             }
         bytes = 0;
         for (int r = 0; r < n; r++) {
-            tsr_cs_stats st;
-            tsr_cs_executor_stats(jobs[r].ex, &st);
+            tsr_composite_stats st;
+            tsr_composite_executor_stats(jobs[r].ex, &st);
             bytes += st.bytes_sent;
         }
     }
@@ -242,30 +243,30 @@ static void run_group(const char *strategy, tsr_image_codec codec, int n, int W,
     res->bytes = bytes;
     snprintf(res->name, sizeof res->name, "%s", s.name);
     for (int r = 0; r < n; r++)
-        tsr_cs_executor_free(jobs[r].ex);
-    tsr_cs_executor_free(dex);
-    tsr_cs_memnet_free(net);
-    tsr_cs_schedule_free(&s);
+        tsr_composite_executor_free(jobs[r].ex);
+    tsr_composite_executor_free(dex);
+    tsr_composite_memnet_free(net);
+    tsr_composite_schedule_free(&s);
     free(jobs);
     free(th);
 }
 
-static tsr_cimage *make_layers(int mode, int n, int W, int H)
+static tsr_composite_image *make_layers(int mode, int n, int W, int H)
 {
     tsr_error err = {0};
-    tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
+    tsr_composite_image *imgs = calloc((size_t)n, sizeof *imgs);
     for (int r = 0; r < n; r++) {
-        if (tsr_synthetic_layer(mode, W, H, r, n, &imgs[r], &err))
+        if (tsr_composite_synthetic_layer(mode, W, H, r, n, &imgs[r], &err))
             abort();
         imgs[r].frame = 1;
     }
     return imgs;
 }
 
-static void free_layers(tsr_cimage *imgs, int n)
+static void free_layers(tsr_composite_image *imgs, int n)
 {
     for (int r = 0; r < n; r++)
-        tsr_cimage_free(&imgs[r]);
+        tsr_composite_image_free(&imgs[r]);
     free(imgs);
 }
 
@@ -276,13 +277,14 @@ static void bench_strategies(const bench_args *a, FILE *csv)
     static const char *names[] = {"gather", "direct", "bswap", "radixk-4", "auto"};
     int W = a->quick ? 64 : 1920, H = a->quick ? 36 : 1080, frames = a->quick ? 1 : 5;
     tsr_error err;
-    tsr_image_codec codec;
-    tsr_image_codec_parse("rle", &codec, &err);
+    tsr_composite_codec codec;
+    tsr_composite_codec_parse("rle", &codec, &err);
     for (int partial = 0; partial < 2; partial++)
         for (int n = 2; n <= 16; n *= 2) {
-            tsr_cimage *imgs = make_layers(partial ? TSR_SYNTHETIC_ELLIPSE : TSR_SYNTHETIC_FULL, n, W, H);
+            tsr_composite_image *imgs =
+                make_layers(partial ? TSR_COMPOSITE_SYNTHETIC_ELLIPSE : TSR_COMPOSITE_SYNTHETIC_FULL, n, W, H);
             for (size_t si = 0; si < sizeof names / sizeof *names; si++) {
-                tsr_cimage frame = {0};
+                tsr_composite_image frame = {0};
                 group_result g;
                 run_group(names[si], codec, n, W, H, imgs, frames, &frame, &g);
                 printf("strategy_%s_%s_n%d: cpu_ms %.2f wall_ms %.2f bytes_per_frame %llu (%s)\n", names[si],
@@ -290,7 +292,7 @@ static void bench_strategies(const bench_args *a, FILE *csv)
                 if (csv)
                     fprintf(csv, "%s,%s,%d,%.3f,%.3f,%llu,%s\n", names[si], partial ? "partial" : "full", n, g.cpu_ms,
                             g.wall_ms, (unsigned long long)g.bytes, g.name);
-                tsr_cimage_free(&frame);
+                tsr_composite_image_free(&frame);
             }
             free_layers(imgs, n);
         }
@@ -306,13 +308,13 @@ static void bench_codec_sweep(const bench_args *a, FILE *csv)
     for (int si = 0; si < 2; si++)
         for (int n = 2; n <= 8; n *= 2) {
             int W = a->quick ? sizes[si][0] / 16 : sizes[si][0], H = a->quick ? sizes[si][1] / 16 : sizes[si][1];
-            tsr_cimage *imgs = make_layers(TSR_SYNTHETIC_FULL, n, W, H);
-            tsr_cimage lossless = {0};
+            tsr_composite_image *imgs = make_layers(TSR_COMPOSITE_SYNTHETIC_FULL, n, W, H);
+            tsr_composite_image lossless = {0};
             for (size_t ci = 0; ci < sizeof codecs / sizeof *codecs; ci++) {
                 tsr_error err;
-                tsr_image_codec c;
-                tsr_image_codec_parse(codecs[ci], &c, &err);
-                tsr_cimage frame = {0};
+                tsr_composite_codec c;
+                tsr_composite_codec_parse(codecs[ci], &c, &err);
+                tsr_composite_image frame = {0};
                 group_result g;
                 run_group("auto", c, n, W, H, imgs, frames, ci ? &frame : &lossless, &g);
                 double p = ci ? psnr8(lossless.color, frame.color, (size_t)W * H * 4) : INFINITY;
@@ -321,9 +323,9 @@ static void bench_codec_sweep(const bench_args *a, FILE *csv)
                 if (csv)
                     fprintf(csv, "%s,%dx%d,%d,%.3f,%.3f,%llu,%.2f,%s\n", codecs[ci], W, H, n, g.cpu_ms, g.wall_ms,
                             (unsigned long long)g.bytes, isinf(p) ? 99.0 : p, g.name);
-                tsr_cimage_free(&frame);
+                tsr_composite_image_free(&frame);
             }
-            tsr_cimage_free(&lossless);
+            tsr_composite_image_free(&lossless);
             free_layers(imgs, n);
         }
 }
@@ -365,32 +367,32 @@ int main(int argc, char **argv)
     int sizes[2][2] = {{1024, 768}, {1920, 1080}};
     for (int si = 0; si < 2; si++) {
         int w = a.quick ? sizes[si][0] / 16 : sizes[si][0], h = a.quick ? sizes[si][1] / 16 : sizes[si][1];
-        tsr_cimage img = {0}, back = {0}, ref = {0};
-        tsr_sparse_image s = {0}, d = {0};
+        tsr_composite_image img = {0}, back = {0}, ref = {0};
+        tsr_composite_sparse s = {0}, d = {0};
         tsr_error err;
         scene(&img, w, h);
-        tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, (uint32_t)(w * h), &s, &err);
+        tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 0, (uint32_t)(w * h), &s, &err);
         static const uint8_t bg[4] = {0, 0, 0, 0};
-        tsr_cimage_init(&ref, w, h, 0, 0, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err);
-        tsr_sparse_image_to_dense(&s, bg, &ref, &err);
+        tsr_composite_image_init(&ref, w, h, 0, 0, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err);
+        tsr_composite_sparse_to_dense(&s, bg, &ref, &err);
         size_t frame_bytes = (size_t)w * h * 8;
         for (size_t ci = 0; ci < sizeof codecs / sizeof *codecs; ci++) {
-            tsr_image_codec c;
-            tsr_image_codec_parse(codecs[ci], &c, &err);
-            size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len = 0;
+            tsr_composite_codec c;
+            tsr_composite_codec_parse(codecs[ci], &c, &err);
+            size_t cap = tsr_composite_message_max_size(s.count, s.color_format, s.depth_format, c), len = 0;
             uint8_t *buf = malloc(cap);
             double enc = 1e9, dec = 1e9;
             for (int r = 0; r < (a.quick ? 1 : 7); r++) {
                 double t0 = bench_now();
-                tsr_image_message_encode(&s, c, buf, cap, &len, &err);
+                tsr_composite_message_encode(&s, c, buf, cap, &len, &err);
                 double t1 = bench_now();
-                tsr_image_message_decode(buf, len, NULL, &d, &err);
+                tsr_composite_message_decode(buf, len, NULL, &d, &err);
                 double t2 = bench_now();
                 enc = fmin(enc, t1 - t0);
                 dec = fmin(dec, t2 - t1);
             }
-            tsr_cimage_init(&back, w, h, 0, 0, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err);
-            tsr_sparse_image_to_dense(&d, bg, &back, &err);
+            tsr_composite_image_init(&back, w, h, 0, 0, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err);
+            tsr_composite_sparse_to_dense(&d, bg, &back, &err);
             double p = psnr8(ref.color, back.color, (size_t)w * h * 4), dz = 0;
             for (size_t i = 0; i < (size_t)w * h; i++)
                 dz = fmax(dz, fabs((double)ref.depth[i] - back.depth[i]));
@@ -406,11 +408,11 @@ int main(int argc, char **argv)
                         (double)len / frame_bytes, isinf(p) ? 99.0 : p, dz);
             free(buf);
         }
-        tsr_cimage_free(&img);
-        tsr_cimage_free(&back);
-        tsr_cimage_free(&ref);
-        tsr_sparse_image_free(&s);
-        tsr_sparse_image_free(&d);
+        tsr_composite_image_free(&img);
+        tsr_composite_image_free(&back);
+        tsr_composite_image_free(&ref);
+        tsr_composite_sparse_free(&s);
+        tsr_composite_sparse_free(&d);
     }
     if (csv)
         fclose(csv);

@@ -9,7 +9,7 @@ if(NOT TARGET tessera_composite_strategies)
                    ${CMAKE_BINARY_DIR}/spus/binaryswap/strategies)
 endif()
 add_executable(composite_tests ${CMAKE_CURRENT_SOURCE_DIR}/composite/composite_tests.c
-  ${CMAKE_CURRENT_SOURCE_DIR}/composite/fuzz_image_message.c)
+  ${CMAKE_CURRENT_SOURCE_DIR}/composite/fuzz_composite_message.c)
 target_link_libraries(composite_tests PRIVATE tessera_composite_strategies tessera Threads::Threads m)
 
 foreach(t
@@ -55,15 +55,15 @@ add_test(NAME composite_message_fuzz_seeds_decode_or_reject
 if(TESSERA_FUZZ)
   # libFuzzer target over the image module's own sources (coverage then
   # measures the decoder and the sparse code, not the rest of libtessera).
-  add_executable(fuzz_image_message ${CMAKE_CURRENT_SOURCE_DIR}/composite/fuzz_image_message.c
-    ${CMAKE_SOURCE_DIR}/core/image/composite.c ${CMAKE_SOURCE_DIR}/core/image/sparse.c
-    ${CMAKE_SOURCE_DIR}/core/image/message.c ${CMAKE_SOURCE_DIR}/core/util/error.c)
-  target_include_directories(fuzz_image_message PRIVATE ${CMAKE_SOURCE_DIR}/include ${TESSERA_GEN_DIR}/include)
-  target_compile_definitions(fuzz_image_message PRIVATE TSR_FUZZ_MAIN)
-  target_compile_options(fuzz_image_message PRIVATE -fsanitize=fuzzer,address,undefined
+  add_executable(fuzz_composite_message ${CMAKE_CURRENT_SOURCE_DIR}/composite/fuzz_composite_message.c
+    ${CMAKE_SOURCE_DIR}/core/image/composite.c ${CMAKE_SOURCE_DIR}/core/image/composite_sparse.c
+    ${CMAKE_SOURCE_DIR}/core/image/composite_message.c ${CMAKE_SOURCE_DIR}/core/util/error.c)
+  target_include_directories(fuzz_composite_message PRIVATE ${CMAKE_SOURCE_DIR}/include ${TESSERA_GEN_DIR}/include)
+  target_compile_definitions(fuzz_composite_message PRIVATE TSR_FUZZ_MAIN)
+  target_compile_options(fuzz_composite_message PRIVATE -fsanitize=fuzzer,address,undefined
     -fno-sanitize-recover=all -fno-omit-frame-pointer)
-  target_link_options(fuzz_image_message PRIVATE -fsanitize=fuzzer,address,undefined)
-  target_link_libraries(fuzz_image_message PRIVATE m)
-  add_test(NAME fuzz_image_message_runs_corpus
-    COMMAND fuzz_image_message -runs=2000 -max_len=65536 ${CMAKE_CURRENT_SOURCE_DIR}/composite/corpus)
+  target_link_options(fuzz_composite_message PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fuzz_composite_message PRIVATE m)
+  add_test(NAME fuzz_composite_message_runs_corpus
+    COMMAND fuzz_composite_message -runs=2000 -max_len=65536 ${CMAKE_CURRENT_SOURCE_DIR}/composite/corpus)
 endif()

@@ -136,7 +136,7 @@ set_tests_properties(${SORTLAST_TESTS_AFTER} PROPERTIES
 # equals the serial back-to-front blend of the same layers, computed by
 # alpha_blend from each share rendered natively: 0 differing pixels. The
 # strategies that blend each pixel in one place agree; those that regroup
-# the blend are refused (tsr_cs_schedule_keeps_order). Own block: its
+# the blend are refused (tsr_composite_schedule_keeps_order). Own block: its
 # tests take the common properties below.
 get_property(ALPHA_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
 add_executable(alpha_blend ${SORTLAST_DIR}/alpha_blend.c)

@@ -105,9 +105,9 @@ static void die(const char *what)
  * region) and its region as IceT's viewport {x, y, width, height}. */
 static void make_layer(int mode, int w, int h, int rank, int n, uint8_t *color, float *depth, IceTInt vp[4])
 {
-    tsr_cimage img = {0};
+    tsr_composite_image img = {0};
     tsr_error err = {0};
-    if (tsr_synthetic_layer(mode, w, h, rank, n, &img, &err) != TSR_OK)
+    if (tsr_composite_synthetic_layer(mode, w, h, rank, n, &img, &err) != TSR_OK)
         die(err.message);
     memset(color, 0, (size_t)w * (size_t)h * 4);
     for (size_t i = 0; i < (size_t)w * (size_t)h; i++)
@@ -118,7 +118,7 @@ static void make_layer(int mode, int w, int h, int rank, int n, uint8_t *color, 
         memcpy(depth + dst, img.depth + src, (size_t)img.width * sizeof(float));
     }
     vp[0] = img.x, vp[1] = img.y, vp[2] = img.width, vp[3] = img.height;
-    tsr_cimage_free(&img);
+    tsr_composite_image_free(&img);
 }
 
 /* The depth-nearest of the n layers (the lower rank on equal depth): the
@@ -255,12 +255,12 @@ int main(int argc, char **argv)
         const char *cname = cov ? "ellipse" : "full";
         if (strcmp(coverage, "both") && strcmp(coverage, cname))
             continue;
-        int mode = cov ? TSR_SYNTHETIC_ELLIPSE : TSR_SYNTHETIC_FULL;
+        int mode = cov ? TSR_COMPOSITE_SYNTHETIC_ELLIPSE : TSR_COMPOSITE_SYNTHETIC_FULL;
         IceTInt vp[4];
         make_layer(mode, w, h, rank, n, color, depth, vp);
         /* A full layer covers the window: no viewport, IceT reads it all
          * (as it does when it is given none). */
-        const IceTInt *valid = mode == TSR_SYNTHETIC_ELLIPSE ? vp : NULL;
+        const IceTInt *valid = mode == TSR_COMPOSITE_SYNTHETIC_ELLIPSE ? vp : NULL;
         if (rank == 0)
             expected_frame(mode, w, h, n, expected);
 

@@ -1,7 +1,7 @@
 /* core/image/composite.c — dense compositing images and the per-pixel
  * kernels (tessera/dev/composite.h): depth merge and premultiplied over.
  *
- * Owns: the planes of the tsr_cimage values it allocates. Never: keeps
+ * Owns: the planes of the tsr_composite_image values it allocates. Never: keeps
  * state between calls. The x86-64 kernels use SSE2 (always there) or AVX2
  * when the CPU has it (asked per call: __builtin_cpu_supports reads the
  * CPU model libgcc records at start-up, no state of ours); other machines
@@ -15,15 +15,15 @@
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
-#define TSR_CI_X86 1
+#define TSR_COMPOSITE_X86 1
 #endif
 
-size_t tsr_ci_color_bytes(int color_format)
+size_t tsr_composite_color_bytes(int color_format)
 {
-    return color_format == TSR_CI_RGBA8 ? 4 : color_format == TSR_CI_RGBA32F ? 16 : 0;
+    return color_format == TSR_COMPOSITE_RGBA8 ? 4 : color_format == TSR_COMPOSITE_RGBA32F ? 16 : 0;
 }
 
-size_t tsr_ci_depth_bytes(int depth_format) { return depth_format == TSR_CI_DEPTH32F ? 4 : 0; }
+size_t tsr_composite_depth_bytes(int depth_format) { return depth_format == TSR_COMPOSITE_DEPTH32F ? 4 : 0; }
 
 /* ---- planes (composite_internal.h) -------------------------------------- */
 
@@ -84,19 +84,21 @@ size_t ci_plane_bytes(const void *plane)
     return h.bytes;
 }
 
-int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x, int y, int width, int height,
-                    int color_format, int depth_format, tsr_error *err)
+int tsr_composite_image_init(tsr_composite_image *img, int window_width, int window_height, int x, int y, int width,
+                             int height, int color_format, int depth_format, tsr_error *err)
 {
-    if (window_width < 1 || window_height < 1 || window_width > TSR_CI_MAX_SIDE || window_height > TSR_CI_MAX_SIDE)
+    if (window_width < 1 || window_height < 1 || window_width > TSR_COMPOSITE_MAX_SIDE ||
+        window_height > TSR_COMPOSITE_MAX_SIDE)
         return tsr_error_set(err, TSR_EINVAL, "composite image: window %dx%d is outside 1..%d", window_width,
-                             window_height, TSR_CI_MAX_SIDE);
+                             window_height, TSR_COMPOSITE_MAX_SIDE);
     if (width < 0 || height < 0 || x < 0 || y < 0 || x > window_width - width || y > window_height - height)
         return tsr_error_set(err, TSR_EINVAL, "composite image: region %dx%d at %d,%d is outside the %dx%d window",
                              width, height, x, y, window_width, window_height);
-    if (!tsr_ci_color_bytes(color_format) || (depth_format != TSR_CI_NODEPTH && depth_format != TSR_CI_DEPTH32F))
+    if (!tsr_composite_color_bytes(color_format) ||
+        (depth_format != TSR_COMPOSITE_NODEPTH && depth_format != TSR_COMPOSITE_DEPTH32F))
         return tsr_error_set(err, TSR_EINVAL, "composite image: unknown format (colour %d, depth %d)", color_format,
                              depth_format);
-    size_t n = (size_t)width * (size_t)height, cb = tsr_ci_color_bytes(color_format);
+    size_t n = (size_t)width * (size_t)height, cb = tsr_composite_color_bytes(color_format);
     if (n > img->capacity_pixels || ci_plane_bytes(img->color) < n * cb || (depth_format && !img->depth && n) ||
         (!img->color && n)) {
         ci_plane_free(img->color);
@@ -105,7 +107,7 @@ int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x,
         img->depth = ci_plane_alloc(n * 4);
         img->capacity_pixels = n;
         if (!img->color || !img->depth) {
-            tsr_cimage_free(img);
+            tsr_composite_image_free(img);
             return tsr_error_set(err, TSR_ENOMEM, "composite image: no memory for %dx%d pixels", width, height);
         }
     }
@@ -120,7 +122,7 @@ int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x,
     return TSR_OK;
 }
 
-void tsr_cimage_free(tsr_cimage *img)
+void tsr_composite_image_free(tsr_composite_image *img)
 {
     ci_plane_free(img->color);
     ci_plane_free(img->depth);
@@ -178,7 +180,7 @@ static void over_rgba8_c(size_t n, const uint8_t *f, const uint8_t *b, uint8_t *
 
 /* ---- x86 kernels ------------------------------------------------------- */
 
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
 static inline __m128i key_sse2(__m128i x)
 {
     const __m128i abs = _mm_set1_epi32(INT32_MAX), inf = _mm_set1_epi32(0x7f800000);
@@ -270,7 +272,7 @@ static void over_rgba8_sse2(size_t n, const uint8_t *f, const uint8_t *b, uint8_
 void tsr_composite_depth_rgba8(size_t n, const uint8_t *front_color, const float *front_depth,
                                const uint8_t *back_color, const float *back_depth, uint8_t *out_color, float *out_depth)
 {
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
     if (__builtin_cpu_supports("avx2"))
         depth_rgba8_avx2(n, front_color, front_depth, back_color, back_depth, out_color, out_depth);
     else
@@ -295,7 +297,7 @@ void tsr_composite_depth_rgba32f(size_t n, const float *front_color, const float
 
 void tsr_composite_over_rgba8(size_t n, const uint8_t *front, const uint8_t *back, uint8_t *out)
 {
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
     over_rgba8_sse2(n, front, back, out);
 #else
     over_rgba8_c(n, front, back, out);
@@ -324,7 +326,7 @@ void tsr_composite_over_rgba32f(size_t n, const float *front, const float *back,
  * cached by the reader when it comes, so memcpy stays (the threshold is
  * CI_STREAM_MIN, composite_internal.h). */
 
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
 /* dst is advanced to a 16-byte boundary with memcpy first: the streaming
  * stores need aligned destinations, the loads take any source. No fence:
  * the caller fences once after its last streamed copy. */
@@ -370,7 +372,7 @@ static void copy_streamed(const char *kernel, void *dst, const void *src, size_t
         ci_copy(dst, src, n);
         return;
     }
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
     if (__builtin_cpu_supports("avx2") && (!kernel || !strcmp(kernel, "avx2")))
         copy_stream_avx2(dst, src, n);
     else
@@ -388,7 +390,7 @@ void ci_copy_stream(void *dst, const void *src, size_t n)
 
 void ci_copy_fence(void)
 {
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
     /* streamed stores are weakly ordered: the fence makes them visible
      * before whatever tells the reader the message is complete */
     _mm_sfence();
@@ -409,14 +411,15 @@ void tsr_composite_copy(void *dst, const void *src, size_t n) { tsr_composite_co
 
 const char *tsr_composite_kernel_name(void)
 {
-#ifdef TSR_CI_X86
+#ifdef TSR_COMPOSITE_X86
     return __builtin_cpu_supports("avx2") ? "avx2" : "sse2";
 #else
     return "c";
 #endif
 }
 
-int tsr_cimage_merge(int mode, const tsr_cimage *front, const tsr_cimage *back, tsr_cimage *out, tsr_error *err)
+int tsr_composite_image_merge(int mode, const tsr_composite_image *front, const tsr_composite_image *back,
+                              tsr_composite_image *out, tsr_error *err)
 {
     if (front->width != back->width || front->height != back->height || front->x != back->x || front->y != back->y ||
         front->color_format != back->color_format || front->depth_format != back->depth_format ||
@@ -426,16 +429,16 @@ int tsr_cimage_merge(int mode, const tsr_cimage *front, const tsr_cimage *back, 
                              front->width, front->height, back->width, back->height);
     size_t n = (size_t)front->width * (size_t)front->height;
     if (mode == TSR_COMPOSITE_DEPTH) {
-        if (front->depth_format != TSR_CI_DEPTH32F)
+        if (front->depth_format != TSR_COMPOSITE_DEPTH32F)
             return tsr_error_set(err, TSR_EINVAL, "composite merge: depth mode needs depth planes");
-        if (front->color_format == TSR_CI_RGBA8)
+        if (front->color_format == TSR_COMPOSITE_RGBA8)
             tsr_composite_depth_rgba8(n, front->color, front->depth, back->color, back->depth, out->color, out->depth);
         else
             tsr_composite_depth_rgba32f(n, (const float *)(void *)front->color, front->depth,
                                         (const float *)(void *)back->color, back->depth, (float *)(void *)out->color,
                                         out->depth);
     } else if (mode == TSR_COMPOSITE_ALPHA) {
-        if (front->color_format == TSR_CI_RGBA8)
+        if (front->color_format == TSR_COMPOSITE_RGBA8)
             tsr_composite_over_rgba8(n, front->color, back->color, out->color);
         else
             tsr_composite_over_rgba32f(n, (const float *)(void *)front->color, (const float *)(void *)back->color,

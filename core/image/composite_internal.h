@@ -1,5 +1,5 @@
-/* core/image/composite_internal.h — what composite.c, sparse.c and
- * message.c share privately. Owns nothing. */
+/* core/image/composite_internal.h — what composite.c, composite_sparse.c and
+ * composite_message.c share privately. Owns nothing. */
 #ifndef TSR_CORE_IMAGE_COMPOSITE_INTERNAL_H
 #define TSR_CORE_IMAGE_COMPOSITE_INTERNAL_H
 
@@ -23,22 +23,22 @@ static inline void ci_copy(void *dst, const void *src, size_t n)
 void ci_copy_stream(void *dst, const void *src, size_t n);
 void ci_copy_fence(void);
 
-/* tsr_sparse_image_compress; with runs_only, only the runs and the active
+/* tsr_composite_sparse_compress; with runs_only, only the runs and the active
  * count are written (no planes reserved): the pixels stay in `in`, where
- * tsr_image_message_encode_dense takes them straight into a message. */
-int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                       int runs_only, tsr_error *err);
+ * tsr_composite_message_encode_dense takes them straight into a message. */
+int ci_sparse_compress(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                       tsr_composite_sparse *out, int runs_only, tsr_error *err);
 /* The index in a dense region's planes of window pixel `pos`, which lies
  * in the region (a run of pixels from there stays in one of its rows, or,
  * in a region as wide as the window, runs on through its rows). */
-static inline size_t ci_region_index(const tsr_cimage *in, size_t pos)
+static inline size_t ci_region_index(const tsr_composite_image *in, size_t pos)
 {
     size_t w = (size_t)in->window_width;
     return (pos / w - (size_t)in->y) * (size_t)in->width + (pos % w - (size_t)in->x);
 }
 
 /* Planes of s for `pixels` active pixels of cb colour bytes. */
-int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err);
+int ci_sparse_planes(tsr_composite_sparse *s, size_t pixels, size_t cb, tsr_error *err);
 
 /* Image planes (colour, depth), 64-byte aligned. Large ones come straight
  * from mmap and go back with munmap: the resident memory of a compositing

@@ -28,18 +28,18 @@ static int grow(void **ptr, size_t *cap, size_t need, size_t size)
     return 0;
 }
 
-static int push(bswap_rect **list, size_t *n, size_t *cap, int x, int y, int w, int h)
+static int push(binaryswap_rect **list, size_t *n, size_t *cap, int x, int y, int w, int h)
 {
     if (w <= 0 || h <= 0)
         return 0;
     if (grow((void **)list, cap, *n + 1, sizeof **list))
         return -1;
-    (*list)[(*n)++] = (bswap_rect){x, y, w, h};
+    (*list)[(*n)++] = (binaryswap_rect){x, y, w, h};
     return 0;
 }
 
 /* Grows every row array to `rows` (they share one capacity). */
-static int grow_rows(bswap_bands *p, size_t rows)
+static int grow_rows(binaryswap_bands *p, size_t rows)
 {
     if (rows <= p->rows_cap)
         return 0;
@@ -63,7 +63,7 @@ static int grow_rows(bswap_bands *p, size_t rows)
     return 0;
 }
 
-int bswap_bands_plan(bswap_bands *p, const tsr_sparse_image *in, uint32_t call_pixels, tsr_error *err)
+int binaryswap_bands_plan(binaryswap_bands *p, const tsr_composite_sparse *in, uint32_t call_pixels, tsr_error *err)
 {
     p->nboxes = p->nclears = 0;
     if (!in->count)
@@ -141,14 +141,14 @@ int bswap_bands_plan(bswap_bands *p, const tsr_sparse_image *in, uint32_t call_p
             return tsr_error_set(err, TSR_ENOMEM, "out of memory for the bands of %u rows", rows);
     }
     for (size_t a = 0, z = p->nboxes; a + 1 < z; a++, z--) {
-        bswap_rect t = p->boxes[a];
+        binaryswap_rect t = p->boxes[a];
         p->boxes[a] = p->boxes[z - 1];
         p->boxes[z - 1] = t;
     }
     return TSR_OK;
 }
 
-void bswap_bands_free(bswap_bands *p)
+void binaryswap_bands_free(binaryswap_bands *p)
 {
     free(p->boxes);
     free(p->clears);
@@ -156,5 +156,5 @@ void bswap_bands_free(bswap_bands *p)
     free(p->hi);
     free(p->cost);
     free(p->from);
-    *p = (bswap_bands){0};
+    *p = (binaryswap_bands){0};
 }

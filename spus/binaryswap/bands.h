@@ -20,13 +20,13 @@
 
 #include "tessera/dev/composite.h"
 
-typedef struct bswap_rect {
+typedef struct binaryswap_rect {
     int x, y, w, h; /* window pixels, origin bottom-left as GL's */
-} bswap_rect;
+} binaryswap_rect;
 
-typedef struct bswap_bands {
-    bswap_rect *boxes;  /* DrawPixels of these, bottom to top */
-    bswap_rect *clears; /* scissored clears of these */
+typedef struct binaryswap_bands {
+    binaryswap_rect *boxes;  /* DrawPixels of these, bottom to top */
+    binaryswap_rect *clears; /* scissored clears of these */
     size_t nboxes, nclears, boxes_cap, clears_cap;
     /* scratch: per row of the piece, its active columns and the best plan
      * of the rows below it */
@@ -34,13 +34,13 @@ typedef struct bswap_bands {
     uint64_t *cost;
     uint32_t *from;
     size_t rows_cap;
-} bswap_bands;
+} binaryswap_bands;
 
 /* Plans `in` (a final piece: a range of the window), replacing p's boxes
  * and clears. call_pixels: the cost of one more DrawPixels, counted in
  * pixels sent (a band merges rows while that costs less than a call).
  * Out of memory is TSR_ENOMEM. */
-int bswap_bands_plan(bswap_bands *p, const tsr_sparse_image *in, uint32_t call_pixels, tsr_error *err);
-void bswap_bands_free(bswap_bands *p);
+int binaryswap_bands_plan(binaryswap_bands *p, const tsr_composite_sparse *in, uint32_t call_pixels, tsr_error *err);
+void binaryswap_bands_free(binaryswap_bands *p);
 
 #endif

@@ -31,9 +31,9 @@
 /* Alpha mode: the application's clear colour is the background the
  * display adds once; the peer itself clears to transparent black, so its
  * layer holds only what it drew. */
-static void bswap_ClearColor(void *self, GLfloat red, GLfloat green, GLfloat blue, GLfloat alpha)
+static void binaryswap_ClearColor(void *self, GLfloat red, GLfloat green, GLfloat blue, GLfloat alpha)
 {
-    bswap_spu *b = self;
+    binaryswap_spu *b = self;
     if (b->mode == TSR_COMPOSITE_ALPHA) {
         b->clear[0] = red;
         b->clear[1] = green;
@@ -48,25 +48,25 @@ static void bswap_ClearColor(void *self, GLfloat red, GLfloat green, GLfloat blu
  * of it is work no pixel of the frame shows; rasterised at the frame's
  * finish, a full-window clear on each of 8 peers took the CPU the peers
  * composite with (bench/README.md). */
-static void bswap_Clear_synthetic(void *self, GLbitfield mask)
+static void binaryswap_Clear_synthetic(void *self, GLbitfield mask)
 {
     (void)self;
     (void)mask;
 }
 
 /* Alpha mode is exact only with a schedule that blends each pixel's layers
- * back to front in one place (tsr_cs_schedule_keeps_order): auto picks
+ * back to front in one place (tsr_composite_schedule_keeps_order): auto picks
  * among those, an explicit strategy that regroups the blend is refused.
  * The shape of a schedule depends on the peer count, not the window. */
-static int alpha_strategy(bswap_spu *b, tsr_error *err)
+static int alpha_strategy(binaryswap_spu *b, tsr_error *err)
 {
-    tsr_cs_schedule s;
+    tsr_composite_schedule s;
     char why[160];
-    int kind = b->kind == TSR_CS_AUTO && b->nranks > 8 ? TSR_CS_DIRECT : b->kind;
-    if (tsr_cs_plan(kind, b->nranks, 64, 64, b->k, NULL, &s, err) != TSR_OK)
+    int kind = b->kind == TSR_COMPOSITE_AUTO && b->nranks > 8 ? TSR_COMPOSITE_DIRECT : b->kind;
+    if (tsr_composite_plan(kind, b->nranks, 64, 64, b->k, NULL, &s, err) != TSR_OK)
         return err->code;
-    int ok = tsr_cs_schedule_keeps_order(&s, why, sizeof why);
-    tsr_cs_schedule_free(&s);
+    int ok = tsr_composite_schedule_keeps_order(&s, why, sizeof why);
+    tsr_composite_schedule_free(&s);
     if (!ok)
         return tsr_error_set(err, TSR_EINVAL,
                              "mode=alpha with strategy %s for %d peers: %s; 8-bit and float rounding make that differ "
@@ -76,18 +76,18 @@ static int alpha_strategy(bswap_spu *b, tsr_error *err)
     return TSR_OK;
 }
 
-static void window_size(void *ctx, int *w, int *h) { render_spu_size(((bswap_spu *)ctx)->render, w, h); }
+static void window_size(void *ctx, int *w, int *h) { render_spu_size(((binaryswap_spu *)ctx)->render, w, h); }
 
-static void bswap_destroy(void *self)
+static void binaryswap_destroy(void *self)
 {
-    bswap_spu *b = self;
+    binaryswap_spu *b = self;
     if (!b)
         return;
     render_spu_destroy(b->render);
-    bswap_roi_destroy(b->roi);
-    bswap_release_held(b);
+    binaryswap_roi_destroy(b->roi);
+    binaryswap_release_held(b);
     display_stream_close(&b->display); /* sends what is left, waits for the display to run it */
-    bswap_log_transport_stats(b);
+    binaryswap_log_transport_stats(b);
     free(b->local_building);
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
@@ -99,17 +99,17 @@ static void bswap_destroy(void *self)
         next = m->next;
         free(m);
     }
-    tsr_cs_executor_free(b->peer_ex);
-    tsr_cs_executor_free(b->display_ex);
+    tsr_composite_executor_free(b->peer_ex);
+    tsr_composite_executor_free(b->display_ex);
     if (b->plan.kind)
-        tsr_cs_schedule_free(&b->plan);
-    tsr_cimage_free(&b->mine);
-    tsr_cimage_free(&b->frame);
-    tsr_cimage_free(&b->piece);
-    tsr_sparse_image_free(&b->placed);
-    tsr_sparse_image_free(&b->row);
-    bswap_bands_free(&b->bands);
-    tsr_cimage_free(&b->layer);
+        tsr_composite_schedule_free(&b->plan);
+    tsr_composite_image_free(&b->mine);
+    tsr_composite_image_free(&b->frame);
+    tsr_composite_image_free(&b->piece);
+    tsr_composite_sparse_free(&b->placed);
+    tsr_composite_sparse_free(&b->row);
+    binaryswap_bands_free(&b->bands);
+    tsr_composite_image_free(&b->layer);
     free(b->frame8);
     free(b->window_depth);
     if (b->stats_fd >= 0)
@@ -117,9 +117,9 @@ static void bswap_destroy(void *self)
     free(b);
 }
 
-static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
+static void *binaryswap_create(const tsr_spu_init *init, tsr_error *err)
 {
-    bswap_spu *b = calloc(1, sizeof *b);
+    binaryswap_spu *b = calloc(1, sizeof *b);
     if (!b) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", init->instance_name);
         return NULL;
@@ -146,8 +146,8 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
         goto fail;
     }
     size_t n = nexchange ? nexchange : npeers ? npeers : 1;
-    if (n > BSWAP_MAX_PEERS) {
-        tsr_error_set(err, TSR_EINVAL, "%s: %zu peers; at most %d", b->name, n, BSWAP_MAX_PEERS);
+    if (n > BINARYSWAP_MAX_PEERS) {
+        tsr_error_set(err, TSR_EINVAL, "%s: %zu peers; at most %d", b->name, n, BINARYSWAP_MAX_PEERS);
         goto fail;
     }
     b->nranks = (int)n;
@@ -168,11 +168,12 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
             /* In situ: application peers have no address of their own. */
             char from_display[TSR_NET_ADDRESS_MAX + 16];
             snprintf(from_display, sizeof from_display, "%s", display_address);
-            if (bswap_derive_exchange(from_display, b->exchange[i], sizeof b->exchange[i], (int)i + 1, &e) != TSR_OK) {
+            if (binaryswap_derive_exchange(from_display, b->exchange[i], sizeof b->exchange[i], (int)i + 1, &e) !=
+                TSR_OK) {
                 tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
                 goto fail;
             }
-        } else if (node && bswap_derive_exchange(node, b->exchange[i], sizeof b->exchange[i], 0, &e) != TSR_OK) {
+        } else if (node && binaryswap_derive_exchange(node, b->exchange[i], sizeof b->exchange[i], 0, &e) != TSR_OK) {
             tsr_error_set(err, TSR_EINVAL, "%s: peer rank %zu: %s", b->name, i, e.message);
             goto fail;
         }
@@ -189,59 +190,60 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     }
     b->mode = strcmp(mode, "alpha") ? TSR_COMPOSITE_DEPTH : TSR_COMPOSITE_ALPHA;
     tsr_error e = {0};
-    if (tsr_cs_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
+    if (tsr_composite_kind_parse(strategy, &b->kind, &b->k, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: strategy=%s: %s", b->name, strategy, e.message);
         goto fail;
     }
     if (tsr_options_int(init->options, "k"))
         b->k = (int)tsr_options_int(init->options, "k");
-    if (bswap_colour_parse(tsr_options_string(init->options, "colour"), &b->colour, &e) != TSR_OK ||
-        bswap_view_order(init->options, b->mode == TSR_COMPOSITE_ALPHA, b->nranks, b->view, b->pos, &e) != TSR_OK ||
+    if (binaryswap_colour_parse(tsr_options_string(init->options, "colour"), &b->colour, &e) != TSR_OK ||
+        binaryswap_view_order(init->options, b->mode == TSR_COMPOSITE_ALPHA, b->nranks, b->view, b->pos, &e) !=
+            TSR_OK ||
         (b->mode == TSR_COMPOSITE_ALPHA && alpha_strategy(b, &e) != TSR_OK)) {
         tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
         goto fail;
     }
     int has_box = 0;
-    if (bswap_box_parse(init->options, b->box, &has_box, &e) != TSR_OK ||
+    if (binaryswap_box_parse(init->options, b->box, &has_box, &e) != TSR_OK ||
         (has_box && b->mode != TSR_COMPOSITE_ALPHA &&
          tsr_error_set(&e, TSR_EINVAL, "box is for mode=alpha (depth mode composites in rank order)"))) {
         tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
         goto fail;
     }
-    if (tsr_image_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
+    if (tsr_composite_codec_parse(tsr_options_string(init->options, "codec"), &b->codec, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: codec=%s: %s", b->name, tsr_options_string(init->options, "codec"),
                       e.message);
         goto fail;
     }
-    if (b->colour == TSR_CI_RGBA32F && b->codec.color == TSR_CODEC_COLOR_YUV420) {
+    if (b->colour == TSR_COMPOSITE_RGBA32F && b->codec.color == TSR_COMPOSITE_CODEC_COLOR_YUV420) {
         tsr_error_set(err, TSR_EINVAL, "%s: codec=%s is for RGBA8 colour, not colour=rgba32f", b->name,
                       tsr_options_string(init->options, "codec"));
         goto fail;
     }
-    if (tsr_synthetic_parse(tsr_options_string(init->options, "synthetic"), &b->synthetic, &e) != TSR_OK) {
+    if (tsr_composite_synthetic_parse(tsr_options_string(init->options, "synthetic"), &b->synthetic, &e) != TSR_OK) {
         tsr_error_set(err, TSR_EINVAL, "%s: %s", b->name, e.message);
         goto fail;
     }
-    if (b->synthetic && (b->mode != TSR_COMPOSITE_DEPTH || b->colour != TSR_CI_RGBA8)) {
+    if (b->synthetic && (b->mode != TSR_COMPOSITE_DEPTH || b->colour != TSR_COMPOSITE_RGBA8)) {
         tsr_error_set(err, TSR_EINVAL,
                       "%s: synthetic=%s is a depth-mode RGBA8 layer: not with mode=alpha or colour=rgba32f", b->name,
                       tsr_options_string(init->options, "synthetic"));
         goto fail;
     }
     const char *stats = tsr_options_string(init->options, "stats");
-    if (stats && stats[0] && (b->stats_fd = tsr_bswap_stats_open(stats, &e)) < 0) {
+    if (stats && stats[0] && (b->stats_fd = binaryswap_stats_open(stats, &e)) < 0) {
         tsr_error_set(err, TSR_EIO, "%s: %s", b->name, e.message);
         goto fail;
     }
     b->down = *init->child;
-    bswap_display_init(b, &b->down);
+    binaryswap_display_init(b, &b->down);
     tsr_spu_init render_init = *init;
     render_init.child = &b->down;
-    render_hooks hooks = {.frame = bswap_frame, .ctx = b};
+    render_hooks hooks = {.frame = binaryswap_frame, .ctx = b};
     b->render = render_spu_create(&render_init, &hooks, err);
     if (!b->render)
         goto fail;
-    if (!(b->roi = bswap_roi_create(init->table, window_size, b, err))) {
+    if (!(b->roi = binaryswap_roi_create(init->table, window_size, b, err))) {
         render_spu_destroy(b->render);
         goto fail;
     }
@@ -249,9 +251,9 @@ static void *bswap_create(const tsr_spu_init *init, tsr_error *err)
     b->order_from_boxes = has_box && !tsr_options_count(init->options, "view_order");
     b->table = init->table;
     b->gl_clear_color = init->table->ClearColor;
-    tsr_set_ClearColor(init->table, bswap_ClearColor, b);
+    tsr_set_ClearColor(init->table, binaryswap_ClearColor, b);
     if (b->synthetic)
-        tsr_set_Clear(init->table, bswap_Clear_synthetic, b);
+        tsr_set_Clear(init->table, binaryswap_Clear_synthetic, b);
     return b;
 fail:
     if (b->stats_fd >= 0)
@@ -260,7 +262,7 @@ fail:
     return NULL;
 }
 
-static const tsr_option_spec bswap_options[] = {
+static const tsr_option_spec binaryswap_options[] = {
     RENDER_OPTION_SPECS,
     {.name = "display",
      .type = TSR_OPT_STRING,
@@ -273,7 +275,7 @@ static const tsr_option_spec bswap_options[] = {
      .type = TSR_OPT_INT,
      .default_value = "0",
      .min = 0,
-     .max = BSWAP_MAX_PEERS - 1,
+     .max = BINARYSWAP_MAX_PEERS - 1,
      .help = "this peer's place in the group, 0..N-1: depth ties go to the lower rank; rank 0 "
              "swaps the display's frame (a graph run sets it)"},
     {.name = "peers",
@@ -309,7 +311,7 @@ static const tsr_option_spec bswap_options[] = {
      .type = TSR_OPT_INT,
      .default_value = "0",
      .min = 0,
-     .max = BSWAP_MAX_PEERS,
+     .max = BINARYSWAP_MAX_PEERS,
      .help = "radix-k's radix (2..N; 2 is binary swap, N direct send); 0: radix-k chooses"},
     {.name = "codec",
      .type = TSR_OPT_STRING,
@@ -390,16 +392,16 @@ static const tsr_option_spec bswap_options[] = {
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
 
-static const tsr_spu_class bswap_class = {
+static const tsr_spu_class binaryswap_class = {
     .abi = TSR_SPU_ABI,
     .dispatch_count = TSR_DISPATCH_COUNT,
     .name = "binaryswap",
     .summary = "renders like render, then composites each frame's colour+depth with its peers "
                "(sort-last); each peer puts its final piece on a display node",
-    .options = bswap_options,
-    .option_count = sizeof bswap_options / sizeof bswap_options[0],
-    .create = bswap_create,
-    .destroy = bswap_destroy,
+    .options = binaryswap_options,
+    .option_count = sizeof binaryswap_options / sizeof binaryswap_options[0],
+    .create = binaryswap_create,
+    .destroy = binaryswap_destroy,
     .network = {.role = TSR_SPU_ROLE_PEERS,
                 .display = "display",
                 .rank = "rank",
@@ -407,4 +409,4 @@ static const tsr_spu_class bswap_class = {
                 .token = TSR_NODE_CLIENT_TOKEN_OPTION},
 };
 
-TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &bswap_class; }
+TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &binaryswap_class; }

@@ -40,27 +40,27 @@
 #include "tessera/log.h"
 
 /* The schedule for this window (planned again when the size changes). */
-void bswap_plan(bswap_spu *b, int W, int H)
+void binaryswap_plan(binaryswap_spu *b, int W, int H)
 {
     if (b->plan.kind && b->plan_width == W && b->plan_height == H)
         return;
     tsr_error err = {0};
-    tsr_cs_executor_free(b->peer_ex);
-    tsr_cs_executor_free(b->display_ex);
+    tsr_composite_executor_free(b->peer_ex);
+    tsr_composite_executor_free(b->display_ex);
     b->peer_ex = b->display_ex = NULL;
     if (b->plan.kind)
-        tsr_cs_schedule_free(&b->plan);
-    tsr_cs_hint hint = {.image_bytes = b->last_bytes, .display_separate = 0};
-    if (tsr_cs_plan(b->kind, b->nranks, W, H, b->k, &hint, &b->plan, &err) != TSR_OK ||
-        !(b->peer_ex = tsr_cs_executor_new(&b->plan, b->codec, &err)) ||
-        (b->rank == 0 && !(b->display_ex = tsr_cs_executor_new(&b->plan, b->codec, &err))))
-        bswap_fatal(b, "%s", err.message);
+        tsr_composite_schedule_free(&b->plan);
+    tsr_composite_hint hint = {.image_bytes = b->last_bytes, .display_separate = 0};
+    if (tsr_composite_plan(b->kind, b->nranks, W, H, b->k, &hint, &b->plan, &err) != TSR_OK ||
+        !(b->peer_ex = tsr_composite_executor_new(&b->plan, b->codec, &err)) ||
+        (b->rank == 0 && !(b->display_ex = tsr_composite_executor_new(&b->plan, b->codec, &err))))
+        binaryswap_fatal(b, "%s", err.message);
     b->plan_width = W;
     b->plan_height = H;
     if (b->rank == 0) {
         char codec[64];
         tsr_log(TSR_LOG_INFO, "%s: strategy %s for %d peers, %dx%d window, codec %s: %s", b->name, b->plan.name,
-                b->nranks, W, H, tsr_image_codec_name(b->codec, codec, sizeof codec), b->plan.reason);
+                b->nranks, W, H, tsr_composite_codec_name(b->codec, codec, sizeof codec), b->plan.reason);
     }
 }
 
@@ -77,101 +77,102 @@ void bswap_plan(bswap_spu *b, int W, int H)
  * the display composites (gather to one: the same pixels from every peer)
  * does rank 0 run that part and place the frame it assembled. Colour only
  * travels to the display. */
-static void composite_frame(bswap_spu *b, uint32_t frame)
+static void composite_frame(binaryswap_spu *b, uint32_t frame)
 {
     tsr_error err = {0};
-    bswap_await_releases(b, frame);
-    const tsr_cimage *mine = &b->mine;
-    if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_CI_RGBA8)
+    binaryswap_await_releases(b, frame);
+    const tsr_composite_image *mine = &b->mine;
+    if (b->mode == TSR_COMPOSITE_ALPHA || b->colour != TSR_COMPOSITE_RGBA8)
         mine = &b->layer;
-    bswap_plan(b, mine->window_width, mine->window_height);
+    binaryswap_plan(b, mine->window_width, mine->window_height);
     b->last_bytes = 0;
-    tsr_cs_transport t = {.user = b,
-                          .send = bswap_transport_send,
-                          .recv = bswap_transport_recv,
-                          .send_buffer = bswap_transport_send_buffer};
+    tsr_composite_transport t = {.user = b,
+                                 .send = binaryswap_transport_send,
+                                 .recv = binaryswap_transport_recv,
+                                 .send_buffer = binaryswap_transport_send_buffer};
     /* A peer without a background pixel covered the whole window, so no
      * pixel of the frame is background and any colour does. */
     if (b->mode == TSR_COMPOSITE_ALPHA)
-        bswap_background_rgba8(b->clear, b->background);
+        binaryswap_background_rgba8(b->clear, b->background);
     float background_f[4];
     for (int c = 0; c < 4; c++)
         background_f[c] = (float)b->background[c] / 255.0f;
-    const void *background = b->colour == TSR_CI_RGBA8 ? (const void *)b->background : (const void *)background_f;
-    bool at_display = tsr_cs_schedule_display_composites(&b->plan);
-    const tsr_sparse_image *final = NULL;
+    const void *background =
+        b->colour == TSR_COMPOSITE_RGBA8 ? (const void *)b->background : (const void *)background_f;
+    bool at_display = tsr_composite_schedule_display_composites(&b->plan);
+    const tsr_composite_sparse *final = NULL;
     /* place_piece draws the final piece as it is: it may come back filled */
-    int rc = at_display
-                 ? tsr_cs_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err)
-                 : tsr_cs_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, background, &final, &err);
+    int rc = at_display ? tsr_composite_run_peer(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, &err)
+                        : tsr_composite_run_peer_rounds(b->peer_ex, b->pos[b->rank], mine, b->mode, &t, background,
+                                                        &final, &err);
     if (rc != TSR_OK)
-        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
-    b->st.composited_ns = tsr_bswap_now_ns();
-    tsr_cs_stats cs;
-    tsr_cs_executor_stats(b->peer_ex, &cs);
+        binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    b->st.composited_ns = binaryswap_now_ns();
+    tsr_composite_stats cs;
+    tsr_composite_executor_stats(b->peer_ex, &cs);
     b->st.final_filled = cs.final_filled;
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d sent %" PRIu64 " bytes to its peers", b->name, frame,
             b->rank, b->last_bytes);
-    const tsr_dispatch *d = bswap_display(b);
+    const tsr_dispatch *d = binaryswap_display(b);
     if (!at_display) {
         b->st.assembled_ns = b->st.composited_ns; /* the piece is final */
         if (final) {
             /* c / 255 is converted back to exactly c */
             tsr_call_ClearColor(d, background_f[0], background_f[1], background_f[2], background_f[3]);
-            bswap_place_piece(b, d, final, background, frame);
+            binaryswap_place_piece(b, d, final, background, frame);
         }
     } else if (b->rank == 0) {
-        if (tsr_cs_run_display(b->display_ex, frame, b->mode, b->colour,
-                               b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH, background, &b->frame,
-                               &t, &err) != TSR_OK)
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        if (tsr_composite_run_display(b->display_ex, frame, b->mode, b->colour,
+                                      b->mode == TSR_COMPOSITE_DEPTH ? TSR_COMPOSITE_DEPTH32F : TSR_COMPOSITE_NODEPTH,
+                                      background, &b->frame, &t, &err) != TSR_OK)
+            binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
         const uint8_t *pixels = b->frame.color;
-        if (b->colour != TSR_CI_RGBA8) {
-            if (bswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
-                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        if (b->colour != TSR_COMPOSITE_RGBA8) {
+            if (binaryswap_frame_rgba8(&b->frame, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+                binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
             pixels = b->frame8;
         }
-        b->st.assembled_ns = tsr_bswap_now_ns();
+        b->st.assembled_ns = binaryswap_now_ns();
         tsr_call_WindowPos2i(d, 0, 0);
         tsr_call_DrawPixels(d, b->frame.width, b->frame.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     }
-    bswap_release_held(b);
-    tsr_call_BarrierExecTSR(d, BSWAP_DISPLAY_BARRIER);
+    binaryswap_release_held(b);
+    tsr_call_BarrierExecTSR(d, BINARYSWAP_DISPLAY_BARRIER);
     if (b->rank == 0)
         tsr_call_SwapBuffersTSR(d, b->window, 0);
-    tsr_call_BarrierExecTSR(d, BSWAP_DISPLAY_BARRIER);
+    tsr_call_BarrierExecTSR(d, BINARYSWAP_DISPLAY_BARRIER);
     if (b->rank == 0) {
-        b->st.sent_ns = tsr_bswap_now_ns();
+        b->st.sent_ns = binaryswap_now_ns();
         if (b->stats_fd >= 0) {
             /* A reply comes after the display node swapped, which it does
              * after every peer's piece landed (the barrier): the time the
              * frame is there (one round trip per frame, stats only). */
             GLint viewport[4];
             tsr_call_GetIntegerv(d, GL_VIEWPORT, viewport);
-            b->st.displayed_ns = tsr_bswap_now_ns();
+            b->st.displayed_ns = binaryswap_now_ns();
         }
     } else {
-        b->st.sent_ns = tsr_bswap_now_ns();
+        b->st.sent_ns = binaryswap_now_ns();
     }
-    bswap_stats_frame(b, frame);
+    binaryswap_stats_frame(b, frame);
     b->composited = true;
 }
 
 /* render's frame hook: the frame is finished and still in the framebuffer. */
-void bswap_frame(void *ctx, int frame, void *render)
+void binaryswap_frame(void *ctx, int frame, void *render)
 {
     (void)render;
-    bswap_spu *b = ctx;
-    b->st = (tsr_bswap_frame_stats){.swap_ns = tsr_bswap_now_ns(),
-                                    .hook_cpu_ns = b->stats_fd >= 0 ? tsr_bswap_cpu_ns() : 0};
-    bswap_display(b);
+    binaryswap_spu *b = ctx;
+    b->st = (binaryswap_frame_stats){.swap_ns = binaryswap_now_ns(),
+                                     .hook_cpu_ns = b->stats_fd >= 0 ? binaryswap_cpu_ns() : 0};
+    binaryswap_display(b);
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
-    bswap_link_peers(b, W, H);
+    binaryswap_link_peers(b, W, H);
     tsr_error err = {0};
     if (b->order_from_boxes && b->nranks > 1) {
-        bswap_await_releases(b, (uint32_t)frame); /* the box distances go at the rings' start too */
-        bswap_exchange_order(b, (uint32_t)frame);
+        binaryswap_await_releases(b, (uint32_t)frame); /* the box distances go at the rings' start too */
+        binaryswap_exchange_order(b, (uint32_t)frame);
     }
     if (b->mode == TSR_COMPOSITE_ALPHA) {
         /* Translucent geometry often leaves depth alone (DepthMask false),
@@ -179,28 +180,28 @@ void bswap_frame(void *ctx, int frame, void *render)
          * (roi.c) when known, else the whole window; outside what was
          * drawn the layer is the transparent clear, which compress drops. */
         int box[4] = {0, 0, W, H};
-        if (!bswap_roi_frame(b->roi, box)) {
+        if (!binaryswap_roi_frame(b->roi, box)) {
             box[0] = box[1] = 0;
             box[2] = W;
             box[3] = H;
         }
-        if (bswap_read_colour(render_spu_read, b->render, W, H, box[0], box[1], box[2] - box[0], box[3] - box[1],
-                              b->colour, NULL, &b->layer, &err))
-            bswap_fatal(b, "%s", err.message);
+        if (binaryswap_read_colour(render_spu_read, b->render, W, H, box[0], box[1], box[2] - box[0], box[3] - box[1],
+                                   b->colour, NULL, &b->layer, &err))
+            binaryswap_fatal(b, "%s", err.message);
         tsr_log(TSR_LOG_DEBUG, "%s: frame %d: rank %d alpha region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
                 box[0], box[1], box[2] - box[0], box[3] - box[1], W, H);
     } else if (b->synthetic) {
-        bswap_synthetic_layer(b, W, H, (uint32_t)frame);
+        binaryswap_synthetic_layer(b, W, H, (uint32_t)frame);
     } else {
-        bswap_read_layer(b, (uint32_t)frame);
-        if (b->colour != TSR_CI_RGBA8 &&
-            bswap_read_colour(render_spu_read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width, b->mine.height,
-                              b->colour, b->mine.depth, &b->layer, &err))
-            bswap_fatal(b, "%s", err.message);
+        binaryswap_read_layer(b, (uint32_t)frame);
+        if (b->colour != TSR_COMPOSITE_RGBA8 &&
+            binaryswap_read_colour(render_spu_read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width,
+                                   b->mine.height, b->colour, b->mine.depth, &b->layer, &err))
+            binaryswap_fatal(b, "%s", err.message);
     }
     b->layer.rank = b->rank;
     b->layer.frame = b->mine.frame = (uint32_t)frame;
-    b->st.ready_ns = tsr_bswap_now_ns();
+    b->st.ready_ns = binaryswap_now_ns();
     composite_frame(b, (uint32_t)frame);
     b->frames++;
 }

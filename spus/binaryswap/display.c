@@ -11,15 +11,15 @@
 
 /* A peer that cannot reach the display fails the run whatever on_error
  * says (its piece of every frame would be missing). */
-static void display_failed(void *ctx, const tsr_error *err) { bswap_fatal(ctx, "%s", err->message); }
+static void display_failed(void *ctx, const tsr_error *err) { binaryswap_fatal(ctx, "%s", err->message); }
 
-void bswap_display_init(bswap_spu *b, tsr_dispatch *down)
+void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *down)
 {
     b->display = (display_stream){.name = b->name,
                                   .options = b->options,
                                   .address_option = "display",
                                   .window = b->window,
-                                  .barrier = BSWAP_DISPLAY_BARRIER,
+                                  .barrier = BINARYSWAP_DISPLAY_BARRIER,
                                   .barrier_clients = (unsigned)b->nranks,
                                   .child = b->child,
                                   .on_failure = display_failed,
@@ -27,7 +27,7 @@ void bswap_display_init(bswap_spu *b, tsr_dispatch *down)
     display_stream_follow_window(&b->display, down);
 }
 
-const tsr_dispatch *bswap_display(bswap_spu *b) { return display_stream_get(&b->display); }
+const tsr_dispatch *binaryswap_display(binaryswap_spu *b) { return display_stream_get(&b->display); }
 
 /* The pixels [first, last] of a window `W` wide as at most three
  * rectangles {x, y, w, h}: a partial first row, whole rows, a partial last
@@ -65,7 +65,7 @@ static void clear_span(const tsr_dispatch *d, uint32_t W, uint32_t first, uint32
 
 /* Scissored clears of the rectangles (the background: a command each, no
  * pixels); the scissor test is off again after them. */
-static void clear_rects(const tsr_dispatch *d, const bswap_rect *r, size_t n)
+static void clear_rects(const tsr_dispatch *d, const binaryswap_rect *r, size_t n)
 {
     if (!n)
         return;
@@ -88,8 +88,8 @@ static void clear_rects(const tsr_dispatch *d, const bswap_rect *r, size_t n)
  * scissored clears, so the display draws and the stream carries little
  * more than the active pixels. A piece without active pixels is clears
  * only, so no pixel of background travels. */
-void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
-                       uint32_t frame)
+void binaryswap_place_piece(binaryswap_spu *b, const tsr_dispatch *d, const tsr_composite_sparse *in,
+                            const void *background, uint32_t frame)
 {
     uint32_t W = (uint32_t)in->window_width, end = in->start + in->count - 1;
     if (!in->active) {
@@ -109,7 +109,7 @@ void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_ima
     }
     uint32_t first = in->start + lead, last = end - trail;
     tsr_error err = {0};
-    if (in->active == last - first + 1 && in->mode == TSR_COMPOSITE_DEPTH && in->color_format == TSR_CI_RGBA8) {
+    if (in->active == last - first + 1 && in->mode == TSR_COMPOSITE_DEPTH && in->color_format == TSR_COMPOSITE_RGBA8) {
         if (lead)
             clear_span(d, W, in->start, first - 1);
         if (trail)
@@ -124,27 +124,27 @@ void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_ima
         }
         return;
     }
-    if (bswap_bands_plan(&b->bands, in, BSWAP_CALL_PIXELS, &err) != TSR_OK)
-        bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+    if (binaryswap_bands_plan(&b->bands, in, BINARYSWAP_CALL_PIXELS, &err) != TSR_OK)
+        binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
     clear_rects(d, b->bands.clears, b->bands.nclears);
     for (size_t i = 0; i < b->bands.nboxes; i++) {
-        const bswap_rect *box = &b->bands.boxes[i];
+        const binaryswap_rect *box = &b->bands.boxes[i];
         /* The box's rows: one view of them all, then each row's columns. */
         uint32_t from = (uint32_t)box->y * W + (uint32_t)box->x;
         uint32_t to = (uint32_t)(box->y + box->h - 1) * W + (uint32_t)(box->x + box->w - 1);
-        if (tsr_cimage_init(&b->piece, in->window_width, in->window_height, box->x, box->y, box->w, box->h,
-                            in->color_format, TSR_CI_NODEPTH, &err) != TSR_OK ||
-            tsr_sparse_image_view(in, from, to - from + 1, &b->placed, &err) != TSR_OK)
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        if (tsr_composite_image_init(&b->piece, in->window_width, in->window_height, box->x, box->y, box->w, box->h,
+                                     in->color_format, TSR_COMPOSITE_NODEPTH, &err) != TSR_OK ||
+            tsr_composite_sparse_view(in, from, to - from + 1, &b->placed, &err) != TSR_OK)
+            binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
         for (int y = box->y; y < box->y + box->h; y++)
-            if (tsr_sparse_image_view(&b->placed, (uint32_t)y * W + (uint32_t)box->x, (uint32_t)box->w, &b->row,
-                                      &err) != TSR_OK ||
-                tsr_sparse_image_to_dense(&b->row, background, &b->piece, &err) != TSR_OK)
-                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+            if (tsr_composite_sparse_view(&b->placed, (uint32_t)y * W + (uint32_t)box->x, (uint32_t)box->w, &b->row,
+                                          &err) != TSR_OK ||
+                tsr_composite_sparse_to_dense(&b->row, background, &b->piece, &err) != TSR_OK)
+                binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
         const uint8_t *px = b->piece.color;
-        if (in->color_format != TSR_CI_RGBA8) {
-            if (bswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
-                bswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
+        if (in->color_format != TSR_COMPOSITE_RGBA8) {
+            if (binaryswap_frame_rgba8(&b->piece, &b->frame8, &b->frame8_size, &err) != TSR_OK)
+                binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, err.message);
             px = b->frame8;
         }
         tsr_call_WindowPos2i(d, box->x, box->y);

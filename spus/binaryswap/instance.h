@@ -21,18 +21,18 @@
 #include "tessera/chain.h"
 #include "tessera/spu.h"
 
-#define BSWAP_MAX_PEERS 64
-#define BSWAP_MAGIC 0x494c5354u /* "TSLI" */
-#define BSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
-#define BSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
-#define BSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2)  /* alpha mode: a box's distance */
-#define BSWAP_KIND_ENDING (TSR_NET_KIND_FIRST_USER + 3) /* a peer's last word: the line it ends on */
+#define BINARYSWAP_MAX_PEERS 64
+#define BINARYSWAP_MAGIC 0x494c5354u /* "TSLI" */
+#define BINARYSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
+#define BINARYSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
+#define BINARYSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2)  /* alpha mode: a box's distance */
+#define BINARYSWAP_KIND_ENDING (TSR_NET_KIND_FIRST_USER + 3) /* a peer's last word: the line it ends on */
 /* The group's frame fence on the display node (its parallel API, server/node.h). */
-#define BSWAP_DISPLAY_BARRIER 0x54534c42u /* "TSLB" */
+#define BINARYSWAP_DISPLAY_BARRIER 0x54534c42u /* "TSLB" */
 /* What one more DrawPixels of a partial piece costs, in pixels sent (the
  * display's per-call state checks and texture, a command): a band of the
  * piece grows while that is cheaper than a call (bands.h). */
-#define BSWAP_CALL_PIXELS 8192u
+#define BINARYSWAP_CALL_PIXELS 8192u
 
 /* A message queued for this process's own display participant (rank 0
  * sends its final piece to itself). */
@@ -42,32 +42,32 @@ typedef struct local_msg {
     uint8_t data[];
 } local_msg;
 
-typedef struct bswap_spu {
+typedef struct binaryswap_spu {
     char name[96];
     void *render;
-    bswap_roi *roi; /* the region of interest from the geometry (roi.c) */
+    binaryswap_roi *roi; /* the region of interest from the geometry (roi.c) */
     tsr_dispatch down;
     const tsr_dispatch *child;
     const tsr_options *options;
     int window, rank, nranks, timeout_ms;
-    char exchange[BSWAP_MAX_PEERS][TSR_NET_ADDRESS_MAX];
+    char exchange[BINARYSWAP_MAX_PEERS][TSR_NET_ADDRESS_MAX];
 
     tsr_net *net;
     tsr_net_listener *listener;
-    tsr_net_conn *conns[BSWAP_MAX_PEERS]; /* conns[rank] stays NULL */
+    tsr_net_conn *conns[BINARYSWAP_MAX_PEERS]; /* conns[rank] stays NULL */
     bool linked;
     bool meshed;     /* every peer linked and its HELLO read: a peer's last word may follow */
     bool composited; /* a frame's messages went out and their releases are not yet awaited */
 
     display_stream display; /* to the display node (display_stream.h, readback's too) */
 
-    int kind, k;           /* strategy asked for (tsr_cs_kind) and radix */
-    tsr_image_codec codec; /* of image messages */
-    tsr_cs_schedule plan;  /* for plan_width x plan_height; kind 0: none yet */
+    int kind, k;                 /* strategy asked for (tsr_composite_kind) and radix */
+    tsr_composite_codec codec;   /* of image messages */
+    tsr_composite_schedule plan; /* for plan_width x plan_height; kind 0: none yet */
     int plan_width, plan_height;
-    tsr_cs_executor *peer_ex, *display_ex; /* display_ex: rank 0 only */
-    uint64_t last_bytes;                   /* this peer's bytes sent last frame (auto's hint) */
-    tsr_net_msg held;                      /* the message recv handed out last */
+    tsr_composite_executor *peer_ex, *display_ex; /* display_ex: rank 0 only */
+    uint64_t last_bytes;                          /* this peer's bytes sent last frame (auto's hint) */
+    tsr_net_msg held;                             /* the message recv handed out last */
     bool holding;
     local_msg *local_head, *local_tail; /* rank 0 -> its own display participant */
     local_msg *local_given;             /* handed out by recv, freed at the next */
@@ -77,67 +77,67 @@ typedef struct bswap_spu {
     uint32_t frames; /* frames composited */
     float *window_depth;
     size_t window_depth_size;
-    tsr_cimage mine;         /* this frame's region of interest */
-    tsr_cimage frame;        /* rank 0, when the display composites (gather): the assembled frame */
-    bswap_bands bands;       /* how this peer's final piece is drawn (partial pieces) */
-    tsr_sparse_image placed; /* the rows of one box of the final piece (a view) */
-    tsr_sparse_image row;    /* one row of it (a view of placed) */
-    tsr_cimage piece;        /* ... as the colour the display draws (the box) */
+    tsr_composite_image mine;    /* this frame's region of interest */
+    tsr_composite_image frame;   /* rank 0, when the display composites (gather): the assembled frame */
+    binaryswap_bands bands;      /* how this peer's final piece is drawn (partial pieces) */
+    tsr_composite_sparse placed; /* the rows of one box of the final piece (a view) */
+    tsr_composite_sparse row;    /* one row of it (a view of placed) */
+    tsr_composite_image piece;   /* ... as the colour the display draws (the box) */
     uint8_t background[4];
     bool has_background; /* background[] is a pixel this peer left cleared */
 
     /* alpha mode and float colour (layers.h) */
-    int mode, colour;                                /* tsr_composite_mode, tsr_ci_color_format */
-    int view[BSWAP_MAX_PEERS], pos[BSWAP_MAX_PEERS]; /* position -> rank, rank -> position */
-    tsr_entry gl_clear_color;                        /* render's ClearColor */
-    const tsr_dispatch *table;                       /* this instance's (GetFloatv) */
-    float box[6];                                    /* this part's object-space box */
-    bool order_from_boxes;                           /* box given, view_order not */
-    float clear[4];                                  /* the application's clear colour (alpha mode) */
-    tsr_cimage layer;                                /* alpha or float: what is composited */
-    uint8_t *frame8;                                 /* float colour: the frame as RGBA8 */
+    int mode, colour;                                          /* tsr_composite_mode, tsr_composite_color_format */
+    int view[BINARYSWAP_MAX_PEERS], pos[BINARYSWAP_MAX_PEERS]; /* position -> rank, rank -> position */
+    tsr_entry gl_clear_color;                                  /* render's ClearColor */
+    const tsr_dispatch *table;                                 /* this instance's (GetFloatv) */
+    float box[6];                                              /* this part's object-space box */
+    bool order_from_boxes;                                     /* box given, view_order not */
+    float clear[4];                                            /* the application's clear colour (alpha mode) */
+    tsr_composite_image layer;                                 /* alpha or float: what is composited */
+    uint8_t *frame8;                                           /* float colour: the frame as RGBA8 */
     size_t frame8_size;
-    int synthetic;            /* TSR_SYNTHETIC_*: a generated layer instead of the read-back */
-    int stats_fd;             /* stats= file, or -1 */
-    tsr_bswap_frame_stats st; /* this frame's times */
-} bswap_spu;
+    int synthetic;             /* TSR_COMPOSITE_SYNTHETIC_*: a generated layer instead of the read-back */
+    int stats_fd;              /* stats= file, or -1 */
+    binaryswap_frame_stats st; /* this frame's times */
+} binaryswap_spu;
 
 /* mesh.c */
 /* One line naming the fault, the peers told (a formed mesh), then the
  * process ends with status 1. */
-void bswap_fatal(bswap_spu *b, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+void binaryswap_fatal(binaryswap_spu *b, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
 /* The exchange address of a peer whose node listens at `node`; with
  * display_rank R > 0, of application peer R-1 from the display's address. */
-int bswap_derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err);
-static inline const char *bswap_peer_address(const bswap_spu *b, int rank) { return b->exchange[rank]; }
-void bswap_link_peers(bswap_spu *b, int W, int H);
-void bswap_release_held(bswap_spu *b);
-void *bswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error *err);
-int bswap_transport_send(void *user, int to, const void *data, size_t size, tsr_error *err);
-int bswap_transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err);
-void bswap_await_releases(bswap_spu *b, uint32_t frame);
-void bswap_exchange_order(bswap_spu *b, uint32_t frame);
+int binaryswap_derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err);
+static inline const char *binaryswap_peer_address(const binaryswap_spu *b, int rank) { return b->exchange[rank]; }
+void binaryswap_link_peers(binaryswap_spu *b, int W, int H);
+void binaryswap_release_held(binaryswap_spu *b);
+void *binaryswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error *err);
+int binaryswap_transport_send(void *user, int to, const void *data, size_t size, tsr_error *err);
+int binaryswap_transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err);
+void binaryswap_await_releases(binaryswap_spu *b, uint32_t frame);
+void binaryswap_exchange_order(binaryswap_spu *b, uint32_t frame);
 
 /* layer.c */
-void bswap_read_layer(bswap_spu *b, uint32_t frame);
-void bswap_synthetic_layer(bswap_spu *b, int W, int H, uint32_t frame);
+void binaryswap_read_layer(binaryswap_spu *b, uint32_t frame);
+void binaryswap_synthetic_layer(binaryswap_spu *b, int W, int H, uint32_t frame);
 
 /* compositing.c */
-void bswap_plan(bswap_spu *b, int W, int H);
+void binaryswap_plan(binaryswap_spu *b, int W, int H);
 /* render's frame hook (render.h) */
-void bswap_frame(void *ctx, int frame, void *render);
+void binaryswap_frame(void *ctx, int frame, void *render);
 
 /* display.c */
 /* Sets up the display stream (made at first use) and points `down`'s
  * window commands at it. */
-void bswap_display_init(bswap_spu *b, tsr_dispatch *down);
+void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *down);
 /* The display's table (a peer that cannot reach it ends). */
-const tsr_dispatch *bswap_display(bswap_spu *b);
-void bswap_place_piece(bswap_spu *b, const tsr_dispatch *d, const tsr_sparse_image *in, const void *background,
-                       uint32_t frame);
+const tsr_dispatch *binaryswap_display(binaryswap_spu *b);
+void binaryswap_place_piece(binaryswap_spu *b, const tsr_dispatch *d, const tsr_composite_sparse *in,
+                            const void *background, uint32_t frame);
 
 /* stats.c */
-void bswap_stats_frame(bswap_spu *b, uint32_t frame);
-void bswap_log_transport_stats(const bswap_spu *b);
+void binaryswap_stats_frame(binaryswap_spu *b, uint32_t frame);
+void binaryswap_log_transport_stats(const binaryswap_spu *b);
 
 #endif

@@ -36,17 +36,18 @@ static bool grow(void **p, size_t *cap, size_t need)
 
 /* Reads the box [box[0], box[2]) x [box[1], box[3]) that holds all this
  * frame drew (roi.c): its colour and depth, nothing else. */
-static void read_box(bswap_spu *b, uint32_t frame, int W, int H, const int box[4])
+static void read_box(binaryswap_spu *b, uint32_t frame, int W, int H, const int box[4])
 {
     tsr_error err = {0};
     int x = box[0], y = box[1], w = box[2] - box[0], h = box[3] - box[1];
-    if (tsr_cimage_init(&b->mine, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) != TSR_OK)
-        bswap_fatal(b, "%s", err.message);
+    if (tsr_composite_image_init(&b->mine, W, H, x, y, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err) !=
+        TSR_OK)
+        binaryswap_fatal(b, "%s", err.message);
     b->mine.rank = b->rank;
     b->mine.frame = frame;
     if (w && (render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK ||
               render_spu_read(b->render, x, y, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, b->mine.depth, &err) != TSR_OK))
-        bswap_fatal(b, "%s", err.message);
+        binaryswap_fatal(b, "%s", err.message);
     /* The background: a pixel outside the box (nothing was drawn there
      * since the clear), else one inside it that kept the cleared depth. */
     int bx = -1, by = -1;
@@ -61,7 +62,7 @@ static void read_box(bswap_spu *b, uint32_t frame, int W, int H, const int box[4
     b->has_background = bx >= 0;
     if (b->has_background) {
         if (render_spu_read(b->render, bx, by, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
-            bswap_fatal(b, "%s", err.message);
+            binaryswap_fatal(b, "%s", err.message);
     } else {
         for (size_t i = 0; i < (size_t)w * (size_t)h && !b->has_background; i++)
             if (!(b->mine.depth[i] < 1.0f)) {
@@ -78,21 +79,21 @@ static void read_box(bswap_spu *b, uint32_t frame, int W, int H, const int box[4
 /* Reads this frame's region of interest into b->mine (header comment):
  * the box of what was drawn (roi.c) when it is known, else the box of the
  * pixels with depth < 1.0, found in the whole window's depth. */
-void bswap_read_layer(bswap_spu *b, uint32_t frame)
+void binaryswap_read_layer(binaryswap_spu *b, uint32_t frame)
 {
     int W = 0, H = 0;
     render_spu_size(b->render, &W, &H);
     tsr_error err = {0};
     int box[4];
-    if (bswap_roi_frame(b->roi, box)) {
+    if (binaryswap_roi_frame(b->roi, box)) {
         read_box(b, frame, W, H, box);
         return;
     }
     size_t pixels = (size_t)W * (size_t)H;
     if (!grow((void **)&b->window_depth, &b->window_depth_size, pixels * sizeof(float) + 1))
-        bswap_fatal(b, "%s", "out of memory for the depth buffer");
+        binaryswap_fatal(b, "%s", "out of memory for the depth buffer");
     if (render_spu_read(b->render, 0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, b->window_depth, &err) != TSR_OK)
-        bswap_fatal(b, "%s", err.message);
+        binaryswap_fatal(b, "%s", err.message);
     int x0 = W, y0 = H, x1 = -1, y1 = -1;
     size_t bg_index = SIZE_MAX;
     for (int y = 0; y < H; y++) {
@@ -118,19 +119,20 @@ void bswap_read_layer(bswap_spu *b, uint32_t frame)
         w = x1 - x0 + 1;
         h = y1 - y0 + 1;
     }
-    if (tsr_cimage_init(&b->mine, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) != TSR_OK)
-        bswap_fatal(b, "%s", err.message);
+    if (tsr_composite_image_init(&b->mine, W, H, x, y, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err) !=
+        TSR_OK)
+        binaryswap_fatal(b, "%s", err.message);
     b->mine.rank = b->rank;
     b->mine.frame = frame;
     if (w && render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK)
-        bswap_fatal(b, "%s", err.message);
+        binaryswap_fatal(b, "%s", err.message);
     for (int r = 0; r < h; r++)
         memcpy(b->mine.depth + (size_t)r * (size_t)w, b->window_depth + (size_t)(y + r) * (size_t)W + (size_t)x,
                (size_t)w * sizeof(float));
     b->has_background = bg_index != SIZE_MAX;
     if (b->has_background && render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1,
                                              GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
-        bswap_fatal(b, "%s", err.message);
+        binaryswap_fatal(b, "%s", err.message);
     tsr_log(TSR_LOG_DEBUG,
             "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d from the depth buffer; read %dx%d depth, "
             "%dx%d colour",
@@ -141,12 +143,12 @@ void bswap_read_layer(bswap_spu *b, uint32_t frame)
  * per window size (the compositor only reads it), so a frame costs no
  * read-back and no generation, only compositing. No pixel of the layer
  * came from GL, so the background is opaque black. */
-void bswap_synthetic_layer(bswap_spu *b, int W, int H, uint32_t frame)
+void binaryswap_synthetic_layer(binaryswap_spu *b, int W, int H, uint32_t frame)
 {
     tsr_error err = {0};
     if (b->mine.window_width != W || b->mine.window_height != H || !b->mine.color) {
-        if (tsr_synthetic_layer(b->synthetic, W, H, b->rank, b->nranks, &b->mine, &err) != TSR_OK)
-            bswap_fatal(b, "%s", err.message);
+        if (tsr_composite_synthetic_layer(b->synthetic, W, H, b->rank, b->nranks, &b->mine, &err) != TSR_OK)
+            binaryswap_fatal(b, "%s", err.message);
     }
     b->mine.rank = b->rank;
     b->mine.frame = frame;

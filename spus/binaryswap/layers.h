@@ -17,7 +17,7 @@
  * in front, rank order). Fills view[p] = the rank at position p and
  * pos[rank] = its position. A list that is not a permutation of 0..N-1 is
  * TSR_EINVAL naming the entry. */
-int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int *pos, tsr_error *err);
+int binaryswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int *pos, tsr_error *err);
 
 /* The view order computed per frame (order.c): `box` is this peer's
  * object-space bounding box (xmin, ymin, zmin, xmax, ymax, zmax) under the
@@ -26,28 +26,28 @@ int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int
  * every peer sorts the same numbers: nearest first, equal distance in rank
  * order. Right for parts that are separable along the view axis (convex
  * parts in depth slabs); the graph's view_order, when given, wins. */
-int bswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err);
-float bswap_box_distance(const float box[6], const float modelview[16]);
-void bswap_order_by_distance(const float *distance, int nranks, int *view, int *pos);
+int binaryswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err);
+float binaryswap_box_distance(const float box[6], const float modelview[16]);
+void binaryswap_order_by_distance(const float *distance, int nranks, int *view, int *pos);
 
 /* `colour`: "rgba8" or "rgba32f" (colour.c). */
-int bswap_colour_parse(const char *text, int *color_format, tsr_error *err);
+int binaryswap_colour_parse(const char *text, int *color_format, tsr_error *err);
 
 /* An application's ClearColor as the RGBA8 background the display adds
  * once: round(clamp(c, 0, 1) * 255) per channel. */
-void bswap_background_rgba8(const float rgba[4], uint8_t out[4]);
+void binaryswap_background_rgba8(const float rgba[4], uint8_t out[4]);
 
 /* Reads the rectangle (x, y, w, h) of a W x H window's colour in
  * `color_format` into `out` (RGBA8 as GL_UNSIGNED_BYTE, RGBA32F as
  * GL_FLOAT), with depth copied from `depth` (w*h floats) when not NULL
  * (else NODEPTH). `read` is render_spu_read's shape. */
-typedef int (*bswap_read_fn)(void *render, int x, int y, int w, int h, unsigned format, unsigned type, void *pixels,
-                             tsr_error *err);
-int bswap_read_colour(bswap_read_fn read, void *render, int W, int H, int x, int y, int w, int h, int color_format,
-                      const float *depth, tsr_cimage *out, tsr_error *err);
+typedef int (*binaryswap_read_fn)(void *render, int x, int y, int w, int h, unsigned format, unsigned type,
+                                  void *pixels, tsr_error *err);
+int binaryswap_read_colour(binaryswap_read_fn read, void *render, int W, int H, int x, int y, int w, int h,
+                           int color_format, const float *depth, tsr_composite_image *out, tsr_error *err);
 
 /* The display's float frame as RGBA8: round(clamp(v, 0, 1) * 255), the
  * one rounding of float colour. `*buf` grows as needed. */
-int bswap_frame_rgba8(const tsr_cimage *frame, uint8_t **buf, size_t *cap, tsr_error *err);
+int binaryswap_frame_rgba8(const tsr_composite_image *frame, uint8_t **buf, size_t *cap, tsr_error *err);
 
 #endif

@@ -38,7 +38,7 @@
 #include "tessera/log.h"
 
 /* Ends the process after one line (tsr_stream_client_exit). */
-void bswap_fatal(bswap_spu *b, const char *fmt, ...)
+void binaryswap_fatal(binaryswap_spu *b, const char *fmt, ...)
 {
     char what[1024];
     va_list ap;
@@ -54,10 +54,10 @@ void bswap_fatal(bswap_spu *b, const char *fmt, ...)
     /* While the mesh forms, a peer reads a HELLO first from each link and
      * names a failure there itself: only a formed mesh hears last words. */
     tsr_error ignored = {0};
-    for (int r = 0; b->meshed && r < b->nranks && r < BSWAP_MAX_PEERS; r++)
+    for (int r = 0; b->meshed && r < b->nranks && r < BINARYSWAP_MAX_PEERS; r++)
         if (b->conns[r])
-            tsr_net_send(b->conns[r], BSWAP_KIND_ENDING, what, strlen(what), 100, &ignored);
-    for (int r = 0; r < b->nranks && r < BSWAP_MAX_PEERS; r++)
+            tsr_net_send(b->conns[r], BINARYSWAP_KIND_ENDING, what, strlen(what), 100, &ignored);
+    for (int r = 0; r < b->nranks && r < BINARYSWAP_MAX_PEERS; r++)
         if (b->conns[r])
             tsr_net_conn_flush(b->conns[r], 200);
     tsr_stream_client_exit();
@@ -71,7 +71,7 @@ static int64_t now_ms(void)
 }
 
 /* The exchange address of a peer whose node listens at `node` (header). */
-int bswap_derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err)
+int binaryswap_derive_exchange(const char *node, char *out, size_t size, int display_rank, tsr_error *err)
 {
     if (!strncmp(node, "unix:", 5)) {
         int n =
@@ -98,7 +98,7 @@ int bswap_derive_exchange(const char *node, char *out, size_t size, int display_
 
 /* Each direction's shared-memory ring (unix: peers) holds what the
  * schedule sends on one connection in one frame, each message at its
- * largest (tsr_image_message_max_size of its region), and no more: the
+ * largest (tsr_composite_message_max_size of its region), and no more: the
  * peers release every message of a frame before its barrier, and each
  * frame starts with the rings empty (await_releases), so the frame's
  * messages go at the ring's start, one after the other, and always fit
@@ -109,24 +109,24 @@ int bswap_derive_exchange(const char *node, char *out, size_t size, int display_
  * are positions in the compositing order (alpha mode may map them to any
  * ranks), so the ring takes the busiest pair of positions, and the
  * display's pieces (when the display composites, they travel to rank 0)
- * on top (tsr_cs_schedule_link_bytes). BSWAP_RING_SPARE is room for the
+ * on top (tsr_composite_schedule_link_bytes). BINARYSWAP_RING_SPARE is room for the
  * small messages beside the images (the mesh's hello, alpha mode's box
  * distances) and for netlib rounding each ring message up to 64 bytes (a
  * link carries a few messages a frame: at most one per round and the
  * final piece). The rings are made at the first frame; after the window
  * grows, a message larger than its ring goes through the socket. */
-#define BSWAP_RING_SPARE ((uint64_t)64 << 10)
+#define BINARYSWAP_RING_SPARE ((uint64_t)64 << 10)
 
-static uint64_t ring_bytes(const bswap_spu *b)
+static uint64_t ring_bytes(const binaryswap_spu *b)
 {
-    int depth = b->mode == TSR_COMPOSITE_DEPTH ? TSR_CI_DEPTH32F : TSR_CI_NODEPTH;
+    int depth = b->mode == TSR_COMPOSITE_DEPTH ? TSR_COMPOSITE_DEPTH32F : TSR_COMPOSITE_NODEPTH;
     uint64_t page = (uint64_t)sysconf(_SC_PAGESIZE);
-    uint64_t want = tsr_cs_schedule_link_bytes(&b->plan, b->colour, depth, b->codec) + BSWAP_RING_SPARE;
+    uint64_t want = tsr_composite_schedule_link_bytes(&b->plan, b->colour, depth, b->codec) + BINARYSWAP_RING_SPARE;
     want = (want + page - 1) / page * page;
     return want > ((uint64_t)16 << 30) ? (uint64_t)16 << 30 : want;
 }
 
-void bswap_link_peers(bswap_spu *b, int W, int H)
+void binaryswap_link_peers(binaryswap_spu *b, int W, int H)
 {
     if (b->linked)
         return;
@@ -141,7 +141,7 @@ void bswap_link_peers(bswap_spu *b, int W, int H)
     cfg.node_name = node_name;
     cfg.token = tsr_options_string(b->options, "token");
     cfg.max_message_bytes = (uint64_t)1 << 31;
-    bswap_plan(b, W, H); /* the rings are sized for what its schedule sends */
+    binaryswap_plan(b, W, H); /* the rings are sized for what its schedule sends */
     cfg.shm_ring_bytes = tsr_options_bool(b->options, "shm") ? ring_bytes(b) : 0;
     cfg.shm_drop_released = tsr_options_bool(b->options, "shm_drop");
     if (b->timeout_ms > 0) {
@@ -149,9 +149,9 @@ void bswap_link_peers(bswap_spu *b, int W, int H)
         cfg.connect_timeout_ms = cfg.handshake_timeout_ms = (uint32_t)b->timeout_ms;
     }
     if (!(b->net = tsr_net_create(&cfg, &err)))
-        bswap_fatal(b, "%s", err.message);
-    if (!(b->listener = tsr_net_listen(b->net, bswap_peer_address(b, b->rank), &err))) {
-        bswap_fatal(b, "rank %d cannot listen for its peers: %s", b->rank, err.message);
+        binaryswap_fatal(b, "%s", err.message);
+    if (!(b->listener = tsr_net_listen(b->net, binaryswap_peer_address(b, b->rank), &err))) {
+        binaryswap_fatal(b, "rank %d cannot listen for its peers: %s", b->rank, err.message);
     }
     /* Peers reach their first frame at different times (start-up, their
      * share's first draw): the mesh has its own, longer limit. */
@@ -161,23 +161,24 @@ void bswap_link_peers(bswap_spu *b, int W, int H)
         for (;;) {
             /* A Unix socket that is not there yet would be one more logged
              * refusal per try: wait for the file instead. */
-            const char *a = bswap_peer_address(b, i);
+            const char *a = binaryswap_peer_address(b, i);
             struct stat st;
             if (!strncmp(a, "unix:", 5) && stat(a + 5, &st) != 0 && now_ms() < deadline) {
                 usleep(10000);
                 continue;
             }
-            b->conns[i] = tsr_net_connect(b->net, bswap_peer_address(b, i), &err);
+            b->conns[i] = tsr_net_connect(b->net, binaryswap_peer_address(b, i), &err);
             if (b->conns[i] || now_ms() >= deadline)
                 break;
             usleep(20000); /* that peer does not listen yet */
         }
         if (!b->conns[i]) {
-            bswap_fatal(b, "peer rank %d (%s) cannot be reached: %s", i, bswap_peer_address(b, i), err.message);
+            binaryswap_fatal(b, "peer rank %d (%s) cannot be reached: %s", i, binaryswap_peer_address(b, i),
+                             err.message);
         }
         int32_t me[3] = {b->rank, W, H};
-        if (tsr_net_send(b->conns[i], BSWAP_KIND_HELLO, me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
-            bswap_fatal(b, "peer rank %d (%s): %s", i, bswap_peer_address(b, i), err.message);
+        if (tsr_net_send(b->conns[i], BINARYSWAP_KIND_HELLO, me, sizeof me, b->timeout_ms, &err) != TSR_OK) {
+            binaryswap_fatal(b, "peer rank %d (%s): %s", i, binaryswap_peer_address(b, i), err.message);
         }
     }
     for (int n = b->rank + 1; n < b->nranks; n++) {
@@ -188,36 +189,36 @@ void bswap_link_peers(bswap_spu *b, int W, int H)
             for (int k = b->rank + 1; k < b->nranks && missing < 0; k++)
                 if (!b->conns[k])
                     missing = k;
-            bswap_fatal(b, "peer rank %d (%s) did not connect within %d ms (link_timeout_ms): %s", missing,
-                        bswap_peer_address(b, missing), link_ms, err.message);
+            binaryswap_fatal(b, "peer rank %d (%s) did not connect within %d ms (link_timeout_ms): %s", missing,
+                             binaryswap_peer_address(b, missing), link_ms, err.message);
         }
         tsr_net_msg msg;
         int32_t hello[3] = {-1, 0, 0}, who = -1;
         int rc = tsr_net_recv(c, &msg, b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err);
         if (rc == 1) {
-            if (msg.kind == BSWAP_KIND_HELLO && msg.len == sizeof hello)
+            if (msg.kind == BINARYSWAP_KIND_HELLO && msg.len == sizeof hello)
                 memcpy(hello, msg.data, sizeof hello);
             tsr_net_msg_release(&msg);
         }
         who = hello[0];
         if (who <= b->rank || who >= b->nranks || b->conns[who]) {
-            bswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)", tsr_net_conn_address(c), who);
+            binaryswap_fatal(b, "a peer at %s did not say which rank it is (or said %d)", tsr_net_conn_address(c), who);
         }
         b->conns[who] = c;
         if (hello[1] != W || hello[2] != H)
-            bswap_fatal(
+            binaryswap_fatal(
                 b, "frame 0: peer rank %d (%s) draws a %" PRId32 "x%" PRId32 " window, not %dx%d (window sizes differ)",
-                who, bswap_peer_address(b, who), hello[1], hello[2], W, H);
+                who, binaryswap_peer_address(b, who), hello[1], hello[2], W, H);
     }
     tsr_log(TSR_LOG_DEBUG, "%s: rank %d of %d linked to its peers", b->name, b->rank, b->nranks);
     b->meshed = true;
     for (int i = 0; i < b->nranks; i++)
         if (b->conns[i])
             tsr_log(TSR_LOG_INFO, "%s: transport rank %d <-> rank %d (%s): %s", b->name, b->rank, i,
-                    bswap_peer_address(b, i), tsr_net_conn_transport(b->conns[i]));
+                    binaryswap_peer_address(b, i), tsr_net_conn_transport(b->conns[i]));
 }
 
-void bswap_release_held(bswap_spu *b)
+void binaryswap_release_held(binaryswap_spu *b)
 {
     if (b->holding)
         tsr_net_msg_release(&b->held);
@@ -226,12 +227,12 @@ void bswap_release_held(bswap_spu *b)
     b->local_given = NULL;
 }
 
-/* The line a peer ended on (bswap_fatal sends it to every other peer),
+/* The line a peer ended on (binaryswap_fatal sends it to every other peer),
  * from `msg`, or else from what `peer` sent before its link failed (looked
  * through without waiting); false when there is none. */
-static bool last_word(bswap_spu *b, int peer, const tsr_net_msg *msg, char *out, size_t size)
+static bool last_word(binaryswap_spu *b, int peer, const tsr_net_msg *msg, char *out, size_t size)
 {
-    if (msg && msg->kind == BSWAP_KIND_ENDING) {
+    if (msg && msg->kind == BINARYSWAP_KIND_ENDING) {
         tsr_text_sanitize(out, size, msg->data, (size_t)msg->len);
         return true;
     }
@@ -240,7 +241,7 @@ static bool last_word(bswap_spu *b, int peer, const tsr_net_msg *msg, char *out,
     tsr_net_msg m;
     tsr_error ignored = {0};
     while (tsr_net_recv(b->conns[peer], &m, 0, &ignored) == 1) {
-        bool ending = m.kind == BSWAP_KIND_ENDING;
+        bool ending = m.kind == BINARYSWAP_KIND_ENDING;
         if (ending)
             tsr_text_sanitize(out, size, m.data, (size_t)m.len);
         tsr_net_msg_release(&m);
@@ -253,7 +254,7 @@ static bool last_word(bswap_spu *b, int peer, const tsr_net_msg *msg, char *out,
 /* True with *err set when `peer` ended on a fault of its own and said
  * so (in `msg`, or before its link failed): the fault comes first, then
  * who passed it on. */
-static bool peer_ended_on(bswap_spu *b, int peer, const tsr_net_msg *msg, tsr_error *err)
+static bool peer_ended_on(binaryswap_spu *b, int peer, const tsr_net_msg *msg, tsr_error *err)
 {
     char said[sizeof err->message / 2];
     if (!last_word(b, peer, msg, said, sizeof said))
@@ -265,25 +266,26 @@ static bool peer_ended_on(bswap_spu *b, int peer, const tsr_net_msg *msg, tsr_er
     if (sscanf(said, "frame %u: %n", &frame, &at) == 1 && at > 0)
         fault += at;
     tsr_error_set(err, TSR_EIO, "%s (said peer rank %d (%s), which ended on it)", fault, peer,
-                  bswap_peer_address(b, peer));
+                  binaryswap_peer_address(b, peer));
     return true;
 }
 
 /* A failure on the link to `peer` (`what`: how it showed here), unless
  * `peer` ended on a fault of its own (peer_ended_on). */
-static int peer_failed(bswap_spu *b, int peer, int code, const tsr_net_msg *msg, const char *what, tsr_error *err)
+static int peer_failed(binaryswap_spu *b, int peer, int code, const tsr_net_msg *msg, const char *what, tsr_error *err)
 {
     if (peer_ended_on(b, peer, msg, err))
         return err->code;
-    return tsr_error_set(err, code ? code : TSR_EIO, "peer rank %d (%s): %s", peer, bswap_peer_address(b, peer), what);
+    return tsr_error_set(err, code ? code : TSR_EIO, "peer rank %d (%s): %s", peer, binaryswap_peer_address(b, peer),
+                         what);
 }
 
 /* Where the executor encodes its next message to `to`: shared memory the
  * peer maps (netlib's ring on unix: peers; elsewhere a buffer netlib
  * sends from), or the local message itself for rank 0's own display. */
-void *bswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error *err)
+void *binaryswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error *err)
 {
-    bswap_spu *b = user;
+    binaryswap_spu *b = user;
     if (to == b->nranks && b->rank == 0) {
         free(b->local_building);
         if (!(b->local_building = malloc(sizeof *b->local_building + max_size))) {
@@ -292,7 +294,7 @@ void *bswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error
         }
         return b->local_building->data;
     }
-    /* `to` is a position in the compositing order, as in bswap_transport_send */
+    /* `to` is a position in the compositing order, as in binaryswap_transport_send */
     int peer = to == b->nranks ? 0 : to >= 0 && to < b->nranks ? b->view[to] : -1;
     if (peer < 0 || peer >= b->nranks || !b->conns[peer]) {
         tsr_error_set(err, TSR_EINVAL, "no connection to participant %d", to);
@@ -310,9 +312,9 @@ void *bswap_transport_send_buffer(void *user, int to, size_t max_size, tsr_error
 
 /* Participant `to`: a peer rank over its connection, or the display
  * participant (nranks), which lives in rank 0's process. */
-int bswap_transport_send(void *user, int to, const void *data, size_t size, tsr_error *err)
+int binaryswap_transport_send(void *user, int to, const void *data, size_t size, tsr_error *err)
 {
-    bswap_spu *b = user;
+    binaryswap_spu *b = user;
     if (to == b->nranks && b->rank == 0) {
         local_msg *m = b->local_building;
         if (m && data == m->data) {
@@ -338,18 +340,18 @@ int bswap_transport_send(void *user, int to, const void *data, size_t size, tsr_
     int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
     bool in_place = b->reserved && data == b->reserved;
     b->reserved = NULL;
-    int rc = in_place ? tsr_net_send_commit(b->conns[peer], BSWAP_KIND_IMAGE, size, wait, &e)
-                      : tsr_net_send(b->conns[peer], BSWAP_KIND_IMAGE, data, size, wait, &e);
+    int rc = in_place ? tsr_net_send_commit(b->conns[peer], BINARYSWAP_KIND_IMAGE, size, wait, &e)
+                      : tsr_net_send(b->conns[peer], BINARYSWAP_KIND_IMAGE, data, size, wait, &e);
     if (rc != TSR_OK)
         return peer_failed(b, peer, rc, NULL, rc == TSR_ETIMEDOUT ? "took no image within timeout_ms" : e.message, err);
     b->last_bytes += size;
     return TSR_OK;
 }
 
-int bswap_transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
+int binaryswap_transport_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
 {
-    bswap_spu *b = user;
-    bswap_release_held(b);
+    binaryswap_spu *b = user;
+    binaryswap_release_held(b);
     if (from >= 0 && from < b->nranks)
         from = b->view[from]; /* a position in the compositing order: its rank */
     if (from == b->rank) {
@@ -376,11 +378,11 @@ int bswap_transport_recv(void *user, int from, const void **data, size_t *size, 
                                                  : e.message,
                            err);
     b->holding = true;
-    if (b->held.kind == BSWAP_KIND_ENDING)
+    if (b->held.kind == BINARYSWAP_KIND_ENDING)
         return peer_failed(b, from, TSR_EIO, &b->held, "", err);
-    if (b->held.kind != BSWAP_KIND_IMAGE)
+    if (b->held.kind != BINARYSWAP_KIND_IMAGE)
         return tsr_error_set(err, TSR_EPROTO, "peer rank %d (%s): a message of kind %u, not an image", from,
-                             bswap_peer_address(b, from), b->held.kind);
+                             binaryswap_peer_address(b, from), b->held.kind);
     *data = b->held.data;
     *size = (size_t)b->held.len;
     return TSR_OK;
@@ -391,7 +393,7 @@ int bswap_transport_recv(void *user, int from, const void **data, size_t *size, 
  * way: waiting for it here (no peer's progress is needed) starts this
  * frame's messages at their rings' start (ring_bytes), on the pages the
  * last frame used. */
-void bswap_await_releases(bswap_spu *b, uint32_t frame)
+void binaryswap_await_releases(binaryswap_spu *b, uint32_t frame)
 {
     if (!b->composited)
         return;
@@ -401,7 +403,7 @@ void bswap_await_releases(bswap_spu *b, uint32_t frame)
             tsr_net_conn_wait_returned(b->conns[i], b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER, &err) !=
                 TSR_OK) {
             peer_failed(b, i, err.code, NULL, err.message, &why);
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
+            binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
         }
     }
     b->composited = false;
@@ -410,11 +412,11 @@ void bswap_await_releases(bswap_spu *b, uint32_t frame)
 /* Alpha mode with boxes: this frame's view order (layers.h). Every peer
  * sends every other its box's distance, then reads theirs: a few bytes
  * on each connection, before the frame's images. */
-void bswap_exchange_order(bswap_spu *b, uint32_t frame)
+void binaryswap_exchange_order(binaryswap_spu *b, uint32_t frame)
 {
-    float mv[16], dist[BSWAP_MAX_PEERS];
+    float mv[16], dist[BINARYSWAP_MAX_PEERS];
     tsr_call_GetFloatv(b->table, GL_MODELVIEW_MATRIX, mv);
-    dist[b->rank] = bswap_box_distance(b->box, mv);
+    dist[b->rank] = binaryswap_box_distance(b->box, mv);
     uint32_t bits;
     memcpy(&bits, &dist[b->rank], 4);
     uint8_t msg8[8];
@@ -425,10 +427,10 @@ void bswap_exchange_order(bswap_spu *b, uint32_t frame)
     int wait = b->timeout_ms > 0 ? b->timeout_ms : TSR_NET_WAIT_FOREVER;
     tsr_error err = {0};
     for (int r = 0; r < b->nranks; r++)
-        if (r != b->rank && tsr_net_send(b->conns[r], BSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK) {
+        if (r != b->rank && tsr_net_send(b->conns[r], BINARYSWAP_KIND_ORDER, msg8, sizeof msg8, wait, &err) != TSR_OK) {
             tsr_error why = {0};
             peer_failed(b, r, err.code, NULL, err.message, &why);
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
+            binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
         }
     for (int r = 0; r < b->nranks; r++) {
         if (r == b->rank)
@@ -438,10 +440,10 @@ void bswap_exchange_order(bswap_spu *b, uint32_t frame)
         bool ok = false;
         uint32_t their_frame = 0, their_bits = 0;
         tsr_error why = {0};
-        if ((rc != 1 || msg.kind == BSWAP_KIND_ENDING) && peer_ended_on(b, r, rc == 1 ? &msg : NULL, &why))
-            bswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
+        if ((rc != 1 || msg.kind == BINARYSWAP_KIND_ENDING) && peer_ended_on(b, r, rc == 1 ? &msg : NULL, &why))
+            binaryswap_fatal(b, "frame %" PRIu32 ": %s", frame, why.message);
         if (rc == 1) {
-            if (msg.kind == BSWAP_KIND_ORDER && msg.len == 8) {
+            if (msg.kind == BINARYSWAP_KIND_ORDER && msg.len == 8) {
                 const uint8_t *m = msg.data;
                 for (int i = 0; i < 4; i++) {
                     their_frame |= (uint32_t)m[i] << (8 * i);
@@ -453,12 +455,12 @@ void bswap_exchange_order(bswap_spu *b, uint32_t frame)
             tsr_net_msg_release(&msg);
         }
         if (!ok)
-            bswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, bswap_peer_address(b, r),
-                        rc == 1   ? "sent no box distance for this frame (does every peer have a box?)"
-                        : rc == 0 ? "ended before sending its box distance"
-                                  : "sent no box distance within timeout_ms");
+            binaryswap_fatal(b, "frame %" PRIu32 ": peer rank %d (%s) %s", frame, r, binaryswap_peer_address(b, r),
+                             rc == 1   ? "sent no box distance for this frame (does every peer have a box?)"
+                             : rc == 0 ? "ended before sending its box distance"
+                                       : "sent no box distance within timeout_ms");
     }
-    bswap_order_by_distance(dist, b->nranks, b->view, b->pos);
+    binaryswap_order_by_distance(dist, b->nranks, b->view, b->pos);
     tsr_log(TSR_LOG_DEBUG, "%s: frame %" PRIu32 ": rank %d is at position %d of the view order (distance %g)", b->name,
             frame, b->rank, b->pos[b->rank], (double)dist[b->rank]);
 }

@@ -17,7 +17,7 @@
 
 #include "layers.h"
 
-int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int *pos, tsr_error *err)
+int binaryswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int *pos, tsr_error *err)
 {
     size_t n = tsr_options_count(o, "view_order");
     for (int r = 0; r < nranks; r++)
@@ -46,7 +46,7 @@ int bswap_view_order(const tsr_options *o, int alpha, int nranks, int *view, int
     return TSR_OK;
 }
 
-int bswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err)
+int binaryswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err)
 {
     size_t n = tsr_options_count(o, "box");
     *has = n > 0;
@@ -68,7 +68,7 @@ int bswap_box_parse(const tsr_options *o, float box[6], int *has, tsr_error *err
     return TSR_OK;
 }
 
-float bswap_box_distance(const float box[6], const float modelview[16])
+float binaryswap_box_distance(const float box[6], const float modelview[16])
 {
     float c[3] = {0.5f * (box[0] + box[3]), 0.5f * (box[1] + box[4]), 0.5f * (box[2] + box[5])};
     /* column-major, as GL returns it: eye z is row 2 */
@@ -76,7 +76,7 @@ float bswap_box_distance(const float box[6], const float modelview[16])
     return -z;
 }
 
-void bswap_order_by_distance(const float *distance, int nranks, int *view, int *pos)
+void binaryswap_order_by_distance(const float *distance, int nranks, int *view, int *pos)
 {
     for (int r = 0; r < nranks; r++)
         view[r] = r;

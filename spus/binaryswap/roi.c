@@ -26,7 +26,7 @@
  * Clear of depth to a value other than 1.0 or under a scissor, a frame
  * without a Clear of the whole colour and depth buffers) makes the
  * frame's box unknown: binaryswap then finds the region from the depth
- * buffer instead (layer.c, bswap_read_layer).
+ * buffer instead (layer.c, binaryswap_read_layer).
  *
  * Owns: its packer, the saved render table and the hook/tee records (they
  * are the slots' `self`). Never: changes what render draws or any GL state
@@ -40,7 +40,7 @@
 #include "tessera/dev/pack.h"
 #include "tessera/log.h"
 
-struct bswap_roi {
+struct binaryswap_roi {
     tsr_dispatch render; /* render's own table, for the queries */
     tsr_dispatch next;   /* the table as built below, for the wrapped calls */
     tsr_packer *box;     /* kept for its object-space box */
@@ -67,7 +67,7 @@ static int discard(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
     (void)buf;
     (void)size;
     (void)err;
-    bswap_roi *r = ctx;
+    binaryswap_roi *r = ctx;
     float mn[3], mx[3];
     if (!tsr_packer_bbox(r->box, mn, mx))
         return TSR_OK;
@@ -80,7 +80,7 @@ static int discard(void *ctx, const uint8_t *buf, size_t size, tsr_error *err)
     return TSR_OK;
 }
 
-static void unite(bswap_roi *r, const int b[4])
+static void unite(binaryswap_roi *r, const int b[4])
 {
     if (b[0] >= b[2] || b[1] >= b[3])
         return;
@@ -96,7 +96,7 @@ static void unite(bswap_roi *r, const int b[4])
 }
 
 /* Places the object-space box [mn, mx] with the current matrices. */
-static void place(bswap_roi *r, const float mn[3], const float mx[3])
+static void place(binaryswap_roi *r, const float mn[3], const float mx[3])
 {
     int W = 0, H = 0;
     r->window_size(r->ctx, &W, &H);
@@ -128,7 +128,7 @@ static void place(bswap_roi *r, const float mn[3], const float mx[3])
 }
 
 /* The geometry since the last fold, placed with the matrices it had. */
-static void fold(bswap_roi *r)
+static void fold(binaryswap_roi *r)
 {
     if (r->in_begin)
         return;
@@ -165,7 +165,7 @@ static void before_fold(void *ctx, int slot)
 
 static void before_unknown(void *ctx, int slot)
 {
-    bswap_roi *r = ctx;
+    binaryswap_roi *r = ctx;
     if (!r->unknown)
         tsr_log(TSR_LOG_DEBUG, "binaryswap: %s has no box: this frame's region comes from the depth buffer",
                 tsr_dispatch_name(slot));
@@ -175,7 +175,7 @@ static void before_unknown(void *ctx, int slot)
 static void before_begin(void *ctx, int slot)
 {
     (void)slot;
-    bswap_roi *r = ctx;
+    binaryswap_roi *r = ctx;
     fold(r);
     if (r->program || r->attrib0)
         r->unknown = 1;
@@ -185,13 +185,13 @@ static void before_begin(void *ctx, int slot)
 static void after_end(void *ctx, int slot)
 {
     (void)slot;
-    ((bswap_roi *)ctx)->in_begin = 0;
+    ((binaryswap_roi *)ctx)->in_begin = 0;
 }
 
 static void before_draw(void *ctx, int slot)
 {
     (void)slot;
-    bswap_roi *r = ctx;
+    binaryswap_roi *r = ctx;
     fold(r);
     if (r->program || r->attrib0)
         r->unknown = 1;
@@ -201,7 +201,7 @@ static void before_draw(void *ctx, int slot)
 
 static void roi_Clear(void *self, GLbitfield mask)
 {
-    bswap_roi *r = self;
+    binaryswap_roi *r = self;
     fold(r);
     GLboolean scissor = GL_FALSE, colors[4] = {0}, depths = GL_FALSE;
     GLfloat depth = 1.0f;
@@ -221,7 +221,7 @@ static void roi_Clear(void *self, GLbitfield mask)
 
 static void roi_UseProgram(void *self, GLuint program)
 {
-    bswap_roi *r = self;
+    binaryswap_roi *r = self;
     fold(r);
     r->program = program;
     tsr_call_UseProgram(&r->next, program);
@@ -229,7 +229,7 @@ static void roi_UseProgram(void *self, GLuint program)
 
 static void roi_EnableVertexAttribArray(void *self, GLuint index)
 {
-    bswap_roi *r = self;
+    binaryswap_roi *r = self;
     if (index == 0)
         r->attrib0 = 1;
     tsr_call_EnableVertexAttribArray(&r->next, index);
@@ -237,7 +237,7 @@ static void roi_EnableVertexAttribArray(void *self, GLuint index)
 
 static void roi_DisableVertexAttribArray(void *self, GLuint index)
 {
-    bswap_roi *r = self;
+    binaryswap_roi *r = self;
     if (index == 0)
         r->attrib0 = 0;
     tsr_call_DisableVertexAttribArray(&r->next, index);
@@ -245,7 +245,7 @@ static void roi_DisableVertexAttribArray(void *self, GLuint index)
 
 static void roi_BoundsInfoTSR(void *self, const GLfloat *bounds)
 {
-    bswap_roi *r = self;
+    binaryswap_roi *r = self;
     fold(r);
     if (bounds && !r->in_begin)
         place(r, bounds, bounds + 3);
@@ -277,10 +277,10 @@ static int is_unknown(int slot)
     return 0;
 }
 
-bswap_roi *bswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, int *w, int *h), void *ctx,
-                            tsr_error *err)
+binaryswap_roi *binaryswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, int *w, int *h), void *ctx,
+                                      tsr_error *err)
 {
-    bswap_roi *r = calloc(1, sizeof *r);
+    binaryswap_roi *r = calloc(1, sizeof *r);
     if (!r) {
         tsr_error_set(err, TSR_ENOMEM, "out of memory for the region of interest");
         return NULL;
@@ -335,7 +335,7 @@ bswap_roi *bswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, 
     return r;
 }
 
-void bswap_roi_destroy(bswap_roi *r)
+void binaryswap_roi_destroy(binaryswap_roi *r)
 {
     if (!r)
         return;
@@ -343,7 +343,7 @@ void bswap_roi_destroy(bswap_roi *r)
     free(r);
 }
 
-int bswap_roi_frame(bswap_roi *r, int box[4])
+int binaryswap_roi_frame(binaryswap_roi *r, int box[4])
 {
     r->in_begin = 0;
     fold(r);

@@ -6,18 +6,18 @@
 #include "tessera/dispatch.h"
 #include "tessera/error.h"
 
-typedef struct bswap_roi bswap_roi;
+typedef struct binaryswap_roi binaryswap_roi;
 
 /* Wraps the slots of `table` (render's, as render_spu_create set them):
  * calls go on to render as before, and the geometry's box is kept.
  * window_size(ctx) gives the window's size. */
-bswap_roi *bswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, int *w, int *h), void *ctx,
-                            tsr_error *err);
-void bswap_roi_destroy(bswap_roi *r);
+binaryswap_roi *binaryswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, int *w, int *h), void *ctx,
+                                      tsr_error *err);
+void binaryswap_roi_destroy(binaryswap_roi *r);
 /* At a swap: this frame's box [box[0], box[2]) x [box[1], box[3]) in
  * window pixels (all 0: nothing drawn), and 1 when it is known; 0 when
  * something was drawn that no box covers (then box[] is to be ignored).
  * Starts the next frame. */
-int bswap_roi_frame(bswap_roi *r, int box[4]);
+int binaryswap_roi_frame(binaryswap_roi *r, int box[4]);
 
 #endif

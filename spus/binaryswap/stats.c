@@ -13,21 +13,21 @@
 #include <time.h>
 #include <unistd.h>
 
-int64_t tsr_bswap_now_ns(void)
+int64_t binaryswap_now_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-int64_t tsr_bswap_cpu_ns(void)
+int64_t binaryswap_cpu_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-int tsr_bswap_stats_open(const char *path, tsr_error *err)
+int binaryswap_stats_open(const char *path, tsr_error *err)
 {
     int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (fd < 0)
@@ -52,7 +52,7 @@ static void memory_kb(long *hwm, long *rss)
     fclose(f);
 }
 
-void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s)
+void binaryswap_stats_write(int fd, const binaryswap_frame_stats *s)
 {
     long hwm, rss;
     memory_kb(&hwm, &rss);
@@ -63,13 +63,13 @@ void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s)
                  " assembled_ns %" PRId64 " sent_ns %" PRId64 " displayed_ns %" PRId64 " bytes_sent %" PRIu64
                  " vmhwm_kb %ld vmrss_kb %ld cpu_ns %" PRId64 " hook_cpu_ns %" PRId64 " final_filled %" PRIu64 "\n",
                  s->frame, s->rank, s->nranks, s->swap_ns, s->ready_ns, s->composited_ns, s->assembled_ns, s->sent_ns,
-                 s->displayed_ns, s->bytes_sent, hwm, rss, tsr_bswap_cpu_ns(), s->hook_cpu_ns, s->final_filled);
+                 s->displayed_ns, s->bytes_sent, hwm, rss, binaryswap_cpu_ns(), s->hook_cpu_ns, s->final_filled);
     if (n > 0 && (size_t)n < sizeof line && write(fd, line, (size_t)n) != n) {
         /* A full disk loses a timing line, never the frame. */
     }
 }
 
-void bswap_stats_frame(bswap_spu *b, uint32_t frame)
+void binaryswap_stats_frame(binaryswap_spu *b, uint32_t frame)
 {
     if (b->stats_fd < 0)
         return;
@@ -77,12 +77,12 @@ void bswap_stats_frame(bswap_spu *b, uint32_t frame)
     b->st.rank = b->rank;
     b->st.nranks = b->nranks;
     b->st.bytes_sent = b->last_bytes;
-    tsr_bswap_stats_write(b->stats_fd, &b->st);
+    binaryswap_stats_write(b->stats_fd, &b->st);
 }
 
 /* One line per peer pair at the end of the run: which transport carried
  * this peer's images to each peer and back, and how much of it. */
-void bswap_log_transport_stats(const bswap_spu *b)
+void binaryswap_log_transport_stats(const binaryswap_spu *b)
 {
     for (int i = 0; i < b->nranks; i++) {
         if (!b->conns[i])

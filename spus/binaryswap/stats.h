@@ -12,7 +12,7 @@
 #include <stdint.h>
 #include "tessera/error.h"
 
-typedef struct tsr_bswap_frame_stats {
+typedef struct binaryswap_frame_stats {
     uint32_t frame;
     int rank, nranks;
     int64_t swap_ns; /* the frame hook ran: the render's SwapBuffers */
@@ -27,16 +27,16 @@ typedef struct tsr_bswap_frame_stats {
     int64_t displayed_ns;  /* rank 0: the display node answered after its swap (else 0) */
     uint64_t bytes_sent;   /* image bytes this peer sent */
     uint64_t final_filled; /* its final piece went to the display filled, not gathered (0 or 1) */
-} tsr_bswap_frame_stats;
+} binaryswap_frame_stats;
 
-int64_t tsr_bswap_now_ns(void);
+int64_t binaryswap_now_ns(void);
 /* CLOCK_PROCESS_CPUTIME_ID in nanoseconds (every thread of the process). */
-int64_t tsr_bswap_cpu_ns(void);
+int64_t binaryswap_cpu_ns(void);
 /* Opens (creates, appends to) `path`; -1 and TSR_EIO naming it on failure. */
-int tsr_bswap_stats_open(const char *path, tsr_error *err);
+int binaryswap_stats_open(const char *path, tsr_error *err);
 /* Appends the frame's line, with this process's VmHWM, VmRSS and CPU time
  * (CLOCK_PROCESS_CPUTIME_ID, every thread: the part of a frame a loaded
  * machine's other processes do not inflate). */
-void tsr_bswap_stats_write(int fd, const tsr_bswap_frame_stats *s);
+void binaryswap_stats_write(int fd, const binaryswap_frame_stats *s);
 
 #endif

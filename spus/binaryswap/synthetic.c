@@ -10,14 +10,14 @@
 #include <math.h>
 #include <string.h>
 
-int tsr_synthetic_parse(const char *text, int *mode, tsr_error *err)
+int tsr_composite_synthetic_parse(const char *text, int *mode, tsr_error *err)
 {
     if (!text || !text[0] || !strcmp(text, "off"))
-        *mode = TSR_SYNTHETIC_OFF;
+        *mode = TSR_COMPOSITE_SYNTHETIC_OFF;
     else if (!strcmp(text, "full"))
-        *mode = TSR_SYNTHETIC_FULL;
+        *mode = TSR_COMPOSITE_SYNTHETIC_FULL;
     else if (!strcmp(text, "ellipse"))
-        *mode = TSR_SYNTHETIC_ELLIPSE;
+        *mode = TSR_COMPOSITE_SYNTHETIC_ELLIPSE;
     else
         return tsr_error_set(err, TSR_EINVAL, "synthetic=%s: expected full, ellipse or off", text);
     return TSR_OK;
@@ -41,15 +41,17 @@ static void hue(int rank, double shade, uint8_t *c)
     c[3] = 255;
 }
 
-int tsr_synthetic_layer(int mode, int width, int height, int rank, int nranks, tsr_cimage *out, tsr_error *err)
+int tsr_composite_synthetic_layer(int mode, int width, int height, int rank, int nranks, tsr_composite_image *out,
+                                  tsr_error *err)
 {
-    if (mode != TSR_SYNTHETIC_FULL && mode != TSR_SYNTHETIC_ELLIPSE)
+    if (mode != TSR_COMPOSITE_SYNTHETIC_FULL && mode != TSR_COMPOSITE_SYNTHETIC_ELLIPSE)
         return tsr_error_set(err, TSR_EINVAL, "synthetic layer: mode %d is neither full nor ellipse", mode);
     if (nranks < 1 || rank < 0 || rank >= nranks || width < 1 || height < 1)
         return tsr_error_set(err, TSR_EINVAL, "synthetic layer: rank %d of %d peers, %dx%d window", rank, nranks, width,
                              height);
-    if (mode == TSR_SYNTHETIC_FULL) {
-        if (tsr_cimage_init(out, width, height, 0, 0, width, height, TSR_CI_RGBA8, TSR_CI_DEPTH32F, err) != TSR_OK)
+    if (mode == TSR_COMPOSITE_SYNTHETIC_FULL) {
+        if (tsr_composite_image_init(out, width, height, 0, 0, width, height, TSR_COMPOSITE_RGBA8,
+                                     TSR_COMPOSITE_DEPTH32F, err) != TSR_OK)
             return err->code;
         for (int y = 0; y < height; y++) {
             double ripple = 0.25 / nranks * sin(6.2831853 * 2.0 * y / height);
@@ -74,7 +76,8 @@ int tsr_synthetic_layer(int mode, int width, int height, int rank, int nranks, t
         x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
         x1 = x1 > width ? width : x1, y1 = y1 > height ? height : y1;
         int w = x1 - x0, h = y1 - y0;
-        if (tsr_cimage_init(out, width, height, x0, y0, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, err) != TSR_OK)
+        if (tsr_composite_image_init(out, width, height, x0, y0, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F,
+                                     err) != TSR_OK)
             return err->code;
         double base = 0.35 + 0.3 * fmod(rank * 0.437, 1.0);
         for (int y = 0; y < h; y++)

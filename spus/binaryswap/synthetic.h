@@ -19,14 +19,15 @@
 #include "tessera/dev/composite.h"
 #include "tessera/error.h"
 
-enum { TSR_SYNTHETIC_OFF = 0, TSR_SYNTHETIC_FULL = 1, TSR_SYNTHETIC_ELLIPSE = 2 };
+enum { TSR_COMPOSITE_SYNTHETIC_OFF = 0, TSR_COMPOSITE_SYNTHETIC_FULL = 1, TSR_COMPOSITE_SYNTHETIC_ELLIPSE = 2 };
 
-/* "" or "off": TSR_SYNTHETIC_OFF; "full", "ellipse"; anything else is
+/* "" or "off": TSR_COMPOSITE_SYNTHETIC_OFF; "full", "ellipse"; anything else is
  * TSR_EINVAL naming the value and the choices. */
-int tsr_synthetic_parse(const char *text, int *mode, tsr_error *err);
+int tsr_composite_synthetic_parse(const char *text, int *mode, tsr_error *err);
 
-/* Fills `out` (tsr_cimage_init'ed here, RGBA8 + 32-bit float depth) with
+/* Fills `out` (tsr_composite_image_init'ed here, RGBA8 + 32-bit float depth) with
  * peer `rank` of `nranks`'s layer of a width x height window. */
-int tsr_synthetic_layer(int mode, int width, int height, int rank, int nranks, tsr_cimage *out, tsr_error *err);
+int tsr_composite_synthetic_layer(int mode, int width, int height, int rank, int nranks, tsr_composite_image *out,
+                                  tsr_error *err);
 
 #endif

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <time.h>
 #include <dirent.h>
-#include "fuzz_image_message.h"
+#include "fuzz_composite_message.h"
 #include "harness.h"
 #include "strategy.h"
 #include "tessera/dev/composite.h"
@@ -52,10 +52,12 @@ static const uint8_t BG[4] = {10, 20, 30, 40};
 typedef enum { FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN, FILL_OPAQUE } fill_kind;
 
 /* A peer's read-back image: region x,y,w,h of a W x H window. */
-static void make_image(tsr_cimage *img, int W, int H, int x, int y, int w, int h, int rank, fill_kind kind)
+static void make_image(tsr_composite_image *img, int W, int H, int x, int y, int w, int h, int rank, fill_kind kind)
 {
     tsr_error err;
-    REQUIRE(tsr_cimage_init(img, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK, "%s", err.message);
+    REQUIRE(tsr_composite_image_init(img, W, H, x, y, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err) ==
+                TSR_OK,
+            "%s", err.message);
     img->rank = rank;
     img->frame = 7;
     size_t n = (size_t)w * h;
@@ -85,14 +87,14 @@ static void make_image(tsr_cimage *img, int W, int H, int x, int y, int w, int h
 
 /* The serial reference: the whole window, peers drawn in rank order with
  * GL_LESS over a cleared frame (background colour, depth 1). */
-static void reference_depth(tsr_cimage *imgs, int n, int W, int H, uint8_t *color, float *depth)
+static void reference_depth(tsr_composite_image *imgs, int n, int W, int H, uint8_t *color, float *depth)
 {
     for (int p = 0; p < W * H; p++) {
         memcpy(color + 4 * p, BG, 4);
         depth[p] = 1.0f;
     }
     for (int r = 0; r < n; r++) {
-        tsr_cimage *im = &imgs[r];
+        tsr_composite_image *im = &imgs[r];
         for (int yy = 0; yy < im->height; yy++)
             for (int xx = 0; xx < im->width; xx++) {
                 size_t i = (size_t)yy * im->width + xx, p = (size_t)(im->y + yy) * W + im->x + xx;
@@ -108,11 +110,11 @@ static void reference_depth(tsr_cimage *imgs, int n, int W, int H, uint8_t *colo
 /* Alpha reference: the serial back-to-front blend, written out pixel by
  * pixel: acc = transparent black; acc = layer over acc from the last rank
  * to rank 0; then acc over the background, added once. */
-static void reference_alpha(tsr_cimage *imgs, int n, int W, int H, uint8_t *color)
+static void reference_alpha(tsr_composite_image *imgs, int n, int W, int H, uint8_t *color)
 {
     memset(color, 0, (size_t)W * H * 4);
     for (int r = n - 1; r >= 0; r--) {
-        tsr_cimage *im = &imgs[r];
+        tsr_composite_image *im = &imgs[r];
         for (int yy = 0; yy < im->height; yy++)
             for (int xx = 0; xx < im->width; xx++) {
                 size_t i = (size_t)yy * im->width + xx, p = (size_t)(im->y + yy) * W + im->x + xx;
@@ -295,15 +297,15 @@ static int test_nan_depth_never_wins(void)
     tsr_composite_depth_rgba8(1, fc, &fd, bc, &bd, oc, &od);
     CHECK(oc[0] == 1, "equal depth did not go to the front (lower rank)");
     /* a NaN pixel is background in the sparse form */
-    tsr_cimage img = {0};
+    tsr_composite_image img = {0};
     tsr_error err;
     make_image(&img, 4, 4, 0, 0, 4, 4, 0, FILL_NAN);
-    tsr_sparse_image s = {0};
-    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, 16, &s, &err), err);
+    tsr_composite_sparse s = {0};
+    CHECK_OK(tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 0, 16, &s, &err), err);
     for (uint32_t i = 0; i < s.active; i++)
         CHECK(!isnan(s.depth[i]) && s.depth[i] < 1.0f, "active pixel with depth %g", s.depth[i]);
-    tsr_sparse_image_free(&s);
-    tsr_cimage_free(&img);
+    tsr_composite_sparse_free(&s);
+    tsr_composite_image_free(&img);
     return harness_failures;
 }
 
@@ -313,11 +315,11 @@ static int test_nan_depth_never_wins(void)
  * largest float below it, -0, NaN, infinities), RGBA8 pixels with one byte
  * set, float colours with one -0 or NaN channel, regions that start and end
  * anywhere in a row. */
-static int ref_active(int mode, int cf, const tsr_cimage *img, size_t i)
+static int ref_active(int mode, int cf, const tsr_composite_image *img, size_t i)
 {
     if (mode == TSR_COMPOSITE_DEPTH)
         return img->depth[i] < 1.0f;
-    if (cf == TSR_CI_RGBA8)
+    if (cf == TSR_COMPOSITE_RGBA8)
         return img->color[4 * i] || img->color[4 * i + 1] || img->color[4 * i + 2] || img->color[4 * i + 3];
     const float *c = (const float *)(const void *)img->color + 4 * i;
     return c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f;
@@ -330,12 +332,12 @@ static int test_compress_runs_match_pixel_rule(void)
     static const float depths_off[] = {1.0f, 2.0f, INFINITY, NAN, -NAN};
     for (int iter = 0; iter < 400; iter++) {
         int mode = iter % 3 == 2 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
-        int cf = mode == TSR_COMPOSITE_ALPHA && iter % 2 ? TSR_CI_RGBA32F : TSR_CI_RGBA8;
+        int cf = mode == TSR_COMPOSITE_ALPHA && iter % 2 ? TSR_COMPOSITE_RGBA32F : TSR_COMPOSITE_RGBA8;
         int W = 1 + rnd() % 90, H = 1 + rnd() % 6;
         int x = rnd() % W, y = rnd() % H, w = 1 + rnd() % (W - x), h = 1 + rnd() % (H - y);
-        tsr_cimage img = {0};
-        CHECK_OK(tsr_cimage_init(&img, W, H, x, y, w, h, cf, TSR_CI_DEPTH32F, &err), err);
-        size_t n = (size_t)w * h, cb = tsr_ci_color_bytes(cf);
+        tsr_composite_image img = {0};
+        CHECK_OK(tsr_composite_image_init(&img, W, H, x, y, w, h, cf, TSR_COMPOSITE_DEPTH32F, &err), err);
+        size_t n = (size_t)w * h, cb = tsr_composite_color_bytes(cf);
         memset(img.color, 0, n * cb);
         /* runs of 1..40 pixels, alternating activity */
         int on = rnd() % 2;
@@ -343,7 +345,7 @@ static int test_compress_runs_match_pixel_rule(void)
             size_t len = 1 + rnd() % (iter % 4 ? 40 : 3);
             for (size_t j = i; j < n && j < i + len; j++) {
                 img.depth[j] = on ? depths_on[rnd() % 6] : depths_off[rnd() % 5];
-                if (cf == TSR_CI_RGBA8) {
+                if (cf == TSR_COMPOSITE_RGBA8) {
                     memset(img.color + 4 * j, 0, 4);
                     if (on)
                         img.color[4 * j + rnd() % 4] = (uint8_t)(1 + rnd() % 255);
@@ -358,8 +360,8 @@ static int test_compress_runs_match_pixel_rule(void)
             on = !on;
         }
         uint32_t all = (uint32_t)W * H, start = rnd() % all, count = rnd() % (all - start + 1);
-        tsr_sparse_image s = {0};
-        CHECK_OK(tsr_sparse_image_compress(&img, mode, start, count, &s, &err), err);
+        tsr_composite_sparse s = {0};
+        CHECK_OK(tsr_composite_sparse_compress(&img, mode, start, count, &s, &err), err);
         /* walk the runs against the rule, pixel by pixel */
         uint32_t p = start, a = 0;
         for (uint32_t r = 0; r < s.nruns && !harness_failures; r++)
@@ -382,8 +384,8 @@ static int test_compress_runs_match_pixel_rule(void)
                 }
         CHECK(p == start + count, "iter %d: runs cover %u pixels of %u", iter, p - start, count);
         CHECK(a == s.active, "iter %d: %u active pixels in the runs, %u counted", iter, a, s.active);
-        tsr_sparse_image_free(&s);
-        tsr_cimage_free(&img);
+        tsr_composite_sparse_free(&s);
+        tsr_composite_image_free(&img);
         if (harness_failures)
             break;
     }
@@ -392,20 +394,20 @@ static int test_compress_runs_match_pixel_rule(void)
 
 static const uint8_t ZERO[4] = {0, 0, 0, 0};
 
-static void expand_bg(const tsr_sparse_image *s, tsr_cimage *frame, const void *bg)
+static void expand_bg(const tsr_composite_sparse *s, tsr_composite_image *frame, const void *bg)
 {
     tsr_error err;
-    REQUIRE(tsr_cimage_init(frame, s->window_width, s->window_height, 0, 0, s->window_width, s->window_height,
-                            s->color_format, s->depth_format, &err) == TSR_OK);
+    REQUIRE(tsr_composite_image_init(frame, s->window_width, s->window_height, 0, 0, s->window_width, s->window_height,
+                                     s->color_format, s->depth_format, &err) == TSR_OK);
     /* pixels outside the image's range: a fixed fill, so frames compare */
     size_t all = (size_t)s->window_width * s->window_height;
-    memset(frame->color, 0x5a, all * tsr_ci_color_bytes(s->color_format));
+    memset(frame->color, 0x5a, all * tsr_composite_color_bytes(s->color_format));
     for (size_t i = 0; i < all && s->depth_format; i++)
         frame->depth[i] = 2.0f;
-    REQUIRE(tsr_sparse_image_to_dense(s, bg, frame, &err) == TSR_OK, "%s", err.message);
+    REQUIRE(tsr_composite_sparse_to_dense(s, bg, frame, &err) == TSR_OK, "%s", err.message);
 }
 
-static void expand(const tsr_sparse_image *s, tsr_cimage *frame) { expand_bg(s, frame, BG); }
+static void expand(const tsr_composite_sparse *s, tsr_composite_image *frame) { expand_bg(s, frame, BG); }
 
 static int test_sparse_merge_equals_dense(void)
 {
@@ -413,17 +415,17 @@ static int test_sparse_merge_equals_dense(void)
     for (int iter = 0; iter < 300; iter++) {
         int W = 1 + rnd() % 40, H = 1 + rnd() % 20;
         fill_kind kinds[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN};
-        tsr_cimage a = {0}, b = {0}, da = {0}, db = {0}, dm = {0}, ds = {0};
+        tsr_composite_image a = {0}, b = {0}, da = {0}, db = {0}, dm = {0}, ds = {0};
         int x = rnd() % W, y = rnd() % H;
         make_image(&a, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), 0, kinds[rnd() % 6]);
         x = rnd() % W, y = rnd() % H;
         make_image(&b, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), 1, kinds[rnd() % 6]);
         int mode = iter % 4 == 3 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
         uint32_t all = (uint32_t)W * H;
-        tsr_sparse_image sa = {0}, sb = {0}, sm = {0}, norm = {0};
-        CHECK_OK(tsr_sparse_image_compress(&a, mode, 0, all, &sa, &err), err);
-        CHECK_OK(tsr_sparse_image_compress(&b, mode, 0, all, &sb, &err), err);
-        CHECK_OK(tsr_sparse_image_merge(&sa, &sb, &sm, &err), err);
+        tsr_composite_sparse sa = {0}, sb = {0}, sm = {0}, norm = {0};
+        CHECK_OK(tsr_composite_sparse_compress(&a, mode, 0, all, &sa, &err), err);
+        CHECK_OK(tsr_composite_sparse_compress(&b, mode, 0, all, &sb, &err), err);
+        CHECK_OK(tsr_composite_sparse_merge(&sa, &sb, &sm, &err), err);
         /* dense: both as whole-window frames (inactive = background:
          * transparent black for over), the dense kernel, then inactive
          * pixels shown as background again */
@@ -431,21 +433,22 @@ static int test_sparse_merge_equals_dense(void)
         expand_bg(&sm, &ds, bg);
         expand_bg(&sa, &da, bg);
         expand_bg(&sb, &db, bg);
-        CHECK_OK(tsr_cimage_init(&dm, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
-        CHECK_OK(tsr_cimage_merge(mode, &da, &db, &dm, &err), err);
-        CHECK_OK(tsr_sparse_image_compress(&dm, mode, 0, all, &norm, &err), err);
-        tsr_cimage dn = {0};
+        CHECK_OK(tsr_composite_image_init(&dm, W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err),
+                 err);
+        CHECK_OK(tsr_composite_image_merge(mode, &da, &db, &dm, &err), err);
+        CHECK_OK(tsr_composite_sparse_compress(&dm, mode, 0, all, &norm, &err), err);
+        tsr_composite_image dn = {0};
         expand_bg(&norm, &dn, bg);
         CHECK(!memcmp(dn.color, ds.color, all * 4), "sparse merge colour != dense merge (%dx%d, iter %d)", W, H, iter);
         if (mode == TSR_COMPOSITE_DEPTH)
             CHECK(!memcmp(dn.depth, ds.depth, all * 4), "sparse merge depth != dense merge (iter %d)", iter);
         CHECK(sm.active <= sa.active + sb.active, "merge grew the active pixels");
-        tsr_cimage *imgs[] = {&a, &b, &da, &db, &dm, &ds, &dn};
+        tsr_composite_image *imgs[] = {&a, &b, &da, &db, &dm, &ds, &dn};
         for (size_t i = 0; i < sizeof imgs / sizeof *imgs; i++)
-            tsr_cimage_free(imgs[i]);
-        tsr_sparse_image *ss[] = {&sa, &sb, &sm, &norm};
+            tsr_composite_image_free(imgs[i]);
+        tsr_composite_sparse *ss[] = {&sa, &sb, &sm, &norm};
         for (size_t i = 0; i < 4; i++)
-            tsr_sparse_image_free(ss[i]);
+            tsr_composite_sparse_free(ss[i]);
         if (harness_failures)
             break;
     }
@@ -462,26 +465,27 @@ static int test_sparse_merge_equals_dense(void)
 static int test_sparse_fold_equals_merges(void)
 {
     tsr_error err;
-    tsr_sparse_fold fold = {0}, dfold = {0};
+    tsr_composite_fold fold = {0}, dfold = {0};
     for (int iter = 0; iter < 400 && !harness_failures; iter++) {
         enum { MAXN = 7 };
         int W = 1 + rnd() % 60, H = 1 + rnd() % 12, n = 1 + rnd() % MAXN;
         uint32_t all = (uint32_t)W * H, start = rnd() % all, count = rnd() % (all - start + 1);
-        int cf = iter % 5 == 4 ? TSR_CI_RGBA32F : TSR_CI_RGBA8;
-        size_t cb = tsr_ci_color_bytes(cf);
+        int cf = iter % 5 == 4 ? TSR_COMPOSITE_RGBA32F : TSR_COMPOSITE_RGBA8;
+        size_t cb = tsr_composite_color_bytes(cf);
         fill_kind kinds[] = {FILL_RANDOM, FILL_BACKGROUND, FILL_EQUAL, FILL_EXTREMES, FILL_SINGLE, FILL_NAN};
-        tsr_sparse_image p[MAXN] = {{0}}, whole = {0}, ref = {0}, tmp = {0}, got = {0}, runs = {0}, dgot = {0};
+        tsr_composite_sparse p[MAXN] = {{0}}, whole = {0}, ref = {0}, tmp = {0}, got = {0}, runs = {0}, dgot = {0};
         /* the fold from `at` also begins from its read-back itself
-         * (tsr_sparse_fold_begin_dense) when that piece is as read back */
+         * (tsr_composite_fold_begin_dense) when that piece is as read back */
         int at = rnd() % n, dense_at = rnd() % 2;
-        tsr_cimage at_img = {0}, at_wide = {0};
+        tsr_composite_image at_img = {0}, at_wide = {0};
         for (int r = 0; r < n; r++) {
-            tsr_cimage img = {0}, wide = {0};
+            tsr_composite_image img = {0}, wide = {0};
             int x = rnd() % W, y = rnd() % H;
             make_image(&img, W, H, x, y, rnd() % (W - x + 1), rnd() % (H - y + 1), r, kinds[rnd() % 6]);
-            const tsr_cimage *src = &img;
-            if (cf == TSR_CI_RGBA32F) {
-                CHECK_OK(tsr_cimage_init(&wide, W, H, img.x, img.y, img.width, img.height, cf, TSR_CI_DEPTH32F, &err),
+            const tsr_composite_image *src = &img;
+            if (cf == TSR_COMPOSITE_RGBA32F) {
+                CHECK_OK(tsr_composite_image_init(&wide, W, H, img.x, img.y, img.width, img.height, cf,
+                                                  TSR_COMPOSITE_DEPTH32F, &err),
                          err);
                 wide.rank = img.rank;
                 wide.frame = img.frame;
@@ -495,10 +499,10 @@ static int test_sparse_fold_equals_merges(void)
                 }
                 src = &wide;
             }
-            CHECK_OK(tsr_sparse_image_compress(src, TSR_COMPOSITE_DEPTH, 0, all, &whole, &err), err);
-            CHECK_OK(tsr_sparse_image_split(&whole, start, count, &p[r], &err), err);
+            CHECK_OK(tsr_composite_sparse_compress(src, TSR_COMPOSITE_DEPTH, 0, all, &whole, &err), err);
+            CHECK_OK(tsr_composite_sparse_split(&whole, start, count, &p[r], &err), err);
             if (r == at && dense_at) {
-                CHECK_OK(tsr_sparse_image_compress_runs(src, TSR_COMPOSITE_DEPTH, start, count, &runs, &err), err);
+                CHECK_OK(tsr_composite_sparse_compress_runs(src, TSR_COMPOSITE_DEPTH, start, count, &runs, &err), err);
                 at_img = img;
                 at_wide = wide;
                 continue;
@@ -507,41 +511,43 @@ static int test_sparse_fold_equals_merges(void)
                 for (uint32_t i = 0; i < p[r].active; i++)
                     if (rnd() % 2)
                         p[r].depth[i] = adversarial_depth();
-            tsr_cimage_free(&img);
-            tsr_cimage_free(&wide);
+            tsr_composite_image_free(&img);
+            tsr_composite_image_free(&wide);
         }
         /* the reference: merges into fresh images, alternating buffers */
-        tsr_sparse_image *acc = &p[at], *bufs[2] = {&ref, &tmp};
+        tsr_composite_sparse *acc = &p[at], *bufs[2] = {&ref, &tmp};
         int b = 0;
         for (int i = at - 1; i >= 0; i--, b ^= 1) {
-            CHECK_OK(tsr_sparse_image_merge(&p[i], acc, bufs[b], &err), err);
+            CHECK_OK(tsr_composite_sparse_merge(&p[i], acc, bufs[b], &err), err);
             acc = bufs[b];
         }
         for (int i = at + 1; i < n; i++, b ^= 1) {
-            CHECK_OK(tsr_sparse_image_merge(acc, &p[i], bufs[b], &err), err);
+            CHECK_OK(tsr_composite_sparse_merge(acc, &p[i], bufs[b], &err), err);
             acc = bufs[b];
         }
-        CHECK_OK(tsr_sparse_fold_begin(&fold, &p[at], &err), err);
+        CHECK_OK(tsr_composite_fold_begin(&fold, &p[at], &err), err);
         for (int i = at - 1; i >= 0; i--)
-            CHECK_OK(tsr_sparse_fold_add(&fold, &p[i], 1, &err), err);
+            CHECK_OK(tsr_composite_fold_add(&fold, &p[i], 1, &err), err);
         for (int i = at + 1; i < n; i++)
-            CHECK_OK(tsr_sparse_fold_add(&fold, &p[i], 0, &err), err);
-        CHECK_OK(tsr_sparse_fold_end(&fold, &got, &err), err);
+            CHECK_OK(tsr_composite_fold_add(&fold, &p[i], 0, &err), err);
+        CHECK_OK(tsr_composite_fold_end(&fold, &got, &err), err);
         if (dense_at) {
-            CHECK_OK(tsr_sparse_fold_begin_dense(&dfold, cf == TSR_CI_RGBA32F ? &at_wide : &at_img, &runs, &err), err);
+            CHECK_OK(
+                tsr_composite_fold_begin_dense(&dfold, cf == TSR_COMPOSITE_RGBA32F ? &at_wide : &at_img, &runs, &err),
+                err);
             for (int i = at - 1; i >= 0; i--)
-                CHECK_OK(tsr_sparse_fold_add(&dfold, &p[i], 1, &err), err);
+                CHECK_OK(tsr_composite_fold_add(&dfold, &p[i], 1, &err), err);
             for (int i = at + 1; i < n; i++)
-                CHECK_OK(tsr_sparse_fold_add(&dfold, &p[i], 0, &err), err);
-            CHECK_OK(tsr_sparse_fold_end(&dfold, &dgot, &err), err);
+                CHECK_OK(tsr_composite_fold_add(&dfold, &p[i], 0, &err), err);
+            CHECK_OK(tsr_composite_fold_end(&dfold, &dgot, &err), err);
             CHECK(dgot.nruns == got.nruns && dgot.active == got.active && dgot.rank == got.rank &&
                       dgot.rank_count == got.rank_count && dgot.frame == got.frame &&
                       (!got.nruns || !memcmp(dgot.runs, got.runs, (size_t)got.nruns * 8)) &&
                       (!got.active || (!memcmp(dgot.color, got.color, (size_t)got.active * cb) &&
                                        !memcmp(dgot.depth, got.depth, (size_t)got.active * 4))),
                   "a fold begun from the read-back differs from one begun from its sparse copy (iter %d)", iter);
-            tsr_cimage_free(&at_img);
-            tsr_cimage_free(&at_wide);
+            tsr_composite_image_free(&at_img);
+            tsr_composite_image_free(&at_wide);
         }
         CHECK(got.start == acc->start && got.count == acc->count && got.rank == acc->rank &&
                   got.rank_count == acc->rank_count && got.frame == acc->frame && got.color_format == acc->color_format,
@@ -558,19 +564,19 @@ static int test_sparse_fold_equals_merges(void)
         }
         /* a piece of another range is refused, as merge refuses it */
         if (count && start) {
-            tsr_sparse_image other = {0};
-            CHECK_OK(tsr_sparse_image_split(&whole, start - 1, count, &other, &err), err);
-            CHECK(tsr_sparse_fold_add(&fold, &other, 0, &err) == TSR_EINVAL, "fold took a piece of another range");
-            tsr_sparse_image_free(&other);
+            tsr_composite_sparse other = {0};
+            CHECK_OK(tsr_composite_sparse_split(&whole, start - 1, count, &other, &err), err);
+            CHECK(tsr_composite_fold_add(&fold, &other, 0, &err) == TSR_EINVAL, "fold took a piece of another range");
+            tsr_composite_sparse_free(&other);
         }
         for (int r = 0; r < n; r++)
-            tsr_sparse_image_free(&p[r]);
-        tsr_sparse_image *ss[] = {&whole, &ref, &tmp, &got, &runs, &dgot};
+            tsr_composite_sparse_free(&p[r]);
+        tsr_composite_sparse *ss[] = {&whole, &ref, &tmp, &got, &runs, &dgot};
         for (size_t i = 0; i < sizeof ss / sizeof *ss; i++)
-            tsr_sparse_image_free(ss[i]);
+            tsr_composite_sparse_free(ss[i]);
     }
-    tsr_sparse_fold_free(&fold);
-    tsr_sparse_fold_free(&dfold);
+    tsr_composite_fold_free(&fold);
+    tsr_composite_fold_free(&dfold);
     return harness_failures;
 }
 
@@ -579,13 +585,14 @@ static int test_split_at_run_edges(void)
     tsr_error err;
     for (int iter = 0; iter < 200; iter++) {
         int W = 1 + rnd() % 50, H = 1 + rnd() % 10;
-        tsr_cimage a = {0}, whole = {0}, parts = {0};
+        tsr_composite_image a = {0}, whole = {0}, parts = {0};
         make_image(&a, W, H, 0, 0, W, H, 0, iter % 2 ? FILL_RANDOM : FILL_SINGLE);
         uint32_t all = (uint32_t)W * H;
-        tsr_sparse_image s = {0}, p = {0}, v = {0};
-        CHECK_OK(tsr_sparse_image_compress(&a, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
+        tsr_composite_sparse s = {0}, p = {0}, v = {0};
+        CHECK_OK(tsr_composite_sparse_compress(&a, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
         expand(&s, &whole);
-        CHECK_OK(tsr_cimage_init(&parts, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        CHECK_OK(tsr_composite_image_init(&parts, W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err),
+                 err);
         memset(parts.color, 0xee, all * 4);
         /* cut at every run edge (inactive/active boundary) and at random */
         uint32_t cuts[1024], nc = 0, pos = 0;
@@ -600,25 +607,25 @@ static int test_split_at_run_edges(void)
         uint32_t prev = 0, active = 0;
         for (uint32_t c = 1; c < nc; c++) {
             uint32_t at = cuts[c] < prev ? prev : cuts[c];
-            CHECK_OK(tsr_sparse_image_split(&s, prev, at - prev, &p, &err), err);
-            CHECK_OK(tsr_sparse_image_view(&s, prev, at - prev, &v, &err), err);
+            CHECK_OK(tsr_composite_sparse_split(&s, prev, at - prev, &p, &err), err);
+            CHECK_OK(tsr_composite_sparse_view(&s, prev, at - prev, &v, &err), err);
             CHECK(v.active == p.active && v.nruns == p.nruns &&
                       (!p.nruns || !memcmp(v.runs, p.runs, 8 * (size_t)p.nruns)) &&
                       (!p.active || (!memcmp(v.color, p.color, 4 * (size_t)p.active) &&
                                      !memcmp(v.depth, p.depth, 4 * (size_t)p.active))),
                   "view of %u+%u differs from the split", prev, at - prev);
-            CHECK_OK(tsr_sparse_image_to_dense(&p, BG, &parts, &err), err);
+            CHECK_OK(tsr_composite_sparse_to_dense(&p, BG, &parts, &err), err);
             active += p.active;
             prev = at;
         }
         CHECK(prev == all && active == s.active, "pieces hold %u of %u active pixels", active, s.active);
         CHECK(!memcmp(parts.color, whole.color, all * 4), "pieces cut at run edges do not reassemble (%dx%d)", W, H);
-        tsr_cimage_free(&a);
-        tsr_cimage_free(&whole);
-        tsr_cimage_free(&parts);
-        tsr_sparse_image_free(&s);
-        tsr_sparse_image_free(&p);
-        tsr_sparse_image_free(&v);
+        tsr_composite_image_free(&a);
+        tsr_composite_image_free(&whole);
+        tsr_composite_image_free(&parts);
+        tsr_composite_sparse_free(&s);
+        tsr_composite_sparse_free(&p);
+        tsr_composite_sparse_free(&v);
     }
     return harness_failures;
 }
@@ -636,10 +643,11 @@ static double psnr8(const uint8_t *a, const uint8_t *b, size_t n)
 }
 
 /* A smooth scene: a shaded disc per peer over background. */
-static void make_smooth(tsr_cimage *img, int W, int H, int rank)
+static void make_smooth(tsr_composite_image *img, int W, int H, int rank)
 {
     tsr_error err;
-    REQUIRE(tsr_cimage_init(img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK);
+    REQUIRE(tsr_composite_image_init(img, W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err) ==
+            TSR_OK);
     img->rank = rank;
     img->frame = 3;
     double cx = W * (0.3 + 0.1 * rank), cy = H * 0.5, rad = W * 0.25;
@@ -668,33 +676,33 @@ static int test_codecs_roundtrip(void)
     int sizes[][2] = {{1, 1}, {997, 1}, {61, 37}, {256, 192}};
     for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
         int W = sizes[si][0], H = sizes[si][1];
-        tsr_cimage img = {0}, a = {0}, b = {0};
+        tsr_composite_image img = {0}, a = {0}, b = {0};
         make_smooth(&img, W, H, 0);
         uint32_t all = (uint32_t)W * H;
-        tsr_sparse_image s = {0}, d = {0}, piece = {0};
-        CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
+        tsr_composite_sparse s = {0}, d = {0}, piece = {0};
+        CHECK_OK(tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 0, all, &s, &err), err);
         /* also a piece that starts and ends mid-row */
         uint32_t ps = all / 3, pc = all / 2;
-        CHECK_OK(tsr_sparse_image_split(&s, ps, pc, &piece, &err), err);
+        CHECK_OK(tsr_composite_sparse_split(&s, ps, pc, &piece, &err), err);
         for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-            tsr_image_codec c;
-            CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+            tsr_composite_codec c;
+            CHECK_OK(tsr_composite_codec_parse(CODECS[ci], &c, &err), err);
             char name[64];
-            CHECK_STR(tsr_image_codec_name(c, name, sizeof name), CODECS[ci]);
+            CHECK_STR(tsr_composite_codec_name(c, name, sizeof name), CODECS[ci]);
             for (int which = 0; which < 2; which++) {
-                tsr_sparse_image *src = which ? &piece : &s;
-                size_t cap = tsr_image_message_max_size(src->count, src->color_format, src->depth_format, c), len;
+                tsr_composite_sparse *src = which ? &piece : &s;
+                size_t cap = tsr_composite_message_max_size(src->count, src->color_format, src->depth_format, c), len;
                 uint8_t *buf = malloc(cap);
-                CHECK_OK(tsr_image_message_encode(src, c, buf, cap, &len, &err), err);
+                CHECK_OK(tsr_composite_message_encode(src, c, buf, cap, &len, &err), err);
                 CHECK(len <= cap, "%s: %zu bytes over the bound %zu", CODECS[ci], len, cap);
-                CHECK_OK(tsr_image_message_decode(buf, len, NULL, &d, &err), err);
+                CHECK_OK(tsr_composite_message_decode(buf, len, NULL, &d, &err), err);
                 CHECK(d.start == src->start && d.count == src->count && d.active == src->active, "%s: geometry changed",
                       CODECS[ci]);
-                tsr_cimage_free(&a);
-                tsr_cimage_free(&b);
+                tsr_composite_image_free(&a);
+                tsr_composite_image_free(&b);
                 expand(src, &a);
                 expand(&d, &b);
-                if (tsr_image_codec_lossless(c)) {
+                if (tsr_composite_codec_lossless(c)) {
                     CHECK(!memcmp(a.color, b.color, all * 4) && !memcmp(a.depth, b.depth, all * 4),
                           "%s (%dx%d): lossless round trip differs", CODECS[ci], W, H);
                 } else {
@@ -707,23 +715,23 @@ static int test_codecs_roundtrip(void)
                     CHECK(p > 30.0, "%s: PSNR %.1f dB", CODECS[ci], p);
                     CHECK(maxdz <= 1.0 / 65536, "%s: depth error %g", CODECS[ci], maxdz);
                 }
-                if (!which && si == 3 && tsr_image_codec_lossless(c))
+                if (!which && si == 3 && tsr_composite_codec_lossless(c))
                     printf("%s %dx%d: lossless, %zu bytes\n", CODECS[ci], W, H, len);
                 free(buf);
             }
         }
-        tsr_image_codec def;
-        CHECK_OK(tsr_image_codec_parse("rle", &def, &err), err);
-        CHECK(tsr_image_codec_lossless(def), "the default codec is lossy");
-        CHECK(tsr_image_codec_parse("jpeg", &def, &err) == TSR_EINVAL);
+        tsr_composite_codec def;
+        CHECK_OK(tsr_composite_codec_parse("rle", &def, &err), err);
+        CHECK(tsr_composite_codec_lossless(def), "the default codec is lossy");
+        CHECK(tsr_composite_codec_parse("jpeg", &def, &err) == TSR_EINVAL);
         CHECK_CONTAINS(err.message, "unknown part 'jpeg'");
-        CHECK(tsr_image_codec_parse("none+erle", &def, &err) == TSR_EINVAL);
-        tsr_cimage_free(&img);
-        tsr_cimage_free(&a);
-        tsr_cimage_free(&b);
-        tsr_sparse_image_free(&s);
-        tsr_sparse_image_free(&d);
-        tsr_sparse_image_free(&piece);
+        CHECK(tsr_composite_codec_parse("none+erle", &def, &err) == TSR_EINVAL);
+        tsr_composite_image_free(&img);
+        tsr_composite_image_free(&a);
+        tsr_composite_image_free(&b);
+        tsr_composite_sparse_free(&s);
+        tsr_composite_sparse_free(&d);
+        tsr_composite_sparse_free(&piece);
     }
     return harness_failures;
 }
@@ -736,32 +744,33 @@ static int test_codec_worst_case_size(void)
     for (int pattern = 0; pattern < 3; pattern++)
         for (int W = 1; W <= 130; W += 43) {
             int H = 3;
-            tsr_cimage img = {0};
-            REQUIRE(tsr_cimage_init(&img, W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err) == TSR_OK);
+            tsr_composite_image img = {0};
+            REQUIRE(tsr_composite_image_init(&img, W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F,
+                                             &err) == TSR_OK);
             for (int i = 0; i < W * H; i++) {
                 for (int k = 0; k < 4; k++)
                     img.color[4 * i + k] = (uint8_t)rnd();
                 img.depth[i] = pattern == 2 || i % 2 == pattern ? (float)(rnd() % 1000) / 1001.0f : 1.0f;
             }
-            tsr_sparse_image s = {0};
-            CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, (uint32_t)(W * H), &s, &err), err);
+            tsr_composite_sparse s = {0};
+            CHECK_OK(tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 0, (uint32_t)(W * H), &s, &err), err);
             for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-                tsr_image_codec c;
-                tsr_image_codec_parse(CODECS[ci], &c, &err);
-                size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len = 0;
+                tsr_composite_codec c;
+                tsr_composite_codec_parse(CODECS[ci], &c, &err);
+                size_t cap = tsr_composite_message_max_size(s.count, s.color_format, s.depth_format, c), len = 0;
                 uint8_t *buf = malloc(cap);
-                CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
+                CHECK_OK(tsr_composite_message_encode(&s, c, buf, cap, &len, &err), err);
                 CHECK(len <= cap, "%s: %zu bytes over the advertised %zu (pattern %d, %d px)", CODECS[ci], len, cap,
                       pattern, W * H);
-                size_t bound = tsr_image_message_bound(&s, c);
+                size_t bound = tsr_composite_message_bound(&s, c);
                 CHECK(len <= bound && bound <= cap, "%s: %zu bytes, the image's bound %zu, the worst case %zu",
                       CODECS[ci], len, bound, cap);
-                CHECK(tsr_image_message_encode(&s, c, buf, bound - 1, &len, &err) == TSR_EINVAL,
+                CHECK(tsr_composite_message_encode(&s, c, buf, bound - 1, &len, &err) == TSR_EINVAL,
                       "a buffer below the image's bound is accepted");
                 free(buf);
             }
-            tsr_sparse_image_free(&s);
-            tsr_cimage_free(&img);
+            tsr_composite_sparse_free(&s);
+            tsr_composite_image_free(&img);
         }
     return harness_failures;
 }
@@ -769,15 +778,15 @@ static int test_codec_worst_case_size(void)
 static int test_message_decoder_rejects_bad_input(void)
 {
     tsr_error err;
-    tsr_cimage img = {0};
+    tsr_composite_image img = {0};
     make_image(&img, 16, 4, 0, 0, 16, 4, 2, FILL_RANDOM);
-    tsr_sparse_image s = {0}, d = {0};
-    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 0, 64, &s, &err), err);
-    tsr_image_codec c;
-    tsr_image_codec_parse("erle", &c, &err);
-    size_t cap = tsr_image_message_max_size(64, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), len;
+    tsr_composite_sparse s = {0}, d = {0};
+    CHECK_OK(tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 0, 64, &s, &err), err);
+    tsr_composite_codec c;
+    tsr_composite_codec_parse("erle", &c, &err);
+    size_t cap = tsr_composite_message_max_size(64, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, c), len;
     uint8_t *buf = malloc(cap), *bad = malloc(cap);
-    CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
+    CHECK_OK(tsr_composite_message_encode(&s, c, buf, cap, &len, &err), err);
     struct {
         size_t off;
         uint32_t value;
@@ -792,21 +801,21 @@ static int test_message_decoder_rejects_bad_input(void)
         uint32_t v = cases[i].value;
         for (int b = 0; b < 4; b++)
             bad[cases[i].off + b] = (uint8_t)(v >> (8 * b));
-        CHECK(tsr_image_message_decode(bad, len, NULL, &d, &err) == TSR_EPROTO, "case %zu accepted", i);
+        CHECK(tsr_composite_message_decode(bad, len, NULL, &d, &err) == TSR_EPROTO, "case %zu accepted", i);
         CHECK_CONTAINS(err.message, cases[i].want);
     }
-    CHECK(tsr_image_message_decode(buf, len - 1, NULL, &d, &err) == TSR_EPROTO);
-    CHECK(tsr_image_message_decode(buf, 10, NULL, &d, &err) == TSR_EPROTO);
+    CHECK(tsr_composite_message_decode(buf, len - 1, NULL, &d, &err) == TSR_EPROTO);
+    CHECK(tsr_composite_message_decode(buf, 10, NULL, &d, &err) == TSR_EPROTO);
     CHECK_CONTAINS(err.message, "shorter than its");
-    tsr_image_message_header e;
-    tsr_image_message_expect_any(&e);
+    tsr_composite_message_header e;
+    tsr_composite_message_expect_any(&e);
     e.frame = 8;
-    CHECK(tsr_image_message_decode(buf, len, &e, &d, &err) == TSR_EPROTO);
+    CHECK(tsr_composite_message_decode(buf, len, &e, &d, &err) == TSR_EPROTO);
     CHECK_CONTAINS(err.message, "frame is 7, expected 8");
-    tsr_image_message_expect_any(&e);
+    tsr_composite_message_expect_any(&e);
     e.rank = 2;
     e.window_width = 16;
-    CHECK_OK(tsr_image_message_decode(buf, len, &e, &d, &err), err);
+    CHECK_OK(tsr_composite_message_decode(buf, len, &e, &d, &err), err);
     /* random corruption of the payload: an error or a valid image, never a crash */
     for (int iter = 0; iter < 3000; iter++) {
         memcpy(bad, buf, len);
@@ -816,14 +825,14 @@ static int test_message_decoder_rejects_bad_input(void)
         size_t cut = iter % 7 == 0 ? rnd() % len : len;
         if (cut != len)
             bad[44] = (uint8_t)(cut - 48);
-        if (tsr_image_message_decode(bad, cut, NULL, &d, &err) == TSR_OK)
+        if (tsr_composite_message_decode(bad, cut, NULL, &d, &err) == TSR_OK)
             CHECK(d.active <= d.count);
     }
     free(buf);
     free(bad);
-    tsr_sparse_image_free(&s);
-    tsr_sparse_image_free(&d);
-    tsr_cimage_free(&img);
+    tsr_composite_sparse_free(&s);
+    tsr_composite_sparse_free(&d);
+    tsr_composite_image_free(&img);
     return harness_failures;
 }
 
@@ -839,7 +848,7 @@ static int test_message_decoder_rejects_bad_input(void)
 static int test_encode_dense_equals_compress_encode(void)
 {
     tsr_error err;
-    tsr_sparse_image sp = {0}, scratch = {0};
+    tsr_composite_sparse sp = {0}, scratch = {0};
     int compared = 0;
     for (int geo = 0; geo < 2; geo++) {
         const int W = geo ? 509 : 61, H = geo ? 203 : 37;
@@ -852,25 +861,26 @@ static int test_encode_dense_equals_compress_encode(void)
         const uint32_t ranges[][2] = {{0, all}, {all / 3, all / 2}, {100, 1}, {all - 5, 5}, {0, 0}};
         for (size_t bi = 0; bi < 5; bi++)
             for (size_t fi = 0; fi < sizeof fills / sizeof *fills; fi++) {
-                tsr_cimage img = {0};
+                tsr_composite_image img = {0};
                 make_image(&img, W, H, boxes[bi][0], boxes[bi][1], boxes[bi][2], boxes[bi][3], 3, fills[fi]);
                 for (int mode = TSR_COMPOSITE_DEPTH; mode <= TSR_COMPOSITE_ALPHA; mode++)
                     for (size_t ri = 0; ri < sizeof ranges / sizeof *ranges; ri++)
                         for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-                            tsr_image_codec c;
-                            CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
+                            tsr_composite_codec c;
+                            CHECK_OK(tsr_composite_codec_parse(CODECS[ci], &c, &err), err);
                             uint32_t st = ranges[ri][0], n = ranges[ri][1];
-                            size_t cap = tsr_image_message_max_size(n, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), la = 0,
-                                   lb = 0;
+                            size_t cap = tsr_composite_message_max_size(n, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F,
+                                                                        c),
+                                   la = 0, lb = 0;
                             uint8_t *a = malloc(cap), *b = malloc(cap);
-                            CHECK_OK(tsr_sparse_image_compress(&img, mode, st, n, &sp, &err), err);
-                            CHECK_OK(tsr_image_message_encode(&sp, c, a, cap, &la, &err), err);
-                            CHECK_OK(tsr_sparse_image_compress_runs(&img, mode, st, n, &scratch, &err), err);
-                            size_t bound = tsr_image_message_bound(&scratch, c);
-                            CHECK(bound <= cap && bound == tsr_image_message_bound(&sp, c),
+                            CHECK_OK(tsr_composite_sparse_compress(&img, mode, st, n, &sp, &err), err);
+                            CHECK_OK(tsr_composite_message_encode(&sp, c, a, cap, &la, &err), err);
+                            CHECK_OK(tsr_composite_sparse_compress_runs(&img, mode, st, n, &scratch, &err), err);
+                            size_t bound = tsr_composite_message_bound(&scratch, c);
+                            CHECK(bound <= cap && bound == tsr_composite_message_bound(&sp, c),
                                   "%s: the image's bound %zu is over the worst case %zu or differs from its copy's",
                                   CODECS[ci], bound, cap);
-                            CHECK_OK(tsr_image_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
+                            CHECK_OK(tsr_composite_message_encode_dense(&img, &scratch, c, b, bound, &lb, &err), err);
                             CHECK(la <= bound, "%s: %zu bytes over the image's bound %zu", CODECS[ci], la, bound);
                             CHECK(la == lb && !memcmp(a, b, la),
                                   "%s, box %zu, fill %zu, mode %d, range %u+%u: %zu bytes vs %zu, or they differ",
@@ -879,12 +889,12 @@ static int test_encode_dense_equals_compress_encode(void)
                             free(a);
                             free(b);
                         }
-                tsr_cimage_free(&img);
+                tsr_composite_image_free(&img);
             }
     }
     printf("%d messages encoded from the read-back equal compress + encode byte for byte\n", compared);
-    tsr_sparse_image_free(&sp);
-    tsr_sparse_image_free(&scratch);
+    tsr_composite_sparse_free(&sp);
+    tsr_composite_sparse_free(&scratch);
     return harness_failures;
 }
 
@@ -894,18 +904,18 @@ static int test_encode_dense_equals_compress_encode(void)
 static int test_message_view_equals_decode(void)
 {
     tsr_error err, err2;
-    tsr_cimage img = {0};
+    tsr_composite_image img = {0};
     make_image(&img, 64, 16, 3, 2, 50, 12, 2, FILL_RANDOM);
-    tsr_sparse_image s = {0}, d = {0}, v = {0};
-    CHECK_OK(tsr_sparse_image_compress(&img, TSR_COMPOSITE_DEPTH, 64 * 3 + 5, 64 * 9, &s, &err), err);
+    tsr_composite_sparse s = {0}, d = {0}, v = {0};
+    CHECK_OK(tsr_composite_sparse_compress(&img, TSR_COMPOSITE_DEPTH, 64 * 3 + 5, 64 * 9, &s, &err), err);
     for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-        tsr_image_codec c;
-        CHECK_OK(tsr_image_codec_parse(CODECS[ci], &c, &err), err);
-        size_t cap = tsr_image_message_max_size(s.count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c), len;
+        tsr_composite_codec c;
+        CHECK_OK(tsr_composite_codec_parse(CODECS[ci], &c, &err), err);
+        size_t cap = tsr_composite_message_max_size(s.count, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, c), len;
         uint8_t *buf = malloc(cap), *bad = malloc(cap);
-        CHECK_OK(tsr_image_message_encode(&s, c, buf, cap, &len, &err), err);
-        CHECK_OK(tsr_image_message_decode(buf, len, NULL, &d, &err), err);
-        CHECK_OK(tsr_image_message_view(buf, len, NULL, &v, &err), err);
+        CHECK_OK(tsr_composite_message_encode(&s, c, buf, cap, &len, &err), err);
+        CHECK_OK(tsr_composite_message_decode(buf, len, NULL, &d, &err), err);
+        CHECK_OK(tsr_composite_message_view(buf, len, NULL, &v, &err), err);
         CHECK(d.start == v.start && d.count == v.count && d.active == v.active && d.nruns == v.nruns &&
                   d.rank == v.rank && d.frame == v.frame,
               "%s: the view's header differs from the copy's", CODECS[ci]);
@@ -921,8 +931,8 @@ static int test_message_view_equals_decode(void)
             for (int f = 0; f < flips; f++)
                 bad[rnd() % len] ^= (uint8_t)(1u << (rnd() % 8));
             size_t cut = iter % 5 == 0 ? rnd() % (len + 1) : len;
-            int ra = tsr_image_message_decode(bad, cut, NULL, &d, &err);
-            int rb = tsr_image_message_view(bad, cut, NULL, &v, &err2);
+            int ra = tsr_composite_message_decode(bad, cut, NULL, &d, &err);
+            int rb = tsr_composite_message_view(bad, cut, NULL, &v, &err2);
             CHECK(ra == rb, "%s, corruption %d: decode says %d, view %d (%s)", CODECS[ci], iter, ra, rb,
                   rb ? err2.message : err.message);
             if (ra && rb)
@@ -937,10 +947,10 @@ static int test_message_view_equals_decode(void)
     }
     printf("view = decode for %zu codecs, 1500 corrupted messages each (same verdict, same words)\n",
            sizeof CODECS / sizeof *CODECS);
-    tsr_sparse_image_free(&s);
-    tsr_sparse_image_free(&d);
-    tsr_sparse_image_free(&v);
-    tsr_cimage_free(&img);
+    tsr_composite_sparse_free(&s);
+    tsr_composite_sparse_free(&d);
+    tsr_composite_sparse_free(&v);
+    tsr_composite_image_free(&img);
     return harness_failures;
 }
 
@@ -949,8 +959,9 @@ static int test_message_view_equals_decode(void)
 typedef struct {
     int kind, k;
 } strat;
-static const strat STRATS[] = {{TSR_CS_BSWAP, 0},  {TSR_CS_DIRECT, 0}, {TSR_CS_RADIXK, 2}, {TSR_CS_RADIXK, 3},
-                               {TSR_CS_RADIXK, 4}, {TSR_CS_RADIXK, 8}, {TSR_CS_GATHER, 0}, {TSR_CS_AUTO, 0}};
+static const strat STRATS[] = {{TSR_COMPOSITE_BSWAP, 0},  {TSR_COMPOSITE_DIRECT, 0}, {TSR_COMPOSITE_RADIXK, 2},
+                               {TSR_COMPOSITE_RADIXK, 3}, {TSR_COMPOSITE_RADIXK, 4}, {TSR_COMPOSITE_RADIXK, 8},
+                               {TSR_COMPOSITE_GATHER, 0}, {TSR_COMPOSITE_AUTO, 0}};
 #define NSTRATS (sizeof STRATS / sizeof *STRATS)
 
 static int test_schedules_hold_invariants(void)
@@ -960,36 +971,37 @@ static int test_schedules_hold_invariants(void)
     for (size_t w = 0; w < 4; w++)
         for (size_t si = 0; si < NSTRATS; si++)
             for (int n = 1; n <= 64; n++) {
-                tsr_cs_schedule s;
-                CHECK_OK(tsr_cs_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err), err);
-                if (tsr_cs_schedule_check(&s, &err) != TSR_OK) {
+                tsr_composite_schedule s;
+                CHECK_OK(tsr_composite_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err),
+                         err);
+                if (tsr_composite_schedule_check(&s, &err) != TSR_OK) {
                     CHECK(0, "%s n=%d %dx%d: %s", s.name, n, wins[w][0], wins[w][1], err.message);
-                    tsr_cs_schedule_free(&s);
+                    tsr_composite_schedule_free(&s);
                     return harness_failures;
                 }
                 CHECK(s.reason[0] != 0);
-                tsr_cs_schedule_free(&s);
+                tsr_composite_schedule_free(&s);
             }
     int kind, k;
-    CHECK_OK(tsr_cs_kind_parse("radixk-5", &kind, &k, &err), err);
-    CHECK(kind == TSR_CS_RADIXK && k == 5);
-    CHECK(tsr_cs_kind_parse("tree", &kind, &k, &err) == TSR_EINVAL);
+    CHECK_OK(tsr_composite_kind_parse("radixk-5", &kind, &k, &err), err);
+    CHECK(kind == TSR_COMPOSITE_RADIXK && k == 5);
+    CHECK(tsr_composite_kind_parse("tree", &kind, &k, &err) == TSR_EINVAL);
     CHECK_CONTAINS(err.message, "unknown (valid: auto");
-    tsr_cs_schedule s;
-    CHECK(tsr_cs_plan(TSR_CS_BSWAP, 65, 4, 4, 0, NULL, &s, &err) == TSR_EINVAL);
-    CHECK_OK(tsr_cs_plan(TSR_CS_AUTO, 16, 1920, 1080, 0, NULL, &s, &err), err);
+    tsr_composite_schedule s;
+    CHECK(tsr_composite_plan(TSR_COMPOSITE_BSWAP, 65, 4, 4, 0, NULL, &s, &err) == TSR_EINVAL);
+    CHECK_OK(tsr_composite_plan(TSR_COMPOSITE_AUTO, 16, 1920, 1080, 0, NULL, &s, &err), err);
     printf("auto 16 x 1920x1080: %s (%s)\n", s.name, s.reason);
-    tsr_cs_schedule_free(&s);
+    tsr_composite_schedule_free(&s);
     return harness_failures;
 }
 
 /* A message's ring slot: its largest encoding rounded to 64 bytes. */
-static uint64_t slot_of(uint32_t count, tsr_image_codec c)
+static uint64_t slot_of(uint32_t count, tsr_composite_codec c)
 {
-    return tsr_image_message_max_size(count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, c);
+    return tsr_composite_message_max_size(count, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, c);
 }
 
-/* tsr_cs_schedule_link_bytes, which sizes binaryswap's shared-memory
+/* tsr_composite_schedule_link_bytes, which sizes binaryswap's shared-memory
  * rings: every pair's messages of a frame fit (so no sender waits for its
  * partner within a frame), and no more than that, so a frame's messages
  * cannot be written behind the last frame's on fresh pages: direct send
@@ -998,19 +1010,21 @@ static uint64_t slot_of(uint32_t count, tsr_image_codec c)
 static int test_link_bytes_hold_one_frame(void)
 {
     tsr_error err;
-    tsr_image_codec rle;
-    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
+    tsr_composite_codec rle;
+    CHECK_OK(tsr_composite_codec_parse("rle", &rle, &err), err);
     int wins[][2] = {{7, 5}, {509, 503}};
     for (size_t w = 0; w < 2; w++)
         for (size_t si = 0; si < NSTRATS; si++)
             for (int n = 1; n <= 64; n++) {
-                tsr_cs_schedule s;
-                CHECK_OK(tsr_cs_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err), err);
-                uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle), most = 0;
-                int display = tsr_cs_schedule_display_composites(&s);
+                tsr_composite_schedule s;
+                CHECK_OK(tsr_composite_plan(STRATS[si].kind, n, wins[w][0], wins[w][1], STRATS[si].k, NULL, &s, &err),
+                         err);
+                uint64_t link = tsr_composite_schedule_link_bytes(&s, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, rle),
+                         most = 0;
+                int display = tsr_composite_schedule_display_composites(&s);
                 for (int p = 0; p < n; p++) {
-                    uint64_t to[TSR_CS_MAX_PEERS + 1] = {0};
-                    const tsr_cs_rank *R = &s.ranks[p];
+                    uint64_t to[TSR_COMPOSITE_MAX_PEERS + 1] = {0};
+                    const tsr_composite_rank *R = &s.ranks[p];
                     for (int i = 0; i < R->nrounds; i++)
                         for (int j = 0; j < R->rounds[i].nsend; j++)
                             to[R->rounds[i].send[j].peer] += slot_of(R->rounds[i].send[j].region.count, rle);
@@ -1021,85 +1035,89 @@ static int test_link_bytes_hold_one_frame(void)
                 }
                 CHECK(link == most, "%s n=%d %dx%d: link bytes %llu, the busiest pair sends up to %llu", s.name, n,
                       wins[w][0], wins[w][1], (unsigned long long)link, (unsigned long long)most);
-                tsr_cs_schedule_free(&s);
+                tsr_composite_schedule_free(&s);
             }
-    tsr_cs_schedule s;
-    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, 8, 1920, 1080, 0, NULL, &s, &err), err);
-    uint64_t link = tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle);
+    tsr_composite_schedule s;
+    CHECK_OK(tsr_composite_plan(TSR_COMPOSITE_DIRECT, 8, 1920, 1080, 0, NULL, &s, &err), err);
+    uint64_t link = tsr_composite_schedule_link_bytes(&s, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, rle);
     uint64_t piece = slot_of(1920 * 1080 / 8, rle), smallest = UINT64_MAX;
     /* a full layer's pieces (every pixel active), as bench/sortlast.sh sends */
-    tsr_cimage full = {0};
-    CHECK_OK(tsr_cimage_init(&full, 1920, 1080, 0, 0, 1920, 1080, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+    tsr_composite_image full = {0};
+    CHECK_OK(tsr_composite_image_init(&full, 1920, 1080, 0, 0, 1920, 1080, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F,
+                                      &err),
+             err);
     for (size_t i = 0; i < (size_t)1920 * 1080; i++)
         full.depth[i] = 0.5f;
-    tsr_sparse_image sp = {0};
+    tsr_composite_sparse sp = {0};
     for (int p = 0; p < 8; p++)
         for (int j = 0; j < s.ranks[p].rounds[0].nsend; j++) {
-            tsr_cs_region r = s.ranks[p].rounds[0].send[j].region;
-            CHECK_OK(tsr_sparse_image_compress(&full, TSR_COMPOSITE_DEPTH, r.start, r.count, &sp, &err), err);
-            uint64_t b = tsr_image_message_bound(&sp, rle);
+            tsr_composite_region r = s.ranks[p].rounds[0].send[j].region;
+            CHECK_OK(tsr_composite_sparse_compress(&full, TSR_COMPOSITE_DEPTH, r.start, r.count, &sp, &err), err);
+            uint64_t b = tsr_composite_message_bound(&sp, rle);
             if (b < smallest)
                 smallest = b;
         }
-    tsr_sparse_image_free(&sp);
-    tsr_cimage_free(&full);
+    tsr_composite_sparse_free(&sp);
+    tsr_composite_image_free(&full);
     printf("direct 8 x 1920x1080: link %llu bytes, one piece at its largest %llu, a full piece %llu\n",
            (unsigned long long)link, (unsigned long long)piece, (unsigned long long)smallest);
     CHECK(link == piece, "direct 8 x 1920x1080: link bytes %llu, not one piece (%llu)", (unsigned long long)link,
           (unsigned long long)piece);
     CHECK(link < 2 * smallest, "direct 8 x 1920x1080: %llu link bytes hold two full pieces of %llu",
           (unsigned long long)link, (unsigned long long)smallest);
-    tsr_cs_schedule_free(&s);
-    CHECK_OK(tsr_cs_plan(TSR_CS_GATHER, 4, 640, 480, 0, NULL, &s, &err), err);
-    CHECK(tsr_cs_schedule_link_bytes(&s, TSR_CI_RGBA8, TSR_CI_DEPTH32F, rle) == slot_of(640 * 480, rle),
+    tsr_composite_schedule_free(&s);
+    CHECK_OK(tsr_composite_plan(TSR_COMPOSITE_GATHER, 4, 640, 480, 0, NULL, &s, &err), err);
+    CHECK(tsr_composite_schedule_link_bytes(&s, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, rle) ==
+              slot_of(640 * 480, rle),
           "gather: a whole frame to the display");
-    tsr_cs_schedule_free(&s);
+    tsr_composite_schedule_free(&s);
     return harness_failures;
 }
 
 typedef struct peer_job {
-    const tsr_cs_schedule *s;
-    tsr_image_codec codec;
-    tsr_cimage *img;
+    const tsr_composite_schedule *s;
+    tsr_composite_codec codec;
+    tsr_composite_image *img;
     int rank, mode, rc;
-    tsr_cs_transport t;
+    tsr_composite_transport t;
     tsr_error err;
 } peer_job;
 
 static void *peer_main(void *arg)
 {
     peer_job *j = arg;
-    tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
-    j->rc = ex ? tsr_cs_run_peer(ex, j->rank, j->img, j->mode, &j->t, &j->err) : TSR_ENOMEM;
-    tsr_cs_executor_free(ex);
+    tsr_composite_executor *ex = tsr_composite_executor_new(j->s, j->codec, &j->err);
+    j->rc = ex ? tsr_composite_run_peer(ex, j->rank, j->img, j->mode, &j->t, &j->err) : TSR_ENOMEM;
+    tsr_composite_executor_free(ex);
     return NULL;
 }
 
 /* Runs a whole group in this process (a thread per peer, the display on
  * this thread, memnet between them); the display's frame goes to out. */
-static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const char *codec_name, tsr_cimage *out,
-                     char *why, size_t why_size)
+static int run_group(const tsr_composite_schedule *s, tsr_composite_image *imgs, int mode, const char *codec_name,
+                     tsr_composite_image *out, char *why, size_t why_size)
 {
     int n = s->nranks;
     tsr_error err;
-    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+    tsr_composite_memnet *net = tsr_composite_memnet_new(n + 1, 60000, &err);
     REQUIRE(net != NULL, "%s", err.message);
-    tsr_image_codec codec;
-    tsr_image_codec_parse(codec_name, &codec, &err);
+    tsr_composite_codec codec;
+    tsr_composite_codec_parse(codec_name, &codec, &err);
     peer_job *jobs = calloc((size_t)n, sizeof *jobs);
     pthread_t *th = calloc((size_t)n, sizeof *th);
     for (int r = 0; r < n; r++) {
         jobs[r] = (peer_job){.s = s, .codec = codec, .img = &imgs[r], .rank = r, .mode = mode};
-        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        tsr_composite_memnet_transport(net, r, &jobs[r].t);
         pthread_create(&th[r], NULL, peer_main, &jobs[r]);
     }
-    tsr_cs_transport t;
-    tsr_cs_memnet_transport(net, TSR_CS_DISPLAY(n), &t);
-    tsr_cs_executor *ex = tsr_cs_executor_new(s, codec, &err);
-    int rc = tsr_cs_run_display(ex, imgs[0].frame, mode, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, out, &t, &err);
+    tsr_composite_transport t;
+    tsr_composite_memnet_transport(net, TSR_COMPOSITE_DISPLAY(n), &t);
+    tsr_composite_executor *ex = tsr_composite_executor_new(s, codec, &err);
+    int rc = tsr_composite_run_display(ex, imgs[0].frame, mode, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, BG, out,
+                                       &t, &err);
     if (rc)
         snprintf(why, why_size, "display: %s", err.message);
-    tsr_cs_executor_free(ex);
+    tsr_composite_executor_free(ex);
     for (int r = 0; r < n; r++) {
         pthread_join(th[r], NULL);
         if (jobs[r].rc && !rc) {
@@ -1108,45 +1126,46 @@ static int run_group(const tsr_cs_schedule *s, tsr_cimage *imgs, int mode, const
         }
     }
     int from, to;
-    if (tsr_cs_memnet_drain(net, &from, &to) && !rc) {
+    if (tsr_composite_memnet_drain(net, &from, &to) && !rc) {
         rc = TSR_EPROTO;
         snprintf(why, why_size, "a message from %d to %d was never received", from, to);
     }
-    tsr_cs_memnet_free(net);
+    tsr_composite_memnet_free(net);
     free(jobs);
     free(th);
     return rc;
 }
 
 typedef struct frames_job {
-    const tsr_cs_schedule *s;
-    tsr_image_codec codec;
-    tsr_cimage *img;
+    const tsr_composite_schedule *s;
+    tsr_composite_codec codec;
+    tsr_composite_image *img;
     int rank, frames, rc;
-    size_t pixel_bytes; /* the executor's planes after the last frame */
-    const void *fill;   /* tsr_cs_run_peer_rounds' fill background, or NULL */
-    tsr_cimage *placed; /* the last frame's final piece is drawn into it (to_dense over BG), or NULL */
-    int filled;         /* that piece came back filled: one active run */
-    tsr_cs_transport t;
+    size_t pixel_bytes;          /* the executor's planes after the last frame */
+    const void *fill;            /* tsr_composite_run_peer_rounds' fill background, or NULL */
+    tsr_composite_image *placed; /* the last frame's final piece is drawn into it (to_dense over BG), or NULL */
+    int filled;                  /* that piece came back filled: one active run */
+    tsr_composite_transport t;
     tsr_error err;
 } frames_job;
 
 static void *frames_main(void *arg)
 {
     frames_job *j = arg;
-    tsr_cs_executor *ex = tsr_cs_executor_new(j->s, j->codec, &j->err);
+    tsr_composite_executor *ex = tsr_composite_executor_new(j->s, j->codec, &j->err);
     j->rc = ex ? TSR_OK : TSR_ENOMEM;
     for (int f = 0; f < j->frames && !j->rc; f++) {
-        const tsr_sparse_image *final = NULL;
+        const tsr_composite_sparse *final = NULL;
         j->img->frame = (uint32_t)f;
-        j->rc = tsr_cs_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, j->fill, &final, &j->err);
+        j->rc =
+            tsr_composite_run_peer_rounds(ex, j->rank, j->img, TSR_COMPOSITE_DEPTH, &j->t, j->fill, &final, &j->err);
         if (!j->rc && final && f == j->frames - 1 && j->placed) {
             j->filled = final->active == final->count && final->nruns == 1;
-            j->rc = tsr_sparse_image_to_dense(final, BG, j->placed, &j->err);
+            j->rc = tsr_composite_sparse_to_dense(final, BG, j->placed, &j->err);
         }
     }
-    j->pixel_bytes = ex ? tsr_cs_executor_pixel_bytes(ex) : 0;
-    tsr_cs_executor_free(ex);
+    j->pixel_bytes = ex ? tsr_composite_executor_pixel_bytes(ex) : 0;
+    tsr_composite_executor_free(ex);
     return NULL;
 }
 
@@ -1158,24 +1177,26 @@ static int test_executor_keeps_one_piece(void)
 {
     enum { N = 8, W = 64, H = 48 };
     tsr_error err;
-    tsr_cs_schedule s;
-    CHECK_OK(tsr_cs_plan(TSR_CS_DIRECT, N, W, H, 0, NULL, &s, &err), err);
-    tsr_image_codec rle;
-    CHECK_OK(tsr_image_codec_parse("rle", &rle, &err), err);
-    tsr_cs_memnet *net = tsr_cs_memnet_new(N + 1, 60000, &err);
+    tsr_composite_schedule s;
+    CHECK_OK(tsr_composite_plan(TSR_COMPOSITE_DIRECT, N, W, H, 0, NULL, &s, &err), err);
+    tsr_composite_codec rle;
+    CHECK_OK(tsr_composite_codec_parse("rle", &rle, &err), err);
+    tsr_composite_memnet *net = tsr_composite_memnet_new(N + 1, 60000, &err);
     CHECK(net != NULL, "%s", err.message);
-    tsr_cimage imgs[N] = {{0}};
+    tsr_composite_image imgs[N] = {{0}};
     frames_job jobs[N];
     pthread_t th[N];
     for (int r = 0; r < N; r++) {
-        CHECK_OK(tsr_cimage_init(&imgs[r], W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+        CHECK_OK(
+            tsr_composite_image_init(&imgs[r], W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err),
+            err);
         imgs[r].rank = r;
         for (int p = 0; p < W * H; p++) {
             memset(imgs[r].color + 4 * p, 16 * r + 1, 4);
             imgs[r].depth[p] = (float)((rnd() % 1000) + 1) / 1002.0f;
         }
         jobs[r] = (frames_job){.s = &s, .codec = rle, .img = &imgs[r], .rank = r, .frames = 3};
-        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        tsr_composite_memnet_transport(net, r, &jobs[r].t);
         pthread_create(&th[r], NULL, frames_main, &jobs[r]);
     }
     size_t most = 0;
@@ -1190,31 +1211,32 @@ static int test_executor_keeps_one_piece(void)
            most, piece);
     CHECK(most <= piece + piece / 4, "an executor keeps %zu bytes of planes, more than one piece (%zu)", most, piece);
     int from, to;
-    CHECK(tsr_cs_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
-    tsr_cs_memnet_free(net);
+    CHECK(tsr_composite_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
+    tsr_composite_memnet_free(net);
     for (int r = 0; r < N; r++)
-        tsr_cimage_free(&imgs[r]);
-    tsr_cs_schedule_free(&s);
+        tsr_composite_image_free(&imgs[r]);
+    tsr_composite_schedule_free(&s);
     return harness_failures;
 }
 
 /* One group of frames_job peers (memnet, a thread each); the last
  * frame's final pieces drawn into `placed`. Returns how many came back
  * without a background pixel (filled, or covered). */
-static int run_frames(const tsr_cs_schedule *s, tsr_cimage *imgs, const void *fill, tsr_cimage *placed)
+static int run_frames(const tsr_composite_schedule *s, tsr_composite_image *imgs, const void *fill,
+                      tsr_composite_image *placed)
 {
     int n = s->nranks, filled = 0;
     tsr_error err;
-    tsr_image_codec rle;
-    REQUIRE(tsr_image_codec_parse("rle", &rle, &err) == TSR_OK, "%s", err.message);
-    tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 60000, &err);
+    tsr_composite_codec rle;
+    REQUIRE(tsr_composite_codec_parse("rle", &rle, &err) == TSR_OK, "%s", err.message);
+    tsr_composite_memnet *net = tsr_composite_memnet_new(n + 1, 60000, &err);
     REQUIRE(net != NULL, "%s", err.message);
-    frames_job jobs[TSR_CS_MAX_PEERS];
-    pthread_t th[TSR_CS_MAX_PEERS];
+    frames_job jobs[TSR_COMPOSITE_MAX_PEERS];
+    pthread_t th[TSR_COMPOSITE_MAX_PEERS];
     for (int r = 0; r < n; r++) {
         jobs[r] =
             (frames_job){.s = s, .codec = rle, .img = &imgs[r], .rank = r, .frames = 2, .fill = fill, .placed = placed};
-        tsr_cs_memnet_transport(net, r, &jobs[r].t);
+        tsr_composite_memnet_transport(net, r, &jobs[r].t);
         pthread_create(&th[r], NULL, frames_main, &jobs[r]);
     }
     for (int r = 0; r < n; r++) {
@@ -1223,13 +1245,13 @@ static int run_frames(const tsr_cs_schedule *s, tsr_cimage *imgs, const void *fi
         filled += jobs[r].filled;
     }
     int from, to;
-    CHECK(tsr_cs_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
-    tsr_cs_memnet_free(net);
+    CHECK(tsr_composite_memnet_drain(net, &from, &to) == 0, "a message from %d to %d was never received", from, to);
+    tsr_composite_memnet_free(net);
     return filled;
 }
 
 /* A final piece that a dense strip composited may come back with its
- * background filled in (tsr_cs_run_peer_rounds' fill) instead of gathered:
+ * background filled in (tsr_composite_run_peer_rounds' fill) instead of gathered:
  * drawn, it gives the very pixels (colour, and depth 1.0 where nothing was
  * drawn) the gathered piece gives, for direct send and radix-k, full-window
  * and region-of-interest layers, mostly covered (filled) and sparse
@@ -1238,19 +1260,20 @@ static int test_filled_final_pieces_equal_gathered(void)
 {
     enum { W = 67, H = 29 };
     tsr_error err;
-    const strat which[] = {{TSR_CS_DIRECT, 0}, {TSR_CS_RADIXK, 4}};
+    const strat which[] = {{TSR_COMPOSITE_DIRECT, 0}, {TSR_COMPOSITE_RADIXK, 4}};
     const char *names[] = {"direct", "radixk-4"};
     int holes_filled = 0;
     for (size_t si = 0; si < sizeof which / sizeof *which; si++)
         for (int n = 3; n <= 8; n++)
             for (int dense = 0; dense < 2; dense++) {
-                tsr_cs_schedule s;
-                CHECK_OK(tsr_cs_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err), err);
-                tsr_cimage imgs[8] = {{0}}, placed[2] = {{0}};
+                tsr_composite_schedule s;
+                CHECK_OK(tsr_composite_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err), err);
+                tsr_composite_image imgs[8] = {{0}}, placed[2] = {{0}};
                 for (int r = 0; r < n; r++) {
                     /* odd ranks: a region of interest, not the window */
                     int x = r % 2 ? 3 : 0, y = r % 2 ? 2 : 0;
-                    CHECK_OK(tsr_cimage_init(&imgs[r], W, H, x, y, W - x, H - y, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err),
+                    CHECK_OK(tsr_composite_image_init(&imgs[r], W, H, x, y, W - x, H - y, TSR_COMPOSITE_RGBA8,
+                                                      TSR_COMPOSITE_DEPTH32F, &err),
                              err);
                     imgs[r].rank = r;
                     for (int p = 0; p < (W - x) * (H - y); p++) {
@@ -1261,7 +1284,9 @@ static int test_filled_final_pieces_equal_gathered(void)
                     }
                 }
                 for (int v = 0; v < 2; v++) {
-                    CHECK_OK(tsr_cimage_init(&placed[v], W, H, 0, 0, W, H, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err), err);
+                    CHECK_OK(tsr_composite_image_init(&placed[v], W, H, 0, 0, W, H, TSR_COMPOSITE_RGBA8,
+                                                      TSR_COMPOSITE_DEPTH32F, &err),
+                             err);
                     memset(placed[v].color, 0x5a, (size_t)W * H * 4);
                     for (int p = 0; p < W * H; p++)
                         placed[v].depth[p] = 2.0f;
@@ -1269,11 +1294,11 @@ static int test_filled_final_pieces_equal_gathered(void)
                 int filled = run_frames(&s, imgs, BG, &placed[0]);
                 int covered = run_frames(&s, imgs, NULL, &placed[1]);
                 /* direct send: every rank's one round folds n pieces */
-                if (which[si].kind == TSR_CS_DIRECT && dense) {
+                if (which[si].kind == TSR_COMPOSITE_DIRECT && dense) {
                     CHECK(filled == n, "direct n=%d, mostly covered: %d of %d final pieces filled", n, filled, n);
                     holes_filled += filled - covered;
                 }
-                if (which[si].kind == TSR_CS_DIRECT && !dense && n == 3)
+                if (which[si].kind == TSR_COMPOSITE_DIRECT && !dense && n == 3)
                     CHECK(filled == covered, "direct n=3, sparse: %d final pieces filled, none expected",
                           filled - covered);
                 CHECK(!memcmp(placed[0].color, placed[1].color, (size_t)W * H * 4),
@@ -1283,10 +1308,10 @@ static int test_filled_final_pieces_equal_gathered(void)
                       "%s n=%d %s: filled pieces draw other depths than gathered ones", names[si], n,
                       dense ? "dense" : "sparse");
                 for (int r = 0; r < n; r++)
-                    tsr_cimage_free(&imgs[r]);
-                tsr_cimage_free(&placed[0]);
-                tsr_cimage_free(&placed[1]);
-                tsr_cs_schedule_free(&s);
+                    tsr_composite_image_free(&imgs[r]);
+                tsr_composite_image_free(&placed[0]);
+                tsr_composite_image_free(&placed[1]);
+                tsr_composite_schedule_free(&s);
                 if (harness_failures)
                     return harness_failures;
             }
@@ -1304,7 +1329,7 @@ static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, i
     uint8_t *rc = malloc((size_t)W * H * 4);
     float *rd = malloc((size_t)W * H * 4);
     for (int n = n0; n <= n1; n++) {
-        tsr_cimage *imgs = calloc((size_t)n, sizeof *imgs);
+        tsr_composite_image *imgs = calloc((size_t)n, sizeof *imgs);
         for (int r = 0; r < n; r++) {
             int x = rnd() % W, y = rnd() % H;
             int w = r % 4 == 0 ? W - x : (int)(rnd() % (uint32_t)(W - x + 1));
@@ -1319,13 +1344,13 @@ static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, i
         else
             reference_alpha(imgs, n, W, H, rc);
         for (size_t si = 0; si < nwhich; si++) {
-            tsr_cs_schedule s;
-            if (tsr_cs_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err) != TSR_OK) {
+            tsr_composite_schedule s;
+            if (tsr_composite_plan(which[si].kind, n, W, H, which[si].k, NULL, &s, &err) != TSR_OK) {
                 CHECK(0, "plan: %s", err.message);
                 continue;
             }
-            CHECK_OK(tsr_cs_schedule_check(&s, &err), err);
-            tsr_cimage out = {0};
+            CHECK_OK(tsr_composite_schedule_check(&s, &err), err);
+            tsr_composite_image out = {0};
             char why[600] = "";
             int r = run_group(&s, imgs, mode, codec, &out, why, sizeof why);
             CHECK(r == TSR_OK, "%s n=%d %dx%d: %s", s.name, n, W, H, why);
@@ -1336,11 +1361,11 @@ static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, i
                 CHECK(bad == 0, "%s n=%d %dx%d %s: %zu pixels differ from the serial reference", s.name, n, W, H, codec,
                       bad);
             }
-            tsr_cimage_free(&out);
-            tsr_cs_schedule_free(&s);
+            tsr_composite_image_free(&out);
+            tsr_composite_schedule_free(&s);
         }
         for (int r = 0; r < n; r++)
-            tsr_cimage_free(&imgs[r]);
+            tsr_composite_image_free(&imgs[r]);
         free(imgs);
         if (harness_failures)
             break;
@@ -1352,7 +1377,7 @@ static int check_strategies(const strat *which, size_t nwhich, int n0, int n1, i
 
 static int test_binaryswap_odd_peer_counts(void)
 {
-    static const strat bs[] = {{TSR_CS_BSWAP, 0}, {TSR_CS_RADIXK, 2}};
+    static const strat bs[] = {{TSR_COMPOSITE_BSWAP, 0}, {TSR_COMPOSITE_RADIXK, 2}};
     return check_strategies(bs, 2, 1, 64, 13, 7, FILL_RANDOM, TSR_COMPOSITE_DEPTH, "rle");
 }
 
@@ -1387,8 +1412,8 @@ static int test_blank_peers(void)
  * one round of radix-k, bswap of two), still do, bit for bit. */
 static int test_alpha_strategies_agree(void)
 {
-    static const strat chain[] = {{TSR_CS_GATHER, 0}, {TSR_CS_DIRECT, 0}};
-    static const strat one_round[] = {{TSR_CS_RADIXK, 3}, {TSR_CS_BSWAP, 0}};
+    static const strat chain[] = {{TSR_COMPOSITE_GATHER, 0}, {TSR_COMPOSITE_DIRECT, 0}};
+    static const strat one_round[] = {{TSR_COMPOSITE_RADIXK, 3}, {TSR_COMPOSITE_BSWAP, 0}};
     check_strategies(STRATS, NSTRATS, 1, 24, 9, 5, FILL_OPAQUE, TSR_COMPOSITE_ALPHA, "erle");
     check_strategies(chain, 2, 1, 16, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
     check_strategies(&one_round[0], 1, 3, 3, 9, 5, FILL_RANDOM, TSR_COMPOSITE_ALPHA, "rle");
@@ -1397,7 +1422,7 @@ static int test_alpha_strategies_agree(void)
 }
 
 
-/* Which schedules alpha mode may use (tsr_cs_schedule_keeps_order): those
+/* Which schedules alpha mode may use (tsr_composite_schedule_keeps_order): those
  * that blend every pixel's layers back to front in one place. The claim is
  * also checked by running them: alpha_strategies_agree above. */
 static int test_alpha_schedules_keep_order(void)
@@ -1411,20 +1436,20 @@ static int test_alpha_schedules_keep_order(void)
         /* radix-k of a prime peer count is one round of all (radixk.c) */
         struct {
             int kind, k, keeps;
-        } cases[] = {{TSR_CS_GATHER, 0, 1},
-                     {TSR_CS_DIRECT, 0, 1},
-                     {TSR_CS_BSWAP, 0, n <= 2},
-                     {TSR_CS_RADIXK, n, 1},
-                     {TSR_CS_RADIXK, 2, n <= 2 || prime}};
+        } cases[] = {{TSR_COMPOSITE_GATHER, 0, 1},
+                     {TSR_COMPOSITE_DIRECT, 0, 1},
+                     {TSR_COMPOSITE_BSWAP, 0, n <= 2},
+                     {TSR_COMPOSITE_RADIXK, n, 1},
+                     {TSR_COMPOSITE_RADIXK, 2, n <= 2 || prime}};
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-            if (cases[c].kind == TSR_CS_RADIXK && cases[c].k < 2)
+            if (cases[c].kind == TSR_COMPOSITE_RADIXK && cases[c].k < 2)
                 continue;
-            tsr_cs_schedule s;
-            CHECK_OK(tsr_cs_plan(cases[c].kind, n, 13, 7, cases[c].k, NULL, &s, &err), err);
-            int keeps = tsr_cs_schedule_keeps_order(&s, why, sizeof why);
+            tsr_composite_schedule s;
+            CHECK_OK(tsr_composite_plan(cases[c].kind, n, 13, 7, cases[c].k, NULL, &s, &err), err);
+            int keeps = tsr_composite_schedule_keeps_order(&s, why, sizeof why);
             CHECK(keeps == cases[c].keeps, "%s for %d peers: keeps_order says %d (%s), expected %d", s.name, n, keeps,
                   why, cases[c].keeps);
-            tsr_cs_schedule_free(&s);
+            tsr_composite_schedule_free(&s);
         }
     }
     return harness_failures;
@@ -1476,25 +1501,27 @@ static int test_faults_name_the_peer(void)
 {
     tsr_error err;
     int n = 4, W = 8, H = 4;
-    tsr_cimage imgs[4] = {{0}};
+    tsr_composite_image imgs[4] = {{0}};
     for (int r = 0; r < n; r++)
         make_image(&imgs[r], W, H, 0, 0, W, H, r, FILL_RANDOM);
     for (int fault = 0; fault < 4; fault++) {
-        tsr_cs_schedule s;
-        CHECK_OK(tsr_cs_plan(fault == 2 ? TSR_CS_GATHER : TSR_CS_BSWAP, n, W, H, 0, NULL, &s, &err), err);
-        tsr_cs_memnet *net = tsr_cs_memnet_new(n + 1, 300, &err);
-        tsr_image_codec codec;
-        tsr_image_codec_parse("rle", &codec, &err);
+        tsr_composite_schedule s;
+        CHECK_OK(
+            tsr_composite_plan(fault == 2 ? TSR_COMPOSITE_GATHER : TSR_COMPOSITE_BSWAP, n, W, H, 0, NULL, &s, &err),
+            err);
+        tsr_composite_memnet *net = tsr_composite_memnet_new(n + 1, 300, &err);
+        tsr_composite_codec codec;
+        tsr_composite_codec_parse("rle", &codec, &err);
         peer_job jobs[4];
         pthread_t th[4];
-        tsr_cimage odd = {0};
+        tsr_composite_image odd = {0};
         if (fault == 2)
             make_image(&odd, W + 1, H, 0, 0, W + 1, H, 1, FILL_RANDOM);
         for (int r = 0; r < n; r++) {
             jobs[r] = (peer_job){.s = &s, .codec = codec, .img = &imgs[r], .rank = r, .mode = TSR_COMPOSITE_DEPTH};
             if (fault == 2 && r == 1)
                 jobs[r].img = &odd;
-            tsr_cs_memnet_transport(net, r, &jobs[r].t);
+            tsr_composite_memnet_transport(net, r, &jobs[r].t);
         }
         if (fault == 1)
             imgs[2].frame = 8;
@@ -1505,11 +1532,12 @@ static int test_faults_name_the_peer(void)
         for (int r = 0; r < n; r++)
             if (!(fault == 0 && r == 3)) /* rank 3 stays silent */
                 pthread_create(&th[r], NULL, peer_main, &jobs[r]);
-        tsr_cs_transport t;
-        tsr_cs_memnet_transport(net, n, &t);
-        tsr_cs_executor *ex = tsr_cs_executor_new(&s, codec, &err);
-        tsr_cimage out = {0};
-        int rc = tsr_cs_run_display(ex, 7, TSR_COMPOSITE_DEPTH, TSR_CI_RGBA8, TSR_CI_DEPTH32F, BG, &out, &t, &err);
+        tsr_composite_transport t;
+        tsr_composite_memnet_transport(net, n, &t);
+        tsr_composite_executor *ex = tsr_composite_executor_new(&s, codec, &err);
+        tsr_composite_image out = {0};
+        int rc = tsr_composite_run_display(ex, 7, TSR_COMPOSITE_DEPTH, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, BG,
+                                           &out, &t, &err);
         for (int r = 0; r < n; r++)
             if (!(fault == 0 && r == 3))
                 pthread_join(th[r], NULL);
@@ -1534,15 +1562,15 @@ static int test_faults_name_the_peer(void)
         }
         imgs[2].frame = 7;
         int from, to;
-        tsr_cs_memnet_drain(net, &from, &to);
-        tsr_cs_memnet_free(net);
-        tsr_cs_executor_free(ex);
-        tsr_cimage_free(&out);
-        tsr_cimage_free(&odd);
-        tsr_cs_schedule_free(&s);
+        tsr_composite_memnet_drain(net, &from, &to);
+        tsr_composite_memnet_free(net);
+        tsr_composite_executor_free(ex);
+        tsr_composite_image_free(&out);
+        tsr_composite_image_free(&odd);
+        tsr_composite_schedule_free(&s);
     }
     for (int r = 0; r < n; r++)
-        tsr_cimage_free(&imgs[r]);
+        tsr_composite_image_free(&imgs[r]);
     return harness_failures;
 }
 
@@ -1567,29 +1595,30 @@ static int fuzz_seeds(const char *dir)
     tsr_error err;
     int fails = 0;
     for (int variant = 0; variant < 3; variant++) {
-        tsr_cimage img = {0};
+        tsr_composite_image img = {0};
         make_image(&img, 23, 5, 2, 1, 17, 3, 1, FILL_RANDOM);
         int mode = variant == 1 ? TSR_COMPOSITE_ALPHA : TSR_COMPOSITE_DEPTH;
         if (variant == 2) {
             /* float colour */
-            tsr_cimage f = {0};
-            REQUIRE(tsr_cimage_init(&f, 23, 5, 2, 1, 17, 3, TSR_CI_RGBA32F, TSR_CI_DEPTH32F, &err) == TSR_OK);
+            tsr_composite_image f = {0};
+            REQUIRE(tsr_composite_image_init(&f, 23, 5, 2, 1, 17, 3, TSR_COMPOSITE_RGBA32F, TSR_COMPOSITE_DEPTH32F,
+                                             &err) == TSR_OK);
             for (int i = 0; i < 17 * 3; i++) {
                 float c[4] = {img.color[4 * i] / 255.0f, 0.5f, 0.25f, 1.0f};
                 memcpy(f.color + 16 * i, c, sizeof c);
                 f.depth[i] = img.depth[i];
             }
-            tsr_cimage_free(&img);
+            tsr_composite_image_free(&img);
             img = f;
         }
-        tsr_sparse_image s = {0};
-        CHECK_OK(tsr_sparse_image_compress(&img, mode, 7, 100, &s, &err), err);
+        tsr_composite_sparse s = {0};
+        CHECK_OK(tsr_composite_sparse_compress(&img, mode, 7, 100, &s, &err), err);
         for (size_t ci = 0; ci < sizeof CODECS / sizeof *CODECS; ci++) {
-            tsr_image_codec c;
-            tsr_image_codec_parse(CODECS[ci], &c, &err);
-            size_t cap = tsr_image_message_max_size(s.count, s.color_format, s.depth_format, c), len;
+            tsr_composite_codec c;
+            tsr_composite_codec_parse(CODECS[ci], &c, &err);
+            size_t cap = tsr_composite_message_max_size(s.count, s.color_format, s.depth_format, c), len;
             uint8_t *buf = malloc(cap);
-            if (tsr_image_message_encode(&s, c, buf, cap, &len, &err) == TSR_OK) {
+            if (tsr_composite_message_encode(&s, c, buf, cap, &len, &err) == TSR_OK) {
                 char name[96];
                 snprintf(name, sizeof name, "ok-%s-%s",
                          variant == 0   ? "depth"
@@ -1599,7 +1628,7 @@ static int fuzz_seeds(const char *dir)
                 for (char *q = name; *q; q++)
                     if (*q == '+')
                         *q = '_';
-                CHECK(fuzz_image_message_one(buf, len) == 0, "seed %s does not decode", name);
+                CHECK(fuzz_composite_message_one(buf, len) == 0, "seed %s does not decode", name);
                 fails += write_file(dir, name, buf, len);
                 if (variant == 0 && ci == 2) {
                     /* malformations of the erle message */
@@ -1621,18 +1650,18 @@ static int fuzz_seeds(const char *dir)
                             m[off + k] = (uint8_t)(bad[b].v >> (8 * k));
                         if (b == sizeof bad / sizeof *bad - 1)
                             m[off] = 0xff, m[off + 1] = 0xff;
-                        CHECK(fuzz_image_message_one(m, len) == 1, "seed %s is accepted", bad[b].name);
+                        CHECK(fuzz_composite_message_one(m, len) == 1, "seed %s is accepted", bad[b].name);
                         fails += write_file(dir, bad[b].name, m, len);
                         free(m);
                     }
-                    CHECK(fuzz_image_message_one(buf, len - 1) == 1);
+                    CHECK(fuzz_composite_message_one(buf, len - 1) == 1);
                     fails += write_file(dir, "bad-truncated", buf, len - 1);
                 }
             }
             free(buf);
         }
-        tsr_sparse_image_free(&s);
-        tsr_cimage_free(&img);
+        tsr_composite_sparse_free(&s);
+        tsr_composite_image_free(&img);
     }
     return fails + harness_failures;
 }
@@ -1657,7 +1686,7 @@ static int fuzz_replay(const char *dir)
         fclose(f);
         uint8_t *copy = malloc(n ? n : 1); /* exact size, so ASan sees overreads */
         memcpy(copy, buf, n);
-        int rc = fuzz_image_message_one(copy, n);
+        int rc = fuzz_composite_message_one(copy, n);
         free(copy);
         if (!strncmp(e->d_name, "ok-", 3))
             CHECK(rc == 0, "%s does not decode", e->d_name);

@@ -29,9 +29,9 @@ static int failures;
 static uint64_t check(int W, int H, uint32_t start, uint32_t count, const unsigned char *act, uint32_t call,
                       const char *what)
 {
-    tsr_sparse_image in = {0};
+    tsr_composite_sparse in = {0};
     in.window_width = W, in.window_height = H, in.start = start, in.count = count;
-    in.mode = TSR_COMPOSITE_DEPTH, in.color_format = TSR_CI_RGBA8, in.depth_format = TSR_CI_DEPTH32F;
+    in.mode = TSR_COMPOSITE_DEPTH, in.color_format = TSR_COMPOSITE_RGBA8, in.depth_format = TSR_COMPOSITE_DEPTH32F;
     uint32_t *runs = malloc(((size_t)count + 1) * 2 * sizeof *runs);
     uint32_t n = 0, i = 0;
     while (i < count) {
@@ -44,9 +44,9 @@ static uint64_t check(int W, int H, uint32_t start, uint32_t count, const unsign
         in.active += b;
     }
     in.runs = runs, in.nruns = n;
-    bswap_bands p = {0};
+    binaryswap_bands p = {0};
     tsr_error err = {0};
-    if (bswap_bands_plan(&p, &in, call, &err) != TSR_OK) {
+    if (binaryswap_bands_plan(&p, &in, call, &err) != TSR_OK) {
         fprintf(stderr, "FAIL: %s: %s\n", what, err.message);
         failures++;
     }
@@ -55,7 +55,7 @@ static uint64_t check(int W, int H, uint32_t start, uint32_t count, const unsign
     uint64_t box_pixels = 0;
     int bad = 0;
     for (int pass = 0; pass < 2; pass++) {
-        const bswap_rect *r = pass ? p.clears : p.boxes;
+        const binaryswap_rect *r = pass ? p.clears : p.boxes;
         size_t nr = pass ? p.nclears : p.nboxes;
         for (size_t k = 0; k < nr; k++) {
             if (r[k].w <= 0 || r[k].h <= 0 || r[k].x < 0 || r[k].y < 0 || r[k].x + r[k].w > W || r[k].y + r[k].h > H) {
@@ -88,7 +88,7 @@ static uint64_t check(int W, int H, uint32_t start, uint32_t count, const unsign
     free(hits);
     free(boxed);
     free(runs);
-    bswap_bands_free(&p);
+    binaryswap_bands_free(&p);
     return box_pixels;
 }
 

@@ -25,18 +25,19 @@ int main(int argc, char **argv)
     }
     tsr_error err = {0};
     int mode, W = atoi(argv[2]), H = atoi(argv[3]), n = atoi(argv[4]);
-    if (tsr_synthetic_parse(argv[1], &mode, &err) || mode == TSR_SYNTHETIC_OFF || W < 1 || H < 1 || n < 1 || n > 64) {
+    if (tsr_composite_synthetic_parse(argv[1], &mode, &err) || mode == TSR_COMPOSITE_SYNTHETIC_OFF || W < 1 || H < 1 ||
+        n < 1 || n > 64) {
         fprintf(stderr, "synthetic_check: bad arguments (%s)\n", err.message);
         return 2;
     }
-    tsr_cimage layers[64];
+    tsr_composite_image layers[64];
     memset(layers, 0, sizeof layers);
     size_t npix = (size_t)W * H;
     uint8_t *want = malloc(npix * 4);
     int *winner = malloc(npix * sizeof *winner);
     long wins[64] = {0}, covered[64] = {0};
     for (int r = 0; r < n; r++)
-        if (tsr_synthetic_layer(mode, W, H, r, n, &layers[r], &err)) {
+        if (tsr_composite_synthetic_layer(mode, W, H, r, n, &layers[r], &err)) {
             fprintf(stderr, "synthetic_check: %s\n", err.message);
             return 2;
         }
@@ -46,7 +47,7 @@ int main(int argc, char **argv)
             int who = -1;
             const uint8_t *c = NULL;
             for (int r = 0; r < n; r++) {
-                const tsr_cimage *l = &layers[r];
+                const tsr_composite_image *l = &layers[r];
                 if (x < l->x || x >= l->x + l->width || y < l->y || y >= l->y + l->height)
                     continue;
                 size_t i = (size_t)(y - l->y) * l->width + (x - l->x);
@@ -69,7 +70,7 @@ int main(int argc, char **argv)
     for (int r = 0; r < n; r++) {
         double share = (double)covered[r] / npix, won = (double)wins[r] / npix;
         printf("rank %d: covers %.4f of the window, nearest on %.4f\n", r, share, won);
-        if (mode == TSR_SYNTHETIC_FULL) {
+        if (mode == TSR_COMPOSITE_SYNTHETIC_FULL) {
             if (covered[r] != (long)npix)
                 FAIL("full layer of rank %d covers %ld of %zu pixels", r, covered[r], npix);
             if (fabs(won - 1.0 / n) > 0.25 / n + 2.0 / W)
@@ -112,7 +113,7 @@ int main(int argc, char **argv)
              differ, first_x, first_y, got[0], got[1], got[2], w[0], w[1], w[2], winner[(size_t)first_y * W + first_x]);
     }
     for (int r = 0; r < n; r++)
-        tsr_cimage_free(&layers[r]);
+        tsr_composite_image_free(&layers[r]);
     tsr_image_free(&img);
     free(want);
     free(winner);

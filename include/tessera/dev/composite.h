@@ -23,7 +23,7 @@
  * costs nothing: a sparse image stores only runs of (inactive, active)
  * counts and the active pixels' values, and merging two sparse images walks
  * the runs, never the background. The background colour is added once, when
- * the final frame is assembled (tsr_sparse_image_to_dense).
+ * the final frame is assembled (tsr_composite_sparse_to_dense).
  *
  * Order. Every merge takes a FRONT and a BACK image. Depth mode: the nearer
  * depth wins; on EQUAL depth the front wins. Alpha mode: front over back
@@ -45,19 +45,19 @@
  * back-to-front blend, (L0 over (L1 over (... over Ln-1))) over background;
  * the compositing executor folds in that grouping and accepts only
  * schedules that keep it (spus/binaryswap/strategies/strategy.h,
- * tsr_cs_schedule_keeps_order).
+ * tsr_composite_schedule_keeps_order).
  *
  * Use (one peer, one round of a strategy, transport elided):
  *
- *   tsr_cimage roi;          // filled from glReadPixels of the ROI
- *   tsr_cimage_init(&roi, W, H, x, y, w, h, TSR_CI_RGBA8, TSR_CI_DEPTH32F, &err);
- *   tsr_sparse_image mine = {0}, piece = {0}, theirs = {0}, out = {0};
- *   tsr_sparse_image_compress(&roi, TSR_COMPOSITE_DEPTH, 0, W * H, &mine, &err);
- *   tsr_sparse_image_split(&mine, half_start, half_count, &piece, &err);
- *   size_t cap = tsr_image_message_max_size(half_count, TSR_CI_RGBA8, TSR_CI_DEPTH32F, codec);
- *   tsr_image_message_encode(&piece, codec, buf, cap, &len, &err);   // send buf
- *   tsr_image_message_decode(rbuf, rlen, &expect, &theirs, &err);    // received
- *   tsr_sparse_image_merge(&front, &back, &out, &err);
+ *   tsr_composite_image roi;          // filled from glReadPixels of the ROI
+ *   tsr_composite_image_init(&roi, W, H, x, y, w, h, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, &err);
+ *   tsr_composite_sparse mine = {0}, piece = {0}, theirs = {0}, out = {0};
+ *   tsr_composite_sparse_compress(&roi, TSR_COMPOSITE_DEPTH, 0, W * H, &mine, &err);
+ *   tsr_composite_sparse_split(&mine, half_start, half_count, &piece, &err);
+ *   size_t cap = tsr_composite_message_max_size(half_count, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, codec);
+ *   tsr_composite_message_encode(&piece, codec, buf, cap, &len, &err);   // send buf
+ *   tsr_composite_message_decode(rbuf, rlen, &expect, &theirs, &err);    // received
+ *   tsr_composite_sparse_merge(&front, &back, &out, &err);
  */
 #ifndef TESSERA_DEV_COMPOSITE_H
 #define TESSERA_DEV_COMPOSITE_H
@@ -73,17 +73,17 @@ extern "C" {
 #endif
 
 /* Largest window side accepted (so pixel indices fit 32 bits). */
-#define TSR_CI_MAX_SIDE 32768
+#define TSR_COMPOSITE_MAX_SIDE 32768
 
-typedef enum tsr_ci_color_format {
-    TSR_CI_RGBA8 = 1,   /* 4 bytes per pixel, GL_RGBA/GL_UNSIGNED_BYTE */
-    TSR_CI_RGBA32F = 2, /* 16 bytes per pixel, GL_RGBA/GL_FLOAT (optional) */
-} tsr_ci_color_format;
+typedef enum tsr_composite_color_format {
+    TSR_COMPOSITE_RGBA8 = 1,   /* 4 bytes per pixel, GL_RGBA/GL_UNSIGNED_BYTE */
+    TSR_COMPOSITE_RGBA32F = 2, /* 16 bytes per pixel, GL_RGBA/GL_FLOAT (optional) */
+} tsr_composite_color_format;
 
-typedef enum tsr_ci_depth_format {
-    TSR_CI_NODEPTH = 0,  /* alpha mode only */
-    TSR_CI_DEPTH32F = 1, /* GL_DEPTH_COMPONENT/GL_FLOAT as OSMesa reads it */
-} tsr_ci_depth_format;
+typedef enum tsr_composite_depth_format {
+    TSR_COMPOSITE_NODEPTH = 0,  /* alpha mode only */
+    TSR_COMPOSITE_DEPTH32F = 1, /* GL_DEPTH_COMPONENT/GL_FLOAT as OSMesa reads it */
+} tsr_composite_depth_format;
 
 typedef enum tsr_composite_mode {
     TSR_COMPOSITE_DEPTH = 0, /* nearest wins, equal depth: front (lower rank) */
@@ -91,12 +91,12 @@ typedef enum tsr_composite_mode {
 } tsr_composite_mode;
 
 /* Bytes per pixel of a colour / depth format (0 when unknown). */
-TSR_API size_t tsr_ci_color_bytes(int color_format);
-TSR_API size_t tsr_ci_depth_bytes(int depth_format);
+TSR_API size_t tsr_composite_color_bytes(int color_format);
+TSR_API size_t tsr_composite_depth_bytes(int depth_format);
 
 /* ---- dense images (a region of interest as read back) ------------------ */
 
-typedef struct tsr_cimage {
+typedef struct tsr_composite_image {
     int window_width, window_height; /* the whole window */
     int x, y, width, height;         /* the region, inside the window; 0x0 = empty */
     int color_format, depth_format;
@@ -105,20 +105,20 @@ typedef struct tsr_cimage {
     uint8_t *color; /* width*height pixels, rows bottom first, packed; owned */
     float *depth;   /* width*height floats, or NULL (NODEPTH); owned */
     size_t capacity_pixels;
-} tsr_cimage;
+} tsr_composite_image;
 
 /* Sets the geometry and (re)allocates the planes to hold it, reusing memory
  * when it is big enough. Contents are undefined. A zero-sized region is an
  * empty image (no planes needed). Bad sizes or a region outside the window
  * are TSR_EINVAL naming them. */
-TSR_API int tsr_cimage_init(tsr_cimage *img, int window_width, int window_height, int x, int y, int width, int height,
-                            int color_format, int depth_format, tsr_error *err);
-TSR_API void tsr_cimage_free(tsr_cimage *img);
+TSR_API int tsr_composite_image_init(tsr_composite_image *img, int window_width, int window_height, int x, int y,
+                                     int width, int height, int color_format, int depth_format, tsr_error *err);
+TSR_API void tsr_composite_image_free(tsr_composite_image *img);
 
 /* Dense merge of two images with the same geometry and formats into `out`
  * (which may alias either). The per-pixel kernels below, over the planes. */
-TSR_API int tsr_cimage_merge(int mode, const tsr_cimage *front, const tsr_cimage *back, tsr_cimage *out,
-                             tsr_error *err);
+TSR_API int tsr_composite_image_merge(int mode, const tsr_composite_image *front, const tsr_composite_image *back,
+                                      tsr_composite_image *out, tsr_error *err);
 
 /* ---- per-pixel kernels (vectorised; pointers need not be aligned) ------- */
 
@@ -150,7 +150,7 @@ TSR_API void tsr_composite_copy_using(const char *kernel, void *dst, const void 
  * order, `depth` their depths (NULL for NODEPTH). Planar, so merging two
  * active spans is one kernel call over contiguous slices, and a message is
  * the planes back to back. */
-typedef struct tsr_sparse_image {
+typedef struct tsr_composite_sparse {
     int window_width, window_height;
     uint32_t start, count; /* pixel index range of the window */
     int mode;              /* tsr_composite_mode: which pixels are active */
@@ -165,137 +165,140 @@ typedef struct tsr_sparse_image {
     float *depth;    /* owned; active floats */
     size_t runs_capacity, pixel_capacity;
     int borrowed; /* 1: color/depth point into another image (a view) */
-} tsr_sparse_image;
+} tsr_composite_sparse;
 
 /* An all-background image of the range (one run). */
-TSR_API int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_height, uint32_t start,
-                                   uint32_t count, int mode, int color_format, int depth_format, int rank,
-                                   uint32_t frame, tsr_error *err);
+TSR_API int tsr_composite_sparse_blank(tsr_composite_sparse *out, int window_width, int window_height, uint32_t start,
+                                       uint32_t count, int mode, int color_format, int depth_format, int rank,
+                                       uint32_t frame, tsr_error *err);
 /* Sparse form of the pixels [start, start+count) of the window, taken from
  * the dense region `in` (pixels outside it are background). `out` takes
  * in's formats, rank and frame. `out`'s memory is reused. */
-TSR_API int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
-                                      tsr_sparse_image *out, tsr_error *err);
+TSR_API int tsr_composite_sparse_compress(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                                          tsr_composite_sparse *out, tsr_error *err);
 /* The same, but only the runs and `active`: the planes are left as they
- * were (for tsr_image_message_encode_dense, which takes the pixels from
+ * were (for tsr_composite_message_encode_dense, which takes the pixels from
  * `in` itself). */
-TSR_API int tsr_sparse_image_compress_runs(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
-                                           tsr_sparse_image *out, tsr_error *err);
+TSR_API int tsr_composite_sparse_compress_runs(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                                               tsr_composite_sparse *out, tsr_error *err);
 /* The sub-range [start, start+count) of `in` (which must contain it), as
  * its own sparse image; background runs are cut, never expanded. */
-TSR_API int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                                   tsr_error *err);
+TSR_API int tsr_composite_sparse_split(const tsr_composite_sparse *in, uint32_t start, uint32_t count,
+                                       tsr_composite_sparse *out, tsr_error *err);
 /* Like split, but without copying pixels: `out` gets its own runs and
  * points into in's colour and depth planes (out->borrowed), so it is valid
  * only while `in` is alive and unchanged. For pieces that are encoded or
  * merged at once (a strategy's sends and kept region). */
-TSR_API int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                                  tsr_error *err);
+TSR_API int tsr_composite_sparse_view(const tsr_composite_sparse *in, uint32_t start, uint32_t count,
+                                      tsr_composite_sparse *out, tsr_error *err);
 /* Merges front and back (same window, range, mode and formats; adjacent
  * order intervals, front first) into `out` (must not alias either). */
-TSR_API int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
-                                   tsr_error *err);
+TSR_API int tsr_composite_sparse_merge(const tsr_composite_sparse *front, const tsr_composite_sparse *back,
+                                       tsr_composite_sparse *out, tsr_error *err);
 /* A depth-mode fold of many pieces of one range: the running composite
  * keeps its pixels dense (pixel i of the range at index i) with its
  * active runs beside them, so merging a piece writes only the piece's
  * active pixels, not the whole union as a merge into a fresh image
  * would; one gather at the end gives the sparse image. The result is the
- * very image a chain of tsr_sparse_image_merge calls with the same
+ * very image a chain of tsr_composite_sparse_merge calls with the same
  * grouping would give (same runs, same bits). Planes are reused from one
  * fold to the next. */
-typedef struct tsr_sparse_fold {
-    tsr_sparse_image acc;  /* header and union runs; planes dense over the range */
-    tsr_sparse_image next; /* the runs of the next step, built aside */
-} tsr_sparse_fold;
+typedef struct tsr_composite_fold {
+    tsr_composite_sparse acc;  /* header and union runs; planes dense over the range */
+    tsr_composite_sparse next; /* the runs of the next step, built aside */
+} tsr_composite_fold;
 /* Starts a fold from `first` (depth mode, DEPTH32F). */
-TSR_API int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err);
+TSR_API int tsr_composite_fold_begin(tsr_composite_fold *f, const tsr_composite_sparse *first, tsr_error *err);
 /* The same from a read-back itself: `runs` holds the runs of the range
- * (tsr_sparse_image_compress_runs of `in`; its planes are not read) and
+ * (tsr_composite_sparse_compress_runs of `in`; its planes are not read) and
  * the active pixels are copied once, from `in`, to their places: no
  * sparse copy of the read-back is made first. */
-TSR_API int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const tsr_sparse_image *runs,
-                                        tsr_error *err);
+TSR_API int tsr_composite_fold_begin_dense(tsr_composite_fold *f, const tsr_composite_image *in,
+                                           const tsr_composite_sparse *runs, tsr_error *err);
 /* Merges `piece` in front of (in_front) or behind the running composite;
- * the checks of tsr_sparse_image_merge apply. */
-TSR_API int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err);
+ * the checks of tsr_composite_sparse_merge apply. */
+TSR_API int tsr_composite_fold_add(tsr_composite_fold *f, const tsr_composite_sparse *piece, int in_front,
+                                   tsr_error *err);
 /* The running composite as a sparse image in `out`. */
-TSR_API int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *err);
+TSR_API int tsr_composite_fold_end(tsr_composite_fold *f, tsr_composite_sparse *out, tsr_error *err);
 /* Ends a fold where the composite is drawn as it is (a final piece): its
- * inactive pixels take `background` (as tsr_sparse_image_to_dense writes
+ * inactive pixels take `background` (as tsr_composite_sparse_to_dense writes
  * them, depth 1.0) and f->acc becomes a sparse image of one active run,
  * its planes dense, with no gather. Not for images merged further: their
  * background would count as pixels drawn at depth 1.0. */
-TSR_API int tsr_sparse_fold_fill(tsr_sparse_fold *f, const void *background, tsr_error *err);
-TSR_API void tsr_sparse_fold_free(tsr_sparse_fold *f);
+TSR_API int tsr_composite_fold_fill(tsr_composite_fold *f, const void *background, tsr_error *err);
+TSR_API void tsr_composite_fold_free(tsr_composite_fold *f);
 /* Writes the image's range into `dst`, a dense image whose region covers
  * the range's pixels (the whole window for the final frame): inactive
  * pixels as `background` (RGBA8: 4 bytes; RGBA32F: 4 floats) with depth
  * 1.0; active ones as they are in depth mode, and blended over
  * `background` in alpha mode (so it is added once, not once per peer). Pixels of dst outside the range are left
  * alone, so the final pieces of a strategy assemble into one frame. */
-TSR_API int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background, tsr_cimage *dst,
-                                      tsr_error *err);
-TSR_API void tsr_sparse_image_free(tsr_sparse_image *img);
+TSR_API int tsr_composite_sparse_to_dense(const tsr_composite_sparse *in, const void *background,
+                                          tsr_composite_image *dst, tsr_error *err);
+TSR_API void tsr_composite_sparse_free(tsr_composite_sparse *img);
 
 /* ---- codecs ------------------------------------------------------------- */
 
-typedef enum tsr_codec_color {
-    TSR_CODEC_COLOR_RAW = 0,
-    TSR_CODEC_COLOR_ERLE = 1,   /* bit-swizzled per-channel RLE, lossless */
-    TSR_CODEC_COLOR_YUV420 = 2, /* lossy: Y per pixel, U V per 2x2 block, A kept */
-} tsr_codec_color;
+typedef enum tsr_composite_codec_color {
+    TSR_COMPOSITE_CODEC_COLOR_RAW = 0,
+    TSR_COMPOSITE_CODEC_COLOR_ERLE = 1,   /* bit-swizzled per-channel RLE, lossless */
+    TSR_COMPOSITE_CODEC_COLOR_YUV420 = 2, /* lossy: Y per pixel, U V per 2x2 block, A kept */
+} tsr_composite_codec_color;
 
-typedef enum tsr_codec_depth {
-    TSR_CODEC_DEPTH_RAW = 0,
-    TSR_CODEC_DEPTH_ERLE = 1, /* per-byte-plane RLE, lossless */
-    TSR_CODEC_DEPTH_Q16 = 2,  /* lossy: depth in [0,1] quantised to 16 bits */
-    TSR_CODEC_DEPTH_Q24 = 3,  /* lossy: 24 bits */
-} tsr_codec_depth;
+typedef enum tsr_composite_codec_depth {
+    TSR_COMPOSITE_CODEC_DEPTH_RAW = 0,
+    TSR_COMPOSITE_CODEC_DEPTH_ERLE = 1, /* per-byte-plane RLE, lossless */
+    TSR_COMPOSITE_CODEC_DEPTH_Q16 = 2,  /* lossy: depth in [0,1] quantised to 16 bits */
+    TSR_COMPOSITE_CODEC_DEPTH_Q24 = 3,  /* lossy: 24 bits */
+} tsr_composite_codec_depth;
 
-typedef struct tsr_image_codec {
+typedef struct tsr_composite_codec {
     uint8_t runs;  /* 1: active-pixel runs (background free); 0: every pixel ("none") */
-    uint8_t color; /* tsr_codec_color */
-    uint8_t depth; /* tsr_codec_depth */
-} tsr_image_codec;
+    uint8_t color; /* tsr_composite_codec_color */
+    uint8_t depth; /* tsr_composite_codec_depth */
+} tsr_composite_codec;
 
 /* Parses a codec name: "none" (every pixel, raw), "rle" (runs, raw),
  * "erle" (runs, colour and depth per-channel RLE), "yuv420", "depth16",
  * "depth24", or '+'-joined combinations ("erle+depth16",
  * "yuv420+depth24"). Default for a group: "rle". Unknown names are
  * TSR_EINVAL listing the valid ones. */
-TSR_API int tsr_image_codec_parse(const char *text, tsr_image_codec *out, tsr_error *err);
+TSR_API int tsr_composite_codec_parse(const char *text, tsr_composite_codec *out, tsr_error *err);
 /* The canonical name of `c` ("rle", "yuv420+depth16", ...). */
-TSR_API const char *tsr_image_codec_name(tsr_image_codec c, char *buf, size_t size);
-TSR_API bool tsr_image_codec_lossless(tsr_image_codec c);
+TSR_API const char *tsr_composite_codec_name(tsr_composite_codec c, char *buf, size_t size);
+TSR_API bool tsr_composite_codec_lossless(tsr_composite_codec c);
 
 /* ---- image messages ----------------------------------------------------- */
 
 /* Fixed little-endian header in front of every image message. */
-#define TSR_IMAGE_MESSAGE_HEADER_SIZE 48
+#define TSR_COMPOSITE_MESSAGE_HEADER_SIZE 48
 
-typedef struct tsr_image_message_header {
+typedef struct tsr_composite_message_header {
     int window_width, window_height;
     uint32_t start, count;
     int mode, color_format, depth_format;
     int rank, rank_count;
     uint32_t frame;
     uint32_t active, runs;
-    tsr_image_codec codec;
+    tsr_composite_codec codec;
     uint32_t payload_size;
-} tsr_image_message_header;
+} tsr_composite_message_header;
 
 /* The largest message encoding any image of `count` pixels in these
  * formats with codec `c` can produce (header included). Never exceeded. */
-TSR_API size_t tsr_image_message_max_size(uint32_t count, int color_format, int depth_format, tsr_image_codec c);
+TSR_API size_t tsr_composite_message_max_size(uint32_t count, int color_format, int depth_format,
+                                              tsr_composite_codec c);
 /* Encodes `img` into out[0..cap); *size is the message's length. cap below
- * tsr_image_message_bound (<= tsr_image_message_max_size) fails with
+ * tsr_composite_message_bound (<= tsr_composite_message_max_size) fails with
  * TSR_EINVAL, never overflows. A
  * lossy colour codec on float colour is TSR_EUNSUPPORTED. */
-TSR_API int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap,
-                                     size_t *size, tsr_error *err);
+TSR_API int tsr_composite_message_encode(const tsr_composite_sparse *img, tsr_composite_codec c, uint8_t *out,
+                                         size_t cap, size_t *size, tsr_error *err);
 /* Reads and checks the header only (sizes, offsets, formats, payload size
  * against `size`). */
-TSR_API int tsr_image_message_header_read(const void *data, size_t size, tsr_image_message_header *hdr, tsr_error *err);
+TSR_API int tsr_composite_message_header_read(const void *data, size_t size, tsr_composite_message_header *hdr,
+                                              tsr_error *err);
 /* Decodes a message into `out` (memory reused). Everything is bounds
  * checked: a bad magic, impossible sizes or offsets, runs that overflow the
  * range, a truncated or overlong payload is TSR_EPROTO with one line saying
@@ -303,32 +306,33 @@ TSR_API int tsr_image_message_header_read(const void *data, size_t size, tsr_ima
  * NULL, its window size, start, count, mode, formats, rank and frame must
  * match (a field < 0 / UINT32_MAX is not checked): a mismatch is
  * TSR_EPROTO naming the field, the expected and the received value. */
-TSR_API int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *expect,
-                                     tsr_sparse_image *out, tsr_error *err);
+TSR_API int tsr_composite_message_decode(const void *data, size_t size, const tsr_composite_message_header *expect,
+                                         tsr_composite_sparse *out, tsr_error *err);
 /* Like decode, but without copying pixels when the codec leaves them raw
  * ("rle": runs, raw colour, raw depth) and `data` is 4-byte aligned: `out`
  * gets its own runs and points into the message's colour and depth
  * (out->borrowed), so it is valid only while the message is, and is never
  * written through. Every check of decode is made. Other codecs decode. */
-TSR_API int tsr_image_message_view(const void *data, size_t size, const tsr_image_message_header *expect,
-                                   tsr_sparse_image *out, tsr_error *err);
+TSR_API int tsr_composite_message_view(const void *data, size_t size, const tsr_composite_message_header *expect,
+                                       tsr_composite_sparse *out, tsr_error *err);
 /* A peer's read-back straight into a message: `runs` comes from
- * tsr_sparse_image_compress_runs of `in`, and the message is the one
- * tsr_sparse_image_compress followed by tsr_image_message_encode would
+ * tsr_composite_sparse_compress_runs of `in`, and the message is the one
+ * tsr_composite_sparse_compress followed by tsr_composite_message_encode would
  * give, bit for bit. With "rle" (raw planes) the active pixels go from
  * `in` into `out`, one copy and no sparse planes; other codecs gather them
- * into the planes of `runs` first. cap: tsr_image_message_bound(runs). */
-TSR_API int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c,
-                                           uint8_t *out, size_t cap, size_t *size, tsr_error *err);
+ * into the planes of `runs` first. cap: tsr_composite_message_bound(runs). */
+TSR_API int tsr_composite_message_encode_dense(const tsr_composite_image *in, tsr_composite_sparse *runs,
+                                               tsr_composite_codec c, uint8_t *out, size_t cap, size_t *size,
+                                               tsr_error *err);
 /* The largest message encoding this very image (its runs and active
  * pixels) with codec `c` can produce, header included: at most
- * tsr_image_message_max_size of its count, and what encode needs as cap.
+ * tsr_composite_message_max_size of its count, and what encode needs as cap.
  * A sender reserves this much, not the worst case of any image: in a
  * shared-memory ring the space reserved decides where the next message
  * goes, so the pages in use follow the bytes sent. */
-TSR_API size_t tsr_image_message_bound(const tsr_sparse_image *img, tsr_image_codec c);
+TSR_API size_t tsr_composite_message_bound(const tsr_composite_sparse *img, tsr_composite_codec c);
 /* An expectation with every field unchecked (fill in what you know). */
-TSR_API void tsr_image_message_expect_any(tsr_image_message_header *expect);
+TSR_API void tsr_composite_message_expect_any(tsr_composite_message_header *expect);
 
 #ifdef __cplusplus
 }

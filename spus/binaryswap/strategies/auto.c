@@ -12,26 +12,26 @@
 #include <stdio.h>
 #include "strategy.h"
 
-int tsr_cs_choose(int nranks, int window_width, int window_height, const tsr_cs_hint *hint, int *kind, int *k,
-                  char *reason, size_t reason_size)
+int tsr_composite_choose(int nranks, int window_width, int window_height, const tsr_composite_hint *hint, int *kind,
+                         int *k, char *reason, size_t reason_size)
 {
     uint64_t frame = (uint64_t)window_width * (uint64_t)window_height * 8;
     uint64_t bytes = hint && hint->image_bytes ? hint->image_bytes : frame;
     uint64_t total = bytes * (uint64_t)nranks;
     *k = 0;
     if (nranks == 1) {
-        *kind = TSR_CS_GATHER;
+        *kind = TSR_COMPOSITE_GATHER;
         snprintf(reason, reason_size, "auto: gather, one peer has nothing to composite");
     } else if (total < 256 * 1024) {
-        *kind = TSR_CS_GATHER;
+        *kind = TSR_COMPOSITE_GATHER;
         snprintf(reason, reason_size, "auto: gather, %d peers send %llu bytes in all (< 256 KiB): latency-bound",
                  nranks, (unsigned long long)total);
     } else if (nranks <= 8) {
-        *kind = TSR_CS_DIRECT;
+        *kind = TSR_COMPOSITE_DIRECT;
         snprintf(reason, reason_size, "auto: direct, %d peers (<= 8), %llu bytes per image: one round", nranks,
                  (unsigned long long)bytes);
     } else {
-        *kind = TSR_CS_RADIXK;
+        *kind = TSR_COMPOSITE_RADIXK;
         *k = nranks % 8 == 0 ? 8 : 4;
         snprintf(reason, reason_size,
                  "auto: radixk-%d, %d peers (> 8), %llu bytes per image: few rounds of few messages", *k, nranks,

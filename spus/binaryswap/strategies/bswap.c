@@ -7,7 +7,7 @@
 #include "strategy.h"
 #include "strategy_internal.h"
 
-int tsr_cs_plan_bswap(tsr_cs_schedule *s, tsr_error *err)
+int tsr_composite_plan_bswap(tsr_composite_schedule *s, tsr_error *err)
 {
     int n = s->nranks, p = 1, logp = 0;
     while (p * 2 <= n) {
@@ -15,30 +15,30 @@ int tsr_cs_plan_bswap(tsr_cs_schedule *s, tsr_error *err)
         logp++;
     }
     int extra = n - p, fold = extra > 0;
-    s->kind = TSR_CS_BSWAP;
+    s->kind = TSR_COMPOSITE_BSWAP;
     s->k = 2;
     snprintf(s->name, sizeof s->name, "bswap");
-    int rc = cs_alloc(s, fold + logp, err);
+    int rc = schedule_alloc(s, fold + logp, err);
     if (rc)
         return rc;
-    tsr_cs_region whole = {0, (uint32_t)s->window_width * (uint32_t)s->window_height}, none = {0, 0};
-    int vrank[TSR_CS_MAX_PEERS], nv = 0;
+    tsr_composite_region whole = {0, (uint32_t)s->window_width * (uint32_t)s->window_height}, none = {0, 0};
+    int vrank[TSR_COMPOSITE_MAX_PEERS], nv = 0;
     for (int r = 0; r < n; r++) {
         if (r < 2 * extra && r % 2 == 1) {
             /* folded: hands everything to its left neighbour, then idles */
-            tsr_cs_round *rd = &s->ranks[r].rounds[0];
+            tsr_composite_round *rd = &s->ranks[r].rounds[0];
             cs_empty_round(rd, none);
-            rd->send[rd->nsend++] = (tsr_cs_xfer){r - 1, whole};
+            rd->send[rd->nsend++] = (tsr_composite_xfer){r - 1, whole};
             for (int i = 1; i < fold + logp; i++)
                 cs_empty_round(&s->ranks[r].rounds[i], none);
             s->ranks[r].final = none;
             continue;
         }
         if (fold) {
-            tsr_cs_round *rd = &s->ranks[r].rounds[0];
+            tsr_composite_round *rd = &s->ranks[r].rounds[0];
             cs_empty_round(rd, whole);
             if (r < 2 * extra) {
-                rd->recv[rd->nrecv++] = (tsr_cs_xfer){r + 1, whole};
+                rd->recv[rd->nrecv++] = (tsr_composite_xfer){r + 1, whole};
                 rd->self_index = 0;
             }
         }

@@ -6,16 +6,16 @@
 #include "strategy.h"
 #include "strategy_internal.h"
 
-int tsr_cs_plan_direct(tsr_cs_schedule *s, tsr_error *err)
+int tsr_composite_plan_direct(tsr_composite_schedule *s, tsr_error *err)
 {
     int n = s->nranks;
-    s->kind = TSR_CS_DIRECT;
+    s->kind = TSR_COMPOSITE_DIRECT;
     s->k = n;
     snprintf(s->name, sizeof s->name, "direct");
-    int rc = cs_alloc(s, n > 1, err);
+    int rc = schedule_alloc(s, n > 1, err);
     if (rc)
         return rc;
-    int vrank[TSR_CS_MAX_PEERS];
+    int vrank[TSR_COMPOSITE_MAX_PEERS];
     for (int r = 0; r < n; r++)
         vrank[r] = r;
     int factor = n;

@@ -6,7 +6,7 @@
  * time-out passes (then the error names the silent peer).
  *
  * Owns: the queued messages and the buffer each receiver holds. Never:
- * does I/O or keeps state outside the tsr_cs_memnet it is given. */
+ * does I/O or keeps state outside the tsr_composite_memnet it is given. */
 #include <errno.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -21,11 +21,11 @@ typedef struct memnet_msg {
 } memnet_msg;
 
 typedef struct memnet_end {
-    tsr_cs_memnet *net;
+    tsr_composite_memnet *net;
     int me;
 } memnet_end;
 
-struct tsr_cs_memnet {
+struct tsr_composite_memnet {
     pthread_mutex_t mu;
     pthread_cond_t cv;
     int n, timeout_ms;
@@ -34,9 +34,9 @@ struct tsr_cs_memnet {
     memnet_end *ends;
 };
 
-tsr_cs_memnet *tsr_cs_memnet_new(int participants, int timeout_ms, tsr_error *err)
+tsr_composite_memnet *tsr_composite_memnet_new(int participants, int timeout_ms, tsr_error *err)
 {
-    tsr_cs_memnet *m = calloc(1, sizeof *m);
+    tsr_composite_memnet *m = calloc(1, sizeof *m);
     size_t n = participants > 0 ? (size_t)participants : 1;
     if (m) {
         m->head = calloc(n * n, sizeof *m->head);
@@ -68,7 +68,7 @@ tsr_cs_memnet *tsr_cs_memnet_new(int participants, int timeout_ms, tsr_error *er
     return m;
 }
 
-int tsr_cs_memnet_drain(tsr_cs_memnet *m, int *from, int *to)
+int tsr_composite_memnet_drain(tsr_composite_memnet *m, int *from, int *to)
 {
     int left = 0;
     pthread_mutex_lock(&m->mu);
@@ -87,12 +87,12 @@ int tsr_cs_memnet_drain(tsr_cs_memnet *m, int *from, int *to)
     return left;
 }
 
-void tsr_cs_memnet_free(tsr_cs_memnet *m)
+void tsr_composite_memnet_free(tsr_composite_memnet *m)
 {
     if (!m)
         return;
     int f, t;
-    tsr_cs_memnet_drain(m, &f, &t);
+    tsr_composite_memnet_drain(m, &f, &t);
     for (int i = 0; i < m->n; i++)
         free(m->held[i]);
     pthread_mutex_destroy(&m->mu);
@@ -107,7 +107,7 @@ void tsr_cs_memnet_free(tsr_cs_memnet *m)
 static int memnet_send(void *user, int to, const void *data, size_t size, tsr_error *err)
 {
     memnet_end *e = user;
-    tsr_cs_memnet *m = e->net;
+    tsr_composite_memnet *m = e->net;
     if (to < 0 || to >= m->n)
         return tsr_error_set(err, TSR_EINVAL, "memnet: participant %d sends to %d (0..%d)", e->me, to, m->n - 1);
     memnet_msg *x = malloc(sizeof *x + size);
@@ -131,7 +131,7 @@ static int memnet_send(void *user, int to, const void *data, size_t size, tsr_er
 static int memnet_recv(void *user, int from, const void **data, size_t *size, tsr_error *err)
 {
     memnet_end *e = user;
-    tsr_cs_memnet *m = e->net;
+    tsr_composite_memnet *m = e->net;
     if (from < 0 || from >= m->n)
         return tsr_error_set(err, TSR_EINVAL, "memnet: participant %d receives from %d (0..%d)", e->me, from, m->n - 1);
     struct timespec until;
@@ -162,7 +162,7 @@ static int memnet_recv(void *user, int from, const void **data, size_t *size, ts
     return TSR_OK;
 }
 
-void tsr_cs_memnet_transport(tsr_cs_memnet *m, int me, tsr_cs_transport *out)
+void tsr_composite_memnet_transport(tsr_composite_memnet *m, int me, tsr_composite_transport *out)
 {
     out->user = &m->ends[me];
     out->send = memnet_send;

@@ -26,7 +26,7 @@ static int factor(int n, int k, int *f)
     return nf;
 }
 
-int tsr_cs_plan_radixk(tsr_cs_schedule *s, int k, tsr_error *err)
+int tsr_composite_plan_radixk(tsr_composite_schedule *s, int k, tsr_error *err)
 {
     int n = s->nranks;
     if (k == 0)
@@ -35,13 +35,13 @@ int tsr_cs_plan_radixk(tsr_cs_schedule *s, int k, tsr_error *err)
         return tsr_error_set(err, TSR_EINVAL, "radixk: k must be at least 2 (got %d)", k);
     int f[8];
     int nf = factor(n, k, f);
-    s->kind = TSR_CS_RADIXK;
+    s->kind = TSR_COMPOSITE_RADIXK;
     s->k = k;
     snprintf(s->name, sizeof s->name, "radixk-%d", k);
-    int rc = cs_alloc(s, nf, err);
+    int rc = schedule_alloc(s, nf, err);
     if (rc)
         return rc;
-    int vrank[TSR_CS_MAX_PEERS];
+    int vrank[TSR_COMPOSITE_MAX_PEERS];
     for (int r = 0; r < n; r++)
         vrank[r] = r;
     if (cs_build_rounds(s, 0, vrank, n, f, nf))

@@ -7,12 +7,12 @@
 
 /* Allocates ranks, gather list and `nrounds` rounds per rank (each with
  * room for nranks sends and receives). */
-int cs_alloc(tsr_cs_schedule *s, int nrounds, tsr_error *err);
+int schedule_alloc(tsr_composite_schedule *s, int nrounds, tsr_error *err);
 /* Fills rounds first_round.. of the virtual participants vrank[0..nv) (real
  * ranks, in compositing order) as a mixed-radix exchange with the given
  * factors (product nv), the lowest digit first, then their final pieces and
  * the gather list. Returns 0, or -1 when the pieces do not cover the window. */
-int cs_build_rounds(tsr_cs_schedule *s, int first_round, const int *vrank, int nv, const int *factors, int nf);
-void cs_empty_round(tsr_cs_round *rd, tsr_cs_region keep);
+int cs_build_rounds(tsr_composite_schedule *s, int first_round, const int *vrank, int nv, const int *factors, int nf);
+void cs_empty_round(tsr_composite_round *rd, tsr_composite_region keep);
 
 #endif

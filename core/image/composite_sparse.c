@@ -1,8 +1,8 @@
-/* core/image/sparse.c — sparse compositing images (active-pixel runs,
+/* core/image/composite_sparse.c — sparse compositing images (active-pixel runs,
  * tessera/dev/composite.h): compress a read-back region, split a range,
  * merge two images run by run, expand into a dense frame.
  *
- * Owns: the three planes of the tsr_sparse_image values it fills. Never:
+ * Owns: the three planes of the tsr_composite_sparse values it fills. Never:
  * expands background while merging or splitting; keeps state. */
 #include <stdlib.h>
 #include <string.h>
@@ -14,7 +14,7 @@
 
 /* Room for `runs` run pairs and `pixels` active pixels of cb colour bytes
  * (planes reused while big enough; composite_internal.h). */
-static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, size_t cb, tsr_error *err)
+static int sparse_reserve(tsr_composite_sparse *s, size_t runs, size_t pixels, size_t cb, tsr_error *err)
 {
     if (s->borrowed) {
         /* a view's planes are another image's: never freed or reused */
@@ -45,7 +45,7 @@ static int sparse_reserve(tsr_sparse_image *s, size_t runs, size_t pixels, size_
     return TSR_OK;
 }
 
-void tsr_sparse_image_free(tsr_sparse_image *img)
+void tsr_composite_sparse_free(tsr_composite_sparse *img)
 {
     free(img->runs);
     if (!img->borrowed) {
@@ -55,8 +55,8 @@ void tsr_sparse_image_free(tsr_sparse_image *img)
     memset(img, 0, sizeof *img);
 }
 
-static void sparse_begin(tsr_sparse_image *s, int ww, int wh, uint32_t start, uint32_t count, int mode, int cf, int df,
-                         int rank, uint32_t frame)
+static void sparse_begin(tsr_composite_sparse *s, int ww, int wh, uint32_t start, uint32_t count, int mode, int cf,
+                         int df, int rank, uint32_t frame)
 {
     s->window_width = ww;
     s->window_height = wh;
@@ -73,7 +73,7 @@ static void sparse_begin(tsr_sparse_image *s, int ww, int wh, uint32_t start, ui
 }
 
 /* Appends n inactive pixels (the runs stay canonical: no empty pairs). */
-static inline void put_inactive(tsr_sparse_image *s, uint32_t n)
+static inline void put_inactive(tsr_composite_sparse *s, uint32_t n)
 {
     if (!n)
         return;
@@ -87,7 +87,7 @@ static inline void put_inactive(tsr_sparse_image *s, uint32_t n)
 }
 
 /* Makes room for n active pixels at the end; returns their index. */
-static inline uint32_t put_active(tsr_sparse_image *s, uint32_t n)
+static inline uint32_t put_active(tsr_composite_sparse *s, uint32_t n)
 {
     uint32_t at = s->active;
     if (!s->nruns) {
@@ -100,9 +100,9 @@ static inline uint32_t put_active(tsr_sparse_image *s, uint32_t n)
     return at;
 }
 
-static inline void copy_active(tsr_sparse_image *s, const tsr_sparse_image *from, uint32_t from_at, uint32_t n)
+static inline void copy_active(tsr_composite_sparse *s, const tsr_composite_sparse *from, uint32_t from_at, uint32_t n)
 {
-    size_t cb = tsr_ci_color_bytes(s->color_format);
+    size_t cb = tsr_composite_color_bytes(s->color_format);
     uint32_t at = put_active(s, n);
     ci_copy(s->color + at * cb, from->color + (size_t)from_at * cb, n * cb);
     if (s->depth_format)
@@ -111,16 +111,18 @@ static inline void copy_active(tsr_sparse_image *s, const tsr_sparse_image *from
 
 static int check_window(int ww, int wh, uint32_t start, uint32_t count, const char *what, tsr_error *err)
 {
-    if (ww < 1 || wh < 1 || ww > TSR_CI_MAX_SIDE || wh > TSR_CI_MAX_SIDE)
-        return tsr_error_set(err, TSR_EINVAL, "%s: window %dx%d is outside 1..%d", what, ww, wh, TSR_CI_MAX_SIDE);
+    if (ww < 1 || wh < 1 || ww > TSR_COMPOSITE_MAX_SIDE || wh > TSR_COMPOSITE_MAX_SIDE)
+        return tsr_error_set(err, TSR_EINVAL, "%s: window %dx%d is outside 1..%d", what, ww, wh,
+                             TSR_COMPOSITE_MAX_SIDE);
     if ((uint64_t)start + count > (uint64_t)ww * (uint64_t)wh)
         return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u..%u are outside the %dx%d window", what, start,
                              (unsigned)((uint64_t)start + count), ww, wh);
     return TSR_OK;
 }
 
-int tsr_sparse_image_blank(tsr_sparse_image *out, int window_width, int window_height, uint32_t start, uint32_t count,
-                           int mode, int color_format, int depth_format, int rank, uint32_t frame, tsr_error *err)
+int tsr_composite_sparse_blank(tsr_composite_sparse *out, int window_width, int window_height, uint32_t start,
+                               uint32_t count, int mode, int color_format, int depth_format, int rank, uint32_t frame,
+                               tsr_error *err)
 {
     int rc = check_window(window_width, window_height, start, count, "sparse image", err);
     if (rc || (rc = sparse_reserve(out, 1, 0, 4, err)))
@@ -135,7 +137,7 @@ static inline int pixel_active(int mode, int cf, const uint8_t *color, const flo
 {
     if (mode == TSR_COMPOSITE_DEPTH)
         return *depth < 1.0f;
-    if (cf == TSR_CI_RGBA8) {
+    if (cf == TSR_COMPOSITE_RGBA8) {
         uint32_t v;
         ci_copy(&v, color, 4);
         return v != 0;
@@ -166,7 +168,7 @@ static inline uint32_t run_length(int mode, int cf, const uint8_t *color, const 
             if (m)
                 return i + (uint32_t)__builtin_ctz(m);
         }
-    } else if (cf == TSR_CI_RGBA8) {
+    } else if (cf == TSR_COMPOSITE_RGBA8) {
         const __m128i zero = _mm_setzero_si128();
         for (; i + 16 <= n; i += 16) {
             const __m128i *c = (const __m128i *)(const void *)(color + (size_t)i * 4);
@@ -182,36 +184,36 @@ static inline uint32_t run_length(int mode, int cf, const uint8_t *color, const 
         }
     }
 #endif
-    size_t cb = tsr_ci_color_bytes(cf);
+    size_t cb = tsr_composite_color_bytes(cf);
     while (i < n && pixel_active(mode, cf, color + (size_t)i * cb, depth ? depth + i : NULL) == active)
         i++;
     return i;
 }
 
-int tsr_sparse_image_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                              tsr_error *err)
+int tsr_composite_sparse_compress(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                                  tsr_composite_sparse *out, tsr_error *err)
 {
     return ci_sparse_compress(in, mode, start, count, out, 0, err);
 }
 
-int tsr_sparse_image_compress_runs(const tsr_cimage *in, int mode, uint32_t start, uint32_t count,
-                                   tsr_sparse_image *out, tsr_error *err)
+int tsr_composite_sparse_compress_runs(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                                       tsr_composite_sparse *out, tsr_error *err)
 {
     return ci_sparse_compress(in, mode, start, count, out, 1, err);
 }
 
-int ci_sparse_planes(tsr_sparse_image *s, size_t pixels, size_t cb, tsr_error *err)
+int ci_sparse_planes(tsr_composite_sparse *s, size_t pixels, size_t cb, tsr_error *err)
 {
     return sparse_reserve(s, 0, pixels, cb, err);
 }
 
-int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                       int runs_only, tsr_error *err)
+int ci_sparse_compress(const tsr_composite_image *in, int mode, uint32_t start, uint32_t count,
+                       tsr_composite_sparse *out, int runs_only, tsr_error *err)
 {
     int rc = check_window(in->window_width, in->window_height, start, count, "sparse compress", err);
     if (rc)
         return rc;
-    if (mode == TSR_COMPOSITE_DEPTH && in->depth_format != TSR_CI_DEPTH32F)
+    if (mode == TSR_COMPOSITE_DEPTH && in->depth_format != TSR_COMPOSITE_DEPTH32F)
         return tsr_error_set(err, TSR_EINVAL, "sparse compress: depth mode needs a depth plane");
     if (mode != TSR_COMPOSITE_DEPTH && mode != TSR_COMPOSITE_ALPHA)
         return tsr_error_set(err, TSR_EINVAL, "sparse compress: unknown mode %d", mode);
@@ -223,11 +225,11 @@ int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t 
                              runs_only     ? 0
                              : roi < count ? roi
                                            : count,
-                             tsr_ci_color_bytes(in->color_format), err)))
+                             tsr_composite_color_bytes(in->color_format), err)))
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, mode, in->color_format, in->depth_format,
                  in->rank, in->frame);
-    size_t cb = tsr_ci_color_bytes(in->color_format);
+    size_t cb = tsr_composite_color_bytes(in->color_format);
     uint32_t pos = start;
     for (int row = 0; row < in->height && pos < end; row++) {
         uint32_t seg0 = (uint32_t)(in->y + row) * w + (uint32_t)in->x, seg1 = seg0 + (uint32_t)in->width;
@@ -269,8 +271,8 @@ int ci_sparse_compress(const tsr_cimage *in, int mode, uint32_t start, uint32_t 
  * here; out's header set), without touching pixel values. *first gets the
  * index in `in` of the first active pixel inside the range; out->active
  * the active pixels inside (contiguous in in's planes from *first). */
-static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out, size_t pixels,
-                     uint32_t *first_active, const char *what, tsr_error *err)
+static int clip_runs(const tsr_composite_sparse *in, uint32_t start, uint32_t count, tsr_composite_sparse *out,
+                     size_t pixels, uint32_t *first_active, const char *what, tsr_error *err)
 {
     if (start < in->start || (uint64_t)start + count > (uint64_t)in->start + in->count)
         return tsr_error_set(err, TSR_EINVAL, "%s: pixels %u+%u are outside the image's %u+%u", what, start, count,
@@ -287,7 +289,7 @@ static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count,
     uint32_t first = r, nr = 0;
     for (uint32_t q = r, p = pos; q < in->nruns && p < hi; q++, nr++)
         p += in->runs[2 * q] + in->runs[2 * q + 1];
-    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, tsr_ci_color_bytes(in->color_format), err);
+    int rc = sparse_reserve(out, (size_t)nr + 1, pixels, tsr_composite_color_bytes(in->color_format), err);
     if (rc)
         return rc;
     sparse_begin(out, in->window_width, in->window_height, start, count, in->mode, in->color_format, in->depth_format,
@@ -315,22 +317,22 @@ static int clip_runs(const tsr_sparse_image *in, uint32_t start, uint32_t count,
     return TSR_OK;
 }
 
-int tsr_sparse_image_split(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                           tsr_error *err)
+int tsr_composite_sparse_split(const tsr_composite_sparse *in, uint32_t start, uint32_t count,
+                               tsr_composite_sparse *out, tsr_error *err)
 {
     uint32_t first = 0;
     int rc = clip_runs(in, start, count, out, count < in->active ? count : in->active, &first, "sparse split", err);
     if (rc)
         return rc;
-    size_t cb = tsr_ci_color_bytes(in->color_format);
+    size_t cb = tsr_composite_color_bytes(in->color_format);
     ci_copy(out->color, in->color + (size_t)first * cb, (size_t)out->active * cb);
     if (in->depth_format)
         ci_copy(out->depth, in->depth + first, (size_t)out->active * sizeof(float));
     return TSR_OK;
 }
 
-int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t count, tsr_sparse_image *out,
-                          tsr_error *err)
+int tsr_composite_sparse_view(const tsr_composite_sparse *in, uint32_t start, uint32_t count, tsr_composite_sparse *out,
+                              tsr_error *err)
 {
     uint32_t first = 0;
     int rc = clip_runs(in, start, count, out, 0, &first, "sparse view", err);
@@ -340,7 +342,7 @@ int tsr_sparse_image_view(const tsr_sparse_image *in, uint32_t start, uint32_t c
         ci_plane_free(out->color);
         ci_plane_free(out->depth);
     }
-    size_t cb = tsr_ci_color_bytes(in->color_format);
+    size_t cb = tsr_composite_color_bytes(in->color_format);
     out->color = in->color ? in->color + (size_t)first * cb : NULL;
     out->depth = in->depth ? in->depth + first : NULL;
     out->pixel_capacity = 0;
@@ -370,7 +372,7 @@ static inline void cursor_norm(run_cursor *c)
     }
 }
 
-static void cursor_init(run_cursor *c, const tsr_sparse_image *s)
+static void cursor_init(run_cursor *c, const tsr_composite_sparse *s)
 {
     c->runs = s->runs;
     c->nruns = s->nruns;
@@ -391,7 +393,7 @@ static inline void cursor_take(run_cursor *c, uint32_t n)
 
 /* The two images cover the same pixels of one window, in one mode and
  * format: what a merge or a fold of them needs. */
-static int same_range(const tsr_sparse_image *a, const tsr_sparse_image *b, const char *what, tsr_error *err)
+static int same_range(const tsr_composite_sparse *a, const tsr_composite_sparse *b, const char *what, tsr_error *err)
 {
     if (a->window_width != b->window_width || a->window_height != b->window_height || a->start != b->start ||
         a->count != b->count || a->mode != b->mode || a->color_format != b->color_format ||
@@ -402,28 +404,28 @@ static int same_range(const tsr_sparse_image *a, const tsr_sparse_image *b, cons
     return TSR_OK;
 }
 
-int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image *back, tsr_sparse_image *out,
-                           tsr_error *err)
+int tsr_composite_sparse_merge(const tsr_composite_sparse *front, const tsr_composite_sparse *back,
+                               tsr_composite_sparse *out, tsr_error *err)
 {
     if (same_range(front, back, "sparse merge", err))
         return err->code;
     if (out == front || out == back)
         return tsr_error_set(err, TSR_EINVAL, "sparse merge: output aliases an input");
-    if (front->mode == TSR_COMPOSITE_DEPTH && front->depth_format != TSR_CI_DEPTH32F)
+    if (front->mode == TSR_COMPOSITE_DEPTH && front->depth_format != TSR_COMPOSITE_DEPTH32F)
         return tsr_error_set(err, TSR_EINVAL, "sparse merge: depth mode needs depth planes");
     size_t pixels = (size_t)front->active + back->active;
     if (pixels > front->count)
         pixels = front->count;
     int rc = sparse_reserve(out, (size_t)front->nruns + back->nruns + 1, pixels,
-                            tsr_ci_color_bytes(front->color_format), err);
+                            tsr_composite_color_bytes(front->color_format), err);
     if (rc)
         return rc;
     sparse_begin(out, front->window_width, front->window_height, front->start, front->count, front->mode,
                  front->color_format, front->depth_format, front->rank < back->rank ? front->rank : back->rank,
                  front->frame);
     out->rank_count = front->rank_count + back->rank_count;
-    size_t cb = tsr_ci_color_bytes(front->color_format);
-    int depth = front->mode == TSR_COMPOSITE_DEPTH, f32 = front->color_format == TSR_CI_RGBA32F;
+    size_t cb = tsr_composite_color_bytes(front->color_format);
+    int depth = front->mode == TSR_COMPOSITE_DEPTH, f32 = front->color_format == TSR_COMPOSITE_RGBA32F;
     run_cursor f, b;
     cursor_init(&f, front);
     cursor_init(&b, back);
@@ -464,12 +466,12 @@ int tsr_sparse_image_merge(const tsr_sparse_image *front, const tsr_sparse_image
 
 static void fill_background(uint8_t *dst, const void *background, size_t cb, uint32_t n);
 
-int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr_error *err)
+int tsr_composite_fold_begin(tsr_composite_fold *f, const tsr_composite_sparse *first, tsr_error *err)
 {
-    if (first->mode != TSR_COMPOSITE_DEPTH || first->depth_format != TSR_CI_DEPTH32F)
+    if (first->mode != TSR_COMPOSITE_DEPTH || first->depth_format != TSR_COMPOSITE_DEPTH32F)
         return tsr_error_set(err, TSR_EINVAL, "sparse fold: depth mode with depth planes only");
-    size_t cb = tsr_ci_color_bytes(first->color_format);
-    tsr_sparse_image *a = &f->acc;
+    size_t cb = tsr_composite_color_bytes(first->color_format);
+    tsr_composite_sparse *a = &f->acc;
     int rc = sparse_reserve(a, (size_t)first->nruns + 1, first->count, cb, err);
     if (rc)
         return rc;
@@ -496,18 +498,19 @@ int tsr_sparse_fold_begin(tsr_sparse_fold *f, const tsr_sparse_image *first, tsr
     return TSR_OK;
 }
 
-int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const tsr_sparse_image *runs, tsr_error *err)
+int tsr_composite_fold_begin_dense(tsr_composite_fold *f, const tsr_composite_image *in,
+                                   const tsr_composite_sparse *runs, tsr_error *err)
 {
-    if (runs->mode != TSR_COMPOSITE_DEPTH || in->depth_format != TSR_CI_DEPTH32F ||
-        runs->depth_format != TSR_CI_DEPTH32F)
+    if (runs->mode != TSR_COMPOSITE_DEPTH || in->depth_format != TSR_COMPOSITE_DEPTH32F ||
+        runs->depth_format != TSR_COMPOSITE_DEPTH32F)
         return tsr_error_set(err, TSR_EINVAL, "sparse fold: depth mode with depth planes only");
     if (runs->window_width != in->window_width || runs->window_height != in->window_height ||
         runs->color_format != in->color_format)
         return tsr_error_set(err, TSR_EINVAL,
                              "sparse fold: runs of a %dx%d window for a %dx%d read-back (or formats differ)",
                              runs->window_width, runs->window_height, in->window_width, in->window_height);
-    size_t cb = tsr_ci_color_bytes(in->color_format);
-    tsr_sparse_image *a = &f->acc;
+    size_t cb = tsr_composite_color_bytes(in->color_format);
+    tsr_composite_sparse *a = &f->acc;
     int rc = check_window(runs->window_width, runs->window_height, runs->start, runs->count, "sparse fold", err);
     if (rc || (rc = sparse_reserve(a, (size_t)runs->nruns + 1, runs->count, cb, err)))
         return rc;
@@ -549,16 +552,16 @@ int tsr_sparse_fold_begin_dense(tsr_sparse_fold *f, const tsr_cimage *in, const 
     return TSR_OK;
 }
 
-int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int in_front, tsr_error *err)
+int tsr_composite_fold_add(tsr_composite_fold *f, const tsr_composite_sparse *piece, int in_front, tsr_error *err)
 {
-    tsr_sparse_image *a = &f->acc, *nx = &f->next;
+    tsr_composite_sparse *a = &f->acc, *nx = &f->next;
     int rc = same_range(a, piece, "sparse fold", err);
     if (rc || (rc = sparse_reserve(nx, (size_t)a->nruns + piece->nruns + 1, 0, 4, err)))
         return rc;
     sparse_begin(nx, a->window_width, a->window_height, a->start, a->count, a->mode, a->color_format, a->depth_format,
                  a->rank, a->frame);
-    size_t cb = tsr_ci_color_bytes(a->color_format);
-    int f32 = a->color_format == TSR_CI_RGBA32F;
+    size_t cb = tsr_composite_color_bytes(a->color_format);
+    int f32 = a->color_format == TSR_COMPOSITE_RGBA32F;
     run_cursor u, p;
     cursor_init(&u, a);
     cursor_init(&p, piece);
@@ -617,10 +620,10 @@ int tsr_sparse_fold_add(tsr_sparse_fold *f, const tsr_sparse_image *piece, int i
     return TSR_OK;
 }
 
-int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *err)
+int tsr_composite_fold_end(tsr_composite_fold *f, tsr_composite_sparse *out, tsr_error *err)
 {
-    const tsr_sparse_image *a = &f->acc;
-    size_t cb = tsr_ci_color_bytes(a->color_format);
+    const tsr_composite_sparse *a = &f->acc;
+    size_t cb = tsr_composite_color_bytes(a->color_format);
     if (out == a || out == &f->next)
         return tsr_error_set(err, TSR_EINVAL, "sparse fold: output aliases the fold");
     int rc = sparse_reserve(out, (size_t)a->nruns + 1, a->active, cb, err);
@@ -644,10 +647,10 @@ int tsr_sparse_fold_end(tsr_sparse_fold *f, tsr_sparse_image *out, tsr_error *er
     return TSR_OK;
 }
 
-int tsr_sparse_fold_fill(tsr_sparse_fold *f, const void *background, tsr_error *err)
+int tsr_composite_fold_fill(tsr_composite_fold *f, const void *background, tsr_error *err)
 {
-    tsr_sparse_image *a = &f->acc;
-    size_t cb = tsr_ci_color_bytes(a->color_format);
+    tsr_composite_sparse *a = &f->acc;
+    size_t cb = tsr_composite_color_bytes(a->color_format);
     if (a->count && !a->runs)
         return tsr_error_set(err, TSR_EINVAL, "sparse fold: fill before the fold began");
     uint32_t pos = 0;
@@ -667,10 +670,10 @@ int tsr_sparse_fold_fill(tsr_sparse_fold *f, const void *background, tsr_error *
     return TSR_OK;
 }
 
-void tsr_sparse_fold_free(tsr_sparse_fold *f)
+void tsr_composite_fold_free(tsr_composite_fold *f)
 {
-    tsr_sparse_image_free(&f->acc);
-    tsr_sparse_image_free(&f->next);
+    tsr_composite_sparse_free(&f->acc);
+    tsr_composite_sparse_free(&f->next);
 }
 
 /* n pixels of the background colour: a copy of constant size per pixel,
@@ -692,13 +695,14 @@ static void fill_background(uint8_t *dst, const void *background, size_t cb, uin
     }
 }
 
-int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background, tsr_cimage *dst, tsr_error *err)
+int tsr_composite_sparse_to_dense(const tsr_composite_sparse *in, const void *background, tsr_composite_image *dst,
+                                  tsr_error *err)
 {
     if (dst->window_width != in->window_width || dst->window_height != in->window_height ||
         dst->color_format != in->color_format)
         return tsr_error_set(err, TSR_EINVAL, "sparse to dense: %dx%d image into a %dx%d frame (or formats differ)",
                              in->window_width, in->window_height, dst->window_width, dst->window_height);
-    size_t cb = tsr_ci_color_bytes(in->color_format);
+    size_t cb = tsr_composite_color_bytes(in->color_format);
     uint32_t w = (uint32_t)in->window_width;
     uint32_t pos = in->start, at = 0;
     static const float far = 1.0f;
@@ -716,7 +720,7 @@ int tsr_sparse_image_to_dense(const tsr_sparse_image *in, const void *background
                 size_t o = (size_t)(y - (uint32_t)dst->y) * (size_t)dst->width + (x - (uint32_t)dst->x);
                 if (part && in->mode == TSR_COMPOSITE_ALPHA) {
                     /* the background is added once, here: pixel over background */
-                    if (in->color_format == TSR_CI_RGBA8) {
+                    if (in->color_format == TSR_COMPOSITE_RGBA8) {
                         for (uint32_t i = 0; i < len; i++)
                             tsr_composite_over_rgba8(1, in->color + ((size_t)at + i) * 4, background,
                                                      dst->color + (o + i) * 4);

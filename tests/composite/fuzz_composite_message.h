@@ -1,8 +1,8 @@
-/* tests/composite/fuzz_image_message.h — the fuzz entry point for image
+/* tests/composite/fuzz_composite_message.h — the fuzz entry point for image
  * messages (tessera/dev/composite.h), shared by the libFuzzer target
- * (fuzz_image_message) and the corpus replay in composite_tests. */
-#ifndef TSR_TESTS_FUZZ_IMAGE_MESSAGE_H
-#define TSR_TESTS_FUZZ_IMAGE_MESSAGE_H
+ * (fuzz_composite_message) and the corpus replay in composite_tests. */
+#ifndef TSR_TESTS_FUZZ_COMPOSITE_MESSAGE_H
+#define TSR_TESTS_FUZZ_COMPOSITE_MESSAGE_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -11,6 +11,6 @@
  * image, assembled and re-encoded with every codec (each within its
  * advertised worst case). Returns 0 when the message decoded, 1 when it
  * was rejected; aborts when a decoded image breaks an invariant. */
-int fuzz_image_message_one(const uint8_t *data, size_t size);
+int fuzz_composite_message_one(const uint8_t *data, size_t size);
 
 #endif

@@ -1,4 +1,4 @@
-/* core/image/message.c — image messages (tessera/dev/composite.h): a fixed
+/* core/image/composite_message.c — image messages (tessera/dev/composite.h): a fixed
  * little-endian header and a codec payload (none, runs, bit-swizzled
  * per-channel RLE, lossy YUV 4:2:0 colour, 16/24-bit depth), the
  * worst-case size and a decoder that checks every count and offset.
@@ -36,9 +36,9 @@ static uint32_t get32(const uint8_t *p)
 
 /* ---- codec names -------------------------------------------------------- */
 
-int tsr_image_codec_parse(const char *text, tsr_image_codec *out, tsr_error *err)
+int tsr_composite_codec_parse(const char *text, tsr_composite_codec *out, tsr_error *err)
 {
-    tsr_image_codec c = {1, TSR_CODEC_COLOR_RAW, TSR_CODEC_DEPTH_RAW};
+    tsr_composite_codec c = {1, TSR_COMPOSITE_CODEC_COLOR_RAW, TSR_COMPOSITE_CODEC_DEPTH_RAW};
     int none = 0, parts = 0;
     const char *p = text ? text : "";
     while (*p) {
@@ -50,14 +50,14 @@ int tsr_image_codec_parse(const char *text, tsr_image_codec *out, tsr_error *err
         else if (n == 3 && !strncmp(p, "rle", 3))
             ;
         else if (n == 4 && !strncmp(p, "erle", 4)) {
-            c.color = c.color == TSR_CODEC_COLOR_RAW ? TSR_CODEC_COLOR_ERLE : c.color;
-            c.depth = c.depth == TSR_CODEC_DEPTH_RAW ? TSR_CODEC_DEPTH_ERLE : c.depth;
+            c.color = c.color == TSR_COMPOSITE_CODEC_COLOR_RAW ? TSR_COMPOSITE_CODEC_COLOR_ERLE : c.color;
+            c.depth = c.depth == TSR_COMPOSITE_CODEC_DEPTH_RAW ? TSR_COMPOSITE_CODEC_DEPTH_ERLE : c.depth;
         } else if (n == 6 && !strncmp(p, "yuv420", 6))
-            c.color = TSR_CODEC_COLOR_YUV420;
+            c.color = TSR_COMPOSITE_CODEC_COLOR_YUV420;
         else if (n == 7 && !strncmp(p, "depth16", 7))
-            c.depth = TSR_CODEC_DEPTH_Q16;
+            c.depth = TSR_COMPOSITE_CODEC_DEPTH_Q16;
         else if (n == 7 && !strncmp(p, "depth24", 7))
-            c.depth = TSR_CODEC_DEPTH_Q24;
+            c.depth = TSR_COMPOSITE_CODEC_DEPTH_Q24;
         else
             return tsr_error_set(err, TSR_EINVAL,
                                  "codec '%s': unknown part '%.*s' (valid: none, rle, erle, yuv420, depth16, depth24, "
@@ -77,31 +77,35 @@ int tsr_image_codec_parse(const char *text, tsr_image_codec *out, tsr_error *err
     return TSR_OK;
 }
 
-const char *tsr_image_codec_name(tsr_image_codec c, char *buf, size_t size)
+const char *tsr_composite_codec_name(tsr_composite_codec c, char *buf, size_t size)
 {
     if (!c.runs) {
         snprintf(buf, size, "none");
         return buf;
     }
-    const char *col = c.color == TSR_CODEC_COLOR_ERLE ? "erle" : c.color == TSR_CODEC_COLOR_YUV420 ? "yuv420" : "";
-    const char *dep = c.depth == TSR_CODEC_DEPTH_ERLE  ? (c.color == TSR_CODEC_COLOR_ERLE ? "" : "erle")
-                      : c.depth == TSR_CODEC_DEPTH_Q16 ? "depth16"
-                      : c.depth == TSR_CODEC_DEPTH_Q24 ? "depth24"
-                                                       : "";
+    const char *col = c.color == TSR_COMPOSITE_CODEC_COLOR_ERLE     ? "erle"
+                      : c.color == TSR_COMPOSITE_CODEC_COLOR_YUV420 ? "yuv420"
+                                                                    : "";
+    const char *dep = c.depth == TSR_COMPOSITE_CODEC_DEPTH_ERLE
+                          ? (c.color == TSR_COMPOSITE_CODEC_COLOR_ERLE ? "" : "erle")
+                      : c.depth == TSR_COMPOSITE_CODEC_DEPTH_Q16 ? "depth16"
+                      : c.depth == TSR_COMPOSITE_CODEC_DEPTH_Q24 ? "depth24"
+                                                                 : "";
     if (!*col && !*dep)
         snprintf(buf, size, "rle");
     else if (*col && *dep)
         snprintf(buf, size, "%s+%s", col, dep);
-    else if (c.color == TSR_CODEC_COLOR_YUV420 && c.depth == TSR_CODEC_DEPTH_ERLE)
+    else if (c.color == TSR_COMPOSITE_CODEC_COLOR_YUV420 && c.depth == TSR_COMPOSITE_CODEC_DEPTH_ERLE)
         snprintf(buf, size, "yuv420+erle");
     else
         snprintf(buf, size, "%s", *col ? col : dep);
     return buf;
 }
 
-bool tsr_image_codec_lossless(tsr_image_codec c)
+bool tsr_composite_codec_lossless(tsr_composite_codec c)
 {
-    return c.color != TSR_CODEC_COLOR_YUV420 && c.depth != TSR_CODEC_DEPTH_Q16 && c.depth != TSR_CODEC_DEPTH_Q24;
+    return c.color != TSR_COMPOSITE_CODEC_COLOR_YUV420 && c.depth != TSR_COMPOSITE_CODEC_DEPTH_Q16 &&
+           c.depth != TSR_COMPOSITE_CODEC_DEPTH_Q24;
 }
 
 /* ---- byte-plane RLE ------------------------------------------------------ */
@@ -245,7 +249,7 @@ static inline uint8_t clamp8(int v) { return (uint8_t)(v < 0 ? 0 : v > 255 ? 255
  * each pixel a chroma slot: blocks numbered in order of first touch within
  * each block row, numbers running on across rows. Encoder and decoder
  * derive the same slots from the runs alone. slot[] gets one per pixel. */
-static uint32_t yuv_slots(const tsr_sparse_image *s, uint32_t *slot, uint32_t *stamp, uint32_t *stamp_slot)
+static uint32_t yuv_slots(const tsr_composite_sparse *s, uint32_t *slot, uint32_t *stamp, uint32_t *stamp_slot)
 {
     uint32_t w = (uint32_t)s->window_width, pos = s->start, at = 0, next = 0, cur_row = UINT32_MAX, gen = 0;
     memset(stamp, 0, ((w + 1) / 2) * sizeof *stamp);
@@ -271,10 +275,10 @@ static uint32_t yuv_slots(const tsr_sparse_image *s, uint32_t *slot, uint32_t *s
 
 static size_t color_section_bound(size_t n, int cf, int codec)
 {
-    size_t cb = tsr_ci_color_bytes(cf);
-    if (codec == TSR_CODEC_COLOR_ERLE)
+    size_t cb = tsr_composite_color_bytes(cf);
+    if (codec == TSR_COMPOSITE_CODEC_COLOR_ERLE)
         return cb * rle_bound(n);
-    if (codec == TSR_CODEC_COLOR_YUV420)
+    if (codec == TSR_COMPOSITE_CODEC_COLOR_YUV420)
         return 4 * n; /* Y + A per pixel, U V per touched block (<= one per pixel) */
     return n * cb;
 }
@@ -283,32 +287,32 @@ static size_t depth_section_bound(size_t n, int df, int codec)
 {
     if (!df)
         return 0;
-    if (codec == TSR_CODEC_DEPTH_ERLE)
+    if (codec == TSR_COMPOSITE_CODEC_DEPTH_ERLE)
         return 4 * rle_bound(n);
-    if (codec == TSR_CODEC_DEPTH_Q16)
+    if (codec == TSR_COMPOSITE_CODEC_DEPTH_Q16)
         return 2 * n;
-    if (codec == TSR_CODEC_DEPTH_Q24)
+    if (codec == TSR_COMPOSITE_CODEC_DEPTH_Q24)
         return 3 * n;
     return 4 * n;
 }
 
-size_t tsr_image_message_max_size(uint32_t count, int color_format, int depth_format, tsr_image_codec c)
+size_t tsr_composite_message_max_size(uint32_t count, int color_format, int depth_format, tsr_composite_codec c)
 {
     size_t n = count;
     if (!c.runs)
-        return TSR_IMAGE_MESSAGE_HEADER_SIZE +
-               n * (tsr_ci_color_bytes(color_format) + tsr_ci_depth_bytes(depth_format));
+        return TSR_COMPOSITE_MESSAGE_HEADER_SIZE +
+               n * (tsr_composite_color_bytes(color_format) + tsr_composite_depth_bytes(depth_format));
     /* Canonical runs: every pair but the first has an inactive pixel and
      * every pair but the last an active one, so pairs <= count / 2 + 1. */
     size_t pairs = n ? n / 2 + 1 : 0;
-    return TSR_IMAGE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, color_format, c.color) +
+    return TSR_COMPOSITE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, color_format, c.color) +
            depth_section_bound(n, depth_format, c.depth);
 }
 
 /* ---- encode ------------------------------------------------------------------ */
 
-static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_codec c, uint32_t active, uint32_t nruns,
-                         uint32_t payload)
+static void write_header(uint8_t *o, const tsr_composite_sparse *img, tsr_composite_codec c, uint32_t active,
+                         uint32_t nruns, uint32_t payload)
 {
     put32(o, MSG_MAGIC);
     o[4] = MSG_VERSION;
@@ -332,7 +336,7 @@ static void write_header(uint8_t *o, const tsr_sparse_image *img, tsr_image_code
 
 /* The runs section at o, re-canonicalised (a decoded image may carry empty
  * pairs); returns the pairs written. */
-static uint32_t put_runs(const tsr_sparse_image *img, uint8_t *o)
+static uint32_t put_runs(const tsr_composite_sparse *img, uint8_t *o)
 {
     uint32_t nr = 0;
     for (uint32_t r = 0; r < img->nruns; r++) {
@@ -351,24 +355,24 @@ static uint32_t put_runs(const tsr_sparse_image *img, uint8_t *o)
     return nr;
 }
 
-size_t tsr_image_message_bound(const tsr_sparse_image *img, tsr_image_codec c)
+size_t tsr_composite_message_bound(const tsr_composite_sparse *img, tsr_composite_codec c)
 {
     if (!c.runs)
-        return tsr_image_message_max_size(img->count, img->color_format, img->depth_format, c);
+        return tsr_composite_message_max_size(img->count, img->color_format, img->depth_format, c);
     /* encode writes canonical runs: never more pairs than max_size counts */
     size_t n = img->active, pairs = img->nruns, canonical = img->count ? (size_t)img->count / 2 + 1 : 0;
     pairs = pairs < canonical ? pairs : canonical;
-    return TSR_IMAGE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, img->color_format, c.color) +
+    return TSR_COMPOSITE_MESSAGE_HEADER_SIZE + 8 * pairs + color_section_bound(n, img->color_format, c.color) +
            depth_section_bound(n, img->depth_format, c.depth);
 }
 
-static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t cap, tsr_error *err)
+static int check_encode(const tsr_composite_sparse *img, tsr_composite_codec c, size_t cap, tsr_error *err)
 {
-    size_t need = tsr_image_message_bound(img, c);
+    size_t need = tsr_composite_message_bound(img, c);
     if (cap < need)
         return tsr_error_set(err, TSR_EINVAL, "image message: buffer of %zu bytes is below the worst case %zu", cap,
                              need);
-    if (img->color_format != TSR_CI_RGBA8 && c.color == TSR_CODEC_COLOR_YUV420)
+    if (img->color_format != TSR_COMPOSITE_RGBA8 && c.color == TSR_COMPOSITE_CODEC_COLOR_YUV420)
         return tsr_error_set(err, TSR_EUNSUPPORTED, "image message: yuv420 needs RGBA8 colour");
     if (img->rank < 0 || img->rank > 0xffff || img->rank_count < 1 || img->rank_count > 0xffff)
         return tsr_error_set(err, TSR_EINVAL, "image message: rank %d+%d does not fit 16 bits", img->rank,
@@ -385,10 +389,10 @@ static int check_encode(const tsr_sparse_image *img, tsr_image_codec c, size_t c
  * not read again: streamed when the message is large (CI_STREAM_MIN, the
  * pieces may be rows of a few KiB); else the planes a codec reads next,
  * which must stay in the cache. */
-static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, uint8_t *dst_color, uint8_t *dst_depth,
-                          int out)
+static void gather_active(const tsr_composite_image *in, const tsr_composite_sparse *runs, uint8_t *dst_color,
+                          uint8_t *dst_depth, int out)
 {
-    size_t cb = tsr_ci_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
+    size_t cb = tsr_composite_color_bytes(in->color_format), W = (size_t)in->window_width, at = 0;
     int stream = out && (size_t)runs->active * (cb + (dst_depth ? 4 : 0)) >= CI_STREAM_MIN;
     void (*copy)(void *, const void *, size_t) = stream ? ci_copy_stream : ci_copy;
     size_t pos = runs->start;
@@ -411,44 +415,45 @@ static void gather_active(const tsr_cimage *in, const tsr_sparse_image *runs, ui
         ci_copy_fence();
 }
 
-int tsr_image_message_encode_dense(const tsr_cimage *in, tsr_sparse_image *runs, tsr_image_codec c, uint8_t *out,
-                                   size_t cap, size_t *size, tsr_error *err)
+int tsr_composite_message_encode_dense(const tsr_composite_image *in, tsr_composite_sparse *runs, tsr_composite_codec c,
+                                       uint8_t *out, size_t cap, size_t *size, tsr_error *err)
 {
     if (runs->window_width != in->window_width || runs->window_height != in->window_height ||
         runs->color_format != in->color_format || runs->depth_format != in->depth_format)
         return tsr_error_set(err, TSR_EINVAL, "image message: runs of a %dx%d image for a %dx%d read-back",
                              runs->window_width, runs->window_height, in->window_width, in->window_height);
     int rc;
-    size_t n = runs->active, cb = tsr_ci_color_bytes(in->color_format);
-    if (!(c.runs && c.color == TSR_CODEC_COLOR_RAW && (c.depth == TSR_CODEC_DEPTH_RAW || !in->depth_format))) {
+    size_t n = runs->active, cb = tsr_composite_color_bytes(in->color_format);
+    if (!(c.runs && c.color == TSR_COMPOSITE_CODEC_COLOR_RAW &&
+          (c.depth == TSR_COMPOSITE_CODEC_DEPTH_RAW || !in->depth_format))) {
         /* the codec needs the pixels together: gather them into the runs'
          * own planes, then encode those */
         if ((rc = ci_sparse_planes(runs, n, cb, err)))
             return rc;
         gather_active(in, runs, runs->color, in->depth_format ? (uint8_t *)runs->depth : NULL, 0);
-        return tsr_image_message_encode(runs, c, out, cap, size, err);
+        return tsr_composite_message_encode(runs, c, out, cap, size, err);
     }
     if ((rc = check_encode(runs, c, cap, err)))
         return rc;
-    uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    uint8_t *o = out + TSR_COMPOSITE_MESSAGE_HEADER_SIZE;
     uint32_t nr = put_runs(runs, o);
     o += 8 * (size_t)nr;
     gather_active(in, runs, o, in->depth_format ? o + n * cb : NULL, 1);
     o += n * (cb + (in->depth_format ? 4 : 0));
-    size_t payload = (size_t)(o - out) - TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    size_t payload = (size_t)(o - out) - TSR_COMPOSITE_MESSAGE_HEADER_SIZE;
     write_header(out, runs, c, (uint32_t)n, nr, (uint32_t)payload);
     *size = (size_t)(o - out);
     return TSR_OK;
 }
 
-int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uint8_t *out, size_t cap, size_t *size,
-                             tsr_error *err)
+int tsr_composite_message_encode(const tsr_composite_sparse *img, tsr_composite_codec c, uint8_t *out, size_t cap,
+                                 size_t *size, tsr_error *err)
 {
     int rc0 = check_encode(img, c, cap, err);
     if (rc0)
         return rc0;
-    size_t cb = tsr_ci_color_bytes(img->color_format), n = img->active;
-    uint8_t *o = out + TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    size_t cb = tsr_composite_color_bytes(img->color_format), n = img->active;
+    uint8_t *o = out + TSR_COMPOSITE_MESSAGE_HEADER_SIZE;
     const uint8_t *color = img->color;
     const float *depth = img->depth;
     if (!c.runs) {
@@ -471,19 +476,19 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
         }
         size_t payload = (size_t)img->count * (cb + db);
         write_header(out, img, c, img->count, 0, (uint32_t)payload);
-        *size = TSR_IMAGE_MESSAGE_HEADER_SIZE + payload;
+        *size = TSR_COMPOSITE_MESSAGE_HEADER_SIZE + payload;
         return TSR_OK;
     }
     uint32_t nr = put_runs(img, o);
     o += 8 * (size_t)nr;
-    if (c.color == TSR_CODEC_COLOR_RAW) {
+    if (c.color == TSR_COMPOSITE_CODEC_COLOR_RAW) {
         tsr_composite_copy(o, color, n * cb);
         o += n * cb;
-    } else if (c.color == TSR_CODEC_COLOR_ERLE) {
+    } else if (c.color == TSR_COMPOSITE_CODEC_COLOR_ERLE) {
         /* byte planes (swizzled for RGBA8), then each plane RLE-coded */
         uint8_t *planes = malloc(n ? n * cb : 1);
-        swizzle_tables *tab = img->color_format == TSR_CI_RGBA8 ? malloc(sizeof *tab) : NULL;
-        if (!planes || (img->color_format == TSR_CI_RGBA8 && !tab)) {
+        swizzle_tables *tab = img->color_format == TSR_COMPOSITE_RGBA8 ? malloc(sizeof *tab) : NULL;
+        if (!planes || (img->color_format == TSR_COMPOSITE_RGBA8 && !tab)) {
             free(planes);
             free(tab);
             return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu pixels", n);
@@ -543,10 +548,10 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
         free(acc);
     }
     if (img->depth_format) {
-        if (c.depth == TSR_CODEC_DEPTH_RAW) {
+        if (c.depth == TSR_COMPOSITE_CODEC_DEPTH_RAW) {
             tsr_composite_copy(o, depth, n * 4);
             o += n * 4;
-        } else if (c.depth == TSR_CODEC_DEPTH_ERLE) {
+        } else if (c.depth == TSR_COMPOSITE_CODEC_DEPTH_ERLE) {
             uint8_t *planes = malloc(n ? 4 * n : 1);
             if (!planes)
                 return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu depths", n);
@@ -560,7 +565,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
                 o += rle_encode(planes + (size_t)k * n, n, o);
             free(planes);
         } else {
-            int bits = c.depth == TSR_CODEC_DEPTH_Q16 ? 16 : 24;
+            int bits = c.depth == TSR_COMPOSITE_CODEC_DEPTH_Q16 ? 16 : 24;
             double scale = (double)(1u << bits);
             uint32_t maxq = (1u << bits) - 1;
             for (size_t i = 0; i < n; i++) {
@@ -573,7 +578,7 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
             }
         }
     }
-    size_t payload = (size_t)(o - out) - TSR_IMAGE_MESSAGE_HEADER_SIZE;
+    size_t payload = (size_t)(o - out) - TSR_COMPOSITE_MESSAGE_HEADER_SIZE;
     write_header(out, img, c, (uint32_t)n, nr, (uint32_t)payload);
     *size = (size_t)(o - out);
     return TSR_OK;
@@ -581,19 +586,19 @@ int tsr_image_message_encode(const tsr_sparse_image *img, tsr_image_codec c, uin
 
 /* ---- decode ----------------------------------------------------------------- */
 
-void tsr_image_message_expect_any(tsr_image_message_header *e)
+void tsr_composite_message_expect_any(tsr_composite_message_header *e)
 {
     memset(e, 0xff, sizeof *e);
     e->window_width = e->window_height = e->mode = e->color_format = e->depth_format = -1;
     e->rank = e->rank_count = -1;
 }
 
-int tsr_image_message_header_read(const void *data, size_t size, tsr_image_message_header *h, tsr_error *err)
+int tsr_composite_message_header_read(const void *data, size_t size, tsr_composite_message_header *h, tsr_error *err)
 {
     const uint8_t *p = data;
-    if (size < TSR_IMAGE_MESSAGE_HEADER_SIZE)
+    if (size < TSR_COMPOSITE_MESSAGE_HEADER_SIZE)
         return tsr_error_set(err, TSR_EPROTO, "image message: %zu bytes, shorter than its %d-byte header", size,
-                             TSR_IMAGE_MESSAGE_HEADER_SIZE);
+                             TSR_COMPOSITE_MESSAGE_HEADER_SIZE);
     if (get32(p) != MSG_MAGIC || p[4] != MSG_VERSION)
         return tsr_error_set(err, TSR_EPROTO, "image message: bad magic or version (0x%08x v%u)", get32(p), p[4]);
     h->codec.runs = p[5];
@@ -613,15 +618,16 @@ int tsr_image_message_header_read(const void *data, size_t size, tsr_image_messa
     h->runs = get32(p + 40);
     h->payload_size = get32(p + 44);
     uint32_t ww = get32(p + 12), wh = get32(p + 16);
-    if (h->codec.runs > 1 || h->codec.color > TSR_CODEC_COLOR_YUV420 || h->codec.depth > TSR_CODEC_DEPTH_Q24 ||
-        (!h->codec.runs && (h->codec.color || h->codec.depth)) || p[11])
+    if (h->codec.runs > 1 || h->codec.color > TSR_COMPOSITE_CODEC_COLOR_YUV420 ||
+        h->codec.depth > TSR_COMPOSITE_CODEC_DEPTH_Q24 || (!h->codec.runs && (h->codec.color || h->codec.depth)) ||
+        p[11])
         return tsr_error_set(err, TSR_EPROTO, "image message: unknown codec (%u/%u/%u)", p[5], p[6], p[7]);
-    if (h->mode > TSR_COMPOSITE_ALPHA || !tsr_ci_color_bytes(h->color_format) || h->depth_format > TSR_CI_DEPTH32F ||
-        (h->mode == TSR_COMPOSITE_DEPTH && !h->depth_format) ||
-        (h->codec.color == TSR_CODEC_COLOR_YUV420 && h->color_format != TSR_CI_RGBA8))
+    if (h->mode > TSR_COMPOSITE_ALPHA || !tsr_composite_color_bytes(h->color_format) ||
+        h->depth_format > TSR_COMPOSITE_DEPTH32F || (h->mode == TSR_COMPOSITE_DEPTH && !h->depth_format) ||
+        (h->codec.color == TSR_COMPOSITE_CODEC_COLOR_YUV420 && h->color_format != TSR_COMPOSITE_RGBA8))
         return tsr_error_set(err, TSR_EPROTO, "image message: impossible mode/format (mode %u, colour %u, depth %u)",
                              p[8], p[9], p[10]);
-    if (ww < 1 || wh < 1 || ww > TSR_CI_MAX_SIDE || wh > TSR_CI_MAX_SIDE)
+    if (ww < 1 || wh < 1 || ww > TSR_COMPOSITE_MAX_SIDE || wh > TSR_COMPOSITE_MAX_SIDE)
         return tsr_error_set(err, TSR_EPROTO, "image message: impossible window %ux%u", ww, wh);
     if ((uint64_t)h->start + h->count > (uint64_t)ww * wh)
         return tsr_error_set(err, TSR_EPROTO, "image message: pixels %u+%u lie outside the %ux%u window", h->start,
@@ -632,7 +638,7 @@ int tsr_image_message_header_read(const void *data, size_t size, tsr_image_messa
         (!h->codec.runs && h->active != h->count))
         return tsr_error_set(err, TSR_EPROTO, "image message: %u active pixels in %u runs cannot fit %u pixels",
                              h->active, h->runs, h->count);
-    if ((uint64_t)h->payload_size != (uint64_t)size - TSR_IMAGE_MESSAGE_HEADER_SIZE)
+    if ((uint64_t)h->payload_size != (uint64_t)size - TSR_COMPOSITE_MESSAGE_HEADER_SIZE)
         return tsr_error_set(err, TSR_EPROTO, "image message: payload of %u bytes in a %zu-byte message",
                              h->payload_size, size);
     return TSR_OK;
@@ -647,7 +653,7 @@ static int expect_field(const char *name, long long want, long long got, long lo
 
 /* Planes for n decoded pixels of cb colour bytes (reused while big
  * enough; composite_internal.h). */
-static int reserve_planes(tsr_sparse_image *s, size_t n, size_t cb, tsr_error *err)
+static int reserve_planes(tsr_composite_sparse *s, size_t n, size_t cb, tsr_error *err)
 {
     if (n <= s->pixel_capacity && ci_plane_bytes(s->color) >= n * cb && s->color)
         return TSR_OK;
@@ -664,26 +670,26 @@ static int reserve_planes(tsr_sparse_image *s, size_t n, size_t cb, tsr_error *e
     return TSR_OK;
 }
 
-static int decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out, int view,
-                  tsr_error *err);
+static int decode(const void *data, size_t size, const tsr_composite_message_header *e, tsr_composite_sparse *out,
+                  int view, tsr_error *err);
 
-int tsr_image_message_decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
-                             tsr_error *err)
+int tsr_composite_message_decode(const void *data, size_t size, const tsr_composite_message_header *e,
+                                 tsr_composite_sparse *out, tsr_error *err)
 {
     return decode(data, size, e, out, 0, err);
 }
 
-int tsr_image_message_view(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out,
-                           tsr_error *err)
+int tsr_composite_message_view(const void *data, size_t size, const tsr_composite_message_header *e,
+                               tsr_composite_sparse *out, tsr_error *err)
 {
     return decode(data, size, e, out, 1, err);
 }
 
-static int decode(const void *data, size_t size, const tsr_image_message_header *e, tsr_sparse_image *out, int view,
-                  tsr_error *err)
+static int decode(const void *data, size_t size, const tsr_composite_message_header *e, tsr_composite_sparse *out,
+                  int view, tsr_error *err)
 {
-    tsr_image_message_header h;
-    int rc = tsr_image_message_header_read(data, size, &h, err);
+    tsr_composite_message_header h;
+    int rc = tsr_composite_message_header_read(data, size, &h, err);
     if (rc)
         return rc;
     if (e && ((rc = expect_field("window width", e->window_width, h.window_width, -1, err)) ||
@@ -704,9 +710,9 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
         out->pixel_capacity = 0;
         out->borrowed = 0;
     }
-    const uint8_t *p = (const uint8_t *)data + TSR_IMAGE_MESSAGE_HEADER_SIZE, *end = p + h.payload_size;
-    size_t cb = tsr_ci_color_bytes(h.color_format), db = h.depth_format ? 4 : 0;
-    tsr_sparse_image *s = out;
+    const uint8_t *p = (const uint8_t *)data + TSR_COMPOSITE_MESSAGE_HEADER_SIZE, *end = p + h.payload_size;
+    size_t cb = tsr_composite_color_bytes(h.color_format), db = h.depth_format ? 4 : 0;
+    tsr_composite_sparse *s = out;
     s->window_width = h.window_width;
     s->window_height = h.window_height;
     s->start = h.start;
@@ -741,7 +747,7 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
             int act;
             if (h.mode == TSR_COMPOSITE_DEPTH) {
                 act = d < 1.0f;
-            } else if (h.color_format == TSR_CI_RGBA8) {
+            } else if (h.color_format == TSR_COMPOSITE_RGBA8) {
                 act = (c[0] | c[1] | c[2] | c[3]) != 0;
             } else {
                 float f[4];
@@ -795,8 +801,8 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
     s->nruns = h.runs;
     p += (size_t)h.runs * 8;
     size_t n = h.active;
-    if (view && h.codec.color == TSR_CODEC_COLOR_RAW && (h.codec.depth == TSR_CODEC_DEPTH_RAW || !db) &&
-        (uintptr_t)p % 4 == 0) {
+    if (view && h.codec.color == TSR_COMPOSITE_CODEC_COLOR_RAW &&
+        (h.codec.depth == TSR_COMPOSITE_CODEC_DEPTH_RAW || !db) && (uintptr_t)p % 4 == 0) {
         /* The planes as they lie in the message (checked like a copy). */
         if ((size_t)(end - p) < n * cb)
             return tsr_error_set(err, TSR_EPROTO, "image message: colour of %zu pixels truncated", n);
@@ -819,12 +825,12 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
     s->active = (uint32_t)n;
     const char *why = NULL;
     size_t used = 0;
-    if (h.codec.color == TSR_CODEC_COLOR_RAW) {
+    if (h.codec.color == TSR_COMPOSITE_CODEC_COLOR_RAW) {
         if ((size_t)(end - p) < n * cb)
             return tsr_error_set(err, TSR_EPROTO, "image message: colour of %zu pixels truncated", n);
         ci_copy(s->color, p, n * cb);
         p += n * cb;
-    } else if (h.codec.color == TSR_CODEC_COLOR_ERLE) {
+    } else if (h.codec.color == TSR_COMPOSITE_CODEC_COLOR_ERLE) {
         uint8_t *planes = malloc(n ? n * cb : 1);
         swizzle_tables *tab = malloc(sizeof *tab);
         if (!planes || !tab) {
@@ -840,7 +846,7 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
             }
             p += used;
         }
-        if (h.color_format == TSR_CI_RGBA8) {
+        if (h.color_format == TSR_COMPOSITE_RGBA8) {
             swizzle_init(tab);
             for (size_t i = 0; i < n; i++) {
                 uint32_t v = (uint32_t)planes[i] | (uint32_t)planes[n + i] << 8 | (uint32_t)planes[2 * n + i] << 16 |
@@ -885,12 +891,12 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
         p += 2 * n + 2 * (size_t)blocks;
     }
     if (h.depth_format) {
-        if (h.codec.depth == TSR_CODEC_DEPTH_RAW) {
+        if (h.codec.depth == TSR_COMPOSITE_CODEC_DEPTH_RAW) {
             if ((size_t)(end - p) < n * 4)
                 return tsr_error_set(err, TSR_EPROTO, "image message: depth of %zu pixels truncated", n);
             ci_copy(s->depth, p, n * 4);
             p += n * 4;
-        } else if (h.codec.depth == TSR_CODEC_DEPTH_ERLE) {
+        } else if (h.codec.depth == TSR_COMPOSITE_CODEC_DEPTH_ERLE) {
             uint8_t *planes = malloc(n ? 4 * n : 1);
             if (!planes)
                 return tsr_error_set(err, TSR_ENOMEM, "image message: no memory for %zu depths", n);
@@ -909,7 +915,7 @@ static int decode(const void *data, size_t size, const tsr_image_message_header 
             }
             free(planes);
         } else {
-            int bytes = h.codec.depth == TSR_CODEC_DEPTH_Q16 ? 2 : 3;
+            int bytes = h.codec.depth == TSR_COMPOSITE_CODEC_DEPTH_Q16 ? 2 : 3;
             float scale = 1.0f / (float)(1u << (8 * bytes));
             if ((size_t)(end - p) < n * (size_t)bytes)
                 return tsr_error_set(err, TSR_EPROTO, "image message: quantised depth of %zu pixels truncated", n);
