@@ -119,13 +119,13 @@ if(TESSERA_SANITIZE) # OSMesa/LLVM keep state for the process lifetime
   list(APPEND NET_SORTLAST_ENV "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 foreach(pair
-    "composite_same_host_unix_peers_use_shared_memory_exact:unix"
-    "composite_same_host_shm_off_uses_the_unix_socket_exact:noshm"
-    "composite_same_host_tcp_peers_use_tcp_exact:tcp")
+    "binaryswap_same_host_unix_peers_use_shared_memory_exact:unix"
+    "binaryswap_same_host_shm_off_uses_the_unix_socket_exact:noshm"
+    "binaryswap_same_host_tcp_peers_use_tcp_exact:tcp")
   string(REPLACE ":" ";" pair "${pair}")
   list(GET pair 0 name)
   list(GET pair 1 mode)
-  add_test(NAME ${name} COMMAND ${NET_TEST_SRC}/sortlast_transport.sh ${mode} ${CMAKE_BINARY_DIR}/bin
+  add_test(NAME ${name} COMMAND ${NET_TEST_SRC}/binaryswap_transport.sh ${mode} ${CMAKE_BINARY_DIR}/bin
            ${CMAKE_BINARY_DIR}/test-out/net/${name})
   set_tests_properties(${name} PROPERTIES TIMEOUT 120 LABELS net FAIL_REGULAR_EXPRESSION "FAIL:"
                        ENVIRONMENT "${NET_SORTLAST_ENV}")

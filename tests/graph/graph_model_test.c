@@ -352,7 +352,7 @@ static void roles_decide_the_graph_rules(void)
                             "  d:\n    chain: [t_filter]\n  e:\n    chain: [t_filter]\n";
     CHECK(graph_checks("t_one", "a", peers_two) == TSR_EINVAL);
     /* an app node may be a peer (in situ: sort-last, issue 11); its
-     * group's rules are core/graph/groups.c's (tests/sortlast) */
+     * group's rules are core/graph/groups.c's (tests/binaryswap) */
     CHECK(graph_checks("t_peers", "d", "  d:\n    chain: [t_filter]\n") == TSR_OK);
     /* Structure only: an SPU not installed here has no known role, so its
      * node's to: is neither required nor refused. */

@@ -1,4 +1,4 @@
-/* tests/sortlast/behind_viewer.c — a scene for binaryswap's region of
+/* tests/binaryswap/behind_viewer.c — a scene for binaryswap's region of
  * interest (issue 11, item 2): geometry that straddles the eye plane and
  * geometry wholly behind the viewer, under a perspective projection, so
  * that boxes have corners at w <= 0. Built twice like the examples
@@ -8,8 +8,8 @@
  * The frames turn the scene a little, so boxes move. --bounds (the tessera
  * build; the native one ignores it) also sends BoundsInfoTSR with a box
  * around the eye, which covers the whole window. Used by
- * tests/sortlast.cmake (composite_bounds_behind_viewer,
- * composite_roi_bounds_info_is_honoured). */
+ * tests/binaryswap.cmake (binaryswap_bounds_behind_viewer,
+ * binaryswap_roi_bounds_info_is_honoured). */
 #include <GL/gl.h>
 #include <stdbool.h>
 

@@ -1,4 +1,4 @@
-/* tests/sortlast/alpha_blend.c — the reference of alpha mode: a serial
+/* tests/binaryswap/alpha_blend.c — the reference of alpha mode: a serial
  * back-to-front blend of the peers' layers, each a PNG the part rendered
  * natively (cleared to transparent black), written here as plain loops
  * independent of the compositing library, and compared with the display's

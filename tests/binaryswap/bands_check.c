@@ -1,4 +1,4 @@
-/* tests/sortlast/bands_check.c — binaryswap's plan for drawing a partial
+/* tests/binaryswap/bands_check.c — binaryswap's plan for drawing a partial
  * final piece on the display (spus/binaryswap/bands.h): for random and
  * adversarial pieces (random runs, all active, one active pixel, a piece
  * starting and ending mid-row, one-row and one-column windows, every

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sortlast/parts.sh — an example's --part K/N shares (native build):
+# tests/binaryswap/parts.sh — an example's --part K/N shares (native build):
 # each of 3 shares draws something and less than the whole scene (its
 # frame differs from the whole), and the whole is drawn without --part
 # exactly as with --part 0/1. That the shares' union with the depth test

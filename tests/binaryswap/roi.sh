@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sortlast/roi.sh — binaryswap's region of interest from the
+# tests/binaryswap/roi.sh — binaryswap's region of interest from the
 # geometry's boxes (issue 11, item 2; spus/binaryswap/roi.c). A graph of N
 # peers (FORM insitu: each application runs binaryswap; servers: app ->
 # pack -> a binaryswap server), small window, 2 frames, under `tessera

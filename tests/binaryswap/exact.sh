@@ -1,10 +1,10 @@
 #!/bin/sh
-# tests/sortlast/sortlast.sh — a sort-last graph (binaryswap peers and a
+# tests/binaryswap/exact.sh — a sort-last graph (binaryswap peers and a
 # display node) written for N peers and run with `tessera run`: real
 # processes, real sockets, real OSMesa, real PNGs. Every frame the display
 # writes is compared with the single-process native render of the whole
 # scene: 0 differing pixels, and exactly FRAMES frames.
-# usage: sortlast.sh FORM BIN_DIR OUT_DIR N SCENE [EXTRA [OPTIONS]]
+# usage: exact.sh FORM BIN_DIR OUT_DIR N SCENE [EXTRA [OPTIONS]]
 #   FORM   insitu  (N apps, each running the chain `binaryswap`)
 #          servers (N apps -> pack -> N render servers ending in binaryswap)
 #   SCENE  isosurface | overlap (spheres --overlap: interpenetrating)

@@ -1,4 +1,4 @@
-/* tests/sortlast/synthetic_check.c — checks a display's frame against the
+/* tests/binaryswap/synthetic_check.c — checks a display's frame against the
  * composite of binaryswap's synthetic layers (spus/binaryswap/synthetic.h)
  * computed here by a plain loop: per pixel the nearest depth wins, equal
  * depth the lower rank, and a pixel no layer covers is opaque black. It

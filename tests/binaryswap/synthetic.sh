@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sortlast/synthetic.sh — N in-situ binaryswap peers with
+# tests/binaryswap/synthetic.sh — N in-situ binaryswap peers with
 # synthetic=MODE (generated layers instead of the read-back, the
 # benchmarks' input) under `tessera run`, with stats= on: every frame the
 # display writes must equal the composite of those layers computed by

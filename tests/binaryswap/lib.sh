@@ -1,4 +1,4 @@
-# tests/sortlast/lib.sh — what the sort-last graph scripts share (sourced):
+# tests/binaryswap/lib.sh — what the sort-last graph scripts share (sourced):
 # writing a graph of N peers and a display node, running it under
 # `tessera run`, and comparing every frame the display wrote with the
 # native render. The caller sets bin, out and frames and defines fail().

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/net/sortlast_transport.sh — which transport sort-last peers on one
+# tests/net/binaryswap_transport.sh — which transport sort-last peers on one
 # host use, proven from their own statistics: a sort-last graph (N in-situ
 # binaryswap peers, direct send, so every pair of peers exchanges images
 # both ways, and a display node) under `tessera run`, every frame exactly
@@ -15,9 +15,9 @@
 #         so no client's port can hold one; a run that still finds one
 #         taken by another program is run again on other ports, twice at
 #         most)
-# usage: sortlast_transport.sh MODE BIN_DIR OUT_DIR [N]
+# usage: binaryswap_transport.sh MODE BIN_DIR OUT_DIR [N]
 set -u
-. "$(dirname "$0")/../sortlast/lib.sh"
+. "$(dirname "$0")/../binaryswap/lib.sh"
 mode=$1 bin=$2 out=$3 n=${4:-3}
 fail() { echo "FAIL: $*" >&2; bad=1; }
 bad=0

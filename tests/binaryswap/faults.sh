@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sortlast/faults.sh — a sort-last group whose peer fails mid-run:
+# tests/binaryswap/faults.sh — a sort-last group whose peer fails mid-run:
 # three in-situ peers (spheres --part K/3, chain binaryswap with explicit
 # exchange addresses) and a `tessera node` display, started here (real
 # processes, real sockets). Once the display wrote frames, peer rank 1 is

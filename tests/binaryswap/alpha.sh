@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sortlast/alpha.sh — binaryswap's alpha mode under `tessera run`:
+# tests/binaryswap/alpha.sh — binaryswap's alpha mode under `tessera run`:
 # N peers each draw a share of `spheres --alpha` (whole translucent
 # spheres, back to front, premultiplied, cleared to transparent black);
 # every frame the display writes must equal, with 0 differing pixels, the
@@ -7,7 +7,7 @@
 # from each share rendered natively (spheres-native --part K/N), with the
 # background added once. Real processes, sockets, OSMesa and PNGs.
 # usage: alpha.sh FORM BIN_DIR BLEND OUT_DIR N [OPTIONS [CASE]]
-#   FORM    insitu | servers (as sortlast.sh)
+#   FORM    insitu | servers (as exact.sh)
 #   BLEND   the alpha_blend tool
 #   OPTIONS binaryswap's options as YAML flow entries ("strategy: direct")
 #   CASE    -: rank r draws share r, rank order is view order
