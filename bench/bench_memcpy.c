@@ -1,5 +1,5 @@
 /* bench/bench_memcpy.c — the memory-bandwidth reference of the sort-last
- * figures (bench/sortlast.sh): memcpy of one 1920x1080 RGBA8 + 32-bit
+ * figures (bench/binaryswap.sh): memcpy of one 1920x1080 RGBA8 + 32-bit
  * depth frame (16.6 MB, colour and depth planes), best of the repeats,
  * the same measurement bench_composite prints as memcpy_frame_ms. A
  * separate program so a multi-process run can take its reference in the

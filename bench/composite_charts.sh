@@ -3,7 +3,7 @@
 # sweeps (composite-codecs.csv, composite-strategies.csv): a thread per
 # peer and the display in ONE process over the in-memory transport, CPU ms
 # of all threads per frame. Every chart says so in its title; the
-# multi-process figures are bench/sortlast.sh's.
+# multi-process figures are bench/binaryswap.sh's.
 # usage: bench/composite_charts.sh OUT_DIR
 set -euo pipefail
 out=$1

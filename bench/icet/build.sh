@@ -14,7 +14,7 @@
 # (TESSERA_ICET_PREFIX overrides the install), the harness in
 # icet/icet_composite. The harness links libtessera from the same bench tree
 # (configured here as bench/run does when it is missing) and compiles the
-# very generator the sortlast bench hands its peers, spus/binaryswap/synthetic.c.
+# very generator the binaryswap bench hands its peers, spus/binaryswap/synthetic.c.
 # Needs mpicc (Debian: apt-get install libopenmpi-dev openmpi-bin) and cmake.
 set -euo pipefail
 

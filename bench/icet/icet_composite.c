@@ -1,5 +1,5 @@
 /* bench/icet/icet_composite.c — times IceT (Kitware's MPI sort-last
- * compositing library) on the inputs of tessera's sortlast bench, so
+ * compositing library) on the inputs of tessera's binaryswap bench, so
  * tessera's composite_8x1080p_ms can be judged against the library the
  * target in issue 11 names. Run under mpirun, one rank per peer:
  *
@@ -7,7 +7,7 @@
  *       [--coverage full|ellipse|both] [--configs all|NAME,...]
  *       [--summary FILE] [--frames-csv FILE] [--label TEXT]
  *
- * Every rank makes the layer bench/sortlast.sh hands each tessera peer (the
+ * Every rank makes the layer bench/binaryswap.sh hands each tessera peer (the
  * same generator, spus/binaryswap/synthetic.c, compiled in: RGBA8 colour +
  * float depth, rank r of N), expands it to the full-window buffers
  * icetCompositeImage takes (an ellipse layer's box is given to IceT as its

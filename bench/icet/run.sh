@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# bench/icet/run.sh — `bench/run icet`: IceT's strategies on the sortlast
+# bench/icet/run.sh — `bench/run icet`: IceT's strategies on the binaryswap
 # bench's inputs (bench/icet/icet_composite.c says what is timed), next to
-# bench/sortlast.sh in the same invocation. Pass 1: every configuration at
+# bench/binaryswap.sh in the same invocation. Pass 1: every configuration at
 # N = ICET_COUNTS (default 2 4 8 16; full layers, and ellipse at 8); then
-# bench/sortlast.sh; then pass 2: every configuration at N = 8 again. The
-# IceT figures are the better of the two passes (as sortlast.sh keeps the
+# bench/binaryswap.sh; then pass 2: every configuration at N = 8 again. The
+# IceT figures are the better of the two passes (as binaryswap.sh keeps the
 # better memcpy of before and after). Never pass/fail; without an IceT
 # build it says how to make one and exits 0.
 # usage: bench/icet/run.sh BENCH_BUILD_DIR OUT_DIR [--quick]
@@ -24,7 +24,7 @@ harness=$build/icet/icet_composite bin=$build/bin
 frames=${ICET_FRAMES:-20} size=1920x1080
 read -r -a counts <<<"${ICET_COUNTS:-2 4 8 16}"
 read -r -a mpiargs <<<"${ICET_MPIRUN_ARGS:---oversubscribe --allow-run-as-root --bind-to none}"
-sortlast_env=()
+binaryswap_env=()
 if [[ $quick == --quick ]]; then frames=3 size=128x72 counts=(2 8); fi
 mkdir -p "$out"
 summary=$out/icet-summary.csv fcsv=$out/icet.csv
@@ -41,7 +41,7 @@ echo "icet_load_before: $(cut -d' ' -f1-3 /proc/loadavg)"
 for n in "${counts[@]}"; do
     if [[ $n == 8 ]]; then icet_pass pass1 "$n" both; else icet_pass pass1 "$n" full; fi
 done
-sl=$(bash "$root/bench/sortlast.sh" "$bin" "$out" $quick) || { echo "bench/icet/run.sh: sortlast failed" >&2; exit 1; }
+sl=$(bash "$root/bench/binaryswap.sh" "$bin" "$out" $quick) || { echo "bench/icet/run.sh: binaryswap failed" >&2; exit 1; }
 echo "$sl"
 icet_pass pass2 8 both
 echo "icet_load_after: $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -76,7 +76,7 @@ if command -v gnuplot >/dev/null && [[ $quick != --quick ]]; then
     awk '!($1 in seen) { seen[$1] = 1; print $1, $3 }' "$out/icet-chart.dat" >"$out/icet-best.dat"
     best8=$(awk '$1 == 8 { print $2; exit }' "$out/icet-chart.dat")
     awk -v c="$best8" '$2 == c { print $1, $3 }' "$out/icet-chart.dat" >"$out/icet-best8.dat"
-    awk -F, 'NR > 1 && $2 == "full" { print $1, $4 }' "$out/sortlast-summary.csv" >"$out/icet-tessera.dat"
+    awk -F, 'NR > 1 && $2 == "full" { print $1, $4 }' "$out/binaryswap-summary.csv" >"$out/icet-tessera.dat"
     gnuplot <<EOF || echo "bench/icet/run.sh: gnuplot failed (chart skipped)" >&2
 set terminal pngcairo size 900,540
 set output "$out/icet.png"

@@ -4,7 +4,7 @@
  * different processes never interleave). Times are CLOCK_MONOTONIC
  * nanoseconds, one clock for every process of the host, so a reader can
  * line up the peers' swaps with rank 0's frame-complete time (bench/run
- * sortlast does). Owns the descriptor; never decides anything from the
+ * binaryswap does). Owns the descriptor; never decides anything from the
  * figures, never prints them. */
 #ifndef TSR_SPUS_BINARYSWAP_STATS_H
 #define TSR_SPUS_BINARYSWAP_STATS_H

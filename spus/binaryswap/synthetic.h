@@ -1,6 +1,6 @@
 /* spus/binaryswap/synthetic.h — generated colour+depth layers that stand in
  * for a peer's read-back (binaryswap's `synthetic` option), so a run times
- * compositing alone: the benchmarks (bench/run sortlast, bench_composite)
+ * compositing alone: the benchmarks (bench/run binaryswap, bench_composite)
  * and the tests hand the compositor exactly these layers.
  *
  *   full     every pixel covered; peer r's depth is smallest on about 1/N

@@ -1041,7 +1041,7 @@ static int test_link_bytes_hold_one_frame(void)
     CHECK_OK(tsr_composite_plan(TSR_COMPOSITE_DIRECT, 8, 1920, 1080, 0, NULL, &s, &err), err);
     uint64_t link = tsr_composite_schedule_link_bytes(&s, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F, rle);
     uint64_t piece = slot_of(1920 * 1080 / 8, rle), smallest = UINT64_MAX;
-    /* a full layer's pieces (every pixel active), as bench/sortlast.sh sends */
+    /* a full layer's pieces (every pixel active), as bench/binaryswap.sh sends */
     tsr_composite_image full = {0};
     CHECK_OK(tsr_composite_image_init(&full, 1920, 1080, 0, 0, 1920, 1080, TSR_COMPOSITE_RGBA8, TSR_COMPOSITE_DEPTH32F,
                                       &err),

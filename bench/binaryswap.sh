@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/sortlast.sh — sort-last compositing timed across real processes:
+# bench/binaryswap.sh — sort-last compositing timed across real processes:
 # N in-situ binaryswap peers (each its own process, an application that
 # draws nothing, `synthetic=full|ellipse` handing the compositor a generated
 # 1920x1080 colour+depth layer instead of the read-back, and skipping the
@@ -35,33 +35,33 @@
 # one-pixel finish; their clears are skipped; a stats line without
 # hook_cpu_ns, from an older build, leaves both unmeasured);
 # memcpy_frame_ms, the reference, measured before
-# and after the runs, best of both). Writes sortlast.csv (one row per
-# frame), sortlast-summary.csv and sortlast.png.
-# usage: bench/sortlast.sh BIN_DIR OUT_DIR [--quick]
-# The 8-peer cases (the figures) run SORTLAST_REPEATS times (default 3)
+# and after the runs, best of both). Writes binaryswap.csv (one row per
+# frame), binaryswap-summary.csv and binaryswap.png.
+# usage: bench/binaryswap.sh BIN_DIR OUT_DIR [--quick]
+# The 8-peer cases (the figures) run BINARYSWAP_REPEATS times (default 3)
 # and their medians are over the frames of all those runs: one run's
 # median moves by 1-2 ms from run to run here (how the scheduler places
 # nine processes on two cores), more than within a run.
-# Environment: SORTLAST_SIZE (default 1920x1080), SORTLAST_FRAMES (24),
-# SORTLAST_COUNTS (default "2 4 8 16"; 8 is the figure), SORTLAST_STRATEGY (auto),
-# SORTLAST_OPTIONS (more binaryswap options as YAML flow entries: "codec: erle"),
-# SORTLAST_DISPLAY_OPTIONS (more options of the display's render, the same
+# Environment: BINARYSWAP_SIZE (default 1920x1080), BINARYSWAP_FRAMES (24),
+# BINARYSWAP_COUNTS (default "2 4 8 16"; 8 is the figure), BINARYSWAP_STRATEGY (auto),
+# BINARYSWAP_OPTIONS (more binaryswap options as YAML flow entries: "codec: erle"),
+# BINARYSWAP_DISPLAY_OPTIONS (more options of the display's render, the same
 # way: "fast_drawpixels: false" times glDrawPixels instead of the blit).
 set -euo pipefail
 bin=$1 out=$2 quick=${3:-}
-size=${SORTLAST_SIZE:-1920x1080} frames=${SORTLAST_FRAMES:-24} strategy=${SORTLAST_STRATEGY:-auto}
-repeats=${SORTLAST_REPEATS:-3}
-extra=${SORTLAST_OPTIONS:+, $SORTLAST_OPTIONS}
-display_extra=${SORTLAST_DISPLAY_OPTIONS:+, $SORTLAST_DISPLAY_OPTIONS}
-read -r -a counts <<<"${SORTLAST_COUNTS:-2 4 8 16}"
+size=${BINARYSWAP_SIZE:-1920x1080} frames=${BINARYSWAP_FRAMES:-24} strategy=${BINARYSWAP_STRATEGY:-auto}
+repeats=${BINARYSWAP_REPEATS:-3}
+extra=${BINARYSWAP_OPTIONS:+, $BINARYSWAP_OPTIONS}
+display_extra=${BINARYSWAP_DISPLAY_OPTIONS:+, $BINARYSWAP_DISPLAY_OPTIONS}
+read -r -a counts <<<"${BINARYSWAP_COUNTS:-2 4 8 16}"
 memcpy_args=()
 if [[ $quick == --quick ]]; then
-    size=128x72 frames=4 counts=(2 8) memcpy_args=(--quick) repeats=${SORTLAST_REPEATS:-1}
+    size=128x72 frames=4 counts=(2 8) memcpy_args=(--quick) repeats=${BINARYSWAP_REPEATS:-1}
 fi
 width=${size%x*} height=${size#*x}
-work=$out/sortlast.work
+work=$out/binaryswap.work
 rm -rf "$work" && mkdir -p "$work"
-csv=$out/sortlast.csv summary=$out/sortlast-summary.csv
+csv=$out/binaryswap.csv summary=$out/binaryswap-summary.csv
 echo "peers,coverage,frame,ready_to_displayed_ms,ready_to_assembled_ms,swap_to_displayed_ms,bytes_sent,assembled_to_sent_ms,sent_to_displayed_ms" >"$csv"
 echo "peers,coverage,frames,median_ms,median_assembled_ms,median_bytes_sent,peer_hwm_mib_max,peer_hwm_mib_rank1,median_display_path_ms,median_peers_cpu_ms,median_hook_cpu_ms" >"$summary"
 
@@ -93,7 +93,7 @@ run_group() {
         rm -f "$dir/stats.txt"
         if ! LP_NUM_THREADS=0 timeout 600 "$bin/tessera" run "$dir/graph.yaml" --out "$dir/run" --no-progress \
             >"$dir/run.out" 2>"$dir/run.err"; then
-            echo "bench/sortlast.sh: tessera run of $n peers ($cov) failed" >&2
+            echo "bench/binaryswap.sh: tessera run of $n peers ($cov) failed" >&2
             tail -n 20 "$dir/run.err" >&2
             return 1
         fi
@@ -200,9 +200,9 @@ awk -v p="$hwm_max" -v r="$render_mib" -v f="$frame_mib" -v p1="$hwm_1" 'BEGIN {
     printf "render_only_hwm_mb: %.1f\n", r
     printf "composite_peer_rss_limit_mb: %.1f\n", 3 * f }'
 if command -v gnuplot >/dev/null && [[ $quick != --quick ]]; then
-    gnuplot <<EOF || echo "bench/sortlast.sh: gnuplot failed (chart skipped)" >&2
+    gnuplot <<EOF || echo "bench/binaryswap.sh: gnuplot failed (chart skipped)" >&2
 set terminal pngcairo size 800,480
-set output "$out/sortlast.png"
+set output "$out/binaryswap.png"
 set datafile separator ","
 set title "MULTI-PROCESS (real processes, Unix sockets) sort-last ($size, synthetic layers, strategy $strategy, rle):\nlast peer's layer ready -> frame drawn on the display node (median)"
 set xlabel "peer processes (plus one display process; 2 vCPUs)"
