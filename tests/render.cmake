@@ -19,6 +19,13 @@ add_test(NAME image_reads_grey_palette_16bit_alpha_as_rgba8
 add_test(NAME image_compare_counts_pixels_beyond_tolerance_and_psnr
          COMMAND image_test compare)
 add_test(NAME image_flip_rows_mirrors_wide_rows COMMAND image_test flip)
+add_test(NAME image_rgb_png_drops_alpha_keeps_colour
+         COMMAND image_test rgb ${IMAGE_OUT})
+# render's PNGs are what a window shows (RGB) unless output_alpha=1;
+# the examples' --out-alpha likewise
+add_test(NAME render_png_rgb_by_default_alpha_on_request
+         COMMAND ${RENDER_TEST_DIR}/png_channels.sh ${CMAKE_BINARY_DIR}/bin $<TARGET_FILE:image_test>
+                 ${RENDER_OUT}/png-channels)
 add_test(NAME image_errors_name_the_file_and_libpng_problem
          COMMAND image_test errors ${IMAGE_OUT})
 add_test(NAME image_frame_pattern_allows_only_one_int_conversion

@@ -39,6 +39,7 @@ typedef struct png_job {
     int width, height;
     size_t stride;
     bool bottom_up;
+    bool opaque; /* write RGB: each pixel's fourth byte is dropped */
 } png_job;
 
 static void png_job_error(png_structp png, png_const_charp msg)
@@ -211,9 +212,13 @@ static int write_png_guarded(png_structp png, png_infop info, png_job *job)
     png_init_io(png, job->file);
     /* Frames are written often and read back by tests: favour speed. */
     png_set_compression_level(png, 1);
-    png_set_IHDR(png, info, (png_uint_32)job->width, (png_uint_32)job->height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, (png_uint_32)job->width, (png_uint_32)job->height, 8,
+                 job->opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
+    /* The rows stay RGBA8 in memory; libpng strips the filler byte. */
+    if (job->opaque)
+        png_set_filler(png, 0, PNG_FILLER_AFTER);
     for (int y = 0; y < job->height; y++) {
         int src_row = job->bottom_up ? job->height - 1 - y : y;
         png_write_row(png, job->pixels + (size_t)src_row * job->stride);
@@ -308,8 +313,8 @@ static int temp_name(char *out, size_t size, const char *path)
     return n < 0 || (size_t)n >= size ? -1 : 0;
 }
 
-int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
-                             const char *path, tsr_error *err)
+static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up, bool opaque,
+                            const char *path, tsr_error *err)
 {
     if (!pixels || width < 1 || height < 1 || width > TSR_IMAGE_MAX_SIDE || height > TSR_IMAGE_MAX_SIDE ||
         stride < (size_t)width * 4)
@@ -318,8 +323,13 @@ int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_
     char tmp[PATH_MAX];
     if (temp_name(tmp, sizeof tmp, path) != 0)
         return tsr_error_set(err, TSR_EINVAL, "%s: file name too long", path);
-    png_job job = {
-        .path = path, .pixels = pixels, .width = width, .height = height, .stride = stride, .bottom_up = bottom_up};
+    png_job job = {.path = path,
+                   .pixels = pixels,
+                   .width = width,
+                   .height = height,
+                   .stride = stride,
+                   .bottom_up = bottom_up,
+                   .opaque = opaque};
     int slot = pending_add(tmp);
     int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     job.file = fd >= 0 ? fdopen(fd, "wb") : NULL;
@@ -358,6 +368,18 @@ int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_
     if (!renamed)
         return tsr_error_set(err, TSR_EIO, "%s: %s", path, strerror(saved_errno));
     return TSR_OK;
+}
+
+int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                             const char *path, tsr_error *err)
+{
+    return write_png_pixels(pixels, width, height, stride, bottom_up, false, path, err);
+}
+
+int tsr_image_write_png_rgb(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                            const char *path, tsr_error *err)
+{
+    return write_png_pixels(pixels, width, height, stride, bottom_up, true, path, err);
 }
 
 int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err)

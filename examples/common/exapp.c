@@ -29,6 +29,7 @@
 struct exapp_backend {
     char default_pattern[256]; /* "out/NAME-%04d.png" */
     const char *out_pattern;   /* --out, or default_pattern */
+    bool out_alpha;            /* --out-alpha: PNGs keep the framebuffer's alpha */
 #ifdef EXAPP_NATIVE
     OSMesaContext context;
     unsigned char *buffer; /* width * height RGBA, bottom row first */
@@ -42,7 +43,7 @@ struct exapp_backend {
 static void exapp_usage(const exapp *app, FILE *out, const char *flag_help)
 {
     fprintf(out,
-            "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--detail N] [--part K/N]"
+            "usage: %s [--frames N] [--size WxH] [--out PATTERN] [--out-alpha] [--detail N] [--part K/N]"
 #ifndef EXAPP_NATIVE
             " [--chain \"SPU CHAIN\"]"
 #endif
@@ -53,6 +54,8 @@ static void exapp_usage(const exapp *app, FILE *out, const char *flag_help)
             "  --size WxH      window size (default %dx%d)\n"
             "  --out PATTERN   frame files, one %%d for the frame number\n"
             "                  (default out/%s-%%04d.png; out/ is created)\n"
+            "  --out-alpha     write the framebuffer's alpha too (RGBA PNGs); default:\n"
+            "                  RGB, what a window shows\n"
             "  --detail N      scene detail, 1..8 (default 1): the isosurface's grids are\n"
             "                  N times finer (about N*N times the triangles)\n"
             "  --part K/N      sort-last: draw only share K (0..N-1) of N disjoint shares\n"
@@ -198,6 +201,10 @@ bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int
             *opt->value = v;
             continue;
         }
+        if (!strcmp(arg, "--out-alpha")) {
+            b->out_alpha = true;
+            continue;
+        }
         bool known = !strcmp(arg, "--frames") || !strcmp(arg, "--size") || !strcmp(arg, "--out") ||
                      !strcmp(arg, "--detail") || !strcmp(arg, "--part");
 #ifndef EXAPP_NATIVE
@@ -244,7 +251,8 @@ bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int
     } else {
         if (strchr(b->out_pattern, '"'))
             return fail(app, 2, "--out must not contain '\"'", b->out_pattern);
-        snprintf(b->default_chain, sizeof b->default_chain, "render output=\"%s\"", b->out_pattern);
+        snprintf(b->default_chain, sizeof b->default_chain, "render output=\"%s\"%s", b->out_pattern,
+                 b->out_alpha ? " output_alpha=1" : "");
         b->chain_text = b->default_chain;
     }
 #endif
@@ -279,9 +287,12 @@ bool exapp_swap(exapp *app)
         return true;
     char path[PATH_MAX];
     tsr_error err = {0};
-    if (tsr_image_frame_path(path, sizeof path, b->out_pattern, frame, &err) != TSR_OK ||
-        tsr_image_write_png_rgba(b->buffer, app->width, app->height, (size_t)app->width * 4, true, path, &err) !=
-            TSR_OK)
+    if (tsr_image_frame_path(path, sizeof path, b->out_pattern, frame, &err) != TSR_OK)
+        return fail(app, 1, err.message, NULL);
+    size_t stride = (size_t)app->width * 4;
+    int rc = b->out_alpha ? tsr_image_write_png_rgba(b->buffer, app->width, app->height, stride, true, path, &err)
+                          : tsr_image_write_png_rgb(b->buffer, app->width, app->height, stride, true, path, &err);
+    if (rc != TSR_OK)
         return fail(app, 1, err.message, NULL);
     return true;
 }

@@ -71,6 +71,13 @@ TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_erro
 TSR_API int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
                                      const char *path, tsr_error *err);
 
+/* As tsr_image_write_png_rgba, but writes an RGB PNG from the same RGBA8
+ * pixels: each pixel's alpha is dropped, so the file shows what a window
+ * shows (an X window ignores the framebuffer's alpha). Read back, its
+ * alpha is 255 everywhere. */
+TSR_API int tsr_image_write_png_rgb(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                                    const char *path, tsr_error *err);
+
 /* Compares `a` and `b` channel by channel. A pixel differs when any of its
  * four channels differs by more than `tolerance` (0 = exact). Images of
  * different sizes are an error (TSR_EINVAL) naming both sizes. */

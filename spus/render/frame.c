@@ -112,6 +112,18 @@ static int tile_path(char *out, size_t size, const char *pattern, int frame, siz
     return TSR_OK;
 }
 
+/* A frame's PNG: RGB, what the window shows, unless output_alpha asks
+ * for the framebuffer's alpha too (a sort-last alpha layer needs it; a
+ * viewer would show an alpha-0 background as transparent). The pixels are
+ * glReadPixels' rows, bottom row first. */
+static int write_frame_png(const render_spu *r, const unsigned char *pixels, int w, int h, const char *path,
+                           tsr_error *err)
+{
+    if (r->output_alpha)
+        return tsr_image_write_png_rgba(pixels, w, h, (size_t)w * 4, true, path, err);
+    return tsr_image_write_png_rgb(pixels, w, h, (size_t)w * 4, true, path, err);
+}
+
 /* Tiled swap: every context has finished (switching finishes the outgoing
  * one), the reader context reads each tile's pixels — and only those —
  * and writes one PNG per tile. The reader is a context of its own so no
@@ -156,9 +168,8 @@ static void tiled_write_frame(render_spu *r, int frame)
             if (r->hooks.image)
                 r->hooks.image(r->hooks.ctx, frame, i, b.x, b.y, b.w, b.h, r->tile_pixels);
             char path[PATH_MAX];
-            if (r->output[0] &&
-                (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
-                 tsr_image_write_png_rgba(r->tile_pixels, b.w, b.h, (size_t)b.w * 4, true, path, &err) != TSR_OK))
+            if (r->output[0] && (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
+                                 write_frame_png(r, r->tile_pixels, b.w, b.h, path, &err) != TSR_OK))
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: tile %zu: %s", r->name, frame, i, err.message);
         }
     }
@@ -205,8 +216,7 @@ static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
             char path[PATH_MAX];
             tsr_error err = {0};
             if (tsr_image_frame_path(path, sizeof path, r->output, frame, &err) != TSR_OK ||
-                tsr_image_write_png_rgba(r->buffer, r->width, r->height, (size_t)r->width * 4, true, path, &err) !=
-                    TSR_OK)
+                write_frame_png(r, r->buffer, r->width, r->height, path, &err) != TSR_OK)
                 tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
         }
         if (r->hooks.frame)

@@ -112,6 +112,7 @@ typedef struct render_spu {
     const tsr_dispatch *child;
 
     const char *output; /* option; owned by the chain, valid until destroy */
+    bool output_alpha;  /* option: PNGs keep the framebuffer's alpha (else RGB) */
     int window;         /* which window id this instance renders */
     int fixed_width, fixed_height;
     bool window_seen; /* a WindowCreate/Size arrived for `window` */

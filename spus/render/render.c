@@ -225,6 +225,7 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
                       r->fixed_width, r->fixed_height);
         goto fail;
     }
+    r->output_alpha = tsr_options_bool(init->options, "output_alpha");
     if (check_output(r, tsr_options_bool(init->options, "output_overwrite"), err) != TSR_OK ||
         load_osmesa(r, err) != TSR_OK)
         goto fail;

@@ -76,6 +76,13 @@ int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format,
          .max = 0,                                                                             \
          .help = "allow an output name without %d: every frame replaces the one file, "        \
                  "which holds the last frame"},                                                \
+        {.name = "output_alpha",                                                               \
+         .type = TSR_OPT_BOOL,                                                                 \
+         .default_value = "false",                                                             \
+         .min = 1,                                                                             \
+         .max = 0,                                                                             \
+         .help = "write the framebuffer's alpha into the PNGs (RGBA, e.g. for sort-last "      \
+                 "alpha layers); false: RGB, what the window shows"},                          \
         {.name = "width",                                                                      \
          .type = TSR_OPT_INT,                                                                  \
          .default_value = "0",                                                                 \

@@ -73,8 +73,9 @@ typedef struct tilesort {
     uint64_t *frame_geometry; /* per server: of its frame_bytes, geometry buffers and display lists */
     ts_tiling tiling;
     uint32_t tiling_version;
-    char *assemble;     /* PNG pattern of the gathered window, or NULL */
-    size_t batch_bytes; /* geometry is bucketed in batches of about this size */
+    char *assemble;      /* PNG pattern of the gathered window, or NULL */
+    bool assemble_alpha; /* assemble= PNGs keep the alpha (else RGB) */
+    size_t batch_bytes;  /* geometry is bucketed in batches of about this size */
     tsr_state_tracker *tracker;
     tsr_state_ctx *ctx;
     tsr_packer *geo;

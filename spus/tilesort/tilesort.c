@@ -670,6 +670,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
                                       tsr_options_bool(init->options, "assemble_overwrite"), "assemble_overwrite",
                                       err) != TSR_OK)
         goto fail;
+    t->assemble_alpha = tsr_options_bool(init->options, "assemble_alpha");
     if (assemble && assemble[0] && !(t->assemble = strdup(assemble))) {
         tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", t->name);
         goto fail;
@@ -821,6 +822,12 @@ static const tsr_option_spec tilesort_options[] = {
      .min = 1,
      .max = 0,
      .help = "allow an assemble name without %d: every frame replaces the one file, which holds the last frame"},
+    {.name = "assemble_alpha",
+     .type = TSR_OPT_BOOL,
+     .default_value = "false",
+     .min = 1,
+     .max = 0,
+     .help = "write the gathered window's alpha too (RGBA PNGs); false: RGB, what the window shows"},
     TSR_NODE_CLIENT_OPTION_SPECS,
 };
 

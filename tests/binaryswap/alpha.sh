@@ -29,14 +29,14 @@ case $options in *rgba32f*) colour=rgba32f ;; esac
 bgargs= bgpng=none
 if [ "$case" = background ]; then
   bgargs="--background 0.2,0.35,0.6"
-  "$bin/spheres-native" --alpha $alpha $bgargs --frames 1 --size $size --part 0/1000000 \
+  "$bin/spheres-native" --out-alpha --alpha $alpha $bgargs --frames 1 --size $size --part 0/1000000 \
     --out "$out/native/bg-%04d.png" || exit 1
   bgpng=$out/native/bg-0000.png
 fi
 # the layers, in view order (front first): share k is layer k
 k=0
 while [ $k -lt "$n" ]; do
-  "$bin/spheres-native" --alpha $alpha --frames $frames --size $size --part $k/$n \
+  "$bin/spheres-native" --out-alpha --alpha $alpha --frames $frames --size $size --part $k/$n \
     --out "$out/native/layer$k-%04d.png" || exit 1
   k=$((k + 1))
 done
@@ -66,7 +66,8 @@ while [ $i -lt "$n" ]; do
   set -- "$@" "$share/$n;$peer_entries"
   i=$((i + 1))
 done
-sl_write_graph "$graph" "$form" unix "$entries" "bin/spheres --alpha $alpha $bgargs --frames $frames --size $size" "$@"
+# the blend is checked in all four channels: the display keeps the alpha
+SL_OUTPUT_ALPHA=true sl_write_graph "$graph" "$form" unix "$entries" "bin/spheres --alpha $alpha $bgargs --frames $frames --size $size" "$@"
 sl_run "$graph" debug
 if [ "$case" = refused ]; then
   line=$(grep -m 1 "mode=alpha with strategy" "$out/run.err")

@@ -37,7 +37,8 @@ sl_write_graph() {
     done
     echo "  display:"
     echo "    chain:"
-    echo "      - render: {output: \"out/f-%04d.png\"}"
+    # SL_OUTPUT_ALPHA=true: the display's PNGs keep the composite's alpha
+    echo "      - render: {output: \"out/f-%04d.png\", output_alpha: ${SL_OUTPUT_ALPHA:-false}}"
   } >"$_graph"
 }
 

@@ -376,8 +376,87 @@ static int expect_size(const char *path, int w, int h)
     return harness_failures;
 }
 
+/* The colour type libpng finds in `path` (PNG_COLOR_TYPE_*), or -1. */
+static int png_colour_type(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    int type = -1;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (info && !setjmp(png_jmpbuf(png))) {
+        png_init_io(png, f);
+        png_read_info(png, info);
+        type = png_get_color_type(png, info);
+    }
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(f);
+    return type;
+}
+
+/* tsr_image_write_png_rgb writes an RGB file of the same RGB bytes: read
+ * back, every alpha is 255 and every colour byte is the one given. */
+static int test_rgb(const char *dir)
+{
+    tsr_image a, b;
+    tsr_error err = {0};
+    CHECK(tsr_image_alloc(&a, 29, 17, &err) == TSR_OK, "%s", err.message);
+    fill_pattern(&a);
+    for (int i = 0; i < a.width * a.height; i++)
+        a.pixels[(size_t)i * 4 + 3] = (uint8_t)(i % 7); /* mostly transparent */
+    const char *path = join(dir, "rgb.png");
+    CHECK(tsr_image_write_png_rgb(a.pixels, a.width, a.height, a.stride, true, path, &err) == TSR_OK, "%s",
+          err.message);
+    CHECK(png_colour_type(path) == PNG_COLOR_TYPE_RGB, "colour type %d, not RGB", png_colour_type(path));
+    CHECK(tsr_image_read_png(&b, path, &err) == TSR_OK, "%s", err.message);
+    if (b.pixels) {
+        tsr_image_flip_rows(b.pixels, b.height, b.stride);
+        int wrong = 0;
+        for (int i = 0; i < a.width * a.height; i++) {
+            const uint8_t *p = a.pixels + (size_t)i * 4, *q = b.pixels + (size_t)i * 4;
+            wrong += p[0] != q[0] || p[1] != q[1] || p[2] != q[2] || q[3] != 255;
+        }
+        CHECK(wrong == 0, "%d pixels changed colour or are not opaque", wrong);
+    }
+    tsr_image_free(&a);
+    tsr_image_free(&b);
+    return harness_failures;
+}
+
+/* Prints "FILE: RGB" or "FILE: RGBA min_alpha N" (the smallest alpha). */
+static int print_channels(const char *path)
+{
+    int type = png_colour_type(path);
+    if (type != PNG_COLOR_TYPE_RGB && type != PNG_COLOR_TYPE_RGB_ALPHA) {
+        fprintf(stderr, "%s: not an 8-bit RGB or RGBA PNG (colour type %d)\n", path, type);
+        return 1;
+    }
+    if (type == PNG_COLOR_TYPE_RGB) {
+        printf("%s: RGB\n", path);
+        return 0;
+    }
+    tsr_image img;
+    tsr_error err = {0};
+    if (tsr_image_read_png(&img, path, &err) != TSR_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    int min_alpha = 255;
+    for (int i = 0; i < img.width * img.height; i++)
+        if (img.pixels[(size_t)i * 4 + 3] < min_alpha)
+            min_alpha = img.pixels[(size_t)i * 4 + 3];
+    printf("%s: RGBA min_alpha %d\n", path, min_alpha);
+    tsr_image_free(&img);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc >= 3 && !strcmp(argv[1], "rgb"))
+        return test_rgb(argv[2]) != 0;
+    if (argc >= 3 && !strcmp(argv[1], "channels"))
+        return print_channels(argv[2]);
     if (argc >= 3 && !strcmp(argv[1], "roundtrip"))
         return test_roundtrip(argv[2]) != 0;
     if (argc >= 3 && !strcmp(argv[1], "convert"))
@@ -395,6 +474,6 @@ int main(int argc, char **argv)
     if (argc >= 5 && !strcmp(argv[1], "expect-size"))
         return expect_size(argv[2], atoi(argv[3]), atoi(argv[4])) != 0;
     fprintf(stderr, "usage: image_test roundtrip DIR | convert DIR | compare | flip | errors DIR |\n"
-                    "       frame-path | fixtures DIR | expect-size FILE W H\n");
+                    "       frame-path | fixtures DIR | expect-size FILE W H | rgb DIR | channels FILE\n");
     return 2;
 }
