@@ -4,9 +4,10 @@
  * (EGL_PLATFORM_SURFACELESS_MESA; also what EGL_DEFAULT_DISPLAY becomes
  * with no X server). OpenGL only: eglBindAPI(EGL_OPENGL_ES_API) is
  * refused with EGL_BAD_PARAMETER and a log line, so no ES context can be
- * made. Configs mirror GLX's (a TrueColor visual of depth 24 or 32 each;
- * RGB 8 8 8, depth 24, stencil 8); the surfaceless display has one pbuffer
- * config.
+ * made. Configs are configs.c's formats without accumulation (RGBA8 and
+ * RGB8, depth 24 with or without stencil 8, 16 or none), each on an X
+ * visual of the screen (shared when there are fewer visuals), matched and
+ * sorted by EGL 1.5's rules; the surfaceless display's are pbuffer-only.
  *
  * EGL_RENDERABLE_TYPE also carries the OpenGL ES bits: xscreensaver 6 as
  * Debian builds it (EGL with GLES3 support, no jwzgles) asks
@@ -25,10 +26,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "faker_gl.h"
+#include "configs.h"
 #include "tessera/log.h"
 
-#define MAX_CONFIGS 16
+/* configs.c's double-buffered formats without accumulation (EGL has
+ * neither attribute: a window surface is double-buffered). */
+#define MAX_CONFIGS (TSR_FAKER_FORMATS / 4)
 /* See the header comment: matching, not what a context can be. */
 #define RENDERABLE_BITS (EGL_OPENGL_BIT | EGL_OPENGL_ES_BIT | EGL_OPENGL_ES2_BIT | EGL_OPENGL_ES3_BIT)
 #define MAX_DISPLAYS 8
@@ -36,7 +39,7 @@
 typedef struct egl_config {
     EGLint id;
     VisualID visual; /* 0: pbuffers only */
-    int depth;
+    tsr_faker_format f;
 } egl_config;
 
 typedef struct egl_display {
@@ -152,30 +155,21 @@ EGLDisplay eglGetDisplay(EGLNativeDisplayType display_id)
     return display_for(EGL_PLATFORM_X11_KHR, (void *)display_id);
 }
 
+/* The formats on the screen's visuals, one each while there are enough
+ * (configs.c); with no X display, pbuffer configs with no visual. */
 static void add_configs(egl_display *e)
 {
+    XVisualInfo *vis = NULL;
+    int nvis = e->x ? tsr_faker_visuals(e->x, DefaultScreen(e->x), &vis) : 0;
     e->nconfigs = 0;
-    if (e->x) {
-        static const int depths[] = {24, 32};
-        for (int k = 0; k < 2; k++) {
-            XVisualInfo tmpl = {.screen = DefaultScreen(e->x), .depth = depths[k], .class = TrueColor};
-            int n = 0;
-            XVisualInfo *vis = XGetVisualInfo(e->x, VisualScreenMask | VisualDepthMask | VisualClassMask, &tmpl, &n);
-            for (int v = 0; v < n && e->nconfigs < MAX_CONFIGS; v++) {
-                if (vis[v].bits_per_rgb != 8)
-                    continue;
-                int k2 = e->nconfigs;
-                e->configs[k2] = (egl_config){k2 + 1, vis[v].visualid, vis[v].depth};
-                e->nconfigs = k2 + 1;
-            }
-            if (vis)
-                XFree(vis);
-        }
+    for (int i = 0; i < TSR_FAKER_FORMATS && e->nconfigs < MAX_CONFIGS; i++) {
+        const tsr_faker_format *f = tsr_faker_format_at(i);
+        if (!f->doublebuffer || f->accum)
+            continue;
+        int k = e->nconfigs++;
+        e->configs[k] = (egl_config){k + 1, nvis ? vis[k % nvis].visualid : 0, *f};
     }
-    if (!e->nconfigs) {
-        e->configs[0] = (egl_config){1, 0, 24};
-        e->nconfigs = 1;
-    }
+    free(vis);
 }
 
 EGLBoolean eglInitialize(EGLDisplay dpy, EGLint *major, EGLint *minor)
@@ -216,13 +210,13 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
 {
     *known = true;
     switch (attribute) {
-    case EGL_BUFFER_SIZE: return c->depth;
+    case EGL_BUFFER_SIZE: return 24 + c->f.alpha;
     case EGL_RED_SIZE:
     case EGL_GREEN_SIZE:
     case EGL_BLUE_SIZE: return 8;
-    case EGL_ALPHA_SIZE: return c->depth == 32 ? 8 : 0;
-    case EGL_DEPTH_SIZE: return 24;
-    case EGL_STENCIL_SIZE: return 8;
+    case EGL_ALPHA_SIZE: return c->f.alpha;
+    case EGL_DEPTH_SIZE: return c->f.depth;
+    case EGL_STENCIL_SIZE: return c->f.stencil;
     case EGL_CONFIG_ID: return c->id;
     case EGL_CONFIG_CAVEAT: return EGL_NONE;
     case EGL_LEVEL: return 0;
@@ -254,6 +248,10 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
 
 static bool config_matches(const egl_display *e, const egl_config *c, const EGLint *attrib_list)
 {
+    /* EGL_CONFIG_ID given: every other attribute is ignored (EGL 1.5, 3.4.1.2). */
+    for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2)
+        if (a[0] == EGL_CONFIG_ID && a[1] != EGL_DONT_CARE)
+            return c->id == a[1];
     for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2) {
         EGLint want = a[1];
         bool known;
@@ -311,6 +309,30 @@ EGLBoolean eglGetConfigs(EGLDisplay dpy, EGLConfig *configs, EGLint config_size,
     return ok();
 }
 
+/* EGL 1.5's sort order (3.4.1.2): the sum of the colour sizes asked for
+ * (larger first; red, green and blue are 8 everywhere, so alpha decides
+ * when it is asked for), buffer size, depth and stencil (smaller first),
+ * then the config id. */
+typedef struct egl_ranked {
+    const egl_config *c;
+    int colour; /* bits of the asked-for components */
+} egl_ranked;
+
+static int egl_order(const void *pa, const void *pb)
+{
+    const egl_ranked *a = pa, *b = pb;
+    int d;
+    if ((d = b->colour - a->colour))
+        return d;
+    if ((d = a->c->f.alpha - b->c->f.alpha))
+        return d;
+    if ((d = a->c->f.depth - b->c->f.depth))
+        return d;
+    if ((d = a->c->f.stencil - b->c->f.stencil))
+        return d;
+    return a->c->id - b->c->id;
+}
+
 EGLBoolean eglChooseConfig(EGLDisplay dpy, const EGLint *attrib_list, EGLConfig *configs, EGLint config_size,
                            EGLint *num_config)
 {
@@ -319,16 +341,24 @@ EGLBoolean eglChooseConfig(EGLDisplay dpy, const EGLint *attrib_list, EGLConfig 
         return EGL_FALSE;
     if (!num_config)
         return fail(EGL_BAD_PARAMETER);
-    EGLint n = 0;
-    for (int i = 0; i < e->nconfigs; i++) {
-        if (!config_matches(e, &e->configs[i], attrib_list))
-            continue;
-        if (configs && n < config_size)
-            configs[n] = (EGLConfig)&e->configs[i];
-        if (!configs || n < config_size)
-            n++;
+    bool alpha_asked = false;
+    for (const EGLint *a = attrib_list; a && a[0] != EGL_NONE; a += 2)
+        if (a[0] == EGL_ALPHA_SIZE && a[1] != EGL_DONT_CARE && a[1] > 0)
+            alpha_asked = true;
+    egl_ranked ranked[MAX_CONFIGS];
+    int n = 0;
+    for (int i = 0; i < e->nconfigs; i++)
+        if (config_matches(e, &e->configs[i], attrib_list))
+            ranked[n++] = (egl_ranked){&e->configs[i], alpha_asked ? e->configs[i].f.alpha : 0};
+    qsort(ranked, (size_t)n, sizeof ranked[0], egl_order);
+    EGLint out = 0;
+    for (int i = 0; i < n; i++) {
+        if (configs && out < config_size)
+            configs[out] = (EGLConfig)ranked[i].c;
+        if (!configs || out < config_size)
+            out++;
     }
-    *num_config = n;
+    *num_config = out;
     return ok();
 }
 

@@ -1,12 +1,12 @@
-/* faker/glx.c — GLX 1.4 of the faker's libGL.so.1, on faker/core.c. Never
- * sends a GLX request: visuals and FBConfigs are the X server's TrueColor
- * visuals of depth 24 and 32 (two configs each, double- and
- * single-buffered; RGB 8 8 8, alpha 8 on depth 32, depth 24, stencil 8, no
- * accum, no multisample, as the render SPU draws), read from the
- * application's Display structure without a round trip. Contexts are
- * faker contexts; GLX windows are the X windows themselves; GLX pbuffers
- * and pixmaps are off-screen tessera drawables of their size, which a
- * swap leaves alone (GLX 1.4, 3.3.10). Swap-interval
+/* faker/glx.c — GLX 1.4 of the faker's libGL.so.1 (and libGLX.so.0), on
+ * faker/core.c. Never sends a GLX request: FBConfigs and visuals are the
+ * formats of configs.c (what render draws) on the X server's TrueColor
+ * visuals of depth 24 and 32, read from the application's Display
+ * structure without a round trip, matched and sorted by GLX 1.4's rules
+ * (glXChooseFBConfig; glXChooseVisual by GLX 1.2's, then the same order).
+ * Contexts are faker contexts; GLX windows are the X windows
+ * themselves; GLX pbuffers and pixmaps are off-screen tessera drawables of
+ * their size, which a swap leaves alone (GLX 1.4, 3.3.10). Swap-interval
  * calls are accepted and have no effect. */
 #define GLX_GLXEXT_PROTOTYPES 1
 #include <GL/glx.h>
@@ -17,10 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "faker_gl.h"
+#include "configs.h"
 #include "tessera/log.h"
 
-#define MAX_CONFIGS 64
 #define GLX_MAX_OFFSCREEN_SIDE 8192 /* pbuffers, as EGL's (egl.c) */
 #define MAX_DISPLAYS 8
 
@@ -28,8 +27,13 @@ struct __GLXFBConfigRec {
     int id; /* GLX_FBCONFIG_ID, from 1 */
     int screen;
     VisualID visual;
-    int depth; /* of the visual: 24 or 32 */
-    bool doublebuffer;
+    int depth;    /* of the visual: 24 or 32 */
+    /* What its visual stands for (glXGetConfig, glXCreateContext,
+     * glXCreateGLXPixmap): at first a visual's first config; when several
+     * share a visual (a server with fewer visuals than formats), the one
+     * glXChooseVisual or glXGetVisualFromFBConfig last handed it out for. */
+    _Atomic bool primary;
+    tsr_faker_format f;
 };
 
 struct __GLXcontextRec {
@@ -42,7 +46,7 @@ struct __GLXcontextRec {
 
 typedef struct glx_display {
     Display *dpy;
-    struct __GLXFBConfigRec configs[MAX_CONFIGS];
+    struct __GLXFBConfigRec *configs; /* every screen's, TSR_FAKER_FORMATS each */
     int nconfigs;
 } glx_display;
 
@@ -53,8 +57,36 @@ static _Thread_local GLXContext cur;
 static _Thread_local Display *cur_dpy;
 
 static const char glx_extensions[] = "GLX_ARB_create_context GLX_ARB_create_context_profile "
-                                     "GLX_ARB_get_proc_address GLX_EXT_swap_control "
+                                     "GLX_ARB_get_proc_address GLX_EXT_swap_control GLX_EXT_visual_rating "
                                      "GLX_MESA_swap_control GLX_SGI_swap_control";
+
+/* Every format of configs.c on every screen: format i takes the screen's
+ * i-th usable visual, or shares one round the list when the screen has
+ * fewer (an X server without GLX has one or two): no cap tied to the
+ * number of visuals, and a visual's first config is its own. */
+static void make_configs(glx_display *d)
+{
+    int screens = ScreenCount(d->dpy);
+    d->configs = calloc((size_t)screens * TSR_FAKER_FORMATS, sizeof *d->configs);
+    d->nconfigs = 0;
+    for (int screen = 0; d->configs && screen < screens; screen++) {
+        XVisualInfo *vis = NULL;
+        int nvis = tsr_faker_visuals(d->dpy, screen, &vis);
+        for (int i = 0; i < TSR_FAKER_FORMATS && nvis; i++) {
+            struct __GLXFBConfigRec *c = &d->configs[d->nconfigs];
+            *c = (struct __GLXFBConfigRec){.id = d->nconfigs + 1,
+                                           .screen = screen,
+                                           .visual = vis[i % nvis].visualid,
+                                           .depth = vis[i % nvis].depth,
+                                           .primary = i < nvis,
+                                           .f = *tsr_faker_format_at(i)};
+            d->nconfigs++;
+        }
+        free(vis);
+    }
+    if (!d->nconfigs)
+        tsr_faker_log(TSR_LOG_ERROR, "display %s has no TrueColor visual of depth 24 or 32", DisplayString(d->dpy));
+}
 
 /* The configs of `dpy` (made on first use). */
 static glx_display *display_of(Display *dpy)
@@ -67,32 +99,7 @@ static glx_display *display_of(Display *dpy)
     if (!d && ndisplays < MAX_DISPLAYS) {
         d = &displays[ndisplays++];
         d->dpy = dpy;
-        d->nconfigs = 0;
-        for (int screen = 0; screen < ScreenCount(dpy); screen++) {
-            static const int depths[] = {24, 32};
-            for (int k = 0; k < 2; k++) {
-                XVisualInfo tmpl = {.screen = screen, .depth = depths[k], .class = TrueColor};
-                int n = 0;
-                XVisualInfo *vis = XGetVisualInfo(dpy, VisualScreenMask | VisualDepthMask | VisualClassMask, &tmpl, &n);
-                for (int v = 0; v < n; v++) {
-                    if (vis[v].bits_per_rgb != 8 || d->nconfigs + 2 > MAX_CONFIGS)
-                        continue;
-                    for (int db = 1; db >= 0; db--) {
-                        struct __GLXFBConfigRec *c = &d->configs[d->nconfigs];
-                        c->id = d->nconfigs + 1;
-                        c->screen = screen;
-                        c->visual = vis[v].visualid;
-                        c->depth = vis[v].depth;
-                        c->doublebuffer = db;
-                        d->nconfigs++;
-                    }
-                }
-                if (vis)
-                    XFree(vis);
-            }
-        }
-        if (!d->nconfigs)
-            tsr_faker_log(TSR_LOG_ERROR, "display %s has no TrueColor visual of depth 24 or 32", DisplayString(dpy));
+        make_configs(d);
     }
     pthread_mutex_unlock(&glx_lock);
     return d;
@@ -102,27 +109,28 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
 {
     switch (attribute) {
     case GLX_FBCONFIG_ID: *value = c->id; break;
-    case GLX_BUFFER_SIZE: *value = c->depth; break;
+    case GLX_BUFFER_SIZE: *value = 24 + c->f.alpha; break;
     case GLX_LEVEL: *value = 0; break;
-    case GLX_DOUBLEBUFFER: *value = c->doublebuffer; break;
+    case GLX_DOUBLEBUFFER: *value = c->f.doublebuffer; break;
     case GLX_STEREO: *value = 0; break;
     case GLX_AUX_BUFFERS: *value = 0; break;
     case GLX_RED_SIZE:
     case GLX_GREEN_SIZE:
     case GLX_BLUE_SIZE: *value = 8; break;
-    case GLX_ALPHA_SIZE: *value = c->depth == 32 ? 8 : 0; break;
-    case GLX_DEPTH_SIZE: *value = 24; break;
-    case GLX_STENCIL_SIZE: *value = 8; break;
+    case GLX_ALPHA_SIZE: *value = c->f.alpha; break;
+    case GLX_DEPTH_SIZE: *value = c->f.depth; break;
+    case GLX_STENCIL_SIZE: *value = c->f.stencil; break;
     case GLX_ACCUM_RED_SIZE:
     case GLX_ACCUM_GREEN_SIZE:
     case GLX_ACCUM_BLUE_SIZE:
-    case GLX_ACCUM_ALPHA_SIZE: *value = 0; break;
+    case GLX_ACCUM_ALPHA_SIZE: *value = c->f.accum; break;
     case GLX_RENDER_TYPE: *value = GLX_RGBA_BIT; break;
     case GLX_DRAWABLE_TYPE: *value = GLX_WINDOW_BIT | GLX_PBUFFER_BIT | GLX_PIXMAP_BIT; break;
     case GLX_X_RENDERABLE: *value = True; break;
     case GLX_VISUAL_ID: *value = (int)c->visual; break;
     case GLX_X_VISUAL_TYPE: *value = GLX_TRUE_COLOR; break;
-    case GLX_CONFIG_CAVEAT: *value = GLX_NONE; break;
+    /* Accumulation is drawn in software, as Mesa's GLX says of its own. */
+    case GLX_CONFIG_CAVEAT: *value = c->f.accum ? GLX_SLOW_CONFIG : GLX_NONE; break;
     case GLX_TRANSPARENT_TYPE: *value = GLX_NONE; break;
     case GLX_TRANSPARENT_INDEX_VALUE:
     case GLX_TRANSPARENT_RED_VALUE:
@@ -168,8 +176,6 @@ static bool config_matches(const struct __GLXFBConfigRec *c, int attribute, int 
     case GLX_DRAWABLE_TYPE: config_attrib(c, attribute, &have); return (have & want) == want; /* masks */
     case GLX_CONFIG_CAVEAT:
     case GLX_TRANSPARENT_TYPE:
-        config_attrib(c, attribute, &have);
-        return want == (int)GLX_NONE ? have == (int)GLX_NONE : have == want;
     case GLX_DOUBLEBUFFER:
     case GLX_STEREO:
     case GLX_X_RENDERABLE:
@@ -182,10 +188,48 @@ static bool config_matches(const struct __GLXFBConfigRec *c, int attribute, int 
     }
 }
 
-static const struct __GLXFBConfigRec *find_visual_config(glx_display *d, VisualID visual, bool db)
+/* A size where a request of 0 prefers none and any other the largest
+ * (GLX 1.4's colour, alpha, depth and accumulation rules). */
+static int larger_or_zero(int a, int b)
+{
+    if (a == b)
+        return 0;
+    if (a == 0 || b == 0)
+        return a == 0 ? -1 : 1;
+    return b - a;
+}
+
+/* GLX 1.4's sort order (glXChooseFBConfig, table 3.4): caveat, colour
+ * (red, green, blue are 8 everywhere), alpha, buffer size (smaller),
+ * single before double buffer, depth, stencil (smaller), accumulation;
+ * then the config id, so the order is the same on every run. */
+static int config_order(const void *pa, const void *pb)
+{
+    const struct __GLXFBConfigRec *a = *(const struct __GLXFBConfigRec *const *)pa;
+    const struct __GLXFBConfigRec *b = *(const struct __GLXFBConfigRec *const *)pb;
+    int d;
+    if ((d = (a->f.accum != 0) - (b->f.accum != 0)))
+        return d;
+    if ((d = larger_or_zero(a->f.alpha, b->f.alpha)))
+        return d;
+    if ((d = a->f.alpha - b->f.alpha))
+        return d;
+    if ((d = (int)a->f.doublebuffer - (int)b->f.doublebuffer))
+        return d;
+    if ((d = larger_or_zero(a->f.depth, b->f.depth)))
+        return d;
+    if ((d = a->f.stencil - b->f.stencil))
+        return d;
+    if ((d = larger_or_zero(a->f.accum, b->f.accum)))
+        return d;
+    return a->id - b->id;
+}
+
+/* The config a visual stands for (its first), or NULL: not the faker's. */
+static const struct __GLXFBConfigRec *find_visual_config(glx_display *d, VisualID visual)
 {
     for (int i = 0; d && i < d->nconfigs; i++)
-        if (d->configs[i].visual == visual && d->configs[i].doublebuffer == db)
+        if (d->configs[i].visual == visual && d->configs[i].primary)
             return &d->configs[i];
     return NULL;
 }
@@ -222,17 +266,20 @@ GLXFBConfig *glXChooseFBConfig(Display *dpy, int screen, const int *attrib_list,
 {
     int n = 0;
     GLXFBConfig *all = glXGetFBConfigs(dpy, screen, &n), *out = all;
+    /* GLX_FBCONFIG_ID given: every other attribute is ignored. */
+    int by_id = (int)GLX_DONT_CARE;
+    for (const int *a = attrib_list; a && a[0] != None; a += 2)
+        if (a[0] == GLX_FBCONFIG_ID)
+            by_id = a[1];
     int kept = 0;
     for (int i = 0; all && i < n; i++) {
         bool ok = true;
-        bool db_given = false;
-        for (const int *a = attrib_list; a && a[0] != None; a += 2) {
-            if (a[0] == GLX_DOUBLEBUFFER)
-                db_given = true;
-            if (!config_matches(all[i], a[0], a[1]))
-                ok = false;
-        }
-        (void)db_given; /* default GLX_DONT_CARE */
+        if (by_id != (int)GLX_DONT_CARE)
+            ok = all[i]->id == by_id;
+        else
+            for (const int *a = attrib_list; a && a[0] != None; a += 2)
+                if (!config_matches(all[i], a[0], a[1]))
+                    ok = false;
         if (ok)
             out[kept++] = all[i];
     }
@@ -242,6 +289,7 @@ GLXFBConfig *glXChooseFBConfig(Display *dpy, int screen, const int *attrib_list,
         free(all);
         return NULL;
     }
+    qsort(out, (size_t)kept, sizeof *out, config_order);
     return out;
 }
 
@@ -253,7 +301,42 @@ int glXGetFBConfigAttrib(Display *dpy, GLXFBConfig config, int attribute, int *v
     return config_attrib(config, attribute, value);
 }
 
-XVisualInfo *glXGetVisualFromFBConfig(Display *dpy, GLXFBConfig config) { return visual_info(dpy, config); }
+/* Config c becomes what its visual stands for (see `primary`). */
+static void hand_out(glx_display *d, const struct __GLXFBConfigRec *c)
+{
+    pthread_mutex_lock(&glx_lock);
+    for (int i = 0; d && c && i < d->nconfigs; i++)
+        if (d->configs[i].visual == c->visual && d->configs[i].screen == c->screen)
+            d->configs[i].primary = &d->configs[i] == c;
+    pthread_mutex_unlock(&glx_lock);
+}
+
+XVisualInfo *glXGetVisualFromFBConfig(Display *dpy, GLXFBConfig config)
+{
+    glx_display *d = display_of(dpy);
+    hand_out(d, config);
+    return visual_info(dpy, config);
+}
+
+/* The best of d's configs on `screen` for glXChooseVisual's list `want`
+ * (GLX 1.2: double buffering exact, absent meaning single). */
+static const struct __GLXFBConfigRec *choose_visual_config(glx_display *d, int screen, bool db, int want[][2],
+                                                           int nwant)
+{
+    const struct __GLXFBConfigRec *best = NULL;
+    for (int i = 0; d && i < d->nconfigs; i++) {
+        const struct __GLXFBConfigRec *c = &d->configs[i];
+        if (c->screen != screen || c->f.doublebuffer != db)
+            continue;
+        bool ok = true;
+        for (int k = 0; k < nwant; k++)
+            if (!config_matches(c, want[k][0], want[k][1]))
+                ok = false;
+        if (ok && (!best || config_order(&c, &best) < 0))
+            best = c;
+    }
+    return best;
+}
 
 XVisualInfo *glXChooseVisual(Display *dpy, int screen, int *attribList)
 {
@@ -280,28 +363,23 @@ XVisualInfo *glXChooseVisual(Display *dpy, int screen, int *attribList)
             a++;
         }
     }
-    if (!rgba) {
-        tsr_faker_log(TSR_LOG_WARN, "glXChooseVisual: colour-index visuals are not supported");
-        return NULL;
+    if (!rgba) { /* as Mesa: no colour-index visual, an RGBA one instead */
+        static atomic_flag told = ATOMIC_FLAG_INIT;
+        if (!atomic_flag_test_and_set(&told))
+            tsr_faker_log(TSR_LOG_INFO, "glXChooseVisual without GLX_RGBA: colour index is not supported, an RGBA "
+                                        "visual is chosen, as Mesa does (logged once)");
     }
-    for (int i = 0; d && i < d->nconfigs; i++) {
-        const struct __GLXFBConfigRec *c = &d->configs[i];
-        if (c->screen != screen || c->doublebuffer != db)
-            continue;
-        bool ok = true;
-        for (int k = 0; k < nwant; k++)
-            if (want[k][0] != GLX_LEVEL && !config_matches(c, want[k][0], want[k][1]))
-                ok = false;
-        if (ok)
-            return visual_info(dpy, c);
-    }
-    return NULL;
+    /* On a screen with fewer visuals than formats, a shared visual then
+     * stands for the config chosen. */
+    const struct __GLXFBConfigRec *c = choose_visual_config(d, screen, db, want, nwant);
+    hand_out(d, c);
+    return visual_info(dpy, c);
 }
 
 int glXGetConfig(Display *dpy, XVisualInfo *visual, int attrib, int *value)
 {
     glx_display *d = display_of(dpy);
-    const struct __GLXFBConfigRec *c = visual ? find_visual_config(d, visual->visualid, true) : NULL;
+    const struct __GLXFBConfigRec *c = visual ? find_visual_config(d, visual->visualid) : NULL;
     if (!c) {
         if (attrib == GLX_USE_GL && value) {
             *value = False;
@@ -387,7 +465,7 @@ GLXContext glXCreateContext(Display *dpy, XVisualInfo *vis, GLXContext shareList
 {
     (void)direct;
     glx_display *d = display_of(dpy);
-    const struct __GLXFBConfigRec *c = vis ? find_visual_config(d, vis->visualid, true) : NULL;
+    const struct __GLXFBConfigRec *c = vis ? find_visual_config(d, vis->visualid) : NULL;
     if (!c) {
         tsr_faker_log(TSR_LOG_ERROR, "glXCreateContext: visual 0x%lx is not one of the faker's",
                       vis ? (unsigned long)vis->visualid : 0ul);
@@ -647,7 +725,7 @@ static GLXPixmap pixmap_new(Display *dpy, const struct __GLXFBConfigRec *c, Pixm
                       (unsigned long)pixmap);
         return None;
     }
-    if (depth != c->depth) {
+    if (depth != c->depth && depth != 24 + c->f.alpha) { /* its visual's, or its GLX_BUFFER_SIZE */
         tsr_faker_log(TSR_LOG_ERROR, "%s: pixmap 0x%lx has depth %d, its config depth %d", caller,
                       (unsigned long)pixmap, depth, c->depth);
         return None;
@@ -677,7 +755,7 @@ GLXPixmap glXCreateGLXPixmap(Display *dpy, XVisualInfo *visual, Pixmap pixmap)
 {
     glx_display *d = display_of(dpy);
     /* The visual's config as glXGetConfig answers for it. */
-    const struct __GLXFBConfigRec *c = visual ? find_visual_config(d, visual->visualid, true) : NULL;
+    const struct __GLXFBConfigRec *c = visual ? find_visual_config(d, visual->visualid) : NULL;
     if (!c) {
         tsr_faker_log(TSR_LOG_ERROR, "glXCreateGLXPixmap: not a visual of the faker's configs");
         return None;

@@ -232,3 +232,18 @@ add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_
          COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_gl21_commands>
                  $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
 set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
+
+# Configs as a driver offers them (tests/faker/glx_configs.c): the
+# attribute lists of glxgears, glxinfo, waffle (piglit), apitrace, GLFW,
+# SDL2, freeglut, VTK, Qt and xscreensaver sent to Mesa's GLX and to the
+# faker on one default Xvfb, then to the faker on Xvfbs without GLX (24
+# and 32, and 24 alone): whenever Mesa has a config the faker has one of
+# the same sizes, save the listed differences (about 3 s; private Xvfbs
+# on -displayfd numbers).
+add_executable(faker_glx_configs ${FAKER_TEST_DIR}/glx_configs.c)
+target_link_libraries(faker_glx_configs PRIVATE PkgConfig::X11 ${CMAKE_DL_LIBS})
+add_test(NAME faker_glx_configs_hold_to_mesas_for_real_programs_attribute_lists_on_any_x_server
+         COMMAND bash ${FAKER_TEST_DIR}/glx_configs.sh $<TARGET_FILE:faker_glx_configs> ${TESSERA_FAKER_DIR}
+                 ${FAKER_OUT}/configs)
+set_tests_properties(faker_glx_configs_hold_to_mesas_for_real_programs_attribute_lists_on_any_x_server
+                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60)

@@ -266,8 +266,8 @@ bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int
 static bool backend_start(exapp *app)
 {
     exapp_backend *b = app->backend;
-    /* Same attributes as spus/render: RGBA, depth 24, stencil 8, accum 0. */
-    b->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    /* Same attributes as spus/render: RGBA, depth 24, stencil 8, accum 16. */
+    b->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 16, NULL);
     if (!b->context)
         return fail(app, 1, "OSMesaCreateContextExt failed", NULL);
     b->buffer = calloc((size_t)app->width * (size_t)app->height, 4);

@@ -225,7 +225,7 @@ static void render_ContextCreateTSR(void *self, GLint context)
         tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): out of memory", r->name, (int)context);
     } else {
         /* Same attributes as context 0, in its share group. */
-        OSMesaContext c = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
+        OSMesaContext c = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 16, r->context);
         if (!c) {
             tsr_log(TSR_LOG_ERROR, "%s: ContextCreateTSR(%d): OSMesaCreateContextExt failed", r->name, (int)context);
         } else {

@@ -136,7 +136,7 @@ static void tiled_write_frame(render_spu *r, int frame)
         r->gl.Finish();
     if (!r->reader.osmesa) {
         r->reader = (render_context){.id = -1};
-        r->reader.osmesa = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, r->context);
+        r->reader.osmesa = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 16, r->context);
         if (!r->reader.osmesa) {
             tsr_log(TSR_LOG_ERROR, "%s: frame %d: OSMesaCreateContextExt failed for the tile reader", r->name, frame);
             return;

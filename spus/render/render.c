@@ -5,8 +5,9 @@
  * (render.h) that the `render` plugin and `readback` build on.
  *
  * Owns, per instance: the dlopen'ed OSMesa handle, its contexts (RGBA,
- * depth 24, stencil 8, accum 0: exactly the native reference's,
- * examples/common/exapp.c), the framebuffer, the owned tiles, the
+ * depth 24, stencil 8, accum 16: exactly the native reference's,
+ * examples/common/exapp.c; the largest of every config the faker offers,
+ * faker/configs.c), the framebuffer, the owned tiles, the
  * application's scissor state per context, and the frame counter.
  *
  * Never: links against gl* symbols (every GL entry comes from
@@ -241,9 +242,9 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
         goto fail;
     }
     /* Same attributes as the native reference: see the header comment. */
-    r->context = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    r->context = r->osmesa.CreateContextExt(OSMESA_RGBA, 24, 8, 16, NULL);
     if (!r->context) {
-        tsr_error_set(err, TSR_EIO, "%s: OSMesaCreateContextExt(RGBA, 24, 8, 0) failed", r->name);
+        tsr_error_set(err, TSR_EIO, "%s: OSMesaCreateContextExt(RGBA, 24, 8, 16) failed", r->name);
         goto fail;
     }
     int width = r->fixed_width ? r->fixed_width : RENDER_DEFAULT_SIDE;

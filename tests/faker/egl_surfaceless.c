@@ -60,7 +60,9 @@ int main(void)
         EGL_NONE};
     CHECK(eglChooseConfig(dpy, attrs, &config, 1, &n) && n == 1, EGL_SAYS);
     EGLint v = 0;
-    CHECK(eglGetConfigAttrib(dpy, config, EGL_STENCIL_SIZE, &v) && v == 8, EGL_SAYS);
+    /* EGL 1.5's order: no stencil asked, the smallest (none) first. */
+    CHECK(eglGetConfigAttrib(dpy, config, EGL_STENCIL_SIZE, &v) && v == 0, EGL_SAYS);
+    CHECK(eglGetConfigAttrib(dpy, config, EGL_DEPTH_SIZE, &v) && v == 24, EGL_SAYS);
     CHECK(eglGetConfigAttrib(dpy, config, EGL_SURFACE_TYPE, &v) && !(v & EGL_WINDOW_BIT), EGL_SAYS);
 
     static const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3, EGL_NONE};

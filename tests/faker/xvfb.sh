@@ -13,16 +13,17 @@ stop_xvfb() {
     XVFB_PID=""
   fi
 }
-start_xvfb() {  # start_xvfb WORKDIR
+start_xvfb() {  # start_xvfb WORKDIR [XVFB OPTIONS...] (e.g. -extension GLX)
   command -v Xvfb >/dev/null || { echo "SKIP: Xvfb is not installed (scripts/setup-debian installs xvfb)"; exit 77; }
-  local fdfile="$1/xvfb.display"
+  local dir="$1" fdfile="$1/xvfb.display"
+  shift
   : > "$fdfile"
-  Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp -noreset 3>"$fdfile" 2>"$1/xvfb.log" &
+  Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp -noreset "$@" 3>"$fdfile" 2>"$dir/xvfb.log" &
   XVFB_PID=$!
   trap stop_xvfb EXIT
   for _ in $(seq 100); do
     [ -s "$fdfile" ] && break
-    kill -0 "$XVFB_PID" 2>/dev/null || { echo "FAIL: Xvfb exited:"; cat "$1/xvfb.log"; exit 1; }
+    kill -0 "$XVFB_PID" 2>/dev/null || { echo "FAIL: Xvfb exited:"; cat "$dir/xvfb.log"; exit 1; }
     sleep 0.1
   done
   [ -s "$fdfile" ] || { echo "FAIL: Xvfb did not report a display in 10 s"; exit 1; }
