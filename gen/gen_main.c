@@ -199,9 +199,11 @@ static void layout(gen_cmd *gc)
     gc->packable = c->wire == SPEC_WIRE_PACK || c->wire == SPEC_WIRE_REPLY;
     gc->is_void = gen_is_void(c->ret);
     if (!gc->is_void) {
-        if (strchr(c->ret, '*')) {
+        if (strchr(c->ret, '*') && !gc->packable) {
+            /* a custom/local command's pointer (glMapBuffer): hand-written code returns it */
+        } else if (strchr(c->ret, '*')) {
             if (!strstr(c->ret, "GLubyte") && !strstr(c->ret, "GLchar"))
-                die("%s: pointer return type %s is not supported (only strings)", c->name, c->ret);
+                die("%s: pointer return type %s is not supported on the wire (only strings)", c->name, c->ret);
             gc->ret_is_string = 1;
         } else {
             gc->ret_type = gen_type_find(c->ret);

@@ -206,6 +206,7 @@ void tsr_state_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     st_client_fill_dispatch(c, d);
     st_gen_fill_current(c, d);
     st_obj_fill_dispatch(c, d);
+    st_map_fill_dispatch(c, d);
     st_glsl_fill_dispatch(c, d);
     st_get_fill_dispatch(c, d);
 }

@@ -68,6 +68,8 @@ typedef struct st_bufobj {
     GLsizeiptr size;
     GLenum usage;
     uint8_t *data;
+    int mapped;        /* glMapBuffer handed out `data` (state_map.c) */
+    GLenum map_access; /* its access */
 } st_bufobj;
 
 typedef struct st_shadow_buf {
@@ -326,6 +328,7 @@ void st_raster_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 void st_texenv_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 void st_attrib_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 void st_client_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
+void st_map_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 
 /* Objects (state_obj.c). */
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target);

@@ -631,6 +631,7 @@ static void st_BufferData(void *self, GLenum target, GLsizeiptr size, const void
         memcpy(copy, data, (size_t)size);
     free(b->data);
     b->data = copy;
+    b->mapped = 0; /* GL unmaps it (state_map.c) */
     b->size = size;
     b->usage = usage;
     b->version++;

@@ -891,3 +891,26 @@ int tsr_unpack_fuzz_one(const uint8_t *data, size_t size)
     free(nop);
     return rc;
 }
+
+/* MapBuffer and UnmapBuffer never travel (pack_map.c sends BufferSubData). */
+static int never_sent(const char *name, size_t pos, tsr_error *err)
+{
+    return tsr_error_set(err, TSR_EPROTO,
+                         "command %s at data offset %zu: never sent (a packer sends the mapped buffer as "
+                         "BufferSubData at UnmapBuffer)",
+                         name, pos);
+}
+
+int tsr_unpack_custom_MapBuffer(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,
+                                size_t *pos, tsr_error *err)
+{
+    (void)u, (void)d, (void)b, (void)len;
+    return never_sent("MapBuffer", *pos, err);
+}
+
+int tsr_unpack_custom_UnmapBuffer(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,
+                                  size_t *pos, tsr_error *err)
+{
+    (void)u, (void)d, (void)b, (void)len;
+    return never_sent("UnmapBuffer", *pos, err);
+}

@@ -13,7 +13,8 @@
  *   AreTexturesResident, PrioritizeTextures, GetTexGendv,
  *   GetBufferSubData; IsShader/IsProgram, GetShaderSource,
  *   GetAttachedShaders, GetActiveAttrib/Uniform and a UniformMatrix3x2fv
- *   drawn by a program.
+ *   drawn by a program; occlusion queries (a wall sums its servers');
+ *   MapBuffer/UnmapBuffer/GetBufferPointerv on a vertex buffer then drawn.
  * Built with GL21_NATIVE (faker_gl21_commands_native) it makes the same
  * calls on OSMesa directly: the runs through tessera must write the same
  * file (gl21_commands.sh). */
@@ -370,6 +371,50 @@ static void program(void)
     glDeleteShader(f);
 }
 
+/* A vertex buffer read and rewritten through glMapBuffer, then drawn:
+ * what the program wrote reaches the renderers at glUnmapBuffer. */
+static void mapped_buffer(void)
+{
+    GLuint b;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_ARRAY_BUFFER, b);
+    static const GLfloat tri[6] = {-0.9f, -0.9f, 0.1f, -0.9f, -0.4f, 0.2f};
+    glBufferData(GL_ARRAY_BUFFER, sizeof tri, tri, GL_DYNAMIC_DRAW);
+    GLfloat *m = glMapBuffer(GL_ARRAY_BUFFER, GL_READ_WRITE);
+    void *pointer = NULL;
+    glGetBufferPointerv(GL_ARRAY_BUFFER, GL_BUFFER_MAP_POINTER, &pointer);
+    fprintf(out, "MapBuffer: %s, GetBufferPointerv gives it: %d\n", m ? "mapped" : "NULL", m && pointer == m);
+    if (m) {
+        floats("MapBuffer: the buffer's contents", m, 6);
+        for (int i = 0; i < 6; i += 2)
+            m[i] += 0.8f; /* moved right, across the wall's middle */
+        m[5] = 0.9f;
+    }
+    fprintf(out, "UnmapBuffer: %d\n", glUnmapBuffer(GL_ARRAY_BUFFER));
+    pointer = &pointer;
+    glGetBufferPointerv(GL_ARRAY_BUFFER, GL_BUFFER_MAP_POINTER, &pointer);
+    fprintf(out, "GetBufferPointerv after unmap: %s\n", pointer ? "not NULL" : "NULL");
+    clear();
+    glColor3f(0.9f, 0.6f, 0.1f);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(2, GL_FLOAT, 0, (const void *)0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    GLfloat back[6];
+    glGetBufferSubData(GL_ARRAY_BUFFER, 0, sizeof back, back);
+    floats("GetBufferSubData after unmap", back, 6);
+    /* mapped write-only: the untouched floats keep their values */
+    GLfloat *w = glMapBuffer(GL_ARRAY_BUFFER, GL_WRITE_ONLY);
+    if (w)
+        w[1] = -0.5f;
+    fprintf(out, "UnmapBuffer (write-only): %d\n", glUnmapBuffer(GL_ARRAY_BUFFER));
+    glGetBufferSubData(GL_ARRAY_BUFFER, 0, sizeof back, back);
+    floats("GetBufferSubData after a write-only map", back, 6);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glDeleteBuffers(1, &b);
+    frame("drawn from a buffer written through glMapBuffer");
+}
+
 /* Samples of a quad across all four tiles of a 2x2 wall, and of one
  * behind it half hidden by the depth test: a wall sums its servers'. */
 static void occlusion(void)
@@ -439,6 +484,7 @@ int main(int argc, char **argv)
     textures_and_buffers();
     program();
     occlusion();
+    mapped_buffer();
     fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
     glFinish();
     REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);

@@ -14,7 +14,6 @@
 #define SELECT "selection/feedback: the buffer is written at glRenderMode(GL_RENDER), a reply merged across tiles"
 #define SERVER_SIZED "the reply's size depends on the server's state (map order, pixel map size, uniform type)"
 #define CLIENT_ARRAY "a client-array command: the packer must carry the arrays' elements (like DrawArrays)"
-#define MAPPED "a mapped buffer: client memory whose contents reach the servers at unmap"
 
 static const struct {
     const char *name, *why;
@@ -39,9 +38,6 @@ static const struct {
     {"glDrawRangeElements", CLIENT_ARRAY},
     {"glMultiDrawArrays", CLIENT_ARRAY},
     {"glMultiDrawElements", CLIENT_ARRAY},
-    {"glMapBuffer", MAPPED},
-    {"glUnmapBuffer", MAPPED},
-    {"glGetBufferPointerv", MAPPED},
 };
 
 static const char *not_yet_reason(const char *glname)

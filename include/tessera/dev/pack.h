@@ -120,6 +120,12 @@ typedef struct tsr_packer {
     int32_t context;   /* the stream's current context, once context_known */
     int context_known; /* a MakeCurrentTSR was packed */
     struct tsr_wire_contexts *contexts;
+    /* glMapBuffer's client copies, one per target (pack_map.c) */
+    struct tsr_packer_mapping {
+        GLenum target, access;
+        GLsizeiptr size;
+        void *data;
+    } mapped[4];
 } tsr_packer;
 
 /* Whether cap names a client array (GL_VERTEX_ARRAY, ...). glEnable and
