@@ -771,6 +771,20 @@ void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height)
     *height = s ? s->height : 0;
 }
 
+void tsr_faker_surface_x_size(tsr_faker_surface *s, int *width, int *height)
+{
+    tsr_faker_surface_size(s, width, height);
+    if (!s || !s->xid)
+        return;
+    pthread_mutex_lock(&lock);
+    int w, h;
+    if (drawable_size_locked(s->xid, &w, &h)) {
+        *width = w;
+        *height = h;
+    }
+    pthread_mutex_unlock(&lock);
+}
+
 
 /* --- current ------------------------------------------------------------- */
 

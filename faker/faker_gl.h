@@ -58,6 +58,10 @@ TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_window(const char *display_na
 TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_pbuffer(int width, int height);
 TSR_FAKER_API void tsr_faker_surface_destroy(tsr_faker_surface *s);
 TSR_FAKER_API void tsr_faker_surface_size(const tsr_faker_surface *s, int *width, int *height);
+/* The X drawable's size now (a round trip over the faker's connection, as
+ * a real glXQueryDrawable makes); a pbuffer's own size. The stream
+ * follows a new size at the next swap, glViewport or MakeCurrent. */
+TSR_FAKER_API void tsr_faker_surface_x_size(tsr_faker_surface *s, int *width, int *height);
 /* Size and depth of X drawable `xid` (a pixmap) of display `display_name`,
  * read over the faker's own connection; false when it cannot be read. */
 TSR_FAKER_API bool tsr_faker_drawable_geometry(const char *display_name, unsigned long xid, int *width, int *height,

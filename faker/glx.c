@@ -787,7 +787,10 @@ void glXQueryDrawable(Display *dpy, GLXDrawable draw, int attribute, unsigned in
     }
     tsr_faker_surface *s = drawable_surface(dpy, draw);
     int w = 0, h = 0;
-    tsr_faker_surface_size(s, &w, &h);
+    if (attribute == GLX_WIDTH || attribute == GLX_HEIGHT) {
+        XSync(dpy, False); /* the program's XResizeWindow reaches the server first */
+        tsr_faker_surface_x_size(s, &w, &h);
+    }
     switch (attribute) {
     case GLX_WIDTH: *value = (unsigned)w; break;
     case GLX_HEIGHT: *value = (unsigned)h; break;

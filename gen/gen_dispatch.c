@@ -301,7 +301,9 @@ static void emit_gl_entry(const gen *g)
     f = gen_open(g, "src/gl_entry_gen.c");
     fprintf(f,
             "/* Exported gl* entry points: each reads the calling thread's current table\n"
-            " * (one TLS load) and jumps through its slot; no table: nothing happens. */\n"
+            " * (one TLS load) and jumps through its slot; no table: nothing happens\n"
+            " * and 0 is returned, as GL does with no current context (logged once a\n"
+            " * thread, tsr_gl_no_context). */\n"
             "#include \"tessera/dispatch.h\"\n#include \"tessera/gltsr_gen.h\"\n#include \"spu/glapi_internal.h\"\n\n"
             "/* gl.h declares a few parameters as arrays (GLfloat m[16]); ours are pointers. */\n"
             "#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 11\n"
@@ -311,8 +313,10 @@ static void emit_gl_entry(const gen *g)
         fprintf(f, "TSR_API %s GLAPIENTRY gl%s(", c->ret, c->name);
         gen_print_params(f, c, 0, 1);
         fprintf(f, ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
-                   "    if (__builtin_expect(d == NULL, 0))\n        ");
+                   "    if (__builtin_expect(d == NULL, 0)) {\n        tsr_gl_no_context(\"gl%s\");\n        ",
+                c->name);
         emit_return_zero(f, c);
+        fprintf(f, "\n    }");
         fprintf(f, "\n    %s((tsr_fn_%s)d->%s.fn)(d->%s.self", gen_is_void(c->ret) ? "" : "return ", c->name, c->name,
                 c->name);
         gen_print_args(f, c, 1);

@@ -247,3 +247,18 @@ add_test(NAME faker_glx_configs_hold_to_mesas_for_real_programs_attribute_lists_
                  ${FAKER_OUT}/configs)
 set_tests_properties(faker_glx_configs_hold_to_mesas_for_real_programs_attribute_lists_on_any_x_server
                      PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60)
+
+# Only the faker (tests/faker/only_faker.sh): under `tessera exec`,
+# glxgears, glxinfo, a piglit test (waffle, on GLX and on EGL) and
+# apitrace's glretrace and eglretrace (replaying traces recorded natively
+# first) map the faker's libraries and no system GL library, read from
+# /proc/PID/maps (about 15 s; a private Xvfb on a -displayfd number).
+add_library(faker_maps_at_exit MODULE ${FAKER_TEST_DIR}/maps_at_exit.c)
+add_test(NAME faker_programs_under_exec_map_no_system_gl_library
+         COMMAND bash ${FAKER_TEST_DIR}/only_faker.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_maps_at_exit>
+                 ${FAKER_OUT}/only_faker)
+set_tests_properties(faker_programs_under_exec_map_no_system_gl_library PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+if(TESSERA_SANITIZE)
+  set_property(TEST faker_programs_under_exec_map_no_system_gl_library APPEND PROPERTY ENVIRONMENT
+               "FAKER_PRELOAD=${FAKER_PRELOAD}")
+endif()

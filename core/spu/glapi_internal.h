@@ -11,4 +11,11 @@
 extern _Thread_local const tsr_dispatch *tsr_gl_current_table
     __attribute__((tls_model("initial-exec"), visibility("hidden")));
 
+/* A gl* entry called with no current table (gl_entry_gen.c): GL's
+ * behaviour is that nothing happens and queries return 0; the first such
+ * call of each thread is logged, naming the function, so that a program
+ * drawing without a tessera context (its context made by another GL
+ * library, or never made current) is not silent. */
+void tsr_gl_no_context(const char *name) __attribute__((visibility("hidden"), cold));
+
 #endif

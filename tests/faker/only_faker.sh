@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# tests/faker/only_faker.sh TESSERA MAPS_PRELOAD OUTDIR — under `tessera
+# exec`, programs map the faker's GL libraries and no system GL library
+# (faker/README.md): glxgears (its /proc/PID/maps read while it draws),
+# glxinfo, a piglit test through waffle on GLX and on EGL, and apitrace's
+# glretrace and eglretrace replaying traces recorded here natively (their
+# /proc/self/maps copied at exit by MAPS_PRELOAD, since they end by
+# themselves; $FAKER_PRELOAD, the sanitizer runtimes of a sanitized
+# build, goes first). A system GL library is any libGL, libGLX, libGLX_*,
+# libOpenGL, libEGL, libEGL_*, libGLdispatch, libGLESv1_CM, libGLESv2 or
+# *_dri.so outside the faker's directory (Mesa's libglapi and libgallium,
+# which render's OSMesa uses, are not). Private default Xvfb (GLX on).
+set -euo pipefail
+tessera=$1 preload=$2 out=$3
+rm -rf "$out"; mkdir -p "$out/frames" "$out/maps"
+. "$(dirname "$0")/xvfb.sh"
+piglit_bin=/usr/lib/x86_64-linux-gnu/piglit/bin
+piglit_test=$piglit_bin/gl-1.0-dlist-bitmap
+for need in glxgears glxinfo apitrace glretrace eglretrace; do
+  command -v "$need" >/dev/null || { echo "SKIP: $need is not installed (scripts/setup-debian installs mesa-utils, apitrace)"; exit 77; }
+done
+[ -x "$piglit_test" ] || { echo "SKIP: piglit is not installed (scripts/setup-debian installs it)"; exit 77; }
+faker_dir=$(cd "$(dirname "$tessera")/../lib/faker" && pwd)
+start_xvfb "$out"
+fail=0
+
+# check NAME MAPSFILE: the faker's libGL is mapped, no system GL library is.
+check() {
+  local name=$1 maps=$2
+  local system
+  system=$(awk '{print $6}' "$maps" | sort -u | grep -E '/(libGL|libGLX|libGLX_[a-z]+|libOpenGL|libEGL|libEGL_[a-z]+|libGLdispatch|libGLESv1_CM|libGLESv2)\.so|_dri\.so' | grep -v "^$faker_dir/" || true)
+  if ! grep -q "$faker_dir/libGL.so.1" "$maps"; then
+    echo "FAIL $name: the faker's libGL.so.1 is not mapped"; fail=1
+  elif [ -n "$system" ]; then
+    echo "FAIL $name maps system GL libraries:"; echo "$system" | sed 's/^/    /'; fail=1
+  else
+    echo "ok   $name: $(awk '{print $6}' "$maps" | sort -u | grep -c "^$faker_dir/") faker libraries ($(awk '{print $6}' "$maps" | sort -u | grep "^$faker_dir/" | xargs -n1 basename | tr '\n' ' ')), no system GL library"
+  fi
+}
+
+# run_to_end NAME CMD...: under tessera exec with the maps copied at exit.
+run_to_end() {
+  local name=$1; shift
+  rm -f "$out/maps/"maps.*
+  local status=0
+  FAKER_MAPS_DIR="$out/maps" LD_PRELOAD="${FAKER_PRELOAD:+$FAKER_PRELOAD }$preload" timeout 120 \
+    "$tessera" exec --out "$out/frames/$name-%04d.png" -- "$@" > "$out/$name.log" 2>&1 || status=$?
+  local maps
+  maps=$(ls -S "$out/maps/"maps.* 2>/dev/null | head -n1 || true)
+  if [ -z "$maps" ]; then
+    echo "FAIL $name: no maps copied (status $status)"; tail -n5 "$out/$name.log"; fail=1; return
+  fi
+  cp "$maps" "$out/$name.maps"
+  check "$name (status $status)" "$out/$name.maps"
+}
+
+# Traces recorded natively (Mesa) on the same server.
+apitrace trace -o "$out/glx.trace" "$piglit_test" -auto > "$out/trace-glx.log" 2>&1
+PIGLIT_PLATFORM=x11_egl apitrace trace --api egl -o "$out/egl.trace" "$piglit_test" -auto > "$out/trace-egl.log" 2>&1
+[ -s "$out/glx.trace" ] && [ -s "$out/egl.trace" ] || { echo "FAIL: apitrace recorded no trace"; cat "$out"/trace-*.log; exit 1; }
+
+# glxgears: runs until killed; its maps are read while it draws.
+LD_PRELOAD="${FAKER_PRELOAD:-}" "$tessera" exec --out "$out/frames/glxgears-%04d.png" -- glxgears > "$out/glxgears.log" 2>&1 &
+gears=$!
+for _ in $(seq 300); do
+  ls "$out/frames/"glxgears-0002.png > /dev/null 2>&1 && break
+  kill -0 "$gears" 2>/dev/null || break
+  sleep 0.1
+done
+if kill -0 "$gears" 2>/dev/null && ls "$out/frames/"glxgears-0002.png > /dev/null 2>&1; then
+  cp "/proc/$gears/maps" "$out/glxgears.maps"
+  check "glxgears (running, pid $gears)" "$out/glxgears.maps"
+else
+  echo "FAIL glxgears: no frame in 30 s"; tail -n5 "$out/glxgears.log"; fail=1
+fi
+kill "$gears" 2>/dev/null || true
+wait "$gears" 2>/dev/null || true
+
+run_to_end glxinfo glxinfo -B
+run_to_end piglit_glx env PIGLIT_PLATFORM=glx "$piglit_test" -auto
+run_to_end piglit_egl env PIGLIT_PLATFORM=x11_egl "$piglit_test" -auto
+run_to_end glretrace glretrace "$out/glx.trace"
+run_to_end eglretrace eglretrace "$out/egl.trace"
+grep -h "PIGLIT: {\"result\"" "$out/piglit_glx.log" "$out/piglit_egl.log" | sed 's/^/piglit under tessera exec: /' || true
+exit $fail
