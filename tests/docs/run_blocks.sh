@@ -68,6 +68,14 @@ run_block() { # PAGE LINE BLOCKFILE TAG-LINE
     failed=$((failed + 1))
     return
   fi
+  # `build` is the real build tree: a block that configures or builds it
+  # (cmake -S/-B, cmake --build, scripts/build) would point it at this
+  # scratch folder, gone afterwards, or rebuild it under the running suite.
+  if grep -qE '(^|[;&|(`[:space:]])(cmake[[:space:]]+(-S|-B|--build)|(\./)?scripts/(build|test|run-example))' "$file"; then
+    echo "FAIL $page:$line: the block configures or builds the tree, which the docs tests run inside: tag it '<!-- docs-test: skip REASON -->'"
+    failed=$((failed + 1))
+    return
+  fi
   dir="$scratch/$(basename "$page" .md)-$line"
   mkdir -p "$dir"
   for e in "$src"/* "$src"/.[!.]*; do
@@ -78,6 +86,7 @@ run_block() { # PAGE LINE BLOCKFILE TAG-LINE
   ln -s "$build" "$dir/build"
   mkdir "$dir/out"
   cp "$file" "$dir.sh"
+  cache_before=$(stat -c %Y "$build/CMakeCache.txt" 2>/dev/null)
   # A session of its own, so that whatever the block left running (a server
   # started with &) is found and ended with it.
   (cd "$dir" && PATH="$build/bin:$PATH" setsid -w bash -c \
@@ -85,6 +94,13 @@ run_block() { # PAGE LINE BLOCKFILE TAG-LINE
       sh "$dir.sid" "$timeout_s" "$dir.sh" >"$dir.log" 2>&1 </dev/null)
   rc=$?
   pkill -KILL -s "$(cat "$dir.sid")" 2>/dev/null
+  # `build` is the real build tree: a block that configures it (cmake -B
+  # build) would point it at this scratch folder, which is gone afterwards.
+  if [ "$(stat -c %Y "$build/CMakeCache.txt" 2>/dev/null)" != "$cache_before" ]; then
+    echo "FAIL $page:$line: the block reconfigured the build tree $build (re-run cmake there); a block that builds the tree must be tagged skip"
+    failed=$((failed + 1))
+    return
+  fi
   if [ "$rc" -ne 0 ]; then
     echo "FAIL $page:$line: exit status $rc; its output:"
     sed 's/^/    /' "$dir.log" | tail -n 30
