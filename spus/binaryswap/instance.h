@@ -3,7 +3,8 @@
  * binaryswap.c (creation, options, the class), mesh.c (peer mesh and the
  * transport the strategies run over), layer.c (read-back of this peer's
  * layer), compositing.c (the frame hook: plan and run the strategy),
- * display.c (the stream to the display and the final piece drawn there),
+ * display.c (the final piece drawn on the display, over the display stream
+ * readback shares, spus/readback/display_stream.h),
  * stats.c (the stats= lines, transport statistics). Private to the SPU.
  * Owns the instance struct; never state outside it. */
 #ifndef TSR_SPUS_BINARYSWAP_INSTANCE_H
@@ -22,7 +23,6 @@
 #include "tessera/spu.h"
 
 #define BINARYSWAP_MAX_PEERS 64
-#define BINARYSWAP_MAGIC 0x494c5354u /* "TSLI" */
 #define BINARYSWAP_KIND_HELLO (TSR_NET_KIND_FIRST_USER + 0)
 #define BINARYSWAP_KIND_IMAGE (TSR_NET_KIND_FIRST_USER + 1)
 #define BINARYSWAP_KIND_ORDER (TSR_NET_KIND_FIRST_USER + 2)  /* alpha mode: a box's distance */
