@@ -124,7 +124,8 @@ tsr_add_fuzz_target(ctl
 # generated pack_gen.c), driven by the generated wire-test calls.
 # fuzz_reply_seeds OUTDIR rewrites corpus-reply/ok-* with real replies.
 set(tsr_fuzz_wire_sources
-  ${CMAKE_SOURCE_DIR}/core/wire/pack.c ${CMAKE_SOURCE_DIR}/core/wire/pack_map.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
+  ${CMAKE_SOURCE_DIR}/core/wire/pack.c ${CMAKE_SOURCE_DIR}/core/wire/pack_map.c ${CMAKE_SOURCE_DIR}/core/wire/pack_mirror.c
+  ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
   ${CMAKE_SOURCE_DIR}/core/wire/dlist.c ${CMAKE_SOURCE_DIR}/core/wire/unpack.c
   ${CMAKE_SOURCE_DIR}/core/util/map.c ${CMAKE_SOURCE_DIR}/core/util/error.c
   ${CMAKE_SOURCE_DIR}/core/util/log.c ${TESSERA_GEN_DIR}/src/pack_gen.c

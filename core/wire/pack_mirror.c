@@ -1,0 +1,336 @@
+/* core/wire/pack_mirror.c — the packer's mirrors of client state, per
+ * context: pixel store, vertex arrays and their enables, buffer bindings,
+ * the client attribute stack, GetPointerv; swapped at the stream's
+ * MakeCurrentTSR and dropped at ContextDestroyTSR.
+ * Owns the mirrors' records in the packer. Never: sends a host pointer,
+ * aborts (problems are recorded in the packer's error). */
+#include "pack_internal.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tessera/log.h"
+#include "wire_gen.h"
+#include "wire_internal.h"
+
+/* --- mirrors of client state ------------------------------------------------ */
+
+/* The mirrors of the stream's contexts other than the current one. */
+typedef struct pack_context_state {
+    GLint context;
+    tsr_pixel_store pixels;
+    tsr_client_arrays arrays;
+    uint32_t stack_depth;
+    unsigned char stack[sizeof(((tsr_packer *)0)->stack)];
+} pack_context_state;
+
+static void pack_mirrors_reset(tsr_packer *p)
+{
+    tsr_pixel_store_init(&p->pixels);
+    memset(&p->arrays, 0, sizeof p->arrays);
+    p->stack_depth = 0;
+}
+
+void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
+{
+    if (p->context_known && context == p->context)
+        return;
+    if (p->context_known) {
+        pack_context_state *s = tsr_wire_contexts_find(p->contexts, p->context);
+        if (!s)
+            s = tsr_wire_contexts_add(&p->contexts, p->context, sizeof *s);
+        if (!s) {
+            pack_record(p, TSR_ENOMEM, "out of memory for context %d's client state", (int)p->context);
+            return;
+        }
+        s->pixels = p->pixels;
+        s->arrays = p->arrays;
+        s->stack_depth = p->stack_depth;
+        memcpy(s->stack, p->stack, sizeof s->stack);
+    }
+    const pack_context_state *s = tsr_wire_contexts_find(p->contexts, context);
+    if (s) {
+        p->pixels = s->pixels;
+        p->arrays = s->arrays;
+        p->stack_depth = s->stack_depth;
+        memcpy(p->stack, s->stack, sizeof p->stack);
+    } else if (p->context_known) {
+        pack_mirrors_reset(p);
+    }
+    p->context = context;
+    p->context_known = 1;
+}
+
+void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context)
+{
+    tsr_wire_contexts_remove(p->contexts, context);
+    if (p->context_known && context == p->context) {
+        /* Whatever is made current next starts from GL's initial values
+         * or its own saved state. */
+        pack_mirrors_reset(p);
+        p->context_known = 0;
+    }
+}
+
+void tsr_packer_mirror_PixelStore(tsr_packer *p, GLenum pname, double value)
+{
+    tsr_pixel_store_set(&p->pixels, pname, value);
+}
+
+void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer)
+{
+    if (target == GL_ARRAY_BUFFER)
+        p->arrays.array_buffer = buffer;
+    else if (target == GL_ELEMENT_ARRAY_BUFFER)
+        p->arrays.element_buffer = buffer;
+}
+
+void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers)
+{
+    for (GLsizei i = 0; buffers && i < n; i++) {
+        if (!buffers[i])
+            continue;
+        if (buffers[i] == p->arrays.array_buffer)
+            p->arrays.array_buffer = 0;
+        if (buffers[i] == p->arrays.element_buffer)
+            p->arrays.element_buffer = 0;
+    }
+}
+
+static void set_array(tsr_packer *p, tsr_client_array *a, GLint size, GLenum type, GLsizei stride, GLboolean normalized,
+                      const void *pointer)
+{
+    a->size = size;
+    a->type = type;
+    a->stride = stride;
+    a->normalized = normalized != 0;
+    a->buffer = p->arrays.array_buffer;
+    a->pointer = pointer;
+}
+
+void tsr_packer_local_VertexPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.vertex, size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_NormalPointer(tsr_packer *p, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.normal, 3, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_ColorPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.color, size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_TexCoordPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    if (p->arrays.active_texture < TSR_PACK_TEXUNITS)
+        set_array(p, &p->arrays.texcoord[p->arrays.active_texture], size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_EdgeFlagPointer(tsr_packer *p, GLsizei stride, const void *pointer)
+{
+    set_array(p, &p->arrays.edge_flag, 1, GL_UNSIGNED_BYTE, stride, 0, pointer);
+}
+
+void tsr_packer_local_VertexAttribPointer(tsr_packer *p, GLuint index, GLint size, GLenum type, GLboolean normalized,
+                                          GLsizei stride, const void *pointer)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        set_array(p, &p->arrays.attrib[index], size, type, stride, normalized, pointer);
+}
+
+static tsr_client_array *array_of(tsr_packer *p, GLenum array)
+{
+    switch (array) {
+    case GL_VERTEX_ARRAY: return &p->arrays.vertex;
+    case GL_NORMAL_ARRAY: return &p->arrays.normal;
+    case GL_COLOR_ARRAY: return &p->arrays.color;
+    case GL_EDGE_FLAG_ARRAY: return &p->arrays.edge_flag;
+    case GL_TEXTURE_COORD_ARRAY:
+        return p->arrays.active_texture < TSR_PACK_TEXUNITS ? &p->arrays.texcoord[p->arrays.active_texture] : NULL;
+    default: return NULL;
+    }
+}
+
+int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
+{
+    const tsr_client_array *a = array_of(p, cap);
+    if (!a && cap != GL_TEXTURE_COORD_ARRAY)
+        return 0;
+    *out = a && a->enabled ? GL_TRUE : GL_FALSE;
+    return 1;
+}
+
+int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on)
+{
+    if (!tsr_wire_is_client_array(cap))
+        return 0;
+    tsr_client_array *a = array_of(p, cap);
+    if (a)
+        a->enabled = on != 0;
+    return 1;
+}
+
+void tsr_packer_local_EnableClientState(tsr_packer *p, GLenum array)
+{
+    tsr_client_array *a = array_of(p, array);
+    if (a)
+        a->enabled = 1;
+}
+
+void tsr_packer_local_DisableClientState(tsr_packer *p, GLenum array)
+{
+    tsr_client_array *a = array_of(p, array);
+    if (a)
+        a->enabled = 0;
+}
+
+void tsr_packer_local_EnableVertexAttribArray(tsr_packer *p, GLuint index)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        p->arrays.attrib[index].enabled = 1;
+}
+
+void tsr_packer_local_DisableVertexAttribArray(tsr_packer *p, GLuint index)
+{
+    if (index < TSR_PACK_ATTRIBS)
+        p->arrays.attrib[index].enabled = 0;
+}
+
+void tsr_packer_local_ClientActiveTexture(tsr_packer *p, GLenum texture)
+{
+    if (texture >= GL_TEXTURE0 && texture < GL_TEXTURE0 + TSR_PACK_TEXUNITS)
+        p->arrays.active_texture = texture - GL_TEXTURE0;
+}
+
+/* glInterleavedArrays (GL 2.1 table 2.5): which arrays a format enables,
+ * their sizes and offsets in floats (c = 4 unsigned bytes of color). */
+typedef struct interleaved {
+    GLenum format;
+    int st, sc, sv; /* texcoord, color, vertex sizes (0: absent) */
+    GLenum ctype;
+    int normal;        /* has a normal */
+    int pc, pn, pv, s; /* offsets and stride, in bytes */
+} interleaved;
+
+#define F 4
+#define C 4
+static const interleaved interleaved_formats[] = {
+    {GL_V2F, 0, 0, 2, 0, 0, 0, 0, 0, 2 * F},
+    {GL_V3F, 0, 0, 3, 0, 0, 0, 0, 0, 3 * F},
+    {GL_C4UB_V2F, 0, 4, 2, GL_UNSIGNED_BYTE, 0, 0, 0, C, C + 2 * F},
+    {GL_C4UB_V3F, 0, 4, 3, GL_UNSIGNED_BYTE, 0, 0, 0, C, C + 3 * F},
+    {GL_C3F_V3F, 0, 3, 3, GL_FLOAT, 0, 0, 0, 3 * F, 6 * F},
+    {GL_N3F_V3F, 0, 0, 3, 0, 1, 0, 0, 3 * F, 6 * F},
+    {GL_C4F_N3F_V3F, 0, 4, 3, GL_FLOAT, 1, 0, 4 * F, 7 * F, 10 * F},
+    {GL_T2F_V3F, 2, 0, 3, 0, 0, 0, 0, 2 * F, 5 * F},
+    {GL_T4F_V4F, 4, 0, 4, 0, 0, 0, 0, 4 * F, 8 * F},
+    {GL_T2F_C4UB_V3F, 2, 4, 3, GL_UNSIGNED_BYTE, 0, 2 * F, 0, C + 2 * F, C + 5 * F},
+    {GL_T2F_C3F_V3F, 2, 3, 3, GL_FLOAT, 0, 2 * F, 0, 5 * F, 8 * F},
+    {GL_T2F_N3F_V3F, 2, 0, 3, 0, 1, 0, 2 * F, 5 * F, 8 * F},
+    {GL_T2F_C4F_N3F_V3F, 2, 4, 3, GL_FLOAT, 1, 2 * F, 6 * F, 9 * F, 12 * F},
+    {GL_T4F_C4F_N3F_V4F, 4, 4, 4, GL_FLOAT, 1, 4 * F, 8 * F, 11 * F, 15 * F},
+};
+#undef F
+#undef C
+
+void tsr_packer_local_InterleavedArrays(tsr_packer *p, GLenum format, GLsizei stride, const void *pointer)
+{
+    const interleaved *f = NULL;
+    for (size_t i = 0; i < sizeof interleaved_formats / sizeof interleaved_formats[0]; i++)
+        if (interleaved_formats[i].format == format)
+            f = &interleaved_formats[i];
+    if (!f || stride < 0) {
+        tsr_packer_drop(p, "InterleavedArrays", "unknown format or negative stride");
+        return;
+    }
+    GLsizei s = stride ? stride : f->s;
+    const char *base = pointer;
+    /* Integer arithmetic: with a bound buffer the pointer is an offset. */
+#define AT(off) ((const void *)((uintptr_t)base + (uintptr_t)(off)))
+    p->arrays.edge_flag.enabled = 0;
+    tsr_client_array *tc = array_of(p, GL_TEXTURE_COORD_ARRAY);
+    if (tc) {
+        tc->enabled = f->st != 0;
+        if (f->st)
+            set_array(p, tc, f->st, GL_FLOAT, s, 0, AT(0));
+    }
+    p->arrays.color.enabled = f->sc != 0;
+    if (f->sc)
+        set_array(p, &p->arrays.color, f->sc, f->ctype, s, 0, AT(f->pc));
+    p->arrays.normal.enabled = f->normal != 0;
+    if (f->normal)
+        set_array(p, &p->arrays.normal, 3, GL_FLOAT, s, 0, AT(f->pn));
+    p->arrays.vertex.enabled = 1;
+    set_array(p, &p->arrays.vertex, f->sv, GL_FLOAT, s, 0, AT(f->pv));
+#undef AT
+}
+
+static const GLenum pixel_pnames[] = {
+    GL_PACK_ROW_LENGTH,    GL_PACK_IMAGE_HEIGHT,   GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_ROWS,
+    GL_PACK_SKIP_IMAGES,   GL_PACK_ALIGNMENT,      GL_PACK_SWAP_BYTES,    GL_PACK_LSB_FIRST,
+    GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
+    GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT,    GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,
+};
+
+void tsr_packer_local_PushClientAttrib(tsr_packer *p, GLbitfield mask)
+{
+    if (p->stack_depth >= TSR_PACK_STACK) {
+        pack_record(p, TSR_ESTATE, "glPushClientAttrib: stack overflow (depth %d)", TSR_PACK_STACK);
+        return;
+    }
+    p->stack[p->stack_depth].mask = mask;
+    p->stack[p->stack_depth].pixels = p->pixels;
+    p->stack[p->stack_depth].arrays = p->arrays;
+    p->stack_depth++;
+}
+
+void tsr_packer_local_PopClientAttrib(tsr_packer *p)
+{
+    if (!p->stack_depth) {
+        pack_record(p, TSR_ESTATE, "glPopClientAttrib: stack underflow");
+        return;
+    }
+    p->stack_depth--;
+    uint32_t mask = p->stack[p->stack_depth].mask;
+    /* The server never sees Push/PopClientAttrib: send what the pop changes
+     * in state it does see (pixel store, buffer bindings). */
+    if (mask & GL_CLIENT_PIXEL_STORE_BIT) {
+        tsr_pixel_store old = p->pixels;
+        const tsr_pixel_store *saved = &p->stack[p->stack_depth].pixels;
+        for (size_t i = 0; i < sizeof pixel_pnames / sizeof pixel_pnames[0]; i++) {
+            int32_t v = tsr_pixel_store_get(saved, pixel_pnames[i]);
+            if (v != tsr_pixel_store_get(&old, pixel_pnames[i]))
+                tsr_pack_PixelStorei(p, pixel_pnames[i], v);
+        }
+        p->pixels = *saved;
+    }
+    if (mask & GL_CLIENT_VERTEX_ARRAY_BIT) {
+        tsr_client_arrays *saved = &p->stack[p->stack_depth].arrays;
+        if (saved->array_buffer != p->arrays.array_buffer)
+            tsr_pack_BindBuffer(p, GL_ARRAY_BUFFER, saved->array_buffer);
+        if (saved->element_buffer != p->arrays.element_buffer)
+            tsr_pack_BindBuffer(p, GL_ELEMENT_ARRAY_BUFFER, saved->element_buffer);
+        p->arrays = *saved;
+    }
+}
+
+void tsr_packer_local_GetPointerv(tsr_packer *p, GLenum pname, void **params)
+{
+    const tsr_client_array *a = NULL;
+    switch (pname) {
+    case GL_VERTEX_ARRAY_POINTER: a = &p->arrays.vertex; break;
+    case GL_NORMAL_ARRAY_POINTER: a = &p->arrays.normal; break;
+    case GL_COLOR_ARRAY_POINTER: a = &p->arrays.color; break;
+    case GL_EDGE_FLAG_ARRAY_POINTER: a = &p->arrays.edge_flag; break;
+    case GL_TEXTURE_COORD_ARRAY_POINTER: a = array_of(p, GL_TEXTURE_COORD_ARRAY); break;
+    default: break;
+    }
+    if (params)
+        *params = a ? (void *)a->pointer : NULL;
+}
