@@ -3,7 +3,11 @@
  * Owns: the blocking waits with their time-outs, credit accounting on the
  * application side, and the lifetime of connection and listener objects.
  * Never: touches a libuv handle (the I/O thread does, see socket.c) or
- * waits on anything without the caller's time-out or a failure to end it. */
+ * waits on anything without the caller's time-out or a failure to end it.
+ *
+ * This file: messages' memory, the connection's life cycle and waits,
+ * connecting, receiving, queries and close. conn_listen.c and conn_send.c
+ * do the rest (conn_internal.h). */
 #include <netdb.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -11,7 +15,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "net_internal.h"
+#include "conn_internal.h"
 #include "tessera/log.h"
 
 uint16_t net_version(const tsr_net *net) { return net->config.protocol_version; }
@@ -205,7 +209,7 @@ void net_conn_fail(tsr_net_conn *c, int code, const char *fmt, ...)
 }
 
 /* Waits on `cond` until `deadline` (NULL: no deadline). 1 = timed out. */
-static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct timespec *dl)
+int conn_wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct timespec *dl)
 {
     if (!dl) {
         pthread_cond_wait(cond, lock);
@@ -214,7 +218,7 @@ static int wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct 
     return pthread_cond_timedwait(cond, lock, dl) != 0;
 }
 
-static int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err)
+int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err)
 {
     if (c->state == NET_FAILED)
         return tsr_error_set(err, c->error.code, "%s", c->error.message);
@@ -222,198 +226,6 @@ static int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err
         return tsr_error_set(err, TSR_EIO, "net: cannot %s: peer '%s' at %s closed the connection", verb, c->peer_name,
                              c->address);
     return tsr_error_set(err, TSR_ESTATE, "net: cannot %s: connection to %s is not open", verb, c->address);
-}
-
-/* ---- listeners ------------------------------------------------------------ */
-
-void net_listener_unlink(tsr_net_listener *l)
-{
-    tsr_net_listener **p = &l->net->listeners;
-    while (*p && *p != l)
-        p = &(*p)->next;
-    if (*p)
-        *p = l->next;
-    l->next = NULL;
-}
-
-void net_listener_maybe_free(tsr_net_listener *l)
-{
-    if (l->app_ref || l->io_ref)
-        return;
-    net_listener_unlink(l);
-    pthread_cond_destroy(&l->cond);
-    free(l);
-}
-
-/* Resolves a tcp address in the calling thread (bounded by the system
- * resolver's own time-outs). An empty host means loopback. */
-static int resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
-                   tsr_error *err)
-{
-    const char *host = a->host[0] ? a->host : "127.0.0.1";
-    char port[8];
-    snprintf(port, sizeof port, "%u", a->port);
-    struct addrinfo hints = {0};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    hints.ai_flags = AI_NUMERICSERV | (passive ? AI_PASSIVE : 0);
-    *out = NULL;
-    int rc = getaddrinfo(host, port, &hints, out);
-    if (rc || !*out)
-        return tsr_error_set(err, TSR_ENOENT, "net: cannot %s %s: host '%s' not found (%s)", verb, text, host,
-                             gai_strerror(rc));
-    return TSR_OK;
-}
-
-tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err)
-{
-    net_address a;
-    if (net_address_parse(address, &a, err))
-        return NULL;
-    tsr_net_listener *l = calloc(1, sizeof *l);
-    if (!l) {
-        tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
-        return NULL;
-    }
-    l->net = net;
-    l->transport = a.transport;
-    l->app_ref = true;
-    net_cond_init(&l->cond);
-    snprintf(l->address, sizeof l->address, "%s", address);
-    net_op op = {.kind = NET_OP_LISTEN, .target = l, .address = &a};
-    if (a.transport == NET_TCP) {
-        struct addrinfo *ai;
-        if (resolve(&a, true, &ai, address, "listen on", err)) {
-            pthread_cond_destroy(&l->cond);
-            free(l);
-            return NULL;
-        }
-        memcpy(&op.sockaddr, ai->ai_addr, ai->ai_addrlen);
-        freeaddrinfo(ai);
-    }
-    pthread_mutex_lock(&net->lock);
-    int rc;
-    if (a.transport == NET_INPROC) {
-        rc = net_inproc_listen(net, &a, l, err);
-    } else {
-        l->io_ref = true;
-        l->next = net->listeners;
-        net->listeners = l;
-        rc = net_submit_op(net, &op);
-        if (rc)
-            tsr_error_set(err, op.err.code, "%s", op.err.message);
-    }
-    if (rc) {
-        l->app_ref = false;
-        net_listener_maybe_free(l);
-        l = NULL;
-    }
-    pthread_mutex_unlock(&net->lock);
-    return l;
-}
-
-int tsr_net_address_is_local(const char *address, tsr_error *err)
-{
-    net_address a;
-    int rc = net_address_parse(address, &a, err);
-    if (rc)
-        return rc;
-    if (a.transport != NET_TCP || !a.host[0])
-        return 1;
-    struct addrinfo *list;
-    rc = resolve(&a, true, &list, address, "listen on", err);
-    if (rc)
-        return rc;
-    int local = 1;
-    for (struct addrinfo *ai = list; ai; ai = ai->ai_next) {
-        if (ai->ai_family == AF_INET) {
-            const struct sockaddr_in *in = (const struct sockaddr_in *)ai->ai_addr;
-            if ((ntohl(in->sin_addr.s_addr) >> 24) != 127)
-                local = 0;
-        } else if (ai->ai_family == AF_INET6) {
-            const struct sockaddr_in6 *in6 = (const struct sockaddr_in6 *)ai->ai_addr;
-            if (!IN6_IS_ADDR_LOOPBACK(&in6->sin6_addr))
-                local = 0;
-        } else {
-            local = 0;
-        }
-    }
-    freeaddrinfo(list);
-    return local;
-}
-
-const char *tsr_net_listener_address(const tsr_net_listener *l) { return l->address; }
-
-tsr_net_conn *tsr_net_accept(tsr_net_listener *l, int timeout_ms, tsr_error *err)
-{
-    struct timespec ts;
-    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
-    tsr_net *net = l->net;
-    pthread_mutex_lock(&net->lock);
-    while (!l->ready_head && !l->closing && !net->stopping)
-        if (wait_until(&l->cond, &net->lock, dl))
-            break;
-    tsr_net_conn *c = l->ready_head;
-    if (c) {
-        l->ready_head = c->next_ready;
-        if (!l->ready_head)
-            l->ready_tail = NULL;
-        c->next_ready = NULL;
-        c->listener = NULL;
-        c->ready = false;
-        l->pending--;
-    } else if (l->closing || net->stopping) {
-        tsr_error_set(err, TSR_ESTATE, "net: %s is closed", l->address);
-    } else {
-        tsr_error_set(err, TSR_ETIMEDOUT, "net: no connection on %s within %d ms", l->address, timeout_ms);
-    }
-    pthread_mutex_unlock(&net->lock);
-    return c;
-}
-
-unsigned tsr_net_listener_refusals(tsr_net_listener *l, tsr_error *last)
-{
-    pthread_mutex_lock(&l->net->lock);
-    unsigned n = l->refusals;
-    if (last)
-        *last = l->last_refusal;
-    pthread_mutex_unlock(&l->net->lock);
-    return n;
-}
-
-void tsr_net_listener_close(tsr_net_listener *l)
-{
-    if (!l)
-        return;
-    tsr_net *net = l->net;
-    pthread_mutex_lock(&net->lock);
-    l->closing = true;
-    pthread_cond_broadcast(&l->cond);
-    /* Connections nobody accepted are closed with it. */
-    while (l->ready_head) {
-        tsr_net_conn *c = l->ready_head;
-        l->ready_head = c->next_ready;
-        c->next_ready = NULL;
-        c->listener = NULL;
-        c->ready = false;
-        l->pending--;
-        if (c->transport == NET_INPROC) {
-            net_inproc_close(c);
-        } else {
-            c->app_ref = false;
-            c->close_requested = true;
-            net_mark_dirty(c);
-        }
-    }
-    l->ready_tail = NULL;
-    l->app_ref = false;
-    if (l->transport == NET_INPROC) {
-        net_listener_maybe_free(l);
-    } else if (!net->stopping) {
-        net_op op = {.kind = NET_OP_CLOSE_LISTENER, .target = l};
-        net_submit_op(net, &op);
-    }
-    pthread_mutex_unlock(&net->lock);
 }
 
 /* ---- connections ---------------------------------------------------------- */
@@ -448,7 +260,7 @@ static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char
     net_deadline(&ts, (int)(net->config.connect_timeout_ms + net->config.handshake_timeout_ms + 2000));
     bool guard_expired = false;
     while (c->state == NET_CONNECTING || c->state == NET_HANDSHAKE)
-        if (wait_until(&c->cond, &net->lock, &ts)) {
+        if (conn_wait_until(&c->cond, &net->lock, &ts)) {
             guard_expired = true;
             break;
         }
@@ -492,7 +304,7 @@ tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err)
         return NULL;
     }
     struct addrinfo *list;
-    if (resolve(&a, false, &list, address, "connect to", err))
+    if (conn_resolve(&a, false, &list, address, "connect to", err))
         return NULL;
     /* A name may resolve to several addresses ("localhost": ::1 and
      * 127.0.0.1); try each until one answers. */
@@ -504,307 +316,6 @@ tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err)
     }
     freeaddrinfo(list);
     return c;
-}
-
-static uint64_t elapsed_ns(const struct timespec *since)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (uint64_t)(now.tv_sec - since->tv_sec) * 1000000000u + (uint64_t)(now.tv_nsec - since->tv_nsec);
-}
-
-static void release_nothing(void *data, void *ctx)
-{
-    (void)data;
-    (void)ctx;
-}
-
-/* (L) Hands m (its credit taken) to the transport: the peer's inbox
- * (inproc), the socket from this thread (direct.c), or the I/O thread's
- * queue. Returns a message written whole, to free after unlocking. */
-static net_msg *enqueue(tsr_net_conn *c, net_msg *m)
-{
-    if (c->transport == NET_INPROC) {
-        net_inproc_deliver(c, m);
-        return NULL;
-    }
-    if (net_direct_possible(c))
-        return net_direct_write(c, m); /* no hand-over to the I/O thread */
-    if (c->outbox_tail)
-        c->outbox_tail->next = m;
-    else
-        c->outbox_head = m;
-    c->outbox_tail = m;
-    net_mark_dirty(c);
-    return NULL;
-}
-
-/* (L) Waits until a credit is there and, with `pos` given, a ring message
- * of ring_len bytes fits (*pos: where it goes); takes nothing. Returns TSR_OK, TSR_ETIMEDOUT or the
- * connection's error. */
-static int wait_to_send(tsr_net_conn *c, uint64_t ring_len, uint64_t *pos, const struct timespec *dl, int timeout_ms,
-                        tsr_error *err)
-{
-    tsr_net *net = c->net;
-    bool ready = c->send_credits > 0 && (!pos || net_shm_fits(c, ring_len, pos));
-    if (ready)
-        return TSR_OK;
-    struct timespec started;
-    clock_gettime(CLOCK_MONOTONIC, &started);
-    c->send_waiters++;
-    net_mark_dirty(c); /* the I/O thread must read, to see the peer's credits */
-    while (c->state == NET_OPEN && !c->close_requested &&
-           !(ready = c->send_credits > 0 && (!pos || net_shm_fits(c, ring_len, pos))))
-        if (wait_until(&c->cond, &net->lock, dl))
-            break;
-    c->send_waiters--;
-    c->stats.blocked_on_credits_ns += elapsed_ns(&started);
-    if (c->state != NET_OPEN || c->close_requested)
-        return conn_unusable(c, "send", err);
-    if (!ready && c->send_credits == 0)
-        return tsr_error_set(err, TSR_ETIMEDOUT, "net: peer '%s' at %s granted no credit within %d ms", c->peer_name,
-                             c->address, timeout_ms);
-    if (!ready)
-        return tsr_error_set(err, TSR_ETIMEDOUT,
-                             "net: peer '%s' at %s released no room for a %llu-byte message in the shared-memory "
-                             "ring within %d ms",
-                             c->peer_name, c->address, (unsigned long long)ring_len, timeout_ms);
-    return TSR_OK;
-}
-
-/* (L) A reservation not committed is given up (tsr_net_send_reserve). */
-static void drop_reservation(tsr_net_conn *c) { c->tx.reserved = false; }
-
-/* (L) Sends the ring reservation's first len bytes: its descriptor goes
- * through the socket (flags NET_FLAG_SHM). *written as enqueue's. */
-static int commit_ring(tsr_net_conn *c, unsigned kind, uint64_t len, net_msg **written, tsr_error *err)
-{
-    *written = NULL;
-    c->tx.reserved = false;
-    if (c->state != NET_OPEN || c->close_requested)
-        return conn_unusable(c, "send", err);
-    if (c->send_credits == 0) /* taken by nobody else: one sending thread */
-        return tsr_error_set(err, TSR_ESTATE, "net: no credit for the reserved message to %s", c->address);
-    net_msg *m = calloc(1, sizeof *m);
-    uint8_t *desc = malloc(NET_SHM_DESC_BYTES);
-    if (!m || !desc) {
-        free(m);
-        free(desc);
-        return tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
-    }
-    uint64_t pos = c->tx.reserved_pos;
-    net_put_u64(desc, pos);
-    net_put_u64(desc + 8, len);
-    m->conn = c;
-    m->type = (uint8_t)kind;
-    m->flags = NET_FLAG_SHM;
-    m->data = desc;
-    m->len = NET_SHM_DESC_BYTES;
-    if (c->tx.tail == c->tx.head) /* empty: rewound (net_shm_fits), the skipped end is free */
-        c->tx.tail = pos;
-    c->tx.head = pos + net_shm_slot(len);
-    c->send_credits--;
-    c->stats.messages_sent++;
-    c->stats.bytes_sent += len;
-    c->stats.messages_sent_shm++;
-    c->stats.bytes_sent_shm += len;
-    *written = enqueue(c, m);
-    return TSR_OK;
-}
-
-int tsr_net_send_reserve(tsr_net_conn *c, uint64_t max_len, void **buf, int timeout_ms, tsr_error *err)
-{
-    *buf = NULL;
-    tsr_net *net = c->net;
-    struct timespec ts;
-    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
-    pthread_mutex_lock(&net->lock);
-    drop_reservation(c);
-    int rc = TSR_OK;
-    if (c->state != NET_OPEN || c->close_requested) {
-        rc = conn_unusable(c, "send", err);
-    } else if (max_len > c->peer_max_message) {
-        rc = tsr_error_set(err, TSR_EINVAL,
-                           "net: a %llu-byte message is over the %llu-byte limit of peer '%s' at %s (its "
-                           "max_message_bytes)",
-                           (unsigned long long)max_len, (unsigned long long)c->peer_max_message, c->peer_name,
-                           c->address);
-    } else if (c->shm && net_shm_slot(max_len) <= c->tx.size) {
-        uint64_t pos;
-        if ((rc = wait_to_send(c, max_len, &pos, dl, timeout_ms, err)) == TSR_OK) {
-            c->tx.reserved = c->tx.reserved_ring = true;
-            c->tx.reserved_pos = pos;
-            c->tx.reserved_len = max_len;
-            *buf = c->tx.map + pos % c->tx.size;
-        }
-    } else {
-        /* Not through a ring: a buffer kept for the connection, sent as
-         * tsr_net_send sends (the socket copies it). */
-        if (max_len > c->reserve_cap || !c->reserve_buf) {
-            uint8_t *p = realloc(c->reserve_buf, max_len ? (size_t)max_len : 1);
-            if (!p) {
-                rc = tsr_error_set(err, TSR_ENOMEM, "net: out of memory for a %llu-byte message",
-                                   (unsigned long long)max_len);
-                goto out;
-            }
-            c->reserve_buf = p;
-            c->reserve_cap = max_len;
-        }
-        c->tx.reserved = true;
-        c->tx.reserved_ring = false;
-        c->tx.reserved_len = max_len;
-        *buf = c->reserve_buf;
-    }
-out:
-    pthread_mutex_unlock(&net->lock);
-    return rc;
-}
-
-static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, void (*release)(void *, void *),
-                    void *ctx, bool borrowed, int timeout_ms, tsr_error *err);
-
-int tsr_net_send_commit(tsr_net_conn *c, unsigned kind, uint64_t len, int timeout_ms, tsr_error *err)
-{
-    if (kind < TSR_NET_KIND_FIRST_USER || kind > 255)
-        return tsr_error_set(err, TSR_EINVAL, "net: message kind %u is outside the application range %d..255", kind,
-                             TSR_NET_KIND_FIRST_USER);
-    tsr_net *net = c->net;
-    pthread_mutex_lock(&net->lock);
-    if (!c->tx.reserved || len > c->tx.reserved_len) {
-        bool had = c->tx.reserved;
-        uint64_t cap = c->tx.reserved_len;
-        c->tx.reserved = false;
-        pthread_mutex_unlock(&net->lock);
-        return had ? tsr_error_set(err, TSR_EINVAL, "net: committing %llu bytes of a %llu-byte reservation",
-                                   (unsigned long long)len, (unsigned long long)cap)
-                   : tsr_error_set(err, TSR_ESTATE, "net: nothing reserved to commit on %s", c->address);
-    }
-    if (!c->tx.reserved_ring) {
-        c->tx.reserved = false;
-        uint8_t *buf = c->reserve_buf;
-        pthread_mutex_unlock(&net->lock);
-        return send_msg(c, kind, buf, len, NULL, NULL, true, timeout_ms, err);
-    }
-    net_msg *written = NULL;
-    int rc = commit_ring(c, kind, len, &written, err);
-    pthread_mutex_unlock(&net->lock);
-    net_msg_free(written);
-    return rc;
-}
-
-/* tsr_net_send_owned, or with `borrowed` tsr_net_send: the caller's `data`
- * is written directly when the connection's write side is idle (no copy
- * at all), and copied only when it must wait in a queue. */
-static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, void (*release)(void *, void *),
-                    void *ctx, bool borrowed, int timeout_ms, tsr_error *err)
-{
-    if (kind < TSR_NET_KIND_FIRST_USER || kind > 255)
-        return tsr_error_set(err, TSR_EINVAL, "net: message kind %u is outside the application range %d..255", kind,
-                             TSR_NET_KIND_FIRST_USER);
-    if (!data && len)
-        return tsr_error_set(err, TSR_EINVAL, "net: NULL data with length %llu", (unsigned long long)len);
-    tsr_net *net = c->net;
-    struct timespec ts;
-    const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
-    net_msg *written = NULL;
-    pthread_mutex_lock(&net->lock);
-    int rc = TSR_OK;
-    if (c->state != NET_OPEN || c->close_requested) {
-        rc = conn_unusable(c, "send", err);
-        goto out;
-    }
-    if (len > c->peer_max_message) {
-        rc = tsr_error_set(err, TSR_EINVAL,
-                           "net: a %llu-byte message is over the %llu-byte limit of peer '%s' "
-                           "at %s (its max_message_bytes)",
-                           (unsigned long long)len, (unsigned long long)c->peer_max_message, c->peer_name, c->address);
-        goto out;
-    }
-    drop_reservation(c);
-    if (c->shm && net_shm_slot(len) <= c->tx.size) {
-        /* Through the ring: copied there (tsr_net_send_reserve spares even
-         * that copy), and only a descriptor goes on the socket. */
-        uint64_t pos;
-        if ((rc = wait_to_send(c, len, &pos, dl, timeout_ms, err)))
-            goto out;
-        c->tx.reserved = c->tx.reserved_ring = true;
-        c->tx.reserved_pos = pos;
-        c->tx.reserved_len = len;
-        pthread_mutex_unlock(&net->lock);
-        if (len)
-            memcpy(c->tx.map + pos % c->tx.size, data, (size_t)len);
-        pthread_mutex_lock(&net->lock);
-        rc = commit_ring(c, kind, len, &written, err);
-        pthread_mutex_unlock(&net->lock);
-        net_msg_free(written);
-        if (rc == TSR_OK && !borrowed) { /* owned: the caller gave it to be released once sent */
-            if (release)
-                release(data, ctx);
-            else
-                free(data);
-        }
-        return rc;
-    }
-    if ((rc = wait_to_send(c, 0, NULL, dl, timeout_ms, err)))
-        goto out;
-    net_msg *m = calloc(1, sizeof *m);
-    if (!m) {
-        rc = tsr_error_set(err, TSR_ENOMEM, "net: out of memory");
-        goto out;
-    }
-    m->conn = c;
-    m->type = (uint8_t)kind;
-    m->len = len;
-    m->data = data;
-    m->release = release;
-    m->release_ctx = ctx;
-    if (borrowed && !net_direct_possible(c)) {    /* it waits in a queue: copy it */
-        bool pooled = c->transport != NET_INPROC; /* an inproc copy becomes the peer's */
-        m->data = pooled ? net_send_copy_alloc(c, len, &m->cap) : malloc(len ? (size_t)len : 1);
-        m->copy = pooled;
-        m->release = NULL; /* free() */
-        if (!m->data) {
-            net_send_copy_done(c, m);
-            free(m);
-            rc = tsr_error_set(err, TSR_ENOMEM, "net: out of memory copying a %llu-byte message",
-                               (unsigned long long)len);
-            goto out;
-        }
-        pthread_mutex_unlock(&net->lock); /* the copy may be long: others go on */
-        if (len)
-            memcpy(m->data, data, (size_t)len);
-        pthread_mutex_lock(&net->lock);
-        if (c->state != NET_OPEN || c->close_requested) { /* changed while copying */
-            net_send_copy_done(c, m);
-            net_msg_free(m);
-            rc = conn_unusable(c, "send", err);
-            goto out;
-        }
-    } else if (borrowed) {
-        m->release = release_nothing; /* the caller's memory; a rest is copied (direct.c) */
-        m->borrowed = true;
-    }
-    c->send_credits--;
-    c->stats.messages_sent++;
-    c->stats.bytes_sent += len;
-    written = enqueue(c, m);
-out:
-    pthread_mutex_unlock(&net->lock);
-    net_msg_free(written); /* outside the lock: a caller's release() may take its own */
-    return rc;
-}
-
-int tsr_net_send_owned(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, void (*release)(void *, void *),
-                       void *ctx, int timeout_ms, tsr_error *err)
-{
-    return send_msg(c, kind, data, len, release, ctx, false, timeout_ms, err);
-}
-
-int tsr_net_send(tsr_net_conn *c, unsigned kind, const void *data, uint64_t len, int timeout_ms, tsr_error *err)
-{
-    if (len >= SIZE_MAX)
-        return tsr_error_set(err, TSR_EINVAL, "net: a %llu-byte message cannot be copied", (unsigned long long)len);
-    return send_msg(c, kind, (void *)data, len, NULL, NULL, true, timeout_ms, err);
 }
 
 /* (L) Whether tsr_net_recv on c would return now. */
@@ -843,7 +354,7 @@ int tsr_net_recv(tsr_net_conn *c, tsr_net_msg *msg, int timeout_ms, tsr_error *e
     const struct timespec *dl = net_deadline(&ts, timeout_ms) ? &ts : NULL;
     pthread_mutex_lock(&net->lock);
     while (!recv_ready(c))
-        if (wait_until(&c->cond, &net->lock, dl))
+        if (conn_wait_until(&c->cond, &net->lock, dl))
             break;
     int rc = recv_take(c, msg, timeout_ms, err);
     pthread_mutex_unlock(&net->lock);
@@ -873,7 +384,7 @@ int tsr_net_recv_any(tsr_net_conn *const *conns, size_t count, size_t *which, ts
             if (recv_ready(conns[i]))
                 found = i;
         }
-        if (found < count || wait_until(&net->any_cond, &net->lock, dl))
+        if (found < count || conn_wait_until(&net->any_cond, &net->lock, dl))
             break;
     }
     net->any_waiters--;
@@ -966,7 +477,7 @@ int tsr_net_conn_flush(tsr_net_conn *c, int timeout_ms)
     int timed_out = 0;
     while (c->state == NET_OPEN && !c->peer_stopped_reading && !timed_out &&
            (c->outbox_head || c->writes_in_flight || c->direct_rest || c->direct_writer))
-        timed_out = wait_until(&c->cond, &c->net->lock, dl);
+        timed_out = conn_wait_until(&c->cond, &c->net->lock, dl);
     c->flush_waiters--;
     int rc = c->state == NET_FAILED ? c->error.code : timed_out ? TSR_ETIMEDOUT : TSR_OK;
     pthread_mutex_unlock(&c->net->lock);
@@ -985,7 +496,7 @@ int tsr_net_conn_wait_returned(tsr_net_conn *c, int timeout_ms, tsr_error *err)
         net_mark_dirty(c); /* the I/O thread must read, to see the peer's credits */
         while (c->state == NET_OPEN && !c->close_requested &&
                !(returned = c->send_credits >= c->peer_window && c->tx.head == c->tx.tail))
-            if (wait_until(&c->cond, &net->lock, dl))
+            if (conn_wait_until(&c->cond, &net->lock, dl))
                 break;
         c->send_waiters--;
     }

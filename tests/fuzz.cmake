@@ -241,7 +241,8 @@ endif()
 # Both compile netlib's sources into the program (its internal encoders make
 # the seeds and the correct handshakes; the fuzzer's coverage is netlib's).
 set(tsr_fuzz_net_sources ${TSR_FUZZ_DIR}/fuzz_net.c)
-foreach(f address.c auth.c conn.c direct.c frame.c inproc.c loop.c shm.c socket.c stream.c)
+foreach(f address.c auth.c conn.c conn_listen.c conn_send.c direct.c frame.c inproc.c loop.c shm.c socket.c
+    socket_admit.c socket_handshake.c socket_read.c stream.c)
   list(APPEND tsr_fuzz_net_sources ${CMAKE_SOURCE_DIR}/netlib/${f})
 endforeach()
 add_executable(fuzz_net_replay ${tsr_fuzz_net_sources})
