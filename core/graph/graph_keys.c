@@ -784,7 +784,7 @@ int graph_parse_nodes(loader *l, const yaml_node_t *root)
         l->graph->node_count = i + 1;
         rc = parse_node(l, name, graph_node_at(l, p->value), node, &l->sources[i]);
     }
-    /* Every key was a valid, unique name: `names` is the graph_lookup order. */
+    /* Every key was a valid, unique name: `names` is the lookup order. */
     for (size_t i = 0; i < count && rc == TSR_OK; i++)
         l->graph->by_name[i] = names[i].index;
     free(names);

@@ -172,7 +172,7 @@ static void replay_recipe(dctx *x, const tsr_state_recipe *r, const tsr_state_re
 }
 
 /* Operations the renderer's matrix (recipe s) lacks to become recipe c:
- * the index to diff_replay from when s is a prefix of c, else 0 (diff_replay all,
+ * the index to replay from when s is a prefix of c, else 0 (replay all,
  * from the base). */
 static unsigned recipe_from(const tsr_state_recipe *c, const tsr_state_recipe *s)
 {
