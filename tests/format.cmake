@@ -4,3 +4,11 @@
 # (scripts/setup-debian installs it). Included by tests/CMakeLists.txt.
 add_test(NAME format_tree_matches_clang_format COMMAND ${CMAKE_SOURCE_DIR}/scripts/format --check)
 set_tests_properties(format_tree_matches_clang_format PROPERTIES TIMEOUT 300 LABELS format)
+
+# A file per job: no tracked C source or header over
+# 1,000 lines outside tests/, bench/, examples/ and generated code. The
+# script prints every offender with its line count and how many files it
+# counted.
+add_test(NAME tree_source_files_at_most_1000_lines
+         COMMAND bash ${CMAKE_SOURCE_DIR}/tests/format/file_sizes.sh ${CMAKE_SOURCE_DIR})
+set_tests_properties(tree_source_files_at_most_1000_lines PROPERTIES TIMEOUT 60 LABELS format)
