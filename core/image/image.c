@@ -1,10 +1,10 @@
 /* core/image/image.c — RGBA8 images: PNG I/O through libpng, compare, row flip.
  * Owns the libpng setjmp/longjmp boundary: every libpng call happens in a
  * function whose locals are not touched after setjmp, and libpng errors
- * become tsr_error values naming the file. Owns, per process, the table of
- * temporary PNGs being written and the handler that removes them when
- * SIGTERM, SIGINT or SIGHUP end the process (installed only over a signal's
- * default action, which it then takes). Never prints, exits or aborts. */
+ * become tsr_error values naming the file. Owns the tsr_image_pending
+ * table's code; the table itself, and the signal handler that empties it,
+ * belong to the program (tsr_image_set_pending). Never prints, exits,
+ * aborts or installs a signal handler. */
 #include "tessera/image.h"
 
 #include <errno.h>
@@ -12,9 +12,7 @@
 #include <limits.h>
 #include <math.h>
 #include <png.h>
-#include <pthread.h>
 #include <setjmp.h>
-#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -229,10 +227,10 @@ static int write_png_guarded(png_structp png, png_infop info, png_job *job)
 
 /* A PNG is written to a temporary file in its own directory and renamed
  * over its name when whole, so a reader, or a kill at any moment, never
- * sees a part of one. A terminating signal (SIGTERM, SIGINT, SIGHUP) would
- * still leave the temporary behind: those being written are listed here,
- * process-wide because signals are, and the handler removes them. Each
- * slot's path is a fixed buffer (the handler may not touch freed memory);
+ * sees a part of one. A terminating signal would still leave the temporary
+ * behind: a program that minds lists those being written in a table it
+ * owns and empties it from its own handler (tessera/image.h). Each slot's
+ * path is a fixed buffer (the handler may not touch freed memory);
  * `state` is 0 free, 1 claimed, 2 listed, and `pid` keeps a forked child
  * that is signalled before its exec from removing its parent's files. */
 #define PENDING_SLOTS 32
@@ -241,61 +239,57 @@ typedef struct pending_png {
     pid_t pid;
     char path[PATH_MAX];
 } pending_png;
-static pending_png pending_pngs[PENDING_SLOTS];
-static const int cleanup_signals[] = {SIGTERM, SIGINT, SIGHUP};
-static pthread_once_t cleanup_once = PTHREAD_ONCE_INIT;
+struct tsr_image_pending {
+    pending_png slots[PENDING_SLOTS];
+};
 
-static void remove_pending_and_die(int sig)
+/* The program's table, NULL when it gave none: the one process-wide hook
+ * of this file, set only by the program (docs/architecture.md). */
+static _Atomic(tsr_image_pending *) program_pending;
+
+tsr_image_pending *tsr_image_pending_create(void) { return calloc(1, sizeof(tsr_image_pending)); }
+
+void tsr_image_pending_destroy(tsr_image_pending *pending)
 {
-    int saved_errno = errno;
+    tsr_image_pending *expected = pending;
+    atomic_compare_exchange_strong(&program_pending, &expected, NULL);
+    free(pending);
+}
+
+void tsr_image_set_pending(tsr_image_pending *pending) { atomic_store(&program_pending, pending); }
+
+void tsr_image_pending_remove_all(tsr_image_pending *pending)
+{
+    if (!pending)
+        return;
     pid_t self = getpid();
     for (size_t i = 0; i < PENDING_SLOTS; i++)
-        if (atomic_load(&pending_pngs[i].state) == 2 && pending_pngs[i].pid == self)
-            unlink(pending_pngs[i].path);
-    errno = saved_errno;
-    /* SA_RESETHAND restored the default action: the signal, raised again,
-     * ends the process as it would have without this handler. */
-    raise(sig);
+        if (atomic_load(&pending->slots[i].state) == 2 && pending->slots[i].pid == self)
+            unlink(pending->slots[i].path);
 }
 
-/* Over the default action only: a program's own handler is its business. */
-static void install_cleanup(void)
+/* Lists `tmp` in `pending`; returns its slot, or -1 without a table or
+ * when every slot is taken (the file is then written unlisted: still whole
+ * or absent, only a signal may leave the temporary). */
+static int pending_add(tsr_image_pending *pending, const char *tmp)
 {
-    for (size_t i = 0; i < sizeof cleanup_signals / sizeof cleanup_signals[0]; i++) {
-        struct sigaction old;
-        if (sigaction(cleanup_signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
-            continue;
-        struct sigaction sa;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = remove_pending_and_die;
-        sa.sa_flags = SA_RESETHAND;
-        sigfillset(&sa.sa_mask);
-        sigaction(cleanup_signals[i], &sa, NULL);
-    }
-}
-
-/* Lists `tmp`; returns its slot, or -1 when every slot is taken (the file
- * is then written unlisted: still whole or absent, only a signal may leave
- * the temporary). */
-static int pending_add(const char *tmp)
-{
-    pthread_once(&cleanup_once, install_cleanup);
-    for (int i = 0; i < PENDING_SLOTS; i++) {
+    for (int i = 0; pending && i < PENDING_SLOTS; i++) {
+        pending_png *slot = &pending->slots[i];
         int expected = 0;
-        if (!atomic_compare_exchange_strong(&pending_pngs[i].state, &expected, 1))
+        if (!atomic_compare_exchange_strong(&slot->state, &expected, 1))
             continue;
-        snprintf(pending_pngs[i].path, sizeof pending_pngs[i].path, "%s", tmp);
-        pending_pngs[i].pid = getpid();
-        atomic_store(&pending_pngs[i].state, 2);
+        snprintf(slot->path, sizeof slot->path, "%s", tmp);
+        slot->pid = getpid();
+        atomic_store(&slot->state, 2);
         return i;
     }
     return -1;
 }
 
-static void pending_remove(int slot)
+static void pending_remove(tsr_image_pending *pending, int slot)
 {
-    if (slot >= 0)
-        atomic_store(&pending_pngs[slot].state, 0);
+    if (pending && slot >= 0)
+        atomic_store(&pending->slots[slot].state, 0);
 }
 
 /* "DIR/.NAME.tmp-PID-N" for `path` "DIR/NAME": hidden, in the same
@@ -330,7 +324,8 @@ static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t
                    .stride = stride,
                    .bottom_up = bottom_up,
                    .opaque = opaque};
-    int slot = pending_add(tmp);
+    tsr_image_pending *pending = atomic_load(&program_pending);
+    int slot = pending_add(pending, tmp);
     int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     job.file = fd >= 0 ? fdopen(fd, "wb") : NULL;
     if (!job.file) {
@@ -339,7 +334,7 @@ static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t
             close(fd);
             unlink(tmp);
         }
-        pending_remove(slot);
+        pending_remove(pending, slot);
         return tsr_error_set(err, saved_errno == ENOENT ? TSR_ENOENT : TSR_EIO, "cannot create %s: %s", path,
                              strerror(saved_errno));
     }
@@ -349,7 +344,7 @@ static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t
         png_destroy_write_struct(&png, NULL);
         fclose(job.file);
         unlink(tmp);
-        pending_remove(slot);
+        pending_remove(pending, slot);
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory for libpng", path);
     }
     int rc = write_png_guarded(png, info, &job);
@@ -362,7 +357,7 @@ static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t
             saved_errno = errno; /* rename's */
         unlink(tmp);
     }
-    pending_remove(slot);
+    pending_remove(pending, slot);
     if (rc != 0)
         return tsr_error_set(err, TSR_EIO, "%s: writing PNG failed: %s", path, job.message);
     if (!renamed)

@@ -58,12 +58,36 @@ TSR_API int tsr_image_read_png_size(const char *path, uint64_t max_pixels, int *
 /* Writes `img` as an 8-bit RGBA PNG, replacing `path` only when the file
  * is whole: it is written to a hidden temporary in the same directory
  * (".NAME.tmp-PID-N") and renamed, so a reader, a kill or a failure never
- * leaves a partial PNG under `path`. The temporary is removed on failure,
- * and by SIGTERM, SIGINT and SIGHUP when those have their default action
- * (the writer installs a handler that removes the temporaries being
- * written, then lets the signal end the process as before); SIGKILL may
- * leave one. The directory must exist. */
+ * leaves a partial PNG under `path`. The temporary is removed on failure;
+ * a signal that ends the process leaves it, unless the program listed it
+ * (tsr_image_set_pending below). The directory must exist. */
 TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err);
+
+/* --- temporaries left by a signal ---------------------------------------
+ * The library installs no signal handler. A program that wants no
+ * temporary left when a signal ends it (the `tessera` program, the
+ * examples, the faker in the program it runs in) owns a table, hands it to
+ * the writer, and empties it from its own handler:
+ *
+ *   static tsr_image_pending *pending;
+ *   static void on_term(int sig) { tsr_image_pending_remove_all(pending); raise(sig); }  // SA_RESETHAND
+ *   pending = tsr_image_pending_create(); tsr_image_set_pending(pending); sigaction(SIGTERM, ...);
+ *
+ * The table lists at most 32 PNGs being written at once (more are written
+ * unlisted). */
+typedef struct tsr_image_pending tsr_image_pending;
+/* An empty table; NULL when out of memory. */
+TSR_API tsr_image_pending *tsr_image_pending_create(void);
+/* Frees it (and stops the writer using it, if it was the one set). No
+ * PNG may be being written into it. */
+TSR_API void tsr_image_pending_destroy(tsr_image_pending *pending);
+/* Every PNG writer in the process lists its temporaries in `pending` from
+ * now on (NULL: in none). The program's to set: the one process-wide hook
+ * of this header. */
+TSR_API void tsr_image_set_pending(tsr_image_pending *pending);
+/* Removes every temporary listed by this process (not by a forked child
+ * that inherited the table). Async-signal-safe: for a signal handler. */
+TSR_API void tsr_image_pending_remove_all(tsr_image_pending *pending);
 
 /* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
  * first row in memory is the bottom row of the picture (glReadPixels,
