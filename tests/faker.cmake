@@ -92,6 +92,8 @@ if(TESSERA_SANITIZE)
     "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
+# The real-program sweeps hold RESOURCE_LOCK cpu_heavy_sweep: each keeps
+# both cores busy, and two at once would starve each other's deadlines.
 # The real-program sweep: every GL hack of xscreensaver-gl (about 80) and
 # glxgears through `tessera exec` with [render] 1x1, two at a time, each
 # until it has 10 frames not of one colour, then SIGTERM (about 1.5 min on
@@ -102,7 +104,8 @@ if(NOT TESSERA_SANITIZE)
            COMMAND bash ${FAKER_TEST_DIR}/xscreensaver.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_frames>
                    ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver)
   set_tests_properties(faker_every_xscreensaver_gl_hack_and_glxgears_draw_frames_and_end_on_sigterm
-                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                       RESOURCE_LOCK cpu_heavy_sweep)
   # The same for glxgears and 25 hacks (the five GLSL ones among them) as
   # the app node of [pack -> server render] over TCP (tests/faker/
   # sweep_pack.yaml; about 15 s), and of [tilesort 2x2 with assemble]
@@ -111,12 +114,14 @@ if(NOT TESSERA_SANITIZE)
            COMMAND bash ${FAKER_TEST_DIR}/xscreensaver.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_frames>
                    ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver_pack pack)
   set_tests_properties(faker_glxgears_and_25_xscreensaver_gl_hacks_draw_through_pack_to_a_server_and_end_on_sigterm
-                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       RESOURCE_LOCK cpu_heavy_sweep)
   add_test(NAME faker_glxgears_and_25_xscreensaver_gl_hacks_draw_through_the_2x2_tilesort_wall_and_end_on_sigterm
            COMMAND bash ${FAKER_TEST_DIR}/xscreensaver.sh $<TARGET_FILE:tessera_cli> $<TARGET_FILE:faker_frames>
                    ${CMAKE_SOURCE_DIR}/spec/gl.yaml ${FAKER_OUT}/xscreensaver_wall wall)
   set_tests_properties(faker_glxgears_and_25_xscreensaver_gl_hacks_draw_through_the_2x2_tilesort_wall_and_end_on_sigterm
-                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       RESOURCE_LOCK cpu_heavy_sweep)
   # Capture exactness (tests/faker/sweep_exact.sh): glxgears and the same 25
   # hacks captured once each, replayed through [render] 1x1 and the 2x2
   # wall: 0 differing pixels every frame, each equal to the live run (about
@@ -124,7 +129,8 @@ if(NOT TESSERA_SANITIZE)
   add_test(NAME faker_glxgears_and_25_xscreensaver_gl_hacks_replayed_through_the_2x2_wall_equal_render_1x1_every_pixel
            COMMAND bash ${FAKER_TEST_DIR}/sweep_exact.sh $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/xscreensaver_exact)
   set_tests_properties(faker_glxgears_and_25_xscreensaver_gl_hacks_replayed_through_the_2x2_wall_equal_render_1x1_every_pixel
-                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+                       PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       RESOURCE_LOCK cpu_heavy_sweep)
 endif()
 
 # Share lists: a display list and a texture of one GLX context drawn by a

@@ -23,14 +23,21 @@ LD_PRELOAD="${FAKER_PRELOAD:-}" TESSERA_LOG=info "$bin/tessera" exec --graph "$g
   glxgears -geometry $geometry > "$out/stdout.txt" 2> "$out/stderr.txt" &
 pid=$!
 for _ in $(seq 600); do [ -e "$out/run/out/$last" ] && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done
-[ "$kind" = tcp ] && sleep 5.5   # glxgears prints its frame rate every 5 s
+# glxgears prints its frame rate every 5 s: wait for that line (bounded).
+if [ "$kind" = tcp ]; then
+  for _ in $(seq 300); do grep -q "frames in" "$out/stdout.txt" && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+fi
 kill -TERM $pid 2>/dev/null
 status=0; wait $pid || status=$?
 echo "tessera exec --graph exited $status"
 bad=0
 fail() { echo "FAIL: $*"; bad=1; }
-sleep 0.5
-ps -o pid=,comm= --ppid $$ > "$out/children.txt"   # direct children only: no subshell in the list
+# The run's children end after it: wait (bounded) until none but Xvfb is left.
+for _ in $(seq 50); do
+  ps -o pid=,comm= --ppid $$ > "$out/children.txt"   # direct children only: no subshell in the list
+  grep -q -v -e " ps$" -e " Xvfb$" "$out/children.txt" || break
+  sleep 0.1
+done
 left=$(grep -v -e " ps$" -e " Xvfb$" "$out/children.txt" || true)
 [ -z "$left" ] || fail "processes left behind: $left"
 grep -q "glxgears is not linked to libtessera_gl: it runs under the faker" "$out/stderr.txt" ||
