@@ -914,3 +914,13 @@ int tsr_unpack_custom_UnmapBuffer(struct tsr_unpacker *u, const tsr_dispatch *d,
     (void)u, (void)d, (void)b, (void)len;
     return never_sent("UnmapBuffer", *pos, err);
 }
+
+int tsr_unpack_custom_ArrayElement(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,
+                                   size_t *pos, tsr_error *err)
+{
+    (void)u, (void)d, (void)b, (void)len;
+    return tsr_error_set(err, TSR_EPROTO,
+                         "command ArrayElement at data offset %zu: never sent (a packer sends the elements "
+                         "as immediate-mode commands)",
+                         *pos);
+}

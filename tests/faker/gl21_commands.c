@@ -14,7 +14,8 @@
  *   GetBufferSubData; IsShader/IsProgram, GetShaderSource,
  *   GetAttachedShaders, GetActiveAttrib/Uniform and a UniformMatrix3x2fv
  *   drawn by a program; occlusion queries (a wall sums its servers');
- *   MapBuffer/UnmapBuffer/GetBufferPointerv on a vertex buffer then drawn.
+ *   MapBuffer/UnmapBuffer/GetBufferPointerv on a vertex buffer then drawn;
+ *   ArrayElement, immediately and in a display list.
  * Built with GL21_NATIVE (faker_gl21_commands_native) it makes the same
  * calls on OSMesa directly: the runs through tessera must write the same
  * file (gl21_commands.sh). */
@@ -415,6 +416,50 @@ static void mapped_buffer(void)
     frame("drawn from a buffer written through glMapBuffer");
 }
 
+/* glArrayElement from client arrays of several types, immediately and
+ * compiled into a display list (which keeps the values of the time of
+ * compiling: the arrays change before the list is called). */
+static void array_elements(void)
+{
+    static GLshort pos[4][3] = {{-50, -50, 0}, {60, -40, 0}, {40, 70, 0}, {-60, 50, 0}};
+    static GLubyte colours[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 0, 255}};
+    static const GLfloat normals[4][3] = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
+    clear();
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glScalef(0.01f, 0.01f, 1.0f);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glVertexPointer(3, GL_SHORT, 0, pos);
+    glColorPointer(4, GL_UNSIGNED_BYTE, 0, colours);
+    glNormalPointer(GL_FLOAT, 0, normals);
+    glShadeModel(GL_SMOOTH);
+    glBegin(GL_QUADS);
+    for (int i = 0; i < 4; i++)
+        glArrayElement(i);
+    glEnd();
+    frame("ArrayElement quad");
+    GLuint list = glGenLists(1);
+    glNewList(list, GL_COMPILE);
+    glBegin(GL_TRIANGLES);
+    glArrayElement(0);
+    glArrayElement(1);
+    glArrayElement(2);
+    glEnd();
+    glEndList();
+    pos[0][0] = 90;
+    colours[1][0] = 255;
+    clear();
+    glCallList(list);
+    frame("ArrayElement compiled into a list, arrays changed after");
+    glDeleteLists(list, 1);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glPopMatrix();
+}
+
 /* Samples of a quad across all four tiles of a 2x2 wall, and of one
  * behind it half hidden by the depth test: a wall sums its servers'. */
 static void occlusion(void)
@@ -485,6 +530,7 @@ int main(int argc, char **argv)
     program();
     occlusion();
     mapped_buffer();
+    array_elements();
     fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
     glFinish();
     REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);

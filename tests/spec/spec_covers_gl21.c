@@ -30,7 +30,6 @@ static const struct {
     {"glGetUniformfv", SERVER_SIZED},
     {"glGetUniformiv", SERVER_SIZED},
     {"glGetCompressedTexImage", SERVER_SIZED},
-    {"glArrayElement", CLIENT_ARRAY},
     {"glIndexPointer", CLIENT_ARRAY},
     {"glFogCoordPointer", CLIENT_ARRAY},
     {"glSecondaryColorPointer", CLIENT_ARRAY},
