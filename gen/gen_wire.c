@@ -48,6 +48,8 @@ static const struct {
 } pack_answers[] = {
     {"IsEnabled",
      "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
+    /* an error the packer found itself (an unknown pname) comes first */
+    {"GetError", "{ GLenum tsr_local = tsr_packer_take_local_error(tsr_p); if (tsr_local) return tsr_local; }"},
     /* glEnable/glDisable of a client array is glEnable/DisableClientState
      * (Mesa takes both): the mirror's, never the receiver's (whose arrays
      * are the ones each draw carries inline) */
@@ -312,6 +314,21 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
         fprintf(f, "    const char *tsr_why = NULL;\n");
     if (pack_answer(c))
         fprintf(f, "    %s\n", pack_answer(c));
+    /* An output sized by a pname the wire does not know: GL's answer is
+     * GL_INVALID_ENUM and nothing written; sent, the receiver could not
+     * size the reply and would drop the stream (piglit's
+     * clip-flag-behavior asks glGetBooleanv(GL_CLIP_PLANE0 + 8)). */
+    for (size_t i = 0; i < c->nparams; i++) {
+        const gen_param *gp = &gc->params[i];
+        if (gp->kind == GEN_P_OUT && gp->sp->count.kind == SPEC_COUNT_PNAME) {
+            fprintf(f, "    if (tsr_wire_pname_count((GLenum)%s) < 0) {\n"
+                       "        tsr_packer_local_error(tsr_p, GL_INVALID_ENUM);\n        ",
+                    gp->sp->count.args[0]);
+            emit_return_zero(f, gc);
+            fprintf(f, "\n    }\n");
+            break;
+        }
+    }
     if (!gc->is_void)
         fprintf(f, "    %s tsr_ret = (%s)0;\n", c->ret, c->ret);
     declare_layouts(f, gc, 1);

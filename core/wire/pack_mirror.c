@@ -166,6 +166,19 @@ int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
     return 1;
 }
 
+void tsr_packer_local_error(tsr_packer *p, GLenum error)
+{
+    if (!p->local_error)
+        p->local_error = error;
+}
+
+GLenum tsr_packer_take_local_error(tsr_packer *p)
+{
+    GLenum e = p->local_error;
+    p->local_error = 0;
+    return e;
+}
+
 int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on)
 {
     if (!tsr_wire_is_client_array(cap))

@@ -53,6 +53,11 @@ int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
 /* glEnable/glDisable (on 1/0) of a client array: the mirror's enable set,
  * returns 1 (nothing is sent); other caps return 0. */
 int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);
+/* A GL error the packer found without the receiver (a query whose pname
+ * the wire cannot size): kept until glGetError takes it (the first one
+ * stays, as GL keeps its error flag); take returns it once, then 0. */
+void tsr_packer_local_error(tsr_packer *p, GLenum error);
+GLenum tsr_packer_take_local_error(tsr_packer *p);
 
 /* --- unpacker ---------------------------------------------------------------- */
 

@@ -370,6 +370,33 @@ static int wire_enable_of_a_client_array_is_client_state(void)
     return 0;
 }
 
+/* A query whose pname the wire cannot size (GL_CLIP_PLANE0 + 8, or a
+ * made-up enum) is GL_INVALID_ENUM with nothing written, answered by the
+ * packer: sent, the receiver dropped the whole stream ("unknown enum for
+ * pname"; piglit's clip-flag-behavior ended on the wall and through
+ * pack). The error is the next glGetError's, once; planes 6 and 7 are
+ * known. */
+static int wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream(void)
+{
+    roundtrip rt;
+    CHECK(rt_init(&rt, 1024) == 0, "init");
+    const tsr_dispatch *t = &rt.pack_table;
+    GLboolean b[4] = {7, 7, 7, 7};
+    GLint iv[4] = {-5, -5, -5, -5};
+    tsr_call_GetBooleanv(t, GL_CLIP_PLANE0 + 8, b);
+    tsr_call_GetIntegerv(t, 0x7fff0001, iv);
+    CHECK(rt.nbufs == 0 && b[0] == 7 && iv[0] == -5, "nothing sent, nothing written (%zu buffers)", rt.nbufs);
+    GLenum e = tsr_call_GetError(t);
+    CHECK(e == GL_INVALID_ENUM && rt.nbufs == 0, "glGetError answers GL_INVALID_ENUM itself, not 0x%x", e);
+    CHECK(tsr_wire_pname_count(GL_CLIP_PLANE0 + 6) == 1 && tsr_wire_pname_count(GL_CLIP_PLANE0 + 7) == 1,
+          "clip planes 6 and 7 are sized (Mesa has 8)");
+    tsr_call_GetError(t);
+    CHECK(rt.nbufs >= 1 && rt.unpack_rc == 0, "the next glGetError asks the receiver (%zu buffers: %s)", rt.nbufs,
+          rt.unpack_err.message);
+    rt_free(&rt);
+    return 0;
+}
+
 static int wire_client_arrays_draw_elements_rebuild(void)
 {
     roundtrip rt;
@@ -834,6 +861,8 @@ static const struct {
     {"wire_client_arrays_draw_arrays_rebuild", wire_client_arrays_draw_arrays_rebuild},
     {"wire_client_arrays_draw_elements_rebuild", wire_client_arrays_draw_elements_rebuild},
     {"wire_enable_of_a_client_array_is_client_state", wire_enable_of_a_client_array_is_client_state},
+    {"wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream",
+     wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream},
     {"wire_shader_source_roundtrip", wire_shader_source_roundtrip},
     {"wire_pixel_store_shapes_image_payloads", wire_pixel_store_shapes_image_payloads},
     {"wire_unpack_rejects_unknown_opcode", wire_unpack_rejects_unknown_opcode},

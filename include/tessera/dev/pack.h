@@ -126,6 +126,7 @@ typedef struct tsr_packer {
         GLsizeiptr size;
         void *data;
     } mapped[4];
+    GLenum local_error; /* an error found here, for the next glGetError (pack.c) */
 } tsr_packer;
 
 /* Whether cap names a client array (GL_VERTEX_ARRAY, ...). glEnable and
