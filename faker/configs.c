@@ -24,11 +24,12 @@
  * Mesa's GLX gives the default visual (RGBA8, double-buffered, depth 24,
  * stencil 8, no accumulation), so a screen with one usable visual (an X
  * server without GLX) has it as that visual's own config. */
-#define FORMAT(accum, depth, stencil)                                                                          \
-    {8, depth, stencil, accum, true}, {8, depth, stencil, accum, false}, {0, depth, stencil, accum, true},       \
-        {0, depth, stencil, accum, false}
-#define FORMATS_WITH_ACCUM(accum)                                                                               \
-    FORMAT(accum, 24, 8), FORMAT(accum, 24, 0), FORMAT(accum, 16, 0), FORMAT(accum, 0, 0)
+#define FORMAT(accum, depth, stencil)                                                                      \
+    {8, depth, stencil, accum, true}, {8, depth, stencil, accum, false}, {0, depth, stencil, accum, true}, \
+    {                                                                                                      \
+        0, depth, stencil, accum, false                                                                    \
+    }
+#define FORMATS_WITH_ACCUM(accum) FORMAT(accum, 24, 8), FORMAT(accum, 24, 0), FORMAT(accum, 16, 0), FORMAT(accum, 0, 0)
 static const tsr_faker_format formats[TSR_FAKER_FORMATS] = {FORMATS_WITH_ACCUM(0), FORMATS_WITH_ACCUM(16)};
 
 const tsr_faker_format *tsr_faker_format_at(int i) { return i >= 0 && i < TSR_FAKER_FORMATS ? &formats[i] : NULL; }

@@ -642,7 +642,7 @@ EGLBoolean eglQuerySurface(EGLDisplay dpy, EGLSurface surface, EGLint attribute,
     int w = 0, h = 0;
     if (attribute == EGL_WIDTH || attribute == EGL_HEIGHT) {
         if (x->dpy->x && x->type == EGL_WINDOW_BIT)
-            XSync(x->dpy->x, False); /* the program's XResizeWindow reaches the server first */
+            XSync(x->dpy->x, False);            /* the program's XResizeWindow reaches the server first */
         tsr_faker_surface_x_size(x->s, &w, &h); /* the window's size now, as Mesa answers */
     }
     EGLint v;

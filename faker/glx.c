@@ -27,7 +27,7 @@ struct __GLXFBConfigRec {
     int id; /* GLX_FBCONFIG_ID, from 1 */
     int screen;
     VisualID visual;
-    int depth;    /* of the visual: 24 or 32 */
+    int depth; /* of the visual: 24 or 32 */
     /* What its visual stands for (glXGetConfig, glXCreateContext,
      * glXCreateGLXPixmap): at first a visual's first config; when several
      * share a visual (a server with fewer visuals than formats), the one

@@ -18,7 +18,7 @@
 #if defined(FAKER_GLDISPATCH)
 #define FAKER_LIBRARY "libGLdispatch.so.0"
 #define FAKER_LEVEL TSR_LOG_WARN
-#define FAKER_REASON                                                                                            \
+#define FAKER_REASON                                                                                             \
     "glvnd's internal dispatch is not used by the faker, which replaces glvnd's libraries: a system GL library " \
     "that needs it fails to load"
 #elif defined(FAKER_GLESV2)
@@ -27,7 +27,7 @@
  * with its own error line. */
 #define FAKER_LEVEL TSR_LOG_INFO
 #define FAKER_REASON                                                                                            \
-    "OpenGL ES is not supported by tessera: the names ES shares with OpenGL reach the faker's GL, ES contexts "   \
+    "OpenGL ES is not supported by tessera: the names ES shares with OpenGL reach the faker's GL, ES contexts " \
     "are refused"
 #else
 #error "build refused.c with FAKER_GLDISPATCH or FAKER_GLESV2"

@@ -312,8 +312,9 @@ static void emit_gl_entry(const gen *g)
         const spec_command *c = g->cmds[i].sc;
         fprintf(f, "TSR_API %s GLAPIENTRY gl%s(", c->ret, c->name);
         gen_print_params(f, c, 0, 1);
-        fprintf(f, ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
-                   "    if (__builtin_expect(d == NULL, 0)) {\n        tsr_gl_no_context(\"gl%s\");\n        ",
+        fprintf(f,
+                ")\n{\n    const tsr_dispatch *d = tsr_gl_current_table;\n"
+                "    if (__builtin_expect(d == NULL, 0)) {\n        tsr_gl_no_context(\"gl%s\");\n        ",
                 c->name);
         emit_return_zero(f, c);
         fprintf(f, "\n    }");

@@ -417,7 +417,9 @@ static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei cou
     st_program *p = c->program ? tsr_name_map_get(&c->programs, c->program) : NULL;
     if (!p || loc < 0 || count <= 0 || !data)
         return;
-    size_t per = base == ST_U_M ? (size_t)(size * size) : base == ST_U_MX ? (size_t)((size >> 4) * (size & 15)) : (size_t)size;
+    size_t per = base == ST_U_M    ? (size_t)(size * size)
+                 : base == ST_U_MX ? (size_t)((size >> 4) * (size & 15))
+                                   : (size_t)size;
     size_t values = (size_t)count * per;
     void *copy = malloc(values ? values * 4 : 1);
     if (!copy)
@@ -501,15 +503,13 @@ static void st_Uniform1f(void *self, GLint loc, GLfloat a)
         if (c)                                                                                         \
             uniform(c, ST_U_MX, (cols) << 4 | (rows), loc, count, transpose, v);                       \
     }
-UMX(UniformMatrix2x3fv, 2, 3)
-UMX(UniformMatrix3x2fv, 3, 2)
-UMX(UniformMatrix2x4fv, 2, 4)
-UMX(UniformMatrix4x2fv, 4, 2)
-UMX(UniformMatrix3x4fv, 3, 4)
-UMX(UniformMatrix4x3fv, 4, 3)
+                                                    UMX(UniformMatrix2x3fv, 2, 3) UMX(UniformMatrix3x2fv, 3, 2)
+                                                        UMX(UniformMatrix2x4fv, 2, 4) UMX(UniformMatrix4x2fv, 4, 2)
+                                                            UMX(UniformMatrix3x4fv, 3, 4) UMX(UniformMatrix4x3fv, 4, 3)
 #undef UMX
 
-                                                    void st_glsl_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
+                                                                void st_glsl_fill_dispatch(tsr_state_ctx *c,
+                                                                                           tsr_dispatch *d)
 {
 #define SET(name) tsr_set_##name(d, st_##name, c)
     SET(CreateShader);

@@ -16,12 +16,9 @@
     "the name stack only matters in GL_SELECT mode, which the renderers run; a sender forwards it to every renderer"
 #define INDEX \
     "colour-index state: tessera's contexts are RGBA, where GL keeps it and ignores it; a sender forwards it to every renderer"
-#define PIXELMAP \
-    "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
-#define COMPRESSED \
-    "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
-#define QUERY \
-    "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
+#define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
+#define COMPRESSED "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
+#define QUERY "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"RasterPos2f", RASTER},

@@ -128,8 +128,8 @@ GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name)
     return tsr_call_GetAttribLocation(&glsl_server(self, program, 1)->table, program, name);
 }
 
-void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
-                        GLenum *type, GLchar *name)
+void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n, GLenum *type,
+                        GLchar *name)
 {
     tsr_call_GetActiveAttrib(&glsl_server(self, program, 1)->table, program, index, size, length, n, type, name);
 }

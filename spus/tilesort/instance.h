@@ -215,8 +215,8 @@ void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *lengt
 void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log);
 GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name);
 GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name);
-void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
-                        GLenum *type, GLchar *name);
+void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n, GLenum *type,
+                        GLchar *name);
 void ts_GetActiveUniform(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n,
                          GLenum *type, GLchar *name);
 void ts_GetAttachedShaders(void *self, GLuint program, GLsizei max, GLsizei *count, GLuint *shaders);

@@ -512,8 +512,8 @@ int main(int argc, char **argv)
 #else
     EGLDisplay dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     REQUIRE(dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API), "EGL display");
-    static const EGLint config_attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                          EGL_DEPTH_SIZE,   24,              EGL_NONE};
+    static const EGLint config_attrs[] = {
+        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_NONE};
     EGLConfig config;
     EGLint n = 0;
     REQUIRE(eglChooseConfig(dpy, config_attrs, &config, 1, &n) && n == 1, "an EGL config");

@@ -106,12 +106,12 @@ static void check_reads(void)
     for (int j = 0; j < 4; j++)
         for (int i = 0; i < 4; i++)
             check_read(xs[i], ys[j], 1, 1);
-    check_read(mx + 13, 13, 1, 1);                  /* beside the first tile, in its rows */
-    check_read(13, my + 13, 1, 1);                  /* above it, in its columns */
-    check_read(mx + 20, 4, 7, 5);                   /* inside the second tile only */
-    check_read(mx - 9, my - 7, 18, 14);             /* across all four */
-    check_read(mx - 3, 10, 6, 3);                   /* across the first two */
-    check_read(width - 12, height - 9, 12, 9);      /* the last tile's corner */
+    check_read(mx + 13, 13, 1, 1);             /* beside the first tile, in its rows */
+    check_read(13, my + 13, 1, 1);             /* above it, in its columns */
+    check_read(mx + 20, 4, 7, 5);              /* inside the second tile only */
+    check_read(mx - 9, my - 7, 18, 14);        /* across all four */
+    check_read(mx - 3, 10, 6, 3);              /* across the first two */
+    check_read(width - 12, height - 9, 12, 9); /* the last tile's corner */
 }
 
 int main(int argc, char **argv)

@@ -357,8 +357,8 @@ static int wire_enable_of_a_client_array_is_client_state(void)
     tsr_packer_flush(rt.packer);
     CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
     const char *const names[] = {
-        "Enable",     "BindBuffer",        "VertexPointer",      "EnableClientState",  "BindBuffer",
-        "ColorPointer", "EnableClientState", "DrawArrays",       "DisableClientState", "DisableClientState",
+        "Enable",       "BindBuffer",        "VertexPointer", "EnableClientState",  "BindBuffer",
+        "ColorPointer", "EnableClientState", "DrawArrays",    "DisableClientState", "DisableClientState",
         "BindBuffer",
     };
     if (check_sequence(&rt.actual, names, sizeof names / sizeof names[0]))
