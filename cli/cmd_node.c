@@ -68,7 +68,7 @@ static void node_usage(FILE *out)
             "                    limit the client announces)\n"
             "  --max-pending-reply-bytes N  reply bytes a client may leave unread (default\n"
             "                    268435456)\n"
-            "  Settings for testing a balancer (tilesort's balanced modes; each is logged):\n"
+            "  Settings for testing a load balancer (an SPU that splits by frame cost; each is logged):\n"
             "  --cost cpu|bytes  the frame cost a swap reports: the chain's thread CPU time\n"
             "                    (cpu, the default) or 1 ns per byte received (bytes: the\n"
             "                    same on any machine and load)\n"

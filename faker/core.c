@@ -518,45 +518,9 @@ static void faker_Finish(void *self)
 
 /* The first stream is made with the first context, so a chain that cannot
  * be made fails context creation (the program's own error path). */
-/* The program the faker runs in does not know its chains write PNGs: the
- * faker stands in for it (tessera/image.h). Temporaries of PNGs being
- * written are removed when SIGTERM, SIGINT or SIGHUP end the program,
- * over a signal's default action only, at the first context (the
- * program's own handlers, installed before, are left alone); the signal
- * then ends the process as before (SA_RESETHAND). */
-static tsr_image_pending *pending_pngs;
-static pthread_once_t pending_once = PTHREAD_ONCE_INIT;
-
-static void remove_temporaries_and_die(int sig)
-{
-    int saved_errno = errno;
-    tsr_image_pending_remove_all(pending_pngs);
-    errno = saved_errno;
-    raise(sig);
-}
-
-static void remove_temporaries_on_signals(void)
-{
-    static const int signals[] = {SIGTERM, SIGINT, SIGHUP};
-    pending_pngs = tsr_image_pending_create();
-    if (!pending_pngs)
-        return;
-    tsr_image_set_pending(pending_pngs);
-    for (size_t i = 0; i < sizeof signals / sizeof signals[0]; i++) {
-        struct sigaction old, sa;
-        if (sigaction(signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
-            continue;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = remove_temporaries_and_die;
-        sa.sa_flags = SA_RESETHAND;
-        sigfillset(&sa.sa_mask);
-        sigaction(signals[i], &sa, NULL);
-    }
-}
-
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
 {
-    pthread_once(&pending_once, remove_temporaries_on_signals);
+    tsr_faker_png_signals_install();
     pthread_mutex_lock(&lock);
     bool ok = streams || stream_new_locked();
     tsr_faker_context *c = ok ? calloc(1, sizeof *c) : NULL;

@@ -321,8 +321,9 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
     for (size_t i = 0; i < c->nparams; i++) {
         const gen_param *gp = &gc->params[i];
         if (gp->kind == GEN_P_OUT && gp->sp->count.kind == SPEC_COUNT_PNAME) {
-            fprintf(f, "    if (tsr_wire_pname_count((GLenum)%s) < 0) {\n"
-                       "        tsr_packer_local_error(tsr_p, GL_INVALID_ENUM);\n        ",
+            fprintf(f,
+                    "    if (tsr_wire_pname_count((GLenum)%s) < 0) {\n"
+                    "        tsr_packer_local_error(tsr_p, GL_INVALID_ENUM);\n        ",
                     gp->sp->count.args[0]);
             emit_return_zero(f, gc);
             fprintf(f, "\n    }\n");

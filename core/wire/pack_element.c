@@ -74,12 +74,12 @@ static void normal(tsr_packer *p, const tsr_client_array *a, const void *v)
     }
 }
 
-#define BY_SIZE(prefix, sfx, ...)                                        \
-    switch (a->size) {                                                   \
-    case 1: tsr_pack_##prefix##1##sfx(__VA_ARGS__); break;               \
-    case 2: tsr_pack_##prefix##2##sfx(__VA_ARGS__); break;               \
-    case 3: tsr_pack_##prefix##3##sfx(__VA_ARGS__); break;               \
-    default: tsr_pack_##prefix##4##sfx(__VA_ARGS__); break;              \
+#define BY_SIZE(prefix, sfx, ...)                           \
+    switch (a->size) {                                      \
+    case 1: tsr_pack_##prefix##1##sfx(__VA_ARGS__); break;  \
+    case 2: tsr_pack_##prefix##2##sfx(__VA_ARGS__); break;  \
+    case 3: tsr_pack_##prefix##3##sfx(__VA_ARGS__); break;  \
+    default: tsr_pack_##prefix##4##sfx(__VA_ARGS__); break; \
     }
 
 static void texcoord(tsr_packer *p, const tsr_client_array *a, GLenum unit, const void *v)
@@ -93,11 +93,11 @@ static void texcoord(tsr_packer *p, const tsr_client_array *a, GLenum unit, cons
     }
 }
 
-#define VERTEX_BY_SIZE(sfx)                                  \
-    switch (a->size) {                                       \
-    case 2: tsr_pack_Vertex2##sfx(p, v); break;              \
-    case 3: tsr_pack_Vertex3##sfx(p, v); break;              \
-    default: tsr_pack_Vertex4##sfx(p, v); break;             \
+#define VERTEX_BY_SIZE(sfx)                      \
+    switch (a->size) {                           \
+    case 2: tsr_pack_Vertex2##sfx(p, v); break;  \
+    case 3: tsr_pack_Vertex3##sfx(p, v); break;  \
+    default: tsr_pack_Vertex4##sfx(p, v); break; \
     }
 
 static void vertex(tsr_packer *p, const tsr_client_array *a, const void *v)
@@ -121,12 +121,30 @@ static void attrib(tsr_packer *p, const tsr_client_array *a, GLuint index, const
     for (int k = 0; k < a->size && k < 4; k++) {
         double x;
         switch (a->type) {
-        case GL_BYTE: x = ((const GLbyte *)v)[k]; x = a->normalized ? (2.0 * x + 1.0) / 255.0 : x; break;
-        case GL_UNSIGNED_BYTE: x = ((const GLubyte *)v)[k]; x = a->normalized ? x / 255.0 : x; break;
-        case GL_SHORT: x = ((const GLshort *)v)[k]; x = a->normalized ? (2.0 * x + 1.0) / 65535.0 : x; break;
-        case GL_UNSIGNED_SHORT: x = ((const GLushort *)v)[k]; x = a->normalized ? x / 65535.0 : x; break;
-        case GL_INT: x = ((const GLint *)v)[k]; x = a->normalized ? (2.0 * x + 1.0) / 4294967295.0 : x; break;
-        case GL_UNSIGNED_INT: x = ((const GLuint *)v)[k]; x = a->normalized ? x / 4294967295.0 : x; break;
+        case GL_BYTE:
+            x = ((const GLbyte *)v)[k];
+            x = a->normalized ? (2.0 * x + 1.0) / 255.0 : x;
+            break;
+        case GL_UNSIGNED_BYTE:
+            x = ((const GLubyte *)v)[k];
+            x = a->normalized ? x / 255.0 : x;
+            break;
+        case GL_SHORT:
+            x = ((const GLshort *)v)[k];
+            x = a->normalized ? (2.0 * x + 1.0) / 65535.0 : x;
+            break;
+        case GL_UNSIGNED_SHORT:
+            x = ((const GLushort *)v)[k];
+            x = a->normalized ? x / 65535.0 : x;
+            break;
+        case GL_INT:
+            x = ((const GLint *)v)[k];
+            x = a->normalized ? (2.0 * x + 1.0) / 4294967295.0 : x;
+            break;
+        case GL_UNSIGNED_INT:
+            x = ((const GLuint *)v)[k];
+            x = a->normalized ? x / 4294967295.0 : x;
+            break;
         case GL_FLOAT: x = ((const GLfloat *)v)[k]; break;
         default: x = ((const GLdouble *)v)[k]; break;
         }
@@ -140,8 +158,8 @@ static int in_buffer(const tsr_client_array *a) { return a->enabled && a->buffer
 void tsr_packer_custom_ArrayElement(tsr_packer *p, GLint i)
 {
     tsr_client_arrays *arr = &p->arrays;
-    int buffered = in_buffer(&arr->vertex) || in_buffer(&arr->normal) || in_buffer(&arr->color) ||
-                   in_buffer(&arr->edge_flag);
+    int buffered =
+        in_buffer(&arr->vertex) || in_buffer(&arr->normal) || in_buffer(&arr->color) || in_buffer(&arr->edge_flag);
     for (int u = 0; u < TSR_PACK_TEXUNITS; u++)
         buffered |= in_buffer(&arr->texcoord[u]);
     for (int k = 0; k < TSR_PACK_ATTRIBS; k++)

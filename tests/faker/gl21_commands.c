@@ -117,9 +117,13 @@ static void raster_positions(void)
     glWindowPos2d(20.0, 20.0);
     glDrawPixels(6, 5, GL_RGB, GL_UNSIGNED_BYTE, rgb);
     glPixelTransferi(GL_MAP_COLOR, GL_FALSE);
+    /* Rows of 6 one-byte values, packed tight: at the default pack
+     * alignment of 4 each row would take 8 bytes (38 in all). */
     GLubyte mapped[2][6 * 5];
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(20, 20, 6, 5, GL_RED, GL_UNSIGNED_BYTE, mapped[0]);
     glReadPixels(20, 20, 6, 5, GL_GREEN, GL_UNSIGNED_BYTE, mapped[1]);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
     for (int k = 0; k < 2; k++) {
         fprintf(out, "PixelMap: mapped DrawPixels' %s:", k ? "green" : "red");
         for (int i = 0; i < 6 * 5; i++)
