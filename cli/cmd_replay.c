@@ -1,10 +1,12 @@
 /* cli/cmd_replay.c — `tessera replay FILE [--chain CHAIN | --graph GRAPH]
- * [--loop N] [--frames A-B]` and `tessera replay --info FILE`: feeds a
- * capture file (the capture SPU's, spus/capture/capfile.h) into an SPU
- * chain as if the captured program were running, or runs a graph whose
- * application is this replay. Owns argument parsing, the frame range and
- * loop, and the --info report; the capture file's reader checks the
- * bytes, the unpacker decodes the buffers, and the chain does the rest.
+ * [--loop N] [--frames A-B] [--exact-answers]` and `tessera replay --info
+ * FILE`: feeds a capture file (the capture SPU's, spus/capture/capfile.h)
+ * into an SPU chain as if the captured program were running, or runs a
+ * graph whose application is this replay. Owns argument parsing, the frame
+ * range and loop, the comparison of the chain's answers with the recorded
+ * ones (counted by the request that asked), and the --info report; the
+ * capture file's reader checks the bytes, the unpacker decodes the
+ * buffers, and the chain does the rest.
  * Never knows an SPU by name (the default chain is cli/CMakeLists.txt's). */
 #include <errno.h>
 #include <limits.h>
@@ -29,14 +31,16 @@
 static void replay_usage(FILE *out)
 {
     fprintf(out,
-            "usage: tessera replay FILE [--chain CHAIN] [--loop N] [--frames A-B]\n"
-            "       tessera replay FILE --graph GRAPH [--loop N] [--frames A-B] [RUN OPTIONS]\n"
+            "usage: tessera replay FILE [--chain CHAIN] [--loop N] [--frames A-B] [--exact-answers]\n"
+            "       tessera replay FILE --graph GRAPH [--loop N] [--frames A-B] [--exact-answers]\n"
+            "                      [RUN OPTIONS]\n"
             "       tessera replay --info FILE\n\n"
             "Feeds a capture file, written by the capture SPU (e.g. --chain \"capture\n"
             "file=run.tsrcap ! render\"), into an SPU chain as if the captured program were\n"
             "running: the same wire buffers, in order, decoded into the chain's first SPU.\n"
             "The file holds the replies the program received, so nothing has to answer:\n"
-            "the replay compares the chain's answers with them and says how many differ.\n\n"
+            "the replay compares the chain's answers with them and prints, at the end,\n"
+            "\"answers: N compared, D differ; by request: glReadPixels 4, ...\".\n\n"
             "options:\n"
             "  --chain CHAIN   the SPU chain (default: $TESSERA_CHAIN, else\n"
             "                  \"%s\", {out} = out/NAME-%%04d.png,\n"
@@ -54,9 +58,11 @@ static void replay_usage(FILE *out)
             "                  windows and contexts the stream creates are created once,\n"
             "                  and the stream's end (after its last frame) is fed once, after\n"
             "                  the last pass\n"
-            "  --info          print the header, frames, commands, bytes and the calls used\n"
-            "                  (count per command, as a chain receives them) and check\n"
-            "                  every buffer\n"
+            "  --exact-answers an answer of the chain that differs from the recorded one is\n"
+            "                  a failure (exit status 1 after the whole replay)\n"
+            "  --info          print the header, frames, commands, bytes, the calls used\n"
+            "                  (count per command, as a chain receives them) and the\n"
+            "                  replies by the request they answer, and check every buffer\n"
             "  -h, --help      show this help\n\n"
             "A malformed file (truncated, another version, lying lengths) is refused with\n"
             "one line naming the file and the byte offset.\n"
@@ -88,12 +94,18 @@ typedef struct replay {
     tsr_reply_slot reply; /* the chain's last answer */
     uint64_t replies, differ, frames_out;
     uint32_t first_differ;
+    /* The answers by the request that asked (the last call fed before a
+     * reply: a buffer with a request ends with it); -1: none yet. */
+    int last_slot;
+    uint64_t asked[TSR_DISPATCH_COUNT], asked_differ[TSR_DISPATCH_COUNT];
+    uint64_t unattributed, unattributed_differ;
 } replay;
 
 static void rp_live(void *ctx, int slot)
 {
     replay *r = ctx;
     r->live[slot].next = r->chain->slots[slot];
+    r->last_slot = slot;
 }
 
 static void rp_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
@@ -169,7 +181,51 @@ static void compare_reply(replay *r, const tsr_capfile_record *rec)
                (rec->size == 0 || memcmp(r->reply.data, rec->data, rec->size) == 0);
     if (!same && r->differ++ == 0)
         r->first_differ = rec->id;
+    if (r->last_slot < 0) {
+        r->unattributed++;
+        r->unattributed_differ += !same;
+    } else {
+        r->asked[r->last_slot]++;
+        r->asked_differ[r->last_slot] += !same;
+    }
+    r->last_slot = -1;
     r->reply.full = 0;
+}
+
+typedef struct named_count {
+    const char *name;
+    uint64_t count, extra;
+} named_count;
+
+static int by_count(const void *a, const void *b)
+{
+    const named_count *x = a, *y = b;
+    if (x->count != y->count)
+        return x->count < y->count ? 1 : -1;
+    return strcmp(x->name, y->name);
+}
+
+/* "answers: N compared, D differ; by request: glReadPixels 4, glGetError
+ * 12 (1 differs), ..." on stdout: what a script checks a replay by. */
+static void print_answers(const replay *r, const char *path)
+{
+    named_count used[TSR_DISPATCH_COUNT];
+    size_t n = 0;
+    for (int i = 0; i < TSR_DISPATCH_COUNT; i++)
+        if (r->asked[i])
+            used[n++] = (named_count){tsr_dispatch_name(i), r->asked[i], r->asked_differ[i]};
+    qsort(used, n, sizeof used[0], by_count);
+    printf("tessera replay: %s: answers: %llu compared, %llu differ", path, (unsigned long long)r->replies,
+           (unsigned long long)r->differ);
+    for (size_t i = 0; i < n; i++) {
+        printf("%sgl%s %llu", i ? ", " : "; by request: ", used[i].name, (unsigned long long)used[i].count);
+        if (used[i].extra)
+            printf(" (%llu differ%s)", (unsigned long long)used[i].extra, used[i].extra == 1 ? "s" : "");
+    }
+    if (r->unattributed)
+        printf("%s%llu after no call (%llu differ)", n ? ", " : "; by request: ", (unsigned long long)r->unattributed,
+               (unsigned long long)r->unattributed_differ);
+    printf("\n");
 }
 
 /* Feeds records until the end of the file, or until frame r->last was
@@ -195,7 +251,7 @@ static int feed(replay *r, int to_last, tsr_error *err)
     }
 }
 
-static int run_replay(const char *path, const char *chain_text, long first, long last, long loops)
+static int run_replay(const char *path, const char *chain_text, long first, long last, long loops, int exact_answers)
 {
     replay *r = calloc(1, sizeof *r);
     if (!r) {
@@ -221,6 +277,7 @@ static int run_replay(const char *path, const char *chain_text, long first, long
     r->first = first >= 0 ? first : 0;
     r->last = first >= 0 ? last : frames - 1;
     r->start_offset = TSR_CAPFILE_HEADER_SIZE;
+    r->last_slot = -1;
     chain = tsr_chain_create(chain_text, &err);
     if (!chain) {
         fprintf(stderr, "tessera replay: %s\n", err.message);
@@ -271,6 +328,12 @@ static int run_replay(const char *path, const char *chain_text, long first, long
                 (unsigned long long)r->differ, (unsigned long long)r->replies, r->first_differ);
     printf("tessera replay: %s: %llu frames fed (%ld pass%s)\n", path, (unsigned long long)r->frames_out, loops,
            loops == 1 ? "" : "es");
+    print_answers(r, path);
+    if (exact_answers && r->differ) {
+        fprintf(stderr, "tessera replay: %s: --exact-answers: %llu answers differ\n", path,
+                (unsigned long long)r->differ);
+        code = TSR_EXIT_FAIL;
+    }
 out:
     tsr_unpacker_destroy(r->unpacker);
     if (chain)
@@ -283,19 +346,6 @@ out:
 
 /* --- --info --------------------------------------------------------------- */
 
-typedef struct named_count {
-    const char *name;
-    uint64_t count;
-} named_count;
-
-static int by_count(const void *a, const void *b)
-{
-    const named_count *x = a, *y = b;
-    if (x->count != y->count)
-        return x->count < y->count ? 1 : -1;
-    return strcmp(x->name, y->name);
-}
-
 static int print_info(const char *path)
 {
     tsr_capfile f;
@@ -304,9 +354,9 @@ static int print_info(const char *path)
         fprintf(stderr, "tessera replay: %s\n", err.message);
         return err.code == TSR_EIO || err.code == TSR_ENOMEM ? TSR_EXIT_FAIL : TSR_EXIT_USAGE;
     }
-    uint64_t counts[TSR_DISPATCH_COUNT];
+    uint64_t counts[TSR_DISPATCH_COUNT], replies_by_request[TSR_DISPATCH_COUNT];
     tsr_capfile_stats st;
-    int rc = tsr_capfile_scan(&f, &st, counts, &err);
+    int rc = tsr_capfile_scan(&f, &st, counts, replies_by_request, &err);
     if (rc != TSR_OK) {
         fprintf(stderr, "tessera replay: %s\n", err.message);
         tsr_capfile_close(&f);
@@ -326,11 +376,22 @@ static int print_info(const char *path)
     size_t n = 0;
     for (int i = 0; i < TSR_DISPATCH_COUNT; i++)
         if (counts[i])
-            used[n++] = (named_count){tsr_dispatch_name(i), counts[i]};
+            used[n++] = (named_count){tsr_dispatch_name(i), counts[i], 0};
     qsort(used, n, sizeof used[0], by_count);
     printf("calls used: %zu\n", n);
     for (size_t i = 0; i < n; i++)
         printf("  gl%-28s %llu\n", used[i].name, (unsigned long long)used[i].count);
+    n = 0;
+    for (int i = 0; i < TSR_DISPATCH_COUNT; i++)
+        if (replies_by_request[i])
+            used[n++] = (named_count){tsr_dispatch_name(i), replies_by_request[i], 0};
+    qsort(used, n, sizeof used[0], by_count);
+    printf("replies by request:");
+    for (size_t i = 0; i < n; i++)
+        printf("%s gl%s %llu", i ? "," : "", used[i].name, (unsigned long long)used[i].count);
+    if (st.replies_unattributed)
+        printf("%s %llu after no call", n ? "," : "", (unsigned long long)st.replies_unattributed);
+    printf("\n");
     tsr_capfile_close(&f);
     return TSR_EXIT_OK;
 }
@@ -379,7 +440,7 @@ static void default_chain(char *out, size_t size, const char *pattern)
 int cmd_replay(int argc, char **argv)
 {
     const char *file = NULL, *chain = NULL, *graph = NULL, *frames = NULL, *loop = NULL;
-    int info = 0;
+    int info = 0, exact_answers = 0;
     /* tessera run's options, passed on in graph mode. */
     const char *run_args[32];
     int nrun = 0;
@@ -392,6 +453,10 @@ int cmd_replay(int argc, char **argv)
         }
         if (!strcmp(a, "--info")) {
             info = 1;
+            continue;
+        }
+        if (!strcmp(a, "--exact-answers")) {
+            exact_answers = 1;
             continue;
         }
         if (!strcmp(a, "--progress") || !strcmp(a, "--no-progress")) {
@@ -439,7 +504,7 @@ int cmd_replay(int argc, char **argv)
         return TSR_EXIT_USAGE;
     }
     if (info) {
-        if (chain || graph || frames || loop || nrun > 1) {
+        if (chain || graph || frames || loop || exact_answers || nrun > 1) {
             fprintf(stderr, "tessera replay: --info takes only the FILE\n");
             return TSR_EXIT_USAGE;
         }
@@ -514,6 +579,8 @@ int cmd_replay(int argc, char **argv)
             app[na++] = "--loop";
             app[na++] = loop;
         }
+        if (exact_answers)
+            app[na++] = "--exact-answers";
         app[na] = NULL;
         run_args[nrun++] = graph;
         run_args[nrun] = NULL;
@@ -540,5 +607,5 @@ int cmd_replay(int argc, char **argv)
         default_chain(chain_buf, sizeof chain_buf, pattern);
         chain = chain_buf;
     }
-    return run_replay(file, chain, first, last, loops);
+    return run_replay(file, chain, first, last, loops, exact_answers);
 }

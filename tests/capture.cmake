@@ -57,6 +57,29 @@ if(TARGET tessera_faker_gl)
                        PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
 endif()
 
+# piglit's GL 1.0-2.1 tests captured and replayed (issue 27, item 7;
+# tests/piglit/capture_sweep.py, docs/conformance.md): each test of
+# tests/piglit/choose.py's list that passes natively runs through
+# `capture ! render` and must pass there; its capture replays into render
+# alone with 0 differing answers and at least one glReadPixels reply.
+# Parts in parallel, each on its own Xvfb (-displayfd: the server picks a
+# free display, so no fixed display to lock); plain build only, as the
+# other piglit parts (their CI budget: 8 minutes on two cores in all).
+if(NOT TESSERA_SANITIZE AND TARGET tessera_faker_gl)
+  find_program(TESSERA_PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)
+  set(PIGLIT_CAPTURE_PARTS 2)
+  math(EXPR last "${PIGLIT_CAPTURE_PARTS} - 1")
+  foreach(part RANGE ${last})
+    set(name piglit_gl_1_0_to_2_1_tests_captured_replay_with_0_differing_answers_and_read_pixels_part_${part})
+    add_test(NAME ${name}
+             COMMAND sh -c "[ -d /usr/lib/x86_64-linux-gnu/piglit/bin ] || { echo 'SKIP: piglit is not installed (scripts/setup-debian installs it)'; exit 77; }; exec \"$0\" \"$@\""
+                     ${TESSERA_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/piglit/capture_sweep.py
+                     $<TARGET_FILE:tessera_cli> ${CMAKE_BINARY_DIR}/test-out/piglit-capture/part${part}
+                     --shard ${part}/${PIGLIT_CAPTURE_PARTS})
+    set_tests_properties(${name} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 900 LABELS piglit)
+  endforeach()
+endif()
+
 # Sanitizer builds: OSMesa/LLVM keep process-lifetime allocations
 # (tests/lsan.supp); tessera's own are still checked.
 if(TESSERA_SANITIZE)

@@ -270,19 +270,21 @@ typedef struct scan_state {
     tsr_hook hooks[TSR_DISPATCH_COUNT];
     uint64_t *counts;
     uint64_t calls, frames;
+    int last_slot; /* of the last call decoded: the request a reply answers */
 } scan_state;
 
 static void scan_count(void *ctx, int slot)
 {
     scan_state *s = ctx;
     s->calls++;
+    s->last_slot = slot;
     if (slot == TSR_SLOT_SwapBuffersTSR)
         s->frames++;
     if (s->counts)
         s->counts[slot]++;
 }
 
-int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts, tsr_error *err)
+int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts, uint64_t *reply_counts, tsr_error *err)
 {
     memset(stats, 0, sizeof *stats);
     scan_state *s = calloc(1, sizeof *s);
@@ -293,8 +295,11 @@ int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts,
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", f->name);
     }
     s->counts = counts;
+    s->last_slot = -1;
     if (counts)
         memset(counts, 0, sizeof *counts * TSR_DISPATCH_COUNT);
+    if (reply_counts)
+        memset(reply_counts, 0, sizeof *reply_counts * TSR_DISPATCH_COUNT);
     tsr_dispatch_fill_nop(table);
     for (int i = 0; i < TSR_DISPATCH_COUNT; i++) {
         s->hooks[i] = (tsr_hook){.before = scan_count, .ctx = s};
@@ -315,6 +320,14 @@ int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts,
         if (rec.kind == TSR_CAPFILE_REPLY) {
             stats->replies++;
             stats->reply_bytes += rec.size;
+            /* A buffer with a request ends with it, so the last call decoded
+             * is the one this reply answers; a reply with no call before it
+             * (only a malformed file has one) is counted apart. */
+            if (s->last_slot < 0)
+                stats->replies_unattributed++;
+            else if (reply_counts)
+                reply_counts[s->last_slot]++;
+            s->last_slot = -1;
             continue;
         }
         stats->buffers++;

@@ -118,12 +118,17 @@ void tsr_capfile_rewind(tsr_capfile *f, uint64_t offset, uint64_t index);
 /* What `tessera replay --info` prints and the fuzz target checks: every
  * record read and every buffer decoded into a table that only counts the
  * calls a chain would receive (per dispatch slot, `counts` has
- * TSR_DISPATCH_COUNT entries, may be NULL). Fails on the first malformed
- * record or buffer, naming the byte offset, and when the frames found
- * differ from the header's. */
+ * TSR_DISPATCH_COUNT entries, may be NULL), and the replies per request
+ * they answer (`reply_counts`, per dispatch slot of the call that asked,
+ * the last one decoded before the reply; may be NULL; a reply with no call
+ * between it and the one before counts in replies_unattributed). Fails on
+ * the first malformed record or buffer, naming the byte offset, and when
+ * the frames found differ from the header's. */
 typedef struct tsr_capfile_stats {
     uint64_t frames, buffers, replies, commands, calls, buffer_bytes, reply_bytes;
+    uint64_t replies_unattributed;
 } tsr_capfile_stats;
-int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts, tsr_error *err);
+int tsr_capfile_scan(tsr_capfile *f, tsr_capfile_stats *stats, uint64_t *counts, uint64_t *reply_counts,
+                     tsr_error *err);
 
 #endif

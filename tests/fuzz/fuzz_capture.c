@@ -4,12 +4,14 @@
  * every buffer decoded by the real unpacker into a counting table of
  * no-ops. Checked: a rejection is one line naming the file
  * ("fuzz.tsrcap: byte N: ...") with an offset inside the input; an
- * accepted file's records and frames are what its header says. */
+ * accepted file's records and frames are what its header says, and every
+ * reply is counted once, against the request it answers or apart. */
 #include "fuzz_target.h"
 
 #include <stdlib.h>
 
 #include "capfile.h"
+#include "tessera/dispatch.h"
 
 int fuzz_target_explain(const uint8_t *data, size_t size, char *why, size_t why_size)
 {
@@ -18,8 +20,9 @@ int fuzz_target_explain(const uint8_t *data, size_t size, char *why, size_t why_
     tsr_error err = {0};
     int rc = tsr_capfile_parse(&f, data, size, "fuzz.tsrcap", &err);
     tsr_capfile_stats st;
+    uint64_t replies_by_request[TSR_DISPATCH_COUNT];
     if (rc == TSR_OK)
-        rc = tsr_capfile_scan(&f, &st, NULL, &err);
+        rc = tsr_capfile_scan(&f, &st, NULL, replies_by_request, &err);
     if (rc != TSR_OK) {
         static const char prefix[] = "fuzz.tsrcap: byte ";
         FUZZ_REQUIRE(!strncmp(err.message, prefix, sizeof prefix - 1));
@@ -31,6 +34,10 @@ int fuzz_target_explain(const uint8_t *data, size_t size, char *why, size_t why_
     FUZZ_REQUIRE(st.buffers == f.header.buffers && st.replies == f.header.replies);
     FUZZ_REQUIRE(st.frames == f.header.frames && st.calls >= st.frames);
     FUZZ_REQUIRE(st.buffer_bytes + st.reply_bytes <= f.header.bytes);
+    uint64_t attributed = 0;
+    for (int i = 0; i < TSR_DISPATCH_COUNT; i++)
+        attributed += replies_by_request[i];
+    FUZZ_REQUIRE(attributed + st.replies_unattributed == st.replies);
     return 0;
 }
 
