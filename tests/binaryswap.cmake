@@ -106,11 +106,11 @@ add_test(NAME binaryswap_peer_window_size_differs_names_it
 # spus/binaryswap/roi.c, tests/binaryswap/roi.sh). behind_viewer: one
 # triangle per peer, straddling the eye plane, behind the viewer, cut by
 # the near or far plane; built twice like the examples. Both exact.
-add_executable(behind_viewer-native ${BINARYSWAP_DIR}/behind_viewer.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+add_executable(behind_viewer-native ${BINARYSWAP_DIR}/behind_viewer_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
 target_compile_definitions(behind_viewer-native PRIVATE EXAPP_NATIVE)
 target_include_directories(behind_viewer-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(behind_viewer-native PRIVATE PkgConfig::OSMESA tessera m)
-add_executable(behind_viewer ${BINARYSWAP_DIR}/behind_viewer.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+add_executable(behind_viewer ${BINARYSWAP_DIR}/behind_viewer_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
 target_include_directories(behind_viewer PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(behind_viewer PRIVATE tessera_gl tessera m)
 add_test(NAME binaryswap_bounds_behind_viewer
@@ -139,7 +139,7 @@ set_tests_properties(${BINARYSWAP_TESTS_AFTER} PROPERTIES
 # the blend are refused (tsr_composite_schedule_keeps_order). Own block: its
 # tests take the common properties below.
 get_property(ALPHA_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
-add_executable(alpha_blend ${BINARYSWAP_DIR}/alpha_blend.c)
+add_executable(alpha_blend ${BINARYSWAP_DIR}/alpha_blend_check.c)
 target_link_libraries(alpha_blend PRIVATE tessera m)
 set(ALPHA_SH ${BINARYSWAP_DIR}/alpha.sh)
 set(ALPHA_ARGS ${CMAKE_BINARY_DIR}/bin $<TARGET_FILE:alpha_blend>)

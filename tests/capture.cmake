@@ -10,7 +10,7 @@ set(CAPTURE_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/capture)
 set(CAPTURE_OUT ${CMAKE_BINARY_DIR}/test-out/capture)
 file(MAKE_DIRECTORY ${CAPTURE_OUT})
 
-add_executable(capture_asks ${CAPTURE_TEST_DIR}/asks.c)
+add_executable(capture_asks ${CAPTURE_TEST_DIR}/asks_driver.c)
 target_link_libraries(capture_asks PRIVATE tessera tessera_gl)
 
 foreach(mode_name

@@ -8,9 +8,9 @@ if(NOT TARGET tessera_composite_strategies)
   add_subdirectory(${CMAKE_SOURCE_DIR}/spus/binaryswap/strategies
                    ${CMAKE_BINARY_DIR}/spus/binaryswap/strategies)
 endif()
-add_executable(composite_tests ${CMAKE_CURRENT_SOURCE_DIR}/composite/composite_tests.c
+add_executable(composite_test ${CMAKE_CURRENT_SOURCE_DIR}/composite/composite_test.c
   ${CMAKE_CURRENT_SOURCE_DIR}/composite/fuzz_composite_message.c)
-target_link_libraries(composite_tests PRIVATE tessera_composite_strategies tessera Threads::Threads m)
+target_link_libraries(composite_test PRIVATE tessera_composite_strategies tessera Threads::Threads m)
 
 foreach(t
     composite_depth_kernel_matches_reference
@@ -39,19 +39,19 @@ foreach(t
     composite_alpha_schedules_keep_order
     composite_over_float_kernel_matches_reference)
   string(REPLACE "composite_" "" arg ${t})
-  add_test(NAME ${t} COMMAND composite_tests ${arg})
+  add_test(NAME ${t} COMMAND composite_test ${arg})
   set_tests_properties(${t} PROPERTIES TIMEOUT 300)
 endforeach()
 
 # The image-message decoder's fuzz corpus (tests/composite/corpus), replayed
 # in every build (under ASan in the sanitizer build); the seed writer
-# refreshes it (`composite_tests fuzz_seeds tests/composite/corpus`) and as a
+# refreshes it (`composite_test fuzz_seeds tests/composite/corpus`) and as a
 # test proves the seeds still decode or are rejected as named.
 add_test(NAME composite_message_fuzz_corpus_replay
-  COMMAND composite_tests fuzz_replay ${CMAKE_CURRENT_SOURCE_DIR}/composite/corpus)
+  COMMAND composite_test fuzz_replay ${CMAKE_CURRENT_SOURCE_DIR}/composite/corpus)
 file(MAKE_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/composite_seeds)
 add_test(NAME composite_message_fuzz_seeds_decode_or_reject
-  COMMAND composite_tests fuzz_seeds ${CMAKE_CURRENT_BINARY_DIR}/composite_seeds)
+  COMMAND composite_test fuzz_seeds ${CMAKE_CURRENT_BINARY_DIR}/composite_seeds)
 if(TESSERA_FUZZ)
   # libFuzzer target over the image module's own sources (coverage then
   # measures the decoder and the sparse code, not the rest of libtessera).

@@ -26,9 +26,9 @@ if(TESSERA_SANITIZE)
   string(STRIP "${FAKER_PRELOAD}" FAKER_PRELOAD)
 endif()
 
-add_executable(faker_procs ${FAKER_TEST_DIR}/procs.c)
+add_executable(faker_procs ${FAKER_TEST_DIR}/procs_test.c)
 target_link_libraries(faker_procs PRIVATE ${CMAKE_DL_LIBS})
-add_executable(faker_frames ${FAKER_TEST_DIR}/frames.c)
+add_executable(faker_frames ${FAKER_TEST_DIR}/frames_check.c)
 target_link_libraries(faker_frames PRIVATE tessera)
 
 add_test(NAME faker_exports_every_gl_glx_egl_import_of_glxgears_glxinfo_glu_and_xscreensaver_gl
@@ -57,7 +57,7 @@ set_tests_properties(
 # Its stderr (the faker's warnings, the harness's reports) is kept in
 # egl.err and shown whether it passed or not; exactly one glRenderMode
 # warning must be in it.
-add_executable(faker_egl_surfaceless ${FAKER_TEST_DIR}/egl_surfaceless.c)
+add_executable(faker_egl_surfaceless ${FAKER_TEST_DIR}/egl_surfaceless_test.c)
 target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_faker_gl)
 add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
          COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err'; s=$?; cat '${FAKER_OUT}/egl.err'; [ $s -eq 0 ] || exit 1; n=$(grep -c 'glRenderMode is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glRenderMode warnings: $n\"; [ $n -eq 1 ]")
@@ -65,7 +65,7 @@ add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse
 # A forked child's exit() leaves the parent's chain alone (faker/core.c
 # chain_at_exit): the capture holds the parent's 6 glClear, not the 2 before
 # the fork (xscreensaver's gflux forks such a child every run).
-add_executable(faker_fork_exit ${FAKER_TEST_DIR}/fork_exit.c)
+add_executable(faker_fork_exit ${FAKER_TEST_DIR}/fork_exit_driver.c)
 target_link_libraries(faker_fork_exit PRIVATE tessera_faker_egl tessera_faker_gl)
 add_test(NAME faker_forked_child_exit_leaves_the_parents_chain_and_capture_alone
          COMMAND sh -c "rm -f '${FAKER_OUT}/fork.tsrcap' && env -u DISPLAY TESSERA_CHAIN='capture file=${FAKER_OUT}/fork.tsrcap ! render output=' '$<TARGET_FILE:faker_fork_exit>' && '$<TARGET_FILE:tessera_cli>' replay --info '${FAKER_OUT}/fork.tsrcap' > '${FAKER_OUT}/fork.info' ; s=$?; cat '${FAKER_OUT}/fork.info'; [ $s -eq 0 ] && grep -Eq '^  glClear +6$' '${FAKER_OUT}/fork.info'")
@@ -74,7 +74,7 @@ set_tests_properties(faker_forked_child_exit_leaves_the_parents_chain_and_captur
 
 # GLX: configs, contexts, current state, sizes, a resize followed; then EGL
 # on X11 into the same window.
-add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize.c)
+add_executable(faker_glx_resize ${FAKER_TEST_DIR}/glx_resize_driver.c)
 target_link_libraries(faker_glx_resize PRIVATE tessera_faker_egl tessera_faker_gl tessera PkgConfig::X11)
 add_test(NAME faker_glx_contexts_sizes_and_a_resize_reach_the_stream_then_egl_on_x11
          COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_resize> ${FAKER_OUT}/resize)
@@ -135,7 +135,7 @@ endif()
 
 # Share lists: a display list and a texture of one GLX context drawn by a
 # context made with it as share list.
-add_executable(faker_glx_share ${FAKER_TEST_DIR}/glx_share.c)
+add_executable(faker_glx_share ${FAKER_TEST_DIR}/glx_share_driver.c)
 target_link_libraries(faker_glx_share PRIVATE tessera_faker_gl tessera PkgConfig::X11)
 add_test(NAME faker_glx_share_list_context_draws_the_first_contexts_display_list_and_texture
          COMMAND bash ${FAKER_TEST_DIR}/glx_resize.sh $<TARGET_FILE:faker_glx_share> ${FAKER_OUT}/share)
@@ -154,7 +154,7 @@ endif()
 # thread, and a context current on another thread is refused; a share list
 # idle on its plain table on another thread makes the MakeCurrent fail
 # after the bounded 3 s, and one glClear there lets it through.
-add_executable(faker_egl_threads ${FAKER_TEST_DIR}/egl_threads.c)
+add_executable(faker_egl_threads ${FAKER_TEST_DIR}/egl_threads_test.c)
 target_link_libraries(faker_egl_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
 add_test(NAME faker_threads_with_their_own_contexts_draw_at_once_exactly_as_one_thread_alone
          COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_threads>' 3 12")
@@ -170,12 +170,12 @@ endif()
 # and [pack -> server render]; every frame equals the same frames drawn by
 # one thread, and the runs' frames are the same bytes as OSMesa's own;
 # the same through GLX under Xvfb (an X window and a GLX pbuffer).
-add_executable(faker_egl_share_threads ${FAKER_TEST_DIR}/egl_share_threads.c)
+add_executable(faker_egl_share_threads ${FAKER_TEST_DIR}/egl_share_threads_driver.c)
 target_link_libraries(faker_egl_share_threads PRIVATE tessera_faker_egl tessera_faker_gl Threads::Threads)
-add_executable(faker_glx_share_threads ${FAKER_TEST_DIR}/egl_share_threads.c)
+add_executable(faker_glx_share_threads ${FAKER_TEST_DIR}/egl_share_threads_driver.c)
 target_compile_definitions(faker_glx_share_threads PRIVATE SHARE_GLX)
 target_link_libraries(faker_glx_share_threads PRIVATE tessera_faker_gl PkgConfig::X11 Threads::Threads)
-add_executable(faker_egl_share_threads_native ${FAKER_TEST_DIR}/egl_share_threads.c)
+add_executable(faker_egl_share_threads_native ${FAKER_TEST_DIR}/egl_share_threads_driver.c)
 target_compile_definitions(faker_egl_share_threads_native PRIVATE SHARE_NATIVE)
 target_link_libraries(faker_egl_share_threads_native PRIVATE PkgConfig::OSMESA)
 add_test(NAME faker_share_list_contexts_on_two_threads_load_and_draw_at_once_exactly_as_one_thread
@@ -198,9 +198,9 @@ endif()
 
 # Two contexts of one share group with their own pixel store and client
 # arrays, used in turn: the stream's mirrors follow its MakeCurrentTSR.
-add_executable(faker_egl_share_client_state ${FAKER_TEST_DIR}/egl_share_client_state.c)
+add_executable(faker_egl_share_client_state ${FAKER_TEST_DIR}/egl_share_client_state_driver.c)
 target_link_libraries(faker_egl_share_client_state PRIVATE tessera_faker_egl tessera_faker_gl)
-add_executable(faker_egl_share_client_state_native ${FAKER_TEST_DIR}/egl_share_client_state.c)
+add_executable(faker_egl_share_client_state_native ${FAKER_TEST_DIR}/egl_share_client_state_driver.c)
 target_compile_definitions(faker_egl_share_client_state_native PRIVATE SHARE_NATIVE)
 target_link_libraries(faker_egl_share_client_state_native PRIVATE PkgConfig::OSMESA)
 add_test(NAME faker_share_group_contexts_keep_their_own_pixel_store_and_client_arrays
@@ -214,7 +214,7 @@ if(TESSERA_SANITIZE)
 endif()
 
 # GLX pbuffers and pixmaps: off-screen tessera drawables of their size.
-add_executable(faker_glx_offscreen ${FAKER_TEST_DIR}/glx_offscreen.c)
+add_executable(faker_glx_offscreen ${FAKER_TEST_DIR}/glx_offscreen_driver.c)
 target_link_libraries(faker_glx_offscreen PRIVATE tessera_faker_gl PkgConfig::X11)
 add_test(NAME faker_glx_pbuffers_and_pixmaps_are_offscreen_drawables_of_their_size
          COMMAND bash ${FAKER_TEST_DIR}/glx_offscreen.sh $<TARGET_FILE:faker_glx_offscreen> ${FAKER_OUT}/offscreen)
@@ -229,9 +229,9 @@ endif()
 # The GL 1.0-2.1 commands added to complete the spec (issue 27), each where
 # its effect shows: pixels and gets through [render], [pack -> node render]
 # and a 2x2 tilesort wall equal OSMesa's own.
-add_executable(faker_gl21_commands ${FAKER_TEST_DIR}/gl21_commands.c)
+add_executable(faker_gl21_commands ${FAKER_TEST_DIR}/gl21_commands_driver.c)
 target_link_libraries(faker_gl21_commands PRIVATE tessera_faker_egl tessera_faker_gl)
-add_executable(faker_gl21_commands_native ${FAKER_TEST_DIR}/gl21_commands.c)
+add_executable(faker_gl21_commands_native ${FAKER_TEST_DIR}/gl21_commands_driver.c)
 target_compile_definitions(faker_gl21_commands_native PRIVATE GL21_NATIVE)
 target_link_libraries(faker_gl21_commands_native PRIVATE PkgConfig::OSMESA)
 add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall
@@ -239,14 +239,14 @@ add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_
                  $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
 set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
 
-# Configs as a driver offers them (tests/faker/glx_configs.c): the
+# Configs as a driver offers them (tests/faker/glx_configs_driver.c): the
 # attribute lists of glxgears, glxinfo, waffle (piglit), apitrace, GLFW,
 # SDL2, freeglut, VTK, Qt and xscreensaver sent to Mesa's GLX and to the
 # faker on one default Xvfb, then to the faker on Xvfbs without GLX (24
 # and 32, and 24 alone): whenever Mesa has a config the faker has one of
 # the same sizes, save the listed differences (about 3 s; private Xvfbs
 # on -displayfd numbers).
-add_executable(faker_glx_configs ${FAKER_TEST_DIR}/glx_configs.c)
+add_executable(faker_glx_configs ${FAKER_TEST_DIR}/glx_configs_driver.c)
 target_link_libraries(faker_glx_configs PRIVATE PkgConfig::X11 ${CMAKE_DL_LIBS})
 add_test(NAME faker_glx_configs_hold_to_mesas_for_real_programs_attribute_lists_on_any_x_server
          COMMAND bash ${FAKER_TEST_DIR}/glx_configs.sh $<TARGET_FILE:faker_glx_configs> ${TESSERA_FAKER_DIR}

@@ -7,7 +7,7 @@
 # examples/graphs/ tcp, replicate, wall, wall_display, sortlast and
 # sortlast_servers (tests/fault/*.yaml, same topology; the sort-last ones
 # fault a peer, the display and the application), and faker_tcp and
-# faker_wall: tcp and wall with an unmodified glxgears as the app. tests/fault/fault_cell.c
+# faker_wall: tcp and wall with an unmodified glxgears as the app. tests/fault/fault_cell_test.c
 # runs one cell and says what it checks. Cells share no port (every server
 # listens on port 0, the sort-last graphs use unix sockets in the cell's
 # own TMPDIR) and no file (one output folder each), so they run in
@@ -32,7 +32,7 @@ if(TARGET spu_readback)
             ${FAULT_OUT}/small-tiles 20)
 endif()
 
-add_executable(fault_cell ${FAULT_DIR}/fault_cell.c)
+add_executable(fault_cell ${FAULT_DIR}/fault_cell_test.c)
 target_link_libraries(fault_cell PRIVATE tessera)
 
 # The run's time-out: a SIGSTOPped node or application is found after this

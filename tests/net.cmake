@@ -3,7 +3,7 @@
 set(NET_TEST_SRC ${CMAKE_CURRENT_SOURCE_DIR}/net)
 add_executable(net_test ${NET_TEST_SRC}/net_test.c)
 add_executable(net_flow_test ${NET_TEST_SRC}/net_flow_test.c)
-add_executable(net_stall_server ${NET_TEST_SRC}/net_stall_server.c)
+add_executable(net_stall_server ${NET_TEST_SRC}/net_stall_server_peer.c)
 add_executable(net_auth_test ${NET_TEST_SRC}/net_auth_test.c)
 foreach(t net_test net_flow_test net_stall_server net_auth_test)
   target_link_libraries(${t} PRIVATE tessera_net PkgConfig::SODIUM Threads::Threads)

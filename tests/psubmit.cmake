@@ -9,7 +9,7 @@ set(PSUBMIT_OUT ${CMAKE_BINARY_DIR}/test-out/psubmit)
 set(PSUBMIT_BIN ${CMAKE_BINARY_DIR}/bin)
 file(MAKE_DIRECTORY ${PSUBMIT_OUT})
 
-add_executable(psubmit_unpack_yield ${PSUBMIT_DIR}/unpack_yield.c)
+add_executable(psubmit_unpack_yield ${PSUBMIT_DIR}/unpack_yield_test.c)
 target_include_directories(psubmit_unpack_yield PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
 target_link_libraries(psubmit_unpack_yield PRIVATE tessera)
 add_test(NAME psubmit_unpacker_resumes_after_yield COMMAND psubmit_unpack_yield)

@@ -146,9 +146,9 @@ endforeach()
 # render's depth clears that also clear a never-used stencil (render.c,
 # render_Clear): colour, depth and stencil read-backs equal OSMesa's own,
 # before and after the stencil test writes, alone and in shared mode.
-add_executable(render_stencil_clear ${RENDER_TEST_DIR}/stencil_clear.c)
+add_executable(render_stencil_clear ${RENDER_TEST_DIR}/stencil_clear_driver.c)
 target_link_libraries(render_stencil_clear PRIVATE tessera_gl tessera)
-add_executable(render_stencil_clear_native ${RENDER_TEST_DIR}/stencil_clear.c)
+add_executable(render_stencil_clear_native ${RENDER_TEST_DIR}/stencil_clear_driver.c)
 target_compile_definitions(render_stencil_clear_native PRIVATE STENCIL_NATIVE)
 target_link_libraries(render_stencil_clear_native PRIVATE PkgConfig::OSMESA)
 foreach(mode solo shared)
@@ -158,9 +158,9 @@ foreach(mode solo shared)
 endforeach()
 
 # OSMesa alone, no tessera: the llvmpipe behaviour behind engine's known
-# wall inexactness (quad_diagonal.c; tests/faker/sweep_exact.sh). Fails
+# wall inexactness (quad_diagonal_test.c; tests/faker/sweep_exact.sh). Fails
 # when llvmpipe stops cutting a quad by what else its draw holds.
-add_executable(render_llvmpipe_quad_diagonal ${RENDER_TEST_DIR}/quad_diagonal.c)
+add_executable(render_llvmpipe_quad_diagonal ${RENDER_TEST_DIR}/quad_diagonal_test.c)
 target_link_libraries(render_llvmpipe_quad_diagonal PRIVATE PkgConfig::OSMESA)
 add_test(NAME render_llvmpipe_cuts_a_quad_by_what_else_its_draw_holds
          COMMAND $<TARGET_FILE:render_llvmpipe_quad_diagonal>)

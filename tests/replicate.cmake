@@ -49,12 +49,12 @@ foreach(example spheres texquads isosurface shaders)
 endforeach()
 # The display-list recorder the joiners use (tessera/dev/dlist.h), with the real
 # packer, unpacker and state tracker.
-add_executable(dlist_tests ${CMAKE_CURRENT_SOURCE_DIR}/replicate/dlist_tests.c)
-add_dependencies(dlist_tests tessera_generated)
-target_include_directories(dlist_tests PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
-target_link_libraries(dlist_tests PRIVATE tessera m)
+add_executable(dlist_test ${CMAKE_CURRENT_SOURCE_DIR}/replicate/dlist_test.c)
+add_dependencies(dlist_test tessera_generated)
+target_include_directories(dlist_test PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
+target_link_libraries(dlist_test PRIVATE tessera m)
 foreach(case define_all_is_byte_exact call_equals_direct immediate_and_delete)
-  add_test(NAME replicate_late_dlist_${case} COMMAND dlist_tests ${case})
+  add_test(NAME replicate_late_dlist_${case} COMMAND dlist_test ${case})
 endforeach()
 add_test(NAME replicate_late_server_never_comes_run_finishes_one_line
   COMMAND ${REPLICATE_LATE_SH} never ${REPLICATE_BIN} ${REPLICATE_OUT}/late-never)

@@ -33,7 +33,7 @@ add_test(NAME tilesort_refuses_assemble_with_string_conversion
           $<TARGET_FILE:spheres> --frames 1 --chain "tilesort servers=tcp://127.0.0.1:1 tiles=0:0:0:64:64 assemble=wall-%s.png")
 
 # --- defects 9 and 10: a lying server over a real socket ------------------
-add_executable(lying_server ${CMAKE_CURRENT_SOURCE_DIR}/node/lying_server.c)
+add_executable(lying_server ${CMAKE_CURRENT_SOURCE_DIR}/node/lying_server_peer.c)
 target_include_directories(lying_server PRIVATE ${CMAKE_SOURCE_DIR}/netlib)
 target_link_libraries(lying_server PRIVATE tessera tessera_net)
 set(ROBUST_LIAR ${CMAKE_CURRENT_SOURCE_DIR}/node/lying_server.sh)
@@ -57,7 +57,7 @@ add_test(NAME run_app_exiting_without_connecting_ends_run_at_once_naming_it
 set_tests_properties(run_app_exiting_without_connecting_ends_run_at_once_naming_it PROPERTIES TIMEOUT 60)
 
 # --- defect 11: imgdiff reads headers first and bounds what a PNG claims --
-add_executable(png_claims ${CMAKE_CURRENT_SOURCE_DIR}/render/png_claims.c)
+add_executable(png_claims ${CMAKE_CURRENT_SOURCE_DIR}/render/png_claims_driver.c)
 set(ROBUST_IMGDIFF_LIMIT_KB 262144) # 256 MiB: the old whole-image read of 16384x16384 needs 1 GiB
 if(TESSERA_SANITIZE)
   set(ROBUST_IMGDIFF_LIMIT_KB 0)

@@ -70,7 +70,7 @@ add_test(NAME run_mothership_separate_nodes_server_killed_names_it
   COMMAND ${RUN_DIR}/multi.sh kill-server ${RUN_BIN} ${RUN_OUT}/multi-kill-server ${RUN_DIR}/long.yaml)
 
 # A hostile node's DONE text reaches the terminal escaped (issue 10, defect 10).
-add_executable(fake_node ${RUN_DIR}/fake_node.c)
+add_executable(fake_node ${RUN_DIR}/fake_node_peer.c)
 target_link_libraries(fake_node PRIVATE tessera_mothership tessera_net)
 add_test(NAME run_node_done_message_escape_sequences_printed_escaped
   COMMAND ${RUN_DIR}/fake_node.sh ${RUN_BIN} $<TARGET_FILE:fake_node> ${RUN_OUT}/fake-node ${RUN_DIR}/long.yaml server)

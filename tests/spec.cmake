@@ -11,7 +11,7 @@ target_link_libraries(tsr_test_glxml PUBLIC tsr_spec)
 
 foreach(t spec_matches_khronos spec_enums_are_gl_enums spec_pname_counts_cover_gl21 spec_covers_gl21
           spec_covers_imports spec_opcodes_frozen spec_loader_rejects_bad_specs)
-  add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/spec/${t}.c)
+  add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/spec/${t}_test.c)
   target_link_libraries(test_${t} PRIVATE tsr_spec tsr_test_glxml)
 endforeach()
 

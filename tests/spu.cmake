@@ -124,11 +124,11 @@ add_test(NAME spu_error_values COMMAND spu_log_test spu_error_values)
 
 # Roles, not names (tsr_spu_class.network): the core, the mothership, the
 # CLI, the stream client and the server know no SPU by name and guess no
-# role from an option name (tests/spu/names_lint.c says exactly what it
+# role from an option name (tests/spu/names_lint_test.c says exactly what it
 # flags); and the lint itself finds what the core held before SPUs
 # declared their roles (names_lint_sample.c: 9 findings, nothing from its
 # legitimate half).
-add_executable(spu_names_lint ${SPU_TEST_SRC}/names_lint.c)
+add_executable(spu_names_lint ${SPU_TEST_SRC}/names_lint_test.c)
 add_test(NAME spu_core_knows_no_spu_by_name
   COMMAND spu_names_lint ${CMAKE_SOURCE_DIR}/core ${CMAKE_SOURCE_DIR}/mothership
           ${CMAKE_SOURCE_DIR}/cli ${CMAKE_SOURCE_DIR}/client ${CMAKE_SOURCE_DIR}/server)

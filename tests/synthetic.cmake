@@ -41,7 +41,7 @@ endif()
 # How a partial final piece is drawn on the display (spus/binaryswap/bands.h):
 # boxes and clears cover the piece's range exactly once, every active pixel
 # in a box.
-add_executable(bands_check ${CMAKE_CURRENT_SOURCE_DIR}/binaryswap/bands_check.c
+add_executable(bands_check ${CMAKE_CURRENT_SOURCE_DIR}/binaryswap/bands_test.c
   ${CMAKE_SOURCE_DIR}/spus/binaryswap/bands.c)
 target_include_directories(bands_check PRIVATE ${CMAKE_SOURCE_DIR}/spus/binaryswap)
 target_link_libraries(bands_check PRIVATE tessera)

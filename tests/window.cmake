@@ -5,7 +5,7 @@
 set(WINDOW_TEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/window)
 set(WINDOW_OUT ${CMAKE_BINARY_DIR}/test-out/window)
 file(MAKE_DIRECTORY ${WINDOW_OUT})
-add_executable(window_xgrab ${WINDOW_TEST_DIR}/xgrab.c)
+add_executable(window_xgrab ${WINDOW_TEST_DIR}/xgrab_check.c)
 target_link_libraries(window_xgrab PRIVATE tessera PkgConfig::RENDER_X11)
 
 add_test(NAME window_output_x11_wall_node_window_equals_its_png
@@ -40,7 +40,7 @@ if(TARGET tessera_faker_gl)
                        PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 90 ENVIRONMENT "FAKER_PRELOAD=${FAKER_PRELOAD}")
 endif()
 if(TARGET tessera_faker_gl)
-  add_executable(window_exec_resize ${WINDOW_TEST_DIR}/exec_resize.c)
+  add_executable(window_exec_resize ${WINDOW_TEST_DIR}/exec_resize_driver.c)
   target_link_libraries(window_exec_resize PRIVATE tessera_faker_gl PkgConfig::RENDER_X11)
 endif()
 if(TARGET tessera_faker_gl)

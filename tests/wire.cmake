@@ -1,9 +1,9 @@
 # Wire format tests (engineer H2): one runner, one ctest per behaviour.
-add_executable(wire_tests ${CMAKE_CURRENT_SOURCE_DIR}/wire/wire_tests.c ${TESSERA_GEN_TEST_SOURCES})
-add_dependencies(wire_tests tessera_generated spu_print spu_loopback)
-target_include_directories(wire_tests PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src
+add_executable(wire_test ${CMAKE_CURRENT_SOURCE_DIR}/wire/wire_test.c ${TESSERA_GEN_TEST_SOURCES})
+add_dependencies(wire_test tessera_generated spu_print spu_loopback)
+target_include_directories(wire_test PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src
                                               ${CMAKE_CURRENT_SOURCE_DIR}/wire)
-target_link_libraries(wire_tests PRIVATE tessera tessera_gl)
+target_link_libraries(wire_test PRIVATE tessera tessera_gl)
 
 foreach(t
     wire_roundtrip_all_commands
@@ -28,19 +28,19 @@ foreach(t
     wire_print_spu_traces_calls
     wire_reply_slot_hands_out_only_the_reply_asked_for
     wire_loop_shows_its_observer_every_buffer_and_reply_and_destroy_flushes)
-  add_test(NAME ${t} COMMAND wire_tests ${t} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  add_test(NAME ${t} COMMAND wire_test ${t} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 endforeach()
 
 # Seed corpus for the unpacker fuzzer (tests/fuzz): real buffers, each
 # checked to decode. `wire_make_seeds DIR` writes them anywhere.
-add_executable(wire_make_seeds ${CMAKE_CURRENT_SOURCE_DIR}/wire/make_seeds.c ${TESSERA_GEN_TEST_SOURCES})
+add_executable(wire_make_seeds ${CMAKE_CURRENT_SOURCE_DIR}/wire/make_seeds_test.c ${TESSERA_GEN_TEST_SOURCES})
 add_dependencies(wire_make_seeds tessera_generated)
 target_include_directories(wire_make_seeds PRIVATE ${CMAKE_SOURCE_DIR}/core ${TESSERA_GEN_DIR}/src)
 target_link_libraries(wire_make_seeds PRIVATE tessera)
 add_test(NAME wire_seed_corpus_decodes COMMAND wire_make_seeds ${CMAKE_CURRENT_BINARY_DIR}/wire_seeds)
 
 # Pixel-store extents against real GL (links OSMesa, not libtessera_gl).
-add_executable(wire_pixel_osmesa ${CMAKE_CURRENT_SOURCE_DIR}/wire/pixel_osmesa.c)
+add_executable(wire_pixel_osmesa ${CMAKE_CURRENT_SOURCE_DIR}/wire/pixel_osmesa_test.c)
 target_include_directories(wire_pixel_osmesa PRIVATE ${CMAKE_SOURCE_DIR}/core)
 target_link_libraries(wire_pixel_osmesa PRIVATE tessera PkgConfig::OSMESA)
 add_test(NAME wire_pixel_extents_match_osmesa COMMAND wire_pixel_osmesa)

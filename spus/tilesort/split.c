@@ -60,7 +60,7 @@
  * cut into pieces of a few vertices were lit slightly differently by Mesa
  * (tilescenes frame 14 with 256-byte batches: 39568 pixels, at most 14 of
  * 255 off; lit triangles, unlit quads and every other case were exact);
- * probably the cause found for engine (tests/render/quad_diagonal.c:
+ * probably the cause found for engine (tests/render/quad_diagonal_test.c:
  * llvmpipe cuts a quad along 0-2 or 1-3 by what else its draw holds, and
  * the diagonals light differently), not re-measured on tilescenes.
  *

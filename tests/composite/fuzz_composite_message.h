@@ -1,6 +1,6 @@
 /* tests/composite/fuzz_composite_message.h — the fuzz entry point for image
  * messages (tessera/dev/composite.h), shared by the libFuzzer target
- * (fuzz_composite_message) and the corpus replay in composite_tests. */
+ * (fuzz_composite_message) and the corpus replay in composite_test. */
 #ifndef TSR_TESTS_FUZZ_COMPOSITE_MESSAGE_H
 #define TSR_TESTS_FUZZ_COMPOSITE_MESSAGE_H
 

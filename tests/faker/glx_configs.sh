@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tests/faker/glx_configs.sh PROGRAM FAKER_DIR OUTDIR — the faker's GLX
-# configs next to Mesa's (tests/faker/glx_configs.c): on a private default
+# configs next to Mesa's (tests/faker/glx_configs_driver.c): on a private default
 # Xvfb (GLX enabled, about 180 TrueColor visuals) the system's libGL.so.1
 # (Mesa) and the faker's answer the same attribute lists, each in its own
 # process, and the faker's answers must hold to Mesa's; then on an Xvfb

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # tests/faker/share_client_state.sh — two contexts of one share group with
 # different pixel store and client arrays, used in turn on one thread
-# (egl_share_client_state.c), through [render], [loopback ! render] and
+# (egl_share_client_state_driver.c), through [render], [loopback ! render] and
 # [pack -> a shared-mode server render]: each run's read-back blocks and
 # frames must be the bytes OSMesa itself gives for the same calls
 # (faker_egl_share_client_state_native).

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tests/faker/share_threads.sh — share-list contexts on two threads drawing
-# at once (egl_share_threads.c). egl: faker_egl_share_threads with no X
+# at once (egl_share_threads_driver.c). egl: faker_egl_share_threads with no X
 # server, both orders of making the contexts through [render], the loader
 # joining a drawing thread through [loopback ! render] (the wire format in
 # process), and both through [pack -> server render] (a shared-mode

@@ -36,7 +36,7 @@ start_xvfb "$out"
 # pixels within 2 levels; stop 20: 4 of 60, 8-172 pixels, one with 111
 # pixels within 3 levels; the two looked at in the top-right and the
 # top-left server's tiles). The cause, shown with OSMesa alone
-# (tests/render/quad_diagonal.c, in the suite): llvmpipe cuts a GL_QUADS
+# (tests/render/quad_diagonal_test.c, in the suite): llvmpipe cuts a GL_QUADS
 # quad into triangles along its 0-2 diagonal, but along 1-3 when the draw
 # Mesa makes of it holds a vertex that needs clipping, and lit quads have
 # other colours along the other diagonal. Mesa makes one draw of consecutive

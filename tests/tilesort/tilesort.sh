@@ -13,7 +13,7 @@
 #       sort_first statistics) below MAX: a primitive sent whole to every
 #       server would give about 16.
 #   stable CONFIG STALL
-#       balance_scenes (tests/tilesort/balance_scenes.c: the whole cost in
+#       balance_scenes (tests/tilesort/balance_scenes_driver.c: the whole cost in
 #       one pixel, one window-sized primitive, an empty frame, an ordinary
 #       scene; 16 frames, 256x192) on a balanced CONFIG, every frame exact;
 #       every frame every server has a region of at least one pixel, the

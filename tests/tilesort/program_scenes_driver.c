@@ -1,0 +1,174 @@
+/* tests/tilesort/program_scenes_driver.c — what unmodified programs did that the
+ * examples did not, and that tilesort once drew wrong (issue 12, item 6:
+ * the xscreensaver hacks through the 2x2 wall), one scene a frame:
+ *   0 glMaterial inside glBegin/glEnd (moebius's wire mesh): a lit strip
+ *     mesh across the window with a diffuse colour set before every
+ *     vertex, then, outside, the material of before the mesh set again for
+ *     a lit quad (a server must not keep the mesh's last material)
+ *   1 vertex buffers bound in turn around each draw (romanboy): three
+ *     buffers filled and unbound, then each glDrawElements binds the
+ *     position buffer, points at it, binds the colour buffer, points at
+ *     it, binds the index buffer, draws and unbinds, so no binding names
+ *     the first buffer when the next state change comes
+ *   2 client arrays enabled with glEnable(GL_VERTEX_ARRAY) and
+ *     glEnable(GL_COLOR_ARRAY) instead of glEnableClientState, as piglit's
+ *     gl-1.1-color-material-array does (Mesa takes both; tilesort drew
+ *     nothing, a pack server died of SIGSEGV), disabled with glDisable
+ *   3 user clip planes 6 and 7 (Mesa has 8; piglit's
+ *     gl-1.0-user-clip-all-planes uses every one): the tracker kept 6, so
+ *     the wall's servers never clipped with the last two
+ * Built twice like the examples (examples/common/exapp.h): -native is the
+ * reference. Deterministic. */
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include "common/exapp.h"
+
+static void lit_mesh(void)
+{
+    static const GLfloat grey[4] = {0.3f, 0.3f, 0.3f, 1}, light[4] = {0.2f, 0.4f, 1, 0};
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glLightfv(GL_LIGHT0, GL_POSITION, light);
+    glMaterialfv(GL_FRONT_AND_BACK, GL_DIFFUSE, grey);
+    for (int row = 0; row < 12; row++) {
+        glBegin(GL_TRIANGLE_STRIP);
+        for (int col = 0; col <= 24; col++) {
+            GLfloat c[4] = {(float)((col + row) % 3) / 2.0f, (float)(col % 2), (float)(row % 4) / 3.0f, 1};
+            glMaterialfv(GL_FRONT_AND_BACK, GL_DIFFUSE, c);
+            glNormal3f(0.1f * (float)(col % 5), 0.2f, 1);
+            for (int k = 0; k < 2; k++)
+                glVertex2f(-0.95f + 0.078f * (float)col, -0.9f + 0.12f * (float)(row + k));
+        }
+        glEnd();
+    }
+    /* the material of before the mesh again: only the tracker can know a
+     * server lacks it */
+    glMaterialfv(GL_FRONT_AND_BACK, GL_DIFFUSE, grey);
+    glBegin(GL_QUADS);
+    glNormal3f(0, 0, 1);
+    glVertex2f(-0.5f, 0.55f);
+    glVertex2f(0.5f, 0.55f);
+    glVertex2f(0.5f, 0.95f);
+    glVertex2f(-0.5f, 0.95f);
+    glEnd();
+    glDisable(GL_LIGHTING);
+}
+
+static void buffers_in_turn(void)
+{
+    enum { N = 16 };
+    GLfloat pos[2 * N * N], col[3 * N * N];
+    GLuint idx[6 * (N - 1) * (N - 1)];
+    int n = 0;
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            int v = y * N + x;
+            pos[2 * v] = -0.9f + 1.8f * (float)x / (N - 1);
+            pos[2 * v + 1] = -0.9f + 1.8f * (float)y / (N - 1);
+            col[3 * v] = (float)x / (N - 1);
+            col[3 * v + 1] = (float)y / (N - 1);
+            col[3 * v + 2] = (float)((x + y) % 2);
+            if (x < N - 1 && y < N - 1) {
+                GLuint q[6] = {v, v + 1, v + N, v + 1, v + N + 1, v + N};
+                for (int k = 0; k < 6; k++)
+                    idx[n++] = q[k];
+            }
+        }
+    GLuint b[3];
+    glGenBuffers(3, b);
+    glBindBuffer(GL_ARRAY_BUFFER, b[0]);
+    glBufferData(GL_ARRAY_BUFFER, sizeof pos, pos, GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ARRAY_BUFFER, b[1]);
+    glBufferData(GL_ARRAY_BUFFER, sizeof col, col, GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[2]);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof idx, idx, GL_STATIC_DRAW);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    for (int draw = 0; draw < 3; draw++) {
+        glLoadIdentity();
+        glTranslatef(0.3f * (float)(draw - 1), 0.2f * (float)(draw - 1), 0);
+        glScalef(0.6f, 0.6f, 1);
+        glBindBuffer(GL_ARRAY_BUFFER, b[0]);
+        glVertexPointer(2, GL_FLOAT, 0, (const void *)0);
+        glEnableClientState(GL_VERTEX_ARRAY);
+        glBindBuffer(GL_ARRAY_BUFFER, b[1]);
+        glColorPointer(3, GL_FLOAT, 0, (const void *)0);
+        glEnableClientState(GL_COLOR_ARRAY);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[2]);
+        glDrawElements(GL_TRIANGLES, n, GL_UNSIGNED_INT, (const void *)0);
+        glDisableClientState(GL_VERTEX_ARRAY);
+        glDisableClientState(GL_COLOR_ARRAY);
+        glBindBuffer(GL_ARRAY_BUFFER, b[1]);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[2]);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    }
+    glLoadIdentity();
+    glDeleteBuffers(3, b);
+}
+
+static void arrays_enabled_by_glenable(void)
+{
+    enum { N = 24 };
+    GLfloat pos[N][2], col[N][4];
+    for (int i = 0; i < N; i++) {
+        pos[i][0] = -0.9f + 1.8f * (float)(i / 2) / (N / 2 - 1);
+        pos[i][1] = i % 2 ? 0.8f : -0.7f + 0.05f * (float)i;
+        col[i][0] = (float)(i % 3) / 2.0f;
+        col[i][1] = (float)(i % 5) / 4.0f;
+        col[i][2] = 1.0f - (float)i / N;
+        col[i][3] = 1;
+    }
+    glVertexPointer(2, GL_FLOAT, 0, pos);
+    glColorPointer(4, GL_FLOAT, 0, col);
+    glEnable(GL_VERTEX_ARRAY);
+    glEnable(GL_COLOR_ARRAY);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, N);
+    glDisable(GL_COLOR_ARRAY);
+    glColor3f(1, 1, 0);
+    glDrawArrays(GL_LINE_STRIP, 0, N);
+    glDisable(GL_VERTEX_ARRAY);
+}
+
+static void last_clip_planes(void)
+{
+    static const GLdouble right_of[4] = {1, 0, 0, 0.3}, below[4] = {0, -1, 0, 0.5};
+    glPushMatrix();
+    glRotatef(20, 0, 0, 1); /* planes are taken in eye space at glClipPlane */
+    glClipPlane(GL_CLIP_PLANE0 + 6, right_of);
+    glClipPlane(GL_CLIP_PLANE0 + 7, below);
+    glPopMatrix();
+    glEnable(GL_CLIP_PLANE0 + 6);
+    glEnable(GL_CLIP_PLANE0 + 7);
+    glColor3f(0.2f, 0.9f, 0.4f);
+    glRectf(-0.95f, -0.95f, 0.95f, 0.95f);
+    glDisable(GL_CLIP_PLANE0 + 7);
+    glColor3f(0.9f, 0.2f, 0.6f);
+    glRectf(-0.9f, 0.6f, 0.9f, 0.9f);
+    glDisable(GL_CLIP_PLANE0 + 6);
+}
+
+int main(int argc, char **argv)
+{
+    exapp app;
+    if (!exapp_init(&app, "program_scenes", argc, argv, 320, 240))
+        return app.exit_code;
+    for (int f = 0; f < app.frames; f++) {
+        glClearColor(0.05f, 0.05f, 0.1f, 1);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (f % 4 == 0)
+            lit_mesh();
+        else if (f % 4 == 1)
+            buffers_in_turn();
+        else if (f % 4 == 2)
+            arrays_enabled_by_glenable();
+        else
+            last_clip_planes();
+        if (!exapp_swap(&app))
+            break;
+    }
+    return exapp_finish(&app);
+}
