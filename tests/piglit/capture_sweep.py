@@ -48,6 +48,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True  # the imports below write nothing into the source tree
 sys.path.insert(0, HERE)
 import choose as piglit_select  # noqa: E402  (tests/piglit/choose.py)
 import sweep  # noqa: E402  (tests/piglit/sweep.py: start_xvfb, run_one, safe)
