@@ -6,7 +6,8 @@
 # mothership (the `tessera run` process); graphs: small-window copies of
 # examples/graphs/ tcp, replicate, wall, wall_display, sortlast and
 # sortlast_servers (tests/fault/*.yaml, same topology; the sort-last ones
-# fault a peer, the display and the application), and faker_tcp and
+# are named after their SPU, binaryswap and binaryswap_servers, and fault
+# a peer, the display and the application), and faker_tcp and
 # faker_wall: tcp and wall with an unmodified glxgears as the app. tests/fault/fault_cell_test.c
 # runs one cell and says what it checks. Cells share no port (every server
 # listens on port 0, the sort-last graphs use unix sockets in the cell's
@@ -109,16 +110,16 @@ if(TARGET spu_binaryswap)
   # a peer (binaryswap runs in its process); with servers the peer is a
   # render server whose chain is binaryswap. The display's window: every
   # peer has composited into it.
-  # fault_sortlast_app_sigstop (a stopped in-situ peer): the display drops
+  # fault_binaryswap_app_sigstop (a stopped in-situ peer): the display drops
   # its silent stream after the time-out and its node reports that at once
   # (a STATS with failure=), while the other peers would wait binaryswap's
   # timeout_ms (10 s) for the stopped one: the verdict names the stopped
   # peer, not their exits.
-  fault_cells(sortlast app application out/sortlast-000002.png)
-  fault_cells(sortlast display display out/sortlast-000002.png)
-  fault_cells(sortlast_servers app application out/sortlast-000002.png)
-  fault_cells(sortlast_servers peer peer1 out/sortlast-000002.png)
-  fault_cells(sortlast_servers display display out/sortlast-000002.png)
+  fault_cells(binaryswap app application out/binaryswap-000002.png)
+  fault_cells(binaryswap display display out/binaryswap-000002.png)
+  fault_cells(binaryswap_servers app application out/binaryswap-000002.png)
+  fault_cells(binaryswap_servers peer peer1 out/binaryswap-000002.png)
+  fault_cells(binaryswap_servers display display out/binaryswap-000002.png)
 endif()
 
 # The faker's graphs, every cell (about 30 s at -j2).
