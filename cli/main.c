@@ -1,9 +1,7 @@
 /* cli/main.c — `tessera`: one program, one subcommand per task. Owns
  * argument dispatch and the top-level --help/--version; each subcommand
- * parses its own options. Owns the program's table of PNG temporaries
- * and the signal handler that removes them. */
-#include <errno.h>
-#include <signal.h>
+ * parses its own options. Opts in to the removal of PNG temporaries on
+ * fatal signals (tessera/image.h) for the whole program. */
 #include <stdio.h>
 #include <string.h>
 
@@ -21,40 +19,6 @@ static const tsr_cli_command commands[] = {
     {"exec", "run an unmodified OpenGL program (glxgears, ...) under the faker libGL/libEGL", cmd_exec},
     {"replay", "feed a capture file (capture SPU) into a chain or graph; --info lists what it holds", cmd_replay},
 };
-
-/* Temporaries of PNGs being written (tessera/image.h) are this program's
- * to remove when SIGTERM, SIGINT or SIGHUP end it. The handler goes only
- * over a signal's default action (a handler installed before is left
- * alone), removes them, and lets the signal end the process as before
- * (SA_RESETHAND restored the default action). */
-static tsr_image_pending *pending_pngs;
-
-static void remove_temporaries_and_die(int sig)
-{
-    int saved_errno = errno;
-    tsr_image_pending_remove_all(pending_pngs);
-    errno = saved_errno;
-    raise(sig);
-}
-
-static void remove_temporaries_on_signals(void)
-{
-    static const int signals[] = {SIGTERM, SIGINT, SIGHUP};
-    pending_pngs = tsr_image_pending_create();
-    if (!pending_pngs)
-        return;
-    tsr_image_set_pending(pending_pngs);
-    for (size_t i = 0; i < sizeof signals / sizeof signals[0]; i++) {
-        struct sigaction old, sa;
-        if (sigaction(signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
-            continue;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = remove_temporaries_and_die;
-        sa.sa_flags = SA_RESETHAND;
-        sigfillset(&sa.sa_mask);
-        sigaction(signals[i], &sa, NULL);
-    }
-}
 
 static void print_usage(FILE *out)
 {
@@ -86,9 +50,11 @@ int main(int argc, char **argv)
      * nodes' unmodified programs under the faker. */
     if (!strcmp(argv[1], "run") || !strcmp(argv[1], "node") || !strcmp(argv[1], "exec"))
         tsr_cli_export_faker_dir();
-    /* Before a command installs its own handlers (run, exec), which then
-     * replace these. */
-    remove_temporaries_on_signals();
+    /* The PNG temporaries are this program's to remove when SIGTERM,
+     * SIGINT or SIGHUP end it (tessera/image.h); before a command installs
+     * its own handlers (run, exec), which then replace these. Without
+     * memory for the table, PNGs are still written whole or not at all. */
+    tsr_image_pending_remove_on_signals(NULL);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (!strcmp(argv[1], commands[i].name))
             return commands[i].run(argc - 1, argv + 1);

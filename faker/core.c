@@ -33,7 +33,6 @@
  * FAKER_SWITCH_WAIT_MS, and fails (one log line) if it does not come. */
 #include <errno.h>
 #include <pthread.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -520,7 +519,10 @@ static void faker_Finish(void *self)
  * be made fails context creation (the program's own error path). */
 tsr_faker_context *tsr_faker_context_create(tsr_faker_context *share)
 {
-    tsr_faker_png_signals_install();
+    /* The program does not know its chains write PNGs: the faker opts in
+     * for it (tessera/image.h), at the first context, over the default
+     * actions only; only the first call acts. */
+    tsr_image_pending_remove_on_signals(NULL);
     pthread_mutex_lock(&lock);
     bool ok = streams || stream_new_locked();
     tsr_faker_context *c = ok ? calloc(1, sizeof *c) : NULL;

@@ -44,11 +44,6 @@ typedef struct tsr_faker_surface tsr_faker_surface;
 /* Logs through libtessera's log with a "faker: " prefix. level: TSR_LOG_*. */
 TSR_FAKER_API void tsr_faker_log(int level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* At the first context: the program's PNG temporaries are removed when
- * SIGTERM, SIGINT or SIGHUP end it over their default action
- * (png_signals.c). Once per process; not exported. */
-__attribute__((visibility("hidden"))) void tsr_faker_png_signals_install(void);
-
 /* A context sharing objects with `share` (NULL: none; every context of the
  * process is in one share group of the chain's renderer anyway). NULL when
  * the chain cannot be made (logged). */

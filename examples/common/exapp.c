@@ -1,14 +1,12 @@
 /* examples/common/exapp.c — the example harness: command line, GL context,
  * frame output. Compiled twice: with EXAPP_NATIVE (OSMesa context, PNGs
  * written here: the reference) and without (GL calls enter a tessera chain
- * through libtessera_gl). Owns the context/chain, and the program's table
- * of PNG temporaries with the signal handler that removes them; never
- * draws. */
+ * through libtessera_gl). Owns the context/chain and opts the program in
+ * to the removal of PNG temporaries on fatal signals; never draws. */
 #include "exapp.h"
 
 #include <errno.h>
 #include <limits.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,40 +26,6 @@
 #endif
 
 #define EXAPP_DEFAULT_FRAMES 4
-
-/* Temporaries of PNGs being written (tessera/image.h) are this program's
- * to remove when SIGTERM, SIGINT or SIGHUP end it. The handler goes only
- * over a signal's default action (a handler installed before is left
- * alone), removes them, and lets the signal end the process as before
- * (SA_RESETHAND restored the default action). */
-static tsr_image_pending *pending_pngs;
-
-static void remove_temporaries_and_die(int sig)
-{
-    int saved_errno = errno;
-    tsr_image_pending_remove_all(pending_pngs);
-    errno = saved_errno;
-    raise(sig);
-}
-
-static void remove_temporaries_on_signals(void)
-{
-    static const int signals[] = {SIGTERM, SIGINT, SIGHUP};
-    pending_pngs = tsr_image_pending_create();
-    if (!pending_pngs)
-        return;
-    tsr_image_set_pending(pending_pngs);
-    for (size_t i = 0; i < sizeof signals / sizeof signals[0]; i++) {
-        struct sigaction old, sa;
-        if (sigaction(signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
-            continue;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = remove_temporaries_and_die;
-        sa.sa_flags = SA_RESETHAND;
-        sigfillset(&sa.sa_mask);
-        sigaction(signals[i], &sa, NULL);
-    }
-}
 
 struct exapp_backend {
     char default_pattern[256]; /* "out/NAME-%04d.png" */
@@ -191,8 +155,9 @@ bool exapp_init_options(exapp *app, const char *name, int argc, char **argv, int
     for (int k = 0; k < count; k++)
         if (options[k].given)
             *options[k].given = false;
-    if (!pending_pngs)
-        remove_temporaries_on_signals();
+    /* The PNG temporaries are the program's to remove when SIGTERM, SIGINT
+     * or SIGHUP end it (tessera/image.h); only the first call acts. */
+    tsr_image_pending_remove_on_signals(NULL);
     memset(app, 0, sizeof *app);
     app->name = name;
     app->width = default_width;

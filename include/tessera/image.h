@@ -64,10 +64,15 @@ TSR_API int tsr_image_read_png_size(const char *path, uint64_t max_pixels, int *
 TSR_API int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err);
 
 /* --- temporaries left by a signal ---------------------------------------
- * The library installs no signal handler. A program that wants no
- * temporary left when a signal ends it (the `tessera` program, the
- * examples, the faker in the program it runs in) owns a table, hands it to
- * the writer, and empties it from its own handler:
+ * The library installs no signal handler of its own accord. A program
+ * that wants no temporary left when SIGTERM, SIGINT or SIGHUP ends it
+ * (the `tessera` program, the examples, the faker in the program it runs
+ * in) opts in with one call at start-up:
+ *
+ *   tsr_image_pending_remove_on_signals(&err);
+ *
+ * A program with its own handlers instead owns a table, hands it to the
+ * writer, and empties it from its handler:
  *
  *   static tsr_image_pending *pending;
  *   static void on_term(int sig) { tsr_image_pending_remove_all(pending); raise(sig); }  // SA_RESETHAND
@@ -88,6 +93,15 @@ TSR_API void tsr_image_set_pending(tsr_image_pending *pending);
 /* Removes every temporary listed by this process (not by a forked child
  * that inherited the table). Async-signal-safe: for a signal handler. */
 TSR_API void tsr_image_pending_remove_all(tsr_image_pending *pending);
+
+/* The program's opt-in: creates the process's table, sets it
+ * (tsr_image_set_pending) and installs, over each of SIGTERM, SIGINT and
+ * SIGHUP that still has its default action (a handler installed before is
+ * left alone), a handler that removes the listed temporaries and lets the
+ * signal end the process as before (SA_RESETHAND). Only the first call in
+ * a process acts; any thread may call it. Returns 0, or TSR_ENOMEM with
+ * nothing installed. */
+TSR_API int tsr_image_pending_remove_on_signals(tsr_error *err);
 
 /* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
  * first row in memory is the bottom row of the picture (glReadPixels,
