@@ -365,21 +365,15 @@ static int write_png_pixels(const uint8_t *pixels, int width, int height, size_t
     return TSR_OK;
 }
 
-int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
-                             const char *path, tsr_error *err)
+int tsr_image_write_png_pixels(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                               bool keep_alpha, const char *path, tsr_error *err)
 {
-    return write_png_pixels(pixels, width, height, stride, bottom_up, false, path, err);
-}
-
-int tsr_image_write_png_rgb(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
-                            const char *path, tsr_error *err)
-{
-    return write_png_pixels(pixels, width, height, stride, bottom_up, true, path, err);
+    return write_png_pixels(pixels, width, height, stride, bottom_up, !keep_alpha, path, err);
 }
 
 int tsr_image_write_png(const tsr_image *img, const char *path, tsr_error *err)
 {
-    return tsr_image_write_png_rgba(img->pixels, img->width, img->height, img->stride, false, path, err);
+    return tsr_image_write_png_pixels(img->pixels, img->width, img->height, img->stride, false, true, path, err);
 }
 
 /* --- compare and flip --------------------------------------------------- */

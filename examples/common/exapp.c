@@ -294,8 +294,7 @@ bool exapp_swap(exapp *app)
     if (tsr_image_frame_path(path, sizeof path, b->out_pattern, frame, &err) != TSR_OK)
         return fail(app, 1, err.message, NULL);
     size_t stride = (size_t)app->width * 4;
-    int rc = b->out_alpha ? tsr_image_write_png_rgba(b->buffer, app->width, app->height, stride, true, path, &err)
-                          : tsr_image_write_png_rgb(b->buffer, app->width, app->height, stride, true, path, &err);
+    int rc = tsr_image_write_png_pixels(b->buffer, app->width, app->height, stride, true, b->out_alpha, path, &err);
     if (rc != TSR_OK)
         return fail(app, 1, err.message, NULL);
     return true;

@@ -6,7 +6,7 @@
  * Pixels are 8-bit RGBA, rows top to bottom, `stride` bytes apart (always
  * width * 4 for images made here). OpenGL reads framebuffers bottom row
  * first: flip with tsr_image_flip_rows, or write such a buffer straight to
- * PNG with tsr_image_write_png_rgba(..., bottom_up = true). */
+ * PNG with tsr_image_write_png_pixels(..., bottom_up = true, ...). */
 #ifndef TESSERA_IMAGE_H
 #define TESSERA_IMAGE_H
 
@@ -105,16 +105,13 @@ TSR_API int tsr_image_pending_remove_on_signals(tsr_error *err);
 
 /* Writes caller-owned RGBA8 pixels without copying them. `bottom_up`: the
  * first row in memory is the bottom row of the picture (glReadPixels,
- * OSMesa buffers); the file is written top row first either way. */
-TSR_API int tsr_image_write_png_rgba(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
-                                     const char *path, tsr_error *err);
-
-/* As tsr_image_write_png_rgba, but writes an RGB PNG from the same RGBA8
- * pixels: each pixel's alpha is dropped, so the file shows what a window
- * shows (an X window ignores the framebuffer's alpha). Read back, its
- * alpha is 255 everywhere. */
-TSR_API int tsr_image_write_png_rgb(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
-                                    const char *path, tsr_error *err);
+ * OSMesa buffers); the file is written top row first either way.
+ * `keep_alpha`: an RGBA PNG with each pixel's alpha; false: an RGB PNG of
+ * the same colour bytes, each alpha dropped, so the file shows what a
+ * window shows (an X window ignores the framebuffer's alpha); read back,
+ * its alpha is 255 everywhere. */
+TSR_API int tsr_image_write_png_pixels(const uint8_t *pixels, int width, int height, size_t stride, bool bottom_up,
+                                       bool keep_alpha, const char *path, tsr_error *err);
 
 /* Compares `a` and `b` channel by channel. A pixel differs when any of its
  * four channels differs by more than `tolerance` (0 = exact). Images of

@@ -119,9 +119,7 @@ static int tile_path(char *out, size_t size, const char *pattern, int frame, siz
 static int write_frame_png(const render_spu *r, const unsigned char *pixels, int w, int h, const char *path,
                            tsr_error *err)
 {
-    if (r->output_alpha)
-        return tsr_image_write_png_rgba(pixels, w, h, (size_t)w * 4, true, path, err);
-    return tsr_image_write_png_rgb(pixels, w, h, (size_t)w * 4, true, path, err);
+    return tsr_image_write_png_pixels(pixels, w, h, (size_t)w * 4, true, r->output_alpha, path, err);
 }
 
 /* Tiled swap: every context has finished (switching finishes the outgoing

@@ -150,8 +150,7 @@ static void assemble_frame(tilesort *t)
         tsr_error err = {0};
         size_t stride = (size_t)t->win_w * 4;
         if (tsr_image_frame_path(path, sizeof path, t->assemble, (int)t->frames, &err) != TSR_OK ||
-            (t->assemble_alpha ? tsr_image_write_png_rgba(img, t->win_w, t->win_h, stride, true, path, &err)
-                               : tsr_image_write_png_rgb(img, t->win_w, t->win_h, stride, true, path, &err)) != TSR_OK)
+            tsr_image_write_png_pixels(img, t->win_w, t->win_h, stride, true, t->assemble_alpha, path, &err) != TSR_OK)
             ts_report(t, &err);
     }
     free(raw);

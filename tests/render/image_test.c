@@ -87,8 +87,8 @@ static int test_roundtrip(const char *dir)
     /* bottom-up writing stores the rows flipped */
     const char *flipped_path = join(dir, "roundtrip_bottom_up.png");
     tsr_image c;
-    CHECK(tsr_image_write_png_rgba(a.pixels, a.width, a.height, a.stride, true, flipped_path, &err) == TSR_OK, "%s",
-          err.message);
+    CHECK(tsr_image_write_png_pixels(a.pixels, a.width, a.height, a.stride, true, true, flipped_path, &err) == TSR_OK,
+          "%s", err.message);
     CHECK(tsr_image_read_png(&c, flipped_path, &err) == TSR_OK, "%s", err.message);
     tsr_image_flip_rows(c.pixels, c.height, c.stride);
     if (c.pixels)
@@ -395,7 +395,7 @@ static int png_colour_type(const char *path)
     return type;
 }
 
-/* tsr_image_write_png_rgb writes an RGB file of the same RGB bytes: read
+/* tsr_image_write_png_pixels without keep_alpha writes an RGB file of the same RGB bytes: read
  * back, every alpha is 255 and every colour byte is the one given. */
 static int test_rgb(const char *dir)
 {
@@ -406,7 +406,7 @@ static int test_rgb(const char *dir)
     for (int i = 0; i < a.width * a.height; i++)
         a.pixels[(size_t)i * 4 + 3] = (uint8_t)(i % 7); /* mostly transparent */
     const char *path = join(dir, "rgb.png");
-    CHECK(tsr_image_write_png_rgb(a.pixels, a.width, a.height, a.stride, true, path, &err) == TSR_OK, "%s",
+    CHECK(tsr_image_write_png_pixels(a.pixels, a.width, a.height, a.stride, true, false, path, &err) == TSR_OK, "%s",
           err.message);
     CHECK(png_colour_type(path) == PNG_COLOR_TYPE_RGB, "colour type %d, not RGB", png_colour_type(path));
     CHECK(tsr_image_read_png(&b, path, &err) == TSR_OK, "%s", err.message);
