@@ -760,7 +760,7 @@ void tsr_faker_surface_destroy(tsr_faker_surface *s)
         tsr_call_WindowDestroyTSR(tsr_chain_head(s->on[i].stream->chain), s->on[i].window);
         s->on[i].stream->chain_ctx = 0;
         if (s->on[i].stream->number == 0)
-            tsr_native_window_set(s->on[i].window, NULL, 0);
+            tsr_native_window_set(tsr_chain_native_windows(s->on[i].stream->chain), s->on[i].window, NULL, 0);
     }
     if (cur_surface == s) {
         cur_surface = NULL;
@@ -922,10 +922,10 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         draw->width = w->width = draw->x_width;
         draw->height = w->height = draw->x_height;
         /* For SPUs of this process that draw back into the program's own
-         * window (render window_output=app), before they see the window;
-         * the table is by window id, so only the first stream's. */
+         * window (render window_output=app), before they see the window:
+         * the first stream's chain only, so one chain draws into it. */
         if (draw->xid && st->number == 0)
-            tsr_native_window_set(w->window, xconn_name, draw->xid);
+            tsr_native_window_set(tsr_chain_native_windows(st->chain), w->window, xconn_name, draw->xid);
         tsr_call_WindowCreateTSR(head, w->window, w->width, w->height);
     } else if (draw) {
         follow_size_locked(draw, w, head);

@@ -109,7 +109,7 @@ endfunction()
 # to libtessera); the loader finds the real SPU plugins of this build.
 set(tsr_fuzz_chain_sources
   ${CMAKE_SOURCE_DIR}/core/spu/chain.c ${CMAKE_SOURCE_DIR}/core/spu/options.c
-  ${CMAKE_SOURCE_DIR}/core/spu/spu_loader.c ${CMAKE_SOURCE_DIR}/core/util/names.c
+  ${CMAKE_SOURCE_DIR}/core/spu/spu_loader.c ${CMAKE_SOURCE_DIR}/core/spu/native.c ${CMAKE_SOURCE_DIR}/core/util/names.c
   ${CMAKE_SOURCE_DIR}/core/util/error.c ${CMAKE_SOURCE_DIR}/core/util/log.c
   ${TESSERA_GEN_DIR}/src/dispatch_gen.c)
 set(tsr_fuzz_chain_defines TESSERA_BUILD_SPU_DIR="${TESSERA_SPU_BUILD_DIR}" TESSERA_INSTALL_SPU_DIR="")

@@ -61,7 +61,7 @@ add_dependencies(spu_chain_test spu_passthrough)
 foreach(t inheritance super_options_accepted rejects_unknown_option rejects_wrong_type
           rejects_unknown_spu rejects_super_cycle_and_depth empty_is_error
           parse_errors_name_token parse_quoted_values create_failure_cleans_up
-          unset_slots_reach_child links_text_reads_back)
+          unset_slots_reach_child links_text_reads_back native_windows_per_chain)
   add_test(NAME spu_chain_${t} COMMAND spu_chain_test spu_chain_${t})
   set_tests_properties(spu_chain_${t} PROPERTIES ENVIRONMENT "TESSERA_SPU_PATH=")
 endforeach()

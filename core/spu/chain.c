@@ -12,6 +12,7 @@
 #include "chain.h"
 #include "options.h"
 #include "spu_loader.h"
+#include "tessera/dev/native.h"
 
 /* One created instance; a subclass owns its super instance. */
 typedef struct tsr_instance {
@@ -26,7 +27,8 @@ typedef struct tsr_instance {
 struct tsr_chain {
     tsr_instance **links; /* links[0] is where calls enter */
     size_t count;
-    tsr_dispatch end; /* no-ops after the last SPU */
+    tsr_dispatch end;                   /* no-ops after the last SPU */
+    tsr_native_windows *native_windows; /* its SPUs' (tessera/dev/native.h) */
 };
 
 /* ---- text form ---------------------------------------------------------- */
@@ -367,7 +369,8 @@ static tsr_options *parse_level_options(const tsr_spu_class *const *lineage, siz
 
 /* Creates lineage[level] (and, first, its supers) with `child` after it. */
 static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t depth, size_t level, const char *name,
-                                     const tsr_chain_link *link, const tsr_dispatch *child, tsr_error *err)
+                                     const tsr_chain_link *link, const tsr_dispatch *child,
+                                     tsr_native_windows *native_windows, tsr_error *err)
 {
     const tsr_spu_class *cls = lineage[level];
     tsr_instance *inst = calloc(1, sizeof *inst);
@@ -383,7 +386,7 @@ static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t
     if (level + 1 < depth) {
         char super_name[sizeof inst->name];
         snprintf(super_name, sizeof super_name, "%.60s.%.30s", name, lineage[level + 1]->name);
-        inst->super = instance_create(lineage, depth, level + 1, super_name, link, child, err);
+        inst->super = instance_create(lineage, depth, level + 1, super_name, link, child, native_windows, err);
         if (!inst->super)
             goto fail;
     }
@@ -394,6 +397,7 @@ static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t
         .child = child,
         .super = inst->super ? &inst->super->table : NULL,
         .table = &inst->table,
+        .native_windows = native_windows,
     };
     tsr_error spu_err;
     tsr_error_clear(&spu_err);
@@ -457,9 +461,11 @@ tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr
     }
     resolved_link *resolved = calloc(count, sizeof *resolved);
     tsr_chain *chain = calloc(1, sizeof *chain);
-    if (chain)
+    if (chain) {
         chain->links = calloc(count, sizeof *chain->links);
-    if (!resolved || !chain || !chain->links) {
+        chain->native_windows = tsr_native_windows_create();
+    }
+    if (!resolved || !chain || !chain->links || !chain->native_windows) {
         tsr_error_set(err, TSR_ENOMEM, "chain: out of memory");
         goto fail;
     }
@@ -475,7 +481,8 @@ tsr_chain *tsr_chain_create_links(const tsr_chain_link *links, size_t count, tsr
         char name[64];
         snprintf(name, sizeof name, "%.40s#%u", links[i].spu, same_before);
         const tsr_dispatch *child = i + 1 < count ? &chain->links[i + 1]->table : &chain->end;
-        chain->links[i] = instance_create(resolved[i].lineage, resolved[i].depth, 0, name, &links[i], child, err);
+        chain->links[i] = instance_create(resolved[i].lineage, resolved[i].depth, 0, name, &links[i], child,
+                                          chain->native_windows, err);
         if (!chain->links[i])
             goto fail;
     }
@@ -514,5 +521,8 @@ void tsr_chain_destroy(tsr_chain *chain)
         if (chain->links && chain->links[i])
             instance_destroy(chain->links[i]);
     free(chain->links);
+    tsr_native_windows_destroy(chain->native_windows);
     free(chain);
 }
+
+tsr_native_windows *tsr_chain_native_windows(const tsr_chain *chain) { return chain ? chain->native_windows : NULL; }

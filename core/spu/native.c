@@ -1,6 +1,8 @@
-/* core/spu/native.c — tessera/dev/native.h: the process's table of native
- * windows behind tessera window ids. A short list under a mutex: a program
- * has a handful of windows and the table is read once a frame. */
+/* core/spu/native.c — tessera/dev/native.h: a table of native windows
+ * behind tessera window ids, one per chain. A short list under a mutex: a
+ * program has a handful of windows, the faker's thread writes the table
+ * and an SPU's thread reads it once a frame. Owns the table's entries;
+ * never any process-wide state. */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,14 +17,41 @@ typedef struct native_window {
     struct native_window *next;
 } native_window;
 
-static pthread_mutex_t native_lock = PTHREAD_MUTEX_INITIALIZER;
-static native_window *native_windows;
+struct tsr_native_windows {
+    pthread_mutex_t lock;
+    native_window *list;
+};
 
-int tsr_native_window_set(int window, const char *x_display, unsigned long xid)
+tsr_native_windows *tsr_native_windows_create(void)
 {
+    tsr_native_windows *t = calloc(1, sizeof *t);
+    if (t && pthread_mutex_init(&t->lock, NULL) != 0) {
+        free(t);
+        t = NULL;
+    }
+    return t;
+}
+
+void tsr_native_windows_destroy(tsr_native_windows *windows)
+{
+    if (!windows)
+        return;
+    while (windows->list) {
+        native_window *dead = windows->list;
+        windows->list = dead->next;
+        free(dead);
+    }
+    pthread_mutex_destroy(&windows->lock);
+    free(windows);
+}
+
+int tsr_native_window_set(tsr_native_windows *windows, int window, const char *x_display, unsigned long xid)
+{
+    if (!windows)
+        return -1;
     int rc = 0;
-    pthread_mutex_lock(&native_lock);
-    native_window **p = &native_windows;
+    pthread_mutex_lock(&windows->lock);
+    native_window **p = &windows->list;
     while (*p && (*p)->window != window)
         p = &(*p)->next;
     if (!xid) {
@@ -41,15 +70,17 @@ int tsr_native_window_set(int window, const char *x_display, unsigned long xid)
             rc = -1;
         }
     }
-    pthread_mutex_unlock(&native_lock);
+    pthread_mutex_unlock(&windows->lock);
     return rc;
 }
 
-int tsr_native_window_get(int window, char *x_display, size_t n, unsigned long *xid)
+int tsr_native_window_get(tsr_native_windows *windows, int window, char *x_display, size_t n, unsigned long *xid)
 {
+    if (!windows)
+        return 0;
     int found = 0;
-    pthread_mutex_lock(&native_lock);
-    for (native_window *w = native_windows; w; w = w->next) {
+    pthread_mutex_lock(&windows->lock);
+    for (native_window *w = windows->list; w; w = w->next) {
         if (w->window == window) {
             if (x_display && n)
                 snprintf(x_display, n, "%s", w->display);
@@ -59,6 +90,6 @@ int tsr_native_window_get(int window, char *x_display, size_t n, unsigned long *
             break;
         }
     }
-    pthread_mutex_unlock(&native_lock);
+    pthread_mutex_unlock(&windows->lock);
     return found;
 }

@@ -66,8 +66,9 @@ extern "C" {
  * one line naming it and both versions.
  *   1  the first
  *   2  tsr_spu_class.network: roles instead of names known to the core
- *   3  tsr_spu_network.grid */
-#define TSR_SPU_ABI 3u
+ *   3  tsr_spu_network.grid
+ *   4  tsr_spu_init.native_windows */
+#define TSR_SPU_ABI 4u
 
 #define TSR_SPU_EXPORT __attribute__((visibility("default")))
 #define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
@@ -78,6 +79,9 @@ typedef struct tsr_spu_init {
     const tsr_dispatch *child;  /* next SPU's resolved table (or no-ops) */
     const tsr_dispatch *super;  /* super instance's resolved table, or NULL */
     tsr_dispatch *table;        /* set the slots this SPU implements */
+    /* The chain's native windows (tessera/dev/native.h): the program's
+     * windows behind this chain's window ids; valid until destroy. */
+    struct tsr_native_windows *native_windows;
 } tsr_spu_init;
 
 /* --- Network roles ---------------------------------------------------------

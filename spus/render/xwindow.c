@@ -46,6 +46,7 @@ struct render_xwindow {
     char name[64];
     char title[256];
     int mode;
+    tsr_native_windows *app_windows; /* the chain's (window_output=app) */
     char display_name[256];
     Display *dpy;
     int pos_x, pos_y, size_w, size_h;
@@ -290,7 +291,7 @@ static bool app_window(render_xwindow *x, int window)
 {
     char dpy_name[256];
     unsigned long xid = 0;
-    if (!tsr_native_window_get(window, dpy_name, sizeof dpy_name, &xid)) {
+    if (!tsr_native_window_get(x->app_windows, window, dpy_name, sizeof dpy_name, &xid)) {
         if (!x->warned)
             tsr_log(TSR_LOG_ERROR,
                     "%s: window_output=app: window %d has no X drawable of the program in this process "
@@ -350,6 +351,7 @@ render_xwindow *render_xwindow_create(const tsr_spu_init *init, tsr_error *err)
     }
     snprintf(x->name, sizeof x->name, "%s", init->instance_name);
     x->mode = !strcmp(mode, "app") ? XW_APP : XW_OWN;
+    x->app_windows = init->native_windows;
     x->want_shm = tsr_options_bool(init->options, "x_shm");
     x->fullscreen = tsr_options_bool(init->options, "fullscreen");
     const char *title = tsr_options_string(init->options, "x_title");

@@ -11,6 +11,7 @@
 
 #include "spu_test.h"
 #include "tessera/chain.h"
+#include "tessera/dev/native.h"
 #include "tessera/spu.h"
 
 /* What the test SPUs did, in order: "sub#1: Color3f 2" ... */
@@ -493,6 +494,83 @@ static void test_passthrough_verbose_option(void)
     CHECK_STR(chain_stderr("passthrough ! passthrough verbose=false"), "");
 }
 
+/* An SPU that draws back into the program's windows (render's
+ * window_output=app) reads them from its chain's table: it says at each
+ * Vertex3f(W) what window W is in the table it was created with. */
+typedef struct native_reader {
+    char name[96];
+    tsr_native_windows *windows;
+} native_reader;
+
+static void native_reader_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z)
+{
+    (void)y;
+    (void)z;
+    native_reader *r = self;
+    char dpy[64];
+    unsigned long xid = 0;
+    if (tsr_native_window_get(r->windows, (int)x, dpy, sizeof dpy, &xid))
+        note("%s: window %d is %#lx on '%s'", r->name, (int)x, xid, dpy);
+    else
+        note("%s: window %d unknown", r->name, (int)x);
+}
+
+static void *native_reader_create(const tsr_spu_init *init, tsr_error *err)
+{
+    (void)err;
+    native_reader *r = calloc(1, sizeof *r);
+    if (r) {
+        snprintf(r->name, sizeof r->name, "%s", init->instance_name);
+        r->windows = init->native_windows;
+        tsr_set_Vertex3f(init->table, native_reader_Vertex3f, r);
+    }
+    return r;
+}
+
+/* Two chains in one process (two programs' worth of windows, or two
+ * streams of the faker) keep two tables: what one chain's windows are
+ * never shows in the other, a super instance reads its chain's table, and
+ * one chain outlives the other's. */
+static void test_native_windows_per_chain(void)
+{
+    static const tsr_spu_class reader = {
+        .abi = TSR_SPU_ABI, .name = "native_reader", .create = native_reader_create, .destroy = free};
+    static const tsr_spu_class sub = {.abi = TSR_SPU_ABI,
+                                      .name = "native_sub",
+                                      .super = "native_reader",
+                                      .create = echo_create,
+                                      .destroy = test_spu_destroy};
+    tsr_error err;
+    REQUIRE(tsr_spu_register(&reader, &err) == TSR_OK);
+    REQUIRE(tsr_spu_register(&sub, &err) == TSR_OK);
+    tsr_chain *a = chain_ok("native_sub"), *b = chain_ok("native_reader");
+    tsr_native_windows *wa = tsr_chain_native_windows(a), *wb = tsr_chain_native_windows(b);
+    REQUIRE(wa && wb && wa != wb);
+    CHECK(tsr_native_window_set(wa, 0, ":5", 0x200002) == 0);
+    CHECK(tsr_native_window_set(wb, 0, ":7", 0x400004) == 0);
+    CHECK(tsr_native_window_set(wb, 3, NULL, 0x400009) == 0);
+    journal_reset();
+    tsr_call_Vertex3f(tsr_chain_head(a), 0, 0, 0);
+    tsr_call_Vertex3f(tsr_chain_head(b), 0, 0, 0);
+    tsr_call_Vertex3f(tsr_chain_head(a), 3, 0, 0);
+    tsr_call_Vertex3f(tsr_chain_head(b), 3, 0, 0);
+    CHECK(tsr_native_window_set(wa, 0, NULL, 0) == 0); /* forgets a's window 0 only */
+    tsr_call_Vertex3f(tsr_chain_head(a), 0, 0, 0);
+    tsr_call_Vertex3f(tsr_chain_head(b), 0, 0, 0);
+    CHECK_JOURNAL("native_sub#1.native_reader: window 0 is 0x200002 on ':5'",
+                  "native_reader#1: window 0 is 0x400004 on ':7'", "native_sub#1.native_reader: window 3 unknown",
+                  "native_reader#1: window 3 is 0x400009 on ''", "native_sub#1.native_reader: window 0 unknown",
+                  "native_reader#1: window 0 is 0x400004 on ':7'");
+    tsr_chain_destroy(a);
+    journal_reset();
+    tsr_call_Vertex3f(tsr_chain_head(b), 0, 0, 0);
+    CHECK_JOURNAL("native_reader#1: window 0 is 0x400004 on ':7'");
+    tsr_chain_destroy(b);
+    /* Without a table (an SPU created outside a chain): nothing is found. */
+    CHECK(tsr_native_window_get(NULL, 0, NULL, 0, NULL) == 0);
+    CHECK(tsr_native_window_set(NULL, 0, ":5", 1) == -1);
+}
+
 static const spu_test_case tests[] = {
     {"spu_chain_inheritance", test_inheritance},
     {"spu_chain_super_options_accepted", test_super_options_accepted},
@@ -507,6 +585,7 @@ static const spu_test_case tests[] = {
     {"spu_chain_links_text_reads_back", test_links_text_reads_back},
     {"spu_chain_unset_slots_reach_child", test_unset_slots_reach_child},
     {"spu_passthrough_verbose_option", test_passthrough_verbose_option},
+    {"spu_chain_native_windows_per_chain", test_native_windows_per_chain},
 };
 
 SPU_TEST_MAIN(tests)
