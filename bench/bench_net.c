@@ -37,7 +37,7 @@
 #include <GL/gl.h>
 
 #include "tessera/dev/client.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/dev/pack.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/dispatch.h"

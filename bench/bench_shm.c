@@ -1,6 +1,6 @@
 /* bench/bench_shm.c — how fast image-sized messages cross between two
  * threads of netlib connections on one host: through the shared-memory
- * ring of a Unix-socket connection (netlib/net.h, SHARED MEMORY; the
+ * ring of a Unix-socket connection (tessera/dev/net.h, SHARED MEMORY; the
  * sender builds each message in the ring with tsr_net_send_reserve/commit,
  * the receiver copies it out of its mapping), through the same Unix socket
  * without the ring (the sender builds it in its own buffer, tsr_net_send,
@@ -19,7 +19,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 
 #define MESSAGE (8u << 20) /* about a 1920x1080 RGBA8 + depth strip pair */
 

@@ -13,7 +13,7 @@
 #include "commands.h"
 #include "mothership.h"
 #include "control.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "node.h"
 #include "tessera/dev/unpack.h"
 

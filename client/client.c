@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "join.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/dev/pack.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/log.h"
@@ -243,7 +243,7 @@ static int client_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *e
     if (c->count == 1) {
         /* One server: tsr_net_send writes straight from the packer's buffer
          * when the connection's write side is idle, and copies it (into a
-         * reused buffer) only when it must wait (netlib/net.h SENDING). */
+         * reused buffer) only when it must wait (tessera/dev/net.h SENDING). */
         c->buffers++;
         if (c->join)
             tsr_node_join_observe(c->join, buf, size);

@@ -48,7 +48,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/error.h"
 
 #ifdef __cplusplus

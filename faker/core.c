@@ -43,7 +43,6 @@
 #include <xcb/xcb.h>
 
 #include "faker_gl.h"
-#include "spu/glapi_internal.h"
 #include "tessera/chain.h"
 #include "tessera/dev/native.h"
 #include "tessera/glapi.h"
@@ -193,7 +192,7 @@ static void chain_at_exit(void)
     faker_stream *list = streams;
     streams = NULL;
     pthread_mutex_unlock(&lock);
-    tsr_gl_current_table = NULL;
+    tsr_gl_make_current(NULL);
     while (list) {
         faker_stream *next = list->next;
         tsr_chain_destroy(list->chain);
@@ -454,7 +453,7 @@ static void go_locked_locked(tsr_faker_context *c)
     c->locked_now = true;
     if (c->current_on && cur_ctx == c) {
         c->stream->direct_threads--;
-        tsr_gl_current_table = &c->locked;
+        tsr_gl_make_current(&c->locked);
         pthread_cond_broadcast(&switched);
     }
 }
@@ -908,7 +907,7 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         cur_ctx = NULL;
         cur_surface = NULL;
         cur_window = NULL;
-        tsr_gl_current_table = NULL;
+        tsr_gl_make_current(NULL);
         pthread_cond_broadcast(&switched);
         pthread_mutex_unlock(&lock);
         return true;
@@ -947,7 +946,7 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
     cur_ctx = ctx;
     cur_surface = draw;
     cur_window = w;
-    tsr_gl_current_table = table_of(ctx);
+    tsr_gl_make_current(table_of(ctx));
     pthread_cond_broadcast(&switched);
     pthread_mutex_unlock(&lock);
     return true;

@@ -24,7 +24,7 @@
 #include "tessera/chain.h"
 #include "tessera/dev/util.h"
 #include "mothership.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "node.h"
 #include "control.h"
 #include "util.h"

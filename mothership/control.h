@@ -1,5 +1,5 @@
 /* mothership/control.h — the control messages the mothership and its
- * nodes exchange over one netlib connection per node (netlib/net.h: the
+ * nodes exchange over one netlib connection per node (tessera/dev/net.h: the
  * connection, handshake with the run's token, and flow control are
  * netlib's). Owns: the message kinds and their fields (this comment
  * specifies them) and the key=value codec (mothership/ctl.c). Never: puts

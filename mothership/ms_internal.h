@@ -15,7 +15,7 @@
 
 #include "control.h"
 #include "mothership.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/spu.h"
 
 #define POLL_MS 20

@@ -19,7 +19,7 @@
 
 #include "tessera/dev/util.h"
 #include "ms_internal.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "control.h"
 #include "tessera/spu.h"
 #include "util.h"

@@ -14,7 +14,7 @@
 #include <sys/un.h>
 #include <uv.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 
 #define NET_CONTROL_MAX 4096      /* largest control payload accepted */
 #define NET_STAGING_BYTES 65536   /* per-connection socket read buffer */

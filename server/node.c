@@ -17,7 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/chain.h"
 #include "tessera/log.h"

@@ -98,7 +98,7 @@ typedef enum tsr_node_cost_source {
 } tsr_node_cost_source;
 
 typedef struct tsr_node_config {
-    const char *listen; /* netlib address (netlib/net.h); tcp://...:0 picks a free port */
+    const char *listen; /* netlib address (tessera/dev/net.h); tcp://...:0 picks a free port */
     const char *chain;  /* chain text, "{client}" replaced by the client's number */
     /* Or the chain as links (a graph run's: mothership/control.h), used when
      * `chain` is NULL; "{client}" in a value is replaced likewise. Copied. */
@@ -116,7 +116,7 @@ typedef struct tsr_node_config {
                                for stopped or dead, dropped and named; 0 = no limit.
                                Silence is not being busy: a client's stream client
                                answers heartbeats from its I/O thread while the
-                               application computes (netlib/net.h, idle_timeout_ms). */
+                               application computes (tessera/dev/net.h, idle_timeout_ms). */
     tsr_node_mode mode;       /* TSR_NODE_SHARED (0, the default) or TSR_NODE_INDEPENDENT */
     /* Each client's budget (server/README.md, "Budgets"): what its stream
      * may make the node do, enforced by its unpacker (tessera/dev/unpack.h):

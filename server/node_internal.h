@@ -7,7 +7,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "node.h"
 #include "tessera/chain.h"
 #include "tessera/dev/unpack.h"

@@ -3,8 +3,8 @@
 #  * api_headers_self_contained: every installed header compiles alone,
 #    includes only installed headers, by path;
 #  * api_exports_match_headers: libtessera, libtessera_client,
-#    libtessera_graph and libtessera_gl export exactly what the installed
-#    headers declare (nm -D against the headers' declarations);
+#    libtessera_graph, libtessera_gl and libtessera_net export exactly what
+#    the installed headers declare (nm -D against the headers' declarations);
 #  * api_pkgconfig_libraries: tessera.pc lists libtessera_client,
 #    tessera-graph.pc the graph model, and only the graph model links libyaml.
 # The out-of-tree template SPU is spu_template_out_of_tree (tests/spu.cmake).

@@ -12,3 +12,11 @@ set_tests_properties(format_tree_matches_clang_format PROPERTIES TIMEOUT 300 LAB
 add_test(NAME tree_source_files_at_most_1000_lines
          COMMAND bash ${CMAKE_SOURCE_DIR}/tests/format/file_sizes.sh ${CMAKE_SOURCE_DIR})
 set_tests_properties(tree_source_files_at_most_1000_lines PROPERTIES TIMEOUT 60 LABELS format)
+
+# No folder includes another folder's private header: a header used across
+# folders is installed (include/tessera/) or moved. The script lists the
+# few internal static libraries' interfaces it allows, with their reasons,
+# and every offender.
+add_test(NAME tree_private_headers_stay_in_their_folder
+         COMMAND bash ${CMAKE_SOURCE_DIR}/tests/format/private_headers.sh ${CMAKE_SOURCE_DIR})
+set_tests_properties(tree_private_headers_stay_in_their_folder PROPERTIES TIMEOUT 120 LABELS format)

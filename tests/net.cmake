@@ -1,4 +1,4 @@
-# tests/net.cmake — netlib (netlib/net.h) over real sockets, threads and
+# tests/net.cmake — netlib (tessera/dev/net.h) over real sockets, threads and
 # processes. Included by tests/CMakeLists.txt.
 set(NET_TEST_SRC ${CMAKE_CURRENT_SOURCE_DIR}/net)
 add_executable(net_test ${NET_TEST_SRC}/net_test.c)

@@ -19,7 +19,7 @@
 /* Unix-domain socket paths must fit sockaddr_un.sun_path (108 on Linux). */
 #define UNIX_PATH_LIMIT 108
 /* A tcp listen HOST must fit netlib's parsed address (TSR_NET_ADDRESS_MAX,
- * netlib/net.h), or the node refuses what check accepted. */
+ * tessera/dev/net.h), or the node refuses what check accepted. */
 #define LISTEN_HOST_LIMIT 160
 /* execve refuses one argument of 32 pages or more (Linux's MAX_ARG_STRLEN). */
 #define EXEC_ARG_LIMIT 131072

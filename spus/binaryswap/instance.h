@@ -15,7 +15,7 @@
 
 #include "bands.h"
 #include "display_stream.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "roi.h"
 #include "stats.h"
 #include "strategy.h"

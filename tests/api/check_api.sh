@@ -39,14 +39,15 @@ lib_of_header() {
     case $1 in
     tessera/graph.h) echo tessera_graph ;;
     tessera/dev/client.h) echo tessera_client ;;
+    tessera/dev/net.h) echo tessera_net ;;
     tessera/glapi.h | tessera/gltsr_gen.h) echo tessera_gl ;;
     *) echo tessera ;;
     esac
 }
-# The installed libraries checked. libtessera_net (the network library
-# shared by libtessera_client and the tessera program) has no installed
-# header: SPUs reach the network through tessera/dev/client.h only.
-checked_libs="tessera tessera_client tessera_graph tessera_gl"
+# The installed libraries checked. libtessera_net (tessera/dev/net.h) is
+# the network under libtessera_client, the tessera program and SPUs that
+# talk to their peers themselves.
+checked_libs="tessera tessera_client tessera_graph tessera_gl tessera_net"
 
 headers_of() { (cd "$1/include" && find tessera -name '*.h' | sort); }
 

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 /* Measure live memory, not ASan's quarantine of freed blocks (which holds

@@ -23,7 +23,7 @@
 
 #include <sodium.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 
 /* A failed check ends the program: the helpers below return nothing to
  * check, and later steps need the sockets and peers the earlier ones made. */

@@ -26,7 +26,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/dev/pack.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/dev/wire.h"

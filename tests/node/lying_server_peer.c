@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/chain.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/dev/unpack.h"

@@ -26,7 +26,7 @@
 
 #include <GL/gl.h>
 
-#include "net.h"
+#include "tessera/dev/net.h"
 #include "tessera/dev/protocol.h"
 #include "tessera/chain.h"
 #include "tessera/glapi.h"

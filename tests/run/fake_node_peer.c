@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "control.h"
-#include "net.h"
+#include "tessera/dev/net.h"
 
 static int send_ctl(tsr_net_conn *conn, unsigned kind, tsr_ctl_out *out, tsr_error *err)
 {

@@ -1,9 +1,10 @@
-/* netlib/net.h — message connections over TCP, Unix-domain sockets and an
- * in-process transport, with a handshake and credit-based flow control.
+/* tessera/dev/net.h — message connections over TCP, Unix-domain sockets
+ * and an in-process transport, with a handshake and credit-based flow
+ * control: libtessera_net (pkg-config tessera), the network under the
+ * stream client (tessera/dev/client.h), the server node, the mothership
+ * and SPUs that talk to their peers themselves (sort-last compositing).
  * Owns: the connection API, the netlib wire protocol (specified below) and
- * the I/O thread that runs one libuv loop per tsr_net. Not installed (the
- * library is, for libtessera_client): its users are the stream client
- * (client/), the server node (server/) and the mothership; symbols are
+ * the I/O thread that runs one libuv loop per tsr_net; symbols are
  * tsr_net_*.
  * Never: exits or aborts on bad input or a bad peer, allocates what a peer
  * announces before checking it against the limit, or blocks without a bound
@@ -167,8 +168,8 @@
  * error naming the peer (it crashed, was killed, or was cut off).
  * tsr_net_destroy() closes everything left, then joins the I/O thread.
  */
-#ifndef TESSERA_NETLIB_NET_H
-#define TESSERA_NETLIB_NET_H
+#ifndef TESSERA_DEV_NET_H
+#define TESSERA_DEV_NET_H
 
 #include <stddef.h>
 #include <stdint.h>
