@@ -165,7 +165,11 @@ static int node_with_mothership(const char *mothership, const char *name, const 
 {
     tsr_agent_config cfg = {.name = name, .rank = -1, .token = token, .bind = bind};
     char address[256];
-    tsr_ms_address(mothership, address, sizeof address);
+    tsr_error bad;
+    if (tsr_net_address_normalise(mothership, address, sizeof address, &bad) != TSR_OK) {
+        fprintf(stderr, "tessera node: --mothership: %s\n", bad.message);
+        return TSR_EXIT_USAGE;
+    }
     cfg.mothership = address;
     if (name && rank_text) {
         fprintf(stderr, "tessera node: --name and --rank exclude each other\n");

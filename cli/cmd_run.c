@@ -17,6 +17,7 @@
 #include "mothership.h"
 #include "control.h"
 #include "util.h"
+#include "tessera/dev/net.h"
 
 
 static void run_usage(FILE *out)
@@ -336,7 +337,12 @@ static int run_graph(int argc, char **argv, int launch, const char *const *app_e
         token = run_token;
     }
     if (listen) {
-        tsr_ms_address(listen, listen_buf, sizeof listen_buf);
+        tsr_error err;
+        if (tsr_net_address_normalise(listen, listen_buf, sizeof listen_buf, &err) != TSR_OK) {
+            fprintf(stderr, "%s: --listen: %s\n", who, err.message);
+            tsr_graph_free(graph);
+            return TSR_EXIT_USAGE;
+        }
         listen = listen_buf;
     }
     struct sigaction sa;

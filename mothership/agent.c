@@ -243,9 +243,10 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
     char address[TSR_NET_ADDRESS_MAX];
     if (!listen || !*listen) {
         const char *host = a->cfg->bind && *a->cfg->bind ? a->cfg->bind : "127.0.0.1";
-        int v6 = strchr(host, ':') && host[0] != '[';
-        snprintf(address, sizeof address, "tcp://%s%s%s:%s", v6 ? "[" : "", host, v6 ? "]" : "",
-                 port && *port ? port : "0");
+        if (tsr_net_address_tcp(host, port && *port ? port : "0", address, sizeof address, err) != TSR_OK) {
+            send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
+            return 2;
+        }
         listen = address;
     }
     if (!strcmp(listen, "unix:")) {
@@ -253,14 +254,15 @@ static int run_server(agent *a, const tsr_ctl *cfg, tsr_error *err)
             send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
             return 1;
         }
-        char path[256];
-        snprintf(path, sizeof path, "%s/%s.sock", a->tmpdir, a->name);
-        if (strlen(path) >= 108) { /* sun_path */
-            tsr_error_set(err, TSR_EINVAL, "unix socket path %s is too long (a shorter TMPDIR helps)", path);
+        tsr_net_address place = {.transport = TSR_NET_UNIX};
+        int n = snprintf(place.path, sizeof place.path, "%s/%s.sock", a->tmpdir, a->name);
+        if (n < 0 || (size_t)n >= sizeof place.path ||
+            tsr_net_address_format(&place, address, sizeof address, NULL) != TSR_OK) {
+            tsr_error_set(err, TSR_EINVAL, "unix socket path %s/%s.sock is too long (a shorter TMPDIR helps)",
+                          a->tmpdir, a->name);
             send_done(a, 1, err->message, 0, NULL, &(tsr_error){0});
             return 1;
         }
-        snprintf(address, sizeof address, "unix:%.107s", path);
         listen = address;
     }
     /* links=later: the chain comes once the peers listen (control.h). */

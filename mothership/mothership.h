@@ -113,7 +113,4 @@ typedef struct tsr_agent_config {
  * configuration. */
 int tsr_agent_run(const tsr_agent_config *config, tsr_error *err);
 
-/* "HOST:PORT" → "tcp://HOST:PORT"; netlib addresses pass unchanged. */
-void tsr_ms_address(const char *text, char *out, size_t size);
-
 #endif

@@ -241,14 +241,16 @@ int ms_add_links(ms *m, const ms_node *n, tsr_ctl_out *out, tsr_error *err)
  * (loopback unless its --bind says otherwise). */
 static void add_listen(tsr_ctl_out *out, const tsr_graph_node *g)
 {
-    if (g->transport == TSR_TRANSPORT_UNIX)
-        tsr_ctl_addf(out, "listen", "unix:%s", g->listen ? g->listen : "");
-    else if (!g->listen)
-        tsr_ctl_add(out, "listen_port", "0");
-    else if (!strchr(g->listen, ':'))
-        tsr_ctl_add(out, "listen_port", g->listen);
-    else
-        tsr_ctl_addf(out, "listen", "tcp://%s", g->listen);
+    tsr_net_transport transport = g->transport == TSR_TRANSPORT_UNIX ? TSR_NET_UNIX : TSR_NET_TCP;
+    tsr_net_address place = {.transport = transport};
+    char text[TSR_NET_ADDRESS_MAX];
+    /* The graph was checked (netlib checked each place), so this parses. */
+    if (g->listen && tsr_net_listen_spec_parse("listen", g->listen, transport, &place, NULL) != TSR_OK)
+        return;
+    if (transport == TSR_NET_TCP && !place.host[0])
+        tsr_ctl_addf(out, "listen_port", "%u", place.port);
+    else if (tsr_net_address_format(&place, text, sizeof text, NULL) == TSR_OK)
+        tsr_ctl_add(out, "listen", text);
 }
 
 int ms_send_ctl(tsr_net_conn *conn, unsigned kind, tsr_ctl_out *out, tsr_error *err)

@@ -77,11 +77,3 @@ char **tsr_ms_environ(const char *const *changes)
     env[used] = NULL;
     return env;
 }
-
-void tsr_ms_address(const char *text, char *out, size_t size)
-{
-    if (!strncmp(text, "tcp://", 6) || !strncmp(text, "unix:", 5) || !strncmp(text, "inproc:", 7))
-        snprintf(out, size, "%s", text);
-    else
-        snprintf(out, size, "tcp://%s", text);
-}

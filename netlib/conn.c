@@ -134,7 +134,7 @@ static void free_msg_list(net_msg **head, net_msg **tail)
         *tail = NULL;
 }
 
-tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, const char *address)
+tsr_net_conn *net_conn_new(tsr_net *net, tsr_net_transport t, bool is_server, const char *address)
 {
     tsr_net_conn *c = calloc(1, sizeof *c);
     if (!c)
@@ -147,7 +147,7 @@ tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, c
     net_cond_init(&c->cond);
     c->fd = -1;
     c->state = is_server ? NET_HANDSHAKE : NET_CONNECTING;
-    c->io_ref = t != NET_INPROC;
+    c->io_ref = t != TSR_NET_INPROC;
     c->next_all = net->conns;
     if (net->conns)
         net->conns->prev_all = c;
@@ -233,8 +233,8 @@ int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err)
 /* One connection attempt to one resolved address (NULL for unix). Sets
  * *reached when the socket connected (so a later failure was the peer's
  * answer, not an unreachable address worth trying the next one for). */
-static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char *address, const struct addrinfo *ai,
-                                  bool *reached, tsr_error *err)
+static tsr_net_conn *connect_once(tsr_net *net, const tsr_net_address *a, const char *address,
+                                  const struct addrinfo *ai, bool *reached, tsr_error *err)
 {
     net_op op = {.kind = NET_OP_CONNECT, .address = a};
     if (ai)
@@ -287,17 +287,17 @@ static tsr_net_conn *connect_once(tsr_net *net, const net_address *a, const char
 
 tsr_net_conn *tsr_net_connect(tsr_net *net, const char *address, tsr_error *err)
 {
-    net_address a;
-    if (net_address_parse(address, &a, err))
+    tsr_net_address a;
+    if (tsr_net_address_parse(address, &a, err))
         return NULL;
-    if (a.transport == NET_INPROC) {
+    if (a.transport == TSR_NET_INPROC) {
         pthread_mutex_lock(&net->lock);
         tsr_net_conn *c = net_inproc_connect(net, &a, err);
         pthread_mutex_unlock(&net->lock);
         return c;
     }
     bool reached;
-    if (a.transport == NET_UNIX)
+    if (a.transport == TSR_NET_UNIX)
         return connect_once(net, &a, address, NULL, &reached, err);
     if (!a.host[0]) {
         tsr_error_set(err, TSR_EINVAL, "net: cannot connect to %s: no host given", address);
@@ -441,12 +441,12 @@ void tsr_net_msg_release(tsr_net_msg *msg)
     net_msg *credit = NULL;
     if (!c->close_requested && c->state == NET_OPEN) {
         c->credits_to_return++;
-        if (c->transport == NET_INPROC)
+        if (c->transport == TSR_NET_INPROC)
             net_inproc_return_credits(c);
         else if (!return_credits_direct(c, &credit))
             net_mark_dirty(c);
     }
-    if (c->transport != NET_INPROC)
+    if (c->transport != TSR_NET_INPROC)
         keep_spare(c, m); /* before maybe_free, which frees the spares with c */
     net_conn_maybe_free(c);
     pthread_mutex_unlock(&net->lock);
@@ -459,10 +459,10 @@ const char *tsr_net_conn_peer_name(const tsr_net_conn *c) { return c->peer_name;
 const char *tsr_net_conn_transport(tsr_net_conn *c)
 {
     pthread_mutex_lock(&c->net->lock);
-    const char *t = c->transport == NET_TCP      ? "tcp"
-                    : c->transport == NET_INPROC ? "inproc"
-                    : c->tx.map                  ? "unix+shm"
-                                                 : "unix";
+    const char *t = c->transport == TSR_NET_TCP      ? "tcp"
+                    : c->transport == TSR_NET_INPROC ? "inproc"
+                    : c->tx.map                      ? "unix+shm"
+                                                     : "unix";
     pthread_mutex_unlock(&c->net->lock);
     return t;
 }
@@ -550,7 +550,7 @@ void tsr_net_conn_close(tsr_net_conn *c)
         return;
     tsr_net *net = c->net;
     pthread_mutex_lock(&net->lock);
-    if (c->transport == NET_INPROC) {
+    if (c->transport == TSR_NET_INPROC) {
         net_inproc_close(c);
     } else {
         c->close_requested = true;

@@ -17,7 +17,7 @@ int conn_wait_until(pthread_cond_t *cond, pthread_mutex_t *lock, const struct ti
 int conn_unusable(const tsr_net_conn *c, const char *verb, tsr_error *err);
 
 /* conn_listen.c */
-int conn_resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
+int conn_resolve(const tsr_net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
                  tsr_error *err);
 
 #endif

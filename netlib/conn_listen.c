@@ -36,7 +36,7 @@ void net_listener_maybe_free(tsr_net_listener *l)
 
 /* Resolves a tcp address in the calling thread (bounded by the system
  * resolver's own time-outs). An empty host means loopback. */
-int conn_resolve(const net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
+int conn_resolve(const tsr_net_address *a, bool passive, struct addrinfo **out, const char *text, const char *verb,
                  tsr_error *err)
 {
     const char *host = a->host[0] ? a->host : "127.0.0.1";
@@ -56,8 +56,8 @@ int conn_resolve(const net_address *a, bool passive, struct addrinfo **out, cons
 
 tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *err)
 {
-    net_address a;
-    if (net_address_parse(address, &a, err))
+    tsr_net_address a;
+    if (tsr_net_address_parse(address, &a, err))
         return NULL;
     tsr_net_listener *l = calloc(1, sizeof *l);
     if (!l) {
@@ -70,7 +70,7 @@ tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *e
     net_cond_init(&l->cond);
     snprintf(l->address, sizeof l->address, "%s", address);
     net_op op = {.kind = NET_OP_LISTEN, .target = l, .address = &a};
-    if (a.transport == NET_TCP) {
+    if (a.transport == TSR_NET_TCP) {
         struct addrinfo *ai;
         if (conn_resolve(&a, true, &ai, address, "listen on", err)) {
             pthread_cond_destroy(&l->cond);
@@ -82,7 +82,7 @@ tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *e
     }
     pthread_mutex_lock(&net->lock);
     int rc;
-    if (a.transport == NET_INPROC) {
+    if (a.transport == TSR_NET_INPROC) {
         rc = net_inproc_listen(net, &a, l, err);
     } else {
         l->io_ref = true;
@@ -103,11 +103,11 @@ tsr_net_listener *tsr_net_listen(tsr_net *net, const char *address, tsr_error *e
 
 int tsr_net_address_is_local(const char *address, tsr_error *err)
 {
-    net_address a;
-    int rc = net_address_parse(address, &a, err);
+    tsr_net_address a;
+    int rc = tsr_net_address_parse(address, &a, err);
     if (rc)
         return rc;
-    if (a.transport != NET_TCP || !a.host[0])
+    if (a.transport != TSR_NET_TCP || !a.host[0])
         return 1;
     struct addrinfo *list;
     rc = conn_resolve(&a, true, &list, address, "listen on", err);
@@ -186,7 +186,7 @@ void tsr_net_listener_close(tsr_net_listener *l)
         c->listener = NULL;
         c->ready = false;
         l->pending--;
-        if (c->transport == NET_INPROC) {
+        if (c->transport == TSR_NET_INPROC) {
             net_inproc_close(c);
         } else {
             c->app_ref = false;
@@ -196,7 +196,7 @@ void tsr_net_listener_close(tsr_net_listener *l)
     }
     l->ready_tail = NULL;
     l->app_ref = false;
-    if (l->transport == NET_INPROC) {
+    if (l->transport == TSR_NET_INPROC) {
         net_listener_maybe_free(l);
     } else if (!net->stopping) {
         net_op op = {.kind = NET_OP_CLOSE_LISTENER, .target = l};

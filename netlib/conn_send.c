@@ -32,7 +32,7 @@ static void release_nothing(void *data, void *ctx)
  * queue. Returns a message written whole, to free after unlocking. */
 static net_msg *enqueue(tsr_net_conn *c, net_msg *m)
 {
-    if (c->transport == NET_INPROC) {
+    if (c->transport == TSR_NET_INPROC) {
         net_inproc_deliver(c, m);
         return NULL;
     }
@@ -266,8 +266,8 @@ static int send_msg(tsr_net_conn *c, unsigned kind, void *data, uint64_t len, vo
     m->data = data;
     m->release = release;
     m->release_ctx = ctx;
-    if (borrowed && !net_direct_possible(c)) {    /* it waits in a queue: copy it */
-        bool pooled = c->transport != NET_INPROC; /* an inproc copy becomes the peer's */
+    if (borrowed && !net_direct_possible(c)) {        /* it waits in a queue: copy it */
+        bool pooled = c->transport != TSR_NET_INPROC; /* an inproc copy becomes the peer's */
         m->data = pooled ? net_send_copy_alloc(c, len, &m->cap) : malloc(len ? (size_t)len : 1);
         m->copy = pooled;
         m->release = NULL; /* free() */

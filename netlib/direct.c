@@ -34,7 +34,7 @@
 
 bool net_direct_possible(const tsr_net_conn *c)
 {
-    return c->transport != NET_INPROC && c->fd >= 0 && c->io_ref && c->state == NET_OPEN && !c->close_requested &&
+    return c->transport != TSR_NET_INPROC && c->fd >= 0 && c->io_ref && c->state == NET_OPEN && !c->close_requested &&
            !c->handles_closing && !c->shutting_down && !c->direct_writer && !c->direct_awaited && !c->direct_rest &&
            !c->outbox_head && c->writes_in_flight == 0;
 }

@@ -11,12 +11,12 @@
 static tsr_net_listener *find_listener(tsr_net *net, const char *name)
 {
     for (tsr_net_listener *l = net->listeners; l; l = l->next)
-        if (l->transport == NET_INPROC && !l->closing && !strcmp(l->inproc_name, name))
+        if (l->transport == TSR_NET_INPROC && !l->closing && !strcmp(l->inproc_name, name))
             return l;
     return NULL;
 }
 
-int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err)
+int net_inproc_listen(tsr_net *net, const tsr_net_address *a, tsr_net_listener *l, tsr_error *err)
 {
     if (find_listener(net, a->name))
         return tsr_error_set(err, TSR_EINVAL, "net: cannot listen on inproc:%s: address already in use", a->name);
@@ -39,7 +39,7 @@ static void open_side(tsr_net_conn *c, tsr_net_conn *peer)
     snprintf(c->peer_name, sizeof c->peer_name, "%s", net->node_name);
 }
 
-tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *err)
+tsr_net_conn *net_inproc_connect(tsr_net *net, const tsr_net_address *a, tsr_error *err)
 {
     char address[TSR_NET_ADDRESS_MAX];
     snprintf(address, sizeof address, "inproc:%s", a->name);
@@ -57,8 +57,8 @@ tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *
     /* Both ends share this tsr_net's configuration, so the handshake's
      * version and token checks cannot fail here; credits and the message
      * limit still apply exactly as over a socket. */
-    tsr_net_conn *client = net_conn_new(net, NET_INPROC, false, address);
-    tsr_net_conn *server = client ? net_conn_new(net, NET_INPROC, true, address) : NULL;
+    tsr_net_conn *client = net_conn_new(net, TSR_NET_INPROC, false, address);
+    tsr_net_conn *server = client ? net_conn_new(net, TSR_NET_INPROC, true, address) : NULL;
     if (!server) {
         if (client)
             net_conn_maybe_free(client);

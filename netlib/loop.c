@@ -50,7 +50,7 @@ void net_wake(tsr_net *net) { uv_async_send(&net->wakeup); }
 
 void net_mark_dirty(tsr_net_conn *conn)
 {
-    if (conn->transport == NET_INPROC || !conn->io_ref)
+    if (conn->transport == TSR_NET_INPROC || !conn->io_ref)
         return;
     if (!conn->dirty) {
         conn->dirty = true;

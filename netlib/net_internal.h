@@ -43,16 +43,6 @@ enum net_wire_type {
 #define NET_SHM_RING_MIN (64u << 10)
 #define NET_SHM_RING_MAX ((uint64_t)16 << 30)
 
-enum net_transport { NET_TCP, NET_UNIX, NET_INPROC };
-
-/* A parsed address. `host` is empty for "tcp://:PORT". */
-typedef struct net_address {
-    enum net_transport transport;
-    char host[TSR_NET_ADDRESS_MAX];
-    unsigned port;
-    char path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* unix */
-    char name[TSR_NET_ADDRESS_MAX - 8];                     /* inproc */
-} net_address;
 
 /* Payload buffers kept for reuse (newest last). */
 typedef struct net_spares {
@@ -119,7 +109,7 @@ typedef enum net_conn_state {
 
 struct tsr_net_conn {
     tsr_net *net;
-    enum net_transport transport;
+    tsr_net_transport transport;
     bool is_server;
     char address[TSR_NET_ADDRESS_MAX];         /* the peer's address, for messages */
     char peer_name[TSR_NET_PEER_NAME_MAX + 1]; /* escaped (net_hello.name) */
@@ -234,7 +224,7 @@ struct tsr_net_conn {
 
 struct tsr_net_listener {
     tsr_net *net;
-    enum net_transport transport;
+    tsr_net_transport transport;
     char address[TSR_NET_ADDRESS_MAX];
     char unix_path[sizeof(((struct sockaddr_un *)0)->sun_path)]; /* bound by this listener */
     dev_t unix_dev;                                              /* ... and its identity, so that only */
@@ -263,7 +253,7 @@ typedef enum net_op_kind { NET_OP_LISTEN, NET_OP_CONNECT, NET_OP_CLOSE_LISTENER 
 typedef struct net_op {
     net_op_kind kind;
     void *target;
-    const net_address *address;
+    const tsr_net_address *address;
     struct sockaddr_storage sockaddr; /* resolved tcp address */
     bool done;
     int rc;
@@ -290,8 +280,7 @@ struct tsr_net {
 };
 
 /* address.c */
-int net_address_parse(const char *text, net_address *out, tsr_error *err);
-void net_address_format_sockaddr(const struct sockaddr *sa, enum net_transport t, char *out, size_t size);
+void net_address_format_sockaddr(const struct sockaddr *sa, tsr_net_transport t, char *out, size_t size);
 
 /* frame.c: header and handshake encoding */
 void net_header_encode(uint8_t out[TSR_NET_HEADER_BYTES], uint16_t version, uint8_t type, uint8_t flags, uint64_t len);
@@ -361,7 +350,7 @@ void net_io_maybe_finish(tsr_net *net);                /* (IO, L) close the loop
 int net_deadline(struct timespec *ts, int timeout_ms); /* 0 = no deadline */
 
 /* conn.c */
-tsr_net_conn *net_conn_new(tsr_net *net, enum net_transport t, bool is_server, const char *address);
+tsr_net_conn *net_conn_new(tsr_net *net, tsr_net_transport t, bool is_server, const char *address);
 void net_conn_maybe_free(tsr_net_conn *conn); /* (L) */
 void net_conn_signal(tsr_net_conn *conn);     /* (L) wake its waiters */
 /* (L) A failed write to a Unix socket whose peer has closed (EPIPE,
@@ -429,8 +418,8 @@ bool net_shm_fits(const tsr_net_conn *c, uint64_t len, uint64_t *pos);
 void net_shm_free(tsr_net_conn *c); /* unmaps both rings (conn free) */
 
 /* inproc.c: application threads, net->lock held */
-int net_inproc_listen(tsr_net *net, const net_address *a, tsr_net_listener *l, tsr_error *err);
-tsr_net_conn *net_inproc_connect(tsr_net *net, const net_address *a, tsr_error *err);
+int net_inproc_listen(tsr_net *net, const tsr_net_address *a, tsr_net_listener *l, tsr_error *err);
+tsr_net_conn *net_inproc_connect(tsr_net *net, const tsr_net_address *a, tsr_error *err);
 void net_inproc_deliver(tsr_net_conn *from, net_msg *m); /* send: move to peer inbox */
 void net_inproc_return_credits(tsr_net_conn *conn);
 void net_inproc_close(tsr_net_conn *conn);

@@ -193,7 +193,7 @@ static void handle_free(uv_handle_t *h) { free(h); }
 static int take_fd(tsr_net_conn *c, uv_pipe_t **out)
 {
     *out = NULL;
-    if (c->transport != NET_UNIX || uv_pipe_pending_count(&c->h.pipe) < 1)
+    if (c->transport != TSR_NET_UNIX || uv_pipe_pending_count(&c->h.pipe) < 1)
         return -1;
     uv_pipe_t *h = malloc(sizeof *h);
     if (!h || uv_pipe_init(&c->net->loop, h, 0) != 0) {
@@ -255,7 +255,7 @@ int net_shm_ring_received(tsr_net_conn *c, const net_msg *m)
 
 int net_shm_check_stray_fds(tsr_net_conn *c)
 {
-    if (c->transport != NET_UNIX || c->handles_closing)
+    if (c->transport != TSR_NET_UNIX || c->handles_closing)
         return 0;
     int pending = uv_pipe_pending_count(&c->h.pipe);
     /* Only the peer's one ring may be on its way. */

@@ -30,7 +30,7 @@
 
 bool net_write_met_closed_peer(tsr_net_conn *c, int uv_status)
 {
-    if (c->transport != NET_UNIX || (uv_status != UV_EPIPE && uv_status != UV_ECONNRESET) || c->saw_eof)
+    if (c->transport != TSR_NET_UNIX || (uv_status != UV_EPIPE && uv_status != UV_ECONNRESET) || c->saw_eof)
         return false;
     if (!c->peer_stopped_reading)
         tsr_log(TSR_LOG_DEBUG, "net: peer '%s' at %s closed its end: reading what it sent before", c->peer_name,
@@ -351,7 +351,7 @@ void net_io_service(tsr_net_conn *c)
 void net_io_stop(tsr_net *net)
 {
     for (tsr_net_listener *l = net->listeners; l; l = l->next)
-        if (l->transport != NET_INPROC && l->io_ref && !uv_is_closing(&l->h.handle))
+        if (l->transport != TSR_NET_INPROC && l->io_ref && !uv_is_closing(&l->h.handle))
             net_io_close_listener(l);
     for (tsr_net_conn *c = net->conns; c; c = c->next_all)
         if (c->io_ref && !c->handles_closing) {
@@ -389,7 +389,8 @@ int sock_init_stream(tsr_net *net, tsr_net_conn *c)
     /* An IPC pipe when shared memory may be negotiated: libuv then reads
      * with recvmsg and keeps descriptors the peer passes (shm.c). */
     int ipc = net->config.shm_ring_bytes ? 1 : 0;
-    int rc = c->transport == NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp) : uv_pipe_init(&net->loop, &c->h.pipe, ipc);
+    int rc =
+        c->transport == TSR_NET_TCP ? uv_tcp_init(&net->loop, &c->h.tcp) : uv_pipe_init(&net->loop, &c->h.pipe, ipc);
     if (rc)
         return rc;
     c->h.handle.data = c;
@@ -411,7 +412,7 @@ void net_io_connect(tsr_net *net, net_op *op)
     }
     sock_arm_timer(c);
     c->connect_req.data = c;
-    if (c->transport == NET_TCP) {
+    if (c->transport == TSR_NET_TCP) {
         uv_tcp_nodelay(&c->h.tcp, 1);
         rc = uv_tcp_connect(&c->connect_req, &c->h.tcp, (const struct sockaddr *)&op->sockaddr, on_connect);
     } else {

@@ -25,7 +25,7 @@
  * has the listener's address, so they count as one host). */
 static size_t host_len(const tsr_net_conn *c)
 {
-    const char *colon = c->transport == NET_TCP ? strrchr(c->address, ':') : NULL;
+    const char *colon = c->transport == TSR_NET_TCP ? strrchr(c->address, ':') : NULL;
     return colon ? (size_t)(colon - c->address) : strlen(c->address);
 }
 
@@ -159,11 +159,11 @@ static void on_connection(uv_stream_t *server, int status)
         goto out;
     }
     int rc = uv_accept(server, &c->h.stream);
-    if (!rc && l->transport == NET_TCP) {
+    if (!rc && l->transport == TSR_NET_TCP) {
         struct sockaddr_storage peer;
         int len = sizeof peer;
         if (!uv_tcp_getpeername(&c->h.tcp, (struct sockaddr *)&peer, &len))
-            net_address_format_sockaddr((struct sockaddr *)&peer, NET_TCP, c->address, sizeof c->address);
+            net_address_format_sockaddr((struct sockaddr *)&peer, TSR_NET_TCP, c->address, sizeof c->address);
         uv_tcp_nodelay(&c->h.tcp, 1);
     } /* a Unix-domain peer has no address of its own: it keeps the listener's */
     c->listener = l;
@@ -285,16 +285,16 @@ static int unix_path_prepare(const char *text, const char *path, tsr_error *err)
 void net_io_listen(tsr_net *net, net_op *op)
 {
     tsr_net_listener *l = op->target;
-    const net_address *a = op->address;
+    const tsr_net_address *a = op->address;
     const char *text = l->address;
-    int rc = l->transport == NET_TCP ? uv_tcp_init(&net->loop, &l->h.tcp) : uv_pipe_init(&net->loop, &l->h.pipe, 0);
+    int rc = l->transport == TSR_NET_TCP ? uv_tcp_init(&net->loop, &l->h.tcp) : uv_pipe_init(&net->loop, &l->h.pipe, 0);
     if (rc) {
         l->io_ref = false;
         op->rc = tsr_error_set(&op->err, TSR_EIO, "net: cannot listen on %s: %s", text, uv_strerror(rc));
         return;
     }
     l->h.handle.data = l;
-    if (l->transport == NET_TCP) {
+    if (l->transport == TSR_NET_TCP) {
         rc = uv_tcp_bind(&l->h.tcp, (const struct sockaddr *)&op->sockaddr, 0);
     } else {
         op->rc = unix_path_prepare(text, a->path, &op->err);
@@ -321,11 +321,11 @@ void net_io_listen(tsr_net *net, net_op *op)
         uv_close(&l->h.handle, on_listener_closed);
         return;
     }
-    if (l->transport == NET_TCP) {
+    if (l->transport == TSR_NET_TCP) {
         struct sockaddr_storage sa;
         int len = sizeof sa;
         if (!uv_tcp_getsockname(&l->h.tcp, (struct sockaddr *)&sa, &len))
-            net_address_format_sockaddr((struct sockaddr *)&sa, NET_TCP, l->address, sizeof l->address);
+            net_address_format_sockaddr((struct sockaddr *)&sa, TSR_NET_TCP, l->address, sizeof l->address);
     } else {
         snprintf(l->address, sizeof l->address, "unix:%s", a->path);
     }

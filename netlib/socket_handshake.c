@@ -62,7 +62,7 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h)
     uv_os_fd_t fd;
     if (uv_fileno(&c->h.handle, &fd) == 0) {
         c->fd = fd; /* application threads may write on it now (direct.c) */
-        if (c->transport == NET_UNIX) {
+        if (c->transport == TSR_NET_UNIX) {
             /* A Unix socket queues only ~200 KiB by default (wmem_default),
              * so a large message never went out in one direct write; TCP
              * sizes its buffers itself (setting them would stop that). The
@@ -81,7 +81,7 @@ static void handshake_done(tsr_net_conn *c, const net_hello *h)
  * socket when configured (net.h, SHARED MEMORY). */
 uint8_t sock_wanted_features(const tsr_net_conn *c)
 {
-    return c->transport == NET_UNIX && c->net->config.shm_ring_bytes ? NET_FEATURE_SHM : 0;
+    return c->transport == TSR_NET_UNIX && c->net->config.shm_ring_bytes ? NET_FEATURE_SHM : 0;
 }
 
 /* Server: the handshake succeeded (with the token proven, when this node

@@ -360,7 +360,7 @@ static void on_peer_eof(tsr_net_conn *c)
 #define NET_LOWAT_MAX (1u << 20)
 static void update_lowat(tsr_net_conn *c)
 {
-    if (c->transport != NET_TCP || c->fd < 0 || c->handles_closing)
+    if (c->transport != TSR_NET_TCP || c->fd < 0 || c->handles_closing)
         return;
     uint64_t left = c->partial ? c->partial->len - c->partial_fill : 1;
     int want = (int)(left < NET_LOWAT_MAX ? left : NET_LOWAT_MAX);

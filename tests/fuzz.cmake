@@ -147,7 +147,8 @@ target_link_libraries(fuzz_reply_seeds PRIVATE tessera)
 # The graph YAML loader (core/graph) with the SPU checks on.
 tsr_add_fuzz_target(graph
   FUZZ_SOURCES ${CMAKE_SOURCE_DIR}/core/graph/graph.c ${CMAKE_SOURCE_DIR}/core/graph/graph_events.c
-    ${CMAKE_SOURCE_DIR}/core/graph/graph_keys.c ${CMAKE_SOURCE_DIR}/core/graph/graph_rules.c ${tsr_fuzz_chain_sources}
+    ${CMAKE_SOURCE_DIR}/core/graph/graph_keys.c ${CMAKE_SOURCE_DIR}/core/graph/graph_rules.c
+    ${CMAKE_SOURCE_DIR}/core/graph/groups.c ${CMAKE_SOURCE_DIR}/netlib/address.c ${tsr_fuzz_chain_sources}
   INCLUDES ${CMAKE_SOURCE_DIR}/core/spu
   DEFINES ${tsr_fuzz_chain_defines}
   REPLAY_LIBS tessera_graph

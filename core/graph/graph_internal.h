@@ -13,16 +13,19 @@
 #include <stddef.h>
 #include <yaml.h>
 
+#include "tessera/dev/net.h"
 #include "tessera/graph.h"
 #include "tessera/spu.h"
 
-/* Unix-domain socket paths must fit sockaddr_un.sun_path (108 on Linux). */
-#define UNIX_PATH_LIMIT 108
-/* A tcp listen HOST must fit netlib's parsed address (TSR_NET_ADDRESS_MAX,
- * tessera/dev/net.h), or the node refuses what check accepted. */
-#define LISTEN_HOST_LIMIT 160
 /* execve refuses one argument of 32 pages or more (Linux's MAX_ARG_STRLEN). */
 #define EXEC_ARG_LIMIT 131072
+
+/* How netlib reads a node's listen place (tessera/dev/net.h): a unix
+ * socket path for unix, else a tcp place. */
+static inline tsr_net_transport graph_net_transport(tsr_transport t)
+{
+    return t == TSR_TRANSPORT_UNIX ? TSR_NET_UNIX : TSR_NET_TCP;
+}
 
 struct tsr_graph {
     char *file;

@@ -5,9 +5,7 @@
  * Owns nothing: what it copies lives in the model's allocation list.
  * Never: looks at another node (graph_rules.c does), names an SPU by
  * name (roles come from the SPU classes). */
-#include <arpa/inet.h>
 #include <ctype.h>
-#include <errno.h>
 #include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -617,45 +615,17 @@ int graph_parse_tiles(loader *l, tsr_graph_node *node, node_source *src, const y
     return TSR_OK;
 }
 
-/* "PORT", "HOST:PORT" or "[V6]:PORT" for tcp; a path for unix. */
+/* "PORT", "HOST:PORT" or "[V6]:PORT" for tcp; a path for unix: netlib
+ * checks it as the node's listener will (tessera/dev/net.h). */
 int graph_check_listen(loader *l, const tsr_graph_node *node, const yaml_node_t *v)
 {
-    const char *text = node->listen;
-    if (node->transport == TSR_TRANSPORT_UNIX) {
-        if (strlen(text) >= UNIX_PATH_LIMIT)
-            return graph_fail_at(l, v, TSR_EINVAL,
-                                 "node '%s': 'listen': unix socket path is %zu bytes, the limit is %d", node->name,
-                                 strlen(text), UNIX_PATH_LIMIT - 1);
-        return TSR_OK;
-    }
-    const char *port = text;
-    const char *colon = strrchr(text, ':');
-    if (text[0] == '[') {
-        const char *close = strchr(text, ']');
-        char v6[INET6_ADDRSTRLEN];
-        struct in6_addr probe;
-        if (!close || close[1] != ':' || close == text + 1 || (size_t)(close - text - 1) >= sizeof v6 ||
-            (snprintf(v6, sizeof v6, "%.*s", (int)(close - text - 1), text + 1), inet_pton(AF_INET6, v6, &probe) != 1))
-            return graph_fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': '%.80s' is not [IPv6]:PORT", node->name, text);
-        port = close + 2;
-    } else if (colon) {
-        if (colon == text || memchr(text, ':', (size_t)(colon - text)))
-            return graph_fail_at(l, v, TSR_EINVAL,
-                                 "node '%s': 'listen': '%.80s' is not HOST:PORT (write IPv6 as "
-                                 "[ADDR]:PORT)",
-                                 node->name, text);
-        if ((size_t)(colon - text) >= LISTEN_HOST_LIMIT)
-            return graph_fail_at(l, v, TSR_EINVAL, "node '%s': 'listen': the host is %zu bytes, the limit is %d",
-                                 node->name, (size_t)(colon - text), LISTEN_HOST_LIMIT - 1);
-        port = colon + 1;
-    }
-    char *end;
-    errno = 0;
-    long p = strtol(port, &end, 10);
-    if (!*port || *end || !isdigit((unsigned char)*port) || errno == ERANGE || p > 65535)
-        return graph_fail_at(l, v, TSR_EINVAL,
-                             "node '%s': 'listen': port '%.20s' in '%.80s' is not a number in [0, 65535]", node->name,
-                             port, text);
+    tsr_error err;
+    tsr_error_clear(&err);
+    char who[sizeof err.message];
+    snprintf(who, sizeof who, "node '%s': 'listen'", node->name);
+    tsr_net_address place;
+    if (tsr_net_listen_spec_parse(who, node->listen, graph_net_transport(node->transport), &place, &err) != TSR_OK)
+        return graph_fail_at(l, v, err.code, "%s", err.message);
     return TSR_OK;
 }
 

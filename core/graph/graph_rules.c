@@ -353,7 +353,7 @@ int graph_check_cycles(loader *l)
 typedef struct listen_key {
     const char *host;
     tsr_transport transport;
-    char place[UNIX_PATH_LIMIT];
+    char place[TSR_NET_UNIX_PATH_MAX + 1];
     char bind[256];
     size_t index;
 } listen_key;
@@ -395,15 +395,17 @@ static int check_listen_collisions(loader *l)
         k->host = node->host;
         k->transport = node->transport;
         k->index = i;
+        /* Checked already (graph_check_listen): netlib takes it apart. */
+        tsr_net_address a;
+        if (tsr_net_listen_spec_parse("listen", node->listen, graph_net_transport(node->transport), &a, NULL) != TSR_OK)
+            continue;
         if (node->transport == TSR_TRANSPORT_UNIX) {
-            snprintf(k->place, sizeof k->place, "%s", node->listen); /* < UNIX_PATH_LIMIT: graph_check_listen */
+            snprintf(k->place, sizeof k->place, "%s", a.path);
         } else {
-            const char *colon = strrchr(node->listen, ':');
-            long port = strtol(colon ? colon + 1 : node->listen, NULL, 10);
-            if (port == 0)
+            if (a.port == 0)
                 continue;
-            snprintf(k->place, sizeof k->place, "%ld", port);
-            snprintf(k->bind, sizeof k->bind, "%.*s", colon ? (int)(colon - node->listen) : 0, node->listen);
+            snprintf(k->place, sizeof k->place, "%u", a.port);
+            snprintf(k->bind, sizeof k->bind, "%s", a.host);
         }
         count++;
     }

@@ -358,6 +358,47 @@ TSR_API int tsr_net_conn_wait_returned(tsr_net_conn *conn, int timeout_ms, tsr_e
  * Messages still held by the application may be released later. */
 TSR_API void tsr_net_conn_close(tsr_net_conn *conn);
 
+/* ---- addresses (address.c) ------------------------------------------------
+ * Addresses are parsed, checked, printed and normalised here only: the
+ * graph model, the mothership and the programs call these rather than
+ * take text apart or build it themselves. */
+
+/* Bytes of a unix: socket path: sockaddr_un.sun_path less its NUL. */
+#define TSR_NET_UNIX_PATH_MAX 107
+
+typedef enum tsr_net_transport { TSR_NET_TCP, TSR_NET_UNIX, TSR_NET_INPROC } tsr_net_transport;
+
+/* An address taken apart. */
+typedef struct tsr_net_address {
+    tsr_net_transport transport;
+    char host[TSR_NET_ADDRESS_MAX];       /* tcp: name, IPv4 or IPv6 (no brackets); "" for tcp://:PORT */
+    unsigned port;                        /* tcp: 0..65535 */
+    char path[TSR_NET_UNIX_PATH_MAX + 1]; /* unix */
+    char name[TSR_NET_ADDRESS_MAX - 8];   /* inproc */
+} tsr_net_address;
+
+/* Parses `text` (ADDRESSES above; "unix:///p" is read as "unix:/p").
+ * Never resolves a name. Errors name the address and what is wrong. */
+TSR_API int tsr_net_address_parse(const char *text, tsr_net_address *out, tsr_error *err);
+/* Writes `a` as text: tcp://HOST:PORT (an IPv6 host in brackets),
+ * unix:PATH or inproc:NAME. TSR_EINVAL when it does not fit `size`. */
+TSR_API int tsr_net_address_format(const tsr_net_address *a, char *out, size_t size, tsr_error *err);
+/* tcp://HOST:PORT from a host (a name, IPv4, or IPv6 with or without
+ * brackets) and a port as text, unchecked: the listener or connector
+ * checks it. TSR_EINVAL when it does not fit `size`. */
+TSR_API int tsr_net_address_tcp(const char *host, const char *port, char *out, size_t size, tsr_error *err);
+/* An address as a user writes it on a command line: "HOST:PORT" becomes
+ * "tcp://HOST:PORT"; tcp://, unix: and inproc: addresses pass unchanged.
+ * TSR_EINVAL when it does not fit `size`. */
+TSR_API int tsr_net_address_normalise(const char *text, char *out, size_t size, tsr_error *err);
+/* A server's listen place as a graph file writes it: for tcp "PORT",
+ * "HOST:PORT" or "[IPV6]:PORT" (out->host "" for a bare PORT: the node
+ * picks the host), for unix a socket path. Checks what the node's
+ * listener would refuse, so a checked graph is not refused at run time;
+ * errors are one line beginning with `who`. */
+TSR_API int tsr_net_listen_spec_parse(const char *who, const char *spec, tsr_net_transport transport,
+                                      tsr_net_address *out, tsr_error *err);
+
 /* Deterministic bytes for stream position [offset, offset+len) of `seed`. */
 TSR_API void tsr_net_pattern_fill(void *dst, uint64_t offset, size_t len, uint64_t seed);
 /* FNV-1a 64 over `len` bytes, continuing from `hash` (start: TSR_NET_FNV_START). */
