@@ -5,7 +5,10 @@
  * (tilesort.c routes the other frame commands, Clear, Finish, barriers,
  * semaphores, the same way). The window's size places the tiles (and the
  * load balancer's first split); each swap closes the frame's statistics
- * and lets the load balancer re-split (bucket.c). glReadPixels is gathered
+ * and lets the load balancer re-split (bucket.c). Fixed pixel tiles are
+ * checked against the window at each swap and read of pixels, not when
+ * the window is made or resized: a program may open a small window and
+ * grow it before it draws. glReadPixels is gathered
  * from every server whose tiles meet the rectangle; with assemble= the
  * whole window is gathered so before each swap and written as a PNG.
  *
@@ -38,13 +41,26 @@ static void window_size(tilesort *t, GLsizei w, GLsizei h)
             tsr_stream_client_exit();
         }
     }
-    if (ts_tiling_window(&t->tiling, w, h, why, sizeof why) != 0) {
-        /* A wall cropped or misplaced without a word is worse than no
-         * wall: the application ends as on a failed server (on_error). */
-        tsr_log(TSR_LOG_ERROR, "%s: %s", t->name, why);
-        tsr_stream_client_exit();
-    }
+    /* Fixed tiles are checked against the window when a frame's pixels
+     * are used (tiles_fit), not here: a program may open a small window
+     * and resize it before it draws (glretrace opens 32x32 and resizes to
+     * the trace's size). */
+    t->tiles_misfit[0] = '\0';
+    if (ts_tiling_window(&t->tiling, w, h, why, sizeof why) != 0)
+        snprintf(t->tiles_misfit, sizeof t->tiles_misfit, "%s", why);
     t->tiling_version++;
+}
+
+/* At a swap or a read of pixels: fixed tiles reaching outside the window
+ * end the application. A wall cropped or misplaced without a word is
+ * worse than no wall: it ends as on a failed server (on_error), before
+ * any tile of the frame is shown or written. */
+static void tiles_fit(tilesort *t)
+{
+    if (!t->tiles_misfit[0])
+        return;
+    tsr_log(TSR_LOG_ERROR, "%s: %s", t->name, t->tiles_misfit);
+    tsr_stream_client_exit();
 }
 
 /* A window command goes to every server at once; the window's size then
@@ -73,6 +89,7 @@ void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
  * from the first server's answer. */
 static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)
 {
+    tiles_fit(t);
     ts_flush_geometry(t);
     const tsr_pixel_modes *pack = &tsr_state_values_of(t->ctx)->pixel_store.pack;
     tsr_pixel_layout l;
@@ -160,6 +177,7 @@ static void assemble_frame(tilesort *t)
 void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     tilesort *t = self;
+    tiles_fit(t);
     ts_flush_geometry(t);
     assemble_frame(t);
     t->broadcast_next = 1;

@@ -119,6 +119,10 @@ typedef struct tilesort {
     /* window and frames */
     int win_w, win_h;
     int grid_cols, grid_rows; /* option grid: tiles follow the window; 0: fixed tiles */
+    /* fixed tiles reaching outside the window: why (empty: they fit). The
+     * application ends at the next swap or read of pixels if the window
+     * has not grown to them by then (frame.c). */
+    char tiles_misfit[400];
     uint64_t frames;
     /* statistics: the stream packed once, and bytes per server per frame */
     uint64_t stream_bytes;
