@@ -11,14 +11,21 @@ got: glGet*, glGetError, glReadPixels, ...) is then replayed with
 program and no X server. The replay compares each answer render gives
 with the recorded one. A test holds when its capture run passes, the
 replay ends cleanly with 0 differing answers, and the capture holds at
-least one glReadPixels reply (the picture the program judged).
+least one glReadPixels reply (the picture the program judged). A program
+whose stream has no glReadPixels call at all (API tests: errors, limits,
+queries; `tessera replay --info` counts the calls) has no picture to
+hold: it is judged by its other answers, and counted and named apart
+("reads no pixels").
 
-A capture run that fails where tests/piglit/open.tsv names the test under
-render (capture stands in front of render, so render's cause is the
-cause), or where tests/piglit/capture-open.tsv names it (failures of the
-capture or the replay known and not fixed yet), is OPEN, counted apart;
-any other failure fails the sweep. A capture an OPEN run still wrote is
-replayed too, and must replay with 0 differing answers.
+A test tests/piglit/open.tsv names under render is not run through
+capture: capture stands in front of render, so render's cause would be
+the cause; it is reported OPEN with that cause, counted apart, and runs
+again as soon as its line goes (one of them, max-texture-size, would
+write a 4 GiB capture before failing). A capture run that fails where
+tests/piglit/capture-open.tsv names the test (failures of the capture or
+the replay known and not fixed yet) is OPEN too; any other failure fails
+the sweep. A capture an OPEN run still wrote is replayed, and must replay
+with 0 differing answers.
 
 Each run's output, standard error and CPU time go to
 OUT/runs/NAME/{native,capture,replay}.*, the capture to
@@ -53,6 +60,7 @@ sys.path.insert(0, HERE)
 import choose as piglit_select  # noqa: E402  (tests/piglit/choose.py)
 import sweep  # noqa: E402  (tests/piglit/sweep.py: start_xvfb, run_one, safe)
 
+READ_PIXELS_CALLS = re.compile(r"^  glReadPixels +(\d+)$", re.M)
 ANSWERS = re.compile(r"^tessera replay: .*: answers: (\d+) compared, (\d+) differ(?:; by request: (.*))?$", re.M)
 GRAPHS = ("capture", "replay")
 
@@ -112,6 +120,11 @@ def replay(tessera, capfile, run_dir, timeout):
     code = None if status is None else (-os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status))
     m = ANSWERS.search(text)
     res = {"compared": 0, "differ": 0, "readpixels": 0, "cpu": ru.ru_utime + ru.ru_stime}
+    # the calls the program made (--info decodes the stream, draws nothing)
+    info = subprocess.run([tessera, "replay", "--info", capfile], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True, timeout=timeout)
+    calls = READ_PIXELS_CALLS.search(info.stdout)
+    res["readpixels_calls"] = int(calls.group(1)) if calls else 0
     if m:
         res["compared"], res["differ"] = int(m.group(1)), int(m.group(2))
         res["readpixels"] = by_request(m.group(3)).get("glReadPixels", 0)
@@ -121,6 +134,8 @@ def replay(tessera, capfile, run_dir, timeout):
         res["status"] = "crash (signal %d)" % -code
     elif not m:
         res["status"] = "no answers line (exit %d)" % code
+    elif info.returncode != 0:
+        res["status"] = "--info: %s" % info.stdout.strip().splitlines()[-1:]
     elif res["differ"]:
         res["status"] = "%d of %d answers differ" % (res["differ"], res["compared"])
     elif code != 0:
@@ -210,7 +225,7 @@ def run_all(a, tests, total, shard_i, shard_n, known, out, display, t_start):
         os.makedirs(d)
         res = {"native": None, "capture": None, "replay": None}
         res["native"], cpu = sweep.run_one(argv, env, d, a.timeout, os.path.join(d, "native"))
-        if res["native"] == "pass":
+        if res["native"] == "pass" and (name, "render") not in known:
             run_dir = os.path.join(d, "capture")
             capfile = os.path.join(run_dir, "run.tsrcap")
             chain = "capture file=%s ! render output=%s" % (capfile, os.path.join(run_dir, "f-%04d.png"))
@@ -220,10 +235,14 @@ def run_all(a, tests, total, shard_i, shard_n, known, out, display, t_start):
             if os.path.exists(capfile):
                 res["replay"] = replay(a.tessera, capfile, d, a.timeout)
                 cpu += res["replay"]["cpu"]
-                holds = res["capture"] == "pass" and res["replay"]["status"] == "ok" \
-                    and res["replay"]["readpixels"] > 0
+                rp = res["replay"]
+                holds = res["capture"] == "pass" and rp["status"] == "ok" \
+                    and (rp["readpixels"] > 0 or rp["readpixels_calls"] == 0)
                 if holds and not a.keep:
                     os.remove(capfile)
+            for f in os.listdir(run_dir):  # a killed run's temporary (spus/capture/README.md)
+                if f.startswith(".run.tsrcap.tmp-"):
+                    os.remove(os.path.join(run_dir, f))
         with lock:
             cpu_total[0] += cpu
             rows.append((name, res))
@@ -242,15 +261,16 @@ def run_all(a, tests, total, shard_i, shard_n, known, out, display, t_start):
 def report(a, rows, total, shard_i, shard_n, known, out, cpu, t_start):
     rows.sort()
     lines, failures, opened, stale = [], [], [], []
-    n = {"native": 0, "captured": 0, "capture_pass": 0, "replayed": 0, "held": 0}
+    n = {"native": 0, "render_open": 0, "captured": 0, "capture_pass": 0, "replayed": 0, "held": 0, "no_pixels": 0}
+    no_pixels = []
     answers = differ = readpixels = 0
     with open(os.path.join(out, "results.tsv"), "w") as f:
-        f.write("name\tnative\tcapture\treplay\tanswers\tdiffer\tglReadPixels\n")
+        f.write("name\tnative\tcapture\treplay\tanswers\tdiffer\tglReadPixels replies\tglReadPixels calls\n")
         for name, res in rows:
             rp = res["replay"] or {}
             f.write("\t".join([name, res["native"], res["capture"] or "-", rp.get("status", "-"),
                                str(rp.get("compared", 0)), str(rp.get("differ", 0)),
-                               str(rp.get("readpixels", 0))]) + "\n")
+                               str(rp.get("readpixels", 0)), str(rp.get("readpixels_calls", 0))]) + "\n")
             if res["native"] != "pass":
                 lines.append("excluded: %s: fails natively on this X server (%s)" % (name, res["native"]))
                 continue
@@ -263,17 +283,26 @@ def report(a, rows, total, shard_i, shard_n, known, out, cpu, t_start):
                 differ += rp["differ"]
                 readpixels += rp["readpixels"]
             why = None
+            if res["capture"] is None:
+                opened.append("OPEN: %s: not captured, fails under render (%s)" % (name, known[(name, "render")]))
+                n["render_open"] += 1
+                continue
             if res["capture"] != "pass":
                 why = "capture run: %s" % res["capture"]
             elif not rp:
                 why = "no capture file"
             elif rp["status"] != "ok":
                 why = "replay: %s" % rp["status"]
-            elif rp["readpixels"] == 0:
-                why = "replay: no glReadPixels reply among its %d answers" % rp["compared"]
+            elif rp["readpixels"] == 0 and rp["readpixels_calls"] > 0:
+                why = "replay: %d glReadPixels calls, no reply among its %d answers" % (rp["readpixels_calls"],
+                                                                                        rp["compared"])
             listed = known.get((name, "capture")) or known.get((name, "replay")) or known.get((name, "render"))
             if why is None:
                 n["held"] += 1
+                if rp["readpixels_calls"] == 0:
+                    n["no_pixels"] += 1
+                    no_pixels.append("reads no pixels: %s: judged by its %d other answers"
+                                     % (name, rp["compared"]))
                 if known.get((name, "capture")) or known.get((name, "replay")):
                     stale.append("note: %s holds through capture and replay now: its line in capture-open.tsv "
                                  "can go" % name)
@@ -282,13 +311,13 @@ def report(a, rows, total, shard_i, shard_n, known, out, cpu, t_start):
             else:
                 failures.append("FAIL: %s: %s (passes natively; %s)"
                                 % (name, why, os.path.join(out, "runs", sweep.safe(name))))
-    for line in lines + opened + stale + failures:
+    for line in lines + no_pixels + opened + stale + failures:
         print(line)
     print("selected %d of %d (shard %d/%d, every %d-th shader_runner test); passed natively %d; "
-          "passed through capture ! render %d; captured %d, replayed %d, held %d (0 differing answers and "
-          "at least one glReadPixels reply)"
-          % (len(rows), total, shard_i, shard_n, a.every, n["native"], n["capture_pass"], n["captured"],
-             n["replayed"], n["held"]))
+          "open under render (not captured) %d; passed through capture ! render %d; captured %d, replayed %d, held %d (0 differing answers, and "
+          "at least one glReadPixels reply: %d; reads no pixels: %d)"
+          % (len(rows), total, shard_i, shard_n, a.every, n["native"], n["render_open"], n["capture_pass"], n["captured"],
+             n["replayed"], n["held"], n["held"] - n["no_pixels"], n["no_pixels"]))
     print("answers compared %d, differing %d, glReadPixels replies %d; open (known, not fixed) %d, "
           "new failures %d; %.1f CPU seconds in the runs, %.1f s wall"
           % (answers, differ, readpixels, len(opened), len(failures), cpu, time.monotonic() - t_start))
