@@ -182,6 +182,8 @@ static void block_current(sched *s, sync_kind kind, GLuint name)
     c->wait_name = name;
     c->wait_ticket = s->tickets++;
     tsr_unpacker_yield(c->unpacker);
+    /* Tests wait for this line rather than guess when a client is blocked. */
+    tsr_log(TSR_LOG_DEBUG, "node: %s waits %s %u", c->who, kind == SYNC_BARRIER ? "at barrier" : "on semaphore", name);
     tsr_node_stats delta = {.blocks = 1};
     tsr_node_stats_add(s->node, &delta);
 }

@@ -1,7 +1,7 @@
 # tests/node/node_lib.sh — shell helpers the node tests source: start a
 # `tessera node` in the background and wait (bounded) for its
-# "listening on ADDR" line, wait (bounded) for a process to end, and time
-# commands. Owns nothing but the processes it starts; never waits unbounded.
+# "listening on ADDR" line, wait (bounded) for a log line or for a process
+# to end, and time commands. Owns nothing but the processes it starts; never waits unbounded.
 
 # now_ms: milliseconds since the epoch.
 now_ms() { echo $(( $(date +%s%N) / 1000000 )); }
@@ -37,6 +37,17 @@ start_node() {
   cat "$prefix.err" >&2
   kill -9 "$NODE_PID" 2>/dev/null
   return 1
+}
+
+# wait_line FILE REGEX SECONDS: waits until a line of FILE matches REGEX
+# (grep -E); returns 1 when none does within SECONDS.
+wait_line() {
+  local file=$1 regex=$2 limit=$(($3 * 20)) i=0
+  until grep -Eq "$regex" "$file" 2>/dev/null; do
+    [ $i -lt $limit ] || return 1
+    sleep 0.05
+    i=$((i + 1))
+  done
 }
 
 # wait_exit PID SECONDS: waits for PID (a child of this shell) to end and

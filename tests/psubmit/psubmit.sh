@@ -30,10 +30,11 @@ rm -rf "$out" && mkdir -p "$out/native" "$out/chain" || exit 1
 status=0
 fail() { echo "FAIL: $*"; status=1; }
 show() { [ -s "$1" ] && sed 's/^/  | /' "$1"; }
-# A shared-mode node for two driver clients, logging at info level (the
-# tests wait for its "connected" lines), rendering into $out/chain.
+# A shared-mode node for two driver clients, logging at debug level (the
+# tests wait for its "connected" and "waits" lines), rendering into
+# $out/chain.
 start_pair_node() {
-  TESSERA_LOG=info start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
+  TESSERA_LOG=debug start_node "$out/node" --listen tcp://127.0.0.1:0 --clients 2 --timeout-ms 20000 \
     --chain "render output=\"$out/chain/f-%04d.png\""
 }
 
@@ -68,13 +69,11 @@ semaphore)
   driver=$4
   timeout 30 "$driver" sem-reference "render output=\"$out/native/f-%04d.png\"" || exit 1
   start_pair_node || exit 1
-  # The waiting client connects first and is blocked before the other
-  # even starts (it also sleeps before drawing).
+  # The waiting client connects first and is blocked on P before the other
+  # even starts: the node says so (debug), and the script waits for that.
   "$driver" sem-second "pack server=$NODE_ADDR" 2>"$out/second.err" &
   second=$!
-  i=0
-  while ! grep -q "client 0 .* connected" "$out/node.err" && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
-  sleep 0.3
+  wait_line "$out/node.err" "client 0 .* waits on semaphore 5" 20 || fail "sem-second never blocked on P(5)"
   timeout 30 "$driver" sem-first "pack server=$NODE_ADDR" 2>"$out/first.err" || fail "sem-first exited $?"
   wait_exit "$second" 30
   [ "$EXIT_RC" = 0 ] || { fail "sem-second exited $EXIT_RC"; show "$out/second.err"; }
@@ -102,15 +101,15 @@ barrier-cut)
   start_pair_node || exit 1
   "$driver" barrier-wait "pack server=$NODE_ADDR" 2>"$out/wait.err" &
   waiter=$!
-  i=0
-  while ! grep -q "client 0 .* connected" "$out/node.err" && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
+  wait_line "$out/node.err" "client 0 .* waits at barrier 3" 20 || fail "barrier-wait never reached barrier 3"
   "$driver" barrier-hold "pack server=$NODE_ADDR" 2>"$out/hold.err" &
   holder=$!
-  while ! grep -q "client 1 .* connected" "$out/node.err" && [ $i -lt 400 ]; do sleep 0.05; i=$((i + 1)); done
-  sleep 0.5 # the waiter is at the barrier, the holder has finished
+  wait_line "$out/hold.err" "barrier-hold: held" 20 || fail "the node never ran barrier-hold's stream"
   kill -9 $waiter
   wait $waiter 2>/dev/null
-  sleep 0.5 # the waiter's end is gone, unread
+  # The waiter's end is gone, unread: the node still serves the holder.
+  kill -USR1 $holder
+  wait_line "$out/hold.err" "barrier-hold: served again" 20 || fail "the node stopped serving after the waiter went away"
   alive "$NODE_PID" || fail "the node ended before the second client went away"
   kill -9 $holder
   wait $holder 2>/dev/null

@@ -4,6 +4,8 @@
  * and ends by destroying the chain, which waits for the server's
  * confirmation (or error):
  *   sem-first CHAIN    draws a red quad over the left two thirds, then V(5)
+ *                      (psubmit.sh starts it once the node has logged that
+ *                      sem-second waits on 5)
  *   sem-second CHAIN   P(5) first, then a green quad over the right two
  *                      thirds, then swaps: the overlap is green only if
  *                      the server held it until sem-first's V
@@ -13,17 +15,22 @@
  *   barrier-wait CHAIN creates barrier 3 for 2 clients and waits at it
  *   barrier-leave CHAIN  creates barrier 3 for 2 clients and ends without
  *                      reaching it
- *   barrier-hold CHAIN creates barrier 3 for 2 clients, finishes (the node
- *                      has run it) and sleeps 30 s without reaching it
+ *   barrier-hold CHAIN creates barrier 3 for 2 clients, reads a pixel back
+ *                      (the node has run it), prints "barrier-hold: held";
+ *                      on SIGUSR1 reads one back again and prints
+ *                      "barrier-hold: served again"; then holds its
+ *                      connection, without reaching the barrier, until
+ *                      killed (at most 30 s)
  *   swap-owner CHAIN   swaps, waits at barrier 4 (2 clients), swaps again
  *   swap-other CHAIN   waits at barrier 4, then swaps: the server must
  *                      ignore it (swap-owner swapped first)
  * Exit status: 0 when the chain finished cleanly, 1 otherwise (the pack
  * SPU exits 1 itself when the server dropped the stream). Owns only its
  * drawing. */
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
+#include <time.h>
 
 #include <GL/gl.h>
 
@@ -59,6 +66,34 @@ static void quad(float x0, float x1, float r, float g, float b)
     glEnd();
 }
 
+/* A read-back is a round trip: when it returns, the node has run every
+ * command sent before it. */
+static void node_has_run_all(void)
+{
+    GLubyte pixel[4];
+    glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+}
+
+/* barrier-hold: tells the script (stderr) when the node has run its
+ * stream, answers once more after SIGUSR1 (the script's "is the node still
+ * serving?"), then keeps its connection open until the script kills it;
+ * each wait is bounded so that a lost signal cannot hang the test. */
+static void hold_barrier(void)
+{
+    sigset_t usr1;
+    sigemptyset(&usr1);
+    sigaddset(&usr1, SIGUSR1);
+    sigprocmask(SIG_BLOCK, &usr1, NULL);
+    node_has_run_all();
+    fprintf(stderr, "barrier-hold: held\n");
+    struct timespec bound = {.tv_sec = 30};
+    if (sigtimedwait(&usr1, NULL, &bound) == SIGUSR1) {
+        node_has_run_all();
+        fprintf(stderr, "barrier-hold: served again\n");
+    }
+    sigtimedwait(&usr1, NULL, &bound);
+}
+
 static void first_part(void)
 {
     glClearColor(0.1f, 0.1f, 0.3f, 1);
@@ -86,10 +121,6 @@ int main(int argc, char **argv)
     int known = 1;
     if (!strcmp(role, "sem-first")) {
         glSemaphoreCreateTSR(SEMAPHORE_ORDER, 0);
-        /* Let sem-second reach its P first: the order must come from the
-         * semaphore, not from who was quicker. */
-        glFlush();
-        usleep(300 * 1000);
         first_part();
         glSemaphoreVTSR(SEMAPHORE_ORDER);
     } else if (!strcmp(role, "sem-second")) {
@@ -111,8 +142,7 @@ int main(int argc, char **argv)
         glBarrierCreateTSR(BARRIER_PAIR, 2);
     } else if (!strcmp(role, "barrier-hold")) {
         glBarrierCreateTSR(BARRIER_PAIR, 2);
-        glFinish();
-        sleep(30);
+        hold_barrier();
     } else if (!strcmp(role, "swap-owner")) {
         glBarrierCreateTSR(BARRIER_SWAP, 2);
         first_part();

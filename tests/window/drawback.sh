@@ -35,13 +35,23 @@ for mode in shm plain; do
   matched=0
   for attempt in 1 2 3 4 5; do
     kill -STOP $pid
-    sleep 0.3
     newest=$(ls "$d" | grep '^g-[0-9]*\.png$' | sort | tail -n1)
     before=$(ls "$d" | grep '^g-[0-9]*\.png$' | sort | tail -n2 | head -n1)
     echo "$mode: attempt $attempt: newest frame $newest"
-    if "$xgrab" glxgears "$d/$newest" "$d/$before"; then matched=1; break; fi
+    # The X server may still hold the last PutImage: poll the window for
+    # at most 2 s before taking this stop for one between two requests.
+    for _ in $(seq 20); do
+      if "$xgrab" glxgears "$d/$newest" "$d/$before" > "$d/xgrab.txt" 2>&1; then matched=1; break; fi
+      sleep 0.1
+    done
+    cat "$d/xgrab.txt"
+    [ $matched = 1 ] && break
+    # Resume until the program has written a newer frame, then stop again.
     kill -CONT $pid
-    sleep 0.2
+    for _ in $(seq 100); do
+      [ "$(ls "$d" | grep '^g-[0-9]*\.png$' | sort | tail -n1)" != "$newest" ] && break
+      sleep 0.1
+    done
   done
   [ $matched = 1 ] || { echo "FAIL: $mode: the window equalled neither of the two newest PNGs in 5 stops"; status=1; }
   kill -CONT $pid; kill -TERM $pid; wait $pid || true; pid=""
