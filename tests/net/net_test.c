@@ -460,7 +460,9 @@ static int test_version_mismatch(void)
     CHECK(err.code == TSR_EPROTO && contains(err.message, "refused") && contains(err.message, theirs) &&
               contains(err.message, ours) && contains(err.message, address) && !strchr(err.message, '\n'),
           "client error is not one clear line: %s", err.message);
-    CHECK(took < 2000, "refusal took %llu ms", (unsigned long long)took);
+    /* The error's code and text say the server refused; how long it took
+     * is printed, not judged (no wall-clock verdicts under load). */
+    printf("refusal after %llu ms\n", (unsigned long long)took);
     tsr_error refusal = {0};
     unsigned refusals = 0;
     for (int i = 0; i < 200 && refusals == 0; i++, usleep(10000))
@@ -589,7 +591,7 @@ static int test_connect_refused(void)
     CHECK(!tsr_net_connect(net, address, &err), "connected to a closed port");
     printf("tcp: %s\n", err.message);
     CHECK(contains(err.message, address) && contains(err.message, "connection refused"), "unclear: %s", err.message);
-    CHECK(test_now_ms() - t0 < 1500, "refusal took %llu ms", (unsigned long long)(test_now_ms() - t0));
+    printf("refused after %llu ms\n", (unsigned long long)(test_now_ms() - t0)); /* the text says why */
 
     char unix_address[128];
     snprintf(unix_address, sizeof unix_address, "unix:/tmp/tsr-net-nobody-%d.sock", (int)getpid());
@@ -637,7 +639,8 @@ static int test_handshake_timeout(void)
     printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
     CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) && contains(err.message, "timed out"),
           "unclear: %s", err.message);
-    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms", (unsigned long long)took);
+    /* A time-out never fires early (load only delays it): no upper bound. */
+    CHECK(took >= 250, "time-out of 300 ms fired after %llu ms", (unsigned long long)took);
     tsr_net_destroy(net);
     close(lfd);
     return 0;
@@ -684,7 +687,8 @@ static int test_connect_timeout(void)
     printf("%s (after %llu ms)\n", err.message, (unsigned long long)took);
     CHECK(err.code == TSR_ETIMEDOUT && contains(err.message, address) && contains(err.message, "timed out"),
           "unclear: %s", err.message);
-    CHECK(took >= 250 && took < 2000, "time-out of 300 ms took %llu ms", (unsigned long long)took);
+    /* A time-out never fires early (load only delays it): no upper bound. */
+    CHECK(took >= 250, "time-out of 300 ms fired after %llu ms", (unsigned long long)took);
     tsr_net_destroy(net);
     for (int i = 0; i < nfill; i++)
         close(fillers[i]);
@@ -720,7 +724,8 @@ static int test_idle_timeout(void)
     /* Not TSR_ETIMEDOUT: that would read as "nothing yet" to a poll loop. */
     CHECK(got == TSR_EIO && contains(err.message, "silent-peer") && contains(err.message, "idle_timeout_ms"),
           "silent peer not detected: %d %s", got, err.message);
-    CHECK(took < 1500, "detection took %llu ms", (unsigned long long)took);
+    /* TSR_EIO naming idle_timeout_ms, not the recv's own 5 s TSR_ETIMEDOUT,
+     * says the silence was detected; the time is printed above. */
     close(fd);
     tsr_net_conn_close(c);
     tsr_net_listener_close(l);
@@ -1078,7 +1083,11 @@ static int test_destroy_open_connections(void)
     tsr_net_config cfg;
     tsr_net_config_defaults(&cfg);
     cfg.node_name = "destroy-client";
-    cfg.close_timeout_ms = 500;
+    /* Responsive peers answer the goodbye: destroy must not wait for
+     * close_timeout_ms. It is 30 s here, so that "returned within half of
+     * it" tells an answered goodbye from a fired time-out whatever the
+     * load (a cause, not a speed). */
+    cfg.close_timeout_ms = 30000;
     tsr_error err = {0};
     tsr_net *client_net = tsr_net_create(&cfg, &err);
     CHECK(client_net, "create: %s", err.message);
@@ -1098,7 +1107,8 @@ static int test_destroy_open_connections(void)
     tsr_net_destroy(client_net); /* the server reads: the peers answer the goodbye */
     uint64_t took = test_now_ms() - t0;
     printf("client destroy with %d open connections took %llu ms\n", N, (unsigned long long)took);
-    CHECK(took < 400, "destroy waited %llu ms for responsive peers", (unsigned long long)took);
+    CHECK(took < cfg.close_timeout_ms / 2, "destroy waited %llu ms (close_timeout_ms) for responsive peers",
+          (unsigned long long)took);
     for (int i = 0; i < N; i++) {
         tsr_net_msg m;
         for (int k = 0; k < 2; k++) {
@@ -1126,9 +1136,10 @@ static int test_destroy_open_connections(void)
     t0 = test_now_ms();
     tsr_net_destroy(client_net);
     took = test_now_ms() - t0;
-    printf("client destroy with a peer holding a full window took %llu ms (close_timeout_ms 500)\n",
-           (unsigned long long)took);
-    CHECK(took < 400, "destroy waited %llu ms for a peer with a full window", (unsigned long long)took);
+    printf("client destroy with a peer holding a full window took %llu ms (close_timeout_ms %u)\n",
+           (unsigned long long)took, cfg.close_timeout_ms);
+    CHECK(took < cfg.close_timeout_ms / 2, "destroy waited %llu ms (close_timeout_ms) for a peer with a full window",
+          (unsigned long long)took);
     /* What was sent before the forced close still arrives, in order. */
     for (int k = 0; k < 4; k++) {
         tsr_net_msg m;
@@ -1142,7 +1153,9 @@ static int test_destroy_open_connections(void)
 
     /* A peer that stopped reading altogether (a raw socket that finished
      * the handshake) never answers the goodbye: destroy gives up after
-     * close_timeout_ms. */
+     * close_timeout_ms (500 ms here; never earlier: load only delays a
+     * time-out, so only the lower bound is checked). */
+    cfg.close_timeout_ms = 500;
     tsr_net *stall_net = tsr_net_create(&cfg, &err);
     CHECK(stall_net, "create: %s", err.message);
     l = tsr_net_listen(stall_net, "tcp://127.0.0.1:0", &err);
@@ -1154,7 +1167,7 @@ static int test_destroy_open_connections(void)
     tsr_net_destroy(stall_net);
     took = test_now_ms() - t0;
     printf("destroy with a peer that stopped reading took %llu ms (close_timeout_ms 500)\n", (unsigned long long)took);
-    CHECK(took >= 400 && took < 1500, "destroy took %llu ms", (unsigned long long)took);
+    CHECK(took >= 400, "destroy gave up after %llu ms, before close_timeout_ms", (unsigned long long)took);
     close(fd);
     return 0;
 }
@@ -1465,7 +1478,8 @@ static int test_peer_closes_during_direct_writes(void)
           sent, tsr_error_name(rc));
     CHECK(contains(err.message, "closing-receiver") || contains(err.message, "127.0.0.1"),
           "the error does not name the peer: %s", err.message);
-    CHECK(took < 10000, "the peer's close took %llu ms to reach the sender", (unsigned long long)took);
+    /* The send loop's 20 s is a hang guard only: the error code (neither OK
+     * nor a time-out) says the peer's close ended it. */
     tsr_net_stats st;
     tsr_net_conn_stats(c, &st);
     CHECK(st.messages_direct > 0, "no message was written by the sending thread");

@@ -4,9 +4,12 @@
 # SIGSTOP the server node, the app node or the application itself (whose
 # silent stream its server drops after --timeout-ms, which ends the run).
 # Each case asserts: non-zero exit,
-# one line naming the node and what happened, the exit within BOUND_MS of
-# the fault, and no process of the run left (every process group the run
-# started, and the application's pid, are gone).
+# one line naming the node and what happened (so the run ended because of
+# the fault, not because some time-out fired), and no process of the run
+# left (every process group the run started, and the application's pid,
+# are gone). The time from the fault to the end is printed, not judged:
+# the waits' bounds (30 s for the run, 10 s for its processes) only keep a
+# broken build from hanging.
 # usage: failures.sh CASE BIN_DIR OUT_DIR
 #   CASE: kill-server | kill-app | stop-server | stop-app-node | stop-app, or
 #         interrupt (SIGTERM to tessera run: it stops the run the same way),
@@ -46,14 +49,14 @@ echo "run $run_pid, server node $server, app node $appnode, application $app"
 groups="$server $appnode"
 
 case $case_name in
-  kill-server)   victim=$server  sig=KILL bound=5000 want="node 'server' \\(pid $server\\) killed by signal 9" ;;
-  kill-app)      victim=$app     sig=KILL bound=5000 want="node 'app': application .*spheres killed by signal 9" ;;
-  stop-server)   victim=$server  sig=STOP bound=$((timeout_ms + 6000)) want="node 'server' sent no heartbeat for [0-9]+ ms" ;;
-  stop-app-node) victim=$appnode sig=STOP bound=$((timeout_ms + 6000)) want="node 'app' sent no heartbeat for [0-9]+ ms" ;;
-  stop-app)      victim=$app     sig=STOP bound=$((timeout_ms + 6000))
+  kill-server)   victim=$server  sig=KILL want="node 'server' \\(pid $server\\) killed by signal 9" ;;
+  kill-app)      victim=$app     sig=KILL want="node 'app': application .*spheres killed by signal 9" ;;
+  stop-server)   victim=$server  sig=STOP want="node 'server' sent no heartbeat for [0-9]+ ms" ;;
+  stop-app-node) victim=$appnode sig=STOP want="node 'app' sent no heartbeat for [0-9]+ ms" ;;
+  stop-app)      victim=$app     sig=STOP
                  want="node 'server': client 0 'pack[^']*-pid$app' at .* dropped: .*sent nothing for $timeout_ms ms" ;;
-  interrupt)     victim=$run_pid sig=TERM bound=5000 want="interrupted by signal 15" ;;
-  kill-mothership) victim=$run_pid sig=KILL bound=5000 want= ;;
+  interrupt)     victim=$run_pid sig=TERM want="interrupted by signal 15" ;;
+  kill-mothership) victim=$run_pid sig=KILL want= ;;
   *) echo "failures.sh: unknown case '$case_name'" >&2; kill -TERM $run_pid; exit 2 ;;
 esac
 
@@ -69,10 +72,9 @@ if [ "$case_name" = kill-mothership ]; then
   i=0
   while [ -n "$(left | awk '$3 !~ /^Z/')" ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
   elapsed=$(( $(now_ms) - t0 ))
-  echo "nodes gone ${elapsed} ms after the mothership was killed (bound ${bound} ms)"
+  echo "nodes gone ${elapsed} ms after the mothership was killed"
   cat "$out/run.err"
   status=0
-  [ "$elapsed" -le "$bound" ] || { echo "FAIL: processes outlived the mothership by ${elapsed} ms" >&2; status=1; }
   grep -q "lost the mothership" "$out/run.err" || { echo "FAIL: no node said it lost the mothership" >&2; status=1; }
   alive_left=$(left | awk '$3 !~ /^Z/')
   if [ -n "$alive_left" ]; then
@@ -80,26 +82,27 @@ if [ "$case_name" = kill-mothership ]; then
     for p in $groups; do kill -KILL -- -"$p" 2>/dev/null; done; kill -KILL "$app" 2>/dev/null
     status=1
   fi
-  [ $status -eq 0 ] && echo "PASS: kill-mothership: every node ended by itself within ${elapsed} ms"
+  [ $status -eq 0 ] && echo "PASS: kill-mothership: every node ended by itself (${elapsed} ms)"
   exit $status
 fi
 elapsed=$(( $(now_ms) - t0 ))
-echo "tessera run exit $EXIT_RC after ${elapsed} ms (bound ${bound} ms); stderr:"
+echo "tessera run exit $EXIT_RC after ${elapsed} ms; stderr:"
 cat "$out/run.err"
 status=0
 case $EXIT_RC in
   timeout) echo "FAIL: tessera run did not end within 30 s" >&2; status=1 ;;
   0) echo "FAIL: tessera run exited 0 after a failure" >&2; status=1 ;;
 esac
-[ "$elapsed" -le "$bound" ] || { echo "FAIL: ended ${elapsed} ms after the fault, bound ${bound} ms" >&2; status=1; }
 grep -Eq "^tessera run: $want" "$out/run.err" || { echo "FAIL: stderr does not name the node: /$want/" >&2; status=1; }
-# Nothing of the run may be left: not a group member, not the application.
-sleep 0.2
+# Nothing of the run may be left: not a group member, not the application
+# (the application's node ends it as it ends: wait for that, bounded).
+i=0
+while [ -n "$(left)" ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
 still=$(left)
 if [ -n "$still" ]; then
   echo "FAIL: processes of the run are left:" >&2; echo "$still" >&2
   for p in $groups; do kill -KILL -- -"$p" 2>/dev/null; done; kill -KILL "$app" 2>/dev/null
   status=1
 fi
-[ $status -eq 0 ] && echo "PASS: $case_name: exit $EXIT_RC within ${elapsed} ms, node named, no process left"
+[ $status -eq 0 ] && echo "PASS: $case_name: exit $EXIT_RC after ${elapsed} ms, node named, no process left"
 exit $status
