@@ -46,16 +46,13 @@ from concurrent.futures import ThreadPoolExecutor
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HACKS = "/usr/libexec/xscreensaver"
-# glxgears and 12 hacks, all at 320x240: hacks that draw from their
+# glxgears and 14 hacks, all at 320x240: hacks that draw from their
 # first frames (no fade-in from black, which would leave nothing to
 # compare) with small traces, of different kinds (lighting, display
-# lists, textures, fog, blending, lines, many small draws). The GLSL hacks
-# are not among them: natively Mesa gives them the OpenGL 3.0 context
-# they ask for first, and a trace of a 3.0 context does not replay on
-# tessera's 2.1 (the replayer checks the version: OpenGL 3.x is a later
-# issue).
+# lists, textures, fog, blending, lines, many small draws), two of them
+# drawing with GLSL 1.20 programs and buffer objects (GLSL_HACKS).
 PROGRAMS = ["glxgears", "atunnel", "blinkbox", "circuit", "cubestorm", "gears", "geodesic", "glknots",
-            "glsnake", "moebius", "morph3d", "polytopes", "superquadrics"]
+            "glsnake", "hypertorus", "moebius", "morph3d", "polytopes", "projectiveplane", "superquadrics"]
 SIZE = (320, 240)
 
 
@@ -122,19 +119,29 @@ def frames_of(trace):
     return -1
 
 
+# The GLSL hacks ask for an OpenGL 3.0 context first and, refused, take
+# 1.3 with GLSL 1.20 shaders and buffer objects. Mesa would give them 3.0,
+# and a trace of a 3.0 context does not replay on tessera's 2.1 (the
+# replayer checks the version; OpenGL 3.x is a later issue), so they are
+# recorded on Mesa told to offer 2.1, as a 2.1 driver would: the trace
+# then asks for 1.3, natively and under tessera alike.
+GLSL_HACKS = ("etruscanvenus", "hypertorus", "projectiveplane", "romanboy", "sphereeversion")
+RECORD_ENV = {"MESA_GL_VERSION_OVERRIDE": "2.1"}
+
+
 def program_cmd(name):
     if name == "glxgears":
         return ["glxgears", "-geometry", "%dx%d" % SIZE], "gl"
     return [os.path.join(HACKS, name), "-geometry", "%dx%d" % SIZE], "egl"
 
 
-def record_once(cmd, api, raw, frames, seconds):
+def record_once(cmd, api, raw, frames, seconds, env):
     """Runs the program under `apitrace trace` for at most `seconds`, or
     until the trace on disk holds `frames` frames; returns True if the
     program ended by itself first."""
     with open(os.path.join(os.path.dirname(raw), "record.err"), "a") as e:
         p = subprocess.Popen(["apitrace", "trace", "--api", api, "-o", raw] + cmd, stdout=e, stderr=e,
-                             start_new_session=True)
+                             env=env, start_new_session=True)
         deadline = time.monotonic() + seconds
         # The tracer writes the file in chunks of about a megabyte, so the
         # frame count on disk is only seen growing for fast programs
@@ -154,12 +161,13 @@ def record(name, d, frames, limit):
     it to frames 0..frames-1: d/NAME.trace. Returns (api, why) - why is
     None when it worked."""
     cmd, api = program_cmd(name)
+    env = dict(os.environ, **RECORD_ENV) if name in GLSL_HACKS else None
     raw = os.path.join(d, "raw.trace")
     seconds, spent, n, ended = 3, 0, -1, False
     while spent < limit:
         if os.path.exists(raw):
             os.remove(raw)
-        ended = record_once(cmd, api, raw, frames, seconds)
+        ended = record_once(cmd, api, raw, frames, seconds, env)
         spent += seconds
         n = frames_of(raw) if os.path.exists(raw) else -1
         if n >= frames or ended:
