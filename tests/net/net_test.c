@@ -5,6 +5,7 @@
  * from constants copied out of a run. */
 #include <pthread.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 
@@ -922,9 +923,10 @@ static int test_recv_any_round_robin(void)
         CHECK(conns[i], "accept: %s", err.message);
         client_of[i] = -1;
     }
-    /* Wait until every client has filled its window of ANY_CREDITS messages. */
+    /* Wait until every client has filled its window of ANY_CREDITS messages
+     * (polled; 30 s is a hang guard). */
     for (int tries = 0, full = 0; !full; tries++) {
-        CHECK(tries < 500, "clients did not fill their windows within 5 s");
+        CHECK(tries < 3000, "clients did not fill their windows within 30 s");
         full = 1;
         for (unsigned i = 0; i < ANY_CLIENTS; i++) {
             tsr_net_stats st;
@@ -1055,7 +1057,10 @@ static int test_peer_text_escaped(void)
         raw_header(frame, TSR_NET_PROTOCOL_VERSION, 0x03, sizeof reason - 1);
         memcpy(frame + 16, reason, sizeof reason - 1);
         raw_write_all(s, frame, 16 + sizeof reason - 1);
-        usleep(200000);
+        /* Stay until the client has read the refusal and closed (bounded). */
+        uint8_t byte;
+        while (raw_read_exact(s, &byte, 1, 10000) == 0)
+            ;
         _exit(0);
     }
     close(ls);
@@ -1315,6 +1320,8 @@ enum { SLOW_MESSAGES = 16, SLOW_SIZE = 1 << 20 };
 
 typedef struct slow_sender {
     const char *address;
+    _Atomic(tsr_net_conn *) conn; /* published once connected, for polling */
+    atomic_int gave_up;           /* connect failed */
     tsr_net_stats stats;
     char failure[600];
 } slow_sender;
@@ -1325,6 +1332,10 @@ static void *slow_send_main(void *arg)
     tsr_net *net = make_net("direct-sender", NULL, 2);
     tsr_error err = {0};
     tsr_net_conn *c = tsr_net_connect(net, s->address, &err);
+    if (c)
+        atomic_store(&s->conn, c);
+    else
+        atomic_store(&s->gave_up, 1);
     uint8_t *buf = malloc(SLOW_SIZE);
     for (unsigned i = 0; c && i < SLOW_MESSAGES && !s->failure[0]; i++) {
         int rc;
@@ -1389,7 +1400,18 @@ static int test_tcp_direct_write_rest(void)
     raw_header(welcome, TSR_NET_PROTOCOL_VERSION, 0x02, at - 16);
     raw_write_all(fd, welcome, at);
 
-    usleep(500000); /* the sender fills the socket meanwhile */
+    /* Read nothing until the event the test is about: the socket was
+     * full, so a direct write left its rest to the I/O thread (polled,
+     * bounded: 20 s). The sender cannot end meanwhile (16 MiB unread). */
+    for (int i = 0; i < 2000 && !atomic_load(&sender.gave_up); i++) {
+        tsr_net_conn *sc = atomic_load(&sender.conn);
+        tsr_net_stats st = {0};
+        if (sc)
+            tsr_net_conn_stats(sc, &st);
+        if (st.messages_direct_rest > 0)
+            break;
+        usleep(10000);
+    }
     uint8_t *got = malloc(SLOW_SIZE), *expect = malloc(SLOW_SIZE);
     for (unsigned i = 0; i < SLOW_MESSAGES; i++) {
         CHECK(raw_read_exact(fd, h, 16, 10000) == 0, "message %u: no header", i);

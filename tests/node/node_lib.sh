@@ -71,7 +71,8 @@ wait_exit() {
 
 # kill_mid_stream FRAME_FILE VICTIM_PID APP_PID WHO ADDR ERR_FILE: once
 # FRAME_FILE exists (mid-stream), kill -9 VICTIM_PID and expect the app
-# to exit non-zero within 5 s, naming ADDR in ERR_FILE. Calls fail().
+# to exit non-zero (10 s: a hang guard; the time is printed, not judged),
+# naming ADDR in ERR_FILE. Calls fail().
 kill_mid_stream() {
   local frame=$1 victim=$2 app=$3 who=$4 addr=$5 err=$6 waited=0 start took
   while [ ! -e "$frame" ] && [ $waited -lt 400 ]; do sleep 0.05; waited=$((waited + 1)); done
@@ -84,7 +85,6 @@ kill_mid_stream() {
   echo "app exit $EXIT_RC, $took ms after $who was killed"
   [ "$EXIT_RC" != timeout ] || fail "app still running 10 s after $who was killed"
   [ "$EXIT_RC" != 0 ] && [ "$EXIT_RC" != 124 ] || fail "app exited $EXIT_RC after $who was killed"
-  [ $took -lt 5000 ] || fail "app took $took ms to notice $who was killed"
   grep -q "$addr" "$err" || fail "app's message does not name $who ($addr)"
 }
 

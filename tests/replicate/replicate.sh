@@ -74,8 +74,9 @@ wait_servers() {
   done
 }
 
-# app_fails_naming ADDRESS WORD CMD...: CMD exits non-zero (not by timeout)
-# within 5 s and its stderr names ADDRESS (and WORD when given).
+# app_fails_naming ADDRESS WORD CMD...: CMD exits non-zero (not by the 30 s
+# timeout, a hang guard) and its stderr names ADDRESS (and WORD when given);
+# the time it took is printed, not judged.
 app_fails_naming() {
   address=$1 word=$2; shift 2
   start=$(now_ms)
@@ -85,7 +86,6 @@ app_fails_naming() {
   show "$out/app.err"
   echo "app exit $rc after $took ms"
   [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "app exited $rc"
-  [ $took -lt 5000 ] || fail "app took $took ms to give up"
   grep -q "$address" "$out/app.err" || fail "app's message does not name $address"
   [ -z "$word" ] || grep -qi "$word" "$out/app.err" || fail "app's message does not say '$word'"
 }
