@@ -30,6 +30,7 @@ typedef struct capture_spu {
     tsr_capfile_writer writer;
     int writing;                                /* the file is open */
     long frames;                                /* frames=: finish the file after this many (0: at the end) */
+    uint64_t max_bytes;                         /* max_bytes=: abandon the file past this size (0: no bound) */
     tsr_entry swap, window_create, window_size; /* the packer's own slots */
 } capture_spu;
 
@@ -39,6 +40,14 @@ static void capture_write(capture_spu *s, uint32_t kind, uint32_t id, const void
 {
     if (!s->writing)
         return;
+    uint64_t record = TSR_CAPFILE_RECORD_HEADER + ((uint64_t)size + 7) / 8 * 8;
+    if (s->max_bytes && TSR_CAPFILE_HEADER_SIZE + s->writer.header.bytes + record > s->max_bytes) {
+        tsr_log(TSR_LOG_ERROR, "%s: the capture would pass max_bytes=%llu; the capture is abandoned (no file)", s->name,
+                (unsigned long long)s->max_bytes);
+        tsr_capfile_writer_abandon(&s->writer);
+        s->writing = 0;
+        return;
+    }
     tsr_error err = {0};
     if (tsr_capfile_write_record(&s->writer, kind, id, data, size, &err) != TSR_OK) {
         tsr_log(TSR_LOG_ERROR, "%s: %s; the capture is abandoned", s->name, err.message);
@@ -133,6 +142,7 @@ static void *capture_create(const tsr_spu_init *init, tsr_error *err)
     }
     s->name = init->instance_name;
     s->frames = (long)tsr_options_int(init->options, "frames");
+    s->max_bytes = (uint64_t)tsr_options_int(init->options, "max_bytes");
     size_t size = (size_t)tsr_options_int(init->options, "buffer_size");
     tsr_wire_loop_observer observer = {.buffer = capture_buffer, .reply = capture_reply, .ctx = s};
     s->loop = tsr_wire_loop_create(s->name, size, init->child, &observer, err);
@@ -173,6 +183,13 @@ static const tsr_option_spec capture_options[] = {
      .max = 2147483647.0,
      .help = "finish the file after this many frames and pass the rest of the stream on uncaptured "
              "(0: capture until the chain ends; needed for programs that end only by a signal)"},
+    {.name = "max_bytes",
+     .type = TSR_OPT_INT,
+     .default_value = "0",
+     .min = 0,
+     .max = 9007199254740992.0,
+     .help = "abandon the capture (remove it, log one line, pass every call on) when the file would grow past this "
+             "many bytes (0, the default: no bound); for programs that send gigabytes"},
     {.name = "buffer_size",
      .type = TSR_OPT_INT,
      .default_value = "1048576",

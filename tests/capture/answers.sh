@@ -55,4 +55,14 @@ set -e
 cat ptx.err
 [ "$status" = 1 ] && grep -q -- "--exact-answers: 13 answers differ" ptx.err ||
   { echo "FAIL: --exact-answers should end a replay with differing answers with status 1 (got $status)"; exit 1; }
-echo "PASS: answers recorded, replayed and compared by request"
+# max_bytes: a capture that would grow past it is abandoned (no file, no
+# temporary, one line) and every call still passes on: the replay through
+# "capture max_bytes=2000 ! render" gets all 13 answers right
+"$tessera" replay run/asks.tsrcap --exact-answers --chain "capture file=big.tsrcap max_bytes=2000 ! render output=" \
+  > big.txt 2> big.err
+cat big.txt big.err
+grep -q "answers: 13 compared, 0 differ" big.txt || { echo "FAIL: a capture past max_bytes changed the stream"; exit 1; }
+[ "$(grep -c "would pass max_bytes=2000; the capture is abandoned" big.err)" = 1 ] ||
+  { echo "FAIL: expected one line saying the capture was abandoned at max_bytes"; exit 1; }
+[ -z "$(ls -A . | grep big.tsrcap)" ] || { echo "FAIL: a capture past max_bytes left a file"; exit 1; }
+echo "PASS: answers recorded, replayed and compared by request; max_bytes abandons a capture whole"
