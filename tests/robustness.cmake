@@ -23,7 +23,7 @@ add_test(NAME render_refuses_output_without_frame_number
 add_test(NAME render_output_overwrite_keeps_the_last_frame
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/render/output_overwrite.sh ${CMAKE_BINARY_DIR}/bin ${ROBUST_OUT}/overwrite)
 add_test(NAME readback_refuses_output_without_frame_number
-  COMMAND ${ROBUST_EXPECT} 1 "" "readback#1: option output=tile.png has no frame number.*output_overwrite=1"
+  COMMAND ${ROBUST_EXPECT} 1 "" "readback#1.render: option output=tile.png has no frame number.*output_overwrite=1"
           $<TARGET_FILE:spheres> --frames 1 --chain "readback output=tile.png server=tcp://127.0.0.1:1")
 add_test(NAME tilesort_refuses_assemble_without_frame_number
   COMMAND ${ROBUST_EXPECT} 1 "" "tilesort#1: option assemble=wall.png has no frame number.*assemble_overwrite=1"

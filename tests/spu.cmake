@@ -58,7 +58,7 @@ endforeach()
 add_executable(spu_chain_test ${SPU_TEST_SRC}/chain_test.c)
 target_link_libraries(spu_chain_test PRIVATE tessera)
 add_dependencies(spu_chain_test spu_passthrough)
-foreach(t inheritance super_options_accepted rejects_unknown_option rejects_wrong_type
+foreach(t inheritance super_options_accepted subclass_calls_super_api rejects_unknown_option rejects_wrong_type
           rejects_unknown_spu rejects_super_cycle_and_depth empty_is_error
           parse_errors_name_token parse_quoted_values create_failure_cleans_up
           unset_slots_reach_child links_text_reads_back native_windows_per_chain)

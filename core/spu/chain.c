@@ -398,6 +398,8 @@ static tsr_instance *instance_create(const tsr_spu_class *const *lineage, size_t
         .super = inst->super ? &inst->super->table : NULL,
         .table = &inst->table,
         .native_windows = native_windows,
+        .super_instance = inst->super ? inst->super->self : NULL,
+        .super_api = inst->super ? inst->super->cls->api : NULL,
     };
     tsr_error spu_err;
     tsr_error_clear(&spu_err);

@@ -19,6 +19,14 @@
  *   the SPU leaves empty in `table` are taken from the super's table, else
  *   from the child's, so an SPU implements only what it changes.
  *
+ * Inheriting: `.super = "render"` makes every GL call the SPU does not
+ *   take go to a render instance of its own (its super instance). What the
+ *   SPU takes, it may pass on through init->super (the super's resolved
+ *   table). Beyond the table, a super may publish functions for its
+ *   subclasses (tsr_spu_class.api, declared by a header of that SPU, e.g.
+ *   tessera/dev/render.h); a subclass calls them with init->super_instance.
+ *   readback and binaryswap inherit render this way.
+ *
  * Minimal SPU:
  *
  *   static void my_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z) {
@@ -67,8 +75,9 @@ extern "C" {
  *   1  the first
  *   2  tsr_spu_class.network: roles instead of names known to the core
  *   3  tsr_spu_network.grid
- *   4  tsr_spu_init.native_windows */
-#define TSR_SPU_ABI 4u
+ *   4  tsr_spu_init.native_windows
+ *   5  tsr_spu_class.api, tsr_spu_init.super_instance and super_api */
+#define TSR_SPU_ABI 5u
 
 #define TSR_SPU_EXPORT __attribute__((visibility("default")))
 #define TSR_SPU_ENTRY_NAME "tsr_spu_describe"
@@ -82,6 +91,12 @@ typedef struct tsr_spu_init {
     /* The chain's native windows (tessera/dev/native.h): the program's
      * windows behind this chain's window ids; valid until destroy. */
     struct tsr_native_windows *native_windows;
+    /* The super instance (what its class's create returned) and the
+     * functions its class publishes for subclasses (its tsr_spu_class.api),
+     * or NULL: valid until this instance is destroyed (a subclass is
+     * destroyed before its super). */
+    void *super_instance;
+    const void *super_api;
 } tsr_spu_init;
 
 /* --- Network roles ---------------------------------------------------------
@@ -166,6 +181,11 @@ typedef struct tsr_spu_class {
     /* Its role in a graph and the options a graph run fills (above); all
      * zero for an SPU that sends to no node. */
     tsr_spu_network network;
+    /* What a subclass may call on an instance of this class besides its
+     * dispatch table, called with tsr_spu_init.super_instance: a struct of
+     * functions that a header of this SPU declares (tessera/dev/render.h
+     * for render), or NULL. */
+    const void *api;
 } tsr_spu_class;
 
 typedef const tsr_spu_class *(*tsr_spu_describe_fn)(void);

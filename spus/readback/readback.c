@@ -29,34 +29,36 @@
  * (the default) ends the process with status 1 after one line naming the
  * display; drop logs it once and goes on, writing only the tile PNGs.
  *
- * Why render's library and not `.super = "render"` (spu.h): a super
- * instance shares the chain's child and keeps its frame to itself; the
- * tile pixels are read inside render's swap by its own reader context
- * (no client's pixel-store state applies), which no dispatch slot exposes,
- * and render would pass the node's context commands on to the display. */
+ * How it is render: its class's super is render (tessera/spu.h), so every
+ * GL call it does not take goes to a render instance of its own, which
+ * draws, owns the tiles and writes the tile PNGs. It takes the window
+ * commands (the display follows the window) and the swap of render's
+ * window: render ends the frame (tessera/dev/render.h, end_frame) and
+ * hands over each tile it reads back; this SPU sends them, fences the
+ * frame on the display and passes the swap on. */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "display_stream.h"
-#include "render.h"
 #include "tessera/dev/client.h"
+#include "tessera/dev/render.h"
 #include "tessera/log.h"
 #include "tessera/spu.h"
 
 typedef struct readback_spu {
     char name[96];
-    void *render;              /* render.h instance: draws, writes tile PNGs, calls image() */
-    tsr_dispatch down;         /* render's child: the chain's child, window and swap seen here */
-    const tsr_dispatch *child; /* the chain's child */
+    const tsr_render_api *render_api; /* the super's (tessera/dev/render.h) */
+    void *render;                     /* the super instance: draws, writes tile PNGs */
+    const tsr_dispatch *super;        /* its table */
+    const tsr_dispatch *child;        /* the chain's child */
     int window, rank;
     unsigned barrier;
     display_stream display; /* the stream to the display (display_stream.h) */
 } readback_spu;
 
-static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
-                           const unsigned char *rgba)
+/* One tile of the frame render ends (tsr_render_tile_fn) to the display. */
+static void readback_tile(void *ctx, size_t tile, int x, int y, int width, int height, const unsigned char *rgba)
 {
-    (void)frame;
     (void)tile;
     readback_spu *rb = ctx;
     const tsr_dispatch *d = display_stream_get(&rb->display);
@@ -66,12 +68,18 @@ static void readback_image(void *ctx, int frame, size_t tile, int x, int y, int 
     tsr_call_DrawPixels(d, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
 }
 
-/* render has read and sent this frame's tiles (readback_image): fence the
- * frame on the display (header comment). */
+/* render ends the frame and hands over its tiles (readback_tile); then
+ * the frame is fenced on the display (header comment) and the swap goes
+ * on. Another window's swap is render's alone. */
 static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     readback_spu *rb = self;
-    const tsr_dispatch *d = window == rb->window ? display_stream_get(&rb->display) : NULL;
+    if (window != rb->window) {
+        tsr_call_SwapBuffersTSR(rb->super, window, flags);
+        return;
+    }
+    rb->render_api->end_frame(rb->render, readback_tile, rb);
+    const tsr_dispatch *d = display_stream_get(&rb->display);
     if (d) {
         tsr_call_BarrierExecTSR(d, rb->barrier);
         if (rb->rank == 0)
@@ -86,7 +94,6 @@ static void readback_destroy(void *self)
     readback_spu *rb = self;
     if (!rb)
         return;
-    render_spu_destroy(rb->render);
     /* No BarrierDestroyTSR: another tile server may not have reached the
      * frame's last barrier yet; the display forgets it when it ends. */
     display_stream_close(&rb->display); /* sends what is left, waits for the display to run it */
@@ -101,6 +108,12 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
         return NULL;
     }
     snprintf(rb->name, sizeof rb->name, "%s", init->instance_name);
+    if (!(rb->render_api = tsr_render_api_of(init, err))) {
+        free(rb);
+        return NULL;
+    }
+    rb->render = init->super_instance;
+    rb->super = init->super;
     rb->child = init->child;
     rb->window = (int)tsr_options_int(init->options, "window");
     rb->rank = (int)tsr_options_int(init->options, "rank");
@@ -111,7 +124,7 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
                                    .window = rb->window,
                                    .barrier = rb->barrier,
                                    .barrier_clients = (unsigned)tsr_options_int(init->options, "peers"),
-                                   .child = init->child,
+                                   .child = init->super,
                                    .on_failure = display_stream_on_error};
     rb->display.ctx = &rb->display;
     const char *server = tsr_options_string(init->options, "server");
@@ -121,24 +134,23 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
         free(rb);
         return NULL;
     }
-    /* render passes what it does not keep to `down`: the chain's child,
-     * with the window and swap commands seen here first. */
-    rb->down = *init->child;
-    display_stream_follow_window(&rb->display, &rb->down);
-    tsr_set_SwapBuffersTSR(&rb->down, readback_SwapBuffersTSR, rb);
-    tsr_spu_init render_init = *init;
-    render_init.child = &rb->down;
-    render_hooks hooks = {.image = readback_image, .ctx = rb};
-    rb->render = render_spu_create(&render_init, &hooks, err);
-    if (!rb->render) {
-        free(rb);
-        return NULL;
-    }
+    /* The window commands reach the display first, then render; the
+     * rest of the stream is render's (the slots left empty). */
+    display_stream_follow_window(&rb->display, init->table);
+    tsr_set_SwapBuffersTSR(init->table, readback_SwapBuffersTSR, rb);
     return rb;
 }
 
 static const tsr_option_spec readback_options[] = {
-    RENDER_OPTION_SPECS,
+    /* render's option (the super gets it too), declared here as well so a
+     * graph run fills it: network.tiles names an option of this class. */
+    {.name = "tiles",
+     .type = TSR_OPT_STRING,
+     .default_value = "",
+     .min = 1,
+     .max = 0,
+     .help = "rectangles of the window this server owns, X:Y:W:H,... (a graph node's tiles:): render, "
+             "its super, draws them and sends each to the display; empty: the whole window"},
     {.name = "server",
      .type = TSR_OPT_STRING,
      .default_value = "",
@@ -172,6 +184,7 @@ static const tsr_spu_class readback_class = {
     .abi = TSR_SPU_ABI,
     .dispatch_count = TSR_DISPATCH_COUNT,
     .name = "readback",
+    .super = "render",
     .summary = "renders like render (tiles, tile PNGs), then streams each frame's tile images "
                "to a display node that assembles the window",
     .options = readback_options,

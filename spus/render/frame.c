@@ -126,7 +126,7 @@ static int write_frame_png(const render_spu *r, const unsigned char *pixels, int
  * one), the reader context reads each tile's pixels — and only those —
  * and writes one PNG per tile. The reader is a context of its own so no
  * client's pixel-store, pixel-transfer or read-buffer state applies. */
-static void tiled_write_frame(render_spu *r, int frame)
+static void tiled_write_frame(render_spu *r, int frame, tsr_render_tile_fn each, void *ctx)
 {
     tsr_error err = {0};
     size_t back = r->current;
@@ -165,6 +165,8 @@ static void tiled_write_frame(render_spu *r, int frame)
             r->gl.ReadPixels(b.x, b.y, b.w, b.h, GL_RGBA, GL_UNSIGNED_BYTE, r->tile_pixels);
             if (r->hooks.image)
                 r->hooks.image(r->hooks.ctx, frame, i, b.x, b.y, b.w, b.h, r->tile_pixels);
+            if (each)
+                each(ctx, i, b.x, b.y, b.w, b.h, r->tile_pixels);
             char path[PATH_MAX];
             if (r->output[0] && (tile_path(path, sizeof path, r->output, frame, i, r->ntiles, &err) != TSR_OK ||
                                  write_frame_png(r, r->tile_pixels, b.w, b.h, path, &err) != TSR_OK))
@@ -183,9 +185,9 @@ static void tiled_write_frame(render_spu *r, int frame)
  * `frame` hook reads with render_spu_read. Without those readers a
  * one-pixel read waits for the rasteriser as glFinish does and copies 4
  * bytes: a 1920x1080 frame skips an 8 MB copy. */
-static void finish_frame(render_spu *r)
+static void finish_frame(render_spu *r, bool whole)
 {
-    if (r->shared || r->output[0] || r->hooks.image || r->width < 1 || r->height < 1) {
+    if (r->shared || whole || r->width < 1 || r->height < 1) {
         r->gl.Finish();
         return;
     }
@@ -195,36 +197,55 @@ static void finish_frame(render_spu *r)
         r->gl.Finish();
 }
 
+/* The frame of r's window ended: finished, read back where someone reads
+ * it (PNGs, the hooks, `each`: tessera/dev/render.h), written out; the
+ * swap itself is the caller's to pass on. Returns the frame's number. */
+int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
+{
+    render_ensure_current(r);
+    int frame = r->frame++;
+    if (r->ntiles) {
+        tiled_write_frame(r, frame, each, ctx);
+        return frame;
+    }
+    /* Only a PNG, the image hook or `each` reads the whole window; without
+     * them the frame stays in the framebuffer (a `frame` hook or a
+     * subclass reads from there with render_spu_read). */
+    bool whole = r->output[0] || r->hooks.image || each;
+    finish_frame(r, whole);
+    if (r->shared && whole)
+        shared_read_frame(r);
+    if (r->output[0]) {
+        char path[PATH_MAX];
+        tsr_error err = {0};
+        if (tsr_image_frame_path(path, sizeof path, r->output, frame, &err) != TSR_OK ||
+            write_frame_png(r, r->buffer, r->width, r->height, path, &err) != TSR_OK)
+            tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
+    }
+    if (r->hooks.frame)
+        r->hooks.frame(r->hooks.ctx, frame, r);
+    if (r->hooks.image && r->buffer)
+        r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
+    if (each && r->buffer)
+        each(ctx, 0, 0, 0, r->width, r->height, r->buffer);
+    if (r->hooks.done)
+        r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
+    return frame;
+}
+
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     render_spu *r = self;
-    if (window == r->window && r->ntiles) {
-        render_ensure_current(r);
-        tiled_write_frame(r, r->frame++);
-    } else if (window == r->window) {
-        render_ensure_current(r);
-        finish_frame(r);
-        /* Only a PNG or the image hook reads the copy; without them the
-         * frame stays in the shared renderbuffers (a `frame` hook reads
-         * from there with render_spu_read). */
-        if (r->shared && (r->output[0] || r->hooks.image))
-            shared_read_frame(r);
-        int frame = r->frame++;
-        if (r->output[0]) {
-            char path[PATH_MAX];
-            tsr_error err = {0};
-            if (tsr_image_frame_path(path, sizeof path, r->output, frame, &err) != TSR_OK ||
-                write_frame_png(r, r->buffer, r->width, r->height, path, &err) != TSR_OK)
-                tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
-        }
-        if (r->hooks.frame)
-            r->hooks.frame(r->hooks.ctx, frame, r);
-        if (r->hooks.image && r->buffer)
-            r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
-        if (r->hooks.done)
-            r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
-    }
+    if (window == r->window)
+        render_end_frame(r, NULL, NULL);
     tsr_call_SwapBuffersTSR(r->child, window, flags);
+}
+
+size_t render_spu_tile_count(const void *instance) { return ((const render_spu *)instance)->ntiles; }
+
+int render_spu_end_frame(void *instance, tsr_render_tile_fn each, void *ctx)
+{
+    return render_end_frame(instance, each, ctx);
 }
 
 void render_spu_size(const void *instance, int *width, int *height)

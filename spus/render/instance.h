@@ -195,5 +195,6 @@ void render_pixels_install(render_spu *r, tsr_dispatch *table);
 
 /* frame.c */
 void render_frame_install(render_spu *r, tsr_dispatch *table);
+int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx);
 
 #endif

@@ -43,6 +43,27 @@ static void *render_plugin_create(const tsr_spu_init *init, tsr_error *err)
     return p;
 }
 
+/* tessera/dev/render.h: what a subclass asks of its render super. */
+static void api_window_size(const void *self, int *width, int *height)
+{
+    render_spu_size(((const render_plugin *)self)->render, width, height);
+}
+static size_t api_tile_count(const void *self) { return render_spu_tile_count(((const render_plugin *)self)->render); }
+static int api_end_frame(void *self, tsr_render_tile_fn each, void *ctx)
+{
+    return render_spu_end_frame(((render_plugin *)self)->render, each, ctx);
+}
+static int api_read(void *self, int x, int y, int w, int h, unsigned format, unsigned type, void *pixels,
+                    tsr_error *err)
+{
+    return render_spu_read(((render_plugin *)self)->render, x, y, w, h, format, type, pixels, err);
+}
+static const tsr_render_api render_api = {.version = TSR_RENDER_API_VERSION,
+                                          .window_size = api_window_size,
+                                          .tile_count = api_tile_count,
+                                          .end_frame = api_end_frame,
+                                          .read = api_read};
+
 static const tsr_option_spec render_options[] = {RENDER_OPTION_SPECS, RENDER_XWINDOW_OPTION_SPECS};
 
 static const tsr_spu_class render_class = {
@@ -56,6 +77,7 @@ static const tsr_spu_class render_class = {
     .destroy = render_plugin_destroy,
     /* Sends to no node; a server's own tiles: go to `tiles`. */
     .network = {.role = TSR_SPU_ROLE_NONE, .tiles = "tiles"},
+    .api = &render_api,
 };
 
 TSR_SPU_EXPORT const tsr_spu_class *tsr_spu_describe(void) { return &render_class; }

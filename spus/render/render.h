@@ -26,6 +26,7 @@
 
 #include <stddef.h>
 
+#include "tessera/dev/render.h"
 #include "tessera/spu.h"
 
 #define RENDER_MAX_SIDE 16384
@@ -50,6 +51,10 @@ void render_spu_destroy(void *instance);
 
 /* The window's framebuffer size. */
 void render_spu_size(const void *instance, int *width, int *height);
+/* tessera/dev/render.h's tile_count and end_frame, which the plugin
+ * publishes for its subclasses. */
+size_t render_spu_tile_count(const void *instance);
+int render_spu_end_frame(void *instance, tsr_render_tile_fn each, void *ctx);
 /* Reads the rectangle [x, y, w, h] of the current frame (from a `frame`
  * hook) as glReadPixels(format, type) would with GL's default pixel-store
  * and pixel-transfer state, rows packed, whatever state the client set:

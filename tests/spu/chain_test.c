@@ -124,6 +124,25 @@ static void *sub_create(const tsr_spu_init *init, tsr_error *err)
     return t;
 }
 
+/* What api_super publishes for its subclasses (tsr_spu_class.api), as
+ * render publishes tessera/dev/render.h: called with the super instance. */
+typedef struct super_api {
+    const char *(*name_of)(const void *instance);
+} super_api;
+static const char *super_name_of(const void *instance) { return ((const test_spu *)instance)->name; }
+static const super_api the_super_api = {.name_of = super_name_of};
+
+/* api_sub inherits api_super and asks it, through its api, for its name. */
+static void *api_sub_create(const tsr_spu_init *init, tsr_error *err)
+{
+    (void)err;
+    test_spu *t = test_spu_new(init);
+    const super_api *api = init->super_api;
+    if (t)
+        note("%s: super %s", t->name, api && init->super_instance ? api->name_of(init->super_instance) : "(none)");
+    return t;
+}
+
 /* inh_child records Vertex3f, Color3f and Normal3f (C). */
 static void child_Vertex3f(void *self, GLfloat x, GLfloat y, GLfloat z)
 {
@@ -203,6 +222,17 @@ static const tsr_spu_class test_classes[] = {
     TEST_CLASS("deep8", "deep9", NULL, 0, child_create),
     TEST_CLASS("deep9", NULL, NULL, 0, child_create),
     TEST_CLASS("orphan", "no_such_super", NULL, 0, child_create),
+    {.abi = TSR_SPU_ABI,
+     .dispatch_count = TSR_DISPATCH_COUNT,
+     .name = "api_super",
+     .summary = "chain test SPU with an api",
+     .options = super_options,
+     .option_count = 1,
+     .create = super_create,
+     .destroy = test_spu_destroy,
+     .api = &the_super_api},
+    TEST_CLASS("api_sub", "api_super", NULL, 0, api_sub_create),
+    TEST_CLASS("api_alone", NULL, NULL, 0, api_sub_create),
 };
 
 static void register_test_classes(void)
@@ -283,6 +313,22 @@ static void test_super_options_accepted(void)
     /* The super alone does not know the subclass's option. */
     CHECK_STR(chain_error("inh_super tag=x", TSR_EINVAL), "inh_super: unknown option 'tag' (options: level)");
     CHECK_STR(chain_error("inh_sub level=12", TSR_EINVAL), "inh_sub: option 'level': '12' is out of range [0, 9]");
+}
+
+/* A subclass gets its super instance and the super class's api; an SPU
+ * without a super gets neither. */
+static void test_subclass_calls_super_api(void)
+{
+    register_test_classes();
+    journal_reset();
+    tsr_chain *chain = chain_ok("api_sub ! inh_child");
+    CHECK_JOURNAL("create inh_child#1", "create api_sub#1.api_super", "api_sub#1.api_super: level=1",
+                  "create api_sub#1", "api_sub#1: super api_sub#1.api_super");
+    tsr_chain_destroy(chain);
+    journal_reset();
+    chain = chain_ok("api_alone");
+    CHECK_JOURNAL("create api_alone#1", "api_alone#1: super (none)");
+    tsr_chain_destroy(chain);
 }
 
 static void test_rejects_unknown_option(void)
@@ -574,6 +620,7 @@ static void test_native_windows_per_chain(void)
 static const spu_test_case tests[] = {
     {"spu_chain_inheritance", test_inheritance},
     {"spu_chain_super_options_accepted", test_super_options_accepted},
+    {"spu_chain_subclass_calls_super_api", test_subclass_calls_super_api},
     {"spu_chain_rejects_unknown_option", test_rejects_unknown_option},
     {"spu_chain_rejects_wrong_type", test_rejects_wrong_type},
     {"spu_chain_rejects_unknown_spu", test_rejects_unknown_spu},
