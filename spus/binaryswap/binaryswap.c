@@ -1,10 +1,12 @@
 /* spus/binaryswap — one peer of a sort-last compositing group: renders
- * exactly like `render` (it IS render: spus/render's library, render.h,
- * with a frame hook), and at every SwapBuffers of its window reads back the
+ * exactly like `render` (it IS render: its class's super, tessera/spu.h,
+ * so every GL call goes to a render instance of its own), and at every
+ * SwapBuffers of its window, once render ended the frame
+ * (tessera/dev/render.h), reads back the
  * colour and depth of its region of interest, composites it with its
  * peers' images, and the group's final frame goes to a display node (an
  * ordinary `tessera node` whose render chain writes the PNG). Owns, per
- * instance: the render instance, the peer connections (netlib, one
+ * instance: the peer connections (netlib, one
  * tsr_net), the stream to the display (a `pack` chain of its own), the
  * read-back and frame buffers. Never: keeps state outside the instance,
  * sends the display anything but the window, its final piece (colour and
@@ -23,7 +25,6 @@
 
 #include "instance.h"
 #include "layers.h"
-#include "render.h"
 #include "synthetic.h"
 #include "tessera/dev/client.h"
 #include "tessera/log.h"
@@ -76,14 +77,42 @@ static int alpha_strategy(binaryswap_spu *b, tsr_error *err)
     return TSR_OK;
 }
 
-static void window_size(void *ctx, int *w, int *h) { render_spu_size(((binaryswap_spu *)ctx)->render, w, h); }
+static void window_size(void *ctx, int *w, int *h)
+{
+    binaryswap_spu *b = ctx;
+    b->render_api->window_size(b->render, w, h);
+}
+
+/* render ends the frame of the peer's window, the peer composites it,
+ * then the swap goes on (as render's own swap would pass it); another
+ * window's swap is render's alone. */
+static void binaryswap_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
+{
+    binaryswap_spu *b = self;
+    if (window != b->window) {
+        tsr_call_SwapBuffersTSR(b->super, window, flags);
+        return;
+    }
+    int frame = b->render_api->end_frame(b->render, NULL, NULL);
+    if (!b->render_api->tile_count(b->render))
+        binaryswap_frame(b, frame);
+    tsr_call_SwapBuffersTSR(b->child, window, flags);
+}
+
+/* The slots render (the super) implements itself, copied into `table`:
+ * the region of interest wraps them as it wraps what it sees drawn. */
+static void take_super_slots(tsr_dispatch *table, const tsr_dispatch *super, const tsr_dispatch *child)
+{
+    for (size_t i = 0; i < TSR_DISPATCH_COUNT; i++)
+        if (super->slots[i].fn != child->slots[i].fn || super->slots[i].self != child->slots[i].self)
+            table->slots[i] = super->slots[i];
+}
 
 static void binaryswap_destroy(void *self)
 {
     binaryswap_spu *b = self;
     if (!b)
         return;
-    render_spu_destroy(b->render);
     binaryswap_roi_destroy(b->roi);
     binaryswap_release_held(b);
     display_stream_close(&b->display); /* sends what is left, waits for the display to run it */
@@ -126,6 +155,12 @@ static void *binaryswap_create(const tsr_spu_init *init, tsr_error *err)
     }
     snprintf(b->name, sizeof b->name, "%s", init->instance_name);
     b->stats_fd = -1;
+    if (!(b->render_api = tsr_render_api_of(init, err))) {
+        free(b);
+        return NULL;
+    }
+    b->render = init->super_instance;
+    b->super = init->super;
     b->child = init->child;
     b->options = init->options;
     b->window = (int)tsr_options_int(init->options, "window");
@@ -235,18 +270,13 @@ static void *binaryswap_create(const tsr_spu_init *init, tsr_error *err)
         tsr_error_set(err, TSR_EIO, "%s: %s", b->name, e.message);
         goto fail;
     }
-    b->down = *init->child;
-    binaryswap_display_init(b, &b->down);
-    tsr_spu_init render_init = *init;
-    render_init.child = &b->down;
-    render_hooks hooks = {.frame = binaryswap_frame, .ctx = b};
-    b->render = render_spu_create(&render_init, &hooks, err);
-    if (!b->render)
+    /* render's slots, the window commands (the display first, then
+     * render) and the swap, all seen by the region of interest. */
+    take_super_slots(init->table, init->super, init->child);
+    binaryswap_display_init(b, init->table, init->super);
+    tsr_set_SwapBuffersTSR(init->table, binaryswap_SwapBuffersTSR, b);
+    if (!(b->roi = binaryswap_roi_create(init->table, window_size, b, err)))
         goto fail;
-    if (!(b->roi = binaryswap_roi_create(init->table, window_size, b, err))) {
-        render_spu_destroy(b->render);
-        goto fail;
-    }
     /* alpha mode: the peers clear to transparent black (colour.c) */
     b->order_from_boxes = has_box && !tsr_options_count(init->options, "view_order");
     b->table = init->table;
@@ -263,7 +293,6 @@ fail:
 }
 
 static const tsr_option_spec binaryswap_options[] = {
-    RENDER_OPTION_SPECS,
     {.name = "display",
      .type = TSR_OPT_STRING,
      .default_value = "",
@@ -396,6 +425,7 @@ static const tsr_spu_class binaryswap_class = {
     .abi = TSR_SPU_ABI,
     .dispatch_count = TSR_DISPATCH_COUNT,
     .name = "binaryswap",
+    .super = "render",
     .summary = "renders like render, then composites each frame's colour+depth with its peers "
                "(sort-last); each peer puts its final piece on a display node",
     .options = binaryswap_options,

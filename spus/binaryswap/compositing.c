@@ -36,7 +36,6 @@
 
 #include "instance.h"
 #include "layers.h"
-#include "render.h"
 #include "tessera/log.h"
 
 /* The schedule for this window (planned again when the size changes). */
@@ -158,16 +157,15 @@ static void composite_frame(binaryswap_spu *b, uint32_t frame)
     b->composited = true;
 }
 
-/* render's frame hook: the frame is finished and still in the framebuffer. */
-void binaryswap_frame(void *ctx, int frame, void *render)
+/* render has ended the frame (tessera/dev/render.h, end_frame): it is
+ * finished and still in the framebuffer. */
+void binaryswap_frame(binaryswap_spu *b, int frame)
 {
-    (void)render;
-    binaryswap_spu *b = ctx;
     b->st = (binaryswap_frame_stats){.swap_ns = binaryswap_now_ns(),
                                      .hook_cpu_ns = b->stats_fd >= 0 ? binaryswap_cpu_ns() : 0};
     binaryswap_display(b);
     int W = 0, H = 0;
-    render_spu_size(b->render, &W, &H);
+    b->render_api->window_size(b->render, &W, &H);
     binaryswap_link_peers(b, W, H);
     tsr_error err = {0};
     if (b->order_from_boxes && b->nranks > 1) {
@@ -185,8 +183,8 @@ void binaryswap_frame(void *ctx, int frame, void *render)
             box[2] = W;
             box[3] = H;
         }
-        if (binaryswap_read_colour(render_spu_read, b->render, W, H, box[0], box[1], box[2] - box[0], box[3] - box[1],
-                                   b->colour, NULL, &b->layer, &err))
+        if (binaryswap_read_colour(b->render_api->read, b->render, W, H, box[0], box[1], box[2] - box[0],
+                                   box[3] - box[1], b->colour, NULL, &b->layer, &err))
             binaryswap_fatal(b, "%s", err.message);
         tsr_log(TSR_LOG_DEBUG, "%s: frame %d: rank %d alpha region [%d, %d, %d, %d] of %dx%d", b->name, frame, b->rank,
                 box[0], box[1], box[2] - box[0], box[3] - box[1], W, H);
@@ -195,7 +193,7 @@ void binaryswap_frame(void *ctx, int frame, void *render)
     } else {
         binaryswap_read_layer(b, (uint32_t)frame);
         if (b->colour != TSR_COMPOSITE_RGBA8 &&
-            binaryswap_read_colour(render_spu_read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width,
+            binaryswap_read_colour(b->render_api->read, b->render, W, H, b->mine.x, b->mine.y, b->mine.width,
                                    b->mine.height, b->colour, b->mine.depth, &b->layer, &err))
             binaryswap_fatal(b, "%s", err.message);
     }

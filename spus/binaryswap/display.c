@@ -13,7 +13,7 @@
  * says (its piece of every frame would be missing). */
 static void display_failed(void *ctx, const tsr_error *err) { binaryswap_fatal(ctx, "%s", err->message); }
 
-void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *down)
+void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *table, const tsr_dispatch *next)
 {
     b->display = (display_stream){.name = b->name,
                                   .options = b->options,
@@ -21,10 +21,10 @@ void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *down)
                                   .window = b->window,
                                   .barrier = BINARYSWAP_DISPLAY_BARRIER,
                                   .barrier_clients = (unsigned)b->nranks,
-                                  .child = b->child,
+                                  .child = next,
                                   .on_failure = display_failed,
                                   .ctx = b};
-    display_stream_follow_window(&b->display, down);
+    display_stream_follow_window(&b->display, table);
 }
 
 const tsr_dispatch *binaryswap_display(binaryswap_spu *b) { return display_stream_get(&b->display); }

@@ -20,6 +20,7 @@
 #include "stats.h"
 #include "strategy.h"
 #include "tessera/chain.h"
+#include "tessera/dev/render.h"
 #include "tessera/spu.h"
 
 #define BINARYSWAP_MAX_PEERS 64
@@ -44,9 +45,10 @@ typedef struct local_msg {
 
 typedef struct binaryswap_spu {
     char name[96];
-    void *render;
-    binaryswap_roi *roi; /* the region of interest from the geometry (roi.c) */
-    tsr_dispatch down;
+    const tsr_render_api *render_api; /* the super's (tessera/dev/render.h) */
+    void *render;                     /* the super instance: draws, writes PNGs */
+    binaryswap_roi *roi;              /* the region of interest from the geometry (roi.c) */
+    const tsr_dispatch *super;        /* render's table */
     const tsr_dispatch *child;
     const tsr_options *options;
     int window, rank, nranks, timeout_ms;
@@ -124,13 +126,13 @@ void binaryswap_synthetic_layer(binaryswap_spu *b, int W, int H, uint32_t frame)
 
 /* compositing.c */
 void binaryswap_plan(binaryswap_spu *b, int W, int H);
-/* render's frame hook (render.h) */
-void binaryswap_frame(void *ctx, int frame, void *render);
+/* What the peer does with each frame of its window that render ended. */
+void binaryswap_frame(binaryswap_spu *b, int frame);
 
 /* display.c */
-/* Sets up the display stream (made at first use) and points `down`'s
- * window commands at it. */
-void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *down);
+/* Sets up the display stream (made at first use) and points `table`'s
+ * window commands at it, then at `next`. */
+void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *table, const tsr_dispatch *next);
 /* The display's table (a peer that cannot reach it ends). */
 const tsr_dispatch *binaryswap_display(binaryswap_spu *b);
 void binaryswap_place_piece(binaryswap_spu *b, const tsr_dispatch *d, const tsr_composite_sparse *in,

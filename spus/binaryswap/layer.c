@@ -18,7 +18,6 @@
 #include <string.h>
 
 #include "instance.h"
-#include "render.h"
 #include "synthetic.h"
 #include "tessera/log.h"
 
@@ -45,8 +44,8 @@ static void read_box(binaryswap_spu *b, uint32_t frame, int W, int H, const int 
         binaryswap_fatal(b, "%s", err.message);
     b->mine.rank = b->rank;
     b->mine.frame = frame;
-    if (w && (render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK ||
-              render_spu_read(b->render, x, y, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, b->mine.depth, &err) != TSR_OK))
+    if (w && (b->render_api->read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK ||
+              b->render_api->read(b->render, x, y, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, b->mine.depth, &err) != TSR_OK))
         binaryswap_fatal(b, "%s", err.message);
     /* The background: a pixel outside the box (nothing was drawn there
      * since the clear), else one inside it that kept the cleared depth. */
@@ -61,7 +60,7 @@ static void read_box(binaryswap_spu *b, uint32_t frame, int W, int H, const int 
         bx = 0, by = y + h;
     b->has_background = bx >= 0;
     if (b->has_background) {
-        if (render_spu_read(b->render, bx, by, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
+        if (b->render_api->read(b->render, bx, by, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
             binaryswap_fatal(b, "%s", err.message);
     } else {
         for (size_t i = 0; i < (size_t)w * (size_t)h && !b->has_background; i++)
@@ -82,7 +81,7 @@ static void read_box(binaryswap_spu *b, uint32_t frame, int W, int H, const int 
 void binaryswap_read_layer(binaryswap_spu *b, uint32_t frame)
 {
     int W = 0, H = 0;
-    render_spu_size(b->render, &W, &H);
+    b->render_api->window_size(b->render, &W, &H);
     tsr_error err = {0};
     int box[4];
     if (binaryswap_roi_frame(b->roi, box)) {
@@ -92,7 +91,7 @@ void binaryswap_read_layer(binaryswap_spu *b, uint32_t frame)
     size_t pixels = (size_t)W * (size_t)H;
     if (!grow((void **)&b->window_depth, &b->window_depth_size, pixels * sizeof(float) + 1))
         binaryswap_fatal(b, "%s", "out of memory for the depth buffer");
-    if (render_spu_read(b->render, 0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, b->window_depth, &err) != TSR_OK)
+    if (b->render_api->read(b->render, 0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, b->window_depth, &err) != TSR_OK)
         binaryswap_fatal(b, "%s", err.message);
     int x0 = W, y0 = H, x1 = -1, y1 = -1;
     size_t bg_index = SIZE_MAX;
@@ -124,14 +123,14 @@ void binaryswap_read_layer(binaryswap_spu *b, uint32_t frame)
         binaryswap_fatal(b, "%s", err.message);
     b->mine.rank = b->rank;
     b->mine.frame = frame;
-    if (w && render_spu_read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK)
+    if (w && b->render_api->read(b->render, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, b->mine.color, &err) != TSR_OK)
         binaryswap_fatal(b, "%s", err.message);
     for (int r = 0; r < h; r++)
         memcpy(b->mine.depth + (size_t)r * (size_t)w, b->window_depth + (size_t)(y + r) * (size_t)W + (size_t)x,
                (size_t)w * sizeof(float));
     b->has_background = bg_index != SIZE_MAX;
-    if (b->has_background && render_spu_read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1, 1,
-                                             GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
+    if (b->has_background && b->render_api->read(b->render, (int)(bg_index % (size_t)W), (int)(bg_index / (size_t)W), 1,
+                                                 1, GL_RGBA, GL_UNSIGNED_BYTE, b->background, &err) != TSR_OK)
         binaryswap_fatal(b, "%s", err.message);
     tsr_log(TSR_LOG_DEBUG,
             "%s: frame %" PRIu32 ": rank %d region [%d, %d, %d, %d] of %dx%d from the depth buffer; read %dx%d depth, "

@@ -40,7 +40,7 @@ void binaryswap_background_rgba8(const float rgba[4], uint8_t out[4]);
 /* Reads the rectangle (x, y, w, h) of a W x H window's colour in
  * `color_format` into `out` (RGBA8 as GL_UNSIGNED_BYTE, RGBA32F as
  * GL_FLOAT), with depth copied from `depth` (w*h floats) when not NULL
- * (else NODEPTH). `read` is render_spu_read's shape. */
+ * (else NODEPTH). `read` is tsr_render_api.read (tessera/dev/render.h). */
 typedef int (*binaryswap_read_fn)(void *render, int x, int y, int w, int h, unsigned format, unsigned type,
                                   void *pixels, tsr_error *err);
 int binaryswap_read_colour(binaryswap_read_fn read, void *render, int W, int H, int x, int y, int w, int h,

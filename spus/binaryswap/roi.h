@@ -8,8 +8,9 @@
 
 typedef struct binaryswap_roi binaryswap_roi;
 
-/* Wraps the slots of `table` (render's, as render_spu_create set them):
- * calls go on to render as before, and the geometry's box is kept.
+/* Wraps the slots set in `table` (render's own, which binaryswap takes
+ * from its super, and binaryswap's window and swap): calls go on as
+ * before, and the geometry's box is kept.
  * window_size(ctx) gives the window's size. */
 binaryswap_roi *binaryswap_roi_create(tsr_dispatch *table, void (*window_size)(void *ctx, int *w, int *h), void *ctx,
                                       tsr_error *err);
