@@ -164,6 +164,20 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         const char *format = k->kind == SPEC_COUNT_IMAGE ? k->args[3] : "GL_COLOR_INDEX";
         const char *type = k->kind == SPEC_COUNT_IMAGE ? k->args[4] : "GL_BITMAP";
         int dims = is_literal(d) ? 2 : 3;
+        if (!strncmp(modes, "&tsr_p->", 8)) {
+            /* GL checks sizes, format and type before it reads a pixel:
+             * such a call is a GL error for glGetError, not a dropped
+             * command, and its pointer (often NULL or stale) is not read */
+            fprintf(f,
+                    "        GLenum tsr_gl_error = tsr_pixel_image_error((int64_t)(%s), (int64_t)(%s), (int64_t)(%s), "
+                    "(GLenum)(%s), (GLenum)(%s));\n"
+                    "        if (tsr_gl_error) { tsr_packer_local_error(tsr_p, tsr_gl_error); ",
+                    w, h, d, format, type);
+            if (gc->is_void)
+                fprintf(f, "return; }\n");
+            else
+                fprintf(f, "return (%s)0; }\n", gc->sc->ret);
+        }
         fprintf(
             f,
             "        if (tsr_pixel_layout_of(%s, %d, (int64_t)(%s), (int64_t)(%s), (int64_t)(%s), (GLenum)(%s), (GLenum)(%s), &tsr_lay_%s) != 0) {\n"

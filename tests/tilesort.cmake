@@ -91,10 +91,13 @@ endforeach()
 # only between two state changes reaches the servers (romanboy drew
 # nothing); client arrays enabled with glEnable (piglit's
 # gl-1.1-color-material-array drew nothing); user clip planes 6 and 7
-# (the tracker kept 6 of Mesa's 8). All broken on the 2x2 wall before.
+# (the tracker kept 6 of Mesa's 8); glDrawPixels with swapped bytes
+# across the tiles (a server died of SIGSEGV in Mesa), glGetError inside
+# glBegin and a glDrawPixels GL refuses (piglit's draw-pixels,
+# geterror-inside-begin). All broken on the 2x2 wall before.
 foreach(config 2x2 broadcast)
   add_test(NAME tilesort_exact_material_inside_begin_and_buffers_bound_in_turn_${config}
-    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 4 ${config})
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 5 ${config})
 endforeach()
 # glReadPixels of one pixel beside the first server's tile, in its rows,
 # copied a row of negative width (piglit's gl-1.0-texgen died with SIGSEGV

@@ -150,6 +150,38 @@ static int components(GLenum format)
     }
 }
 
+GLenum tsr_pixel_image_error(int64_t w, int64_t h, int64_t d, GLenum format, GLenum type)
+{
+    if (w < 0 || h < 0 || d < 0)
+        return GL_INVALID_VALUE;
+    if (type == GL_BITMAP)
+        return format == GL_COLOR_INDEX || format == GL_STENCIL_INDEX ? GL_NO_ERROR : GL_INVALID_ENUM;
+    int n = components(format);
+    if (!n || (!packed_type_bytes(type) && !tsr_gl_type_size(type)) || type == GL_2_BYTES || type == GL_3_BYTES ||
+        type == GL_4_BYTES || type == GL_DOUBLE || type == GL_FIXED)
+        return GL_INVALID_ENUM;
+    switch (type) {
+    case GL_UNSIGNED_BYTE_3_3_2:
+    case GL_UNSIGNED_BYTE_2_3_3_REV:
+    case GL_UNSIGNED_SHORT_5_6_5:
+    case GL_UNSIGNED_SHORT_5_6_5_REV:
+    case GL_UNSIGNED_INT_10F_11F_11F_REV:
+    case GL_UNSIGNED_INT_5_9_9_9_REV:
+        return format == GL_RGB || format == GL_RGB_INTEGER ? GL_NO_ERROR : GL_INVALID_OPERATION;
+    case GL_UNSIGNED_SHORT_4_4_4_4:
+    case GL_UNSIGNED_SHORT_4_4_4_4_REV:
+    case GL_UNSIGNED_SHORT_5_5_5_1:
+    case GL_UNSIGNED_SHORT_1_5_5_5_REV:
+    case GL_UNSIGNED_INT_8_8_8_8:
+    case GL_UNSIGNED_INT_8_8_8_8_REV:
+    case GL_UNSIGNED_INT_10_10_10_2:
+    case GL_UNSIGNED_INT_2_10_10_10_REV: return n == 4 ? GL_NO_ERROR : GL_INVALID_OPERATION;
+    case GL_UNSIGNED_INT_24_8:
+    case GL_FLOAT_32_UNSIGNED_INT_24_8_REV: return format == GL_DEPTH_STENCIL ? GL_NO_ERROR : GL_INVALID_OPERATION;
+    default: return GL_NO_ERROR;
+    }
+}
+
 #define MUL(a, b, r) __builtin_mul_overflow((a), (b), (r))
 #define ADD(a, b, r) __builtin_add_overflow((a), (b), (r))
 

@@ -57,7 +57,6 @@ int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);
  * the wire cannot size): kept until glGetError takes it (the first one
  * stays, as GL keeps its error flag); take returns it once, then 0. */
 void tsr_packer_local_error(tsr_packer *p, GLenum error);
-GLenum tsr_packer_take_local_error(tsr_packer *p);
 
 /* --- unpacker ---------------------------------------------------------------- */
 

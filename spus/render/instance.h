@@ -83,6 +83,7 @@ typedef struct render_scissor {
     scissor_saved stack[RENDER_ATTRIB_DEPTH];
     int depth;
     GLenum list_mode; /* mode of the display list being compiled, 0: none */
+    bool in_begin;    /* between a glBegin and glEnd GL runs (not only compiles) */
     unsigned applied; /* tiles generation the real scissor was last set for */
     bool fitted;      /* the real scissor is fitted to tiles (else: the application's) */
 } render_scissor;

@@ -261,11 +261,31 @@ static void after_list(render_spu *r, render_scissor *s)
         scissor_apply(r, s);
 }
 
+/* Between glBegin and glEnd a list can hold only what GL takes there
+ * (vertices, attributes, lists of those): no scissor command, and none of
+ * before_list's and after_list's (each would be GL_INVALID_OPERATION:
+ * piglit's gl-1.0-dlist-beginend calls a list of vertices inside glBegin). */
+static void render_Begin(void *self, GLenum mode)
+{
+    render_spu *r = self;
+    render_scissor *s = render_current_scissor(r);
+    if (s->list_mode != GL_COMPILE)
+        s->in_begin = true;
+    r->gl.Begin(mode);
+}
+
+static void render_End(void *self)
+{
+    render_spu *r = self;
+    render_current_scissor(r)->in_begin = false;
+    r->gl.End();
+}
+
 static void render_CallList(void *self, GLuint list)
 {
     render_spu *r = self;
     render_scissor *s = render_current_scissor(r);
-    if (s->list_mode || !s->fitted) {
+    if (s->list_mode || !s->fitted || s->in_begin) {
         r->gl.CallList(list);
         return;
     }
@@ -278,7 +298,7 @@ static void render_CallLists(void *self, GLsizei n, GLenum type, const void *lis
 {
     render_spu *r = self;
     render_scissor *s = render_current_scissor(r);
-    if (s->list_mode || !s->fitted) {
+    if (s->list_mode || !s->fitted || s->in_begin) {
         r->gl.CallLists(n, type, lists);
         return;
     }
@@ -413,6 +433,8 @@ void render_scissor_install(render_spu *r, tsr_dispatch *table)
     tsr_set_Disable(table, render_Disable, r);
     tsr_set_PushAttrib(table, render_PushAttrib, r);
     tsr_set_PopAttrib(table, render_PopAttrib, r);
+    tsr_set_Begin(table, render_Begin, r);
+    tsr_set_End(table, render_End, r);
     tsr_set_CallList(table, render_CallList, r);
     tsr_set_CallLists(table, render_CallLists, r);
     tsr_set_NewList(table, render_NewList, r);

@@ -80,6 +80,31 @@ GLboolean ts_IsEnabled(void *self, GLenum cap)
     return tsr_call_IsEnabled(&ts_to_server(t)->table, cap);
 }
 
+/* glGetError: inside glBegin/glEnd it is itself GL_INVALID_OPERATION and
+ * answers 0 (GL 2.1 section 2.6.3; the servers are not inside a
+ * primitive, the geometry buffer is); then errors found here come first
+ * (that one, and the geometry packer's: a pixel command GL refuses before
+ * reading a pixel, tsr_pixel_image_error), then the first live server's. */
+GLenum ts_GetError(void *self)
+{
+    tilesort *t = self;
+    if (t->in_begin) {
+        if (!t->gl_error)
+            t->gl_error = GL_INVALID_OPERATION;
+        return GL_NO_ERROR;
+    }
+    GLenum e = t->gl_error;
+    t->gl_error = GL_NO_ERROR;
+    GLenum packed = tsr_packer_take_local_error(t->geo);
+    if (!e)
+        e = packed;
+    else if (packed)
+        t->gl_error = packed;
+    if (e)
+        return e;
+    return tsr_call_GetError(&ts_to_server(t)->table);
+}
+
 /* Shader and program gets: what the tracker knows, else the first live
  * server after it has been given the object (compile/link status, info
  * logs, locations: the same link inputs give the same answers on every

@@ -88,6 +88,7 @@ typedef struct tilesort {
     tsr_tee rec_tees[TSR_DISPATCH_COUNT];
     /* the geometry buffer */
     int in_begin, split_primitive, broadcast_next, program;
+    GLenum gl_error;        /* made here (glGetError inside glBegin): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
     ts_split *split;      /* split.c: a primitive cut across buffers */
@@ -213,6 +214,7 @@ void ts_GetClipPlane(void *self, GLenum p, GLdouble *o);
 void ts_GetPolygonStipple(void *self, GLubyte *o);
 void ts_GetBufferParameteriv(void *self, GLenum tg, GLenum p, GLint *o);
 GLboolean ts_IsEnabled(void *self, GLenum cap);
+GLenum ts_GetError(void *self);
 void ts_GetShaderiv(void *self, GLuint shader, GLenum pname, GLint *out);
 void ts_GetProgramiv(void *self, GLuint program, GLenum pname, GLint *out);
 void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *log);

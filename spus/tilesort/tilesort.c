@@ -517,6 +517,7 @@ static void build_tables(tilesort *t)
     SET(GetPolygonStipple);
     SET(GetBufferParameteriv);
     SET(IsEnabled);
+    SET(GetError);
     SET(ReadPixels);
     SET(GetShaderiv);
     SET(GetProgramiv);

@@ -17,9 +17,21 @@
  *   3 user clip planes 6 and 7 (Mesa has 8; piglit's
  *     gl-1.0-user-clip-all-planes uses every one): the tracker kept 6, so
  *     the wall's servers never clipped with the last two
+ *   4 glDrawPixels of GL_RGB/GL_SHORT with GL_UNPACK_SWAP_BYTES across
+ *     every tile (piglit's draw-pixels): Mesa swaps wrongly once the
+ *     scissor clips an image, and a tile's scissor clips it, so the
+ *     servers drew the wrong pixels and one died of SIGSEGV; and the GL
+ *     errors the wall must answer as GL does: glGetError inside
+ *     glBegin/glEnd (GL_INVALID_OPERATION after glEnd) and a glDrawPixels
+ *     whose packed type does not go with its format, pointer NULL
+ *     (GL_INVALID_OPERATION; the packer dropped it unanswered), and a
+ *     list of vertices called inside glBegin (no error: a tiled render
+ *     set its scissor around the call there). A wrong error ends the
+ *     program with status 1.
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
+#include <stdio.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
 
@@ -151,6 +163,51 @@ static void last_clip_planes(void)
     glDisable(GL_CLIP_PLANE0 + 6);
 }
 
+static bool error_is(GLenum want, const char *what)
+{
+    GLenum e = glGetError();
+    if (e == want)
+        return true;
+    fprintf(stderr, "program_scenes: FAIL: glGetError after %s: 0x%x, not 0x%x\n", what, e, want);
+    return false;
+}
+
+static bool swapped_pixels_and_errors(void)
+{
+    enum { W = 600, H = 500 };
+    static GLshort image[W * H * 3];
+    for (int i = 0; i < W * H * 3; i++) {
+        unsigned v = ((unsigned)i * 2654435761u >> 17) & 0x7fff; /* positive: not clamped */
+        image[i] = (GLshort)(((v & 0xff) << 8) | (v >> 8));      /* stored swapped */
+    }
+    bool ok = error_is(GL_NO_ERROR, "the frame's start");
+    glRasterPos2f(-0.9f, -0.9f);
+    glPixelStorei(GL_UNPACK_SWAP_BYTES, GL_TRUE);
+    glDrawPixels(W, H, GL_RGB, GL_SHORT, image);
+    glPixelStorei(GL_UNPACK_SWAP_BYTES, GL_FALSE);
+    ok = error_is(GL_NO_ERROR, "glDrawPixels with swapped bytes") && ok;
+    glBegin(GL_POINTS);
+    ok = error_is(GL_NO_ERROR, "glGetError inside glBegin (itself an error, answered 0)") && ok;
+    glVertex2f(0.95f, 0.95f);
+    glEnd();
+    ok = error_is(GL_INVALID_OPERATION, "glEnd after a glGetError inside glBegin") && ok;
+    glDrawPixels(4, 4, GL_BGR, GL_UNSIGNED_SHORT_5_6_5, NULL);
+    ok = error_is(GL_INVALID_OPERATION, "glDrawPixels of GL_BGR with GL_UNSIGNED_SHORT_5_6_5") && ok;
+    GLuint list = glGenLists(1);
+    glNewList(list, GL_COMPILE);
+    glColor3f(0.9f, 0.8f, 0.1f);
+    glVertex2f(0.4f, -0.95f);
+    glVertex2f(0.95f, -0.95f);
+    glVertex2f(0.95f, 0.4f);
+    glEndList();
+    glBegin(GL_TRIANGLES);
+    glCallList(list); /* legal: the list holds only vertices and colours */
+    glEnd();
+    glDeleteLists(list, 1);
+    ok = error_is(GL_NO_ERROR, "a list of vertices called inside glBegin") && ok;
+    return ok;
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -159,14 +216,16 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 4 == 0)
+        if (f % 5 == 0)
             lit_mesh();
-        else if (f % 4 == 1)
+        else if (f % 5 == 1)
             buffers_in_turn();
-        else if (f % 4 == 2)
+        else if (f % 5 == 2)
             arrays_enabled_by_glenable();
-        else
+        else if (f % 5 == 3)
             last_clip_planes();
+        else if (!swapped_pixels_and_errors())
+            app.exit_code = 1;
         if (!exapp_swap(&app))
             break;
     }

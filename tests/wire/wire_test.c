@@ -9,6 +9,7 @@
 
 #include "roundtrip.h"
 #include "tessera/chain.h"
+#include "tessera/dev/pixel.h"
 #include "tessera/dev/wireloop.h"
 #include "tessera/glapi.h"
 
@@ -393,6 +394,55 @@ static int wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream(v
     tsr_call_GetError(t);
     CHECK(rt.nbufs >= 1 && rt.unpack_rc == 0, "the next glGetError asks the receiver (%zu buffers: %s)", rt.nbufs,
           rt.unpack_err.message);
+    rt_free(&rt);
+    return 0;
+}
+
+/* A pixel command GL refuses before it reads a pixel (a packed type with
+ * a format it does not go with, a negative size, a type that is none) is
+ * the GL error glGetError answers, made by the packer: nothing is sent and
+ * its pointer is not read (piglit's draw-pixels passes NULL there and
+ * expects GL_INVALID_OPERATION: the packer dropped the call as "NULL
+ * pixels", and glGetError said GL_NO_ERROR). A valid combination is sent. */
+static int wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read(void)
+{
+    roundtrip rt;
+    CHECK(rt_init(&rt, 1024) == 0, "init");
+    const tsr_dispatch *t = &rt.pack_table;
+    /* never dereferenced: a read would fault */
+    const void *stale = (const void *)(uintptr_t)0x10;
+    struct {
+        GLsizei w;
+        GLenum format, type, error;
+    } cases[] = {
+        {4, GL_BGR, GL_UNSIGNED_SHORT_5_6_5, GL_INVALID_OPERATION},
+        {4, GL_RGBA, GL_UNSIGNED_BYTE_3_3_2, GL_INVALID_OPERATION},
+        {4, GL_RGB, GL_UNSIGNED_SHORT_4_4_4_4, GL_INVALID_OPERATION},
+        {4, GL_LUMINANCE, GL_UNSIGNED_INT_2_10_10_10_REV, GL_INVALID_OPERATION},
+        {4, GL_RGBA, GL_UNSIGNED_INT_24_8, GL_INVALID_OPERATION},
+        {4, GL_RGB, GL_BITMAP, GL_INVALID_ENUM},
+        {4, GL_RGB, GL_DOUBLE, GL_INVALID_ENUM},
+        {4, 0x1234, GL_UNSIGNED_BYTE, GL_INVALID_ENUM},
+        {-1, GL_RGB, GL_UNSIGNED_BYTE, GL_INVALID_VALUE},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        tsr_call_DrawPixels(t, cases[i].w, 4, cases[i].format, cases[i].type, stale);
+        GLenum e = tsr_call_GetError(t);
+        CHECK(e == cases[i].error && rt.nbufs == 0, "case %zu: glGetError says 0x%x (not 0x%x), %zu buffers sent", i, e,
+              cases[i].error, rt.nbufs);
+    }
+    CHECK(tsr_pixel_image_error(4, 4, 1, GL_RGB, GL_UNSIGNED_SHORT_5_6_5) == GL_NO_ERROR &&
+              tsr_pixel_image_error(4, 4, 1, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV) == GL_NO_ERROR &&
+              tsr_pixel_image_error(4, 4, 1, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8) == GL_NO_ERROR &&
+              tsr_pixel_image_error(8, 1, 1, GL_COLOR_INDEX, GL_BITMAP) == GL_NO_ERROR,
+          "valid combinations are no error");
+    static const GLushort pixels[4 * 4] = {0};
+    tsr_call_DrawPixels(t, 4, 4, GL_RGB, GL_UNSIGNED_SHORT_5_6_5, pixels);
+    tsr_packer_flush(rt.packer);
+    CHECK(rt.unpack_rc == 0, "unpack: %s", rt.unpack_err.message);
+    const char *const names[] = {"DrawPixels"};
+    if (check_sequence(&rt.actual, names, 1))
+        return 1;
     rt_free(&rt);
     return 0;
 }
@@ -863,6 +913,8 @@ static const struct {
     {"wire_enable_of_a_client_array_is_client_state", wire_enable_of_a_client_array_is_client_state},
     {"wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream",
      wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream},
+    {"wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read",
+     wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read},
     {"wire_shader_source_roundtrip", wire_shader_source_roundtrip},
     {"wire_pixel_store_shapes_image_payloads", wire_pixel_store_shapes_image_payloads},
     {"wire_unpack_rejects_unknown_opcode", wire_unpack_rejects_unknown_opcode},

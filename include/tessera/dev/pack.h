@@ -158,6 +158,12 @@ TSR_API void tsr_packer_destroy(tsr_packer *p);
 TSR_API int tsr_packer_flush(tsr_packer *p);
 /* Bytes of commands currently packed (opcodes + data, no header). */
 TSR_API size_t tsr_packer_pending(const tsr_packer *p);
+/* The GL error the packer found itself without the receiver (a query
+ * whose pname the wire cannot size, a pixel command GL refuses before it
+ * reads a pixel), once, then 0: the packer's glGetError answers it before
+ * asking; an SPU that routes glGetError elsewhere (tilesort) takes it
+ * from its own packers. */
+TSR_API GLenum tsr_packer_take_local_error(tsr_packer *p);
 /* Sets every slot of `d` to this packer (self = p): commands sent on the
  * wire are packed (those with a reply flush and wait for it), client-state
  * commands update the mirrors and draws with client arrays carry their

@@ -64,6 +64,14 @@ typedef struct tsr_pixel_layout {
  * unknown format/type, negative sizes, or sizes that overflow 64 bits. */
 TSR_API int tsr_pixel_layout_of(const tsr_pixel_modes *m, int dims, int64_t w, int64_t h, int64_t d, GLenum format,
                                 GLenum type, tsr_pixel_layout *out);
+/* The GL error a pixel command with these sizes, format and type makes
+ * before it reads or writes a pixel (GL 2.1 section 3.6.4, 4.3.2):
+ * GL_INVALID_VALUE for a negative size, GL_INVALID_ENUM for a format or
+ * type that is none (or that tessera does not know), GL_INVALID_OPERATION
+ * for a packed type with a format it does not go with (GL_RGB for the
+ * three-component ones, RGBA, BGRA or ABGR for the four-component ones);
+ * GL_NO_ERROR otherwise. */
+TSR_API GLenum tsr_pixel_image_error(int64_t w, int64_t h, int64_t d, GLenum format, GLenum type);
 /* Copies only the pixel spans (what GL writes) of an image laid out as `l`
  * (h rows x d images) from src to dst, both addressed from the pointer. */
 TSR_API void tsr_pixel_copy_spans(const tsr_pixel_layout *l, int64_t h, int64_t d, void *dst, const void *src);
