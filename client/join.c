@@ -42,6 +42,7 @@ typedef struct name_set {
 typedef struct window {
     GLint id;
     GLsizei width, height;
+    GLint buffers; /* WindowBuffersTSR's; 0: never said (one) */
 } window;
 
 struct tsr_node_join {
@@ -223,7 +224,14 @@ static void tr_WindowCreateTSR(void *self, GLint id, GLsizei width, GLsizei heig
     }
     if (!w)
         w = &j->windows[j->window_count++];
-    *w = (window){id, width, height};
+    *w = (window){id, width, height, 0};
+}
+
+static void tr_WindowBuffersTSR(void *self, GLint id, GLint buffers)
+{
+    window *w = find_window(self, id);
+    if (w)
+        w->buffers = buffers;
 }
 
 static void tr_WindowSizeTSR(void *self, GLint id, GLsizei width, GLsizei height)
@@ -360,6 +368,7 @@ tsr_node_join *tsr_node_join_create(const tsr_node_join_config *config, tsr_erro
     tsr_set_CallLists(&j->track, tr_CallLists, j);
     tsr_set_WindowCreateTSR(&j->track, tr_WindowCreateTSR, j);
     tsr_set_WindowSizeTSR(&j->track, tr_WindowSizeTSR, j);
+    tsr_set_WindowBuffersTSR(&j->track, tr_WindowBuffersTSR, j);
     tsr_set_WindowDestroyTSR(&j->track, tr_WindowDestroyTSR, j);
     tsr_set_ContextCreateTSR(&j->track, tr_ContextCreateTSR, j);
     tsr_set_ContextDestroyTSR(&j->track, tr_ContextDestroyTSR, j);
@@ -539,8 +548,11 @@ int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_r
     tsr_dispatch out;
     tsr_packer_fill_dispatch(p, &out);
     /* 1. windows and contexts */
-    for (size_t i = 0; i < j->window_count; i++)
+    for (size_t i = 0; i < j->window_count; i++) {
         tsr_call_WindowCreateTSR(&out, j->windows[i].id, j->windows[i].width, j->windows[i].height);
+        if (j->windows[i].buffers)
+            tsr_call_WindowBuffersTSR(&out, j->windows[i].id, j->windows[i].buffers);
+    }
     r.windows = (unsigned)j->window_count;
     for (size_t i = 0; i < j->context_count; i++)
         tsr_call_ContextCreateTSR(&out, j->contexts[i]);

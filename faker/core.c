@@ -108,6 +108,7 @@ struct tsr_faker_surface {
     int width, height;                      /* its size when made (pbuffers keep it) */
     int x_width, x_height;                  /* the X window's, from ConfigureNotify */
     bool asked;                             /* its size was asked this frame (glViewport) */
+    bool double_buffered;                   /* its config is (tsr_faker_surface_set_double) */
     faker_window on[FAKER_SURFACE_STREAMS]; /* the streams it is a window of */
     int non;
     tsr_faker_surface *next;
@@ -315,40 +316,7 @@ static void faker_Viewport(void *self, GLint x, GLint y, GLsizei width, GLsizei 
     tsr_call_Viewport(head, x, y, width, height);
 }
 
-/* The application's drawable is double-buffered (its configs say so),
- * but a tessera window has one colour buffer, which each swap ends as a
- * frame; the renderer's is a single-buffered OSMesa window, where GL_BACK
- * is GL_INVALID_OPERATION. So the back buffer names become the front ones:
- * what the program draws before a swap is the frame either way (the
- * xscreensaver hacks call glDrawBuffer(GL_BACK), then check glGetError). */
-static GLenum front_of(GLenum buf)
-{
-    switch (buf) {
-    case GL_BACK: return GL_FRONT;
-    case GL_BACK_LEFT: return GL_FRONT_LEFT;
-    case GL_BACK_RIGHT: return GL_FRONT_RIGHT;
-    case GL_FRONT_AND_BACK: return GL_FRONT;
-    default: return buf;
-    }
-}
-
 static const tsr_dispatch *head_of(void *self) { return tsr_chain_head(((tsr_faker_context *)self)->stream->chain); }
-
-static void faker_DrawBuffer(void *self, GLenum buf) { tsr_call_DrawBuffer(head_of(self), front_of(buf)); }
-
-static void faker_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
-{
-    GLenum fronts[16];
-    if (n < 0 || n > 16 || !bufs) {
-        tsr_call_DrawBuffers(head_of(self), n, bufs); /* the renderer's error */
-        return;
-    }
-    for (GLsizei i = 0; i < n; i++)
-        fronts[i] = front_of(bufs[i]);
-    tsr_call_DrawBuffers(head_of(self), n, fronts);
-}
-
-static void faker_ReadBuffer(void *self, GLenum buf) { tsr_call_ReadBuffer(head_of(self), front_of(buf)); }
 
 /* --- contexts ------------------------------------------------------------ */
 
@@ -369,9 +337,6 @@ static void context_table(tsr_faker_context *c, const tsr_dispatch *head)
     tsr_set_Viewport(&c->table, faker_Viewport, c);
     tsr_set_NewList(&c->table, faker_NewList, c);
     tsr_set_EndList(&c->table, faker_EndList, c);
-    tsr_set_DrawBuffer(&c->table, faker_DrawBuffer, c);
-    tsr_set_ReadBuffer(&c->table, faker_ReadBuffer, c);
-    tsr_set_DrawBuffers(&c->table, faker_DrawBuffers, c);
     tsr_set_Clear(&c->table, faker_Clear, c);
     tsr_set_Flush(&c->table, faker_Flush, c);
     tsr_set_Finish(&c->table, faker_Finish, c);
@@ -926,6 +891,10 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
         if (draw->xid && st->number == 0)
             tsr_native_window_set(tsr_chain_native_windows(st->chain), w->window, xconn_name, draw->xid);
         tsr_call_WindowCreateTSR(head, w->window, w->width, w->height);
+        /* GL_BACK and GL_FRONT are two buffers where the program asked for
+         * double buffering (render's buffers.c). */
+        if (draw->double_buffered)
+            tsr_call_WindowBuffersTSR(head, w->window, 2);
     } else if (draw) {
         follow_size_locked(draw, w, head);
     }
@@ -953,6 +922,14 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
 }
 
 tsr_faker_context *tsr_faker_current_context(void) { return cur_ctx; }
+
+void tsr_faker_surface_set_double(tsr_faker_surface *s, bool double_buffered)
+{
+    pthread_mutex_lock(&lock);
+    if (s && !s->non)
+        s->double_buffered = double_buffered;
+    pthread_mutex_unlock(&lock);
+}
 
 
 void tsr_faker_swap(tsr_faker_surface *s)

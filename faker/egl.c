@@ -471,6 +471,8 @@ static EGLSurface window_surface(egl_display *e, const egl_config *c, unsigned l
         last_error = EGL_BAD_NATIVE_WINDOW;
         return EGL_NO_SURFACE;
     }
+    /* An EGL window surface renders to its back buffer (EGL_RENDER_BUFFER). */
+    tsr_faker_surface_set_double(s, true);
     egl_surface *x = calloc(1, sizeof *x);
     if (!x) {
         last_error = EGL_BAD_ALLOC;

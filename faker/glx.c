@@ -539,6 +539,10 @@ Bool glXMakeContextCurrent(Display *dpy, GLXDrawable draw, GLXDrawable read, GLX
     if (read && read != draw)
         tsr_faker_log(TSR_LOG_WARN, "glXMakeContextCurrent: a read drawable other than the draw one is ignored");
     tsr_faker_surface *s = drawable_surface(dpy, draw);
+    /* A window has the back buffer its config has (pbuffers and pixmaps
+     * are single-buffered here). */
+    if (s && !offscreen_find(dpy, draw))
+        tsr_faker_surface_set_double(s, ctx->config && ctx->config->f.doublebuffer);
     if (!s || !tsr_faker_make_current(ctx->ctx, s))
         return False;
     if (old && old != ctx && old->destroyed)

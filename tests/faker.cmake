@@ -239,6 +239,20 @@ add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_
                  $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
 set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
 
+# Front and back buffers of a double-buffered GLX window (issue 27 item
+# 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap
+# and the front read after it, through [render], [pack -> node render] and
+# a 2x2 wall, answer as Mesa's own GLX on the same private Xvfb (libgl-dev).
+pkg_check_modules(NATIVE_GL REQUIRED IMPORTED_TARGET gl)
+add_executable(faker_glx_buffers ${FAKER_TEST_DIR}/glx_buffers_driver.c)
+target_link_libraries(faker_glx_buffers PRIVATE tessera_faker_gl PkgConfig::X11)
+add_executable(faker_glx_buffers_native ${FAKER_TEST_DIR}/glx_buffers_driver.c)
+target_link_libraries(faker_glx_buffers_native PRIVATE PkgConfig::NATIVE_GL PkgConfig::X11)
+add_test(NAME faker_glx_front_and_back_buffers_answer_as_mesa_through_render_pack_and_wall
+         COMMAND bash ${FAKER_TEST_DIR}/glx_buffers.sh $<TARGET_FILE:faker_glx_buffers>
+                 $<TARGET_FILE:faker_glx_buffers_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/glx_buffers)
+set_tests_properties(faker_glx_front_and_back_buffers_answer_as_mesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
+
 # Configs as a driver offers them (tests/faker/glx_configs_driver.c): the
 # attribute lists of glxgears, glxinfo, waffle (piglit), apitrace, GLFW,
 # SDL2, freeglut, VTK, Qt and xscreensaver sent to Mesa's GLX and to the

@@ -177,7 +177,7 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # OUTDIR writes the ok-* seeds with the real packer.
 # tessera_render_core's sources (spus/render/CMakeLists.txt), compiled in.
 set(tsr_fuzz_render_core_sources)
-foreach(tsr_file render contexts scissor textures pixels frame pages budget drawpixels)
+foreach(tsr_file render contexts buffers scissor textures pixels frame pages budget drawpixels)
   list(APPEND tsr_fuzz_render_core_sources ${CMAKE_SOURCE_DIR}/spus/render/${tsr_file}.c)
 endforeach()
 set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${tsr_fuzz_render_core_sources}

@@ -159,12 +159,12 @@ void diff_colorbuf(dctx *x, int m)
         break;
     case TSR_SM_DRAWBUFFER:
         if (c->draw_buffer && c->draw_buffer != s->draw_buffer) {
-            tsr_call_DrawBuffer(x->d, c->draw_buffer);
+            tsr_call_DrawBuffer(x->d, ST_BUFFER_OF(c->draw_buffer));
             s->draw_buffer = c->draw_buffer;
             emitted(x);
         }
         if (c->read_buffer && c->read_buffer != s->read_buffer) {
-            tsr_call_ReadBuffer(x->d, c->read_buffer);
+            tsr_call_ReadBuffer(x->d, ST_BUFFER_OF(c->read_buffer));
             s->read_buffer = c->read_buffer;
             emitted(x);
         }

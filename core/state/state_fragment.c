@@ -115,7 +115,7 @@ static void st_DrawBuffer(void *self, GLenum buf)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    c->v.draw_buffer = buf;
+    c->v.draw_buffer = ST_BUFFER_TRACKED(buf);
     st_mark(c, TSR_SM_DRAWBUFFER);
 }
 
@@ -125,7 +125,7 @@ static void st_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
     if (!c)
         return;
     if (n >= 1) {
-        c->v.draw_buffer = bufs[0];
+        c->v.draw_buffer = ST_BUFFER_TRACKED(bufs[0]);
         st_mark(c, TSR_SM_DRAWBUFFER);
     }
 }
@@ -135,7 +135,7 @@ static void st_ReadBuffer(void *self, GLenum buf)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    c->v.read_buffer = buf;
+    c->v.read_buffer = ST_BUFFER_TRACKED(buf);
     st_mark(c, TSR_SM_DRAWBUFFER);
 }
 

@@ -128,12 +128,12 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_DRAW_BUFFER:
         if (!v->draw_buffer)
             return 0;
-        puti(a, v->draw_buffer);
+        puti(a, (GLint)ST_BUFFER_OF(v->draw_buffer));
         return 1;
     case GL_READ_BUFFER:
         if (!v->read_buffer)
             return 0;
-        puti(a, v->read_buffer);
+        puti(a, (GLint)ST_BUFFER_OF(v->read_buffer));
         return 1;
     /* depth, stencil */
     case GL_DEPTH_FUNC: puti(a, v->depth_func); return 1;

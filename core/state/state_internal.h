@@ -8,6 +8,13 @@
 #include "tessera/dev/state.h"
 #include "util/map.h"
 
+/* glDrawBuffer/glReadBuffer(GL_NONE) as tracked: draw_buffer and
+ * read_buffer 0 mean "never set" (the renderer's default applies), and
+ * GL_NONE is 0 too. ST_BUFFER_OF turns a tracked value back into GL's. */
+#define ST_BUFFER_NONE 0xffffffffu
+#define ST_BUFFER_OF(v) ((v) == ST_BUFFER_NONE ? (GLenum)GL_NONE : (GLenum)(v))
+#define ST_BUFFER_TRACKED(buf) ((buf) == GL_NONE ? (GLenum)ST_BUFFER_NONE : (GLenum)(buf))
+
 /* --- texture objects -------------------------------------------------------- */
 typedef struct st_texparams {
     GLenum min_filter, mag_filter, wrap_s, wrap_t, wrap_r;

@@ -3,8 +3,8 @@
  * moves the instance onto framebuffer objects, so that every client
  * context draws into one pair of shared renderbuffers (the window), and
  * ContextCreateTSR, MakeCurrentTSR and ContextDestroyTSR manage those
- * contexts; DrawBuffer and ReadBuffer map the window's buffer names onto
- * the FBO's colour attachment.
+ * contexts (buffers.c maps the window's buffer names onto the FBO's colour
+ * attachments).
  *
  * Owns: the contexts, the shared renderbuffers and their generation, the
  * retired contexts of clients that left, the FBO entries.
@@ -39,6 +39,8 @@ int render_attach_context(render_spu *r, render_context *c, tsr_error *err)
         r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
         r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
         r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
+        if (r->front_rb)
+            r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, r->front_rb);
         GLenum status = r->fbo.CheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE)
             return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer incomplete (0x%x)", r->name, c->id, status);
@@ -110,6 +112,10 @@ int render_shared_resize(render_spu *r, int width, int height, tsr_error *err)
         r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 1, 1);
         r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
         r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, 1, 1);
+        if (r->front_rb) {
+            r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
+            r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 1, 1);
+        }
         r->gl.Finish();
         render_pages_snapshot(&before);
     }
@@ -117,6 +123,10 @@ int render_shared_resize(render_spu *r, int width, int height, tsr_error *err)
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+    if (r->front_rb) {
+        r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
+        r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    }
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
     render_destroy_retired(r);
     if (release) {
@@ -150,6 +160,7 @@ int render_shared_enter(render_spu *r, tsr_error *err)
         {"glFramebufferRenderbuffer", (void **)&r->fbo.FramebufferRenderbuffer},
         {"glFramebufferParameteri", (void **)&r->fbo.FramebufferParameteri},
         {"glCheckFramebufferStatus", (void **)&r->fbo.CheckFramebufferStatus},
+        {"glBlitFramebuffer", (void **)&r->fbo.BlitFramebuffer},
     };
     for (size_t i = 0; i < sizeof wanted / sizeof wanted[0]; i++) {
         *wanted[i].slot = (void *)r->osmesa.GetProcAddress(wanted[i].symbol);
@@ -313,32 +324,9 @@ static void render_ContextDestroyTSR(void *self, GLint context)
     tsr_call_ContextDestroyTSR(r->child, context);
 }
 
-/* Shared mode draws into FBO colour attachment 0: the window buffer names
- * a single-buffered OSMesa window accepts mean that attachment. */
-static GLenum shared_buffer_name(const render_spu *r, GLenum buf)
-{
-    if (r->shared && (buf == GL_FRONT || buf == GL_FRONT_LEFT || buf == GL_LEFT || buf == GL_FRONT_AND_BACK))
-        return GL_COLOR_ATTACHMENT0;
-    return buf;
-}
-
-static void render_DrawBuffer(void *self, GLenum buf)
-{
-    render_spu *r = self;
-    r->gl.DrawBuffer(shared_buffer_name(r, buf));
-}
-
-static void render_ReadBuffer(void *self, GLenum buf)
-{
-    render_spu *r = self;
-    r->gl.ReadBuffer(shared_buffer_name(r, buf));
-}
-
 void render_contexts_install(render_spu *r, tsr_dispatch *table)
 {
     tsr_set_ContextCreateTSR(table, render_ContextCreateTSR, r);
     tsr_set_ContextDestroyTSR(table, render_ContextDestroyTSR, r);
     tsr_set_MakeCurrentTSR(table, render_MakeCurrentTSR, r);
-    tsr_set_DrawBuffer(table, render_DrawBuffer, r);
-    tsr_set_ReadBuffer(table, render_ReadBuffer, r);
 }

@@ -202,6 +202,8 @@ static void finish_frame(render_spu *r, bool whole)
  * swap itself is the caller's to pass on. Returns the frame's number. */
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
 {
+    if (r->double_buffered)
+        render_buffers_swap(r); /* the frame is what the front shows now */
     render_ensure_current(r);
     int frame = r->frame++;
     if (r->ntiles) {

@@ -11,6 +11,7 @@
  *   pixels.c   — Clear, CopyPixels, DrawPixels: the stencil record and
  *                the fast paths
  *   frame.c    — window size, swap: the frame read back and written out
+ *   buffers.c  — front and back buffers of a double-buffered window
  *
  * Owns the types only. Never: state outside an instance. */
 #ifndef RENDER_INSTANCE_H
@@ -53,6 +54,8 @@ typedef struct fbo_api {
     void(GLAPIENTRY *FramebufferRenderbuffer)(GLenum target, GLenum attachment, GLenum rbtarget, GLuint rb);
     void(GLAPIENTRY *FramebufferParameteri)(GLenum target, GLenum pname, GLint value);
     GLenum(GLAPIENTRY *CheckFramebufferStatus)(GLenum target);
+    void(GLAPIENTRY *BlitFramebuffer)(GLint sx0, GLint sy0, GLint sx1, GLint sy1, GLint dx0, GLint dy0, GLint dx1,
+                                      GLint dy1, GLbitfield mask, GLenum filter);
 } fbo_api;
 
 #ifndef GL_FRAMEBUFFER_FLIP_Y_MESA
@@ -101,6 +104,9 @@ typedef struct render_context {
     unsigned attached; /* renderbuffer generation the FBO was attached at */
     bool window_seen;  /* its first window command reset viewport/scissor */
     render_scissor sc;
+    /* The program's last glDrawBuffer/glReadBuffer names (0: none yet),
+     * answered while the real state still matches them (buffers.c). */
+    GLenum draw_name, read_name;
 } render_context;
 
 typedef struct render_spu {
@@ -130,6 +136,10 @@ typedef struct render_spu {
     size_t ncontexts, contexts_cap;
     size_t current;            /* index into contexts */
     GLuint color_rb, depth_rb; /* the window: shared by every context */
+    /* A double-buffered window (WindowBuffersTSR 2, buffers.c): color_rb is
+     * its back buffer (attachment 0), front_rb its front (attachment 1). */
+    bool double_buffered;
+    GLuint front_rb;
     /* Contexts of clients that left, kept alive until the shared
      * renderbuffers are next given new storage (or deleted): Mesa caches a
      * renderbuffer's surface with the context that last validated it and
@@ -194,6 +204,10 @@ void render_textures_install(render_spu *r, tsr_dispatch *table);
 /* pixels.c */
 void render_pixels_install(render_spu *r, tsr_dispatch *table);
 
+/* buffers.c */
+void render_buffers_swap(render_spu *r);
+bool render_buffers_query(render_spu *r, GLenum pname, GLint *value);
+void render_buffers_install(render_spu *r, tsr_dispatch *table);
 /* frame.c */
 void render_frame_install(render_spu *r, tsr_dispatch *table);
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx);

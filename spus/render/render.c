@@ -176,8 +176,8 @@ static void render_destroy(void *self)
             render_fastdraw_release(r->fastdraw, &r->gl);
             if (r->contexts[0].fbo)
                 r->fbo.DeleteFramebuffers(1, &r->contexts[0].fbo);
-            GLuint rbs[2] = {r->color_rb, r->depth_rb};
-            r->fbo.DeleteRenderbuffers(2, rbs);
+            GLuint rbs[3] = {r->color_rb, r->depth_rb, r->front_rb};
+            r->fbo.DeleteRenderbuffers(r->front_rb ? 3 : 2, rbs);
         }
         render_destroy_retired(r);
         free(r->retired);
@@ -275,6 +275,7 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     tsr_gl_procs_fill_dispatch(&r->gl, init->table);
     render_frame_install(r, init->table);
     render_contexts_install(r, init->table);
+    render_buffers_install(r, init->table);
     render_pixels_install(r, init->table);
     render_scissor_install(r, init->table);
     render_textures_install(r, init->table);

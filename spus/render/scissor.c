@@ -344,6 +344,12 @@ static void render_EndList(void *self)
  * (inside a compile-and-execute list the real state is the application's). */
 static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n)
 {
+    GLint buffer;
+    if (render_buffers_query(r, pname, &buffer)) { /* buffers.c: the window's buffer names */
+        out[0] = buffer;
+        *n = 1;
+        return true;
+    }
     render_scissor *s = render_current_scissor(r);
     if (!s->fitted || s->list_mode == GL_COMPILE_AND_EXECUTE)
         return false; /* the real state is the application's */
