@@ -32,8 +32,8 @@ start_xvfb "$out"
 
 # A KNOWN defect, its cause inside Mesa (llvmpipe), not fixed: a capture of
 # engine replayed through the 2x2 wall can differ from its 1x1 replay in a
-# frame by pixels 1-3 levels apart (stop 19: 3 of 20 captures, up to 764
-# pixels within 2 levels; stop 20: 4 of 60, 8-172 pixels, one with 111
+# frame by pixels 1-3 levels apart (measured twice: 3 of 20 captures, up
+# to 764 pixels within 2 levels; 4 of 60, 8-172 pixels, one with 111
 # pixels within 3 levels; the two looked at in the top-right and the
 # top-left server's tiles). The cause, shown with OSMesa alone
 # (tests/render/quad_diagonal_test.c, in the suite): llvmpipe cuts a GL_QUADS
