@@ -16,7 +16,9 @@ status=0
 fail() { echo "FAIL: $*" >&2; status=1; }
 PIDS=
 kill_all() { for p in $PIDS; do kill -9 "$p" 2>/dev/null; wait "$p" 2>/dev/null; done; PIDS=; }
-timeout 60 "$native" "$out/native.txt" || fail "native: exit $?"
+# the native run is Mesa's own GLX: what it keeps at exit (its DRI driver
+# is unloaded by then, so LeakSanitizer cannot name it) is not tessera's
+ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" timeout 60 "$native" "$out/native.txt" || fail "native: exit $?"
 runs=()
 run() { # NAME CHAIN
   echo "--- $1: chain \"$2\""
