@@ -14,7 +14,10 @@
  *                      sorted name -> entry table of every gl* the faker
  *                      exports (spec, aliases, stubs: GetProcAddress) and the
  *                      GL_EXTENSIONS string: the registry's extensions whose
- *                      every command is a spec command or an alias of one.
+ *                      every command is a spec command or an alias of one,
+ *                      and those without commands that EXTENSIONS.txt
+ *                      (spec/gl_extensions.txt) lists, each with the reason
+ *                      it works end to end.
  * The registry is scanned as text (its layout is regular; no XML library on
  * the build machine is assumed). */
 #include <ctype.h>
@@ -246,8 +249,45 @@ static void count_covered(xcmd *x, void *ctx)
         st->covered++;
 }
 
-/* Marks extension commands wanted; appends covered extension names to ext. */
-static void parse_extensions(const char *xml, char **ext, size_t *ext_len)
+/* spec/gl_extensions.txt: the extensions without commands of their own
+ * that are offered; each is found in the registry once (found). */
+typedef struct listed_ext {
+    char **names;
+    int *found;
+    size_t count;
+} listed_ext;
+
+static void read_listed(const char *path, listed_ext *l)
+{
+    char *text = read_file(path);
+    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        if (line[0] == '#' || line[0] == '\0')
+            continue;
+        size_t n = strcspn(line, "\t");
+        if (line[n] != '\t' || line[n + 1] == '\0')
+            die("a listed extension without its reason (NAME<TAB>why)", line);
+        l->names = xrealloc(l->names, (l->count + 1) * sizeof *l->names);
+        l->found = xrealloc(l->found, (l->count + 1) * sizeof *l->found);
+        l->names[l->count] = xstrndup(line, n);
+        l->found[l->count++] = 0;
+    }
+    free(text);
+}
+
+static void append_name(char **ext, size_t *ext_len, const char *name)
+{
+    size_t n = strlen(name);
+    *ext = xrealloc(*ext, *ext_len + n + 2);
+    memcpy(*ext + *ext_len, name, n);
+    (*ext)[*ext_len + n] = ' ';
+    (*ext)[*ext_len + n + 1] = '\0';
+    *ext_len += n + 1;
+}
+
+/* Marks extension commands wanted; appends offered extension names to ext:
+ * those whose every command the spec has, and the listed ones (which must
+ * have no command the spec lacks). */
+static void parse_extensions(const char *xml, listed_ext *listed, char **ext, size_t *ext_len)
 {
     const char *start = strstr(xml, "<extensions>");
     if (!start)
@@ -258,23 +298,30 @@ static void parse_extensions(const char *xml, char **ext, size_t *ext_len)
         const char *end = gt && gt[-1] == '/' ? gt : strstr(p, "</extension>");
         if (!name || !supported || !end)
             die("an <extension> without name/supported or end", name);
-        if (supports_gl(supported) && gt[-1] != '/') {
-            if (!strncmp(name, "GL_ARB_", 7) || !strncmp(name, "GL_EXT_", 7) || !strncmp(name, "GL_KHR_", 7))
-                each_required(p, end, mark_wanted, NULL);
+        int is_listed = 0;
+        for (size_t i = 0; i < listed->count; i++)
+            if (!strcmp(listed->names[i], name))
+                is_listed = 1, listed->found[i] = 1;
+        if (is_listed && !supports_gl(supported))
+            die("a listed extension the registry does not support for gl", name);
+        if (supports_gl(supported)) {
             ext_state st = {0, 0};
-            each_required(p, end, count_covered, &st);
-            if (st.commands > 0 && st.covered == st.commands) {
-                size_t n = strlen(name);
-                *ext = xrealloc(*ext, *ext_len + n + 2);
-                memcpy(*ext + *ext_len, name, n);
-                (*ext)[*ext_len + n] = ' ';
-                (*ext)[*ext_len + n + 1] = '\0';
-                *ext_len += n + 1;
+            if (gt[-1] != '/') {
+                if (!strncmp(name, "GL_ARB_", 7) || !strncmp(name, "GL_EXT_", 7) || !strncmp(name, "GL_KHR_", 7))
+                    each_required(p, end, mark_wanted, NULL);
+                each_required(p, end, count_covered, &st);
             }
+            if (is_listed && st.covered != st.commands)
+                die("a listed extension has commands the spec does not have", name);
+            if ((st.commands > 0 && st.covered == st.commands) || is_listed)
+                append_name(ext, ext_len, name);
         }
         free(name);
         free(supported);
     }
+    for (size_t i = 0; i < listed->count; i++)
+        if (!listed->found[i])
+            die("a listed extension the registry does not have", listed->names[i]);
 }
 
 static FILE *open_out(const char *dir, const char *name)
@@ -377,7 +424,8 @@ static void emit_stubs(const char *dir, const char *extensions)
     fprintf(f, "};\nconst size_t tsr_faker_gl_proc_count = %zu;\n", nnames);
     fprintf(f, "const size_t tsr_faker_gl_stub_count = %zu;\n", nstubs);
     fprintf(f,
-            "\n/* Registry extensions whose every command the spec has. */\n"
+            "\n/* Registry extensions whose every command the spec has, and those\n"
+            " * without commands that spec/gl_extensions.txt lists. */\n"
             "const char tsr_faker_gl_extensions[] = \"%s\";\n",
             extensions);
     close_out(f);
@@ -385,8 +433,8 @@ static void emit_stubs(const char *dir, const char *extensions)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4) {
-        fprintf(stderr, "usage: tsr-gen-faker SPEC.yaml GL_XML OUTDIR\n");
+    if (argc != 5) {
+        fprintf(stderr, "usage: tsr-gen-faker SPEC.yaml GL_XML EXTENSIONS.txt OUTDIR\n");
         return 2;
     }
     static spec s;
@@ -431,12 +479,18 @@ int main(int argc, char **argv)
     char *extensions = xrealloc(NULL, 1);
     size_t ext_len = 0;
     extensions[0] = '\0';
-    parse_extensions(xml, &extensions, &ext_len);
+    listed_ext listed = {NULL, NULL, 0};
+    read_listed(argv[3], &listed);
+    parse_extensions(xml, &listed, &extensions, &ext_len);
+    for (size_t i = 0; i < listed.count; i++)
+        free(listed.names[i]);
+    free(listed.names);
+    free(listed.found);
     if (ext_len)
         extensions[--ext_len] = '\0';
-    mkdir(argv[3], 0777);
-    emit_alias(argv[3]);
-    emit_stubs(argv[3], extensions);
+    mkdir(argv[4], 0777);
+    emit_alias(argv[4]);
+    emit_stubs(argv[4], extensions);
     free(extensions);
     free(xml);
     spec_free(&s);

@@ -239,6 +239,22 @@ add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_
                  $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
 set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
 
+# The extensions without commands the faker offers (spec/gl_extensions.txt),
+# each where its effect shows: OSMesa has every listed one, and pixels and
+# gets through [render], [pack -> node render] and a 2x2 tilesort wall
+# equal OSMesa's own.
+add_executable(faker_extensions ${FAKER_TEST_DIR}/extensions_driver.c)
+target_compile_definitions(faker_extensions PRIVATE EXTENSIONS_TABLE="${CMAKE_SOURCE_DIR}/spec/gl_extensions.txt")
+target_link_libraries(faker_extensions PRIVATE tessera_faker_egl tessera_faker_gl)
+add_executable(faker_extensions_native ${FAKER_TEST_DIR}/extensions_driver.c)
+target_compile_definitions(faker_extensions_native PRIVATE GL21_NATIVE
+                           EXTENSIONS_TABLE="${CMAKE_SOURCE_DIR}/spec/gl_extensions.txt")
+target_link_libraries(faker_extensions_native PRIVATE PkgConfig::OSMESA)
+add_test(NAME faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall
+         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_extensions>
+                 $<TARGET_FILE:faker_extensions_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/extensions)
+set_tests_properties(faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
+
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap
 # and the front read after it, through [render], [pack -> node render] and

@@ -21,6 +21,8 @@ static uint64_t texel_bytes(GLint internalformat)
     case GL_RGBA16F:
     case GL_RGB16F:
     case GL_RG32F:
+    case GL_LUMINANCE_ALPHA32F_ARB:
+    case GL_DEPTH32F_STENCIL8:
     case GL_RGBA16UI:
     case GL_RGBA16I: return 8;
     default: return 4;

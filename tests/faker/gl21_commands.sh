@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # tests/faker/gl21_commands.sh — the GL 1.0-2.1 commands added to complete
-# the spec (gl21_commands_driver.c) through [render], [pack -> tessera node
+# the spec (gl21_commands_driver.c), or the offered extensions without
+# commands (extensions_driver.c), through [render], [pack -> tessera node
 # render] and a 2x2 tilesort wall of four `tessera node` render servers:
 # every labelled line (pixels drawn, answers of gets) must equal what
-# OSMesa gives for the same calls (faker_gl21_commands_native).
+# OSMesa gives for the same calls (the driver built with GL21_NATIVE).
 # usage: gl21_commands.sh PROGRAM NATIVE TESSERA OUT_DIR
 set -u
 prog=$1 native=$2 TESSERA=$3 out=$4

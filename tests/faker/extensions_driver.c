@@ -1,0 +1,399 @@
+/* tests/faker/extensions_driver.c — faker_extensions OUT.txt: the registry
+ * extensions without commands that spec/gl_extensions.txt has the faker
+ * offer, each used where its effect shows, on a 64x48 EGL pbuffer with
+ * depth and stencil: one labelled line per read-back (a checksum plus a
+ * sample) or get answer in OUT.txt.
+ *   every listed name is in GL_EXTENSIONS (natively: OSMesa has it);
+ *   GL_ARB_depth_texture: a GL_DEPTH_COMPONENT24 image, its sizes, read
+ *     back with glGetTexImage, drawn as luminance and, GL_ARB_shadow and
+ *     GL_EXT_shadow_funcs, with R compared by GL_LEQUAL and GL_GREATER;
+ *   GL_ARB_texture_float: GL_RGBA32F and GL_LUMINANCE32F images, their
+ *     component types, read back as floats, drawn;
+ *   GL_EXT_packed_depth_stencil: glDrawPixels and glReadPixels of the
+ *     window's GL_DEPTH_STENCIL as GL_UNSIGNED_INT_24_8, the stencil it
+ *     wrote used by a stencil test; a GL_DEPTH24_STENCIL8 image read back;
+ *   GL_ARB_depth_buffer_float: the same with
+ *     GL_FLOAT_32_UNSIGNED_INT_24_8_REV; GL_DEPTH32F_STENCIL8 and
+ *     GL_DEPTH_COMPONENT32F images;
+ *   GL_ARB_texture_non_power_of_two: a 3x5 texture drawn;
+ *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3.
+ * Built with GL21_NATIVE (faker_extensions_native) it makes the same calls
+ * on OSMesa directly: the runs through tessera must write the same file
+ * (gl21_commands.sh). EXTENSIONS_TABLE is spec/gl_extensions.txt. */
+#define GL_GLEXT_PROTOTYPES 1
+#ifdef GL21_NATIVE
+#include <GL/osmesa.h>
+#else
+#include <EGL/egl.h>
+#endif
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "harness.h"
+
+#define W 64
+#define H 48
+
+static FILE *out;
+
+static uint32_t fnv(const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    uint32_t h = 2166136261u;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 16777619u;
+    return h;
+}
+
+/* The colour buffer: checksum plus the centre pixel, labelled. */
+static void frame(const char *label)
+{
+    static unsigned char px[W * H * 4];
+    memset(px, 0, sizeof px);
+    glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    const unsigned char *c = px + ((H / 2) * W + W / 2) * 4;
+    fprintf(out, "%s: frame %08x centre %u %u %u %u\n", label, fnv(px, sizeof px), c[0], c[1], c[2], c[3]);
+}
+
+static void ints(const char *label, const GLint *v, int n)
+{
+    fprintf(out, "%s:", label);
+    for (int i = 0; i < n; i++)
+        fprintf(out, " %d", v[i]);
+    fprintf(out, "\n");
+}
+
+static void clear(void)
+{
+    glClearColor(0.1f, 0.1f, 0.2f, 1.0f);
+    glClearDepth(1.0);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+}
+
+static void textured_quad(GLfloat r)
+{
+    glBegin(GL_QUADS);
+    glTexCoord3f(0, 0, r);
+    glVertex2f(-0.7f, -0.7f);
+    glTexCoord3f(1, 0, r);
+    glVertex2f(0.7f, -0.7f);
+    glTexCoord3f(1, 1, r);
+    glVertex2f(0.7f, 0.7f);
+    glTexCoord3f(0, 1, r);
+    glVertex2f(-0.7f, 0.7f);
+    glEnd();
+}
+
+static int has_extension(const char *name)
+{
+    const char *all = (const char *)glGetString(GL_EXTENSIONS);
+    size_t n = strlen(name);
+    for (const char *p = all; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == all || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+/* Each listed name, offered or not; returns how many are not. */
+static int listed_extensions(const char *table)
+{
+    FILE *f = fopen(table, "r");
+    REQUIRE(f, "cannot read %s", table);
+    char line[1024];
+    int absent = 0, listed = 0;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#' || line[0] == '\n')
+            continue;
+        line[strcspn(line, "\t\n")] = '\0';
+        int has = has_extension(line);
+        fprintf(out, "%s: %s\n", line, has ? "offered" : "absent");
+        absent += !has;
+        listed++;
+    }
+    fclose(f);
+    fprintf(out, "listed extensions: %d\n", listed);
+    return absent;
+}
+
+static void tex_sizes(const char *label, GLenum target)
+{
+    static const GLenum pnames[] = {GL_TEXTURE_WIDTH,      GL_TEXTURE_HEIGHT,      GL_TEXTURE_INTERNAL_FORMAT,
+                                    GL_TEXTURE_RED_SIZE,   GL_TEXTURE_ALPHA_SIZE,  GL_TEXTURE_LUMINANCE_SIZE,
+                                    GL_TEXTURE_DEPTH_SIZE, GL_TEXTURE_STENCIL_SIZE};
+    GLint v[sizeof pnames / sizeof pnames[0]];
+    for (size_t i = 0; i < sizeof pnames / sizeof pnames[0]; i++) {
+        v[i] = -1;
+        glGetTexLevelParameteriv(target, 0, pnames[i], &v[i]);
+    }
+    ints(label, v, (int)(sizeof pnames / sizeof pnames[0]));
+}
+
+static void tex_types(const char *label)
+{
+    static const GLenum pnames[] = {GL_TEXTURE_RED_TYPE,   GL_TEXTURE_GREEN_TYPE,     GL_TEXTURE_BLUE_TYPE,
+                                    GL_TEXTURE_ALPHA_TYPE, GL_TEXTURE_LUMINANCE_TYPE, GL_TEXTURE_INTENSITY_TYPE,
+                                    GL_TEXTURE_DEPTH_TYPE};
+    GLint v[sizeof pnames / sizeof pnames[0]];
+    for (size_t i = 0; i < sizeof pnames / sizeof pnames[0]; i++) {
+        v[i] = -1;
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, pnames[i], &v[i]);
+    }
+    ints(label, v, (int)(sizeof pnames / sizeof pnames[0]));
+}
+
+static void new_texture(void)
+{
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+}
+
+static void depth_texture(void)
+{
+    static GLfloat depth[8 * 8];
+    for (int i = 0; i < 8 * 8; i++)
+        depth[i] = (GLfloat)((i * 37) % 64) / 63.0f;
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, 8, 8, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    tex_sizes("depth texture sizes", GL_TEXTURE_2D);
+    static GLushort back[8 * 8];
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, back);
+    fprintf(out, "depth texture read back: %08x first %u last %u\n", fnv(back, sizeof back), back[0], back[63]);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    clear();
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    glTexParameteri(GL_TEXTURE_2D, GL_DEPTH_TEXTURE_MODE, GL_LUMINANCE);
+    textured_quad(0.5f);
+    frame("depth texture as luminance");
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_R_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    clear();
+    textured_quad(0.5f);
+    frame("depth texture compared with r 0.5");
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_GREATER);
+    clear();
+    textured_quad(0.25f);
+    frame("depth texture compared with r 0.25 by GL_GREATER");
+    GLint mode = 0, func = 0;
+    glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, &mode);
+    glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, &func);
+    fprintf(out, "compare mode: 0x%x function 0x%x\n", mode, func);
+    glDisable(GL_TEXTURE_2D);
+}
+
+static void texture_float(void)
+{
+    static GLfloat rgba[4 * 4 * 4];
+    for (int i = 0; i < 4 * 4 * 4; i++)
+        rgba[i] = (GLfloat)(i % 7) * 0.37f - 0.5f;
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 4, 4, 0, GL_RGBA, GL_FLOAT, rgba);
+    tex_sizes("RGBA32F sizes", GL_TEXTURE_2D);
+    tex_types("RGBA32F component types");
+    static GLfloat back[4 * 4 * 4];
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, back);
+    fprintf(out, "RGBA32F read back: %08x equal %d\n", fnv(back, sizeof back), !memcmp(back, rgba, sizeof back));
+    clear();
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    textured_quad(0);
+    frame("RGBA32F drawn");
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_LUMINANCE32F_ARB, 4, 4, 0, GL_LUMINANCE, GL_FLOAT, rgba);
+    tex_types("LUMINANCE32F component types");
+    clear();
+    textured_quad(0);
+    frame("LUMINANCE32F drawn");
+    glDisable(GL_TEXTURE_2D);
+}
+
+/* Draws a 16x16 depth-stencil image at (26, 18) as `type` (the centre
+ * and the four tiles of the wall), reads the whole window back as `type`,
+ * then draws green where the stencil it wrote is 0x5a. */
+static void depth_stencil_pixels(const char *label, GLenum type)
+{
+    size_t bpp = type == GL_UNSIGNED_INT_24_8 ? 4 : 8;
+    static unsigned char image[16 * 16 * 8], window[W * H * 8];
+    for (int i = 0; i < 16 * 16; i++) {
+        uint32_t stencil = i % 3 ? 0x5a : 0x21;
+        if (type == GL_UNSIGNED_INT_24_8) {
+            uint32_t v = ((uint32_t)(i * 65521u) & 0xffffffu) << 8 | stencil;
+            memcpy(image + 4 * i, &v, 4);
+        } else {
+            float d = (float)(i % 17) / 16.0f;
+            uint32_t s = stencil;
+            memcpy(image + 8 * i, &d, 4);
+            memcpy(image + 8 * i + 4, &s, 4);
+        }
+    }
+    char text[128];
+    clear();
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glWindowPos2i(26, 18);
+    glDrawPixels(16, 16, GL_DEPTH_STENCIL, type, image);
+    glDisable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    memset(window, 0xcc, sizeof window);
+    glReadPixels(0, 0, W, H, GL_DEPTH_STENCIL, type, window);
+    /* the unused bits of GL_FLOAT_32_UNSIGNED_INT_24_8_REV are undefined */
+    if (bpp == 8)
+        for (int i = 0; i < W * H; i++)
+            window[8 * i + 5] = window[8 * i + 6] = window[8 * i + 7] = 0;
+    const unsigned char *inside = window + (size_t)(20 * W + 30) * bpp;
+    uint32_t first;
+    memcpy(&first, inside, 4);
+    fprintf(out, "%s read back: %08x at (30, 20) %08x\n", label, fnv(window, (size_t)W * H * bpp), first);
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_EQUAL, 0x5a, 0xff);
+    glColor3f(0.0f, 1.0f, 0.0f);
+    glRecti(-1, -1, 1, 1);
+    glDisable(GL_STENCIL_TEST);
+    snprintf(text, sizeof text, "%s drawn where its stencil is 0x5a", label);
+    frame(text);
+}
+
+static void packed_depth_stencil(void)
+{
+    depth_stencil_pixels("DEPTH_STENCIL UNSIGNED_INT_24_8", GL_UNSIGNED_INT_24_8);
+    static GLuint image[4 * 4];
+    for (int i = 0; i < 4 * 4; i++)
+        image[i] = (GLuint)(i * 0x0f0f0f00u) | (GLuint)i;
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH24_STENCIL8, 4, 4, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, image);
+    tex_sizes("DEPTH24_STENCIL8 sizes", GL_TEXTURE_2D);
+    static GLuint back[4 * 4];
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, back);
+    fprintf(out, "DEPTH24_STENCIL8 read back: %08x equal %d\n", fnv(back, sizeof back),
+            !memcmp(back, image, sizeof back));
+}
+
+static void depth_buffer_float(void)
+{
+    depth_stencil_pixels("DEPTH_STENCIL FLOAT_32_UNSIGNED_INT_24_8_REV", GL_FLOAT_32_UNSIGNED_INT_24_8_REV);
+    static GLfloat depth[4 * 4];
+    for (int i = 0; i < 4 * 4; i++)
+        depth[i] = (GLfloat)i / 15.0f;
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, 4, 4, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    tex_sizes("DEPTH_COMPONENT32F sizes", GL_TEXTURE_2D);
+    tex_types("DEPTH_COMPONENT32F component types");
+    static GLfloat back[4 * 4];
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, back);
+    fprintf(out, "DEPTH_COMPONENT32F read back: equal %d\n", !memcmp(back, depth, sizeof back));
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, 4, 4, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    tex_sizes("DEPTH32F_STENCIL8 sizes", GL_TEXTURE_2D);
+}
+
+static void non_power_of_two(void)
+{
+    static GLubyte rgba[3 * 5 * 4];
+    for (int i = 0; i < 3 * 5 * 4; i++)
+        rgba[i] = (GLubyte)(i * 41);
+    new_texture();
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 3, 5, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    tex_sizes("3x5 texture sizes", GL_TEXTURE_2D);
+    clear();
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    textured_quad(0);
+    glDisable(GL_TEXTURE_2D);
+    frame("3x5 texture drawn");
+}
+
+static void explicit_attrib_location(void)
+{
+    static const char *vs = "#version 110\n"
+                            "#extension GL_ARB_explicit_attrib_location : require\n"
+                            /* GLSL 1.10 allows layout on `in`, never on `attribute` */
+                            "layout(location = 3) in vec4 where;\n"
+                            "varying vec4 colour;\n"
+                            "void main() { gl_Position = where; colour = vec4(0.2, 0.9, 0.4, 1.0); }\n";
+    static const char *fs = "#version 110\nvarying vec4 colour;\nvoid main() { gl_FragColor = colour; }\n";
+    GLuint v = glCreateShader(GL_VERTEX_SHADER), f = glCreateShader(GL_FRAGMENT_SHADER), p = glCreateProgram();
+    glShaderSource(v, 1, &vs, NULL);
+    glShaderSource(f, 1, &fs, NULL);
+    glCompileShader(v);
+    glCompileShader(f);
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    glLinkProgram(p);
+    GLint compiled = 0, linked = 0;
+    glGetShaderiv(v, GL_COMPILE_STATUS, &compiled);
+    glGetProgramiv(p, GL_LINK_STATUS, &linked);
+    fprintf(out, "explicit location: compiled %d linked %d location %d\n", compiled, linked,
+            glGetAttribLocation(p, "where"));
+    glUseProgram(p);
+    clear();
+    /* attribute 3 is no vertex: glVertex provokes each (its position unused) */
+    static const GLfloat where[3][2] = {{-0.8f, -0.8f}, {0.8f, -0.6f}, {0.1f, 0.9f}};
+    glBegin(GL_TRIANGLES);
+    for (int i = 0; i < 3; i++) {
+        glVertexAttrib2fv(3, where[i]);
+        glVertex2f(0.0f, 0.0f);
+    }
+    glEnd();
+    glUseProgram(0);
+    frame("attribute at location 3 drawn");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s OUT.txt\n", argv[0]);
+        return 2;
+    }
+    out = fopen(argv[1], "w");
+    REQUIRE(out, "cannot write %s", argv[1]);
+#ifdef GL21_NATIVE
+    static unsigned char buffer[W * H * 4];
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+    REQUIRE(ctx && OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, W, H), "an OSMesa context");
+#else
+    EGLDisplay dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+    REQUIRE(dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API), "EGL display");
+    static const EGLint config_attrs[] = {
+        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8,
+        EGL_NONE};
+    EGLConfig config;
+    EGLint n = 0;
+    REQUIRE(eglChooseConfig(dpy, config_attrs, &config, 1, &n) && n == 1, "an EGL config");
+    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
+    static const EGLint surface_attrs[] = {EGL_WIDTH, W, EGL_HEIGHT, H, EGL_NONE};
+    EGLSurface surface = eglCreatePbufferSurface(dpy, config, surface_attrs);
+    REQUIRE(ctx && surface && eglMakeCurrent(dpy, surface, surface, ctx), "an EGL context and pbuffer");
+#endif
+    glViewport(0, 0, W, H);
+    int absent = listed_extensions(EXTENSIONS_TABLE);
+    depth_texture();
+    texture_float();
+    packed_depth_stencil();
+    depth_buffer_float();
+    non_power_of_two();
+    explicit_attrib_location();
+    fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
+    glFinish();
+    REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);
+#ifdef GL21_NATIVE
+    OSMesaDestroyContext(ctx);
+#else
+    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(dpy, ctx);
+    eglDestroySurface(dpy, surface);
+    eglTerminate(dpy);
+#endif
+    CHECK(absent == 0, "%d listed extensions are not in GL_EXTENSIONS", absent);
+    printf("offered extensions: written to %s\n", argv[1]);
+    return harness_failures ? 1 : 0;
+}
