@@ -255,6 +255,20 @@ add_test(NAME faker_offered_extensions_draw_and_answer_as_osmesa_through_render_
                  $<TARGET_FILE:faker_extensions_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/extensions)
 set_tests_properties(faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
 
+# The client-array commands beyond glDrawArrays/glDrawElements (issue 27
+# item 5): secondary colour, fog coordinate and index arrays, the range and
+# multi draws, in a display list, the pointer gets and the errors, through
+# the same three graphs as OSMesa (the gl21_commands.sh runner).
+add_executable(faker_client_arrays ${FAKER_TEST_DIR}/client_arrays_driver.c)
+target_link_libraries(faker_client_arrays PRIVATE tessera_faker_egl tessera_faker_gl)
+add_executable(faker_client_arrays_native ${FAKER_TEST_DIR}/client_arrays_driver.c)
+target_compile_definitions(faker_client_arrays_native PRIVATE CLIENT_ARRAYS_NATIVE)
+target_link_libraries(faker_client_arrays_native PRIVATE PkgConfig::OSMESA)
+add_test(NAME faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall
+         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_client_arrays>
+                 $<TARGET_FILE:faker_client_arrays_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/client_arrays)
+set_tests_properties(faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
+
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap
 # and the front read after it, through [render], [pack -> node render] and

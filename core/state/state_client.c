@@ -97,6 +97,28 @@ static void st_EdgeFlagPointer(void *self, GLsizei stride, const void *p)
     set_pointer(c, &c->client.edge_flag, 1, GL_BOOL, stride, p);
 }
 
+/* Pointers GL refuses (a size or type it does not take) leave the array
+ * as it was; the packer raises their error. */
+static void st_SecondaryColorPointer(void *self, GLint size, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    if (size == 3 && stride >= 0 && ((type >= GL_BYTE && type <= GL_FLOAT) || type == GL_DOUBLE))
+        set_pointer(c, &c->client.secondary_color, size, type, stride, p);
+}
+static void st_FogCoordPointer(void *self, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    if (stride >= 0 && (type == GL_FLOAT || type == GL_DOUBLE))
+        set_pointer(c, &c->client.fog_coord, 1, type, stride, p);
+}
+static void st_IndexPointer(void *self, GLenum type, GLsizei stride, const void *p)
+{
+    tsr_state_ctx *c = self;
+    if (stride >= 0 &&
+        (type == GL_UNSIGNED_BYTE || type == GL_SHORT || type == GL_INT || type == GL_FLOAT || type == GL_DOUBLE))
+        set_pointer(c, &c->client.index, 1, type, stride, p);
+}
+
 static void st_VertexAttribPointer(void *self, GLuint index, GLint size, GLenum type, GLboolean normalized,
                                    GLsizei stride, const void *p)
 {
@@ -285,6 +307,9 @@ void st_client_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(TexCoordPointer);
     SET(EdgeFlagPointer);
     SET(VertexAttribPointer);
+    SET(SecondaryColorPointer);
+    SET(FogCoordPointer);
+    SET(IndexPointer);
     SET(EnableClientState);
     SET(DisableClientState);
     SET(EnableVertexAttribArray);

@@ -261,6 +261,16 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_COLOR_ARRAY_TYPE: puti(a, c->client.color.type); return 1;
     case GL_COLOR_ARRAY_STRIDE: puti(a, c->client.color.stride); return 1;
     case GL_EDGE_FLAG_ARRAY_STRIDE: puti(a, c->client.edge_flag.stride); return 1;
+    case GL_SECONDARY_COLOR_ARRAY_SIZE: puti(a, c->client.secondary_color.size); return 1;
+    case GL_SECONDARY_COLOR_ARRAY_TYPE: puti(a, c->client.secondary_color.type); return 1;
+    case GL_SECONDARY_COLOR_ARRAY_STRIDE: puti(a, c->client.secondary_color.stride); return 1;
+    case GL_FOG_COORD_ARRAY_TYPE: puti(a, c->client.fog_coord.type); return 1;
+    case GL_FOG_COORD_ARRAY_STRIDE: puti(a, c->client.fog_coord.stride); return 1;
+    case GL_INDEX_ARRAY_TYPE: puti(a, c->client.index.type); return 1;
+    case GL_INDEX_ARRAY_STRIDE: puti(a, c->client.index.stride); return 1;
+    case GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING: puti(a, c->client.secondary_color.buffer); return 1;
+    case GL_FOG_COORD_ARRAY_BUFFER_BINDING: puti(a, c->client.fog_coord.buffer); return 1;
+    case GL_INDEX_ARRAY_BUFFER_BINDING: puti(a, c->client.index.buffer); return 1;
     case GL_TEXTURE_COORD_ARRAY_SIZE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->size); return 1;
     case GL_TEXTURE_COORD_ARRAY_TYPE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->type); return 1;
     case GL_TEXTURE_COORD_ARRAY_STRIDE: puti(a, st_client_array(c, GL_TEXTURE_COORD_ARRAY)->stride); return 1;
@@ -273,6 +283,9 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     case GL_NORMAL_ARRAY:
     case GL_COLOR_ARRAY:
     case GL_EDGE_FLAG_ARRAY:
+    case GL_SECONDARY_COLOR_ARRAY:
+    case GL_FOG_COORD_ARRAY:
+    case GL_INDEX_ARRAY:
     case GL_TEXTURE_COORD_ARRAY: putb(a, st_client_array(c, pname)->enabled); return 1;
     default: break;
     }
@@ -430,6 +443,19 @@ int tsr_state_get_count(GLenum pname)
     case GL_COLOR_ARRAY_TYPE:
     case GL_COLOR_ARRAY_STRIDE:
     case GL_EDGE_FLAG_ARRAY_STRIDE:
+    case GL_SECONDARY_COLOR_ARRAY_SIZE:
+    case GL_SECONDARY_COLOR_ARRAY_TYPE:
+    case GL_SECONDARY_COLOR_ARRAY_STRIDE:
+    case GL_FOG_COORD_ARRAY_TYPE:
+    case GL_FOG_COORD_ARRAY_STRIDE:
+    case GL_INDEX_ARRAY_TYPE:
+    case GL_INDEX_ARRAY_STRIDE:
+    case GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING:
+    case GL_FOG_COORD_ARRAY_BUFFER_BINDING:
+    case GL_INDEX_ARRAY_BUFFER_BINDING:
+    case GL_SECONDARY_COLOR_ARRAY:
+    case GL_FOG_COORD_ARRAY:
+    case GL_INDEX_ARRAY:
     case GL_TEXTURE_COORD_ARRAY_SIZE:
     case GL_TEXTURE_COORD_ARRAY_TYPE:
     case GL_TEXTURE_COORD_ARRAY_STRIDE:
@@ -757,15 +783,26 @@ static void g_GetBufferParameteriv(void *self, GLenum t, GLenum p, GLint *o)
 static void g_GetPointerv(void *self, GLenum pname, void **out)
 {
     const tsr_state_ctx *c = self;
-    const tsr_state_array *a = pname == GL_VERTEX_ARRAY_POINTER      ? &c->client.vertex
-                               : pname == GL_NORMAL_ARRAY_POINTER    ? &c->client.normal
-                               : pname == GL_COLOR_ARRAY_POINTER     ? &c->client.color
-                               : pname == GL_EDGE_FLAG_ARRAY_POINTER ? &c->client.edge_flag
+    const tsr_state_array *a = pname == GL_VERTEX_ARRAY_POINTER            ? &c->client.vertex
+                               : pname == GL_NORMAL_ARRAY_POINTER          ? &c->client.normal
+                               : pname == GL_COLOR_ARRAY_POINTER           ? &c->client.color
+                               : pname == GL_EDGE_FLAG_ARRAY_POINTER       ? &c->client.edge_flag
+                               : pname == GL_SECONDARY_COLOR_ARRAY_POINTER ? &c->client.secondary_color
+                               : pname == GL_FOG_COORD_ARRAY_POINTER       ? &c->client.fog_coord
+                               : pname == GL_INDEX_ARRAY_POINTER           ? &c->client.index
                                : pname == GL_TEXTURE_COORD_ARRAY_POINTER
                                    ? &c->client.texcoord[c->client.client_active_texture]
                                    : NULL;
     if (a)
         *out = (void *)a->pointer;
+}
+/* The program's own pointer; a call GL refuses leaves `out` alone (the
+ * packer beside the tracker raises its error). */
+static void g_GetVertexAttribPointerv(void *self, GLuint index, GLenum pname, void **out)
+{
+    const tsr_state_ctx *c = self;
+    if (index < TSR_STATE_ATTRIBS && pname == GL_VERTEX_ATTRIB_ARRAY_POINTER && out)
+        *out = (void *)c->client.attrib[index].pointer;
 }
 static GLboolean g_IsTexture(void *self, GLuint n) { return tsr_state_is_texture(self, n); }
 /* Mesa keeps every texture resident: GL_TRUE when every name is a texture
@@ -804,5 +841,6 @@ void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(IsList);
     SET(IsBuffer);
     SET(GetPointerv);
+    SET(GetVertexAttribPointerv);
 #undef SET
 }

@@ -121,9 +121,13 @@ static void values_init(tsr_state_values *v)
 static void client_init(tsr_state_client *c)
 {
     memset(c, 0, sizeof *c);
-    tsr_state_array *all[] = {&c->vertex, &c->normal, &c->color, &c->edge_flag};
-    for (size_t i = 0; i < 4; i++)
+    tsr_state_array *all[] = {&c->vertex,          &c->normal,    &c->color, &c->edge_flag,
+                              &c->secondary_color, &c->fog_coord, &c->index};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         all[i]->type = GL_FLOAT;
+    c->secondary_color.size = 3;
+    c->fog_coord.size = 1;
+    c->index.size = 1;
     c->vertex.size = 4;
     c->normal.size = 3;
     c->color.size = 4;

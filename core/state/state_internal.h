@@ -367,6 +367,9 @@ static inline tsr_state_array *st_client_array(const tsr_state_ctx *c, GLenum wh
     case GL_NORMAL_ARRAY: return &m->client.normal;
     case GL_COLOR_ARRAY: return &m->client.color;
     case GL_EDGE_FLAG_ARRAY: return &m->client.edge_flag;
+    case GL_SECONDARY_COLOR_ARRAY: return &m->client.secondary_color;
+    case GL_FOG_COORD_ARRAY: return &m->client.fog_coord;
+    case GL_INDEX_ARRAY: return &m->client.index;
     case GL_TEXTURE_COORD_ARRAY: return &m->client.texcoord[m->client.client_active_texture];
     default: return NULL;
     }

@@ -662,12 +662,15 @@ static void st_DeleteBuffers(void *self, GLsizei n, const GLuint *names)
         if (c->v.element_buffer == names[i])
             c->v.element_buffer = 0;
         /* GL also unbinds it from every array that sources it. */
-        tsr_state_array *arrays[4 + TSR_STATE_UNITS + TSR_STATE_ATTRIBS];
+        tsr_state_array *arrays[7 + TSR_STATE_UNITS + TSR_STATE_ATTRIBS];
         size_t na = 0;
         arrays[na++] = &c->client.vertex;
         arrays[na++] = &c->client.normal;
         arrays[na++] = &c->client.color;
         arrays[na++] = &c->client.edge_flag;
+        arrays[na++] = &c->client.secondary_color;
+        arrays[na++] = &c->client.fog_coord;
+        arrays[na++] = &c->client.index;
         for (int u = 0; u < TSR_STATE_UNITS; u++)
             arrays[na++] = &c->client.texcoord[u];
         for (int a = 0; a < TSR_STATE_ATTRIBS; a++)

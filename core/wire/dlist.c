@@ -371,6 +371,9 @@ tsr_dlist_store *tsr_dlist_create(const tsr_dispatch *next, tsr_error *err)
     tsr_set_TexCoordPointer(&s->rec, (tsr_fn_TexCoordPointer)s->ptab.TexCoordPointer.fn, s->packer);
     tsr_set_EdgeFlagPointer(&s->rec, (tsr_fn_EdgeFlagPointer)s->ptab.EdgeFlagPointer.fn, s->packer);
     tsr_set_VertexAttribPointer(&s->rec, (tsr_fn_VertexAttribPointer)s->ptab.VertexAttribPointer.fn, s->packer);
+    tsr_set_SecondaryColorPointer(&s->rec, (tsr_fn_SecondaryColorPointer)s->ptab.SecondaryColorPointer.fn, s->packer);
+    tsr_set_FogCoordPointer(&s->rec, (tsr_fn_FogCoordPointer)s->ptab.FogCoordPointer.fn, s->packer);
+    tsr_set_IndexPointer(&s->rec, (tsr_fn_IndexPointer)s->ptab.IndexPointer.fn, s->packer);
     s->rec.EnableVertexAttribArray = s->ptab.EnableVertexAttribArray;
     s->rec.DisableVertexAttribArray = s->ptab.DisableVertexAttribArray;
     tsr_set_EnableClientState(&s->rec, rec_EnableClientState, s);

@@ -320,26 +320,30 @@ static int collect_arrays(tsr_packer *p, draw_array *out, const char *cmd)
     const tsr_client_arrays *s = &p->arrays;
     const struct {
         const tsr_client_array *a;
-        uint32_t kind, index;
-    } all[] = {
-        {&s->vertex, TSR_WIRE_ARRAY_VERTEX, 0},
-        {&s->normal, TSR_WIRE_ARRAY_NORMAL, 0},
-        {&s->color, TSR_WIRE_ARRAY_COLOR, 0},
-        {&s->edge_flag, TSR_WIRE_ARRAY_EDGE_FLAG, 0},
+        uint32_t kind;
+    } fixed[] = {
+        {&s->vertex, TSR_WIRE_ARRAY_VERTEX},
+        {&s->normal, TSR_WIRE_ARRAY_NORMAL},
+        {&s->color, TSR_WIRE_ARRAY_COLOR},
+        {&s->edge_flag, TSR_WIRE_ARRAY_EDGE_FLAG},
+        {&s->secondary_color, TSR_WIRE_ARRAY_SECONDARY_COLOR},
+        {&s->fog_coord, TSR_WIRE_ARRAY_FOG_COORD},
+        {&s->index, TSR_WIRE_ARRAY_INDEX},
     };
-    for (size_t i = 0; i < 4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS; i++) {
+    const size_t nfixed = sizeof fixed / sizeof fixed[0];
+    for (size_t i = 0; i < TSR_PACK_ARRAYS; i++) {
         const tsr_client_array *a;
         uint32_t kind, index;
-        if (i < 4) {
-            a = all[i].a;
-            kind = all[i].kind;
+        if (i < nfixed) {
+            a = fixed[i].a;
+            kind = fixed[i].kind;
             index = 0;
-        } else if (i < 4 + TSR_PACK_TEXUNITS) {
-            index = (uint32_t)(i - 4);
+        } else if (i < nfixed + TSR_PACK_TEXUNITS) {
+            index = (uint32_t)(i - nfixed);
             a = &s->texcoord[index];
             kind = TSR_WIRE_ARRAY_TEXCOORD;
         } else {
-            index = (uint32_t)(i - 4 - TSR_PACK_TEXUNITS);
+            index = (uint32_t)(i - nfixed - TSR_PACK_TEXUNITS);
             a = &s->attrib[index];
             kind = TSR_WIRE_ARRAY_ATTRIB;
         }
@@ -493,10 +497,11 @@ static void bbox_of_vertex_array(tsr_packer *p, const draw_array *v, int n, uint
 void tsr_packer_custom_DrawArrays(tsr_packer *p, GLenum mode, GLint first, GLsizei count)
 {
     if (first < 0 || count < 0) {
+        tsr_packer_local_error(p, GL_INVALID_VALUE);
         tsr_packer_drop(p, "DrawArrays", "negative first or count");
         return;
     }
-    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    draw_array v[TSR_PACK_ARRAYS];
     int n = count ? collect_arrays(p, v, "DrawArrays") : 0;
     if (n < 0)
         return;
@@ -521,6 +526,7 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
 {
     size_t isize = type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_INT ? 4 : 0;
     if (count < 0 || !isize) {
+        tsr_packer_local_error(p, count < 0 ? GL_INVALID_VALUE : GL_INVALID_ENUM);
         tsr_packer_drop(p, "DrawElements", "negative count or bad index type");
         return;
     }
@@ -529,7 +535,7 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
         tsr_packer_drop(p, "DrawElements", "NULL indices without an element array buffer");
         return;
     }
-    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    draw_array v[TSR_PACK_ARRAYS];
     int n = count ? collect_arrays(p, v, "DrawElements") : 0;
     if (n < 0)
         return;
@@ -580,7 +586,7 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
 
 uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices)
 {
-    draw_array v[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    draw_array v[TSR_PACK_ARRAYS];
     int n = count > 0 && vertices ? collect_arrays(p, v, index_type ? "DrawElements" : "DrawArrays") : 0;
     uint64_t asize;
     if (n < 0 || arrays_size(v, n, 0, vertices ? vertices - 1 : 0, &asize) != 0)

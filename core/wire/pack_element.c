@@ -1,10 +1,11 @@
 /* core/wire/pack_element.c — glArrayElement for a packer: the element of
  * every enabled client array is read at the call and packed as the
  * immediate-mode command of the array's size and type (glColor4ubv for a
- * GL_UNSIGNED_BYTE colour array of size 4, ...), the vertex last, as GL
- * defines glArrayElement (GL 2.1 section 2.8) and as Mesa runs it. So the
- * receiver needs no arrays, a box-keeping SPU boxes the vertex, and a
- * display list being compiled keeps the values of the time of the call.
+ * GL_UNSIGNED_BYTE colour array of size 4, glFogCoordfv, glIndexsv, ...),
+ * the vertex last, as GL defines glArrayElement (GL 2.1 section 2.8) and
+ * as Mesa runs it. So the receiver needs no arrays, a box-keeping SPU
+ * boxes the vertex, and a display list being compiled keeps the values of
+ * the time of the call.
  * The opcode ArrayElement never travels (unpack.c refuses it).
  *
  * Owns nothing. Never reads an array that lives in a buffer object (the
@@ -59,6 +60,39 @@ static void colour(tsr_packer *p, const tsr_client_array *a, const void *v)
     case GL_UNSIGNED_INT: four ? tsr_pack_Color4uiv(p, v) : tsr_pack_Color3uiv(p, v); break;
     case GL_FLOAT: four ? tsr_pack_Color4fv(p, v) : tsr_pack_Color3fv(p, v); break;
     default: four ? tsr_pack_Color4dv(p, v) : tsr_pack_Color3dv(p, v); break;
+    }
+}
+
+static void secondary_colour(tsr_packer *p, const tsr_client_array *a, const void *v)
+{
+    switch (a->type) {
+    case GL_BYTE: tsr_pack_SecondaryColor3bv(p, v); break;
+    case GL_UNSIGNED_BYTE: tsr_pack_SecondaryColor3ubv(p, v); break;
+    case GL_SHORT: tsr_pack_SecondaryColor3sv(p, v); break;
+    case GL_UNSIGNED_SHORT: tsr_pack_SecondaryColor3usv(p, v); break;
+    case GL_INT: tsr_pack_SecondaryColor3iv(p, v); break;
+    case GL_UNSIGNED_INT: tsr_pack_SecondaryColor3uiv(p, v); break;
+    case GL_FLOAT: tsr_pack_SecondaryColor3fv(p, v); break;
+    default: tsr_pack_SecondaryColor3dv(p, v); break;
+    }
+}
+
+static void fog_coord(tsr_packer *p, const tsr_client_array *a, const void *v)
+{
+    if (a->type == GL_FLOAT)
+        tsr_pack_FogCoordfv(p, v);
+    else
+        tsr_pack_FogCoorddv(p, v);
+}
+
+static void colour_index(tsr_packer *p, const tsr_client_array *a, const void *v)
+{
+    switch (a->type) {
+    case GL_UNSIGNED_BYTE: tsr_pack_Indexubv(p, v); break;
+    case GL_SHORT: tsr_pack_Indexsv(p, v); break;
+    case GL_INT: tsr_pack_Indexiv(p, v); break;
+    case GL_FLOAT: tsr_pack_Indexfv(p, v); break;
+    default: tsr_pack_Indexdv(p, v); break;
     }
 }
 
@@ -158,8 +192,9 @@ static int in_buffer(const tsr_client_array *a) { return a->enabled && a->buffer
 void tsr_packer_custom_ArrayElement(tsr_packer *p, GLint i)
 {
     tsr_client_arrays *arr = &p->arrays;
-    int buffered =
-        in_buffer(&arr->vertex) || in_buffer(&arr->normal) || in_buffer(&arr->color) || in_buffer(&arr->edge_flag);
+    int buffered = in_buffer(&arr->vertex) || in_buffer(&arr->normal) || in_buffer(&arr->color) ||
+                   in_buffer(&arr->edge_flag) || in_buffer(&arr->secondary_color) || in_buffer(&arr->fog_coord) ||
+                   in_buffer(&arr->index);
     for (int u = 0; u < TSR_PACK_TEXUNITS; u++)
         buffered |= in_buffer(&arr->texcoord[u]);
     for (int k = 0; k < TSR_PACK_ATTRIBS; k++)
@@ -176,6 +211,12 @@ void tsr_packer_custom_ArrayElement(tsr_packer *p, GLint i)
         normal(p, &arr->normal, aligned(&arr->normal, e, buf));
     if ((e = element(&arr->color, i)))
         colour(p, &arr->color, aligned(&arr->color, e, buf));
+    if ((e = element(&arr->secondary_color, i)))
+        secondary_colour(p, &arr->secondary_color, aligned(&arr->secondary_color, e, buf));
+    if ((e = element(&arr->fog_coord, i)))
+        fog_coord(p, &arr->fog_coord, aligned(&arr->fog_coord, e, buf));
+    if ((e = element(&arr->index, i)))
+        colour_index(p, &arr->index, aligned(&arr->index, e, buf));
     for (int u = 0; u < TSR_PACK_TEXUNITS; u++)
         if ((e = element(&arr->texcoord[u], i)))
             texcoord(p, &arr->texcoord[u], GL_TEXTURE0 + (GLenum)u, aligned(&arr->texcoord[u], e, buf));

@@ -1,7 +1,7 @@
 /* core/wire/pack_mirror.c — the packer's mirrors of client state, per
  * context: pixel store, vertex arrays and their enables, buffer bindings,
- * the client attribute stack, GetPointerv; swapped at the stream's
- * MakeCurrentTSR and dropped at ContextDestroyTSR.
+ * the client attribute stack, GetPointerv and GetVertexAttribPointerv;
+ * swapped at the stream's MakeCurrentTSR and dropped at ContextDestroyTSR.
  * Owns the mirrors' records in the packer. Never: sends a host pointer,
  * aborts (problems are recorded in the packer's error). */
 #include "pack_internal.h"
@@ -144,6 +144,46 @@ void tsr_packer_local_VertexAttribPointer(tsr_packer *p, GLuint index, GLint siz
         set_array(p, &p->arrays.attrib[index], size, type, stride, normalized, pointer);
 }
 
+/* Whether `type` is one GL takes for the array (GL 2.1 table 2.4); a
+ * pointer GL refuses raises the error and leaves the array as it was. */
+static int pointer_ok(tsr_packer *p, GLenum type, const GLenum *types, size_t ntypes, int size_ok, GLsizei stride)
+{
+    int known = 0;
+    for (size_t i = 0; i < ntypes; i++)
+        known |= types[i] == type;
+    if (!known) {
+        tsr_packer_local_error(p, GL_INVALID_ENUM);
+        return 0;
+    }
+    if (!size_ok || stride < 0) {
+        tsr_packer_local_error(p, GL_INVALID_VALUE);
+        return 0;
+    }
+    return 1;
+}
+
+void tsr_packer_local_SecondaryColorPointer(tsr_packer *p, GLint size, GLenum type, GLsizei stride, const void *pointer)
+{
+    static const GLenum types[] = {GL_BYTE, GL_UNSIGNED_BYTE, GL_SHORT, GL_UNSIGNED_SHORT,
+                                   GL_INT,  GL_UNSIGNED_INT,  GL_FLOAT, GL_DOUBLE};
+    if (pointer_ok(p, type, types, sizeof types / sizeof types[0], size == 3, stride))
+        set_array(p, &p->arrays.secondary_color, size, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_FogCoordPointer(tsr_packer *p, GLenum type, GLsizei stride, const void *pointer)
+{
+    static const GLenum types[] = {GL_FLOAT, GL_DOUBLE};
+    if (pointer_ok(p, type, types, sizeof types / sizeof types[0], 1, stride))
+        set_array(p, &p->arrays.fog_coord, 1, type, stride, 0, pointer);
+}
+
+void tsr_packer_local_IndexPointer(tsr_packer *p, GLenum type, GLsizei stride, const void *pointer)
+{
+    static const GLenum types[] = {GL_UNSIGNED_BYTE, GL_SHORT, GL_INT, GL_FLOAT, GL_DOUBLE};
+    if (pointer_ok(p, type, types, sizeof types / sizeof types[0], 1, stride))
+        set_array(p, &p->arrays.index, 1, type, stride, 0, pointer);
+}
+
 static tsr_client_array *array_of(tsr_packer *p, GLenum array)
 {
     switch (array) {
@@ -151,6 +191,9 @@ static tsr_client_array *array_of(tsr_packer *p, GLenum array)
     case GL_NORMAL_ARRAY: return &p->arrays.normal;
     case GL_COLOR_ARRAY: return &p->arrays.color;
     case GL_EDGE_FLAG_ARRAY: return &p->arrays.edge_flag;
+    case GL_SECONDARY_COLOR_ARRAY: return &p->arrays.secondary_color;
+    case GL_FOG_COORD_ARRAY: return &p->arrays.fog_coord;
+    case GL_INDEX_ARRAY: return &p->arrays.index;
     case GL_TEXTURE_COORD_ARRAY:
         return p->arrays.active_texture < TSR_PACK_TEXUNITS ? &p->arrays.texcoord[p->arrays.active_texture] : NULL;
     default: return NULL;
@@ -341,9 +384,28 @@ void tsr_packer_local_GetPointerv(tsr_packer *p, GLenum pname, void **params)
     case GL_NORMAL_ARRAY_POINTER: a = &p->arrays.normal; break;
     case GL_COLOR_ARRAY_POINTER: a = &p->arrays.color; break;
     case GL_EDGE_FLAG_ARRAY_POINTER: a = &p->arrays.edge_flag; break;
+    case GL_SECONDARY_COLOR_ARRAY_POINTER: a = &p->arrays.secondary_color; break;
+    case GL_FOG_COORD_ARRAY_POINTER: a = &p->arrays.fog_coord; break;
+    case GL_INDEX_ARRAY_POINTER: a = &p->arrays.index; break;
     case GL_TEXTURE_COORD_ARRAY_POINTER: a = array_of(p, GL_TEXTURE_COORD_ARRAY); break;
     default: break;
     }
     if (params)
         *params = a ? (void *)a->pointer : NULL;
+}
+
+/* The program's own pointer (or buffer offset) as it gave it: the
+ * receiver never saw it. Errors as Mesa raises them. */
+void tsr_packer_local_GetVertexAttribPointerv(tsr_packer *p, GLuint index, GLenum pname, void **pointer)
+{
+    if (index >= TSR_PACK_ATTRIBS) {
+        tsr_packer_local_error(p, GL_INVALID_VALUE);
+        return;
+    }
+    if (pname != GL_VERTEX_ATTRIB_ARRAY_POINTER) {
+        tsr_packer_local_error(p, GL_INVALID_ENUM);
+        return;
+    }
+    if (pointer)
+        *pointer = (void *)p->arrays.attrib[index].pointer;
 }

@@ -491,13 +491,24 @@ static int parse_arrays(const uint8_t *p, uint64_t plen, arrays_hdr *h, const ch
         r->offset = tsr_wire_get_u64(a + 32);
         r->dlen = tsr_wire_get_u64(a + 40);
         q += 48;
-        if (r->kind < TSR_WIRE_ARRAY_VERTEX || r->kind > TSR_WIRE_ARRAY_ATTRIB)
+        if (r->kind < TSR_WIRE_ARRAY_VERTEX || r->kind > TSR_WIRE_ARRAY_INDEX)
             BAD("command %s at data offset %zu: array record %u has unknown kind %u", cmd, at, i, r->kind);
         if ((r->kind == TSR_WIRE_ARRAY_TEXCOORD && r->index >= 32) ||
             (r->kind == TSR_WIRE_ARRAY_ATTRIB && r->index >= 64))
             BAD("command %s at data offset %zu: array record %u has index %u out of range", cmd, at, i, r->index);
         if (!((r->size >= 1 && r->size <= 4) || r->size == GL_BGRA))
             BAD("command %s at data offset %zu: array record %u has size %d", cmd, at, i, r->size);
+        /* the receiver's GL refuses any other, and a refused pointer
+         * would leave its array at the last draw's (freed) data */
+        if ((r->kind == TSR_WIRE_ARRAY_SECONDARY_COLOR && r->size != 3) ||
+            ((r->kind == TSR_WIRE_ARRAY_FOG_COORD || r->kind == TSR_WIRE_ARRAY_INDEX) && r->size != 1) ||
+            (r->kind == TSR_WIRE_ARRAY_SECONDARY_COLOR && (r->type < GL_BYTE || r->type > GL_FLOAT) &&
+             r->type != GL_DOUBLE) ||
+            (r->kind == TSR_WIRE_ARRAY_FOG_COORD && r->type != GL_FLOAT && r->type != GL_DOUBLE) ||
+            (r->kind == TSR_WIRE_ARRAY_INDEX && r->type != GL_UNSIGNED_BYTE && r->type != GL_SHORT &&
+             r->type != GL_INT && r->type != GL_FLOAT && r->type != GL_DOUBLE))
+            BAD("command %s at data offset %zu: array record %u of kind %u has size %d, type 0x%x", cmd, at, i, r->kind,
+                r->size, r->type);
         if (r->stride < 0)
             BAD("command %s at data offset %zu: array record %u has negative stride %d", cmd, at, i, r->stride);
         r->elem = elem_size(r);
@@ -590,6 +601,9 @@ static GLenum array_cap(uint32_t kind)
     case TSR_WIRE_ARRAY_NORMAL: return GL_NORMAL_ARRAY;
     case TSR_WIRE_ARRAY_COLOR: return GL_COLOR_ARRAY;
     case TSR_WIRE_ARRAY_EDGE_FLAG: return GL_EDGE_FLAG_ARRAY;
+    case TSR_WIRE_ARRAY_SECONDARY_COLOR: return GL_SECONDARY_COLOR_ARRAY;
+    case TSR_WIRE_ARRAY_FOG_COORD: return GL_FOG_COORD_ARRAY;
+    case TSR_WIRE_ARRAY_INDEX: return GL_INDEX_ARRAY;
     default: return GL_TEXTURE_COORD_ARRAY;
     }
 }
@@ -609,6 +623,9 @@ static void set_arrays(const tsr_dispatch *d, const arrays_hdr *h)
         case TSR_WIRE_ARRAY_NORMAL: tsr_call_NormalPointer(d, r->type, stride, ptr); break;
         case TSR_WIRE_ARRAY_COLOR: tsr_call_ColorPointer(d, r->size, r->type, stride, ptr); break;
         case TSR_WIRE_ARRAY_EDGE_FLAG: tsr_call_EdgeFlagPointer(d, stride, ptr); break;
+        case TSR_WIRE_ARRAY_SECONDARY_COLOR: tsr_call_SecondaryColorPointer(d, r->size, r->type, stride, ptr); break;
+        case TSR_WIRE_ARRAY_FOG_COORD: tsr_call_FogCoordPointer(d, r->type, stride, ptr); break;
+        case TSR_WIRE_ARRAY_INDEX: tsr_call_IndexPointer(d, r->type, stride, ptr); break;
         case TSR_WIRE_ARRAY_TEXCOORD:
             tsr_call_ClientActiveTexture(d, GL_TEXTURE0 + r->index);
             tsr_call_TexCoordPointer(d, r->size, r->type, stride, ptr);

@@ -255,11 +255,17 @@ static void roi_BoundsInfoTSR(void *self, const GLfloat *bounds)
 
 /* --- the table ------------------------------------------------------------ */
 
+/* The draws from client arrays: the packer boxes what they read. */
+static int is_array_draw(const char *name)
+{
+    return !strcmp(name, "DrawArrays") || !strcmp(name, "DrawElements") || !strcmp(name, "DrawRangeElements") ||
+           !strcmp(name, "MultiDrawArrays") || !strcmp(name, "MultiDrawElements");
+}
+
 static int is_boxed(int slot)
 {
-    const char *name = tsr_dispatch_name(slot);
     return (tsr_dispatch_flags(slot) & TSR_CMD_POSITION) || slot == TSR_SLOT_Begin || slot == TSR_SLOT_End ||
-           !strcmp(name, "DrawArrays") || !strcmp(name, "DrawElements");
+           is_array_draw(tsr_dispatch_name(slot));
 }
 
 /* Draws whose extent no box gives (GEOMETRY commands other than positions
@@ -305,8 +311,7 @@ binaryswap_roi *binaryswap_roi_create(tsr_dispatch *table, void (*window_size)(v
             /* the packer first (its box, its mirrors), then render */
             r->tees[slot] = (tsr_tee){.first = packs.slots[slot], .second = r->render.slots[slot]};
             tsr_dispatch_tee(table, slot, &r->tees[slot]);
-            if (slot == TSR_SLOT_Begin || slot == TSR_SLOT_End || !strcmp(name, "DrawArrays") ||
-                !strcmp(name, "DrawElements")) {
+            if (slot == TSR_SLOT_Begin || slot == TSR_SLOT_End || is_array_draw(name)) {
                 r->hooks[slot] = (tsr_hook){.before = slot == TSR_SLOT_End     ? NULL
                                                       : slot == TSR_SLOT_Begin ? before_begin
                                                                                : before_draw,

@@ -1,4 +1,5 @@
-/* spus/tilesort/arrays.c — glDrawArrays and glDrawElements: sorted
+/* spus/tilesort/arrays.c — glDrawArrays and glDrawElements (and the
+ * glDrawRangeElements and glMultiDraw* that stand for them): sorted
  * primitive by primitive, or cut into boxed batches.
  *
  * Array draws of independent primitives (points, lines, triangles, quads)
@@ -38,8 +39,9 @@ static int independent_vertices(GLenum mode)
 static size_t enabled_arrays(tsr_client_arrays *a, tsr_client_array **out)
 {
     size_t n = 0;
-    tsr_client_array *all[4] = {&a->vertex, &a->normal, &a->color, &a->edge_flag};
-    for (int i = 0; i < 4; i++)
+    tsr_client_array *all[7] = {&a->vertex,          &a->normal,    &a->color, &a->edge_flag,
+                                &a->secondary_color, &a->fog_coord, &a->index};
+    for (int i = 0; i < 7; i++)
         if (all[i]->enabled)
             out[n++] = all[i];
     for (int i = 0; i < TSR_PACK_TEXUNITS; i++)
@@ -62,7 +64,7 @@ static size_t array_elem_bytes(const tsr_client_array *a)
  * an array lives in a buffer object: the box is unknown anyway). */
 static size_t vertex_bytes(tsr_client_arrays *a)
 {
-    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    tsr_client_array *arrays[TSR_PACK_ARRAYS];
     size_t n = enabled_arrays(a, arrays), bytes = 0;
     for (size_t i = 0; i < n; i++) {
         if (arrays[i]->buffer)
@@ -100,7 +102,7 @@ static GLuint index_at(GLenum type, const void *indices, size_t i)
  * where they fit. */
 static int draw_batch(tilesort *t, GLenum mode, const ts_batch *b, int indexed)
 {
-    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    tsr_client_array *arrays[TSR_PACK_ARRAYS];
     size_t narrays = enabled_arrays(&t->geo->arrays, arrays), need = 0;
     int short_index = indexed && b->nvert <= 65536;
     for (size_t k = 0; k < narrays; k++)
@@ -113,7 +115,7 @@ static int draw_batch(tilesort *t, GLenum mode, const ts_batch *b, int indexed)
         t->gathered = g;
         t->gathered_cap = need;
     }
-    tsr_client_array saved[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    tsr_client_array saved[TSR_PACK_ARRAYS];
     uint8_t *q = t->gathered;
     for (size_t k = 0; k < narrays; k++) {
         tsr_client_array *a = arrays[k];
@@ -233,7 +235,7 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
         return 0;
     ts_flush_geometry(t);
     ts_count_solo_diff(t);
-    tsr_client_array *arrays[4 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS];
+    tsr_client_array *arrays[TSR_PACK_ARRAYS];
     d.overhead =
         (size_t)tsr_packer_draw_bytes(t->geo, 1, type ? GL_UNSIGNED_INT : 0, 1) + 8 * (enabled_arrays(a, arrays) + 1);
     double pm[16];
@@ -294,9 +296,10 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
 void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count)
 {
     tilesort *t = self;
-    if (draw_sorted(t, mode, first, count, 0, NULL))
+    if (first >= 0 && count >= 0 && draw_sorted(t, mode, first, count, 0, NULL))
         return;
-    GLsizei batch = batch_vertices(t, mode, count, 0);
+    /* (the packer refuses a negative first or count with GL's error) */
+    GLsizei batch = first < 0 || count < 0 ? 0 : batch_vertices(t, mode, count, 0);
     if (!batch) {
         tsr_call_DrawArrays(&t->geo_table, mode, first, count);
         return;
@@ -315,7 +318,8 @@ void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const 
     int listed = type == GL_UNSIGNED_BYTE || type == GL_UNSIGNED_SHORT || type == GL_UNSIGNED_INT;
     if (listed && draw_sorted(t, mode, 0, count, type, indices))
         return;
-    GLsizei batch = t->geo->arrays.element_buffer || !indices || !listed ? 0 : batch_vertices(t, mode, count, isize);
+    GLsizei batch =
+        t->geo->arrays.element_buffer || !indices || !listed || count < 0 ? 0 : batch_vertices(t, mode, count, isize);
     if (!batch) {
         tsr_call_DrawElements(&t->geo_table, mode, count, type, indices);
         return;
@@ -336,4 +340,36 @@ void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const 
         ts_batch_clear(b);
         ts_flush_geometry(t);
     }
+}
+
+/* glDrawRangeElements and glMultiDraw*: checked as GL checks them (the
+ * geometry packer keeps the error for glGetError), then drawn as the
+ * glDrawElements/glDrawArrays they stand for, each sorted or batched. */
+void ts_DrawRangeElements(void *self, GLenum mode, GLuint start, GLuint end, GLsizei count, GLenum type,
+                          const void *indices)
+{
+    tilesort *t = self;
+    if (tsr_packer_check_DrawRangeElements(t->geo, mode, start, end, count, type) == 0)
+        ts_DrawElements(self, mode, count, type, indices);
+}
+
+void ts_MultiDrawArrays(void *self, GLenum mode, const GLint *first, const GLsizei *count, GLsizei drawcount)
+{
+    tilesort *t = self;
+    if (tsr_packer_check_MultiDraw(t->geo, mode, count, 0, drawcount) != 0)
+        return;
+    for (GLsizei i = 0; i < drawcount; i++)
+        if (count[i] > 0)
+            ts_DrawArrays(self, mode, first[i], count[i]);
+}
+
+void ts_MultiDrawElements(void *self, GLenum mode, const GLsizei *count, GLenum type, const void *const *indices,
+                          GLsizei drawcount)
+{
+    tilesort *t = self;
+    if (tsr_packer_check_MultiDraw(t->geo, mode, count, type, drawcount) != 0)
+        return;
+    for (GLsizei i = 0; i < drawcount; i++)
+        if (count[i] > 0)
+            ts_DrawElements(self, mode, count[i], type, indices[i]);
 }

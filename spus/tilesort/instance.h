@@ -192,6 +192,11 @@ void ts_rec_BindTexture(void *self, GLenum target, GLuint name);
 /* --- arrays.c: array draws ---------------------------------------------------- */
 void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count);
 void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const void *indices);
+void ts_DrawRangeElements(void *self, GLenum mode, GLuint start, GLuint end, GLsizei count, GLenum type,
+                          const void *indices);
+void ts_MultiDrawArrays(void *self, GLenum mode, const GLint *first, const GLsizei *count, GLsizei drawcount);
+void ts_MultiDrawElements(void *self, GLenum mode, const GLsizei *count, GLenum type, const void *const *indices,
+                          GLsizei drawcount);
 
 /* --- frame.c: frames, the window, gathered pixels ----------------------------- */
 void ts_WindowCreateTSR(void *self, GLint window, GLsizei w, GLsizei h);

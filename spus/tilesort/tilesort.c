@@ -490,6 +490,9 @@ static void build_tables(tilesort *t)
     SET(End);
     SET(DrawArrays);
     SET(DrawElements);
+    SET(DrawRangeElements);
+    SET(MultiDrawArrays);
+    SET(MultiDrawElements);
     SET(WindowCreateTSR);
     SET(WindowSizeTSR);
     SET(SwapBuffersTSR);

@@ -13,30 +13,14 @@
 
 #define SELECT "selection/feedback: the buffer is written at glRenderMode(GL_RENDER), a reply merged across tiles"
 #define SERVER_SIZED "the reply's size depends on the server's state (map order, pixel map size, uniform type)"
-#define CLIENT_ARRAY "a client-array command: the packer must carry the arrays' elements (like DrawArrays)"
 
 static const struct {
     const char *name, *why;
 } not_yet[] = {
-    {"glFeedbackBuffer", SELECT},
-    {"glSelectBuffer", SELECT},
-    {"glRenderMode", SELECT},
-    {"glGetMapdv", SERVER_SIZED},
-    {"glGetMapfv", SERVER_SIZED},
-    {"glGetMapiv", SERVER_SIZED},
-    {"glGetPixelMapfv", SERVER_SIZED},
-    {"glGetPixelMapuiv", SERVER_SIZED},
-    {"glGetPixelMapusv", SERVER_SIZED},
-    {"glGetUniformfv", SERVER_SIZED},
-    {"glGetUniformiv", SERVER_SIZED},
-    {"glGetCompressedTexImage", SERVER_SIZED},
-    {"glIndexPointer", CLIENT_ARRAY},
-    {"glFogCoordPointer", CLIENT_ARRAY},
-    {"glSecondaryColorPointer", CLIENT_ARRAY},
-    {"glGetVertexAttribPointerv", CLIENT_ARRAY},
-    {"glDrawRangeElements", CLIENT_ARRAY},
-    {"glMultiDrawArrays", CLIENT_ARRAY},
-    {"glMultiDrawElements", CLIENT_ARRAY},
+    {"glFeedbackBuffer", SELECT},      {"glSelectBuffer", SELECT},         {"glRenderMode", SELECT},
+    {"glGetMapdv", SERVER_SIZED},      {"glGetMapfv", SERVER_SIZED},       {"glGetMapiv", SERVER_SIZED},
+    {"glGetPixelMapfv", SERVER_SIZED}, {"glGetPixelMapuiv", SERVER_SIZED}, {"glGetPixelMapusv", SERVER_SIZED},
+    {"glGetUniformfv", SERVER_SIZED},  {"glGetUniformiv", SERVER_SIZED},   {"glGetCompressedTexImage", SERVER_SIZED},
 };
 
 static const char *not_yet_reason(const char *glname)

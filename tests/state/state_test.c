@@ -696,7 +696,9 @@ static int derived_pname(GLenum p)
  * context that got the calls themselves. */
 static int client_pname(GLenum p)
 {
-    return (p >= GL_VERTEX_ARRAY && p <= GL_EDGE_FLAG_ARRAY_STRIDE) || p == GL_CLIENT_ACTIVE_TEXTURE ||
+    return (p >= GL_VERTEX_ARRAY && p <= GL_EDGE_FLAG_ARRAY_STRIDE) ||
+           (p >= GL_FOG_COORD_ARRAY_TYPE && p <= GL_FOG_COORD_ARRAY) ||
+           (p >= GL_SECONDARY_COLOR_ARRAY_SIZE && p <= GL_SECONDARY_COLOR_ARRAY) || p == GL_CLIENT_ACTIVE_TEXTURE ||
            p == GL_ATTRIB_STACK_DEPTH || p == GL_CLIENT_ATTRIB_STACK_DEPTH ||
            (p >= GL_VERTEX_ARRAY_BUFFER_BINDING && p <= GL_WEIGHT_ARRAY_BUFFER_BINDING);
 }

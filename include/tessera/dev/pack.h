@@ -66,6 +66,9 @@ typedef struct tsr_pack_sink {
 #define TSR_PACK_TEXUNITS 8
 #define TSR_PACK_ATTRIBS 16
 #define TSR_PACK_STACK 16
+/* every client array a draw may read: the seven of the fixed function,
+ * a texture coordinate array per unit, a generic attribute array each */
+#define TSR_PACK_ARRAYS (7 + TSR_PACK_TEXUNITS + TSR_PACK_ATTRIBS)
 
 typedef struct tsr_client_array {
     uint8_t enabled, normalized;
@@ -78,6 +81,7 @@ typedef struct tsr_client_array {
 
 typedef struct tsr_client_arrays {
     tsr_client_array vertex, normal, color, edge_flag;
+    tsr_client_array secondary_color, fog_coord, index; /* GL 1.4, 1.4, 1.1 */
     tsr_client_array texcoord[TSR_PACK_TEXUNITS];
     tsr_client_array attrib[TSR_PACK_ATTRIBS];
     uint32_t active_texture; /* unit index of ClientActiveTexture */
@@ -208,6 +212,15 @@ TSR_API int tsr_client_array_position(const tsr_client_array *a, uint64_t i, flo
  * arrays enabled now: a box-keeping SPU uses it to account for a draw it
  * sends in other pieces. 0 when the arrays cannot be packed. */
 TSR_API uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices);
+/* The GL errors of glDrawRangeElements and of glMultiDrawArrays (type 0)
+ * or glMultiDrawElements, checked as Mesa checks them: a refused call
+ * becomes the packer's local error (-1), else 0 and the call stands for
+ * its glDrawElements, or its glDrawArrays/glDrawElements of count[i] > 0
+ * in order; a box-keeping SPU that draws those itself checks first. */
+TSR_API int tsr_packer_check_DrawRangeElements(tsr_packer *p, GLenum mode, GLuint start, GLuint end, GLsizei count,
+                                               GLenum type);
+TSR_API int tsr_packer_check_MultiDraw(tsr_packer *p, GLenum mode, const GLsizei *count, GLenum type,
+                                       GLsizei drawcount);
 /* First error since creation/clear (TSR_OK when none), e.g. a failed flush,
  * a dropped command (invalid size, unknown enum), a missing reply. */
 TSR_API const tsr_error *tsr_packer_error(const tsr_packer *p);

@@ -255,6 +255,7 @@ typedef struct tsr_state_array {
 /* Client state (never diffed: client arrays travel as draw payloads). */
 typedef struct tsr_state_client {
     tsr_state_array vertex, normal, color, edge_flag;
+    tsr_state_array secondary_color, fog_coord, index;
     tsr_state_array texcoord[TSR_STATE_UNITS];
     tsr_state_array attrib[TSR_STATE_ATTRIBS];
     GLuint client_active_texture; /* unit index */

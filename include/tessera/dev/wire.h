@@ -82,7 +82,9 @@
  *
  * 6. CLIENT VERTEX ARRAYS (spec `wire: custom` DrawArrays/DrawElements):
  *    pointers and enables never travel (they are client state, spec
- *    `wire: local`); each draw carries one bulk payload.
+ *    `wire: local`); each draw carries one bulk payload. DrawRangeElements
+ *    and MultiDrawArrays/MultiDrawElements travel as the DrawElements and
+ *    DrawArrays GL defines them to be.
  *      DrawArrays:   u32 mode, i32 first, i32 count, u32 0,
  *                    u64 P, then P bytes of ARRAYS.
  *      DrawElements: u32 mode, i32 count, u32 type, u32 index_buffer,
@@ -94,7 +96,8 @@
  *                    u32 client_active_texture (unit index, restored),
  *                    u32 array count A, then A records, each 8-aligned:
  *                    u32 kind (TSR_WIRE_ARRAY_*), u32 index (texture
- *                    unit / attribute), i32 size, u32 type, i32 stride,
+ *                    unit / attribute), i32 size (1 for the fog coordinate
+ *                    and index arrays), u32 type, i32 stride,
  *                    u32 normalized, u32 buffer, u32 0, u64 offset, u64 D,
  *                    D data bytes, pad to 8.
  *                    buffer != 0: the array lives in that buffer object
@@ -152,6 +155,9 @@ enum {
     TSR_WIRE_ARRAY_EDGE_FLAG = 4,
     TSR_WIRE_ARRAY_TEXCOORD = 5,
     TSR_WIRE_ARRAY_ATTRIB = 6,
+    TSR_WIRE_ARRAY_SECONDARY_COLOR = 7,
+    TSR_WIRE_ARRAY_FOG_COORD = 8,
+    TSR_WIRE_ARRAY_INDEX = 9,
 };
 
 #define TSR_LIKELY(x) __builtin_expect(!!(x), 1)
