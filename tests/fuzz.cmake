@@ -175,13 +175,13 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # The tessera extension commands into the render SPU (its sources compiled
 # in and registered, so coverage measures its handlers). fuzz_ext_seeds
 # OUTDIR writes the ok-* seeds with the real packer.
-# tessera_render_core's sources (spus/render/CMakeLists.txt), compiled in.
-set(tsr_fuzz_render_core_sources)
-foreach(tsr_file render contexts buffers scissor textures pixels frame pages budget drawpixels)
-  list(APPEND tsr_fuzz_render_core_sources ${CMAKE_SOURCE_DIR}/spus/render/${tsr_file}.c)
+# The render plugin's sources (spus/render/CMakeLists.txt) but its class
+# (plugin.c), compiled in: fuzz_render registers its own class with them.
+set(tsr_fuzz_render_impl_sources)
+foreach(tsr_file render contexts buffers scissor textures pixels frame pages budget drawpixels xwindow)
+  list(APPEND tsr_fuzz_render_impl_sources ${CMAKE_SOURCE_DIR}/spus/render/${tsr_file}.c)
 endforeach()
-set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${tsr_fuzz_render_core_sources}
-  ${CMAKE_SOURCE_DIR}/spus/render/xwindow.c)
+set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${tsr_fuzz_render_impl_sources})
 tsr_add_fuzz_target(ext
   SOURCES ${tsr_fuzz_render_sources}
   INCLUDES ${CMAKE_SOURCE_DIR}/spus/render
@@ -200,10 +200,12 @@ target_link_libraries(fuzz_ext_seeds PRIVATE tessera PkgConfig::RENDER_X11 ${CMA
 # the unpacker and render.c compiled into it with the fuzzer's coverage.
 set(tsr_fuzz_render_corpus ${TSR_FUZZ_DIR}/corpus-render)
 foreach(mode replay seeds)
-  add_executable(fuzz_render_${mode} ${TSR_FUZZ_DIR}/fuzz_render.c)
+  add_executable(fuzz_render_${mode} ${TSR_FUZZ_DIR}/fuzz_render.c ${tsr_fuzz_render_impl_sources})
+  add_dependencies(fuzz_render_${mode} tessera_generated)
   string(TOUPPER ${mode} tsr_mode)
   target_compile_definitions(fuzz_render_${mode} PRIVATE FUZZ_RENDER_${tsr_mode})
-  target_link_libraries(fuzz_render_${mode} PRIVATE tessera_render_core tessera)
+  target_include_directories(fuzz_render_${mode} PRIVATE ${CMAKE_SOURCE_DIR}/spus/render)
+  target_link_libraries(fuzz_render_${mode} PRIVATE tessera PkgConfig::RENDER_X11 ${CMAKE_DL_LIBS} m)
 endforeach()
 add_test(NAME fuzz_render_corpus_replay_budgets_on COMMAND fuzz_render_replay ${tsr_fuzz_render_corpus})
 set(tsr_fuzz_render_seed_out ${CMAKE_CURRENT_BINARY_DIR}/fuzz_render_seeds)
@@ -219,7 +221,7 @@ endif()
 
 if(TESSERA_FUZZ)
   add_executable(fuzz_render ${TSR_FUZZ_DIR}/fuzz_render.c
-    ${tsr_fuzz_render_core_sources}
+    ${tsr_fuzz_render_impl_sources}
     ${CMAKE_SOURCE_DIR}/core/wire/unpack.c ${CMAKE_SOURCE_DIR}/core/wire/pixel.c
     ${TESSERA_GEN_DIR}/src/unpack_gen.c ${TESSERA_GEN_DIR}/src/wire_tables_gen.c)
   add_dependencies(fuzz_render tessera_generated)
@@ -229,7 +231,7 @@ if(TESSERA_FUZZ)
   target_compile_options(fuzz_render PRIVATE -fsanitize=fuzzer,address,undefined
     -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(fuzz_render PRIVATE -fsanitize=fuzzer,address,undefined)
-  target_link_libraries(fuzz_render PRIVATE tessera ${CMAKE_DL_LIBS} m)
+  target_link_libraries(fuzz_render PRIVATE tessera PkgConfig::RENDER_X11 ${CMAKE_DL_LIBS} m)
   add_test(NAME fuzz_render_runs_corpus COMMAND fuzz_render -runs=0 ${tsr_fuzz_render_corpus})
   # OSMesa keeps process-lifetime allocations LeakSanitizer would report.
   set_tests_properties(fuzz_render_runs_corpus PROPERTIES TIMEOUT 300

@@ -2,8 +2,9 @@
  * WindowSizeTSR give the framebuffer its size (within the window budget),
  * SwapBuffersTSR finishes the frame, reads it back (the whole window, or
  * each owned tile through a reader context of its own) and writes it out
- * as PNGs and through the hooks of render.h; render_spu_read and
- * render_spu_size are the hooks' way to the frame.
+ * as PNGs and to window output (xwindow.h); render_spu_end_frame,
+ * render_spu_read and render_spu_size are what the plugin publishes to a
+ * subclass (tessera/dev/render.h).
  *
  * Owns: the frame counter's use, the tile read-back buffer, the reader
  * context. Never: applies a client's pixel-store or transfer state to a
@@ -163,8 +164,8 @@ static void tiled_write_frame(render_spu *r, int frame, tsr_render_tile_fn each,
                 r->tile_pixels_size = need;
             }
             r->gl.ReadPixels(b.x, b.y, b.w, b.h, GL_RGBA, GL_UNSIGNED_BYTE, r->tile_pixels);
-            if (r->hooks.image)
-                r->hooks.image(r->hooks.ctx, frame, i, b.x, b.y, b.w, b.h, r->tile_pixels);
+            if (r->xwindow)
+                render_xwindow_image(r->xwindow, b.x, b.y, b.w, b.h, r->tile_pixels);
             if (each)
                 each(ctx, i, b.x, b.y, b.w, b.h, r->tile_pixels);
             char path[PATH_MAX];
@@ -175,14 +176,14 @@ static void tiled_write_frame(render_spu *r, int frame, tsr_render_tile_fn each,
     }
     if (render_shared_make_current(r, back, &err) != TSR_OK)
         tsr_log(TSR_LOG_ERROR, "%s", err.message);
-    if (r->hooks.done)
-        r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
+    if (r->xwindow)
+        render_xwindow_done(r->xwindow, frame, r->window, r->width, r->height);
 }
 
 /* The frame's drawing done before it is read or shown. glFinish would do,
  * but in solo mode OSMesa then copies the whole window into the user
- * buffer (docs/render.md), which only a PNG and the image hook read; a
- * `frame` hook reads with render_spu_read. Without those readers a
+ * buffer (docs/render.md), which only a PNG, window output and `each`
+ * read; a subclass reads with render_spu_read. Without those readers a
  * one-pixel read waits for the rasteriser as glFinish does and copies 4
  * bytes: a 1920x1080 frame skips an 8 MB copy. */
 static void finish_frame(render_spu *r, bool whole)
@@ -198,7 +199,7 @@ static void finish_frame(render_spu *r, bool whole)
 }
 
 /* The frame of r's window ended: finished, read back where someone reads
- * it (PNGs, the hooks, `each`: tessera/dev/render.h), written out; the
+ * it (PNGs, window output, `each`: tessera/dev/render.h), written out; the
  * swap itself is the caller's to pass on. Returns the frame's number. */
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
 {
@@ -210,10 +211,10 @@ int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
         tiled_write_frame(r, frame, each, ctx);
         return frame;
     }
-    /* Only a PNG, the image hook or `each` reads the whole window; without
-     * them the frame stays in the framebuffer (a `frame` hook or a
-     * subclass reads from there with render_spu_read). */
-    bool whole = r->output[0] || r->hooks.image || each;
+    /* Only a PNG, window output or `each` reads the whole window; without
+     * them the frame stays in the framebuffer (a subclass reads from there
+     * with render_spu_read). */
+    bool whole = r->output[0] || r->xwindow || each;
     finish_frame(r, whole);
     if (r->shared && whole)
         shared_read_frame(r);
@@ -224,14 +225,12 @@ int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
             write_frame_png(r, r->buffer, r->width, r->height, path, &err) != TSR_OK)
             tsr_log(TSR_LOG_ERROR, "%s: frame %d: %s", r->name, frame, err.message);
     }
-    if (r->hooks.frame)
-        r->hooks.frame(r->hooks.ctx, frame, r);
-    if (r->hooks.image && r->buffer)
-        r->hooks.image(r->hooks.ctx, frame, 0, 0, 0, r->width, r->height, r->buffer);
+    if (r->xwindow && r->buffer)
+        render_xwindow_image(r->xwindow, 0, 0, r->width, r->height, r->buffer);
     if (each && r->buffer)
         each(ctx, 0, 0, 0, r->width, r->height, r->buffer);
-    if (r->hooks.done)
-        r->hooks.done(r->hooks.ctx, frame, r->window, r->width, r->height);
+    if (r->xwindow)
+        render_xwindow_done(r->xwindow, frame, r->window, r->width, r->height);
     return frame;
 }
 

@@ -1,6 +1,8 @@
 /* spus/render/instance.h — the render instance (render_spu) and the
- * functions its files call in one another. Private to tessera_render_core:
- * only the .c files of spus/render include it; other SPUs use render.h.
+ * functions its files call in one another. Private to the render plugin:
+ * only the .c files of spus/render include it; plugin.c and the fuzz
+ * targets that compile render in use render.h, other SPUs inherit render
+ * through tessera/dev/render.h.
  *
  * The files, one job each:
  *   render.c   — life cycle: OSMesa loading, options, creation, destruction
@@ -12,6 +14,7 @@
  *                the fast paths
  *   frame.c    — window size, swap: the frame read back and written out
  *   buffers.c  — front and back buffers of a double-buffered window
+ *   xwindow.c  — window output: each frame shown in an X window
  *
  * Owns the types only. Never: state outside an instance. */
 #ifndef RENDER_INSTANCE_H
@@ -31,6 +34,7 @@
 #include "budget.h"
 #include "drawpixels.h"
 #include "render.h"
+#include "xwindow.h"
 
 /* The OSMesa functions this SPU calls, resolved with dlsym. */
 typedef struct osmesa_api {
@@ -163,7 +167,7 @@ typedef struct render_spu {
     render_context reader; /* reads the tiles back; never gets client commands */
     unsigned char *tile_pixels;
     size_t tile_pixels_size;
-    render_hooks hooks; /* render.h: what an SPU built on render does with each frame */
+    render_xwindow *xwindow; /* window output (xwindow.h); NULL: none */
 
     /* Budgets per context (docs/render.md, "Budgets"); 0 = no limit. */
     uint64_t max_texture_bytes;

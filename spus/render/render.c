@@ -1,8 +1,10 @@
 /* spus/render/render.c — the render SPU: draws the stream with OSMesa into
  * an offscreen framebuffer of the window's size and writes a PNG per
  * SwapBuffersTSR (one per owned tile on a wall's tile server), bit-identical
- * to the same program drawn by OSMesa directly. A static library
- * (render.h) that the `render` plugin and `readback` build on.
+ * to the same program drawn by OSMesa directly; optionally shows each
+ * frame in an X window too (xwindow.c). Compiled into the `render` plugin
+ * (plugin.c: its class); SPUs that render like it and do more inherit it
+ * through the SPU class's super (tessera/dev/render.h).
  *
  * Owns, per instance: the dlopen'ed OSMesa handle, its contexts (RGBA,
  * depth 24, stencil 8, accum 16: exactly the native reference's,
@@ -25,7 +27,8 @@
  * (instance.h, which holds the instance, lists them): contexts.c (shared
  * mode), scissor.c (tiles and the scissor), textures.c (the texture
  * budget), pixels.c (Clear, CopyPixels, DrawPixels), frame.c (window
- * size and frame output).
+ * size and frame output), buffers.c (front and back buffers), xwindow.c
+ * (window output).
  *
  * docs/render.md describes the behaviour in detail (framebuffer size,
  * output names, shared mode for several contexts, tiles, memory) and the
@@ -193,6 +196,7 @@ static void render_destroy(void *self)
     }
     if (r->library)
         dlclose(r->library);
+    render_xwindow_destroy(r->xwindow);
     free(r->buffer);
     free(r->tiles);
     free(r->tile_pixels);
@@ -202,7 +206,7 @@ static void render_destroy(void *self)
     free(r);
 }
 
-void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err)
+void *render_spu_create(const tsr_spu_init *init, tsr_error *err)
 {
     render_spu *r = calloc(1, sizeof *r);
     if (!r) {
@@ -211,8 +215,13 @@ void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr
     }
     snprintf(r->name, sizeof r->name, "%s", init->instance_name);
     r->child = init->child;
-    if (hooks)
-        r->hooks = *hooks;
+    /* Window output first: a bad x_ option or an X display that cannot be
+     * opened fails the instance before OSMesa is loaded. */
+    tsr_error xerr = {0};
+    if (!(r->xwindow = render_xwindow_create(init, &xerr)) && xerr.code) {
+        tsr_error_set(err, xerr.code, "%s", xerr.message);
+        goto fail;
+    }
     r->output = tsr_options_string(init->options, "output");
     if (!r->output)
         r->output = "";

@@ -1,26 +1,14 @@
-/* spus/render/render.h — the render SPU's implementation as a library
- * (tessera_render_core, static), shared by the `render` plugin (plugin.c)
- * and the SPUs that render exactly like it and then do more with the
- * frame (`readback`, spus/readback). Owns nothing itself: an instance is
- * what render.c's header comment describes (docs/render.md in detail).
- * Never to be copied: an SPU that needs render's drawing links this
- * library and passes hooks.
+/* spus/render/render.h — what the render plugin's class (plugin.c)
+ * calls of render's implementation (render.c and the files instance.h
+ * lists, compiled into the plugin): create and destroy an instance, the
+ * calls behind tessera/dev/render.h, and render's option list. The fuzz
+ * targets that compile render's sources in (tests/fuzz.cmake) register
+ * their own class with the same calls.
  *
- * Hooks: `image` is called at every swap of the instance's window, after
- * the frame's pixels were read and written out (PNGs), before the swap
- * goes on to the child: once per owned tile (its rectangle in window
- * pixels, origin bottom-left, and its RGBA8 pixels, bottom row first,
- * rows packed), or once with the whole window when there are no tiles.
- * The pixels are valid during the call only.
- *
- * `frame` is called at every swap of the instance's window when it has no
- * tiles, after the frame was finished and written out, before `image`:
- * the place to read more of the frame than its colour (depth, a region)
- * with render_spu_read while the frame is still in the framebuffer.
- *
- * `done` is called at every swap of the instance's window after the last
- * `image` of the frame, with the stream's window id and the window's size
- * (window output shows the frame's tiles then, spus/render/xwindow.h). */
+ * Owns nothing itself: an instance is what render.c's header comment
+ * describes (docs/render.md in detail). Never: reached from another SPU's
+ * sources; an SPU that renders like render and does more with the frame
+ * inherits it through the SPU class's super (tessera/dev/render.h). */
 #ifndef TSR_SPUS_RENDER_RENDER_H
 #define TSR_SPUS_RENDER_RENDER_H
 
@@ -36,17 +24,11 @@
 #define RENDER_DEFAULT_MAX_TEXTURE_BYTES "536870912"
 #define RENDER_DEFAULT_MAX_WINDOW_PIXELS "16777216"
 
-typedef struct render_hooks {
-    void (*image)(void *ctx, int frame, size_t tile, int x, int y, int width, int height, const unsigned char *rgba);
-    void (*frame)(void *ctx, int frame, void *render);
-    void (*done)(void *ctx, int frame, int window, int width, int height);
-    void *ctx;
-} render_hooks;
-
-/* As a plugin's create and destroy; `hooks` may be NULL. The instance
- * sets its slots in init->table and calls init->child with what it passes
- * on (window, swap, context and tiles commands). */
-void *render_spu_create(const tsr_spu_init *init, const render_hooks *hooks, tsr_error *err);
+/* As a plugin's create and destroy. The instance sets its slots in
+ * init->table and calls init->child with what it passes on (window, swap,
+ * context and tiles commands); it makes window output (xwindow.h) when
+ * window_output asks for it. */
+void *render_spu_create(const tsr_spu_init *init, tsr_error *err);
 void render_spu_destroy(void *instance);
 
 /* The window's framebuffer size. */
@@ -55,15 +37,16 @@ void render_spu_size(const void *instance, int *width, int *height);
  * publishes for its subclasses. */
 size_t render_spu_tile_count(const void *instance);
 int render_spu_end_frame(void *instance, tsr_render_tile_fn each, void *ctx);
-/* Reads the rectangle [x, y, w, h] of the current frame (from a `frame`
- * hook) as glReadPixels(format, type) would with GL's default pixel-store
- * and pixel-transfer state, rows packed, whatever state the client set:
- * e.g. GL_DEPTH_COMPONENT/GL_FLOAT for depth. The rectangle must lie in
- * the window. */
+/* Reads the rectangle [x, y, w, h] of the current frame (after
+ * end_frame) as glReadPixels(format, type) would with GL's default
+ * pixel-store and pixel-transfer state, rows packed, whatever state the
+ * client set: e.g. GL_DEPTH_COMPONENT/GL_FLOAT for depth. The rectangle
+ * must lie in the window. */
 int render_spu_read(void *instance, int x, int y, int w, int h, unsigned format, unsigned type, void *pixels,
                     tsr_error *err);
 
-/* render's options; an SPU built on it lists them among its own. */
+/* render's options except window output's (xwindow.h): the plugin
+ * lists both, the fuzz targets only these (no window output). */
 #define RENDER_OPTION_SPECS                                                                    \
     {.name = "output",                                                                         \
      .type = TSR_OPT_STRING,                                                                   \

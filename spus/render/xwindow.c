@@ -1,8 +1,8 @@
 /* spus/render/xwindow.c — render's window output (xwindow.h). Each frame's
- * tiles are kept as render hands them over (image hook) and shown when the
- * frame ends (done hook): converted once into an XImage of the target
- * window's visual (its channel masks, bits per pixel and byte order, rows
- * top first as X wants them) and sent with XShmPutImage or XPutImage over
+ * tiles are kept as frame.c reads them back (render_xwindow_image) and
+ * shown when the frame ends (render_xwindow_done): converted once into an
+ * XImage of the target window's visual (its channel masks, bits per pixel
+ * and byte order, rows top first as X wants them) and sent with XShmPutImage or XPutImage over
  * this instance's own connection, then XSync, so that the server holds the
  * frame before the next one is drawn.
  *
@@ -408,12 +408,8 @@ void render_xwindow_destroy(render_xwindow *x)
     free(x);
 }
 
-void render_xwindow_image(void *ctx, int frame, size_t tile, int x0, int y0, int width, int height,
-                          const unsigned char *rgba)
+void render_xwindow_image(render_xwindow *x, int x0, int y0, int width, int height, const unsigned char *rgba)
 {
-    (void)frame;
-    (void)tile;
-    render_xwindow *x = ctx;
     if (x->ntiles == x->tiles_cap) {
         size_t cap = x->tiles_cap ? 2 * x->tiles_cap : 4;
         xw_tile *t = realloc(x->tiles, cap * sizeof *t);
@@ -437,9 +433,8 @@ void render_xwindow_image(void *ctx, int frame, size_t tile, int x0, int y0, int
     x->ntiles++;
 }
 
-void render_xwindow_done(void *ctx, int frame, int window, int width, int height)
+void render_xwindow_done(render_xwindow *x, int frame, int window, int width, int height)
 {
-    render_xwindow *x = ctx;
     size_t n = x->ntiles;
     x->ntiles = 0;
     if (!n || width <= 0 || height <= 0)

@@ -25,13 +25,14 @@ typedef struct render_xwindow render_xwindow;
 render_xwindow *render_xwindow_create(const tsr_spu_init *init, tsr_error *err);
 void render_xwindow_destroy(render_xwindow *x);
 
-/* render_hooks.image: keeps a copy of one tile (window pixels, origin
- * bottom-left, RGBA8 bottom row first) of the frame being finished. */
-void render_xwindow_image(void *ctx, int frame, size_t tile, int x, int y, int width, int height,
-                          const unsigned char *rgba);
-/* render_hooks.done: shows the tiles kept since the last call; `window`
- * is the stream's window id, width x height the window's size. */
-void render_xwindow_done(void *ctx, int frame, int window, int width, int height);
+/* Keeps a copy of one tile (window pixels, origin bottom-left, RGBA8
+ * bottom row first) of the frame being finished; frame.c calls it for
+ * each tile it reads back (or once with the whole window). */
+void render_xwindow_image(render_xwindow *x, int x0, int y0, int width, int height, const unsigned char *rgba);
+/* Shows the tiles kept since the last call (frame.c, at the frame's end);
+ * `frame` is its number for the log, `window` the stream's window id,
+ * width x height the window's size. */
+void render_xwindow_done(render_xwindow *x, int frame, int window, int width, int height);
 
 /* The options above, for render's option list. */
 #define RENDER_XWINDOW_OPTION_SPECS                                                                       \

@@ -15,8 +15,9 @@
  *                       only must not crash
  *   FUZZ_RENDER_SEEDS   fuzz_render_seeds OUTDIR: writes the seeds with
  *                       the real packer and checks each as the replay does
- * The render SPU is render.c itself (compiled into the binary with the
- * fuzzer's instrumentation), registered in-process as "fuzz_render". */
+ * The render SPU is render's own sources (compiled into the binary, with
+ * the fuzzer's instrumentation in fuzz_render), registered in-process as
+ * "fuzz_render" with render's options but window output's. */
 #include <dirent.h>
 #include <errno.h>
 #include <stdio.h>
@@ -40,8 +41,6 @@
 #define FUZZ_CHAIN "fuzz_render max_texture_bytes=262144 max_window_pixels=16384"
 static const tsr_unpack_limits fuzz_limits = {.max_output = 1 << 20, .max_vertices = 4096, .max_buffer_bytes = 65536};
 
-static void *fuzz_render_create(const tsr_spu_init *init, tsr_error *err) { return render_spu_create(init, NULL, err); }
-
 static const tsr_option_spec fuzz_render_options[] = {RENDER_OPTION_SPECS};
 static const tsr_spu_class fuzz_render_class = {
     .abi = TSR_SPU_ABI,
@@ -50,7 +49,7 @@ static const tsr_spu_class fuzz_render_class = {
     .summary = "render.c, compiled into the fuzz target",
     .options = fuzz_render_options,
     .option_count = sizeof fuzz_render_options / sizeof fuzz_render_options[0],
-    .create = fuzz_render_create,
+    .create = render_spu_create,
     .destroy = render_spu_destroy,
 };
 
