@@ -48,6 +48,10 @@ static const struct {
 } pack_answers[] = {
     {"IsEnabled",
      "{ GLboolean tsr_local; if (tsr_packer_answer_IsEnabled(tsr_p, cap, &tsr_local)) return tsr_local; }"},
+    {"GetBooleanv", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_BOOL, data)) return;"},
+    {"GetIntegerv", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_INT, data)) return;"},
+    {"GetFloatv", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_FLOAT, data)) return;"},
+    {"GetDoublev", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_DOUBLE, data)) return;"},
     /* an error the packer found itself (an unknown pname) comes first */
     {"GetError", "{ GLenum tsr_local = tsr_packer_take_local_error(tsr_p); if (tsr_local) return tsr_local; }"},
     /* glEnable/glDisable of a client array is glEnable/DisableClientState

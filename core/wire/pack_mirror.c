@@ -209,6 +209,95 @@ int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out)
     return 1;
 }
 
+/* Which attribute of which array a client-array pname asks for. */
+enum { ASK_SIZE, ASK_TYPE, ASK_STRIDE, ASK_BUFFER, ASK_ENABLED };
+
+static const struct {
+    GLenum pname, array;
+    int ask;
+} client_gets[] = {
+    {GL_VERTEX_ARRAY_SIZE, GL_VERTEX_ARRAY, ASK_SIZE},
+    {GL_VERTEX_ARRAY_TYPE, GL_VERTEX_ARRAY, ASK_TYPE},
+    {GL_VERTEX_ARRAY_STRIDE, GL_VERTEX_ARRAY, ASK_STRIDE},
+    {GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY, ASK_BUFFER},
+    {GL_NORMAL_ARRAY_TYPE, GL_NORMAL_ARRAY, ASK_TYPE},
+    {GL_NORMAL_ARRAY_STRIDE, GL_NORMAL_ARRAY, ASK_STRIDE},
+    {GL_NORMAL_ARRAY_BUFFER_BINDING, GL_NORMAL_ARRAY, ASK_BUFFER},
+    {GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY, ASK_SIZE},
+    {GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY, ASK_TYPE},
+    {GL_COLOR_ARRAY_STRIDE, GL_COLOR_ARRAY, ASK_STRIDE},
+    {GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY, ASK_BUFFER},
+    {GL_EDGE_FLAG_ARRAY_STRIDE, GL_EDGE_FLAG_ARRAY, ASK_STRIDE},
+    {GL_EDGE_FLAG_ARRAY_BUFFER_BINDING, GL_EDGE_FLAG_ARRAY, ASK_BUFFER},
+    {GL_SECONDARY_COLOR_ARRAY_SIZE, GL_SECONDARY_COLOR_ARRAY, ASK_SIZE},
+    {GL_SECONDARY_COLOR_ARRAY_TYPE, GL_SECONDARY_COLOR_ARRAY, ASK_TYPE},
+    {GL_SECONDARY_COLOR_ARRAY_STRIDE, GL_SECONDARY_COLOR_ARRAY, ASK_STRIDE},
+    {GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING, GL_SECONDARY_COLOR_ARRAY, ASK_BUFFER},
+    {GL_FOG_COORD_ARRAY_TYPE, GL_FOG_COORD_ARRAY, ASK_TYPE},
+    {GL_FOG_COORD_ARRAY_STRIDE, GL_FOG_COORD_ARRAY, ASK_STRIDE},
+    {GL_FOG_COORD_ARRAY_BUFFER_BINDING, GL_FOG_COORD_ARRAY, ASK_BUFFER},
+    {GL_INDEX_ARRAY_TYPE, GL_INDEX_ARRAY, ASK_TYPE},
+    {GL_INDEX_ARRAY_STRIDE, GL_INDEX_ARRAY, ASK_STRIDE},
+    {GL_INDEX_ARRAY_BUFFER_BINDING, GL_INDEX_ARRAY, ASK_BUFFER},
+    {GL_TEXTURE_COORD_ARRAY_SIZE, GL_TEXTURE_COORD_ARRAY, ASK_SIZE},
+    {GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY, ASK_TYPE},
+    {GL_TEXTURE_COORD_ARRAY_STRIDE, GL_TEXTURE_COORD_ARRAY, ASK_STRIDE},
+    {GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, GL_TEXTURE_COORD_ARRAY, ASK_BUFFER},
+    {GL_VERTEX_ARRAY, GL_VERTEX_ARRAY, ASK_ENABLED},
+    {GL_NORMAL_ARRAY, GL_NORMAL_ARRAY, ASK_ENABLED},
+    {GL_COLOR_ARRAY, GL_COLOR_ARRAY, ASK_ENABLED},
+    {GL_EDGE_FLAG_ARRAY, GL_EDGE_FLAG_ARRAY, ASK_ENABLED},
+    {GL_SECONDARY_COLOR_ARRAY, GL_SECONDARY_COLOR_ARRAY, ASK_ENABLED},
+    {GL_FOG_COORD_ARRAY, GL_FOG_COORD_ARRAY, ASK_ENABLED},
+    {GL_INDEX_ARRAY, GL_INDEX_ARRAY, ASK_ENABLED},
+    {GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY, ASK_ENABLED},
+};
+
+/* GL's initial size of an array never given a pointer (GL 2.1 table 6.8). */
+static GLint initial_size(GLenum array)
+{
+    switch (array) {
+    case GL_SECONDARY_COLOR_ARRAY: return 3;
+    case GL_VERTEX_ARRAY:
+    case GL_COLOR_ARRAY:
+    case GL_TEXTURE_COORD_ARRAY: return 4;
+    default: return 1;
+    }
+}
+
+int tsr_packer_answer_client_get(tsr_packer *p, GLenum pname, GLenum as, void *data)
+{
+    double v;
+    if (pname == GL_CLIENT_ACTIVE_TEXTURE) {
+        v = GL_TEXTURE0 + p->arrays.active_texture;
+    } else {
+        size_t i = 0, n = sizeof client_gets / sizeof client_gets[0];
+        while (i < n && client_gets[i].pname != pname)
+            i++;
+        if (i == n)
+            return 0;
+        const tsr_client_array *a = array_of(p, client_gets[i].array);
+        /* a mirror never written holds zeros: GL's initial values then */
+        int set = a && a->type != 0;
+        switch (client_gets[i].ask) {
+        case ASK_SIZE: v = set ? a->size : initial_size(client_gets[i].array); break;
+        case ASK_TYPE: v = set ? a->type : GL_FLOAT; break;
+        case ASK_STRIDE: v = set ? a->stride : 0; break;
+        case ASK_BUFFER: v = set ? a->buffer : 0; break;
+        default: v = a && a->enabled; break;
+        }
+    }
+    if (!data)
+        return 1;
+    switch (as) {
+    case GL_BOOL: *(GLboolean *)data = v != 0 ? GL_TRUE : GL_FALSE; break;
+    case GL_INT: *(GLint *)data = (GLint)v; break;
+    case GL_FLOAT: *(GLfloat *)data = (GLfloat)v; break;
+    default: *(GLdouble *)data = v; break;
+    }
+    return 1;
+}
+
 void tsr_packer_local_error(tsr_packer *p, GLenum error)
 {
     if (!p->local_error)

@@ -50,6 +50,11 @@ const GLubyte *tsr_packer_keep_string(tsr_packer *p, const uint8_t *s, uint64_t 
 /* glIsEnabled of a client array (GL_VERTEX_ARRAY, ...): answered from the
  * mirror (returns 1); other caps go to the receiver (returns 0). */
 int tsr_packer_answer_IsEnabled(tsr_packer *p, GLenum cap, GLboolean *out);
+/* glGet{Boolean,Integer,Float,Double}v (as: GL_BOOL, GL_INT, GL_FLOAT,
+ * GL_DOUBLE) of client-array state the receiver never sees (sizes, types,
+ * strides, per-array buffer bindings, enables, the client active texture):
+ * answered from the mirror (returns 1); other pnames return 0. */
+int tsr_packer_answer_client_get(tsr_packer *p, GLenum pname, GLenum as, void *data);
 /* glEnable/glDisable (on 1/0) of a client array: the mirror's enable set,
  * returns 1 (nothing is sent); other caps return 0. */
 int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);

@@ -240,6 +240,30 @@ static void pointers(void)
     fprintf(out, "GetPointerv fog coordinate: %s\n", p == (void *)fog ? "the program's" : "other");
     glGetPointerv(GL_INDEX_ARRAY_POINTER, &p);
     fprintf(out, "GetPointerv index: %s\n", p == (void *)colour_index ? "the program's" : "other");
+    /* the arrays' attributes, kept on the client side too (no draw
+     * follows: the strides are only asked about) */
+    glSecondaryColorPointer(3, GL_SHORT, 8, secondary);
+    glFogCoordPointer(GL_FLOAT, 12, fog);
+    GLint sc[3], fc[2], ix[2], vs = -1;
+    glGetIntegerv(GL_SECONDARY_COLOR_ARRAY_SIZE, &sc[0]);
+    glGetIntegerv(GL_SECONDARY_COLOR_ARRAY_TYPE, &sc[1]);
+    glGetIntegerv(GL_SECONDARY_COLOR_ARRAY_STRIDE, &sc[2]);
+    glGetIntegerv(GL_FOG_COORD_ARRAY_TYPE, &fc[0]);
+    glGetIntegerv(GL_FOG_COORD_ARRAY_STRIDE, &fc[1]);
+    glGetIntegerv(GL_INDEX_ARRAY_TYPE, &ix[0]);
+    glGetIntegerv(GL_INDEX_ARRAY_STRIDE, &ix[1]);
+    glGetIntegerv(GL_VERTEX_ARRAY_SIZE, &vs);
+    GLboolean fog_on = GL_FALSE, index_on = GL_TRUE;
+    glGetBooleanv(GL_FOG_COORD_ARRAY, &fog_on);
+    glGetBooleanv(GL_INDEX_ARRAY, &index_on);
+    GLfloat colour_size = 0;
+    glGetFloatv(GL_COLOR_ARRAY_SIZE, &colour_size);
+    GLdouble texcoord_size = 0;
+    glGetDoublev(GL_TEXTURE_COORD_ARRAY_SIZE, &texcoord_size);
+    fprintf(out,
+            "array gets: secondary colour %d 0x%x %d, fog coordinate 0x%x %d (enabled %d), index 0x%x %d (enabled "
+            "%d), vertex size %d, colour size %g, texture coordinate size %g\n",
+            sc[0], sc[1], sc[2], fc[0], fc[1], fog_on, ix[0], ix[1], index_on, vs, (double)colour_size, texcoord_size);
     static const GLfloat attrib[4][4];
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, attrib);
     p = NULL;
