@@ -42,6 +42,15 @@ target_link_libraries(read_pixels-native PRIVATE PkgConfig::OSMESA tessera m)
 add_executable(read_pixels tilesort/read_pixels_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
 target_include_directories(read_pixels PRIVATE ${CMAKE_SOURCE_DIR}/examples)
 target_link_libraries(read_pixels PRIVATE tessera_gl tessera m)
+# tests/tilesort/select_feedback_driver.c: selection and feedback passes,
+# records printed, built twice the same way.
+add_executable(select_feedback-native tilesort/select_feedback_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_compile_definitions(select_feedback-native PRIVATE EXAPP_NATIVE)
+target_include_directories(select_feedback-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(select_feedback-native PRIVATE PkgConfig::OSMESA tessera m)
+add_executable(select_feedback tilesort/select_feedback_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+target_include_directories(select_feedback PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+target_link_libraries(select_feedback PRIVATE tessera_gl tessera m)
 # tests/tilesort/cost_learning_test.c: the balancer's cost model with
 # deterministic times, in one process (the tiling sources themselves).
 set(TILESORT_SRC ${CMAKE_SOURCE_DIR}/spus/tilesort)
@@ -107,6 +116,17 @@ endforeach()
 foreach(config 2x2 3x3 multi)
   add_test(NAME tilesort_read_pixels_beside_a_servers_tiles_exact_and_in_bounds_${config}
     COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/read-pixels-${config} read_pixels 2 ${config})
+endforeach()
+# glRenderMode(GL_SELECT/GL_FEEDBACK): every hit record and feedback value
+# (exact bits), the return values (also -1 on overflow, and GL_SELECT
+# refused without a buffer) and every frame equal OSMesa's through render,
+# pack -> node -> render and a wall, where one server runs each pass whole
+# (spus/tilesort/gets.c says why) and no other draws its primitives;
+# batch_bytes=4096 cuts the long strip into buffers.
+foreach(config 2x2 multi)
+  add_test(NAME tilesort_select_feedback_records_exact_render_pack_wall_${config}
+    COMMAND ${TILESORT_SH} records ${TILESORT_BIN} ${TILESORT_OUT}/select-feedback-${config} select_feedback 2 ${config}
+            batch_bytes=4096)
 endforeach()
 # Large array draws are sorted primitive by primitive: on a 4x4 wall the
 # isosurface's overlap stays near 1 (broadcast: 16); measured 1.038 with

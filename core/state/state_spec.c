@@ -14,6 +14,8 @@
 
 #define NAMES \
     "the name stack only matters in GL_SELECT mode, which the renderers run; a sender forwards it to every renderer"
+#define SELECT \
+    "the selection and feedback buffers are the program's memory and the records come from the renderer that runs the pass (core/wire/select.c); the render mode is the renderer's answer, kept by the packer that asked (tsr_packer_render_mode)"
 #define INDEX \
     "colour-index state: tessera's contexts are RGBA, where GL keeps it and ignores it; a sender forwards it to every renderer"
 #define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
@@ -78,6 +80,9 @@ const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"PassThrough", NAMES},
     {"PopName", NAMES},
     {"PushName", NAMES},
+    {"SelectBuffer", SELECT},
+    {"FeedbackBuffer", SELECT},
+    {"RenderMode", SELECT},
     {"ClearIndex", INDEX},
     {"IndexMask", INDEX},
     {"PixelMapfv", PIXELMAP},

@@ -116,6 +116,7 @@ void tsr_packer_destroy(tsr_packer *p)
         free(p->strings[i]);
     free(p->strings);
     tsr_wire_contexts_free(p->contexts);
+    tsr_wire_selection_free(p->selection);
     for (size_t i = 0; i < sizeof p->mapped / sizeof p->mapped[0]; i++)
         free(p->mapped[i].data);
     free(p);

@@ -67,6 +67,7 @@ void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context)
 void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context)
 {
     tsr_wire_contexts_remove(p->contexts, context);
+    tsr_wire_selection_forget(p->selection, context);
     if (p->context_known && context == p->context) {
         /* Whatever is made current next starts from GL's initial values
          * or its own saved state. */
@@ -467,6 +468,8 @@ void tsr_packer_local_PopClientAttrib(tsr_packer *p)
 
 void tsr_packer_local_GetPointerv(tsr_packer *p, GLenum pname, void **params)
 {
+    if (tsr_packer_answer_GetPointerv(p, pname, params))
+        return;
     const tsr_client_array *a = NULL;
     switch (pname) {
     case GL_VERTEX_ARRAY_POINTER: a = &p->arrays.vertex; break;

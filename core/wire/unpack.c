@@ -204,6 +204,7 @@ void tsr_unpacker_note_MakeCurrent(tsr_unpacker *u, GLint context)
 void tsr_unpacker_note_ContextDestroy(tsr_unpacker *u, GLint context)
 {
     tsr_wire_contexts_remove(u->contexts, context);
+    tsr_wire_selection_forget(u->selection, context);
     if (u->context_known && context == u->context) {
         unpack_mirrors_reset(u);
         u->context_known = 0;
@@ -291,6 +292,7 @@ void tsr_unpacker_destroy(tsr_unpacker *u)
     free(u->ptrs);
     buffers_free(u->objects);
     tsr_wire_contexts_free(u->contexts);
+    tsr_wire_selection_free(u->selection);
     free(u);
 }
 

@@ -28,6 +28,18 @@ void *tsr_wire_contexts_add(tsr_wire_contexts **t, GLint context, size_t size);
 void tsr_wire_contexts_remove(tsr_wire_contexts *t, GLint context);
 void tsr_wire_contexts_free(tsr_wire_contexts *t);
 
+/* --- selection and feedback (select.c) ---------------------------------------- */
+
+/* Per context: the program's buffers (packer) or the ones given to GL
+ * (unpacker, owned), and the render mode the receiver reported. */
+typedef struct tsr_wire_selection tsr_wire_selection;
+void tsr_wire_selection_free(tsr_wire_selection *s);
+/* `context` is gone: its record and buffers are dropped. */
+void tsr_wire_selection_forget(tsr_wire_selection *s, GLint context);
+/* glGetPointerv of GL_SELECTION_BUFFER_POINTER / GL_FEEDBACK_BUFFER_POINTER:
+ * the program's buffer (returns 1); other pnames return 0. */
+int tsr_packer_answer_GetPointerv(tsr_packer *p, GLenum pname, void **params);
+
 /* --- packer ------------------------------------------------------------------ */
 
 /* Reserves `size` data bytes (aligned) for opcode and records the opcode;

@@ -185,3 +185,31 @@ GLboolean ts_IsProgram(void *self, GLuint program)
 {
     return tsr_call_IsProgram(&glsl_server(self, program, 1)->table, program);
 }
+
+/* glRenderMode. Selection and feedback are not sorted: every server
+ * renders with the program's whole-window viewport and projection and only
+ * scissors its drawing to its tiles (TilesTSR), and neither selection nor
+ * feedback depends on the scissor (hits and feedback vertices are taken
+ * after clipping to the view volume, before any fragment). So the first
+ * live server, which got glSelectBuffer/glFeedbackBuffer (R_SERVER), runs
+ * the whole pass alone: every geometry buffer, list call and frame command
+ * goes to it only, array draws are not sorted and primitives are not cut
+ * (choose_targets, draw_sorted, ts_geo_sink_flush), and its records are
+ * exactly GL's. Merging records from several servers instead would need
+ * each hit record's name stack matched across servers (the same names may
+ * be loaded twice) and feedback records put back in program order, and
+ * the others would draw the pass's primitives as pixels: in selection and
+ * feedback modes GL draws nothing. The mode is what the server reports
+ * (a glRenderMode(GL_SELECT) GL refuses leaves GL_RENDER). The other
+ * servers stay in GL_RENDER and get the state they lack in their next
+ * diff; the name stack needs no tracking: GL empties it when a selection
+ * pass ends and ignores it outside one. */
+GLint ts_RenderMode(void *self, GLenum mode)
+{
+    tilesort *t = self;
+    ts_server *s = ts_to_server(t);
+    GLint r = tsr_call_RenderMode(&s->table, mode);
+    t->render_mode = tsr_packer_render_mode(s->packer);
+    t->render_server = s->index;
+    return r;
+}

@@ -88,6 +88,10 @@ typedef struct tilesort {
     tsr_tee rec_tees[TSR_DISPATCH_COUNT];
     /* the geometry buffer */
     int in_begin, split_primitive, broadcast_next, program;
+    /* GL_SELECT or GL_FEEDBACK: the pass runs on render_server alone, whole
+     * (gets.c's ts_RenderMode says why); GL_RENDER otherwise */
+    GLenum render_mode;
+    size_t render_server;
     GLenum gl_error;        /* made here (glGetError inside glBegin): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
@@ -207,6 +211,7 @@ void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum fo
 /* --- gets.c ------------------------------------------------------------------- */
 void ts_GetBooleanv(void *self, GLenum p, GLboolean *o);
 void ts_GetIntegerv(void *self, GLenum p, GLint *o);
+GLint ts_RenderMode(void *self, GLenum mode);
 void ts_GetFloatv(void *self, GLenum p, GLfloat *o);
 void ts_GetDoublev(void *self, GLenum p, GLdouble *o);
 void ts_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o);

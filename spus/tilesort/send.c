@@ -249,6 +249,12 @@ const GLint *ts_viewport(const tilesort *t, GLint out[4])
 /* The servers this buffer must reach, into t->targets. */
 static size_t choose_targets(tilesort *t, size_t bytes)
 {
+    if (t->render_mode != GL_RENDER) { /* a selection or feedback pass: one server runs it all (gets.c) */
+        if (tsr_stream_client_server_failed(t->client, t->render_server))
+            return 0;
+        t->targets[0] = t->render_server;
+        return 1;
+    }
     if (t->only_target != TS_ANY_TARGET) {
         if (tsr_stream_client_server_failed(t->client, t->only_target))
             return 0;
@@ -299,7 +305,10 @@ int ts_geo_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *err
         tsr_state_is_enabled(t->ctx, GL_LINE_STIPPLE, &stipple);
         tsr_state_is_enabled(t->ctx, GL_LIGHTING, &lighting);
         unsigned state = (stipple ? TS_SPLIT_LINE_STIPPLE : 0u) | (lighting ? TS_SPLIT_LIGHTING : 0u);
-        int may_cut = !t->program;
+        /* feedback records show where a primitive starts (a strip's first
+         * line is GL_LINE_RESET_TOKEN): a selection or feedback pass gets
+         * its primitives whole */
+        int may_cut = !t->program && t->render_mode == GL_RENDER;
         tsr_error e = {0};
         piece =
             ts_split_piece(t->split, buf, size, &t->start, &end, t->in_begin, may_cut, state, t->geo, &buf, &size, &e);

@@ -514,6 +514,7 @@ static void build_tables(tilesort *t)
     SET(DeleteLists);
     SET(GetBooleanv);
     SET(GetIntegerv);
+    SET(RenderMode);
     SET(GetFloatv);
     SET(GetDoublev);
     SET(GetLightfv);
@@ -632,6 +633,7 @@ static void *tilesort_create(const tsr_spu_init *init, tsr_error *err)
     }
     snprintf(t->name, sizeof t->name, "%s", init->instance_name);
     t->only_target = TS_ANY_TARGET;
+    t->render_mode = GL_RENDER;
     t->nservers = count;
     t->srv = calloc(count, sizeof *t->srv);
     t->frame_geometry = calloc(count, sizeof *t->frame_geometry);

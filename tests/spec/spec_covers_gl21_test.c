@@ -11,13 +11,11 @@
 
 #include "harness.h"
 
-#define SELECT "selection/feedback: the buffer is written at glRenderMode(GL_RENDER), a reply merged across tiles"
 #define SERVER_SIZED "the reply's size depends on the server's state (map order, pixel map size, uniform type)"
 
 static const struct {
     const char *name, *why;
 } not_yet[] = {
-    {"glFeedbackBuffer", SELECT},      {"glSelectBuffer", SELECT},         {"glRenderMode", SELECT},
     {"glGetMapdv", SERVER_SIZED},      {"glGetMapfv", SERVER_SIZED},       {"glGetMapiv", SERVER_SIZED},
     {"glGetPixelMapfv", SERVER_SIZED}, {"glGetPixelMapuiv", SERVER_SIZED}, {"glGetPixelMapusv", SERVER_SIZED},
     {"glGetUniformfv", SERVER_SIZED},  {"glGetUniformiv", SERVER_SIZED},   {"glGetCompressedTexImage", SERVER_SIZED},

@@ -35,6 +35,10 @@
 #       exact: from frame 2 on (the first split from a frame's cost is
 #       frame 1's) the measured imbalance is at most MAX every frame, so
 #       the split follows the motion.
+#   records APP FRAMES CONFIG [OPTION...]
+#       APP prints records (selection, feedback): its output and every frame
+#       equal APP-native's through render, pack -> node -> render and
+#       tilesort on CONFIG (frames gathered as in `exact`).
 #   bad TILES BUCKET WORD
 #       a tilesort with this tiles option fails at start, exit status
 #       non-zero, one message naming WORD.
@@ -222,6 +226,50 @@ track)
     bad=1
   rows "$out/tiled/stats.json" server_pixels >"$out/pixels"
   echo "regions (pixels per server) per frame:"; cat "$out/pixels" ;;
+records)
+  # what the program prints (selection and feedback records) and every
+  # frame: the same as APP-native's through render, pack -> node -> render
+  # and tilesort on CONFIG
+  app=$1 frames=$2 config=$3
+  shift 3
+  "$bin/$app-native" --frames "$frames" --size $SIZE --out "$out/ref-%04d.png" >"$out/ref.out" ||
+    fail "$app-native failed"
+  same_output() { # WHAT FILE
+    if cmp -s "$out/ref.out" "$2"; then
+      echo "$1: the same $(wc -l <"$2") lines as $app-native"
+    else
+      fail "$1: the output differs from $app-native's:"
+      diff "$out/ref.out" "$2" | head -n 20 | cut -c1-300 >&2
+    fi
+  }
+  same_frames() { # WHAT PATTERN_PREFIX
+    f=0
+    while [ $f -lt "$frames" ]; do
+      n=$(printf %04d $f)
+      d=$(pixels "$out/ref-$n.png" "$2-$n.png")
+      echo "$1 frame $f: $d pixels differ from $app-native"
+      [ "$d" = 0 ] || fail "$1 frame $f: $d pixels differ from $app-native"
+      f=$((f + 1))
+    done
+  }
+  mkdir -p "$out/render" "$out/pack"
+  timeout 120 "$bin/$app" --frames "$frames" --size $SIZE --chain "render output=\"$out/render/f-%04d.png\"" \
+    >"$out/render/app.out" 2>"$out/render/app.err" || { fail "$app through render failed"; cat "$out/render/app.err" >&2; }
+  same_output render "$out/render/app.out"
+  same_frames render "$out/render/f"
+  start_node "$out/pack/node" --listen tcp://127.0.0.1:0 --clients 1 --timeout-ms 120000 \
+    --chain "render output=\"$out/pack/f-%04d.png\"" || exit 1
+  PIDS=$NODE_PID
+  timeout 120 "$bin/$app" --frames "$frames" --size $SIZE --chain "pack server=\"$NODE_ADDR\"" \
+    >"$out/pack/app.out" 2>"$out/pack/app.err" || { fail "$app through pack failed"; cat "$out/pack/app.err" >&2; }
+  wait_exit "$NODE_PID" 30
+  [ "$EXIT_RC" = 0 ] || { fail "the node exited $EXIT_RC"; cat "$out/pack/node.err" >&2; }
+  PIDS=
+  same_output "pack -> node" "$out/pack/app.out"
+  same_frames "pack -> node" "$out/pack/f"
+  run_tilesort "$out/tiled" "$app" "$frames" "$config" "$@"
+  same_output "tilesort $config" "$out/tiled/app.out"
+  exact_frames "$out/tiled" "$app" "$frames" "$config" ;;
 exact)
   app=$1 frames=$2 config=$3
   shift 3

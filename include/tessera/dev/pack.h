@@ -131,6 +131,9 @@ typedef struct tsr_packer {
         void *data;
     } mapped[4];
     GLenum local_error; /* an error found here, for the next glGetError (pack.c) */
+    /* the program's selection and feedback buffers and the render mode,
+     * per context */
+    struct tsr_wire_selection *selection;
 } tsr_packer;
 
 /* Whether cap names a client array (GL_VERTEX_ARRAY, ...). glEnable and
@@ -311,6 +314,11 @@ TSR_API void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLu
 TSR_API void tsr_packer_mirror_MakeCurrent(tsr_packer *p, GLint context);
 /* `context` is gone: its mirrors are dropped. */
 TSR_API void tsr_packer_mirror_ContextDestroy(tsr_packer *p, GLint context);
+/* The render mode (GL_RENDER, GL_SELECT, GL_FEEDBACK) of the stream's
+ * current context as the receiver reported it at the last glRenderMode
+ * this packer sent (GL_RENDER before any): the receiver's answer, so a
+ * mode GL refused to enter is not taken for on. */
+TSR_API GLenum tsr_packer_render_mode(tsr_packer *p);
 
 #ifdef __cplusplus
 }

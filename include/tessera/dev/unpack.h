@@ -101,6 +101,8 @@ typedef struct tsr_unpacker {
     int32_t context;
     int context_known;
     struct tsr_wire_contexts *contexts;
+    /* the selection and feedback buffers given to GL, per context */
+    struct tsr_wire_selection *selection;
 } tsr_unpacker;
 
 /* Returned (instead of 0) by tsr_unpacker_run and tsr_unpacker_resume when

@@ -128,6 +128,17 @@
  *    NULL). GetTexImage (custom, reply): u32 target, i32 level, u32 format,
  *    u32 type, u32 request id; its reply holds item 0 = i32 width, height,
  *    depth of the level, item 1 = the image under the pack pixel store.
+ *    SelectBuffer (custom): i32 size, u32 0; FeedbackBuffer (custom): i32
+ *    size, u32 type (the program's buffer stays with the sender; the
+ *    receiver gives its GL a buffer of `size` values of its own).
+ *    RenderMode (custom, reply): u32 mode, u32 request id; its reply holds
+ *    item 0 = i32 return value, item 1 = u32 mode left, u32 mode now (the
+ *    receiver's GL_RENDER_MODE before and after), item 2 = the 4-byte
+ *    values the receiver's GL wrote into the buffer of the mode left
+ *    (GL_SELECT: the hit records, GL_FEEDBACK: the values counted by the
+ *    return value; on overflow, return -1, the whole buffer; empty when
+ *    the mode left is GL_RENDER), which the sender copies into the
+ *    program's buffer.
  *
  * All multi-byte values are little-endian. Buffers are self-contained: no
  * state survives from one buffer to the next inside the decoder, so any
