@@ -235,14 +235,22 @@ static sel_record *unpack_record_now(tsr_unpacker *u)
 
 /* A buffer of `size` values GL may fill: the record's, reused when it is
  * large enough, else a new one (the old one stays kept: GL may still hold
- * it if it refuses this call). NULL when out of memory or over the limit. */
+ * it if it refuses this call), at least twice the old one's size, so a
+ * stream asking for one more value each time keeps few buffers. NULL when
+ * out of memory or over the limit. */
 static void *buffer_for(tsr_unpacker *u, sel_record *r, int kind, GLsizei size)
 {
     GLsizei want = size > 0 ? size : 1;
+    uint64_t limit = u->max_output / 4;
     for (size_t i = 0; i < r->nkept; i++)
-        if (r->kept[i].mem == r->buf[kind] && r->kept[i].cap >= want)
-            return r->buf[kind];
-    if ((uint64_t)want * 4 > u->max_output)
+        if (r->kept[i].mem == r->buf[kind]) {
+            if (r->kept[i].cap >= want)
+                return r->buf[kind];
+            uint64_t twice = 2 * (uint64_t)r->kept[i].cap;
+            if (twice > (uint64_t)want && twice <= limit && twice <= INT32_MAX)
+                want = (GLsizei)twice;
+        }
+    if ((uint64_t)size > limit)
         return NULL;
     sel_block *k = realloc(r->kept, (r->nkept + 1) * sizeof *k);
     if (!k)
