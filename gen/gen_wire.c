@@ -348,6 +348,15 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
             break;
         }
     }
+    for (size_t i = 0; i < c->nparams; i++) {
+        const gen_param *gp = &gc->params[i];
+        if (gp->kind == GEN_P_OUT && needs_layout(gp)) {
+            fprintf(f, "    if (tsr_packer_refuse_pack_buffer(tsr_p, \"%s\")) {\n        ", c->name);
+            emit_return_zero(f, gc);
+            fprintf(f, "\n    }\n");
+            break;
+        }
+    }
     if (!gc->is_void)
         fprintf(f, "    %s tsr_ret = (%s)0;\n", c->ret, c->ret);
     declare_layouts(f, gc, 1);
@@ -357,19 +366,30 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
         if (gp->kind != GEN_P_VAR)
             continue;
         const char *n = gp->sp->name;
+        /* With a GL_PIXEL_UNPACK_BUFFER bound, a pixel pointer is an offset
+         * into it (GL 2.1 3.6.4): it travels as TSR_WIRE_OFFSET and the
+         * offset, and the packer never reads it (tessera/dev/wire.h). */
+        int pixel_source = needs_layout(gp);
+        const char *buffer = pixel_source ? " || tsr_p->pixels.unpack_buffer" : "";
         if (gp->sp->nullable)
-            fprintf(f, "    uint64_t tsr_wlen_%s = TSR_WIRE_NULL;\n    if (%s) {\n", n, n);
+            fprintf(f, "    uint64_t tsr_wlen_%s = TSR_WIRE_NULL;\n    if (%s%s) {\n", n, n, buffer);
         else
             fprintf(f, "    uint64_t tsr_wlen_%s;\n    {\n", n);
         gen_emit_count(f, gc, gp, "&tsr_p->pixels.unpack");
         if (!gp->sp->nullable)
-            fprintf(f, "    if (!%s && tsr_len_%s) { tsr_why = \"NULL %s\"; goto tsr_invalid; }\n", n, n, n);
-        fprintf(f, "    tsr_wlen_%s = tsr_len_%s;\n    }\n", n, n);
-        fprintf(f,
-                "    tsr_size = tsr_wire_align8(tsr_size) + 8u;\n"
-                "    if (tsr_wlen_%s != TSR_WIRE_NULL && __builtin_add_overflow(tsr_size, tsr_wlen_%s, &tsr_size)) {\n"
-                "        tsr_why = \"size overflows\"; goto tsr_invalid; }\n",
-                n, n);
+            fprintf(f, "    if (!%s && tsr_len_%s%s) { tsr_why = \"NULL %s\"; goto tsr_invalid; }\n", n, n,
+                    pixel_source ? " && !tsr_p->pixels.unpack_buffer" : "", n);
+        if (pixel_source)
+            fprintf(f, "    tsr_wlen_%s = tsr_p->pixels.unpack_buffer ? TSR_WIRE_OFFSET : tsr_len_%s;\n    }\n", n, n);
+        else
+            fprintf(f, "    tsr_wlen_%s = tsr_len_%s;\n    }\n", n, n);
+        fprintf(
+            f,
+            "    tsr_size = tsr_wire_align8(tsr_size) + 8u;\n"
+            "    if (tsr_wlen_%s == TSR_WIRE_OFFSET)\n        tsr_size += 8u;\n"
+            "    else if (tsr_wlen_%s != TSR_WIRE_NULL && __builtin_add_overflow(tsr_size, tsr_wlen_%s, &tsr_size)) {\n"
+            "        tsr_why = \"size overflows\"; goto tsr_invalid; }\n",
+            n, n, n);
     }
     if (gc->is_reply)
         fprintf(f, "    uint32_t tsr_id = tsr_p->next_request++;\n");
@@ -390,9 +410,11 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
         fprintf(f,
                 "    tsr_q = tsr_wire_align8(tsr_q);\n"
                 "    tsr_wire_put_u64(tsr_a + tsr_q, tsr_wlen_%s);\n    tsr_q += 8u;\n"
-                "    if (tsr_wlen_%s != TSR_WIRE_NULL && tsr_wlen_%s) {\n"
+                "    if (tsr_wlen_%s == TSR_WIRE_OFFSET) {\n"
+                "        tsr_wire_put_u64(tsr_a + tsr_q, (uint64_t)(uintptr_t)%s);\n        tsr_q += 8u;\n"
+                "    } else if (tsr_wlen_%s != TSR_WIRE_NULL && tsr_wlen_%s) {\n"
                 "        memcpy(tsr_a + tsr_q, %s, (size_t)tsr_wlen_%s);\n        tsr_q += tsr_wlen_%s;\n    }\n",
-                n, n, n, n, n, n);
+                n, n, n, n, n, n, n, n);
     }
     if (gc->nvar)
         fprintf(f, "    (void)tsr_q;\n");
@@ -657,6 +679,19 @@ static void emit_outline_unpack(FILE *f, const gen_cmd *gc)
                 sp->type, sp->type[strlen(sp->type) - 1] == '*' ? "" : " ", n, n, n, n);
         if (!sp->nullable)
             fprintf(f, "        tsr_why = \"NULL %s\"; goto tsr_invalid;\n", n);
+        /* An offset into the receiver's GL_PIXEL_UNPACK_BUFFER: only with
+         * one bound there (GL bounds-checks the offset in the buffer), so
+         * a stream never makes the receiver's GL read a pointer of its
+         * choosing. */
+        if (needs_layout(gp))
+            fprintf(
+                f,
+                "    } else if (tsr_got_%s == TSR_WIRE_OFFSET) {\n"
+                "        if (!u->pixels.unpack_buffer) { tsr_why = \"an offset for %s with no pixel unpack buffer bound\"; goto tsr_invalid; }\n"
+                "        if (tsr_q + 8u > tsr_len) { tsr_why = \"truncated before the offset of %s\"; goto tsr_invalid; }\n"
+                "        %s = (%s)(uintptr_t)tsr_wire_get_u64(tsr_b + tsr_q);\n"
+                "        tsr_q += 8u;\n",
+                n, n, n, n, sp->type);
         fprintf(
             f,
             "    } else {\n"

@@ -52,9 +52,18 @@ static const GLenum pack_pnames[8] = {
 };
 
 /* Sets the renderer's unpack modes to tightly packed pixels (what the
- * tracker keeps); the PIXEL group restores the application's later. */
+ * tracker keeps) read from client memory: no GL_PIXEL_UNPACK_BUFFER, or
+ * the renderer would take the tracker's pointer for an offset into it.
+ * The PIXEL and BUFFER groups restore the application's later. */
 void diff_sel_unpack_tight(dctx *x, uint8_t swap, uint8_t lsb)
 {
+    if (x->s->v.pixel_unpack_buffer) {
+        tsr_call_BindBuffer(x->d, GL_PIXEL_UNPACK_BUFFER, 0);
+        x->s->v.pixel_unpack_buffer = 0;
+        x->n++;
+        st_mark_one(x->c, TSR_SM_BUFBIND, x->s->id);
+        x->changed[TSR_SM_BUFBIND >> 6] |= 1ull << (TSR_SM_BUFBIND & 63);
+    }
     tsr_pixel_store want = x->s->v.pixel_store;
     want.unpack = (tsr_pixel_modes){0, 0, 0, 0, 0, 1, swap, lsb};
     for (int i = 0; i < 8; i++) {

@@ -350,4 +350,6 @@ void diff_buffers(dctx *x)
             sync_buffer(x, all->keys[i]);
     bind_buf(x, GL_ARRAY_BUFFER, &x->s->v.array_buffer, x->c->v.array_buffer);
     bind_buf(x, GL_ELEMENT_ARRAY_BUFFER, &x->s->v.element_buffer, x->c->v.element_buffer);
+    bind_buf(x, GL_PIXEL_PACK_BUFFER, &x->s->v.pixel_pack_buffer, x->c->v.pixel_pack_buffer);
+    bind_buf(x, GL_PIXEL_UNPACK_BUFFER, &x->s->v.pixel_unpack_buffer, x->c->v.pixel_unpack_buffer);
 }

@@ -244,6 +244,8 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     /* buffers, lists, misc */
     case GL_ARRAY_BUFFER_BINDING: puti(a, v->array_buffer); return 1;
     case GL_ELEMENT_ARRAY_BUFFER_BINDING: puti(a, v->element_buffer); return 1;
+    case GL_PIXEL_PACK_BUFFER_BINDING: puti(a, v->pixel_pack_buffer); return 1;
+    case GL_PIXEL_UNPACK_BUFFER_BINDING: puti(a, v->pixel_unpack_buffer); return 1;
     case GL_LIST_BASE: puti(a, v->list_base); return 1;
     case GL_LIST_INDEX: puti(a, c->list_name); return 1;
     case GL_LIST_MODE: puti(a, c->list_mode); return 1;
@@ -427,6 +429,8 @@ int tsr_state_get_count(GLenum pname)
     case GL_TEXTURE_BINDING_CUBE_MAP:
     case GL_ARRAY_BUFFER_BINDING:
     case GL_ELEMENT_ARRAY_BUFFER_BINDING:
+    case GL_PIXEL_PACK_BUFFER_BINDING:
+    case GL_PIXEL_UNPACK_BUFFER_BINDING:
     case GL_LIST_BASE:
     case GL_LIST_INDEX:
     case GL_LIST_MODE:
@@ -706,6 +710,10 @@ int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out)
 {
     tsr_pixel_layout l;
     const tsr_pixel_modes *m = &c->v.pixel_store.pack;
+    /* With a GL_PIXEL_PACK_BUFFER bound `out` is an offset into the
+     * renderer's buffer: the renderer's to write. */
+    if (c->v.pixel_pack_buffer)
+        return 0;
     /* Bit-shifted output (SKIP_PIXELS not a multiple of 8) is left to the
      * renderer: what lands in the partial bytes around it is its affair. */
     if (m->skip_pixels % 8 != 0 || tsr_pixel_layout_of(m, 2, 32, 32, 1, GL_COLOR_INDEX, GL_BITMAP, &l) != 0)

@@ -340,6 +340,9 @@ void st_map_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 /* Objects (state_obj.c). */
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target);
 st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name);
+/* The bytes of an image call's `pixels` (client memory, or an offset into
+ * the bound GL_PIXEL_UNPACK_BUFFER's tracked data), or NULL (state_obj.c). */
+const uint8_t *st_unpack_source(const tsr_state_ctx *c, const void *pixels, uint64_t extent);
 void st_tex_changed(tsr_state_ctx *c, st_texobj *o);
 void st_objects_free(tsr_state_ctx *c);
 void st_shadow_objects_free(tsr_state_shadow *s);

@@ -301,6 +301,23 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
     tex_param(c, target, pname, f);
 }
 
+/* Where an image call's pixels are: client memory, or with a
+ * GL_PIXEL_UNPACK_BUFFER bound (GL 2.1 section 3.6.4) the offset `pixels`
+ * into that buffer, read from the tracker's copy of its data. NULL when
+ * the tracker does not have those bytes (never a dereferenced offset).
+ * The copy is what the stream put in the buffer: pixels a renderer wrote
+ * into it (glReadPixels into a pack buffer) are not in it. */
+const uint8_t *st_unpack_source(const tsr_state_ctx *c, const void *pixels, uint64_t extent)
+{
+    if (!c->v.pixel_unpack_buffer)
+        return pixels;
+    const st_bufobj *b = st_buf_lookup(c, c->v.pixel_unpack_buffer);
+    uint64_t offset = (uint64_t)(uintptr_t)pixels;
+    if (!b || !b->data || b->size < 0 || offset > (uint64_t)b->size || extent > (uint64_t)b->size - offset)
+        return NULL;
+    return b->data + offset;
+}
+
 /* The tight copy of an image given under the context's unpack store. */
 static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format,
                            GLenum type, const void *pixels, size_t *size)
@@ -311,10 +328,12 @@ static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei 
     if (tsr_pixel_layout_of(m, dims, w, h, d, format, type, &l) != 0 ||
         tsr_pixel_layout_of(&tight, dims, w, h, d, format, type, &tl) != 0 || tl.extent > SIZE_MAX)
         return NULL;
+    const uint8_t *src = st_unpack_source(c, pixels, l.extent);
+    if (!src)
+        return NULL;
     uint8_t *out = malloc(tl.extent ? (size_t)tl.extent : 1);
     if (!out)
         return NULL;
-    const uint8_t *src = pixels;
     for (GLsizei z = 0; z < (dims == 3 ? d : 1); z++)
         for (GLsizei y = 0; y < (dims >= 2 ? h : 1); y++)
             memcpy(out + (uint64_t)z * tl.image_bytes + (uint64_t)y * tl.row_bytes,
@@ -387,7 +406,7 @@ static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GL
         return;
     size_t size = 0;
     uint8_t *copy = NULL;
-    if (pixels && !(copy = copy_image(c, dims, w, h, d, format, type, pixels, &size)))
+    if ((pixels || c->v.pixel_unpack_buffer) && !(copy = copy_image(c, dims, w, h, d, format, type, pixels, &size)))
         return;
     /* A new image of a level replaces the earlier calls on that level, but
      * only after the last mipmap generation (explicit, or by an upload made
@@ -463,7 +482,7 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
                          GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
 {
     st_texobj *o = bound_tex(c, target);
-    if (!o || !pixels || w < 0 || h < 0 || d < 0)
+    if (!o || (!pixels && !c->v.pixel_unpack_buffer) || w < 0 || h < 0 || d < 0)
         return;
     st_upload *img = level_image(o, target, level);
     if (!img || x < 0 || y < 0 || z < 0 || x + w > img->w || y + h > img->h || z + d > img->d)
@@ -590,6 +609,10 @@ static GLuint *buffer_binding(tsr_state_ctx *c, GLenum target)
         return &c->v.array_buffer;
     if (target == GL_ELEMENT_ARRAY_BUFFER)
         return &c->v.element_buffer;
+    if (target == GL_PIXEL_PACK_BUFFER)
+        return &c->v.pixel_pack_buffer;
+    if (target == GL_PIXEL_UNPACK_BUFFER)
+        return &c->v.pixel_unpack_buffer;
     return NULL;
 }
 
@@ -661,6 +684,10 @@ static void st_DeleteBuffers(void *self, GLsizei n, const GLuint *names)
             c->v.array_buffer = 0;
         if (c->v.element_buffer == names[i])
             c->v.element_buffer = 0;
+        if (c->v.pixel_pack_buffer == names[i])
+            c->v.pixel_pack_buffer = 0;
+        if (c->v.pixel_unpack_buffer == names[i])
+            c->v.pixel_unpack_buffer = 0;
         /* GL also unbinds it from every array that sources it. */
         tsr_state_array *arrays[7 + TSR_STATE_UNITS + TSR_STATE_ATTRIBS];
         size_t na = 0;

@@ -225,6 +225,9 @@ static void st_PolygonStipple(void *self, const GLubyte *mask)
     tsr_pixel_layout l;
     if (tsr_pixel_layout_of(m, 2, 32, 32, 1, GL_COLOR_INDEX, GL_BITMAP, &l) != 0)
         return;
+    mask = st_unpack_source(c, mask, l.extent);
+    if (!mask)
+        return;
     uint64_t sp = (uint64_t)m->skip_pixels, sr = (uint64_t)m->skip_rows;
     for (int row = 0; row < 32; row++) {
         const GLubyte *src = mask + (sr + (uint64_t)row) * l.row_bytes;

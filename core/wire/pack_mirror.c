@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,6 +88,10 @@ void tsr_packer_mirror_BindBuffer(tsr_packer *p, GLenum target, GLuint buffer)
         p->arrays.array_buffer = buffer;
     else if (target == GL_ELEMENT_ARRAY_BUFFER)
         p->arrays.element_buffer = buffer;
+    else if (target == GL_PIXEL_PACK_BUFFER)
+        p->pixels.pack_buffer = buffer;
+    else if (target == GL_PIXEL_UNPACK_BUFFER)
+        p->pixels.unpack_buffer = buffer;
 }
 
 void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buffers)
@@ -98,6 +103,10 @@ void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buf
             p->arrays.array_buffer = 0;
         if (buffers[i] == p->arrays.element_buffer)
             p->arrays.element_buffer = 0;
+        if (buffers[i] == p->pixels.pack_buffer)
+            p->pixels.pack_buffer = 0;
+        if (buffers[i] == p->pixels.unpack_buffer)
+            p->pixels.unpack_buffer = 0;
     }
 }
 
@@ -303,6 +312,20 @@ void tsr_packer_local_error(tsr_packer *p, GLenum error)
 {
     if (!p->local_error)
         p->local_error = error;
+}
+
+int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name)
+{
+    if (!p->pixels.pack_buffer)
+        return 0;
+    static atomic_flag warned = ATOMIC_FLAG_INIT;
+    if (!atomic_flag_test_and_set(&warned))
+        tsr_log(TSR_LOG_WARN,
+                "packer: gl%s into a pixel pack buffer is not carried by the wire yet: GL_INVALID_OPERATION "
+                "(logged once)",
+                name);
+    tsr_packer_local_error(p, GL_INVALID_OPERATION);
+    return 1;
 }
 
 GLenum tsr_packer_take_local_error(tsr_packer *p)

@@ -138,6 +138,10 @@ static uint64_t buffer_size(const tsr_unpacker *u, uint32_t name)
 
 void tsr_unpacker_note_BindBuffer(tsr_unpacker *u, GLenum target, GLuint buffer)
 {
+    if (target == GL_PIXEL_PACK_BUFFER)
+        u->pixels.pack_buffer = buffer;
+    else if (target == GL_PIXEL_UNPACK_BUFFER)
+        u->pixels.unpack_buffer = buffer;
     int k = bound_index(target);
     if (u->objects && k >= 0)
         u->objects->bound[k] = buffer;
@@ -145,6 +149,12 @@ void tsr_unpacker_note_BindBuffer(tsr_unpacker *u, GLenum target, GLuint buffer)
 
 void tsr_unpacker_note_DeleteBuffers(tsr_unpacker *u, GLsizei n, const GLuint *buffers)
 {
+    for (GLsizei i = 0; buffers && i < n; i++) {
+        if (buffers[i] && buffers[i] == u->pixels.pack_buffer)
+            u->pixels.pack_buffer = 0;
+        if (buffers[i] && buffers[i] == u->pixels.unpack_buffer)
+            u->pixels.unpack_buffer = 0;
+    }
     struct tsr_unpack_buffers *b = u->objects;
     for (GLsizei i = 0; b && i < n; i++) {
         buffer_slot *s = buffer_find(b, buffers[i]);

@@ -74,6 +74,11 @@ int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);
  * the wire cannot size): kept until glGetError takes it (the first one
  * stays, as GL keeps its error flag); take returns it once, then 0. */
 void tsr_packer_local_error(tsr_packer *p, GLenum error);
+/* 1 when a GL_PIXEL_PACK_BUFFER is bound: a pixel read-back (`name`)
+ * would write into the receiver's buffer, which no request carries yet;
+ * the call is then GL_INVALID_OPERATION, with one warning, and its pointer
+ * (an offset) is never written (pack_mirror.c). */
+int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name);
 
 /* --- unpacker ---------------------------------------------------------------- */
 

@@ -93,8 +93,10 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
     ts_flush_geometry(t);
     const tsr_pixel_modes *pack = &tsr_state_values_of(t->ctx)->pixel_store.pack;
     tsr_pixel_layout l;
-    if (w <= 0 || h <= 0 || !pixels || tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 ||
-        l.group_bytes == 0) {
+    /* into a GL_PIXEL_PACK_BUFFER (`pixels` is an offset in it): not
+     * gathered yet, one server's packer answers (and refuses it) */
+    if (w <= 0 || h <= 0 || !pixels || tsr_state_values_of(t->ctx)->pixel_pack_buffer ||
+        tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 || l.group_bytes == 0) {
         ts_server *s = ts_to_server(t);
         tsr_call_ReadPixels(&s->table, x, y, w, h, format, type, pixels);
         return;

@@ -16,7 +16,10 @@
  *     GL_FLOAT_32_UNSIGNED_INT_24_8_REV; GL_DEPTH32F_STENCIL8 and
  *     GL_DEPTH_COMPONENT32F images;
  *   GL_ARB_texture_non_power_of_two: a 3x5 texture drawn;
- *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3.
+ *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3;
+ *   pixel buffer objects (GL 2.1): glTexImage2D, glTexSubImage2D,
+ *     glDrawPixels, glBitmap and glPolygonStipple reading a
+ *     GL_PIXEL_UNPACK_BUFFER at offsets, and the buffer mapped back.
  * Built with GL21_NATIVE (faker_extensions_native) it makes the same calls
  * on OSMesa directly: the runs through tessera must write the same file
  * (gl21_commands.sh). EXTENSIONS_TABLE is spec/gl_extensions.txt. */
@@ -348,6 +351,53 @@ static void explicit_attrib_location(void)
     frame("attribute at location 3 drawn");
 }
 
+/* GL 2.1 pixel unpack buffers: each image call's pointer is an offset into
+ * the bound buffer (not client memory, which holds other bytes here). */
+static void unpack_buffer(void)
+{
+    enum { LEAD = 24, TEX = 8 * 8 * 4, STIPPLE = 32 * 4, BITS = 16 * 4 }; /* bitmap rows: 4-aligned */
+    static GLubyte data[LEAD + TEX + STIPPLE + BITS];
+    for (size_t i = 0; i < sizeof data; i++)
+        data[i] = (GLubyte)(i * 97 + 13);
+    GLuint buffer;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
+    glBufferData(GL_PIXEL_UNPACK_BUFFER, sizeof data, data, GL_STATIC_DRAW);
+    GLint bound = 0;
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &bound);
+    fprintf(out, "unpack buffer bound: %d\n", bound == (GLint)buffer);
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 8, 8, 0, GL_RGBA, GL_UNSIGNED_BYTE, (const void *)(uintptr_t)LEAD);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 2, 2, 4, 4, GL_RGBA, GL_UNSIGNED_BYTE, (const void *)(uintptr_t)(LEAD + 4));
+    clear();
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    textured_quad(0);
+    glDisable(GL_TEXTURE_2D);
+    frame("texture from an unpack buffer drawn");
+    clear();
+    glWindowPos2i(20, 14);
+    glDrawPixels(8, 8, GL_RGBA, GL_UNSIGNED_BYTE, (const void *)(uintptr_t)LEAD);
+    glColor3f(0.9f, 0.8f, 0.1f);
+    glWindowPos2i(30, 20);
+    glBitmap(16, 16, 0, 0, 0, 0, (const GLubyte *)(uintptr_t)(LEAD + TEX + STIPPLE));
+    frame("glDrawPixels and glBitmap from an unpack buffer");
+    glPolygonStipple((const GLubyte *)(uintptr_t)(LEAD + TEX));
+    clear();
+    glEnable(GL_POLYGON_STIPPLE);
+    glColor3f(0.2f, 0.7f, 0.9f);
+    glRecti(-1, -1, 1, 1);
+    glDisable(GL_POLYGON_STIPPLE);
+    frame("polygon stipple from an unpack buffer");
+    const GLubyte *mapped = glMapBuffer(GL_PIXEL_UNPACK_BUFFER, GL_READ_ONLY);
+    fprintf(out, "unpack buffer mapped: %s\n",
+            mapped && !memcmp(mapped, data, sizeof data) ? "its data" : "other bytes");
+    if (mapped)
+        glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glDeleteBuffers(1, &buffer);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -382,6 +432,7 @@ int main(int argc, char **argv)
     depth_buffer_float();
     non_power_of_two();
     explicit_attrib_location();
+    unpack_buffer();
     fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
     glFinish();
     REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);

@@ -35,6 +35,10 @@ typedef struct tsr_pixel_modes {
 
 typedef struct tsr_pixel_store {
     tsr_pixel_modes pack, unpack;
+    /* GL_PIXEL_PACK_BUFFER and GL_PIXEL_UNPACK_BUFFER bindings, kept by a
+     * packer's and an unpacker's mirrors (GL 2.1 puts them in the
+     * pixel-store attribute group); 0 when none is bound. */
+    uint32_t pack_buffer, unpack_buffer;
 } tsr_pixel_store;
 
 TSR_API void tsr_pixel_store_init(tsr_pixel_store *s);

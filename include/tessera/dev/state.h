@@ -330,6 +330,7 @@ typedef struct tsr_state_values {
     tsr_state_texunit unit[TSR_STATE_UNITS];
     /* buffers */
     GLuint array_buffer, element_buffer;
+    GLuint pixel_pack_buffer, pixel_unpack_buffer; /* GL 2.1 pixel buffer objects */
     /* misc */
     GLuint list_base;
     GLfloat sample_coverage_value;

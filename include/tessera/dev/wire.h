@@ -50,7 +50,12 @@
  * 3. VARIABLE-LENGTH parts follow the fixed fields, one per input pointer
  *    whose count is not a constant, in parameter order: pad to 8, u64 byte
  *    length, then that many payload bytes. Length UINT64_MAX means a NULL
- *    pointer (only for `nullable` parameters). The unpacker checks every
+ *    pointer (only for `nullable` parameters). Length UINT64_MAX - 1
+ *    (TSR_WIRE_OFFSET), only for {image: ...} and {bitmap: ...} inputs,
+ *    means the client had a GL_PIXEL_UNPACK_BUFFER bound: the pointer was
+ *    an offset into that buffer (GL 2.1 3.6.4), and a u64 offset follows
+ *    instead of the pixels; the unpacker accepts it only while the stream
+ *    has an unpack buffer bound (BindBuffer mirrored). The unpacker checks every
  *    length against what the arguments imply before dispatch:
  *      count n / n*k     n*k*elem bytes (negative or overflowing: error)
  *      {pname: P}        pname_counts[P]*elem (unknown P: error)
@@ -157,6 +162,7 @@
 #define TSR_WIRE_HEADER_SIZE 16u
 #define TSR_WIRE_EXTENDED 255u
 #define TSR_WIRE_NULL UINT64_MAX
+#define TSR_WIRE_OFFSET (UINT64_MAX - 1u)
 #define TSR_WIRE_EXT_LEN_UNKNOWN 0xFFFFFFFFu
 
 enum {
