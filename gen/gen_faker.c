@@ -486,8 +486,9 @@ int main(int argc, char **argv)
         free(listed.names[i]);
     free(listed.names);
     free(listed.found);
-    if (ext_len)
-        extensions[--ext_len] = '\0';
+    /* Each name ends with a space, the last one too, as in Mesa's string:
+     * programs print the list with its spaces turned into line ends
+     * (piglit's glinfo), and what they print next must start a line. */
     mkdir(argv[4], 0777);
     emit_alias(argv[4]);
     emit_stubs(argv[4], extensions);

@@ -103,10 +103,12 @@ endforeach()
 # (the tracker kept 6 of Mesa's 8); glDrawPixels with swapped bytes
 # across the tiles (a server died of SIGSEGV in Mesa), glGetError inside
 # glBegin and a glDrawPixels GL refuses (piglit's draw-pixels,
-# geterror-inside-begin). All broken on the 2x2 wall before.
+# geterror-inside-begin); colour-index glDrawPixels across the tiles (a
+# server read past Mesa's converted image: piglit's
+# gl-1.0-drawpixels-color-index). All broken on the 2x2 wall before.
 foreach(config 2x2 broadcast)
   add_test(NAME tilesort_exact_material_inside_begin_and_buffers_bound_in_turn_${config}
-    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 5 ${config})
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 6 ${config})
 endforeach()
 # glReadPixels of one pixel beside the first server's tile, in its rows,
 # copied a row of negative width (piglit's gl-1.0-texgen died with SIGSEGV

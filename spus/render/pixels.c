@@ -8,6 +8,7 @@
  * Never: changes a pixel GL would not (the stencil is cleared only while
  * every stencil value is still 0), rewrites a clear compiled into a list. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "instance.h"
 #include "tessera/dev/pixel.h"
@@ -123,6 +124,151 @@ static const void *swapped_here(render_spu *r, GLsizei width, GLsizei height, GL
     return copy;
 }
 
+/* A colour-index image cut to the scissor box, tight (no skips, rows of
+ * one byte alignment), and where to draw it from. */
+typedef struct clipped_index_image {
+    void *pixels; /* NULL: draw the image as it is */
+    GLsizei width, height;
+    GLenum type;    /* of the copy */
+    GLint dx, dy;   /* from the raster position to its first pixel */
+    GLint saved[4]; /* the program's ROW_LENGTH, SKIP_ROWS, SKIP_PIXELS, ALIGNMENT */
+} clipped_index_image;
+
+static const GLenum unpack_modes[4] = {GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS,
+                                       GL_UNPACK_ALIGNMENT};
+
+/* Copies the w x h part at (dx, dy) of a colour-index image laid out as
+ * `lay` under `m` into a tight image; a GL_BITMAP's bits become indices
+ * 0 and 1 of one byte each (GL takes each bit for such an index, GL 2.1
+ * section 3.6.4), so the copy is always GL_UNSIGNED_BYTE or the image's
+ * own index type. Bitmap rows are read as GL lays them out (padded to a
+ * byte and the alignment); Mesa 22.3 reads a colour-index bitmap whose
+ * width is not a whole number of bytes as rows of exactly `width` bits,
+ * so only such an image, cut by a tile, differs from Mesa's drawing. */
+static void *copy_index_part(const unsigned char *src, const tsr_pixel_modes *m, const tsr_pixel_layout *lay,
+                             GLenum type, GLsizei dx, GLsizei dy, GLsizei w, GLsizei h)
+{
+    size_t row_out = type == GL_BITMAP ? (size_t)w : (size_t)w * lay->group_bytes;
+    unsigned char *out = malloc((size_t)h * row_out);
+    if (!out)
+        return NULL;
+    for (GLsizei y = 0; y < h; y++) {
+        const unsigned char *row = src + (uint64_t)(m->skip_rows + dy + y) * lay->row_bytes;
+        unsigned char *dst = out + (size_t)y * row_out;
+        if (type != GL_BITMAP) {
+            memcpy(dst, row + (uint64_t)(m->skip_pixels + dx) * lay->group_bytes, row_out);
+            continue;
+        }
+        /* bit i of a row is pixel i, in the order GL_UNPACK_LSB_FIRST says */
+        for (GLsizei x = 0; x < w; x++) {
+            size_t at = (size_t)m->skip_pixels + (size_t)dx + (size_t)x;
+            dst[x] = (unsigned char)(row[at / 8] >> (m->lsb_first ? at % 8 : 7 - at % 8) & 1);
+        }
+    }
+    return out;
+}
+
+/* f rounded half away from zero, as lroundf does (and Mesa with it for
+ * the raster position), without libm: a float is exact as a double, and
+ * so is its fraction. */
+static long round_half_away(float f)
+{
+    double d = f;
+    long whole = (long)d;
+    double fraction = d - (double)whole;
+    return fraction >= 0.5 ? whole + 1 : fraction <= -0.5 ? whole - 1 : whole;
+}
+
+/* Mesa (OSMesa 22.3, llvmpipe) reads past the end of its own converted
+ * image when it draws a GL_COLOR_INDEX image (GL_BITMAP or an index type)
+ * of which any pixel is skipped: clipped by the scissor box or the window,
+ * or skipped by GL_UNPACK_SKIP_PIXELS/ROWS (a standalone OSMesa program
+ * under AddressSanitizer: heap-buffer-overflow, 40 to 88 bytes past a
+ * block of Mesa's, in every clipped case tried; unclipped images of the
+ * same sizes read nothing past it). A program that never clips its image
+ * gets that on a wall, since a tile's scissor clips what the window did
+ * not (a tile server of piglit's gl-1.0-drawpixels-color-index), so on a
+ * tiled server the part inside the scissor box is copied into a tight
+ * image and drawn from the raster position moved onto it: Mesa then clips
+ * and skips nothing, and the pixels are the ones GL would draw. Only where
+ * GL's clipping is that simple: pixel zoom 1, render mode GL_RENDER, a
+ * valid raster position, the program's pixels in memory. */
+static bool index_image_clipped_here(render_spu *r, GLsizei width, GLsizei height, GLenum format, GLenum type,
+                                     const void *pixels, clipped_index_image *c)
+{
+    memset(c, 0, sizeof *c);
+    if (!r->ntiles || format != GL_COLOR_INDEX || !pixels || width <= 0 || height <= 0 ||
+        render_current_scissor(r)->list_mode || r->gl.IsEnabled(GL_SCISSOR_TEST) != GL_TRUE)
+        return false;
+    GLint v = 0, box[4] = {0, 0, 0, 0};
+    GLfloat zoom[2] = {0, 0}, raster[4] = {0, 0, 0, 0};
+    r->gl.GetIntegerv(GL_RENDER_MODE, &v);
+    if (v != GL_RENDER)
+        return false;
+    r->gl.GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &v);
+    if (v)
+        return false;
+    r->gl.GetIntegerv(GL_CURRENT_RASTER_POSITION_VALID, &v);
+    r->gl.GetFloatv(GL_ZOOM_X, &zoom[0]);
+    r->gl.GetFloatv(GL_ZOOM_Y, &zoom[1]);
+    if (!v || zoom[0] != 1.0f || zoom[1] != 1.0f)
+        return false;
+    r->gl.GetFloatv(GL_CURRENT_RASTER_POSITION, raster);
+    r->gl.GetIntegerv(GL_SCISSOR_BOX, box);
+    /* where GL puts the image's first pixel: the raster position rounded
+     * half away from zero, as Mesa does */
+    long x0 = round_half_away(raster[0]), y0 = round_half_away(raster[1]);
+    long cx0 = x0 > box[0] ? x0 : box[0], cy0 = y0 > box[1] ? y0 : box[1];
+    long cx1 = x0 + width < (long)box[0] + box[2] ? x0 + width : (long)box[0] + box[2];
+    long cy1 = y0 + height < (long)box[1] + box[3] ? y0 + height : (long)box[1] + box[3];
+    if (cx0 == x0 && cy0 == y0 && cx1 == x0 + width && cy1 == y0 + height)
+        return false; /* inside the box: nothing is clipped */
+    for (int i = 0; i < 4; i++)
+        r->gl.GetIntegerv(unpack_modes[i], &c->saved[i]);
+    GLint lsb = 0;
+    r->gl.GetIntegerv(GL_UNPACK_LSB_FIRST, &lsb);
+    tsr_pixel_modes m = {.row_length = c->saved[0],
+                         .skip_rows = c->saved[1],
+                         .skip_pixels = c->saved[2],
+                         .alignment = c->saved[3],
+                         .lsb_first = lsb != 0};
+    tsr_pixel_layout lay;
+    if (tsr_pixel_layout_of(&m, 2, width, height, 1, format, type, &lay) != 0 || !lay.extent)
+        return false;
+    if (cx1 > cx0 && cy1 > cy0) {
+        c->width = (GLsizei)(cx1 - cx0);
+        c->height = (GLsizei)(cy1 - cy0);
+        c->dx = (GLint)(cx0 - x0);
+        c->dy = (GLint)(cy0 - y0);
+        c->pixels = copy_index_part(pixels, &m, &lay, type, c->dx, c->dy, c->width, c->height);
+        c->type = type == GL_BITMAP ? GL_UNSIGNED_BYTE : type;
+        if (!c->pixels)
+            return false;
+    } else {
+        /* nothing inside: a 0 x 0 image keeps GL's checks of the call */
+        c->pixels = malloc(1);
+        c->type = type;
+        if (!c->pixels)
+            return false;
+    }
+    r->gl.PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    r->gl.PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    r->gl.PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    r->gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* a bitmap of no pixels moves the raster position and draws nothing;
+     * the moves are whole pixels, so the position comes back exactly */
+    r->gl.Bitmap(0, 0, 0, 0, (GLfloat)c->dx, (GLfloat)c->dy, NULL);
+    return true;
+}
+
+static void index_image_clip_done(render_spu *r, clipped_index_image *c)
+{
+    r->gl.Bitmap(0, 0, 0, 0, (GLfloat)-c->dx, (GLfloat)-c->dy, NULL);
+    for (int i = 0; i < 4; i++)
+        r->gl.PixelStorei(unpack_modes[i], c->saved[i]);
+    free(c->pixels);
+}
+
 static void render_DrawPixels(void *self, GLsizei width, GLsizei height, GLenum format, GLenum type, const void *pixels)
 {
     render_spu *r = self;
@@ -130,7 +276,13 @@ static void render_DrawPixels(void *self, GLsizei width, GLsizei height, GLenum 
         r->stencil_written = true;
     void *scratch;
     const void *image = swapped_here(r, width, height, format, type, pixels, &scratch);
-    render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, width, height, format, type, image);
+    clipped_index_image part;
+    if (index_image_clipped_here(r, width, height, format, type, image, &part)) {
+        render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, part.width, part.height, format, part.type,
+                             part.pixels);
+        index_image_clip_done(r, &part);
+    } else
+        render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, width, height, format, type, image);
     if (scratch) {
         r->gl.PixelStorei(GL_UNPACK_SWAP_BYTES, GL_TRUE);
         free(scratch);

@@ -28,6 +28,12 @@
  *     list of vertices called inside glBegin (no error: a tiled render
  *     set its scissor around the call there). A wrong error ends the
  *     program with status 1.
+ *   5 glDrawPixels of GL_COLOR_INDEX images (GL_UNSIGNED_BYTE and
+ *     GL_BITMAP, mapped to RGBA by glPixelMap, as piglit's
+ *     gl-1.0-drawpixels-color-index) across the tile borders: Mesa reads
+ *     past the end of its own converted image whenever a colour-index
+ *     image is clipped, and a tile's scissor clips it (a server's
+ *     heap-buffer-overflow under AddressSanitizer, wrong pixels without).
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -208,6 +214,44 @@ static bool swapped_pixels_and_errors(void)
     return ok;
 }
 
+static void colour_index_pixels(void)
+{
+    static const GLfloat red[4] = {1, 0, 0.5f, 1}, green[4] = {0, 1, 0.25f, 1}, blue[4] = {0.2f, 0, 1, 1},
+                         alpha[4] = {1, 1, 1, 1};
+    glPixelMapfv(GL_PIXEL_MAP_I_TO_R, 4, red);
+    glPixelMapfv(GL_PIXEL_MAP_I_TO_G, 4, green);
+    glPixelMapfv(GL_PIXEL_MAP_I_TO_B, 4, blue);
+    glPixelMapfv(GL_PIXEL_MAP_I_TO_A, 4, alpha);
+    glPixelTransferi(GL_MAP_COLOR, GL_TRUE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* bitmap rows of whole bytes: Mesa 22.3 reads a GL_COLOR_INDEX
+     * GL_BITMAP image of another width as rows of exactly `width` bits, not
+     * padded to a byte as GL says (an OSMesa program shows it) */
+    enum { W = 90, H = 70, BITS_W = 96 };
+    static GLubyte index[W * H], bits[BITS_W / 8 * H];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            index[y * W + x] = (GLubyte)((x / 7 + y / 5) % 4);
+    for (int i = 0; i < (int)sizeof bits; i++)
+        bits[i] = (GLubyte)(0x5a ^ (i * 29));
+    /* each image crosses a border of the 2x2 wall's tiles (the window's
+     * middle), at odd offsets; the bitmaps over all four tiles; every
+     * image inside the window (Mesa misreads a clipped one natively too) */
+    GLint view[4];
+    glGetIntegerv(GL_VIEWPORT, view);
+    int mx = view[2] / 2, my = view[3] / 2;
+    glWindowPos2i(mx - 41, 20);
+    glDrawPixels(W, H, GL_COLOR_INDEX, GL_UNSIGNED_BYTE, index);
+    glWindowPos2i(13, my - 29);
+    glDrawPixels(W, H, GL_COLOR_INDEX, GL_UNSIGNED_BYTE, index);
+    glWindowPos2i(mx - 43, my - 37);
+    glDrawPixels(BITS_W, H, GL_COLOR_INDEX, GL_BITMAP, bits);
+    glWindowPos2i(mx - 3, my - 61);
+    glDrawPixels(BITS_W, H, GL_COLOR_INDEX, GL_BITMAP, bits);
+    glPixelTransferi(GL_MAP_COLOR, GL_FALSE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -216,16 +260,19 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 5 == 0)
+        if (f % 6 == 0)
             lit_mesh();
-        else if (f % 5 == 1)
+        else if (f % 6 == 1)
             buffers_in_turn();
-        else if (f % 5 == 2)
+        else if (f % 6 == 2)
             arrays_enabled_by_glenable();
-        else if (f % 5 == 3)
+        else if (f % 6 == 3)
             last_clip_planes();
-        else if (!swapped_pixels_and_errors())
-            app.exit_code = 1;
+        else if (f % 6 == 4) {
+            if (!swapped_pixels_and_errors())
+                app.exit_code = 1;
+        } else
+            colour_index_pixels();
         if (!exapp_swap(&app))
             break;
     }
