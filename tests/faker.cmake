@@ -226,48 +226,38 @@ if(TESSERA_SANITIZE)
                "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0:use_tls=0")
 endif()
 
+# recorded_gl_test(NAME DRIVER TEST [DEFINITIONS...]): a driver that holds
+# tessera's answers next to OSMesa's (tests/faker/recorded_gl.h), built
+# twice, faker_NAME through the faker and faker_NAME_native on OSMesa, and
+# the test gl21_commands.sh runs with them: [render], [pack -> node render]
+# and a 2x2 tilesort wall must write what OSMesa writes.
+function(recorded_gl_test name driver test)
+  add_executable(faker_${name} ${FAKER_TEST_DIR}/${driver} ${FAKER_TEST_DIR}/recorded_gl.c)
+  target_compile_definitions(faker_${name} PRIVATE ${ARGN})
+  target_link_libraries(faker_${name} PRIVATE tessera_faker_egl tessera_faker_gl)
+  add_executable(faker_${name}_native ${FAKER_TEST_DIR}/${driver} ${FAKER_TEST_DIR}/recorded_gl.c)
+  target_compile_definitions(faker_${name}_native PRIVATE RECORDED_GL_NATIVE ${ARGN})
+  target_link_libraries(faker_${name}_native PRIVATE PkgConfig::OSMESA)
+  add_test(NAME ${test}
+           COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_${name}>
+                   $<TARGET_FILE:faker_${name}_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/${name})
+  set_tests_properties(${test} PROPERTIES TIMEOUT 120)
+endfunction()
+
 # The GL 1.0-2.1 commands added to complete the spec (issue 27), each where
-# its effect shows: pixels and gets through [render], [pack -> node render]
-# and a 2x2 tilesort wall equal OSMesa's own.
-add_executable(faker_gl21_commands ${FAKER_TEST_DIR}/gl21_commands_driver.c)
-target_link_libraries(faker_gl21_commands PRIVATE tessera_faker_egl tessera_faker_gl)
-add_executable(faker_gl21_commands_native ${FAKER_TEST_DIR}/gl21_commands_driver.c)
-target_compile_definitions(faker_gl21_commands_native PRIVATE GL21_NATIVE)
-target_link_libraries(faker_gl21_commands_native PRIVATE PkgConfig::OSMESA)
-add_test(NAME faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall
-         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_gl21_commands>
-                 $<TARGET_FILE:faker_gl21_commands_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/gl21_commands)
-set_tests_properties(faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
-
+# its effect shows.
+recorded_gl_test(gl21_commands gl21_commands_driver.c
+                 faker_gl21_commands_draw_and_answer_as_osmesa_through_render_pack_and_wall)
 # The extensions without commands the faker offers (spec/gl_extensions.txt),
-# each where its effect shows: OSMesa has every listed one, and pixels and
-# gets through [render], [pack -> node render] and a 2x2 tilesort wall
-# equal OSMesa's own.
-add_executable(faker_extensions ${FAKER_TEST_DIR}/extensions_driver.c)
-target_compile_definitions(faker_extensions PRIVATE EXTENSIONS_TABLE="${CMAKE_SOURCE_DIR}/spec/gl_extensions.txt")
-target_link_libraries(faker_extensions PRIVATE tessera_faker_egl tessera_faker_gl)
-add_executable(faker_extensions_native ${FAKER_TEST_DIR}/extensions_driver.c)
-target_compile_definitions(faker_extensions_native PRIVATE GL21_NATIVE
-                           EXTENSIONS_TABLE="${CMAKE_SOURCE_DIR}/spec/gl_extensions.txt")
-target_link_libraries(faker_extensions_native PRIVATE PkgConfig::OSMESA)
-add_test(NAME faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall
-         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_extensions>
-                 $<TARGET_FILE:faker_extensions_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/extensions)
-set_tests_properties(faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
-
+# each where its effect shows; OSMesa has every listed one.
+recorded_gl_test(extensions extensions_driver.c
+                 faker_offered_extensions_draw_and_answer_as_osmesa_through_render_pack_and_wall
+                 EXTENSIONS_TABLE="${CMAKE_SOURCE_DIR}/spec/gl_extensions.txt")
 # The client-array commands beyond glDrawArrays/glDrawElements (issue 27
 # item 5): secondary colour, fog coordinate and index arrays, the range and
-# multi draws, in a display list, the pointer gets and the errors, through
-# the same three graphs as OSMesa (the gl21_commands.sh runner).
-add_executable(faker_client_arrays ${FAKER_TEST_DIR}/client_arrays_driver.c)
-target_link_libraries(faker_client_arrays PRIVATE tessera_faker_egl tessera_faker_gl)
-add_executable(faker_client_arrays_native ${FAKER_TEST_DIR}/client_arrays_driver.c)
-target_compile_definitions(faker_client_arrays_native PRIVATE CLIENT_ARRAYS_NATIVE)
-target_link_libraries(faker_client_arrays_native PRIVATE PkgConfig::OSMESA)
-add_test(NAME faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall
-         COMMAND bash ${FAKER_TEST_DIR}/gl21_commands.sh $<TARGET_FILE:faker_client_arrays>
-                 $<TARGET_FILE:faker_client_arrays_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/client_arrays)
-set_tests_properties(faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
+# multi draws, in a display list, the pointer gets and the errors.
+recorded_gl_test(client_arrays client_arrays_driver.c
+                 faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall)
 
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap

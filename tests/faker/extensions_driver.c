@@ -20,15 +20,10 @@
  *   pixel buffer objects (GL 2.1): glTexImage2D, glTexSubImage2D,
  *     glDrawPixels, glBitmap and glPolygonStipple reading a
  *     GL_PIXEL_UNPACK_BUFFER at offsets, and the buffer mapped back.
- * Built with GL21_NATIVE (faker_extensions_native) it makes the same calls
+ * Built with RECORDED_GL_NATIVE (faker_extensions_native) it makes the same calls
  * on OSMesa directly: the runs through tessera must write the same file
  * (gl21_commands.sh). EXTENSIONS_TABLE is spec/gl_extensions.txt. */
 #define GL_GLEXT_PROTOTYPES 1
-#ifdef GL21_NATIVE
-#include <GL/osmesa.h>
-#else
-#include <EGL/egl.h>
-#endif
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <stdint.h>
@@ -36,30 +31,14 @@
 #include <string.h>
 
 #include "harness.h"
+#include "recorded_gl.h"
 
-#define W 64
-#define H 48
+#define W RECORDED_GL_W
+#define H RECORDED_GL_H
 
 static FILE *out;
 
-static uint32_t fnv(const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    uint32_t h = 2166136261u;
-    for (size_t i = 0; i < n; i++)
-        h = (h ^ p[i]) * 16777619u;
-    return h;
-}
-
-/* The colour buffer: checksum plus the centre pixel, labelled. */
-static void frame(const char *label)
-{
-    static unsigned char px[W * H * 4];
-    memset(px, 0, sizeof px);
-    glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, px);
-    const unsigned char *c = px + ((H / 2) * W + W / 2) * 4;
-    fprintf(out, "%s: frame %08x centre %u %u %u %u\n", label, fnv(px, sizeof px), c[0], c[1], c[2], c[3]);
-}
+static void frame(const char *label) { recorded_gl_frame(out, label); }
 
 static void ints(const char *label, const GLint *v, int n)
 {
@@ -168,7 +147,8 @@ static void depth_texture(void)
     static GLushort back[8 * 8];
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, back);
-    fprintf(out, "depth texture read back: %08x first %u last %u\n", fnv(back, sizeof back), back[0], back[63]);
+    fprintf(out, "depth texture read back: %08x first %u last %u\n", recorded_gl_fnv(back, sizeof back), back[0],
+            back[63]);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     clear();
     glEnable(GL_TEXTURE_2D);
@@ -203,7 +183,8 @@ static void texture_float(void)
     tex_types("RGBA32F component types");
     static GLfloat back[4 * 4 * 4];
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, back);
-    fprintf(out, "RGBA32F read back: %08x equal %d\n", fnv(back, sizeof back), !memcmp(back, rgba, sizeof back));
+    fprintf(out, "RGBA32F read back: %08x equal %d\n", recorded_gl_fnv(back, sizeof back),
+            !memcmp(back, rgba, sizeof back));
     clear();
     glEnable(GL_TEXTURE_2D);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
@@ -254,7 +235,7 @@ static void depth_stencil_pixels(const char *label, GLenum type)
     const unsigned char *inside = window + (size_t)(20 * W + 30) * bpp;
     uint32_t first;
     memcpy(&first, inside, 4);
-    fprintf(out, "%s read back: %08x at (30, 20) %08x\n", label, fnv(window, (size_t)W * H * bpp), first);
+    fprintf(out, "%s read back: %08x at (30, 20) %08x\n", label, recorded_gl_fnv(window, (size_t)W * H * bpp), first);
     glEnable(GL_STENCIL_TEST);
     glStencilFunc(GL_EQUAL, 0x5a, 0xff);
     glColor3f(0.0f, 1.0f, 0.0f);
@@ -275,7 +256,7 @@ static void packed_depth_stencil(void)
     tex_sizes("DEPTH24_STENCIL8 sizes", GL_TEXTURE_2D);
     static GLuint back[4 * 4];
     glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, back);
-    fprintf(out, "DEPTH24_STENCIL8 read back: %08x equal %d\n", fnv(back, sizeof back),
+    fprintf(out, "DEPTH24_STENCIL8 read back: %08x equal %d\n", recorded_gl_fnv(back, sizeof back),
             !memcmp(back, image, sizeof back));
 }
 
@@ -400,31 +381,7 @@ static void unpack_buffer(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: %s OUT.txt\n", argv[0]);
-        return 2;
-    }
-    out = fopen(argv[1], "w");
-    REQUIRE(out, "cannot write %s", argv[1]);
-#ifdef GL21_NATIVE
-    static unsigned char buffer[W * H * 4];
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
-    REQUIRE(ctx && OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, W, H), "an OSMesa context");
-#else
-    EGLDisplay dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-    REQUIRE(dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API), "EGL display");
-    static const EGLint config_attrs[] = {
-        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8,
-        EGL_NONE};
-    EGLConfig config;
-    EGLint n = 0;
-    REQUIRE(eglChooseConfig(dpy, config_attrs, &config, 1, &n) && n == 1, "an EGL config");
-    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
-    static const EGLint surface_attrs[] = {EGL_WIDTH, W, EGL_HEIGHT, H, EGL_NONE};
-    EGLSurface surface = eglCreatePbufferSurface(dpy, config, surface_attrs);
-    REQUIRE(ctx && surface && eglMakeCurrent(dpy, surface, surface, ctx), "an EGL context and pbuffer");
-#endif
-    glViewport(0, 0, W, H);
+    out = recorded_gl_start(argc, argv);
     int absent = listed_extensions(EXTENSIONS_TABLE);
     depth_texture();
     texture_float();
@@ -433,17 +390,7 @@ int main(int argc, char **argv)
     non_power_of_two();
     explicit_attrib_location();
     unpack_buffer();
-    fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
-    glFinish();
-    REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);
-#ifdef GL21_NATIVE
-    OSMesaDestroyContext(ctx);
-#else
-    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglDestroyContext(dpy, ctx);
-    eglDestroySurface(dpy, surface);
-    eglTerminate(dpy);
-#endif
+    recorded_gl_end(out, argv[1]);
     CHECK(absent == 0, "%d listed extensions are not in GL_EXTENSIONS", absent);
     printf("offered extensions: written to %s\n", argv[1]);
     return harness_failures ? 1 : 0;

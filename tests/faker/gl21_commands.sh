@@ -4,7 +4,7 @@
 # commands (extensions_driver.c), through [render], [pack -> tessera node
 # render] and a 2x2 tilesort wall of four `tessera node` render servers:
 # every labelled line (pixels drawn, answers of gets) must equal what
-# OSMesa gives for the same calls (the driver built with GL21_NATIVE).
+# OSMesa gives for the same calls (the driver built with RECORDED_GL_NATIVE).
 # usage: gl21_commands.sh PROGRAM NATIVE TESSERA OUT_DIR
 set -u
 prog=$1 native=$2 TESSERA=$3 out=$4

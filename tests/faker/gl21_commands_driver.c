@@ -16,15 +16,10 @@
  *   drawn by a program; occlusion queries (a wall sums its servers');
  *   MapBuffer/UnmapBuffer/GetBufferPointerv on a vertex buffer then drawn;
  *   ArrayElement, immediately and in a display list.
- * Built with GL21_NATIVE (faker_gl21_commands_native) it makes the same
+ * Built with RECORDED_GL_NATIVE (faker_gl21_commands_native) it makes the same
  * calls on OSMesa directly: the runs through tessera must write the same
  * file (gl21_commands.sh). */
 #define GL_GLEXT_PROTOTYPES 1
-#ifdef GL21_NATIVE
-#include <GL/osmesa.h>
-#else
-#include <EGL/egl.h>
-#endif
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <stdint.h>
@@ -32,24 +27,14 @@
 #include <string.h>
 
 #include "harness.h"
+#include "recorded_gl.h"
 
-#define W 64
-#define H 48
+#define W RECORDED_GL_W
+#define H RECORDED_GL_H
 
 static FILE *out;
 
-/* FNV-1a of the whole frame plus the centre pixel, labelled. */
-static void frame(const char *label)
-{
-    static unsigned char px[W * H * 4];
-    memset(px, 0, sizeof px);
-    glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, px);
-    uint32_t h = 2166136261u;
-    for (size_t i = 0; i < sizeof px; i++)
-        h = (h ^ px[i]) * 16777619u;
-    const unsigned char *c = px + ((H / 2) * W + W / 2) * 4;
-    fprintf(out, "%s: frame %08x centre %u %u %u %u\n", label, h, c[0], c[1], c[2], c[3]);
-}
+static void frame(const char *label) { recorded_gl_frame(out, label); }
 
 static void floats(const char *label, const GLfloat *v, int n)
 {
@@ -503,30 +488,7 @@ static void occlusion(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: %s OUT.txt\n", argv[0]);
-        return 2;
-    }
-    out = fopen(argv[1], "w");
-    REQUIRE(out, "cannot write %s", argv[1]);
-#ifdef GL21_NATIVE
-    static unsigned char buffer[W * H * 4];
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
-    REQUIRE(ctx && OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, W, H), "an OSMesa context");
-#else
-    EGLDisplay dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-    REQUIRE(dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API), "EGL display");
-    static const EGLint config_attrs[] = {
-        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_DEPTH_SIZE, 24, EGL_NONE};
-    EGLConfig config;
-    EGLint n = 0;
-    REQUIRE(eglChooseConfig(dpy, config_attrs, &config, 1, &n) && n == 1, "an EGL config");
-    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, NULL);
-    static const EGLint surface_attrs[] = {EGL_WIDTH, W, EGL_HEIGHT, H, EGL_NONE};
-    EGLSurface surface = eglCreatePbufferSurface(dpy, config, surface_attrs);
-    REQUIRE(ctx && surface && eglMakeCurrent(dpy, surface, surface, ctx), "an EGL context and pbuffer");
-#endif
-    glViewport(0, 0, W, H);
+    out = recorded_gl_start(argc, argv);
     raster_positions();
     transpose_matrices();
     attributes();
@@ -535,17 +497,7 @@ int main(int argc, char **argv)
     occlusion();
     mapped_buffer();
     array_elements();
-    fprintf(out, "glGetError at the end: 0x%x\n", glGetError());
-    glFinish();
-    REQUIRE(fclose(out) == 0, "cannot write %s", argv[1]);
-#ifdef GL21_NATIVE
-    OSMesaDestroyContext(ctx);
-#else
-    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglDestroyContext(dpy, ctx);
-    eglDestroySurface(dpy, surface);
-    eglTerminate(dpy);
-#endif
+    recorded_gl_end(out, argv[1]);
     printf("gl21 commands: written to %s\n", argv[1]);
     return 0;
 }
