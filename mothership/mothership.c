@@ -314,8 +314,15 @@ static int run(ms *m, tsr_error *err)
             check_unconnected(m);
             if (configure(m, err) != TSR_OK)
                 ms_fail(m, FAIL_OTHER, "%s", err->message);
-        } else if (m->fail_class == FAIL_SILENT) {
-            check(m); /* the silent client may be a node: its missed heartbeat names it (FAIL_GRACE_S) */
+        } else if (m->fail_class > FAIL_HEARTBEAT) {
+            /* Within FAIL_GRACE_S a more telling failure may still come:
+             * the silent client may be a node whose missed heartbeat names
+             * it, and a server killed outright loses its control
+             * connection as its application's pack sees the data
+             * connection go and exits 1, which its node may report first
+             * (run_mothership_separate_nodes_server_killed_names_it
+             * named the application once under ASan). */
+            check(m);
         }
         if (m->fail_class != FAIL_NONE) {
             if (tsr_now_seconds() >= m->fail_deadline)

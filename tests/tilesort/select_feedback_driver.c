@@ -160,7 +160,9 @@ static void feedback_scene(void)
     glVertex3f(-0.5f, 0.0f, 0.4f);
     glEnd();
     glPassThrough(3.0f);
-    static const GLubyte bits[8] = {0xff, 0x81, 0x81, 0x81, 0x81, 0x81, 0x81, 0xff};
+    /* rows of 4 bytes: GL reads each row padded to GL_UNPACK_ALIGNMENT (4) */
+    static const GLubyte bits[8 * 4] = {0xff, 0, 0, 0, 0x81, 0, 0, 0, 0x81, 0, 0, 0, 0x81, 0, 0, 0,
+                                        0x81, 0, 0, 0, 0x81, 0, 0, 0, 0x81, 0, 0, 0, 0xff, 0, 0, 0};
     glRasterPos2f(0.1f, 0.1f);
     glBitmap(8, 8, 0, 0, 10, 0, bits);
     glBegin(GL_LINES); /* clipped at the view volume */
