@@ -14,43 +14,22 @@
 # mode; batch_bytes=4096 and 256 make primitives span buffers, so they are
 # cut and reopened. Bounded in time.
 get_property(TILESORT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
-# tests/tilesort/balance_scenes_driver.c: a balancer's failure cases, built twice
-# like the examples (the -native build is the reference).
-add_executable(balance_scenes-native tilesort/balance_scenes_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_compile_definitions(balance_scenes-native PRIVATE EXAPP_NATIVE)
-target_include_directories(balance_scenes-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(balance_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
-add_executable(balance_scenes tilesort/balance_scenes_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_include_directories(balance_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(balance_scenes PRIVATE tessera_gl tessera m)
-# tests/tilesort/program_scenes_driver.c: what unmodified programs do that the
-# examples do not (glMaterial inside glBegin, buffers bound in turn around
-# each draw), built twice the same way.
-add_executable(program_scenes-native tilesort/program_scenes_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_compile_definitions(program_scenes-native PRIVATE EXAPP_NATIVE)
-target_include_directories(program_scenes-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(program_scenes-native PRIVATE PkgConfig::OSMESA tessera m)
-add_executable(program_scenes tilesort/program_scenes_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_include_directories(program_scenes PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(program_scenes PRIVATE tessera_gl tessera m)
-# tests/tilesort/read_pixels_driver.c: glReadPixels of rectangles meeting only
-# some tiles (piglit's probes), built twice the same way.
-add_executable(read_pixels-native tilesort/read_pixels_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_compile_definitions(read_pixels-native PRIVATE EXAPP_NATIVE)
-target_include_directories(read_pixels-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(read_pixels-native PRIVATE PkgConfig::OSMESA tessera m)
-add_executable(read_pixels tilesort/read_pixels_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_include_directories(read_pixels PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(read_pixels PRIVATE tessera_gl tessera m)
-# tests/tilesort/select_feedback_driver.c: selection and feedback passes,
-# records printed, built twice the same way.
-add_executable(select_feedback-native tilesort/select_feedback_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_compile_definitions(select_feedback-native PRIVATE EXAPP_NATIVE)
-target_include_directories(select_feedback-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(select_feedback-native PRIVATE PkgConfig::OSMESA tessera m)
-add_executable(select_feedback tilesort/select_feedback_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
-target_include_directories(select_feedback PRIVATE ${CMAKE_SOURCE_DIR}/examples)
-target_link_libraries(select_feedback PRIVATE tessera_gl tessera m)
+# The scene drivers, each built twice like the examples (the -native build,
+# on OSMesa, is the reference): balance_scenes (a balancer's failure cases),
+# program_scenes (what unmodified programs do that the examples do not:
+# glMaterial inside glBegin, buffers bound in turn around each draw, ...),
+# read_pixels (glReadPixels of rectangles meeting only some tiles, piglit's
+# probes) and select_feedback (selection and feedback passes, records
+# printed).
+foreach(scenes balance_scenes program_scenes read_pixels select_feedback)
+  add_executable(${scenes}-native tilesort/${scenes}_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+  target_compile_definitions(${scenes}-native PRIVATE EXAPP_NATIVE)
+  target_include_directories(${scenes}-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+  target_link_libraries(${scenes}-native PRIVATE PkgConfig::OSMESA tessera m)
+  add_executable(${scenes} tilesort/${scenes}_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
+  target_include_directories(${scenes} PRIVATE ${CMAKE_SOURCE_DIR}/examples)
+  target_link_libraries(${scenes} PRIVATE tessera_gl tessera m)
+endforeach()
 # tests/tilesort/cost_learning_test.c: the balancer's cost model with
 # deterministic times, in one process (the tiling sources themselves).
 set(TILESORT_SRC ${CMAKE_SOURCE_DIR}/spus/tilesort)
