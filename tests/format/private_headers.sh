@@ -23,7 +23,6 @@ declare -A allowed=(
   [mothership/util.h]="the mothership's static library helpers the tessera program shares (cli/)"
   [server/node.h]="the server node's static library, linked into the tessera program and the mothership"
   [spus/capture/capfile.h]="the capture file format's static library, read by tessera replay (cli/)"
-  [spus/readback/display_stream.h]="readback's display path shared with binaryswap until render reuse lands (issue 28 item 2)"
   [spus/binaryswap/strategies/strategy.h]="bench/ measures binaryswap's compositing strategies"
   [spus/binaryswap/synthetic.h]="bench/ composites binaryswap's synthetic layers"
 )
