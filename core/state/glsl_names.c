@@ -163,6 +163,16 @@ static GLint n_GetUniformLocation(void *self, GLuint p, const GLchar *name)
     M;
     return tsr_call_GetUniformLocation(&m->drv, drv_of(m, p), name);
 }
+static void n_GetUniformfv(void *self, GLuint p, GLint location, GLfloat *out)
+{
+    M;
+    tsr_call_GetUniformfv(&m->drv, drv_of(m, p), location, out);
+}
+static void n_GetUniformiv(void *self, GLuint p, GLint location, GLint *out)
+{
+    M;
+    tsr_call_GetUniformiv(&m->drv, drv_of(m, p), location, out);
+}
 static GLint n_GetAttribLocation(void *self, GLuint p, const GLchar *name)
 {
     M;
@@ -264,6 +274,8 @@ tsr_glsl_names *tsr_glsl_names_create(tsr_dispatch *table, tsr_error *err)
     SET(GetShaderInfoLog);
     SET(GetProgramInfoLog);
     SET(GetUniformLocation);
+    SET(GetUniformfv);
+    SET(GetUniformiv);
     SET(GetAttribLocation);
     SET(GetIntegerv);
     SET(GetFloatv);

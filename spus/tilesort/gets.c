@@ -148,6 +148,16 @@ GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name)
     return tsr_call_GetUniformLocation(&glsl_server(self, program, 1)->table, program, name);
 }
 
+void ts_GetUniformfv(void *self, GLuint program, GLint location, GLfloat *out)
+{
+    tsr_call_GetUniformfv(&glsl_server(self, program, 1)->table, program, location, out);
+}
+
+void ts_GetUniformiv(void *self, GLuint program, GLint location, GLint *out)
+{
+    tsr_call_GetUniformiv(&glsl_server(self, program, 1)->table, program, location, out);
+}
+
 GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name)
 {
     return tsr_call_GetAttribLocation(&glsl_server(self, program, 1)->table, program, name);

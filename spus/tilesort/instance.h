@@ -230,6 +230,8 @@ void ts_GetProgramiv(void *self, GLuint program, GLenum pname, GLint *out);
 void ts_GetShaderInfoLog(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *log);
 void ts_GetProgramInfoLog(void *self, GLuint program, GLsizei size, GLsizei *length, GLchar *log);
 GLint ts_GetUniformLocation(void *self, GLuint program, const GLchar *name);
+void ts_GetUniformfv(void *self, GLuint program, GLint location, GLfloat *out);
+void ts_GetUniformiv(void *self, GLuint program, GLint location, GLint *out);
 GLint ts_GetAttribLocation(void *self, GLuint program, const GLchar *name);
 void ts_GetActiveAttrib(void *self, GLuint program, GLuint index, GLsizei size, GLsizei *length, GLint *n, GLenum *type,
                         GLchar *name);

@@ -534,6 +534,8 @@ static void build_tables(tilesort *t)
     SET(GetShaderInfoLog);
     SET(GetProgramInfoLog);
     SET(GetUniformLocation);
+    SET(GetUniformfv);
+    SET(GetUniformiv);
     SET(GetAttribLocation);
     SET(GetActiveAttrib);
     SET(GetActiveUniform);

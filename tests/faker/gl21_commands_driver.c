@@ -15,7 +15,10 @@
  *   GetAttachedShaders, GetActiveAttrib/Uniform and a UniformMatrix3x2fv
  *   drawn by a program; occlusion queries (a wall sums its servers');
  *   MapBuffer/UnmapBuffer/GetBufferPointerv on a vertex buffer then drawn;
- *   ArrayElement, immediately and in a display list.
+ *   ArrayElement, immediately and in a display list; the gets whose
+ *   answer's size the GL's state decides (GetMap*, GetPixelMap*,
+ *   GetUniform* of every GLSL 1.20 kind, GetCompressedTexImage), with
+ *   guard values after each answer and their errors.
  * Built with RECORDED_GL_NATIVE (faker_gl21_commands_native) it makes the same
  * calls on OSMesa directly: the runs through tessera must write the same
  * file (gl21_commands.sh). */
@@ -486,6 +489,161 @@ static void occlusion(void)
     frame("occlusion queries drawn");
 }
 
+/* The gets whose answer's size only the GL's state decides (the map's
+ * order, the pixel map's size, the uniform's type, the compressed size):
+ * each answer is printed with the buffer's guard values after it, so a
+ * write past what GL writes shows as a difference from OSMesa. */
+#define GUARDED 20
+static void guarded(const char *label, const GLfloat *v)
+{
+    fprintf(out, "%s:", label);
+    for (int i = 0; i < GUARDED; i++)
+        fprintf(out, " %.6g", (double)v[i]);
+    fprintf(out, " error 0x%x\n", glGetError());
+}
+
+static void guard(GLfloat *v)
+{
+    for (int i = 0; i < GUARDED; i++)
+        v[i] = -777.0f;
+}
+
+static void sized_gets(void)
+{
+    GLfloat v[GUARDED];
+    static const GLfloat curve[4][3] = {{-1, -1, 0}, {-0.5f, 1, 0}, {0.5f, -1, 0}, {1, 1, 0.5f}};
+    glMap1f(GL_MAP1_VERTEX_3, 0.25f, 2.0f, 3, 4, &curve[0][0]);
+    static const GLdouble patch[2][3][4] = {{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}},
+                                            {{1, 1, 0, 1}, {0, 1, 1, 1}, {1, 0, 1, 0.5}}};
+    glMap2d(GL_MAP2_COLOR_4, 0, 1, 4, 3, -1, 1, 12, 2, &patch[0][0][0]);
+    static const GLenum queries[3] = {GL_ORDER, GL_DOMAIN, GL_COEFF};
+    for (int q = 0; q < 3; q++) {
+        char label[64];
+        guard(v);
+        glGetMapfv(GL_MAP1_VERTEX_3, queries[q], v);
+        snprintf(label, sizeof label, "GetMapfv MAP1_VERTEX_3 0x%x", queries[q]);
+        guarded(label, v);
+        GLdouble dv[GUARDED];
+        for (int i = 0; i < GUARDED; i++)
+            dv[i] = -777.0;
+        glGetMapdv(GL_MAP2_COLOR_4, queries[q], dv);
+        for (int i = 0; i < GUARDED; i++)
+            v[i] = (GLfloat)dv[i];
+        snprintf(label, sizeof label, "GetMapdv MAP2_COLOR_4 0x%x", queries[q]);
+        guarded(label, v);
+    }
+    GLint iv[GUARDED];
+    for (int i = 0; i < GUARDED; i++)
+        iv[i] = -777;
+    glGetMapiv(GL_MAP2_COLOR_4, GL_ORDER, iv);
+    fprintf(out, "GetMapiv MAP2_COLOR_4 ORDER: %d %d %d error 0x%x\n", iv[0], iv[1], iv[2], glGetError());
+    glGetMapiv(GL_TEXTURE_2D, GL_ORDER, iv);
+    fprintf(out, "GetMapiv of no map: %d error 0x%x\n", iv[0], glGetError());
+
+    static const GLfloat ramp[8] = {0, 0.125f, 0.25f, 0.375f, 0.5f, 0.625f, 0.75f, 1};
+    glPixelMapfv(GL_PIXEL_MAP_R_TO_R, 8, ramp);
+    static const GLuint indices[4] = {3, 2, 1, 0};
+    glPixelMapuiv(GL_PIXEL_MAP_I_TO_I, 4, indices);
+    guard(v);
+    glGetPixelMapfv(GL_PIXEL_MAP_R_TO_R, v);
+    guarded("GetPixelMapfv R_TO_R", v);
+    guard(v);
+    glGetPixelMapfv(GL_PIXEL_MAP_A_TO_A, v);
+    guarded("GetPixelMapfv A_TO_A (default)", v);
+    GLuint uv[6] = {777, 777, 777, 777, 777, 777};
+    glGetPixelMapuiv(GL_PIXEL_MAP_I_TO_I, uv);
+    fprintf(out, "GetPixelMapuiv I_TO_I: %u %u %u %u %u %u\n", uv[0], uv[1], uv[2], uv[3], uv[4], uv[5]);
+    GLushort us[10] = {777, 777, 777, 777, 777, 777, 777, 777, 777, 777};
+    glGetPixelMapusv(GL_PIXEL_MAP_R_TO_R, us);
+    fprintf(out, "GetPixelMapusv R_TO_R:");
+    for (int i = 0; i < 10; i++)
+        fprintf(out, " %u", us[i]);
+    fprintf(out, " error 0x%x\n", glGetError());
+
+    static const char *fs = "#version 120\n"
+                            "uniform float f;\n"
+                            "uniform vec3 c;\n"
+                            "uniform mat4 m;\n"
+                            "uniform int k[3];\n"
+                            "uniform ivec2 n;\n"
+                            "uniform bool b;\n"
+                            "uniform sampler2D s;\n"
+                            "void main() { gl_FragColor = m * vec4(c * f, float(k[2] + n.y) * (b ? 1.0 : 0.5))"
+                            " + texture2D(s, vec2(0.5)); }\n";
+    GLuint shader = glCreateShader(GL_FRAGMENT_SHADER);
+    glShaderSource(shader, 1, &fs, NULL);
+    glCompileShader(shader);
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, shader);
+    glLinkProgram(prog);
+    glUseProgram(prog);
+    glUniform1f(glGetUniformLocation(prog, "f"), 0.5f);
+    glUniform3f(glGetUniformLocation(prog, "c"), 1, 2, 3);
+    GLfloat m[16];
+    for (int i = 0; i < 16; i++)
+        m[i] = (GLfloat)i / 4;
+    glUniformMatrix4fv(glGetUniformLocation(prog, "m"), 1, GL_FALSE, m);
+    static const GLint k[3] = {7, 8, 9};
+    glUniform1iv(glGetUniformLocation(prog, "k"), 3, k);
+    glUniform2i(glGetUniformLocation(prog, "n"), -4, 5);
+    glUniform1i(glGetUniformLocation(prog, "b"), 1);
+    glUniform1i(glGetUniformLocation(prog, "s"), 3);
+    static const char *names[] = {"f", "c", "m", "k", "k[2]", "n", "b", "s"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        char label[64];
+        guard(v);
+        glGetUniformfv(prog, glGetUniformLocation(prog, names[i]), v);
+        snprintf(label, sizeof label, "GetUniformfv %s", names[i]);
+        guarded(label, v);
+        for (int j = 0; j < GUARDED; j++)
+            iv[j] = -777;
+        glGetUniformiv(prog, glGetUniformLocation(prog, names[i]), iv);
+        fprintf(out, "GetUniformiv %s:", names[i]);
+        for (int j = 0; j < 18; j++)
+            fprintf(out, " %d", iv[j]);
+        fprintf(out, " error 0x%x\n", glGetError());
+    }
+    guard(v);
+    glGetUniformfv(prog, -1, v);
+    guarded("GetUniformfv location -1", v);
+    guard(v);
+    glGetUniformfv(prog, 999, v);
+    guarded("GetUniformfv location 999", v);
+    glUseProgram(0);
+    GLuint unlinked = glCreateProgram();
+    guard(v);
+    glGetUniformfv(unlinked, 0, v);
+    guarded("GetUniformfv of an unlinked program", v);
+    guard(v);
+    glGetUniformfv(shader, 0, v);
+    guarded("GetUniformfv of a shader", v);
+    glDeleteProgram(unlinked);
+    glDeleteProgram(prog);
+    glDeleteShader(shader);
+
+    /* two DXT1 blocks (8x4 texels), read back as they were given */
+    static const GLubyte dxt1[16] = {0x00, 0xf8, 0x1f, 0x00, 0xe4, 0xe4, 0x1b, 0x1b,
+                                     0xe0, 0x07, 0x00, 0xf8, 0x1b, 0x1b, 0xe4, 0xe4};
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glCompressedTexImage2D(GL_TEXTURE_2D, 0, GL_COMPRESSED_RGB_S3TC_DXT1_EXT, 8, 4, 0, 16, dxt1);
+    GLubyte back[24];
+    memset(back, 0x77, sizeof back);
+    glGetCompressedTexImage(GL_TEXTURE_2D, 0, back);
+    fprintf(out, "GetCompressedTexImage DXT1:");
+    for (size_t i = 0; i < sizeof back; i++)
+        fprintf(out, " %02x", back[i]);
+    fprintf(out, " error 0x%x\n", glGetError());
+    static const GLubyte rgba[4] = {1, 2, 3, 4};
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    memset(back, 0x77, sizeof back);
+    glGetCompressedTexImage(GL_TEXTURE_2D, 0, back);
+    fprintf(out, "GetCompressedTexImage of an uncompressed level: %02x error 0x%x\n", back[0], glGetError());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDeleteTextures(1, &tex);
+}
+
 int main(int argc, char **argv)
 {
     out = recorded_gl_start(argc, argv);
@@ -497,6 +655,7 @@ int main(int argc, char **argv)
     occlusion();
     mapped_buffer();
     array_elements();
+    sized_gets();
     recorded_gl_end(out, argv[1]);
     printf("gl21 commands: written to %s\n", argv[1]);
     return 0;

@@ -11,19 +11,15 @@
 
 #include "harness.h"
 
-#define SERVER_SIZED "the reply's size depends on the server's state (map order, pixel map size, uniform type)"
-
+/* Empty since the server-sized gets landed (core/wire/sized_get.c); a
+ * command that cannot be done yet goes here with what it still needs. */
 static const struct {
     const char *name, *why;
-} not_yet[] = {
-    {"glGetMapdv", SERVER_SIZED},      {"glGetMapfv", SERVER_SIZED},       {"glGetMapiv", SERVER_SIZED},
-    {"glGetPixelMapfv", SERVER_SIZED}, {"glGetPixelMapuiv", SERVER_SIZED}, {"glGetPixelMapusv", SERVER_SIZED},
-    {"glGetUniformfv", SERVER_SIZED},  {"glGetUniformiv", SERVER_SIZED},   {"glGetCompressedTexImage", SERVER_SIZED},
-};
+} not_yet[] = {{NULL, NULL}};
 
 static const char *not_yet_reason(const char *glname)
 {
-    for (size_t i = 0; i < sizeof not_yet / sizeof not_yet[0]; i++)
+    for (size_t i = 0; not_yet[i].name; i++)
         if (!strcmp(not_yet[i].name, glname))
             return not_yet[i].why;
     return NULL;
@@ -57,7 +53,7 @@ int main(int argc, char **argv)
         CHECK(in_spec, "%s:%d: %s (GL %d.%d) is missing from %s", argv[2], k->line, k->name, k->gl_version / 10,
               k->gl_version % 10, argv[1]);
     }
-    for (size_t i = 0; i < sizeof not_yet / sizeof not_yet[0]; i++) {
+    for (size_t i = 0; not_yet[i].name; i++) {
         const glxml_command *k = glxml_find_command(&x, not_yet[i].name);
         CHECK(k && k->gl_version >= 10 && k->gl_version <= 21, "%s on the not-yet list is no GL 1.0-2.1 command",
               not_yet[i].name);

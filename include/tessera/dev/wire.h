@@ -133,6 +133,14 @@
  *    NULL). GetTexImage (custom, reply): u32 target, i32 level, u32 format,
  *    u32 type, u32 request id; its reply holds item 0 = i32 width, height,
  *    depth of the level, item 1 = the image under the pack pixel store.
+ *    GetMap{d,f,i}v, GetPixelMap{f,ui,us}v, GetUniform{f,i}v and
+ *    GetCompressedTexImage (custom, reply; core/wire/sized_get.c): u32
+ *    first argument (target, map, program), u32 second argument (query,
+ *    location, level; 0 for GetPixelMap*), u32 request id, u32 0; the
+ *    reply holds item 0 = the values the receiver's GL wrote, as many as
+ *    its state says (the map's order, the pixel map's size, the uniform's
+ *    type, the level's compressed size), which the sender copies into the
+ *    program's buffer.
  *    SelectBuffer (custom): i32 size, u32 0; FeedbackBuffer (custom): i32
  *    size, u32 type (the program's buffer stays with the sender; the
  *    receiver gives its GL a buffer of `size` values of its own).
