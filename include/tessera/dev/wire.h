@@ -134,7 +134,7 @@
  *    u32 type, u32 request id; its reply holds item 0 = i32 width, height,
  *    depth of the level, item 1 = the image under the pack pixel store.
  *    GetMap{d,f,i}v, GetPixelMap{f,ui,us}v, GetUniform{f,i}v and
- *    GetCompressedTexImage (custom, reply; core/wire/sized_get.c): u32
+ *    GetCompressedTexImage (custom, reply): u32
  *    first argument (target, map, program), u32 second argument (query,
  *    location, level; 0 for GetPixelMap*), u32 request id, u32 0; the
  *    reply holds item 0 = the values the receiver's GL wrote, as many as
