@@ -155,6 +155,19 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         fprintf(f, "        tsr_len_%s = tsr_c;\n", sp->name);
         break;
     case SPEC_COUNT_PNAME:
+        if (!strncmp(modes, "&tsr_p->", 8)) {
+            /* A pname no GL knows is GL_INVALID_ENUM for glGetError (GL
+             * ignores the call), not a dropped command: the application
+             * asks glGetError and goes on (piglit's API tests) */
+            fprintf(f,
+                    "        if (tsr_wire_pname_count((GLenum)%s) < 0) { "
+                    "tsr_packer_local_error(tsr_p, GL_INVALID_ENUM); ",
+                    k->args[0]);
+            if (gc->is_void)
+                fprintf(f, "return; }\n");
+            else
+                fprintf(f, "return (%s)0; }\n", gc->sc->ret);
+        }
         fprintf(f,
                 "        int tsr_k = tsr_wire_pname_count((GLenum)%s);\n"
                 "        if (tsr_k < 0) { tsr_why = \"unknown enum for %s\"; goto tsr_invalid; }\n"

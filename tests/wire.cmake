@@ -16,6 +16,7 @@ foreach(t
     wire_client_arrays_draw_elements_rebuild
     wire_enable_of_a_client_array_is_client_state
     wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream
+    wire_setter_of_an_unknown_pname_is_invalid_enum_not_a_dropped_call
     wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read
     wire_shader_source_roundtrip
     wire_pixel_store_shapes_image_payloads

@@ -398,6 +398,36 @@ static int wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream(v
     return 0;
 }
 
+/* A setter whose array the wire sizes by a pname it does not know
+ * (glLightfv, glTexParameteriv, glFogfv of a made-up enum) is
+ * GL_INVALID_ENUM for the next glGetError, as GL answers it, with nothing
+ * sent and the array not read: the packer dropped it as "not sent:
+ * unknown enum for pname" and glGetError said GL_NO_ERROR (piglit's API
+ * tests through pack and on the wall; tests/tilesort/gl_errors_driver.c). */
+static int wire_setter_of_an_unknown_pname_is_invalid_enum_not_a_dropped_call(void)
+{
+    roundtrip rt;
+    CHECK(rt_init(&rt, 1024) == 0, "init");
+    const tsr_dispatch *t = &rt.pack_table;
+    const GLfloat *never_read = (const GLfloat *)(uintptr_t)0x10; /* a read would fault */
+    tsr_call_Lightfv(t, GL_LIGHT0, 0x7fff0001, never_read);
+    GLenum e = tsr_call_GetError(t);
+    CHECK(e == GL_INVALID_ENUM && rt.nbufs == 0, "glLightfv: glGetError says 0x%x, %zu buffers sent", e, rt.nbufs);
+    tsr_call_TexParameteriv(t, GL_TEXTURE_2D, 0x7fff0002, (const GLint *)never_read);
+    tsr_call_Fogfv(t, 0x7fff0003, never_read); /* a second error: GL keeps the first */
+    e = tsr_call_GetError(t);
+    CHECK(e == GL_INVALID_ENUM && rt.nbufs == 0, "glTexParameteriv: glGetError says 0x%x, %zu buffers sent", e,
+          rt.nbufs);
+    CHECK(tsr_packer_error(rt.packer)->code == TSR_OK, "no call dropped: %s", tsr_packer_error(rt.packer)->message);
+    static const GLfloat ambient[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+    tsr_call_Lightfv(t, GL_LIGHT0, GL_AMBIENT, ambient);
+    tsr_call_Flush(t);
+    CHECK(rt.nbufs == 1 && rt.actual.n >= 1 && !strcmp((const char *)rt.actual.calls[0].bytes, "Lightfv"),
+          "a known pname is sent (%zu buffers)", rt.nbufs);
+    rt_free(&rt);
+    return 0;
+}
+
 /* A pixel command GL refuses before it reads a pixel (a packed type with
  * a format it does not go with, a negative size, a type that is none) is
  * the GL error glGetError answers, made by the packer: nothing is sent and
@@ -913,6 +943,8 @@ static const struct {
     {"wire_enable_of_a_client_array_is_client_state", wire_enable_of_a_client_array_is_client_state},
     {"wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream",
      wire_query_of_an_unknown_pname_is_invalid_enum_not_a_dropped_stream},
+    {"wire_setter_of_an_unknown_pname_is_invalid_enum_not_a_dropped_call",
+     wire_setter_of_an_unknown_pname_is_invalid_enum_not_a_dropped_call},
     {"wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read",
      wire_pixel_command_gl_refuses_is_its_gl_error_not_sent_nor_read},
     {"wire_shader_source_roundtrip", wire_shader_source_roundtrip},
