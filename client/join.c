@@ -43,6 +43,7 @@ typedef struct window {
     GLint id;
     GLsizei width, height;
     GLint buffers; /* WindowBuffersTSR's; 0: never said (one) */
+    GLint samples; /* WindowSamplesTSR's; 0: never said (single-sampled) */
 } window;
 
 struct tsr_node_join {
@@ -224,7 +225,7 @@ static void tr_WindowCreateTSR(void *self, GLint id, GLsizei width, GLsizei heig
     }
     if (!w)
         w = &j->windows[j->window_count++];
-    *w = (window){id, width, height, 0};
+    *w = (window){id, width, height, 0, 0};
 }
 
 static void tr_WindowBuffersTSR(void *self, GLint id, GLint buffers)
@@ -232,6 +233,13 @@ static void tr_WindowBuffersTSR(void *self, GLint id, GLint buffers)
     window *w = find_window(self, id);
     if (w)
         w->buffers = buffers;
+}
+
+static void tr_WindowSamplesTSR(void *self, GLint id, GLint samples)
+{
+    window *w = find_window(self, id);
+    if (w)
+        w->samples = samples;
 }
 
 static void tr_WindowSizeTSR(void *self, GLint id, GLsizei width, GLsizei height)
@@ -369,6 +377,7 @@ tsr_node_join *tsr_node_join_create(const tsr_node_join_config *config, tsr_erro
     tsr_set_WindowCreateTSR(&j->track, tr_WindowCreateTSR, j);
     tsr_set_WindowSizeTSR(&j->track, tr_WindowSizeTSR, j);
     tsr_set_WindowBuffersTSR(&j->track, tr_WindowBuffersTSR, j);
+    tsr_set_WindowSamplesTSR(&j->track, tr_WindowSamplesTSR, j);
     tsr_set_WindowDestroyTSR(&j->track, tr_WindowDestroyTSR, j);
     tsr_set_ContextCreateTSR(&j->track, tr_ContextCreateTSR, j);
     tsr_set_ContextDestroyTSR(&j->track, tr_ContextDestroyTSR, j);
@@ -552,6 +561,8 @@ int tsr_node_join_catch_up(tsr_node_join *j, tsr_net_conn *conn, tsr_node_join_r
         tsr_call_WindowCreateTSR(&out, j->windows[i].id, j->windows[i].width, j->windows[i].height);
         if (j->windows[i].buffers)
             tsr_call_WindowBuffersTSR(&out, j->windows[i].id, j->windows[i].buffers);
+        if (j->windows[i].samples)
+            tsr_call_WindowSamplesTSR(&out, j->windows[i].id, j->windows[i].samples);
     }
     r.windows = (unsigned)j->window_count;
     for (size_t i = 0; i < j->context_count; i++)

@@ -21,7 +21,7 @@
  * Catching up (tsr_node_join_catch_up), sent to the joiner only, before it
  * is added to the broadcast:
  *   1. the windows (WindowCreateTSR at their latest size, WindowBuffersTSR
- *      where it was said) and the
+ *      and WindowSamplesTSR where they were said) and the
  *      contexts and current context the stream made (ContextCreateTSR,
  *      MakeCurrentTSR);
  *   2. every display list (tsr_dlist_define_all);

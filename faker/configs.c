@@ -10,10 +10,13 @@
  * format with alpha on a depth-24 visual, as Mesa's GLX offers on Xvfb).
  * A format smaller than render's buffers (no alpha, depth 0 or 16, no
  * stencil, no accumulation) is kept by having more (docs/faker.md says
- * what a program can tell). Formats render cannot draw are not offered:
- * multisample, stereo, colour index, sRGB, float, 10-bit colour — a
- * program asking for them finds no config, as on a driver without the
- * feature. Never reads or writes GL state, never sends an X request
+ * what a program can tell). Multisample formats have 4 samples, the one
+ * count llvmpipe has (GL_MAX_SAMPLES 4 in OSMesa, and Mesa's GLX on Xvfb
+ * offers 4 and no other) and none has accumulation, as Mesa's: render
+ * draws such a window into 4-sample renderbuffers (WindowSamplesTSR).
+ * Formats render cannot draw are not offered: stereo, colour index, sRGB,
+ * float, 10-bit colour — a program asking for them finds no config, as
+ * on a driver without the feature. Never reads or writes GL state, never sends an X request
  * other than XGetVisualInfo's (which Xlib answers from the Display). */
 #include <X11/Xutil.h>
 #include <stdlib.h>
@@ -24,13 +27,19 @@
  * Mesa's GLX gives the default visual (RGBA8, double-buffered, depth 24,
  * stencil 8, no accumulation), so a screen with one usable visual (an X
  * server without GLX) has it as that visual's own config. */
-#define FORMAT(accum, depth, stencil)                                                                      \
-    {8, depth, stencil, accum, true}, {8, depth, stencil, accum, false}, {0, depth, stencil, accum, true}, \
-    {                                                                                                      \
-        0, depth, stencil, accum, false                                                                    \
+#define FORMAT(accum, depth, stencil, samples)                                             \
+    {8, depth, stencil, accum, true, samples}, {8, depth, stencil, accum, false, samples}, \
+        {0, depth, stencil, accum, true, samples},                                         \
+    {                                                                                      \
+        0, depth, stencil, accum, false, samples                                           \
     }
-#define FORMATS_WITH_ACCUM(accum) FORMAT(accum, 24, 8), FORMAT(accum, 24, 0), FORMAT(accum, 16, 0), FORMAT(accum, 0, 0)
-static const tsr_faker_format formats[TSR_FAKER_FORMATS] = {FORMATS_WITH_ACCUM(0), FORMATS_WITH_ACCUM(16)};
+#define FORMATS_WITH(accum, samples)                                                             \
+    FORMAT(accum, 24, 8, samples), FORMAT(accum, 24, 0, samples), FORMAT(accum, 16, 0, samples), \
+        FORMAT(accum, 0, 0, samples)
+/* The multisample ones last, so the single-sampled formats keep the
+ * visuals they had before there were any. */
+static const tsr_faker_format formats[TSR_FAKER_FORMATS] = {FORMATS_WITH(0, 0), FORMATS_WITH(16, 0),
+                                                            FORMATS_WITH(0, 4)};
 
 const tsr_faker_format *tsr_faker_format_at(int i) { return i >= 0 && i < TSR_FAKER_FORMATS ? &formats[i] : NULL; }
 

@@ -12,9 +12,10 @@
 typedef struct tsr_faker_format {
     int alpha, depth, stencil, accum; /* bits (accum: per channel) */
     bool doublebuffer;
+    int samples; /* 0: single-sampled; else GLX/EGL_SAMPLES, with one sample buffer */
 } tsr_faker_format;
 
-#define TSR_FAKER_FORMATS 32
+#define TSR_FAKER_FORMATS 48
 
 /* Format i (0..TSR_FAKER_FORMATS-1), in the order visuals are handed out;
  * NULL out of range. */

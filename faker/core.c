@@ -108,7 +108,8 @@ struct tsr_faker_surface {
     int width, height;                      /* its size when made (pbuffers keep it) */
     int x_width, x_height;                  /* the X window's, from ConfigureNotify */
     bool asked;                             /* its size was asked this frame (glViewport) */
-    bool double_buffered;                   /* its config is (tsr_faker_surface_set_double) */
+    bool double_buffered;                   /* its config is (tsr_faker_surface_set_config) */
+    int samples;                            /* its config's (0: single-sampled) */
     faker_window on[FAKER_SURFACE_STREAMS]; /* the streams it is a window of */
     int non;
     tsr_faker_surface *next;
@@ -895,6 +896,8 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
          * double buffering (render's buffers.c). */
         if (draw->double_buffered)
             tsr_call_WindowBuffersTSR(head, w->window, 2);
+        if (draw->samples)
+            tsr_call_WindowSamplesTSR(head, w->window, draw->samples);
     } else if (draw) {
         follow_size_locked(draw, w, head);
     }
@@ -923,11 +926,13 @@ bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw)
 
 tsr_faker_context *tsr_faker_current_context(void) { return cur_ctx; }
 
-void tsr_faker_surface_set_double(tsr_faker_surface *s, bool double_buffered)
+void tsr_faker_surface_set_config(tsr_faker_surface *s, bool double_buffered, int samples)
 {
     pthread_mutex_lock(&lock);
-    if (s && !s->non)
+    if (s && !s->non) {
         s->double_buffered = double_buffered;
+        s->samples = samples;
+    }
     pthread_mutex_unlock(&lock);
 }
 

@@ -31,7 +31,7 @@
 
 /* configs.c's double-buffered formats without accumulation (EGL has
  * neither attribute: a window surface is double-buffered). */
-#define MAX_CONFIGS (TSR_FAKER_FORMATS / 4)
+#define MAX_CONFIGS (TSR_FAKER_FORMATS / 2)
 /* See the header comment: matching, not what a context can be. */
 #define RENDERABLE_BITS (EGL_OPENGL_BIT | EGL_OPENGL_ES_BIT | EGL_OPENGL_ES2_BIT | EGL_OPENGL_ES3_BIT)
 #define MAX_DISPLAYS 8
@@ -223,8 +223,8 @@ static EGLint config_value(const egl_display *e, const egl_config *c, EGLint att
     case EGL_NATIVE_RENDERABLE: return EGL_FALSE;
     case EGL_NATIVE_VISUAL_ID: return (EGLint)c->visual;
     case EGL_NATIVE_VISUAL_TYPE: return c->visual ? TrueColor : EGL_NONE;
-    case EGL_SAMPLES:
-    case EGL_SAMPLE_BUFFERS: return 0;
+    case EGL_SAMPLES: return c->f.samples;
+    case EGL_SAMPLE_BUFFERS: return c->f.samples > 0;
     case EGL_SURFACE_TYPE: return EGL_PBUFFER_BIT | (c->visual && e->x ? EGL_WINDOW_BIT : 0);
     case EGL_TRANSPARENT_TYPE: return EGL_NONE;
     case EGL_TRANSPARENT_RED_VALUE:
@@ -311,8 +311,8 @@ EGLBoolean eglGetConfigs(EGLDisplay dpy, EGLConfig *configs, EGLint config_size,
 
 /* EGL 1.5's sort order (3.4.1.2): the sum of the colour sizes asked for
  * (larger first; red, green and blue are 8 everywhere, so alpha decides
- * when it is asked for), buffer size, depth and stencil (smaller first),
- * then the config id. */
+ * when it is asked for), buffer size, sample buffers, samples, depth and
+ * stencil (smaller first), then the config id. */
 typedef struct egl_ranked {
     const egl_config *c;
     int colour; /* bits of the asked-for components */
@@ -325,6 +325,10 @@ static int egl_order(const void *pa, const void *pb)
     if ((d = b->colour - a->colour))
         return d;
     if ((d = a->c->f.alpha - b->c->f.alpha))
+        return d;
+    if ((d = (a->c->f.samples > 0) - (b->c->f.samples > 0)))
+        return d;
+    if ((d = a->c->f.samples - b->c->f.samples))
         return d;
     if ((d = a->c->f.depth - b->c->f.depth))
         return d;
@@ -472,7 +476,7 @@ static EGLSurface window_surface(egl_display *e, const egl_config *c, unsigned l
         return EGL_NO_SURFACE;
     }
     /* An EGL window surface renders to its back buffer (EGL_RENDER_BUFFER). */
-    tsr_faker_surface_set_double(s, true);
+    tsr_faker_surface_set_config(s, true, c->f.samples);
     egl_surface *x = calloc(1, sizeof *x);
     if (!x) {
         last_error = EGL_BAD_ALLOC;
@@ -545,6 +549,7 @@ EGLSurface eglCreatePbufferSurface(EGLDisplay dpy, EGLConfig config, const EGLin
         return EGL_NO_SURFACE;
     }
     *x = (egl_surface){.s = s, .dpy = e, .config = c, .type = EGL_PBUFFER_BIT};
+    tsr_faker_surface_set_config(s, false, c->f.samples);
     last_error = EGL_SUCCESS;
     return x;
 }

@@ -69,11 +69,12 @@ TSR_FAKER_API bool tsr_faker_drawable_geometry(const char *display_name, unsigne
 /* Finds the surface of a drawable without creating it (NULL: none). */
 TSR_FAKER_API tsr_faker_surface *tsr_faker_surface_find(unsigned long xid);
 
-/* Whether `s` has a back buffer (its config is double-buffered), set
- * before it first becomes current: its tessera windows are then told so
- * (WindowBuffersTSR), and GL_BACK and GL_FRONT are two buffers. Later
+/* Whether `s` has a back buffer (its config is double-buffered) and how
+ * many samples (0: single-sampled), set before it first becomes current:
+ * its tessera windows are then told so (WindowBuffersTSR: GL_BACK and
+ * GL_FRONT are two buffers; WindowSamplesTSR: multisample buffers). Later
  * calls change nothing. */
-TSR_FAKER_API void tsr_faker_surface_set_double(tsr_faker_surface *s, bool double_buffered);
+TSR_FAKER_API void tsr_faker_surface_set_config(tsr_faker_surface *s, bool double_buffered, int samples);
 /* Makes ctx current on this thread drawing into `draw` (NULL ctx: none
  * current; NULL draw: surfaceless). false: failed (logged). */
 TSR_FAKER_API bool tsr_faker_make_current(tsr_faker_context *ctx, tsr_faker_surface *draw);

@@ -140,8 +140,8 @@ static int config_attrib(const struct __GLXFBConfigRec *c, int attribute, int *v
     case GLX_MAX_PBUFFER_WIDTH:
     case GLX_MAX_PBUFFER_HEIGHT: *value = GLX_MAX_OFFSCREEN_SIDE; break;
     case GLX_MAX_PBUFFER_PIXELS: *value = GLX_MAX_OFFSCREEN_SIDE * GLX_MAX_OFFSCREEN_SIDE; break;
-    case GLX_SAMPLE_BUFFERS:
-    case GLX_SAMPLES: *value = 0; break;
+    case GLX_SAMPLE_BUFFERS: *value = c->f.samples > 0; break;
+    case GLX_SAMPLES: *value = c->f.samples; break;
     case GLX_SCREEN: *value = c->screen; break;
     case GLX_USE_GL: *value = True; break;
     case GLX_RGBA: *value = True; break;
@@ -201,8 +201,9 @@ static int larger_or_zero(int a, int b)
 
 /* GLX 1.4's sort order (glXChooseFBConfig, table 3.4): caveat, colour
  * (red, green, blue are 8 everywhere), alpha, buffer size (smaller),
- * single before double buffer, depth, stencil (smaller), accumulation;
- * then the config id, so the order is the same on every run. */
+ * single before double buffer, depth, stencil (smaller), accumulation,
+ * sample buffers and samples (smaller: single-sampled first); then the
+ * config id, so the order is the same on every run. */
 static int config_order(const void *pa, const void *pb)
 {
     const struct __GLXFBConfigRec *a = *(const struct __GLXFBConfigRec *const *)pa;
@@ -221,6 +222,10 @@ static int config_order(const void *pa, const void *pb)
     if ((d = a->f.stencil - b->f.stencil))
         return d;
     if ((d = larger_or_zero(a->f.accum, b->f.accum)))
+        return d;
+    if ((d = (a->f.samples > 0) - (b->f.samples > 0)))
+        return d;
+    if ((d = a->f.samples - b->f.samples))
         return d;
     return a->id - b->id;
 }
@@ -540,9 +545,10 @@ Bool glXMakeContextCurrent(Display *dpy, GLXDrawable draw, GLXDrawable read, GLX
         tsr_faker_log(TSR_LOG_WARN, "glXMakeContextCurrent: a read drawable other than the draw one is ignored");
     tsr_faker_surface *s = drawable_surface(dpy, draw);
     /* A window has the back buffer its config has (pbuffers and pixmaps
-     * are single-buffered here). */
-    if (s && !offscreen_find(dpy, draw))
-        tsr_faker_surface_set_double(s, ctx->config && ctx->config->f.doublebuffer);
+     * are single-buffered here); every drawable its samples. */
+    if (s && ctx->config)
+        tsr_faker_surface_set_config(s, ctx->config->f.doublebuffer && !offscreen_find(dpy, draw),
+                                     ctx->config->f.samples);
     if (!s || !tsr_faker_make_current(ctx->ctx, s))
         return False;
     if (old && old != ctx && old->destroyed)

@@ -273,6 +273,22 @@ add_test(NAME faker_glx_front_and_back_buffers_answer_as_mesa_through_render_pac
                  $<TARGET_FILE:faker_glx_buffers_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/glx_buffers)
 set_tests_properties(faker_glx_front_and_back_buffers_answer_as_mesa_through_render_pack_and_wall PROPERTIES TIMEOUT 120)
 
+# A window of a multisample config (tests/faker/glx_multisample_driver.c):
+# rotated triangles drawn with GL_MULTISAMPLE through depth and stencil,
+# the config's and GL's sample answers, the window read by glReadPixels,
+# glCopyPixels, glCopyTex(Sub)Image2D and after a swap, through [render],
+# [pack -> node render] and a 2x2 wall: every line and every colour pixel
+# equal to Mesa's own GLX with the same 4 samples on the same Xvfb.
+add_executable(faker_glx_multisample ${FAKER_TEST_DIR}/glx_multisample_driver.c)
+target_link_libraries(faker_glx_multisample PRIVATE tessera_faker_gl PkgConfig::X11)
+add_executable(faker_glx_multisample_native ${FAKER_TEST_DIR}/glx_multisample_driver.c)
+target_link_libraries(faker_glx_multisample_native PRIVATE PkgConfig::NATIVE_GL PkgConfig::X11)
+add_test(NAME faker_glx_multisample_window_draws_and_reads_as_mesa_through_render_pack_and_wall
+         COMMAND bash ${FAKER_TEST_DIR}/glx_multisample.sh $<TARGET_FILE:faker_glx_multisample>
+                 $<TARGET_FILE:faker_glx_multisample_native> $<TARGET_FILE:tessera_cli> ${FAKER_OUT}/glx_multisample)
+set_tests_properties(faker_glx_multisample_window_draws_and_reads_as_mesa_through_render_pack_and_wall
+                     PROPERTIES TIMEOUT 120)
+
 # Configs as a driver offers them (tests/faker/glx_configs_driver.c): the
 # attribute lists of glxgears, glxinfo, waffle (piglit), apitrace, GLFW,
 # SDL2, freeglut, VTK, Qt and xscreensaver sent to Mesa's GLX and to the

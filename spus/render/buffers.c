@@ -180,6 +180,10 @@ static int make_double(render_spu *r, tsr_error *err)
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->width > 0 ? r->width : 1, r->height > 0 ? r->height : 1);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    if (r->samples) { /* the front is multisampled too (multisample.c) */
+        r->fbo.GenRenderbuffers(1, &r->ms_front_rb);
+        render_ms_storage(r, r->width, r->height);
+    }
     r->double_buffered = true;
     r->generation++;
     if (render_shared_make_current(r, 0, err) != TSR_OK)
@@ -225,6 +229,7 @@ void render_buffers_swap(render_spu *r)
     r->gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     r->gl.DrawBuffer(GL_COLOR_ATTACHMENT1);
     r->fbo.BlitFramebuffer(0, 0, r->width, r->height, 0, 0, r->width, r->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    render_ms_swap(r);
     r->gl.PopAttrib();
     if (render_shared_switch(r, back, &err) != TSR_OK)
         tsr_log(TSR_LOG_ERROR, "%s: swap: %s", r->name, err.message);

@@ -36,14 +36,33 @@ int render_attach_context(render_spu *r, render_context *c, tsr_error *err)
         c->attached = r->generation - 1;
     }
     if (c->attached != r->generation) {
+        /* A multisample window (multisample.c): client contexts draw into
+         * the multisample renderbuffers and read the resolved ones through
+         * a second FBO; context 0 resolves from an FBO of its own. */
+        bool client_ms = r->samples && c->id > 0;
+        GLuint *second = !r->samples ? NULL : client_ms ? &c->resolved_fbo : c->id == 0 ? &r->ms_fbo : NULL;
+        if (second && !*second) {
+            r->fbo.GenFramebuffers(1, second);
+            r->fbo.BindFramebuffer(GL_FRAMEBUFFER, *second);
+            r->fbo.FramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_FLIP_Y_MESA, GL_TRUE);
+        }
+        for (int pass = 0; pass < (second ? 2 : 1); pass++) {
+            r->fbo.BindFramebuffer(GL_FRAMEBUFFER, pass ? *second : c->fbo);
+            if (pass ? !client_ms : client_ms) {
+                render_ms_attach(r);
+            } else {
+                r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
+                r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                               r->depth_rb);
+                if (r->front_rb)
+                    r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, r->front_rb);
+            }
+            GLenum status = r->fbo.CheckFramebufferStatus(GL_FRAMEBUFFER);
+            if (status != GL_FRAMEBUFFER_COMPLETE)
+                return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer%s incomplete (0x%x)", r->name, c->id,
+                                     pass ? " (multisample resolve)" : "", status);
+        }
         r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
-        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
-        r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
-        if (r->front_rb)
-            r->fbo.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, r->front_rb);
-        GLenum status = r->fbo.CheckFramebufferStatus(GL_FRAMEBUFFER);
-        if (status != GL_FRAMEBUFFER_COMPLETE)
-            return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer incomplete (0x%x)", r->name, c->id, status);
         c->attached = r->generation;
     }
     return TSR_OK;
@@ -116,6 +135,7 @@ int render_shared_resize(render_spu *r, int width, int height, tsr_error *err)
             r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
             r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 1, 1);
         }
+        render_ms_storage(r, 1, 1);
         r->gl.Finish();
         render_pages_snapshot(&before);
     }
@@ -128,6 +148,7 @@ int render_shared_resize(render_spu *r, int width, int height, tsr_error *err)
         r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
     }
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    render_ms_storage(r, width, height);
     render_destroy_retired(r);
     if (release) {
         size_t given = render_pages_release(&before, bytes);
@@ -154,6 +175,7 @@ int render_shared_enter(render_spu *r, tsr_error *err)
         {"glDeleteRenderbuffers", (void **)&r->fbo.DeleteRenderbuffers},
         {"glBindRenderbuffer", (void **)&r->fbo.BindRenderbuffer},
         {"glRenderbufferStorage", (void **)&r->fbo.RenderbufferStorage},
+        {"glRenderbufferStorageMultisample", (void **)&r->fbo.RenderbufferStorageMultisample},
         {"glGenFramebuffers", (void **)&r->fbo.GenFramebuffers},
         {"glDeleteFramebuffers", (void **)&r->fbo.DeleteFramebuffers},
         {"glBindFramebuffer", (void **)&r->fbo.BindFramebuffer},
@@ -275,8 +297,11 @@ void render_destroy_context(render_spu *r, size_t index)
     render_context *c = &r->contexts[index];
     if (c->fbo) {
         tsr_error err = {0};
-        if (render_shared_make_current(r, index, &err) == TSR_OK)
+        if (render_shared_make_current(r, index, &err) == TSR_OK) {
             r->fbo.DeleteFramebuffers(1, &c->fbo);
+            if (c->resolved_fbo)
+                r->fbo.DeleteFramebuffers(1, &c->resolved_fbo);
+        }
     }
     if (r->osmesa.GetCurrentContext() == c->osmesa)
         r->osmesa.MakeCurrent(NULL, NULL, 0, 0, 0);

@@ -203,6 +203,9 @@ static void finish_frame(render_spu *r, bool whole)
  * swap itself is the caller's to pass on. Returns the frame's number. */
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
 {
+    tsr_error resolve_err = {0};
+    if (render_ms_resolve(r, &resolve_err) != TSR_OK) /* multisample.c: the frame is the window resolved */
+        tsr_log(TSR_LOG_ERROR, "%s: swap: %s", r->name, resolve_err.message);
     if (r->double_buffered)
         render_buffers_swap(r); /* the frame is what the front shows now */
     render_ensure_current(r);

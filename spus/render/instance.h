@@ -14,6 +14,7 @@
  *                the fast paths
  *   frame.c    — window size, swap: the frame read back and written out
  *   buffers.c  — front and back buffers of a double-buffered window
+ *   multisample.c — a multisample window's buffers and their resolve
  *   xwindow.c  — window output: each frame shown in an X window
  *
  * Owns the types only. Never: state outside an instance. */
@@ -52,6 +53,8 @@ typedef struct fbo_api {
     void(GLAPIENTRY *DeleteRenderbuffers)(GLsizei n, const GLuint *ids);
     void(GLAPIENTRY *BindRenderbuffer)(GLenum target, GLuint id);
     void(GLAPIENTRY *RenderbufferStorage)(GLenum target, GLenum format, GLsizei w, GLsizei h);
+    void(GLAPIENTRY *RenderbufferStorageMultisample)(GLenum target, GLsizei samples, GLenum format, GLsizei w,
+                                                     GLsizei h);
     void(GLAPIENTRY *GenFramebuffers)(GLsizei n, GLuint *ids);
     void(GLAPIENTRY *DeleteFramebuffers)(GLsizei n, const GLuint *ids);
     void(GLAPIENTRY *BindFramebuffer)(GLenum target, GLuint id);
@@ -111,6 +114,9 @@ typedef struct render_context {
     /* The program's last glDrawBuffer/glReadBuffer names (0: none yet),
      * answered while the real state still matches them (buffers.c). */
     GLenum draw_name, read_name;
+    /* A multisample window (multisample.c): `fbo` is on the multisample
+     * renderbuffers, this one on the resolved ones, read through. */
+    GLuint resolved_fbo;
 } render_context;
 
 typedef struct render_spu {
@@ -144,6 +150,12 @@ typedef struct render_spu {
      * its back buffer (attachment 0), front_rb its front (attachment 1). */
     bool double_buffered;
     GLuint front_rb;
+    /* A multisample window (WindowSamplesTSR, multisample.c): client
+     * contexts draw into these, `samples` samples a pixel, and color_rb,
+     * front_rb and depth_rb hold them resolved; ms_fbo is context 0's FBO
+     * on them, the resolve's source. 0: single-sampled. */
+    int samples;
+    GLuint ms_color_rb, ms_depth_rb, ms_front_rb, ms_fbo;
     /* Contexts of clients that left, kept alive until the shared
      * renderbuffers are next given new storage (or deleted): Mesa caches a
      * renderbuffer's surface with the context that last validated it and
@@ -212,6 +224,14 @@ void render_pixels_install(render_spu *r, tsr_dispatch *table);
 void render_buffers_swap(render_spu *r);
 bool render_buffers_query(render_spu *r, GLenum pname, GLint *value);
 void render_buffers_install(render_spu *r, tsr_dispatch *table);
+/* multisample.c */
+void render_ms_storage(render_spu *r, int width, int height);
+void render_ms_attach(render_spu *r);
+int render_ms_resolve(render_spu *r, tsr_error *err);
+void render_ms_swap(render_spu *r);
+bool render_ms_read_begin(render_spu *r);
+void render_ms_read_end(render_spu *r, bool began);
+void render_multisample_install(render_spu *r, tsr_dispatch *table);
 /* frame.c */
 void render_frame_install(render_spu *r, tsr_dispatch *table);
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx);

@@ -49,7 +49,9 @@ static void render_CopyPixels(void *self, GLint x, GLint y, GLsizei width, GLsiz
     render_spu *r = self;
     if (type != GL_COLOR && type != GL_DEPTH)
         r->stencil_written = true;
+    bool began = render_ms_read_begin(r); /* a multisample window is read resolved */
     r->gl.CopyPixels(x, y, width, height, type);
+    render_ms_read_end(r, began);
 }
 
 /* Bytes GL_UNPACK_SWAP_BYTES swaps as one unit for `type` (1: none). */

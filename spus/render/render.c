@@ -179,8 +179,10 @@ static void render_destroy(void *self)
             render_fastdraw_release(r->fastdraw, &r->gl);
             if (r->contexts[0].fbo)
                 r->fbo.DeleteFramebuffers(1, &r->contexts[0].fbo);
-            GLuint rbs[3] = {r->color_rb, r->depth_rb, r->front_rb};
-            r->fbo.DeleteRenderbuffers(r->front_rb ? 3 : 2, rbs);
+            if (r->ms_fbo)
+                r->fbo.DeleteFramebuffers(1, &r->ms_fbo);
+            GLuint rbs[6] = {r->color_rb, r->depth_rb, r->front_rb, r->ms_color_rb, r->ms_depth_rb, r->ms_front_rb};
+            r->fbo.DeleteRenderbuffers(6, rbs); /* 0s are ignored */
         }
         render_destroy_retired(r);
         free(r->retired);
@@ -285,6 +287,7 @@ void *render_spu_create(const tsr_spu_init *init, tsr_error *err)
     render_frame_install(r, init->table);
     render_contexts_install(r, init->table);
     render_buffers_install(r, init->table);
+    render_multisample_install(r, init->table);
     render_pixels_install(r, init->table);
     render_scissor_install(r, init->table);
     render_textures_install(r, init->table);

@@ -108,16 +108,22 @@ static void render_CopyTexImage1D(void *self, GLenum target, GLint level, GLenum
                                   GLsizei width, GLint border)
 {
     render_spu *r = self;
-    if (texture_admit(r, "CopyTexImage1D", target, level, (GLint)internalformat, width, 1, 1, border))
+    if (texture_admit(r, "CopyTexImage1D", target, level, (GLint)internalformat, width, 1, 1, border)) {
+        bool began = render_ms_read_begin(r); /* a multisample window is read resolved */
         r->gl.CopyTexImage1D(target, level, internalformat, x, y, width, border);
+        render_ms_read_end(r, began);
+    }
 }
 
 static void render_CopyTexImage2D(void *self, GLenum target, GLint level, GLenum internalformat, GLint x, GLint y,
                                   GLsizei width, GLsizei height, GLint border)
 {
     render_spu *r = self;
-    if (texture_admit(r, "CopyTexImage2D", target, level, (GLint)internalformat, width, height, 1, border))
+    if (texture_admit(r, "CopyTexImage2D", target, level, (GLint)internalformat, width, height, 1, border)) {
+        bool began = render_ms_read_begin(r); /* a multisample window is read resolved */
         r->gl.CopyTexImage2D(target, level, internalformat, x, y, width, height, border);
+        render_ms_read_end(r, began);
+    }
 }
 
 /* Texture names the client binds or deletes may be ones the fast

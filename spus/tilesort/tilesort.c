@@ -402,24 +402,15 @@ static int current_slots(uint8_t *is_current)
  * section 5.4), beyond gets and client state. */
 static int immediate_in_list(const char *name)
 {
-    static const char *const names[] = {"PixelStorei",      "PixelStoref",
-                                        "Finish",           "Flush",
-                                        "GenLists",         "DeleteLists",
-                                        "GenTextures",      "DeleteTextures",
-                                        "GenBuffers",       "DeleteBuffers",
-                                        "BindBuffer",       "BufferData",
-                                        "BufferSubData",    "RenderMode",
-                                        "FeedbackBuffer",   "SelectBuffer",
-                                        "NewList",          "EndList",
-                                        "WindowCreateTSR",  "WindowSizeTSR",
-                                        "WindowDestroyTSR", "WindowBuffersTSR",
-                                        "SwapBuffersTSR",   "CreateShader",
-                                        "CreateShaderTSR",  "ShaderSource",
-                                        "CompileShader",    "DeleteShader",
-                                        "CreateProgram",    "CreateProgramTSR",
-                                        "DeleteProgram",    "AttachShader",
-                                        "DetachShader",     "BindAttribLocation",
-                                        "LinkProgram",      "ValidateProgram"};
+    static const char *const names[] = {
+        "PixelStorei",      "PixelStoref",      "Finish",           "Flush",           "GenLists",
+        "DeleteLists",      "GenTextures",      "DeleteTextures",   "GenBuffers",      "DeleteBuffers",
+        "BindBuffer",       "BufferData",       "BufferSubData",    "RenderMode",      "FeedbackBuffer",
+        "SelectBuffer",     "NewList",          "EndList",          "WindowCreateTSR", "WindowSizeTSR",
+        "WindowDestroyTSR", "WindowBuffersTSR", "WindowSamplesTSR", "SwapBuffersTSR",  "CreateShader",
+        "CreateShaderTSR",  "ShaderSource",     "CompileShader",    "DeleteShader",    "CreateProgram",
+        "CreateProgramTSR", "DeleteProgram",    "AttachShader",     "DetachShader",    "BindAttribLocation",
+        "LinkProgram",      "ValidateProgram"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(names[i], name))
             return 1;

@@ -8,13 +8,15 @@
  * process, sends it the attribute lists below — what real programs send,
  * written from reading their sources — and prints for each the first
  * config's (or the visual's) sizes: "name: r g b a depth stencil
- * doublebuffer accum", "name: none", or "name: BAD ..." when a returned
+ * doublebuffer accum sample_buffers samples", "name: none", or "name: BAD
+ * ..." when a returned
  * config does not meet the request (GLX 1.4: every returned config meets
  * every attribute, sizes as minimums).
  *
  * `compare`'s rule: whenever Mesa returns a config, the faker returns one
- * with the same red, green, blue, alpha, depth, stencil and double-buffer
- * sizes, except where `allowed` below says why not. No answer may be BAD.
+ * with the same red, green, blue, alpha, depth, stencil, double-buffer and
+ * sample sizes (GLX_SAMPLE_BUFFERS, GLX_SAMPLES), except where `allowed`
+ * below says why not. No answer may be BAD.
  * Run on the same default Xvfb, MESA is Mesa's answers there; on an X
  * server without GLX (no Mesa to ask), MESA is the default Xvfb's answers
  * kept from the first run: the sizes a program gets must not depend on
@@ -249,6 +251,119 @@ static const request requests[] = {
      true,
      {GLX_RGBA, GLX_RED_SIZE, 1, GLX_GREEN_SIZE, 1, GLX_BLUE_SIZE, 1, GLX_DEPTH_SIZE, 1, GLX_STENCIL_SIZE, 1,
       GLX_DOUBLEBUFFER, END}},
+    /* piglit's samples=N tests (waffle: WAFFLE_SAMPLE_BUFFERS 1 and
+     * WAFFLE_SAMPLES N in the list above), and N past what the driver has. */
+    {"waffle_piglit_samples_2",
+     false,
+     {GLX_RED_SIZE,
+      1,
+      GLX_GREEN_SIZE,
+      1,
+      GLX_BLUE_SIZE,
+      1,
+      GLX_ALPHA_SIZE,
+      1,
+      GLX_DEPTH_SIZE,
+      1,
+      GLX_STENCIL_SIZE,
+      1,
+      GLX_SAMPLE_BUFFERS,
+      1,
+      GLX_SAMPLES,
+      2,
+      GLX_DOUBLEBUFFER,
+      True,
+      GLX_DRAWABLE_TYPE,
+      GLX_WINDOW_BIT,
+      END}},
+    {"waffle_piglit_samples_4",
+     false,
+     {GLX_RED_SIZE,
+      1,
+      GLX_GREEN_SIZE,
+      1,
+      GLX_BLUE_SIZE,
+      1,
+      GLX_ALPHA_SIZE,
+      1,
+      GLX_DEPTH_SIZE,
+      1,
+      GLX_STENCIL_SIZE,
+      1,
+      GLX_SAMPLE_BUFFERS,
+      1,
+      GLX_SAMPLES,
+      4,
+      GLX_DOUBLEBUFFER,
+      True,
+      GLX_DRAWABLE_TYPE,
+      GLX_WINDOW_BIT,
+      END}},
+    {"waffle_piglit_samples_8",
+     false,
+     {GLX_RED_SIZE,
+      1,
+      GLX_GREEN_SIZE,
+      1,
+      GLX_BLUE_SIZE,
+      1,
+      GLX_ALPHA_SIZE,
+      1,
+      GLX_DEPTH_SIZE,
+      1,
+      GLX_STENCIL_SIZE,
+      1,
+      GLX_SAMPLE_BUFFERS,
+      1,
+      GLX_SAMPLES,
+      8,
+      GLX_DOUBLEBUFFER,
+      True,
+      GLX_DRAWABLE_TYPE,
+      GLX_WINDOW_BIT,
+      END}},
+    /* freeglut GLUT_MULTISAMPLE (4 samples unless glutSetOption says) and
+     * GLFW's GLFW_SAMPLES 4 hint, single-buffered and with accumulation
+     * (which no multisample config of Mesa's has). */
+    {"freeglut_multisample",
+     false,
+     {GLX_RENDER_TYPE, GLX_RGBA_BIT, GLX_RED_SIZE, 1, GLX_GREEN_SIZE, 1, GLX_BLUE_SIZE, 1, GLX_DOUBLEBUFFER, True,
+      GLX_DEPTH_SIZE, 1, GLX_SAMPLE_BUFFERS, 1, GLX_SAMPLES, 4, END}},
+    {"glfw_samples_single",
+     false,
+     {GLX_RENDER_TYPE,
+      GLX_RGBA_BIT,
+      GLX_DRAWABLE_TYPE,
+      GLX_WINDOW_BIT,
+      GLX_RED_SIZE,
+      8,
+      GLX_GREEN_SIZE,
+      8,
+      GLX_BLUE_SIZE,
+      8,
+      GLX_ALPHA_SIZE,
+      8,
+      GLX_DEPTH_SIZE,
+      24,
+      GLX_STENCIL_SIZE,
+      8,
+      GLX_DOUBLEBUFFER,
+      False,
+      GLX_SAMPLE_BUFFERS,
+      1,
+      GLX_SAMPLES,
+      4,
+      END}},
+    {"multisample_accum",
+     false,
+     {GLX_RENDER_TYPE, GLX_RGBA_BIT, GLX_DOUBLEBUFFER, True, GLX_ACCUM_RED_SIZE, 1, GLX_SAMPLE_BUFFERS, 1, GLX_SAMPLES,
+      2, END}},
+    /* glXChooseVisual with GLX 1.2's list and GLX_SAMPLES_ARB (SDL2's
+     * SDL_GL_MULTISAMPLESAMPLES 4). */
+    {"sdl2_multisample_visual",
+     true,
+     {GLX_RGBA, GLX_RED_SIZE, 3, GLX_GREEN_SIZE, 3, GLX_BLUE_SIZE, 2, GLX_DOUBLEBUFFER, GLX_DEPTH_SIZE, 16,
+      GLX_SAMPLE_BUFFERS_ARB, 1, GLX_SAMPLES_ARB, 4, END}},
     /* A GLX 1.2 list without GLX_RGBA (colour index): Mesa has no
      * colour-index visual and answers with an RGBA one. */
     {"colour_index_visual", true, {GLX_BUFFER_SIZE, 8, GLX_DOUBLEBUFFER, END}},
@@ -261,8 +376,6 @@ typedef struct allowance {
     const char *why;
 } allowance;
 static const allowance allowed[] = {
-    {"apitrace_multisample", "no multisample config: render draws single-sampled (multisample comes with the "
-                             "modern-GL issue), so the faker answers as a driver without it"},
     {"glfw_srgb", "no sRGB-capable config: render's default framebuffer is not sRGB (GL_FRAMEBUFFER_SRGB would "
                   "not encode), so none is offered"},
     {"sdl2_directcolor", "no DirectColor visual: the faker's configs are on TrueColor visuals only (it draws no "
@@ -271,13 +384,14 @@ static const allowance allowed[] = {
 
 typedef struct answer {
     bool any, bad;
-    int r, g, b, a, depth, stencil, db, accum;
+    int r, g, b, a, depth, stencil, db, accum, sample_buffers, samples;
     char detail[160];
 } answer;
 
-static const int asked_sizes[] = {GLX_RED_SIZE,         GLX_GREEN_SIZE,      GLX_BLUE_SIZE,       GLX_ALPHA_SIZE,
-                                  GLX_DEPTH_SIZE,       GLX_STENCIL_SIZE,    GLX_BUFFER_SIZE,     GLX_ACCUM_RED_SIZE,
-                                  GLX_ACCUM_GREEN_SIZE, GLX_ACCUM_BLUE_SIZE, GLX_ACCUM_ALPHA_SIZE};
+static const int asked_sizes[] = {GLX_RED_SIZE,         GLX_GREEN_SIZE,      GLX_BLUE_SIZE,        GLX_ALPHA_SIZE,
+                                  GLX_DEPTH_SIZE,       GLX_STENCIL_SIZE,    GLX_BUFFER_SIZE,      GLX_ACCUM_RED_SIZE,
+                                  GLX_ACCUM_GREEN_SIZE, GLX_ACCUM_BLUE_SIZE, GLX_ACCUM_ALPHA_SIZE, GLX_SAMPLE_BUFFERS,
+                                  GLX_SAMPLES};
 
 static bool is_size(int attribute)
 {
@@ -316,16 +430,17 @@ static int run_ask(const char *libgl)
     int screen = DefaultScreen(dpy);
     for (size_t i = 0; i < NREQUESTS; i++) {
         const request *q = &requests[i];
-        int v[8] = {0};
-        static const int what[8] = {GLX_RED_SIZE,   GLX_GREEN_SIZE,   GLX_BLUE_SIZE,    GLX_ALPHA_SIZE,
-                                    GLX_DEPTH_SIZE, GLX_STENCIL_SIZE, GLX_DOUBLEBUFFER, GLX_ACCUM_RED_SIZE};
+        int v[10] = {0};
+        static const int what[10] = {GLX_RED_SIZE,       GLX_GREEN_SIZE,   GLX_BLUE_SIZE,    GLX_ALPHA_SIZE,
+                                     GLX_DEPTH_SIZE,     GLX_STENCIL_SIZE, GLX_DOUBLEBUFFER, GLX_ACCUM_RED_SIZE,
+                                     GLX_SAMPLE_BUFFERS, GLX_SAMPLES};
         char bad[160] = "";
         bool any = false;
         if (q->visual) {
             XVisualInfo *vi = choose_vis(dpy, screen, (int *)q->attrs);
             if (vi) {
                 any = true;
-                for (int k = 0; k < 8; k++)
+                for (int k = 0; k < 10; k++)
                     if (get_config(dpy, vi, what[k], &v[k]) != Success)
                         snprintf(bad, sizeof bad, "glXGetConfig(0x%x) failed", (unsigned)what[k]);
                 XFree(vi);
@@ -335,7 +450,7 @@ static int run_ask(const char *libgl)
             GLXFBConfig *list = choose_fb(dpy, screen, q->attrs, &n);
             if (list && n > 0) {
                 any = true;
-                for (int k = 0; k < 8; k++)
+                for (int k = 0; k < 10; k++)
                     fb_attrib(dpy, list[0], what[k], &v[k]);
                 /* Every config returned meets every size and the buffering. */
                 for (int c = 0; c < n && !bad[0]; c++)
@@ -362,7 +477,8 @@ static int run_ask(const char *libgl)
         else if (!any)
             printf("%s: none\n", q->name);
         else
-            printf("%s: %d %d %d %d %d %d %d %d\n", q->name, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
+            printf("%s: %d %d %d %d %d %d %d %d %d %d\n", q->name, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8],
+                   v[9]);
     }
     XCloseDisplay(dpy);
     return 0;
@@ -390,8 +506,8 @@ static bool read_answer(const char *path, const char *name, answer *out)
         if (!strncmp(rest, "BAD", 3))
             out->bad = true;
         else if (strncmp(rest, "none", 4))
-            out->any = sscanf(rest, "%d %d %d %d %d %d %d %d", &out->r, &out->g, &out->b, &out->a, &out->depth,
-                              &out->stencil, &out->db, &out->accum) == 8;
+            out->any = sscanf(rest, "%d %d %d %d %d %d %d %d %d %d", &out->r, &out->g, &out->b, &out->a, &out->depth,
+                              &out->stencil, &out->db, &out->accum, &out->sample_buffers, &out->samples) == 10;
     }
     fclose(f);
     return found;
@@ -410,7 +526,8 @@ static const char *size_allowance(const answer *m, const answer *f)
 {
     bool colour = f->r == m->r && f->g == m->g && f->b == m->b && f->a == m->a;
     bool depth = f->depth == m->depth;
-    bool rest = f->stencil == m->stencil && f->db == m->db;
+    bool rest = f->stencil == m->stencil && f->db == m->db && f->sample_buffers == m->sample_buffers &&
+                f->samples == m->samples;
     bool rgb10 =
         m->r == 10 && m->g == 10 && m->b == 10 && m->a == 2 && f->r == 8 && f->g == 8 && f->b == 8 && f->a == 8;
     bool depth32 = m->depth == 32 && f->depth == 24;
@@ -444,7 +561,8 @@ static int run_compare(const char *mesa_path, const char *faker_path)
             continue;
         }
         bool same = f.any && f.r == m.r && f.g == m.g && f.b == m.b && f.a == m.a && f.depth == m.depth &&
-                    f.stencil == m.stencil && f.db == m.db;
+                    f.stencil == m.stencil && f.db == m.db && f.sample_buffers == m.sample_buffers &&
+                    f.samples == m.samples;
         const char *why = allowance_of(name);
         if (!why && f.any)
             why = size_allowance(&m, &f);
@@ -455,7 +573,8 @@ static int run_compare(const char *mesa_path, const char *faker_path)
             printf("diff %-40s mesa %s, faker %s: %s\n", name, m.detail, f.detail, why);
             excused++;
         } else {
-            printf("FAIL %-40s mesa %s, faker %s (r g b a depth stencil db accum)\n", name, m.detail, f.detail);
+            printf("FAIL %-40s mesa %s, faker %s (r g b a depth stencil db accum sample_buffers samples)\n", name,
+                   m.detail, f.detail);
             failures++;
         }
     }

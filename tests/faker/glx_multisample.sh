@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# tests/faker/glx_multisample.sh — a window of a multisample GLX config
+# (glx_multisample_driver.c) through [render], [pack -> tessera node
+# render] and a 2x2 tilesort wall of four `tessera node` render servers, on
+# a private Xvfb: every labelled line (the config's and GL's sample sizes,
+# hashes of the colour, depth and stencil read back each way) and every
+# colour pixel of the first read must equal what Mesa's own GLX gives with
+# the same 4 samples on the same Xvfb (faker_glx_multisample_native).
+# usage: glx_multisample.sh PROGRAM NATIVE TESSERA OUT_DIR
+set -u
+prog=$1 native=$2 TESSERA=$3 out=$4
+. "$(dirname "$0")/../node/node_lib.sh"
+. "$(dirname "$0")/xvfb.sh"
+rm -rf "$out" && mkdir -p "$out" || exit 1
+start_xvfb "$out"
+status=0
+fail() { echo "FAIL: $*" >&2; status=1; }
+PIDS=
+kill_all() { for p in $PIDS; do kill -9 "$p" 2>/dev/null; wait "$p" 2>/dev/null; done; PIDS=; }
+# the native run is Mesa's own GLX: what it keeps at exit (its DRI driver
+# is unloaded by then, so LeakSanitizer cannot name it) is not tessera's
+ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" timeout 60 "$native" "$out/native.txt" || fail "native: exit $?"
+runs=()
+run() { # NAME CHAIN
+  echo "--- $1: chain \"$2\""
+  runs+=("$1")
+  TESSERA_CHAIN=$2 timeout 60 "$prog" "$out/$1.txt" 2>"$out/$1.err" || { fail "$1: exit $?"; cat "$out/$1.err" >&2; }
+}
+run render "render output="
+start_node "$out/node" --listen "unix:$out/node.sock" --clients 1 --timeout-ms 30000 --chain "render output=" ||
+  fail "no node"
+PIDS=$NODE_PID
+run pack "pack server=unix:$out/node.sock"
+wait_exit "$NODE_PID" 15
+[ "$EXIT_RC" = 0 ] || { fail "pack: the node exited $EXIT_RC"; cat "$out/node.err"; }
+PIDS=
+SERVERS= TILES= k=0
+for y in 0 24; do
+  for x in 0 32; do
+    start_node "$out/wall$k" --listen "unix:$out/wall$k.sock" --clients 1 --timeout-ms 30000 \
+      --chain "render output=" || fail "no wall node $k"
+    PIDS="$PIDS $NODE_PID"
+    SERVERS="$SERVERS${SERVERS:+,}unix:$out/wall$k.sock"
+    TILES="$TILES${TILES:+,}$k:$x:$y:32:24"
+    k=$((k + 1))
+  done
+done
+run wall "tilesort servers=$SERVERS tiles=$TILES"
+for p in $PIDS; do
+  wait_exit "$p" 15
+  [ "$EXIT_RC" = 0 ] || fail "wall: a node exited $EXIT_RC"
+done
+kill_all
+# What is compared. Mesa's own glReadPixels and glCopyPixels of a
+# multisample window read one sample of each pixel, not the resolved
+# colour (its "drawn colour" line blends no pixel, while its glCopyTexImage2D
+# of the same window and the picture its swap puts in the X window are
+# resolved and equal): ARB_multisample has the colour buffer hold the
+# resolved colour, which tessera reads, so tessera's colour reads must
+# equal Mesa's displayed picture, pixel for pixel, and its glCopyPixels
+# copies resolved colours (that line is not compared). Depth and stencil
+# (one sample, as Mesa) and every other line must equal Mesa's. On the wall
+# the glCopyTex(Sub)Image lines are left out: a copy across tiles reads
+# pixels another server has (tests/piglit/open.tsv, "cross-tile copy").
+line() { sed -n "s/^$2: //p" "$out/$1.txt" | awk '{print $1}'; }
+picture=$(line native displayed)
+[ -n "$picture" ] && [ "$picture" = "$(line native resolved)" ] && [ "$picture" = "$(line native frame)" ] ||
+  fail "native: the picture shown ($picture) is not the window resolved ($(line native resolved))"
+grep -q '^resolved: .* blended [1-9]' "$out/native.txt" || fail "native: no pixel blended by the samples"
+compared='^(config|gets|drawn|copypixels|swapped|resolved|copyteximage|copytexsubimage|frame):'
+for r in "${runs[@]}"; do
+  keep=$compared
+  [ "$r" = wall ] && keep='^(config|gets|drawn|copypixels|swapped):'
+  grep -E "$keep" "$out/native.txt" >"$out/native.$r.cmp"
+  grep -E "$keep" "$out/$r.txt" >"$out/$r.cmp"
+  diff -u "$out/native.$r.cmp" "$out/$r.cmp" >"$out/$r.diff" || { fail "$r differs from Mesa:"; cat "$out/$r.diff" >&2; }
+  for read in "drawn colour" "swapped colour"; do
+    [ "$(line "$r" "$read")" = "$picture" ] || fail "$r: $read $(line "$r" "$read") is not Mesa's picture $picture"
+  done
+  # the first colour read, pixel by pixel, against Mesa's resolved window
+  python3 - "$out/native.txt.resolved.rgba" "$out/$r.txt.rgba" "$r" <<'PY' || status=1
+import sys
+a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
+px = [i for i in range(0, len(a), 4) if a[i:i + 4] != b[i:i + 4]]
+print(f"{sys.argv[3]}: {len(px)} of {len(a) // 4} colour pixels differ from Mesa's resolved window")
+sys.exit(1 if px or len(a) != len(b) else 0)
+PY
+done
+python3 - "$out/native.txt.resolved.rgba" "$out/native.txt.rgba" <<'PY'
+import sys
+a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
+n = sum(a[i:i + 4] != b[i:i + 4] for i in range(0, len(a), 4))
+print(f"(Mesa's own glReadPixels: {n} of {len(a) // 4} pixels are one sample's colour, not the resolved one)")
+PY
+[ $status -eq 0 ] && echo "OK: ${#runs[@]} runs draw Mesa's multisample picture and answer as Mesa ($(wc -l <"$out/native.txt") lines)"
+exit $status
