@@ -278,7 +278,8 @@ set_tests_properties(faker_glx_front_and_back_buffers_answer_as_mesa_through_ren
 # the config's and GL's sample answers, the window read by glReadPixels,
 # glCopyPixels, glCopyTex(Sub)Image2D and after a swap, through [render],
 # [pack -> node render] and a 2x2 wall: every line and every colour pixel
-# equal to Mesa's own GLX with the same 4 samples on the same Xvfb.
+# equal to Mesa's own GLX with the same 4 samples on the same Xvfb, and the
+# frame PNG render writes equal to what Mesa's swap shows in the X window.
 add_executable(faker_glx_multisample ${FAKER_TEST_DIR}/glx_multisample_driver.c)
 target_link_libraries(faker_glx_multisample PRIVATE tessera_faker_gl PkgConfig::X11)
 add_executable(faker_glx_multisample_native ${FAKER_TEST_DIR}/glx_multisample_driver.c)

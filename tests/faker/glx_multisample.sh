@@ -5,13 +5,15 @@
 # a private Xvfb: every labelled line (the config's and GL's sample sizes,
 # hashes of the colour, depth and stencil read back each way) and every
 # colour pixel of the first read must equal what Mesa's own GLX gives with
-# the same 4 samples on the same Xvfb (faker_glx_multisample_native).
+# the same 4 samples on the same Xvfb (faker_glx_multisample_native), and
+# the frame render writes at the swap (under [render] and on pack's node)
+# what Mesa's swap puts in the X window, pixel for pixel.
 # usage: glx_multisample.sh PROGRAM NATIVE TESSERA OUT_DIR
 set -u
 prog=$1 native=$2 TESSERA=$3 out=$4
 . "$(dirname "$0")/../node/node_lib.sh"
 . "$(dirname "$0")/xvfb.sh"
-rm -rf "$out" && mkdir -p "$out" || exit 1
+rm -rf "$out" && mkdir -p "$out" "$out/render-frames" "$out/pack-frames" || exit 1
 start_xvfb "$out"
 status=0
 fail() { echo "FAIL: $*" >&2; status=1; }
@@ -26,8 +28,8 @@ run() { # NAME CHAIN
   runs+=("$1")
   TESSERA_CHAIN=$2 timeout 60 "$prog" "$out/$1.txt" 2>"$out/$1.err" || { fail "$1: exit $?"; cat "$out/$1.err" >&2; }
 }
-run render "render output="
-start_node "$out/node" --listen "unix:$out/node.sock" --clients 1 --timeout-ms 30000 --chain "render output=" ||
+run render "render output=$out/render-frames/f-%04d.png"
+start_node "$out/node" --listen "unix:$out/node.sock" --clients 1 --timeout-ms 30000 --chain "render output=$out/pack-frames/f-%04d.png" ||
   fail "no node"
 PIDS=$NODE_PID
 run pack "pack server=unix:$out/node.sock"
@@ -84,6 +86,45 @@ a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
 px = [i for i in range(0, len(a), 4) if a[i:i + 4] != b[i:i + 4]]
 print(f"{sys.argv[3]}: {len(px)} of {len(a) // 4} colour pixels differ from Mesa's resolved window")
 sys.exit(1 if px or len(a) != len(b) else 0)
+PY
+done
+# The frame written at the swap (render's PNG, bottom-up here as glReadPixels
+# rows) against the picture Mesa's swap put in the X window, in R, G, B.
+for r in render pack; do
+  python3 - "$out/native.txt.displayed.rgba" "$out/$r-frames/f-0000.png" "$r" <<'PY' || status=1
+import struct, sys, zlib
+shown = open(sys.argv[1], 'rb').read()
+data = open(sys.argv[2], 'rb').read()
+assert data[:8] == b'\x89PNG\r\n\x1a\n', 'not a PNG'
+pos, idat = 8, b''
+while pos < len(data):
+    n, kind = struct.unpack('>I4s', data[pos:pos + 8])
+    body = data[pos + 8:pos + 8 + n]
+    if kind == b'IHDR':
+        w, h, depth, colour = struct.unpack('>IIBB', body[:10])
+    elif kind == b'IDAT':
+        idat += body
+    pos += 12 + n
+assert depth == 8 and colour in (2, 6) and body is not None, 'an 8-bit RGB(A) PNG'
+bpp = 3 if colour == 2 else 4
+raw, rows, prev = zlib.decompress(idat), [], bytearray(w * bpp)
+for y in range(h):
+    f, line = raw[y * (w * bpp + 1)], bytearray(raw[y * (w * bpp + 1) + 1:(y + 1) * (w * bpp + 1)])
+    for i in range(len(line)):
+        a = line[i - bpp] if i >= bpp else 0
+        b, c = prev[i], prev[i - bpp] if i >= bpp else 0
+        p = a + b - c
+        pred = [0, a, b, (a + b) // 2, a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else b if abs(p - b) <= abs(p - c) else c][f]
+        line[i] = (line[i] + pred) & 255
+    rows.append(line)
+    prev = line
+differ = 0
+for y in range(h):
+    for x in range(w):
+        png = rows[h - 1 - y][x * bpp:x * bpp + 3]
+        differ += bytes(png) != shown[4 * (y * w + x):4 * (y * w + x) + 3]
+print(f"{sys.argv[3]}: frame 0: {differ} of {w * h} pixels differ from what Mesa's swap shows")
+sys.exit(1 if differ or w * h * 4 != len(shown) else 0)
 PY
 done
 python3 - "$out/native.txt.resolved.rgba" "$out/native.txt.rgba" <<'PY'

@@ -13,8 +13,9 @@
  * glCopyTexSubImage2D of parts read back with glGetTexImage, what the X
  * window shows after the swap (XGetImage: Mesa's resolved picture) and the
  * back read after it. The first colour read and the whole-window copy are
- * also written to OUT.txt.rgba and OUT.txt.resolved.rgba, so a difference
- * can be counted by pixel.
+ * also written to OUT.txt.rgba and OUT.txt.resolved.rgba, and what the X
+ * window shows to OUT.txt.displayed.rgba, so a difference can be counted
+ * by pixel (and the frame tessera writes compared with what Mesa shows).
  * Linked against the faker's libGL (faker_glx_multisample) it runs through
  * tessera; against Mesa's (faker_glx_multisample_native) it gives the
  * answers to match (glx_multisample.sh). */
@@ -100,7 +101,7 @@ static void resolved_window(const char *label, const char *rgba_path)
 
 /* What the X window shows after a swap (Mesa's GLX puts its resolved back
  * buffer there; the faker draws nothing on the X server). */
-static void displayed(Display *dpy, Window win)
+static void displayed(Display *dpy, Window win, const char *rgba_path)
 {
     static unsigned char rgba[W * H * 4];
     XImage *image = XGetImage(dpy, win, 0, 0, W, H, AllPlanes, ZPixmap);
@@ -113,6 +114,7 @@ static void displayed(Display *dpy, Window win)
         }
     XDestroyImage(image);
     fprintf(out, "displayed: %08x blended %d\n", fnv1a(rgba, sizeof rgba), blended(rgba, W * H));
+    write_rgba(rgba_path, rgba, sizeof rgba);
 }
 
 /* A triangle about the centre, turned by `degrees`, at depth z. */
@@ -239,7 +241,9 @@ int main(int argc, char **argv)
     glXSwapBuffers(dpy, win);
     glXWaitGL();
     XSync(dpy, False);
-    displayed(dpy, win);
+    char displayed_path[4096];
+    snprintf(displayed_path, sizeof displayed_path, "%s.displayed.rgba", argv[1]);
+    displayed(dpy, win, displayed_path);
     glReadBuffer(GL_BACK);
     read_window("swapped", NULL);
 
