@@ -258,6 +258,11 @@ recorded_gl_test(extensions extensions_driver.c
 # multi draws, in a display list, the pointer gets and the errors.
 recorded_gl_test(client_arrays client_arrays_driver.c
                  faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall)
+# GL_EXT_texture_integer, offered because its six commands are spec
+# commands: the integer clear colour, integer border colours and the other
+# texture parameters through them, integer images read back.
+recorded_gl_test(texture_integer texture_integer_driver.c
+                 faker_texture_integer_commands_answer_as_osmesa_through_render_pack_and_wall)
 
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap

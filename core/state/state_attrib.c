@@ -156,6 +156,8 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
         COPY(logic_op);
         COPY(color_mask);
         COPY(clear_color);
+        COPY(clear_color_type);
+        COPY(clear_color_int);
         COPY(draw_buffer);
         ENABLES(GL_ALPHA_TEST, GL_BLEND, GL_COLOR_LOGIC_OP, GL_DITHER);
     }

@@ -151,9 +151,20 @@ void diff_colorbuf(dctx *x, int m)
         }
         break;
     case TSR_SM_CLEARCOLOR:
-        if (NEQ(c->clear_color, s->clear_color)) {
+        if (!c->clear_color_type && (s->clear_color_type || NEQ(c->clear_color, s->clear_color))) {
             tsr_call_ClearColor(x->d, c->clear_color[0], c->clear_color[1], c->clear_color[2], c->clear_color[3]);
             SYNC(s->clear_color, c->clear_color);
+            s->clear_color_type = 0;
+            emitted(x);
+        } else if (c->clear_color_type &&
+                   (s->clear_color_type != c->clear_color_type || NEQ(c->clear_color_int, s->clear_color_int))) {
+            const GLuint *v = c->clear_color_int;
+            if (c->clear_color_type == GL_INT)
+                tsr_call_ClearColorIiEXT(x->d, (GLint)v[0], (GLint)v[1], (GLint)v[2], (GLint)v[3]);
+            else
+                tsr_call_ClearColorIuiEXT(x->d, v[0], v[1], v[2], v[3]);
+            SYNC(s->clear_color_int, c->clear_color_int);
+            s->clear_color_type = c->clear_color_type;
             emitted(x);
         }
         break;

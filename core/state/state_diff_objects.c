@@ -42,9 +42,18 @@ static void texparams(dctx *x, GLenum target, st_texparams *s, const st_texparam
     TPI(wrap_s, GL_TEXTURE_WRAP_S);
     TPI(wrap_t, GL_TEXTURE_WRAP_T);
     TPI(wrap_r, GL_TEXTURE_WRAP_R);
-    if (NEQ(s->border_color, c->border_color)) {
+    if (!c->border_type && (s->border_type || NEQ(s->border_color, c->border_color))) {
         tsr_call_TexParameterfv(x->d, target, GL_TEXTURE_BORDER_COLOR, c->border_color);
         SYNC(s->border_color, c->border_color);
+        s->border_type = 0;
+        emitted(x);
+    } else if (c->border_type && (s->border_type != c->border_type || NEQ(s->border_int, c->border_int))) {
+        if (c->border_type == GL_INT)
+            tsr_call_TexParameterIivEXT(x->d, target, GL_TEXTURE_BORDER_COLOR, (const GLint *)c->border_int);
+        else
+            tsr_call_TexParameterIuivEXT(x->d, target, GL_TEXTURE_BORDER_COLOR, c->border_int);
+        SYNC(s->border_int, c->border_int);
+        s->border_type = c->border_type;
         emitted(x);
     }
     TPF(priority, GL_TEXTURE_PRIORITY);

@@ -98,7 +98,35 @@ static void st_ClearColor(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a
     if (!c)
         return;
     st_set4(c->v.clear_color, r, g, b, a);
+    c->v.clear_color_type = 0;
     st_mark(c, TSR_SM_CLEARCOLOR);
+}
+
+/* GL_EXT_texture_integer: the clear colour of integer colour buffers. GL
+ * keeps one clear colour (Mesa a union of floats and integers), so an
+ * integer one replaces glClearColor's. */
+static void clear_color_int(tsr_state_ctx *c, GLenum type, GLuint r, GLuint g, GLuint b, GLuint a)
+{
+    c->v.clear_color_type = type;
+    c->v.clear_color_int[0] = r;
+    c->v.clear_color_int[1] = g;
+    c->v.clear_color_int[2] = b;
+    c->v.clear_color_int[3] = a;
+    st_mark(c, TSR_SM_CLEARCOLOR);
+}
+
+static void st_ClearColorIiEXT(void *self, GLint r, GLint g, GLint b, GLint a)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (c)
+        clear_color_int(c, GL_INT, (GLuint)r, (GLuint)g, (GLuint)b, (GLuint)a);
+}
+
+static void st_ClearColorIuiEXT(void *self, GLuint r, GLuint g, GLuint b, GLuint a)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (c)
+        clear_color_int(c, GL_UNSIGNED_INT, r, g, b, a);
 }
 
 static void st_ClearAccum(void *self, GLfloat r, GLfloat g, GLfloat b, GLfloat a)
@@ -272,6 +300,8 @@ void st_fragment_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(LogicOp);
     SET(ColorMask);
     SET(ClearColor);
+    SET(ClearColorIiEXT);
+    SET(ClearColorIuiEXT);
     SET(ClearAccum);
     SET(DrawBuffer);
     SET(DrawBuffers);

@@ -123,7 +123,11 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
         for (int i = 0; i < 4; i++)
             a->v[i] = v->color_mask[i];
         return 1;
-    case GL_COLOR_CLEAR_VALUE: putf(a, K_NORM, v->clear_color, 4); return 1;
+    case GL_COLOR_CLEAR_VALUE:
+        if (v->clear_color_type)
+            return 0; /* an integer clear colour read as floats: the renderer's affair */
+        putf(a, K_NORM, v->clear_color, 4);
+        return 1;
     case GL_ACCUM_CLEAR_VALUE: putf(a, K_NORM, v->clear_accum, 4); return 1;
     case GL_DRAW_BUFFER:
         if (!v->draw_buffer)
@@ -656,7 +660,11 @@ int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum 
     case GL_TEXTURE_WRAP_S: *out = (GLfloat)p->wrap_s; return 1;
     case GL_TEXTURE_WRAP_T: *out = (GLfloat)p->wrap_t; return 1;
     case GL_TEXTURE_WRAP_R: *out = (GLfloat)p->wrap_r; return 1;
-    case GL_TEXTURE_BORDER_COLOR: memcpy(out, p->border_color, 16); return 1;
+    case GL_TEXTURE_BORDER_COLOR:
+        if (p->border_type)
+            return 0; /* integers read as floats: the renderer's affair */
+        memcpy(out, p->border_color, 16);
+        return 1;
     case GL_TEXTURE_PRIORITY: *out = p->priority; return 1;
     case GL_TEXTURE_MIN_LOD: *out = p->min_lod; return 1;
     case GL_TEXTURE_MAX_LOD: *out = p->max_lod; return 1;
@@ -669,6 +677,18 @@ int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum 
     case GL_DEPTH_TEXTURE_MODE: *out = (GLfloat)p->depth_mode; return 1;
     default: return 0;
     }
+}
+
+int tsr_state_get_tex_parameter_int(const tsr_state_ctx *c, GLenum target, GLenum pname, GLenum type, GLint *out)
+{
+    if (pname != GL_TEXTURE_BORDER_COLOR || (target != GL_TEXTURE_1D && target != GL_TEXTURE_2D &&
+                                             target != GL_TEXTURE_3D && target != GL_TEXTURE_CUBE_MAP))
+        return 0;
+    const st_texobj *o = bound(c, target);
+    if (!o || o->params.border_type != type)
+        return 0;
+    memcpy(out, o->params.border_int, sizeof o->params.border_int);
+    return 1;
 }
 
 int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname, GLint *out)
@@ -778,6 +798,14 @@ static void g_GetTexParameterfv(void *self, GLenum t, GLenum p, GLfloat *o)
 {
     tsr_state_get_tex_parameterfv(self, t, p, o);
 }
+static void g_GetTexParameterIivEXT(void *self, GLenum t, GLenum p, GLint *o)
+{
+    tsr_state_get_tex_parameter_int(self, t, p, GL_INT, o);
+}
+static void g_GetTexParameterIuivEXT(void *self, GLenum t, GLenum p, GLuint *o)
+{
+    tsr_state_get_tex_parameter_int(self, t, p, GL_UNSIGNED_INT, (GLint *)o);
+}
 static void g_GetTexLevelParameteriv(void *self, GLenum t, GLint l, GLenum p, GLint *o)
 {
     tsr_state_get_tex_level_parameteriv(self, t, l, p, o);
@@ -840,6 +868,8 @@ void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(GetTexEnvfv);
     SET(GetTexGenfv);
     SET(GetTexParameterfv);
+    SET(GetTexParameterIivEXT);
+    SET(GetTexParameterIuivEXT);
     SET(GetTexLevelParameteriv);
     SET(GetClipPlane);
     SET(GetPolygonStipple);

@@ -19,6 +19,11 @@
 typedef struct st_texparams {
     GLenum min_filter, mag_filter, wrap_s, wrap_t, wrap_r;
     GLfloat border_color[4], priority, min_lod, max_lod, lod_bias;
+    /* Which call set the border colour last: 0 the float and fixed-point
+     * ones (border_color), GL_INT glTexParameterIivEXT or GL_UNSIGNED_INT
+     * glTexParameterIuivEXT (border_int, the integers' bits). */
+    GLenum border_type;
+    GLuint border_int[4];
     GLint base_level, max_level;
     GLboolean generate_mipmap;
     GLenum compare_mode, compare_func, depth_mode;

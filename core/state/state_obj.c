@@ -211,7 +211,10 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
             return;
         *(pname == GL_TEXTURE_WRAP_S ? &t->wrap_s : pname == GL_TEXTURE_WRAP_T ? &t->wrap_t : &t->wrap_r) = e;
         break;
-    case GL_TEXTURE_BORDER_COLOR: memcpy(t->border_color, p, 16); break;
+    case GL_TEXTURE_BORDER_COLOR:
+        memcpy(t->border_color, p, 16);
+        t->border_type = 0;
+        break;
     case GL_TEXTURE_PRIORITY: t->priority = p[0] < 0 ? 0 : p[0] > 1 ? 1 : p[0]; break;
     case GL_TEXTURE_MIN_LOD: t->min_lod = p[0]; break;
     case GL_TEXTURE_MAX_LOD: t->max_lod = p[0]; break;
@@ -299,6 +302,39 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
     int color = pname == GL_TEXTURE_BORDER_COLOR;
     st_ints_to_floats(f, p, color ? 4 : 1, color);
     tex_param(c, target, pname, f);
+}
+
+/* GL_EXT_texture_integer: a border colour of integers (GL keeps one border
+ * colour, so it replaces the float one); any other pname as
+ * glTexParameteriv, as Mesa does. */
+static void tex_param_int(tsr_state_ctx *c, GLenum type, GLenum target, GLenum pname, const GLint *p)
+{
+    if (pname != GL_TEXTURE_BORDER_COLOR) {
+        st_TexParameteriv(c, target, pname, p);
+        return;
+    }
+    if (target != GL_TEXTURE_1D && target != GL_TEXTURE_2D && target != GL_TEXTURE_3D && target != GL_TEXTURE_CUBE_MAP)
+        return;
+    st_texobj *o = bound_tex(c, target);
+    if (!o)
+        return;
+    o->params.border_type = type;
+    memcpy(o->params.border_int, p, sizeof o->params.border_int);
+    st_tex_changed(c, o);
+}
+
+static void st_TexParameterIivEXT(void *self, GLenum target, GLenum pname, const GLint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (c)
+        tex_param_int(c, GL_INT, target, pname, p);
+}
+
+static void st_TexParameterIuivEXT(void *self, GLenum target, GLenum pname, const GLuint *p)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    if (c)
+        tex_param_int(c, GL_UNSIGNED_INT, target, pname, (const GLint *)p);
 }
 
 /* Where an image call's pixels are: client memory, or with a
@@ -759,6 +795,8 @@ void st_obj_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(TexParameterfv);
     SET(TexParameteri);
     SET(TexParameteriv);
+    SET(TexParameterIivEXT);
+    SET(TexParameterIuivEXT);
     SET(TexImage1D);
     SET(TexImage2D);
     SET(TexImage3D);

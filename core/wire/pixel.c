@@ -133,10 +133,12 @@ static int components(GLenum format)
     case GL_RED_INTEGER:
     case GL_GREEN_INTEGER:
     case GL_BLUE_INTEGER:
-    case GL_ALPHA_INTEGER: return 1;
+    case GL_ALPHA_INTEGER:
+    case GL_LUMINANCE_INTEGER_EXT: return 1;
     case GL_LUMINANCE_ALPHA:
     case GL_RG:
-    case GL_RG_INTEGER: return 2;
+    case GL_RG_INTEGER:
+    case GL_LUMINANCE_ALPHA_INTEGER_EXT: return 2;
     case GL_RGB:
     case GL_BGR:
     case GL_RGB_INTEGER:

@@ -53,6 +53,16 @@ void ts_GetTexParameterfv(void *self, GLenum tg, GLenum p, GLfloat *o)
 {
     ANSWER_OR_ASK(tsr_state_get_tex_parameterfv(t->ctx, tg, p, o), tsr_call_GetTexParameterfv(&s->table, tg, p, o));
 }
+void ts_GetTexParameterIivEXT(void *self, GLenum tg, GLenum p, GLint *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_parameter_int(t->ctx, tg, p, GL_INT, o),
+                  tsr_call_GetTexParameterIivEXT(&s->table, tg, p, o));
+}
+void ts_GetTexParameterIuivEXT(void *self, GLenum tg, GLenum p, GLuint *o)
+{
+    ANSWER_OR_ASK(tsr_state_get_tex_parameter_int(t->ctx, tg, p, GL_UNSIGNED_INT, (GLint *)o),
+                  tsr_call_GetTexParameterIuivEXT(&s->table, tg, p, o));
+}
 void ts_GetTexLevelParameteriv(void *self, GLenum tg, GLint lv, GLenum p, GLint *o)
 {
     ANSWER_OR_ASK(tsr_state_get_tex_level_parameteriv(t->ctx, tg, lv, p, o),

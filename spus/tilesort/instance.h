@@ -219,6 +219,8 @@ void ts_GetMaterialfv(void *self, GLenum f, GLenum p, GLfloat *o);
 void ts_GetTexEnvfv(void *self, GLenum tg, GLenum p, GLfloat *o);
 void ts_GetTexGenfv(void *self, GLenum c, GLenum p, GLfloat *o);
 void ts_GetTexParameterfv(void *self, GLenum tg, GLenum p, GLfloat *o);
+void ts_GetTexParameterIivEXT(void *self, GLenum tg, GLenum p, GLint *o);
+void ts_GetTexParameterIuivEXT(void *self, GLenum tg, GLenum p, GLuint *o);
 void ts_GetTexLevelParameteriv(void *self, GLenum tg, GLint lv, GLenum p, GLint *o);
 void ts_GetClipPlane(void *self, GLenum p, GLdouble *o);
 void ts_GetPolygonStipple(void *self, GLubyte *o);

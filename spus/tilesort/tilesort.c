@@ -513,6 +513,8 @@ static void build_tables(tilesort *t)
     SET(GetTexEnvfv);
     SET(GetTexGenfv);
     SET(GetTexParameterfv);
+    SET(GetTexParameterIivEXT);
+    SET(GetTexParameterIuivEXT);
     SET(GetTexLevelParameteriv);
     SET(GetClipPlane);
     SET(GetPolygonStipple);

@@ -271,13 +271,15 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         }
         break;
     case 7:
-        switch (ri(s, 5)) {
+        switch (ri(s, 7)) {
         case 0: tsr_call_AlphaFunc(d, PICK(s, GL_LESS, GL_GEQUAL, GL_NEVER, GL_ALWAYS), r01(s)); break;
         case 1: tsr_call_LogicOp(d, PICK(s, GL_XOR, GL_COPY, GL_AND, GL_INVERT)); break;
         case 2:
             tsr_call_ColorMask(d, (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2), (GLboolean)ri(s, 2));
             break;
         case 3: tsr_call_ClearColor(d, r01(s), r01(s), r01(s), r01(s)); break;
+        case 4: tsr_call_ClearColorIiEXT(d, ri(s, 1000) - 500, -1, 1 << 30, ri(s, 3)); break;
+        case 5: tsr_call_ClearColorIuiEXT(d, (GLuint)ri(s, 1000), 0xffffffffu, 7, (GLuint)ri(s, 3)); break;
         default: tsr_call_ClearAccum(d, r01(s), -r01(s), r01(s), r01(s)); break;
         }
         break;
@@ -435,7 +437,7 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
     }
     case 22: {
         GLenum t = PICK(s, GL_TEXTURE_2D, GL_TEXTURE_1D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP);
-        int k = ri(s, 6);
+        int k = ri(s, 8);
         switch (k) {
         case 0:
             tsr_call_TexParameteri(d, t, GL_TEXTURE_MIN_FILTER,
@@ -454,6 +456,14 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
                 r01(s) * 4);
             break;
         case 4: tsr_call_TexParameteri(d, t, PICK(s, GL_TEXTURE_BASE_LEVEL, GL_TEXTURE_MAX_LEVEL), ri(s, 5)); break;
+        case 5:
+            tsr_call_TexParameterIivEXT(d, t, GL_TEXTURE_BORDER_COLOR,
+                                        (GLint[]){ri(s, 1000) - 500, -7, 1 << 24, ri(s, 2)});
+            break;
+        case 6:
+            tsr_call_TexParameterIuivEXT(d, t, GL_TEXTURE_BORDER_COLOR,
+                                         (GLuint[]){(GLuint)ri(s, 1000), 0xfffffff0u, 3, (GLuint)ri(s, 2)});
+            break;
         default: {
             /* Not GL_GENERATE_MIPMAP on cube maps: uploading a face of an
              * incomplete cube with it on crashes Mesa 22.3 (measured). */
@@ -795,6 +805,20 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
                 for (int i = 0; i < 4; i++, ++*count)
                     if (tv4[i] != gv4[i])
                         bad += report("GetTexParameterfv", targets[t] * 16 + (GLenum)k, i, tv4[i], gv4[i], &shown);
+            }
+            /* GL_EXT_texture_integer border colours, as GLints either way */
+            static const GLenum int_types[] = {GL_INT, GL_UNSIGNED_INT};
+            for (int k = 0; k < 2; k++) {
+                GLint ti4[4] = {0}, gi4[4] = {0};
+                if (!tsr_state_get_tex_parameter_int(c, targets[t], GL_TEXTURE_BORDER_COLOR, int_types[k], ti4))
+                    continue;
+                if (int_types[k] == GL_INT)
+                    e->gl.GetTexParameterIivEXT(targets[t], GL_TEXTURE_BORDER_COLOR, gi4);
+                else
+                    e->gl.GetTexParameterIuivEXT(targets[t], GL_TEXTURE_BORDER_COLOR, (GLuint *)gi4);
+                for (int i = 0; i < 4; i++, ++*count)
+                    if (ti4[i] != gi4[i])
+                        bad += report("GetTexParameterI*vEXT", targets[t] * 16 + (GLenum)k, i, ti4[i], gi4[i], &shown);
             }
             GLenum face = targets[t] == GL_TEXTURE_CUBE_MAP ? GL_TEXTURE_CUBE_MAP_POSITIVE_X : targets[t];
             for (GLint level = 0; level < 3; level++) {

@@ -284,6 +284,12 @@ typedef struct tsr_state_values {
     GLenum logic_op;
     GLboolean color_mask[4];
     GLfloat clear_color[4], clear_accum[4];
+    /* Which call set the clear colour last: 0 glClearColor (clear_color),
+     * GL_INT glClearColorIiEXT or GL_UNSIGNED_INT glClearColorIuiEXT
+     * (clear_color_int, the integers' bits). GL keeps one clear colour;
+     * the diff sends it with the call that set it. */
+    GLenum clear_color_type;
+    GLuint clear_color_int[4];
     GLenum draw_buffer, read_buffer;
     /* depth */
     GLenum depth_func;
@@ -481,6 +487,11 @@ TSR_API int tsr_state_get_materialfv(const tsr_state_ctx *c, GLenum face, GLenum
 TSR_API int tsr_state_get_tex_envfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out);
 TSR_API int tsr_state_get_tex_genfv(const tsr_state_ctx *c, GLenum coord, GLenum pname, GLfloat *out);
 TSR_API int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out);
+/* glGetTexParameterIivEXT (type GL_INT) or glGetTexParameterIuivEXT
+ * (GL_UNSIGNED_INT, `out` then holds GLuints): the border colour when the
+ * call of the same type set it; anything else is the renderer's to answer. */
+TSR_API int tsr_state_get_tex_parameter_int(const tsr_state_ctx *c, GLenum target, GLenum pname, GLenum type,
+                                            GLint *out);
 TSR_API int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname,
                                                 GLint *out);
 TSR_API int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdouble *out);
