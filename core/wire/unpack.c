@@ -261,6 +261,8 @@ int tsr_unpacker_set_limits(tsr_unpacker *u, const tsr_unpack_limits *limits, ts
     return TSR_OK;
 }
 
+int tsr_unpacker_decoding(void) { return decoding != NULL; }
+
 int tsr_unpacker_refuse(const char *fmt, ...)
 {
     tsr_unpacker *u = decoding;

@@ -9,6 +9,8 @@
  * is asked, so lists and attribute stacks are followed). */
 #include "instance.h"
 
+#include "tessera/dev/unpack.h"
+
 /* The context whose budget a command is charged to. */
 static GLint budget_owner(const render_spu *r) { return r->shared ? r->contexts[r->current].id : 0; }
 
@@ -36,12 +38,31 @@ static GLenum binding_of(GLenum target)
  * is asked of GL, so display lists and attribute stacks that bound it are
  * followed. Inside a list being compiled nothing is allocated yet: only
  * an image larger than the whole budget is refused there. */
+/* Whether GL refuses an image of this size itself (GL_INVALID_VALUE),
+ * allocating nothing: a side over its maximum, or a negative one. */
+static bool size_refused_by_gl(render_spu *r, GLenum target, GLsizei width, GLsizei height, GLsizei depth)
+{
+    GLenum max_pname = target == GL_TEXTURE_3D                             ? GL_MAX_3D_TEXTURE_SIZE
+                       : target == GL_TEXTURE_RECTANGLE                    ? GL_MAX_RECTANGLE_TEXTURE_SIZE
+                       : binding_of(target) == GL_TEXTURE_BINDING_CUBE_MAP ? GL_MAX_CUBE_MAP_TEXTURE_SIZE
+                                                                           : GL_MAX_TEXTURE_SIZE;
+    GLint max = 0;
+    r->gl.GetIntegerv(max_pname, &max);
+    return width < 0 || height < 0 || depth < 0 ||
+           (max > 0 && (width > max + 2 || height > max + 2 || depth > max + 2));
+}
+
 static bool texture_admit(render_spu *r, const char *command, GLenum target, GLint level, GLint internalformat,
                           GLsizei width, GLsizei height, GLsizei depth, GLint border)
 {
+    /* The budget protects a node from the streams it receives; in the
+     * application's own process the memory is the program's, and it gets
+     * what its GL gives it, as natively (piglit's max-texture-size). */
+    if (!tsr_unpacker_decoding())
+        return true;
     GLenum binding = binding_of(target);
-    if (!binding || level < 0 || border < 0 || border > 1)
-        return true; /* no storage, or GL's own error */
+    if (!binding || level < 0 || border < 0 || border > 1 || size_refused_by_gl(r, target, width, height, depth))
+        return true; /* no storage, or GL's own error (it allocates nothing) */
     int64_t b2 = 2 * (int64_t)border;
     uint64_t bytes = render_tex_image_bytes(internalformat, width + b2, height + (height > 1 || border ? b2 : 0),
                                             depth + (depth > 1 || border ? b2 : 0));

@@ -640,6 +640,12 @@ static void sized_gets(void)
     memset(back, 0x77, sizeof back);
     glGetCompressedTexImage(GL_TEXTURE_2D, 0, back);
     fprintf(out, "GetCompressedTexImage of an uncompressed level: %02x error 0x%x\n", back[0], glGetError());
+    /* images GL refuses itself, beyond any texture budget of a node: its
+     * error, never a refusal that drops the client */
+    glCopyTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 2, 2, 1 << 28, 1 << 28, 0);
+    fprintf(out, "CopyTexImage2D 2^28 x 2^28: error 0x%x\n", glGetError());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 1 << 20, 1 << 20, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    fprintf(out, "TexImage2D 2^20 x 2^20: error 0x%x\n", glGetError());
     glBindTexture(GL_TEXTURE_2D, 0);
     glDeleteTextures(1, &tex);
 }

@@ -146,6 +146,11 @@ TSR_API void tsr_unpack_limits_defaults(tsr_unpack_limits *limits);
  * process) nothing happens and 0 is returned, and the SPU logs the line
  * itself. Either way the SPU skips the command. */
 TSR_API int tsr_unpacker_refuse(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* 1 while this thread is decoding a received stream (a node's client, a
+ * replayed capture), where an SPU's budgets protect the node from its
+ * senders; 0 in the application's own process, whose memory is the
+ * program's own. */
+TSR_API int tsr_unpacker_decoding(void);
 
 /* Checks a buffer's header: returns its total size, or 0 when `size` bytes
  * do not start a valid header (`err` filled). */
