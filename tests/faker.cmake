@@ -55,12 +55,12 @@ set_tests_properties(
 
 # EGL with no X server: linked against the faker's libraries themselves.
 # Its stderr (the faker's warnings, the harness's reports) is kept in
-# egl.err and shown whether it passed or not; exactly one glGetMapiv
+# egl.err and shown whether it passed or not; exactly one glGetMinmaxParameteriv
 # warning must be in it.
 add_executable(faker_egl_surfaceless ${FAKER_TEST_DIR}/egl_surfaceless_test.c)
 target_link_libraries(faker_egl_surfaceless PRIVATE tessera_faker_egl tessera_faker_gl)
 add_test(NAME faker_egl_surfaceless_and_pbuffer_draw_with_no_x_server_and_refuse_gles
-         COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err'; s=$?; cat '${FAKER_OUT}/egl.err'; [ $s -eq 0 ] || exit 1; n=$(grep -c 'glGetMapiv is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glGetMapiv warnings: $n\"; [ $n -eq 1 ]")
+         COMMAND sh -c "env -u DISPLAY TESSERA_CHAIN=render '$<TARGET_FILE:faker_egl_surfaceless>' 2>'${FAKER_OUT}/egl.err'; s=$?; cat '${FAKER_OUT}/egl.err'; [ $s -eq 0 ] || exit 1; n=$(grep -c 'glGetMinmaxParameteriv is not supported by tessera' '${FAKER_OUT}/egl.err'); echo \"glGetMinmaxParameteriv warnings: $n\"; [ $n -eq 1 ]")
 
 # A forked child's exit() leaves the parent's chain alone (faker/core.c
 # chain_at_exit): the capture holds the parent's 6 glClear, not the 2 before

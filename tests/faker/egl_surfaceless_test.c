@@ -4,8 +4,9 @@
  * OpenGL ES is refused (eglBindAPI: EGL_BAD_PARAMETER; ES configs: none),
  * an OpenGL context draws into a pbuffer and surfaceless, glGetString
  * names tessera and 2.1, glReadPixels reads back what glClear drew
- * through the chain's render SPU, and glGetMapiv (not in the spec) is an
- * entry that writes nothing and warns once for two calls. */
+ * through the chain's render SPU, and glGetMinmaxParameteriv (the imaging
+ * subset, not in the spec) is an entry that writes nothing and warns once
+ * for two calls. */
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/gl.h>
@@ -90,13 +91,14 @@ int main(void)
     CHECK(eglSwapBuffers(dpy, pb), EGL_SAYS);
     /* A registry function the spec lacks: an entry that warns once (the
      * test's command counts the lines) and writes nothing. */
-    void (*get_map)(GLenum, GLenum, GLint *) = (void (*)(GLenum, GLenum, GLint *))eglGetProcAddress("glGetMapiv");
-    CHECK(get_map != NULL, EGL_SAYS);
-    if (get_map) {
-        GLint order = -7;
-        get_map(GL_MAP1_VERTEX_3, GL_ORDER, &order);
-        get_map(GL_MAP1_VERTEX_3, GL_ORDER, &order);
-        CHECK(order == -7, EGL_SAYS);
+    void (*get_minmax)(GLenum, GLenum, GLint *) =
+        (void (*)(GLenum, GLenum, GLint *))eglGetProcAddress("glGetMinmaxParameteriv");
+    CHECK(get_minmax != NULL, EGL_SAYS);
+    if (get_minmax) {
+        GLint format = -7;
+        get_minmax(GL_MINMAX, GL_MINMAX_FORMAT, &format);
+        get_minmax(GL_MINMAX, GL_MINMAX_FORMAT, &format);
+        CHECK(format == -7, EGL_SAYS);
     }
     CHECK(eglQueryContext(dpy, ctx, EGL_CONTEXT_CLIENT_TYPE, &v) && v == EGL_OPENGL_API, EGL_SAYS);
 
