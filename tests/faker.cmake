@@ -229,8 +229,9 @@ endif()
 # recorded_gl_test(NAME DRIVER TEST [DEFINITIONS...]): a driver that holds
 # tessera's answers next to OSMesa's (tests/faker/recorded_gl.h), built
 # twice, faker_NAME through the faker and faker_NAME_native on OSMesa, and
-# the test gl21_commands.sh runs with them: [render], [pack -> node render]
-# and a 2x2 tilesort wall must write what OSMesa writes.
+# the test gl21_commands.sh runs with them: [render], [capture ! render],
+# [pack -> node render] and a 2x2 tilesort wall must write what OSMesa
+# writes, and the capture replayed into render must answer as recorded.
 function(recorded_gl_test name driver test)
   add_executable(faker_${name} ${FAKER_TEST_DIR}/${driver} ${FAKER_TEST_DIR}/recorded_gl.c)
   target_compile_definitions(faker_${name} PRIVATE ${ARGN})

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # tests/faker/gl21_commands.sh — the GL 1.0-2.1 commands added to complete
 # the spec (gl21_commands_driver.c), or the offered extensions without
-# commands (extensions_driver.c), through [render], [pack -> tessera node
-# render] and a 2x2 tilesort wall of four `tessera node` render servers:
-# every labelled line (pixels drawn, answers of gets) must equal what
-# OSMesa gives for the same calls (the driver built with RECORDED_GL_NATIVE).
+# commands (extensions_driver.c), through [render], [capture ! render],
+# [pack -> tessera node render] and a 2x2 tilesort wall of four `tessera
+# node` render servers: every labelled line (pixels drawn, answers of gets)
+# must equal what OSMesa gives for the same calls (the driver built with
+# RECORDED_GL_NATIVE), and the capture replayed into render must give
+# every recorded answer again (tessera replay --exact-answers).
 # usage: gl21_commands.sh PROGRAM NATIVE TESSERA OUT_DIR
 set -u
 prog=$1 native=$2 TESSERA=$3 out=$4
@@ -23,6 +25,9 @@ run() { # NAME CHAIN
   TESSERA_CHAIN=$2 timeout 60 "$prog" "$out/$1.txt" 2>"$out/$1.err" || { fail "$1: exit $?"; cat "$out/$1.err" >&2; }
 }
 run render "render output="
+run capture "capture file=$out/capture.tsrcap ! render output="
+timeout 120 "$TESSERA" replay "$out/capture.tsrcap" --exact-answers --chain "render output=" >"$out/replay.out" 2>&1 ||
+  { fail "replay of the capture: exit $?"; cat "$out/replay.out" >&2; }
 start_node "$out/node" --listen "unix:$out/node.sock" --clients 1 --timeout-ms 30000 --chain "render output=" ||
   fail "no node"
 PIDS=$NODE_PID
@@ -50,5 +55,6 @@ kill_all
 for r in "${runs[@]}"; do
   diff -u "$out/native.txt" "$out/$r.txt" >"$out/$r.diff" || { fail "$r differs from OSMesa:"; cat "$out/$r.diff" >&2; }
 done
-[ $status -eq 0 ] && echo "OK: ${#runs[@]} runs give OSMesa's pixels and answers ($(wc -l <"$out/native.txt") lines)"
+[ $status -eq 0 ] && echo "OK: ${#runs[@]} runs give OSMesa's pixels and answers ($(wc -l <"$out/native.txt") lines)," \
+  "the capture's replay every recorded answer: $(tail -n 1 "$out/replay.out")"
 exit $status
