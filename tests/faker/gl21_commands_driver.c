@@ -493,7 +493,7 @@ static void occlusion(void)
  * order, the pixel map's size, the uniform's type, the compressed size):
  * each answer is printed with the buffer's guard values after it, so a
  * write past what GL writes shows as a difference from OSMesa. */
-#define GUARDED 20
+#define GUARDED 28 /* the largest answer (a 3x2 map of RGBA: 24 values) and 4 guards */
 static void guarded(const char *label, const GLfloat *v)
 {
     fprintf(out, "%s:", label);
@@ -650,6 +650,16 @@ static void sized_gets(void)
     glDeleteTextures(1, &tex);
 }
 
+/* glGetString's errors are the renderer GL's, as natively: an unknown
+ * name answers NULL with GL_INVALID_ENUM. */
+static void string_errors(void)
+{
+    const GLubyte *s = glGetString(0x1234);
+    fprintf(out, "GetString(0x1234): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
+    s = glGetString(GL_VENDOR);
+    fprintf(out, "GetString(GL_VENDOR): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
+}
+
 int main(int argc, char **argv)
 {
     out = recorded_gl_start(argc, argv);
@@ -662,6 +672,7 @@ int main(int argc, char **argv)
     mapped_buffer();
     array_elements();
     sized_gets();
+    string_errors();
     recorded_gl_end(out, argv[1]);
     printf("gl21 commands: written to %s\n", argv[1]);
     return 0;
