@@ -115,7 +115,7 @@ static void binaryswap_destroy(void *self)
         return;
     binaryswap_roi_destroy(b->roi);
     binaryswap_release_held(b);
-    tsr_display_stream_close(&b->display); /* sends what is left, waits for the display to run it */
+    display_stream_close(&b->display); /* sends what is left, waits for the display to run it */
     binaryswap_log_transport_stats(b);
     free(b->local_building);
     for (int i = 0; i < b->nranks; i++)

@@ -1,7 +1,7 @@
 /* spus/binaryswap/display.c — the final piece drawn on the display node:
  * DrawPixels of the piece's active pixels, scissored clears of its
  * background, over the display stream readback uses too
- * (tessera/dev/display_stream.h). Owns nothing beyond its scratch images.
+ * (spus/display_stream/display_stream.h). Owns nothing beyond its scratch images.
  * Never sends the display anything but the window, the final piece, the
  * frame's barriers and (rank 0) the swap. */
 #include <inttypes.h>
@@ -15,19 +15,19 @@ static void display_failed(void *ctx, const tsr_error *err) { binaryswap_fatal(c
 
 void binaryswap_display_init(binaryswap_spu *b, tsr_dispatch *table, const tsr_dispatch *next)
 {
-    b->display = (tsr_display_stream){.name = b->name,
-                                      .options = b->options,
-                                      .address_option = "display",
-                                      .window = b->window,
-                                      .barrier = BINARYSWAP_DISPLAY_BARRIER,
-                                      .barrier_clients = (unsigned)b->nranks,
-                                      .child = next,
-                                      .on_failure = display_failed,
-                                      .ctx = b};
-    tsr_display_stream_follow_window(&b->display, table);
+    b->display = (display_stream){.name = b->name,
+                                  .options = b->options,
+                                  .address_option = "display",
+                                  .window = b->window,
+                                  .barrier = BINARYSWAP_DISPLAY_BARRIER,
+                                  .barrier_clients = (unsigned)b->nranks,
+                                  .child = next,
+                                  .on_failure = display_failed,
+                                  .ctx = b};
+    display_stream_follow_window(&b->display, table);
 }
 
-const tsr_dispatch *binaryswap_display(binaryswap_spu *b) { return tsr_display_stream_get(&b->display); }
+const tsr_dispatch *binaryswap_display(binaryswap_spu *b) { return display_stream_get(&b->display); }
 
 /* The pixels [first, last] of a window `W` wide as at most three
  * rectangles {x, y, w, h}: a partial first row, whole rows, a partial last

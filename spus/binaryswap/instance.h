@@ -4,7 +4,7 @@
  * transport the strategies run over), layer.c (read-back of this peer's
  * layer), compositing.c (the frame hook: plan and run the strategy),
  * display.c (the final piece drawn on the display, over the display stream
- * readback shares, tessera/dev/display_stream.h),
+ * readback shares, spus/display_stream/display_stream.h),
  * stats.c (the stats= lines, transport statistics). Private to the SPU.
  * Owns the instance struct; never state outside it. */
 #ifndef TSR_SPUS_BINARYSWAP_INSTANCE_H
@@ -14,7 +14,7 @@
 #include <stdint.h>
 
 #include "bands.h"
-#include "tessera/dev/display_stream.h"
+#include "display_stream.h"
 #include "tessera/dev/net.h"
 #include "roi.h"
 #include "stats.h"
@@ -61,7 +61,7 @@ typedef struct binaryswap_spu {
     bool meshed;     /* every peer linked and its HELLO read: a peer's last word may follow */
     bool composited; /* a frame's messages went out and their releases are not yet awaited */
 
-    tsr_display_stream display; /* to the display node (readback's too) */
+    display_stream display; /* to the display node (readback's too) */
 
     int kind, k;                 /* strategy asked for (tsr_composite_kind) and radix */
     tsr_composite_codec codec;   /* of image messages */

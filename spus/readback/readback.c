@@ -22,7 +22,7 @@
  * no swap: the display's node would drop them anyway (only one client's
  * swaps end frames), but sending none keeps which one counts fixed.
  *
- * The stream to the display (tessera/dev/display_stream.h, shared with binaryswap) is
+ * The stream to the display (spus/display_stream, shared with binaryswap) is
  * created at the first window command, image or swap, not with the
  * instance. Failing to reach the display follows on_error,
  * like a display that fails later (pack's policy, tessera/dev/client.h): exit
@@ -39,7 +39,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "tessera/dev/display_stream.h"
+#include "display_stream.h"
 #include "tessera/dev/client.h"
 #include "tessera/dev/render.h"
 #include "tessera/log.h"
@@ -53,7 +53,7 @@ typedef struct readback_spu {
     const tsr_dispatch *child;        /* the chain's child */
     int window, rank;
     unsigned barrier;
-    tsr_display_stream display; /* the stream to the display */
+    display_stream display; /* the stream to the display */
 } readback_spu;
 
 /* One tile of the frame render ends (tsr_render_tile_fn) to the display. */
@@ -61,7 +61,7 @@ static void readback_tile(void *ctx, size_t tile, int x, int y, int width, int h
 {
     (void)tile;
     readback_spu *rb = ctx;
-    const tsr_dispatch *d = tsr_display_stream_get(&rb->display);
+    const tsr_dispatch *d = display_stream_get(&rb->display);
     if (!d)
         return;
     tsr_call_WindowPos2i(d, x, y);
@@ -79,7 +79,7 @@ static void readback_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
         return;
     }
     rb->render_api->end_frame(rb->render, readback_tile, rb);
-    const tsr_dispatch *d = tsr_display_stream_get(&rb->display);
+    const tsr_dispatch *d = display_stream_get(&rb->display);
     if (d) {
         tsr_call_BarrierExecTSR(d, rb->barrier);
         if (rb->rank == 0)
@@ -96,7 +96,7 @@ static void readback_destroy(void *self)
         return;
     /* No BarrierDestroyTSR: another tile server may not have reached the
      * frame's last barrier yet; the display forgets it when it ends. */
-    tsr_display_stream_close(&rb->display); /* sends what is left, waits for the display to run it */
+    display_stream_close(&rb->display); /* sends what is left, waits for the display to run it */
     free(rb);
 }
 
@@ -118,14 +118,14 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
     rb->window = (int)tsr_options_int(init->options, "window");
     rb->rank = (int)tsr_options_int(init->options, "rank");
     rb->barrier = (unsigned)tsr_options_int(init->options, "barrier");
-    rb->display = (tsr_display_stream){.name = rb->name,
-                                       .options = init->options,
-                                       .address_option = "server",
-                                       .window = rb->window,
-                                       .barrier = rb->barrier,
-                                       .barrier_clients = (unsigned)tsr_options_int(init->options, "peers"),
-                                       .child = init->super,
-                                       .on_failure = tsr_display_stream_on_error};
+    rb->display = (display_stream){.name = rb->name,
+                                   .options = init->options,
+                                   .address_option = "server",
+                                   .window = rb->window,
+                                   .barrier = rb->barrier,
+                                   .barrier_clients = (unsigned)tsr_options_int(init->options, "peers"),
+                                   .child = init->super,
+                                   .on_failure = display_stream_on_error};
     rb->display.ctx = &rb->display;
     const char *server = tsr_options_string(init->options, "server");
     if (!server || !server[0]) {
@@ -136,7 +136,7 @@ static void *readback_create(const tsr_spu_init *init, tsr_error *err)
     }
     /* The window commands reach the display first, then render; the
      * rest of the stream is render's (the slots left empty). */
-    tsr_display_stream_follow_window(&rb->display, init->table);
+    display_stream_follow_window(&rb->display, init->table);
     tsr_set_SwapBuffersTSR(init->table, readback_SwapBuffersTSR, rb);
     return rb;
 }

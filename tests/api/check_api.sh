@@ -38,7 +38,7 @@ fail() {
 lib_of_header() {
     case $1 in
     tessera/graph.h) echo tessera_graph ;;
-    tessera/dev/client.h | tessera/dev/display_stream.h) echo tessera_client ;;
+    tessera/dev/client.h) echo tessera_client ;;
     tessera/dev/net.h) echo tessera_net ;;
     tessera/glapi.h | tessera/gltsr_gen.h) echo tessera_gl ;;
     *) echo tessera ;;

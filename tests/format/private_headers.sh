@@ -22,6 +22,7 @@ declare -A allowed=(
   [mothership/control.h]="the mothership's control messages, spoken by the tessera program's node side (cli/)"
   [mothership/util.h]="the mothership's static library helpers the tessera program shares (cli/)"
   [server/node.h]="the server node's static library, linked into the tessera program and the mothership"
+  [spus/display_stream/display_stream.h]="the display stream's static library, linked by readback and binaryswap (it names the pack SPU, so it cannot live in libtessera_client)"
   [spus/capture/capfile.h]="the capture file format's static library, read by tessera replay (cli/)"
   [spus/binaryswap/strategies/strategy.h]="bench/ measures binaryswap's compositing strategies"
   [spus/binaryswap/synthetic.h]="bench/ composites binaryswap's synthetic layers"

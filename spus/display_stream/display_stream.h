@@ -1,8 +1,9 @@
-/* tessera/dev/display_stream.h — the stream on which an SPU that renders
- * and reads back (readback: its tile images; binaryswap: its final piece;
- * a third party's sort-last SPU alike) sends its frames to a display
- * node, the one display path they share. Library libtessera_client
- * (pkg-config tessera), next to the stream client it is made of. The display is an ordinary shared-mode
+/* spus/display_stream/display_stream.h — the stream on which an SPU that
+ * renders and reads back (readback: its tile images; binaryswap: its final
+ * piece) sends its frames to a display node, the one display path both
+ * share: the internal static library tessera_display_stream, on the SPUs'
+ * side because it builds a `pack` chain by name, which the core and
+ * libtessera_client never do (test spu_core_knows_no_spu_by_name). The display is an ordinary shared-mode
  * `tessera node` (server/node.h); the stream is a `pack` chain of its own.
  *
  * Owns: the chain, created at first use (the first window command of the
@@ -14,16 +15,15 @@
  * caller did not call besides that barrier, or decides what a failure
  * means (the caller's on_failure does: readback follows on_error, a
  * binaryswap peer ends). */
-#ifndef TESSERA_DEV_DISPLAY_STREAM_H
-#define TESSERA_DEV_DISPLAY_STREAM_H
+#ifndef TSR_SPUS_DISPLAY_STREAM_H
+#define TSR_SPUS_DISPLAY_STREAM_H
 
 #include <stdbool.h>
 
 #include "tessera/chain.h"
-#include "tessera/export.h"
 #include "tessera/spu.h"
 
-typedef struct tsr_display_stream {
+typedef struct display_stream {
     const char *name;           /* the instance's, first word of its lines */
     const tsr_options *options; /* address_option and TSR_NODE_CLIENT_OPTION_SPECS */
     const char *address_option; /* the option naming the display ("server", "display") */
@@ -37,18 +37,18 @@ typedef struct tsr_display_stream {
     tsr_chain *chain;
     const tsr_dispatch *head;
     bool failed;
-} tsr_display_stream;
+} display_stream;
 
 /* The display's table, made at the first call; NULL once it failed. */
-TSR_API const tsr_dispatch *tsr_display_stream_get(tsr_display_stream *s);
+const tsr_dispatch *display_stream_get(display_stream *s);
 /* Points `down`'s WindowCreateTSR and WindowSizeTSR at the stream: the
  * followed window's go to the display first, every one to s->child. */
-TSR_API void tsr_display_stream_follow_window(tsr_display_stream *s, tsr_dispatch *down);
+void display_stream_follow_window(display_stream *s, tsr_dispatch *down);
 /* Sends what is left and waits for the display to run it. */
-TSR_API void tsr_display_stream_close(tsr_display_stream *s);
+void display_stream_close(display_stream *s);
 /* on_failure for on_error (TSR_NODE_CLIENT_OPTION_SPECS): exit ends the
  * process after the line (tsr_stream_client_exit), drop logs that the
  * frames go nowhere and goes on. */
-TSR_API void tsr_display_stream_on_error(void *ctx, const tsr_error *err);
+void display_stream_on_error(void *ctx, const tsr_error *err);
 
 #endif

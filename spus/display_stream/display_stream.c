@@ -1,7 +1,7 @@
-/* client/display_stream.c — the display stream of
- * tessera/dev/display_stream.h: the pack chain to the display node, the frame barrier,
+/* spus/display_stream/display_stream.c — the display stream of
+ * display_stream.h: the pack chain to the display node, the frame barrier,
  * and the window commands of the followed window. */
-#include "tessera/dev/display_stream.h"
+#include "display_stream.h"
 
 #include <inttypes.h>
 #include <stdio.h>
@@ -14,7 +14,7 @@
 static const char *const pack_keys[] = {"server", "token", "buffer_size", "timeout_ms", "on_error"};
 #define PACK_KEYS (sizeof pack_keys / sizeof pack_keys[0])
 
-const tsr_dispatch *tsr_display_stream_get(tsr_display_stream *s)
+const tsr_dispatch *display_stream_get(display_stream *s)
 {
     if (s->head || s->failed)
         return s->head;
@@ -42,8 +42,8 @@ const tsr_dispatch *tsr_display_stream_get(tsr_display_stream *s)
 
 static void stream_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsizei height)
 {
-    tsr_display_stream *s = self;
-    const tsr_dispatch *d = window == s->window ? tsr_display_stream_get(s) : NULL;
+    display_stream *s = self;
+    const tsr_dispatch *d = window == s->window ? display_stream_get(s) : NULL;
     if (d)
         tsr_call_WindowCreateTSR(d, window, width, height);
     tsr_call_WindowCreateTSR(s->child, window, width, height);
@@ -51,29 +51,29 @@ static void stream_WindowCreateTSR(void *self, GLint window, GLsizei width, GLsi
 
 static void stream_WindowSizeTSR(void *self, GLint window, GLsizei width, GLsizei height)
 {
-    tsr_display_stream *s = self;
-    const tsr_dispatch *d = window == s->window ? tsr_display_stream_get(s) : NULL;
+    display_stream *s = self;
+    const tsr_dispatch *d = window == s->window ? display_stream_get(s) : NULL;
     if (d)
         tsr_call_WindowSizeTSR(d, window, width, height);
     tsr_call_WindowSizeTSR(s->child, window, width, height);
 }
 
-void tsr_display_stream_follow_window(tsr_display_stream *s, tsr_dispatch *down)
+void display_stream_follow_window(display_stream *s, tsr_dispatch *down)
 {
     tsr_set_WindowCreateTSR(down, stream_WindowCreateTSR, s);
     tsr_set_WindowSizeTSR(down, stream_WindowSizeTSR, s);
 }
 
-void tsr_display_stream_close(tsr_display_stream *s)
+void display_stream_close(display_stream *s)
 {
     tsr_chain_destroy(s->chain);
     s->chain = NULL;
     s->head = NULL;
 }
 
-void tsr_display_stream_on_error(void *ctx, const tsr_error *err)
+void display_stream_on_error(void *ctx, const tsr_error *err)
 {
-    tsr_display_stream *s = ctx;
+    display_stream *s = ctx;
     tsr_log(TSR_LOG_ERROR, "%s: %s", s->name, err->message);
     if (!strcmp(tsr_options_string(s->options, "on_error"), "exit")) {
         /* The failure policy of a display that fails later (pack's,
