@@ -19,9 +19,9 @@ get_property(TILESORT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
 # program_scenes (what unmodified programs do that the examples do not:
 # glMaterial inside glBegin, buffers bound in turn around each draw, ...),
 # read_pixels (glReadPixels of rectangles meeting only some tiles, piglit's
-# probes) and select_feedback (selection and feedback passes, records
-# printed).
-foreach(scenes balance_scenes program_scenes read_pixels select_feedback)
+# probes), select_feedback (selection and feedback passes, records
+# printed) and gl_errors (GL errors and invalid queries, answers printed).
+foreach(scenes balance_scenes program_scenes read_pixels select_feedback gl_errors)
   add_executable(${scenes}-native tilesort/${scenes}_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
   target_compile_definitions(${scenes}-native PRIVATE EXAPP_NATIVE)
   target_include_directories(${scenes}-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
@@ -109,6 +109,15 @@ foreach(config 2x2 multi)
     COMMAND ${TILESORT_SH} records ${TILESORT_BIN} ${TILESORT_OUT}/select-feedback-${config} select_feedback 2 ${config}
             batch_bytes=4096)
 endforeach()
+# GL errors and invalid queries (tests/tilesort/gl_errors_driver.c): every
+# glGetError answer, and what gets of unknown pnames write, equal OSMesa's
+# through render, pack -> node -> render and a 2x2 wall, whose glGetError
+# takes the errors made in the client (state calls the tracker refuses,
+# glBegin/glEnd/glNewList GL refuses) and every server's (docs/walls.md);
+# before, the wall answered GL_NO_ERROR for them and pack for setters of
+# an unknown pname.
+add_test(NAME tilesort_gl_errors_answer_as_osmesa_render_pack_wall_2x2
+  COMMAND ${TILESORT_SH} records ${TILESORT_BIN} ${TILESORT_OUT}/gl-errors-2x2 gl_errors 2 2x2)
 # Large array draws are sorted primitive by primitive: on a 4x4 wall the
 # isosurface's overlap stays near 1 (broadcast: 16); measured 1.038 with
 # filled triangles boxed by half a pixel, 1.067 when they were boxed by

@@ -203,8 +203,10 @@ static void st_PushAttrib(void *self, GLbitfield mask)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (c->attrib_depth >= TSR_STATE_ATTRIB_DEPTH)
+    if (c->attrib_depth >= TSR_STATE_ATTRIB_DEPTH) {
+        st_error(c, GL_STACK_OVERFLOW);
         return;
+    }
     st_attrib_entry *e = &c->attrib_stack[c->attrib_depth++];
     e->mask = mask;
     e->v = c->v;
@@ -222,8 +224,10 @@ static void st_PopAttrib(void *self)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (!c->attrib_depth)
+    if (!c->attrib_depth) {
+        st_error(c, GL_STACK_UNDERFLOW);
         return;
+    }
     st_attrib_entry *e = &c->attrib_stack[--c->attrib_depth];
     attrib_restore(&c->v, &e->v, e->mask);
     if (e->mask & GL_TEXTURE_BIT)

@@ -12,19 +12,29 @@
 #include "state_internal.h"
 
 /* --- pixel store --------------------------------------------------------------------- */
-static void st_PixelStorei(void *self, GLenum pname, GLint v)
+/* GL's errors first: an unknown pname, an alignment other than 1, 2, 4 or
+ * 8, a length or skip that rounds below 0 (piglit's roundmode-pixelstore);
+ * the swap and LSB flags take any value. */
+static void pixel_store(tsr_state_ctx *c, GLenum pname, double v)
 {
-    tsr_state_ctx *c = self;
-    if (tsr_pixel_store_set(&c->v.pixel_store, pname, v))
+    if (!tsr_pixel_store_set(&c->v.pixel_store, pname, v)) { /* a value GL refuses is left alone */
+        st_error(c, GL_INVALID_ENUM);
+        return;
+    }
+    int flag = pname == GL_PACK_SWAP_BYTES || pname == GL_UNPACK_SWAP_BYTES || pname == GL_PACK_LSB_FIRST ||
+               pname == GL_UNPACK_LSB_FIRST;
+    double rounded = v < 0 ? v - 0.5 : v + 0.5;
+    int alignment = pname == GL_PACK_ALIGNMENT || pname == GL_UNPACK_ALIGNMENT;
+    int aligned = rounded >= 1 && rounded < 9 && ((int)rounded & ((int)rounded - 1)) == 0;
+    if (!flag && (alignment ? !aligned : rounded <= -1))
+        st_error(c, GL_INVALID_VALUE);
+    else
         st_mark(c, TSR_SM_PIXELSTORE);
 }
 
-static void st_PixelStoref(void *self, GLenum pname, GLfloat v)
-{
-    tsr_state_ctx *c = self;
-    if (tsr_pixel_store_set(&c->v.pixel_store, pname, v))
-        st_mark(c, TSR_SM_PIXELSTORE);
-}
+static void st_PixelStorei(void *self, GLenum pname, GLint v) { pixel_store(self, pname, v); }
+
+static void st_PixelStoref(void *self, GLenum pname, GLfloat v) { pixel_store(self, pname, v); }
 
 /* --- client attribute stack ------------------------------------------------------ */
 static void st_PushClientAttrib(void *self, GLbitfield mask)

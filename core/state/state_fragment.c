@@ -173,6 +173,10 @@ static void st_DepthFunc(void *self, GLenum f)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
+    if (f < GL_NEVER || f > GL_ALWAYS) {
+        st_error(c, GL_INVALID_ENUM);
+        return;
+    }
     c->v.depth_func = f;
     st_mark(c, TSR_SM_DEPTH);
 }

@@ -321,3 +321,10 @@ const tsr_state_stacks *tsr_state_stacks_of(const tsr_state_ctx *c) { return &c-
 const tsr_state_client *tsr_state_client_of(const tsr_state_ctx *c) { return &c->client; }
 const GLfloat *tsr_state_modelview(const tsr_state_ctx *c) { return c->s.modelview[c->s.modelview_depth - 1]; }
 const GLfloat *tsr_state_projection(const tsr_state_ctx *c) { return c->s.projection[c->s.projection_depth - 1]; }
+
+GLenum tsr_state_take_error(tsr_state_ctx *c)
+{
+    GLenum e = c->gl_error;
+    c->gl_error = GL_NO_ERROR;
+    return e;
+}

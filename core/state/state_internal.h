@@ -201,6 +201,7 @@ enum {
 
 struct tsr_state_ctx {
     tsr_state_tracker *t;
+    GLenum gl_error; /* of a call refused here, not yet taken (st_error) */
     uint64_t *dirty; /* [ST_NODES][t->words] */
     tsr_state_values v;
     tsr_state_stacks s;
@@ -282,6 +283,13 @@ static inline tsr_state_ctx *st_exec_ctx(void *self)
 {
     tsr_state_ctx *c = self;
     return __builtin_expect(c->list_mode == GL_COMPILE, 0) ? NULL : c;
+}
+/* The GL error a call the tracker refuses raises (Mesa keeps one: the
+ * first, until glGetError takes it; tsr_state_take_error). */
+static inline void st_error(tsr_state_ctx *c, GLenum error)
+{
+    if (!c->gl_error)
+        c->gl_error = error;
 }
 /* Marks member dirty for one renderer id only. */
 void st_mark_one(tsr_state_ctx *c, int member, int id);

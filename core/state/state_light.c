@@ -117,8 +117,10 @@ void st_cur_attrib(void *self, GLuint index, GLfloat x, GLfloat y, GLfloat z, GL
 /* --- lighting --------------------------------------------------------------------- */
 static void light(tsr_state_ctx *c, GLenum which, GLenum pname, const GLfloat *p)
 {
-    if (which < GL_LIGHT0 || which >= GL_LIGHT0 + TSR_STATE_LIGHTS)
+    if (which < GL_LIGHT0 || which >= GL_LIGHT0 + TSR_STATE_LIGHTS) {
+        st_error(c, GL_INVALID_ENUM);
         return;
+    }
     tsr_state_light *l = &c->v.light[which - GL_LIGHT0];
     const GLfloat *m = c->s.modelview[c->s.modelview_depth - 1];
     switch (pname) {
@@ -158,7 +160,7 @@ static void light(tsr_state_ctx *c, GLenum which, GLenum pname, const GLfloat *p
             return;
         l->attenuation[2] = p[0];
         break;
-    default: return;
+    default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_mark(c, TSR_SM_LIGHT0 + (int)(which - GL_LIGHT0));
 }
@@ -229,7 +231,7 @@ static void light_model(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
             return;
         v->model_color_control = (GLenum)p[0];
         break;
-    default: return;
+    default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_mark(c, TSR_SM_LIGHTMODEL);
 }
@@ -292,12 +294,17 @@ static void material(tsr_state_ctx *c, GLenum face, GLenum pname, const GLfloat 
             if (st_tracked_by_color(&c->v, f, props[k]))
                 continue;
             GLfloat *dst = material_color(m, props[k]);
-            if (dst)
+            if (dst) {
                 memcpy(dst, p, 16);
-            else if (props[k] != GL_SHININESS)
+            } else if (props[k] == GL_SHININESS) {
+                if (p[0] >= 0 && p[0] <= 128)
+                    m->shininess = p[0];
+                else
+                    st_error(c, GL_INVALID_VALUE);
+            } else if (props[k] != GL_COLOR_INDEXES) { /* colour-index lighting: not kept */
+                st_error(c, GL_INVALID_ENUM);
                 return;
-            else if (p[0] >= 0 && p[0] <= 128)
-                m->shininess = p[0];
+            }
         }
     }
     st_mark(c, TSR_SM_MATERIAL);

@@ -530,8 +530,10 @@ static void st_MatrixMode(void *self, GLenum mode)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (mode != GL_MODELVIEW && mode != GL_PROJECTION && mode != GL_TEXTURE)
+    if (mode != GL_MODELVIEW && mode != GL_PROJECTION && mode != GL_TEXTURE) {
+        st_error(c, GL_INVALID_ENUM);
         return;
+    }
     c->v.matrix_mode = mode;
     st_mark(c, TSR_SM_MODELVIEW); /* matrix mode travels with the stacks */
 }
@@ -543,8 +545,10 @@ static void st_PushMatrix(void *self)
         return;
     mstack k = current_stack(c);
     uint32_t d = *k.depth;
-    if (d >= k.max)
+    if (d >= k.max) {
+        st_error(c, GL_STACK_OVERFLOW);
         return;
+    }
     memcpy(k.m[d], k.m[d - 1], sizeof k.m[0]);
     st_recipe_copy(&k.r[d], &k.r[d - 1]);
     *k.depth = d + 1;
@@ -557,8 +561,10 @@ static void st_PopMatrix(void *self)
     if (!c)
         return;
     mstack k = current_stack(c);
-    if (*k.depth <= 1)
+    if (*k.depth <= 1) {
+        st_error(c, GL_STACK_UNDERFLOW);
         return;
+    }
     (*k.depth)--;
     st_mark(c, k.member);
 }

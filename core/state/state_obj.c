@@ -245,7 +245,7 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
             return;
         t->depth_mode = e;
         break;
-    default: return;
+    default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_tex_changed(c, o);
 }

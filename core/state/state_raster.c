@@ -25,8 +25,13 @@ static void set_enable(tsr_state_ctx *c, GLenum cap, int on)
         return;
     }
     int idx = st_enable_index(cap, c->v.active_texture);
-    if (idx < 0)
+    if (idx < 0) {
+        /* every cap of Mesa's GL 2.1 is in st_enable_caps but the
+         * colour-index logic op, which does nothing in an RGBA context */
+        if (cap != GL_INDEX_LOGIC_OP)
+            st_error(c, GL_INVALID_ENUM);
         return;
+    }
     uint64_t bit = 1ull << (idx & 63), *w = &c->v.enables[idx >> 6];
     if (((*w & bit) != 0) == (on != 0))
         return;
@@ -124,7 +129,7 @@ static void fog(tsr_state_ctx *c, GLenum pname, const GLfloat *p)
             v->fog_color[i] = st_clampf(p[i]);
         break;
     case GL_FOG_COORD_SRC: v->fog_coord_src = (GLenum)p[0]; break;
-    default: return;
+    default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_mark(c, TSR_SM_FOG);
 }
@@ -249,8 +254,10 @@ static void st_LineWidth(void *self, GLfloat w)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (w <= 0)
+    if (w <= 0) {
+        st_error(c, GL_INVALID_VALUE);
         return;
+    }
     c->v.line_width = w;
     st_mark(c, TSR_SM_LINE);
 }
@@ -364,13 +371,17 @@ static void st_Hint(void *self, GLenum target, GLenum mode)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (mode != GL_FASTEST && mode != GL_NICEST && mode != GL_DONT_CARE)
+    if (mode != GL_FASTEST && mode != GL_NICEST && mode != GL_DONT_CARE) {
+        st_error(c, GL_INVALID_ENUM);
         return;
+    }
     for (int i = 0; i < 8; i++)
         if (hint_targets[i] == target) {
             c->v.hint[i] = mode;
             st_mark(c, TSR_SM_HINT);
+            return;
         }
+    st_error(c, GL_INVALID_ENUM);
 }
 
 static void st_ListBase(void *self, GLuint base)

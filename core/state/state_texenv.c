@@ -56,19 +56,22 @@ static void tex_env(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat
         t->lod_bias = p[0];
     else if (target == GL_POINT_SPRITE && pname == GL_COORD_REPLACE)
         t->coord_replace = p[0] != 0.0f;
-    else if (target != GL_TEXTURE_ENV)
+    else if (target != GL_TEXTURE_ENV) {
+        st_error(c, GL_INVALID_ENUM);
         return;
-    else if (pname == GL_TEXTURE_ENV_COLOR)
+    } else if (pname == GL_TEXTURE_ENV_COLOR)
         for (int i = 0; i < 4; i++)
             t->env_color[i] = st_clampf(from_int ? st_int_to_float((GLint)p[i]) : p[i]);
     else if (pname == GL_RGB_SCALE || pname == GL_ALPHA_SCALE) {
         if (p[0] != 1.0f && p[0] != 2.0f && p[0] != 4.0f)
             return;
         *(pname == GL_RGB_SCALE ? &t->rgb_scale : &t->alpha_scale) = p[0];
-    } else if (env_enum_slot(t, pname, &e))
+    } else if (env_enum_slot(t, pname, &e)) {
         *e = (GLenum)p[0];
-    else
+    } else {
+        st_error(c, GL_INVALID_ENUM);
         return;
+    }
     st_mark(c, TSR_SM_TEXENV0 + (int)u);
 }
 
@@ -128,7 +131,7 @@ static void tex_gen(tsr_state_ctx *c, GLenum coord, GLenum pname, const GLfloat 
     }
     case GL_OBJECT_PLANE: memcpy(g->object_plane, p, 16); break;
     case GL_EYE_PLANE: st_plane_to_eye(c, g->eye_plane, p); break;
-    default: return;
+    default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_mark(c, TSR_SM_TEXGEN0 + (int)u);
 }

@@ -90,29 +90,48 @@ GLboolean ts_IsEnabled(void *self, GLenum cap)
     return tsr_call_IsEnabled(&ts_to_server(t)->table, cap);
 }
 
-/* glGetError: inside glBegin/glEnd it is itself GL_INVALID_OPERATION and
- * answers 0 (GL 2.1 section 2.6.3; the servers are not inside a
- * primitive, the geometry buffer is); then errors found here come first
- * (that one, and the geometry packer's: a pixel command GL refuses before
- * reading a pixel, tsr_pixel_image_error), then the first live server's. */
+void ts_gl_error(tilesort *t, GLenum error)
+{
+    if (!t->gl_error)
+        t->gl_error = error;
+}
+
+/* glGetError: what one GL would answer, from the errors held in many
+ * places (docs/walls.md, "GL errors"). Inside glBegin/glEnd it is itself
+ * GL_INVALID_OPERATION and answers 0 (GL 2.1 section 2.6.3; the servers
+ * are not inside a primitive, the geometry buffer is). Otherwise the
+ * first error of: those made here (a glEnd outside glBegin, a glNewList
+ * GL refuses), the tracker's (a state call it refuses, never sent), the
+ * geometry packer's (a pixel command GL refuses before reading a pixel,
+ * tsr_pixel_image_error), then every live server's in server order (each
+ * after its packer's own, an unknown pname); every one is taken, so the
+ * next call starts clean as GL's one error flag does. A command sent to
+ * every server raises its error on each; one sent to some (geometry
+ * sorted by tile) on those, and the first of them answers. */
 GLenum ts_GetError(void *self)
 {
     tilesort *t = self;
     if (t->in_begin) {
-        if (!t->gl_error)
-            t->gl_error = GL_INVALID_OPERATION;
+        ts_gl_error(t, GL_INVALID_OPERATION);
         return GL_NO_ERROR;
     }
     GLenum e = t->gl_error;
     t->gl_error = GL_NO_ERROR;
+    GLenum tracked = tsr_state_take_error(t->ctx);
     GLenum packed = tsr_packer_take_local_error(t->geo);
     if (!e)
-        e = packed;
-    else if (packed)
-        t->gl_error = packed;
-    if (e)
-        return e;
-    return tsr_call_GetError(&ts_to_server(t)->table);
+        e = tracked ? tracked : packed;
+    ts_flush_geometry(t);
+    for (size_t i = 0; i < t->nservers; i++) {
+        if (tsr_stream_client_server_failed(t->client, i))
+            continue;
+        ts_server *s = &t->srv[i];
+        ts_prepare_server(t, s, 0);
+        GLenum server = tsr_call_GetError(&s->table);
+        if (!e)
+            e = server;
+    }
+    return e;
 }
 
 /* Shader and program gets: what the tracker knows, else the first live

@@ -92,7 +92,7 @@ typedef struct tilesort {
      * (gets.c's ts_RenderMode says why); GL_RENDER otherwise */
     GLenum render_mode;
     size_t render_server;
-    GLenum gl_error;        /* made here (glGetError inside glBegin): answered first */
+    GLenum gl_error;        /* made here (ts_gl_error): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
     ts_split *split;      /* split.c: a primitive cut across buffers */
@@ -164,6 +164,9 @@ void ts_Materialfv(void *self, GLenum face, GLenum pname, const GLfloat *params)
 void ts_Materiali(void *self, GLenum face, GLenum pname, GLint param);
 void ts_Materialiv(void *self, GLenum face, GLenum pname, const GLint *params);
 ts_server *ts_to_server(tilesort *t);
+/* --- gets.c ----------------------------------------------------------------- */
+/* A GL error made here, as GL keeps one: the first, until glGetError. */
+void ts_gl_error(tilesort *t, GLenum error);
 double ts_box_margin(const tilesort *t);
 /* The same for a box of filled polygons only (triangles, quads). */
 double ts_polygon_margin(const tilesort *t);

@@ -107,8 +107,11 @@ int ts_list_sink_flush(void *ctx, const uint8_t *buf, size_t size, tsr_error *er
 void ts_NewList(void *self, GLuint name, GLenum mode)
 {
     tilesort *t = self;
-    if (t->recording || name == 0 || (mode != GL_COMPILE && mode != GL_COMPILE_AND_EXECUTE))
-        return; /* GL: an error, nothing compiled */
+    if (t->recording || name == 0 || (mode != GL_COMPILE && mode != GL_COMPILE_AND_EXECUTE)) {
+        /* nothing compiled; the servers never see it, so the error is made here */
+        ts_gl_error(t, t->recording ? GL_INVALID_OPERATION : name == 0 ? GL_INVALID_VALUE : GL_INVALID_ENUM);
+        return;
+    }
     ts_flush_before_state(t);
     ts_list *l = new_list(t, name);
     if (!l) {
@@ -132,8 +135,10 @@ void ts_EndList(void *self)
 {
     tilesort *t = self;
     ts_list *l = t->recording;
-    if (!l)
+    if (!l) {
+        ts_gl_error(t, GL_INVALID_OPERATION);
         return;
+    }
     if (tsr_packer_flush(t->list_packer) != TSR_OK) {
         ts_report(t, tsr_packer_error(t->list_packer));
         tsr_packer_clear_error(t->list_packer);

@@ -403,6 +403,13 @@ ts_server *ts_to_server(tilesort *t)
 void ts_Begin(void *self, GLenum mode)
 {
     tilesort *t = self;
+    /* GL refuses these (glBegin inside glBegin, a mode that is none) and
+     * stays as it was: sent, the error would be raised only by the servers
+     * the buffer's box reaches, perhaps none */
+    if (t->in_begin || mode > GL_POLYGON) {
+        ts_gl_error(t, t->in_begin ? GL_INVALID_OPERATION : GL_INVALID_ENUM);
+        return;
+    }
     tsr_call_Begin(&t->geo_table, mode);
     t->in_begin = 1;
 }
@@ -410,6 +417,10 @@ void ts_Begin(void *self, GLenum mode)
 void ts_End(void *self)
 {
     tilesort *t = self;
+    if (!t->in_begin) { /* GL refuses it: sent, it would reach only the servers of the next buffer */
+        ts_gl_error(t, GL_INVALID_OPERATION);
+        return;
+    }
     if (!t->split_primitive) {
         ts_current now;
         ts_current_of(tsr_state_values_of(t->ctx), &now);

@@ -397,6 +397,12 @@ TSR_API void tsr_state_tracker_destroy(tsr_state_tracker *t);
 
 /* A new context holds GL's initial state and is dirty for every renderer. */
 TSR_API tsr_state_ctx *tsr_state_ctx_create(tsr_state_tracker *t, tsr_error *err);
+
+/* The GL error of the first call the tracker refused since the last take
+ * (an unknown enum or pname, a value out of range, a stack overflow or
+ * underflow: such a call changes nothing and is never sent, so no
+ * renderer raises it), and clears it; GL_NO_ERROR when none. */
+TSR_API GLenum tsr_state_take_error(tsr_state_ctx *c);
 TSR_API void tsr_state_ctx_destroy(tsr_state_ctx *c);
 
 /* A new renderer: its shadow holds GL's initial state (a fresh context),

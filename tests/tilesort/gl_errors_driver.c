@@ -1,0 +1,277 @@
+/* tests/tilesort/gl_errors_driver.c — GL errors and invalid queries as
+ * programs make them, each answer printed on stdout: the test
+ * (tilesort.sh records) runs the -native build (OSMesa itself, the
+ * reference) and this one through render, pack -> node -> render and a
+ * tile wall, and wants the same lines and the same frames.
+ *
+ * Every case makes one or two calls GL refuses (or none, as a control)
+ * and prints what glGetError answers then and once more (Mesa keeps one
+ * error: the first, and the second call says GL_NO_ERROR), and what an
+ * invalid get wrote (GL writes nothing: the values printed are the
+ * sentinels put there before). The cases: gets of a pname no GL knows, of
+ * every kind the wire sizes by pname (a wall and pack once dropped the
+ * program there); setters of such a pname; commands refused on the wall's
+ * broadcast path (frame commands, objects); draws GL refuses, some of
+ * whose vertices fall in one tile only (a wall sends them to the servers
+ * whose tiles they touch); an error made on one tile's server before one
+ * made on every server (GL's answer is the first). Between the cases a
+ * drawn frame shows that the wall still draws. Built twice like the
+ * examples (examples/common/exapp.h). */
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "common/exapp.h"
+
+#define NO_SUCH_PNAME 0x7fff0001u
+
+/* The two answers: GL's error now, and after it (GL_NO_ERROR). */
+static void errors(const char *what)
+{
+    GLenum first = glGetError();
+    GLenum second = glGetError();
+    printf("%s: error 0x%x then 0x%x\n", what, first, second);
+}
+
+static void ints(const char *what, const GLint *v, int n)
+{
+    printf("%s: wrote", what);
+    for (int i = 0; i < n; i++)
+        printf(" %d", v[i]);
+    printf("\n");
+    errors(what);
+}
+
+static void floats(const char *what, const GLfloat *v, int n)
+{
+    printf("%s: wrote", what);
+    for (int i = 0; i < n; i++) {
+        unsigned bits;
+        memcpy(&bits, &v[i], 4);
+        printf(" %08x", bits);
+    }
+    printf("\n");
+    errors(what);
+}
+
+#define SENTINELS(v)                                             \
+    do {                                                         \
+        for (size_t i_ = 0; i_ < sizeof(v) / sizeof(v)[0]; i_++) \
+            (v)[i_] = -7;                                        \
+    } while (0)
+
+/* Gets of pnames no GL knows, of every kind sized by the pname. */
+static void unknown_pname_gets(GLuint shader, GLuint program, GLuint buffer)
+{
+    GLint iv[16];
+    GLfloat fv[16];
+    GLboolean bv[16];
+    GLdouble dv[16];
+    SENTINELS(iv);
+    glGetIntegerv(NO_SUCH_PNAME, iv);
+    ints("glGetIntegerv(unknown)", iv, 4);
+    memset(bv, 0x5a, sizeof bv);
+    glGetBooleanv(GL_CLIP_PLANE0 + 8, bv);
+    printf("glGetBooleanv(GL_CLIP_PLANE0 + 8): wrote %d\n", bv[0]);
+    errors("glGetBooleanv(GL_CLIP_PLANE0 + 8)");
+    SENTINELS(fv);
+    glGetFloatv(NO_SUCH_PNAME, fv);
+    floats("glGetFloatv(unknown)", fv, 4);
+    SENTINELS(dv);
+    glGetDoublev(NO_SUCH_PNAME, dv);
+    printf("glGetDoublev(unknown): wrote %g\n", dv[0]);
+    errors("glGetDoublev(unknown)");
+    SENTINELS(fv);
+    glGetLightfv(GL_LIGHT0, NO_SUCH_PNAME, fv);
+    floats("glGetLightfv(unknown)", fv, 4);
+    SENTINELS(fv);
+    glGetMaterialfv(GL_FRONT, NO_SUCH_PNAME, fv);
+    floats("glGetMaterialfv(unknown)", fv, 4);
+    SENTINELS(fv);
+    glGetTexEnvfv(GL_TEXTURE_ENV, NO_SUCH_PNAME, fv);
+    floats("glGetTexEnvfv(unknown)", fv, 4);
+    SENTINELS(fv);
+    glGetTexGenfv(GL_S, NO_SUCH_PNAME, fv);
+    floats("glGetTexGenfv(unknown)", fv, 4);
+    SENTINELS(fv);
+    glGetTexParameterfv(GL_TEXTURE_2D, NO_SUCH_PNAME, fv);
+    floats("glGetTexParameterfv(unknown)", fv, 4);
+    SENTINELS(iv);
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, NO_SUCH_PNAME, iv);
+    ints("glGetTexLevelParameteriv(unknown)", iv, 4);
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    SENTINELS(iv);
+    glGetBufferParameteriv(GL_ARRAY_BUFFER, NO_SUCH_PNAME, iv);
+    ints("glGetBufferParameteriv(unknown)", iv, 4);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    SENTINELS(iv);
+    glGetShaderiv(shader, NO_SUCH_PNAME, iv);
+    ints("glGetShaderiv(unknown)", iv, 4);
+    SENTINELS(iv);
+    glGetProgramiv(program, NO_SUCH_PNAME, iv);
+    ints("glGetProgramiv(unknown)", iv, 4);
+    /* only the errors: what these two write differs (Mesa writes 0 to the
+     * first value of glGetVertexAttribfv; pack's reply of glGetQueryiv
+     * carries the receiver's untouched zero) */
+    glGetQueryiv(GL_SAMPLES_PASSED, NO_SUCH_PNAME, iv);
+    errors("glGetQueryiv(unknown)");
+    glGetVertexAttribfv(0, NO_SUCH_PNAME, fv);
+    errors("glGetVertexAttribfv(unknown)");
+    printf("glIsEnabled(unknown): %d\n", glIsEnabled(NO_SUCH_PNAME));
+    errors("glIsEnabled(unknown)");
+    /* and a known one after them all: the program goes on */
+    SENTINELS(iv);
+    glGetIntegerv(GL_MATRIX_MODE, iv);
+    ints("glGetIntegerv(GL_MATRIX_MODE)", iv, 1);
+}
+
+/* Setters of pnames no GL knows. */
+static void unknown_pname_setters(void)
+{
+    static const GLfloat v[4] = {0.5f, 0.25f, 0.125f, 1.0f};
+    static const GLint iv[4] = {1, 2, 3, 4};
+    glLightfv(GL_LIGHT0, NO_SUCH_PNAME, v);
+    errors("glLightfv(unknown)");
+    glMaterialfv(GL_FRONT, NO_SUCH_PNAME, v);
+    errors("glMaterialfv(unknown)");
+    glTexParameterfv(GL_TEXTURE_2D, NO_SUCH_PNAME, v);
+    errors("glTexParameterfv(unknown)");
+    glTexParameteriv(GL_TEXTURE_2D, NO_SUCH_PNAME, iv);
+    errors("glTexParameteriv(unknown)");
+    glTexEnvfv(GL_TEXTURE_ENV, NO_SUCH_PNAME, v);
+    errors("glTexEnvfv(unknown)");
+    glTexGenfv(GL_S, NO_SUCH_PNAME, v);
+    errors("glTexGenfv(unknown)");
+    glFogfv(NO_SUCH_PNAME, v);
+    errors("glFogfv(unknown)");
+    glLightModelfv(NO_SUCH_PNAME, v);
+    errors("glLightModelfv(unknown)");
+    glPixelStorei(NO_SUCH_PNAME, 1);
+    errors("glPixelStorei(unknown)");
+    glHint(NO_SUCH_PNAME, GL_NICEST);
+    errors("glHint(unknown)");
+}
+
+/* Values GL refuses in state the tracker keeps. */
+static void refused_state(void)
+{
+    glEnable(GL_CLIP_PLANE0 + 8);
+    errors("glEnable(GL_CLIP_PLANE0 + 8)");
+    glDisable(NO_SUCH_PNAME);
+    errors("glDisable(unknown)");
+    glMatrixMode(NO_SUCH_PNAME);
+    errors("glMatrixMode(unknown)");
+    glDepthFunc(NO_SUCH_PNAME);
+    errors("glDepthFunc(unknown)");
+    glPixelStoref(GL_UNPACK_ROW_LENGTH, -0.9f);
+    errors("glPixelStoref(GL_UNPACK_ROW_LENGTH, -0.9)");
+    glLineWidth(-1.0f);
+    errors("glLineWidth(-1)");
+    glMatrixMode(GL_MODELVIEW);
+    glPopMatrix();
+    errors("glPopMatrix() at depth 1");
+    glPopAttrib();
+    errors("glPopAttrib() at depth 0");
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 3);
+    errors("glPixelStorei(GL_UNPACK_ALIGNMENT, 3)");
+    GLint alignment = -7;
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+    ints("glGetIntegerv(GL_UNPACK_ALIGNMENT)", &alignment, 1);
+    glEndList();
+    errors("glEndList() outside glNewList");
+}
+
+/* Commands that go to every server, refused. */
+static void refused_broadcast(void)
+{
+    glClear(0x80000000u);
+    errors("glClear(bad bit)");
+    glNewList(0, GL_COMPILE);
+    errors("glNewList(0)");
+    glCallList(12345); /* a list never made: no error */
+    errors("glCallList(never made)");
+    glEnd();
+    errors("glEnd() outside glBegin");
+}
+
+/* Draws GL refuses, and an error on one tile's server before one on every
+ * server: a refused draw inside glBegin (GL_INVALID_OPERATION) whose
+ * vertices are in the lower-left tile only, then glClear of a bad bit. */
+static void refused_draws(void)
+{
+    static const GLfloat tri[3][2] = {{-0.9f, -0.9f}, {-0.7f, -0.9f}, {-0.8f, -0.7f}};
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(2, GL_FLOAT, 0, tri);
+    glDrawArrays(NO_SUCH_PNAME, 0, 3);
+    errors("glDrawArrays(unknown mode)");
+    glDrawArrays(GL_TRIANGLES, 0, -1);
+    errors("glDrawArrays(count -1)");
+    static const GLubyte idx[3] = {0, 1, 2};
+    glDrawElements(GL_TRIANGLES, 3, GL_FLOAT, idx);
+    errors("glDrawElements(type GL_FLOAT)");
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glBegin(NO_SUCH_PNAME);
+    glVertex2f(-0.9f, -0.9f);
+    glEnd();
+    errors("glBegin(unknown mode)");
+    glBegin(GL_TRIANGLES);
+    glVertex2f(-0.9f, -0.9f);
+    glVertex2f(-0.7f, -0.9f);
+    glBegin(GL_POINTS);
+    glVertex2f(-0.8f, -0.7f);
+    glEnd();
+    glClear(0x80000000u);
+    errors("glBegin inside glBegin in one tile, then glClear(bad bit)");
+}
+
+static void scene(int frame)
+{
+    glClearColor(0.1f, 0.1f, 0.2f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glRotatef(9.0f * (float)frame, 0, 0, 1);
+    glBegin(GL_TRIANGLES);
+    glColor3f(1, 0.5f, 0);
+    glVertex2f(-0.8f, -0.8f);
+    glColor3f(0, 1, 0.5f);
+    glVertex2f(0.8f, -0.6f);
+    glColor3f(0.5f, 0, 1);
+    glVertex2f(0.1f, 0.9f);
+    glEnd();
+}
+
+int main(int argc, char **argv)
+{
+    exapp app;
+    if (!exapp_init(&app, "gl_errors", argc, argv, 320, 240))
+        return app.exit_code;
+    GLuint shader = glCreateShader(GL_VERTEX_SHADER);
+    GLuint program = glCreateProgram();
+    GLuint buffer = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    glBufferData(GL_ARRAY_BUFFER, 64, NULL, GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    errors("set-up");
+    for (int f = 0; f < app.frames; f++) {
+        printf("frame %d\n", f);
+        scene(f);
+        errors("scene");
+        unknown_pname_gets(shader, program, buffer);
+        unknown_pname_setters();
+        refused_state();
+        refused_broadcast();
+        refused_draws();
+        scene(f);
+        errors("scene again");
+        if (!exapp_swap(&app))
+            break;
+    }
+    glDeleteShader(shader);
+    glDeleteProgram(program);
+    glDeleteBuffers(1, &buffer);
+    return exapp_finish(&app);
+}
