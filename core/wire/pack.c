@@ -609,7 +609,8 @@ void tsr_packer_custom_ShaderSource(tsr_packer *p, GLuint shader, GLsizei count,
                                     const GLint *length)
 {
     if (count < 0 || (count && !string)) {
-        tsr_packer_drop(p, "ShaderSource", "negative count or NULL strings");
+        /* GL's answer (Mesa's too): GL_INVALID_VALUE, nothing changes. */
+        tsr_packer_local_error(p, GL_INVALID_VALUE);
         return;
     }
     uint64_t block = 0;

@@ -375,6 +375,8 @@ void tsr_packer_local_ClientActiveTexture(tsr_packer *p, GLenum texture)
 {
     if (texture >= GL_TEXTURE0 && texture < GL_TEXTURE0 + TSR_PACK_TEXUNITS)
         p->arrays.active_texture = texture - GL_TEXTURE0;
+    else /* past GL_MAX_TEXTURE_COORDS (the mirror's units, Mesa's 8): GL's error */
+        tsr_packer_local_error(p, GL_INVALID_ENUM);
 }
 
 /* glInterleavedArrays (GL 2.1 table 2.5): which arrays a format enables,

@@ -658,6 +658,14 @@ static void string_errors(void)
     fprintf(out, "GetString(0x1234): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
     s = glGetString(GL_VENDOR);
     fprintf(out, "GetString(GL_VENDOR): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
+    /* client state the packer keeps: GL's errors all the same */
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_COORDS, &units);
+    glClientActiveTexture(GL_TEXTURE0 + (GLenum)units);
+    fprintf(out, "ClientActiveTexture(GL_TEXTURE0 + GL_MAX_TEXTURE_COORDS %d): error 0x%x\n", units, glGetError());
+    GLint active = -1;
+    glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
+    fprintf(out, "CLIENT_ACTIVE_TEXTURE: 0x%x error 0x%x\n", (unsigned)active, glGetError());
 }
 
 int main(int argc, char **argv)
