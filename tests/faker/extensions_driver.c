@@ -16,6 +16,8 @@
  *     GL_FLOAT_32_UNSIGNED_INT_24_8_REV; GL_DEPTH32F_STENCIL8 and
  *     GL_DEPTH_COMPONENT32F images;
  *   GL_ARB_texture_non_power_of_two: a 3x5 texture drawn;
+ *   GL_EXT_stencil_wrap: GL_INCR_WRAP past 255 and GL_DECR_WRAP past 0
+ *     (also by glStencilOpSeparate), the stencil read back and tested;
  *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3;
  *   pixel buffer objects (GL 2.1): glTexImage2D, glTexSubImage2D,
  *     glDrawPixels, glBitmap and glPolygonStipple reading a
@@ -296,6 +298,46 @@ static void non_power_of_two(void)
     frame("3x5 texture drawn");
 }
 
+/* GL_INCR_WRAP and GL_DECR_WRAP: the stencil wraps at 0 and 255 where
+ * GL_INCR/GL_DECR clamp; each count of front-facing quads leaves its own
+ * stencil value, read back and used by a stencil test that draws. */
+static void stencil_wrap(void)
+{
+    glPushAttrib(GL_ENABLE_BIT);
+    glDisable(GL_DEPTH_TEST); /* every quad passes: the pass ops count them */
+    glDisable(GL_TEXTURE_2D);
+    clear();
+    glClearStencil(254);
+    glClear(GL_STENCIL_BUFFER_BIT);
+    glClearStencil(0);
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_ALWAYS, 0, ~0u);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+    glColor3f(0.3f, 0.3f, 0.3f);
+    for (int i = 0; i < 3; i++) /* 254 -> 255 -> 0 -> 1 */
+        textured_quad(0);
+    GLubyte stencil[2] = {0, 0};
+    glReadPixels(RECORDED_GL_W / 2, RECORDED_GL_H / 2, 1, 1, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, &stencil[0]);
+    glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+    for (int i = 0; i < 2; i++) /* 1 -> 0 -> 255 */
+        textured_quad(0);
+    glReadPixels(RECORDED_GL_W / 2, RECORDED_GL_H / 2, 1, 1, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, &stencil[1]);
+    GLint op = 0;
+    glGetIntegerv(GL_STENCIL_PASS_DEPTH_PASS, &op);
+    fprintf(out, "stencil after 3 INCR_WRAP from 254: %u, then 2 DECR_WRAP: %u, op 0x%x\n", stencil[0], stencil[1], op);
+    glStencilFunc(GL_EQUAL, 255, ~0u);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glColor3f(0.9f, 0.6f, 0.1f);
+    glBegin(GL_QUADS);
+    glVertex2f(-1, -1);
+    glVertex2f(1, -1);
+    glVertex2f(1, 1);
+    glVertex2f(-1, 1);
+    glEnd();
+    glPopAttrib();
+    frame("GL_EXT_stencil_wrap: drawn where the stencil wrapped to 255");
+}
+
 static void explicit_attrib_location(void)
 {
     static const char *vs = "#version 110\n"
@@ -388,6 +430,7 @@ int main(int argc, char **argv)
     packed_depth_stencil();
     depth_buffer_float();
     non_power_of_two();
+    stencil_wrap();
     explicit_attrib_location();
     unpack_buffer();
     recorded_gl_end(out, argv[1]);
