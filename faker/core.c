@@ -57,8 +57,9 @@
 typedef struct faker_stream {
     int number; /* from 0; "{stream}" in the chain text */
     tsr_chain *chain;
-    int next_window_id;  /* tessera window ids of this stream, from 0 */
-    int current_threads; /* threads with a context of it current */
+    const char *extensions; /* GL_EXTENSIONS of its chain (offered.c) */
+    int next_window_id;     /* tessera window ids of this stream, from 0 */
+    int current_threads;    /* threads with a context of it current */
     /* Several threads call in at once (contexts of one share group, or a
      * context made current while another thread draws into the stream):
      * every context of the stream then calls through its locked table.
@@ -248,6 +249,7 @@ static faker_stream *stream_new_locked(void)
     }
     st->number = nstreams++;
     st->chain = c;
+    st->extensions = tsr_faker_offered_extensions(text);
     st->next = streams;
     streams = st;
     if (st->number == 0)
@@ -285,7 +287,7 @@ static const GLubyte *faker_GetString(void *self, GLenum name)
     case GL_RENDERER: return (const GLubyte *)c->renderer;
     case GL_VERSION: return (const GLubyte *)"2.1 tessera " TESSERA_VERSION;
     case GL_SHADING_LANGUAGE_VERSION: return (const GLubyte *)"1.20";
-    case GL_EXTENSIONS: return (const GLubyte *)tsr_faker_gl_extensions;
+    case GL_EXTENSIONS: return (const GLubyte *)(c->stream ? c->stream->extensions : tsr_faker_gl_extensions);
     default: return NULL;
     }
 }

@@ -29,6 +29,9 @@ extern const tsr_faker_proc tsr_faker_gl_procs[];
 extern const size_t tsr_faker_gl_proc_count;
 extern const size_t tsr_faker_gl_stub_count;
 extern const char tsr_faker_gl_extensions[];
+/* What a stream of chain text `chain_text` offers in GL_EXTENSIONS
+ * (offered.c): tsr_faker_gl_extensions less what the chain cannot carry. */
+const char *tsr_faker_offered_extensions(const char *chain_text);
 
 /* Logs once per function (the generated stubs call it the first time). */
 TSR_FAKER_API void tsr_faker_unsupported(const char *name);

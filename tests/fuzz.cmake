@@ -178,7 +178,7 @@ target_link_libraries(fuzz_png_seeds PRIVATE tessera)
 # The render plugin's sources (spus/render/CMakeLists.txt) but its class
 # (plugin.c), compiled in: fuzz_render registers its own class with them.
 set(tsr_fuzz_render_impl_sources)
-foreach(tsr_file render contexts buffers multisample scissor textures pixels frame pages budget drawpixels xwindow)
+foreach(tsr_file render contexts buffers multisample appfbo scissor textures pixels frame pages budget drawpixels xwindow)
   list(APPEND tsr_fuzz_render_impl_sources ${CMAKE_SOURCE_DIR}/spus/render/${tsr_file}.c)
 endforeach()
 set(tsr_fuzz_render_sources ${CMAKE_SOURCE_DIR}/spus/render/plugin.c ${tsr_fuzz_render_impl_sources})

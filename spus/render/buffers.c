@@ -58,6 +58,10 @@ static render_context *naming_context(render_spu *r)
 static void render_DrawBuffer(void *self, GLenum buf)
 {
     render_spu *r = self;
+    if (render_app_fb_bound(r)) { /* the program's FBO: its own names (appfbo.c) */
+        r->gl.DrawBuffer(buf);
+        return;
+    }
     bool both;
     GLenum a = attachment_of(r, buf, &both);
     render_context *c = naming_context(r);
@@ -76,6 +80,10 @@ static void render_DrawBuffer(void *self, GLenum buf)
 static void render_ReadBuffer(void *self, GLenum buf)
 {
     render_spu *r = self;
+    if (render_app_fb_bound(r)) {
+        r->gl.ReadBuffer(buf);
+        return;
+    }
     bool both;
     GLenum a = attachment_of(r, buf, &both);
     render_context *c = naming_context(r);
@@ -90,7 +98,7 @@ static void render_DrawBuffers(void *self, GLsizei n, const GLenum *bufs)
 {
     render_spu *r = self;
     GLenum mapped[16];
-    if (!r->shared || n < 0 || n > 16 || !bufs) {
+    if (!r->shared || n < 0 || n > 16 || !bufs || render_app_fb_bound(r)) {
         r->gl.DrawBuffers(n, bufs);
         return;
     }
@@ -119,7 +127,7 @@ static GLint window_name_of(const render_spu *r, GLint value)
  * program's names; false for every other pname (scissor.c's gets ask). */
 bool render_buffers_query(render_spu *r, GLenum pname, GLint *value)
 {
-    if (!r->shared)
+    if (!r->shared || render_app_fb_bound(r))
         return false;
     if (pname == GL_DOUBLEBUFFER) {
         *value = r->double_buffered;
@@ -179,7 +187,7 @@ static int make_double(render_spu *r, tsr_error *err)
     r->fbo.GenRenderbuffers(1, &r->front_rb);
     r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
     r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->width > 0 ? r->width : 1, r->height > 0 ? r->height : 1);
-    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, render_app_rb(r));
     if (r->samples) { /* the front is multisampled too (multisample.c) */
         r->fbo.GenRenderbuffers(1, &r->ms_front_rb);
         render_ms_storage(r, r->width, r->height);

@@ -62,7 +62,7 @@ int render_attach_context(render_spu *r, render_context *c, tsr_error *err)
                 return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer%s incomplete (0x%x)", r->name, c->id,
                                      pass ? " (multisample resolve)" : "", status);
         }
-        r->fbo.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+        r->fbo.BindFramebuffer(GL_FRAMEBUFFER, render_app_fb_or_window(c)); /* appfbo.c: the program's, if bound */
         c->attached = r->generation;
     }
     return TSR_OK;
@@ -147,7 +147,7 @@ int render_shared_resize(render_spu *r, int width, int height, tsr_error *err)
         r->fbo.BindRenderbuffer(GL_RENDERBUFFER, r->front_rb);
         r->fbo.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
     }
-    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, render_app_rb(r));
     render_ms_storage(r, width, height);
     render_destroy_retired(r);
     if (release) {
@@ -195,7 +195,8 @@ int render_shared_enter(render_spu *r, tsr_error *err)
         return tsr_error_set(err, TSR_ENOMEM, "%s: out of memory", r->name);
     r->contexts_cap = 4;
     r->ncontexts = 1;
-    r->contexts[0] = (render_context){.id = 0, .osmesa = r->context, .window_seen = r->window_seen, .sc = r->solo_sc};
+    r->contexts[0] = (render_context){
+        .id = 0, .osmesa = r->context, .window_seen = r->window_seen, .sc = r->solo_sc, .app = r->solo_app};
     r->current = 0;
     r->shared = true;
     /* Context 0 leaves the window-sized user buffer (render_shared_resize frees

@@ -240,8 +240,11 @@ int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx)
 static void render_SwapBuffersTSR(void *self, GLint window, GLbitfield flags)
 {
     render_spu *r = self;
-    if (window == r->window)
+    if (window == r->window) {
+        render_app_fb_leave(r); /* the frame is the window's (appfbo.c) */
         render_end_frame(r, NULL, NULL);
+        render_app_fb_return(r);
+    }
     tsr_call_SwapBuffersTSR(r->child, window, flags);
 }
 
@@ -249,7 +252,10 @@ size_t render_spu_tile_count(const void *instance) { return ((const render_spu *
 
 int render_spu_end_frame(void *instance, tsr_render_tile_fn each, void *ctx)
 {
-    return render_end_frame(instance, each, ctx);
+    render_app_fb_leave(instance);
+    int frame = render_end_frame(instance, each, ctx);
+    render_app_fb_return(instance);
+    return frame;
 }
 
 void render_spu_size(const void *instance, int *width, int *height)

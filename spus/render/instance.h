@@ -15,6 +15,7 @@
  *   frame.c    — window size, swap: the frame read back and written out
  *   buffers.c  — front and back buffers of a double-buffered window
  *   multisample.c — a multisample window's buffers and their resolve
+ *   appfbo.c   — the program's own framebuffer objects and renderbuffers
  *   xwindow.c  — window output: each frame shown in an X window
  *
  * Owns the types only. Never: state outside an instance. */
@@ -98,6 +99,23 @@ typedef struct render_scissor {
     bool fitted;      /* the real scissor is fitted to tiles (else: the application's) */
 } render_scissor;
 
+/* The program's framebuffer object and renderbuffer bindings of one
+ * context, in the driver's names (appfbo.c); fb 0: the window. */
+typedef struct render_app_binding {
+    GLuint fb, rb;
+} render_app_binding;
+
+/* The program's names of its framebuffer objects (or renderbuffers) and
+ * the driver's (appfbo.c); few per program, so a plain list. */
+typedef struct render_name_pair {
+    GLuint program, driver;
+} render_name_pair;
+typedef struct render_names {
+    render_name_pair *pairs;
+    size_t n, cap;
+    GLuint max_program;
+} render_names;
+
 /* One context of shared mode; contexts[0] is the instance's own. */
 /* Left clients' contexts kept before the window is given new storage to
  * free them (shared_resize): bounds their memory on a node that serves
@@ -117,6 +135,7 @@ typedef struct render_context {
     /* A multisample window (multisample.c): `fbo` is on the multisample
      * renderbuffers, this one on the resolved ones, read through. */
     GLuint resolved_fbo;
+    render_app_binding app;
 } render_context;
 
 typedef struct render_spu {
@@ -171,10 +190,12 @@ typedef struct render_spu {
     /* Tiles (docs/render.md, "Tiles"): none = the whole window. */
     tsr_tile *tiles;
     size_t ntiles;
-    render_box bounds;      /* bounding rectangle of the tiles */
-    unsigned tiles_gen;     /* bumped whenever the tiles change; starts at 1 */
-    bool released;          /* the renderbuffers were allocated tiled */
-    render_scissor solo_sc; /* the scissor before shared mode */
+    render_box bounds;           /* bounding rectangle of the tiles */
+    unsigned tiles_gen;          /* bumped whenever the tiles change; starts at 1 */
+    bool released;               /* the renderbuffers were allocated tiled */
+    render_scissor solo_sc;      /* the scissor before shared mode */
+    render_app_binding solo_app; /* the program's bindings before shared mode */
+    render_names app_fb_names, app_rb_names;
     int max_attrib_depth;
     render_context reader; /* reads the tiles back; never gets client commands */
     unsigned char *tile_pixels;
@@ -232,6 +253,15 @@ void render_ms_swap(render_spu *r);
 bool render_ms_read_begin(render_spu *r);
 void render_ms_read_end(render_spu *r, bool began);
 void render_multisample_install(render_spu *r, tsr_dispatch *table);
+/* appfbo.c */
+bool render_app_fb_bound(render_spu *r);
+GLuint render_app_fb_or_window(const render_context *c);
+GLuint render_app_rb(render_spu *r);
+bool render_app_fb_query(render_spu *r, GLenum pname, GLint *value);
+void render_app_fb_leave(render_spu *r);
+void render_app_fb_return(render_spu *r);
+void render_names_free(render_names *t);
+void render_appfbo_install(render_spu *r, tsr_dispatch *table);
 /* frame.c */
 void render_frame_install(render_spu *r, tsr_dispatch *table);
 int render_end_frame(render_spu *r, tsr_render_tile_fn each, void *ctx);

@@ -44,7 +44,7 @@ void render_ms_storage(render_spu *r, int width, int height)
         r->fbo.RenderbufferStorageMultisample(GL_RENDERBUFFER, r->samples, i == 1 ? GL_DEPTH24_STENCIL8 : GL_RGBA8,
                                               width > 0 ? width : 1, height > 0 ? height : 1);
     }
-    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    r->fbo.BindRenderbuffer(GL_RENDERBUFFER, render_app_rb(r));
 }
 
 /* Attaches `fbo` (bound to GL_FRAMEBUFFER by the caller) to the
@@ -69,7 +69,7 @@ static render_box resolve_box(const render_spu *r)
  * blit each attachment, its scissor test off, all put back after. */
 static void resolve_in_context0(render_spu *r)
 {
-    GLuint own = r->contexts[0].fbo;
+    GLuint own = render_app_fb_or_window(&r->contexts[0]);
     GLint draw = GL_COLOR_ATTACHMENT0;
     r->gl.GetIntegerv(GL_DRAW_BUFFER, &draw);
     GLboolean scissor = r->gl.IsEnabled(GL_SCISSOR_TEST);
@@ -114,7 +114,7 @@ void render_ms_swap(render_spu *r)
     r->gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     r->gl.DrawBuffer(GL_COLOR_ATTACHMENT1);
     r->fbo.BlitFramebuffer(0, 0, r->width, r->height, 0, 0, r->width, r->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    r->fbo.BindFramebuffer(GL_FRAMEBUFFER, r->contexts[0].fbo);
+    r->fbo.BindFramebuffer(GL_FRAMEBUFFER, render_app_fb_or_window(&r->contexts[0]));
 }
 
 /* Before a program's read of the window: resolves it and points the
@@ -122,8 +122,8 @@ void render_ms_swap(render_spu *r)
  * read buffer its own. Returns whether render_ms_read_end must undo it. */
 bool render_ms_read_begin(render_spu *r)
 {
-    if (!r->samples || !r->shared || render_current_scissor(r)->list_mode == GL_COMPILE)
-        return false;
+    if (!r->samples || !r->shared || render_current_scissor(r)->list_mode == GL_COMPILE || render_app_fb_bound(r))
+        return false; /* (a program FBO is read as it is: appfbo.c) */
     render_context *c = &r->contexts[r->current];
     if (!c->resolved_fbo)
         return false;

@@ -39,7 +39,9 @@ static void render_Clear(void *self, GLbitfield mask)
         if (value == 0)
             mask |= GL_STENCIL_BUFFER_BIT;
     }
-    if (mask == GL_COLOR_BUFFER_BIT && !compiling && render_fastdraw_clear(r->fastdraw, &r->gl, r->width, r->height))
+    /* (the fast paths know the window's size, not a program FBO's: appfbo.c) */
+    if (mask == GL_COLOR_BUFFER_BIT && !compiling && !render_app_fb_bound(r) &&
+        render_fastdraw_clear(r->fastdraw, &r->gl, r->width, r->height))
         return;
     r->gl.Clear(mask);
 }
@@ -279,7 +281,9 @@ static void render_DrawPixels(void *self, GLsizei width, GLsizei height, GLenum 
     void *scratch;
     const void *image = swapped_here(r, width, height, format, type, pixels, &scratch);
     clipped_index_image part;
-    if (index_image_clipped_here(r, width, height, format, type, image, &part)) {
+    if (render_app_fb_bound(r))
+        r->gl.DrawPixels(width, height, format, type, image);
+    else if (index_image_clipped_here(r, width, height, format, type, image, &part)) {
         render_fastdraw_draw(r->fastdraw, &r->gl, r->width, r->height, part.width, part.height, format, part.type,
                              part.pixels);
         index_image_clip_done(r, &part);

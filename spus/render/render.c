@@ -188,6 +188,8 @@ static void render_destroy(void *self)
         free(r->retired);
         free(r->contexts);
     }
+    render_names_free(&r->app_fb_names); /* the objects went with their contexts */
+    render_names_free(&r->app_rb_names);
     if (r->context) {
         /* Leave no thread pointing at a context about to be freed. */
         if (r->osmesa.GetCurrentContext() == r->context) {
@@ -288,6 +290,7 @@ void *render_spu_create(const tsr_spu_init *init, tsr_error *err)
     render_contexts_install(r, init->table);
     render_buffers_install(r, init->table);
     render_multisample_install(r, init->table);
+    render_appfbo_install(r, init->table);
     render_pixels_install(r, init->table);
     render_scissor_install(r, init->table);
     render_textures_install(r, init->table);

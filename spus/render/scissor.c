@@ -345,7 +345,8 @@ static void render_EndList(void *self)
 static bool scissor_query(render_spu *r, GLenum pname, double out[4], int *n)
 {
     GLint buffer;
-    if (render_buffers_query(r, pname, &buffer)) { /* buffers.c: the window's buffer names */
+    if (render_app_fb_query(r, pname, &buffer) ||  /* appfbo.c: the program's framebuffer names */
+        render_buffers_query(r, pname, &buffer)) { /* buffers.c: the window's buffer names */
         out[0] = buffer;
         *n = 1;
         return true;

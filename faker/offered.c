@@ -1,0 +1,78 @@
+/* faker/offered.c — the GL_EXTENSIONS string one stream's chain offers:
+ * the generated list (tsr_faker_gl_extensions), less the extensions whose
+ * commands some SPU of the chain does not carry yet.
+ *
+ * GL_EXT_framebuffer_object: render draws a program's framebuffer objects
+ * (spus/render/appfbo.c) and pack, capture and the SPUs that only pass
+ * commands on carry them to one, but a tilesort wall routes geometry to
+ * the servers whose tiles it covers and scissors it to them, so a picture
+ * drawn into an FBO (not the window) would come out in pieces; the
+ * tracker does not keep FBO objects or bindings either. A chain with any
+ * SPU outside `carries_fbo` does not offer it.
+ *
+ * Owns: the two strings (made once). Never: offers an extension the
+ * generated list lacks. */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "faker_gl.h"
+
+static const char *const carries_fbo[] = {"render", "pack", "capture", "passthrough", "print", "loopback"};
+
+static const char fbo_ext[] = "GL_EXT_framebuffer_object";
+
+/* Whether every SPU of chain text `text` ("a k=v ! b ! c") is one of
+ * carries_fbo. */
+static bool chain_carries_fbo(const char *text)
+{
+    for (const char *p = text; *p;) {
+        while (*p == ' ' || *p == '\t' || *p == '!')
+            p++;
+        if (!*p)
+            break;
+        size_t n = strcspn(p, " \t!");
+        bool known = false;
+        for (size_t i = 0; i < sizeof carries_fbo / sizeof carries_fbo[0]; i++)
+            if (strlen(carries_fbo[i]) == n && !strncmp(carries_fbo[i], p, n))
+                known = true;
+        if (!known)
+            return false;
+        /* skip the options, quoted values included, to the next '!' */
+        for (bool quoted = false; *p && (quoted || *p != '!'); p++) {
+            if (*p == '\\' && quoted && p[1])
+                p++;
+            else if (*p == '"')
+                quoted = !quoted;
+        }
+    }
+    return true;
+}
+
+const char *tsr_faker_offered_extensions(const char *chain_text)
+{
+    static char *without_fbo; /* made once, kept for the process */
+    if (chain_carries_fbo(chain_text))
+        return tsr_faker_gl_extensions;
+    if (!without_fbo) {
+        const char *all = tsr_faker_gl_extensions;
+        char *s = malloc(strlen(all) + 1);
+        if (!s)
+            return "";
+        size_t n = 0;
+        for (const char *p = all; *p;) {
+            size_t len = strcspn(p, " ");
+            if (!(len == sizeof fbo_ext - 1 && !strncmp(p, fbo_ext, len))) {
+                memcpy(s + n, p, len);
+                n += len;
+                s[n++] = ' ';
+            }
+            p += len;
+            while (*p == ' ')
+                p++;
+        }
+        s[n] = '\0';
+        without_fbo = s;
+    }
+    return without_fbo;
+}
