@@ -66,6 +66,10 @@ static void texparams(dctx *x, GLenum target, st_texparams *s, const st_texparam
     TPI(compare_mode, GL_TEXTURE_COMPARE_MODE);
     TPI(compare_func, GL_TEXTURE_COMPARE_FUNC);
     TPI(depth_mode, GL_DEPTH_TEXTURE_MODE);
+    TPI(swizzle[0], GL_TEXTURE_SWIZZLE_R);
+    TPI(swizzle[1], GL_TEXTURE_SWIZZLE_G);
+    TPI(swizzle[2], GL_TEXTURE_SWIZZLE_B);
+    TPI(swizzle[3], GL_TEXTURE_SWIZZLE_A);
 #undef TPI
 #undef TPF
 }

@@ -675,6 +675,14 @@ int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum 
     case GL_TEXTURE_COMPARE_MODE: *out = (GLfloat)p->compare_mode; return 1;
     case GL_TEXTURE_COMPARE_FUNC: *out = (GLfloat)p->compare_func; return 1;
     case GL_DEPTH_TEXTURE_MODE: *out = (GLfloat)p->depth_mode; return 1;
+    case GL_TEXTURE_SWIZZLE_R:
+    case GL_TEXTURE_SWIZZLE_G:
+    case GL_TEXTURE_SWIZZLE_B:
+    case GL_TEXTURE_SWIZZLE_A: *out = (GLfloat)p->swizzle[pname - GL_TEXTURE_SWIZZLE_R]; return 1;
+    case GL_TEXTURE_SWIZZLE_RGBA:
+        for (int i = 0; i < 4; i++)
+            out[i] = (GLfloat)p->swizzle[i];
+        return 1;
     default: return 0;
     }
 }

@@ -27,6 +27,7 @@ typedef struct st_texparams {
     GLint base_level, max_level;
     GLboolean generate_mipmap;
     GLenum compare_mode, compare_func, depth_mode;
+    GLenum swizzle[4]; /* GL_TEXTURE_SWIZZLE_R..A (GL_EXT_texture_swizzle) */
 } st_texparams;
 
 /* One image call, replayed in order on a renderer that lacks it. Pixels

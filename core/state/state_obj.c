@@ -5,6 +5,7 @@
  * here (max used + 1, as Mesa does), so glGen* need no round trip. */
 #include "state_internal.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,6 +40,16 @@ void st_texparams_init(st_texparams *p, int target)
     p->compare_mode = GL_NONE;
     p->compare_func = GL_LEQUAL;
     p->depth_mode = GL_LUMINANCE;
+    p->swizzle[0] = GL_RED;
+    p->swizzle[1] = GL_GREEN;
+    p->swizzle[2] = GL_BLUE;
+    p->swizzle[3] = GL_ALPHA;
+}
+
+/* A value GL_TEXTURE_SWIZZLE_* takes. */
+static bool swizzle_source(GLenum e)
+{
+    return e == GL_RED || e == GL_GREEN || e == GL_BLUE || e == GL_ALPHA || e == GL_ZERO || e == GL_ONE;
 }
 
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target)
@@ -245,6 +256,25 @@ static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLflo
             return;
         t->depth_mode = e;
         break;
+    case GL_TEXTURE_SWIZZLE_R:
+    case GL_TEXTURE_SWIZZLE_G:
+    case GL_TEXTURE_SWIZZLE_B:
+    case GL_TEXTURE_SWIZZLE_A:
+        if (!swizzle_source(e)) {
+            st_error(c, GL_INVALID_ENUM);
+            return;
+        }
+        t->swizzle[pname - GL_TEXTURE_SWIZZLE_R] = e;
+        break;
+    case GL_TEXTURE_SWIZZLE_RGBA:
+        for (int i = 0; i < 4; i++)
+            if (!swizzle_source((GLenum)p[i])) {
+                st_error(c, GL_INVALID_ENUM);
+                return;
+            }
+        for (int i = 0; i < 4; i++)
+            t->swizzle[i] = (GLenum)p[i];
+        break;
     default: st_error(c, GL_INVALID_ENUM); return;
     }
     st_tex_changed(c, o);
@@ -271,7 +301,7 @@ static void st_TexParameterf(void *self, GLenum target, GLenum pname, GLfloat p)
     tsr_state_ctx *c = st_exec_ctx(self);
     if (!c)
         return;
-    if (pname != GL_TEXTURE_BORDER_COLOR)
+    if (pname != GL_TEXTURE_BORDER_COLOR && pname != GL_TEXTURE_SWIZZLE_RGBA)
         tex_param(c, target, pname, &p);
 }
 
@@ -289,7 +319,7 @@ static void st_TexParameteri(void *self, GLenum target, GLenum pname, GLint p)
     if (!c)
         return;
     GLfloat f = (GLfloat)p;
-    if (pname != GL_TEXTURE_BORDER_COLOR)
+    if (pname != GL_TEXTURE_BORDER_COLOR && pname != GL_TEXTURE_SWIZZLE_RGBA)
         tex_param(c, target, pname, &f);
 }
 
@@ -300,7 +330,7 @@ static void st_TexParameteriv(void *self, GLenum target, GLenum pname, const GLi
         return;
     GLfloat f[4] = {0, 0, 0, 0};
     int color = pname == GL_TEXTURE_BORDER_COLOR;
-    st_ints_to_floats(f, p, color ? 4 : 1, color);
+    st_ints_to_floats(f, p, color || pname == GL_TEXTURE_SWIZZLE_RGBA ? 4 : 1, color);
     tex_param(c, target, pname, f);
 }
 

@@ -16,6 +16,8 @@
  *     GL_FLOAT_32_UNSIGNED_INT_24_8_REV; GL_DEPTH32F_STENCIL8 and
  *     GL_DEPTH_COMPONENT32F images;
  *   GL_ARB_texture_non_power_of_two: a 3x5 texture drawn;
+ *   GL_EXT_texture_swizzle, GL_ARB_texture_swizzle: a texel drawn through
+ *     a swizzle set per component and as RGBA, both gets answered;
  *   GL_EXT_stencil_wrap: GL_INCR_WRAP past 255 and GL_DECR_WRAP past 0
  *     (also by glStencilOpSeparate), the stencil read back and tested;
  *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3;
@@ -338,6 +340,34 @@ static void stencil_wrap(void)
     frame("GL_EXT_stencil_wrap: drawn where the stencil wrapped to 255");
 }
 
+/* A texture read through its swizzle (blue, red, one, green), set one by
+ * one and as RGBA; the answers of both gets. */
+static void texture_swizzle(void)
+{
+    static const GLubyte texel[4] = {200, 100, 50, 25};
+    new_texture();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, texel);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_R, GL_BLUE);
+    static const GLint rgba[4] = {GL_BLUE, GL_RED, GL_ONE, GL_GREEN};
+    glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, rgba);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_A, GL_ZERO);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_G, GL_TEXTURE_2D); /* not a source: GL_INVALID_ENUM */
+    fprintf(out, "swizzle set: error 0x%x\n", glGetError());
+    GLint got[4] = {0, 0, 0, 0}, one = 0;
+    glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, got);
+    glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_G, &one);
+    fprintf(out, "GL_TEXTURE_SWIZZLE_RGBA: 0x%x 0x%x 0x%x 0x%x, G 0x%x\n", got[0], got[1], got[2], got[3], one);
+    clear();
+    glEnable(GL_TEXTURE_2D);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    textured_quad(0);
+    glDisable(GL_BLEND);
+    glDisable(GL_TEXTURE_2D);
+    frame("GL_EXT_texture_swizzle: a texel read as (b, r, 1, 0)");
+}
+
 static void explicit_attrib_location(void)
 {
     static const char *vs = "#version 110\n"
@@ -431,6 +461,7 @@ int main(int argc, char **argv)
     depth_buffer_float();
     non_power_of_two();
     stencil_wrap();
+    texture_swizzle();
     explicit_attrib_location();
     unpack_buffer();
     recorded_gl_end(out, argv[1]);
