@@ -117,14 +117,27 @@ static const spec_param *param_named(const spec_command *c, const char *name)
 }
 
 /* Emits a check that `arg` (a parameter or literal) is not negative. */
-static void emit_nonneg(FILE *f, const spec_command *c, const char *arg)
+static void emit_nonneg(FILE *f, const gen_cmd *gc, const char *arg, const char *modes)
 {
+    const spec_command *c = gc->sc;
     if (is_literal(arg))
         return;
     const spec_param *p = param_named(c, arg);
     const gen_type *t = p ? gen_type_find(p->base_type) : NULL;
-    if (t && t->is_signed && !t->is_float)
-        fprintf(f, "        if (%s < 0) { tsr_why = \"negative count %s\"; goto tsr_invalid; }\n", arg, arg);
+    if (!t || !t->is_signed || t->is_float)
+        return;
+    if (!strncmp(modes, "&tsr_p->", 8)) {
+        /* packing: a negative count is GL_INVALID_VALUE for glGetError
+         * (glUniform1fv(loc, -1, v)), the program's error, not a dropped
+         * command */
+        fprintf(f, "        if (%s < 0) { tsr_packer_local_error(tsr_p, GL_INVALID_VALUE); ", arg);
+        if (gc->is_void)
+            fprintf(f, "return; }\n");
+        else
+            fprintf(f, "return (%s)0; }\n", c->ret);
+        return;
+    }
+    fprintf(f, "        if (%s < 0) { tsr_why = \"negative count %s\"; goto tsr_invalid; }\n", arg, arg);
 }
 
 /* Emits code computing `uint64_t tsr_len_NAME`, the byte size the pointer
@@ -133,7 +146,6 @@ static void emit_nonneg(FILE *f, const spec_command *c, const char *arg)
  * with tsr_why set when the arguments imply no valid size. */
 void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char *modes)
 {
-    const spec_command *c = gc->sc;
     const spec_param *sp = gp->sp;
     const spec_count *k = &sp->count;
     fprintf(f, "    uint64_t tsr_len_%s = 0;\n    {\n", sp->name);
@@ -146,7 +158,7 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         /* A product of parameters and integers: elements, or bytes. */
         fprintf(f, "        uint64_t tsr_c = %zuu;\n", k->kind == SPEC_COUNT_BYTES ? (size_t)1 : gp->elem_size);
         for (size_t i = 0; i < k->nargs; i++) {
-            emit_nonneg(f, c, k->args[i]);
+            emit_nonneg(f, gc, k->args[i], modes);
             fprintf(
                 f,
                 "        if (__builtin_mul_overflow(tsr_c, (uint64_t)(%s), &tsr_c)) { tsr_why = \"count of %s overflows\"; goto tsr_invalid; }\n",
@@ -204,7 +216,7 @@ void gen_emit_count(FILE *f, const gen_cmd *gc, const gen_param *gp, const char 
         break;
     }
     case SPEC_COUNT_TYPED:
-        emit_nonneg(f, c, k->args[0]);
+        emit_nonneg(f, gc, k->args[0], modes);
         fprintf(
             f,
             "        size_t tsr_t = tsr_gl_type_size((GLenum)%s);\n"

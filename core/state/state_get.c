@@ -890,3 +890,29 @@ void st_get_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d)
     SET(GetVertexAttribPointerv);
 #undef SET
 }
+
+/* --- shaders and programs (the objects are core/state/state_glsl.c's) -------- */
+int tsr_state_get_shaderiv(const tsr_state_ctx *c, GLuint shader, GLenum pname, GLint *out)
+{
+    const st_shader *o = tsr_name_map_get(&c->shaders, shader);
+    if (!o)
+        return 0;
+    switch (pname) {
+    case GL_SHADER_TYPE: *out = (GLint)o->type; return 1;
+    case GL_DELETE_STATUS: *out = o->delete_pending; return 1;
+    case GL_SHADER_SOURCE_LENGTH: *out = o->source ? o->source->len + 1 : 0; return 1;
+    default: return 0;
+    }
+}
+
+int tsr_state_get_programiv(const tsr_state_ctx *c, GLuint program, GLenum pname, GLint *out)
+{
+    const st_program *p = tsr_name_map_get(&c->programs, program);
+    if (!p)
+        return 0;
+    switch (pname) {
+    case GL_DELETE_STATUS: *out = p->delete_pending; return 1;
+    case GL_ATTACHED_SHADERS: *out = (GLint)p->nattached; return 1;
+    default: return 0;
+    }
+}

@@ -229,8 +229,10 @@ static void st_ShaderSource(void *self, GLuint shader, GLsizei count, const GLch
 {
     tsr_state_ctx *c = self;
     st_shader *o = tsr_name_map_get(&c->shaders, shader);
-    if (!o || count < 0 || (count && !str))
+    if (!o || count < 0 || !str) { /* GL's error; a program's name is the wrong kind of object */
+        st_error(c, !o && tsr_name_map_get(&c->programs, shader) ? GL_INVALID_OPERATION : GL_INVALID_VALUE);
         return;
+    }
     for (GLsizei i = 0; i < count; i++)
         if (!str[i])
             return;
@@ -414,8 +416,18 @@ static void st_UseProgram(void *self, GLuint program)
 static void uniform(tsr_state_ctx *c, int base, int size, GLint loc, GLsizei count, GLboolean transpose,
                     const void *data)
 {
-    st_program *p = c->program ? tsr_name_map_get(&c->programs, c->program) : NULL;
-    if (!p || loc < 0 || count <= 0 || !data)
+    /* GL's errors in Mesa's order; location -1 is ignored, one the program
+     * lacks is the renderer's error when the log is replayed into it */
+    GLenum refused = !c->program ? GL_INVALID_OPERATION
+                     : count < 0 ? GL_INVALID_VALUE
+                     : loc < -1  ? GL_INVALID_OPERATION
+                                 : GL_NO_ERROR;
+    if (refused) {
+        st_error(c, refused);
+        return;
+    }
+    st_program *p = tsr_name_map_get(&c->programs, c->program);
+    if (!p || loc < 0 || count == 0 || !data)
         return;
     size_t per = base == ST_U_M    ? (size_t)(size * size)
                  : base == ST_U_MX ? (size_t)((size >> 4) * (size & 15))
@@ -552,32 +564,6 @@ static void st_Uniform1f(void *self, GLint loc, GLfloat a)
     SET(UniformMatrix3x4fv);
     SET(UniformMatrix4x3fv);
 #undef SET
-}
-
-/* --- gets -------------------------------------------------------------------- */
-int tsr_state_get_shaderiv(const tsr_state_ctx *c, GLuint shader, GLenum pname, GLint *out)
-{
-    const st_shader *o = tsr_name_map_get(&c->shaders, shader);
-    if (!o)
-        return 0;
-    switch (pname) {
-    case GL_SHADER_TYPE: *out = (GLint)o->type; return 1;
-    case GL_DELETE_STATUS: *out = o->delete_pending; return 1;
-    case GL_SHADER_SOURCE_LENGTH: *out = o->source ? o->source->len + 1 : 0; return 1;
-    default: return 0;
-    }
-}
-
-int tsr_state_get_programiv(const tsr_state_ctx *c, GLuint program, GLenum pname, GLint *out)
-{
-    const st_program *p = tsr_name_map_get(&c->programs, program);
-    if (!p)
-        return 0;
-    switch (pname) {
-    case GL_DELETE_STATUS: *out = p->delete_pending; return 1;
-    case GL_ATTACHED_SHADERS: *out = (GLint)p->nattached; return 1;
-    default: return 0;
-    }
 }
 
 int tsr_state_program_has_vertex_shader(const tsr_state_ctx *c)

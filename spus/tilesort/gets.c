@@ -1,7 +1,9 @@
 /* spus/tilesort/gets.c — gets: answered by the tracker where the value
  * is client-known, otherwise by the first live server. (Commands with
  * output the tracker does not implement reach that server through
- * tilesort.c's R_SERVER route; glReadPixels is gathered, frame.c.)
+ * tilesort.c's R_SERVER route; glReadPixels is gathered, frame.c.) Also
+ * glGetError, gathered from every place an error is made, and proxy
+ * texture images, which only change what that server answers.
  *
  * Owns nothing. Never asks a server before it has the tracker's state (its
  * diff, and the shader or program asked about): it would answer for state
@@ -223,6 +225,52 @@ GLboolean ts_IsShader(void *self, GLuint shader)
 GLboolean ts_IsProgram(void *self, GLuint program)
 {
     return tsr_call_IsProgram(&glsl_server(self, program, 1)->table, program);
+}
+
+/* Proxy textures: glTexImage* of a proxy target changes only what
+ * glGetTexLevelParameteriv of that target answers (GL 2.1 section 3.8.1),
+ * and the first live server answers that (the tracker keeps no proxy), so
+ * the call goes to it alone, with its GL errors (piglit's proxy-texture).
+ * Other targets take the state route (the tracker). */
+static int is_proxy(GLenum target)
+{
+    return target == GL_PROXY_TEXTURE_1D || target == GL_PROXY_TEXTURE_2D || target == GL_PROXY_TEXTURE_3D ||
+           target == GL_PROXY_TEXTURE_CUBE_MAP || target == GL_PROXY_TEXTURE_RECTANGLE_ARB;
+}
+
+#define PROXY_OR_TRACKED(call)                                \
+    do {                                                      \
+        tilesort *t = self;                                   \
+        if (is_proxy(target)) {                               \
+            const tsr_dispatch *to = &ts_to_server(t)->table; \
+            call;                                             \
+            return;                                           \
+        }                                                     \
+        ts_flush_before_state(t);                             \
+        const tsr_dispatch *to = &t->track_table;             \
+        call;                                                 \
+        if (!tsr_packer_pending(t->geo))                      \
+            ts_snapshot(t);                                   \
+    } while (0)
+
+void ts_TexImage1D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLint border,
+                   GLenum format, GLenum type, const void *pixels)
+{
+    PROXY_OR_TRACKED(tsr_call_TexImage1D(to, target, level, internalformat, width, border, format, type, pixels));
+}
+
+void ts_TexImage2D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
+                   GLint border, GLenum format, GLenum type, const void *pixels)
+{
+    PROXY_OR_TRACKED(
+        tsr_call_TexImage2D(to, target, level, internalformat, width, height, border, format, type, pixels));
+}
+
+void ts_TexImage3D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
+                   GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels)
+{
+    PROXY_OR_TRACKED(
+        tsr_call_TexImage3D(to, target, level, internalformat, width, height, depth, border, format, type, pixels));
 }
 
 /* glRenderMode. Selection and feedback are not sorted: every server

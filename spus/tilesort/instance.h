@@ -246,6 +246,12 @@ void ts_GetAttachedShaders(void *self, GLuint program, GLsizei max, GLsizei *cou
 void ts_GetShaderSource(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *source);
 GLboolean ts_IsShader(void *self, GLuint shader);
 GLboolean ts_IsProgram(void *self, GLuint program);
+void ts_TexImage1D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLint border,
+                   GLenum format, GLenum type, const void *pixels);
+void ts_TexImage2D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
+                   GLint border, GLenum format, GLenum type, const void *pixels);
+void ts_TexImage3D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
+                   GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels);
 /* queries.c */
 void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
 void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);

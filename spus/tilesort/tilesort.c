@@ -538,6 +538,9 @@ static void build_tables(tilesort *t)
     SET(IsProgram);
     SET(GetQueryObjectuiv);
     SET(GetQueryObjectiv);
+    SET(TexImage1D);
+    SET(TexImage2D);
+    SET(TexImage3D);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also

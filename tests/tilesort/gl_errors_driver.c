@@ -13,8 +13,9 @@
  * program there); setters of such a pname; commands refused on the wall's
  * broadcast path (frame commands, objects); draws GL refuses, some of
  * whose vertices fall in one tile only (a wall sends them to the servers
- * whose tiles they touch); an error made on one tile's server before one
- * made on every server (GL's answer is the first). Between the cases a
+ * whose tiles they touch); glBegin inside glBegin, then glClear GL refuses
+ * (GL's answer is the first); shader sources and uniforms GL refuses;
+ * proxy textures of sizes GL takes and refuses. Between the cases a
  * drawn frame shows that the wall still draws. Built twice like the
  * examples (examples/common/exapp.h). */
 #define GL_GLEXT_PROTOTYPES 1
@@ -226,6 +227,71 @@ static void refused_draws(void)
     errors("glBegin inside glBegin in one tile, then glClear(bad bit)");
 }
 
+/* Proxy textures (piglit's proxy-texture): a size GL takes, then calls GL
+ * refuses, which leave the proxy as it was. */
+static void proxies(void)
+{
+    GLint w = -7;
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GL_RGBA, 64, 32, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
+    ints("proxy 64x32: width", &w, 1);
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GL_RGBA, 16, 16, 3, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("proxy of border 3");
+    glTexImage2D(GL_PROXY_TEXTURE_2D, -1, GL_RGBA, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("proxy of level -1");
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GL_RGBA, -16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("proxy of width -16");
+    w = -7;
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
+    ints("proxy after them: width", &w, 1);
+    glTexImage1D(GL_PROXY_TEXTURE_1D, 0, GL_RGBA, 1 << 20, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    w = -7;
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_1D, 0, GL_TEXTURE_WIDTH, &w);
+    ints("1D proxy too wide: width", &w, 1);
+}
+
+/* Shader sources and uniforms GL refuses (piglit's shadersource-errors,
+ * uniform-neg-location): the wall keeps both in the tracker. */
+static void refused_glsl(GLuint shader, GLuint program)
+{
+    static const GLchar *const vs = "void main() { gl_Position = ftransform(); }";
+    static const GLchar *const fs = "uniform float k; void main() { gl_FragColor = vec4(k); }";
+    glShaderSource(shader, -1, &vs, NULL);
+    errors("glShaderSource(count -1)");
+    glShaderSource(program, 1, &vs, NULL);
+    errors("glShaderSource(a program)");
+    glShaderSource(54321, 1, &vs, NULL);
+    errors("glShaderSource(no object)");
+    static const GLfloat one[1] = {1.0f};
+    glUseProgram(0);
+    glUniform1f(-1, 1.0f);
+    errors("glUniform1f(-1) with no program");
+    /* (glUniform1fv(0, -1, v) with no program: GL_INVALID_OPERATION in
+     * Mesa, which checks the program first; a packer, which cannot know
+     * the receiver's program, answers GL_INVALID_VALUE) */
+    GLuint linked = glCreateProgram(), v = glCreateShader(GL_VERTEX_SHADER), f = glCreateShader(GL_FRAGMENT_SHADER);
+    glShaderSource(v, 1, &vs, NULL);
+    glShaderSource(f, 1, &fs, NULL);
+    glCompileShader(v);
+    glCompileShader(f);
+    glAttachShader(linked, v);
+    glAttachShader(linked, f);
+    glLinkProgram(linked);
+    glUseProgram(linked);
+    errors("a linked program in use");
+    glUniform1f(-1, 1.0f);
+    errors("glUniform1f(-1)");
+    glUniform1f(-2, 1.0f);
+    errors("glUniform1f(-2)");
+    glUniform1fv(-1, -1, one);
+    errors("glUniform1fv(-1, count -1)");
+    glUseProgram(0);
+    glDeleteProgram(linked);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    errors("the program deleted");
+}
+
 static void scene(int frame)
 {
     glClearColor(0.1f, 0.1f, 0.2f, 1);
@@ -265,6 +331,8 @@ int main(int argc, char **argv)
         refused_state();
         refused_broadcast();
         refused_draws();
+        refused_glsl(shader, program);
+        proxies();
         scene(f);
         errors("scene again");
         if (!exapp_swap(&app))
