@@ -63,6 +63,10 @@ typedef struct ms_node {
     tsr_net_conn *conn;
     int conn_ended;
     double lost_at; /* control connection failed at; 0 = not */
+    /* Exited with a non-zero status before its DONE was read, at (0 =
+     * not): its DONE names the cause and may still be on its way. */
+    double exit_seen_at;
+    char exit_what[160];
     char lost_why[520];
     node_state state;
     double last_heard, configured_at, done_at;

@@ -97,10 +97,21 @@ void ms_reap(ms *m)
             /* No DONE could come: say what the node saw end first. */
             ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s after its control connection was lost (%s)", n->g->name,
                     (long)n->pid, what, n->lost_why);
-        else if (n->state != N_DONE && WEXITSTATUS(st))
-            ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s%s", n->g->name, (long)n->pid, what,
-                    n->state == N_WAITING ? " before joining" : "");
-        else if (n->state != N_DONE) {
+        else if (n->state != N_DONE && WEXITSTATUS(st)) {
+            /* A node that fails sends DONE with its reason, then exits:
+             * the DONE may not have been read yet (the mothership's
+             * network thread reads it, later on a loaded machine). Read
+             * what is queued; if it is not there, check() names the exit
+             * once the connection has ended or LOST_GRACE_S has passed
+             * (faker_tessera_exec_passes_status_* named the exit instead
+             * of the node's reason under load). */
+            ms_receive(m);
+            if (n->state != N_DONE && !n->exit_seen_at) {
+                n->exit_seen_at = tsr_now_seconds();
+                snprintf(n->exit_what, sizeof n->exit_what, "%s%s", what,
+                         n->state == N_WAITING ? " before joining" : "");
+            }
+        } else if (n->state != N_DONE) {
             /* A node sends DONE and exits at once: its DONE may still be
              * queued here when the exit is seen (many nodes ending
              * together, e.g. a sort-last group). Read what is queued first. */
