@@ -20,6 +20,8 @@
     "colour-index state: tessera's contexts are RGBA, where GL keeps it and ignores it; a sender forwards it to every renderer"
 #define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
 #define COMPRESSED "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
+#define FBO \
+    "the program's framebuffer objects (GL_EXT_framebuffer_object) are not tracked yet: the faker offers the extension only where no tracker is needed (render, pack, capture: faker/offered.c), never on a wall, so a tracking sender never gets them"
 #define QUERY "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
@@ -99,5 +101,17 @@ const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"DeleteQueries", QUERY},
     {"BeginQuery", QUERY},
     {"EndQuery", QUERY},
+    {"GenRenderbuffersEXT", FBO},
+    {"DeleteRenderbuffersEXT", FBO},
+    {"BindRenderbufferEXT", FBO},
+    {"RenderbufferStorageEXT", FBO},
+    {"GenFramebuffersEXT", FBO},
+    {"DeleteFramebuffersEXT", FBO},
+    {"BindFramebufferEXT", FBO},
+    {"FramebufferTexture1DEXT", FBO},
+    {"FramebufferTexture2DEXT", FBO},
+    {"FramebufferTexture3DEXT", FBO},
+    {"FramebufferRenderbufferEXT", FBO},
+    {"GenerateMipmapEXT", FBO},
     {NULL, NULL},
 };
