@@ -101,7 +101,6 @@ struct tsr_faker_context {
     tsr_hook *hooks;    /* TSR_DISPATCH_COUNT, made with `locked` */
     bool locked_now;    /* its thread calls `locked` (once set, for good) */
     char renderer[256]; /* "tessera (downstream renderer)" */
-    bool chain_renders; /* the chain answered GL_RENDERER: its GL raises glGetString's errors */
     tsr_faker_context *next;
 };
 
@@ -267,24 +266,16 @@ static faker_stream *stream_new_locked(void)
 static const GLubyte *faker_GetString(void *self, GLenum name)
 {
     tsr_faker_context *c = self;
-    const tsr_dispatch *head = tsr_chain_head(c->stream->chain);
-    if (!c->renderer[0]) {
-        const GLubyte *down = tsr_call_GetString(head, GL_RENDERER);
-        c->chain_renders = down && down[0];
-        snprintf(c->renderer, sizeof c->renderer, "tessera (%s)",
-                 c->chain_renders ? (const char *)down : "no renderer");
-    }
-    /* The renderer's GL decides the errors, as natively: inside
-     * glBegin/glEnd (GL_INVALID_OPERATION) or for a name it does not know
-     * (GL_INVALID_ENUM) it raises one and answers NULL, and so does the
-     * faker. A chain without a renderer (print, passthrough) answers NULL
-     * to everything; the faker's own strings stand there. */
-    const GLubyte *down = tsr_call_GetString(head, name);
-    if (!down && c->chain_renders)
-        return NULL;
     switch (name) {
     case GL_VENDOR: return (const GLubyte *)"tessera";
-    case GL_RENDERER: return (const GLubyte *)c->renderer;
+    case GL_RENDERER:
+        if (!c->renderer[0]) {
+            const tsr_dispatch *head = tsr_chain_head(c->stream->chain);
+            const GLubyte *down = tsr_call_GetString(head, GL_RENDERER);
+            snprintf(c->renderer, sizeof c->renderer, "tessera (%s)",
+                     down && down[0] ? (const char *)down : "no renderer");
+        }
+        return (const GLubyte *)c->renderer;
     case GL_VERSION: return (const GLubyte *)"2.1 tessera " TESSERA_VERSION;
     case GL_SHADING_LANGUAGE_VERSION: return (const GLubyte *)"1.20";
     case GL_EXTENSIONS: return (const GLubyte *)(c->stream ? c->stream->extensions : tsr_faker_gl_extensions);

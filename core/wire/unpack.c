@@ -261,7 +261,7 @@ int tsr_unpacker_set_limits(tsr_unpacker *u, const tsr_unpack_limits *limits, ts
     return TSR_OK;
 }
 
-int tsr_unpacker_decoding(void) { return decoding != NULL; }
+int tsr_unpacker_budgeted(void) { return decoding != NULL && decoding->limited; }
 
 int tsr_unpacker_refuse(const char *fmt, ...)
 {

@@ -56,9 +56,10 @@ static bool texture_admit(render_spu *r, const char *command, GLenum target, GLi
                           GLsizei width, GLsizei height, GLsizei depth, GLint border)
 {
     /* The budget protects a node from the streams it receives; in the
-     * application's own process the memory is the program's, and it gets
+     * application's own process (also behind capture, which decodes the
+     * program's stream there) the memory is the program's, and it gets
      * what its GL gives it, as natively (piglit's max-texture-size). */
-    if (!tsr_unpacker_decoding())
+    if (!tsr_unpacker_budgeted())
         return true;
     GLenum binding = binding_of(target);
     if (!binding || level < 0 || border < 0 || border > 1 || size_refused_by_gl(r, target, width, height, depth))

@@ -650,15 +650,9 @@ static void sized_gets(void)
     glDeleteTextures(1, &tex);
 }
 
-/* glGetString's errors are the renderer GL's, as natively: an unknown
- * name answers NULL with GL_INVALID_ENUM. */
-static void string_errors(void)
+/* Client state the packer keeps: GL's errors all the same. */
+static void client_state_errors(void)
 {
-    const GLubyte *s = glGetString(0x1234);
-    fprintf(out, "GetString(0x1234): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
-    s = glGetString(GL_VENDOR);
-    fprintf(out, "GetString(GL_VENDOR): %s error 0x%x\n", s ? "a string" : "NULL", glGetError());
-    /* client state the packer keeps: GL's errors all the same */
     GLint units = 0;
     glGetIntegerv(GL_MAX_TEXTURE_COORDS, &units);
     glClientActiveTexture(GL_TEXTURE0 + (GLenum)units);
@@ -680,7 +674,7 @@ int main(int argc, char **argv)
     mapped_buffer();
     array_elements();
     sized_gets();
-    string_errors();
+    client_state_errors();
     recorded_gl_end(out, argv[1]);
     printf("gl21 commands: written to %s\n", argv[1]);
     return 0;

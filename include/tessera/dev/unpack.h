@@ -146,11 +146,13 @@ TSR_API void tsr_unpack_limits_defaults(tsr_unpack_limits *limits);
  * process) nothing happens and 0 is returned, and the SPU logs the line
  * itself. Either way the SPU skips the command. */
 TSR_API int tsr_unpacker_refuse(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-/* 1 while this thread is decoding a received stream (a node's client, a
- * replayed capture), where an SPU's budgets protect the node from its
- * senders; 0 in the application's own process, whose memory is the
- * program's own. */
-TSR_API int tsr_unpacker_decoding(void);
+/* 1 while this thread decodes a stream a node received from a client,
+ * with the node's budgets set (tsr_unpacker_set_limits), where an SPU's
+ * own budgets protect the node from its senders; 0 otherwise: in the
+ * application's own process (also behind an SPU that decodes the
+ * program's own stream there, as capture does) the memory is the
+ * program's. */
+TSR_API int tsr_unpacker_budgeted(void);
 
 /* Checks a buffer's header: returns its total size, or 0 when `size` bytes
  * do not start a valid header (`err` filled). */
