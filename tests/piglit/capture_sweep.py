@@ -330,7 +330,9 @@ def report(a, rows, total, shard_i, shard_n, known, out, cpu, t_start):
                 if known.get((name, "capture")) or known.get((name, "replay")):
                     stale.append("note: %s holds through capture and replay now: its line in capture-open.tsv "
                                  "can go" % name)
-            elif listed and not (rp and rp["differ"]):  # an OPEN run's capture still replays exactly
+            # An OPEN capture run's capture still replays exactly, unless a
+            # replay line names the replay's own known difference.
+            elif listed and (known.get((name, "replay")) or not (rp and rp["differ"])):
                 opened.append("OPEN: %s: %s (%s)" % (name, why, listed))
             else:
                 failures.append("FAIL: %s: %s (passes natively; %s)"
