@@ -74,15 +74,6 @@ static void textured_quad(GLfloat r)
     glEnd();
 }
 
-static int has_extension(const char *name)
-{
-    const char *all = (const char *)glGetString(GL_EXTENSIONS);
-    size_t n = strlen(name);
-    for (const char *p = all; p && (p = strstr(p, name)) != NULL; p += n)
-        if ((p == all || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
-            return 1;
-    return 0;
-}
 
 /* Each listed name, offered or not; returns how many are not. */
 static int listed_extensions(const char *table)
@@ -95,7 +86,7 @@ static int listed_extensions(const char *table)
         if (line[0] == '#' || line[0] == '\n')
             continue;
         line[strcspn(line, "\t\n")] = '\0';
-        int has = has_extension(line);
+        int has = recorded_gl_has_extension(line);
         fprintf(out, "%s: %s\n", line, has ? "offered" : "absent");
         absent += !has;
         listed++;

@@ -34,15 +34,6 @@
 
 static FILE *out;
 
-static int has_extension(const char *name)
-{
-    const char *all = (const char *)glGetString(GL_EXTENSIONS);
-    size_t n = strlen(name);
-    for (const char *p = all; p && (p = strstr(p, name)) != NULL; p += n)
-        if ((p == all || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
-            return 1;
-    return 0;
-}
 
 static void error_line(const char *label) { fprintf(out, "%s: glGetError 0x%x\n", label, glGetError()); }
 
@@ -222,7 +213,7 @@ static void texture_to_window(GLuint tex)
 int main(int argc, char **argv)
 {
     out = recorded_gl_start(argc, argv);
-    int offered = has_extension("GL_EXT_framebuffer_object");
+    int offered = recorded_gl_has_extension("GL_EXT_framebuffer_object");
     fprintf(out, "GL_EXT_framebuffer_object: %s\n", offered ? "offered" : "absent");
     if (offered) {
         GLuint tex = 0;

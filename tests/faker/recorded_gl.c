@@ -83,3 +83,13 @@ void recorded_gl_frame(FILE *out, const char *label)
     const unsigned char *c = px + ((RECORDED_GL_H / 2) * RECORDED_GL_W + RECORDED_GL_W / 2) * 4;
     fprintf(out, "%s: frame %08x centre %u %u %u %u\n", label, recorded_gl_fnv(px, sizeof px), c[0], c[1], c[2], c[3]);
 }
+
+int recorded_gl_has_extension(const char *name)
+{
+    const char *all = (const char *)glGetString(GL_EXTENSIONS);
+    size_t n = strlen(name);
+    for (const char *p = all; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == all || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+    return 0;
+}

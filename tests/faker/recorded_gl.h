@@ -31,6 +31,9 @@ FILE *recorded_gl_start(int argc, char **argv);
  * cannot), releases and destroys the context and surface. */
 void recorded_gl_end(FILE *out, const char *path);
 
+/* 1 when the current context's GL_EXTENSIONS names `name` whole. */
+int recorded_gl_has_extension(const char *name);
+
 /* One line to out: label, the checksum of the whole RGBA colour buffer
  * and its centre pixel. */
 void recorded_gl_frame(FILE *out, const char *label);

@@ -57,15 +57,6 @@ static void float_bits(const char *label, const GLfloat *v, int n)
     uints(label, bits, n);
 }
 
-static int has_extension(const char *name)
-{
-    const char *all = (const char *)glGetString(GL_EXTENSIONS);
-    size_t n = strlen(name);
-    for (const char *p = all; p && (p = strstr(p, name)) != NULL; p += n)
-        if ((p == all || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
-            return 1;
-    return 0;
-}
 
 static void clear_colour(void)
 {
@@ -217,7 +208,7 @@ static void integer_images(void)
 int main(int argc, char **argv)
 {
     out = recorded_gl_start(argc, argv);
-    int offered = has_extension("GL_EXT_texture_integer");
+    int offered = recorded_gl_has_extension("GL_EXT_texture_integer");
     fprintf(out, "GL_EXT_texture_integer: %s\n", offered ? "offered" : "absent");
     clear_colour();
     texture_parameters();
