@@ -37,6 +37,20 @@ static const struct {
     {"Flush", "tsr_packer_flush(tsr_p);", NULL},
     {"Finish", "tsr_packer_flush(tsr_p);", NULL},
     {"SwapBuffersTSR", "tsr_packer_flush(tsr_p);", NULL},
+    /* The stream's shader and program names (GL checks a name before it
+     * reads a call's pointers; the packer must too). */
+    {"CreateShaderTSR", "tsr_packer_note_glsl_name(tsr_p, shader, 0);", NULL},
+    {"CreateProgramTSR", "tsr_packer_note_glsl_name(tsr_p, program, 1);", NULL},
+};
+
+/* Reply commands whose returned value the packer records: code run once
+ * the reply's return value is in tsr_ret. */
+static const struct {
+    const char *name;
+    const char *after;
+} reply_hooks[] = {
+    {"CreateShader", "tsr_packer_note_glsl_name(tsr_p, tsr_ret, 0);"},
+    {"CreateProgram", "tsr_packer_note_glsl_name(tsr_p, tsr_ret, 1);"},
 };
 
 /* Queries the packer answers itself because the receiver never sees the
@@ -95,6 +109,14 @@ static const char *pack_hook(const spec_command *c)
     for (size_t i = 0; i < sizeof hooks / sizeof hooks[0]; i++)
         if (!strcmp(hooks[i].name, c->name))
             return hooks[i].pack_hook;
+    return NULL;
+}
+
+static const char *reply_hook(const spec_command *c)
+{
+    for (size_t i = 0; i < sizeof reply_hooks / sizeof reply_hooks[0]; i++)
+        if (!strcmp(reply_hooks[i].name, c->name))
+            return reply_hooks[i].after;
     return NULL;
 }
 
@@ -502,6 +524,8 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
             fprintf(f, "    }\n");
         }
     }
+    if (gc->is_reply && reply_hook(c))
+        fprintf(f, "    %s\n", reply_hook(c));
     if (gc->is_void)
         fprintf(f, "    return;\n");
     else

@@ -117,6 +117,7 @@ void tsr_packer_destroy(tsr_packer *p)
     free(p->strings);
     tsr_wire_contexts_free(p->contexts);
     tsr_wire_selection_free(p->selection);
+    tsr_packer_glsl_names_free(p->glsl_names);
     for (size_t i = 0; i < sizeof p->mapped / sizeof p->mapped[0]; i++)
         free(p->mapped[i].data);
     free(p);
@@ -611,6 +612,14 @@ void tsr_packer_custom_ShaderSource(tsr_packer *p, GLuint shader, GLsizei count,
     if (count < 0 || (count && !string)) {
         /* GL's answer (Mesa's too): GL_INVALID_VALUE, nothing changes. */
         tsr_packer_local_error(p, GL_INVALID_VALUE);
+        return;
+    }
+    /* GL checks the name before it reads a string (piglit's
+     * shadersource-errors hands a bad name a pointer that is no array of
+     * strings): so does the packer, which would read them to send them. */
+    GLenum name_error = tsr_packer_shader_name_error(p, shader);
+    if (name_error) {
+        tsr_packer_local_error(p, name_error);
         return;
     }
     uint64_t block = 0;

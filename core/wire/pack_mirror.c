@@ -2,7 +2,8 @@
  * context: pixel store, vertex arrays and their enables, buffer bindings,
  * the client attribute stack, GetPointerv and GetVertexAttribPointerv;
  * swapped at the stream's MakeCurrentTSR and dropped at ContextDestroyTSR.
- * Owns the mirrors' records in the packer. Never: sends a host pointer,
+ * Per stream (a share group's objects): the shader and program names the
+ * receiver created. Owns the mirrors' records in the packer. Never: sends a host pointer,
  * aborts (problems are recorded in the packer's error). */
 #include "pack_internal.h"
 
@@ -14,6 +15,7 @@
 #include <string.h>
 
 #include "tessera/log.h"
+#include "util/map.h"
 #include "wire_gen.h"
 #include "wire_internal.h"
 
@@ -326,6 +328,42 @@ int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name)
                 name);
     tsr_packer_local_error(p, GL_INVALID_OPERATION);
     return 1;
+}
+
+/* --- the stream's GLSL object names ------------------------------------------- */
+
+struct tsr_packer_glsl_names {
+    tsr_name_map kinds; /* name -> (void *)1 shader, (void *)2 program */
+    int incomplete;     /* a name was lost to a failed allocation */
+};
+
+void tsr_packer_note_glsl_name(tsr_packer *p, GLuint name, int is_program)
+{
+    if (!name)
+        return; /* the receiver refused to create it */
+    if (!p->glsl_names)
+        p->glsl_names = calloc(1, sizeof *p->glsl_names);
+    if (!p->glsl_names)
+        return; /* no record at all: the packer cannot tell, and never refuses */
+    if (tsr_name_map_put(&p->glsl_names->kinds, name, (void *)(uintptr_t)(is_program ? 2 : 1)) != 0)
+        p->glsl_names->incomplete = 1;
+}
+
+GLenum tsr_packer_shader_name_error(const tsr_packer *p, GLuint name)
+{
+    const struct tsr_packer_glsl_names *n = p->glsl_names;
+    if (!n || n->incomplete)
+        return 0;
+    uintptr_t kind = (uintptr_t)tsr_name_map_get(&n->kinds, name);
+    return kind == 1 ? 0 : kind == 2 ? GL_INVALID_OPERATION : GL_INVALID_VALUE;
+}
+
+void tsr_packer_glsl_names_free(struct tsr_packer_glsl_names *n)
+{
+    if (!n)
+        return;
+    tsr_name_map_free(&n->kinds);
+    free(n);
 }
 
 GLenum tsr_packer_take_local_error(tsr_packer *p)

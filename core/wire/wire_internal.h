@@ -79,6 +79,18 @@ void tsr_packer_local_error(tsr_packer *p, GLenum error);
  * the call is then GL_INVALID_OPERATION, with one warning, and its pointer
  * (an offset) is never written (pack_mirror.c). */
 int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name);
+/* The stream's GLSL object names (generated hooks of glCreateShader,
+ * glCreateProgram and their TSR forms): `name` is a shader (is_program 0)
+ * or a program (1). Names stay known after glDelete*: a deleted shader
+ * still attached to a program keeps its name, and the receiver answers a
+ * call on one that is gone. */
+void tsr_packer_note_glsl_name(tsr_packer *p, GLuint name, int is_program);
+/* The error GL raises for a shader call (glShaderSource) on `name` before
+ * it reads the call's pointers: GL_INVALID_OPERATION for a program's name,
+ * GL_INVALID_VALUE for a name the stream never created; 0 for a shader,
+ * or when the packer cannot tell (it lost a name to a failed allocation). */
+GLenum tsr_packer_shader_name_error(const tsr_packer *p, GLuint name);
+void tsr_packer_glsl_names_free(struct tsr_packer_glsl_names *n);
 
 /* --- unpacker ---------------------------------------------------------------- */
 

@@ -18,7 +18,8 @@
  *   ArrayElement, immediately and in a display list; the gets whose
  *   answer's size the GL's state decides (GetMap*, GetPixelMap*,
  *   GetUniform* of every GLSL 1.20 kind, GetCompressedTexImage), with
- *   guard values after each answer and their errors.
+ *   guard values after each answer and their errors; glShaderSource on a
+ *   name that is no shader, whose strings GL never reads.
  * Built with RECORDED_GL_NATIVE (faker_gl21_commands_native) it makes the same
  * calls on OSMesa directly: the runs through tessera must write the same
  * file (gl21_commands.sh). */
@@ -660,6 +661,19 @@ static void client_state_errors(void)
     GLint active = -1;
     glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
     fprintf(out, "CLIENT_ACTIVE_TEXTURE: 0x%x error 0x%x\n", (unsigned)active, glGetError());
+    /* GL checks glShaderSource's name before it reads a string, so a bad
+     * name's strings are never read (piglit's shadersource-errors passes
+     * text where the array of strings belongs): a packer must not read
+     * them either */
+    static const char text[] = "void main() { gl_FragColor = vec4(1.0); }                ";
+    const GLchar *const *not_strings = (const GLchar *const *)(const void *)text;
+    GLuint shader = glCreateShader(GL_FRAGMENT_SHADER), prog = glCreateProgram();
+    glShaderSource(shader + prog + 99, 1, not_strings, NULL);
+    fprintf(out, "ShaderSource(a name never created): error 0x%x\n", glGetError());
+    glShaderSource(prog, 1, not_strings, NULL);
+    fprintf(out, "ShaderSource(a program's name): error 0x%x\n", glGetError());
+    glDeleteShader(shader);
+    glDeleteProgram(prog);
 }
 
 int main(int argc, char **argv)

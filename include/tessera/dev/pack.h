@@ -134,6 +134,11 @@ typedef struct tsr_packer {
     /* the program's selection and feedback buffers and the render mode,
      * per context */
     struct tsr_wire_selection *selection;
+    /* the shader and program names the stream's receiver gave or was
+     * given (glCreateShader, glCreateProgram, their TSR forms): a call on
+     * a name that is neither is GL's error before its pointers are read
+     * (pack_mirror.c) */
+    struct tsr_packer_glsl_names *glsl_names;
 } tsr_packer;
 
 /* Whether cap names a client array (GL_VERTEX_ARRAY, ...). glEnable and
