@@ -322,6 +322,14 @@ const tsr_state_client *tsr_state_client_of(const tsr_state_ctx *c) { return &c-
 const GLfloat *tsr_state_modelview(const tsr_state_ctx *c) { return c->s.modelview[c->s.modelview_depth - 1]; }
 const GLfloat *tsr_state_projection(const tsr_state_ctx *c) { return c->s.projection[c->s.projection_depth - 1]; }
 
+void tsr_state_tracker_set_texture_limits(tsr_state_tracker *t, GLint max_size, GLint max_3d_size, GLint max_cube_size)
+{
+    t->max_tex_size[TSR_TEX_1D] = max_size;
+    t->max_tex_size[TSR_TEX_2D] = max_size;
+    t->max_tex_size[TSR_TEX_3D] = max_3d_size;
+    t->max_tex_size[TSR_TEX_CUBE] = max_cube_size;
+}
+
 GLenum tsr_state_take_error(tsr_state_ctx *c)
 {
     GLenum e = c->gl_error;

@@ -190,6 +190,7 @@ struct tsr_state_tracker {
     size_t words;                          /* bit-vector words per node (64 renderers each) */
     uint8_t group_first[TSR_SG_COUNT + 1]; /* members of group g: [first[g], first[g+1]) */
     uint64_t next_uid;
+    GLint max_tex_size[TSR_TEX_TARGETS]; /* by TSR_TEX_*; 0: unknown (tsr_state_tracker_set_texture_limits) */
 };
 
 /* Dirty-bit nodes: root, groups, members. */

@@ -459,13 +459,65 @@ static st_upload *level_image(const st_texobj *o, GLenum face, GLint level)
     return NULL;
 }
 
+static int is_proxy_target(GLenum target)
+{
+    return target == GL_PROXY_TEXTURE_1D || target == GL_PROXY_TEXTURE_2D || target == GL_PROXY_TEXTURE_3D ||
+           target == GL_PROXY_TEXTURE_CUBE_MAP;
+}
+
+/* The GL error of a glTex(Sub)Image{dims}D target, before any other check
+ * (GL 2.1 section 3.8.1): a tracked target of another dimension count, the
+ * cube map itself (only its faces take images) and, for a sub-image, a
+ * proxy are GL_INVALID_ENUM. A target the tracker does not know is none of
+ * its business (0: the call is left alone, as before). */
+static GLenum image_target_error(int dims, GLenum target, int sub)
+{
+    if (is_proxy_target(target))
+        return sub ? GL_INVALID_ENUM : 0;
+    int ti = st_tex_target_index(target);
+    if (ti < 0)
+        return 0;
+    if (target == GL_TEXTURE_CUBE_MAP || (dims == 1) != (ti == TSR_TEX_1D) || (dims == 3) != (ti == TSR_TEX_3D))
+        return GL_INVALID_ENUM;
+    return 0;
+}
+
+/* A level or size past the renderers' limits, when known (GL 2.1 section
+ * 3.8.1: a level past log2 of the largest size, an image wider than that
+ * level's largest size plus its border). */
+static int past_limits(const tsr_state_ctx *c, GLenum target, GLint level, GLsizei w, GLsizei h, GLsizei d,
+                       GLint border)
+{
+    int ti = st_tex_target_index(target);
+    GLint max = ti >= 0 ? c->t->max_tex_size[ti] : 0;
+    if (max <= 0)
+        return 0;
+    GLint levels = 1;
+    while ((max >> levels) > 0)
+        levels++;
+    if (level >= levels)
+        return 1;
+    GLsizei room = (max >> level) + 2 * border;
+    return w > room || (ti != TSR_TEX_1D && h > room) || (ti == TSR_TEX_3D && d > room);
+}
+
 static void tex_image(tsr_state_ctx *c, int dims, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
                       GLsizei d, GLint border, GLenum format, GLenum type, const void *pixels)
 {
-    int ti = st_tex_target_index(target);
-    if (ti < 0 || level < 0 || w < 0 || h < 0 || d < 0 || (ti == TSR_TEX_CUBE && target == GL_TEXTURE_CUBE_MAP))
+    /* GL's errors the tracker can tell (the call is never sent when it
+     * refuses it, so no server would raise them); a wall's glGetError
+     * takes them (tsr_state_take_error) */
+    GLenum error = image_target_error(dims, target, 0);
+    if (!error && st_tex_target_index(target) >= 0 &&
+        (level < 0 || w < 0 || h < 0 || d < 0 || border < 0 || border > 1 ||
+         past_limits(c, target, level, w, h, d, border)))
+        error = GL_INVALID_VALUE;
+    if (error) {
+        st_error(c, error);
         return;
-    if ((dims == 1) != (ti == TSR_TEX_1D) || (dims == 3) != (ti == TSR_TEX_3D))
+    }
+    int ti = st_tex_target_index(target);
+    if (ti < 0)
         return;
     st_texobj *o = bound_tex(c, target);
     if (!o)
@@ -544,19 +596,71 @@ static void st_TexImage3D(void *self, GLenum target, GLint level, GLint ifmt, GL
     tex_image(c, 3, target, level, ifmt, w, h, d, border, format, type, pixels);
 }
 
+static void record_subimage(tsr_state_ctx *c, st_texobj *o, int dims, GLenum target, GLint level, GLint x, GLint y,
+                            GLint z, GLsizei w, GLsizei h, GLsizei d, GLenum format, GLenum type, uint8_t *copy,
+                            size_t size)
+{
+    record_upload(c, o,
+                  (st_upload){ST_UP_SUBIMAGE,
+                              dims,
+                              target,
+                              level,
+                              0,
+                              0,
+                              x,
+                              y,
+                              z,
+                              w,
+                              h,
+                              d,
+                              format,
+                              type,
+                              copy,
+                              size,
+                              c->v.pixel_store.unpack.swap_bytes,
+                              c->v.pixel_store.unpack.lsb_first,
+                              0,
+                              {{0}, {0}, 0, 0, 0, 0}});
+}
+
 static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level, GLint x, GLint y, GLint z, GLsizei w,
                          GLsizei h, GLsizei d, GLenum format, GLenum type, const void *pixels)
 {
-    st_texobj *o = bound_tex(c, target);
-    if (!o || (!pixels && !c->v.pixel_unpack_buffer) || w < 0 || h < 0 || d < 0)
+    /* GL's errors in GL's order: target, level and sizes, a level with no
+     * image, then the region (GL 2.1 section 3.8.2; the border widens
+     * the range an offset may take) */
+    GLenum error = image_target_error(dims, target, 1);
+    if (!error && st_tex_target_index(target) >= 0 && (level < 0 || w < 0 || h < 0 || d < 0))
+        error = GL_INVALID_VALUE;
+    st_texobj *o = error ? NULL : bound_tex(c, target);
+    st_upload *img = o ? level_image(o, target, level) : NULL;
+    /* a level made by mipmap generation has no image of its own in the
+     * log: the sub-image is logged and the renderer's GL judges it */
+    int generated = 0;
+    for (size_t i = 0; o && i < o->nup; i++)
+        generated |= o->up[i].kind == ST_UP_MIPMAP || o->up[i].gen_mipmap;
+    if (!error && o && !img && !generated)
+        error = GL_INVALID_OPERATION;
+    if (!error && img) {
+        GLint b = img->border;
+        if (x < -b || x + w > img->w - b || (dims > 1 && (y < -b || y + h > img->h - b)) ||
+            (dims > 2 && (z < -b || z + d > img->d - b)))
+            error = GL_INVALID_VALUE;
+    }
+    if (error) {
+        st_error(c, error);
         return;
-    st_upload *img = level_image(o, target, level);
-    if (!img || x < 0 || y < 0 || z < 0 || x + w > img->w || y + h > img->h || z + d > img->d)
-        return;
+    }
+    if (!o || (!pixels && !c->v.pixel_unpack_buffer))
+        return; /* NULL pixels: GL reads nothing and changes nothing */
     size_t size;
     uint8_t *copy = copy_image(c, dims, w, h, d, format, type, pixels, &size);
     if (!copy)
         return;
+    if (!img) {
+        record_subimage(c, o, dims, target, level, x, y, z, w, h, d, format, type, copy, size);
+        return;
+    }
     /* A sub-image covering the whole level in the level's own format
      * replaces the image's pixels instead of growing the list (textures
      * streamed every frame stay one upload). */
@@ -585,27 +689,7 @@ static void tex_subimage(tsr_state_ctx *c, int dims, GLenum target, GLint level,
         st_tex_changed(c, o);
         return;
     }
-    record_upload(c, o,
-                  (st_upload){ST_UP_SUBIMAGE,
-                              dims,
-                              target,
-                              level,
-                              0,
-                              0,
-                              x,
-                              y,
-                              z,
-                              w,
-                              h,
-                              d,
-                              format,
-                              type,
-                              copy,
-                              size,
-                              c->v.pixel_store.unpack.swap_bytes,
-                              c->v.pixel_store.unpack.lsb_first,
-                              0,
-                              {{0}, {0}, 0, 0, 0, 0}});
+    record_subimage(c, o, dims, target, level, x, y, z, w, h, d, format, type, copy, size);
 }
 
 static void st_TexSubImage1D(void *self, GLenum target, GLint level, GLint x, GLsizei w, GLenum format, GLenum type,

@@ -238,6 +238,22 @@ static int is_proxy(GLenum target)
            target == GL_PROXY_TEXTURE_CUBE_MAP || target == GL_PROXY_TEXTURE_RECTANGLE_ARB;
 }
 
+/* The tracker refuses a texture image past the servers' limits as GL does
+ * (it would keep it and send it again with every later state): the first
+ * live server tells them, once, at the first image. */
+static void learn_texture_limits(tilesort *t)
+{
+    if (t->texture_limits_known)
+        return;
+    const tsr_dispatch *to = &ts_to_server(t)->table;
+    GLint max_size = 0, max_3d_size = 0, max_cube_size = 0;
+    tsr_call_GetIntegerv(to, GL_MAX_TEXTURE_SIZE, &max_size);
+    tsr_call_GetIntegerv(to, GL_MAX_3D_TEXTURE_SIZE, &max_3d_size);
+    tsr_call_GetIntegerv(to, GL_MAX_CUBE_MAP_TEXTURE_SIZE, &max_cube_size);
+    tsr_state_tracker_set_texture_limits(t->tracker, max_size, max_3d_size, max_cube_size);
+    t->texture_limits_known = true;
+}
+
 #define PROXY_OR_TRACKED(call)                                \
     do {                                                      \
         tilesort *t = self;                                   \
@@ -246,6 +262,7 @@ static int is_proxy(GLenum target)
             call;                                             \
             return;                                           \
         }                                                     \
+        learn_texture_limits(t);                              \
         ts_flush_before_state(t);                             \
         const tsr_dispatch *to = &t->track_table;             \
         call;                                                 \

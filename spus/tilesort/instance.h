@@ -77,6 +77,7 @@ typedef struct tilesort {
     bool assemble_alpha; /* assemble= PNGs keep the alpha (else RGB) */
     size_t batch_bytes;  /* geometry is bucketed in batches of about this size */
     tsr_state_tracker *tracker;
+    bool texture_limits_known; /* the tracker has the servers' texture limits (gets.c) */
     tsr_state_ctx *ctx;
     tsr_packer *geo;
     tsr_dispatch geo_table, track_table, normal, record;

@@ -15,7 +15,9 @@
  * whose vertices fall in one tile only (a wall sends them to the servers
  * whose tiles they touch); glBegin inside glBegin, then glClear GL refuses
  * (GL's answer is the first); shader sources and uniforms GL refuses;
- * proxy textures of sizes GL takes and refuses. Between the cases a
+ * proxy textures of sizes GL takes and refuses; texture images and
+ * sub-images GL refuses, and a sub-image of a generated mipmap level GL
+ * keeps. Between the cases a
  * drawn frame shows that the wall still draws. Built twice like the
  * examples (examples/common/exapp.h). */
 #define GL_GLEXT_PROTOTYPES 1
@@ -250,6 +252,58 @@ static void proxies(void)
     ints("1D proxy too wide: width", &w, 1);
 }
 
+/* Texture images GL refuses (piglit's teximage-errors): a wall's tracker
+ * keeps images and sends them later, so it must refuse what GL refuses
+ * (else no server sees the call, or every later state sent repeats it),
+ * and keep what GL keeps: a sub-image of a level made by mipmap
+ * generation, read back. */
+static void refused_textures(void)
+{
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage1D(GL_TEXTURE_2D, 0, GL_RGBA, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexImage1D(GL_TEXTURE_2D)");
+    glTexImage2D(GL_TEXTURE_CUBE_MAP, 0, GL_RGBA, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexImage2D(GL_TEXTURE_CUBE_MAP)");
+    glTexImage2D(GL_TEXTURE_2D, 2000, GL_RGBA, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexImage2D(level 2000)");
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 1 << 20, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexImage2D(width 1 << 20)");
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 8, 8, 2, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexImage2D(border 2)");
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 4, 4, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexSubImage2D(no image yet)");
+    static GLubyte texels[8 * 8 * 4];
+    for (size_t i = 0; i < sizeof texels; i++)
+        texels[i] = (GLubyte)(i * 7);
+    glTexParameteri(GL_TEXTURE_2D, GL_GENERATE_MIPMAP, GL_TRUE);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 8, 8, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    errors("an 8x8 image with mipmaps generated");
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 4, 4, 8, 8, GL_RGBA, GL_FLOAT, NULL);
+    errors("glTexSubImage2D(past the image, NULL pixels)");
+    glTexSubImage2D(GL_TEXTURE_2D, 0, -1, 0, 2, 2, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    errors("glTexSubImage2D(x -1)");
+    glTexSubImage2D(GL_PROXY_TEXTURE_2D, 0, 0, 0, 2, 2, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    errors("glTexSubImage2D(GL_PROXY_TEXTURE_2D)");
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 2, 2, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    errors("glTexSubImage2D(NULL pixels)");
+    glTexParameteri(GL_TEXTURE_2D, GL_GENERATE_MIPMAP, GL_FALSE);
+    static const GLubyte red[2 * 2 * 4] = {255, 0, 0, 255, 255, 0, 0, 255, 255, 0, 0, 255, 255, 0, 0, 255};
+    glTexSubImage2D(GL_TEXTURE_2D, 1, 1, 1, 2, 2, GL_RGBA, GL_UNSIGNED_BYTE, red);
+    errors("glTexSubImage2D(a generated level)");
+    GLubyte level1[4 * 4 * 4];
+    memset(level1, 0x55, sizeof level1);
+    glGetTexImage(GL_TEXTURE_2D, 1, GL_RGBA, GL_UNSIGNED_BYTE, level1);
+    printf("level 1 read back:");
+    for (size_t i = 0; i < sizeof level1; i += 4)
+        printf(" %02x%02x%02x%02x", level1[i], level1[i + 1], level1[i + 2], level1[i + 3]);
+    printf("\n");
+    errors("glGetTexImage(level 1)");
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDeleteTextures(1, &tex);
+}
+
 /* Shader sources and uniforms GL refuses (piglit's shadersource-errors,
  * uniform-neg-location): the wall keeps both in the tracker. */
 static void refused_glsl(GLuint shader, GLuint program)
@@ -333,6 +387,7 @@ int main(int argc, char **argv)
         refused_draws();
         refused_glsl(shader, program);
         proxies();
+        refused_textures();
         scene(f);
         errors("scene again");
         if (!exapp_swap(&app))

@@ -394,6 +394,13 @@ typedef struct tsr_state_shadow tsr_state_shadow;
 TSR_API tsr_state_tracker *tsr_state_tracker_create(tsr_error *err);
 /* Destroys every context and shadow still attached. */
 TSR_API void tsr_state_tracker_destroy(tsr_state_tracker *t);
+/* The renderers' texture size limits (glGetIntegerv of GL_MAX_TEXTURE_SIZE,
+ * GL_MAX_3D_TEXTURE_SIZE and GL_MAX_CUBE_MAP_TEXTURE_SIZE): a glTexImage*
+ * whose level or size is past them is GL_INVALID_VALUE, refused here as GL
+ * does, so that it is never kept and sent again with every later state
+ * sent. 0 (the default) leaves a limit unchecked. */
+TSR_API void tsr_state_tracker_set_texture_limits(tsr_state_tracker *t, GLint max_size, GLint max_3d_size,
+                                                  GLint max_cube_size);
 
 /* A new context holds GL's initial state and is dirty for every renderer. */
 TSR_API tsr_state_ctx *tsr_state_ctx_create(tsr_state_tracker *t, tsr_error *err);
