@@ -773,6 +773,18 @@ int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLen
     }
 }
 
+const void *tsr_state_buffer_bytes(const tsr_state_ctx *c, GLenum target, GLsizeiptr *size)
+{
+    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
+                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
+                                                      : 0;
+    const st_bufobj *b = name ? st_buf_lookup(c, name) : NULL;
+    if (!b || !b->data || b->mapped)
+        return NULL;
+    *size = b->size;
+    return b->data;
+}
+
 GLboolean tsr_state_is_texture(const tsr_state_ctx *c, GLuint name)
 {
     const st_texobj *o = name ? tsr_name_map_get(&c->textures, name) : NULL;

@@ -524,15 +524,111 @@ void tsr_packer_custom_DrawArrays(tsr_packer *p, GLenum mode, GLint first, GLsiz
     bbox_of_vertex_array(p, v, n, lo, hi);
 }
 
+static void index_range(const void *indices, GLsizei count, size_t isize, uint64_t *lo, uint64_t *hi)
+{
+    const uint8_t *ix = indices;
+    *lo = UINT64_MAX;
+    *hi = 0;
+    for (GLsizei i = 0; i < count; i++) {
+        uint64_t x = isize == 1 ? ix[i] : isize == 2 ? ((const GLushort *)indices)[i] : ((const GLuint *)indices)[i];
+        *lo = x < *lo ? x : *lo;
+        *hi = x > *hi ? x : *hi;
+    }
+}
+
+/* The indices of a glDrawElements whose indices are in an element array
+ * buffer while some of its arrays are in client memory (GL allows the
+ * mix; piglit's draw-elements makes it): the packer sends the elements of
+ * those arrays the indices reach, and only the receiver has the indices.
+ * It asks for them (the buffer's size, then its bytes: two round trips for
+ * a mix programs rarely make; VBO-only draws take none) and the draw
+ * carries them inline, as a draw of client-memory indices, which the
+ * receiver checks against the arrays sent; the program's element array
+ * buffer binding is restored after it. A copy the caller frees, or NULL
+ * when the draw is not sent: a buffer mapped (GL_INVALID_OPERATION, as
+ * GL), indices past the buffer's end (GL leaves the result undefined:
+ * nothing is drawn), no reply channel or no memory (dropped, logged). */
+static void *element_buffer_indices(tsr_packer *p, GLsizei count, size_t isize, const void *indices)
+{
+    if (tsr_packer_buffer_mapped(p, GL_ELEMENT_ARRAY_BUFFER)) {
+        tsr_packer_local_error(p, GL_INVALID_OPERATION);
+        return NULL;
+    }
+    if (!p->sink.reply) {
+        tsr_packer_drop(p, "DrawElements", "client-memory arrays with indices in a buffer need a reply channel");
+        return NULL;
+    }
+    uint64_t offset = (uint64_t)(uintptr_t)indices, bytes = (uint64_t)count * isize;
+    GLint size = -1;
+    tsr_pack_GetBufferParameteriv(p, GL_ELEMENT_ARRAY_BUFFER, GL_BUFFER_SIZE, &size);
+    if (size < 0 || offset > (uint64_t)size || bytes > (uint64_t)size - offset)
+        return NULL;
+    void *ix = calloc(1, bytes ? (size_t)bytes : 1);
+    if (!ix) {
+        tsr_packer_drop(p, "DrawElements", "no memory for the indices");
+        return NULL;
+    }
+    int failed_before = p->error.code != 0;
+    tsr_pack_GetBufferSubData(p, GL_ELEMENT_ARRAY_BUFFER, (GLintptr)offset, (GLsizeiptr)bytes, ix);
+    if (!failed_before && p->error.code) {
+        free(ix);
+        return NULL;
+    }
+    return ix;
+}
+
+/* The element array buffer's bytes as the caller knows them (tilesort's
+ * tracker), or none given (the packer asks the receiver when it must). */
+typedef struct known_buffer {
+    int given;
+    const uint8_t *bytes; /* NULL: no data store, or mapped */
+    uint64_t size;
+} known_buffer;
+
+static void draw_elements(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices,
+                          const known_buffer *known);
+
 void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices)
 {
+    draw_elements(p, mode, count, type, indices, NULL);
+}
+
+void tsr_packer_draw_elements_known(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices,
+                                    const void *buffer_bytes, GLsizeiptr buffer_size)
+{
+    known_buffer k = {1, buffer_bytes, buffer_bytes && buffer_size > 0 ? (uint64_t)buffer_size : 0};
+    draw_elements(p, mode, count, type, indices, &k);
+}
+
+/* The indices of a draw of client-memory arrays whose indices are in the
+ * element array buffer, from the caller's copy of that buffer: a pointer
+ * into it, or NULL when the draw is not sent (a mapped buffer is
+ * GL_INVALID_OPERATION; indices past the buffer's end, where GL leaves the
+ * result undefined, draw nothing). */
+static const void *known_indices(tsr_packer *p, const known_buffer *k, GLsizei count, size_t isize, const void *indices)
+{
+    if (tsr_packer_buffer_mapped(p, GL_ELEMENT_ARRAY_BUFFER)) {
+        tsr_packer_local_error(p, GL_INVALID_OPERATION);
+        return NULL;
+    }
+    uint64_t offset = (uint64_t)(uintptr_t)indices, bytes = (uint64_t)count * isize;
+    if (!k->bytes || offset > k->size || bytes > k->size - offset)
+        return NULL;
+    return k->bytes + offset;
+}
+
+/* glDrawElements with the mirror's element array buffer (0: indices in
+ * client memory). */
+static void draw_elements(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices,
+                          const known_buffer *known)
+{
+    GLuint ibuf = p->arrays.element_buffer;
     size_t isize = type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT ? 2 : type == GL_UNSIGNED_INT ? 4 : 0;
     if (count < 0 || !isize) {
         tsr_packer_local_error(p, count < 0 ? GL_INVALID_VALUE : GL_INVALID_ENUM);
         tsr_packer_drop(p, "DrawElements", "negative count or bad index type");
         return;
     }
-    GLuint ibuf = p->arrays.element_buffer;
     if (!ibuf && !indices && count) {
         tsr_packer_drop(p, "DrawElements", "NULL indices without an element array buffer");
         return;
@@ -545,32 +641,32 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
     int inline_arrays = 0;
     for (int i = 0; i < n; i++)
         inline_arrays |= v[i].a->buffer == 0;
+    void *fetched = NULL;
     if (inline_arrays) {
-        if (ibuf) {
-            /* The index range lives in a server-side buffer. */
-            tsr_packer_drop(p, "DrawElements",
-                            "client-memory arrays with indices in an element array buffer are not supported");
-            return;
+        if (ibuf && known) {
+            if (!(indices = known_indices(p, known, count, isize, indices)))
+                return;
+            ibuf = 0;
+        } else if (ibuf) {
+            if (!(fetched = element_buffer_indices(p, count, isize, indices)))
+                return;
+            indices = fetched;
+            ibuf = 0;
         }
-        const uint8_t *ix = indices;
-        lo = UINT64_MAX;
-        for (GLsizei i = 0; i < count; i++) {
-            uint64_t x = isize == 1   ? ix[i]
-                         : isize == 2 ? ((const GLushort *)indices)[i]
-                                      : ((const GLuint *)indices)[i];
-            lo = x < lo ? x : lo;
-            hi = x > hi ? x : hi;
-        }
+        index_range(indices, count, isize, &lo, &hi);
     }
     uint64_t asize, ilen = ibuf ? 0 : (uint64_t)count * isize;
     if (arrays_size(v, n, lo, hi, &asize) != 0) {
         tsr_packer_drop(p, "DrawElements", "arrays too large");
+        free(fetched);
         return;
     }
     uint64_t size = 24 + 8 + tsr_wire_align8(ilen) + 8 + asize;
     uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_DrawElements, size, 8);
-    if (!d)
+    if (!d) {
+        free(fetched);
         return;
+    }
     tsr_wire_put_u32(d, mode);
     tsr_wire_put_u32(d + 4, (uint32_t)count);
     tsr_wire_put_u32(d + 8, type);
@@ -584,6 +680,7 @@ void tsr_packer_custom_DrawElements(tsr_packer *p, GLenum mode, GLsizei count, G
     tsr_wire_put_u64(d + q, asize);
     write_arrays(p, d + q + 8, v, n, lo, hi);
     bbox_of_vertex_array(p, v, n, lo, hi);
+    free(fetched);
 }
 
 uint64_t tsr_packer_draw_bytes(tsr_packer *p, GLsizei count, GLenum index_type, uint64_t vertices)

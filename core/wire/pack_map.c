@@ -32,6 +32,12 @@ static struct tsr_packer_mapping *mapping_of(tsr_packer *p, GLenum target)
     return NULL;
 }
 
+int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target)
+{
+    const struct tsr_packer_mapping *m = mapping_of(p, target);
+    return m && m->data;
+}
+
 void *tsr_packer_custom_MapBuffer(tsr_packer *p, GLenum target, GLenum access)
 {
     struct tsr_packer_mapping *m = mapping_of(p, target);

@@ -84,6 +84,9 @@ int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name);
  * or a program (1). Names stay known after glDelete*: a deleted shader
  * still attached to a program keeps its name, and the receiver answers a
  * call on one that is gone. */
+/* 1 while the buffer bound to `target` is mapped (glMapBuffer's client
+ * copy, pack_map.c). */
+int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target);
 void tsr_packer_note_glsl_name(tsr_packer *p, GLuint name, int is_program);
 /* The error GL raises for a shader call (glShaderSource) on `name` before
  * it reads the call's pointers: GL_INVALID_OPERATION for a program's name,

@@ -311,6 +311,22 @@ void ts_DrawArrays(void *self, GLenum mode, GLint first, GLsizei count)
     }
 }
 
+/* An unsorted glDrawElements into the geometry buffer. With indices in an
+ * element array buffer, the tracker has that buffer's bytes: a draw whose
+ * arrays are in client memory takes its indices from them (the geometry
+ * packer has no receiver to ask, and sends the arrays' elements the
+ * indices reach). */
+static void draw_elements_unsorted(tilesort *t, GLenum mode, GLsizei count, GLenum type, const void *indices)
+{
+    if (!t->geo->arrays.element_buffer) {
+        tsr_call_DrawElements(&t->geo_table, mode, count, type, indices);
+        return;
+    }
+    GLsizeiptr size = 0;
+    const void *bytes = tsr_state_buffer_bytes(t->ctx, GL_ELEMENT_ARRAY_BUFFER, &size);
+    tsr_packer_draw_elements_known(t->geo, mode, count, type, indices, bytes, size);
+}
+
 void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const void *indices)
 {
     tilesort *t = self;
@@ -321,7 +337,7 @@ void ts_DrawElements(void *self, GLenum mode, GLsizei count, GLenum type, const 
     GLsizei batch =
         t->geo->arrays.element_buffer || !indices || !listed || count < 0 ? 0 : batch_vertices(t, mode, count, isize);
     if (!batch) {
-        tsr_call_DrawElements(&t->geo_table, mode, count, type, indices);
+        draw_elements_unsorted(t, mode, count, type, indices);
         return;
     }
     /* each batch made compact: only the vertices its indices use are sent

@@ -11,8 +11,9 @@
  *   glMultiDrawArrays compiled into a display list, the arrays changed
  *   before it is called (it keeps the values of the time of compiling);
  *   glGetPointerv and glGetVertexAttribPointerv answering the program's
- *   own pointers; and the GL errors of bad calls (negative counts, end
- *   below start, unknown modes and types).
+ *   own pointers; glDrawElements of client arrays with its indices in an
+ *   element array buffer; and the GL errors of bad calls (negative
+ *   counts, end below start, unknown modes and types).
  * Built with RECORDED_GL_NATIVE (faker_client_arrays_native) it makes
  * the same calls on OSMesa directly: the runs through tessera must write
  * the same file (gl21_commands.sh runs both). */
@@ -148,6 +149,23 @@ static void draws(void)
     glArrayElement(0);
     glDisableClientState(GL_INDEX_ARRAY);
     frame("DrawArrays with an index array");
+
+    /* Indices in an element array buffer, arrays in client memory (GL
+     * allows the mix, piglit's draw-elements makes it): the receiver has
+     * the indices, a packer or a wall must find which array elements to
+     * send. */
+    clear();
+    GLuint ibo = 0;
+    glGenBuffers(1, &ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof quad_indices, quad_indices, GL_STATIC_DRAW);
+    glDrawElements(GL_TRIANGLES, 12, GL_UNSIGNED_BYTE, (const void *)(uintptr_t)6);
+    GLint bound = -1;
+    glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &bound);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    glDeleteBuffers(1, &ibo);
+    frame("DrawElements of client arrays with indices in a buffer");
+    fprintf(out, "element array buffer still bound after them: %s\n", bound == (GLint)ibo ? "yes" : "no");
     error("draws");
 }
 

@@ -306,6 +306,17 @@ static inline void tsr_packer_bbox4(tsr_packer *p, float x, float y, float z, fl
         tsr_packer_bbox_infinite(p); /* also w NaN */
 }
 
+/* glDrawElements(mode, count, type, indices) with an element array buffer
+ * bound whose bytes the caller has (buffer_bytes, buffer_size: tilesort's
+ * tracker keeps buffer contents; NULL when the buffer has no data store or
+ * is mapped): a draw whose arrays are in client memory then carries its
+ * indices inline, read from those bytes, without the round trip the packer
+ * would make to ask the receiver for them (nothing is drawn when they lie
+ * past the buffer's end); the receiver's element array buffer binding
+ * stays. A draw from buffers only is packed as glDrawElements. */
+TSR_API void tsr_packer_draw_elements_known(tsr_packer *p, GLenum mode, GLsizei count, GLenum type, const void *indices,
+                                            const void *buffer_bytes, GLsizeiptr buffer_size);
+
 /* --- the client-state mirrors ------------------------------------------------
  * An SPU that sends the stream in pieces through several packers (tilesort:
  * state to one, geometry to another) keeps each packer's mirrors right by

@@ -510,6 +510,10 @@ TSR_API int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum t
 TSR_API int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdouble *out);
 TSR_API int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out);
 TSR_API int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLint *out);
+/* The bytes of the buffer bound to `target` as the tracker keeps them and
+ * their count in *size, or NULL (no buffer bound, none kept, or mapped:
+ * the program may be writing them). */
+TSR_API const void *tsr_state_buffer_bytes(const tsr_state_ctx *c, GLenum target, GLsizeiptr *size);
 /* glGetShaderiv / glGetProgramiv: answered for what the client knows
  * (GL_SHADER_TYPE, GL_DELETE_STATUS, GL_SHADER_SOURCE_LENGTH,
  * GL_ATTACHED_SHADERS); compile, link and validate status, info logs and
