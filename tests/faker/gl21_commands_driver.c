@@ -661,6 +661,11 @@ static void client_state_errors(void)
     GLint active = -1;
     glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
     fprintf(out, "CLIENT_ACTIVE_TEXTURE: 0x%x error 0x%x\n", (unsigned)active, glGetError());
+    /* a limit of GL_ARB_texture_rectangle, which Mesa's GL 2.1 has and
+     * piglit's max-texture-size asks (the wire sizes it now) */
+    GLint rectangle = -1;
+    glGetIntegerv(GL_MAX_RECTANGLE_TEXTURE_SIZE, &rectangle);
+    fprintf(out, "MAX_RECTANGLE_TEXTURE_SIZE: %d error 0x%x\n", rectangle, glGetError());
     /* GL checks glShaderSource's name before it reads a string, so a bad
      * name's strings are never read (piglit's shadersource-errors passes
      * text where the array of strings belongs): a packer must not read
