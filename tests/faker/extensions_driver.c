@@ -20,6 +20,9 @@
  *     a swizzle set per component and as RGBA, both gets answered;
  *   GL_EXT_stencil_wrap: GL_INCR_WRAP past 255 and GL_DECR_WRAP past 0
  *     (also by glStencilOpSeparate), the stencil read back and tested;
+ *   GL_ARB_texture_env_combine, _crossbar, _dot3 (and the EXT combine
+ *     and dot3): two units combined, the second interpolating the first
+ *     unit's texel with its own, scaled; a GL_DOT3_RGB; settings read back;
  *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3;
  *   pixel buffer objects (GL 2.1): glTexImage2D, glTexSubImage2D,
  *     glDrawPixels, glBitmap and glPolygonStipple reading a
@@ -359,6 +362,84 @@ static void texture_swizzle(void)
     frame("GL_EXT_texture_swizzle: a texel read as (b, r, 1, 0)");
 }
 
+/* GL 1.3-1.4 texture combiners, which GL_ARB_texture_env_combine,
+ * _dot3 and _crossbar (and the EXT ones) name: two units, the second
+ * combining its own texel with the first unit's (a crossbar source) by
+ * GL_INTERPOLATE against the environment colour, scaled; then a GL_DOT3_RGB
+ * of a texel with the primary colour; every setting read back. */
+static void texture_env_combine(void)
+{
+    static const GLubyte texel0[2 * 2 * 4] = {250, 40, 10, 255, 20, 230, 40, 255, 30, 60, 240, 128, 200, 200, 20, 64};
+    static const GLubyte texel1[2 * 2 * 4] = {128, 200, 64, 255, 255, 128, 0, 255, 0, 64, 128, 255, 192, 192, 192, 255};
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    for (int u = 0; u < 2; u++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        glBindTexture(GL_TEXTURE_2D, tex[u]);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 2, 2, 0, GL_RGBA, GL_UNSIGNED_BYTE, u ? texel1 : texel0);
+        glEnable(GL_TEXTURE_2D);
+        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, GL_TEXTURE);
+    glActiveTexture(GL_TEXTURE1);
+    static const GLfloat env[4] = {0.25f, 0.5f, 0.75f, 0.5f};
+    glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, env);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_INTERPOLATE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, GL_TEXTURE0); /* the crossbar: unit 0's texel */
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_RGB, GL_TEXTURE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC2_RGB, GL_CONSTANT);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND2_RGB, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_ADD_SIGNED);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_ALPHA, GL_PREVIOUS);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_ALPHA, GL_TEXTURE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glTexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 2.0f);
+    GLint got[6];
+    glGetTexEnviv(GL_TEXTURE_ENV, GL_COMBINE_RGB, &got[0]);
+    glGetTexEnviv(GL_TEXTURE_ENV, GL_SRC0_RGB, &got[1]);
+    glGetTexEnviv(GL_TEXTURE_ENV, GL_OPERAND2_RGB, &got[2]);
+    glGetTexEnviv(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, &got[3]);
+    glGetTexEnviv(GL_TEXTURE_ENV, GL_OPERAND1_ALPHA, &got[4]);
+    GLfloat scale = 0;
+    glGetTexEnvfv(GL_TEXTURE_ENV, GL_RGB_SCALE, &scale);
+    got[5] = (GLint)scale;
+    ints("combine settings of unit 1", got, 6);
+    clear();
+    glBegin(GL_QUADS);
+    glMultiTexCoord2f(GL_TEXTURE0, 0, 0);
+    glMultiTexCoord2f(GL_TEXTURE1, 0, 0);
+    glVertex2f(-0.7f, -0.7f);
+    glMultiTexCoord2f(GL_TEXTURE0, 1, 0);
+    glMultiTexCoord2f(GL_TEXTURE1, 1, 0);
+    glVertex2f(0.7f, -0.7f);
+    glMultiTexCoord2f(GL_TEXTURE0, 1, 1);
+    glMultiTexCoord2f(GL_TEXTURE1, 1, 1);
+    glVertex2f(0.7f, 0.7f);
+    glMultiTexCoord2f(GL_TEXTURE0, 0, 1);
+    glMultiTexCoord2f(GL_TEXTURE1, 0, 1);
+    glVertex2f(-0.7f, 0.7f);
+    glEnd();
+    frame("GL_ARB_texture_env_combine and _crossbar: unit 1 interpolates unit 0's texel with its own");
+    glDisable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    glActiveTexture(GL_TEXTURE0);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_DOT3_RGB);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_RGB, GL_PRIMARY_COLOR);
+    clear();
+    glColor3f(0.9f, 0.6f, 0.2f);
+    textured_quad(0);
+    glColor3f(1, 1, 1);
+    frame("GL_ARB_texture_env_dot3: a texel dotted with the primary colour");
+    glDisable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    glDeleteTextures(2, tex);
+    fprintf(out, "texture combiners: error 0x%x\n", glGetError());
+}
+
 static void explicit_attrib_location(void)
 {
     static const char *vs = "#version 110\n"
@@ -453,6 +534,7 @@ int main(int argc, char **argv)
     non_power_of_two();
     stencil_wrap();
     texture_swizzle();
+    texture_env_combine();
     explicit_attrib_location();
     unpack_buffer();
     recorded_gl_end(out, argv[1]);
