@@ -3,12 +3,11 @@
  * commands some SPU of the chain does not carry yet.
  *
  * GL_EXT_framebuffer_object: render draws a program's framebuffer objects
- * (spus/render/appfbo.c) and pack, capture and the SPUs that only pass
- * commands on carry them to one, but a tilesort wall routes geometry to
- * the servers whose tiles it covers and scissors it to them, so a picture
- * drawn into an FBO (not the window) would come out in pieces; the
- * tracker does not keep FBO objects or bindings either. A chain with any
- * SPU outside `carries_fbo` does not offer it.
+ * (spus/render/appfbo.c); pack, capture and the SPUs that only pass
+ * commands on carry them to one, and a tilesort wall renders them whole
+ * on every server (spus/tilesort/fbo.c). A chain with any SPU outside
+ * `carries_fbo` (one that would route an FBO's drawing by the window, or
+ * drop its commands) does not offer it.
  *
  * Owns: the two strings (made once). Never: offers an extension the
  * generated list lacks. */
@@ -18,7 +17,7 @@
 
 #include "faker_gl.h"
 
-static const char *const carries_fbo[] = {"render", "pack", "capture", "passthrough", "print", "loopback"};
+static const char *const carries_fbo[] = {"render", "pack", "capture", "tilesort", "passthrough", "print", "loopback"};
 
 static const char fbo_ext[] = "GL_EXT_framebuffer_object";
 

@@ -265,12 +265,12 @@ recorded_gl_test(client_arrays client_arrays_driver.c
 recorded_gl_test(texture_integer texture_integer_driver.c
                  faker_texture_integer_commands_answer_as_osmesa_through_render_pack_and_wall)
 # GL_EXT_framebuffer_object, offered because its seventeen commands are
-# spec commands, except on a wall (faker/offered.c): a program's FBO with a
-# texture and a depth renderbuffer drawn into, read back, its texture drawn
-# into the window, the queries, status answers and errors.
-recorded_gl_test(fbo fbo_driver.c faker_fbo_commands_answer_as_osmesa_through_render_and_pack_not_on_wall)
-set_tests_properties(faker_fbo_commands_answer_as_osmesa_through_render_and_pack_not_on_wall
-                     PROPERTIES ENVIRONMENT "RECORDED_GL_WALL_ABSENT=GL_EXT_framebuffer_object: absent")
+# spec commands: a program's FBO with a texture and a depth renderbuffer
+# drawn into (larger than the window), read back while bound, its texture
+# drawn into the window and read back, the queries, status answers and
+# errors; on the 2x2 wall too, which renders the FBO whole on every server
+# (spus/tilesort/fbo.c).
+recorded_gl_test(fbo fbo_driver.c faker_fbo_renders_into_textures_as_osmesa_through_render_pack_and_wall)
 
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap

@@ -21,7 +21,7 @@
 #define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
 #define COMPRESSED "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
 #define FBO \
-    "the program's framebuffer objects (GL_EXT_framebuffer_object) are not tracked yet: the faker offers the extension only where no tracker is needed (render, pack, capture: faker/offered.c), never on a wall, so a tracking sender never gets them"
+    "the program's framebuffer objects (GL_EXT_framebuffer_object) live in the renderers: a tracking sender sends each such command to every renderer after its state diff, with the texture it attaches (spus/tilesort/fbo.c), and tracks glGenerateMipmapEXT as glGenerateMipmap"
 #define QUERY "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {

@@ -10,8 +10,10 @@
  * objects, and the driver's names of render's objects never reach the
  * program. While a program FBO is bound, glDrawBuffer/glReadBuffer and
  * reads act on it (buffers.c and multisample.c ask
- * render_app_fb_bound), and a swap reads the window (render_end_frame
- * steps out of the program's FBO and back).
+ * render_app_fb_bound), a swap reads the window (render_end_frame
+ * steps out of the program's FBO and back), and on a tile server the
+ * tiles' scissor is off (scissor.c: the FBO's coordinates are its own,
+ * and a wall draws it whole on every server).
  *
  * Owns: the two name tables, the entries of the extension's commands.
  * Never: touches render's own FBOs beyond binding the window's one for
@@ -147,6 +149,7 @@ static void render_BindFramebufferEXT(void *self, GLenum target, GLuint framebuf
     r->gl.BindFramebufferEXT(target, d);
     if (target == GL_FRAMEBUFFER_EXT && d != UNKNOWN_NAME)
         binding(r)->fb = framebuffer ? d : 0;
+    render_scissor_refresh(r, render_current_scissor(r)); /* tiles are the window's (scissor.c) */
 }
 
 static void render_DeleteFramebuffersEXT(void *self, GLsizei n, const GLuint *ids)
@@ -167,8 +170,10 @@ static void render_DeleteFramebuffersEXT(void *self, GLsizei n, const GLuint *id
         if (d == b->fb)
             b->fb = 0, unbound = true;
     }
-    if (unbound) /* GL went back to its 0; the program's 0 is the window */
+    if (unbound) { /* GL went back to its 0; the program's 0 is the window */
         r->gl.BindFramebufferEXT(GL_FRAMEBUFFER_EXT, window_fb(r));
+        render_scissor_refresh(r, render_current_scissor(r));
+    }
 }
 
 static GLboolean render_IsFramebufferEXT(void *self, GLuint framebuffer)

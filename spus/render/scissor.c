@@ -3,7 +3,10 @@
  * there by fitting the real GL scissor to the tiles' bounding rectangle,
  * while the application's own scissor (box, test, attribute stack,
  * display lists that change it) is recorded per context and is what
- * glGet and glIsEnabled answer.
+ * glGet and glIsEnabled answer. The tiles are the window's: while the
+ * program has a framebuffer object of its own bound (appfbo.c), the real
+ * scissor is the application's, since a wall renders such an FBO whole on
+ * every server (docs/walls.md, "Framebuffer objects").
  *
  * Owns: the tiles, their bounds and generation, each context's scissor
  * record (render_scissor).
@@ -36,6 +39,11 @@ render_box render_box_intersect(render_box a, render_box b)
     return (render_box){(int)x0, (int)y0, (int)(x1 - x0), (int)(y1 - y0)};
 }
 
+/* Whether the real scissor is fitted to tiles now: there are tiles and
+ * the program draws into the window, not into a framebuffer object of its
+ * own (its coordinates are the FBO's, which no tile divides). */
+static bool tiled(render_spu *r) { return r->ntiles > 0 && !render_app_fb_bound(r); }
+
 /* Real scissor := the application's own (inside a display list, whose
  * scissor commands GL runs unseen by us). */
 static void scissor_set_raw(render_spu *r, const render_scissor *s)
@@ -56,8 +64,8 @@ static void scissor_apply(render_spu *r, render_scissor *s)
     if (s->list_mode)
         return;
     s->applied = r->tiles_gen;
-    s->fitted = r->ntiles > 0;
-    if (!r->ntiles) {
+    s->fitted = tiled(r);
+    if (!s->fitted) {
         scissor_set_raw(r, s);
         return;
     }
@@ -69,14 +77,15 @@ static void scissor_apply(render_spu *r, render_scissor *s)
 /* Reads the application's scissor back from GL (below). */
 static void scissor_sync(render_spu *r, render_scissor *s);
 
-/* Catches up with tiles that changed while this context was not current.
- * Without tiles, display lists run unwatched (no cost per CallList), so
- * the record is read back from GL before it is fitted to tiles. */
+/* Catches up with tiles that changed while this context was not current,
+ * and with a change of framebuffer (the window's tiles, or a program FBO
+ * of none). Unfitted, display lists run unwatched (no cost per CallList),
+ * so the record is read back from GL before it is fitted to tiles. */
 void render_scissor_refresh(render_spu *r, render_scissor *s)
 {
-    if (s->applied == r->tiles_gen || s->list_mode)
+    if ((s->applied == r->tiles_gen && s->fitted == tiled(r)) || s->list_mode)
         return;
-    if (!s->fitted && r->ntiles)
+    if (!s->fitted && tiled(r))
         scissor_sync(r, s);
     scissor_apply(r, s);
 }
@@ -189,7 +198,7 @@ void render_Scissor(void *self, GLint x, GLint y, GLsizei width, GLsizei height)
         return;
     }
     s->box = (render_box){x, y, width, height};
-    if (r->ntiles)
+    if (tiled(r))
         scissor_apply(r, s);
     else
         r->gl.Scissor(x, y, width, height);
@@ -200,7 +209,7 @@ static void enable_cap(render_spu *r, GLenum cap, bool on)
     render_scissor *s = render_current_scissor(r);
     if (cap == GL_STENCIL_TEST && on)
         r->stencil_written = true; /* (also when compiled into a list: it may run) */
-    if (cap != GL_SCISSOR_TEST || s->list_mode || !r->ntiles) {
+    if (cap != GL_SCISSOR_TEST || s->list_mode || !tiled(r)) {
         if (on)
             r->gl.Enable(cap);
         else
@@ -257,7 +266,7 @@ static void before_list(render_spu *r, render_scissor *s)
 static void after_list(render_spu *r, render_scissor *s)
 {
     scissor_sync(r, s);
-    if (r->ntiles || s->applied != r->tiles_gen)
+    if (tiled(r) || s->applied != r->tiles_gen)
         scissor_apply(r, s);
 }
 

@@ -229,8 +229,8 @@ static int draw_sorted(tilesort *t, GLenum mode, GLint first, GLsizei count, GLe
                  .vertex_bytes = vertex_bytes(a)};
     float pos[4][4];
     if (!d.per || !d.vertex_bytes || count < 2 * d.per || (size_t)count * d.vertex_bytes < TS_SORT_MIN_BYTES ||
-        t->in_begin || t->program || t->render_mode != GL_RENDER || t->tiling.mode == TS_BROADCAST || t->win_w <= 0 ||
-        !a->vertex.enabled || (type && (!indices || a->element_buffer)) || first < 0 ||
+        t->in_begin || t->program || t->app_fb || t->render_mode != GL_RENDER || t->tiling.mode == TS_BROADCAST ||
+        t->win_w <= 0 || !a->vertex.enabled || (type && (!indices || a->element_buffer)) || first < 0 ||
         !tsr_client_array_position(&a->vertex, source_vertex(&d, 0), pos[0]))
         return 0;
     ts_flush_geometry(t);

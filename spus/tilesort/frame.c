@@ -86,9 +86,15 @@ void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 }
 
 /* Each server answers for its own tiles; pixels outside every tile come
- * from the first server's answer. */
-static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)
+ * from the first server's answer. A program FBO bound (and not `window`):
+ * every server holds all of it (fbo.c), the first one answers. */
+static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels,
+                          int window)
 {
+    if (t->app_fb && !window) {
+        tsr_call_ReadPixels(&ts_to_server(t)->table, x, y, w, h, format, type, pixels);
+        return;
+    }
     tiles_fit(t);
     ts_flush_geometry(t);
     const tsr_pixel_modes *pack = &tsr_state_values_of(t->ctx)->pixel_store.pack;
@@ -146,7 +152,17 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
 
 void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)
 {
-    gather_pixels(self, x, y, w, h, format, type, pixels);
+    gather_pixels(self, x, y, w, h, format, type, pixels, 0);
+}
+
+/* Every live server's window (1) or the program's FBO again (0), for
+ * assemble=: its servers' own packers, sent before anything else reaches
+ * them (ts_prepare_server flushes them first). */
+static void bind_window(tilesort *t, int window)
+{
+    for (size_t i = 0; i < t->nservers; i++)
+        if (!tsr_stream_client_server_failed(t->client, i))
+            tsr_call_BindFramebufferEXT(&t->srv[i].table, GL_FRAMEBUFFER_EXT, window ? 0 : t->app_fb);
 }
 
 static void assemble_frame(tilesort *t)
@@ -161,7 +177,11 @@ static void assemble_frame(tilesort *t)
         return;
     uint8_t *raw = calloc(1, (size_t)l.extent), *img = malloc((size_t)t->win_w * (size_t)t->win_h * 4);
     if (raw && img) {
-        gather_pixels(t, 0, 0, t->win_w, t->win_h, GL_RGBA, GL_UNSIGNED_BYTE, raw);
+        if (t->app_fb) /* the frame is the window's, not the bound FBO's */
+            bind_window(t, 1);
+        gather_pixels(t, 0, 0, t->win_w, t->win_h, GL_RGBA, GL_UNSIGNED_BYTE, raw, 1);
+        if (t->app_fb)
+            bind_window(t, 0);
         for (int r = 0; r < t->win_h; r++)
             memcpy(img + (size_t)r * (size_t)t->win_w * 4, raw + l.first + (size_t)r * l.row_bytes,
                    (size_t)t->win_w * 4);

@@ -21,19 +21,23 @@
 
 void ts_GetBooleanv(void *self, GLenum p, GLboolean *o)
 {
-    ANSWER_OR_ASK(tsr_state_get_booleanv(t->ctx, p, o), tsr_call_GetBooleanv(&s->table, p, o));
+    ANSWER_OR_ASK(!ts_fbo_get_asks_server(t, p) && tsr_state_get_booleanv(t->ctx, p, o),
+                  tsr_call_GetBooleanv(&s->table, p, o));
 }
 void ts_GetIntegerv(void *self, GLenum p, GLint *o)
 {
-    ANSWER_OR_ASK(tsr_state_get_integerv(t->ctx, p, o), tsr_call_GetIntegerv(&s->table, p, o));
+    ANSWER_OR_ASK(!ts_fbo_get_asks_server(t, p) && tsr_state_get_integerv(t->ctx, p, o),
+                  tsr_call_GetIntegerv(&s->table, p, o));
 }
 void ts_GetFloatv(void *self, GLenum p, GLfloat *o)
 {
-    ANSWER_OR_ASK(tsr_state_get_floatv(t->ctx, p, o), tsr_call_GetFloatv(&s->table, p, o));
+    ANSWER_OR_ASK(!ts_fbo_get_asks_server(t, p) && tsr_state_get_floatv(t->ctx, p, o),
+                  tsr_call_GetFloatv(&s->table, p, o));
 }
 void ts_GetDoublev(void *self, GLenum p, GLdouble *o)
 {
-    ANSWER_OR_ASK(tsr_state_get_doublev(t->ctx, p, o), tsr_call_GetDoublev(&s->table, p, o));
+    ANSWER_OR_ASK(!ts_fbo_get_asks_server(t, p) && tsr_state_get_doublev(t->ctx, p, o),
+                  tsr_call_GetDoublev(&s->table, p, o));
 }
 void ts_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o)
 {

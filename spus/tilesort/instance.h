@@ -1,5 +1,5 @@
 /* spus/tilesort/instance.h — one tilesort instance, and what its files
- * (tilesort.c, send.c, lists.c, arrays.c, frame.c, gets.c) call across one
+ * (tilesort.c, send.c, lists.c, arrays.c, frame.c, gets.c, fbo.c) call across one
  * another. Private to the SPU; bucket.c, batch.c and split.c do not see
  * the instance (tilesort.h). */
 #ifndef TSR_TILESORT_INSTANCE_H
@@ -10,6 +10,10 @@
 #include "tessera/dev/state.h"
 #include "tessera/dev/unpack.h"
 #include "tilesort.h"
+
+#ifndef GL_FRAMEBUFFER_EXT
+#define GL_FRAMEBUFFER_EXT 0x8D40
+#endif
 
 /* ts_current (the current attributes): tilesort.h, shared with split.c */
 
@@ -93,6 +97,9 @@ typedef struct tilesort {
      * (gets.c's ts_RenderMode says why); GL_RENDER otherwise */
     GLenum render_mode;
     size_t render_server;
+    /* the program's bound framebuffer object (fbo.c), 0: the window.
+     * While one is bound, everything drawn goes to every server whole. */
+    GLuint app_fb;
     GLenum gl_error;        /* made here (ts_gl_error): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
@@ -253,6 +260,24 @@ void ts_TexImage2D(void *self, GLenum target, GLint level, GLint internalformat,
                    GLint border, GLenum format, GLenum type, const void *pixels);
 void ts_TexImage3D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
                    GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels);
+/* fbo.c: the program's framebuffer objects, replicated on every server */
+int ts_fbo_command(const char *name); /* an FBO command every server gets at once */
+/* a get GL answers from the bound framebuffer (its draw and read buffers)
+ * while a program FBO is bound: the first server answers, not the tracker */
+int ts_fbo_get_asks_server(const tilesort *t, GLenum pname);
+void ts_BindFramebufferEXT(void *self, GLenum target, GLuint framebuffer);
+void ts_DeleteFramebuffersEXT(void *self, GLsizei n, const GLuint *framebuffers);
+void ts_FramebufferTexture1DEXT(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                                GLint level);
+void ts_FramebufferTexture2DEXT(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                                GLint level);
+void ts_FramebufferTexture3DEXT(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                                GLint level, GLint zoffset);
+void ts_GenerateMipmapEXT(void *self, GLenum target);
+void ts_GenerateMipmap(void *self, GLenum target);
+void ts_DrawBuffer(void *self, GLenum buf);
+void ts_DrawBuffers(void *self, GLsizei n, const GLenum *bufs);
+void ts_ReadBuffer(void *self, GLenum buf);
 /* queries.c */
 void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
 void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);

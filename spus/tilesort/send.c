@@ -261,7 +261,9 @@ static size_t choose_targets(tilesort *t, size_t bytes)
         t->targets[0] = t->only_target;
         return 1;
     }
-    if (t->broadcast_next || t->split_primitive || t->program || t->tiling.mode == TS_BROADCAST || t->win_w <= 0)
+    /* a program FBO is drawn whole on every server (fbo.c) */
+    if (t->broadcast_next || t->split_primitive || t->program || t->app_fb || t->tiling.mode == TS_BROADCAST ||
+        t->win_w <= 0)
         return all_servers(t);
     float mn[3], mx[3];
     if (!tsr_packer_bbox(t->geo, mn, mx))

@@ -19,6 +19,9 @@
  *     eye plane or holding NaN/Inf) make the buffer go to every server;
  *     frame commands (Clear, Finish, swap, barriers, semaphores, windows)
  *     go to every server and are flushed at once (frame.c);
+ *   - the program's framebuffer objects are rendered whole on every
+ *     server: their commands go to all, and while one is bound so does
+ *     everything drawn (fbo.c);
  *   - gets are answered by the tracker where the value is client-known,
  *     otherwise by the first live server (after its diff; gets.c);
  *     glReadPixels is gathered from every server whose tiles meet the
@@ -414,7 +417,7 @@ static int immediate_in_list(const char *name)
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(names[i], name))
             return 1;
-    return 0;
+    return ts_fbo_command(name); /* GL 3.0 section 5.4 lists the FBO commands too */
 }
 
 static int is_boxed_geometry(const char *name, unsigned flags)
@@ -468,7 +471,7 @@ static void build_tables(tilesort *t)
             t->normal.slots[slot] = t->srv[0].table.slots[slot];
         } else if ((cat == TSR_CAT_GEOMETRY && is_boxed_geometry(name, flags)) || (flags & TSR_CMD_LOCAL)) {
             continue; /* packed with its box, or only the packer's mirrors */
-        } else if (cat == TSR_CAT_SPECIAL) {
+        } else if (cat == TSR_CAT_SPECIAL || ts_fbo_command(name)) {
             t->route[slot] = R_FRAME;
         } else {
             t->route[slot] = R_BROADCAST;
@@ -541,6 +544,16 @@ static void build_tables(tilesort *t)
     SET(TexImage1D);
     SET(TexImage2D);
     SET(TexImage3D);
+    SET(BindFramebufferEXT);
+    SET(DeleteFramebuffersEXT);
+    SET(FramebufferTexture1DEXT);
+    SET(FramebufferTexture2DEXT);
+    SET(FramebufferTexture3DEXT);
+    SET(GenerateMipmapEXT);
+    SET(GenerateMipmap);
+    SET(DrawBuffer);
+    SET(DrawBuffers);
+    SET(ReadBuffer);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also

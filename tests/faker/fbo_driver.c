@@ -7,16 +7,17 @@
  *     driver's first names);
  *   an FBO with an 80x80 texture and a depth renderbuffer: its status, the
  *     attachment and renderbuffer queries, the bindings, glDrawBuffer's
- *     answer in it, a clear, a depth-tested drawing and a glDrawPixels
+ *     answer in it, a clear, a depth-tested drawing, a quad inside one
+ *     wall tile's part of the window, an array draw and a glDrawPixels
  *     beyond the window's size read back (colour and depth),
  *     glGenerateMipmapEXT's level 1;
  *   framebuffer 0 is the window: the texture drawn into it, read back;
  *   incompleteness, the errors of a bad target, an unknown renderbuffer
  *     and storage without a renderbuffer bound; deleting the bound FBO
  *     (back to the window).
- * The 2x2 wall does not offer the extension (faker/offered.c): there the
- * driver writes its first line only, and gl21_commands.sh checks that
- * line (RECORDED_GL_WALL_ABSENT). Built with RECORDED_GL_NATIVE
+ * On the 2x2 wall of 32x24 tiles the FBO (80x80) is drawn whole on every
+ * server and read back from one, and its texture is then drawn into the
+ * window tile by tile (spus/tilesort/fbo.c). Built with RECORDED_GL_NATIVE
  * (faker_fbo_native) it makes the same calls on OSMesa directly: the runs
  * through tessera must write the same file. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -78,6 +79,39 @@ static void quad(GLfloat x0, GLfloat y0, GLfloat x1, GLfloat y1, GLfloat z)
     glTexCoord2f(0, 1);
     glVertex3f(x0, y1, z);
     glEnd();
+}
+
+/* FBO pixel p (of SIDE) as a coordinate under the FBO's viewport. */
+static GLfloat ndc(int p) { return (GLfloat)p * 2.0f / SIDE - 1.0f; }
+
+/* Drawn into the FBO where a wall's window tiles would place it wrongly,
+ * each in a geometry buffer of its own (a state change between): a quad
+ * whose window box is inside one 32x24 tile only, and an array draw
+ * (large enough for tilesort to sort primitive by primitive) of 8x8-pixel
+ * cells beyond the 64x48 window, where no tile is. */
+static void beyond_the_window(void)
+{
+    glShadeModel(GL_FLAT);
+    glColor3f(1, 1, 0);
+    quad(ndc(40), ndc(30), ndc(56), ndc(44), 0.0f);
+    glShadeModel(GL_SMOOTH);
+    static GLfloat cells[(SIDE / 8) * (SIDE / 8) * 12];
+    GLsizei n = 0;
+    for (int j = 0; j < SIDE / 8; j++)
+        for (int i = 0; i < SIDE / 8; i++) {
+            if (8 * i < RECORDED_GL_W && 8 * j < RECORDED_GL_H)
+                continue; /* inside the window's size */
+            GLfloat x0 = ndc(8 * i), y0 = ndc(8 * j), x1 = ndc(8 * i + 7), y1 = ndc(8 * j + 7);
+            GLfloat tri[12] = {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1};
+            memcpy(&cells[n * 2], tri, sizeof tri);
+            n += 6;
+        }
+    glColor3f(1, 0, 1);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(2, GL_FLOAT, 0, cells);
+    glDrawArrays(GL_TRIANGLES, 0, n);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    fprintf(out, "beyond the window: %d triangles\n", (int)n / 3);
 }
 
 /* A name bound before any glGen*: EXT makes it a framebuffer of the
@@ -151,6 +185,7 @@ static void render_to_texture(GLuint *tex_out)
     glColor3f(0, 0, 1); /* behind the green: hidden where they overlap */
     quad(-1.0f, 0.0f, 0.0f, 1.0f, 0.5f);
     glDisable(GL_DEPTH_TEST);
+    beyond_the_window();
     static unsigned char image[16 * 16 * 4];
     for (size_t i = 0; i < sizeof image; i++)
         image[i] = (unsigned char)(i * 7);
