@@ -264,6 +264,12 @@ recorded_gl_test(client_arrays client_arrays_driver.c
 # texture parameters through them, integer images read back.
 recorded_gl_test(texture_integer texture_integer_driver.c
                  faker_texture_integer_commands_answer_as_osmesa_through_render_pack_and_wall)
+# Copies of the window's pixels across the tiles of the 2x2 wall
+# (spus/tilesort/copy.c): glCopyPixels of colour, depth and stencil and
+# glCopyTex(Sub)Image1D/2D/3D whose source lies on other tiles, read back,
+# with the program's pixel store kept and the copies' errors once each.
+recorded_gl_test(cross_tile_copy cross_tile_copy_driver.c
+                 faker_cross_tile_copies_read_and_draw_as_osmesa_through_render_pack_and_wall)
 # GL_EXT_framebuffer_object, offered because its seventeen commands are
 # spec commands: a program's FBO with a texture and a depth renderbuffer
 # drawn into (larger than the window), read back while bound, its texture

@@ -10,7 +10,7 @@
 #define EVAL \
     "evaluator maps and grids are not tracked yet (rare in the programs tessera runs); a sender forwards them to every renderer"
 #define COPY \
-    "the texels come from the renderer's own framebuffer, which the client never sees; a sender must send the call to every renderer"
+    "the texels come from the renderer's own framebuffer, which the client never sees: one renderer gets the call; a wall gathers the source from its servers and gives the tracker a glTexImage/glTexSubImage of it instead (spus/tilesort/copy.c)"
 
 #define NAMES \
     "the name stack only matters in GL_SELECT mode, which the renderers run; a sender forwards it to every renderer"

@@ -1,6 +1,6 @@
 /* spus/tilesort/instance.h — one tilesort instance, and what its files
- * (tilesort.c, send.c, lists.c, arrays.c, frame.c, gets.c, fbo.c) call across one
- * another. Private to the SPU; bucket.c, batch.c and split.c do not see
+ * (tilesort.c, send.c, lists.c, arrays.c, frame.c, gets.c, fbo.c, copy.c) call
+ * across one another. Private to the SPU; bucket.c, batch.c and split.c do not see
  * the instance (tilesort.h). */
 #ifndef TSR_TILESORT_INSTANCE_H
 #define TSR_TILESORT_INSTANCE_H
@@ -278,6 +278,16 @@ void ts_GenerateMipmap(void *self, GLenum target);
 void ts_DrawBuffer(void *self, GLenum buf);
 void ts_DrawBuffers(void *self, GLsizei n, const GLenum *bufs);
 void ts_ReadBuffer(void *self, GLenum buf);
+/* --- copy.c: copies of the window's pixels, gathered ---------------------------- */
+void ts_CopyPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum type);
+void ts_CopyTexImage1D(void *self, GLenum target, GLint level, GLenum ifmt, GLint x, GLint y, GLsizei w, GLint border);
+void ts_CopyTexImage2D(void *self, GLenum target, GLint level, GLenum ifmt, GLint x, GLint y, GLsizei w, GLsizei h,
+                       GLint border);
+void ts_CopyTexSubImage1D(void *self, GLenum target, GLint level, GLint xo, GLint x, GLint y, GLsizei w);
+void ts_CopyTexSubImage2D(void *self, GLenum target, GLint level, GLint xo, GLint yo, GLint x, GLint y, GLsizei w,
+                          GLsizei h);
+void ts_CopyTexSubImage3D(void *self, GLenum target, GLint level, GLint xo, GLint yo, GLint zo, GLint x, GLint y,
+                          GLsizei w, GLsizei h);
 /* queries.c */
 void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
 void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);

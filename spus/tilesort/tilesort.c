@@ -25,7 +25,8 @@
  *   - gets are answered by the tracker where the value is client-known,
  *     otherwise by the first live server (after its diff; gets.c);
  *     glReadPixels is gathered from every server whose tiles meet the
- *     rectangle (frame.c).
+ *     rectangle (frame.c), and so is the source of glCopyPixels and
+ *     glCopyTex(Sub)Image, then drawn or uploaded (copy.c).
  *
  * Owns, per instance (instance.h): the stream client (tessera/dev/client.h, one
  * connection per server), the tracker with one context and one shadow per
@@ -554,6 +555,12 @@ static void build_tables(tilesort *t)
     SET(DrawBuffer);
     SET(DrawBuffers);
     SET(ReadBuffer);
+    SET(CopyPixels);
+    SET(CopyTexImage1D);
+    SET(CopyTexImage2D);
+    SET(CopyTexSubImage1D);
+    SET(CopyTexSubImage2D);
+    SET(CopyTexSubImage3D);
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also
