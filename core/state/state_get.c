@@ -699,20 +699,25 @@ int tsr_state_get_tex_parameter_int(const tsr_state_ctx *c, GLenum target, GLenu
     return 1;
 }
 
-int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname, GLint *out)
+/* The image the tracker holds for (target, level) of the bound texture,
+ * or NULL (none, or levels made by the renderer's mipmap generation). */
+static const st_upload *held_level(const tsr_state_ctx *c, GLenum target, GLint level)
 {
     const st_texobj *o = bound(c, target);
     if (!o)
-        return 0;
-    const st_upload *img = NULL;
+        return NULL;
     for (size_t i = o->nup; i-- > 0;) {
         if (o->up[i].kind == ST_UP_MIPMAP || o->up[i].gen_mipmap)
-            return 0; /* levels made by the renderer: ask it */
-        if (o->up[i].kind == ST_UP_IMAGE && o->up[i].target == target && o->up[i].level == level) {
-            img = &o->up[i];
-            break;
-        }
+            return NULL; /* levels made by the renderer: ask it */
+        if (o->up[i].kind == ST_UP_IMAGE && o->up[i].target == target && o->up[i].level == level)
+            return &o->up[i];
     }
+    return NULL;
+}
+
+int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname, GLint *out)
+{
+    const st_upload *img = held_level(c, target, level);
     if (!img)
         return 0;
     switch (pname) {
@@ -722,6 +727,15 @@ int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, G
     case GL_TEXTURE_BORDER: *out = img->border; return 1;
     default: return 0; /* internal format and sizes: the renderer decides */
     }
+}
+
+int tsr_state_tex_level_requested_format(const tsr_state_ctx *c, GLenum target, GLint level, GLint *out)
+{
+    const st_upload *img = held_level(c, target, level);
+    if (!img)
+        return 0;
+    *out = img->internalformat;
+    return 1;
 }
 
 int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdouble *out)

@@ -317,8 +317,8 @@ static int source_form(GLint ifmt, GLenum *format, GLenum *type)
     case GL_INTENSITY16F_ARB:
     case GL_LUMINANCE16F_ARB:
     case GL_LUMINANCE_ALPHA16F_ARB:
-    /* what Mesa makes of the generic compressed formats (the level's
-     * internal format a server answers for glCopyTexSubImage) */
+    /* what Mesa makes of the generic compressed formats, which a
+     * program may name too */
     case GL_COMPRESSED_RGB_S3TC_DXT1_EXT:
     case GL_COMPRESSED_RGBA_S3TC_DXT1_EXT:
     case GL_COMPRESSED_RGBA_S3TC_DXT3_EXT:
@@ -361,12 +361,23 @@ static void *texture_source(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h,
     return read_source(t, x, y, w, h, format, type);
 }
 
+/* The largest texture of a copy's target (1D and 2D, cube map faces,
+ * rectangle), asked of the first server once (it cannot change). */
+static GLint max_size(tilesort *t, int cube, int rect)
+{
+    int k = cube ? 1 : rect ? 2 : 0;
+    if (t->copy_max_size[k] <= 0) {
+        static const GLenum pnames[3] = {GL_MAX_TEXTURE_SIZE, GL_MAX_CUBE_MAP_TEXTURE_SIZE,
+                                         GL_MAX_RECTANGLE_TEXTURE_SIZE_ARB};
+        ts_GetIntegerv(t, pnames[k], &t->copy_max_size[k]);
+    }
+    return t->copy_max_size[k];
+}
+
 /* GL 2.1 section 3.8.2: CopyTexImage takes the image exactly as CopyPixels
- * would (pixel transfer included) and defines it as TexImage would. What
- * the tracker would keep although GL refuses it (a level or size beyond
- * the renderer's limit, which the first server answers: one round trip)
- * is checked here: such a call goes unchanged to the servers, which raise
- * GL's error. */
+ * would (pixel transfer included) and defines it as TexImage would. A
+ * level or size beyond the renderer's limit goes unchanged to the servers,
+ * which raise GL's error: the source is not read. */
 static int copy_image_ok(tilesort *t, int dims, GLenum target, GLint level, GLint ifmt, GLsizei w, GLsizei h,
                          GLint border, GLenum *format, GLenum *type)
 {
@@ -376,13 +387,7 @@ static int copy_image_ok(tilesort *t, int dims, GLenum target, GLint level, GLin
         return 0;
     if (border != 0 && (border != 1 || rect))
         return 0;
-    GLint max = 0;
-    ts_GetIntegerv(t,
-                   rect   ? GL_MAX_RECTANGLE_TEXTURE_SIZE_ARB
-                   : cube ? GL_MAX_CUBE_MAP_TEXTURE_SIZE
-                          : GL_MAX_TEXTURE_SIZE,
-                   &max);
-    GLint levels = 0;
+    GLint max = max_size(t, cube, rect), levels = 0;
     while ((max >> levels) > 1)
         levels++;
     if (max <= 0 || level > levels || (rect && level != 0))
@@ -434,9 +439,8 @@ void ts_CopyTexImage2D(void *self, GLenum target, GLint level, GLenum ifmt, GLin
 
 /* CopyTexSubImage: the level must be one the tracker holds (its
  * glTexSubImage changes only those), inside it and off its border (GL
- * takes an offset into the border; the tracker does not), with a format
- * known here; the level's internal format is the first server's answer
- * (the tracker leaves it to the renderer). Else it goes unchanged. */
+ * takes an offset into the border; the tracker does not), of an internal
+ * format known here (as the program gave it). Else it goes unchanged. */
 static int copy_sub_ok(tilesort *t, int dims, GLenum target, GLint level, GLint xo, GLint yo, GLint zo, GLsizei w,
                        GLsizei h, GLenum *format, GLenum *type)
 {
@@ -451,9 +455,9 @@ static int copy_sub_ok(tilesort *t, int dims, GLenum target, GLint level, GLint 
     if (xo < 0 || yo < 0 || zo < 0 || xo + w > iw - border || yo + h > ih - (dims >= 2 ? border : 0) ||
         zo + 1 > id - (dims == 3 ? border : 0))
         return 0;
-    ts_GetTexLevelParameteriv(t, target, level, GL_TEXTURE_INTERNAL_FORMAT, &ifmt);
-    /* a level made with glTexImage's 1 to 4 answers them (glCopyTexImage
-     * takes none of them: GL_INVALID_ENUM) */
+    if (!tsr_state_tex_level_requested_format(t->ctx, target, level, &ifmt))
+        return 0;
+    /* glTexImage's 1 to 4 (glCopyTexImage takes none: GL_INVALID_ENUM) */
     if (ifmt >= 1 && ifmt <= 4)
         ifmt = GL_RGBA;
     return source_form(ifmt, format, type);

@@ -82,6 +82,7 @@ typedef struct tilesort {
     size_t batch_bytes;  /* geometry is bucketed in batches of about this size */
     tsr_state_tracker *tracker;
     bool texture_limits_known; /* the tracker has the servers' texture limits (gets.c) */
+    GLint copy_max_size[3]; /* copy.c: the first server's GL_MAX_TEXTURE_SIZE, _CUBE_MAP_, _RECTANGLE_ (0: not asked) */
     tsr_state_ctx *ctx;
     tsr_packer *geo;
     tsr_dispatch geo_table, track_table, normal, record;

@@ -225,6 +225,11 @@ static void copy_textures(void)
     draw_texture(GL_TEXTURE_2D);
     frame("the sub-imaged texture drawn over the window");
     picture();
+    /* a level of glTexImage's legacy internal format 3 */
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexImage2D(GL_TEXTURE_2D, 0, 3, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, grey);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 24, 16, 16, 16);
+    texture_as("CopyTexSubImage2D into internal format 3, from the four tiles", GL_TEXTURE_2D, GL_RGBA, 16, 16, 1);
     glBindTexture(GL_TEXTURE_3D, tex[7]);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);

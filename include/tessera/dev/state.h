@@ -507,6 +507,12 @@ TSR_API int tsr_state_get_tex_parameter_int(const tsr_state_ctx *c, GLenum targe
                                             GLint *out);
 TSR_API int tsr_state_get_tex_level_parameteriv(const tsr_state_ctx *c, GLenum target, GLint level, GLenum pname,
                                                 GLint *out);
+/* The internal format the program gave for the image the tracker holds
+ * for (target, level) of the bound texture (as given: 3, GL_COMPRESSED_RGB,
+ * not what the renderer made of it, which glGetTexLevelParameteriv
+ * answers); 0 when the tracker holds none (mipmap generation's levels). A
+ * wall's copy into the level reads its source in a form that suits it. */
+TSR_API int tsr_state_tex_level_requested_format(const tsr_state_ctx *c, GLenum target, GLint level, GLint *out);
 TSR_API int tsr_state_get_clip_plane(const tsr_state_ctx *c, GLenum plane, GLdouble *out);
 TSR_API int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out);
 TSR_API int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLint *out);
