@@ -4,8 +4,8 @@
  * pbuffer, gl21_commands.sh), one labelled line per read-back in OUT.txt:
  *   glCopyPixels of colour from the lower left tile onto the upper right
  *   and back the other way, with a pixel zoom, with pixel transfer scale
- *   and bias (applied once), with GL_XOR logic op, from an invalid raster
- *   position (nothing drawn); of depth and of stencil (read back as
+ *   and bias (applied once), with GL_XOR logic op, of a source partly
+ *   outside the window (overlapping its destination, and zoomed), from an invalid raster position (nothing drawn); of depth and of stencil (read back as
  *   such), and of both (GL_DEPTH_STENCIL);
  *   glCopyTexImage2D of a rectangle across all four tiles (RGBA8,
  *   LUMINANCE, ALPHA, with a border, DEPTH_COMPONENT24), glCopyTexImage1D
@@ -127,6 +127,20 @@ static void copy_pixels(void)
     glCopyPixels(2, 26, 28, 20, GL_COLOR);
     glDisable(GL_COLOR_LOGIC_OP);
     frame("CopyPixels colour with GL_XOR from the upper left tile to the lower right");
+    /* a source partly outside the window (undefined in GL): where the
+     * source overlaps the destination, or zoomed, Mesa draws the outside
+     * part as 0, as the wall's gather gives it (docs/walls.md, "Copies
+     * across tiles", says where Mesa does otherwise) */
+    picture();
+    glWindowPos2i(20, 14);
+    glCopyPixels(-6, -5, 40, 30, GL_COLOR);
+    frame("CopyPixels of a source below and left of the window, overlapping");
+    picture();
+    glPixelZoom(2.0f, 2.0f);
+    glWindowPos2i(10, 6);
+    glCopyPixels(-6, -5, 20, 14, GL_COLOR);
+    glPixelZoom(1.0f, 1.0f);
+    frame("CopyPixels zoomed 2 x 2 of a source below and left of the window");
     /* a raster position outside the view volume is invalid: nothing */
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
