@@ -398,9 +398,19 @@ static void emit_outline_pack(FILE *f, const gen_cmd *gc)
     for (size_t i = 0; i < c->nparams; i++) {
         const gen_param *gp = &gc->params[i];
         if (gp->kind == GEN_P_OUT && needs_layout(gp)) {
-            fprintf(f, "    if (tsr_packer_refuse_pack_buffer(tsr_p, \"%s\")) {\n        ", c->name);
+            /* with a pixel pack buffer bound, the pointer is an offset in
+             * it and the answer stays on the receiver (pack_buffer_get.c) */
+            int nargs = 0;
+            fprintf(f, "    {\n        const GLint tsr_args[] = {");
+            for (size_t k = 0; k < i; k++)
+                if (gc->params[k].kind == GEN_P_SCALAR)
+                    fprintf(f, "%s(GLint)%s", nargs++ ? ", " : "", gc->params[k].sp->name);
+            if (!nargs)
+                fprintf(f, "0");
+            fprintf(f, "};\n        if (tsr_packer_get_into_pack_buffer(tsr_p, %d, tsr_args, %d, %s)) {\n            ",
+                    c->opcode, nargs, gp->sp->name);
             emit_return_zero(f, gc);
-            fprintf(f, "\n    }\n");
+            fprintf(f, "\n        }\n    }\n");
             break;
         }
     }

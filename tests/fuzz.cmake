@@ -126,6 +126,7 @@ tsr_add_fuzz_target(ctl
 set(tsr_fuzz_wire_sources
   ${CMAKE_SOURCE_DIR}/core/wire/pack.c ${CMAKE_SOURCE_DIR}/core/wire/pack_map.c ${CMAKE_SOURCE_DIR}/core/wire/pack_mirror.c
   ${CMAKE_SOURCE_DIR}/core/wire/pack_element.c ${CMAKE_SOURCE_DIR}/core/wire/pack_draws.c
+  ${CMAKE_SOURCE_DIR}/core/wire/pack_buffer_get.c
   ${CMAKE_SOURCE_DIR}/core/wire/pixel.c ${CMAKE_SOURCE_DIR}/core/wire/select.c ${CMAKE_SOURCE_DIR}/core/wire/sized_get.c
   ${CMAKE_SOURCE_DIR}/core/wire/dlist.c ${CMAKE_SOURCE_DIR}/core/wire/unpack.c
   ${CMAKE_SOURCE_DIR}/core/util/map.c ${CMAKE_SOURCE_DIR}/core/util/error.c

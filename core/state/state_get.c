@@ -791,6 +791,8 @@ const void *tsr_state_buffer_bytes(const tsr_state_ctx *c, GLenum target, GLsize
 {
     GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
                   : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
+                  : target == GL_PIXEL_PACK_BUFFER    ? c->v.pixel_pack_buffer
+                  : target == GL_PIXEL_UNPACK_BUFFER  ? c->v.pixel_unpack_buffer
                                                       : 0;
     const st_bufobj *b = name ? st_buf_lookup(c, name) : NULL;
     if (!b || !b->data || b->mapped)

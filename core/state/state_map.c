@@ -1,6 +1,8 @@
 /* core/state/state_map.c — glMapBuffer, glUnmapBuffer and
  * glGetBufferPointerv on the tracker's own copy of a buffer object (vertex,
- * index and pixel unpack buffers: those only the stream writes). The program gets the tracker's
+ * index and pixel unpack buffers, which only the stream writes, and pixel
+ * pack buffers, which a wall writes into the tracker's copy itself:
+ * spus/tilesort/pack_buffer.c). The program gets the tracker's
  * copy itself, so what it writes is the tracked contents; glUnmapBuffer
  * makes it a new version of the buffer, which the next diff sends to every
  * renderer that uses it (tilesort's servers, late joiners), as the
@@ -13,11 +15,10 @@
 
 static st_bufobj *bound_buffer(tsr_state_ctx *c, GLenum target)
 {
-    /* not GL_PIXEL_PACK_BUFFER: a renderer writes it (glReadPixels), so
-     * its bytes are the renderer's to give */
     GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
                   : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
                   : target == GL_PIXEL_UNPACK_BUFFER  ? c->v.pixel_unpack_buffer
+                  : target == GL_PIXEL_PACK_BUFFER    ? c->v.pixel_pack_buffer
                                                       : 0;
     return name ? st_buf_lookup(c, name) : NULL;
 }

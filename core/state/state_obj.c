@@ -384,9 +384,11 @@ const uint8_t *st_unpack_source(const tsr_state_ctx *c, const void *pixels, uint
     return b->data + offset;
 }
 
-/* The tight copy of an image given under the context's unpack store. */
-static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format,
-                           GLenum type, const void *pixels, size_t *size)
+/* The tight copy of an image given under the context's unpack store; NULL
+ * when there is none (an image that reaches past the pixel unpack buffer's
+ * end is GL_INVALID_OPERATION, GL 2.1 section 3.7.1). */
+static uint8_t *copy_image(tsr_state_ctx *c, int dims, GLsizei w, GLsizei h, GLsizei d, GLenum format, GLenum type,
+                           const void *pixels, size_t *size)
 {
     const tsr_pixel_modes *m = &c->v.pixel_store.unpack;
     tsr_pixel_modes tight = {0, 0, 0, 0, 0, 1, m->swap_bytes, m->lsb_first};
@@ -395,8 +397,11 @@ static uint8_t *copy_image(const tsr_state_ctx *c, int dims, GLsizei w, GLsizei 
         tsr_pixel_layout_of(&tight, dims, w, h, d, format, type, &tl) != 0 || tl.extent > SIZE_MAX)
         return NULL;
     const uint8_t *src = st_unpack_source(c, pixels, l.extent);
-    if (!src)
+    if (!src) {
+        if (c->v.pixel_unpack_buffer)
+            st_error(c, GL_INVALID_OPERATION);
         return NULL;
+    }
     uint8_t *out = malloc(tl.extent ? (size_t)tl.extent : 1);
     if (!out)
         return NULL;

@@ -756,7 +756,8 @@ void tsr_packer_custom_ShaderSource(tsr_packer *p, GLuint shader, GLsizei count,
 
 void tsr_packer_custom_GetTexImage(tsr_packer *p, GLenum target, GLint level, GLenum format, GLenum type, void *pixels)
 {
-    if (tsr_packer_refuse_pack_buffer(p, "GetTexImage"))
+    const GLint args[4] = {(GLint)target, level, (GLint)format, (GLint)type};
+    if (tsr_packer_get_into_pack_buffer(p, TSR_OP_GetTexImage, args, 4, pixels))
         return;
     uint32_t id = p->next_request++;
     uint8_t *d = tsr_packer_cmd_var(p, TSR_OP_GetTexImage, 24, 8);

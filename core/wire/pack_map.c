@@ -38,6 +38,34 @@ int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target)
     return m && m->data;
 }
 
+/* The name bound to `target` in the mirrors. */
+static GLuint bound_name(const tsr_packer *p, GLenum target)
+{
+    switch (target) {
+    case GL_ARRAY_BUFFER: return p->arrays.array_buffer;
+    case GL_ELEMENT_ARRAY_BUFFER: return p->arrays.element_buffer;
+    case GL_PIXEL_PACK_BUFFER: return p->pixels.pack_buffer;
+    case GL_PIXEL_UNPACK_BUFFER: return p->pixels.unpack_buffer;
+    default: return 0;
+    }
+}
+
+void tsr_packer_forget_mappings(tsr_packer *p, GLsizei n, const GLuint *buffers)
+{
+    for (size_t k = 0; k < sizeof p->mapped / sizeof p->mapped[0]; k++) {
+        struct tsr_packer_mapping *m = &p->mapped[k];
+        for (GLsizei i = 0; m->data && buffers && i < n; i++)
+            if (buffers[i] && buffers[i] == m->buffer) {
+                /* GL unmaps a deleted buffer; what was written is lost
+                 * with it (nothing is sent) */
+                free(m->data);
+                m->data = NULL;
+                m->size = 0;
+                m->buffer = 0;
+            }
+    }
+}
+
 void *tsr_packer_custom_MapBuffer(tsr_packer *p, GLenum target, GLenum access)
 {
     struct tsr_packer_mapping *m = mapping_of(p, target);
@@ -59,6 +87,7 @@ void *tsr_packer_custom_MapBuffer(tsr_packer *p, GLenum target, GLenum access)
     m->data = data;
     m->size = size;
     m->access = access;
+    m->buffer = bound_name(p, target);
     return data;
 }
 

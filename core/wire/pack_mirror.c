@@ -9,12 +9,10 @@
 
 #include <math.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "tessera/log.h"
 #include "util/map.h"
 #include "wire_gen.h"
 #include "wire_internal.h"
@@ -110,6 +108,7 @@ void tsr_packer_mirror_DeleteBuffers(tsr_packer *p, GLsizei n, const GLuint *buf
         if (buffers[i] == p->pixels.unpack_buffer)
             p->pixels.unpack_buffer = 0;
     }
+    tsr_packer_forget_mappings(p, n, buffers);
 }
 
 static void set_array(tsr_packer *p, tsr_client_array *a, GLint size, GLenum type, GLsizei stride, GLboolean normalized,
@@ -314,20 +313,6 @@ void tsr_packer_local_error(tsr_packer *p, GLenum error)
 {
     if (!p->local_error)
         p->local_error = error;
-}
-
-int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name)
-{
-    if (!p->pixels.pack_buffer)
-        return 0;
-    static atomic_flag warned = ATOMIC_FLAG_INIT;
-    if (!atomic_flag_test_and_set(&warned))
-        tsr_log(TSR_LOG_WARN,
-                "packer: gl%s into a pixel pack buffer is not carried by the wire yet: GL_INVALID_OPERATION "
-                "(logged once)",
-                name);
-    tsr_packer_local_error(p, GL_INVALID_OPERATION);
-    return 1;
 }
 
 /* --- the stream's GLSL object names ------------------------------------------- */

@@ -86,19 +86,19 @@ void tsr_packer_custom_GetMapiv(tsr_packer *p, GLenum target, GLenum query, GLin
 
 void tsr_packer_custom_GetPixelMapfv(tsr_packer *p, GLenum map, GLfloat *values)
 {
-    if (!tsr_packer_refuse_pack_buffer(p, "GetPixelMapfv"))
+    if (!tsr_packer_get_into_pack_buffer(p, TSR_OP_GetPixelMapfv, (const GLint[]){(GLint)map}, 1, values))
         sized_get(p, TSR_OP_GetPixelMapfv, "GetPixelMapfv", map, 0, values, sizeof *values, 0);
 }
 
 void tsr_packer_custom_GetPixelMapuiv(tsr_packer *p, GLenum map, GLuint *values)
 {
-    if (!tsr_packer_refuse_pack_buffer(p, "GetPixelMapuiv"))
+    if (!tsr_packer_get_into_pack_buffer(p, TSR_OP_GetPixelMapuiv, (const GLint[]){(GLint)map}, 1, values))
         sized_get(p, TSR_OP_GetPixelMapuiv, "GetPixelMapuiv", map, 0, values, sizeof *values, 0);
 }
 
 void tsr_packer_custom_GetPixelMapusv(tsr_packer *p, GLenum map, GLushort *values)
 {
-    if (!tsr_packer_refuse_pack_buffer(p, "GetPixelMapusv"))
+    if (!tsr_packer_get_into_pack_buffer(p, TSR_OP_GetPixelMapusv, (const GLint[]){(GLint)map}, 1, values))
         sized_get(p, TSR_OP_GetPixelMapusv, "GetPixelMapusv", map, 0, values, sizeof *values, 0);
 }
 
@@ -116,7 +116,8 @@ void tsr_packer_custom_GetUniformiv(tsr_packer *p, GLuint program, GLint locatio
 
 void tsr_packer_custom_GetCompressedTexImage(tsr_packer *p, GLenum target, GLint level, void *img)
 {
-    if (!tsr_packer_refuse_pack_buffer(p, "GetCompressedTexImage"))
+    if (!tsr_packer_get_into_pack_buffer(p, TSR_OP_GetCompressedTexImage, (const GLint[]){(GLint)target, level}, 2,
+                                         img))
         sized_get(p, TSR_OP_GetCompressedTexImage, "GetCompressedTexImage", target, (uint32_t)level, img, 1, 0);
 }
 

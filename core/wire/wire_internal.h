@@ -74,16 +74,20 @@ int tsr_packer_local_enable_array(tsr_packer *p, GLenum cap, int on);
  * the wire cannot size): kept until glGetError takes it (the first one
  * stays, as GL keeps its error flag); take returns it once, then 0. */
 void tsr_packer_local_error(tsr_packer *p, GLenum error);
-/* 1 when a GL_PIXEL_PACK_BUFFER is bound: a pixel read-back (`name`)
- * would write into the receiver's buffer, which no request carries yet;
- * the call is then GL_INVALID_OPERATION, with one warning, and its pointer
- * (an offset) is never written (pack_mirror.c). */
-int tsr_packer_refuse_pack_buffer(tsr_packer *p, const char *name);
+/* With a GL_PIXEL_PACK_BUFFER bound (returns 1; 0 otherwise, nothing
+ * done): the get `command` (its opcode) with its `nargs` arguments before
+ * the pointer, whose pointer `offset` is an offset into that buffer, is
+ * sent as a PackBufferGetTSR: the answer stays in the receiver's buffer
+ * (pack_buffer_get.c). */
+int tsr_packer_get_into_pack_buffer(tsr_packer *p, uint32_t command, const GLint *args, int nargs, const void *offset);
 /* The stream's GLSL object names (generated hooks of glCreateShader,
  * glCreateProgram and their TSR forms): `name` is a shader (is_program 0)
  * or a program (1). Names stay known after glDelete*: a deleted shader
  * still attached to a program keeps its name, and the receiver answers a
  * call on one that is gone. */
+/* Buffers deleted: their mappings (glMapBuffer's client copies) go, as GL
+ * unmaps a deleted buffer (pack_map.c). */
+void tsr_packer_forget_mappings(tsr_packer *p, GLsizei n, const GLuint *buffers);
 /* 1 while the buffer bound to `target` is mapped (glMapBuffer's client
  * copy, pack_map.c). */
 int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target);

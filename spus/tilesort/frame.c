@@ -99,10 +99,9 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
     ts_flush_geometry(t);
     const tsr_pixel_modes *pack = &tsr_state_values_of(t->ctx)->pixel_store.pack;
     tsr_pixel_layout l;
-    /* into a GL_PIXEL_PACK_BUFFER (`pixels` is an offset in it): not
-     * gathered yet, one server's packer answers (and refuses it) */
-    if (w <= 0 || h <= 0 || !pixels || tsr_state_values_of(t->ctx)->pixel_pack_buffer ||
-        tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 || l.group_bytes == 0) {
+    /* (into a GL_PIXEL_PACK_BUFFER: pack_buffer.c, before this) */
+    if (w <= 0 || h <= 0 || !pixels || tsr_pixel_layout_of(pack, 2, w, h, 1, format, type, &l) != 0 ||
+        l.group_bytes == 0) {
         ts_server *s = ts_to_server(t);
         tsr_call_ReadPixels(&s->table, x, y, w, h, format, type, pixels);
         return;
@@ -152,7 +151,8 @@ static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, G
 
 void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)
 {
-    gather_pixels(self, x, y, w, h, format, type, pixels, 0);
+    if (!ts_pack_buffer_read_pixels(self, x, y, w, h, format, type, pixels))
+        gather_pixels(self, x, y, w, h, format, type, pixels, 0);
 }
 
 /* Every live server's window (1) or the program's FBO again (0), for
@@ -179,7 +179,13 @@ static void assemble_frame(tilesort *t)
     if (raw && img) {
         if (t->app_fb) /* the frame is the window's, not the bound FBO's */
             bind_window(t, 1);
+        /* into client memory, whatever pack buffer the program has bound */
+        GLuint pack_buffer = tsr_state_values_of(t->ctx)->pixel_pack_buffer;
+        if (pack_buffer)
+            tsr_call_BindBuffer(&t->normal, GL_PIXEL_PACK_BUFFER, 0);
         gather_pixels(t, 0, 0, t->win_w, t->win_h, GL_RGBA, GL_UNSIGNED_BYTE, raw, 1);
+        if (pack_buffer)
+            tsr_call_BindBuffer(&t->normal, GL_PIXEL_PACK_BUFFER, pack_buffer);
         if (t->app_fb)
             bind_window(t, 0);
         for (int r = 0; r < t->win_h; r++)

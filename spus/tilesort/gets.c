@@ -80,6 +80,8 @@ void ts_GetClipPlane(void *self, GLenum p, GLdouble *o)
 }
 void ts_GetPolygonStipple(void *self, GLubyte *o)
 {
+    if (ts_pack_buffer_stipple(self, o))
+        return; /* `o` is an offset in the program's pack buffer */
     ANSWER_OR_ASK(tsr_state_get_polygon_stipple(t->ctx, o), tsr_call_GetPolygonStipple(&s->table, o));
 }
 void ts_GetBufferParameteriv(void *self, GLenum tg, GLenum p, GLint *o)

@@ -220,6 +220,18 @@ void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h);
 void ts_SwapBuffersTSR(void *self, GLint window, GLbitfield flags);
 void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels);
 
+/* --- pack_buffer.c: gets into the program's pixel pack buffer ---------------- */
+/* 1 when a pack buffer is bound and the call was made (into it); 0: not
+ * bound, the caller answers as usual. */
+int ts_pack_buffer_read_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type,
+                               void *pixels);
+int ts_pack_buffer_stipple(tilesort *t, GLubyte *mask);
+void ts_GetTexImage(void *self, GLenum target, GLint level, GLenum format, GLenum type, void *pixels);
+void ts_GetCompressedTexImage(void *self, GLenum target, GLint level, void *img);
+void ts_GetPixelMapfv(void *self, GLenum map, GLfloat *values);
+void ts_GetPixelMapuiv(void *self, GLenum map, GLuint *values);
+void ts_GetPixelMapusv(void *self, GLenum map, GLushort *values);
+
 /* --- gets.c ------------------------------------------------------------------- */
 void ts_GetBooleanv(void *self, GLenum p, GLboolean *o);
 void ts_GetIntegerv(void *self, GLenum p, GLint *o);

@@ -522,6 +522,11 @@ static void build_tables(tilesort *t)
     SET(GetTexLevelParameteriv);
     SET(GetClipPlane);
     SET(GetPolygonStipple);
+    SET(GetTexImage);
+    SET(GetCompressedTexImage);
+    SET(GetPixelMapfv);
+    SET(GetPixelMapuiv);
+    SET(GetPixelMapusv);
     SET(GetBufferParameteriv);
     SET(IsEnabled);
     SET(GetError);

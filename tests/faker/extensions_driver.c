@@ -24,9 +24,13 @@
  *     and dot3): two units combined, the second interpolating the first
  *     unit's texel with its own, scaled; a GL_DOT3_RGB; settings read back;
  *   GL_ARB_explicit_attrib_location: a GLSL 1.10 attribute at location 3;
- *   pixel buffer objects (GL 2.1): glTexImage2D, glTexSubImage2D,
- *     glDrawPixels, glBitmap and glPolygonStipple reading a
- *     GL_PIXEL_UNPACK_BUFFER at offsets, and the buffer mapped back.
+ *   pixel buffer objects (GL 2.1, GL_ARB/EXT_pixel_buffer_object):
+ *     glTexImage2D, glTexSubImage2D, glDrawPixels, glBitmap and
+ *     glPolygonStipple reading a GL_PIXEL_UNPACK_BUFFER at offsets;
+ *     glReadPixels (across the wall's tiles, with a row length),
+ *     glGetTexImage, glGetPolygonStipple and glGetPixelMapusv writing
+ *     into a GL_PIXEL_PACK_BUFFER at offsets, one past its end refused;
+ *     both buffers mapped back.
  * Built with RECORDED_GL_NATIVE (faker_extensions_native) it makes the same calls
  * on OSMesa directly: the runs through tessera must write the same file
  * (gl21_commands.sh). EXTENSIONS_TABLE is spec/gl_extensions.txt. */
@@ -523,6 +527,87 @@ static void unpack_buffer(void)
     glDeleteBuffers(1, &buffer);
 }
 
+/* FNV-1a of `n` bytes: one line shows a whole buffer. */
+static uint32_t fnv(const GLubyte *b, size_t n)
+{
+    uint32_t h = 2166136261u;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 16777619u;
+    return h;
+}
+
+/* Pixel buffer objects, the pack side (GL 2.1, GL_ARB_pixel_buffer_object):
+ * gets whose answer goes into a GL_PIXEL_PACK_BUFFER at offsets, the
+ * buffer mapped back: glReadPixels of a region across the wall's tiles
+ * with a row length that leaves bytes between rows alone, glGetTexImage,
+ * glGetPolygonStipple, glGetPixelMapusv; a read past the buffer's end
+ * (GL_INVALID_OPERATION, nothing written). */
+static void pack_buffer(void)
+{
+    enum { SIZE = 8192, READ_AT = 16, TEX_AT = 4096, STIPPLE_AT = 4608, MAP_AT = 4864 };
+    static GLubyte fill[SIZE];
+    for (size_t i = 0; i < sizeof fill; i++)
+        fill[i] = (GLubyte)(i * 31 + 7);
+    clear();
+    glColor3f(0.9f, 0.3f, 0.5f);
+    glRectf(-0.6f, -0.5f, 0.4f, 0.7f);
+    glColor3f(0.1f, 0.8f, 0.3f);
+    glRectf(-0.2f, -0.9f, 0.9f, 0.1f);
+    glColor3f(1, 1, 1);
+    GLuint tex = 0;
+    static GLubyte texels[4 * 4 * 4];
+    for (size_t i = 0; i < sizeof texels; i++)
+        texels[i] = (GLubyte)(i * 13 + 1);
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    static const GLushort map[4] = {0, 20000, 40000, 65535};
+    glPixelMapusv(GL_PIXEL_MAP_R_TO_R, 4, map);
+    GLuint buffer;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
+    glBufferData(GL_PIXEL_PACK_BUFFER, SIZE, fill, GL_STREAM_READ);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 40);
+    glReadPixels(10, 6, 30, 20, GL_RGBA, GL_UNSIGNED_BYTE, (void *)(uintptr_t)READ_AT);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, (void *)(uintptr_t)TEX_AT);
+    glGetPolygonStipple((GLubyte *)(uintptr_t)STIPPLE_AT);
+    glGetPixelMapusv(GL_PIXEL_MAP_R_TO_R, (GLushort *)(uintptr_t)MAP_AT);
+    fprintf(out, "gets into a pack buffer: error 0x%x\n", glGetError());
+    glReadPixels(0, 0, 64, 48, GL_RGBA, GL_UNSIGNED_BYTE, (void *)(uintptr_t)(SIZE - 64));
+    fprintf(out, "glReadPixels past the pack buffer's end: error 0x%x\n", glGetError());
+    const GLubyte *mapped = glMapBuffer(GL_PIXEL_PACK_BUFFER, GL_READ_ONLY);
+    if (mapped) {
+        fprintf(out, "pack buffer: fnv %08x, read-back fnv %08x, texture %s, stipple fnv %08x, map %u %u %u %u\n",
+                fnv(mapped, SIZE), fnv(mapped + READ_AT, 40 * 4 * 20),
+                memcmp(mapped + TEX_AT, texels, sizeof texels) ? "other bytes" : "its texels",
+                fnv(mapped + STIPPLE_AT, 128), ((const GLushort *)(mapped + MAP_AT))[0],
+                ((const GLushort *)(mapped + MAP_AT))[1], ((const GLushort *)(mapped + MAP_AT))[2],
+                ((const GLushort *)(mapped + MAP_AT))[3]);
+        glUnmapBuffer(GL_PIXEL_PACK_BUFFER);
+    } else {
+        fprintf(out, "pack buffer: not mapped, error 0x%x\n", glGetError());
+    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glDeleteBuffers(1, &buffer);
+    /* a buffer deleted while mapped is unmapped by GL (piglit's
+     * gl-2.1-pbo does it): the next buffer maps */
+    for (int k = 0; k < 2; k++) {
+        glGenBuffers(1, &buffer);
+        glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
+        glBufferData(GL_PIXEL_PACK_BUFFER, 64, NULL, GL_STREAM_READ);
+        glReadPixels(30, 22, 4, 4, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        mapped = glMapBuffer(GL_PIXEL_PACK_BUFFER, GL_READ_ONLY);
+        fprintf(out, "pack buffer %d mapped: %s, fnv %08x\n", k, mapped ? "yes" : "no", mapped ? fnv(mapped, 64) : 0);
+        glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        glDeleteBuffers(1, &buffer);
+    }
+    static const GLushort identity[1] = {0};
+    glPixelMapusv(GL_PIXEL_MAP_R_TO_R, 1, identity);
+    glDeleteTextures(1, &tex);
+    fprintf(out, "pack buffer: error 0x%x\n", glGetError());
+}
+
 int main(int argc, char **argv)
 {
     out = recorded_gl_start(argc, argv);
@@ -537,6 +622,7 @@ int main(int argc, char **argv)
     texture_env_combine();
     explicit_attrib_location();
     unpack_buffer();
+    pack_buffer();
     recorded_gl_end(out, argv[1]);
     CHECK(absent == 0, "%d listed extensions are not in GL_EXTENSIONS", absent);
     printf("offered extensions: written to %s\n", argv[1]);

@@ -127,6 +127,7 @@ typedef struct tsr_packer {
     /* glMapBuffer's client copies, one per target (pack_map.c) */
     struct tsr_packer_mapping {
         GLenum target, access;
+        GLuint buffer; /* the buffer object mapped (GL maps an object, not a target) */
         GLsizeiptr size;
         void *data;
     } mapped[4];
