@@ -10,7 +10,7 @@
 #define EVAL \
     "evaluator maps and grids are not tracked yet (rare in the programs tessera runs); a sender forwards them to every renderer"
 #define COPY \
-    "the texels come from the renderer's own framebuffer, which the client never sees: one renderer gets the call; a wall gathers the source from its servers and gives the tracker a glTexImage/glTexSubImage of it instead (spus/tilesort/copy.c)"
+    "the texels come from the renderer's own framebuffer, which the client never sees: one renderer gets the call; a sender whose renderers hold parts of the window gathers the source from them and gives the tracker a glTexImage/glTexSubImage of it instead"
 
 #define NAMES \
     "the name stack only matters in GL_SELECT mode, which the renderers run; a sender forwards it to every renderer"
@@ -21,7 +21,7 @@
 #define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
 #define COMPRESSED "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
 #define FBO \
-    "the program's framebuffer objects (GL_EXT_framebuffer_object) live in the renderers: a tracking sender sends each such command to every renderer after its state diff, with the texture it attaches (spus/tilesort/fbo.c), and tracks glGenerateMipmapEXT as glGenerateMipmap"
+    "the program's framebuffer objects (GL_EXT_framebuffer_object) live in the renderers: a tracking sender sends each such command to every renderer after its state diff, with the texture it attaches, and tracks glGenerateMipmapEXT as glGenerateMipmap"
 #define QUERY "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
