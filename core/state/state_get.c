@@ -789,12 +789,7 @@ int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLen
 
 const void *tsr_state_buffer_bytes(const tsr_state_ctx *c, GLenum target, GLsizeiptr *size)
 {
-    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
-                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
-                  : target == GL_PIXEL_PACK_BUFFER    ? c->v.pixel_pack_buffer
-                  : target == GL_PIXEL_UNPACK_BUFFER  ? c->v.pixel_unpack_buffer
-                                                      : 0;
-    const st_bufobj *b = name ? st_buf_lookup(c, name) : NULL;
+    const st_bufobj *b = st_bound_buffer(c, target);
     if (!b || !b->data || b->mapped)
         return NULL;
     *size = b->size;

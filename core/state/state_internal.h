@@ -355,6 +355,17 @@ void st_map_fill_dispatch(tsr_state_ctx *c, tsr_dispatch *d);
 /* Objects (state_obj.c). */
 st_texobj *st_tex_lookup(tsr_state_ctx *c, GLuint name, int target);
 st_bufobj *st_buf_lookup(const tsr_state_ctx *c, GLuint name);
+/* The buffer object bound to `target` (vertex, index, pixel pack or
+ * unpack buffer), or NULL. */
+static inline st_bufobj *st_bound_buffer(const tsr_state_ctx *c, GLenum target)
+{
+    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
+                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
+                  : target == GL_PIXEL_PACK_BUFFER    ? c->v.pixel_pack_buffer
+                  : target == GL_PIXEL_UNPACK_BUFFER  ? c->v.pixel_unpack_buffer
+                                                      : 0;
+    return name ? st_buf_lookup(c, name) : NULL;
+}
 /* The bytes of an image call's `pixels` (client memory, or an offset into
  * the bound GL_PIXEL_UNPACK_BUFFER's tracked data), or NULL (state_obj.c). */
 const uint8_t *st_unpack_source(const tsr_state_ctx *c, const void *pixels, uint64_t extent);

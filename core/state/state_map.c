@@ -13,20 +13,11 @@
  * unmaps the buffer then too: the old pointer is invalid). */
 #include "state_internal.h"
 
-static st_bufobj *bound_buffer(tsr_state_ctx *c, GLenum target)
-{
-    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
-                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
-                  : target == GL_PIXEL_UNPACK_BUFFER  ? c->v.pixel_unpack_buffer
-                  : target == GL_PIXEL_PACK_BUFFER    ? c->v.pixel_pack_buffer
-                                                      : 0;
-    return name ? st_buf_lookup(c, name) : NULL;
-}
 
 static void *st_MapBuffer(void *self, GLenum target, GLenum access)
 {
     tsr_state_ctx *c = self;
-    st_bufobj *b = bound_buffer(c, target);
+    st_bufobj *b = st_bound_buffer(c, target);
     if (!b || b->mapped || !b->data || (access != GL_READ_ONLY && access != GL_WRITE_ONLY && access != GL_READ_WRITE))
         return NULL;
     b->mapped = 1;
@@ -37,7 +28,7 @@ static void *st_MapBuffer(void *self, GLenum target, GLenum access)
 static GLboolean st_UnmapBuffer(void *self, GLenum target)
 {
     tsr_state_ctx *c = self;
-    st_bufobj *b = bound_buffer(c, target);
+    st_bufobj *b = st_bound_buffer(c, target);
     if (!b || !b->mapped)
         return GL_FALSE;
     b->mapped = 0;
@@ -50,7 +41,7 @@ static GLboolean st_UnmapBuffer(void *self, GLenum target)
 
 static void st_GetBufferPointerv(void *self, GLenum target, GLenum pname, void **params)
 {
-    st_bufobj *b = bound_buffer(self, target);
+    st_bufobj *b = st_bound_buffer(self, target);
     if (params && pname == GL_BUFFER_MAP_POINTER)
         *params = b && b->mapped ? b->data : NULL;
 }
