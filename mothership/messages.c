@@ -226,6 +226,7 @@ void ms_receive(ms *m)
             if (n->state != N_DONE) { /* after DONE, its end was reported */
                 if (!n->lost_at) {
                     n->lost_at = tsr_now_seconds();
+                    n->lost_by_error = rc != 0;
                     snprintf(n->lost_why, sizeof n->lost_why, "%s",
                              rc == 0 ? "closed its control connection before reporting its end" : e.message);
                 }

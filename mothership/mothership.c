@@ -72,8 +72,14 @@ static void check(ms *m)
         if (n->state == N_READY && !n->lost_at && (t - n->last_heard) * 1000.0 > m->cfg->timeout_ms)
             ms_fail(m, FAIL_HEARTBEAT, "node '%s' sent no heartbeat for %.0f ms (stopped or hung; --timeout-ms %u)",
                     n->g->name, (t - n->last_heard) * 1000.0, m->cfg->timeout_ms);
-        if (n->exit_seen_at && n->state != N_DONE && (n->conn_ended || !n->conn || t - n->exit_seen_at > LOST_GRACE_S))
-            ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s", n->g->name, (long)n->pid, n->exit_what);
+        if (n->exit_seen_at && n->state != N_DONE &&
+            (n->conn_ended || !n->conn || t - n->exit_seen_at > LOST_GRACE_S)) {
+            if (n->lost_by_error)
+                ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s after its control connection was lost (%s)", n->g->name,
+                        (long)n->pid, n->exit_what, n->lost_why);
+            else
+                ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s", n->g->name, (long)n->pid, n->exit_what);
+        }
         if (n->lost_at && !n->reaped && (!n->pid || t - n->lost_at > LOST_GRACE_S))
             ms_fail(m, FAIL_LOST, "node '%s': control connection lost: %s", n->g->name, n->lost_why);
         if (n->state == N_WAITING && (t - m->start) * 1000.0 > m->cfg->join_timeout_ms)

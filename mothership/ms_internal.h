@@ -62,7 +62,10 @@ typedef struct ms_node {
     int reaped, wstatus;
     tsr_net_conn *conn;
     int conn_ended;
-    double lost_at; /* control connection failed at; 0 = not */
+    double lost_at; /* control connection ended before DONE at; 0 = not */
+    /* It ended by an error (cut, reset, no goodbye), not by the orderly
+     * end a node's own exit sends: only then did the node outlive it. */
+    int lost_by_error;
     /* Exited with a non-zero status before its DONE was read, at (0 =
      * not): its DONE names the cause and may still be on its way. */
     double exit_seen_at;

@@ -93,8 +93,8 @@ void ms_reap(ms *m)
         describe_status(st, what, sizeof what);
         if (WIFSIGNALED(st))
             ms_fail(m, FAIL_SIGNAL, "node '%s' (pid %ld) %s", n->g->name, (long)n->pid, what);
-        else if (n->state != N_DONE && WEXITSTATUS(st) && n->lost_at)
-            /* No DONE could come: say what the node saw end first. */
+        else if (n->state != N_DONE && WEXITSTATUS(st) && n->lost_at && n->lost_by_error)
+            /* No DONE could come: say what the node saw break first. */
             ms_fail(m, FAIL_EXIT, "node '%s' (pid %ld) %s after its control connection was lost (%s)", n->g->name,
                     (long)n->pid, what, n->lost_why);
         else if (n->state != N_DONE && WEXITSTATUS(st)) {
@@ -104,7 +104,10 @@ void ms_reap(ms *m)
              * what is queued; if it is not there, check() names the exit
              * once the connection has ended or LOST_GRACE_S has passed
              * (faker_tessera_exec_passes_status_* named the exit instead
-             * of the node's reason under load). */
+             * of the node's reason under load), and names a broken
+             * connection there too, whichever of the two was seen first
+             * (fault_wall_mothership_close got the bare exit when the
+             * exit was reaped before the cut was read). */
             ms_receive(m);
             if (n->state != N_DONE && !n->exit_seen_at) {
                 n->exit_seen_at = tsr_now_seconds();
