@@ -51,7 +51,6 @@ import argparse
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import threading
@@ -186,43 +185,18 @@ def main():
     known = load_list(a.open, ("render",))
     known.update(load_list(a.capture_open, GRAPHS))
 
-    tests = piglit_select.select(every=a.every)
-    total = len(tests)
-    tests = tests[shard_i * total // shard_n:(shard_i + 1) * total // shard_n]
-    if a.only:
-        tests = [t for t in tests if t[0] in a.only]
-    subprocess.run(["rm", "-rf", a.out], check=True)
-    os.makedirs(os.path.join(a.out, "runs"))
-    out = os.path.abspath(a.out)
+    tests, total = sweep.select_part(a.every, shard_i, shard_n, a.only)
+    out = sweep.fresh_out(a.out)
     t_start = time.monotonic()
-    xvfbs = []
-
-    def stop_xvfbs():
-        for x in xvfbs:
-            if x.poll() is None:
-                x.terminate()
-                x.wait()
-
-    def on_signal(signum, frame):
-        stop_xvfbs()
-        sys.exit(128 + signum)
-
-    signal.signal(signal.SIGTERM, on_signal)
-    signal.signal(signal.SIGINT, on_signal)
-    try:
+    with sweep.xvfb_servers() as xvfbs:
         x, display = sweep.start_xvfb(a.xvfb_args, out)
         xvfbs.append(x)
         code = run_all(a, tests, total, shard_i, shard_n, known, out, display, t_start)
-    finally:
-        stop_xvfbs()
     sys.exit(code)
 
 
 def run_all(a, tests, total, shard_i, shard_n, known, out, display, t_start):
-    env = dict(os.environ, PIGLIT_PLATFORM="mixed_glx_egl", DISPLAY=display)
-    env.pop("TESSERA_CHAIN", None)
-    env.setdefault("ASAN_OPTIONS", "")
-    env["ASAN_OPTIONS"] += ":detect_leaks=0"
+    env = sweep.piglit_env(DISPLAY=display)
     lock = threading.Lock()
     cpu_total = [0.0]
     rows = []

@@ -28,6 +28,7 @@ Usage: sweep.py TESSERA OUT [--shard I/N] [--jobs J] [--every K]
                 [--xvfb-args ARGS] [--exceptions FILE] [--only NAME...]
 """
 import argparse
+import contextlib
 import json
 import os
 import re
@@ -68,6 +69,59 @@ def start_xvfb(extra, workdir):
         proc.kill()
         sys.exit("sweep.py: Xvfb %s reported no display (log: %s)" % (" ".join(args), log.name))
     return proc, ":" + buf.decode().strip()
+
+def select_part(every, shard_i, shard_n, only):
+    """The tests of part shard_i of shard_n of the rule's list (contiguous
+    parts: the every-4th pack runs spread evenly over them), those of
+    `only` among them if given, and how many the rule selects in all."""
+    tests = piglit_select.select(every=every)
+    total = len(tests)
+    tests = tests[shard_i * total // shard_n:(shard_i + 1) * total // shard_n]
+    if only:
+        tests = [t for t in tests if t[0] in only]
+    return tests, total
+
+
+def fresh_out(path):
+    """Empties the output folder (with its runs/) and returns its absolute path."""
+    subprocess.run(["rm", "-rf", path], check=True)
+    os.makedirs(os.path.join(path, "runs"))
+    return os.path.abspath(path)
+
+
+def piglit_env(**extra):
+    """The environment of piglit's runs: GLX and EGL, no chain of the
+    caller's, leaks not judged (piglit's own are not tessera's)."""
+    env = dict(os.environ, PIGLIT_PLATFORM="mixed_glx_egl", **extra)
+    env.pop("TESSERA_CHAIN", None)
+    env.setdefault("ASAN_OPTIONS", "")
+    env["ASAN_OPTIONS"] += ":detect_leaks=0"
+    return env
+
+
+@contextlib.contextmanager
+def xvfb_servers():
+    """A list for the Xvfb servers a sweep starts; they end when the block
+    does, and on SIGTERM or SIGINT (ctest's time-out, ^C). The test runs
+    end with their own sessions (run_one)."""
+    xvfbs = []
+
+    def stop():
+        for x in xvfbs:
+            if x.poll() is None:
+                x.terminate()
+                x.wait()
+
+    def on_signal(signum, frame):
+        stop()
+        sys.exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, on_signal)
+    signal.signal(signal.SIGINT, on_signal)
+    try:
+        yield xvfbs
+    finally:
+        stop()
 
 
 def piglit_result(out):
@@ -193,38 +247,11 @@ def main():
     exceptions = load_exceptions(a.exceptions)
     open_failures = load_open(a.open)
 
-    tests = piglit_select.select(every=a.every)
-    total_selected = len(tests)
-    # contiguous parts: the every-4th pack runs spread evenly over them
-    tests = tests[shard_i * total_selected // shard_n:(shard_i + 1) * total_selected // shard_n]
-    if a.only:
-        tests = [t for t in tests if t[0] in a.only]
-    subprocess.run(["rm", "-rf", a.out], check=True)
-    os.makedirs(os.path.join(a.out, "runs"))
-    out = os.path.abspath(a.out)
-
+    tests, total_selected = select_part(a.every, shard_i, shard_n, a.only)
+    out = fresh_out(a.out)
     t_start = time.monotonic()
-    xvfbs = []
-
-    def stop_xvfbs():
-        for x in xvfbs:
-            if x.poll() is None:
-                x.terminate()
-                x.wait()
-
-    def on_signal(signum, frame):
-        # ctest's timeout, ^C: the Xvfb servers are ours to end (the test
-        # runs end with their own sessions: run_one)
-        stop_xvfbs()
-        sys.exit(128 + signum)
-
-    signal.signal(signal.SIGTERM, on_signal)
-    signal.signal(signal.SIGINT, on_signal)
-    try:
-        run_all(a, tests, total_selected, shard_i, shard_n, graphs, exceptions, open_failures,
-                out, xvfbs, t_start)
-    finally:
-        stop_xvfbs()
+    with xvfb_servers() as xvfbs:
+        run_all(a, tests, total_selected, shard_i, shard_n, graphs, exceptions, open_failures, out, xvfbs, t_start)
 
 
 def run_all(a, tests, total_selected, shard_i, shard_n, graphs, exceptions, open_failures, out, xvfbs, t_start):
@@ -235,10 +262,7 @@ def run_all(a, tests, total_selected, shard_i, shard_n, graphs, exceptions, open
         x, tessera_display = start_xvfb(a.xvfb_args, out)
         xvfbs.append(x)
 
-    base_env = dict(os.environ, PIGLIT_PLATFORM="mixed_glx_egl")
-    base_env.pop("TESSERA_CHAIN", None)
-    base_env.setdefault("ASAN_OPTIONS", "")
-    base_env["ASAN_OPTIONS"] += ":detect_leaks=0"
+    base_env = piglit_env()
     lock = threading.Lock()
     cpu_total = [0.0]
     rows = []
