@@ -2,12 +2,13 @@
  * the generated list (tsr_faker_gl_extensions), less the extensions whose
  * commands some SPU of the chain does not carry yet.
  *
- * GL_EXT_framebuffer_object: render draws a program's framebuffer objects
- * (spus/render/appfbo.c); pack, capture and the SPUs that only pass
- * commands on carry them to one, and a tilesort wall renders them whole
- * on every server (spus/tilesort/fbo.c). A chain with any SPU outside
- * `carries_fbo` (one that would route an FBO's drawing by the window, or
- * drop its commands) does not offer it.
+ * The framebuffer object extensions (`fbo_exts`): render draws a
+ * program's framebuffer objects and blits (spus/render/appfbo.c); pack,
+ * capture and the SPUs that only pass commands on carry them to one, and
+ * a tilesort wall renders them whole on every server and gathers a blit's
+ * source from the window's tiles (spus/tilesort/fbo.c, blit.c). A chain
+ * with any SPU outside `carries_fbo` (one that would route an FBO's
+ * drawing by the window, or drop its commands) offers none of them.
  *
  * Owns: the two strings (made once). Never: offers an extension the
  * generated list lacks. */
@@ -19,7 +20,16 @@
 
 static const char *const carries_fbo[] = {"render", "pack", "capture", "tilesort", "passthrough", "print", "loopback"};
 
-static const char fbo_ext[] = "GL_EXT_framebuffer_object";
+static const char *const fbo_exts[] = {"GL_EXT_framebuffer_object", "GL_ARB_framebuffer_object",
+                                       "GL_EXT_framebuffer_blit", "GL_EXT_framebuffer_multisample"};
+
+static bool is_fbo_ext(const char *name, size_t len)
+{
+    for (size_t i = 0; i < sizeof fbo_exts / sizeof fbo_exts[0]; i++)
+        if (strlen(fbo_exts[i]) == len && !strncmp(fbo_exts[i], name, len))
+            return true;
+    return false;
+}
 
 /* Whether every SPU of chain text `text` ("a k=v ! b ! c") is one of
  * carries_fbo. */
@@ -61,7 +71,7 @@ const char *tsr_faker_offered_extensions(const char *chain_text)
         size_t n = 0;
         for (const char *p = all; *p;) {
             size_t len = strcspn(p, " ");
-            if (!(len == sizeof fbo_ext - 1 && !strncmp(p, fbo_ext, len))) {
+            if (!is_fbo_ext(p, len)) {
                 memcpy(s + n, p, len);
                 n += len;
                 s[n++] = ' ';

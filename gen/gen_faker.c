@@ -250,10 +250,12 @@ static void count_covered(xcmd *x, void *ctx)
 }
 
 /* spec/gl_extensions.txt: the extensions without commands of their own
- * that are offered; each is found in the registry once (found). */
+ * that are offered, and ("-NAME") those withheld although the spec has
+ * their commands; each is found in the registry once (found). */
 typedef struct listed_ext {
     char **names;
     int *found;
+    int *withheld;
     size_t count;
 } listed_ext;
 
@@ -266,9 +268,12 @@ static void read_listed(const char *path, listed_ext *l)
         size_t n = strcspn(line, "\t");
         if (line[n] != '\t' || line[n + 1] == '\0')
             die("a listed extension without its reason (NAME<TAB>why)", line);
+        int withheld = line[0] == '-';
         l->names = xrealloc(l->names, (l->count + 1) * sizeof *l->names);
         l->found = xrealloc(l->found, (l->count + 1) * sizeof *l->found);
-        l->names[l->count] = xstrndup(line, n);
+        l->withheld = xrealloc(l->withheld, (l->count + 1) * sizeof *l->withheld);
+        l->names[l->count] = xstrndup(line + withheld, n - (size_t)withheld);
+        l->withheld[l->count] = withheld;
         l->found[l->count++] = 0;
     }
     free(text);
@@ -298,10 +303,15 @@ static void parse_extensions(const char *xml, listed_ext *listed, char **ext, si
         const char *end = gt && gt[-1] == '/' ? gt : strstr(p, "</extension>");
         if (!name || !supported || !end)
             die("an <extension> without name/supported or end", name);
-        int is_listed = 0;
+        int is_listed = 0, is_withheld = 0;
         for (size_t i = 0; i < listed->count; i++)
-            if (!strcmp(listed->names[i], name))
-                is_listed = 1, listed->found[i] = 1;
+            if (!strcmp(listed->names[i], name)) {
+                listed->found[i] = 1;
+                if (listed->withheld[i])
+                    is_withheld = 1;
+                else
+                    is_listed = 1;
+            }
         if (is_listed && !supports_gl(supported))
             die("a listed extension the registry does not support for gl", name);
         if (supports_gl(supported)) {
@@ -313,7 +323,9 @@ static void parse_extensions(const char *xml, listed_ext *listed, char **ext, si
             }
             if (is_listed && st.covered != st.commands)
                 die("a listed extension has commands the spec does not have", name);
-            if ((st.commands > 0 && st.covered == st.commands) || is_listed)
+            if (is_withheld && !(st.commands > 0 && st.covered == st.commands))
+                die("a withheld extension the rule would not offer anyway", name);
+            if (((st.commands > 0 && st.covered == st.commands) || is_listed) && !is_withheld)
                 append_name(ext, ext_len, name);
         }
         free(name);
@@ -479,7 +491,7 @@ int main(int argc, char **argv)
     char *extensions = xrealloc(NULL, 1);
     size_t ext_len = 0;
     extensions[0] = '\0';
-    listed_ext listed = {NULL, NULL, 0};
+    listed_ext listed = {NULL, NULL, NULL, 0};
     read_listed(argv[3], &listed);
     parse_extensions(xml, &listed, &extensions, &ext_len);
     for (size_t i = 0; i < listed.count; i++)

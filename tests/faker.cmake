@@ -277,6 +277,14 @@ recorded_gl_test(cross_tile_copy cross_tile_copy_driver.c
 # errors; on the 2x2 wall too, which renders the FBO whole on every server
 # (spus/tilesort/fbo.c).
 recorded_gl_test(fbo fbo_driver.c faker_fbo_renders_into_textures_as_osmesa_through_render_pack_and_wall)
+# GL_ARB_framebuffer_object's core names and glBlitFramebuffer (and
+# glBlitFramebufferEXT, its alias), offered because their commands are spec
+# commands: a core-named FBO of a texture and a depth-stencil renderbuffer,
+# blits between it, a multisample renderbuffer and the window (read and
+# draw framebuffers bound apart), a 3D texture's layer attached; on the
+# 2x2 wall a blit from the window is gathered from the tiles
+# (spus/tilesort/blit.c).
+recorded_gl_test(blit blit_driver.c faker_core_fbo_and_blits_draw_as_osmesa_through_render_pack_and_wall)
 
 # Front and back buffers of a double-buffered GLX window (issue 27 item
 # 5): glDrawBuffer/glReadBuffer of every window buffer name, clears, a swap

@@ -21,7 +21,7 @@
 #define PIXELMAP "pixel maps are not tracked yet (rare); a sender forwards them to every renderer"
 #define COMPRESSED "compressed texture images are not kept by the tracker yet; a sender forwards them to every renderer"
 #define FBO \
-    "the program's framebuffer objects (GL_EXT_framebuffer_object) live in the renderers: a tracking sender sends each such command to every renderer after its state diff, with the texture it attaches, and tracks glGenerateMipmapEXT as glGenerateMipmap"
+    "the program's framebuffer objects (GL_EXT_framebuffer_object, and GL_ARB_framebuffer_object's core names for the same objects) live in the renderers: a tracking sender sends each such command to every renderer after its state diff, with the texture it attaches, and tracks glGenerateMipmapEXT as glGenerateMipmap"
 #define QUERY "query objects live in the renderers, which count the samples; a sender forwards them to every renderer"
 
 const tsr_state_untracked_cmd tsr_state_untracked[] = {
@@ -113,5 +113,18 @@ const tsr_state_untracked_cmd tsr_state_untracked[] = {
     {"FramebufferTexture3DEXT", FBO},
     {"FramebufferRenderbufferEXT", FBO},
     {"GenerateMipmapEXT", FBO},
+    {"GenRenderbuffers", FBO},
+    {"DeleteRenderbuffers", FBO},
+    {"BindRenderbuffer", FBO},
+    {"RenderbufferStorage", FBO},
+    {"RenderbufferStorageMultisample", FBO},
+    {"GenFramebuffers", FBO},
+    {"DeleteFramebuffers", FBO},
+    {"BindFramebuffer", FBO},
+    {"FramebufferTexture1D", FBO},
+    {"FramebufferTexture2D", FBO},
+    {"FramebufferTexture3D", FBO},
+    {"FramebufferTextureLayer", FBO},
+    {"FramebufferRenderbuffer", FBO},
     {NULL, NULL},
 };

@@ -80,7 +80,7 @@ static void render_DrawBuffer(void *self, GLenum buf)
 static void render_ReadBuffer(void *self, GLenum buf)
 {
     render_spu *r = self;
-    if (render_app_fb_bound(r)) {
+    if (render_app_read_fb_bound(r)) {
         r->gl.ReadBuffer(buf);
         return;
     }
@@ -127,7 +127,7 @@ static GLint window_name_of(const render_spu *r, GLint value)
  * program's names; false for every other pname (scissor.c's gets ask). */
 bool render_buffers_query(render_spu *r, GLenum pname, GLint *value)
 {
-    if (!r->shared || render_app_fb_bound(r))
+    if (!r->shared || (pname == GL_READ_BUFFER ? render_app_read_fb_bound(r) : render_app_fb_bound(r)))
         return false;
     if (pname == GL_DOUBLEBUFFER) {
         *value = r->double_buffered;

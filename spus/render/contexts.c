@@ -62,7 +62,7 @@ int render_attach_context(render_spu *r, render_context *c, tsr_error *err)
                 return tsr_error_set(err, TSR_EIO, "%s: context %d: framebuffer%s incomplete (0x%x)", r->name, c->id,
                                      pass ? " (multisample resolve)" : "", status);
         }
-        r->fbo.BindFramebuffer(GL_FRAMEBUFFER, render_app_fb_or_window(c)); /* appfbo.c: the program's, if bound */
+        render_app_fb_rebind(r, c); /* appfbo.c: the program's, if bound */
         c->attached = r->generation;
     }
     return TSR_OK;

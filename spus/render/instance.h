@@ -100,9 +100,10 @@ typedef struct render_scissor {
 } render_scissor;
 
 /* The program's framebuffer object and renderbuffer bindings of one
- * context, in the driver's names (appfbo.c); fb 0: the window. */
+ * context, in the driver's names (appfbo.c); fb (the draw framebuffer)
+ * or read_fb 0: the window. */
 typedef struct render_app_binding {
-    GLuint fb, rb;
+    GLuint fb, read_fb, rb;
 } render_app_binding;
 
 /* The program's names of its framebuffer objects (or renderbuffers) and
@@ -255,7 +256,9 @@ void render_ms_read_end(render_spu *r, bool began);
 void render_multisample_install(render_spu *r, tsr_dispatch *table);
 /* appfbo.c */
 bool render_app_fb_bound(render_spu *r);
-GLuint render_app_fb_or_window(const render_context *c);
+bool render_app_read_fb_bound(render_spu *r);
+void render_app_fb_rebind(render_spu *r, const render_context *c);
+GLuint render_app_read_fb_or_window(const render_context *c);
 GLuint render_app_rb(render_spu *r);
 bool render_app_fb_query(render_spu *r, GLenum pname, GLint *value);
 void render_app_fb_leave(render_spu *r);

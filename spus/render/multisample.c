@@ -69,7 +69,7 @@ static render_box resolve_box(const render_spu *r)
  * blit each attachment, its scissor test off, all put back after. */
 static void resolve_in_context0(render_spu *r)
 {
-    GLuint own = render_app_fb_or_window(&r->contexts[0]);
+    GLuint own = render_app_read_fb_or_window(&r->contexts[0]);
     GLint draw = GL_COLOR_ATTACHMENT0;
     r->gl.GetIntegerv(GL_DRAW_BUFFER, &draw);
     GLboolean scissor = r->gl.IsEnabled(GL_SCISSOR_TEST);
@@ -114,7 +114,7 @@ void render_ms_swap(render_spu *r)
     r->gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     r->gl.DrawBuffer(GL_COLOR_ATTACHMENT1);
     r->fbo.BlitFramebuffer(0, 0, r->width, r->height, 0, 0, r->width, r->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    r->fbo.BindFramebuffer(GL_FRAMEBUFFER, render_app_fb_or_window(&r->contexts[0]));
+    render_app_fb_rebind(r, &r->contexts[0]);
 }
 
 /* Before a program's read of the window: resolves it and points the
@@ -122,7 +122,7 @@ void render_ms_swap(render_spu *r)
  * read buffer its own. Returns whether render_ms_read_end must undo it. */
 bool render_ms_read_begin(render_spu *r)
 {
-    if (!r->samples || !r->shared || render_current_scissor(r)->list_mode == GL_COMPILE || render_app_fb_bound(r))
+    if (!r->samples || !r->shared || render_current_scissor(r)->list_mode == GL_COMPILE || render_app_read_fb_bound(r))
         return false; /* (a program FBO is read as it is: appfbo.c) */
     render_context *c = &r->contexts[r->current];
     if (!c->resolved_fbo)

@@ -176,13 +176,14 @@ static void *read_source(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GL
         call;                                     \
     } while (0)
 
-/* A glCopyPixels of the window outside glBegin/glEnd. While the
- * program's framebuffer object is bound (fbo.c) the source and the
- * destination are that FBO, which every server holds whole: each server's
- * own copy is exact, and it goes unchanged. (A texture copy from it is
+/* A glCopyPixels of the window outside glBegin/glEnd. While a program
+ * framebuffer object is bound for reading (fbo.c) the source is that FBO,
+ * which every server holds whole: each server's own copy is exact (into
+ * the FBO bound for drawing, or its own tiles of the window), and it goes
+ * unchanged. (A texture copy from it is
  * still substituted: ts_ReadPixels then reads the first server's FBO, and
  * the tracker gets the image, which it could not know otherwise.) */
-static int from_window(const tilesort *t) { return !t->in_begin && !t->app_fb; }
+static int from_window(const tilesort *t) { return !t->in_begin && !t->app_read_fb; }
 
 /* --- glCopyPixels ------------------------------------------------------------------ */
 
@@ -517,4 +518,29 @@ void ts_CopyTexSubImage3D(void *self, GLenum target, GLint level, GLint xo, GLin
     tsr_call_TexSubImage3D(&t->normal, target, level, xo, yo, zo, w, h, 1, format, type, pixels);
     restore_store(t, 0, &unpack);
     free(pixels);
+}
+
+/* --- for blit.c ------------------------------------------------------------------ */
+
+void *ts_copy_gather(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type)
+{
+    return read_source(t, x, y, w, h, format, type);
+}
+
+/* A texture image of w x h texels of internal format `ifmt` in the bound
+ * 2D texture through the tracker, undefined but for the sub-image at
+ * (x, y) of pixels (sw x sh) gathered as format/type: unpacked tightly
+ * with the pixel transfer at identity (the pixels are the window's as they
+ * are; a blit applies no transfer), the program's modes put back after. */
+void ts_copy_upload_2d(tilesort *t, GLenum ifmt, GLsizei w, GLsizei h, GLint x, GLint y, GLsizei sw, GLsizei sh,
+                       GLenum format, GLenum type, const void *pixels)
+{
+    copy_transfer program = transfer_now(t), identity = {{1, 1, 1, 1, 1}, {0}, 0, 0, GL_FALSE, GL_FALSE};
+    copy_saved unpack;
+    set_transfer(t, &identity);
+    tight_store(t, 0, &unpack);
+    tsr_call_TexImage2D(&t->normal, GL_TEXTURE_2D, 0, (GLint)ifmt, w, h, 0, format, type, NULL);
+    tsr_call_TexSubImage2D(&t->normal, GL_TEXTURE_2D, 0, x, y, sw, sh, format, type, pixels);
+    restore_store(t, 0, &unpack);
+    set_transfer(t, &program);
 }

@@ -91,7 +91,7 @@ void ts_WindowSizeTSR(void *self, GLint window, GLsizei w, GLsizei h)
 static void gather_pixels(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels,
                           int window)
 {
-    if (t->app_fb && !window) {
+    if (t->app_read_fb && !window) {
         tsr_call_ReadPixels(&ts_to_server(t)->table, x, y, w, h, format, type, pixels);
         return;
     }
@@ -155,14 +155,16 @@ void ts_ReadPixels(void *self, GLint x, GLint y, GLsizei w, GLsizei h, GLenum fo
         gather_pixels(self, x, y, w, h, format, type, pixels, 0);
 }
 
-/* Every live server's window (1) or the program's FBO again (0), for
+/* Every live server's window (1) or the program's FBOs again (0), for
  * assemble=: its servers' own packers, sent before anything else reaches
  * them (ts_prepare_server flushes them first). */
 static void bind_window(tilesort *t, int window)
 {
     for (size_t i = 0; i < t->nservers; i++)
-        if (!tsr_stream_client_server_failed(t->client, i))
-            tsr_call_BindFramebufferEXT(&t->srv[i].table, GL_FRAMEBUFFER_EXT, window ? 0 : t->app_fb);
+        if (!tsr_stream_client_server_failed(t->client, i)) {
+            tsr_call_BindFramebufferEXT(&t->srv[i].table, GL_DRAW_FRAMEBUFFER, window ? 0 : t->app_fb);
+            tsr_call_BindFramebufferEXT(&t->srv[i].table, GL_READ_FRAMEBUFFER, window ? 0 : t->app_read_fb);
+        }
 }
 
 static void assemble_frame(tilesort *t)
@@ -177,7 +179,7 @@ static void assemble_frame(tilesort *t)
         return;
     uint8_t *raw = calloc(1, (size_t)l.extent), *img = malloc((size_t)t->win_w * (size_t)t->win_h * 4);
     if (raw && img) {
-        if (t->app_fb) /* the frame is the window's, not the bound FBO's */
+        if (t->app_fb || t->app_read_fb) /* the frame is the window's, not the bound FBOs' */
             bind_window(t, 1);
         /* into client memory, whatever pack buffer the program has bound */
         GLuint pack_buffer = tsr_state_values_of(t->ctx)->pixel_pack_buffer;
@@ -186,7 +188,7 @@ static void assemble_frame(tilesort *t)
         gather_pixels(t, 0, 0, t->win_w, t->win_h, GL_RGBA, GL_UNSIGNED_BYTE, raw, 1);
         if (pack_buffer)
             tsr_call_BindBuffer(&t->normal, GL_PIXEL_PACK_BUFFER, pack_buffer);
-        if (t->app_fb)
+        if (t->app_fb || t->app_read_fb)
             bind_window(t, 0);
         for (int r = 0; r < t->win_h; r++)
             memcpy(img + (size_t)r * (size_t)t->win_w * 4, raw + l.first + (size_t)r * l.row_bytes,

@@ -98,9 +98,12 @@ typedef struct tilesort {
      * (gets.c's ts_RenderMode says why); GL_RENDER otherwise */
     GLenum render_mode;
     size_t render_server;
-    /* the program's bound framebuffer object (fbo.c), 0: the window.
+    /* the program's bound draw framebuffer object (fbo.c), 0: the window.
      * While one is bound, everything drawn goes to every server whole. */
     GLuint app_fb;
+    /* its bound read framebuffer object, 0: the window (reads and blits
+     * from it gather the tiles: frame.c, copy.c, blit.c) */
+    GLuint app_read_fb;
     GLenum gl_error;        /* made here (ts_gl_error): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
@@ -279,7 +282,17 @@ int ts_fbo_command(const char *name); /* an FBO command every server gets at onc
  * while a program FBO is bound: the first server answers, not the tracker */
 int ts_fbo_get_asks_server(const tilesort *t, GLenum pname);
 void ts_BindFramebufferEXT(void *self, GLenum target, GLuint framebuffer);
+void ts_BindFramebuffer(void *self, GLenum target, GLuint framebuffer);
 void ts_DeleteFramebuffersEXT(void *self, GLsizei n, const GLuint *framebuffers);
+void ts_DeleteFramebuffers(void *self, GLsizei n, const GLuint *framebuffers);
+void ts_fbo_send_texture(tilesort *t, GLenum textarget, GLuint texture);
+void ts_FramebufferTexture1D(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                             GLint level);
+void ts_FramebufferTexture2D(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                             GLint level);
+void ts_FramebufferTexture3D(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
+                             GLint level, GLint zoffset);
+void ts_FramebufferTextureLayer(void *self, GLenum target, GLenum attachment, GLuint texture, GLint level, GLint layer);
 void ts_FramebufferTexture1DEXT(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
                                 GLint level);
 void ts_FramebufferTexture2DEXT(void *self, GLenum target, GLenum attachment, GLenum textarget, GLuint texture,
@@ -301,6 +314,12 @@ void ts_CopyTexSubImage2D(void *self, GLenum target, GLint level, GLint xo, GLin
                           GLsizei h);
 void ts_CopyTexSubImage3D(void *self, GLenum target, GLint level, GLint xo, GLint yo, GLint zo, GLint x, GLint y,
                           GLsizei w, GLsizei h);
+void *ts_copy_gather(tilesort *t, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type);
+void ts_copy_upload_2d(tilesort *t, GLenum ifmt, GLsizei w, GLsizei h, GLint x, GLint y, GLsizei sw, GLsizei sh,
+                       GLenum format, GLenum type, const void *pixels);
+/* --- blit.c: glBlitFramebuffer, its window source gathered ----------------------- */
+void ts_BlitFramebuffer(void *self, GLint sx0, GLint sy0, GLint sx1, GLint sy1, GLint dx0, GLint dy0, GLint dx1,
+                        GLint dy1, GLbitfield mask, GLenum filter);
 /* queries.c */
 void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
 void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);

@@ -555,6 +555,13 @@ static void build_tables(tilesort *t)
     SET(FramebufferTexture1DEXT);
     SET(FramebufferTexture2DEXT);
     SET(FramebufferTexture3DEXT);
+    SET(BindFramebuffer);
+    SET(DeleteFramebuffers);
+    SET(FramebufferTexture1D);
+    SET(FramebufferTexture2D);
+    SET(FramebufferTexture3D);
+    SET(FramebufferTextureLayer);
+    SET(BlitFramebuffer);
     SET(GenerateMipmapEXT);
     SET(GenerateMipmap);
     SET(DrawBuffer);

@@ -90,7 +90,7 @@ static int listed_extensions(const char *table)
     char line[1024];
     int absent = 0, listed = 0;
     while (fgets(line, sizeof line, f)) {
-        if (line[0] == '#' || line[0] == '\n')
+        if (line[0] == '#' || line[0] == '\n' || line[0] == '-') /* '-': withheld, not offered */
             continue;
         line[strcspn(line, "\t\n")] = '\0';
         int has = recorded_gl_has_extension(line);

@@ -36,14 +36,9 @@
 static FILE *out;
 
 
-static void error_line(const char *label) { fprintf(out, "%s: glGetError 0x%x\n", label, glGetError()); }
+static void error_line(const char *label) { recorded_gl_error_line(out, label); }
 
-static GLint get_int(GLenum pname)
-{
-    GLint v = -7;
-    glGetIntegerv(pname, &v);
-    return v;
-}
+static GLint get_int(GLenum pname) { return recorded_gl_int(pname); }
 
 /* The bindings in the program's names, as whether they are `fb`/`rb`. */
 static void bindings(const char *label, GLuint fb, GLuint rb)

@@ -93,3 +93,15 @@ int recorded_gl_has_extension(const char *name)
             return 1;
     return 0;
 }
+
+void recorded_gl_error_line(FILE *out, const char *label)
+{
+    fprintf(out, "%s: glGetError 0x%x\n", label, glGetError());
+}
+
+int recorded_gl_int(unsigned pname)
+{
+    GLint v = -7;
+    glGetIntegerv((GLenum)pname, &v);
+    return v;
+}

@@ -34,6 +34,12 @@ void recorded_gl_end(FILE *out, const char *path);
 /* 1 when the current context's GL_EXTENSIONS names `name` whole. */
 int recorded_gl_has_extension(const char *name);
 
+/* One line to out: label and glGetError's answer (which it clears). */
+void recorded_gl_error_line(FILE *out, const char *label);
+
+/* glGetIntegerv's first value of GLenum `pname`; -7 when GL wrote none. */
+int recorded_gl_int(unsigned pname);
+
 /* One line to out: label, the checksum of the whole RGBA colour buffer
  * and its centre pixel. */
 void recorded_gl_frame(FILE *out, const char *label);
