@@ -259,6 +259,12 @@ recorded_gl_test(extensions extensions_driver.c
 # multi draws, in a display list, the pointer gets and the errors.
 recorded_gl_test(client_arrays client_arrays_driver.c
                  faker_client_arrays_draw_and_answer_as_osmesa_through_render_pack_and_wall)
+# GL_ARB_map_buffer_range, offered because its two commands are spec
+# commands: each access bit on a range of a buffer, explicit flushes, the
+# vertices, pack and unpack buffers written or read through a range, and
+# GL's errors (core/wire/pack_map.c, core/state/state_map.c).
+recorded_gl_test(map_buffer_range map_buffer_range_driver.c
+                 faker_map_buffer_range_maps_and_answers_as_osmesa_through_render_pack_and_wall)
 # GL_EXT_texture_integer, offered because its six commands are spec
 # commands: the integer clear colour, integer border colours and the other
 # texture parameters through them, integer images read back.

@@ -81,8 +81,10 @@ typedef struct st_bufobj {
     GLsizeiptr size;
     GLenum usage;
     uint8_t *data;
-    int mapped;        /* glMapBuffer handed out `data` (state_map.c) */
-    GLenum map_access; /* its access */
+    int mapped;            /* glMapBuffer(Range) handed out `data` + map_offset (state_map.c) */
+    GLbitfield map_access; /* its access, as GL_MAP_*_BIT */
+    GLintptr map_offset;   /* the range mapped */
+    GLsizeiptr map_length;
 } st_bufobj;
 
 typedef struct st_shadow_buf {

@@ -86,6 +86,8 @@ static const char *const immediate_names[] = {
     "BufferSubData",
     "MapBuffer",
     "UnmapBuffer",
+    "MapBufferRange", /* GL 3.0 section 5.4 */
+    "FlushMappedBufferRange",
     "CreateProgram",
     "CreateShader",
     "DeleteProgram",

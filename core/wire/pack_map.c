@@ -1,18 +1,33 @@
-/* core/wire/pack_map.c — glMapBuffer, glUnmapBuffer and
- * glGetBufferPointerv for a packer, whose receiver holds the buffer
- * objects. glMapBuffer reads the bound buffer's size and contents from
- * the receiver (two requests) into client memory the program may read
- * and write; glUnmapBuffer sends that memory back as one glBufferSubData
- * of the whole buffer unless it was mapped GL_READ_ONLY, so what the
- * program wrote reaches the receiver at unmap, as GL says. The opcodes
- * MapBuffer and UnmapBuffer never travel: an unpacker refuses them
- * (unpack.c).
+/* core/wire/pack_map.c — glMapBuffer, glMapBufferRange,
+ * glFlushMappedBufferRange, glUnmapBuffer and glGetBufferPointerv for a
+ * packer, whose receiver holds the buffer objects. A mapping is client
+ * memory holding a copy of the mapped range: read from the receiver
+ * (glGetBufferSubData, after glGetBufferParameteriv of the size) unless
+ * the program invalidated the range or the buffer, since then GL leaves
+ * the old bytes undefined. What the program wrote goes back as
+ * glBufferSubData: the whole range at unmap for a GL_MAP_WRITE_BIT
+ * mapping, or, for one with GL_MAP_FLUSH_EXPLICIT_BIT, each range the
+ * program flushes, at its glFlushMappedBufferRange (GL leaves bytes written
+ * and never flushed undefined: they are not sent). A mapping for reading
+ * only sends nothing. The opcodes MapBuffer, MapBufferRange,
+ * FlushMappedBufferRange and UnmapBuffer never travel: an unpacker refuses
+ * them (unpack.c).
  *
- * Owns: the mapped copies (tsr_packer.mapped, one per target; freed at
- * unmap and by tsr_packer_destroy). A mapping belongs to the target, not
- * to the buffer object: rebinding the target while mapped (which GL
- * allows) is not followed. Never: maps twice, returns memory it does not
- * own. */
+ * The errors are GL's (Mesa's checks, in its order), raised here as the
+ * packer's local error: a target other than the four buffer targets of GL
+ * 2.1 GL_INVALID_ENUM; no buffer bound, a buffer already mapped, a length
+ * of 0, neither read nor write, read with an invalidate or unsynchronized
+ * bit, flush-explicit without write GL_INVALID_OPERATION; a negative
+ * offset or length, an unknown bit or a range past the buffer's end
+ * GL_INVALID_VALUE. A flush of a buffer not mapped or not mapped with
+ * GL_MAP_FLUSH_EXPLICIT_BIT is GL_INVALID_OPERATION, one past the mapped
+ * range GL_INVALID_VALUE.
+ *
+ * Owns: the mapped copies (tsr_packer.mapped, one per mapped buffer
+ * object, found by the name bound to the call's target in the mirrors;
+ * freed at unmap, when the buffer is deleted, and by tsr_packer_destroy).
+ * Never: maps a buffer twice, returns memory it does not own, sends bytes
+ * the program did not declare written. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,93 +35,188 @@
 #include "wire_gen.h"
 #include "wire_internal.h"
 
-static struct tsr_packer_mapping *mapping_of(tsr_packer *p, GLenum target)
-{
-    static const GLenum targets[4] = {GL_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER, GL_PIXEL_PACK_BUFFER,
-                                      GL_PIXEL_UNPACK_BUFFER};
-    for (int i = 0; i < 4; i++)
-        if (targets[i] == target) {
-            p->mapped[i].target = target;
-            return &p->mapped[i];
-        }
-    return NULL;
-}
+enum {
+    MAP_ALL_BITS = GL_MAP_READ_BIT | GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_RANGE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT |
+                   GL_MAP_FLUSH_EXPLICIT_BIT | GL_MAP_UNSYNCHRONIZED_BIT,
+    MAP_INVALIDATES = GL_MAP_INVALIDATE_RANGE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT,
+};
 
-int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target)
-{
-    const struct tsr_packer_mapping *m = mapping_of(p, target);
-    return m && m->data;
-}
+#define MAPPING_SLOTS (sizeof((tsr_packer *)0)->mapped / sizeof((tsr_packer *)0)->mapped[0])
 
-/* The name bound to `target` in the mirrors. */
-static GLuint bound_name(const tsr_packer *p, GLenum target)
+/* The name bound to `target` in the mirrors; *known 0 for a target that
+ * is not a buffer target of GL 2.1. */
+static GLuint bound_name(const tsr_packer *p, GLenum target, int *known)
 {
+    *known = 1;
     switch (target) {
     case GL_ARRAY_BUFFER: return p->arrays.array_buffer;
     case GL_ELEMENT_ARRAY_BUFFER: return p->arrays.element_buffer;
     case GL_PIXEL_PACK_BUFFER: return p->pixels.pack_buffer;
     case GL_PIXEL_UNPACK_BUFFER: return p->pixels.unpack_buffer;
-    default: return 0;
+    default: *known = 0; return 0;
     }
+}
+
+static struct tsr_packer_mapping *mapping_of_buffer(tsr_packer *p, GLuint buffer)
+{
+    for (size_t i = 0; buffer && i < MAPPING_SLOTS; i++)
+        if (p->mapped[i].data && p->mapped[i].buffer == buffer)
+            return &p->mapped[i];
+    return NULL;
+}
+
+/* GL's error for a call on the buffer bound to `target` (0 when there is
+ * one): an unknown target, or no buffer bound. */
+static GLenum target_error(const tsr_packer *p, GLenum target, GLuint *name)
+{
+    int known;
+    *name = bound_name(p, target, &known);
+    return !known ? GL_INVALID_ENUM : !*name ? GL_INVALID_OPERATION : 0;
+}
+
+/* Raises `e` when it is an error; returns whether it was. */
+static int refused(tsr_packer *p, GLenum e)
+{
+    if (e)
+        tsr_packer_local_error(p, e);
+    return e != 0;
+}
+
+int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target)
+{
+    int known;
+    return mapping_of_buffer(p, bound_name(p, target, &known)) != NULL;
+}
+
+static void unmap(struct tsr_packer_mapping *m)
+{
+    free(m->data);
+    memset(m, 0, sizeof *m);
 }
 
 void tsr_packer_forget_mappings(tsr_packer *p, GLsizei n, const GLuint *buffers)
 {
-    for (size_t k = 0; k < sizeof p->mapped / sizeof p->mapped[0]; k++) {
-        struct tsr_packer_mapping *m = &p->mapped[k];
-        for (GLsizei i = 0; m->data && buffers && i < n; i++)
-            if (buffers[i] && buffers[i] == m->buffer) {
-                /* GL unmaps a deleted buffer; what was written is lost
-                 * with it (nothing is sent) */
-                free(m->data);
-                m->data = NULL;
-                m->size = 0;
-                m->buffer = 0;
-            }
+    for (GLsizei i = 0; buffers && i < n; i++) {
+        struct tsr_packer_mapping *m = mapping_of_buffer(p, buffers[i]);
+        if (m)
+            unmap(m); /* GL unmaps a deleted buffer; what was written is lost with it (nothing is sent) */
     }
+}
+
+GLenum tsr_map_range_error(GLintptr offset, GLsizeiptr length, GLbitfield access)
+{
+    if (offset < 0 || length < 0)
+        return GL_INVALID_VALUE;
+    if (length == 0)
+        return GL_INVALID_OPERATION;
+    if (access & ~(GLbitfield)MAP_ALL_BITS)
+        return GL_INVALID_VALUE;
+    if (!(access & (GL_MAP_READ_BIT | GL_MAP_WRITE_BIT)))
+        return GL_INVALID_OPERATION;
+    if ((access & GL_MAP_READ_BIT) && (access & (MAP_INVALIDATES | GL_MAP_UNSYNCHRONIZED_BIT)))
+        return GL_INVALID_OPERATION;
+    if ((access & GL_MAP_FLUSH_EXPLICIT_BIT) && !(access & GL_MAP_WRITE_BIT))
+        return GL_INVALID_OPERATION;
+    return 0;
+}
+
+/* Whether `length` bytes from `offset` (neither negative) pass `size`
+ * bytes, without the sum overflowing. */
+static int past_end(GLintptr offset, GLsizeiptr length, GLsizeiptr size)
+{
+    return offset > size || length > size - offset;
+}
+
+/* Maps `length` bytes from `offset` (whole: the whole buffer, glMapBuffer)
+ * of buffer `name`, bound to `target`, once the earlier checks passed. */
+static void *map_range(tsr_packer *p, const char *command, GLenum target, GLuint name, GLintptr offset,
+                       GLsizeiptr length, int whole, GLbitfield access)
+{
+    GLint size = 0;
+    tsr_pack_GetBufferParameteriv(p, target, GL_BUFFER_SIZE, &size);
+    if (whole)
+        length = size;
+    if (refused(p, !whole && past_end(offset, length, size) ? GL_INVALID_VALUE
+                   : mapping_of_buffer(p, name)             ? GL_INVALID_OPERATION /* already mapped */
+                   : length <= 0 ? GL_OUT_OF_MEMORY /* glMapBuffer of a buffer without storage */
+                                 : 0))
+        return NULL;
+    struct tsr_packer_mapping *m = NULL;
+    for (size_t i = 0; !m && i < MAPPING_SLOTS; i++)
+        if (!p->mapped[i].data)
+            m = &p->mapped[i];
+    void *data = m ? calloc(1, (size_t)length) : NULL;
+    if (!data) {
+        /* every slot taken needs five buffers mapped at once, through
+         * rebinding: refused as a driver out of room for mappings is */
+        tsr_packer_local_error(p, GL_OUT_OF_MEMORY);
+        tsr_packer_drop(p, command, m ? "out of memory for the mapped copy" : "more than four buffers mapped");
+        return NULL;
+    }
+    /* also for a write mapping: the range goes back whole at unmap (or in
+     * flushed parts), so the bytes the program leaves alone must be the
+     * receiver's; an invalidated range's old bytes are undefined */
+    if (!(access & MAP_INVALIDATES))
+        tsr_pack_GetBufferSubData(p, target, offset, length, data);
+    *m =
+        (struct tsr_packer_mapping){.access = access, .buffer = name, .offset = offset, .length = length, .data = data};
+    return data;
 }
 
 void *tsr_packer_custom_MapBuffer(tsr_packer *p, GLenum target, GLenum access)
 {
-    struct tsr_packer_mapping *m = mapping_of(p, target);
-    if (!m || m->data || (access != GL_READ_ONLY && access != GL_WRITE_ONLY && access != GL_READ_WRITE))
-        return NULL; /* GL: INVALID_ENUM or INVALID_OPERATION (already mapped), NULL */
-    GLint size = 0;
-    tsr_pack_GetBufferParameteriv(p, target, GL_BUFFER_SIZE, &size);
-    if (size <= 0)
-        return NULL; /* no buffer bound, or an empty one */
-    void *data = malloc((size_t)size);
-    if (!data) {
-        tsr_packer_drop(p, "MapBuffer", "out of memory for the mapped copy");
+    GLbitfield bits = access == GL_READ_ONLY    ? GL_MAP_READ_BIT
+                      : access == GL_WRITE_ONLY ? GL_MAP_WRITE_BIT
+                      : access == GL_READ_WRITE ? GL_MAP_READ_BIT | GL_MAP_WRITE_BIT
+                                                : 0;
+    GLuint name;
+    if (refused(p, !bits ? GL_INVALID_ENUM : target_error(p, target, &name)))
         return NULL;
-    }
-    /* also for GL_WRITE_ONLY: the whole buffer goes back at unmap, so the
-     * bytes the program leaves alone must be the receiver's */
-    memset(data, 0, (size_t)size);
-    tsr_pack_GetBufferSubData(p, target, 0, size, data);
-    m->data = data;
-    m->size = size;
-    m->access = access;
-    m->buffer = bound_name(p, target);
-    return data;
+    return map_range(p, "MapBuffer", target, name, 0, 0, 1, bits);
+}
+
+void *tsr_packer_custom_MapBufferRange(tsr_packer *p, GLenum target, GLintptr offset, GLsizeiptr length,
+                                       GLbitfield access)
+{
+    GLuint name;
+    GLenum e = target_error(p, target, &name);
+    if (refused(p, e ? e : tsr_map_range_error(offset, length, access)))
+        return NULL;
+    return map_range(p, "MapBufferRange", target, name, offset, length, 0, access);
+}
+
+void tsr_packer_custom_FlushMappedBufferRange(tsr_packer *p, GLenum target, GLintptr offset, GLsizeiptr length)
+{
+    GLuint name;
+    GLenum e = target_error(p, target, &name);
+    const struct tsr_packer_mapping *m = mapping_of_buffer(p, name);
+    if (refused(p, e                                                ? e
+                   : offset < 0 || length < 0                       ? GL_INVALID_VALUE
+                   : !m || !(m->access & GL_MAP_FLUSH_EXPLICIT_BIT) ? GL_INVALID_OPERATION
+                   : past_end(offset, length, m->length)            ? GL_INVALID_VALUE
+                                                                    : 0))
+        return;
+    if (length > 0)
+        tsr_pack_BufferSubData(p, target, m->offset + offset, length, (const uint8_t *)m->data + offset);
 }
 
 GLboolean tsr_packer_custom_UnmapBuffer(tsr_packer *p, GLenum target)
 {
-    struct tsr_packer_mapping *m = mapping_of(p, target);
-    if (!m || !m->data)
-        return GL_FALSE; /* GL: INVALID_OPERATION, not mapped */
-    if (m->access != GL_READ_ONLY)
-        tsr_pack_BufferSubData(p, target, 0, m->size, m->data);
-    free(m->data);
-    m->data = NULL;
-    m->size = 0;
+    GLuint name;
+    GLenum e = target_error(p, target, &name);
+    struct tsr_packer_mapping *m = mapping_of_buffer(p, name);
+    if (refused(p, e ? e : !m ? GL_INVALID_OPERATION : 0))
+        return GL_FALSE;
+    if ((m->access & GL_MAP_WRITE_BIT) && !(m->access & GL_MAP_FLUSH_EXPLICIT_BIT))
+        tsr_pack_BufferSubData(p, target, m->offset, m->length, m->data);
+    unmap(m);
     return GL_TRUE;
 }
 
 void tsr_packer_local_GetBufferPointerv(tsr_packer *p, GLenum target, GLenum pname, void **params)
 {
-    struct tsr_packer_mapping *m = mapping_of(p, target);
+    int known;
+    const struct tsr_packer_mapping *m = mapping_of_buffer(p, bound_name(p, target, &known));
     if (params && pname == GL_BUFFER_MAP_POINTER)
         *params = m ? m->data : NULL;
 }

@@ -923,12 +923,13 @@ int tsr_unpack_fuzz_one(const uint8_t *data, size_t size)
     return rc;
 }
 
-/* MapBuffer and UnmapBuffer never travel (pack_map.c sends BufferSubData). */
+/* MapBuffer, MapBufferRange, FlushMappedBufferRange and UnmapBuffer never
+ * travel (pack_map.c sends BufferSubData). */
 static int never_sent(const char *name, size_t pos, tsr_error *err)
 {
     return tsr_error_set(err, TSR_EPROTO,
                          "command %s at data offset %zu: never sent (a packer sends the mapped buffer as "
-                         "BufferSubData at UnmapBuffer)",
+                         "BufferSubData at UnmapBuffer or FlushMappedBufferRange)",
                          name, pos);
 }
 
@@ -937,6 +938,20 @@ int tsr_unpack_custom_MapBuffer(struct tsr_unpacker *u, const tsr_dispatch *d, c
 {
     (void)u, (void)d, (void)b, (void)len;
     return never_sent("MapBuffer", *pos, err);
+}
+
+int tsr_unpack_custom_MapBufferRange(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,
+                                     size_t *pos, tsr_error *err)
+{
+    (void)u, (void)d, (void)b, (void)len;
+    return never_sent("MapBufferRange", *pos, err);
+}
+
+int tsr_unpack_custom_FlushMappedBufferRange(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b,
+                                             size_t len, size_t *pos, tsr_error *err)
+{
+    (void)u, (void)d, (void)b, (void)len;
+    return never_sent("FlushMappedBufferRange", *pos, err);
 }
 
 int tsr_unpack_custom_UnmapBuffer(struct tsr_unpacker *u, const tsr_dispatch *d, const uint8_t *b, size_t len,

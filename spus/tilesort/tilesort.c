@@ -403,7 +403,8 @@ static int current_slots(uint8_t *is_current)
 }
 
 /* Commands GL executes at once instead of compiling into a list (GL 2.1
- * section 5.4), beyond gets and client state. */
+ * section 5.4), beyond gets, client state and the calls that answer
+ * (glMapBuffer, glUnmapBuffer). */
 static int immediate_in_list(const char *name)
 {
     static const char *const names[] = {
@@ -418,7 +419,8 @@ static int immediate_in_list(const char *name)
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(names[i], name))
             return 1;
-    return ts_fbo_command(name); /* GL 3.0 section 5.4 lists the FBO commands too */
+    /* GL 3.0 section 5.4 lists the FBO commands and glFlushMappedBufferRange too */
+    return ts_fbo_command(name) || !strcmp(name, "FlushMappedBufferRange");
 }
 
 static int is_boxed_geometry(const char *name, unsigned flags)

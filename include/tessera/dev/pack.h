@@ -124,12 +124,14 @@ typedef struct tsr_packer {
     int32_t context;   /* the stream's current context, once context_known */
     int context_known; /* a MakeCurrentTSR was packed */
     struct tsr_wire_contexts *contexts;
-    /* glMapBuffer's client copies, one per target (pack_map.c) */
+    /* glMapBuffer's and glMapBufferRange's client copies, one per mapped
+     * buffer object (pack_map.c) */
     struct tsr_packer_mapping {
-        GLenum target, access;
-        GLuint buffer; /* the buffer object mapped (GL maps an object, not a target) */
-        GLsizeiptr size;
-        void *data;
+        GLbitfield access; /* GL_MAP_*_BIT (glMapBuffer's access as Mesa turns it into bits) */
+        GLuint buffer;     /* the buffer object mapped (GL maps an object, not a target) */
+        GLintptr offset;   /* the range mapped: `length` bytes from `offset` */
+        GLsizeiptr length;
+        void *data; /* the copy of that range; NULL: the slot is free */
     } mapped[4];
     GLenum local_error; /* an error found here, for the next glGetError (pack.c) */
     /* the program's selection and feedback buffers and the render mode,
@@ -177,6 +179,14 @@ TSR_API size_t tsr_packer_pending(const tsr_packer *p);
  * asking; an SPU that routes glGetError elsewhere (tilesort) takes it
  * from its own packers. */
 TSR_API GLenum tsr_packer_take_local_error(tsr_packer *p);
+/* The GL error glMapBufferRange makes for its range and access bits
+ * before it looks at the buffer's size (Mesa's checks, in its order):
+ * GL_INVALID_VALUE for a negative offset or length or an unknown bit,
+ * GL_INVALID_OPERATION for a length of 0, neither read nor write, read
+ * with an invalidate or the unsynchronized bit, or flush-explicit without
+ * write; 0 otherwise. The packer's mappings and the state tracker's
+ * (core/state/state_map.c) both ask it. */
+TSR_API GLenum tsr_map_range_error(GLintptr offset, GLsizeiptr length, GLbitfield access);
 /* Sets every slot of `d` to this packer (self = p): commands sent on the
  * wire are packed (those with a reply flush and wait for it), client-state
  * commands update the mirrors and draws with client arrays carry their
