@@ -66,6 +66,9 @@ static const struct {
     {"GetIntegerv", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_INT, data)) return;"},
     {"GetFloatv", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_FLOAT, data)) return;"},
     {"GetDoublev", "if (tsr_packer_answer_client_get(tsr_p, pname, GL_DOUBLE, data)) return;"},
+    /* the mapping of a buffer is the packer's own (pack_map.c): the
+     * receiver's buffer is never mapped */
+    {"GetBufferParameteriv", "if (tsr_packer_answer_buffer_mapping(tsr_p, target, pname, params)) return;"},
     /* an error the packer found itself (an unknown pname) comes first */
     {"GetError", "{ GLenum tsr_local = tsr_packer_take_local_error(tsr_p); if (tsr_local) return tsr_local; }"},
     /* glEnable/glDisable of a client array is glEnable/DisableClientState

@@ -4,6 +4,7 @@
  * one the renderer would give. Implementation limits, strings, errors and
  * anything the window system decides are not answered (return 0). */
 #include "state_internal.h"
+#include "tessera/dev/pack.h"
 
 #include <math.h>
 #include <string.h>
@@ -772,17 +773,20 @@ int tsr_state_get_polygon_stipple(const tsr_state_ctx *c, GLubyte *out)
 
 int tsr_state_get_buffer_parameteriv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLint *out)
 {
-    GLuint name = target == GL_ARRAY_BUFFER           ? c->v.array_buffer
-                  : target == GL_ELEMENT_ARRAY_BUFFER ? c->v.element_buffer
-                                                      : 0;
-    const st_bufobj *b = name ? st_buf_lookup(c, name) : NULL;
+    const st_bufobj *b = st_bound_buffer(c, target);
     if (!b)
         return 0;
+    /* a buffer not mapped answers GL's defaults (Mesa's access is
+     * GL_READ_WRITE, the flags, offset and length 0) */
+    GLbitfield access = b->mapped ? b->map_access : 0;
     switch (pname) {
     case GL_BUFFER_SIZE: *out = (GLint)b->size; return 1;
     case GL_BUFFER_USAGE: *out = (GLint)b->usage; return 1;
-    case GL_BUFFER_ACCESS: *out = GL_READ_WRITE; return 1;
-    case GL_BUFFER_MAPPED: *out = GL_FALSE; return 1;
+    case GL_BUFFER_ACCESS: *out = (GLint)tsr_map_access_enum(access); return 1;
+    case GL_BUFFER_MAPPED: *out = b->mapped ? GL_TRUE : GL_FALSE; return 1;
+    case GL_BUFFER_ACCESS_FLAGS: *out = (GLint)access; return 1;
+    case GL_BUFFER_MAP_OFFSET: *out = b->mapped ? (GLint)b->map_offset : 0; return 1;
+    case GL_BUFFER_MAP_LENGTH: *out = b->mapped ? (GLint)b->map_length : 0; return 1;
     default: return 0;
     }
 }

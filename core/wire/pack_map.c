@@ -213,6 +213,33 @@ GLboolean tsr_packer_custom_UnmapBuffer(tsr_packer *p, GLenum target)
     return GL_TRUE;
 }
 
+/* glMapBuffer's access enum of a mapping, as Mesa gives it back for
+ * GL_BUFFER_ACCESS (also for a glMapBufferRange mapping). */
+GLenum tsr_map_access_enum(GLbitfield access)
+{
+    if ((access & GL_MAP_READ_BIT) && !(access & GL_MAP_WRITE_BIT))
+        return GL_READ_ONLY;
+    if ((access & GL_MAP_WRITE_BIT) && !(access & GL_MAP_READ_BIT))
+        return GL_WRITE_ONLY;
+    return GL_READ_WRITE;
+}
+
+int tsr_packer_answer_buffer_mapping(tsr_packer *p, GLenum target, GLenum pname, GLint *params)
+{
+    int known;
+    const struct tsr_packer_mapping *m = mapping_of_buffer(p, bound_name(p, target, &known));
+    if (!m || !params)
+        return 0;
+    switch (pname) {
+    case GL_BUFFER_MAPPED: *params = GL_TRUE; return 1;
+    case GL_BUFFER_ACCESS: *params = (GLint)tsr_map_access_enum(m->access); return 1;
+    case GL_BUFFER_ACCESS_FLAGS: *params = (GLint)m->access; return 1;
+    case GL_BUFFER_MAP_OFFSET: *params = (GLint)m->offset; return 1;
+    case GL_BUFFER_MAP_LENGTH: *params = (GLint)m->length; return 1;
+    default: return 0;
+    }
+}
+
 void tsr_packer_local_GetBufferPointerv(tsr_packer *p, GLenum target, GLenum pname, void **params)
 {
     int known;

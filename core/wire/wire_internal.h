@@ -88,6 +88,12 @@ int tsr_packer_get_into_pack_buffer(tsr_packer *p, uint32_t command, const GLint
 /* Buffers deleted: their mappings (glMapBuffer's client copies) go, as GL
  * unmaps a deleted buffer (pack_map.c). */
 void tsr_packer_forget_mappings(tsr_packer *p, GLsizei n, const GLuint *buffers);
+/* glGetBufferParameteriv of GL_BUFFER_MAPPED, GL_BUFFER_ACCESS,
+ * GL_BUFFER_ACCESS_FLAGS, GL_BUFFER_MAP_OFFSET or GL_BUFFER_MAP_LENGTH
+ * while the buffer bound to `target` is mapped here: answered from the
+ * mapping (returns 1); otherwise 0 and the receiver answers (its buffer,
+ * never mapped, answers as GL does for one that is not). */
+int tsr_packer_answer_buffer_mapping(tsr_packer *p, GLenum target, GLenum pname, GLint *params);
 /* 1 while the buffer bound to `target` is mapped (glMapBuffer's client
  * copy, pack_map.c). */
 int tsr_packer_buffer_mapped(tsr_packer *p, GLenum target);

@@ -3,6 +3,8 @@
  * on a 64x48 EGL pbuffer, one labelled line per answer or read-back in
  * OUT.txt:
  *   the extension is offered (natively: OSMesa has it);
+ *   glGetBufferParameteriv of the mapping (mapped, access, flags, offset,
+ *     length) while mapped, also by glMapBuffer, and after the unmap;
  *   each access bit on a range in the middle of a buffer: GL_MAP_READ_BIT
  *     gives the buffer's bytes and GetBufferPointerv the pointer;
  *     GL_MAP_WRITE_BIT alone, with GL_MAP_READ_BIT, with
@@ -89,6 +91,20 @@ static void read_back(const char *label, int whole)
         bytes(l, back + AT, LEN);
 }
 
+/* glGetBufferParameteriv of the mapping's pnames on GL_ARRAY_BUFFER. */
+static void mapping_state(const char *label)
+{
+    static const GLenum pnames[] = {GL_BUFFER_SIZE,         GL_BUFFER_MAPPED,     GL_BUFFER_ACCESS,
+                                    GL_BUFFER_ACCESS_FLAGS, GL_BUFFER_MAP_OFFSET, GL_BUFFER_MAP_LENGTH};
+    fprintf(out, "%s: size, mapped, access, flags, offset, length:", label);
+    for (size_t i = 0; i < sizeof pnames / sizeof pnames[0]; i++) {
+        GLint v = -1;
+        glGetBufferParameteriv(GL_ARRAY_BUFFER, pnames[i], &v);
+        fprintf(out, " 0x%x", (unsigned)v);
+    }
+    fprintf(out, ", error 0x%x\n", glGetError());
+}
+
 /* One mapping of [AT, AT + LEN) with `access`: the bytes written are
  * 0xa0 + i at every third byte of the range, and the buffer read back. */
 static void write_range(const char *label, GLbitfield access, int whole)
@@ -97,6 +113,7 @@ static void write_range(const char *label, GLbitfield access, int whole)
     GLubyte *m = glMapBufferRange(GL_ARRAY_BUFFER, AT, LEN, access);
     fprintf(out, "%s: %s, error 0x%x\n", label, m ? "mapped" : "NULL", glGetError());
     if (m) {
+        mapping_state("  while mapped");
         if (access & GL_MAP_READ_BIT)
             bytes("  its bytes", m, LEN);
         for (int i = 0; i < LEN; i += 3)
@@ -126,6 +143,11 @@ static void access_bits(void)
     pointer = &pointer;
     glGetBufferPointerv(GL_ARRAY_BUFFER, GL_BUFFER_MAP_POINTER, &pointer);
     fprintf(out, "  GetBufferPointerv after unmap: %s\n", pointer ? "not NULL" : "NULL");
+    mapping_state("  after unmap");
+    void *whole = glMapBuffer(GL_ARRAY_BUFFER, GL_WRITE_ONLY);
+    mapping_state("  glMapBuffer(GL_WRITE_ONLY)");
+    if (whole)
+        glUnmapBuffer(GL_ARRAY_BUFFER);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glDeleteBuffers(1, &b);
 

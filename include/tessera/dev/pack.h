@@ -187,6 +187,10 @@ TSR_API GLenum tsr_packer_take_local_error(tsr_packer *p);
  * write; 0 otherwise. The packer's mappings and the state tracker's
  * (core/state/state_map.c) both ask it. */
 TSR_API GLenum tsr_map_range_error(GLintptr offset, GLsizeiptr length, GLbitfield access);
+/* The access enum GL answers for GL_BUFFER_ACCESS of a mapping made with
+ * `access` (GL_MAP_*_BIT): GL_READ_ONLY or GL_WRITE_ONLY for one of the
+ * two, GL_READ_WRITE for both (and for no mapping, access 0). */
+TSR_API GLenum tsr_map_access_enum(GLbitfield access);
 /* Sets every slot of `d` to this packer (self = p): commands sent on the
  * wire are packed (those with a reply flush and wait for it), client-state
  * commands update the mirrors and draws with client arrays carry their
