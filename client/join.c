@@ -524,7 +524,7 @@ static void send_objects(tsr_node_join *j, tsr_state_shadow *shadow, const tsr_d
         int ti = tex_index(t->target);
         if (ti < 0)
             continue;
-        GLuint saved = v->unit[v->active_texture].binding[ti];
+        GLuint saved = v->image[v->active_texture].binding[ti];
         tsr_call_BindTexture(&j->st, t->target, t->name);
         r->state_calls += tsr_state_diff(j->ctx, shadow, out, NULL);
         tsr_call_BindTexture(&j->st, t->target, saved);

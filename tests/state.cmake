@@ -14,6 +14,7 @@ add_test(NAME state_unchanged_state_diffs_to_zero_bytes COMMAND state_test uncha
 add_test(NAME state_context_switch_emits_only_differing_groups COMMAND state_test switch_only_differing_groups 20)
 add_test(NAME state_many_renderers_grow_dirty_bits COMMAND state_test many_renderers)
 add_test(NAME state_textures_sent_lazily_and_once COMMAND state_test lazy_textures)
+add_test(NAME state_image_units_past_the_coordinate_units_diffed_and_walked_cheaply COMMAND state_test image_units)
 add_test(NAME state_list_compile_does_not_change_state COMMAND state_test list_compile)
 add_test(NAME state_diff_sends_every_buffer_with_data_bound_or_not_once
          COMMAND state_test buffers_unbound_reach_renderer)

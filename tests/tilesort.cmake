@@ -20,8 +20,9 @@ get_property(TILESORT_TESTS_BEFORE DIRECTORY PROPERTY TESTS)
 # glMaterial inside glBegin, buffers bound in turn around each draw, ...),
 # read_pixels (glReadPixels of rectangles meeting only some tiles, piglit's
 # probes), select_feedback (selection and feedback passes, records
-# printed) and gl_errors (GL errors and invalid queries, answers printed).
-foreach(scenes balance_scenes program_scenes read_pixels select_feedback gl_errors)
+# printed), gl_errors (GL errors and invalid queries, answers printed) and
+# texture_units (image units past the coordinate units, answers printed).
+foreach(scenes balance_scenes program_scenes read_pixels select_feedback gl_errors texture_units)
   add_executable(${scenes}-native tilesort/${scenes}_driver.c ${CMAKE_SOURCE_DIR}/examples/common/exapp.c)
   target_compile_definitions(${scenes}-native PRIVATE EXAPP_NATIVE)
   target_include_directories(${scenes}-native PRIVATE ${CMAKE_SOURCE_DIR}/examples)
@@ -118,6 +119,16 @@ endforeach()
 # an unknown pname.
 add_test(NAME tilesort_gl_errors_answer_as_osmesa_render_pack_wall_2x2
   COMMAND ${TILESORT_SH} records ${TILESORT_BIN} ${TILESORT_OUT}/gl-errors-2x2 gl_errors 2 2x2)
+# Texture image units past the 8 coordinate units, up to the servers'
+# GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (tests/tilesort/texture_units_driver.c):
+# a shader samples textures bound on units 0 to 191, two of them rebound
+# every frame, and every frame equals OSMesa's; every unit is selected and
+# asked back, and the errors GL raises past the coordinate units (and the
+# calls it takes there) and glPushAttrib(GL_TEXTURE_BIT) there answer as
+# OSMesa's. Before, the wall's tracker kept 8 units: glActiveTexture past
+# them was ignored and the textures bound there never reached a server.
+add_test(NAME tilesort_texture_image_units_past_the_coordinate_units_as_osmesa_2x2
+  COMMAND ${TILESORT_SH} records ${TILESORT_BIN} ${TILESORT_OUT}/texture-units-2x2 texture_units 3 2x2)
 # Large array draws are sorted primitive by primitive: on a 4x4 wall the
 # isosurface's overlap stays near 1 (broadcast: 16); measured 1.038 with
 # filled triangles boxed by half a pixel, 1.067 when they were boxed by

@@ -62,6 +62,7 @@ const uint8_t st_member_group[TSR_SM_COUNT] = {
     [TSR_SM_POINT] = TSR_SG_RASTER,
     [TSR_SM_HINT] = TSR_SG_HINT,
     [TSR_SM_TEXBIND0... TSR_SM_TEXBIND0 + U8 - 1] = TSR_SG_TEXTURE,
+    [TSR_SM_TEXBIND_IMAGE] = TSR_SG_TEXTURE,
     [TSR_SM_TEXENV0... TSR_SM_TEXENV0 + U8 - 1] = TSR_SG_TEXTURE,
     [TSR_SM_TEXGEN0... TSR_SM_TEXGEN0 + U8 - 1] = TSR_SG_TEXTURE,
     [TSR_SM_BUFBIND] = TSR_SG_BUFFER,
@@ -163,6 +164,9 @@ const GLenum st_enable_caps[128] = {
 
 int st_enable_index(GLenum cap, GLuint unit)
 {
+    if (unit >= TSR_STATE_UNITS && ((cap >= GL_TEXTURE_GEN_S && cap <= GL_TEXTURE_GEN_Q) || cap == GL_TEXTURE_1D ||
+                                    cap == GL_TEXTURE_2D || cap == GL_TEXTURE_3D || cap == GL_TEXTURE_CUBE_MAP))
+        return -2;
     switch (cap) {
     case GL_TEXTURE_1D: return ST_EN_UNIT0 + (int)unit * 8 + 0;
     case GL_TEXTURE_2D: return ST_EN_UNIT0 + (int)unit * 8 + 1;

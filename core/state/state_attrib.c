@@ -177,6 +177,13 @@ static void attrib_restore(tsr_state_values *d, const tsr_state_values *s, GLbit
         COPY(list_base);
     if (mask & GL_TEXTURE_BIT) {
         COPY(active_texture);
+        /* Mesa saves every image unit's bindings, the LOD bias of the
+         * coordinate units only; d's units_set holds s's (it only grows) */
+        st_for_image_units (u, d, NULL) {
+            memcpy(d->image[u].binding, s->image[u].binding, sizeof d->image[u].binding);
+            if (u < TSR_STATE_UNITS)
+                d->image[u].lod_bias = s->image[u].lod_bias;
+        }
         for (int u = 0; u < TSR_STATE_UNITS; u++) {
             GLboolean keep = d->unit[u].coord_replace; /* POINT_BIT's */
             d->unit[u] = s->unit[u];
@@ -211,12 +218,13 @@ static void st_PushAttrib(void *self, GLbitfield mask)
     e->mask = mask;
     e->v = c->v;
     if (mask & GL_TEXTURE_BIT)
-        for (int u = 0; u < TSR_STATE_UNITS; u++)
+        st_for_image_units (u, &c->v, NULL) {
             for (int t = 0; t < TSR_TEX_TARGETS; t++) {
-                st_texobj *o = st_tex_lookup(c, c->v.unit[u].binding[t], t);
+                st_texobj *o = st_tex_lookup(c, c->v.image[u].binding[t], t);
                 if (o)
                     e->tex_params[u][t] = o->params;
             }
+        }
 }
 
 static void st_PopAttrib(void *self)
@@ -230,15 +238,16 @@ static void st_PopAttrib(void *self)
     }
     st_attrib_entry *e = &c->attrib_stack[--c->attrib_depth];
     attrib_restore(&c->v, &e->v, e->mask);
-    if (e->mask & GL_TEXTURE_BIT)
-        for (int u = 0; u < TSR_STATE_UNITS; u++)
+    if (e->mask & GL_TEXTURE_BIT) /* the units whose parameters the push saved */
+        st_for_image_units (u, &e->v, NULL) {
             for (int t = 0; t < TSR_TEX_TARGETS; t++) {
-                st_texobj *o = st_tex_lookup(c, c->v.unit[u].binding[t], t);
+                st_texobj *o = st_tex_lookup(c, c->v.image[u].binding[t], t);
                 if (o && memcmp(&o->params, &e->tex_params[u][t], sizeof o->params) != 0) {
                     o->params = e->tex_params[u][t];
                     st_tex_changed(c, o);
                 }
             }
+        }
     /* Rare: let the diff compare everything rather than track which
      * members the mask covered. */
     st_mark_all(c);

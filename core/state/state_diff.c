@@ -388,8 +388,10 @@ static void diff_member(dctx *x, int m)
     case TSR_SG_RASTER: diff_raster(x, m); break;
     case TSR_SG_HINT: diff_hint(x); break;
     case TSR_SG_TEXTURE:
-        if (m < TSR_SM_TEXENV0)
+        if (m < TSR_SM_TEXBIND_IMAGE)
             diff_texbind(x, (GLuint)(m - TSR_SM_TEXBIND0));
+        else if (m == TSR_SM_TEXBIND_IMAGE)
+            diff_texbind_image(x);
         else if (m < TSR_SM_TEXGEN0)
             diff_texenv(x, (GLuint)(m - TSR_SM_TEXENV0));
         else
@@ -420,7 +422,7 @@ uint32_t tsr_state_send_texture(tsr_state_ctx *c, tsr_state_shadow *s, GLenum ta
     if (!o)
         return 0;
     dctx x = {.c = c, .s = s, .d = out};
-    GLuint u = s->v.active_texture, was = s->v.unit[u].binding[ti];
+    GLuint u = s->v.active_texture, was = s->v.image[u].binding[ti];
     diff_sync_texture(&x, u, ti, o);
     diff_bind_tex(&x, u, ti, was);
     return x.n;

@@ -58,6 +58,7 @@ void diff_bind_tex(dctx *x, GLuint u, int ti, GLuint name);
 void diff_replay(dctx *x, const st_texobj *o, const st_upload *u);
 void diff_sync_texture(dctx *x, GLuint u, int ti, st_texobj *o);
 void diff_texbind(dctx *x, GLuint u);
+void diff_texbind_image(dctx *x);
 void diff_texenv(dctx *x, GLuint u);
 void diff_texgen(dctx *x, GLuint u);
 void diff_buffers(dctx *x);

@@ -15,11 +15,14 @@ static const GLenum target_enum[TSR_TEX_TARGETS] = {GL_TEXTURE_1D, GL_TEXTURE_2D
 
 void diff_bind_tex(dctx *x, GLuint u, int ti, GLuint name)
 {
-    if (x->s->v.unit[u].binding[ti] == name)
+    tsr_state_values *sv = &x->s->v;
+    if (sv->image[u].binding[ti] == name)
         return;
     diff_sel_unit(x, u);
     tsr_call_BindTexture(x->d, target_enum[ti], name);
-    x->s->v.unit[u].binding[ti] = name;
+    sv->image[u].binding[ti] = name;
+    if (u >= TSR_STATE_UNITS)
+        sv->image_units_set[u >> 6] |= 1ull << (u & 63);
     emitted(x);
 }
 
@@ -176,10 +179,11 @@ void diff_sync_texture(dctx *x, GLuint u, int ti, st_texobj *o)
          * again) has this name on the renderer: start from scratch. */
         tsr_call_DeleteTextures(x->d, 1, &name);
         emitted(x);
-        for (int k = 0; k < TSR_STATE_UNITS; k++)
+        st_for_image_units (k, &s->v, NULL) {
             for (int t = 0; t < TSR_TEX_TARGETS; t++)
-                if (s->v.unit[k].binding[t] == name)
-                    s->v.unit[k].binding[t] = 0;
+                if (s->v.image[k].binding[t] == name)
+                    s->v.image[k].binding[t] = 0;
+        }
         free(tsr_name_map_del(&s->textures, name));
         rec = NULL;
     }
@@ -213,17 +217,6 @@ void diff_sync_texture(dctx *x, GLuint u, int ti, st_texobj *o)
     rec->hash = tex_hash(o);
 }
 
-void diff_texbind(dctx *x, GLuint u)
-{
-    for (int ti = 0; ti < TSR_TEX_TARGETS; ti++) {
-        GLuint name = x->c->v.unit[u].binding[ti];
-        st_texobj *o = st_tex_lookup(x->c, name, ti);
-        if (o)
-            diff_sync_texture(x, u, ti, o);
-        diff_bind_tex(x, u, ti, name);
-    }
-}
-
 static void envi(dctx *x, GLuint u, GLenum target, GLenum pname, GLenum *dst, GLenum val)
 {
     if (*dst == val)
@@ -242,6 +235,32 @@ static void envf(dctx *x, GLuint u, GLenum target, GLenum pname, GLfloat *dst, G
     tsr_call_TexEnvf(x->d, target, pname, val);
     *dst = val;
     emitted(x);
+}
+
+void diff_texbind(dctx *x, GLuint u)
+{
+    for (int ti = 0; ti < TSR_TEX_TARGETS; ti++) {
+        GLuint name = x->c->v.image[u].binding[ti];
+        st_texobj *o = st_tex_lookup(x->c, name, ti);
+        if (o)
+            diff_sync_texture(x, u, ti, o);
+        diff_bind_tex(x, u, ti, name);
+    }
+    tsr_state_imageunit *s = &x->s->v.image[u];
+    envf(x, u, GL_TEXTURE_FILTER_CONTROL, GL_TEXTURE_LOD_BIAS, &s->lod_bias, x->c->v.image[u].lod_bias);
+}
+
+/* TSR_SM_TEXBIND_IMAGE: the image units past the coordinate units that
+ * either side ever set (all others hold GL's initial state on both). */
+void diff_texbind_image(dctx *x)
+{
+    const tsr_state_values *cv = &x->c->v;
+    tsr_state_values *sv = &x->s->v;
+    for (GLuint u = st_next_image_unit(cv, sv, TSR_STATE_UNITS); u < TSR_STATE_IMAGE_UNITS;
+         u = st_next_image_unit(cv, sv, u + 1)) {
+        sv->image_units_set[u >> 6] |= 1ull << (u & 63); /* the renderer may hold state there now */
+        diff_texbind(x, u);
+    }
 }
 
 void diff_texenv(dctx *x, GLuint u)
@@ -264,7 +283,6 @@ void diff_texenv(dctx *x, GLuint u)
     }
     envf(x, u, GL_TEXTURE_ENV, GL_RGB_SCALE, &s->rgb_scale, c->rgb_scale);
     envf(x, u, GL_TEXTURE_ENV, GL_ALPHA_SCALE, &s->alpha_scale, c->alpha_scale);
-    envf(x, u, GL_TEXTURE_FILTER_CONTROL, GL_TEXTURE_LOD_BIAS, &s->lod_bias, c->lod_bias);
     if (c->coord_replace != s->coord_replace) {
         diff_sel_unit(x, u);
         tsr_call_TexEnvi(x->d, GL_POINT_SPRITE, GL_COORD_REPLACE, c->coord_replace);

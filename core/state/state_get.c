@@ -55,8 +55,13 @@ static void put1(answer *a, kind k, double v)
 static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
 {
     const tsr_state_values *v = &c->v;
-    const tsr_state_texunit *tu = &v->unit[v->active_texture];
     GLuint au = v->active_texture;
+    const tsr_state_imageunit *iu = &v->image[au];
+    /* past the coordinate units GL refuses the coordinate unit's gets
+     * (GL_INVALID_OPERATION): the renderer answers them */
+    if (au >= TSR_STATE_UNITS &&
+        (pname == GL_CURRENT_TEXTURE_COORDS || pname == GL_TEXTURE_MATRIX || pname == GL_TEXTURE_STACK_DEPTH))
+        return 0;
     switch (pname) {
     /* current */
     case GL_CURRENT_COLOR: putf(a, K_NORM, v->color, 4); return 1;
@@ -242,10 +247,10 @@ static int lookup(const tsr_state_ctx *c, GLenum pname, answer *a)
     /* texture */
     case GL_ACTIVE_TEXTURE: puti(a, GL_TEXTURE0 + au); return 1;
     case GL_CLIENT_ACTIVE_TEXTURE: puti(a, GL_TEXTURE0 + c->client.client_active_texture); return 1;
-    case GL_TEXTURE_BINDING_1D: puti(a, tu->binding[TSR_TEX_1D]); return 1;
-    case GL_TEXTURE_BINDING_2D: puti(a, tu->binding[TSR_TEX_2D]); return 1;
-    case GL_TEXTURE_BINDING_3D: puti(a, tu->binding[TSR_TEX_3D]); return 1;
-    case GL_TEXTURE_BINDING_CUBE_MAP: puti(a, tu->binding[TSR_TEX_CUBE]); return 1;
+    case GL_TEXTURE_BINDING_1D: puti(a, iu->binding[TSR_TEX_1D]); return 1;
+    case GL_TEXTURE_BINDING_2D: puti(a, iu->binding[TSR_TEX_2D]); return 1;
+    case GL_TEXTURE_BINDING_3D: puti(a, iu->binding[TSR_TEX_3D]); return 1;
+    case GL_TEXTURE_BINDING_CUBE_MAP: puti(a, iu->binding[TSR_TEX_CUBE]); return 1;
     /* buffers, lists, misc */
     case GL_ARRAY_BUFFER_BINDING: puti(a, v->array_buffer); return 1;
     case GL_ELEMENT_ARRAY_BUFFER_BINDING: puti(a, v->element_buffer); return 1;
@@ -592,11 +597,14 @@ int tsr_state_get_materialfv(const tsr_state_ctx *c, GLenum face, GLenum pname, 
 
 int tsr_state_get_tex_envfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out)
 {
-    const tsr_state_texunit *t = &c->v.unit[c->v.active_texture];
+    GLuint u = c->v.active_texture;
     if (target == GL_TEXTURE_FILTER_CONTROL && pname == GL_TEXTURE_LOD_BIAS) {
-        *out = t->lod_bias;
+        *out = c->v.image[u].lod_bias;
         return 1;
     }
+    if (u >= TSR_STATE_UNITS)
+        return 0; /* no coordinate unit: the renderer's answer (or error) */
+    const tsr_state_texunit *t = &c->v.unit[u];
     if (target == GL_POINT_SPRITE && pname == GL_COORD_REPLACE) {
         *out = t->coord_replace;
         return 1;
@@ -628,7 +636,7 @@ int tsr_state_get_tex_envfv(const tsr_state_ctx *c, GLenum target, GLenum pname,
 
 int tsr_state_get_tex_genfv(const tsr_state_ctx *c, GLenum coord, GLenum pname, GLfloat *out)
 {
-    if (coord < GL_S || coord > GL_Q)
+    if (coord < GL_S || coord > GL_Q || c->v.active_texture >= TSR_STATE_UNITS)
         return 0;
     const tsr_state_texgen *g = &c->v.unit[c->v.active_texture].gen[coord - GL_S];
     switch (pname) {
@@ -644,7 +652,7 @@ static const st_texobj *bound(const tsr_state_ctx *c, GLenum target)
     int ti = st_tex_target_index(target);
     if (ti < 0)
         return NULL;
-    return st_tex_lookup((tsr_state_ctx *)c, c->v.unit[c->v.active_texture].binding[ti], ti);
+    return st_tex_lookup((tsr_state_ctx *)c, c->v.image[c->v.active_texture].binding[ti], ti);
 }
 
 int tsr_state_get_tex_parameterfv(const tsr_state_ctx *c, GLenum target, GLenum pname, GLfloat *out)

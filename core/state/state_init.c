@@ -170,6 +170,7 @@ tsr_state_tracker *tsr_state_tracker_create(tsr_error *err)
     }
     t->words = 1;
     t->next_uid = 1;
+    t->image_units = TSR_STATE_IMAGE_UNITS;
     /* Members are declared group by group (state.h), so each group is a
      * contiguous range. */
     int m = 0;
@@ -328,6 +329,11 @@ void tsr_state_tracker_set_texture_limits(tsr_state_tracker *t, GLint max_size, 
     t->max_tex_size[TSR_TEX_2D] = max_size;
     t->max_tex_size[TSR_TEX_3D] = max_3d_size;
     t->max_tex_size[TSR_TEX_CUBE] = max_cube_size;
+}
+
+void tsr_state_tracker_set_image_units(tsr_state_tracker *t, GLint units)
+{
+    t->image_units = units > 0 && units < TSR_STATE_IMAGE_UNITS ? (GLuint)units : TSR_STATE_IMAGE_UNITS;
 }
 
 GLenum tsr_state_take_error(tsr_state_ctx *c)

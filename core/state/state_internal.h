@@ -173,8 +173,9 @@ typedef struct st_shadow_program {
 typedef struct st_attrib_entry {
     GLbitfield mask;
     tsr_state_values v;
-    /* GL_TEXTURE_BIT also saves the parameters of the bound textures. */
-    st_texparams tex_params[TSR_STATE_UNITS][TSR_TEX_TARGETS];
+    /* GL_TEXTURE_BIT also saves the parameters of the bound textures (of
+     * the units st_for_image_units walks; the rest are never written). */
+    st_texparams tex_params[TSR_STATE_IMAGE_UNITS][TSR_TEX_TARGETS];
 } st_attrib_entry;
 
 typedef struct st_client_entry {
@@ -193,6 +194,7 @@ struct tsr_state_tracker {
     uint8_t group_first[TSR_SG_COUNT + 1]; /* members of group g: [first[g], first[g+1]) */
     uint64_t next_uid;
     GLint max_tex_size[TSR_TEX_TARGETS]; /* by TSR_TEX_*; 0: unknown (tsr_state_tracker_set_texture_limits) */
+    GLuint image_units;                  /* glActiveTexture's limit (tsr_state_tracker_set_image_units) */
 };
 
 /* Dirty-bit nodes: root, groups, members. */
@@ -254,7 +256,8 @@ unsigned st_recipe_bits(const tsr_state_recipe *r);
  * 6 KB at its longest; a push copies one). */
 void st_recipe_copy(tsr_state_recipe *dst, const tsr_state_recipe *src);
 void st_texparams_init(st_texparams *p, int target);
-/* Enable index of cap for the active unit (-1: not a tracked cap). */
+/* Enable index of cap for the active unit (-1: not a tracked cap; -2: a
+ * texture or texgen cap while a unit past the coordinate units is active). */
 int st_enable_index(GLenum cap, GLuint unit);
 static inline int st_enabled(const tsr_state_values *v, int idx)
 {
@@ -295,6 +298,48 @@ static inline void st_error(tsr_state_ctx *c, GLenum error)
     if (!c->gl_error)
         c->gl_error = error;
 }
+/* The dirty member of image unit u's bindings and LOD bias. */
+static inline int st_image_member(GLuint u)
+{
+    return u < TSR_STATE_UNITS ? TSR_SM_TEXBIND0 + (int)u : TSR_SM_TEXBIND_IMAGE;
+}
+/* Image unit u of c changed: marked, and past the coordinate units
+ * remembered in image_units_set (what the diff walks). */
+static inline void st_image_changed(tsr_state_ctx *c, GLuint u)
+{
+    if (u >= TSR_STATE_UNITS)
+        c->v.image_units_set[u >> 6] |= 1ull << (u & 63);
+    st_mark(c, st_image_member(u));
+}
+/* The next image unit from u on (u included) that can hold a binding in
+ * v: every coordinate unit, past them those of image_units_set;
+ * TSR_STATE_IMAGE_UNITS when none. `also` (may be NULL) adds another
+ * values' set (a shadow's). Walks words, not units. */
+static inline GLuint st_next_image_unit(const tsr_state_values *v, const tsr_state_values *also, GLuint u)
+{
+    if (u < TSR_STATE_UNITS)
+        return u;
+    while (u < TSR_STATE_IMAGE_UNITS) {
+        uint64_t w = v->image_units_set[u >> 6] | (also ? also->image_units_set[u >> 6] : 0);
+        w &= ~0ull << (u & 63);
+        if (w)
+            return (u & ~63u) + (GLuint)__builtin_ctzll(w);
+        u = (u | 63u) + 1;
+    }
+    return TSR_STATE_IMAGE_UNITS;
+}
+#define st_for_image_units(u, v, also)                                             \
+    for (GLuint u = st_next_image_unit((v), (also), 0); u < TSR_STATE_IMAGE_UNITS; \
+         u = st_next_image_unit((v), (also), u + 1))
+/* A matrix setter's context: NULL too while the current matrix is the
+ * texture matrix of a unit past the coordinate units (Mesa takes such
+ * calls without an error, and no get or drawing sees that matrix). */
+static inline tsr_state_ctx *st_matrix_ctx(void *self)
+{
+    tsr_state_ctx *c = st_exec_ctx(self);
+    return c && c->v.matrix_mode == GL_TEXTURE && c->v.active_texture >= TSR_STATE_UNITS ? NULL : c;
+}
+
 /* Marks member dirty for one renderer id only. */
 void st_mark_one(tsr_state_ctx *c, int member, int id);
 

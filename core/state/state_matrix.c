@@ -221,7 +221,7 @@ static void mat_apply(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_LoadIdentity(void *self)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     int member;
@@ -245,7 +245,7 @@ static void load_matrix(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_LoadMatrixf(void *self, const GLfloat *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     load_matrix(c, m);
@@ -260,7 +260,7 @@ static void to_float16(GLfloat f[16], const GLdouble *m)
 
 static void st_LoadMatrixd(void *self, const GLdouble *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16];
@@ -277,7 +277,7 @@ static void transpose(GLfloat o[16], const GLfloat m[16])
 
 static void st_LoadTransposeMatrixf(void *self, const GLfloat *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16];
@@ -308,7 +308,7 @@ static void mult_matrix(tsr_state_ctx *c, const GLfloat m[16])
 
 static void st_MultMatrixf(void *self, const GLfloat *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     mult_matrix(c, m);
@@ -316,7 +316,7 @@ static void st_MultMatrixf(void *self, const GLfloat *m)
 
 static void st_MultMatrixd(void *self, const GLdouble *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16];
@@ -326,7 +326,7 @@ static void st_MultMatrixd(void *self, const GLdouble *m)
 
 static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16];
@@ -337,7 +337,7 @@ static void st_MultTransposeMatrixf(void *self, const GLfloat *m)
 /* The double forms: Mesa converts to float first, then transposes. */
 static void st_LoadTransposeMatrixd(void *self, const GLdouble *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16], t[16];
@@ -348,7 +348,7 @@ static void st_LoadTransposeMatrixd(void *self, const GLdouble *m)
 
 static void st_MultTransposeMatrixd(void *self, const GLdouble *m)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     GLfloat f[16], t[16];
@@ -435,7 +435,7 @@ static void rotate(tsr_state_ctx *c, GLfloat angle, GLfloat x, GLfloat y, GLfloa
 
 static void st_Translatef(void *self, GLfloat x, GLfloat y, GLfloat z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     translate(c, x, y, z);
@@ -443,7 +443,7 @@ static void st_Translatef(void *self, GLfloat x, GLfloat y, GLfloat z)
 
 static void st_Translated(void *self, GLdouble x, GLdouble y, GLdouble z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     translate(c, (GLfloat)x, (GLfloat)y, (GLfloat)z);
@@ -451,7 +451,7 @@ static void st_Translated(void *self, GLdouble x, GLdouble y, GLdouble z)
 
 static void st_Scalef(void *self, GLfloat x, GLfloat y, GLfloat z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     scale(c, x, y, z);
@@ -459,7 +459,7 @@ static void st_Scalef(void *self, GLfloat x, GLfloat y, GLfloat z)
 
 static void st_Scaled(void *self, GLdouble x, GLdouble y, GLdouble z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     scale(c, (GLfloat)x, (GLfloat)y, (GLfloat)z);
@@ -467,7 +467,7 @@ static void st_Scaled(void *self, GLdouble x, GLdouble y, GLdouble z)
 
 static void st_Rotatef(void *self, GLfloat a, GLfloat x, GLfloat y, GLfloat z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     rotate(c, a, x, y, z);
@@ -475,7 +475,7 @@ static void st_Rotatef(void *self, GLfloat a, GLfloat x, GLfloat y, GLfloat z)
 
 static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble z)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     rotate(c, (GLfloat)a, (GLfloat)x, (GLfloat)y, (GLfloat)z);
@@ -487,7 +487,7 @@ static void st_Rotated(void *self, GLdouble a, GLdouble x, GLdouble y, GLdouble 
  * double, 2 / (r - l) can round the other way). */
 static void st_Frustum(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     if (nd <= 0 || fd <= 0 || nd == fd || ld == rd || bd == td)
@@ -507,7 +507,7 @@ static void st_Frustum(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdoub
 
 static void st_Ortho(void *self, GLdouble ld, GLdouble rd, GLdouble bd, GLdouble td, GLdouble nd, GLdouble fd)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     if (ld == rd || bd == td || nd == fd)
@@ -540,7 +540,7 @@ static void st_MatrixMode(void *self, GLenum mode)
 
 static void st_PushMatrix(void *self)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     mstack k = current_stack(c);
@@ -557,7 +557,7 @@ static void st_PushMatrix(void *self)
 
 static void st_PopMatrix(void *self)
 {
-    tsr_state_ctx *c = st_exec_ctx(self);
+    tsr_state_ctx *c = st_matrix_ctx(self);
     if (!c)
         return;
     mstack k = current_stack(c);

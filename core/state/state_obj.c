@@ -132,9 +132,12 @@ static st_texobj *tex_new(tsr_state_ctx *c, GLuint name, int target)
 void st_tex_changed(tsr_state_ctx *c, st_texobj *o)
 {
     o->version++;
-    for (int u = 0; u < TSR_STATE_UNITS; u++)
-        if (o->target >= 0 && c->v.unit[u].binding[o->target] == o->name)
-            st_mark(c, TSR_SM_TEXBIND0 + u);
+    if (o->target < 0)
+        return;
+    st_for_image_units (u, &c->v, NULL) {
+        if (c->v.image[u].binding[o->target] == o->name)
+            st_mark(c, st_image_member(u));
+    }
 }
 
 static void st_GenTextures(void *self, GLsizei n, GLuint *names)
@@ -164,8 +167,10 @@ static void st_BindTexture(void *self, GLenum target, GLuint name)
             return;
     }
     GLuint u = c->v.active_texture;
-    c->v.unit[u].binding[ti] = name;
-    st_mark(c, TSR_SM_TEXBIND0 + (int)u);
+    if (c->v.image[u].binding[ti] == name)
+        return;
+    c->v.image[u].binding[ti] = name;
+    st_image_changed(c, u);
 }
 
 static void st_DeleteTextures(void *self, GLsizei n, const GLuint *names)
@@ -175,12 +180,13 @@ static void st_DeleteTextures(void *self, GLsizei n, const GLuint *names)
         st_texobj *o = tsr_name_map_del(&c->textures, names[i]);
         if (!o)
             continue;
-        for (int u = 0; u < TSR_STATE_UNITS; u++)
+        st_for_image_units (u, &c->v, NULL) {
             for (int t = 0; t < TSR_TEX_TARGETS; t++)
-                if (c->v.unit[u].binding[t] == names[i]) {
-                    c->v.unit[u].binding[t] = 0;
-                    st_mark(c, TSR_SM_TEXBIND0 + u);
+                if (c->v.image[u].binding[t] == names[i]) {
+                    c->v.image[u].binding[t] = 0;
+                    st_mark(c, st_image_member(u));
                 }
+        }
         tex_free(o);
     }
 }
@@ -190,7 +196,7 @@ static st_texobj *bound_tex(tsr_state_ctx *c, GLenum target)
     int ti = st_tex_target_index(target);
     if (ti < 0)
         return NULL;
-    return st_tex_lookup(c, c->v.unit[c->v.active_texture].binding[ti], ti);
+    return st_tex_lookup(c, c->v.image[c->v.active_texture].binding[ti], ti);
 }
 
 static void tex_param(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat *p)

@@ -25,6 +25,13 @@ static void set_enable(tsr_state_ctx *c, GLenum cap, int on)
         return;
     }
     int idx = st_enable_index(cap, c->v.active_texture);
+    if (idx == -2) {
+        /* a unit past the coordinate units has no fixed-function state:
+         * Mesa ignores a texture target's enable there, refuses texgen's */
+        if (cap >= GL_TEXTURE_GEN_S && cap <= GL_TEXTURE_GEN_Q)
+            st_error(c, GL_INVALID_OPERATION);
+        return;
+    }
     if (idx < 0) {
         /* every cap of Mesa's GL 2.1 is in st_enable_caps but the
          * colour-index logic op, which does nothing in an RGBA context */

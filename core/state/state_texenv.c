@@ -2,8 +2,9 @@
  * unit, texture environments (combine modes, LOD bias, point sprite
  * coordinate replacement) and texture coordinate generation.
  *
- * Owns: the per-unit values of tsr_state_texunit other than the bindings
- * (texture objects and bindings are state_obj.c's).
+ * Owns: the values of tsr_state_texunit (coordinate units) and the LOD
+ * bias of tsr_state_imageunit (texture objects and bindings are
+ * state_obj.c's).
  *
  * Never: keeps an eye plane as given: GL transforms it by the inverse
  * modelview at the call, and a get answers the transformed plane. */
@@ -18,8 +19,10 @@ static void st_ActiveTexture(void *self, GLenum unit)
     if (!c)
         return;
     GLuint u = unit - GL_TEXTURE0;
-    if (u >= TSR_STATE_UNITS)
+    if (u >= c->t->image_units) {
+        st_error(c, GL_INVALID_ENUM);
         return;
+    }
     c->v.active_texture = u;
     /* The selector travels with unit 0's bindings (restored last by the diff). */
     st_mark(c, TSR_SM_TEXBIND0);
@@ -50,11 +53,23 @@ static int env_enum_slot(tsr_state_texunit *t, GLenum pname, GLenum **slot)
 static void tex_env(tsr_state_ctx *c, GLenum target, GLenum pname, const GLfloat *p, int from_int)
 {
     GLuint u = c->v.active_texture;
+    if (target == GL_TEXTURE_FILTER_CONTROL && pname == GL_TEXTURE_LOD_BIAS) {
+        c->v.image[u].lod_bias = p[0]; /* per image unit */
+        st_image_changed(c, u);
+        return;
+    }
+    if (u >= TSR_STATE_UNITS) {
+        /* no fixed-function state there: Mesa refuses coordinate
+         * replacement and ignores the environment */
+        if (target == GL_POINT_SPRITE && pname == GL_COORD_REPLACE)
+            st_error(c, GL_INVALID_OPERATION);
+        else if (target != GL_TEXTURE_ENV && target != GL_POINT_SPRITE)
+            st_error(c, GL_INVALID_ENUM);
+        return;
+    }
     tsr_state_texunit *t = &c->v.unit[u];
     GLenum *e;
-    if (target == GL_TEXTURE_FILTER_CONTROL && pname == GL_TEXTURE_LOD_BIAS)
-        t->lod_bias = p[0];
-    else if (target == GL_POINT_SPRITE && pname == GL_COORD_REPLACE)
+    if (target == GL_POINT_SPRITE && pname == GL_COORD_REPLACE)
         t->coord_replace = p[0] != 0.0f;
     else if (target != GL_TEXTURE_ENV) {
         st_error(c, GL_INVALID_ENUM);
@@ -117,6 +132,10 @@ static void tex_gen(tsr_state_ctx *c, GLenum coord, GLenum pname, const GLfloat 
     if (coord < GL_S || coord > GL_Q)
         return;
     GLuint u = c->v.active_texture;
+    if (u >= TSR_STATE_UNITS) {
+        st_error(c, GL_INVALID_OPERATION); /* Mesa's: no coordinate generation past the coordinate units */
+        return;
+    }
     tsr_state_texgen *g = &c->v.unit[u].gen[coord - GL_S];
     switch (pname) {
     case GL_TEXTURE_GEN_MODE: {

@@ -110,7 +110,7 @@ static GLuint source_texture(tilesort *t, const blit_source *s, GLenum ifmt, GLe
         return 0;
     reverse_rows(pixels, (size_t)w * (format == GL_RGBA ? 4 * sizeof(GLfloat) : 4), h);
     const tsr_state_values *v = tsr_state_values_of(t->ctx);
-    GLuint bound = v->unit[v->active_texture].binding[TSR_TEX_2D], name = 0;
+    GLuint bound = v->image[v->active_texture].binding[TSR_TEX_2D], name = 0;
     tsr_call_GenTextures(&t->normal, 1, &name);
     tsr_call_BindTexture(&t->normal, GL_TEXTURE_2D, name);
     ts_copy_upload_2d(t, ifmt, t->win_w, t->win_h, s->x0, t->win_h - s->y1, w, h, format, type, pixels);

@@ -245,19 +245,36 @@ static int is_proxy(GLenum target)
 }
 
 /* The tracker refuses a texture image past the servers' limits as GL does
- * (it would keep it and send it again with every later state): the first
- * live server tells them, once, at the first image. */
+ * (it would keep it and send it again with every later state), and
+ * glActiveTexture of a unit past their image units: the first live server
+ * tells them, once, at the first image or the first unit past the
+ * coordinate units. */
 static void learn_texture_limits(tilesort *t)
 {
     if (t->texture_limits_known)
         return;
     const tsr_dispatch *to = &ts_to_server(t)->table;
-    GLint max_size = 0, max_3d_size = 0, max_cube_size = 0;
+    GLint max_size = 0, max_3d_size = 0, max_cube_size = 0, image_units = 0;
     tsr_call_GetIntegerv(to, GL_MAX_TEXTURE_SIZE, &max_size);
     tsr_call_GetIntegerv(to, GL_MAX_3D_TEXTURE_SIZE, &max_3d_size);
     tsr_call_GetIntegerv(to, GL_MAX_CUBE_MAP_TEXTURE_SIZE, &max_cube_size);
+    tsr_call_GetIntegerv(to, GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &image_units);
     tsr_state_tracker_set_texture_limits(t->tracker, max_size, max_3d_size, max_cube_size);
+    tsr_state_tracker_set_image_units(t->tracker, image_units);
     t->texture_limits_known = true;
+}
+
+/* glActiveTexture takes the state route (the tracker holds every image
+ * unit: core/state), once the servers' count of units is known. */
+void ts_ActiveTexture(void *self, GLenum texture)
+{
+    tilesort *t = self;
+    if (texture - GL_TEXTURE0 >= TSR_STATE_UNITS)
+        learn_texture_limits(t);
+    ts_flush_before_state(t);
+    tsr_call_ActiveTexture(&t->track_table, texture);
+    if (!tsr_packer_pending(t->geo))
+        ts_snapshot(t);
 }
 
 #define PROXY_OR_TRACKED(call)                                \

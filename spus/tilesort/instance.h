@@ -270,6 +270,7 @@ void ts_GetAttachedShaders(void *self, GLuint program, GLsizei max, GLsizei *cou
 void ts_GetShaderSource(void *self, GLuint shader, GLsizei size, GLsizei *length, GLchar *source);
 GLboolean ts_IsShader(void *self, GLuint shader);
 GLboolean ts_IsProgram(void *self, GLuint program);
+void ts_ActiveTexture(void *self, GLenum texture);
 void ts_TexImage1D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLint border,
                    GLenum format, GLenum type, const void *pixels);
 void ts_TexImage2D(void *self, GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,

@@ -549,6 +549,7 @@ static void build_tables(tilesort *t)
     SET(IsProgram);
     SET(GetQueryObjectuiv);
     SET(GetQueryObjectiv);
+    SET(ActiveTexture);
     SET(TexImage1D);
     SET(TexImage2D);
     SET(TexImage3D);

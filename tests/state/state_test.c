@@ -21,6 +21,8 @@
  *  many_renderers        bit vectors grow past 64 and 128 renderers
  *  lazy_textures         unbound textures are not sent; a changed texture
  *                        sends only the new image call
+ *  image_units           bindings on units past the coordinate units reach
+ *                        OSMesa; a change there costs that unit's calls
  *  list_compile          glNewList(GL_COMPILE) leaves the state alone
  *  buffers_unbound_reach_renderer  a diff sends every buffer with data the
  *                        renderer lacks, bound or not, once
@@ -153,6 +155,12 @@ static uint64_t rnd(uint64_t *s)
     return z ^ (z >> 31);
 }
 static int ri(uint64_t *s, int n) { return (int)(rnd(s) % (uint64_t)n); }
+/* Image units past the coordinate units the random sequences select and
+ * the comparisons ask: below 32, as Mesa 22's glTranslate and the other
+ * texture matrix calls crash on a unit past its 32 texture matrix stacks
+ * (the tracker never sends those: state_matrix.c). */
+static const GLuint high_units[] = {8, 9, 20, 31};
+enum { NHIGH = sizeof high_units / sizeof high_units[0] };
 /* Values with few bits (exact in float) and some that are not. */
 static GLfloat rf(uint64_t *s)
 {
@@ -424,7 +432,11 @@ static void random_call(uint64_t *s, const tsr_dispatch *d, int *attrib_depth, i
         else
             tsr_call_PixelTransferi(d, PICK(s, GL_INDEX_SHIFT, GL_INDEX_OFFSET, GL_MAP_COLOR), ri(s, 2));
         break;
-    case 20: tsr_call_ActiveTexture(d, GL_TEXTURE0 + (GLenum)ri(s, 8)); break;
+    case 20: { /* a coordinate unit, or one of the image units past them */
+        GLuint u = (GLuint)ri(s, TSR_STATE_UNITS + NHIGH);
+        tsr_call_ActiveTexture(d, GL_TEXTURE0 + (u < TSR_STATE_UNITS ? u : high_units[u - TSR_STATE_UNITS]));
+        break;
+    }
     case 21: {
         static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_2D, GL_TEXTURE_3D,
                                          GL_TEXTURE_CUBE_MAP};
@@ -736,7 +748,8 @@ static int compare_gets(tsr_state_ctx *c, tsr_dispatch *tracker_table, gl_env *e
     gl_use(e);
     const tsr_state_values *tv = tsr_state_values_of(c);
     GLuint unit = tv->active_texture;
-    for (GLuint u = 0; u < TSR_STATE_UNITS; u++) {
+    for (GLuint i = 0; i < TSR_STATE_UNITS + NHIGH; i++) {
+        GLuint u = i < TSR_STATE_UNITS ? i : high_units[i - TSR_STATE_UNITS];
         /* Per-unit values are asked with each unit active, on both sides. */
         tsr_call_ActiveTexture(tracker_table, GL_TEXTURE0 + u);
         e->gl.ActiveTexture(GL_TEXTURE0 + u);
@@ -926,9 +939,10 @@ static int compare_objects(gl_env *a, gl_env *b)
     static const GLenum targets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP_POSITIVE_X};
     static const GLenum bindings[] = {GL_TEXTURE_BINDING_1D, GL_TEXTURE_BINDING_2D, GL_TEXTURE_BINDING_3D,
                                       GL_TEXTURE_BINDING_CUBE_MAP};
-    for (GLuint u = 0; u < TSR_STATE_UNITS; u++)
+    for (GLuint i = 0; i < TSR_STATE_UNITS + NHIGH; i++)
         for (int t = 0; t < 4; t++)
             for (GLint level = 0; level < 3; level++) {
+                GLuint u = i < TSR_STATE_UNITS ? i : high_units[i - TSR_STATE_UNITS];
                 GLint wa = 0, wb = 0, na = 0, nb = 0;
                 gl_env *envs[2] = {a, b};
                 uint8_t *bufs[2] = {ta, tb};
@@ -1226,12 +1240,16 @@ static void change_group(int g, const tsr_dispatch *d, tsr_state_ctx *c)
         break;
     }
     case TSR_SG_TEXTURE:
+        tsr_call_ActiveTexture(d, GL_TEXTURE0); /* a coordinate unit: one past them has no environment */
         tsr_call_TexEnvfv(d, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, (GLfloat[]){0.0123f, 0, 0, 1});
         break;
     case TSR_SG_BUFFER: tsr_call_BindBuffer(d, GL_ELEMENT_ARRAY_BUFFER, 77); break;
     case TSR_SG_MISC: tsr_call_ListBase(d, 4242); break;
     case TSR_SG_PIXEL: tsr_call_PixelZoom(d, 3.5f, -2.25f); break;
-    case TSR_SG_TRANSFORM: tsr_call_Translatef(d, 0.0123f, 7, 9); break;
+    case TSR_SG_TRANSFORM: /* the modelview: a unit past the coordinate units has no texture matrix */
+        tsr_call_MatrixMode(d, GL_MODELVIEW);
+        tsr_call_Translatef(d, 0.0123f, 7, 9);
+        break;
     case TSR_SG_PROGRAM: {
         GLuint p = tsr_call_CreateProgram(d);
         tsr_call_LinkProgram(d, p);
@@ -1373,6 +1391,98 @@ static void test_lazy_textures(void)
     tsr_state_diff(c, r, &out, NULL);
     CHECK(k.images == 1 && k.binds == binds, "rebinding the same texture sent %d images, %d binds", k.images,
           k.binds - binds);
+    tsr_state_tracker_destroy(t);
+}
+
+/* Image units past the coordinate units: two contexts bind textures (and
+ * one a LOD bias) on units 8 to 191; each diff into a real OSMesa context
+ * leaves there the bindings the tracker answers on every unit, a change on
+ * one unit costs one member and the calls of that unit, and a context
+ * that never used those units unbinds what another left on the renderer. */
+static void test_image_units(void)
+{
+    TRACKED(t, c, r, d);
+    tsr_state_ctx *other = tsr_state_ctx_create(t, NULL);
+    static tsr_dispatch od, counted;
+    tsr_dispatch_fill_nop(&od);
+    tsr_state_fill_dispatch(other, &od);
+    counter k = {0};
+    tsr_dispatch_fill_nop(&counted);
+    tsr_set_TexImage2D(&counted, cnt_TexImage2D, &k);
+    tsr_set_BindTexture(&counted, cnt_BindTexture, &k);
+    static const GLuint used[] = {8, 40, 63, 64, 150, 191};
+    enum { NUSED = sizeof used / sizeof used[0] };
+    GLuint names[NUSED];
+    tsr_call_GenTextures(&d, NUSED, names);
+    uint8_t px[4] = {1, 2, 3, 4};
+    for (int i = 0; i < NUSED; i++) {
+        tsr_call_ActiveTexture(&d, GL_TEXTURE0 + used[i]);
+        tsr_call_BindTexture(&d, i % 2 ? GL_TEXTURE_2D : GL_TEXTURE_3D, names[i]);
+        if (i % 2)
+            tsr_call_TexImage2D(&d, GL_TEXTURE_2D, 0, GL_RGBA, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    }
+    tsr_call_TexEnvf(&d, GL_TEXTURE_FILTER_CONTROL, GL_TEXTURE_LOD_BIAS, 2.5f);
+    CHECK(tsr_state_take_error(c) == GL_NO_ERROR, "binding on units 8 to 191 raised an error");
+    tsr_call_ActiveTexture(&d, GL_TEXTURE0 + TSR_STATE_IMAGE_UNITS);
+    CHECK(tsr_state_take_error(c) == GL_INVALID_ENUM, "glActiveTexture past the image units raised no GL_INVALID_ENUM");
+    tsr_call_TexGeni(&d, GL_S, GL_TEXTURE_GEN_MODE, GL_OBJECT_LINEAR);
+    CHECK(tsr_state_take_error(c) == GL_INVALID_OPERATION, "glTexGen past the coordinate units was taken");
+    tsr_call_Enable(&d, GL_TEXTURE_2D);
+    CHECK(tsr_state_take_error(c) == GL_NO_ERROR, "glEnable(GL_TEXTURE_2D) past the coordinate units raised an error");
+    GLint got = 0;
+    CHECK(tsr_state_get_integerv(c, GL_ACTIVE_TEXTURE, &got) && got == (GLint)(GL_TEXTURE0 + 191),
+          "GL_ACTIVE_TEXTURE answers 0x%x", (unsigned)got);
+
+    gl_env *a = gl_open();
+    tsr_state_diff(c, r, &a->d, NULL);
+    a->gl.Finish();
+    static const GLenum bindings[] = {GL_TEXTURE_BINDING_2D, GL_TEXTURE_BINDING_3D};
+    int differ = 0;
+    GLfloat bias = 0;
+    gl_use(a);
+    for (GLuint u = 0; u < TSR_STATE_IMAGE_UNITS; u++) {
+        tsr_call_ActiveTexture(&d, GL_TEXTURE0 + u);
+        a->gl.ActiveTexture(GL_TEXTURE0 + u);
+        for (int b = 0; b < 2; b++) {
+            GLint want = -1, have = -2;
+            tsr_state_get_integerv(c, bindings[b], &want);
+            a->gl.GetIntegerv(bindings[b], &have);
+            differ += want != have;
+        }
+        if (u == 191)
+            a->gl.GetTexEnvfv(GL_TEXTURE_FILTER_CONTROL, GL_TEXTURE_LOD_BIAS, &bias);
+    }
+    CHECK(differ == 0, "%d bindings of the diffed OSMesa context differ from the tracker's", differ);
+    CHECK(bias == 2.5f, "unit 191's LOD bias is %g on the diffed context", bias);
+    CHECK(a->gl.GetError() == GL_NO_ERROR, "the diff raised a GL error");
+    tsr_state_diff(c, r, &counted, NULL); /* the selections above */
+
+    /* one unit rebound: one member, that unit's calls */
+    tsr_call_ActiveTexture(&d, GL_TEXTURE0 + 150);
+    tsr_call_BindTexture(&d, GL_TEXTURE_2D, names[1]); /* (150 has a 3D texture bound too) */
+    tsr_call_ActiveTexture(&d, GL_TEXTURE0);
+    tsr_state_diff_stats st;
+    k = (counter){0};
+    uint32_t n = tsr_state_diff(c, r, &counted, &st);
+    CHECK(st.members_visited == 2 && k.binds == 1 && k.images == 0 && n == 3,
+          "one rebinding on unit 150: %u members, %d binds, %d images, %u calls (want 2 members: the units' past 8 and "
+          "unit 0's, which carries the selector; 1 bind; 3 calls: select 150, bind, select 0)",
+          st.members_visited, k.binds, k.images, n);
+
+    /* another context that never used units past 8 unbinds them there */
+    k = (counter){0};
+    tsr_state_diff(other, r, &counted, NULL);
+    CHECK(k.binds == NUSED + 1, "the other context unbound %d bindings, want %d", k.binds, NUSED + 1);
+    k = (counter){0};
+    tsr_state_diff(c, r, &counted, NULL);
+    CHECK(k.binds == NUSED + 1 && k.images == 0, "back to the first context: %d binds, %d images (want %d, 0)", k.binds,
+          k.images, NUSED + 1);
+
+    /* the servers' count narrows the units */
+    tsr_state_tracker_set_image_units(t, 64);
+    tsr_call_ActiveTexture(&d, GL_TEXTURE0 + 64);
+    CHECK(tsr_state_take_error(c) == GL_INVALID_ENUM, "glActiveTexture past the servers' 64 units was taken");
+    gl_close(a);
     tsr_state_tracker_destroy(t);
 }
 
@@ -2491,6 +2601,7 @@ int main(int argc, char **argv)
         {"switch_only_differing_groups", test_switch_only_differing_groups, 0},
         {"many_renderers", test_many_renderers, 0},
         {"lazy_textures", test_lazy_textures, 0},
+        {"image_units", test_image_units, 1},
         {"list_compile", test_list_compile, 0},
         {"buffers_unbound_reach_renderer", test_buffers_unbound_reach_renderer, 0},
         {"get_count_table", test_get_count_table, 0},

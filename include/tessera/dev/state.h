@@ -113,8 +113,17 @@ extern "C" {
 #endif
 
 /* GL implementation limits the tracker models (Mesa's fixed-function
- * values; a call beyond them is ignored, as GL ignores it with an error). */
+ * values; a call beyond them is ignored, as GL ignores it with an error).
+ * Texture units come in two kinds: the first TSR_STATE_UNITS are
+ * coordinate units (GL_MAX_TEXTURE_COORDS: texture environment, coordinate
+ * generation, enables, matrices, current coordinates, client arrays), and
+ * every unit up to GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS is an image unit
+ * (a binding per target and a LOD bias: what shaders sample). The tracker
+ * holds TSR_STATE_IMAGE_UNITS image units, Mesa's combined count (llvmpipe:
+ * 32 per shader stage, 6 stages); tsr_state_tracker_set_image_units
+ * narrows them to the renderers'. */
 #define TSR_STATE_UNITS 8
+#define TSR_STATE_IMAGE_UNITS 192
 #define TSR_STATE_LIGHTS 8
 #define TSR_STATE_CLIP_PLANES 8 /* GL_MAX_CLIP_PLANES of Mesa (the spec asks at least 6) */
 #define TSR_STATE_ATTRIBS 16
@@ -186,9 +195,13 @@ typedef enum tsr_state_member {
     TSR_SM_POINT,
     /* HINT */
     TSR_SM_HINT,
-    /* TEXTURE: per unit bindings (+ the bound objects), env, texgen */
+    /* TEXTURE: per coordinate unit its image unit's bindings (+ the bound
+     * objects) and LOD bias; the image units past them in one member (the
+     * diff looks only at the units ever set: image_units_set); per
+     * coordinate unit env, texgen */
     TSR_SM_TEXBIND0,
-    TSR_SM_TEXENV0 = TSR_SM_TEXBIND0 + TSR_STATE_UNITS,
+    TSR_SM_TEXBIND_IMAGE = TSR_SM_TEXBIND0 + TSR_STATE_UNITS,
+    TSR_SM_TEXENV0,
     TSR_SM_TEXGEN0 = TSR_SM_TEXENV0 + TSR_STATE_UNITS,
     /* BUFFER: bindings (+ the bound objects) */
     TSR_SM_BUFBIND = TSR_SM_TEXGEN0 + TSR_STATE_UNITS,
@@ -231,14 +244,20 @@ typedef struct tsr_state_texgen {
     GLfloat eye_plane[4]; /* eye coordinates */
 } tsr_state_texgen;
 
-typedef struct tsr_state_texunit {
+/* A texture image unit: what glBindTexture and
+ * glTexEnv(GL_TEXTURE_FILTER_CONTROL) set there. */
+typedef struct tsr_state_imageunit {
     GLuint binding[TSR_TEX_TARGETS];
+    GLfloat lod_bias; /* GL_TEXTURE_FILTER_CONTROL */
+} tsr_state_imageunit;
+
+/* A coordinate unit's fixed-function state. */
+typedef struct tsr_state_texunit {
     /* glTexEnv */
     GLenum env_mode;
     GLfloat env_color[4];
     GLenum combine_rgb, combine_alpha, src_rgb[3], src_alpha[3], operand_rgb[3], operand_alpha[3];
     GLfloat rgb_scale, alpha_scale;
-    GLfloat lod_bias;        /* GL_TEXTURE_FILTER_CONTROL */
     GLboolean coord_replace; /* GL_POINT_SPRITE */
     tsr_state_texgen gen[4]; /* S, T, R, Q */
 } tsr_state_texunit;
@@ -334,6 +353,12 @@ typedef struct tsr_state_values {
     /* texture */
     GLuint active_texture; /* unit index */
     tsr_state_texunit unit[TSR_STATE_UNITS];
+    tsr_state_imageunit image[TSR_STATE_IMAGE_UNITS];
+    /* Bit u: image unit u (past the coordinate units) was ever given a
+     * binding or a LOD bias; never cleared. The diff of
+     * TSR_SM_TEXBIND_IMAGE walks the units set here or in the shadow's,
+     * not all of them. */
+    uint64_t image_units_set[TSR_STATE_IMAGE_UNITS / 64];
     /* buffers */
     GLuint array_buffer, element_buffer;
     GLuint pixel_pack_buffer, pixel_unpack_buffer; /* GL 2.1 pixel buffer objects */
@@ -401,6 +426,10 @@ TSR_API void tsr_state_tracker_destroy(tsr_state_tracker *t);
  * sent. 0 (the default) leaves a limit unchecked. */
 TSR_API void tsr_state_tracker_set_texture_limits(tsr_state_tracker *t, GLint max_size, GLint max_3d_size,
                                                   GLint max_cube_size);
+/* The renderers' GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS: glActiveTexture of a
+ * unit past it (or past TSR_STATE_IMAGE_UNITS) is GL_INVALID_ENUM, refused
+ * here as GL does. Until it is given, TSR_STATE_IMAGE_UNITS units. */
+TSR_API void tsr_state_tracker_set_image_units(tsr_state_tracker *t, GLint units);
 
 /* A new context holds GL's initial state and is dirty for every renderer. */
 TSR_API tsr_state_ctx *tsr_state_ctx_create(tsr_state_tracker *t, tsr_error *err);
