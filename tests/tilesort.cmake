@@ -85,10 +85,12 @@ endforeach()
 # glBegin and a glDrawPixels GL refuses (piglit's draw-pixels,
 # geterror-inside-begin); colour-index glDrawPixels across the tiles (a
 # server read past Mesa's converted image: piglit's
-# gl-1.0-drawpixels-color-index). All broken on the 2x2 wall before.
+# gl-1.0-drawpixels-color-index); a list per glBitmap, three deleted, all
+# called with glCallLists (the servers kept and drew the deleted lists:
+# piglit's gl-1.0-dlist-bitmap). All broken on the 2x2 wall before.
 foreach(config 2x2 broadcast)
   add_test(NAME tilesort_exact_material_inside_begin_and_buffers_bound_in_turn_${config}
-    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 6 ${config})
+    COMMAND ${TILESORT_SH} exact ${TILESORT_BIN} ${TILESORT_OUT}/program-scenes-${config} program_scenes 7 ${config})
 endforeach()
 # glReadPixels of one pixel beside the first server's tile, in its rows,
 # copied a row of negative width (piglit's gl-1.0-texgen died with SIGSEGV

@@ -193,6 +193,10 @@ void ts_rec_CallLists(void *self, GLsizei n, GLenum type, const GLvoid *lists)
     tsr_call_CallLists(&t->list_table, n, type, lists);
 }
 
+/* A deleted list goes from every server that holds it too: glCallLists
+ * reaches the servers whole (ts_CallLists), and a server's copy would draw
+ * where GL calls nothing (piglit's gl-1.0-dlist-bitmap). The buffers that
+ * called it were flushed before, so each server deletes it after them. */
 void ts_DeleteLists(void *self, GLuint first, GLsizei range)
 {
     tilesort *t = self;
@@ -200,8 +204,16 @@ void ts_DeleteLists(void *self, GLuint first, GLsizei range)
     tsr_call_DeleteLists(&t->track_table, first, range);
     for (size_t i = 0; i < t->nlists; i++) {
         ts_list *l = &t->lists[i];
-        if (l->version && l->name >= first && range > 0 && l->name - first < (GLuint)range)
-            ts_list_clear(l); /* servers keep their copy; a new list of that name replaces it */
+        if (!l->version || range <= 0 || l->name < first || l->name - first >= (GLuint)range)
+            continue;
+        for (size_t k = 0; k < t->nservers; k++) {
+            ts_server *s = &t->srv[k];
+            if (i < s->lists_cap && s->lists[i] && !tsr_stream_client_server_failed(t->client, k)) {
+                tsr_call_DeleteLists(&s->table, l->name, 1);
+                s->lists[i] = 0;
+            }
+        }
+        ts_list_clear(l);
     }
 }
 

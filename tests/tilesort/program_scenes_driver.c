@@ -34,6 +34,10 @@
  *     past the end of its own converted image whenever a colour-index
  *     image is clipped, and a tile's scissor clips it (a server's
  *     heap-buffer-overflow under AddressSanitizer, wrong pixels without).
+ *   6 a display list per glBitmap, all called with glCallLists, three
+ *     deleted, all called again (piglit's gl-1.0-dlist-bitmap): glCallLists
+ *     reaches the servers whole, and the servers kept their copies of the
+ *     deleted lists and drew them.
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -252,6 +256,34 @@ static void colour_index_pixels(void)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 }
 
+static void bitmaps_after_deleting_lists(void)
+{
+    enum { N = 12 };
+    static GLubyte bits[16 * 12];
+    for (int i = 0; i < (int)sizeof bits; i++)
+        bits[i] = (GLubyte)(0xa5 ^ (i * 37));
+    GLuint base = glGenLists(N);
+    for (int i = 0; i < N; i++) {
+        glNewList(base + (GLuint)i, GL_COMPILE);
+        /* wide steps: the row of bitmaps crosses the middle of the window */
+        glBitmap(128, 12, 0, 0, 27, (GLfloat)(i % 2 ? 9 : -5), bits);
+        glEndList();
+    }
+    GLubyte ids[N];
+    for (int i = 0; i < N; i++)
+        ids[i] = (GLubyte)i;
+    glListBase(base);
+    glColor3f(0, 1, 1);
+    glWindowPos2i(3, 40); /* every list called once: the servers hold them all */
+    glCallLists(N, GL_UNSIGNED_BYTE, ids);
+    glDeleteLists(base + 4, 3);
+    glColor3f(1, 1, 0);
+    glWindowPos2i(3, 100);
+    glCallLists(N, GL_UNSIGNED_BYTE, ids);
+    glListBase(0);
+    glDeleteLists(base, N);
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -260,19 +292,21 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 6 == 0)
+        if (f % 7 == 0)
             lit_mesh();
-        else if (f % 6 == 1)
+        else if (f % 7 == 1)
             buffers_in_turn();
-        else if (f % 6 == 2)
+        else if (f % 7 == 2)
             arrays_enabled_by_glenable();
-        else if (f % 6 == 3)
+        else if (f % 7 == 3)
             last_clip_planes();
-        else if (f % 6 == 4) {
+        else if (f % 7 == 4) {
             if (!swapped_pixels_and_errors())
                 app.exit_code = 1;
-        } else
+        } else if (f % 7 == 5)
             colour_index_pixels();
+        else
+            bitmaps_after_deleting_lists();
         if (!exapp_swap(&app))
             break;
     }
