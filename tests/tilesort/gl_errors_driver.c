@@ -15,7 +15,8 @@
  * whose vertices fall in one tile only (a wall sends them to the servers
  * whose tiles they touch); glBegin inside glBegin, then glClear GL refuses
  * (GL's answer is the first); shader sources and uniforms GL refuses;
- * proxy textures of sizes GL takes and refuses; texture images and
+ * proxy textures of sizes GL takes and refuses (3D ones of gigabytes,
+ * as piglit's tex3d-maxsize asks); texture images and
  * sub-images GL refuses, and a sub-image of a generated mipmap level GL
  * keeps. Between the cases a
  * drawn frame shows that the wall still draws. Built twice like the
@@ -250,6 +251,19 @@ static void proxies(void)
     w = -7;
     glGetTexLevelParameteriv(GL_PROXY_TEXTURE_1D, 0, GL_TEXTURE_WIDTH, &w);
     ints("1D proxy too wide: width", &w, 1);
+    /* the sizes piglit's tex3d-maxsize asks of 3D proxies (a proxy
+     * allocates nothing: 256 MiB to 8 GiB are only answered) */
+    static const GLsizei sizes[3][3] = {{512, 512, 1024}, {1024, 1024, 2048}, {2048, 2048, 2048}};
+    for (int k = 0; k < 3; k++) {
+        GLint whd[3] = {-7, -7, -7};
+        glTexImage3D(GL_PROXY_TEXTURE_3D, 0, GL_INTENSITY8, sizes[k][0], sizes[k][1], sizes[k][2], 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, NULL);
+        glGetTexLevelParameteriv(GL_PROXY_TEXTURE_3D, 0, GL_TEXTURE_WIDTH, &whd[0]);
+        glGetTexLevelParameteriv(GL_PROXY_TEXTURE_3D, 0, GL_TEXTURE_HEIGHT, &whd[1]);
+        glGetTexLevelParameteriv(GL_PROXY_TEXTURE_3D, 0, GL_TEXTURE_DEPTH, &whd[2]);
+        printf("3D proxy %dx%dx%d GL_INTENSITY8:", (int)sizes[k][0], (int)sizes[k][1], (int)sizes[k][2]);
+        ints(" size", whd, 3);
+    }
 }
 
 /* Texture images GL refuses (piglit's teximage-errors): a wall's tracker
