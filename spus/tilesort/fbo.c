@@ -73,8 +73,11 @@ int ts_fbo_command(const char *name)
  * bindings stay. */
 static void note_binding(tilesort *t, GLenum target, GLuint framebuffer)
 {
-    if (target == GL_FRAMEBUFFER_EXT || target == GL_DRAW_FRAMEBUFFER)
+    if (target == GL_FRAMEBUFFER_EXT || target == GL_DRAW_FRAMEBUFFER) {
         t->app_fb = framebuffer;
+        if (framebuffer)
+            ts_queries_fbo_bound(t);
+    }
     if (target == GL_FRAMEBUFFER_EXT || target == GL_READ_FRAMEBUFFER)
         t->app_read_fb = framebuffer;
 }

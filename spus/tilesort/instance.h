@@ -104,6 +104,12 @@ typedef struct tilesort {
     /* its bound read framebuffer object, 0: the window (reads and blits
      * from it gather the tiles: frame.c, copy.c, blit.c) */
     GLuint app_read_fb;
+    /* occlusion queries (queries.c): the one being counted (0: none) and
+     * those that counted drawing into an FBO, which every server drew */
+    GLuint query_active;
+    GLuint *fbo_queries;
+    size_t nfbo_queries, fbo_queries_cap;
+    tsr_tee query_tees[2];
     GLenum gl_error;        /* made here (ts_gl_error): answered first */
     ts_material *materials; /* glMaterial inside glBegin/glEnd, in this buffer (send.c) */
     size_t nmaterials, materials_cap;
@@ -322,6 +328,8 @@ void ts_copy_upload_2d(tilesort *t, GLenum ifmt, GLsizei w, GLsizei h, GLint x, 
 void ts_BlitFramebuffer(void *self, GLint sx0, GLint sy0, GLint sx1, GLint sy1, GLint dx0, GLint dy0, GLint dx1,
                         GLint dy1, GLbitfield mask, GLenum filter);
 /* queries.c */
+void ts_queries_install(tilesort *t);
+void ts_queries_fbo_bound(tilesort *t);
 void ts_GetQueryObjectuiv(void *self, GLuint id, GLenum pname, GLuint *params);
 void ts_GetQueryObjectiv(void *self, GLuint id, GLenum pname, GLint *params);
 

@@ -576,6 +576,7 @@ static void build_tables(tilesort *t)
     SET(CopyTexSubImage1D);
     SET(CopyTexSubImage2D);
     SET(CopyTexSubImage3D);
+    ts_queries_install(t); /* after the generic routes, which it keeps */
 
     /* While compiling a list: compiled commands go to the list packer;
      * what GL runs at once takes the normal route (client state also
@@ -640,6 +641,7 @@ static void tilesort_destroy(void *instance)
     ts_batch_free(&t->compact);
     free(t->gathered);
     free(t->materials);
+    free(t->fbo_queries);
     free(t->frame_rows);
     free(t->frame_geometry_rows);
     free(t->frame_costs);

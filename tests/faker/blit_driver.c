@@ -15,7 +15,8 @@
  *     multisample renderbuffer (glRenderbufferStorageMultisample) resolved
  *     into the FBO;
  *   a layer of a 3D texture (glFramebufferTextureLayer) cleared and read;
- *   glGenerateMipmap of the drawn texture; the blits' errors.
+ *   glGenerateMipmap of the drawn texture; the blits' errors; an occlusion
+ *     query counted in the FBO (a wall answers one server's count).
  * On the 2x2 wall of 32x24 tiles the FBOs are whole on every server and a
  * blit from the window is gathered from the tiles (spus/tilesort/blit.c).
  * Built with RECORDED_GL_NATIVE (faker_blit_native) it makes the same
@@ -124,6 +125,15 @@ static GLuint make_fbo(GLuint *tex_out, GLuint *rb_out)
     scene(0.0f);
     read_rect("drawn into the FBO", 0, 0, SIDE, SIDE);
     error_line("FBO drawn");
+    /* a wall draws the FBO whole on every server: one server's count */
+    GLuint query = 0, samples = 0;
+    glGenQueries(1, &query);
+    glBeginQuery(GL_SAMPLES_PASSED, query);
+    quad(-0.5f, -0.5f, 0.5f, 0.5f, 0.0f);
+    glEndQuery(GL_SAMPLES_PASSED);
+    glGetQueryObjectuiv(query, GL_QUERY_RESULT, &samples);
+    glDeleteQueries(1, &query);
+    fprintf(out, "occlusion query in the FBO: %u samples\n", samples);
     *tex_out = tex;
     *rb_out = rb;
     return fb;
