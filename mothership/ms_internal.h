@@ -131,6 +131,7 @@ int ms_send_config(ms *m, ms_node *n, tsr_error *err);
 /* processes.c */
 int ms_launch(ms *m, ms_node *n, const char *control, tsr_error *err);
 void ms_reap(ms *m);
+bool ms_process_busy(pid_t pid);
 void ms_stop_all(ms *m, const char *reason);
 void ms_kill_groups(ms *m);
 int ms_remove_entry(const char *path, const struct stat *st, int type, struct FTW *ftw);

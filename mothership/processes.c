@@ -125,6 +125,29 @@ void ms_reap(ms *m)
     }
 }
 
+/* Whether a launched node's process is on a processor or waiting for one
+ * (/proc state R, D, Z or X): not silent of its own accord, but busy,
+ * starved or already exiting; a stopped (T, t) or sleeping (S) one is
+ * not. Unknown (no /proc entry): false. */
+bool ms_process_busy(pid_t pid)
+{
+    char path[64], line[512];
+    snprintf(path, sizeof path, "/proc/%ld/stat", (long)pid);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return false;
+    size_t n = fread(line, 1, sizeof line - 1, f);
+    fclose(f);
+    line[n] = '\0';
+    /* "pid (comm) S ...": comm may hold spaces and parentheses; the state
+     * follows the last ')' */
+    const char *close = strrchr(line, ')');
+    if (!close || close[1] != ' ')
+        return false;
+    char state = close[2];
+    return state == 'R' || state == 'D' || state == 'Z' || state == 'X';
+}
+
 /* --- ending ----------------------------------------------------------- */
 
 void ms_stop_all(ms *m, const char *reason)
