@@ -45,6 +45,11 @@ void ts_GetLightfv(void *self, GLenum l, GLenum p, GLfloat *o)
 }
 void ts_GetMaterialfv(void *self, GLenum f, GLenum p, GLfloat *o)
 {
+    tilesort *pending = self;
+    /* materials still in the geometry buffer reach the tracker when it is
+     * sent (send.c): send it first, as a state change would */
+    if (!pending->in_begin && pending->nmaterials)
+        ts_flush_before_state(pending);
     ANSWER_OR_ASK(tsr_state_get_materialfv(t->ctx, f, p, o), tsr_call_GetMaterialfv(&s->table, f, p, o));
 }
 void ts_GetTexEnvfv(void *self, GLenum tg, GLenum p, GLfloat *o)

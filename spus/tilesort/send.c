@@ -109,14 +109,46 @@ static void materials_sent(tilesort *t, size_t n)
         tsr_state_shadow_assume(t->ctx, t->srv[t->targets[k]].shadow, TSR_SM_MATERIAL);
 }
 
-/* Outside glBegin: a state change as any other (tilesort.c's R_STATE).
- * Inside: packed, and kept for materials_sent. The packer may flush the
- * buffer before the command goes in, so it is kept after packing. */
+/* Inside glBegin and outside alike: packed, and kept for materials_sent.
+ * Outside, too, a glMaterial is a vertex attribute to Mesa, not only state:
+ * called while vertices of earlier pairs are pending, it joins the vertex
+ * format, and the pairs after it are lit with a material per vertex (the
+ * material times the light in the shader) instead of the premultiplied
+ * one a material set as state gives, which rounds differently. As a state
+ * change, a repeated one vanished from the servers' streams (the tracker
+ * sends differences), and geodesic, which sets the same material before
+ * each glBegin, differed from the 1x1 render by a pixel, on a 1x1
+ * tilesort too. In the buffer, each server of its pairs gets the calls as
+ * the program made them; the others get the value by a diff once it is
+ * tracked. The packer may flush the buffer before the command goes in, so
+ * it is kept after packing. */
+/* Whether GL takes glMaterial(face, pname, first value) without an
+ * error: one it refuses outside glBegin is tracked at once, so that
+ * glGetError, which the tracker answers, has it. */
+static bool material_valid(int slot, GLenum face, GLenum pname, const ts_material *m)
+{
+    if (face != GL_FRONT && face != GL_BACK && face != GL_FRONT_AND_BACK)
+        return false;
+    switch (pname) {
+    case GL_AMBIENT:
+    case GL_DIFFUSE:
+    case GL_SPECULAR:
+    case GL_EMISSION:
+    case GL_AMBIENT_AND_DIFFUSE:
+    case GL_COLOR_INDEXES: return true;
+    case GL_SHININESS: {
+        float s = slot < 2 ? m->v.f[0] : (float)m->v.i[0];
+        return s >= 0 && s <= 128;
+    }
+    default: return false;
+    }
+}
+
 static void material(tilesort *t, int slot, GLenum face, GLenum pname, const void *v, size_t bytes)
 {
     ts_material m = {.slot = slot, .face = face, .pname = pname};
     memcpy(&m.v, v, bytes < sizeof m.v ? bytes : sizeof m.v);
-    if (!t->in_begin) {
+    if (!t->in_begin && !material_valid(slot, face, pname, &m)) {
         ts_flush_before_state(t);
         track_material(t, &m);
         if (!tsr_packer_pending(t->geo))

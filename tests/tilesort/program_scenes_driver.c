@@ -38,6 +38,12 @@
  *     deleted, all called again (piglit's gl-1.0-dlist-bitmap): glCallLists
  *     reaches the servers whole, and the servers kept their copies of the
  *     deleted lists and drew them.
+ *   7 the same glMaterialfv before every glBegin of a lit mesh of quads
+ *     (geodesic): the servers get the calls as the program made them
+ *     (spus/tilesort/send.c says why; geodesic's capture differed from
+ *     the 1x1 render by a pixel without). This scene's pixels matched
+ *     before that too: it shows the calls, repeated and put in the
+ *     geometry buffers, draw exactly on every server.
  * Built twice like the examples (examples/common/exapp.h): -native is the
  * reference. Deterministic. */
 #define GL_GLEXT_PROTOTYPES 1
@@ -284,6 +290,32 @@ static void bitmaps_after_deleting_lists(void)
     glDeleteLists(base, N);
 }
 
+static void material_before_every_pair(void)
+{
+    static const GLfloat colour[4] = {0.26f, 0.21f, 0.23f, 1}, light[4] = {1, 1, 1, 0}, white[4] = {1, 1, 1, 1};
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glEnable(GL_NORMALIZE);
+    glLightfv(GL_LIGHT0, GL_POSITION, light);
+    glMaterialfv(GL_FRONT, GL_SPECULAR, white);
+    glMaterialf(GL_FRONT, GL_SHININESS, 64);
+    for (int row = 0; row < 16; row++)
+        for (int col = 0; col < 16; col++) {
+            glMaterialfv(GL_FRONT, GL_AMBIENT_AND_DIFFUSE, colour);
+            float x = -0.98f + 0.1225f * (float)col, y = -0.98f + 0.1225f * (float)row;
+            glBegin(GL_QUADS);
+            for (int k = 0; k < 4; k++) {
+                float dx = (k == 1 || k == 2) ? 0.12f : 0, dy = k >= 2 ? 0.12f : 0;
+                glNormal3f(0.3f * (x + dx), 0.3f * (y + dy) - 0.1f, 0.7f + 0.05f * (float)((col + k) % 3));
+                glVertex2f(x + dx, y + dy);
+            }
+            glEnd();
+        }
+    glMaterialfv(GL_FRONT, GL_SPECULAR, (const GLfloat[4]){0, 0, 0, 1});
+    glDisable(GL_NORMALIZE);
+    glDisable(GL_LIGHTING);
+}
+
 int main(int argc, char **argv)
 {
     exapp app;
@@ -292,21 +324,23 @@ int main(int argc, char **argv)
     for (int f = 0; f < app.frames; f++) {
         glClearColor(0.05f, 0.05f, 0.1f, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (f % 7 == 0)
+        if (f % 8 == 0)
             lit_mesh();
-        else if (f % 7 == 1)
+        else if (f % 8 == 1)
             buffers_in_turn();
-        else if (f % 7 == 2)
+        else if (f % 8 == 2)
             arrays_enabled_by_glenable();
-        else if (f % 7 == 3)
+        else if (f % 8 == 3)
             last_clip_planes();
-        else if (f % 7 == 4) {
+        else if (f % 8 == 4) {
             if (!swapped_pixels_and_errors())
                 app.exit_code = 1;
-        } else if (f % 7 == 5)
+        } else if (f % 8 == 5)
             colour_index_pixels();
-        else
+        else if (f % 8 == 6)
             bitmaps_after_deleting_lists();
+        else
+            material_before_every_pair();
         if (!exapp_swap(&app))
             break;
     }
