@@ -185,7 +185,7 @@ TSR_API GLenum tsr_packer_take_local_error(tsr_packer *p);
  * GL_INVALID_OPERATION for a length of 0, neither read nor write, read
  * with an invalidate or the unsynchronized bit, or flush-explicit without
  * write; 0 otherwise. The packer's mappings and the state tracker's
- * (core/state/state_map.c) both ask it. */
+ * both ask it. */
 TSR_API GLenum tsr_map_range_error(GLintptr offset, GLsizeiptr length, GLbitfield access);
 /* The access enum GL answers for GL_BUFFER_ACCESS of a mapping made with
  * `access` (GL_MAP_*_BIT): GL_READ_ONLY or GL_WRITE_ONLY for one of the
