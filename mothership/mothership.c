@@ -76,8 +76,8 @@ static void check(ms *m)
          * its signal (fault_wall_tileserver_sigterm in issue 28's flake
          * hunt). A stopped or sleeping one is named at once. */
         double silent_ms = (t - n->last_heard) * 1000.0;
-        bool maybe_ending = n->pid && !n->reaped && silent_ms <= 2.0 * m->cfg->timeout_ms && ms_process_busy(n->pid);
-        if (n->state == N_READY && !n->lost_at && silent_ms > m->cfg->timeout_ms && !maybe_ending)
+        if (n->state == N_READY && !n->lost_at && silent_ms > m->cfg->timeout_ms &&
+            !(n->pid && !n->reaped && silent_ms <= 2.0 * m->cfg->timeout_ms && ms_process_busy(n->pid)))
             ms_fail(m, FAIL_HEARTBEAT, "node '%s' sent no heartbeat for %.0f ms (stopped or hung; --timeout-ms %u)",
                     n->g->name, silent_ms, m->cfg->timeout_ms);
         if (n->exit_seen_at && n->state != N_DONE &&
